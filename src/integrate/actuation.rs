@@ -1,0 +1,274 @@
+//! Actuations: the prescribed actuator lengths `L_l(t)`, `T`-periodic (SPEC §1, §3).
+//!
+//! The control of the sweeping process is `u_l = k_l L_l'`; integrators only ever use increments
+//! `K (L(t') - L(t))`, so the actuation is rate-independent data plus a clock.
+
+use crate::error::{Error, Result};
+use std::f64::consts::PI;
+
+/// Shape of a smooth periodic actuation.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Waveform {
+    /// `s = sin`.
+    Sine,
+    /// `s(th) = (2/pi) asin(sin th)`: a triangle wave with the sine's peaks.
+    Triangle,
+}
+
+/// A `T`-periodic actuation of the `n` links.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Actuation {
+    /// `L_l(t) = mean_l + amplitude_l * s(2 pi t / T - phase_l)`.
+    Wave {
+        /// Sine or triangle.
+        wave: Waveform,
+        /// Period `T`.
+        period: f64,
+        /// Mean length per link.
+        mean: Vec<f64>,
+        /// Amplitude per link.
+        amplitude: Vec<f64>,
+        /// Phase lag per link, radians.
+        phase: Vec<f64>,
+    },
+    /// Linear interpolation between knots, periodic: after the last knot the lengths return to
+    /// the first knot's at `t = T`.
+    PiecewiseLinear {
+        /// Period `T`.
+        period: f64,
+        /// Knot times, strictly increasing in `[0, T)`.
+        times: Vec<f64>,
+        /// `lengths[j][l]`: length of link `l` at knot `j`.
+        lengths: Vec<Vec<f64>>,
+    },
+}
+
+fn positive(field: &str, v: f64) -> Result<()> {
+    if v.is_finite() && v > 0.0 {
+        Ok(())
+    } else {
+        Err(Error::invalid(field, v, "must be positive and finite"))
+    }
+}
+
+fn finite(field: &str, values: &[f64]) -> Result<()> {
+    match values.iter().position(|v| !v.is_finite()) {
+        Some(i) => Err(Error::invalid(format!("{field}[{}]", i + 1), values[i], "must be finite")),
+        None => Ok(()),
+    }
+}
+
+impl Actuation {
+    /// A wave actuation with validated parameters; `phase_deg` in degrees.
+    pub fn wave(
+        wave: Waveform,
+        period: f64,
+        mean: Vec<f64>,
+        amplitude: Vec<f64>,
+        phase_deg: Vec<f64>,
+    ) -> Result<Self> {
+        positive("actuation.period", period)?;
+        let n = amplitude.len();
+        for (name, v) in [("actuation.mean", &mean), ("actuation.phase_deg", &phase_deg)] {
+            if v.len() != n {
+                return Err(Error::invalid(name, format!("{} values", v.len()), format!("needs one value per link ({n})")));
+            }
+            finite(name, v)?;
+        }
+        for (i, &a) in amplitude.iter().enumerate() {
+            positive(&format!("actuation.amplitude[{}]", i + 1), a)?;
+        }
+        Ok(Actuation::Wave {
+            wave,
+            period,
+            mean,
+            amplitude,
+            phase: phase_deg.iter().map(|d| d.to_radians()).collect(),
+        })
+    }
+
+    /// A periodic piecewise-linear actuation with validated knots.
+    pub fn piecewise_linear(period: f64, times: Vec<f64>, lengths: Vec<Vec<f64>>) -> Result<Self> {
+        positive("actuation.period", period)?;
+        if times.len() < 2 {
+            return Err(Error::invalid("actuation.times", format!("{} knots", times.len()), "needs at least 2 knots"));
+        }
+        if lengths.len() != times.len() {
+            return Err(Error::invalid(
+                "actuation.lengths",
+                format!("{} rows", lengths.len()),
+                format!("needs one row per knot ({})", times.len()),
+            ));
+        }
+        finite("actuation.times", &times)?;
+        if times[0] < 0.0 {
+            return Err(Error::invalid("actuation.times[1]", times[0], "must be >= 0"));
+        }
+        for j in 1..times.len() {
+            if times[j] <= times[j - 1] {
+                return Err(Error::invalid(format!("actuation.times[{}]", j + 1), times[j], "must be strictly increasing"));
+            }
+        }
+        let last = times[times.len() - 1];
+        if last >= period {
+            return Err(Error::invalid(format!("actuation.times[{}]", times.len()), last, format!("must be < period ({period})")));
+        }
+        let n = lengths[0].len();
+        if n == 0 {
+            return Err(Error::invalid("actuation.lengths[1]", "[]", "needs one value per link"));
+        }
+        for (j, row) in lengths.iter().enumerate() {
+            if row.len() != n {
+                return Err(Error::invalid(
+                    format!("actuation.lengths[{}]", j + 1),
+                    format!("{} values", row.len()),
+                    format!("needs one value per link ({n}), like the first row"),
+                ));
+            }
+            finite(&format!("actuation.lengths[{}]", j + 1), row)?;
+        }
+        Ok(Actuation::PiecewiseLinear { period, times, lengths })
+    }
+
+    /// The period `T`.
+    pub fn period(&self) -> f64 {
+        match self {
+            Actuation::Wave { period, .. } | Actuation::PiecewiseLinear { period, .. } => *period,
+        }
+    }
+
+    /// Number of actuated links.
+    pub fn links(&self) -> usize {
+        match self {
+            Actuation::Wave { amplitude, .. } => amplitude.len(),
+            Actuation::PiecewiseLinear { lengths, .. } => lengths[0].len(),
+        }
+    }
+
+    /// Whether the actuation is itself piecewise linear (the exact method is then exact).
+    pub fn is_piecewise_linear(&self) -> bool {
+        matches!(self, Actuation::PiecewiseLinear { .. })
+    }
+
+    /// `L(t)` into `out`, for any `t` (periodic extension).
+    pub fn lengths_at(&self, t: f64, out: &mut [f64]) {
+        match self {
+            Actuation::Wave {
+                wave,
+                period,
+                mean,
+                amplitude,
+                phase,
+            } => {
+                let th = 2.0 * PI * t / period;
+                for l in 0..out.len() {
+                    let s = (th - phase[l]).sin();
+                    let s = match wave {
+                        Waveform::Sine => s,
+                        Waveform::Triangle => 2.0 / PI * s.clamp(-1.0, 1.0).asin(),
+                    };
+                    out[l] = mean[l] + amplitude[l] * s;
+                }
+            }
+            Actuation::PiecewiseLinear { period, times, lengths } => {
+                let mut tau = t.rem_euclid(*period);
+                let k = times.len();
+                // Segment j runs from knot j to knot j+1; the last one closes at knot 0 + T.
+                let i = times.partition_point(|&tj| tj <= tau);
+                let j = if i == 0 {
+                    tau += period; // before the first knot: on the closing segment
+                    k - 1
+                } else {
+                    i - 1
+                };
+                let t1 = if j + 1 < k { times[j + 1] } else { times[0] + period };
+                let (a, b) = (&lengths[j], &lengths[(j + 1) % k]);
+                let s = (tau - times[j]) / (t1 - times[j]);
+                for l in 0..out.len() {
+                    out[l] = a[l] + s * (b[l] - a[l]);
+                }
+            }
+        }
+    }
+
+    /// The knots `(times, lengths)` of the piecewise-linear actuation the exact method plays:
+    /// the actuation's own knots when it is piecewise linear (with a knot added at `t = 0` if
+    /// needed, so that a period always starts at 0), otherwise its interpolant on `m` uniform
+    /// knots `t_i = i T / m`.
+    pub fn knots(&self, m: usize) -> (Vec<f64>, Vec<Vec<f64>>) {
+        match self {
+            Actuation::PiecewiseLinear { times, lengths, .. } => {
+                let (mut t, mut l) = (times.clone(), lengths.clone());
+                if t[0] > 0.0 {
+                    // Start the period at t = 0, on the closing segment.
+                    let mut row = vec![0.0; self.links()];
+                    self.lengths_at(0.0, &mut row);
+                    t.insert(0, 0.0);
+                    l.insert(0, row);
+                }
+                (t, l)
+            }
+            Actuation::Wave { period, .. } => {
+                let times: Vec<f64> = (0..m).map(|i| period * i as f64 / m as f64).collect();
+                let lengths = times
+                    .iter()
+                    .map(|&t| {
+                        let mut row = vec![0.0; self.links()];
+                        self.lengths_at(t, &mut row);
+                        row
+                    })
+                    .collect();
+                (times, lengths)
+            }
+        }
+    }
+
+    /// One sentence for outputs: what the exact method plays with `m` knots.
+    pub fn exact_description(&self, m: usize) -> String {
+        match self {
+            Actuation::PiecewiseLinear { times, .. } => {
+                format!("the piecewise-linear actuation itself ({} knots): no discretisation error", times.len())
+            }
+            Actuation::Wave { .. } => format!(
+                "the piecewise-linear interpolant of the actuation on {m} uniform knots (exact for that interpolant)"
+            ),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn piecewise_linear_wraps_periodically() {
+        let a = Actuation::piecewise_linear(4.0, vec![1.0, 2.0], vec![vec![0.0], vec![2.0]]).unwrap();
+        let mut l = [0.0];
+        for (t, want) in [(1.0, 0.0), (1.5, 1.0), (2.0, 2.0), (3.5, 1.0), (0.5, 1.0 / 3.0), (5.5, 1.0), (-2.5, 1.0)] {
+            a.lengths_at(t, &mut l);
+            assert!((l[0] - want).abs() < 1e-15, "t = {t}: {} vs {want}", l[0]);
+        }
+    }
+
+    #[test]
+    fn triangle_has_sine_peaks_and_is_linear() {
+        let a = Actuation::wave(Waveform::Triangle, 1.0, vec![0.5], vec![2.0], vec![0.0]).unwrap();
+        let mut l = [0.0];
+        a.lengths_at(0.25, &mut l);
+        assert!((l[0] - 2.5).abs() < 1e-12);
+        a.lengths_at(0.125, &mut l);
+        assert!((l[0] - 1.5).abs() < 1e-12);
+        a.lengths_at(0.75, &mut l);
+        assert!((l[0] + 1.5).abs() < 1e-12);
+    }
+
+    #[test]
+    fn bad_parameters_are_named() {
+        let e = Actuation::wave(Waveform::Sine, 0.0, vec![0.0], vec![1.0], vec![0.0]).unwrap_err();
+        assert!(e.to_string().starts_with("actuation.period"), "{e}");
+        let e = Actuation::wave(Waveform::Sine, 1.0, vec![0.0], vec![-1.0], vec![0.0]).unwrap_err();
+        assert!(e.to_string().starts_with("actuation.amplitude[1]"), "{e}");
+        let e = Actuation::piecewise_linear(1.0, vec![0.0, 0.0], vec![vec![0.0], vec![1.0]]).unwrap_err();
+        assert!(e.to_string().starts_with("actuation.times[2]"), "{e}");
+    }
+}

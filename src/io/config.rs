@@ -1,0 +1,250 @@
+//! The TOML model file (see the module docs of [`crate::io`]).
+
+use crate::error::{Error, Result};
+use crate::integrate::{Actuation, Waveform};
+use crate::model::Crawler;
+use serde::Deserialize;
+use std::path::{Path, PathBuf};
+
+/// A number for every entry, or one per entry.
+#[derive(Debug, Clone, Deserialize, PartialEq)]
+#[serde(untagged)]
+pub enum NumberOrList {
+    /// The same value everywhere.
+    One(f64),
+    /// One value per entry.
+    Many(Vec<f64>),
+}
+
+impl NumberOrList {
+    /// Expands to `len` values; a list of another length is an error naming `field`.
+    pub fn expand(&self, field: &str, len: usize, what: &str) -> Result<Vec<f64>> {
+        match self {
+            NumberOrList::One(v) => Ok(vec![*v; len]),
+            NumberOrList::Many(v) if v.len() == len => Ok(v.clone()),
+            NumberOrList::Many(v) => Err(Error::invalid(
+                field,
+                format!("{} values", v.len()),
+                format!("needs a number or one value per {what} ({len})"),
+            )),
+        }
+    }
+}
+
+/// `[crawler]`.
+#[derive(Debug, Clone, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct CrawlerSpec {
+    /// Number of blocks `N >= 2`.
+    pub blocks: i64,
+    /// `k`, per link.
+    pub stiffness: NumberOrList,
+    /// `mu^+`, per block.
+    pub mu_forward: NumberOrList,
+    /// `mu^-`, per block.
+    pub mu_backward: NumberOrList,
+}
+
+/// `[actuation]`.
+#[derive(Debug, Clone, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct ActuationSpec {
+    /// `sine | triangle | piecewise_linear | csv`.
+    pub kind: String,
+    /// Period `T`.
+    pub period: f64,
+    /// Wave amplitude (sine, triangle).
+    pub amplitude: Option<NumberOrList>,
+    /// Wave phase lag in degrees (sine, triangle); default 0.
+    pub phase_deg: Option<NumberOrList>,
+    /// Wave mean length (sine, triangle); default 0.
+    pub mean: Option<NumberOrList>,
+    /// Knot times (piecewise_linear).
+    pub times: Option<Vec<f64>>,
+    /// Knot lengths (piecewise_linear): one row per knot.
+    pub lengths: Option<Vec<NumberOrList>>,
+    /// CSV file (csv), relative to the model file.
+    pub path: Option<String>,
+}
+
+/// `[simulation]` (optional).
+#[derive(Debug, Clone, Default, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct SimulationSpec {
+    /// Initial state `x(0)`.
+    pub initial_state: Option<Vec<f64>>,
+}
+
+/// The whole model file.
+#[derive(Debug, Clone, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct ModelFile {
+    /// `[crawler]`.
+    pub crawler: CrawlerSpec,
+    /// `[actuation]`, needed by `simulate`.
+    pub actuation: Option<ActuationSpec>,
+    /// `[simulation]`.
+    #[serde(default)]
+    pub simulation: SimulationSpec,
+    /// Folder of the file, for relative paths.
+    #[serde(skip)]
+    pub base_dir: PathBuf,
+}
+
+impl ModelFile {
+    /// Reads and parses a model file.
+    pub fn load(path: &Path) -> Result<Self> {
+        let text = std::fs::read_to_string(path).map_err(|e| Error::Io {
+            path: path.display().to_string(),
+            reason: e.to_string(),
+        })?;
+        let mut m = Self::parse(&text).map_err(|e| match e {
+            Error::Io { reason, .. } => Error::Io {
+                path: path.display().to_string(),
+                reason,
+            },
+            other => other,
+        })?;
+        m.base_dir = path.parent().map(Path::to_path_buf).unwrap_or_default();
+        Ok(m)
+    }
+
+    /// Parses the TOML text of a model file.
+    pub fn parse(text: &str) -> Result<Self> {
+        toml::from_str(text).map_err(|e| Error::Io {
+            path: "<model>".into(),
+            reason: format!("invalid model file: {}", e.to_string().trim_end().replace('\n', " | ")),
+        })
+    }
+
+    /// The crawler of `[crawler]`.
+    pub fn crawler(&self) -> Result<Crawler> {
+        let c = &self.crawler;
+        if c.blocks < 2 {
+            return Err(Error::invalid("crawler.blocks", c.blocks, "a crawler needs at least 2 blocks"));
+        }
+        if c.blocks > 10_000_000 {
+            return Err(Error::invalid("crawler.blocks", c.blocks, "must be at most 10000000"));
+        }
+        let nb = c.blocks as usize;
+        Crawler::new(
+            c.stiffness.expand("crawler.stiffness", nb - 1, "link")?,
+            c.mu_forward.expand("crawler.mu_forward", nb, "block")?,
+            c.mu_backward.expand("crawler.mu_backward", nb, "block")?,
+        )
+    }
+
+    /// The actuation of `[actuation]` for a crawler with `links` links.
+    pub fn actuation(&self, links: usize) -> Result<Actuation> {
+        let a = self.actuation.as_ref().ok_or_else(|| {
+            Error::invalid("actuation", "nothing", "the model file has no [actuation] section")
+        })?;
+        let unused = |name: &str, present: bool| -> Result<()> {
+            if present {
+                Err(Error::invalid(format!("actuation.{name}"), "a value", format!("is not used by kind = \"{}\"", a.kind)))
+            } else {
+                Ok(())
+            }
+        };
+        let wave = match a.kind.as_str() {
+            "sine" => Some(Waveform::Sine),
+            "triangle" => Some(Waveform::Triangle),
+            "piecewise_linear" | "csv" => None,
+            other => {
+                return Err(Error::invalid(
+                    "actuation.kind",
+                    format!("\"{other}\""),
+                    "must be one of sine, triangle, piecewise_linear, csv",
+                ))
+            }
+        };
+        if let Some(wave) = wave {
+            unused("times", a.times.is_some())?;
+            unused("lengths", a.lengths.is_some())?;
+            unused("path", a.path.is_some())?;
+            let amp = a
+                .amplitude
+                .as_ref()
+                .ok_or_else(|| Error::invalid("actuation.amplitude", "nothing", "is required for a wave"))?;
+            let zero = NumberOrList::One(0.0);
+            return Actuation::wave(
+                wave,
+                a.period,
+                a.mean.as_ref().unwrap_or(&zero).expand("actuation.mean", links, "link")?,
+                amp.expand("actuation.amplitude", links, "link")?,
+                a.phase_deg.as_ref().unwrap_or(&zero).expand("actuation.phase_deg", links, "link")?,
+            );
+        }
+        unused("amplitude", a.amplitude.is_some())?;
+        unused("phase_deg", a.phase_deg.is_some())?;
+        unused("mean", a.mean.is_some())?;
+        let (times, lengths) = if a.kind == "csv" {
+            unused("times", a.times.is_some())?;
+            unused("lengths", a.lengths.is_some())?;
+            let p = a
+                .path
+                .as_ref()
+                .ok_or_else(|| Error::invalid("actuation.path", "nothing", "is required for kind = \"csv\""))?;
+            super::read_actuation_csv(&self.base_dir.join(p), links)?
+        } else {
+            unused("path", a.path.is_some())?;
+            let times = a
+                .times
+                .clone()
+                .ok_or_else(|| Error::invalid("actuation.times", "nothing", "is required for piecewise_linear"))?;
+            let rows = a
+                .lengths
+                .as_ref()
+                .ok_or_else(|| Error::invalid("actuation.lengths", "nothing", "is required for piecewise_linear"))?;
+            let lengths = rows
+                .iter()
+                .enumerate()
+                .map(|(j, r)| r.expand(&format!("actuation.lengths[{}]", j + 1), links, "link"))
+                .collect::<Result<Vec<_>>>()?;
+            (times, lengths)
+        };
+        Actuation::piecewise_linear(a.period, times, lengths)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn integers_and_lists_parse() {
+        let m = ModelFile::parse(
+            "[crawler]\nblocks = 3\nstiffness = 1\nmu_forward = [1, 2, 3]\nmu_backward = 3.0\n",
+        )
+        .unwrap();
+        let c = m.crawler().unwrap();
+        assert_eq!(c.stiffness(), &[1.0, 1.0]);
+        assert_eq!(c.mu_forward(), &[1.0, 2.0, 3.0]);
+    }
+
+    #[test]
+    fn errors_name_the_field() {
+        let e = ModelFile::parse("[crawler]\nblocks = 3\nstiffness = 1\nmu_forward = [1, 2]\nmu_backward = 3.0\n")
+            .unwrap()
+            .crawler()
+            .unwrap_err();
+        assert!(e.to_string().starts_with("crawler.mu_forward: needs a number or one value per block (3)"), "{e}");
+        let e = ModelFile::parse("[crawler]\nblocks = 3\nstifness = 1\nmu_forward = 1\nmu_backward = 3.0\n").unwrap_err();
+        assert!(e.to_string().contains("unknown field `stifness`"), "{e}");
+        let e = ModelFile::parse("[crawler]\nblocks = 1\nstiffness = 1\nmu_forward = 1\nmu_backward = 3.0\n")
+            .unwrap()
+            .crawler()
+            .unwrap_err();
+        assert!(e.to_string().starts_with("crawler.blocks"), "{e}");
+        let e = ModelFile::parse("[crawler]\nblocks = 2\nstiffness = -1\nmu_forward = 1\nmu_backward = 3.0\n")
+            .unwrap()
+            .crawler()
+            .unwrap_err();
+        assert_eq!(e.to_string(), "crawler.stiffness[1]: must be positive and finite (got -1)");
+        let e = ModelFile::parse("[crawler]\nblocks = 2\nstiffness = nan\nmu_forward = 1\nmu_backward = 3.0\n")
+            .unwrap()
+            .crawler()
+            .unwrap_err();
+        assert!(e.to_string().starts_with("crawler.stiffness[1]: must be positive and finite"), "{e}");
+    }
+}

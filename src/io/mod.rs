@@ -1,0 +1,28 @@
+//! Input and output files: the TOML model file (a contract: fields are only ever added) and CSV
+//! actuations and trajectories.
+//!
+//! ```toml
+//! [crawler]
+//! blocks = 3            # N >= 2
+//! stiffness = 1.0       # k, a number or one per link                 (force / length)
+//! mu_forward = 1.0      # mu^+, a number or one per block             (force)
+//! mu_backward = 3.0     # mu^-, a number or one per block             (force)
+//!
+//! [actuation]           # what `simulate` plays
+//! kind = "sine"         # sine | triangle | piecewise_linear | csv
+//! period = 1.0          #                                              (time)
+//! amplitude = [2.0, 2.0]   # a number or one per link                 (length)
+//! phase_deg = [0.0, 90.0]  # L_l(t) = mean_l + amplitude_l * s(2 pi t / period - phase_l)
+//! mean = 0.0               # (length)
+//! # piecewise_linear: times = [...], lengths = [[L_1, .., L_n] per knot] (periodic)
+//! # csv: path = "gait.csv" (relative to this file): columns t, L_1, .., L_n; header optional
+//!
+//! [simulation]          # optional
+//! initial_state = [0.0, 0.0]  # x(0), link compressions (force); default 0
+//! ```
+
+mod config;
+mod csv_io;
+
+pub use config::{ActuationSpec, CrawlerSpec, ModelFile, NumberOrList, SimulationSpec};
+pub use csv_io::{read_actuation_csv, write_trajectory_csv, AtomicFile};

@@ -1,0 +1,328 @@
+//! `crawlopt`: the command-line layer over the library. It parses arguments, calls the library
+//! and renders results; errors are printed as one line and exit with status 2.
+
+use clap::{Parser, Subcommand, ValueEnum};
+use crawlopt::integrate::{simulate, Actuation, Method, SimOptions, Simulation, Waveform};
+use crawlopt::io::{write_trajectory_csv, ModelFile};
+use crawlopt::model::{Analysis, FaceSign};
+use crawlopt::{Crawler, Error};
+use std::path::PathBuf;
+use std::process::ExitCode;
+use std::time::Instant;
+
+/// Simulation and optimal gaits of rate-independent soft crawlers.
+#[derive(Parser)]
+#[command(name = "crawlopt", version, about, long_about = None)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+enum MethodArg {
+    Exact,
+    CatchingUp,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Analyse a crawler: the polytope C, the uniqueness condition, v_m and its directions.
+    Analyze {
+        /// Model file (TOML).
+        file: PathBuf,
+        /// Print one JSON object.
+        #[arg(long)]
+        json: bool,
+    },
+    /// Simulate the actuation of a model file until the periodic regime.
+    Simulate {
+        /// Model file (TOML) with an [actuation] section.
+        file: PathBuf,
+        /// Periods recorded on the periodic orbit (trajectory output); 0 records none.
+        #[arg(long, default_value_t = 1)]
+        periods: usize,
+        /// Steps per period (catching-up), or knots of the interpolant of a sine/triangle (exact).
+        #[arg(long = "steps-per-period", default_value_t = 1000)]
+        steps_per_period: usize,
+        /// Integration method.
+        #[arg(long, value_enum, default_value = "exact")]
+        method: MethodArg,
+        /// Give up the search for the periodic regime after this many periods.
+        #[arg(long = "max-periods", default_value_t = 1000)]
+        max_periods: usize,
+        /// The state repeats when it changes by at most tol * max(mu) over a period.
+        #[arg(long, default_value_t = 1e-12)]
+        tol: f64,
+        /// Write the recorded trajectory as CSV.
+        #[arg(long, short = 'o')]
+        output: Option<PathBuf>,
+        /// Print one JSON object (with the recorded trajectory).
+        #[arg(long)]
+        json: bool,
+    },
+    /// Measure the simulation cost per time step (sine gait L_l = A sin(2 pi t - l phi)).
+    Bench {
+        /// Numbers of blocks, comma separated.
+        #[arg(long, value_delimiter = ',', default_value = "3,10,100,1000")]
+        blocks: Vec<usize>,
+        /// Time steps per period.
+        #[arg(long, default_value_t = 1000)]
+        steps: usize,
+        /// Amplitude A.
+        #[arg(long, default_value_t = 2.0)]
+        amplitude: f64,
+        /// Phase lag phi between consecutive links, degrees.
+        #[arg(long = "phase-deg", default_value_t = 90.0)]
+        phase_deg: f64,
+        /// mu^+ on every block.
+        #[arg(long = "mu-forward", default_value_t = 1.0)]
+        mu_forward: f64,
+        /// mu^- on every block.
+        #[arg(long = "mu-backward", default_value_t = 3.3)]
+        mu_backward: f64,
+        /// Minimum measured time per case, seconds.
+        #[arg(long = "min-time", default_value_t = 1.0)]
+        min_time: f64,
+        /// Print JSON lines.
+        #[arg(long)]
+        json: bool,
+    },
+}
+
+/// Exit status of a simulation whose periodic regime was not reached.
+const EXIT_NOT_CONVERGED: u8 = 3;
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    match run(cli.command) {
+        Ok(code) => code,
+        Err(e) => {
+            eprintln!("error: {e}");
+            ExitCode::from(2)
+        }
+    }
+}
+
+fn run(cmd: Command) -> Result<ExitCode, Error> {
+    match cmd {
+        Command::Analyze { file, json } => {
+            let model = ModelFile::load(&file)?;
+            let crawler = model.crawler()?;
+            let a = crawler.analyze();
+            if json {
+                println!("{}", serde_json::to_string_pretty(&a).expect("serialisable"));
+            } else {
+                print_analysis(&crawler, &a);
+            }
+            if !a.uniqueness_ok {
+                if let Err(e) = crawler.require_unique() {
+                    eprintln!("error: {e}");
+                }
+                return Ok(ExitCode::from(2));
+            }
+            Ok(ExitCode::SUCCESS)
+        }
+        Command::Simulate {
+            file,
+            periods,
+            steps_per_period,
+            method,
+            max_periods,
+            tol,
+            output,
+            json,
+        } => {
+            let model = ModelFile::load(&file)?;
+            let crawler = model.crawler()?;
+            crawler.require_unique()?;
+            let act = model.actuation(crawler.links())?;
+            let opts = SimOptions {
+                method: match method {
+                    MethodArg::Exact => Method::Exact,
+                    MethodArg::CatchingUp => Method::CatchingUp,
+                },
+                steps_per_period,
+                record_periods: periods,
+                max_periods,
+                tol,
+                initial_state: model.simulation.initial_state.clone(),
+            };
+            let sim = simulate(&crawler, &act, &opts)?;
+            if let (Some(path), Some(traj)) = (&output, &sim.trajectory) {
+                write_trajectory_csv(path, traj)?;
+            }
+            if json {
+                println!("{}", serde_json::to_string(&sim).expect("serialisable"));
+            } else {
+                print_simulation(&sim, output.as_ref().filter(|_| sim.trajectory.is_some()));
+            }
+            if !sim.converged {
+                eprintln!(
+                    "error: the periodic regime was not reached within {} periods (residual {:.3e}); \
+                     displacement_per_period is not reported (raise --max-periods or --tol)",
+                    sim.periods_simulated, sim.period_residual
+                );
+                return Ok(ExitCode::from(EXIT_NOT_CONVERGED));
+            }
+            Ok(ExitCode::SUCCESS)
+        }
+        Command::Bench {
+            blocks,
+            steps,
+            amplitude,
+            phase_deg,
+            mu_forward,
+            mu_backward,
+            min_time,
+            json,
+        } => {
+            if !json {
+                println!(
+                    "sine gait L_l = {amplitude} sin(2 pi t - l {phase_deg} deg), k = 1, mu+ = {mu_forward}, mu- = {mu_backward}, {steps} steps/period"
+                );
+                println!("| N | method | disp/period | periods | steps | us/step | link-steps/s |");
+                println!("|---|---|---|---|---|---|---|");
+            }
+            for &nb in &blocks {
+                let crawler = Crawler::uniform(nb, 1.0, mu_forward, mu_backward)?;
+                crawler.require_unique()?;
+                let n = crawler.links();
+                let act = Actuation::wave(
+                    Waveform::Sine,
+                    1.0,
+                    vec![0.0; n],
+                    vec![amplitude; n],
+                    (0..n).map(|l| l as f64 * phase_deg).collect(),
+                )?;
+                for method in [Method::CatchingUp, Method::Exact] {
+                    let opts = SimOptions {
+                        method,
+                        steps_per_period: steps,
+                        record_periods: 0,
+                        ..SimOptions::default()
+                    };
+                    // Repeat the whole periodic search until min_time has passed.
+                    let t0 = Instant::now();
+                    let mut reps = 0usize;
+                    let mut sim: Option<Simulation> = None;
+                    while reps == 0 || t0.elapsed().as_secs_f64() < min_time {
+                        sim = Some(simulate(&crawler, &act, &opts)?);
+                        reps += 1;
+                    }
+                    let wall = t0.elapsed().as_secs_f64();
+                    let sim = sim.expect("ran at least once");
+                    let total_steps = (reps * sim.periods_simulated * sim.steps_per_period) as f64;
+                    let us = 1e6 * wall / total_steps;
+                    let rate = total_steps * n as f64 / wall;
+                    if json {
+                        println!(
+                            "{}",
+                            serde_json::json!({
+                                "N": nb, "method": method.to_string(), "steps_per_period": steps,
+                                "disp_per_period": sim.displacement_per_period,
+                                "periods": sim.periods_simulated, "converged": sim.converged,
+                                "us_per_step": us, "link_steps_per_s": rate, "repetitions": reps,
+                            })
+                        );
+                    } else {
+                        println!(
+                            "| {nb} | {method} | {} | {} | {} | {us:.3} | {rate:.3e} |",
+                            sim.displacement_per_period.map_or("not converged".into(), |d| format!("{d:.15}")),
+                            sim.periods_simulated,
+                            sim.periods_simulated * sim.steps_per_period,
+                        );
+                    }
+                }
+            }
+            Ok(ExitCode::SUCCESS)
+        }
+    }
+}
+
+fn list(v: &[f64]) -> String {
+    let parts: Vec<String> = v.iter().map(|x| format!("{x}")).collect();
+    format!("[{}]", parts.join(", "))
+}
+
+fn print_analysis(c: &Crawler, a: &Analysis) {
+    println!("crawler: N = {} blocks, n = {} links", a.blocks, a.links);
+    println!("  stiffness k    = {}", list(c.stiffness()));
+    println!("  mu_forward     = {}", list(c.mu_forward()));
+    println!("  mu_backward    = {}", list(c.mu_backward()));
+    println!("uniqueness condition (eq. 3.5):");
+    match (&a.violating_subset, &a.uniqueness_undecided) {
+        (Some(j), _) => println!("  FAILS for J = {j:?}: the motion is not unique"),
+        (None, Some(r)) => println!("  undecided: {r}"),
+        (None, None) => println!(
+            "  holds; margin {:.6} (closest subset J = {:?})",
+            a.uniqueness_margin.unwrap_or(f64::NAN),
+            a.closest_subset.clone().unwrap_or_default()
+        ),
+    }
+    println!("polytope C (F_b = x_(b-1) - x_b; facets marked *):");
+    for f in &a.faces {
+        let (rel, bound) = match f.sign {
+            FaceSign::Forward => ("<=", format!("{}", f.offset)),
+            FaceSign::Backward => (">=", format!("{}", -f.offset)),
+        };
+        println!(
+            "  {} block {:>3} {}: F_{} {rel} {bound}",
+            if f.facet { "*" } else { " " },
+            f.block,
+            match f.sign {
+                FaceSign::Forward => "+ (slides forward) ",
+                FaceSign::Backward => "- (slides backward)",
+            },
+            f.block
+        );
+    }
+    for (l, r) in a.link_force_ranges.iter().enumerate() {
+        println!("  link {:>3}: x in [{}, {}]", l + 1, r[0], r[1]);
+    }
+    if let Some(v) = &a.vertices {
+        println!("  {} vertices:", v.len());
+        for x in v {
+            println!("    {}", list(x));
+        }
+    }
+    if let Some(class) = a.vm_class {
+        println!("displacement function v_m (exact):");
+        println!("  class: {}", serde_json::to_string(&class).expect("enum").trim_matches('"'));
+        println!(
+            "  moves forward: {}   moves backward: {}",
+            a.moves_forward.unwrap_or(false),
+            a.moves_backward.unwrap_or(false)
+        );
+    }
+    if let Some(o) = &a.one_link {
+        println!("one link (SPEC §9): C = [{}, {}], width w = {}", o.alpha, o.beta, o.width);
+        println!(
+            "  extension moves forward: {}   contraction moves forward: {}",
+            o.extension_moves_forward, o.contraction_moves_forward
+        );
+        match (o.min_at_forward, o.min_at_backward) {
+            (Some(m), _) => println!("  forward locomotion needs a*T > {m} (rate bound x period)"),
+            (None, Some(m)) => println!("  no periodic gait moves it forward; backward locomotion needs a*T > {m}"),
+            _ => println!("  v_m is linear: no periodic gait moves it"),
+        }
+    }
+}
+
+fn print_simulation(s: &Simulation, csv: Option<&PathBuf>) {
+    println!("method: {} ({} per period): {}", s.method, s.steps_per_period, s.actuation_model);
+    match s.displacement_per_period {
+        Some(d) => println!("displacement per period: {d}"),
+        None => println!("displacement per period: not reached (last period: {})", s.last_period_displacement),
+    }
+    println!(
+        "periodic regime: {} after {} period(s) (residual {:.3e})",
+        if s.converged { "reached" } else { "NOT reached" },
+        s.periods_to_converge.unwrap_or(s.periods_simulated),
+        s.period_residual
+    );
+    println!("block displacement per period: {}", list(&s.block_displacement_per_period));
+    println!("state at the start of the periodic period: {}", list(&s.orbit_state));
+    if let Some(p) = csv {
+        println!("trajectory written to {}", p.display());
+    }
+}

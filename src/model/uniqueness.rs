@@ -1,0 +1,282 @@
+//! The uniqueness condition (SPEC §2, paper eq. 3.5):
+//! `sum_{b in J} mu_b^+ != sum_{b not in J} mu_b^-` for every subset `J` of blocks.
+//!
+//! Writing `w_b = mu_b^+ + mu_b^-` and `theta = sum_b mu_b^-`, the condition reads
+//! `w(J) != theta` for every `J`: a subset-sum question. Blocks with identical friction are
+//! interchangeable, so subsets are enumerated as count vectors over groups of identical blocks
+//! (a crawler with uniform friction has `N + 1` of them); beyond [`DIRECT_LIMIT`] count vectors
+//! the search meets in the middle over two halves of the groups.
+//!
+//! Decimal inputs such as `0.1` are not exact in binary floating point, so a subset is taken as
+//! violating when `|w(J) - theta| <= REL_TOL * sum_b w_b`: a crawler that close to a violation
+//! has no well-conditioned motion anyway.
+
+/// Relative tolerance below which a subset counts as violating the condition.
+pub const REL_TOL: f64 = 1e-9;
+/// Largest number of count vectors enumerated directly.
+pub const DIRECT_LIMIT: f64 = (1u64 << 22) as f64;
+
+/// Outcome of the uniqueness check.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Uniqueness {
+    /// The condition holds; `margin = min_J |sum_J mu^+ - sum_{J^c} mu^-|`, reached at
+    /// `closest_subset` (0-based blocks).
+    Holds {
+        /// The smallest distance to a violation.
+        margin: f64,
+        /// A subset where it is reached.
+        closest_subset: Vec<usize>,
+    },
+    /// The condition fails for `subset` (0-based blocks).
+    Fails {
+        /// The violating subset `J`.
+        subset: Vec<usize>,
+    },
+    /// Too many distinct friction values to enumerate.
+    Undecided {
+        /// Why.
+        reason: String,
+    },
+}
+
+/// Blocks grouped by identical `(mu^+, mu^-)`: a subset is described by how many blocks of each
+/// group it takes, which makes uniform or few-valued friction cheap to enumerate exactly.
+#[derive(Debug, Clone)]
+pub struct SubsetSearch {
+    /// `w_g = mu^+ + mu^-` of each group.
+    pub weight: Vec<f64>,
+    /// Block indices of each group.
+    pub members: Vec<Vec<usize>>,
+    /// `theta = sum_b mu_b^-`.
+    pub theta: f64,
+    /// `sum_b w_b`.
+    pub total: f64,
+}
+
+impl SubsetSearch {
+    /// Groups the blocks by identical friction pair.
+    pub fn new(mu_forward: &[f64], mu_backward: &[f64]) -> Self {
+        let mut keys: Vec<(f64, f64)> = Vec::new();
+        let mut members: Vec<Vec<usize>> = Vec::new();
+        for (b, (&p, &m)) in mu_forward.iter().zip(mu_backward).enumerate() {
+            match keys.iter().position(|&(kp, km)| kp == p && km == m) {
+                Some(g) => members[g].push(b),
+                None => {
+                    keys.push((p, m));
+                    members.push(vec![b]);
+                }
+            }
+        }
+        let weight: Vec<f64> = keys.iter().map(|&(p, m)| p + m).collect();
+        SubsetSearch {
+            theta: mu_backward.iter().sum(),
+            total: weight.iter().zip(&members).map(|(w, m)| w * m.len() as f64).sum(),
+            weight,
+            members,
+        }
+    }
+
+    /// Number of count vectors over the groups `groups`.
+    pub fn state_count(&self, groups: &[usize]) -> f64 {
+        groups
+            .iter()
+            .map(|&g| (self.members[g].len() + 1) as f64)
+            .product()
+    }
+
+    /// Calls `f(counts, w)` for every count vector over all groups (mixed-radix order), with
+    /// `w = sum_g counts[g] w_g`. The caller checks [`Self::state_count`] first.
+    pub fn for_each_state(&self, mut f: impl FnMut(&[usize], f64)) {
+        let g = self.weight.len();
+        let mut counts = vec![0usize; g];
+        loop {
+            let w: f64 = counts.iter().zip(&self.weight).map(|(&c, &w)| c as f64 * w).sum();
+            f(&counts, w);
+            let mut d = 0;
+            loop {
+                if d == g {
+                    return;
+                }
+                if counts[d] < self.members[d].len() {
+                    counts[d] += 1;
+                    break;
+                }
+                counts[d] = 0;
+                d += 1;
+            }
+        }
+    }
+
+    /// The subset of blocks (sorted, 0-based) taking the first `counts[g]` members of group `g`.
+    pub fn subset_of(&self, counts: &[usize]) -> Vec<usize> {
+        let mut s: Vec<usize> = counts
+            .iter()
+            .zip(&self.members)
+            .flat_map(|(&c, m)| m[..c].iter().copied())
+            .collect();
+        s.sort_unstable();
+        s
+    }
+
+    /// The count vector minimising `|w(J) - theta|`, or `None` when it cannot be enumerated.
+    fn closest_to_theta(&self) -> Option<Vec<usize>> {
+        let all: Vec<usize> = (0..self.weight.len()).collect();
+        if self.state_count(&all) <= DIRECT_LIMIT {
+            let mut best = (f64::INFINITY, Vec::new());
+            self.for_each_state(|c, w| {
+                let d = (w - self.theta).abs();
+                if d < best.0 {
+                    best = (d, c.to_vec());
+                }
+            });
+            return Some(best.1);
+        }
+        self.meet_in_the_middle()
+    }
+
+    /// Splits the groups in two halves of balanced size, lists the sums of one half sorted and
+    /// looks up `theta - s` for every sum `s` of the other.
+    fn meet_in_the_middle(&self) -> Option<Vec<usize>> {
+        let g = self.weight.len();
+        let mut order: Vec<usize> = (0..g).collect();
+        order.sort_by_key(|&i| std::cmp::Reverse(self.members[i].len()));
+        let (mut a, mut b) = (Vec::new(), Vec::new());
+        let (mut ca, mut cb) = (1.0, 1.0);
+        for i in order {
+            let s = (self.members[i].len() + 1) as f64;
+            if ca <= cb {
+                a.push(i);
+                ca *= s;
+            } else {
+                b.push(i);
+                cb *= s;
+            }
+        }
+        if ca > DIRECT_LIMIT || cb > DIRECT_LIMIT {
+            return None;
+        }
+        let half = |groups: &[usize]| -> Vec<(f64, Vec<usize>)> {
+            let sub = SubsetSearch {
+                weight: groups.iter().map(|&i| self.weight[i]).collect(),
+                members: groups.iter().map(|&i| self.members[i].clone()).collect(),
+                theta: 0.0,
+                total: 0.0,
+            };
+            let mut out = Vec::new();
+            sub.for_each_state(|c, w| out.push((w, c.to_vec())));
+            out
+        };
+        let mut left = half(&a);
+        left.sort_by(|x, y| x.0.total_cmp(&y.0));
+        let right = half(&b);
+        let mut best: (f64, usize, usize) = (f64::INFINITY, 0, 0);
+        for (j, (wb, _)) in right.iter().enumerate() {
+            let target = self.theta - wb;
+            let i = left.partition_point(|(w, _)| *w < target);
+            for k in [i.saturating_sub(1), i.min(left.len() - 1)] {
+                let d = (left[k].0 + wb - self.theta).abs();
+                if d < best.0 {
+                    best = (d, k, j);
+                }
+            }
+        }
+        let mut counts = vec![0; g];
+        for (pos, &gi) in a.iter().enumerate() {
+            counts[gi] = left[best.1].1[pos];
+        }
+        for (pos, &gi) in b.iter().enumerate() {
+            counts[gi] = right[best.2].1[pos];
+        }
+        Some(counts)
+    }
+}
+
+impl Uniqueness {
+    /// Decides the condition for the given friction thresholds.
+    pub fn decide(mu_forward: &[f64], mu_backward: &[f64]) -> Self {
+        let search = SubsetSearch::new(mu_forward, mu_backward);
+        let Some(counts) = search.closest_to_theta() else {
+            return Uniqueness::Undecided {
+                reason: format!(
+                    "{} distinct friction pairs among {} blocks exceed the exact enumeration limit; \
+                     use fewer distinct (mu_forward, mu_backward) values",
+                    search.weight.len(),
+                    mu_forward.len()
+                ),
+            };
+        };
+        let subset = search.subset_of(&counts);
+        // Recompute the margin from the subset itself, in one pass, for an honest value.
+        let mut inside = vec![false; mu_forward.len()];
+        subset.iter().for_each(|&b| inside[b] = true);
+        let margin = (0..mu_forward.len())
+            .map(|b| if inside[b] { mu_forward[b] } else { -mu_backward[b] })
+            .sum::<f64>()
+            .abs();
+        if margin <= REL_TOL * search.total {
+            Uniqueness::Fails { subset }
+        } else {
+            Uniqueness::Holds {
+                margin,
+                closest_subset: subset,
+            }
+        }
+    }
+
+    /// Whether the condition holds.
+    pub fn holds(&self) -> bool {
+        matches!(self, Uniqueness::Holds { .. })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn brute(mp: &[f64], mm: &[f64]) -> f64 {
+        let n = mp.len();
+        (0u32..(1 << n))
+            .map(|mask| {
+                (0..n)
+                    .map(|b| if mask >> b & 1 == 1 { mp[b] } else { -mm[b] })
+                    .sum::<f64>()
+                    .abs()
+            })
+            .fold(f64::INFINITY, f64::min)
+    }
+
+    #[test]
+    fn peers_degenerate_case_is_refused() {
+        // N = 5, mu+ = 1, mu- = 1.5: 3 * 1 = 2 * 1.5 (shared/peers/README.md).
+        let u = Uniqueness::decide(&[1.0; 5], &[1.5; 5]);
+        match u {
+            Uniqueness::Fails { subset } => assert_eq!(subset.len(), 3),
+            other => panic!("expected failure, got {other:?}"),
+        }
+        assert!(Uniqueness::decide(&[1.0; 5], &[1.6; 5]).holds());
+    }
+
+    #[test]
+    fn decimal_inputs_count_as_violations() {
+        // 0.1 + 0.2 != 0.3 in binary, but J = {1, 2} violates the condition mathematically.
+        let u = Uniqueness::decide(&[0.1, 0.2, 5.0], &[7.0, 7.0, 0.3]);
+        assert!(matches!(u, Uniqueness::Fails { .. }), "{u:?}");
+    }
+
+    #[test]
+    fn margin_matches_brute_force_and_mitm() {
+        // Distinct values in every block: 2^12 count vectors directly; then force the
+        // meet-in-the-middle path by calling it on the same data.
+        let mp: Vec<f64> = (0..12).map(|i| 1.0 + (i as f64).sqrt() * 0.37).collect();
+        let mm: Vec<f64> = (0..12).map(|i| 2.0 + (0.11 * i as f64 + 0.5).ln()).collect();
+        let want = brute(&mp, &mm);
+        match Uniqueness::decide(&mp, &mm) {
+            Uniqueness::Holds { margin, .. } => assert!((margin - want).abs() < 1e-12),
+            other => panic!("{other:?}"),
+        }
+        let s = SubsetSearch::new(&mp, &mm);
+        let c = s.meet_in_the_middle().unwrap();
+        let w: f64 = c.iter().zip(&s.weight).map(|(&c, &w)| c as f64 * w).sum();
+        assert!(((w - s.theta).abs() - want).abs() < 1e-12);
+    }
+}
