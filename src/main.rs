@@ -2,7 +2,7 @@
 //! and renders results; errors are printed as one line and exit with status 2.
 
 use clap::{Parser, Subcommand, ValueEnum};
-use crawlopt::integrate::{simulate, Actuation, Method, SimOptions, Simulation, Waveform};
+use crawlopt::integrate::{simulate, Actuation, Method, Search, SimOptions, Simulation, Waveform};
 use crawlopt::io::{write_trajectory_csv, ModelFile};
 use crawlopt::model::{Analysis, FaceSign};
 use crawlopt::{Crawler, Error};
@@ -48,11 +48,17 @@ enum Command {
         #[arg(long, value_enum, default_value = "exact")]
         method: MethodArg,
         /// Give up the search for the periodic regime after this many periods.
-        #[arg(long = "max-periods", default_value_t = 1000)]
+        #[arg(long = "max-periods", default_value_t = 5000)]
         max_periods: usize,
-        /// The state repeats when it changes by at most tol * max(mu) over a period.
+        /// The state repeats when it changes by at most tol * (size of C) over a period.
         #[arg(long, default_value_t = 1e-12)]
         tol: f64,
+        /// Iterate periods plainly this many times, then accelerate the search (Anderson).
+        #[arg(long = "accelerate-after", default_value_t = 50)]
+        accelerate_after: usize,
+        /// Never accelerate: the search is the physical transient.
+        #[arg(long = "no-accelerate")]
+        no_accelerate: bool,
         /// Write the recorded trajectory as CSV.
         #[arg(long, short = 'o')]
         output: Option<PathBuf>,
@@ -129,6 +135,8 @@ fn run(cmd: Command) -> Result<ExitCode, Error> {
             method,
             max_periods,
             tol,
+            accelerate_after,
+            no_accelerate,
             output,
             json,
         } => {
@@ -145,6 +153,7 @@ fn run(cmd: Command) -> Result<ExitCode, Error> {
                 record_periods: periods,
                 max_periods,
                 tol,
+                accelerate_after: (!no_accelerate).then_some(accelerate_after),
                 initial_state: model.simulation.initial_state.clone(),
             };
             let sim = simulate(&crawler, &act, &opts)?;
@@ -315,10 +324,14 @@ fn print_simulation(s: &Simulation, csv: Option<&PathBuf>) {
         None => println!("displacement per period: not reached (last period: {})", s.last_period_displacement),
     }
     println!(
-        "periodic regime: {} after {} period(s) (residual {:.3e})",
+        "periodic regime: {} after {} period(s) (residual {:.3e}, {})",
         if s.converged { "reached" } else { "NOT reached" },
         s.periods_to_converge.unwrap_or(s.periods_simulated),
-        s.period_residual
+        s.period_residual,
+        match s.search {
+            Search::Iteration => "plain iteration: the physical transient",
+            Search::Anderson => "Anderson-accelerated search",
+        }
     );
     println!("block displacement per period: {}", list(&s.block_displacement_per_period));
     println!("state at the start of the periodic period: {}", list(&s.orbit_state));

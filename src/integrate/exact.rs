@@ -59,7 +59,7 @@ impl ExactPwl {
             incs,
             lo: crawler.mu_forward().iter().map(|m| -m).collect(),
             hi: crawler.mu_backward().to_vec(),
-            tol_face: 1e-11 * crawler.force_scale(),
+            tol_face: 1e-13 * crawler.state_scale(),
             active: vec![Bound::Free; crawler.blocks()],
             w: vec![0.0; n],
             vel: vec![0.0; crawler.blocks()],

@@ -101,6 +101,12 @@ impl Crawler {
             .collect()
     }
 
+    /// The size of C: the widest range of a link force. Tolerances on states are relative to it
+    /// (link forces of a long chain reach sums of many thresholds).
+    pub fn state_scale(&self) -> f64 {
+        self.link_force_ranges().iter().fold(0.0_f64, |m, r| m.max(r[1] - r[0]))
+    }
+
     /// The largest violation `max_b max(F_b - mu_b^+, -mu_b^- - F_b, 0)` of C at `x`, with the
     /// face where it happens.
     pub fn violation(&self, x: &[f64]) -> (f64, Option<(usize, FaceSign)>) {

@@ -1,0 +1,281 @@
+//! The periodic regime (SPEC §4): the limit cycle of the period map and its displacement.
+//!
+//! For `T`-periodic actuation the state converges to a periodic orbit (refs [Kre], [CGV]), often
+//! only geometrically: the slowest mode of a long chain contracts by a factor close to 1 per
+//! period (0.997 for 100 blocks under a travelling sine wave). The search therefore first
+//! iterates the period map as the crawler would (the count is then the physical transient), and
+//! if that has not converged after [`SimOptions::accelerate_after`] periods it switches to
+//! Anderson acceleration of the fixed-point problem `G(x) = x`, every proposed state projected
+//! onto C. Either way a displacement is reported only for a period actually integrated from a
+//! state `x` with `|G(x) - x|_inf <= tol * s`, `s` the size of C: acceleration only chooses where to look.
+
+use super::{CatchingUp, ExactPwl, Method, PeriodMap, Recorder, Trajectory};
+use super::Actuation;
+use crate::error::{Error, Result};
+use crate::model::Crawler;
+use crate::sweep::Projector;
+use nalgebra::{DMatrix, DVector};
+use serde::Serialize;
+use std::collections::VecDeque;
+
+/// Options of [`simulate`].
+#[derive(Debug, Clone, PartialEq)]
+pub struct SimOptions {
+    /// Integration method.
+    pub method: Method,
+    /// Steps per period (catching-up) or knots of the interpolant of a smooth actuation (exact).
+    pub steps_per_period: usize,
+    /// Periods recorded on the periodic orbit (0: record nothing).
+    pub record_periods: usize,
+    /// Give up the search for the periodic regime after this many period integrations.
+    pub max_periods: usize,
+    /// The state repeats when `max_l |x_l(kT) - x_l((k-1)T)| <= tol * s`, `s` the size of C
+    /// ([`Crawler::state_scale`]).
+    pub tol: f64,
+    /// Switch from plain iteration to Anderson acceleration after this many periods
+    /// (`None`: never, the search is then the physical transient).
+    pub accelerate_after: Option<usize>,
+    /// Initial state `x(0)` (default 0, the unloaded crawler).
+    pub initial_state: Option<Vec<f64>>,
+}
+
+impl Default for SimOptions {
+    fn default() -> Self {
+        SimOptions {
+            method: Method::Exact,
+            steps_per_period: 1000,
+            record_periods: 1,
+            max_periods: 5000,
+            tol: 1e-12,
+            accelerate_after: Some(50),
+            initial_state: None,
+        }
+    }
+}
+
+/// How the periodic state was found.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Search {
+    /// Plain iteration of the period map: `periods_to_converge` is the physical transient.
+    Iteration,
+    /// Anderson-accelerated fixed-point search after the plain periods: `periods_to_converge`
+    /// counts period integrations, the physical transient is longer.
+    Anderson,
+}
+
+/// Result of [`simulate`].
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Simulation {
+    /// Integration method.
+    pub method: Method,
+    /// Steps per period (catching-up) or knots per period (exact).
+    pub steps_per_period: usize,
+    /// What was integrated, in words (the exact method on a smooth actuation plays its
+    /// piecewise-linear interpolant).
+    pub actuation_model: String,
+    /// Period `T`.
+    pub period: f64,
+    /// Whether a state repeating within tolerance was found.
+    pub converged: bool,
+    /// Index of the first period integrated from a state that repeated (1 when the initial
+    /// state is on the orbit); see [`Search`] for what it counts.
+    pub periods_to_converge: Option<usize>,
+    /// How the periodic state was searched for.
+    pub search: Search,
+    /// Periods integrated in the search.
+    pub periods_simulated: usize,
+    /// `max_l |G(x)_l - x_l|` for the last period integrated in the search.
+    pub period_residual: f64,
+    /// The same residual after every period of the search (convergence history).
+    pub residual_history: Vec<f64>,
+    /// Displacement of the barycentre per period on the periodic orbit; `None` when the search
+    /// did not converge (a transient value is never reported as periodic).
+    pub displacement_per_period: Option<f64>,
+    /// Displacement over the last period integrated (periodic or not).
+    pub last_period_displacement: f64,
+    /// Displacement of every block over that period.
+    pub block_displacement_per_period: Vec<f64>,
+    /// The initial state used (after an exact projection onto C).
+    pub initial_state: Vec<f64>,
+    /// The state at the start of that period (on the orbit when converged).
+    pub orbit_state: Vec<f64>,
+    /// Recorded periods from `orbit_state`: times from 0, barycentre 0 at the start.
+    pub trajectory: Option<Trajectory>,
+}
+
+/// Anderson acceleration (type II, memory `m`) of a fixed-point iteration `x <- G(x)`.
+struct Anderson {
+    m: usize,
+    df: VecDeque<Vec<f64>>,
+    dg: VecDeque<Vec<f64>>,
+    prev: Option<(Vec<f64>, Vec<f64>)>,
+}
+
+impl Anderson {
+    fn new(m: usize) -> Self {
+        Anderson {
+            m,
+            df: VecDeque::new(),
+            dg: VecDeque::new(),
+            prev: None,
+        }
+    }
+
+    fn reset(&mut self) {
+        self.df.clear();
+        self.dg.clear();
+        self.prev = None;
+    }
+
+    /// Next iterate from `x` and `g = G(x)`: `g - dG gamma`, `gamma = argmin |f - dF gamma|`.
+    fn next(&mut self, x: &[f64], g: &[f64]) -> Vec<f64> {
+        let f: Vec<f64> = g.iter().zip(x).map(|(a, b)| a - b).collect();
+        if let Some((fp, gp)) = self.prev.take() {
+            self.df.push_back(f.iter().zip(&fp).map(|(a, b)| a - b).collect());
+            self.dg.push_back(g.iter().zip(&gp).map(|(a, b)| a - b).collect());
+            if self.df.len() > self.m {
+                self.df.pop_front();
+                self.dg.pop_front();
+            }
+        }
+        self.prev = Some((f.clone(), g.to_vec()));
+        if self.df.is_empty() {
+            return g.to_vec();
+        }
+        let n = f.len();
+        let a = DMatrix::from_fn(n, self.df.len(), |i, j| self.df[j][i]);
+        let svd = a.svd(true, true);
+        let smax = svd.singular_values.max();
+        let Ok(gamma) = svd.solve(&DVector::from_column_slice(&f), 1e-10 * smax) else {
+            return g.to_vec();
+        };
+        let mut out = g.to_vec();
+        for (j, col) in self.dg.iter().enumerate() {
+            for (o, c) in out.iter_mut().zip(col) {
+                *o -= gamma[j] * c;
+            }
+        }
+        out
+    }
+}
+
+/// Simulates the crawler under the actuation until the periodic regime (SPEC §4).
+pub fn simulate(crawler: &Crawler, act: &Actuation, opts: &SimOptions) -> Result<Simulation> {
+    crawler.require_unique()?;
+    if act.links() != crawler.links() {
+        return Err(Error::invalid(
+            "actuation",
+            format!("{} links", act.links()),
+            format!("the crawler has {} links", crawler.links()),
+        ));
+    }
+    let uses_m = opts.method == Method::CatchingUp || !act.is_piecewise_linear();
+    if uses_m && (opts.steps_per_period == 0 || opts.steps_per_period > 100_000_000) {
+        return Err(Error::invalid("steps_per_period", opts.steps_per_period, "must be in 1..=100000000"));
+    }
+    if opts.max_periods == 0 {
+        return Err(Error::invalid("max_periods", 0, "must be at least 1"));
+    }
+    if !(opts.tol.is_finite() && opts.tol > 0.0) {
+        return Err(Error::invalid("tol", opts.tol, "must be positive and finite"));
+    }
+    let (n, nb) = (crawler.links(), crawler.blocks());
+    let mut proj = Projector::new(crawler)?;
+    let mut scratch_d = vec![0.0; nb];
+    let mut x = vec![0.0; n];
+    if let Some(x0) = &opts.initial_state {
+        crawler.check_admissible("simulation.initial_state", x0, 1e-9)?;
+        proj.project_from_origin(x0, &mut x, &mut scratch_d)?;
+    }
+    let initial_state = x.clone();
+    let mut map: Box<dyn PeriodMap> = match opts.method {
+        Method::CatchingUp => Box::new(CatchingUp::new(crawler, act, opts.steps_per_period)?),
+        Method::Exact => Box::new(ExactPwl::new(crawler, act, opts.steps_per_period)?),
+    };
+    let (steps_per_period, actuation_model) = match opts.method {
+        Method::Exact => (act.knots(opts.steps_per_period).0.len(), act.exact_description(opts.steps_per_period)),
+        Method::CatchingUp => (
+            opts.steps_per_period,
+            format!("the actuation sampled at {} uniform steps per period", opts.steps_per_period),
+        ),
+    };
+    let tol_abs = opts.tol * crawler.state_scale();
+    let plain = opts.accelerate_after.unwrap_or(usize::MAX).max(1);
+    let mut anderson = Anderson::new(8);
+    let mut search = Search::Iteration;
+    let mut acc = vec![0.0; nb];
+    let mut x_start = x.clone();
+    let mut converged_at = None;
+    let mut history: Vec<f64> = Vec::new();
+    let mut k = 0;
+    while k < opts.max_periods {
+        k += 1;
+        x_start.copy_from_slice(&x);
+        acc.iter_mut().for_each(|a| *a = 0.0);
+        map.run_period(&mut x, &mut acc, None)?;
+        let residual = x.iter().zip(&x_start).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max);
+        history.push(residual);
+        if residual <= tol_abs {
+            converged_at = Some(k);
+            break;
+        }
+        if k >= plain {
+            search = Search::Anderson;
+            // Safeguard: a residual that grew restarts the acceleration from a plain step.
+            let best = history[..history.len() - 1].iter().copied().fold(f64::INFINITY, f64::min);
+            if residual > 2.0 * best {
+                anderson.reset();
+            }
+            let proposal = anderson.next(&x_start, &x);
+            proj.project_from_origin(&proposal, &mut x, &mut scratch_d)?;
+        }
+    }
+    let last = acc.iter().sum::<f64>() / nb as f64;
+    let trajectory = if opts.record_periods > 0 {
+        // Positions at the start of the recording: y = 0 and X_{b+1} - X_b = L_b(0) - x_b / k_b.
+        let mut l0 = vec![0.0; n];
+        act.lengths_at(0.0, &mut l0);
+        let mut base = vec![0.0; nb];
+        for l in 0..n {
+            base[l + 1] = base[l] + l0[l] - x_start[l] / crawler.stiffness()[l];
+        }
+        let y0 = base.iter().sum::<f64>() / nb as f64;
+        base.iter_mut().for_each(|b| *b -= y0);
+        let mut traj = Trajectory::default();
+        let mut xr = x_start.clone();
+        let mut accr = vec![0.0; nb];
+        for p in 0..opts.record_periods {
+            let mut rec = Recorder {
+                traj: &mut traj,
+                base: base.clone(),
+                t0: p as f64 * act.period(),
+            };
+            if p == 0 {
+                rec.push(0.0, &xr, &accr, std::iter::repeat_n(0, nb));
+            }
+            map.run_period(&mut xr, &mut accr, Some(&mut rec))?;
+        }
+        Some(traj)
+    } else {
+        None
+    };
+    Ok(Simulation {
+        method: opts.method,
+        steps_per_period,
+        actuation_model,
+        period: act.period(),
+        converged: converged_at.is_some(),
+        periods_to_converge: converged_at,
+        search,
+        periods_simulated: k,
+        period_residual: history.last().copied().unwrap_or(f64::INFINITY),
+        residual_history: history,
+        displacement_per_period: converged_at.map(|_| last),
+        last_period_displacement: last,
+        block_displacement_per_period: acc,
+        initial_state,
+        orbit_state: x_start,
+        trajectory,
+    })
+}

@@ -1,0 +1,37 @@
+//! Helpers shared by the integration tests.
+#![allow(dead_code)]
+
+use crawlopt::integrate::{simulate, Actuation, Method, SimOptions, Simulation, Waveform};
+use crawlopt::Crawler;
+
+pub fn sine(n: usize, period: f64, amp: f64, phase_step_deg: f64) -> Actuation {
+    Actuation::wave(
+        Waveform::Sine,
+        period,
+        vec![0.0; n],
+        vec![amp; n],
+        (0..n).map(|l| l as f64 * phase_step_deg).collect(),
+    )
+    .unwrap()
+}
+
+pub fn run(c: &Crawler, a: &Actuation, method: Method, m: usize) -> Simulation {
+    let s = simulate(
+        c,
+        a,
+        &SimOptions {
+            method,
+            steps_per_period: m,
+            record_periods: 1,
+            max_periods: 5000,
+            ..SimOptions::default()
+        },
+    )
+    .unwrap();
+    assert!(s.converged, "no periodic regime: {:?}", &s.residual_history[s.residual_history.len().saturating_sub(5)..]);
+    s
+}
+
+pub fn disp(c: &Crawler, a: &Actuation, method: Method, m: usize) -> f64 {
+    run(c, a, method, m).displacement_per_period.unwrap()
+}
