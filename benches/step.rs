@@ -1,1 +1,56 @@
-fn main() {}
+//! Cost of one simulation time step (catching-up: one projection onto C; exact: the events of
+//! one knot interval) on the travelling sine gait `L_l = 2 sin(2 pi t - l pi/2)`, k = 1,
+//! mu+ = 1, mu- = 3.3, 1000 steps per period, measured on the periodic orbit.
+//! `cargo bench --bench step`; throughput is reported in steps per second.
+
+use crawlopt::integrate::{Actuation, CatchingUp, ExactPwl, PeriodMap, Waveform};
+use crawlopt::Crawler;
+use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
+use std::hint::black_box;
+
+const M: usize = 1000;
+
+fn setup(nb: usize) -> (Crawler, Actuation) {
+    let c = Crawler::uniform(nb, 1.0, 1.0, 3.3).unwrap();
+    let n = c.links();
+    let a = Actuation::wave(
+        Waveform::Sine,
+        1.0,
+        vec![0.0; n],
+        vec![2.0; n],
+        (0..n).map(|l| 90.0 * l as f64).collect(),
+    )
+    .unwrap();
+    (c, a)
+}
+
+fn bench_period(c: &mut Criterion) {
+    let mut g = c.benchmark_group("period_of_1000_steps");
+    g.throughput(Throughput::Elements(M as u64));
+    g.sample_size(20);
+    for nb in [3usize, 10, 100, 1000] {
+        let (crawler, act) = setup(nb);
+        let n = crawler.links();
+        let mut acc = vec![0.0; nb];
+        let mut cu = CatchingUp::new(&crawler, &act, M).unwrap();
+        let mut x = vec![0.0; n];
+        for _ in 0..50 {
+            cu.run_period(&mut x, &mut acc, None).unwrap();
+        }
+        g.bench_with_input(BenchmarkId::new("catching-up", nb), &nb, |b, _| {
+            b.iter(|| cu.run_period(black_box(&mut x), &mut acc, None).unwrap())
+        });
+        let mut ex = ExactPwl::new(&crawler, &act, M).unwrap();
+        let mut x = vec![0.0; n];
+        for _ in 0..50 {
+            ex.run_period(&mut x, &mut acc, None).unwrap();
+        }
+        g.bench_with_input(BenchmarkId::new("exact", nb), &nb, |b, _| {
+            b.iter(|| ex.run_period(black_box(&mut x), &mut acc, None).unwrap())
+        });
+    }
+    g.finish();
+}
+
+criterion_group!(benches, bench_period);
+criterion_main!(benches);

@@ -3,15 +3,27 @@
 //! Simulation and optimal gaits of rate-independent soft crawlers: chains of blocks joined by
 //! springs in series with actuators, on a surface with direction-dependent dry friction, moving
 //! quasi-statically. The shape follows a Moreau sweeping process in the polytope C of admissible
-//! spring forces (see `SPEC.md` and the paper "On the optimal control of rate-independent soft
-//! crawlers").
+//! spring forces (`SPEC.md`; paper "On the optimal control of rate-independent soft crawlers").
 //!
 //! Layers, each knowing only those before it:
 //! - [`model`]: the crawler, the polytope C, the uniqueness condition, v_m;
 //! - [`sweep`]: projections onto C and onto its tangent cones (the hot kernel);
 //! - [`integrate`]: actuations, catching-up and exact event-driven integration, periodic regime;
-//! - [`io`]: the TOML model file and CSV actuations;
+//! - [`io`]: the TOML model file and CSV files;
 //! - the `crawlopt` binary: a thin command-line layer.
+//!
+//! ```
+//! use crawlopt::integrate::{simulate, Actuation, Method, SimOptions, Waveform};
+//! use crawlopt::Crawler;
+//!
+//! // One link, mu+ = 1 and mu- = 2 on both blocks, L = 3 sin(2 pi t): SPEC §10 gives
+//! // max(0, 2A - 2) = 4 per period.
+//! let crawler = Crawler::uniform(2, 1.0, 1.0, 2.0)?;
+//! let act = Actuation::wave(Waveform::Sine, 1.0, vec![0.0], vec![3.0], vec![0.0])?;
+//! let sim = simulate(&crawler, &act, &SimOptions { method: Method::Exact, ..SimOptions::default() })?;
+//! assert!((sim.displacement_per_period.unwrap() - 4.0).abs() < 1e-12);
+//! # Ok::<(), crawlopt::Error>(())
+//! ```
 
 pub mod error;
 pub mod integrate;

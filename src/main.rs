@@ -116,7 +116,10 @@ fn run(cmd: Command) -> Result<ExitCode, Error> {
             let crawler = model.crawler()?;
             let a = crawler.analyze();
             if json {
-                println!("{}", serde_json::to_string_pretty(&a).expect("serialisable"));
+                println!(
+                    "{}",
+                    serde_json::to_string_pretty(&a).expect("serialisable")
+                );
             } else {
                 print_analysis(&crawler, &a);
             }
@@ -236,7 +239,8 @@ fn run(cmd: Command) -> Result<ExitCode, Error> {
                     } else {
                         println!(
                             "| {nb} | {method} | {} | {} | {} | {us:.3} | {rate:.3e} |",
-                            sim.displacement_per_period.map_or("not converged".into(), |d| format!("{d:.15}")),
+                            sim.displacement_per_period
+                                .map_or("not converged".into(), |d| format!("{d:.15}")),
                             sim.periods_simulated,
                             sim.periods_simulated * sim.steps_per_period,
                         );
@@ -296,7 +300,12 @@ fn print_analysis(c: &Crawler, a: &Analysis) {
     }
     if let Some(class) = a.vm_class {
         println!("displacement function v_m (exact):");
-        println!("  class: {}", serde_json::to_string(&class).expect("enum").trim_matches('"'));
+        println!(
+            "  class: {}",
+            serde_json::to_string(&class)
+                .expect("enum")
+                .trim_matches('"')
+        );
         println!(
             "  moves forward: {}   moves backward: {}",
             a.moves_forward.unwrap_or(false),
@@ -304,28 +313,43 @@ fn print_analysis(c: &Crawler, a: &Analysis) {
         );
     }
     if let Some(o) = &a.one_link {
-        println!("one link (SPEC §9): C = [{}, {}], width w = {}", o.alpha, o.beta, o.width);
+        println!(
+            "one link (SPEC §9): C = [{}, {}], width w = {}",
+            o.alpha, o.beta, o.width
+        );
         println!(
             "  extension moves forward: {}   contraction moves forward: {}",
             o.extension_moves_forward, o.contraction_moves_forward
         );
         match (o.min_at_forward, o.min_at_backward) {
             (Some(m), _) => println!("  forward locomotion needs a*T > {m} (rate bound x period)"),
-            (None, Some(m)) => println!("  no periodic gait moves it forward; backward locomotion needs a*T > {m}"),
+            (None, Some(m)) => {
+                println!("  no periodic gait moves it forward; backward locomotion needs a*T > {m}")
+            }
             _ => println!("  v_m is linear: no periodic gait moves it"),
         }
     }
 }
 
 fn print_simulation(s: &Simulation, csv: Option<&PathBuf>) {
-    println!("method: {} ({} per period): {}", s.method, s.steps_per_period, s.actuation_model);
+    println!(
+        "method: {} ({} per period): {}",
+        s.method, s.steps_per_period, s.actuation_model
+    );
     match s.displacement_per_period {
         Some(d) => println!("displacement per period: {d}"),
-        None => println!("displacement per period: not reached (last period: {})", s.last_period_displacement),
+        None => println!(
+            "displacement per period: not reached (last period: {})",
+            s.last_period_displacement
+        ),
     }
     println!(
         "periodic regime: {} after {} period(s) (residual {:.3e}, {})",
-        if s.converged { "reached" } else { "NOT reached" },
+        if s.converged {
+            "reached"
+        } else {
+            "NOT reached"
+        },
         s.periods_to_converge.unwrap_or(s.periods_simulated),
         s.period_residual,
         match s.search {
@@ -333,8 +357,14 @@ fn print_simulation(s: &Simulation, csv: Option<&PathBuf>) {
             Search::Anderson => "Anderson-accelerated search",
         }
     );
-    println!("block displacement per period: {}", list(&s.block_displacement_per_period));
-    println!("state at the start of the periodic period: {}", list(&s.orbit_state));
+    println!(
+        "block displacement per period: {}",
+        list(&s.block_displacement_per_period)
+    );
+    println!(
+        "state at the start of the periodic period: {}",
+        list(&s.orbit_state)
+    );
     if let Some(p) = csv {
         println!("trajectory written to {}", p.display());
     }

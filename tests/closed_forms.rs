@@ -17,7 +17,10 @@ fn sine_gait_moves_max_0_2a_minus_2() {
         for m in [4, 8, 100, 1000] {
             for method in [Method::CatchingUp, Method::Exact] {
                 let got = disp(&c, &act, method, m);
-                assert!((got - want).abs() < TOL, "A = {a}, M = {m}, {method}: {got} vs {want}");
+                assert!(
+                    (got - want).abs() < TOL,
+                    "A = {a}, M = {m}, {method}: {got} vs {want}"
+                );
             }
         }
     }
@@ -40,14 +43,27 @@ fn rise_and_fall_moves_delta_l_minus_w_over_k() {
             let act = Actuation::piecewise_linear(
                 5.0,
                 vec![0.0, 0.4, 1.9, 2.5, 3.0, 4.1],
-                vec![vec![0.0], vec![0.2 * dl], vec![dl], vec![dl], vec![0.7 * dl], vec![0.1 * dl]],
+                vec![
+                    vec![0.0],
+                    vec![0.2 * dl],
+                    vec![dl],
+                    vec![dl],
+                    vec![0.7 * dl],
+                    vec![0.1 * dl],
+                ],
             )
             .unwrap();
             let got = disp(&c, &act, Method::Exact, 0);
-            assert!((got - want).abs() < TOL, "k = {k}, dL = {dl}: {got} vs {want}");
+            assert!(
+                (got - want).abs() < TOL,
+                "k = {k}, dL = {dl}: {got} vs {want}"
+            );
             // Catching-up is exact for N = 2: any grid that hits the extremes of L.
             let got = disp(&c, &act, Method::CatchingUp, 50);
-            assert!((got - want).abs() < TOL, "catching-up k = {k}, dL = {dl}: {got} vs {want}");
+            assert!(
+                (got - want).abs() < TOL,
+                "catching-up k = {k}, dL = {dl}: {got} vs {want}"
+            );
         }
     }
 }
@@ -70,7 +86,10 @@ fn catching_up_is_exact_for_one_link_at_any_m() {
 fn one_sided_friction_cannot_move_periodically() {
     // SPEC §9: if only extension (or only contraction) moves forward, v_m is linear and every
     // periodic gait gives zero net displacement.
-    for (mp, mm) in [(vec![1.0, 0.5], vec![2.0, 0.8]), (vec![0.5, 2.0], vec![0.8, 1.0])] {
+    for (mp, mm) in [
+        (vec![1.0, 0.5], vec![2.0, 0.8]),
+        (vec![0.5, 2.0], vec![0.8, 1.0]),
+    ] {
         let c = Crawler::new(vec![1.0], mp, mm).unwrap();
         let o = c.analyze().one_link.unwrap();
         assert_ne!(o.extension_moves_forward, o.contraction_moves_forward);
@@ -94,7 +113,15 @@ fn minimum_at_for_locomotion_is_twice_the_width() {
     assert_eq!(o.min_at_forward, Some(4.0));
     // Bang-bang gait with a = 1, T = 10: L rises at rate a/k for T/2 and falls back.
     let (a, t, k) = (1.0, 10.0, 1.0);
-    let act = Actuation::piecewise_linear(t, vec![0.0, t / 2.0], vec![vec![0.0], vec![a * t / 2.0 / k]]).unwrap();
+    let act = Actuation::piecewise_linear(
+        t,
+        vec![0.0, t / 2.0],
+        vec![vec![0.0], vec![a * t / 2.0 / k]],
+    )
+    .unwrap();
     let got = disp(&c, &act, Method::Exact, 0);
-    assert!((got - 3.0).abs() < TOL, "SPEC §10 reference J* = 3, got {got}");
+    assert!(
+        (got - 3.0).abs() < TOL,
+        "SPEC §10 reference J* = 3, got {got}"
+    );
 }

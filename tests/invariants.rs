@@ -159,31 +159,54 @@ proptest! {
 fn catching_up_converges_to_exact_at_first_order() {
     // A 4-block crawler and a gait with corners: catching-up on M = 4 * 2^j steps against the
     // exact solution of the same piecewise-linear actuation.
-    let c = Crawler::new(vec![1.0, 0.7, 1.4], vec![1.0, 1.2, 0.9, 1.1], vec![2.6, 2.2, 3.1, 2.4]).unwrap();
+    let c = Crawler::new(
+        vec![1.0, 0.7, 1.4],
+        vec![1.0, 1.2, 0.9, 1.1],
+        vec![2.6, 2.2, 3.1, 2.4],
+    )
+    .unwrap();
     let act = Actuation::piecewise_linear(
         1.0,
         vec![0.0, 0.25, 0.5, 0.75],
-        vec![vec![0.0, 1.0, -1.0], vec![3.0, -1.0, 0.5], vec![1.0, 2.5, 2.0], vec![-2.0, 0.0, 1.0]],
+        vec![
+            vec![0.0, 1.0, -1.0],
+            vec![3.0, -1.0, 0.5],
+            vec![1.0, 2.5, 2.0],
+            vec![-2.0, 0.0, 1.0],
+        ],
     )
     .unwrap();
     let exact = common::disp(&c, &act, Method::Exact, 0);
     let mut errs = Vec::new();
     for j in 0..11 {
         let m = 4 << j;
-        errs.push((m, (common::disp(&c, &act, Method::CatchingUp, m) - exact).abs()));
+        errs.push((
+            m,
+            (common::disp(&c, &act, Method::CatchingUp, m) - exact).abs(),
+        ));
     }
     let orders: Vec<f64> = errs.windows(2).map(|w| (w[0].1 / w[1].1).log2()).collect();
     println!("exact displacement per period {exact}");
     for (k, (m, e)) in errs.iter().enumerate() {
-        println!("M = {m:5}: |catching-up - exact| = {e:.3e}  order {:.2}", if k > 0 { orders[k - 1] } else { f64::NAN });
+        println!(
+            "M = {m:5}: |catching-up - exact| = {e:.3e}  order {:.2}",
+            if k > 0 { orders[k - 1] } else { f64::NAN }
+        );
     }
     // The error jumps with where the grid falls relative to the events, so the order is the
     // least-squares slope of log(error) against log(M) over M >= 16.
-    let pts: Vec<(f64, f64)> = errs[2..].iter().map(|&(m, e)| ((m as f64).ln(), e.ln())).collect();
+    let pts: Vec<(f64, f64)> = errs[2..]
+        .iter()
+        .map(|&(m, e)| ((m as f64).ln(), e.ln()))
+        .collect();
     let (mx, my) = pts.iter().fold((0.0, 0.0), |a, p| (a.0 + p.0, a.1 + p.1));
     let (mx, my) = (mx / pts.len() as f64, my / pts.len() as f64);
-    let slope = pts.iter().map(|p| (p.0 - mx) * (p.1 - my)).sum::<f64>() / pts.iter().map(|p| (p.0 - mx).powi(2)).sum::<f64>();
-    println!("observed order (least-squares fit, M = 16..4096): {:.3}", -slope);
+    let slope = pts.iter().map(|p| (p.0 - mx) * (p.1 - my)).sum::<f64>()
+        / pts.iter().map(|p| (p.0 - mx).powi(2)).sum::<f64>();
+    println!(
+        "observed order (least-squares fit, M = 16..4096): {:.3}",
+        -slope
+    );
     assert!(errs.last().unwrap().1 < 1e-3 * exact.abs().max(1.0));
     assert!((0.7..1.4).contains(&-slope), "observed order {}", -slope);
 }

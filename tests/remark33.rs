@@ -6,7 +6,11 @@ use crawlopt::Crawler;
 fn class(mp: f64, mm: f64) -> (VmClass, bool, bool) {
     let a = Crawler::uniform(3, 1.0, mp, mm).unwrap().analyze();
     assert!(a.uniqueness_ok);
-    (a.vm_class.unwrap(), a.moves_forward.unwrap(), a.moves_backward.unwrap())
+    (
+        a.vm_class.unwrap(),
+        a.moves_forward.unwrap(),
+        a.moves_backward.unwrap(),
+    )
 }
 
 #[test]

@@ -53,7 +53,11 @@ fn positive(field: &str, v: f64) -> Result<()> {
 
 fn finite(field: &str, values: &[f64]) -> Result<()> {
     match values.iter().position(|v| !v.is_finite()) {
-        Some(i) => Err(Error::invalid(format!("{field}[{}]", i + 1), values[i], "must be finite")),
+        Some(i) => Err(Error::invalid(
+            format!("{field}[{}]", i + 1),
+            values[i],
+            "must be finite",
+        )),
         None => Ok(()),
     }
 }
@@ -69,9 +73,16 @@ impl Actuation {
     ) -> Result<Self> {
         positive("actuation.period", period)?;
         let n = amplitude.len();
-        for (name, v) in [("actuation.mean", &mean), ("actuation.phase_deg", &phase_deg)] {
+        for (name, v) in [
+            ("actuation.mean", &mean),
+            ("actuation.phase_deg", &phase_deg),
+        ] {
             if v.len() != n {
-                return Err(Error::invalid(name, format!("{} values", v.len()), format!("needs one value per link ({n})")));
+                return Err(Error::invalid(
+                    name,
+                    format!("{} values", v.len()),
+                    format!("needs one value per link ({n})"),
+                ));
             }
             finite(name, v)?;
         }
@@ -91,7 +102,11 @@ impl Actuation {
     pub fn piecewise_linear(period: f64, times: Vec<f64>, lengths: Vec<Vec<f64>>) -> Result<Self> {
         positive("actuation.period", period)?;
         if times.len() < 2 {
-            return Err(Error::invalid("actuation.times", format!("{} knots", times.len()), "needs at least 2 knots"));
+            return Err(Error::invalid(
+                "actuation.times",
+                format!("{} knots", times.len()),
+                "needs at least 2 knots",
+            ));
         }
         if lengths.len() != times.len() {
             return Err(Error::invalid(
@@ -102,20 +117,36 @@ impl Actuation {
         }
         finite("actuation.times", &times)?;
         if times[0] < 0.0 {
-            return Err(Error::invalid("actuation.times[1]", times[0], "must be >= 0"));
+            return Err(Error::invalid(
+                "actuation.times[1]",
+                times[0],
+                "must be >= 0",
+            ));
         }
         for j in 1..times.len() {
             if times[j] <= times[j - 1] {
-                return Err(Error::invalid(format!("actuation.times[{}]", j + 1), times[j], "must be strictly increasing"));
+                return Err(Error::invalid(
+                    format!("actuation.times[{}]", j + 1),
+                    times[j],
+                    "must be strictly increasing",
+                ));
             }
         }
         let last = times[times.len() - 1];
         if last >= period {
-            return Err(Error::invalid(format!("actuation.times[{}]", times.len()), last, format!("must be < period ({period})")));
+            return Err(Error::invalid(
+                format!("actuation.times[{}]", times.len()),
+                last,
+                format!("must be < period ({period})"),
+            ));
         }
         let n = lengths[0].len();
         if n == 0 {
-            return Err(Error::invalid("actuation.lengths[1]", "[]", "needs one value per link"));
+            return Err(Error::invalid(
+                "actuation.lengths[1]",
+                "[]",
+                "needs one value per link",
+            ));
         }
         for (j, row) in lengths.iter().enumerate() {
             if row.len() != n {
@@ -127,7 +158,11 @@ impl Actuation {
             }
             finite(&format!("actuation.lengths[{}]", j + 1), row)?;
         }
-        Ok(Actuation::PiecewiseLinear { period, times, lengths })
+        Ok(Actuation::PiecewiseLinear {
+            period,
+            times,
+            lengths,
+        })
     }
 
     /// The period `T`.
@@ -170,7 +205,11 @@ impl Actuation {
                     out[l] = mean[l] + amplitude[l] * s;
                 }
             }
-            Actuation::PiecewiseLinear { period, times, lengths } => {
+            Actuation::PiecewiseLinear {
+                period,
+                times,
+                lengths,
+            } => {
                 let mut tau = t.rem_euclid(*period);
                 let k = times.len();
                 // Segment j runs from knot j to knot j+1; the last one closes at knot 0 + T.
@@ -181,7 +220,11 @@ impl Actuation {
                 } else {
                     i - 1
                 };
-                let t1 = if j + 1 < k { times[j + 1] } else { times[0] + period };
+                let t1 = if j + 1 < k {
+                    times[j + 1]
+                } else {
+                    times[0] + period
+                };
                 let (a, b) = (&lengths[j], &lengths[(j + 1) % k]);
                 let s = (tau - times[j]) / (t1 - times[j]);
                 for l in 0..out.len() {
@@ -242,9 +285,18 @@ mod tests {
 
     #[test]
     fn piecewise_linear_wraps_periodically() {
-        let a = Actuation::piecewise_linear(4.0, vec![1.0, 2.0], vec![vec![0.0], vec![2.0]]).unwrap();
+        let a =
+            Actuation::piecewise_linear(4.0, vec![1.0, 2.0], vec![vec![0.0], vec![2.0]]).unwrap();
         let mut l = [0.0];
-        for (t, want) in [(1.0, 0.0), (1.5, 1.0), (2.0, 2.0), (3.5, 1.0), (0.5, 1.0 / 3.0), (5.5, 1.0), (-2.5, 1.0)] {
+        for (t, want) in [
+            (1.0, 0.0),
+            (1.5, 1.0),
+            (2.0, 2.0),
+            (3.5, 1.0),
+            (0.5, 1.0 / 3.0),
+            (5.5, 1.0),
+            (-2.5, 1.0),
+        ] {
             a.lengths_at(t, &mut l);
             assert!((l[0] - want).abs() < 1e-15, "t = {t}: {} vs {want}", l[0]);
         }
@@ -268,7 +320,8 @@ mod tests {
         assert!(e.to_string().starts_with("actuation.period"), "{e}");
         let e = Actuation::wave(Waveform::Sine, 1.0, vec![0.0], vec![-1.0], vec![0.0]).unwrap_err();
         assert!(e.to_string().starts_with("actuation.amplitude[1]"), "{e}");
-        let e = Actuation::piecewise_linear(1.0, vec![0.0, 0.0], vec![vec![0.0], vec![1.0]]).unwrap_err();
+        let e = Actuation::piecewise_linear(1.0, vec![0.0, 0.0], vec![vec![0.0], vec![1.0]])
+            .unwrap_err();
         assert!(e.to_string().starts_with("actuation.times[2]"), "{e}");
     }
 }

@@ -28,12 +28,17 @@ impl CatchingUp {
         let period = act.period();
         let mut samples = vec![0.0; (m + 1) * n];
         for i in 0..m {
-            act.lengths_at(period * i as f64 / m as f64, &mut samples[i * n..(i + 1) * n]);
+            act.lengths_at(
+                period * i as f64 / m as f64,
+                &mut samples[i * n..(i + 1) * n],
+            );
         }
         let (head, tail) = samples.split_at_mut(m * n);
         tail.copy_from_slice(&head[..n]);
         let k = crawler.stiffness();
-        let deltas = (0..m * n).map(|j| k[j % n] * (samples[j + n] - samples[j])).collect();
+        let deltas = (0..m * n)
+            .map(|j| k[j % n] * (samples[j + n] - samples[j]))
+            .collect();
         Self::from_increments(crawler, deltas, period)
     }
 
@@ -58,7 +63,12 @@ impl CatchingUp {
 }
 
 impl PeriodMap for CatchingUp {
-    fn run_period(&mut self, x: &mut [f64], acc: &mut [f64], mut rec: Option<&mut Recorder>) -> Result<()> {
+    fn run_period(
+        &mut self,
+        x: &mut [f64],
+        acc: &mut [f64],
+        mut rec: Option<&mut Recorder>,
+    ) -> Result<()> {
         let n = self.n;
         for (i, delta) in self.deltas.chunks_exact(n).enumerate() {
             self.iterations += self.proj.step(x, delta, &mut self.d)? as u64;
@@ -67,7 +77,12 @@ impl PeriodMap for CatchingUp {
             }
             if let Some(r) = rec.as_deref_mut() {
                 let tol = 1e-12 * delta.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
-                r.push(self.times[i + 1], x, acc, self.d.iter().map(|&d| slip_of(d, tol)));
+                r.push(
+                    self.times[i + 1],
+                    x,
+                    acc,
+                    self.d.iter().map(|&d| slip_of(d, tol)),
+                );
             }
         }
         Ok(())

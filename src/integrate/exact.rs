@@ -74,7 +74,13 @@ impl ExactPwl {
         self.events
     }
 
-    fn phase(&mut self, j: usize, x: &mut [f64], acc: &mut [f64], rec: &mut Option<&mut Recorder>) -> Result<()> {
+    fn phase(
+        &mut self,
+        j: usize,
+        x: &mut [f64],
+        acc: &mut [f64],
+        rec: &mut Option<&mut Recorder>,
+    ) -> Result<()> {
         let n = self.n;
         let nb = n + 1;
         let u = &self.incs[j * n..(j + 1) * n];
@@ -99,7 +105,8 @@ impl ExactPwl {
                     Bound::Free
                 };
             }
-            self.cone.project(&self.active, u, &mut self.w, &mut self.vel)?;
+            self.cone
+                .project(&self.active, u, &mut self.w, &mut self.vel)?;
             // First face hit by the straight motion x + tau w.
             let mut tau = 1.0 - s;
             let mut hit = false;
@@ -127,7 +134,12 @@ impl ExactPwl {
             s += tau;
             if let Some(r) = rec.as_deref_mut() {
                 let vtol = 1e-12 * umax;
-                r.push(t0 + s.min(1.0) * dur, x, acc, self.vel.iter().map(|&v| slip_of(v, vtol)));
+                r.push(
+                    t0 + s.min(1.0) * dur,
+                    x,
+                    acc,
+                    self.vel.iter().map(|&v| slip_of(v, vtol)),
+                );
             }
             if !hit {
                 return Ok(());
@@ -142,7 +154,12 @@ impl ExactPwl {
 }
 
 impl PeriodMap for ExactPwl {
-    fn run_period(&mut self, x: &mut [f64], acc: &mut [f64], mut rec: Option<&mut Recorder>) -> Result<()> {
+    fn run_period(
+        &mut self,
+        x: &mut [f64],
+        acc: &mut [f64],
+        mut rec: Option<&mut Recorder>,
+    ) -> Result<()> {
         for j in 0..self.times.len() - 1 {
             self.phase(j, x, acc, &mut rec)?;
         }

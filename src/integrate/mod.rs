@@ -75,7 +75,9 @@ impl Recorder<'_> {
         let pos: Vec<f64> = self.base.iter().zip(acc).map(|(b, a)| b + a).collect();
         self.traj.t.push(self.t0 + t);
         self.traj.x.push(x.to_vec());
-        self.traj.barycentre.push(pos.iter().sum::<f64>() / pos.len() as f64);
+        self.traj
+            .barycentre
+            .push(pos.iter().sum::<f64>() / pos.len() as f64);
         self.traj.positions.push(pos);
         self.traj.slip.push(slip.collect());
     }
@@ -96,6 +98,10 @@ pub fn slip_of(v: f64, tol: f64) -> Slip {
 pub trait PeriodMap {
     /// Advances `x` over one period, adds every block's displacement to `acc`, and records the
     /// samples (period-local times) when `rec` is given.
-    fn run_period(&mut self, x: &mut [f64], acc: &mut [f64], rec: Option<&mut Recorder>) -> Result<()>;
+    fn run_period(
+        &mut self,
+        x: &mut [f64],
+        acc: &mut [f64],
+        rec: Option<&mut Recorder>,
+    ) -> Result<()>;
 }
-

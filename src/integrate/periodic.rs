@@ -9,8 +9,8 @@
 //! onto C. Either way a displacement is reported only for a period actually integrated from a
 //! state `x` with `|G(x) - x|_inf <= tol * s`, `s` the size of C: acceleration only chooses where to look.
 
-use super::{CatchingUp, ExactPwl, Method, PeriodMap, Recorder, Trajectory};
 use super::Actuation;
+use super::{CatchingUp, ExactPwl, Method, PeriodMap, Recorder, Trajectory};
 use crate::error::{Error, Result};
 use crate::model::Crawler;
 use crate::sweep::Projector;
@@ -132,8 +132,10 @@ impl Anderson {
     fn next(&mut self, x: &[f64], g: &[f64]) -> Vec<f64> {
         let f: Vec<f64> = g.iter().zip(x).map(|(a, b)| a - b).collect();
         if let Some((fp, gp)) = self.prev.take() {
-            self.df.push_back(f.iter().zip(&fp).map(|(a, b)| a - b).collect());
-            self.dg.push_back(g.iter().zip(&gp).map(|(a, b)| a - b).collect());
+            self.df
+                .push_back(f.iter().zip(&fp).map(|(a, b)| a - b).collect());
+            self.dg
+                .push_back(g.iter().zip(&gp).map(|(a, b)| a - b).collect());
             if self.df.len() > self.m {
                 self.df.pop_front();
                 self.dg.pop_front();
@@ -172,13 +174,21 @@ pub fn simulate(crawler: &Crawler, act: &Actuation, opts: &SimOptions) -> Result
     }
     let uses_m = opts.method == Method::CatchingUp || !act.is_piecewise_linear();
     if uses_m && (opts.steps_per_period == 0 || opts.steps_per_period > 100_000_000) {
-        return Err(Error::invalid("steps_per_period", opts.steps_per_period, "must be in 1..=100000000"));
+        return Err(Error::invalid(
+            "steps_per_period",
+            opts.steps_per_period,
+            "must be in 1..=100000000",
+        ));
     }
     if opts.max_periods == 0 {
         return Err(Error::invalid("max_periods", 0, "must be at least 1"));
     }
     if !(opts.tol.is_finite() && opts.tol > 0.0) {
-        return Err(Error::invalid("tol", opts.tol, "must be positive and finite"));
+        return Err(Error::invalid(
+            "tol",
+            opts.tol,
+            "must be positive and finite",
+        ));
     }
     let (n, nb) = (crawler.links(), crawler.blocks());
     let mut proj = Projector::new(crawler)?;
@@ -194,10 +204,16 @@ pub fn simulate(crawler: &Crawler, act: &Actuation, opts: &SimOptions) -> Result
         Method::Exact => Box::new(ExactPwl::new(crawler, act, opts.steps_per_period)?),
     };
     let (steps_per_period, actuation_model) = match opts.method {
-        Method::Exact => (act.knots(opts.steps_per_period).0.len(), act.exact_description(opts.steps_per_period)),
+        Method::Exact => (
+            act.knots(opts.steps_per_period).0.len(),
+            act.exact_description(opts.steps_per_period),
+        ),
         Method::CatchingUp => (
             opts.steps_per_period,
-            format!("the actuation sampled at {} uniform steps per period", opts.steps_per_period),
+            format!(
+                "the actuation sampled at {} uniform steps per period",
+                opts.steps_per_period
+            ),
         ),
     };
     let tol_abs = opts.tol * crawler.state_scale();
@@ -214,7 +230,11 @@ pub fn simulate(crawler: &Crawler, act: &Actuation, opts: &SimOptions) -> Result
         x_start.copy_from_slice(&x);
         acc.iter_mut().for_each(|a| *a = 0.0);
         map.run_period(&mut x, &mut acc, None)?;
-        let residual = x.iter().zip(&x_start).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max);
+        let residual = x
+            .iter()
+            .zip(&x_start)
+            .map(|(a, b)| (a - b).abs())
+            .fold(0.0, f64::max);
         history.push(residual);
         if residual <= tol_abs {
             converged_at = Some(k);
@@ -223,7 +243,10 @@ pub fn simulate(crawler: &Crawler, act: &Actuation, opts: &SimOptions) -> Result
         if k >= plain {
             search = Search::Anderson;
             // Safeguard: a residual that grew restarts the acceleration from a plain step.
-            let best = history[..history.len() - 1].iter().copied().fold(f64::INFINITY, f64::min);
+            let best = history[..history.len() - 1]
+                .iter()
+                .copied()
+                .fold(f64::INFINITY, f64::min);
             if residual > 2.0 * best {
                 anderson.reset();
             }

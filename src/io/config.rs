@@ -111,9 +111,20 @@ impl ModelFile {
 
     /// Parses the TOML text of a model file.
     pub fn parse(text: &str) -> Result<Self> {
-        toml::from_str(text).map_err(|e| Error::Io {
-            path: "<model>".into(),
-            reason: format!("invalid model file: {}", e.to_string().trim_end().replace('\n', " | ")),
+        toml::from_str(text).map_err(|e| {
+            let msg = e.message().trim().replace('\n', "; ").replace(
+                "data did not match any variant of untagged enum NumberOrList",
+                "expected a number or a list of numbers",
+            );
+            let at = e.span().map_or(String::new(), |span| {
+                let line = text[..span.start.min(text.len())].matches('\n').count() + 1;
+                let src = text.lines().nth(line - 1).unwrap_or("").trim();
+                format!(" at line {line} (`{src}`)")
+            });
+            Error::Io {
+                path: "<model>".into(),
+                reason: format!("invalid model file{at}: {msg}"),
+            }
         })
     }
 
@@ -121,10 +132,18 @@ impl ModelFile {
     pub fn crawler(&self) -> Result<Crawler> {
         let c = &self.crawler;
         if c.blocks < 2 {
-            return Err(Error::invalid("crawler.blocks", c.blocks, "a crawler needs at least 2 blocks"));
+            return Err(Error::invalid(
+                "crawler.blocks",
+                c.blocks,
+                "a crawler needs at least 2 blocks",
+            ));
         }
         if c.blocks > 10_000_000 {
-            return Err(Error::invalid("crawler.blocks", c.blocks, "must be at most 10000000"));
+            return Err(Error::invalid(
+                "crawler.blocks",
+                c.blocks,
+                "must be at most 10000000",
+            ));
         }
         let nb = c.blocks as usize;
         Crawler::new(
@@ -137,11 +156,19 @@ impl ModelFile {
     /// The actuation of `[actuation]` for a crawler with `links` links.
     pub fn actuation(&self, links: usize) -> Result<Actuation> {
         let a = self.actuation.as_ref().ok_or_else(|| {
-            Error::invalid("actuation", "nothing", "the model file has no [actuation] section")
+            Error::invalid(
+                "actuation",
+                "nothing",
+                "the model file has no [actuation] section",
+            )
         })?;
         let unused = |name: &str, present: bool| -> Result<()> {
             if present {
-                Err(Error::invalid(format!("actuation.{name}"), "a value", format!("is not used by kind = \"{}\"", a.kind)))
+                Err(Error::invalid(
+                    format!("actuation.{name}"),
+                    "a value",
+                    format!("is not used by kind = \"{}\"", a.kind),
+                ))
             } else {
                 Ok(())
             }
@@ -162,17 +189,23 @@ impl ModelFile {
             unused("times", a.times.is_some())?;
             unused("lengths", a.lengths.is_some())?;
             unused("path", a.path.is_some())?;
-            let amp = a
-                .amplitude
-                .as_ref()
-                .ok_or_else(|| Error::invalid("actuation.amplitude", "nothing", "is required for a wave"))?;
+            let amp = a.amplitude.as_ref().ok_or_else(|| {
+                Error::invalid("actuation.amplitude", "nothing", "is required for a wave")
+            })?;
             let zero = NumberOrList::One(0.0);
             return Actuation::wave(
                 wave,
                 a.period,
-                a.mean.as_ref().unwrap_or(&zero).expand("actuation.mean", links, "link")?,
+                a.mean
+                    .as_ref()
+                    .unwrap_or(&zero)
+                    .expand("actuation.mean", links, "link")?,
                 amp.expand("actuation.amplitude", links, "link")?,
-                a.phase_deg.as_ref().unwrap_or(&zero).expand("actuation.phase_deg", links, "link")?,
+                a.phase_deg.as_ref().unwrap_or(&zero).expand(
+                    "actuation.phase_deg",
+                    links,
+                    "link",
+                )?,
             );
         }
         unused("amplitude", a.amplitude.is_some())?;
@@ -181,21 +214,30 @@ impl ModelFile {
         let (times, lengths) = if a.kind == "csv" {
             unused("times", a.times.is_some())?;
             unused("lengths", a.lengths.is_some())?;
-            let p = a
-                .path
-                .as_ref()
-                .ok_or_else(|| Error::invalid("actuation.path", "nothing", "is required for kind = \"csv\""))?;
+            let p = a.path.as_ref().ok_or_else(|| {
+                Error::invalid(
+                    "actuation.path",
+                    "nothing",
+                    "is required for kind = \"csv\"",
+                )
+            })?;
             super::read_actuation_csv(&self.base_dir.join(p), links)?
         } else {
             unused("path", a.path.is_some())?;
-            let times = a
-                .times
-                .clone()
-                .ok_or_else(|| Error::invalid("actuation.times", "nothing", "is required for piecewise_linear"))?;
-            let rows = a
-                .lengths
-                .as_ref()
-                .ok_or_else(|| Error::invalid("actuation.lengths", "nothing", "is required for piecewise_linear"))?;
+            let times = a.times.clone().ok_or_else(|| {
+                Error::invalid(
+                    "actuation.times",
+                    "nothing",
+                    "is required for piecewise_linear",
+                )
+            })?;
+            let rows = a.lengths.as_ref().ok_or_else(|| {
+                Error::invalid(
+                    "actuation.lengths",
+                    "nothing",
+                    "is required for piecewise_linear",
+                )
+            })?;
             let lengths = rows
                 .iter()
                 .enumerate()
@@ -224,27 +266,49 @@ mod tests {
 
     #[test]
     fn errors_name_the_field() {
-        let e = ModelFile::parse("[crawler]\nblocks = 3\nstiffness = 1\nmu_forward = [1, 2]\nmu_backward = 3.0\n")
-            .unwrap()
-            .crawler()
-            .unwrap_err();
-        assert!(e.to_string().starts_with("crawler.mu_forward: needs a number or one value per block (3)"), "{e}");
-        let e = ModelFile::parse("[crawler]\nblocks = 3\nstifness = 1\nmu_forward = 1\nmu_backward = 3.0\n").unwrap_err();
+        let e = ModelFile::parse(
+            "[crawler]\nblocks = 3\nstiffness = 1\nmu_forward = [1, 2]\nmu_backward = 3.0\n",
+        )
+        .unwrap()
+        .crawler()
+        .unwrap_err();
+        assert!(
+            e.to_string()
+                .starts_with("crawler.mu_forward: needs a number or one value per block (3)"),
+            "{e}"
+        );
+        let e = ModelFile::parse(
+            "[crawler]\nblocks = 3\nstifness = 1\nmu_forward = 1\nmu_backward = 3.0\n",
+        )
+        .unwrap_err();
         assert!(e.to_string().contains("unknown field `stifness`"), "{e}");
-        let e = ModelFile::parse("[crawler]\nblocks = 1\nstiffness = 1\nmu_forward = 1\nmu_backward = 3.0\n")
-            .unwrap()
-            .crawler()
-            .unwrap_err();
+        let e = ModelFile::parse(
+            "[crawler]\nblocks = 1\nstiffness = 1\nmu_forward = 1\nmu_backward = 3.0\n",
+        )
+        .unwrap()
+        .crawler()
+        .unwrap_err();
         assert!(e.to_string().starts_with("crawler.blocks"), "{e}");
-        let e = ModelFile::parse("[crawler]\nblocks = 2\nstiffness = -1\nmu_forward = 1\nmu_backward = 3.0\n")
-            .unwrap()
-            .crawler()
-            .unwrap_err();
-        assert_eq!(e.to_string(), "crawler.stiffness[1]: must be positive and finite (got -1)");
-        let e = ModelFile::parse("[crawler]\nblocks = 2\nstiffness = nan\nmu_forward = 1\nmu_backward = 3.0\n")
-            .unwrap()
-            .crawler()
-            .unwrap_err();
-        assert!(e.to_string().starts_with("crawler.stiffness[1]: must be positive and finite"), "{e}");
+        let e = ModelFile::parse(
+            "[crawler]\nblocks = 2\nstiffness = -1\nmu_forward = 1\nmu_backward = 3.0\n",
+        )
+        .unwrap()
+        .crawler()
+        .unwrap_err();
+        assert_eq!(
+            e.to_string(),
+            "crawler.stiffness[1]: must be positive and finite (got -1)"
+        );
+        let e = ModelFile::parse(
+            "[crawler]\nblocks = 2\nstiffness = nan\nmu_forward = 1\nmu_backward = 3.0\n",
+        )
+        .unwrap()
+        .crawler()
+        .unwrap_err();
+        assert!(
+            e.to_string()
+                .starts_with("crawler.stiffness[1]: must be positive and finite"),
+            "{e}"
+        );
     }
 }

@@ -31,15 +31,23 @@ pub fn read_actuation_csv(path: &Path, links: usize) -> Result<(Vec<f64>, Vec<Ve
         if rec.len() != links + 1 {
             return Err(io_err(
                 path,
-                format!("row {row}: {} columns, expected {} (t and one length per link)", rec.len(), links + 1),
+                format!(
+                    "row {row}: {} columns, expected {} (t and one length per link)",
+                    rec.len(),
+                    links + 1
+                ),
             ));
         }
         let vals = rec
             .iter()
             .enumerate()
             .map(|(c, f)| {
-                f.parse::<f64>()
-                    .map_err(|_| io_err(path, format!("row {row}, column {}: not a number: {f:?}", c + 1)))
+                f.parse::<f64>().map_err(|_| {
+                    io_err(
+                        path,
+                        format!("row {row}, column {}: not a number: {f:?}", c + 1),
+                    )
+                })
             })
             .collect::<Result<Vec<f64>>>()?;
         times.push(vals[0]);
@@ -68,7 +76,8 @@ impl AtomicFile {
             .to_string_lossy()
             .into_owned();
         let tmp = dest.with_file_name(format!(".{name}.tmp{}", std::process::id()));
-        let file = std::fs::File::create(&tmp).map_err(|e| io_err(dest, format!("cannot write: {e}")))?;
+        let file =
+            std::fs::File::create(&tmp).map_err(|e| io_err(dest, format!("cannot write: {e}")))?;
         Ok(AtomicFile {
             tmp,
             dest: dest.to_path_buf(),

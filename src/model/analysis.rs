@@ -70,7 +70,10 @@ impl Crawler {
     pub fn analyze(&self) -> Analysis {
         let one_based = |s: &[usize]| s.iter().map(|b| b + 1).collect::<Vec<_>>();
         let (violating_subset, margin, closest, undecided) = match self.uniqueness() {
-            Uniqueness::Holds { margin, closest_subset } => (None, Some(*margin), Some(one_based(closest_subset)), None),
+            Uniqueness::Holds {
+                margin,
+                closest_subset,
+            } => (None, Some(*margin), Some(one_based(closest_subset)), None),
             Uniqueness::Fails { subset } => (Some(one_based(subset)), None, None, None),
             Uniqueness::Undecided { reason } => (None, None, None, Some(reason.clone())),
         };

@@ -19,7 +19,11 @@ pub struct Crawler {
 fn check_positive(field: &str, values: &[f64]) -> Result<()> {
     for (i, &v) in values.iter().enumerate() {
         if !(v.is_finite() && v > 0.0) {
-            return Err(Error::invalid(format!("{field}[{}]", i + 1), v, "must be positive and finite"));
+            return Err(Error::invalid(
+                format!("{field}[{}]", i + 1),
+                v,
+                "must be positive and finite",
+            ));
         }
     }
     Ok(())
@@ -36,7 +40,11 @@ impl Crawler {
     pub fn new(stiffness: Vec<f64>, mu_forward: Vec<f64>, mu_backward: Vec<f64>) -> Result<Self> {
         let nb = mu_forward.len();
         if nb < 2 {
-            return Err(Error::invalid("crawler.blocks", nb, "a crawler needs at least 2 blocks"));
+            return Err(Error::invalid(
+                "crawler.blocks",
+                nb,
+                "a crawler needs at least 2 blocks",
+            ));
         }
         if mu_backward.len() != nb {
             return Err(Error::invalid(

@@ -104,7 +104,9 @@ impl Crawler {
     /// The size of C: the widest range of a link force. Tolerances on states are relative to it
     /// (link forces of a long chain reach sums of many thresholds).
     pub fn state_scale(&self) -> f64 {
-        self.link_force_ranges().iter().fold(0.0_f64, |m, r| m.max(r[1] - r[0]))
+        self.link_force_ranges()
+            .iter()
+            .fold(0.0_f64, |m, r| m.max(r[1] - r[0]))
     }
 
     /// The largest violation `max_b max(F_b - mu_b^+, -mu_b^- - F_b, 0)` of C at `x`, with the
@@ -135,7 +137,11 @@ impl Crawler {
             ));
         }
         if let Some(i) = x.iter().position(|v| !v.is_finite()) {
-            return Err(Error::invalid(format!("{what}[{}]", i + 1), x[i], "must be finite"));
+            return Err(Error::invalid(
+                format!("{what}[{}]", i + 1),
+                x[i],
+                "must be finite",
+            ));
         }
         let (v, face) = self.violation(x);
         if v > tol * self.force_scale() {
@@ -208,13 +214,26 @@ mod tests {
         let mut v = c.vertices().into_iter().map(|x| x[0]).collect::<Vec<_>>();
         v.sort_by(f64::total_cmp);
         assert_eq!(v, vec![-0.4, 0.7]);
-        let facets: Vec<_> = c.faces().into_iter().filter(|f| f.facet).map(|f| (f.block, f.sign)).collect();
-        assert_eq!(facets, vec![(2, FaceSign::Forward), (2, FaceSign::Backward)]);
+        let facets: Vec<_> = c
+            .faces()
+            .into_iter()
+            .filter(|f| f.facet)
+            .map(|f| (f.block, f.sign))
+            .collect();
+        assert_eq!(
+            facets,
+            vec![(2, FaceSign::Forward), (2, FaceSign::Backward)]
+        );
     }
 
     #[test]
     fn vertices_lie_on_n_facets() {
-        let c = Crawler::new(vec![1.0, 2.0, 0.5], vec![1.0, 1.3, 0.8, 1.1], vec![2.0, 2.95, 3.1, 2.2]).unwrap();
+        let c = Crawler::new(
+            vec![1.0, 2.0, 0.5],
+            vec![1.0, 1.3, 0.8, 1.1],
+            vec![2.0, 2.95, 3.1, 2.2],
+        )
+        .unwrap();
         assert!(c.uniqueness().holds());
         let vs = c.vertices();
         assert!(!vs.is_empty());
@@ -224,7 +243,9 @@ mod tests {
                 .block_forces(x)
                 .iter()
                 .enumerate()
-                .filter(|&(b, &f)| (f - c.mu_forward()[b]).abs() < 1e-12 || (f + c.mu_backward()[b]).abs() < 1e-12)
+                .filter(|&(b, &f)| {
+                    (f - c.mu_forward()[b]).abs() < 1e-12 || (f + c.mu_backward()[b]).abs() < 1e-12
+                })
                 .count();
             assert_eq!(active, 3, "{x:?} {:?}", c.block_forces(x));
         }
@@ -232,7 +253,10 @@ mod tests {
         for (l, r) in c.link_force_ranges().iter().enumerate() {
             let lo = vs.iter().map(|x| x[l]).fold(f64::INFINITY, f64::min);
             let hi = vs.iter().map(|x| x[l]).fold(f64::NEG_INFINITY, f64::max);
-            assert!((lo - r[0]).abs() < 1e-12 && (hi - r[1]).abs() < 1e-12, "{l}: {r:?} vs {lo} {hi}");
+            assert!(
+                (lo - r[0]).abs() < 1e-12 && (hi - r[1]).abs() < 1e-12,
+                "{l}: {r:?} vs {lo} {hi}"
+            );
         }
     }
 }

@@ -70,7 +70,11 @@ impl SubsetSearch {
         let weight: Vec<f64> = keys.iter().map(|&(p, m)| p + m).collect();
         SubsetSearch {
             theta: mu_backward.iter().sum(),
-            total: weight.iter().zip(&members).map(|(w, m)| w * m.len() as f64).sum(),
+            total: weight
+                .iter()
+                .zip(&members)
+                .map(|(w, m)| w * m.len() as f64)
+                .sum(),
             weight,
             members,
         }
@@ -90,7 +94,11 @@ impl SubsetSearch {
         let g = self.weight.len();
         let mut counts = vec![0usize; g];
         loop {
-            let w: f64 = counts.iter().zip(&self.weight).map(|(&c, &w)| c as f64 * w).sum();
+            let w: f64 = counts
+                .iter()
+                .zip(&self.weight)
+                .map(|(&c, &w)| c as f64 * w)
+                .sum();
             f(&counts, w);
             let mut d = 0;
             loop {
@@ -210,7 +218,13 @@ impl Uniqueness {
         let mut inside = vec![false; mu_forward.len()];
         subset.iter().for_each(|&b| inside[b] = true);
         let margin = (0..mu_forward.len())
-            .map(|b| if inside[b] { mu_forward[b] } else { -mu_backward[b] })
+            .map(|b| {
+                if inside[b] {
+                    mu_forward[b]
+                } else {
+                    -mu_backward[b]
+                }
+            })
             .sum::<f64>()
             .abs();
         if margin <= REL_TOL * search.total {
@@ -268,7 +282,9 @@ mod tests {
         // Distinct values in every block: 2^12 count vectors directly; then force the
         // meet-in-the-middle path by calling it on the same data.
         let mp: Vec<f64> = (0..12).map(|i| 1.0 + (i as f64).sqrt() * 0.37).collect();
-        let mm: Vec<f64> = (0..12).map(|i| 2.0 + (0.11 * i as f64 + 0.5).ln()).collect();
+        let mm: Vec<f64> = (0..12)
+            .map(|i| 2.0 + (0.11 * i as f64 + 0.5).ln())
+            .collect();
         let want = brute(&mp, &mm);
         match Uniqueness::decide(&mp, &mm) {
             Uniqueness::Holds { margin, .. } => assert!((margin - want).abs() < 1e-12),

@@ -105,7 +105,9 @@ impl Crawler {
         // Directions: witnesses are single blocks.
         let imin = (0..nb).min_by(|&a, &b| w[a].total_cmp(&w[b])).unwrap_or(0);
         let shape_of = |set: &dyn Fn(usize) -> bool| -> Vec<f64> {
-            (0..nb - 1).map(|l| f64::from(set(l + 1) as u8) - f64::from(set(l) as u8)).collect()
+            (0..nb - 1)
+                .map(|l| f64::from(set(l + 1) as u8) - f64::from(set(l) as u8))
+                .collect()
         };
         let moves_forward = w[imin] < theta;
         let moves_backward = total - w[imin] > theta;
@@ -179,7 +181,9 @@ mod tests {
         let n = c.links();
         let mut seed = 12345u64;
         let mut rnd = move || {
-            seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+            seed = seed
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
             ((seed >> 11) as f64 / (1u64 << 53) as f64) * 2.0 - 1.0
         };
         let (mut convex, mut concave) = (true, true);

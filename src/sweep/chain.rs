@@ -84,11 +84,21 @@ impl ChainQp {
     /// Solves the QP. `x` holds a feasible starting point on entry and the minimiser on exit;
     /// `d` receives the multipliers `D_b`. The working set is kept for the next call (it is
     /// pruned first to the constraints active at `x`). Returns the number of iterations.
-    pub fn solve(&mut self, lo: &[f64], hi: &[f64], v: &[f64], x: &mut [f64], d: &mut [f64]) -> Result<usize> {
+    pub fn solve(
+        &mut self,
+        lo: &[f64],
+        hi: &[f64],
+        v: &[f64],
+        x: &mut [f64],
+        d: &mut [f64],
+    ) -> Result<usize> {
         let nb = self.ws.len();
         debug_assert!(lo.len() == nb && hi.len() == nb && v.len() == nb - 1 && x.len() == nb - 1);
         // Scale for "active" and for multiplier signs.
-        let scale = v.iter().chain(x.iter()).fold(1e-300_f64, |m, a| m.max(a.abs()));
+        let scale = v
+            .iter()
+            .chain(x.iter())
+            .fold(1e-300_f64, |m, a| m.max(a.abs()));
         let tol_act = 1e-12 * scale;
         for b in 0..nb {
             let keep = match self.ws[b] {
@@ -234,10 +244,18 @@ impl ChainQp {
     fn multipliers(&self, v: &[f64], x: &[f64], d: &mut [f64]) {
         let nb = self.ws.len();
         let g = |l: usize| (x[l] - v[l]) * self.inv_k[l];
-        let f0 = self.ws.iter().position(|&w| w == Bound::Free).unwrap_or(nb - 1);
+        let f0 = self
+            .ws
+            .iter()
+            .position(|&w| w == Bound::Free)
+            .unwrap_or(nb - 1);
         d[f0] = 0.0;
         for b in f0 + 1..nb {
-            d[b] = if self.ws[b] == Bound::Free { 0.0 } else { d[b - 1] - g(b - 1) };
+            d[b] = if self.ws[b] == Bound::Free {
+                0.0
+            } else {
+                d[b - 1] - g(b - 1)
+            };
         }
         for b in (0..f0).rev() {
             d[b] = d[b + 1] + g(b);
@@ -251,7 +269,14 @@ mod tests {
 
     /// Checks the KKT conditions of the projection: feasibility, stationarity, signs and
     /// complementarity. Together they certify optimality of a strictly convex QP.
-    pub(crate) fn kkt_residual(k: &[f64], lo: &[f64], hi: &[f64], v: &[f64], x: &[f64], d: &[f64]) -> f64 {
+    pub(crate) fn kkt_residual(
+        k: &[f64],
+        lo: &[f64],
+        hi: &[f64],
+        v: &[f64],
+        x: &[f64],
+        d: &[f64],
+    ) -> f64 {
         let nb = lo.len();
         let mut r: f64 = 0.0;
         for b in 0..nb {

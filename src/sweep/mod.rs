@@ -47,7 +47,12 @@ impl Projector {
 
     /// Projects an arbitrary point onto C, starting from the interior point 0. Used to make an
     /// initial state that passed an admissibility check with tolerance exactly feasible.
-    pub fn project_from_origin(&mut self, v: &[f64], x: &mut [f64], d: &mut [f64]) -> Result<usize> {
+    pub fn project_from_origin(
+        &mut self,
+        v: &[f64],
+        x: &mut [f64],
+        d: &mut [f64],
+    ) -> Result<usize> {
         x.iter_mut().for_each(|xi| *xi = 0.0);
         self.qp.reset();
         self.qp.solve(&self.lo, &self.hi, v, x, d)
@@ -83,7 +88,13 @@ impl ConeProjector {
 
     /// `w <- P_{T_C(x)}(u)` for the faces `active` (per block) at the current state; `vel[b]`
     /// receives the velocity of block `b`.
-    pub fn project(&mut self, active: &[Bound], u: &[f64], w: &mut [f64], vel: &mut [f64]) -> Result<usize> {
+    pub fn project(
+        &mut self,
+        active: &[Bound],
+        u: &[f64],
+        w: &mut [f64],
+        vel: &mut [f64],
+    ) -> Result<usize> {
         for (b, a) in active.iter().enumerate() {
             (self.lo[b], self.hi[b]) = match a {
                 Bound::Free => (f64::NEG_INFINITY, f64::INFINITY),

@@ -28,7 +28,11 @@ pub fn run(c: &Crawler, a: &Actuation, method: Method, m: usize) -> Simulation {
         },
     )
     .unwrap();
-    assert!(s.converged, "no periodic regime: {:?}", &s.residual_history[s.residual_history.len().saturating_sub(5)..]);
+    assert!(
+        s.converged,
+        "no periodic regime: {:?}",
+        &s.residual_history[s.residual_history.len().saturating_sub(5)..]
+    );
     s
 }
 

@@ -1,0 +1,264 @@
+//! The command-line contract: JSON fields, exit statuses, one-line errors naming the field,
+//! no partial output files.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+fn crawlopt(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_crawlopt"))
+        .args(args)
+        .output()
+        .unwrap()
+}
+
+fn write(dir: &Path, name: &str, text: &str) -> PathBuf {
+    let p = dir.join(name);
+    std::fs::write(&p, text).unwrap();
+    p
+}
+
+fn json(out: &Output) -> serde_json::Value {
+    serde_json::from_slice(&out.stdout)
+        .unwrap_or_else(|e| panic!("{e}: {}", String::from_utf8_lossy(&out.stdout)))
+}
+
+fn stderr(out: &Output) -> String {
+    String::from_utf8_lossy(&out.stderr).into_owned()
+}
+
+const CRAWLER3: &str =
+    "[crawler]\nblocks = 3\nstiffness = 1.0\nmu_forward = 1.0\nmu_backward = 3.0\n";
+
+#[test]
+fn analyze_json_has_the_contract_fields() {
+    let out = crawlopt(&["analyze", "examples/three_blocks_sine.toml", "--json"]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let v = json(&out);
+    assert_eq!(v["uniqueness_ok"], true);
+    assert!(v["violating_subset"].is_null());
+    assert_eq!(v["vm_class"], "convex");
+    assert_eq!(v["moves_forward"], true);
+    assert_eq!(v["moves_backward"], false);
+    assert_eq!(v["faces"].as_array().unwrap().len(), 6);
+    assert_eq!(v["vertices"].as_array().unwrap().len(), 3);
+    assert_eq!(v["link_force_ranges"][0], serde_json::json!([-1.0, 2.0]));
+}
+
+#[test]
+fn analyze_reports_a_violated_uniqueness_condition_and_exits_2() {
+    let dir = tempfile::tempdir().unwrap();
+    // N = 5, mu+ = 1, mu- = 1.5: 3 * 1 = 2 * 1.5.
+    let f = write(
+        dir.path(),
+        "m.toml",
+        "[crawler]\nblocks = 5\nstiffness = 1\nmu_forward = 1\nmu_backward = 1.5\n",
+    );
+    let out = crawlopt(&["analyze", f.to_str().unwrap(), "--json"]);
+    assert_eq!(out.status.code(), Some(2));
+    let v = json(&out);
+    assert_eq!(v["uniqueness_ok"], false);
+    assert_eq!(v["violating_subset"].as_array().unwrap().len(), 3);
+    assert!(
+        stderr(&out).contains("uniqueness condition"),
+        "{}",
+        stderr(&out)
+    );
+    // simulate refuses it, naming J.
+    let f = write(
+        dir.path(),
+        "s.toml",
+        "[crawler]\nblocks = 5\nstiffness = 1\nmu_forward = 1\nmu_backward = 1.5\n[actuation]\nkind = \"sine\"\nperiod = 1\namplitude = 1\n",
+    );
+    let out = crawlopt(&["simulate", f.to_str().unwrap()]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(
+        stderr(&out).contains("fails for blocks J = ["),
+        "{}",
+        stderr(&out)
+    );
+    assert!(out.stdout.is_empty());
+}
+
+#[test]
+fn simulate_json_has_the_contract_fields() {
+    for method in ["exact", "catching-up"] {
+        let out = crawlopt(&[
+            "simulate",
+            "examples/one_link.toml",
+            "--json",
+            "--method",
+            method,
+            "--steps-per-period",
+            "400",
+        ]);
+        assert!(out.status.success(), "{}", stderr(&out));
+        let v = json(&out);
+        let d = v["displacement_per_period"].as_f64().unwrap();
+        assert!((d - 4.0).abs() < 1e-11, "{d}");
+        assert_eq!(v["converged"], true);
+        assert_eq!(v["method"], method);
+        assert_eq!(v["steps_per_period"], 400);
+        assert!(v["periods_to_converge"].as_u64().unwrap() >= 1);
+        let tr = &v["trajectory"];
+        assert_eq!(
+            tr["t"].as_array().unwrap().len(),
+            tr["x"].as_array().unwrap().len()
+        );
+    }
+}
+
+#[test]
+fn simulate_writes_a_trajectory_csv() {
+    let dir = tempfile::tempdir().unwrap();
+    let csv = dir.path().join("traj.csv");
+    let out = crawlopt(&[
+        "simulate",
+        "examples/three_blocks_sine.toml",
+        "--periods",
+        "3",
+        "-o",
+        csv.to_str().unwrap(),
+    ]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let text = std::fs::read_to_string(&csv).unwrap();
+    let mut lines = text.lines();
+    assert_eq!(
+        lines.next().unwrap(),
+        "t,x_1,x_2,X_1,X_2,X_3,y,slip_1,slip_2,slip_3"
+    );
+    let rows: Vec<Vec<f64>> = lines
+        .map(|l| l.split(',').map(|f| f.parse().unwrap()).collect())
+        .collect();
+    let last = rows.last().unwrap();
+    assert!((last[0] - 3.0).abs() < 1e-12);
+    // Three periods of advance at the reported rate (1 + sqrt 2 / 2 ... measured by simulate).
+    let v = json(&crawlopt(&[
+        "simulate",
+        "examples/three_blocks_sine.toml",
+        "--json",
+        "--periods",
+        "0",
+    ]));
+    let d = v["displacement_per_period"].as_f64().unwrap();
+    assert!((last[6] - rows[0][6] - 3.0 * d).abs() < 1e-9);
+}
+
+#[test]
+fn piecewise_linear_and_csv_actuations_agree() {
+    let dir = tempfile::tempdir().unwrap();
+    write(
+        dir.path(),
+        "gait.csv",
+        "t,L1,L2\n0,0,0\n0.25,2,0\n0.5,2,2\n0.75,0,2\n",
+    );
+    let a = write(
+        dir.path(),
+        "a.toml",
+        &format!("{CRAWLER3}[actuation]\nkind = \"csv\"\nperiod = 1.0\npath = \"gait.csv\"\n"),
+    );
+    let b = write(
+        dir.path(),
+        "b.toml",
+        &format!("{CRAWLER3}[actuation]\nkind = \"piecewise_linear\"\nperiod = 1.0\ntimes = [0, 0.25, 0.5, 0.75]\nlengths = [[0, 0], [2, 0], [2, 2], [0, 2]]\n"),
+    );
+    let da = json(&crawlopt(&["simulate", a.to_str().unwrap(), "--json"]))
+        ["displacement_per_period"]
+        .as_f64()
+        .unwrap();
+    let db = json(&crawlopt(&["simulate", b.to_str().unwrap(), "--json"]))
+        ["displacement_per_period"]
+        .as_f64()
+        .unwrap();
+    assert_eq!(da, db);
+    assert!(da > 0.0);
+}
+
+#[test]
+fn bad_input_gives_one_line_naming_the_field_and_exit_2() {
+    let dir = tempfile::tempdir().unwrap();
+    let act = "[actuation]\nkind = \"sine\"\nperiod = 1.0\namplitude = 1.0\n";
+    let cases: Vec<(String, &str)> = vec![
+        ("[crawler]\nblocks = 1\nstiffness = 1\nmu_forward = 1\nmu_backward = 2\n".into(), "crawler.blocks"),
+        ("[crawler]\nblocks = 3\nstiffness = 0\nmu_forward = 1\nmu_backward = 2\n".into(), "crawler.stiffness[1]"),
+        ("[crawler]\nblocks = 3\nstiffness = 1\nmu_forward = [1, -2, 1]\nmu_backward = 2\n".into(), "crawler.mu_forward[2]"),
+        ("[crawler]\nblocks = 3\nstiffness = 1\nmu_forward = 1\nmu_backward = inf\n".into(), "crawler.mu_backward[1]"),
+        ("[crawler]\nblocks = 3\nstiffness = [1, 1, 1]\nmu_forward = 1\nmu_backward = 2\n".into(), "crawler.stiffness"),
+        ("[crawler]\nblocks = 3\nstiffness = 1\nmu_forward = 1\n".into(), "missing field `mu_backward`"),
+        ("[crawler]\nblocks = 3\nstiffness = 1\nmu_forward = 1\nmu_backward = 2\nspeed = 3\n".into(), "unknown field `speed`"),
+        ("[crawler\nblocks = 3\n".into(), "invalid model file"),
+        (format!("{CRAWLER3}[actuation]\nkind = \"sine\"\nperiod = -1.0\namplitude = 1.0\n"), "actuation.period"),
+        (format!("{CRAWLER3}[actuation]\nkind = \"sine\"\nperiod = 1.0\namplitude = [1.0, 0.0]\n"), "actuation.amplitude[2]"),
+        (format!("{CRAWLER3}[actuation]\nkind = \"sine\"\nperiod = 1.0\namplitude = [1.0, 1.0, 1.0]\n"), "actuation.amplitude"),
+        (format!("{CRAWLER3}[actuation]\nkind = \"square\"\nperiod = 1.0\n"), "actuation.kind"),
+        (format!("{CRAWLER3}[actuation]\nkind = \"csv\"\nperiod = 1.0\npath = \"missing.csv\"\n"), "missing.csv"),
+        (format!("{CRAWLER3}[actuation]\nkind = \"piecewise_linear\"\nperiod = 1.0\ntimes = [0, 1.5]\nlengths = [[0, 0], [1, 1]]\n"), "actuation.times[2]"),
+        (format!("{CRAWLER3}{act}[simulation]\ninitial_state = [5.0, 0.0]\n"), "simulation.initial_state: state is not admissible"),
+        (format!("{CRAWLER3}{act}[simulation]\ninitial_state = [0.0]\n"), "simulation.initial_state"),
+        (CRAWLER3.to_string(), "no [actuation] section"),
+    ];
+    for (i, (text, want)) in cases.iter().enumerate() {
+        let f = write(dir.path(), &format!("bad{i}.toml"), text);
+        let csv = dir.path().join(format!("out{i}.csv"));
+        let out = crawlopt(&["simulate", f.to_str().unwrap(), "-o", csv.to_str().unwrap()]);
+        let err = stderr(&out);
+        assert_eq!(out.status.code(), Some(2), "case {i}: {err}");
+        assert!(
+            err.starts_with("error: ") && err.contains(want),
+            "case {i}: want {want:?} in {err:?}"
+        );
+        assert_eq!(err.trim_end().lines().count(), 1, "case {i}: {err}");
+        assert!(!err.contains("panicked"));
+        assert!(!csv.exists(), "case {i}: partial output left behind");
+    }
+    // Unreadable files.
+    let out = crawlopt(&["analyze", dir.path().join("nope.toml").to_str().unwrap()]);
+    assert_eq!(out.status.code(), Some(2));
+    let f = write(
+        dir.path(),
+        "badcsv.toml",
+        &format!("{CRAWLER3}[actuation]\nkind = \"csv\"\nperiod = 1.0\npath = \"bad.csv\"\n"),
+    );
+    write(dir.path(), "bad.csv", "0,0,0\n0.5,1,x\n");
+    let out = crawlopt(&["simulate", f.to_str().unwrap()]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(stderr(&out).contains("row 2, column 3"), "{}", stderr(&out));
+}
+
+#[test]
+fn an_unwritable_output_leaves_nothing_and_exits_2() {
+    let dir = tempfile::tempdir().unwrap();
+    let target = dir.path().join("no/such/dir/t.csv");
+    let out = crawlopt(&[
+        "simulate",
+        "examples/one_link.toml",
+        "-o",
+        target.to_str().unwrap(),
+    ]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(stderr(&out).contains("t.csv"));
+}
+
+#[test]
+fn non_convergence_is_not_reported_as_periodic() {
+    // Ten blocks need about 50 periods of plain iteration: one period is not enough.
+    let dir = tempfile::tempdir().unwrap();
+    let f = write(
+        dir.path(),
+        "m.toml",
+        "[crawler]\nblocks = 10\nstiffness = 1\nmu_forward = 1\nmu_backward = 3.3\n[actuation]\nkind = \"sine\"\nperiod = 1\namplitude = 2\nphase_deg = [0, 90, 180, 270, 360, 450, 540, 630, 720]\n",
+    );
+    let out = crawlopt(&[
+        "simulate",
+        f.to_str().unwrap(),
+        "--json",
+        "--max-periods",
+        "3",
+        "--no-accelerate",
+    ]);
+    assert_eq!(out.status.code(), Some(3));
+    let v = json(&out);
+    assert_eq!(v["converged"], false);
+    assert!(v["displacement_per_period"].is_null());
+    assert!(v["last_period_displacement"].is_f64());
+    assert!(stderr(&out).contains("not reached"));
+}
