@@ -13,7 +13,7 @@
 use super::{slip_of, Actuation, PeriodMap, Recorder};
 use crate::error::{Error, Result};
 use crate::model::Crawler;
-use crate::sweep::{Bound, ConeProjector};
+use crate::sweep::{increment as inc, Bound, ConeProjector};
 
 /// Exact integrator of a periodic piecewise-linear actuation.
 #[derive(Debug, Clone)]
@@ -32,11 +32,6 @@ pub struct ExactPwl {
     n: usize,
     max_events: usize,
     events: u64,
-}
-
-#[inline]
-fn inc(x: &[f64], b: usize) -> f64 {
-    (if b < x.len() { x[b] } else { 0.0 }) - (if b > 0 { x[b - 1] } else { 0.0 })
 }
 
 impl ExactPwl {

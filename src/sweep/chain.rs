@@ -45,8 +45,9 @@ pub struct ChainQp {
     max_iter: usize,
 }
 
+/// Increment of block `b` along the path `0, x_0, .., x_{n-1}, 0`: `x_b - x_{b-1} = -F_b(x)`.
 #[inline]
-fn inc(x: &[f64], b: usize) -> f64 {
+pub fn increment(x: &[f64], b: usize) -> f64 {
     let n = x.len();
     let right = if b < n { x[b] } else { 0.0 };
     let left = if b > 0 { x[b - 1] } else { 0.0 };
@@ -103,8 +104,8 @@ impl ChainQp {
         for b in 0..nb {
             let keep = match self.ws[b] {
                 Bound::Free => true,
-                Bound::Lower => (inc(x, b) - lo[b]).abs() <= tol_act,
-                Bound::Upper => (inc(x, b) - hi[b]).abs() <= tol_act,
+                Bound::Lower => (increment(x, b) - lo[b]).abs() <= tol_act,
+                Bound::Upper => (increment(x, b) - hi[b]).abs() <= tol_act,
             };
             if !keep {
                 self.ws[b] = Bound::Free;
@@ -122,15 +123,15 @@ impl ChainQp {
                 if self.ws[b] != Bound::Free {
                     continue;
                 }
-                let dp = inc(&self.xw, b) - inc(x, b);
+                let dp = increment(&self.xw, b) - increment(x, b);
                 if dp < 0.0 && lo[b] > f64::NEG_INFINITY {
-                    let a = ((lo[b] - inc(x, b)) / dp).max(0.0);
+                    let a = ((lo[b] - increment(x, b)) / dp).max(0.0);
                     if a < alpha {
                         alpha = a;
                         block = Some((b, Bound::Lower));
                     }
                 } else if dp > 0.0 && hi[b] < f64::INFINITY {
-                    let a = ((hi[b] - inc(x, b)) / dp).max(0.0);
+                    let a = ((hi[b] - increment(x, b)) / dp).max(0.0);
                     if a < alpha {
                         alpha = a;
                         block = Some((b, Bound::Upper));
@@ -280,7 +281,7 @@ mod tests {
         let nb = lo.len();
         let mut r: f64 = 0.0;
         for b in 0..nb {
-            let i = inc(x, b);
+            let i = increment(x, b);
             r = r.max(lo[b] - i).max(i - hi[b]);
             if d[b] > 0.0 {
                 r = r.max((i - lo[b]).abs());

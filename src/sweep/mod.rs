@@ -6,7 +6,7 @@
 
 mod chain;
 
-pub use chain::{Bound, ChainQp};
+pub use chain::{increment, Bound, ChainQp};
 
 use crate::error::Result;
 use crate::model::Crawler;
