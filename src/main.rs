@@ -2,7 +2,10 @@
 //! and renders results; errors are printed as one line and exit with status 2.
 
 use clap::{Parser, Subcommand, ValueEnum};
-use crawlopt::integrate::{simulate, Actuation, Method, Search, SimOptions, Simulation, Waveform};
+use crawlopt::integrate::{
+    simulate, Actuation, CatchingUp, ExactPwl, Method, PeriodMap, Search, SimOptions, Simulation,
+    Waveform,
+};
 use crawlopt::io::{write_trajectory_csv, ModelFile};
 use crawlopt::model::{Analysis, FaceSign};
 use crawlopt::{Crawler, Error};
@@ -89,6 +92,10 @@ enum Command {
         /// Minimum measured time per case, seconds.
         #[arg(long = "min-time", default_value_t = 1.0)]
         min_time: f64,
+        /// Integrate exactly this many periods from x = 0 (plain iteration, as a peer would) and
+        /// report the displacement of the last one, instead of searching for the periodic regime.
+        #[arg(long)]
+        periods: Option<usize>,
         /// Print JSON lines.
         #[arg(long)]
         json: bool,
@@ -186,6 +193,7 @@ fn run(cmd: Command) -> Result<ExitCode, Error> {
             mu_forward,
             mu_backward,
             min_time,
+            periods,
             json,
         } => {
             if !json {
@@ -207,47 +215,96 @@ fn run(cmd: Command) -> Result<ExitCode, Error> {
                     (0..n).map(|l| l as f64 * phase_deg).collect(),
                 )?;
                 for method in [Method::CatchingUp, Method::Exact] {
-                    let opts = SimOptions {
-                        method,
-                        steps_per_period: steps,
-                        record_periods: 0,
-                        ..SimOptions::default()
-                    };
-                    // Repeat the whole periodic search until min_time has passed.
-                    let t0 = Instant::now();
-                    let mut reps = 0usize;
-                    let mut sim: Option<Simulation> = None;
-                    while reps == 0 || t0.elapsed().as_secs_f64() < min_time {
-                        sim = Some(simulate(&crawler, &act, &opts)?);
-                        reps += 1;
-                    }
-                    let wall = t0.elapsed().as_secs_f64();
-                    let sim = sim.expect("ran at least once");
-                    let total_steps = (reps * sim.periods_simulated * sim.steps_per_period) as f64;
-                    let us = 1e6 * wall / total_steps;
-                    let rate = total_steps * n as f64 / wall;
+                    let r = bench_case(&crawler, &act, method, steps, periods, min_time)?;
                     if json {
                         println!(
                             "{}",
                             serde_json::json!({
                                 "N": nb, "method": method.to_string(), "steps_per_period": steps,
-                                "disp_per_period": sim.displacement_per_period,
-                                "periods": sim.periods_simulated, "converged": sim.converged,
-                                "us_per_step": us, "link_steps_per_s": rate, "repetitions": reps,
+                                "disp_per_period": r.disp, "periods": r.periods, "converged": r.converged,
+                                "fixed_periods": periods.is_some(),
+                                "us_per_step": r.us_per_step, "link_steps_per_s": r.us_per_step.recip() * 1e6 * n as f64,
+                                "repetitions": r.reps,
                             })
                         );
                     } else {
                         println!(
-                            "| {nb} | {method} | {} | {} | {} | {us:.3} | {rate:.3e} |",
-                            sim.displacement_per_period
+                            "| {nb} | {method} | {} | {} | {} | {:.3} | {:.3e} |",
+                            r.disp
                                 .map_or("not converged".into(), |d| format!("{d:.15}")),
-                            sim.periods_simulated,
-                            sim.periods_simulated * sim.steps_per_period,
+                            r.periods,
+                            r.periods * steps,
+                            r.us_per_step,
+                            r.us_per_step.recip() * 1e6 * n as f64,
                         );
                     }
                 }
             }
             Ok(ExitCode::SUCCESS)
+        }
+    }
+}
+
+struct BenchResult {
+    disp: Option<f64>,
+    periods: usize,
+    converged: bool,
+    us_per_step: f64,
+    reps: usize,
+}
+
+/// Times one benchmark case, repeated until `min_time` has passed: either the whole periodic
+/// search, or exactly `periods` plain periods from x = 0 (what the peers do).
+fn bench_case(
+    crawler: &Crawler,
+    act: &Actuation,
+    method: Method,
+    steps: usize,
+    periods: Option<usize>,
+    min_time: f64,
+) -> Result<BenchResult, Error> {
+    let (n, nb) = (crawler.links(), crawler.blocks());
+    let t0 = Instant::now();
+    let mut reps = 0;
+    loop {
+        let r = match periods {
+            Some(k) => {
+                let mut map: Box<dyn PeriodMap> = match method {
+                    Method::CatchingUp => Box::new(CatchingUp::new(crawler, act, steps)?),
+                    Method::Exact => Box::new(ExactPwl::new(crawler, act, steps)?),
+                };
+                let (mut x, mut acc) = (vec![0.0; n], vec![0.0; nb]);
+                for _ in 0..k {
+                    acc.iter_mut().for_each(|a| *a = 0.0);
+                    map.run_period(&mut x, &mut acc, None)?;
+                }
+                (Some(acc.iter().sum::<f64>() / nb as f64), k, false)
+            }
+            None => {
+                let opts = SimOptions {
+                    method,
+                    steps_per_period: steps,
+                    record_periods: 0,
+                    ..SimOptions::default()
+                };
+                let sim = simulate(crawler, act, &opts)?;
+                (
+                    sim.displacement_per_period,
+                    sim.periods_simulated,
+                    sim.converged,
+                )
+            }
+        };
+        reps += 1;
+        let wall = t0.elapsed().as_secs_f64();
+        if wall >= min_time {
+            return Ok(BenchResult {
+                disp: r.0,
+                periods: r.1,
+                converged: r.2,
+                us_per_step: 1e6 * wall / (reps * r.1 * steps) as f64,
+                reps,
+            });
         }
     }
 }
