@@ -89,14 +89,22 @@ impl Crawler {
     /// The range `[min, max]` of each link force `x_l` over C: a bridge rises at most
     /// `sum_{b<=l} mu_b^-` from the rear and must come back within `sum_{b>l} mu_b^+`.
     pub fn link_force_ranges(&self) -> Vec<[f64; 2]> {
-        let nb = self.blocks();
         let (mp, mm) = (self.mu_forward(), self.mu_backward());
-        (0..self.links())
+        let n = self.links();
+        // Front sums over blocks l+1..N by a backward pass (exact sums on both sides, O(N)).
+        let mut front = vec![(0.0, 0.0); n];
+        let mut acc = (0.0, 0.0);
+        for l in (0..n).rev() {
+            acc = (acc.0 + mp[l + 1], acc.1 + mm[l + 1]);
+            front[l] = acc;
+        }
+        let (mut rear_p, mut rear_m) = (0.0, 0.0);
+        (0..n)
             .map(|l| {
-                let (rear_p, rear_m): (f64, f64) = (mp[..=l].iter().sum(), mm[..=l].iter().sum());
-                let (front_p, front_m): (f64, f64) =
-                    (mp[l + 1..nb].iter().sum(), mm[l + 1..nb].iter().sum());
-                [-rear_p.min(front_m), rear_m.min(front_p)]
+                rear_p += mp[l];
+                rear_m += mm[l];
+                let (front_p, front_m) = front[l];
+                [-f64::min(rear_p, front_m), f64::min(rear_m, front_p)]
             })
             .collect()
     }
