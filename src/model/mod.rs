@@ -16,6 +16,6 @@ mod vm;
 
 pub use analysis::{Analysis, OneLink, MAX_LINKS_FOR_VERTICES};
 pub use crawler::Crawler;
-pub use polytope::{Face, FaceSign};
+pub use polytope::{Face, FaceSign, MAX_LINKS_FOR_NORMALS};
 pub use uniqueness::{SubsetSearch, Uniqueness};
 pub use vm::{block_velocities, VmAnalysis, VmClass};

@@ -10,6 +10,9 @@ use crate::error::{Error, Result};
 use crate::model::Crawler;
 use serde::Serialize;
 
+/// Largest number of links for which face normals are listed densely.
+pub const MAX_LINKS_FOR_NORMALS: usize = 200;
+
 /// Which side of block `b`'s friction constraint a face is.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
 pub enum FaceSign {
@@ -28,8 +31,10 @@ pub struct Face {
     pub block: usize,
     /// Forward (`+nu_b`, offset `mu_b^+`) or backward (`-nu_b`, offset `mu_b^-`).
     pub sign: FaceSign,
-    /// Outer normal `±nu_b`, `nu_b = e_{b-1} - e_b` (in link coordinates, `e_0 = e_N = 0`).
-    pub normal: Vec<f64>,
+    /// Outer normal `±nu_b`, `nu_b = e_{b-1} - e_b` (in link coordinates, `e_0 = e_N = 0`);
+    /// listed densely up to [`MAX_LINKS_FOR_NORMALS`] links, `None` beyond (it has at most two
+    /// non-zero entries: `±1` on link `b-1` and `∓1` on link `b`, 1-based).
+    pub normal: Option<Vec<f64>>,
     /// Right-hand side.
     pub offset: f64,
     /// Whether the face is a facet of C (a block alone can slide that way); otherwise the
@@ -60,13 +65,16 @@ impl Crawler {
         let sum_p: f64 = self.mu_forward().iter().sum();
         let mut faces = Vec::with_capacity(2 * nb);
         for b in 0..nb {
-            let mut nu = vec![0.0; n];
-            if b > 0 {
-                nu[b - 1] = 1.0;
-            }
-            if b < n {
-                nu[b] = -1.0;
-            }
+            let nu = (n <= MAX_LINKS_FOR_NORMALS).then(|| {
+                let mut nu = vec![0.0; n];
+                if b > 0 {
+                    nu[b - 1] = 1.0;
+                }
+                if b < n {
+                    nu[b] = -1.0;
+                }
+                nu
+            });
             let (mp, mm) = (self.mu_forward()[b], self.mu_backward()[b]);
             faces.push(Face {
                 block: b + 1,
@@ -78,7 +86,7 @@ impl Crawler {
             faces.push(Face {
                 block: b + 1,
                 sign: FaceSign::Backward,
-                normal: nu.iter().map(|v| -v).collect(),
+                normal: nu.map(|nu| nu.iter().map(|v| -v).collect()),
                 offset: mm,
                 facet: mm < sum_p - mp,
             });
