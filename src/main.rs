@@ -13,6 +13,20 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 use std::time::Instant;
 
+/// `println!` that ends the process quietly when stdout is closed (`crawlopt ... | head`).
+macro_rules! outln {
+    ($($arg:tt)*) => {{
+        use std::io::Write as _;
+        if let Err(e) = writeln!(std::io::stdout(), $($arg)*) {
+            if e.kind() == std::io::ErrorKind::BrokenPipe {
+                std::process::exit(0);
+            }
+            eprintln!("error: cannot write the output: {e}");
+            std::process::exit(2);
+        }
+    }};
+}
+
 /// Simulation and optimal gaits of rate-independent soft crawlers.
 #[derive(Parser)]
 #[command(name = "crawlopt", version, about, long_about = None)]
@@ -123,7 +137,7 @@ fn run(cmd: Command) -> Result<ExitCode, Error> {
             let crawler = model.crawler()?;
             let a = crawler.analyze();
             if json {
-                println!(
+                outln!(
                     "{}",
                     serde_json::to_string_pretty(&a).expect("serialisable")
                 );
@@ -171,7 +185,7 @@ fn run(cmd: Command) -> Result<ExitCode, Error> {
                 write_trajectory_csv(path, traj)?;
             }
             if json {
-                println!("{}", serde_json::to_string(&sim).expect("serialisable"));
+                outln!("{}", serde_json::to_string(&sim).expect("serialisable"));
             } else {
                 print_simulation(&sim, output.as_ref().filter(|_| sim.trajectory.is_some()));
             }
@@ -197,11 +211,11 @@ fn run(cmd: Command) -> Result<ExitCode, Error> {
             json,
         } => {
             if !json {
-                println!(
+                outln!(
                     "sine gait L_l = {amplitude} sin(2 pi t - l {phase_deg} deg), k = 1, mu+ = {mu_forward}, mu- = {mu_backward}, {steps} steps/period"
                 );
-                println!("| N | method | disp/period | periods | steps | us/step | link-steps/s |");
-                println!("|---|---|---|---|---|---|---|");
+                outln!("| N | method | disp/period | periods | steps | us/step | link-steps/s |");
+                outln!("|---|---|---|---|---|---|---|");
             }
             for &nb in &blocks {
                 let crawler = Crawler::uniform(nb, 1.0, mu_forward, mu_backward)?;
@@ -217,7 +231,7 @@ fn run(cmd: Command) -> Result<ExitCode, Error> {
                 for method in [Method::CatchingUp, Method::Exact] {
                     let r = bench_case(&crawler, &act, method, steps, periods, min_time)?;
                     if json {
-                        println!(
+                        outln!(
                             "{}",
                             serde_json::json!({
                                 "N": nb, "method": method.to_string(), "steps_per_period": steps,
@@ -228,7 +242,7 @@ fn run(cmd: Command) -> Result<ExitCode, Error> {
                             })
                         );
                     } else {
-                        println!(
+                        outln!(
                             "| {nb} | {method} | {} | {} | {} | {:.3} | {:.3e} |",
                             r.disp
                                 .map_or("not converged".into(), |d| format!("{d:.15}")),
@@ -315,27 +329,27 @@ fn list(v: &[f64]) -> String {
 }
 
 fn print_analysis(c: &Crawler, a: &Analysis) {
-    println!("crawler: N = {} blocks, n = {} links", a.blocks, a.links);
-    println!("  stiffness k    = {}", list(c.stiffness()));
-    println!("  mu_forward     = {}", list(c.mu_forward()));
-    println!("  mu_backward    = {}", list(c.mu_backward()));
-    println!("uniqueness condition (eq. 3.5):");
+    outln!("crawler: N = {} blocks, n = {} links", a.blocks, a.links);
+    outln!("  stiffness k    = {}", list(c.stiffness()));
+    outln!("  mu_forward     = {}", list(c.mu_forward()));
+    outln!("  mu_backward    = {}", list(c.mu_backward()));
+    outln!("uniqueness condition (eq. 3.5):");
     match (&a.violating_subset, &a.uniqueness_undecided) {
-        (Some(j), _) => println!("  FAILS for J = {j:?}: the motion is not unique"),
-        (None, Some(r)) => println!("  undecided: {r}"),
-        (None, None) => println!(
+        (Some(j), _) => outln!("  FAILS for J = {j:?}: the motion is not unique"),
+        (None, Some(r)) => outln!("  undecided: {r}"),
+        (None, None) => outln!(
             "  holds; margin {:.6} (closest subset J = {:?})",
             a.uniqueness_margin.unwrap_or(f64::NAN),
             a.closest_subset.clone().unwrap_or_default()
         ),
     }
-    println!("polytope C (F_b = x_(b-1) - x_b; facets marked *):");
+    outln!("polytope C (F_b = x_(b-1) - x_b; facets marked *):");
     for f in &a.faces {
         let (rel, bound) = match f.sign {
             FaceSign::Forward => ("<=", format!("{}", f.offset)),
             FaceSign::Backward => (">=", format!("{}", -f.offset)),
         };
-        println!(
+        outln!(
             "  {} block {:>3} {}: F_{} {rel} {bound}",
             if f.facet { "*" } else { " " },
             f.block,
@@ -347,60 +361,65 @@ fn print_analysis(c: &Crawler, a: &Analysis) {
         );
     }
     for (l, r) in a.link_force_ranges.iter().enumerate() {
-        println!("  link {:>3}: x in [{}, {}]", l + 1, r[0], r[1]);
+        outln!("  link {:>3}: x in [{}, {}]", l + 1, r[0], r[1]);
     }
     if let Some(v) = &a.vertices {
-        println!("  {} vertices:", v.len());
+        outln!("  {} vertices:", v.len());
         for x in v {
-            println!("    {}", list(x));
+            outln!("    {}", list(x));
         }
     }
     if let Some(class) = a.vm_class {
-        println!("displacement function v_m (exact):");
-        println!(
+        outln!("displacement function v_m (exact):");
+        outln!(
             "  class: {}",
             serde_json::to_string(&class)
                 .expect("enum")
                 .trim_matches('"')
         );
-        println!(
+        outln!(
             "  moves forward: {}   moves backward: {}",
             a.moves_forward.unwrap_or(false),
             a.moves_backward.unwrap_or(false)
         );
     }
     if let Some(o) = &a.one_link {
-        println!(
+        outln!(
             "one link (SPEC §9): C = [{}, {}], width w = {}",
-            o.alpha, o.beta, o.width
+            o.alpha,
+            o.beta,
+            o.width
         );
-        println!(
+        outln!(
             "  extension moves forward: {}   contraction moves forward: {}",
-            o.extension_moves_forward, o.contraction_moves_forward
+            o.extension_moves_forward,
+            o.contraction_moves_forward
         );
         match (o.min_at_forward, o.min_at_backward) {
-            (Some(m), _) => println!("  forward locomotion needs a*T > {m} (rate bound x period)"),
+            (Some(m), _) => outln!("  forward locomotion needs a*T > {m} (rate bound x period)"),
             (None, Some(m)) => {
-                println!("  no periodic gait moves it forward; backward locomotion needs a*T > {m}")
+                outln!("  no periodic gait moves it forward; backward locomotion needs a*T > {m}")
             }
-            _ => println!("  v_m is linear: no periodic gait moves it"),
+            _ => outln!("  v_m is linear: no periodic gait moves it"),
         }
     }
 }
 
 fn print_simulation(s: &Simulation, csv: Option<&PathBuf>) {
-    println!(
+    outln!(
         "method: {} ({} per period): {}",
-        s.method, s.steps_per_period, s.actuation_model
+        s.method,
+        s.steps_per_period,
+        s.actuation_model
     );
     match s.displacement_per_period {
-        Some(d) => println!("displacement per period: {d}"),
-        None => println!(
+        Some(d) => outln!("displacement per period: {d}"),
+        None => outln!(
             "displacement per period: not reached (last period: {})",
             s.last_period_displacement
         ),
     }
-    println!(
+    outln!(
         "periodic regime: {} after {} period(s) (residual {:.3e}, {})",
         if s.converged {
             "reached"
@@ -414,15 +433,15 @@ fn print_simulation(s: &Simulation, csv: Option<&PathBuf>) {
             Search::Anderson => "Anderson-accelerated search",
         }
     );
-    println!(
+    outln!(
         "block displacement per period: {}",
         list(&s.block_displacement_per_period)
     );
-    println!(
+    outln!(
         "state at the start of the periodic period: {}",
         list(&s.orbit_state)
     );
     if let Some(p) = csv {
-        println!("trajectory written to {}", p.display());
+        outln!("trajectory written to {}", p.display());
     }
 }

@@ -195,6 +195,11 @@ fn bad_input_gives_one_line_naming_the_field_and_exit_2() {
         (format!("{CRAWLER3}{act}[simulation]\ninitial_state = [5.0, 0.0]\n"), "simulation.initial_state: state is not admissible"),
         (format!("{CRAWLER3}{act}[simulation]\ninitial_state = [0.0]\n"), "simulation.initial_state"),
         (CRAWLER3.to_string(), "no [actuation] section"),
+        (
+            "[crawler]\nblocks = 3\nstiffness = 1e300\nmu_forward = 1\nmu_backward = 2.5\n[actuation]\nkind = \"piecewise_linear\"\nperiod = 1\ntimes = [0, 0.5]\nlengths = [[0, 0], [1e10, 2e10]]\n".into(),
+            "overflow double precision",
+        ),
+        ("[crawler]\nblocks = 3\nstiffness = 1\nmu_forward = 1e308\nmu_backward = 1.7e308\n".into(), "overflow"),
     ];
     for (i, (text, want)) in cases.iter().enumerate() {
         let f = write(dir.path(), &format!("bad{i}.toml"), text);

@@ -210,3 +210,33 @@ fn catching_up_converges_to_exact_at_first_order() {
     assert!(errs.last().unwrap().1 < 1e-3 * exact.abs().max(1.0));
     assert!((0.7..1.4).contains(&-slope), "observed order {}", -slope);
 }
+
+#[test]
+fn exact_method_stays_in_c_when_a_face_is_approached_slowly() {
+    // Review finding: link 1 creeps by 3e-10 while link 2 swings by 1e4 in the same phase; the
+    // slow approach to a face must still be caught (catching-up gives 10015 as M grows).
+    let c = Crawler::uniform(3, 1.0, 1.0, 2.5).unwrap();
+    let act = Actuation::piecewise_linear(
+        6.0,
+        vec![0.0, 1.0, 2.0, 3.0, 4.0, 5.0],
+        vec![
+            vec![0.0, 0.0],
+            vec![0.0, 10.0],
+            vec![10.0, 10.0],
+            vec![9.9999999998, 10.0],
+            vec![10.0000000003, 10010.0],
+            vec![11.0, 10010.0],
+        ],
+    )
+    .unwrap();
+    let s = common::run(&c, &act, Method::Exact, 0);
+    let d = s.displacement_per_period.unwrap();
+    let cu = common::disp(&c, &act, Method::CatchingUp, 60000);
+    assert!(
+        (d - 10015.0).abs() < 1e-6 && (cu - d).abs() < 1e-5,
+        "exact {d}, catching-up {cu}"
+    );
+    for x in &s.trajectory.unwrap().x {
+        assert!(c.violation(x).0 <= 1e-9, "{x:?}");
+    }
+}

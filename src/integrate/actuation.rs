@@ -94,7 +94,7 @@ impl Actuation {
             period,
             mean,
             amplitude,
-            phase: phase_deg.iter().map(|d| d.to_radians()).collect(),
+            phase: phase_deg.iter().map(|d| (d % 360.0).to_radians()).collect(),
         })
     }
 
@@ -252,7 +252,7 @@ impl Actuation {
                 (t, l)
             }
             Actuation::Wave { period, .. } => {
-                let times: Vec<f64> = (0..m).map(|i| period * i as f64 / m as f64).collect();
+                let times: Vec<f64> = (0..m).map(|i| (i as f64 / m as f64) * period).collect();
                 let lengths = times
                     .iter()
                     .map(|&t| {

@@ -29,7 +29,7 @@ impl CatchingUp {
         let mut samples = vec![0.0; (m + 1) * n];
         for i in 0..m {
             act.lengths_at(
-                period * i as f64 / m as f64,
+                (i as f64 / m as f64) * period,
                 &mut samples[i * n..(i + 1) * n],
             );
         }
@@ -46,10 +46,11 @@ impl CatchingUp {
     pub fn from_increments(crawler: &Crawler, deltas: Vec<f64>, period: f64) -> Result<Self> {
         let n = crawler.links();
         let m = deltas.len() / n;
+        super::check_increments(&deltas)?;
         Ok(CatchingUp {
             proj: Projector::new(crawler)?,
             deltas,
-            times: (0..=m).map(|i| period * i as f64 / m as f64).collect(),
+            times: (0..=m).map(|i| (i as f64 / m as f64) * period).collect(),
             d: vec![0.0; crawler.blocks()],
             n,
             iterations: 0,

@@ -48,6 +48,7 @@ impl ExactPwl {
             incs.extend((0..n).map(|l| k[l] * (b[l] - a[l])));
         }
         times.push(act.period());
+        super::check_increments(&incs)?;
         Ok(ExactPwl {
             cone: ConeProjector::new(crawler)?,
             times,
@@ -87,14 +88,14 @@ impl ExactPwl {
             }
             return Ok(());
         }
-        let eps = 1e-13 * umax;
         let mut s = 0.0;
         for _ in 0..self.max_events {
+            // One-sided tests: a face crossed by rounding stays active, so x cannot leak out of C.
             for b in 0..nb {
                 let d = inc(x, b);
-                self.active[b] = if (d - self.lo[b]).abs() <= self.tol_face {
+                self.active[b] = if d - self.lo[b] <= self.tol_face {
                     Bound::Lower
-                } else if (d - self.hi[b]).abs() <= self.tol_face {
+                } else if self.hi[b] - d <= self.tol_face {
                     Bound::Upper
                 } else {
                     Bound::Free
@@ -108,9 +109,11 @@ impl ExactPwl {
             for b in 0..nb {
                 let dd = inc(&self.w, b);
                 let d = inc(x, b);
-                let t = if dd < -eps && d - self.lo[b] > self.tol_face {
+                // Every approach counts, however slow: a slow approach over a long phase still
+                // reaches the face.
+                let t = if dd < 0.0 && d - self.lo[b] > self.tol_face {
                     (self.lo[b] - d) / dd
-                } else if dd > eps && self.hi[b] - d > self.tol_face {
+                } else if dd > 0.0 && self.hi[b] - d > self.tol_face {
                     (self.hi[b] - d) / dd
                 } else {
                     continue;

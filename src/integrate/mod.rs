@@ -83,6 +83,18 @@ impl Recorder<'_> {
     }
 }
 
+/// Refuses increments `K (L' - L)` that overflow double precision (huge stiffness or lengths).
+fn check_increments(incs: &[f64]) -> Result<()> {
+    match incs.iter().find(|v| !v.is_finite()) {
+        Some(v) => Err(crate::Error::invalid(
+            "actuation",
+            v,
+            "the increments k * (L(t') - L(t)) overflow double precision: reduce stiffness or lengths",
+        )),
+        None => Ok(()),
+    }
+}
+
 /// Slip state of a displacement or velocity, with a tolerance.
 pub fn slip_of(v: f64, tol: f64) -> Slip {
     if v > tol {

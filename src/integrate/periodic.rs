@@ -24,6 +24,11 @@ use std::collections::VecDeque;
 /// problem of `n x 30` per period is negligible beside the period itself.
 const ANDERSON_MEMORY: usize = 30;
 
+/// Largest number of sampled increments (steps per period times links) of catching-up.
+pub const MAX_SAMPLES: f64 = 2.5e7;
+/// Largest number of values in a recorded trajectory (about 400 MB).
+pub const MAX_RECORDED: f64 = 5e7;
+
 /// Options of [`simulate`].
 #[derive(Debug, Clone, PartialEq)]
 pub struct SimOptions {
@@ -197,6 +202,30 @@ pub fn simulate(crawler: &Crawler, act: &Actuation, opts: &SimOptions) -> Result
         ));
     }
     let (n, nb) = (crawler.links(), crawler.blocks());
+    // Memory guards: the sampled increments (catching-up) and the recorded trajectory.
+    let per_period = if opts.method == Method::CatchingUp || !act.is_piecewise_linear() {
+        opts.steps_per_period
+    } else {
+        act.knots(0).0.len()
+    };
+    if opts.method == Method::CatchingUp && (per_period as f64) * (n as f64) > MAX_SAMPLES {
+        return Err(Error::invalid(
+            "steps_per_period",
+            per_period,
+            format!("steps per period times links must be at most {MAX_SAMPLES:e} (memory)"),
+        ));
+    }
+    let recorded = opts.record_periods as f64 * per_period as f64 * (3 * nb) as f64;
+    if recorded > MAX_RECORDED {
+        return Err(Error::invalid(
+            "periods",
+            opts.record_periods,
+            format!(
+                "recording that many periods of {per_period} samples of {nb} blocks exceeds \
+                 {MAX_RECORDED:e} values: record fewer periods"
+            ),
+        ));
+    }
     let mut proj = Projector::new(crawler)?;
     let mut scratch_d = vec![0.0; nb];
     let mut x = vec![0.0; n];
@@ -236,6 +265,12 @@ pub fn simulate(crawler: &Crawler, act: &Actuation, opts: &SimOptions) -> Result
         x_start.copy_from_slice(&x);
         acc.iter_mut().for_each(|a| *a = 0.0);
         map.run_period(&mut x, &mut acc, None)?;
+        if x.iter().chain(&acc).any(|v| !v.is_finite()) {
+            return Err(Error::Numerical(format!(
+                "the state or the displacement is no longer finite after period {k}: \
+                 the parameters or the actuation exceed double precision"
+            )));
+        }
         let residual = x
             .iter()
             .zip(&x_start)

@@ -63,6 +63,15 @@ impl Crawler {
         check_positive("crawler.stiffness", &stiffness)?;
         check_positive("crawler.mu_forward", &mu_forward)?;
         check_positive("crawler.mu_backward", &mu_backward)?;
+        let total: f64 = mu_forward.iter().chain(&mu_backward).sum::<f64>()
+            + stiffness.iter().map(|k| 1.0 / k).sum::<f64>();
+        if !total.is_finite() || stiffness.iter().any(|k| !(1.0 / k).is_normal()) {
+            return Err(Error::invalid(
+                "crawler",
+                "extreme values",
+                "the sums of friction thresholds or of 1/stiffness overflow double precision",
+            ));
+        }
         let uniqueness = Uniqueness::decide(&mu_forward, &mu_backward);
         Ok(Crawler {
             stiffness,

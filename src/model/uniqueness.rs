@@ -13,8 +13,11 @@
 
 /// Relative tolerance below which a subset counts as violating the condition.
 pub const REL_TOL: f64 = 1e-9;
-/// Largest number of count vectors enumerated directly.
-pub const DIRECT_LIMIT: f64 = (1u64 << 22) as f64;
+/// Largest work (count vectors times groups) of a direct enumeration: a uniform crawler of
+/// 10^8 blocks, or 22 distinct friction pairs.
+pub const DIRECT_LIMIT: f64 = (1u64 << 27) as f64;
+/// Largest number of count vectors in each half of the meet-in-the-middle search.
+pub const HALF_LIMIT: f64 = (1u64 << 22) as f64;
 
 /// Outcome of the uniqueness check.
 #[derive(Debug, Clone, PartialEq)]
@@ -80,6 +83,12 @@ impl SubsetSearch {
         }
     }
 
+    /// Work of enumerating every count vector over all groups (vectors times groups).
+    pub fn enumeration_work(&self) -> f64 {
+        let all: Vec<usize> = (0..self.weight.len()).collect();
+        self.state_count(&all) * self.weight.len() as f64
+    }
+
     /// Number of count vectors over the groups `groups`.
     pub fn state_count(&self, groups: &[usize]) -> f64 {
         groups
@@ -128,8 +137,7 @@ impl SubsetSearch {
 
     /// The count vector minimising `|w(J) - theta|`, or `None` when it cannot be enumerated.
     fn closest_to_theta(&self) -> Option<Vec<usize>> {
-        let all: Vec<usize> = (0..self.weight.len()).collect();
-        if self.state_count(&all) <= DIRECT_LIMIT {
+        if self.enumeration_work() <= DIRECT_LIMIT {
             let mut best = (f64::INFINITY, Vec::new());
             self.for_each_state(|c, w| {
                 let d = (w - self.theta).abs();
@@ -160,10 +168,11 @@ impl SubsetSearch {
                 cb *= s;
             }
         }
-        if ca > DIRECT_LIMIT || cb > DIRECT_LIMIT {
+        if ca > HALF_LIMIT || cb > HALF_LIMIT {
             return None;
         }
-        let half = |groups: &[usize]| -> Vec<(f64, Vec<usize>)> {
+        // Sums of every count vector of a half, with its mixed-radix index (decoded at the end).
+        let half = |groups: &[usize]| -> Vec<(f64, u64)> {
             let sub = SubsetSearch {
                 weight: groups.iter().map(|&i| self.weight[i]).collect(),
                 members: groups.iter().map(|&i| self.members[i].clone()).collect(),
@@ -171,30 +180,36 @@ impl SubsetSearch {
                 total: 0.0,
             };
             let mut out = Vec::new();
-            sub.for_each_state(|c, w| out.push((w, c.to_vec())));
+            sub.for_each_state(|_, w| {
+                let idx = out.len() as u64;
+                out.push((w, idx));
+            });
             out
+        };
+        let decode = |groups: &[usize], mut idx: u64, counts: &mut [usize]| {
+            for &g in groups {
+                let radix = self.members[g].len() as u64 + 1;
+                counts[g] = (idx % radix) as usize;
+                idx /= radix;
+            }
         };
         let mut left = half(&a);
         left.sort_by(|x, y| x.0.total_cmp(&y.0));
         let right = half(&b);
-        let mut best: (f64, usize, usize) = (f64::INFINITY, 0, 0);
-        for (j, (wb, _)) in right.iter().enumerate() {
+        let mut best: (f64, u64, u64) = (f64::INFINITY, 0, 0);
+        for &(wb, jb) in &right {
             let target = self.theta - wb;
             let i = left.partition_point(|(w, _)| *w < target);
             for k in [i.saturating_sub(1), i.min(left.len() - 1)] {
                 let d = (left[k].0 + wb - self.theta).abs();
                 if d < best.0 {
-                    best = (d, k, j);
+                    best = (d, left[k].1, jb);
                 }
             }
         }
         let mut counts = vec![0; g];
-        for (pos, &gi) in a.iter().enumerate() {
-            counts[gi] = left[best.1].1[pos];
-        }
-        for (pos, &gi) in b.iter().enumerate() {
-            counts[gi] = right[best.2].1[pos];
-        }
+        decode(&a, best.1, &mut counts);
+        decode(&b, best.2, &mut counts);
         Some(counts)
     }
 }
@@ -268,6 +283,16 @@ mod tests {
             other => panic!("expected failure, got {other:?}"),
         }
         assert!(Uniqueness::decide(&[1.0; 5], &[1.6; 5]).holds());
+    }
+
+    #[test]
+    fn large_uniform_crawlers_are_decided() {
+        // One friction group: N + 1 count vectors, however large N is.
+        let n = 5_000_000;
+        match Uniqueness::decide(&vec![1.0; n], &vec![2.5; n]) {
+            Uniqueness::Holds { margin, .. } => assert!(margin > 0.1, "{margin}"),
+            other => panic!("{other:?}"),
+        }
     }
 
     #[test]

@@ -115,8 +115,7 @@ impl Crawler {
         let backward_witness = moves_backward.then(|| shape_of(&|b| b != imin));
 
         let search = SubsetSearch::new(mp, mm);
-        let all: Vec<usize> = (0..search.weight.len()).collect();
-        let class = if search.state_count(&all) > DIRECT_LIMIT {
+        let class = if search.enumeration_work() > DIRECT_LIMIT {
             VmClass::Undetermined
         } else {
             let (mut convex, mut concave) = (true, true);
