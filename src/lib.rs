@@ -9,6 +9,7 @@
 //! - [`model`]: the crawler, the polytope C, the uniqueness condition, v_m;
 //! - [`sweep`]: projections onto C and onto its tangent cones (the hot kernel);
 //! - [`integrate`]: actuations, catching-up and exact event-driven integration, periodic regime;
+//! - [`optimal`]: the gait problem (P) and its optimum (closed form for one link so far);
 //! - [`io`]: the TOML model file and CSV files;
 //! - the `crawlopt` binary: a thin command-line layer.
 //!
@@ -29,6 +30,7 @@ pub mod error;
 pub mod integrate;
 pub mod io;
 pub mod model;
+pub mod optimal;
 pub mod sweep;
 
 pub use error::{Error, Result};

@@ -8,6 +8,7 @@ use crawlopt::integrate::{
 };
 use crawlopt::io::{write_trajectory_csv, ModelFile};
 use crawlopt::model::{Analysis, FaceSign};
+use crawlopt::optimal::{one_link_optimum, Cost};
 use crawlopt::{Crawler, Error};
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -136,13 +137,45 @@ fn run(cmd: Command) -> Result<ExitCode, Error> {
             let model = ModelFile::load(&file)?;
             let crawler = model.crawler()?;
             let a = crawler.analyze();
+            let gait = model.gait(&crawler)?;
+            // The one-link closed form (SPEC §9) when the file poses the gait problem.
+            let optimum = match &gait {
+                Some(g) if a.uniqueness_ok && crawler.blocks() == 2 => {
+                    Some(one_link_optimum(&crawler, g)?)
+                }
+                _ => None,
+            };
             if json {
+                let mut v = serde_json::to_value(&a).expect("serialisable");
+                if let Some(g) = &gait {
+                    v["gait"] = serde_json::json!({ "problem": g, "one_link_optimum": optimum });
+                }
                 outln!(
                     "{}",
-                    serde_json::to_string_pretty(&a).expect("serialisable")
+                    serde_json::to_string_pretty(&v).expect("serialisable")
                 );
             } else {
                 print_analysis(&crawler, &a);
+                if let Some(g) = &gait {
+                    outln!(
+                        "gait problem: period {}, rate bounds a = {}, cost {}{}",
+                        g.period,
+                        list(&g.rate_bound),
+                        match g.cost {
+                            Cost::None => "none".to_string(),
+                            Cost::Quadratic { weight } => format!("(c/2)|u|^2 with c = {weight}"),
+                        },
+                        g.max_total_variation
+                            .map_or(String::new(), |v| format!(", total variation <= {v}"))
+                    );
+                }
+                if let Some(o) = &optimum {
+                    outln!(
+                        "  closed-form optimum (one link): J* = {} ({})",
+                        o.value,
+                        o.reason
+                    );
+                }
             }
             if !a.uniqueness_ok {
                 if let Err(e) = crawler.require_unique() {

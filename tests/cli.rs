@@ -230,6 +230,54 @@ fn bad_input_gives_one_line_naming_the_field_and_exit_2() {
 }
 
 #[test]
+fn analyze_reports_the_one_link_optimum_of_a_gait_problem() {
+    let out = crawlopt(&["analyze", "examples/one_link_gait.toml", "--json"]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let v = json(&out);
+    assert_eq!(v["gait"]["one_link_optimum"]["value"], 3.0);
+    assert_eq!(v["gait"]["problem"]["rate_bound"], serde_json::json!([1.0]));
+    let dir = tempfile::tempdir().unwrap();
+    let crawler = "[crawler]\nblocks = 2\nstiffness = 1\nmu_forward = 1\nmu_backward = 2\n";
+    for (gait, want) in [
+        ("period = -1\nmax_actuator_speed = 1\n", "gait.period"),
+        (
+            "period = 10\nmax_actuator_speed = 0\n",
+            "gait.max_actuator_speed[1]",
+        ),
+        (
+            "period = 10\nmax_actuator_speed = [1, 1]\n",
+            "gait.max_actuator_speed",
+        ),
+        (
+            "period = 10\nmax_actuator_speed = 1\ncost = { kind = \"quadratic\" }\n",
+            "gait.cost.weight",
+        ),
+        (
+            "period = 10\nmax_actuator_speed = 1\ncost = { kind = \"quadratic\", weight = 0 }\n",
+            "gait.cost.weight",
+        ),
+        (
+            "period = 10\nmax_actuator_speed = 1\ncost = { kind = \"cubic\" }\n",
+            "gait.cost.kind",
+        ),
+        (
+            "period = 10\nmax_actuator_speed = 1\nmax_total_variation = -2\n",
+            "gait.max_total_variation",
+        ),
+        ("period = 10\nspeed = 1\n", "unknown field `speed`"),
+    ] {
+        let f = write(dir.path(), "g.toml", &format!("{crawler}[gait]\n{gait}"));
+        let out = crawlopt(&["analyze", f.to_str().unwrap()]);
+        assert_eq!(out.status.code(), Some(2), "{gait}: {}", stderr(&out));
+        assert!(
+            stderr(&out).contains(want),
+            "{gait}: want {want:?} in {}",
+            stderr(&out)
+        );
+    }
+}
+
+#[test]
 fn an_unwritable_output_leaves_nothing_and_exits_2() {
     let dir = tempfile::tempdir().unwrap();
     let target = dir.path().join("no/such/dir/t.csv");

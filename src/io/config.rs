@@ -3,6 +3,7 @@
 use crate::error::{Error, Result};
 use crate::integrate::{Actuation, Waveform};
 use crate::model::Crawler;
+use crate::optimal::{Cost, GaitProblem};
 use serde::Deserialize;
 use std::path::{Path, PathBuf};
 
@@ -67,6 +68,30 @@ pub struct ActuationSpec {
     pub path: Option<String>,
 }
 
+/// `cost = { kind = "none" }` or `{ kind = "quadratic", weight = c }`.
+#[derive(Debug, Clone, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct CostSpec {
+    /// `none | quadratic`.
+    pub kind: String,
+    /// `c` of the quadratic cost.
+    pub weight: Option<f64>,
+}
+
+/// `[gait]`: the gait problem (P).
+#[derive(Debug, Clone, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct GaitSpec {
+    /// Period `T`.
+    pub period: f64,
+    /// Bound on `|L_l'|`, a number or one per link (`a_l = k_l * speed`).
+    pub max_actuator_speed: NumberOrList,
+    /// Actuation cost (default none).
+    pub cost: Option<CostSpec>,
+    /// Optional bound on the total variation of `u` over a period.
+    pub max_total_variation: Option<f64>,
+}
+
 /// `[simulation]` (optional).
 #[derive(Debug, Clone, Default, Deserialize, PartialEq)]
 #[serde(deny_unknown_fields)]
@@ -86,6 +111,8 @@ pub struct ModelFile {
     /// `[simulation]`.
     #[serde(default)]
     pub simulation: SimulationSpec,
+    /// `[gait]`, the optimal-gait problem.
+    pub gait: Option<GaitSpec>,
     /// Folder of the file, for relative paths.
     #[serde(skip)]
     pub base_dir: PathBuf,
@@ -151,6 +178,48 @@ impl ModelFile {
             c.mu_forward.expand("crawler.mu_forward", nb, "block")?,
             c.mu_backward.expand("crawler.mu_backward", nb, "block")?,
         )
+    }
+
+    /// The gait problem of `[gait]`, if the file has one.
+    pub fn gait(&self, crawler: &Crawler) -> Result<Option<GaitProblem>> {
+        let Some(g) = &self.gait else { return Ok(None) };
+        let cost = match &g.cost {
+            None => Cost::None,
+            Some(c) => match (c.kind.as_str(), c.weight) {
+                ("none", None) => Cost::None,
+                ("none", Some(_)) => {
+                    return Err(Error::invalid(
+                        "gait.cost.weight",
+                        "a value",
+                        "is not used by kind = \"none\"",
+                    ))
+                }
+                ("quadratic", Some(weight)) => Cost::Quadratic { weight },
+                ("quadratic", None) => {
+                    return Err(Error::invalid(
+                        "gait.cost.weight",
+                        "nothing",
+                        "is required for kind = \"quadratic\"",
+                    ))
+                }
+                (other, _) => {
+                    return Err(Error::invalid(
+                        "gait.cost.kind",
+                        format!("\"{other}\""),
+                        "must be none or quadratic",
+                    ))
+                }
+            },
+        };
+        GaitProblem::new(
+            crawler,
+            g.period,
+            &g.max_actuator_speed
+                .expand("gait.max_actuator_speed", crawler.links(), "link")?,
+            cost,
+            g.max_total_variation,
+        )
+        .map(Some)
     }
 
     /// The actuation of `[actuation]` for a crawler with `links` links.

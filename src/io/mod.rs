@@ -19,10 +19,18 @@
 //!
 //! [simulation]          # optional
 //! initial_state = [0.0, 0.0]  # x(0), link compressions (force); default 0
+//!
+//! [gait]                # the optimal-gait problem (P)
+//! period = 10.0
+//! max_actuator_speed = 1.0   # |L_l'| <= this (a number or one per link); a_l = k_l * speed
+//! cost = { kind = "none" }   # or { kind = "quadratic", weight = c }: f2(u) = (c/2)|u|^2
+//! # optional: max_total_variation = V  (Theorem 2.1's class U_K)
 //! ```
 
 mod config;
 mod csv_io;
 
-pub use config::{ActuationSpec, CrawlerSpec, ModelFile, NumberOrList, SimulationSpec};
+pub use config::{
+    ActuationSpec, CostSpec, CrawlerSpec, GaitSpec, ModelFile, NumberOrList, SimulationSpec,
+};
 pub use csv_io::{read_actuation_csv, write_trajectory_csv, AtomicFile};

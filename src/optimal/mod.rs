@@ -1,0 +1,11 @@
+//! Optimal gaits (SPEC §5–7): the gait problem (P) and what is known of its optimum.
+//!
+//! This layer holds the problem data ([`GaitProblem`]: period, rate bounds, actuation cost,
+//! optional total-variation bound) and the closed-form optimum of the one-link crawler
+//! ([`one_link_optimum`], SPEC §9, paper §4), against which every solver is tested.
+
+mod one_link;
+mod problem;
+
+pub use one_link::{one_link_optimum, OneLinkOptimum};
+pub use problem::{Cost, GaitProblem};
