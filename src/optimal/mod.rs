@@ -2,10 +2,13 @@
 //!
 //! This layer holds the problem data ([`GaitProblem`]: period, rate bounds, actuation cost,
 //! optional total-variation bound) and the closed-form optimum of the one-link crawler
-//! ([`one_link_optimum`], SPEC §9, paper §4), against which every solver is tested.
+//! ([`one_link_optimum`], SPEC §9, paper §4), against which every solver is tested, and the
+//! global solver of the paper's discrete problems P_m ([`solve_discrete_global`], SPEC §6).
 
+mod discrete;
 mod one_link;
 mod problem;
 
+pub use discrete::{solve_discrete_global, DiscreteSolution, MilpStatus, MAX_M};
 pub use one_link::{one_link_optimum, OneLinkOptimum};
 pub use problem::{Cost, GaitProblem};

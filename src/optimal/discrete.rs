@@ -1,0 +1,341 @@
+//! The paper's discrete problem P_m (SPEC §6), solved globally as a mixed-integer linear program
+//! in HiGHS.
+//!
+//! On the dyadic grid `h = T / 2^m` (`M = 2^m` steps), with `U^i = h u^i`:
+//!
+//! ```text
+//! maximise   sum_i (1/N) sum_b D^i_b                       (f2 = 0)
+//! subject to x^{i+1} = x^i + U^i - K sum_b D^i_b nu_b,     x^M = x^0         (catching-up)
+//!            -mu_b^- <= F_b(x^{i+1}) <= mu_b^+                               (x^{i+1} in C)
+//!            D^i_b = P^i_b - Q^i_b,  0 <= P <= Md zp,  0 <= Q <= Md zq,  zp + zq <= 1
+//!            mu_b^+ - F_b(x^{i+1}) <= W_b (1 - zp^i_b),  F_b(x^{i+1}) + mu_b^- <= W_b (1 - zq^i_b)
+//!            |U^i_l| <= a_l h,  sum_i U^i = 0,
+//!            sum_b D^0_b >= sum_b D^i_b                                      (symmetry)
+//! ```
+//!
+//! The dynamics with the sign and complementarity conditions are exactly the KKT system of the
+//! catching-up projection (SPEC §4), which has a unique solution, so every feasible point is a
+//! catching-up trajectory. Constants, all derived from C and the rate bounds:
+//! - `W_b = mu_b^+ + mu_b^-`: the range of `F_b` over C, the largest slack of either face;
+//! - `Md = h sqrt(sum_l 1/k_l) sqrt(sum_l a_l^2 / k_l)` bounds `|D^i_b|`: some block is free
+//!   (`D = 0`) and `D_{b+1} - D_b = (v_b - x_b)/k_b`, so `|D_b| <= sum_l |v_l - x_l| / k_l
+//!   <= sqrt(sum 1/k) |v - x|_{K^-1}`, and `|v - x|_{K^-1} <= |U|_{K^-1}` because `x^i` is in C
+//!   and the projection is the nearest point;
+//! - the time-shift symmetry of a periodic gait is broken by letting step 0 carry the largest
+//!   displacement (a rotation of any optimum does).
+//!
+//! Every answer is re-verified by the simulator: the returned increments are played by
+//! [`CatchingUp`] from the returned initial state until the periodic regime, and the verified
+//! displacement is the one reported.
+
+use crate::error::{Error, Result};
+use crate::integrate::{CatchingUp, PeriodMap};
+use crate::model::Crawler;
+use crate::optimal::{Cost, GaitProblem};
+use highs::{HighsModelStatus, HighsSolutionStatus, RowProblem, Sense};
+use serde::Serialize;
+
+/// Largest `m` accepted (`2^m` steps).
+pub const MAX_M: u32 = 16;
+
+/// How a MILP solve ended.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum MilpStatus {
+    /// Proven optimal (gap within HiGHS's tolerance).
+    Optimal,
+    /// The time limit was reached with a feasible incumbent; see the gap.
+    TimeLimit,
+}
+
+/// A solution of P_m.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct DiscreteSolution {
+    /// `m` (the grid has `2^m` steps).
+    pub m: u32,
+    /// `h = T / 2^m`.
+    pub step: f64,
+    /// Solver outcome.
+    pub status: MilpStatus,
+    /// The MILP's objective value (displacement minus cost, per period).
+    pub milp_objective: f64,
+    /// The MILP's upper bound on the optimum of P_m.
+    pub bound: f64,
+    /// Relative gap `(bound - verified) / max(|verified|, 1e-9)`.
+    pub gap: f64,
+    /// Displacement per period, re-verified by simulating the returned gait.
+    pub verified_displacement: f64,
+    /// Initial state `x^0` (on the limit cycle).
+    pub initial_state: Vec<f64>,
+    /// Controls `u^i` (force per time), one row per step.
+    pub controls: Vec<Vec<f64>>,
+    /// Block displacements `D^i_b` per step, from the simulation.
+    pub block_displacements: Vec<Vec<f64>>,
+}
+
+/// Solves P_m globally (module docs). `time_limit` in seconds.
+pub fn solve_discrete_global(
+    crawler: &Crawler,
+    problem: &GaitProblem,
+    m: u32,
+    time_limit: Option<f64>,
+) -> Result<DiscreteSolution> {
+    crawler.require_unique()?;
+    if m > MAX_M {
+        return Err(Error::invalid("m", m, format!("must be at most {MAX_M}")));
+    }
+    if problem.cost != Cost::None {
+        return Err(Error::invalid(
+            "gait.cost",
+            "quadratic",
+            "the global P_m solver handles f2 = 0 only so far",
+        ));
+    }
+    if problem.max_total_variation.is_some() {
+        return Err(Error::invalid(
+            "gait.max_total_variation",
+            "a bound",
+            "is not handled by the global P_m solver yet",
+        ));
+    }
+    if let Some(t) = time_limit {
+        if !(t.is_finite() && t > 0.0) {
+            return Err(Error::invalid(
+                "time_limit",
+                t,
+                "must be positive and finite",
+            ));
+        }
+    }
+    let (n, nb) = (crawler.links(), crawler.blocks());
+    let big_m = 1usize << m;
+    let h = problem.period / big_m as f64;
+    let (k, mp, mm) = (
+        crawler.stiffness(),
+        crawler.mu_forward(),
+        crawler.mu_backward(),
+    );
+    let a = &problem.rate_bound;
+    let md = h
+        * k.iter().map(|k| 1.0 / k).sum::<f64>().sqrt()
+        * a.iter().zip(k).map(|(a, k)| a * a / k).sum::<f64>().sqrt();
+    let ranges = crawler.link_force_ranges();
+
+    let mut pb = RowProblem::default();
+    let xs: Vec<Vec<highs::Col>> = (0..big_m)
+        .map(|_| {
+            ranges
+                .iter()
+                .map(|r| pb.add_column(0.0, r[0]..=r[1]))
+                .collect()
+        })
+        .collect();
+    let us: Vec<Vec<highs::Col>> = (0..big_m)
+        .map(|_| {
+            a.iter()
+                .map(|&al| pb.add_column(0.0, -al * h..=al * h))
+                .collect()
+        })
+        .collect();
+    let inv_n = 1.0 / nb as f64;
+    let mut ps = Vec::with_capacity(big_m);
+    let mut qs = Vec::with_capacity(big_m);
+    let mut zps = Vec::with_capacity(big_m);
+    let mut zqs = Vec::with_capacity(big_m);
+    for _ in 0..big_m {
+        ps.push(
+            (0..nb)
+                .map(|_| pb.add_column(inv_n, 0.0..=md))
+                .collect::<Vec<_>>(),
+        );
+        qs.push(
+            (0..nb)
+                .map(|_| pb.add_column(-inv_n, 0.0..=md))
+                .collect::<Vec<_>>(),
+        );
+        zps.push(
+            (0..nb)
+                .map(|_| pb.add_integer_column(0.0, 0..=1))
+                .collect::<Vec<_>>(),
+        );
+        zqs.push(
+            (0..nb)
+                .map(|_| pb.add_integer_column(0.0, 0..=1))
+                .collect::<Vec<_>>(),
+        );
+    }
+    // F_b(x) = x_{b-1} - x_b as (col, coef) pairs.
+    let force = |x: &[highs::Col], b: usize| -> Vec<(highs::Col, f64)> {
+        let mut f = Vec::with_capacity(2);
+        if b > 0 {
+            f.push((x[b - 1], 1.0));
+        }
+        if b < n {
+            f.push((x[b], -1.0));
+        }
+        f
+    };
+    for i in 0..big_m {
+        let next = &xs[(i + 1) % big_m];
+        // Dynamics: x^{i+1}_l - x^i_l - U^i_l + k_l (D_{l+1} - D_l) = 0.
+        for l in 0..n {
+            pb.add_row(
+                0.0..=0.0,
+                [
+                    (next[l], 1.0),
+                    (xs[i][l], -1.0),
+                    (us[i][l], -1.0),
+                    (ps[i][l + 1], k[l]),
+                    (qs[i][l + 1], -k[l]),
+                    (ps[i][l], -k[l]),
+                    (qs[i][l], k[l]),
+                ],
+            );
+        }
+        for b in 0..nb {
+            let f = force(next, b);
+            let w = mp[b] + mm[b];
+            pb.add_row(-mm[b]..=mp[b], &f);
+            pb.add_row(..=0.0, [(ps[i][b], 1.0), (zps[i][b], -md)]);
+            pb.add_row(..=0.0, [(qs[i][b], 1.0), (zqs[i][b], -md)]);
+            pb.add_row(..=1.0, [(zps[i][b], 1.0), (zqs[i][b], 1.0)]);
+            // mu^+ - F <= W (1 - zp)  <=>  -F + W zp <= mu^-.
+            let mut row: Vec<(highs::Col, f64)> = f.iter().map(|&(c, v)| (c, -v)).collect();
+            row.push((zps[i][b], w));
+            pb.add_row(..=mm[b], &row);
+            // F + mu^- <= W (1 - zq)  <=>  F + W zq <= mu^+.
+            let mut row = f.clone();
+            row.push((zqs[i][b], w));
+            pb.add_row(..=mp[b], &row);
+        }
+        if i > 0 {
+            // Symmetry: sum_b D^0_b - sum_b D^i_b >= 0.
+            let mut row = Vec::with_capacity(4 * nb);
+            for b in 0..nb {
+                row.extend([
+                    (ps[0][b], 1.0),
+                    (qs[0][b], -1.0),
+                    (ps[i][b], -1.0),
+                    (qs[i][b], 1.0),
+                ]);
+            }
+            pb.add_row(0.0.., &row);
+        }
+    }
+    for l in 0..n {
+        let row: Vec<(highs::Col, f64)> = us.iter().map(|u| (u[l], 1.0)).collect();
+        pb.add_row(0.0..=0.0, &row);
+    }
+    let mut model = pb.optimise(Sense::Maximise);
+    model.make_quiet();
+    model.set_option("threads", 1);
+    model.set_option("mip_feasibility_tolerance", 1e-9);
+    model.set_option("primal_feasibility_tolerance", 1e-9);
+    model.set_option("mip_rel_gap", 1e-9);
+    if let Some(t) = time_limit {
+        model.set_option("time_limit", t);
+    }
+    let solved = model.solve();
+    let status = match solved.status() {
+        HighsModelStatus::Optimal => MilpStatus::Optimal,
+        HighsModelStatus::ReachedTimeLimit
+            if solved.primal_solution_status() == HighsSolutionStatus::Feasible =>
+        {
+            MilpStatus::TimeLimit
+        }
+        HighsModelStatus::ReachedTimeLimit => {
+            return Err(Error::Numerical(format!(
+                "P_{m}: the time limit was reached before any feasible gait was found"
+            )))
+        }
+        other => {
+            return Err(Error::Numerical(format!(
+                "P_{m}: HiGHS ended with status {other:?}"
+            )))
+        }
+    };
+    let sol = solved.get_solution();
+    let cols = sol.columns();
+    let milp_objective = solved.objective_value();
+    let bound = solved
+        .double_info_value(c"mip_dual_bound")
+        .unwrap_or(milp_objective);
+    // The gait: clean the increments to exact zero mean within the bounds, then simulate it.
+    let mut incs: Vec<f64> = Vec::with_capacity(big_m * n);
+    for u in &us {
+        incs.extend(u.iter().map(|c| cols[c.index()]));
+    }
+    for l in 0..n {
+        let mean = (0..big_m).map(|i| incs[i * n + l]).sum::<f64>() / big_m as f64;
+        for i in 0..big_m {
+            incs[i * n + l] -= mean;
+        }
+    }
+    let x0: Vec<f64> = xs[0].iter().map(|c| cols[c.index()]).collect();
+    let verified = verify(crawler, &incs, problem.period, &x0)?;
+    let gap = (bound - verified.0) / verified.0.abs().max(1e-9);
+    if (milp_objective - verified.0).abs() > 1e-6 * (1.0 + verified.0.abs()) {
+        return Err(Error::Numerical(format!(
+            "P_{m}: the MILP's gait moves the crawler {} per period when simulated, not {milp_objective}",
+            verified.0
+        )));
+    }
+    Ok(DiscreteSolution {
+        m,
+        step: h,
+        status,
+        milp_objective,
+        bound,
+        gap: gap.max(0.0),
+        verified_displacement: verified.0,
+        initial_state: verified.1,
+        controls: incs
+            .chunks(n)
+            .map(|r| r.iter().map(|v| v / h).collect())
+            .collect(),
+        block_displacements: verified.2,
+    })
+}
+
+/// Plays the increments by catching-up from `x0` until the state repeats; returns the
+/// displacement per period, the periodic initial state and the block displacements per step.
+fn verify(
+    crawler: &Crawler,
+    incs: &[f64],
+    period: f64,
+    x0: &[f64],
+) -> Result<(f64, Vec<f64>, Vec<Vec<f64>>)> {
+    let nb = crawler.blocks();
+    let n = crawler.links();
+    let steps = incs.len() / n;
+    let mut map = CatchingUp::from_increments(crawler, incs.to_vec(), period)?;
+    // Start from x0 made exactly admissible.
+    let mut proj = crate::sweep::Projector::new(crawler)?;
+    let mut x = vec![0.0; n];
+    let mut d = vec![0.0; nb];
+    proj.project_from_origin(x0, &mut x, &mut d)?;
+    let scale = crawler.state_scale();
+    for _ in 0..1000 {
+        let start = x.clone();
+        let mut acc = vec![0.0; nb];
+        map.run_period(&mut x, &mut acc, None)?;
+        let r = x
+            .iter()
+            .zip(&start)
+            .map(|(a, b)| (a - b).abs())
+            .fold(0.0, f64::max);
+        if r <= 1e-12 * scale {
+            // Per-step displacements on the orbit.
+            let mut xs = start.clone();
+            let mut per_step = Vec::with_capacity(steps);
+            for row in incs.chunks(n) {
+                proj.step(&mut xs, row, &mut d)?;
+                per_step.push(d.clone());
+            }
+            return Ok((acc.iter().sum::<f64>() / nb as f64, start, per_step));
+        }
+    }
+    Err(Error::Numerical(
+        "P_m: the returned gait does not reach a periodic regime in 1000 periods".into(),
+    ))
+}

@@ -1,0 +1,69 @@
+//! The global solver of P_m (SPEC §6) against the one-link closed form and the simulator.
+
+use crawlopt::optimal::{one_link_optimum, solve_discrete_global, Cost, GaitProblem, MilpStatus};
+use crawlopt::Crawler;
+
+#[test]
+fn one_link_p_m_equals_the_closed_form_for_every_m() {
+    // SPEC §10: N = 2, k = 1, a = 1, T = 10, mu+ = 1, mu- = 2: the P_m optimum is 3 for m >= 1.
+    let c = Crawler::uniform(2, 1.0, 1.0, 2.0).unwrap();
+    let p = GaitProblem::new(&c, 10.0, &[1.0], Cost::None, None).unwrap();
+    for m in 1..=4 {
+        let s = solve_discrete_global(&c, &p, m, Some(60.0)).unwrap();
+        assert_eq!(s.status, MilpStatus::Optimal);
+        assert!(
+            (s.verified_displacement - 3.0).abs() < 1e-8,
+            "m = {m}: {}",
+            s.verified_displacement
+        );
+        assert!(s.gap < 1e-6, "m = {m}: gap {}", s.gap);
+        assert_eq!(s.controls.len(), 1 << m);
+        // Zero-mean control within the rate bound.
+        let mean: f64 = s.controls.iter().map(|u| u[0]).sum::<f64>();
+        assert!(mean.abs() < 1e-9);
+        assert!(s.controls.iter().all(|u| u[0].abs() <= 1.0 + 1e-9));
+    }
+}
+
+#[test]
+fn discrete_optimum_never_exceeds_the_continuous_one_for_one_link() {
+    // Asymmetric friction, several stiffnesses and periods, including no locomotion (a T < 2 w).
+    for (k, t) in [(1.0, 3.0), (2.0, 7.0), (0.5, 4.0)] {
+        let c = Crawler::new(vec![k], vec![1.0, 0.8], vec![2.5, 1.7]).unwrap();
+        let p = GaitProblem::new(&c, t, &[1.0], Cost::None, None).unwrap();
+        let cont = one_link_optimum(&c, &p).unwrap().value;
+        for m in 1..=3 {
+            let s = solve_discrete_global(&c, &p, m, Some(60.0)).unwrap();
+            assert!(
+                s.verified_displacement <= cont + 1e-8,
+                "k {k} T {t} m {m}: {} > {cont}",
+                s.verified_displacement
+            );
+            // Catching-up is exact for one link and bang-bang is optimal: P_m reaches J* too.
+            assert!(
+                (s.verified_displacement - cont).abs() < 1e-8,
+                "k {k} T {t} m {m}: {} vs {cont}",
+                s.verified_displacement
+            );
+        }
+    }
+}
+
+#[test]
+fn three_block_p_m_matches_the_peer_milp() {
+    let c = Crawler::uniform(3, 1.0, 1.0, 1.5).unwrap();
+    let p = GaitProblem::new(&c, 10.0, &[1.0, 1.0], Cost::None, None).unwrap();
+    let mut values = Vec::new();
+    for m in 1..=3 {
+        let s = solve_discrete_global(&c, &p, m, Some(60.0)).unwrap();
+        assert_eq!(s.status, MilpStatus::Optimal);
+        assert!(s.verified_displacement >= -1e-12, "m {m}");
+        println!(
+            "N = 3, mu+ = 1, mu- = 1.5: J_{m} = {} (gap {:.1e})",
+            s.verified_displacement, s.gap
+        );
+        values.push(s.verified_displacement);
+    }
+    // The plain big-M MILP of shared/peers (milp_highs.py, README) finds 2.0 at M = 8.
+    assert!((values[2] - 2.0).abs() < 1e-8, "J_3 = {}", values[2]);
+}
