@@ -3,12 +3,12 @@
 
 use clap::{Parser, Subcommand, ValueEnum};
 use crawlopt::integrate::{
-    simulate, Actuation, CatchingUp, ExactPwl, Method, PeriodMap, Search, SimOptions, Simulation,
-    Waveform,
+    simulate, slip_of, Actuation, CatchingUp, ExactPwl, Method, PeriodMap, Search, SimOptions,
+    Simulation, Waveform,
 };
 use crawlopt::io::{write_trajectory_csv, ModelFile};
 use crawlopt::model::{Analysis, FaceSign};
-use crawlopt::optimal::{one_link_optimum, Cost};
+use crawlopt::optimal::{one_link_optimum, solve_discrete_global, Cost, MilpStatus};
 use crawlopt::{Crawler, Error};
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -84,6 +84,23 @@ enum Command {
         #[arg(long)]
         json: bool,
     },
+    /// Compute an optimal gait of the [gait] problem.
+    Optimize {
+        /// Model file (TOML) with a [gait] section.
+        file: PathBuf,
+        /// Formulation (the phase and auto methods are not built yet).
+        #[arg(long, value_enum, default_value = "discrete")]
+        method: OptimizeMethod,
+        /// The grid of P_m has 2^m steps.
+        #[arg(long, default_value_t = 3)]
+        m: u32,
+        /// Stop after this many seconds with the best gait found and its gap.
+        #[arg(long = "time-limit")]
+        time_limit: Option<f64>,
+        /// Print one JSON object.
+        #[arg(long)]
+        json: bool,
+    },
     /// Measure the simulation cost per time step (sine gait L_l = A sin(2 pi t - l phi)).
     Bench {
         /// Numbers of blocks, comma separated.
@@ -115,6 +132,12 @@ enum Command {
         #[arg(long)]
         json: bool,
     },
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+enum OptimizeMethod {
+    /// The paper's discrete problem P_m on 2^m steps, solved globally (MILP).
+    Discrete,
 }
 
 /// Exit status of a simulation whose periodic regime was not reached.
@@ -229,6 +252,92 @@ fn run(cmd: Command) -> Result<ExitCode, Error> {
                     sim.periods_simulated, sim.period_residual
                 );
                 return Ok(ExitCode::from(EXIT_NOT_CONVERGED));
+            }
+            Ok(ExitCode::SUCCESS)
+        }
+        Command::Optimize {
+            file,
+            method: OptimizeMethod::Discrete,
+            m,
+            time_limit,
+            json,
+        } => {
+            let model = ModelFile::load(&file)?;
+            let crawler = model.crawler()?;
+            crawler.require_unique()?;
+            let problem = model.gait(&crawler)?.ok_or_else(|| {
+                Error::invalid("gait", "nothing", "the model file has no [gait] section")
+            })?;
+            if m == 0 {
+                return Err(Error::invalid(
+                    "m",
+                    0,
+                    "must be at least 1 (a periodic gait needs two steps)",
+                ));
+            }
+            let s = solve_discrete_global(&crawler, &problem, m, time_limit)?;
+            let steps = s.controls.len();
+            let times: Vec<f64> = (0..=steps).map(|i| i as f64 * s.step).collect();
+            // Actuator lengths from L(0) = 0: L_l(t_{i+1}) = L_l(t_i) + h u_l^i / k_l.
+            let mut lengths = vec![vec![0.0; crawler.links()]];
+            for u in &s.controls {
+                let last = lengths.last().expect("non-empty").clone();
+                lengths.push(
+                    last.iter()
+                        .zip(u)
+                        .zip(crawler.stiffness())
+                        .map(|((l, u), k)| l + s.step * u / k)
+                        .collect(),
+                );
+            }
+            let slip: Vec<Vec<i8>> = s
+                .block_displacements
+                .iter()
+                .map(|d| d.iter().map(|&v| slip_of(v, 1e-9 * s.step)).collect())
+                .collect();
+            let status = match s.status {
+                MilpStatus::Optimal => "optimal",
+                MilpStatus::TimeLimit => "time_limit",
+            };
+            if json {
+                let v = serde_json::json!({
+                    "objective": s.verified_displacement,
+                    "displacement_per_period": s.verified_displacement,
+                    "actuation_cost": 0.0,
+                    "method": "discrete",
+                    "m": s.m,
+                    "steps": steps,
+                    "status": status,
+                    "certificate": { "kind": "global", "gap": s.gap, "bound": s.bound, "phases": null },
+                    "milp_objective": s.milp_objective,
+                    "verified_displacement": s.verified_displacement,
+                    "gait": {
+                        "times": times, "lengths": lengths, "controls": s.controls, "states": s.states,
+                        "block_displacements": s.block_displacements, "slip": slip,
+                        "initial_state": s.initial_state,
+                    },
+                });
+                outln!("{}", serde_json::to_string(&v).expect("serialisable"));
+            } else {
+                outln!("P_{} on {steps} steps (h = {}): {status}", s.m, s.step);
+                outln!(
+                    "objective (displacement per period): {}",
+                    s.verified_displacement
+                );
+                outln!("certificate: global, gap {:.3e} (bound {})", s.gap, s.bound);
+                outln!(
+                    "verified by simulation: {} (MILP: {})",
+                    s.verified_displacement,
+                    s.milp_objective
+                );
+                outln!("initial state: {}", list(&s.initial_state));
+                for (i, u) in s.controls.iter().enumerate() {
+                    outln!(
+                        "  step {i:>4}: u = {}  D = {}",
+                        list(u),
+                        list(&s.block_displacements[i])
+                    );
+                }
             }
             Ok(ExitCode::SUCCESS)
         }

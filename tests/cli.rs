@@ -278,6 +278,40 @@ fn analyze_reports_the_one_link_optimum_of_a_gait_problem() {
 }
 
 #[test]
+fn optimize_discrete_returns_a_verified_certified_gait() {
+    let out = crawlopt(&[
+        "optimize",
+        "examples/one_link_gait.toml",
+        "--method",
+        "discrete",
+        "--m",
+        "3",
+        "--json",
+    ]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let v = json(&out);
+    assert!((v["objective"].as_f64().unwrap() - 3.0).abs() < 1e-8);
+    assert_eq!(v["verified_displacement"], v["displacement_per_period"]);
+    assert_eq!(v["certificate"]["kind"], "global");
+    assert!(v["certificate"]["gap"].as_f64().unwrap() < 1e-6);
+    assert_eq!(v["gait"]["controls"].as_array().unwrap().len(), 8);
+    assert_eq!(v["gait"]["times"].as_array().unwrap().len(), 9);
+    // Bad input: no [gait] section, m out of range.
+    let out = crawlopt(&["optimize", "examples/one_link.toml"]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(
+        stderr(&out).contains("no [gait] section"),
+        "{}",
+        stderr(&out)
+    );
+    for m in ["0", "17"] {
+        let out = crawlopt(&["optimize", "examples/one_link_gait.toml", "--m", m]);
+        assert_eq!(out.status.code(), Some(2), "m = {m}");
+        assert!(stderr(&out).starts_with("error: m:"), "{}", stderr(&out));
+    }
+}
+
+#[test]
 fn an_unwritable_output_leaves_nothing_and_exits_2() {
     let dir = tempfile::tempdir().unwrap();
     let target = dir.path().join("no/such/dir/t.csv");

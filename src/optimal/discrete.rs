@@ -67,6 +67,8 @@ pub struct DiscreteSolution {
     pub verified_displacement: f64,
     /// Initial state `x^0` (on the limit cycle).
     pub initial_state: Vec<f64>,
+    /// States `x^i` at the grid times `i h`, `i = 0..=2^m` (the last equals the first).
+    pub states: Vec<Vec<f64>>,
     /// Controls `u^i` (force per time), one row per step.
     pub controls: Vec<Vec<f64>>,
     /// Block displacements `D^i_b` per step, from the simulation.
@@ -289,6 +291,7 @@ pub fn solve_discrete_global(
         gap: gap.max(0.0),
         verified_displacement: verified.0,
         initial_state: verified.1,
+        states: verified.3,
         controls: incs
             .chunks(n)
             .map(|r| r.iter().map(|v| v / h).collect())
@@ -297,14 +300,13 @@ pub fn solve_discrete_global(
     })
 }
 
+/// Displacement per period, periodic initial state, block displacements and states per step.
+type Verified = (f64, Vec<f64>, Vec<Vec<f64>>, Vec<Vec<f64>>);
+
 /// Plays the increments by catching-up from `x0` until the state repeats; returns the
-/// displacement per period, the periodic initial state and the block displacements per step.
-fn verify(
-    crawler: &Crawler,
-    incs: &[f64],
-    period: f64,
-    x0: &[f64],
-) -> Result<(f64, Vec<f64>, Vec<Vec<f64>>)> {
+/// displacement per period, the periodic initial state, the block displacements and the states
+/// per step on the orbit.
+fn verify(crawler: &Crawler, incs: &[f64], period: f64, x0: &[f64]) -> Result<Verified> {
     let nb = crawler.blocks();
     let n = crawler.links();
     let steps = incs.len() / n;
@@ -328,11 +330,13 @@ fn verify(
             // Per-step displacements on the orbit.
             let mut xs = start.clone();
             let mut per_step = Vec::with_capacity(steps);
+            let mut states = vec![start.clone()];
             for row in incs.chunks(n) {
                 proj.step(&mut xs, row, &mut d)?;
                 per_step.push(d.clone());
+                states.push(xs.clone());
             }
-            return Ok((acc.iter().sum::<f64>() / nb as f64, start, per_step));
+            return Ok((acc.iter().sum::<f64>() / nb as f64, start, per_step, states));
         }
     }
     Err(Error::Numerical(
