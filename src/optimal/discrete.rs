@@ -31,8 +31,9 @@
 use crate::error::{Error, Result};
 use crate::integrate::{CatchingUp, PeriodMap};
 use crate::model::Crawler;
-use crate::optimal::{Cost, GaitProblem};
-use highs::{HighsModelStatus, HighsSolutionStatus, RowProblem, Sense};
+use crate::optimal::milp::{block_speed_bound, check_supported, force_row, solve_max};
+use crate::optimal::GaitProblem;
+use highs::RowProblem;
 use serde::Serialize;
 
 /// Largest `m` accepted (`2^m` steps).
@@ -61,7 +62,7 @@ pub struct DiscreteSolution {
     pub milp_objective: f64,
     /// The MILP's upper bound on the optimum of P_m.
     pub bound: f64,
-    /// Relative gap `(bound - verified) / max(|verified|, 1e-9)`.
+    /// Gap `(bound - verified) / max(|verified|, 1)`: relative for values above 1, absolute below.
     pub gap: f64,
     /// Displacement per period, re-verified by simulating the returned gait.
     pub verified_displacement: f64,
@@ -86,29 +87,7 @@ pub fn solve_discrete_global(
     if m > MAX_M {
         return Err(Error::invalid("m", m, format!("must be at most {MAX_M}")));
     }
-    if problem.cost != Cost::None {
-        return Err(Error::invalid(
-            "gait.cost",
-            "quadratic",
-            "the global P_m solver handles f2 = 0 only so far",
-        ));
-    }
-    if problem.max_total_variation.is_some() {
-        return Err(Error::invalid(
-            "gait.max_total_variation",
-            "a bound",
-            "is not handled by the global P_m solver yet",
-        ));
-    }
-    if let Some(t) = time_limit {
-        if !(t.is_finite() && t > 0.0) {
-            return Err(Error::invalid(
-                "time_limit",
-                t,
-                "must be positive and finite",
-            ));
-        }
-    }
+    check_supported(problem, time_limit)?;
     let (n, nb) = (crawler.links(), crawler.blocks());
     let big_m = 1usize << m;
     let h = problem.period / big_m as f64;
@@ -118,9 +97,7 @@ pub fn solve_discrete_global(
         crawler.mu_backward(),
     );
     let a = &problem.rate_bound;
-    let md = h
-        * k.iter().map(|k| 1.0 / k).sum::<f64>().sqrt()
-        * a.iter().zip(k).map(|(a, k)| a * a / k).sum::<f64>().sqrt();
+    let md = h * block_speed_bound(crawler, problem);
     let ranges = crawler.link_force_ranges();
 
     let mut pb = RowProblem::default();
@@ -166,17 +143,6 @@ pub fn solve_discrete_global(
                 .collect::<Vec<_>>(),
         );
     }
-    // F_b(x) = x_{b-1} - x_b as (col, coef) pairs.
-    let force = |x: &[highs::Col], b: usize| -> Vec<(highs::Col, f64)> {
-        let mut f = Vec::with_capacity(2);
-        if b > 0 {
-            f.push((x[b - 1], 1.0));
-        }
-        if b < n {
-            f.push((x[b], -1.0));
-        }
-        f
-    };
     for i in 0..big_m {
         let next = &xs[(i + 1) % big_m];
         // Dynamics: x^{i+1}_l - x^i_l - U^i_l + k_l (D_{l+1} - D_l) = 0.
@@ -195,7 +161,7 @@ pub fn solve_discrete_global(
             );
         }
         for b in 0..nb {
-            let f = force(next, b);
+            let f = force_row(next, b);
             let w = mp[b] + mm[b];
             pb.add_row(-mm[b]..=mp[b], &f);
             pb.add_row(..=0.0, [(ps[i][b], 1.0), (zps[i][b], -md)]);
@@ -228,40 +194,7 @@ pub fn solve_discrete_global(
         let row: Vec<(highs::Col, f64)> = us.iter().map(|u| (u[l], 1.0)).collect();
         pb.add_row(0.0..=0.0, &row);
     }
-    let mut model = pb.optimise(Sense::Maximise);
-    model.make_quiet();
-    model.set_option("threads", 1);
-    model.set_option("mip_feasibility_tolerance", 1e-9);
-    model.set_option("primal_feasibility_tolerance", 1e-9);
-    model.set_option("mip_rel_gap", 1e-9);
-    if let Some(t) = time_limit {
-        model.set_option("time_limit", t);
-    }
-    let solved = model.solve();
-    let status = match solved.status() {
-        HighsModelStatus::Optimal => MilpStatus::Optimal,
-        HighsModelStatus::ReachedTimeLimit
-            if solved.primal_solution_status() == HighsSolutionStatus::Feasible =>
-        {
-            MilpStatus::TimeLimit
-        }
-        HighsModelStatus::ReachedTimeLimit => {
-            return Err(Error::Numerical(format!(
-                "P_{m}: the time limit was reached before any feasible gait was found"
-            )))
-        }
-        other => {
-            return Err(Error::Numerical(format!(
-                "P_{m}: HiGHS ended with status {other:?}"
-            )))
-        }
-    };
-    let sol = solved.get_solution();
-    let cols = sol.columns();
-    let milp_objective = solved.objective_value();
-    let bound = solved
-        .double_info_value(c"mip_dual_bound")
-        .unwrap_or(milp_objective);
+    let (cols, milp_objective, bound, status) = solve_max(pb, time_limit, &format!("P_{m}"))?;
     // The gait: clean the increments to exact zero mean within the bounds, then simulate it.
     let mut incs: Vec<f64> = Vec::with_capacity(big_m * n);
     for u in &us {
@@ -275,7 +208,7 @@ pub fn solve_discrete_global(
     }
     let x0: Vec<f64> = xs[0].iter().map(|c| cols[c.index()]).collect();
     let verified = verify(crawler, &incs, problem.period, &x0)?;
-    let gap = (bound - verified.0) / verified.0.abs().max(1e-9);
+    let gap = (bound - verified.0) / verified.0.abs().max(1.0);
     if (milp_objective - verified.0).abs() > 1e-6 * (1.0 + verified.0.abs()) {
         return Err(Error::Numerical(format!(
             "P_{m}: the MILP's gait moves the crawler {} per period when simulated, not {milp_objective}",

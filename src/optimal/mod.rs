@@ -6,9 +6,12 @@
 //! global solver of the paper's discrete problems P_m ([`solve_discrete_global`], SPEC §6).
 
 mod discrete;
+mod milp;
 mod one_link;
+mod phase;
 mod problem;
 
 pub use discrete::{solve_discrete_global, DiscreteSolution, MilpStatus, MAX_M};
 pub use one_link::{one_link_optimum, OneLinkOptimum};
+pub use phase::{solve_phase_global, PhaseSolution};
 pub use problem::{Cost, GaitProblem};
