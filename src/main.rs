@@ -8,7 +8,9 @@ use crawlopt::integrate::{
 };
 use crawlopt::io::{write_trajectory_csv, ModelFile};
 use crawlopt::model::{Analysis, FaceSign};
-use crawlopt::optimal::{one_link_optimum, solve_discrete_global, Cost, MilpStatus};
+use crawlopt::optimal::{
+    one_link_optimum, solve_discrete_global, solve_phase_global, Cost, MilpStatus,
+};
 use crawlopt::{Crawler, Error};
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -88,9 +90,12 @@ enum Command {
     Optimize {
         /// Model file (TOML) with a [gait] section.
         file: PathBuf,
-        /// Formulation (the phase and auto methods are not built yet).
-        #[arg(long, value_enum, default_value = "discrete")]
+        /// Formulation (auto is not built yet).
+        #[arg(long, value_enum, default_value = "phase")]
         method: OptimizeMethod,
+        /// Phases allowed in a phase gait.
+        #[arg(long, default_value_t = 6)]
+        phases: usize,
         /// The grid of P_m has 2^m steps.
         #[arg(long, default_value_t = 3)]
         m: u32,
@@ -138,6 +143,8 @@ enum Command {
 enum OptimizeMethod {
     /// The paper's discrete problem P_m on 2^m steps, solved globally (MILP).
     Discrete,
+    /// Exact continuous-time gaits of at most K constant-mode phases, solved globally (MILP).
+    Phase,
 }
 
 /// Exit status of a simulation whose periodic regime was not reached.
@@ -257,7 +264,8 @@ fn run(cmd: Command) -> Result<ExitCode, Error> {
         }
         Command::Optimize {
             file,
-            method: OptimizeMethod::Discrete,
+            method,
+            phases,
             m,
             time_limit,
             json,
@@ -268,6 +276,75 @@ fn run(cmd: Command) -> Result<ExitCode, Error> {
             let problem = model.gait(&crawler)?.ok_or_else(|| {
                 Error::invalid("gait", "nothing", "the model file has no [gait] section")
             })?;
+            if let OptimizeMethod::Phase = method {
+                let s = solve_phase_global(&crawler, &problem, phases, time_limit)?;
+                let mut times = vec![0.0];
+                let mut lengths = vec![vec![0.0; crawler.links()]];
+                for (d, u) in s.durations.iter().zip(&s.controls) {
+                    times.push(times.last().expect("non-empty") + d);
+                    let last = lengths.last().expect("non-empty").clone();
+                    lengths.push(
+                        last.iter()
+                            .zip(u)
+                            .zip(crawler.stiffness())
+                            .map(|((l, u), k)| l + d * u / k)
+                            .collect(),
+                    );
+                }
+                let status = match s.status {
+                    MilpStatus::Optimal => "optimal",
+                    MilpStatus::TimeLimit => "time_limit",
+                };
+                if json {
+                    let v = serde_json::json!({
+                        "objective": s.verified_displacement,
+                        "displacement_per_period": s.verified_displacement,
+                        "actuation_cost": 0.0,
+                        "method": "phase",
+                        "status": status,
+                        "certificate": { "kind": "global_k_phases", "gap": s.gap, "bound": s.bound, "phases": s.phases },
+                        "milp_objective": s.milp_objective,
+                        "verified_displacement": s.verified_displacement,
+                        "gait": {
+                            "times": times, "lengths": lengths, "controls": s.controls, "durations": s.durations,
+                            "states": s.states, "block_displacements": s.block_displacements, "slip": s.modes,
+                            "initial_state": s.states.first(),
+                        },
+                    });
+                    outln!("{}", serde_json::to_string(&v).expect("serialisable"));
+                } else {
+                    outln!(
+                        "gait of at most {} phases (exact, continuous time): {status}",
+                        s.phases
+                    );
+                    outln!(
+                        "objective (displacement per period): {}",
+                        s.verified_displacement
+                    );
+                    outln!(
+                        "certificate: global among {}-phase gaits, gap {:.3e} (bound {})",
+                        s.phases,
+                        s.gap,
+                        s.bound
+                    );
+                    outln!(
+                        "verified by exact simulation: {} (MILP: {})",
+                        s.verified_displacement,
+                        s.milp_objective
+                    );
+                    for (j, u) in s.controls.iter().enumerate() {
+                        outln!(
+                            "  phase {j}: t = [{:.6}, {:.6}]  u = {}  slip = {:?}  x_start = {}",
+                            times[j],
+                            times[j + 1],
+                            list(u),
+                            s.modes[j],
+                            list(&s.states[j])
+                        );
+                    }
+                }
+                return Ok(ExitCode::SUCCESS);
+            }
             if m == 0 {
                 return Err(Error::invalid(
                     "m",

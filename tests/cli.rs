@@ -297,6 +297,21 @@ fn optimize_discrete_returns_a_verified_certified_gait() {
     assert_eq!(v["gait"]["controls"].as_array().unwrap().len(), 8);
     assert_eq!(v["gait"]["times"].as_array().unwrap().len(), 9);
     // Bad input: no [gait] section, m out of range.
+    // The phase method: exact continuous-time gait, certified among K-phase gaits.
+    let out = crawlopt(&[
+        "optimize",
+        "examples/one_link_gait.toml",
+        "--method",
+        "phase",
+        "--phases",
+        "4",
+        "--json",
+    ]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let v = json(&out);
+    assert!((v["objective"].as_f64().unwrap() - 3.0).abs() < 1e-8);
+    assert_eq!(v["certificate"]["kind"], "global_k_phases");
+    assert_eq!(v["certificate"]["phases"], 4);
     let out = crawlopt(&["optimize", "examples/one_link.toml"]);
     assert_eq!(out.status.code(), Some(2));
     assert!(
