@@ -93,12 +93,12 @@ enum Command {
         /// Formulation (auto is not built yet).
         #[arg(long, value_enum, default_value = "phase")]
         method: OptimizeMethod,
-        /// Phases allowed in a phase gait.
-        #[arg(long, default_value_t = 6)]
-        phases: usize,
-        /// The grid of P_m has 2^m steps.
-        #[arg(long, default_value_t = 3)]
-        m: u32,
+        /// Phases allowed in a phase gait (default 6; --method phase only).
+        #[arg(long)]
+        phases: Option<usize>,
+        /// The grid of P_m has 2^m steps (default 3; --method discrete only).
+        #[arg(long)]
+        m: Option<u32>,
         /// Stop after this many seconds with the best gait found and its gap.
         #[arg(long = "time-limit")]
         time_limit: Option<f64>,
@@ -277,7 +277,10 @@ fn run(cmd: Command) -> Result<ExitCode, Error> {
                 Error::invalid("gait", "nothing", "the model file has no [gait] section")
             })?;
             if let OptimizeMethod::Phase = method {
-                let s = solve_phase_global(&crawler, &problem, phases, time_limit)?;
+                if let Some(m) = m {
+                    return Err(Error::invalid("m", m, "applies to --method discrete only"));
+                }
+                let s = solve_phase_global(&crawler, &problem, phases.unwrap_or(6), time_limit)?;
                 let mut times = vec![0.0];
                 let mut lengths = vec![vec![0.0; crawler.links()]];
                 for (d, u) in s.durations.iter().zip(&s.controls) {
@@ -345,6 +348,14 @@ fn run(cmd: Command) -> Result<ExitCode, Error> {
                 }
                 return Ok(ExitCode::SUCCESS);
             }
+            if let Some(k) = phases {
+                return Err(Error::invalid(
+                    "phases",
+                    k,
+                    "applies to --method phase only",
+                ));
+            }
+            let m = m.unwrap_or(3);
             if m == 0 {
                 return Err(Error::invalid(
                     "m",

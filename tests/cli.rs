@@ -312,6 +312,13 @@ fn optimize_discrete_returns_a_verified_certified_gait() {
     assert!((v["objective"].as_f64().unwrap() - 3.0).abs() < 1e-8);
     assert_eq!(v["certificate"]["kind"], "global_k_phases");
     assert_eq!(v["certificate"]["phases"], 4);
+    let out = crawlopt(&["optimize", "examples/one_link_gait.toml", "--m", "3"]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(
+        stderr(&out).contains("applies to --method discrete only"),
+        "{}",
+        stderr(&out)
+    );
     let out = crawlopt(&["optimize", "examples/one_link.toml"]);
     assert_eq!(out.status.code(), Some(2));
     assert!(
@@ -320,7 +327,14 @@ fn optimize_discrete_returns_a_verified_certified_gait() {
         stderr(&out)
     );
     for m in ["0", "17"] {
-        let out = crawlopt(&["optimize", "examples/one_link_gait.toml", "--m", m]);
+        let out = crawlopt(&[
+            "optimize",
+            "examples/one_link_gait.toml",
+            "--method",
+            "discrete",
+            "--m",
+            m,
+        ]);
         assert_eq!(out.status.code(), Some(2), "m = {m}");
         assert!(stderr(&out).starts_with("error: m:"), "{}", stderr(&out));
     }
