@@ -281,23 +281,8 @@ fn run(cmd: Command) -> Result<ExitCode, Error> {
                     return Err(Error::invalid("m", m, "applies to --method discrete only"));
                 }
                 let s = solve_phase_global(&crawler, &problem, phases.unwrap_or(6), time_limit)?;
-                let mut times = vec![0.0];
-                let mut lengths = vec![vec![0.0; crawler.links()]];
-                for (d, u) in s.durations.iter().zip(&s.controls) {
-                    times.push(times.last().expect("non-empty") + d);
-                    let last = lengths.last().expect("non-empty").clone();
-                    lengths.push(
-                        last.iter()
-                            .zip(u)
-                            .zip(crawler.stiffness())
-                            .map(|((l, u), k)| l + d * u / k)
-                            .collect(),
-                    );
-                }
-                let status = match s.status {
-                    MilpStatus::Optimal => "optimal",
-                    MilpStatus::TimeLimit => "time_limit",
-                };
+                let (times, lengths) = gait_knots(&s.durations, &s.controls, crawler.stiffness());
+                let status = status_word(s.status);
                 if json {
                     let v = serde_json::json!({
                         "objective": s.verified_displacement,
@@ -365,28 +350,14 @@ fn run(cmd: Command) -> Result<ExitCode, Error> {
             }
             let s = solve_discrete_global(&crawler, &problem, m, time_limit)?;
             let steps = s.controls.len();
-            let times: Vec<f64> = (0..=steps).map(|i| i as f64 * s.step).collect();
-            // Actuator lengths from L(0) = 0: L_l(t_{i+1}) = L_l(t_i) + h u_l^i / k_l.
-            let mut lengths = vec![vec![0.0; crawler.links()]];
-            for u in &s.controls {
-                let last = lengths.last().expect("non-empty").clone();
-                lengths.push(
-                    last.iter()
-                        .zip(u)
-                        .zip(crawler.stiffness())
-                        .map(|((l, u), k)| l + s.step * u / k)
-                        .collect(),
-                );
-            }
+            let (times, lengths) =
+                gait_knots(&vec![s.step; steps], &s.controls, crawler.stiffness());
             let slip: Vec<Vec<i8>> = s
                 .block_displacements
                 .iter()
                 .map(|d| d.iter().map(|&v| slip_of(v, 1e-9 * s.step)).collect())
                 .collect();
-            let status = match s.status {
-                MilpStatus::Optimal => "optimal",
-                MilpStatus::TimeLimit => "time_limit",
-            };
+            let status = status_word(s.status);
             if json {
                 let v = serde_json::json!({
                     "objective": s.verified_displacement,
@@ -486,6 +457,36 @@ fn run(cmd: Command) -> Result<ExitCode, Error> {
             }
             Ok(ExitCode::SUCCESS)
         }
+    }
+}
+
+/// Knot times and actuator lengths (from `L(0) = 0`) of a gait given as durations and constant
+/// controls: `L_l(t_{j+1}) = L_l(t_j) + tau_j u_l^j / k_l`.
+fn gait_knots(
+    durations: &[f64],
+    controls: &[Vec<f64>],
+    stiffness: &[f64],
+) -> (Vec<f64>, Vec<Vec<f64>>) {
+    let mut times = vec![0.0];
+    let mut lengths = vec![vec![0.0; stiffness.len()]];
+    for (d, u) in durations.iter().zip(controls) {
+        times.push(times[times.len() - 1] + d);
+        let last = &lengths[lengths.len() - 1];
+        let next = last
+            .iter()
+            .zip(u)
+            .zip(stiffness)
+            .map(|((l, u), k)| l + d * u / k)
+            .collect();
+        lengths.push(next);
+    }
+    (times, lengths)
+}
+
+fn status_word(s: MilpStatus) -> &'static str {
+    match s {
+        MilpStatus::Optimal => "optimal",
+        MilpStatus::TimeLimit => "time_limit",
     }
 }
 
