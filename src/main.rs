@@ -9,7 +9,7 @@ use crawlopt::integrate::{
 use crawlopt::io::{write_trajectory_csv, ModelFile};
 use crawlopt::model::{Analysis, FaceSign};
 use crawlopt::optimal::{
-    one_link_optimum, solve_discrete_global, solve_phase_global, Cost, MilpStatus,
+    gait_knots, one_link_optimum, solve_discrete_global, solve_phase_global, Cost, MilpStatus,
 };
 use crawlopt::{Crawler, Error};
 use std::path::PathBuf;
@@ -276,125 +276,114 @@ fn run(cmd: Command) -> Result<ExitCode, Error> {
             let problem = model.gait(&crawler)?.ok_or_else(|| {
                 Error::invalid("gait", "nothing", "the model file has no [gait] section")
             })?;
-            if let OptimizeMethod::Phase = method {
-                if let Some(m) = m {
-                    return Err(Error::invalid("m", m, "applies to --method discrete only"));
-                }
-                let s = solve_phase_global(&crawler, &problem, phases.unwrap_or(6), time_limit)?;
-                let (times, lengths) = gait_knots(&s.durations, &s.controls, crawler.stiffness());
-                let status = status_word(s.status);
-                if json {
-                    let v = serde_json::json!({
-                        "objective": s.verified_displacement,
-                        "displacement_per_period": s.verified_displacement,
-                        "actuation_cost": 0.0,
-                        "method": "phase",
-                        "status": status,
-                        "certificate": { "kind": "global_k_phases", "gap": s.gap, "bound": s.bound, "phases": s.phases },
-                        "milp_objective": s.milp_objective,
-                        "verified_displacement": s.verified_displacement,
-                        "gait": {
-                            "times": times, "lengths": lengths, "controls": s.controls, "durations": s.durations,
-                            "states": s.states, "block_displacements": s.block_displacements, "slip": s.modes,
-                            "initial_state": s.states.first(),
-                        },
-                    });
-                    outln!("{}", serde_json::to_string(&v).expect("serialisable"));
-                } else {
-                    outln!(
-                        "gait of at most {} phases (exact, continuous time): {status}",
-                        s.phases
-                    );
-                    outln!(
-                        "objective (displacement per period): {}",
-                        s.verified_displacement
-                    );
-                    outln!(
-                        "certificate: global among {}-phase gaits, gap {:.3e} (bound {})",
-                        s.phases,
-                        s.gap,
-                        s.bound
-                    );
-                    outln!(
-                        "verified by exact simulation: {} (MILP: {})",
-                        s.verified_displacement,
-                        s.milp_objective
-                    );
-                    for (j, u) in s.controls.iter().enumerate() {
-                        outln!(
-                            "  phase {j}: t = [{:.6}, {:.6}]  u = {}  slip = {:?}  x_start = {}",
-                            times[j],
-                            times[j + 1],
-                            list(u),
-                            s.modes[j],
-                            list(&s.states[j])
-                        );
+            // One report for both methods: the certificate, the verified value and the gait.
+            let (method_name, kind, cert, verified, durations, controls, gait) = match method {
+                OptimizeMethod::Phase => {
+                    if let Some(m) = m {
+                        return Err(Error::invalid("m", m, "applies to --method discrete only"));
                     }
+                    let s =
+                        solve_phase_global(&crawler, &problem, phases.unwrap_or(6), time_limit)?;
+                    let gait = serde_json::json!({
+                        "durations": s.durations, "states": s.states,
+                        "block_displacements": s.block_displacements, "slip": s.modes,
+                        "initial_state": s.states.first(),
+                    });
+                    (
+                        "phase",
+                        format!("global_k_phases (K = {})", s.phases),
+                        s.certificate,
+                        s.verified_displacement,
+                        s.durations,
+                        s.controls,
+                        (gait, Some(s.phases), None),
+                    )
                 }
-                return Ok(ExitCode::SUCCESS);
-            }
-            if let Some(k) = phases {
-                return Err(Error::invalid(
-                    "phases",
-                    k,
-                    "applies to --method phase only",
-                ));
-            }
-            let m = m.unwrap_or(3);
-            if m == 0 {
-                return Err(Error::invalid(
-                    "m",
-                    0,
-                    "must be at least 1 (a periodic gait needs two steps)",
-                ));
-            }
-            let s = solve_discrete_global(&crawler, &problem, m, time_limit)?;
-            let steps = s.controls.len();
-            let (times, lengths) =
-                gait_knots(&vec![s.step; steps], &s.controls, crawler.stiffness());
-            let slip: Vec<Vec<i8>> = s
-                .block_displacements
+                OptimizeMethod::Discrete => {
+                    if let Some(k) = phases {
+                        return Err(Error::invalid(
+                            "phases",
+                            k,
+                            "applies to --method phase only",
+                        ));
+                    }
+                    let m = m.unwrap_or(3);
+                    if m == 0 {
+                        return Err(Error::invalid(
+                            "m",
+                            0,
+                            "must be at least 1 (a periodic gait needs two steps)",
+                        ));
+                    }
+                    let s = solve_discrete_global(&crawler, &problem, m, time_limit)?;
+                    let slip: Vec<Vec<i8>> = s
+                        .block_displacements
+                        .iter()
+                        .map(|d| d.iter().map(|&v| slip_of(v, 1e-9 * s.step)).collect())
+                        .collect();
+                    let gait = serde_json::json!({
+                        "states": s.states, "block_displacements": s.block_displacements,
+                        "slip": slip, "initial_state": s.initial_state,
+                    });
+                    let steps = s.controls.len();
+                    (
+                        "discrete",
+                        format!("global (P_{m}, {steps} steps)"),
+                        s.certificate,
+                        s.verified_displacement,
+                        vec![s.step; steps],
+                        s.controls,
+                        (gait, None, Some(s.m)),
+                    )
+                }
+            };
+            let (mut gait, phases, m) = gait;
+            let increments: Vec<Vec<f64>> = durations
                 .iter()
-                .map(|d| d.iter().map(|&v| slip_of(v, 1e-9 * s.step)).collect())
+                .zip(&controls)
+                .map(|(d, u)| u.iter().map(|v| v * d).collect())
                 .collect();
-            let status = status_word(s.status);
+            let (times, lengths) = gait_knots(&durations, &increments, crawler.stiffness());
+            let status = status_word(cert.status);
             if json {
+                gait["times"] = serde_json::json!(times);
+                gait["lengths"] = serde_json::json!(lengths);
+                gait["controls"] = serde_json::json!(controls);
                 let v = serde_json::json!({
-                    "objective": s.verified_displacement,
-                    "displacement_per_period": s.verified_displacement,
+                    "objective": verified,
+                    "displacement_per_period": verified,
                     "actuation_cost": 0.0,
-                    "method": "discrete",
-                    "m": s.m,
-                    "steps": steps,
+                    "method": method_name,
+                    "m": m,
                     "status": status,
-                    "certificate": { "kind": "global", "gap": s.gap, "bound": s.bound, "phases": null },
-                    "milp_objective": s.milp_objective,
-                    "verified_displacement": s.verified_displacement,
-                    "gait": {
-                        "times": times, "lengths": lengths, "controls": s.controls, "states": s.states,
-                        "block_displacements": s.block_displacements, "slip": slip,
-                        "initial_state": s.initial_state,
+                    "certificate": {
+                        "kind": if phases.is_some() { "global_k_phases" } else { "global" },
+                        "gap": cert.gap, "bound": cert.bound, "phases": phases,
                     },
+                    "milp_objective": cert.milp_objective,
+                    "verified_displacement": verified,
+                    "gait": gait,
                 });
                 outln!("{}", serde_json::to_string(&v).expect("serialisable"));
             } else {
-                outln!("P_{} on {steps} steps (h = {}): {status}", s.m, s.step);
+                outln!("method {method_name}: {status}");
+                outln!("objective (displacement per period): {verified}");
                 outln!(
-                    "objective (displacement per period): {}",
-                    s.verified_displacement
+                    "certificate: {kind}, gap {:.3e} (bound {})",
+                    cert.gap,
+                    cert.bound
                 );
-                outln!("certificate: global, gap {:.3e} (bound {})", s.gap, s.bound);
                 outln!(
-                    "verified by simulation: {} (MILP: {})",
-                    s.verified_displacement,
-                    s.milp_objective
+                    "verified by simulation: {verified} (MILP: {})",
+                    cert.milp_objective
                 );
-                outln!("initial state: {}", list(&s.initial_state));
-                for (i, u) in s.controls.iter().enumerate() {
+                for (j, u) in controls.iter().enumerate() {
                     outln!(
-                        "  step {i:>4}: u = {}  D = {}",
+                        "  {j:>4}: t = [{:.6}, {:.6}]  u = {}  slip = {}",
+                        times[j],
+                        times[j + 1],
                         list(u),
-                        list(&s.block_displacements[i])
+                        gait["slip"][j]
                     );
                 }
             }
@@ -458,29 +447,6 @@ fn run(cmd: Command) -> Result<ExitCode, Error> {
             Ok(ExitCode::SUCCESS)
         }
     }
-}
-
-/// Knot times and actuator lengths (from `L(0) = 0`) of a gait given as durations and constant
-/// controls: `L_l(t_{j+1}) = L_l(t_j) + tau_j u_l^j / k_l`.
-fn gait_knots(
-    durations: &[f64],
-    controls: &[Vec<f64>],
-    stiffness: &[f64],
-) -> (Vec<f64>, Vec<Vec<f64>>) {
-    let mut times = vec![0.0];
-    let mut lengths = vec![vec![0.0; stiffness.len()]];
-    for (d, u) in durations.iter().zip(controls) {
-        times.push(times[times.len() - 1] + d);
-        let last = &lengths[lengths.len() - 1];
-        let next = last
-            .iter()
-            .zip(u)
-            .zip(stiffness)
-            .map(|((l, u), k)| l + d * u / k)
-            .collect();
-        lengths.push(next);
-    }
-    (times, lengths)
 }
 
 fn status_word(s: MilpStatus) -> &'static str {

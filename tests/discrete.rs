@@ -10,13 +10,17 @@ fn one_link_p_m_equals_the_closed_form_for_every_m() {
     let p = GaitProblem::new(&c, 10.0, &[1.0], Cost::None, None).unwrap();
     for m in 1..=4 {
         let s = solve_discrete_global(&c, &p, m, Some(60.0)).unwrap();
-        assert_eq!(s.status, MilpStatus::Optimal);
+        assert_eq!(s.certificate.status, MilpStatus::Optimal);
         assert!(
             (s.verified_displacement - 3.0).abs() < 1e-8,
             "m = {m}: {}",
             s.verified_displacement
         );
-        assert!(s.gap < 1e-6, "m = {m}: gap {}", s.gap);
+        assert!(
+            s.certificate.gap < 1e-6,
+            "m = {m}: gap {}",
+            s.certificate.gap
+        );
         assert_eq!(s.controls.len(), 1 << m);
         // Zero-mean control within the rate bound.
         let mean: f64 = s.controls.iter().map(|u| u[0]).sum::<f64>();
@@ -56,11 +60,11 @@ fn three_block_p_m_matches_the_peer_milp() {
     let mut values = Vec::new();
     for m in 1..=3 {
         let s = solve_discrete_global(&c, &p, m, Some(60.0)).unwrap();
-        assert_eq!(s.status, MilpStatus::Optimal);
+        assert_eq!(s.certificate.status, MilpStatus::Optimal);
         assert!(s.verified_displacement >= -1e-12, "m {m}");
         println!(
             "N = 3, mu+ = 1, mu- = 1.5: J_{m} = {} (gap {:.1e})",
-            s.verified_displacement, s.gap
+            s.verified_displacement, s.certificate.gap
         );
         values.push(s.verified_displacement);
     }

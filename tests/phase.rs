@@ -21,7 +21,7 @@ fn one_link_phase_optimum_equals_the_closed_form() {
         // Fewer phases cannot move the crawler.
         for phases in [2, 3, 4, 5] {
             let s = solve_phase_global(&c, &p, phases, Some(60.0)).unwrap();
-            assert_eq!(s.status, MilpStatus::Optimal);
+            assert_eq!(s.certificate.status, MilpStatus::Optimal);
             let expect = if phases >= 4 { want } else { 0.0 };
             assert!(
                 (s.verified_displacement - expect).abs() < 1e-8,
@@ -45,11 +45,11 @@ fn three_block_optimum_is_non_decreasing_in_the_number_of_phases() {
         println!(
             "N = 3, mu+ = 1, mu- = 1.5, T = 10: K = {phases}: J = {:.12} (gap {:.1e}, {:.2} s, {} phases used)",
             s.verified_displacement,
-            s.gap,
+            s.certificate.gap,
             t0.elapsed().as_secs_f64(),
             s.durations.len()
         );
-        assert_eq!(s.status, MilpStatus::Optimal);
+        assert_eq!(s.certificate.status, MilpStatus::Optimal);
         assert!(
             s.verified_displacement >= last - 1e-8,
             "K = {phases}: {} < {last}",

@@ -25,29 +25,21 @@
 //!   displacement (a rotation of any optimum does).
 //!
 //! Every answer is re-verified by the simulator: the returned increments are played by
-//! [`CatchingUp`] from the returned initial state until the periodic regime, and the verified
+//! catching-up (the simulator's [`simulate`](crate::integrate::simulate)) from the returned initial state until the periodic regime, and the verified
 //! displacement is the one reported.
 
 use crate::error::{Error, Result};
-use crate::integrate::{CatchingUp, PeriodMap};
+use crate::integrate::Method;
 use crate::model::Crawler;
-use crate::optimal::milp::{block_speed_bound, check_supported, force_row, solve_max};
-use crate::optimal::GaitProblem;
+use crate::optimal::milp::{
+    block_speed_bound, certify, check_supported, force_row, replay, solve_max,
+};
+use crate::optimal::{Certificate, GaitProblem};
 use highs::RowProblem;
 use serde::Serialize;
 
 /// Largest `m` accepted (`2^m` steps).
 pub const MAX_M: u32 = 16;
-
-/// How a MILP solve ended.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
-#[serde(rename_all = "snake_case")]
-pub enum MilpStatus {
-    /// Proven optimal (gap within HiGHS's tolerance).
-    Optimal,
-    /// The time limit was reached with a feasible incumbent; see the gap.
-    TimeLimit,
-}
 
 /// A solution of P_m.
 #[derive(Debug, Clone, PartialEq, Serialize)]
@@ -56,14 +48,8 @@ pub struct DiscreteSolution {
     pub m: u32,
     /// `h = T / 2^m`.
     pub step: f64,
-    /// Solver outcome.
-    pub status: MilpStatus,
-    /// The MILP's objective value (displacement minus cost, per period).
-    pub milp_objective: f64,
-    /// The MILP's upper bound on the optimum of P_m.
-    pub bound: f64,
-    /// Gap `(bound - verified) / max(|verified|, 1)`: relative for values above 1, absolute below.
-    pub gap: f64,
+    /// What the MILP proves (its bound is on the optimum of P_m).
+    pub certificate: Certificate,
     /// Displacement per period, re-verified by simulating the returned gait.
     pub verified_displacement: f64,
     /// Initial state `x^0` (on the limit cycle).
@@ -207,72 +193,34 @@ pub fn solve_discrete_global(
         }
     }
     let x0: Vec<f64> = xs[0].iter().map(|c| cols[c.index()]).collect();
-    let verified = verify(crawler, &incs, problem.period, &x0)?;
-    let gap = (bound - verified.0) / verified.0.abs().max(1.0);
-    if (milp_objective - verified.0).abs() > 1e-6 * (1.0 + verified.0.abs()) {
-        return Err(Error::Numerical(format!(
-            "P_{m}: the MILP's gait moves the crawler {} per period when simulated, not {milp_objective}",
-            verified.0
-        )));
-    }
+    let what = format!("P_{m}");
+    let rows: Vec<Vec<f64>> = incs.chunks(n).map(<[f64]>::to_vec).collect();
+    let sim = replay(
+        crawler,
+        problem.period,
+        &vec![h; big_m],
+        &rows,
+        &x0,
+        Method::CatchingUp,
+        &what,
+    )?;
+    let verified = sim.displacement_per_period.expect("converged");
+    let tr = sim.trajectory.expect("one period recorded");
     Ok(DiscreteSolution {
         m,
         step: h,
-        status,
-        milp_objective,
-        bound,
-        gap: gap.max(0.0),
-        verified_displacement: verified.0,
-        initial_state: verified.1,
-        states: verified.3,
-        controls: incs
-            .chunks(n)
+        certificate: certify(&what, status, milp_objective, bound, verified)?,
+        verified_displacement: verified,
+        initial_state: sim.orbit_state,
+        block_displacements: tr
+            .positions
+            .windows(2)
+            .map(|w| w[1].iter().zip(&w[0]).map(|(a, b)| a - b).collect())
+            .collect(),
+        states: tr.x,
+        controls: rows
+            .iter()
             .map(|r| r.iter().map(|v| v / h).collect())
             .collect(),
-        block_displacements: verified.2,
     })
-}
-
-/// Displacement per period, periodic initial state, block displacements and states per step.
-type Verified = (f64, Vec<f64>, Vec<Vec<f64>>, Vec<Vec<f64>>);
-
-/// Plays the increments by catching-up from `x0` until the state repeats; returns the
-/// displacement per period, the periodic initial state, the block displacements and the states
-/// per step on the orbit.
-fn verify(crawler: &Crawler, incs: &[f64], period: f64, x0: &[f64]) -> Result<Verified> {
-    let nb = crawler.blocks();
-    let n = crawler.links();
-    let steps = incs.len() / n;
-    let mut map = CatchingUp::from_increments(crawler, incs.to_vec(), period)?;
-    // Start from x0 made exactly admissible.
-    let mut proj = crate::sweep::Projector::new(crawler)?;
-    let mut x = vec![0.0; n];
-    let mut d = vec![0.0; nb];
-    proj.project_from_origin(x0, &mut x, &mut d)?;
-    let scale = crawler.state_scale();
-    for _ in 0..1000 {
-        let start = x.clone();
-        let mut acc = vec![0.0; nb];
-        map.run_period(&mut x, &mut acc, None)?;
-        let r = x
-            .iter()
-            .zip(&start)
-            .map(|(a, b)| (a - b).abs())
-            .fold(0.0, f64::max);
-        if r <= 1e-12 * scale {
-            // Per-step displacements on the orbit.
-            let mut xs = start.clone();
-            let mut per_step = Vec::with_capacity(steps);
-            let mut states = vec![start.clone()];
-            for row in incs.chunks(n) {
-                proj.step(&mut xs, row, &mut d)?;
-                per_step.push(d.clone());
-                states.push(xs.clone());
-            }
-            return Ok((acc.iter().sum::<f64>() / nb as f64, start, per_step, states));
-        }
-    }
-    Err(Error::Numerical(
-        "P_m: the returned gait does not reach a periodic regime in 1000 periods".into(),
-    ))
 }

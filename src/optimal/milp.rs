@@ -1,9 +1,114 @@
 //! Pieces shared by the MILP formulations of the gait problem.
 
 use crate::error::{Error, Result};
+use crate::integrate::{simulate, Actuation, Method, SimOptions, Simulation};
 use crate::model::Crawler;
-use crate::optimal::{Cost, GaitProblem, MilpStatus};
+use crate::optimal::{Cost, GaitProblem};
 use highs::{Col, HighsModelStatus, HighsSolutionStatus, RowProblem, Sense};
+use serde::Serialize;
+
+/// How a MILP solve ended.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum MilpStatus {
+    /// Proven optimal (gap within HiGHS's tolerance).
+    Optimal,
+    /// The time limit was reached with a feasible incumbent; see the gap.
+    TimeLimit,
+}
+
+/// What a MILP solve proves about the gait it returns.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Certificate {
+    /// Solver outcome.
+    pub status: MilpStatus,
+    /// The MILP's objective.
+    pub milp_objective: f64,
+    /// The MILP's upper bound on the optimum of its problem.
+    pub bound: f64,
+    /// Gap `(bound - verified) / max(|verified|, 1)`: relative above 1, absolute below.
+    pub gap: f64,
+}
+
+/// The certificate of a MILP answer whose gait the simulator moved `verified` per period;
+/// an error when the two disagree beyond the MILP's tolerances.
+pub(crate) fn certify(
+    what: &str,
+    status: MilpStatus,
+    milp_objective: f64,
+    bound: f64,
+    verified: f64,
+) -> Result<Certificate> {
+    if (milp_objective - verified).abs() > 1e-6 * (1.0 + verified.abs()) {
+        return Err(Error::Numerical(format!(
+            "{what}: the gait moves the crawler {verified} per period when simulated, not {milp_objective}"
+        )));
+    }
+    Ok(Certificate {
+        status,
+        milp_objective,
+        bound,
+        gap: ((bound - verified) / verified.abs().max(1.0)).max(0.0),
+    })
+}
+
+/// Knot times (from 0) and actuator lengths (from `L(0) = 0`) of a gait given by phase
+/// durations and increments `U_j = K (L_{j+1} - L_j)`; one knot more than phases.
+pub fn gait_knots(
+    durations: &[f64],
+    increments: &[Vec<f64>],
+    stiffness: &[f64],
+) -> (Vec<f64>, Vec<Vec<f64>>) {
+    let mut times = vec![0.0];
+    let mut lengths = vec![vec![0.0; stiffness.len()]];
+    for (d, u) in durations.iter().zip(increments) {
+        times.push(times[times.len() - 1] + d);
+        let last = &lengths[lengths.len() - 1];
+        let next = last
+            .iter()
+            .zip(u)
+            .zip(stiffness)
+            .map(|((l, u), k)| l + u / k)
+            .collect();
+        lengths.push(next);
+    }
+    (times, lengths)
+}
+
+/// Plays a gait (durations and increments over one period) with the given method from `x0`
+/// until the periodic regime, recording one period: the independent re-verification of every
+/// optimizer answer.
+pub(crate) fn replay(
+    crawler: &Crawler,
+    period: f64,
+    durations: &[f64],
+    increments: &[Vec<f64>],
+    x0: &[f64],
+    method: Method,
+    what: &str,
+) -> Result<Simulation> {
+    let (mut times, mut lengths) = gait_knots(durations, increments, crawler.stiffness());
+    times.pop();
+    lengths.pop();
+    let act = Actuation::piecewise_linear(period, times, lengths)?;
+    let sim = simulate(
+        crawler,
+        &act,
+        &SimOptions {
+            method,
+            steps_per_period: durations.len(),
+            record_periods: 1,
+            initial_state: Some(x0.to_vec()),
+            ..SimOptions::default()
+        },
+    )?;
+    if !sim.converged {
+        return Err(Error::Numerical(format!(
+            "{what}: the returned gait did not reach a periodic regime"
+        )));
+    }
+    Ok(sim)
+}
 
 /// `F_b(x) = x_{b-1} - x_b` as `(column, coefficient)` pairs (`x_{-1} = x_n = 0`).
 pub(crate) fn force_row(x: &[Col], b: usize) -> Vec<(Col, f64)> {

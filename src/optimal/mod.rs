@@ -11,7 +11,8 @@ mod one_link;
 mod phase;
 mod problem;
 
-pub use discrete::{solve_discrete_global, DiscreteSolution, MilpStatus, MAX_M};
+pub use discrete::{solve_discrete_global, DiscreteSolution, MAX_M};
+pub use milp::{gait_knots, Certificate, MilpStatus};
 pub use one_link::{one_link_optimum, OneLinkOptimum};
 pub use phase::{solve_phase_global, PhaseSolution};
 pub use problem::{Cost, GaitProblem};

@@ -26,10 +26,12 @@
 //! whose knots are the phase boundaries.
 
 use crate::error::{Error, Result};
-use crate::integrate::{simulate, Actuation, Method, SimOptions};
+use crate::integrate::Method;
 use crate::model::Crawler;
-use crate::optimal::milp::{block_speed_bound, check_supported, force_row, solve_max};
-use crate::optimal::{GaitProblem, MilpStatus};
+use crate::optimal::milp::{
+    block_speed_bound, certify, check_supported, force_row, replay, solve_max,
+};
+use crate::optimal::{Certificate, GaitProblem};
 use highs::{Col, RowProblem};
 use serde::Serialize;
 
@@ -41,14 +43,8 @@ pub const MAX_PHASES: usize = 64;
 pub struct PhaseSolution {
     /// `K`, the number of phases allowed.
     pub phases: usize,
-    /// Solver outcome.
-    pub status: MilpStatus,
-    /// The MILP's objective.
-    pub milp_objective: f64,
-    /// The MILP's upper bound over gaits of at most `K` phases.
-    pub bound: f64,
-    /// Gap `(bound - verified) / max(|verified|, 1)`: relative for values above 1, absolute below.
-    pub gap: f64,
+    /// What the MILP proves (its bound is over gaits of at most `phases` phases).
+    pub certificate: Certificate,
     /// Displacement per period re-verified by the exact simulator.
     pub verified_displacement: f64,
     /// Phase durations `tau_j` (empty phases removed).
@@ -216,39 +212,11 @@ pub fn solve_phase_global(
     let verified = if keep.len() < 2 {
         0.0
     } else {
-        let mut times = Vec::with_capacity(keep.len());
-        let mut lengths = Vec::with_capacity(keep.len());
-        let (mut clock, mut len) = (0.0, vec![0.0; n]);
-        for (d, u) in durations.iter().zip(&incs) {
-            times.push(clock);
-            lengths.push(len.clone());
-            clock += d;
-            for l in 0..n {
-                len[l] += u[l] / k[l];
-            }
-        }
-        let act = Actuation::piecewise_linear(t, times, lengths)?;
-        let sim = simulate(
-            crawler,
-            &act,
-            &SimOptions {
-                method: Method::Exact,
-                record_periods: 0,
-                initial_state: Some(x0.clone()),
-                ..SimOptions::default()
-            },
-        )?;
-        sim.displacement_per_period.ok_or_else(|| {
-            Error::Numerical(format!(
-                "{what}: the returned gait did not reach a periodic regime"
-            ))
-        })?
+        replay(crawler, t, &durations, &incs, &x0, Method::Exact, &what)?
+            .displacement_per_period
+            .expect("converged")
     };
-    if (milp_objective - verified).abs() > 1e-6 * (1.0 + verified.abs()) {
-        return Err(Error::Numerical(format!(
-            "{what}: the gait moves the crawler {verified} per period when simulated, not {milp_objective}"
-        )));
-    }
+    let certificate = certify(&what, status, milp_objective, bound, verified)?;
     let mut states: Vec<Vec<f64>> = keep
         .iter()
         .map(|&j| xs[j].iter().map(val).collect())
@@ -272,10 +240,7 @@ pub fn solve_phase_global(
         .collect();
     Ok(PhaseSolution {
         phases,
-        status,
-        milp_objective,
-        bound,
-        gap: ((bound - verified) / verified.abs().max(1.0)).max(0.0),
+        certificate,
         verified_displacement: verified,
         controls: incs
             .iter()
