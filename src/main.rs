@@ -3,13 +3,13 @@
 
 use clap::{Parser, Subcommand, ValueEnum};
 use crawlopt::integrate::{
-    simulate, slip_of, Actuation, CatchingUp, ExactPwl, Method, PeriodMap, Search, SimOptions,
-    Simulation, Waveform,
+    simulate, Actuation, CatchingUp, ExactPwl, Method, PeriodMap, Search, SimOptions, Simulation,
+    Waveform,
 };
 use crawlopt::io::{write_trajectory_csv, ModelFile};
 use crawlopt::model::{Analysis, FaceSign};
 use crawlopt::optimal::{
-    gait_knots, one_link_optimum, solve_discrete_global, solve_phase_global, Cost, MilpStatus,
+    one_link_optimum, solve_discrete_global, solve_phase_global, Cost, GaitResult, MilpStatus,
 };
 use crawlopt::{Crawler, Error};
 use std::path::PathBuf;
@@ -276,28 +276,14 @@ fn run(cmd: Command) -> Result<ExitCode, Error> {
             let problem = model.gait(&crawler)?.ok_or_else(|| {
                 Error::invalid("gait", "nothing", "the model file has no [gait] section")
             })?;
-            // One report for both methods: the certificate, the verified value and the gait.
-            let (method_name, kind, cert, verified, durations, controls, gait) = match method {
+            let result = match method {
                 OptimizeMethod::Phase => {
                     if let Some(m) = m {
                         return Err(Error::invalid("m", m, "applies to --method discrete only"));
                     }
                     let s =
                         solve_phase_global(&crawler, &problem, phases.unwrap_or(6), time_limit)?;
-                    let gait = serde_json::json!({
-                        "durations": s.durations, "states": s.states,
-                        "block_displacements": s.block_displacements, "slip": s.modes,
-                        "initial_state": s.states.first(),
-                    });
-                    (
-                        "phase",
-                        format!("global_k_phases (K = {})", s.phases),
-                        s.certificate,
-                        s.verified_displacement,
-                        s.durations,
-                        s.controls,
-                        (gait, Some(s.phases), None),
-                    )
+                    GaitResult::from_phase(&crawler, &problem, &s)
                 }
                 OptimizeMethod::Discrete => {
                     if let Some(k) = phases {
@@ -316,76 +302,13 @@ fn run(cmd: Command) -> Result<ExitCode, Error> {
                         ));
                     }
                     let s = solve_discrete_global(&crawler, &problem, m, time_limit)?;
-                    let slip: Vec<Vec<i8>> = s
-                        .block_displacements
-                        .iter()
-                        .map(|d| d.iter().map(|&v| slip_of(v, 1e-9 * s.step)).collect())
-                        .collect();
-                    let gait = serde_json::json!({
-                        "states": s.states, "block_displacements": s.block_displacements,
-                        "slip": slip, "initial_state": s.initial_state,
-                    });
-                    let steps = s.controls.len();
-                    (
-                        "discrete",
-                        format!("global (P_{m}, {steps} steps)"),
-                        s.certificate,
-                        s.verified_displacement,
-                        vec![s.step; steps],
-                        s.controls,
-                        (gait, None, Some(s.m)),
-                    )
+                    GaitResult::from_discrete(&crawler, &problem, &s)
                 }
             };
-            let (mut gait, phases, m) = gait;
-            let increments: Vec<Vec<f64>> = durations
-                .iter()
-                .zip(&controls)
-                .map(|(d, u)| u.iter().map(|v| v * d).collect())
-                .collect();
-            let (times, lengths) = gait_knots(&durations, &increments, crawler.stiffness());
-            let status = status_word(cert.status);
             if json {
-                gait["times"] = serde_json::json!(times);
-                gait["lengths"] = serde_json::json!(lengths);
-                gait["controls"] = serde_json::json!(controls);
-                let v = serde_json::json!({
-                    "objective": verified,
-                    "displacement_per_period": verified,
-                    "actuation_cost": 0.0,
-                    "method": method_name,
-                    "m": m,
-                    "status": status,
-                    "certificate": {
-                        "kind": if phases.is_some() { "global_k_phases" } else { "global" },
-                        "gap": cert.gap, "bound": cert.bound, "phases": phases,
-                    },
-                    "milp_objective": cert.milp_objective,
-                    "verified_displacement": verified,
-                    "gait": gait,
-                });
-                outln!("{}", serde_json::to_string(&v).expect("serialisable"));
+                outln!("{}", serde_json::to_string(&result).expect("serialisable"));
             } else {
-                outln!("method {method_name}: {status}");
-                outln!("objective (displacement per period): {verified}");
-                outln!(
-                    "certificate: {kind}, gap {:.3e} (bound {})",
-                    cert.gap,
-                    cert.bound
-                );
-                outln!(
-                    "verified by simulation: {verified} (MILP: {})",
-                    cert.milp_objective
-                );
-                for (j, u) in controls.iter().enumerate() {
-                    outln!(
-                        "  {j:>4}: t = [{:.6}, {:.6}]  u = {}  slip = {}",
-                        times[j],
-                        times[j + 1],
-                        list(u),
-                        gait["slip"][j]
-                    );
-                }
+                print_gait_result(&result);
             }
             Ok(ExitCode::SUCCESS)
         }
@@ -453,6 +376,44 @@ fn status_word(s: MilpStatus) -> &'static str {
     match s {
         MilpStatus::Optimal => "optimal",
         MilpStatus::TimeLimit => "time_limit",
+    }
+}
+
+/// The human form of an optimal-gait result: the same content as the JSON.
+fn print_gait_result(r: &GaitResult) {
+    let c = &r.certificate;
+    outln!("method {}: {}", r.method, status_word(r.status));
+    outln!(
+        "objective J = {} (displacement per period {}, actuation cost {})",
+        r.objective,
+        r.displacement_per_period,
+        r.actuation_cost
+    );
+    let what = match (c.kind.as_str(), c.phases, r.m) {
+        ("global_k_phases", Some(k), _) => format!("global among gaits of at most {k} phases"),
+        ("global", _, Some(m)) => format!("global for P_{m} ({} steps)", 1u64 << m),
+        (kind, _, _) => kind.to_string(),
+    };
+    match (c.gap, c.bound) {
+        (Some(gap), Some(bound)) => {
+            outln!("certificate: {what}, gap {gap:.3e} (bound {bound})")
+        }
+        _ => outln!("certificate: {what}"),
+    }
+    outln!(
+        "verified by simulation: {} (solver: {})",
+        r.verified_displacement,
+        r.solver_objective
+    );
+    let g = &r.gait;
+    for (j, u) in g.controls.iter().enumerate() {
+        outln!(
+            "  {j:>4}: t = [{:.6}, {:.6}]  u = {}  slip = {:?}",
+            g.times[j],
+            g.times[j + 1],
+            list(u),
+            g.slip[j]
+        );
     }
 }
 

@@ -5,10 +5,10 @@ use crate::integrate::{simulate, Actuation, Method, SimOptions, Simulation};
 use crate::model::Crawler;
 use crate::optimal::{Cost, GaitProblem};
 use highs::{Col, HighsModelStatus, HighsSolutionStatus, RowProblem, Sense};
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 /// How a MILP solve ended.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum MilpStatus {
     /// Proven optimal (gap within HiGHS's tolerance).

@@ -10,9 +10,13 @@ mod milp;
 mod one_link;
 mod phase;
 mod problem;
+mod result;
 
 pub use discrete::{solve_discrete_global, DiscreteSolution, MAX_M};
 pub use milp::{gait_knots, Certificate, MilpStatus};
 pub use one_link::{one_link_optimum, OneLinkOptimum};
 pub use phase::{solve_phase_global, PhaseSolution};
 pub use problem::{Cost, GaitProblem};
+pub use result::{
+    CrawlerParams, GaitData, GaitResult, ResultCertificate, RESULT_FORMAT, RESULT_VERSION,
+};

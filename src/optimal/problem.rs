@@ -5,10 +5,10 @@
 
 use crate::error::{Error, Result};
 use crate::model::Crawler;
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 /// The actuation cost `f2(u)`.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(tag = "kind", rename_all = "snake_case")]
 pub enum Cost {
     /// `f2 = 0`.
@@ -32,7 +32,8 @@ impl Cost {
 }
 
 /// Problem data of (P) for a given crawler.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct GaitProblem {
     /// Period `T`.
     pub period: f64,
@@ -98,5 +99,29 @@ impl GaitProblem {
             cost,
             max_total_variation,
         })
+    }
+
+    /// Checks problem data that did not come through [`GaitProblem::new`] (e.g. read back from
+    /// a result file): one positive finite rate bound per link, positive period, weight and
+    /// total-variation bound.
+    pub fn validate(&self, crawler: &Crawler) -> Result<()> {
+        positive("gait.period", self.period)?;
+        if self.rate_bound.len() != crawler.links() {
+            return Err(Error::invalid(
+                "gait.rate_bound",
+                format!("{} values", self.rate_bound.len()),
+                format!("needs one value per link ({})", crawler.links()),
+            ));
+        }
+        for (l, &a) in self.rate_bound.iter().enumerate() {
+            positive(&format!("gait.rate_bound[{}]", l + 1), a)?;
+        }
+        if let Cost::Quadratic { weight } = self.cost {
+            positive("gait.cost.weight", weight)?;
+        }
+        if let Some(tv) = self.max_total_variation {
+            positive("gait.max_total_variation", tv)?;
+        }
+        Ok(())
     }
 }

@@ -1,0 +1,373 @@
+//! The result of an optimal-gait computation as one self-describing record: the crawler and the
+//! problem it was computed for, the method, the certificate, the re-verified value and the gait
+//! itself. This is what `crawlopt optimize --json` prints and what `certify`, `plot` and `report`
+//! read back, so it carries a format name and version, and reading it checks both and the
+//! consistency of every array.
+
+use crate::error::{Error, Result};
+use crate::integrate::slip_of;
+use crate::model::Crawler;
+use crate::optimal::{gait_knots, DiscreteSolution, GaitProblem, MilpStatus, PhaseSolution};
+use serde::{Deserialize, Serialize};
+
+/// Value of [`GaitResult::format`].
+pub const RESULT_FORMAT: &str = "crawlopt-gait-result";
+/// Version of the result format written by this build; others are refused on reading.
+pub const RESULT_VERSION: u32 = 1;
+
+/// The crawler's parameters, as stored in a result (per link / per block, expanded).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct CrawlerParams {
+    /// Number of blocks `N`.
+    pub blocks: usize,
+    /// `k_l`, one per link.
+    pub stiffness: Vec<f64>,
+    /// `mu_b^+`, one per block.
+    pub mu_forward: Vec<f64>,
+    /// `mu_b^-`, one per block.
+    pub mu_backward: Vec<f64>,
+}
+
+impl CrawlerParams {
+    /// The parameters of `crawler`.
+    pub fn of(crawler: &Crawler) -> Self {
+        CrawlerParams {
+            blocks: crawler.blocks(),
+            stiffness: crawler.stiffness().to_vec(),
+            mu_forward: crawler.mu_forward().to_vec(),
+            mu_backward: crawler.mu_backward().to_vec(),
+        }
+    }
+
+    /// The crawler (validated again: a result file is input like any other).
+    pub fn crawler(&self) -> Result<Crawler> {
+        let c = Crawler::new(
+            self.stiffness.clone(),
+            self.mu_forward.clone(),
+            self.mu_backward.clone(),
+        )?;
+        if c.blocks() != self.blocks {
+            return Err(Error::invalid(
+                "crawler.blocks",
+                self.blocks,
+                format!("does not match the {} friction values", c.blocks()),
+            ));
+        }
+        Ok(c)
+    }
+}
+
+/// What is proven about the returned gait.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct ResultCertificate {
+    /// `"global"` (optimal for P_m), `"global_k_phases"` (optimal among gaits of at most
+    /// `phases` phases) or `"local"` (a stationary point, no global claim).
+    pub kind: String,
+    /// Gap between the bound and the verified value (relative above 1, absolute below); `None`
+    /// for local answers.
+    pub gap: Option<f64>,
+    /// Upper bound on the optimum of the problem solved; `None` for local answers.
+    pub bound: Option<f64>,
+    /// `K` for phase gaits.
+    pub phases: Option<usize>,
+}
+
+/// The gait over one period, on its own knots: `times` has one entry more than the pieces.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct GaitData {
+    /// Knot times `t_0 = 0 < ... < t_P = T` (phase boundaries or grid times).
+    pub times: Vec<f64>,
+    /// Piece durations `t_{j+1} - t_j`.
+    pub durations: Vec<f64>,
+    /// Actuator lengths `L(t_j)` at the knots, from `L(0) = 0` (`P + 1` rows; last = first).
+    pub lengths: Vec<Vec<f64>>,
+    /// Controls `u_j = k L'` on each piece (force per time).
+    pub controls: Vec<Vec<f64>>,
+    /// States `x(t_j)` at the knots (`P + 1` rows; last = first: a limit cycle).
+    pub states: Vec<Vec<f64>>,
+    /// Block displacements on each piece.
+    pub block_displacements: Vec<Vec<f64>>,
+    /// Slip mode of each block on each piece: -1, 0, 1.
+    pub slip: Vec<Vec<i8>>,
+    /// `x(0)`.
+    pub initial_state: Vec<f64>,
+}
+
+/// One optimal-gait result (module docs).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct GaitResult {
+    /// Always [`RESULT_FORMAT`].
+    pub format: String,
+    /// [`RESULT_VERSION`] of the writer.
+    pub version: u32,
+    /// The crawler.
+    pub crawler: CrawlerParams,
+    /// The gait problem.
+    pub problem: GaitProblem,
+    /// `"phase"` or `"discrete"`.
+    pub method: String,
+    /// `m` of P_m (discrete only).
+    pub m: Option<u32>,
+    /// `"optimal"` or `"time_limit"`.
+    pub status: MilpStatus,
+    /// `J` = displacement per period minus actuation cost, from the verified displacement.
+    pub objective: f64,
+    /// Displacement per period (verified).
+    pub displacement_per_period: f64,
+    /// `int_0^T f2(u) dt` of the gait.
+    pub actuation_cost: f64,
+    /// The displacement per period found by replaying the gait in the simulator.
+    pub verified_displacement: f64,
+    /// The solver's own objective (before re-verification).
+    pub solver_objective: f64,
+    /// What is proven.
+    pub certificate: ResultCertificate,
+    /// The gait.
+    pub gait: GaitData,
+}
+
+fn knots(crawler: &Crawler, durations: &[f64], controls: &[Vec<f64>]) -> GaitKnots {
+    let increments: Vec<Vec<f64>> = durations
+        .iter()
+        .zip(controls)
+        .map(|(d, u)| u.iter().map(|v| v * d).collect())
+        .collect();
+    gait_knots(durations, &increments, crawler.stiffness())
+}
+
+type GaitKnots = (Vec<f64>, Vec<Vec<f64>>);
+
+fn actuation_cost(problem: &GaitProblem, durations: &[f64], controls: &[Vec<f64>]) -> f64 {
+    durations
+        .iter()
+        .zip(controls)
+        .map(|(d, u)| d * problem.cost.eval(u))
+        .sum()
+}
+
+impl GaitResult {
+    /// The record of a phase-formulation answer.
+    pub fn from_phase(crawler: &Crawler, problem: &GaitProblem, s: &PhaseSolution) -> Self {
+        let (times, lengths) = knots(crawler, &s.durations, &s.controls);
+        let cost = actuation_cost(problem, &s.durations, &s.controls);
+        GaitResult {
+            format: RESULT_FORMAT.into(),
+            version: RESULT_VERSION,
+            crawler: CrawlerParams::of(crawler),
+            problem: problem.clone(),
+            method: "phase".into(),
+            m: None,
+            status: s.certificate.status,
+            objective: s.verified_displacement - cost,
+            displacement_per_period: s.verified_displacement,
+            actuation_cost: cost,
+            verified_displacement: s.verified_displacement,
+            solver_objective: s.certificate.milp_objective,
+            certificate: ResultCertificate {
+                kind: "global_k_phases".into(),
+                gap: Some(s.certificate.gap),
+                bound: Some(s.certificate.bound),
+                phases: Some(s.phases),
+            },
+            gait: GaitData {
+                times,
+                durations: s.durations.clone(),
+                lengths,
+                controls: s.controls.clone(),
+                states: s.states.clone(),
+                block_displacements: s.block_displacements.clone(),
+                slip: s.modes.clone(),
+                initial_state: s.states.first().cloned().unwrap_or_default(),
+            },
+        }
+    }
+
+    /// The record of a P_m answer.
+    pub fn from_discrete(crawler: &Crawler, problem: &GaitProblem, s: &DiscreteSolution) -> Self {
+        let durations = vec![s.step; s.controls.len()];
+        let (times, lengths) = knots(crawler, &durations, &s.controls);
+        let cost = actuation_cost(problem, &durations, &s.controls);
+        let slip = s
+            .block_displacements
+            .iter()
+            .map(|d| d.iter().map(|&v| slip_of(v, 1e-9 * s.step)).collect())
+            .collect();
+        GaitResult {
+            format: RESULT_FORMAT.into(),
+            version: RESULT_VERSION,
+            crawler: CrawlerParams::of(crawler),
+            problem: problem.clone(),
+            method: "discrete".into(),
+            m: Some(s.m),
+            status: s.certificate.status,
+            objective: s.verified_displacement - cost,
+            displacement_per_period: s.verified_displacement,
+            actuation_cost: cost,
+            verified_displacement: s.verified_displacement,
+            solver_objective: s.certificate.milp_objective,
+            certificate: ResultCertificate {
+                kind: "global".into(),
+                gap: Some(s.certificate.gap),
+                bound: Some(s.certificate.bound),
+                phases: None,
+            },
+            gait: GaitData {
+                times,
+                durations,
+                lengths,
+                controls: s.controls.clone(),
+                states: s.states.clone(),
+                block_displacements: s.block_displacements.clone(),
+                slip,
+                initial_state: s.initial_state.clone(),
+            },
+        }
+    }
+
+    /// Reads a result from JSON text, checking the format name, the version and the shape of
+    /// every array against the crawler; `what` names the source in errors.
+    pub fn from_json(text: &str, what: &str) -> Result<Self> {
+        let v: serde_json::Value = serde_json::from_str(text).map_err(|e| Error::Io {
+            path: what.into(),
+            reason: format!("not a complete JSON document: {e}"),
+        })?;
+        match v.get("format").and_then(|f| f.as_str()) {
+            Some(RESULT_FORMAT) => {}
+            Some(other) => {
+                return Err(Error::invalid(
+                    format!("{what}: format"),
+                    other,
+                    format!("is not a crawlopt gait result ({RESULT_FORMAT})"),
+                ))
+            }
+            None => {
+                return Err(Error::invalid(
+                    format!("{what}: format"),
+                    "nothing",
+                    format!("is missing: not a crawlopt gait result ({RESULT_FORMAT})"),
+                ))
+            }
+        }
+        match v.get("version").and_then(|f| f.as_u64()) {
+            Some(x) if x == u64::from(RESULT_VERSION) => {}
+            other => {
+                return Err(Error::invalid(
+                    format!("{what}: version"),
+                    other.map_or("nothing".into(), |x| x.to_string()),
+                    format!("this build reads version {RESULT_VERSION} only"),
+                ))
+            }
+        }
+        let r: GaitResult = serde_json::from_value(v).map_err(|e| Error::Io {
+            path: what.into(),
+            reason: format!("malformed gait result: {e}"),
+        })?;
+        r.check_shape(what)?;
+        Ok(r)
+    }
+
+    /// Checks the problem data, and array lengths and finiteness against the crawler.
+    fn check_shape(&self, what: &str) -> Result<()> {
+        let crawler = self.crawler.crawler()?;
+        self.problem.validate(&crawler)?;
+        let (n, nb) = (crawler.links(), crawler.blocks());
+        let g = &self.gait;
+        let p = g.durations.len();
+        let bad = |field: &str, got: String, want: String| {
+            Err(Error::invalid(
+                format!("{what}: gait.{field}"),
+                got,
+                format!("needs {want}"),
+            ))
+        };
+        if p == 0 {
+            return bad("durations", "0 pieces".into(), "at least one piece".into());
+        }
+        for (field, len, width) in [
+            ("times", p + 1, 1),
+            ("lengths", p + 1, n),
+            ("controls", p, n),
+            ("states", p + 1, n),
+            ("block_displacements", p, nb),
+        ] {
+            let (got_len, widths): (usize, Vec<usize>) = match field {
+                "times" => (g.times.len(), vec![]),
+                "lengths" => (g.lengths.len(), g.lengths.iter().map(Vec::len).collect()),
+                "controls" => (g.controls.len(), g.controls.iter().map(Vec::len).collect()),
+                "states" => (g.states.len(), g.states.iter().map(Vec::len).collect()),
+                _ => (
+                    g.block_displacements.len(),
+                    g.block_displacements.iter().map(Vec::len).collect(),
+                ),
+            };
+            if got_len != len {
+                return bad(field, format!("{got_len} rows"), format!("{len} rows"));
+            }
+            if let Some(w) = widths.iter().find(|&&w| w != width) {
+                return bad(field, format!("a row of {w}"), format!("{width} per row"));
+            }
+        }
+        if g.slip.len() != p || g.slip.iter().any(|r| r.len() != nb) {
+            return bad("slip", "a wrong shape".into(), format!("{p} rows of {nb}"));
+        }
+        if g.initial_state.len() != n {
+            return bad(
+                "initial_state",
+                format!("{} values", g.initial_state.len()),
+                format!("{n} values"),
+            );
+        }
+        let all = g
+            .times
+            .iter()
+            .chain(&g.durations)
+            .chain(g.lengths.iter().flatten())
+            .chain(g.controls.iter().flatten())
+            .chain(g.states.iter().flatten())
+            .chain(g.block_displacements.iter().flatten())
+            .chain(&g.initial_state);
+        if all.into_iter().any(|v| !v.is_finite()) {
+            return bad("*", "a non-finite value".into(), "finite numbers".into());
+        }
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::optimal::{solve_phase_global, Cost};
+
+    fn one_link_result() -> GaitResult {
+        let c = Crawler::uniform(2, 1.0, 1.0, 2.0).unwrap();
+        let p = GaitProblem::new(&c, 10.0, &[1.0], Cost::None, None).unwrap();
+        let s = solve_phase_global(&c, &p, 4, None).unwrap();
+        GaitResult::from_phase(&c, &p, &s)
+    }
+
+    #[test]
+    fn round_trips_and_refuses_other_versions_and_truncation() {
+        let r = one_link_result();
+        assert!((r.objective - 3.0).abs() < 1e-9);
+        let text = serde_json::to_string(&r).unwrap();
+        assert_eq!(GaitResult::from_json(&text, "r.json").unwrap(), r);
+        let e = GaitResult::from_json(&text[..text.len() / 2], "r.json").unwrap_err();
+        assert!(e.to_string().contains("not a complete JSON document"), "{e}");
+        let other = text.replace("\"version\":1", "\"version\":2");
+        let e = GaitResult::from_json(&other, "r.json").unwrap_err();
+        assert!(e.to_string().contains("version"), "{e}");
+        let e = GaitResult::from_json("{\"objective\": 1}", "r.json").unwrap_err();
+        assert!(e.to_string().contains("format"), "{e}");
+        let mut short = r.clone();
+        short.gait.states.pop();
+        let e = GaitResult::from_json(&serde_json::to_string(&short).unwrap(), "r.json")
+            .unwrap_err();
+        assert!(e.to_string().contains("gait.states"), "{e}");
+        let mut bad = r;
+        bad.problem.period = -1.0;
+        let e =
+            GaitResult::from_json(&serde_json::to_string(&bad).unwrap(), "r.json").unwrap_err();
+        assert!(e.to_string().contains("gait.period"), "{e}");
+    }
+}
