@@ -9,7 +9,8 @@ use crawlopt::integrate::{
 use crawlopt::io::{write_trajectory_csv, ModelFile};
 use crawlopt::model::{Analysis, FaceSign};
 use crawlopt::optimal::{
-    one_link_optimum, solve_discrete_global, solve_phase_global, Cost, GaitResult, MilpStatus,
+    discrete_convergence, grow_phases, one_link_optimum, solve_discrete_global, solve_phase_global,
+    Cost, GaitResult, GrowOptions, GrowthStop, MilpStatus, PhaseGrowthRecord,
 };
 use crawlopt::{Crawler, Error};
 use std::path::PathBuf;
@@ -90,15 +91,23 @@ enum Command {
     Optimize {
         /// Model file (TOML) with a [gait] section.
         file: PathBuf,
-        /// Formulation (auto is not built yet).
-        #[arg(long, value_enum, default_value = "phase")]
+        /// Formulation; auto: phase gaits with K grown until the value stops improving (the
+        /// discrete P_m when the problem bounds TV(u), which phase gaits cannot express).
+        #[arg(long, value_enum, default_value = "auto")]
         method: OptimizeMethod,
-        /// Phases allowed in a phase gait (default 6; --method phase only).
+        /// Phases allowed in a phase gait; without it K grows from 2 until the value has not
+        /// improved for two K (or --max-phases, or the time limit).
         #[arg(long)]
         phases: Option<usize>,
+        /// Largest K tried when K grows.
+        #[arg(long = "max-phases", default_value_t = 16)]
+        max_phases: usize,
         /// The grid of P_m has 2^m steps (default 3; --method discrete only).
         #[arg(long)]
         m: Option<u32>,
+        /// Solve P_m for m = 1..=M (M = --m) and print the table of J_m (--method discrete).
+        #[arg(long)]
+        convergence: bool,
         /// Stop after this many seconds with the best gait found and its gap.
         #[arg(long = "time-limit")]
         time_limit: Option<f64>,
@@ -139,8 +148,10 @@ enum Command {
     },
 }
 
-#[derive(Clone, Copy, ValueEnum)]
+#[derive(Clone, Copy, PartialEq, ValueEnum)]
 enum OptimizeMethod {
+    /// Phase gaits with K grown until no gain; discrete when TV(u) is bounded.
+    Auto,
     /// The paper's discrete problem P_m on 2^m steps, solved globally (MILP).
     Discrete,
     /// Exact continuous-time gaits of at most K constant-mode phases, solved globally (MILP).
@@ -266,7 +277,9 @@ fn run(cmd: Command) -> Result<ExitCode, Error> {
             file,
             method,
             phases,
+            max_phases,
             m,
+            convergence,
             time_limit,
             json,
         } => {
@@ -276,14 +289,57 @@ fn run(cmd: Command) -> Result<ExitCode, Error> {
             let problem = model.gait(&crawler)?.ok_or_else(|| {
                 Error::invalid("gait", "nothing", "the model file has no [gait] section")
             })?;
+            let method = match method {
+                OptimizeMethod::Auto if problem.max_total_variation.is_some() => {
+                    OptimizeMethod::Discrete
+                }
+                OptimizeMethod::Auto => OptimizeMethod::Phase,
+                other => other,
+            };
+            let progress = Progress::new();
             let result = match method {
-                OptimizeMethod::Phase => {
+                OptimizeMethod::Phase | OptimizeMethod::Auto => {
                     if let Some(m) = m {
                         return Err(Error::invalid("m", m, "applies to --method discrete only"));
                     }
-                    let s =
-                        solve_phase_global(&crawler, &problem, phases.unwrap_or(6), time_limit)?;
-                    GaitResult::from_phase(&crawler, &problem, &s)
+                    if convergence {
+                        return Err(Error::invalid(
+                            "convergence",
+                            "set",
+                            "applies to --method discrete only",
+                        ));
+                    }
+                    match phases {
+                        Some(k) => {
+                            progress.say(format!("solving the {k}-phase MILP"));
+                            let s = solve_phase_global(&crawler, &problem, k, time_limit)?;
+                            GaitResult::from_phase(&crawler, &problem, &s)
+                        }
+                        None => {
+                            let opts = GrowOptions {
+                                max_phases,
+                                time_limit,
+                                ..GrowOptions::default()
+                            };
+                            progress.say("K = 2".into());
+                            let g = grow_phases(&crawler, &problem, &opts, &mut |st| {
+                                progress.say(format!(
+                                    "K = {}: J = {:.9} (bound {:.9}, {:.2} s); K = {} next",
+                                    st.phases,
+                                    st.objective,
+                                    st.bound,
+                                    st.seconds,
+                                    st.phases + 1
+                                ))
+                            })?;
+                            let mut r = GaitResult::from_phase(&crawler, &problem, &g.best);
+                            r.phase_growth = Some(PhaseGrowthRecord {
+                                table: g.table,
+                                stop: g.stop,
+                            });
+                            r
+                        }
+                    }
                 }
                 OptimizeMethod::Discrete => {
                     if let Some(k) = phases {
@@ -301,10 +357,30 @@ fn run(cmd: Command) -> Result<ExitCode, Error> {
                             "must be at least 1 (a periodic gait needs two steps)",
                         ));
                     }
-                    let s = solve_discrete_global(&crawler, &problem, m, time_limit)?;
-                    GaitResult::from_discrete(&crawler, &problem, &s)
+                    if convergence {
+                        progress.say("m = 1".into());
+                        let (table, s) =
+                            discrete_convergence(&crawler, &problem, m, time_limit, &mut |row| {
+                                progress.say(format!(
+                                    "m = {}: J = {:.9} (gap {:.1e}, {:.2} s); m = {} next",
+                                    row.m,
+                                    row.objective,
+                                    row.gap,
+                                    row.seconds,
+                                    row.m + 1
+                                ))
+                            })?;
+                        let mut r = GaitResult::from_discrete(&crawler, &problem, &s);
+                        r.convergence = Some(table);
+                        r
+                    } else {
+                        progress.say(format!("solving P_{m} ({} steps)", 1u64 << m));
+                        let s = solve_discrete_global(&crawler, &problem, m, time_limit)?;
+                        GaitResult::from_discrete(&crawler, &problem, &s)
+                    }
                 }
             };
+            progress.finish();
             if json {
                 outln!("{}", serde_json::to_string(&result).expect("serialisable"));
             } else {
@@ -376,6 +452,31 @@ fn status_word(s: MilpStatus) -> &'static str {
     match s {
         MilpStatus::Optimal => "optimal",
         MilpStatus::TimeLimit => "time_limit",
+        MilpStatus::ApproximationLimit => "approximation_limit",
+    }
+}
+
+/// Progress of long solves on stderr (a spinner with the elapsed time; hidden when stderr is
+/// not a terminal).
+struct Progress(indicatif::ProgressBar);
+
+impl Progress {
+    fn new() -> Self {
+        let bar = indicatif::ProgressBar::new_spinner();
+        bar.set_style(
+            indicatif::ProgressStyle::with_template("{spinner} [{elapsed_precise}] {msg}")
+                .expect("valid template"),
+        );
+        bar.enable_steady_tick(std::time::Duration::from_millis(200));
+        Progress(bar)
+    }
+
+    fn say(&self, msg: String) {
+        self.0.set_message(msg);
+    }
+
+    fn finish(&self) {
+        self.0.finish_and_clear();
     }
 }
 
@@ -405,6 +506,44 @@ fn print_gait_result(r: &GaitResult) {
         r.verified_displacement,
         r.solver_objective
     );
+    if let Some(pg) = &r.phase_growth {
+        outln!(
+            "phases grown until {}:",
+            match pg.stop {
+                GrowthStop::NoGain => "the value stopped improving",
+                GrowthStop::MaxPhases => "--max-phases (the value was still improving or still 0)",
+                GrowthStop::NoForwardMotion =>
+                    "K = 2: v_m <= 0 for every shape rate, so no gait moves this crawler forward",
+                GrowthStop::TimeLimit => "the time limit",
+            }
+        );
+        outln!("  | K | J_K | bound | status | seconds |");
+        for st in &pg.table {
+            outln!(
+                "  | {} | {:.9} | {:.9} | {} | {:.2} |",
+                st.phases,
+                st.objective,
+                st.bound,
+                status_word(st.status),
+                st.seconds
+            );
+        }
+    }
+    if let Some(table) = &r.convergence {
+        outln!("convergence of the discrete problems P_m:");
+        outln!("  | m | steps | J_m | gap | status | seconds |");
+        for row in table {
+            outln!(
+                "  | {} | {} | {:.9} | {:.1e} | {} | {:.2} |",
+                row.m,
+                row.steps,
+                row.objective,
+                row.gap,
+                status_word(row.status),
+                row.seconds
+            );
+        }
+    }
     let g = &r.gait;
     for (j, u) in g.controls.iter().enumerate() {
         outln!(

@@ -125,9 +125,13 @@ fn quadratic_cost_closed_form_beats_every_two_phase_gait() {
 #[test]
 fn total_variation_bound_and_one_sided_friction() {
     let c = Crawler::uniform(2, 1.0, 1.0, 2.0).unwrap();
-    // V = 6 allows a sweep of 3: J* = 3 - 2 = 1.
-    let o = one_link_optimum(&c, &problem(&c, 10.0, 1.0, Cost::None, Some(6.0))).unwrap();
-    assert_eq!((o.value, o.sweep), (1.0, 3.0));
+    // TV(u) <= 3 allows rates 3/4 (u = +3/4 then -3/4 has TV 3): a sweep of (10/2)(3/4)
+    // = 3.75 and J* = 3.75 - 2 = 1.75.
+    let o = one_link_optimum(&c, &problem(&c, 10.0, 1.0, Cost::None, Some(3.0))).unwrap();
+    assert_eq!((o.value, o.sweep, o.rate), (1.75, 3.75, 0.75));
+    // TV(u) <= 4 a is no constraint: J* = 3 as without it.
+    let o = one_link_optimum(&c, &problem(&c, 10.0, 1.0, Cost::None, Some(4.0))).unwrap();
+    assert_eq!(o.value, 3.0);
     // Only extension moves forward: no periodic gait moves it, J* = 0.
     let c = Crawler::new(vec![1.0], vec![1.0, 0.5], vec![2.0, 0.8]).unwrap();
     let o = one_link_optimum(&c, &problem(&c, 100.0, 1.0, Cost::None, None)).unwrap();

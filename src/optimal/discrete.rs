@@ -4,14 +4,21 @@
 //! On the dyadic grid `h = T / 2^m` (`M = 2^m` steps), with `U^i = h u^i`:
 //!
 //! ```text
-//! maximise   sum_i (1/N) sum_b D^i_b                       (f2 = 0)
+//! maximise   sum_i (1/N) sum_b D^i_b - (c/2) sum_{i,l} g^i_l            (g >= (U^i_l)^2 / h)
 //! subject to x^{i+1} = x^i + U^i - K sum_b D^i_b nu_b,     x^M = x^0         (catching-up)
 //!            -mu_b^- <= F_b(x^{i+1}) <= mu_b^+                               (x^{i+1} in C)
 //!            D^i_b = P^i_b - Q^i_b,  0 <= P <= Md zp,  0 <= Q <= Md zq,  zp + zq <= 1
 //!            mu_b^+ - F_b(x^{i+1}) <= W_b (1 - zp^i_b),  F_b(x^{i+1}) + mu_b^- <= W_b (1 - zq^i_b)
 //!            |U^i_l| <= a_l h,  sum_i U^i = 0,
 //!            sum_b D^0_b >= sum_b D^i_b                                      (symmetry)
+//!            sum_{i,l} |U^{i+1}_l - U^i_l| <= h V                   (optional: TV(u) <= V)
 //! ```
+//!
+//! A quadratic cost `h sum_i (c/2)|u^i|^2 = (c/2) sum_{i,l} (U^i_l)^2 / h` enters through
+//! epigraph variables cut by tangents (outer approximation, as in the phase formulation): the
+//! bound stays valid, and tangents at the solution's rates are added until the incumbent's true
+//! objective meets it. The total variation of the piecewise-constant periodic control is the sum
+//! of its jumps, linear in `U` for a fixed `h`.
 //!
 //! The dynamics with the sign and complementarity conditions are exactly the KKT system of the
 //! catching-up projection (SPEC §4), which has a unique solution, so every feasible point is a
@@ -32,14 +39,18 @@ use crate::error::{Error, Result};
 use crate::integrate::Method;
 use crate::model::Crawler;
 use crate::optimal::milp::{
-    block_speed_bound, certify, check_supported, force_row, replay, solve_max,
+    block_speed_bound, certify, check_time_limit, force_row, replay, solve_max, TangentRates,
 };
-use crate::optimal::{Certificate, GaitProblem};
-use highs::RowProblem;
-use serde::Serialize;
+use crate::optimal::{Certificate, Cost, GaitProblem, MilpStatus};
+use highs::{Col, RowProblem};
+use serde::{Deserialize, Serialize};
+use std::time::Instant;
 
 /// Largest `m` accepted (`2^m` steps).
 pub const MAX_M: u32 = 16;
+
+/// Outer-approximation rounds at most.
+const MAX_OA_ROUNDS: usize = 40;
 
 /// A solution of P_m.
 #[derive(Debug, Clone, PartialEq, Serialize)]
@@ -52,6 +63,8 @@ pub struct DiscreteSolution {
     pub certificate: Certificate,
     /// Displacement per period, re-verified by simulating the returned gait.
     pub verified_displacement: f64,
+    /// `h sum_i f2(u^i)`.
+    pub actuation_cost: f64,
     /// Initial state `x^0` (on the limit cycle).
     pub initial_state: Vec<f64>,
     /// States `x^i` at the grid times `i h`, `i = 0..=2^m` (the last equals the first).
@@ -60,20 +73,30 @@ pub struct DiscreteSolution {
     pub controls: Vec<Vec<f64>>,
     /// Block displacements `D^i_b` per step, from the simulation.
     pub block_displacements: Vec<Vec<f64>>,
+    /// MILP solves (outer-approximation rounds for a quadratic cost, else 1).
+    pub rounds: usize,
 }
 
-/// Solves P_m globally (module docs). `time_limit` in seconds.
-pub fn solve_discrete_global(
+impl DiscreteSolution {
+    /// `J_m` = verified displacement minus actuation cost.
+    pub fn objective(&self) -> f64 {
+        self.verified_displacement - self.actuation_cost
+    }
+}
+
+struct Layout {
+    xs: Vec<Vec<Col>>,
+    us: Vec<Vec<Col>>,
+    ps: Vec<Vec<Col>>,
+    qs: Vec<Vec<Col>>,
+}
+
+fn build(
     crawler: &Crawler,
     problem: &GaitProblem,
     m: u32,
-    time_limit: Option<f64>,
-) -> Result<DiscreteSolution> {
-    crawler.require_unique()?;
-    if m > MAX_M {
-        return Err(Error::invalid("m", m, format!("must be at most {MAX_M}")));
-    }
-    check_supported(problem, time_limit)?;
+    rates: Option<&TangentRates>,
+) -> (RowProblem, Layout) {
     let (n, nb) = (crawler.links(), crawler.blocks());
     let big_m = 1usize << m;
     let h = problem.period / big_m as f64;
@@ -85,9 +108,13 @@ pub fn solve_discrete_global(
     let a = &problem.rate_bound;
     let md = h * block_speed_bound(crawler, problem);
     let ranges = crawler.link_force_ranges();
+    let weight = match problem.cost {
+        Cost::Quadratic { weight } => weight,
+        Cost::None => 0.0,
+    };
 
     let mut pb = RowProblem::default();
-    let xs: Vec<Vec<highs::Col>> = (0..big_m)
+    let xs: Vec<Vec<Col>> = (0..big_m)
         .map(|_| {
             ranges
                 .iter()
@@ -95,7 +122,7 @@ pub fn solve_discrete_global(
                 .collect()
         })
         .collect();
-    let us: Vec<Vec<highs::Col>> = (0..big_m)
+    let us: Vec<Vec<Col>> = (0..big_m)
         .map(|_| {
             a.iter()
                 .map(|&al| pb.add_column(0.0, -al * h..=al * h))
@@ -103,32 +130,25 @@ pub fn solve_discrete_global(
         })
         .collect();
     let inv_n = 1.0 / nb as f64;
-    let mut ps = Vec::with_capacity(big_m);
-    let mut qs = Vec::with_capacity(big_m);
-    let mut zps = Vec::with_capacity(big_m);
-    let mut zqs = Vec::with_capacity(big_m);
-    for _ in 0..big_m {
-        ps.push(
-            (0..nb)
-                .map(|_| pb.add_column(inv_n, 0.0..=md))
-                .collect::<Vec<_>>(),
-        );
-        qs.push(
-            (0..nb)
-                .map(|_| pb.add_column(-inv_n, 0.0..=md))
-                .collect::<Vec<_>>(),
-        );
-        zps.push(
-            (0..nb)
-                .map(|_| pb.add_integer_column(0.0, 0..=1))
-                .collect::<Vec<_>>(),
-        );
-        zqs.push(
-            (0..nb)
-                .map(|_| pb.add_integer_column(0.0, 0..=1))
-                .collect::<Vec<_>>(),
-        );
-    }
+    let per_block = |cost: f64, integer: bool, pb: &mut RowProblem| -> Vec<Vec<Col>> {
+        (0..big_m)
+            .map(|_| {
+                (0..nb)
+                    .map(|_| {
+                        if integer {
+                            pb.add_integer_column(0.0, 0..=1)
+                        } else {
+                            pb.add_column(cost, 0.0..=md)
+                        }
+                    })
+                    .collect()
+            })
+            .collect()
+    };
+    let ps = per_block(inv_n, false, &mut pb);
+    let qs = per_block(-inv_n, false, &mut pb);
+    let zps = per_block(0.0, true, &mut pb);
+    let zqs = per_block(0.0, true, &mut pb);
     for i in 0..big_m {
         let next = &xs[(i + 1) % big_m];
         // Dynamics: x^{i+1}_l - x^i_l - U^i_l + k_l (D_{l+1} - D_l) = 0.
@@ -145,6 +165,10 @@ pub fn solve_discrete_global(
                     (qs[i][l], k[l]),
                 ],
             );
+            if let Some(r) = rates {
+                let g = pb.add_column(-0.5 * weight, 0.0..=a[l] * a[l] * h);
+                r.add_cuts(&mut pb, l, g, us[i][l], None, h);
+            }
         }
         for b in 0..nb {
             let f = force_row(next, b);
@@ -154,7 +178,7 @@ pub fn solve_discrete_global(
             pb.add_row(..=0.0, [(qs[i][b], 1.0), (zqs[i][b], -md)]);
             pb.add_row(..=1.0, [(zps[i][b], 1.0), (zqs[i][b], 1.0)]);
             // mu^+ - F <= W (1 - zp)  <=>  -F + W zp <= mu^-.
-            let mut row: Vec<(highs::Col, f64)> = f.iter().map(|&(c, v)| (c, -v)).collect();
+            let mut row: Vec<(Col, f64)> = f.iter().map(|&(c, v)| (c, -v)).collect();
             row.push((zps[i][b], w));
             pb.add_row(..=mm[b], &row);
             // F + mu^- <= W (1 - zq)  <=>  F + W zq <= mu^+.
@@ -177,24 +201,137 @@ pub fn solve_discrete_global(
         }
     }
     for l in 0..n {
-        let row: Vec<(highs::Col, f64)> = us.iter().map(|u| (u[l], 1.0)).collect();
+        let row: Vec<(Col, f64)> = us.iter().map(|u| (u[l], 1.0)).collect();
         pb.add_row(0.0..=0.0, &row);
     }
-    let (cols, milp_objective, bound, status) = solve_max(pb, time_limit, &format!("P_{m}"))?;
-    // The gait: clean the increments to exact zero mean within the bounds, then simulate it.
-    let mut incs: Vec<f64> = Vec::with_capacity(big_m * n);
-    for u in &us {
-        incs.extend(u.iter().map(|c| cols[c.index()]));
+    if let Some(v) = problem.max_total_variation {
+        // |U^{i+1}_l - U^i_l| <= s^i_l, sum s <= h V.
+        let mut total = Vec::with_capacity(big_m * n);
+        for i in 0..big_m {
+            for l in 0..n {
+                let s = pb.add_column(0.0, 0.0..);
+                let (u0, u1) = (us[i][l], us[(i + 1) % big_m][l]);
+                pb.add_row(0.0.., [(s, 1.0), (u1, -1.0), (u0, 1.0)]);
+                pb.add_row(0.0.., [(s, 1.0), (u1, 1.0), (u0, -1.0)]);
+                total.push((s, 1.0));
+            }
+        }
+        pb.add_row(..=h * v, total);
     }
+    (pb, Layout { xs, us, ps, qs })
+}
+
+/// Solves P_m globally (module docs). `time_limit` in seconds.
+pub fn solve_discrete_global(
+    crawler: &Crawler,
+    problem: &GaitProblem,
+    m: u32,
+    time_limit: Option<f64>,
+) -> Result<DiscreteSolution> {
+    crawler.require_unique()?;
+    if !(1..=MAX_M).contains(&m) {
+        return Err(Error::invalid(
+            "m",
+            m,
+            format!("must be in 1..={MAX_M} (a periodic gait needs two steps)"),
+        ));
+    }
+    check_time_limit(time_limit)?;
+    let (n, nb) = (crawler.links(), crawler.blocks());
+    let big_m = 1usize << m;
+    let h = problem.period / big_m as f64;
+    let a = &problem.rate_bound;
+    let what = format!("P_{m}");
+    let began = Instant::now();
+    let mut rates = match problem.cost {
+        Cost::Quadratic { .. } => Some(TangentRates::new(a)),
+        Cost::None => None,
+    };
+    let mut rounds = 0;
+    let mut last: Option<(Vec<f64>, f64, Layout)> = None;
+    let (cols, lay, bound, status) = loop {
+        rounds += 1;
+        let (pb, lay) = build(crawler, problem, m, rates.as_ref());
+        let left = match time_limit {
+            Some(tl) => {
+                let left = tl - began.elapsed().as_secs_f64();
+                if left <= 0.0 {
+                    match last {
+                        Some((cols, bound, lay)) => {
+                            break (cols, lay, bound, MilpStatus::TimeLimit)
+                        }
+                        None => return Err(Error::Numerical(format!(
+                            "{what}: the time limit was reached before any feasible gait was found"
+                        ))),
+                    }
+                }
+                Some(left)
+            }
+            None => None,
+        };
+        let (cols, _, bound, status) = solve_max(pb, left, &what, None)?;
+        let Some(r) = rates.as_mut() else {
+            break (cols, lay, bound, status);
+        };
+        let incs: Vec<f64> = lay.us.iter().flatten().map(|c| cols[c.index()]).collect();
+        let disp: f64 = lay
+            .ps
+            .iter()
+            .flatten()
+            .zip(lay.qs.iter().flatten())
+            .map(|(p, q)| cols[p.index()] - cols[q.index()])
+            .sum::<f64>()
+            / nb as f64;
+        let cost: f64 = incs
+            .chunks(n)
+            .map(|u| {
+                let rate: Vec<f64> = u.iter().map(|v| v / h).collect();
+                h * problem.cost.eval(&rate)
+            })
+            .sum();
+        let true_objective = disp - cost;
+        let converged = bound - true_objective <= 1e-7 * true_objective.abs().max(1.0);
+        if converged || status == MilpStatus::TimeLimit || rounds >= MAX_OA_ROUNDS {
+            let status = match status {
+                MilpStatus::Optimal if !converged => MilpStatus::ApproximationLimit,
+                s => s,
+            };
+            break (cols, lay, bound, status);
+        }
+        let mut added = false;
+        for u in incs.chunks(n) {
+            for (l, &ul) in u.iter().enumerate() {
+                added |= r.add(l, ul / h, a[l]);
+            }
+        }
+        if !added {
+            break (cols, lay, bound, MilpStatus::ApproximationLimit);
+        }
+        last = Some((cols, bound, lay));
+    };
+    // The gait: clean the increments to exact zero mean within the bounds, then simulate it.
+    let mut incs: Vec<f64> = lay.us.iter().flatten().map(|c| cols[c.index()]).collect();
     for l in 0..n {
         let mean = (0..big_m).map(|i| incs[i * n + l]).sum::<f64>() / big_m as f64;
         for i in 0..big_m {
             incs[i * n + l] -= mean;
         }
     }
-    let x0: Vec<f64> = xs[0].iter().map(|c| cols[c.index()]).collect();
-    let what = format!("P_{m}");
+    let milp_displacement: f64 = lay
+        .ps
+        .iter()
+        .flatten()
+        .zip(lay.qs.iter().flatten())
+        .map(|(p, q)| cols[p.index()] - cols[q.index()])
+        .sum::<f64>()
+        / nb as f64;
+    let x0: Vec<f64> = lay.xs[0].iter().map(|c| cols[c.index()]).collect();
     let rows: Vec<Vec<f64>> = incs.chunks(n).map(<[f64]>::to_vec).collect();
+    let controls: Vec<Vec<f64>> = rows
+        .iter()
+        .map(|r| r.iter().map(|v| v / h).collect())
+        .collect();
+    let cost: f64 = controls.iter().map(|u| h * problem.cost.eval(u)).sum();
     let sim = replay(
         crawler,
         problem.period,
@@ -209,8 +346,9 @@ pub fn solve_discrete_global(
     Ok(DiscreteSolution {
         m,
         step: h,
-        certificate: certify(&what, status, milp_objective, bound, verified)?,
+        certificate: certify(&what, status, milp_displacement, bound, verified, cost)?,
         verified_displacement: verified,
+        actuation_cost: cost,
         initial_state: sim.orbit_state,
         block_displacements: tr
             .positions
@@ -218,9 +356,78 @@ pub fn solve_discrete_global(
             .map(|w| w[1].iter().zip(&w[0]).map(|(a, b)| a - b).collect())
             .collect(),
         states: tr.x,
-        controls: rows
-            .iter()
-            .map(|r| r.iter().map(|v| v / h).collect())
-            .collect(),
+        controls,
+        rounds,
     })
+}
+
+/// One row of a convergence table: the optimum `J_m` of P_m.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct ConvergenceRow {
+    /// `m`.
+    pub m: u32,
+    /// `2^m`.
+    pub steps: usize,
+    /// `J_m` (verified).
+    pub objective: f64,
+    /// The MILP's bound on `J_m`.
+    pub bound: f64,
+    /// Its gap.
+    pub gap: f64,
+    /// How the solve ended.
+    pub status: MilpStatus,
+    /// Wall time, seconds.
+    pub seconds: f64,
+}
+
+/// Solves P_m for `m = 1..=max_m` (the paper's discrete approximations, §6), each within what
+/// is left of `time_limit`; returns the table and the finest solution. Stops early, keeping
+/// what was solved, when the time runs out.
+pub fn discrete_convergence(
+    crawler: &Crawler,
+    problem: &GaitProblem,
+    max_m: u32,
+    time_limit: Option<f64>,
+    progress: &mut dyn FnMut(&ConvergenceRow),
+) -> Result<(Vec<ConvergenceRow>, DiscreteSolution)> {
+    if !(1..=MAX_M).contains(&max_m) {
+        return Err(Error::invalid(
+            "m",
+            max_m,
+            format!("must be in 1..={MAX_M}"),
+        ));
+    }
+    check_time_limit(time_limit)?;
+    let began = Instant::now();
+    let mut table = Vec::new();
+    let mut finest = None;
+    for m in 1..=max_m {
+        let left = time_limit.map(|t| t - began.elapsed().as_secs_f64());
+        if left.is_some_and(|l| l <= 0.0) {
+            break;
+        }
+        let t0 = Instant::now();
+        let s = match solve_discrete_global(crawler, problem, m, left) {
+            Ok(s) => s,
+            Err(_) if finest.is_some() && left.is_some() => break,
+            Err(e) => return Err(e),
+        };
+        let row = ConvergenceRow {
+            m,
+            steps: 1 << m,
+            objective: s.objective(),
+            bound: s.certificate.bound,
+            gap: s.certificate.gap,
+            status: s.certificate.status,
+            seconds: t0.elapsed().as_secs_f64(),
+        };
+        progress(&row);
+        table.push(row);
+        let timed_out = s.certificate.status == MilpStatus::TimeLimit;
+        finest = Some(s);
+        if timed_out {
+            break;
+        }
+    }
+    Ok((table, finest.expect("m = 1 solved or an error returned")))
 }

@@ -3,7 +3,7 @@
 use crate::error::{Error, Result};
 use crate::integrate::{simulate, Actuation, Method, SimOptions, Simulation};
 use crate::model::Crawler;
-use crate::optimal::{Cost, GaitProblem};
+use crate::optimal::GaitProblem;
 use highs::{Col, HighsModelStatus, HighsSolutionStatus, RowProblem, Sense};
 use serde::{Deserialize, Serialize};
 
@@ -15,6 +15,9 @@ pub enum MilpStatus {
     Optimal,
     /// The time limit was reached with a feasible incumbent; see the gap.
     TimeLimit,
+    /// The outer approximation of a quadratic cost stopped (round limit) before the incumbent
+    /// met the bound; see the gap.
+    ApproximationLimit,
 }
 
 /// What a MILP solve proves about the gait it returns.
@@ -30,26 +33,83 @@ pub struct Certificate {
     pub gap: f64,
 }
 
-/// The certificate of a MILP answer whose gait the simulator moved `verified` per period;
-/// an error when the two disagree beyond the MILP's tolerances.
+/// The certificate of a MILP answer: the MILP moved the crawler `milp_displacement` per
+/// period, the simulator `verified`; the gait costs `cost` (exactly evaluated), and the MILP's
+/// dual `bound` is on the objective `J`. An error when the two displacements disagree beyond the
+/// MILP's tolerances.
 pub(crate) fn certify(
     what: &str,
     status: MilpStatus,
-    milp_objective: f64,
+    milp_displacement: f64,
     bound: f64,
     verified: f64,
+    cost: f64,
 ) -> Result<Certificate> {
-    if (milp_objective - verified).abs() > 1e-6 * (1.0 + verified.abs()) {
+    if (milp_displacement - verified).abs() > 1e-6 * (1.0 + verified.abs()) {
         return Err(Error::Numerical(format!(
-            "{what}: the gait moves the crawler {verified} per period when simulated, not {milp_objective}"
+            "{what}: the gait moves the crawler {verified} per period when simulated, not {milp_displacement}"
         )));
     }
+    let objective = verified - cost;
     Ok(Certificate {
         status,
-        milp_objective,
+        milp_objective: milp_displacement,
         bound,
-        gap: ((bound - verified) / verified.abs().max(1.0)).max(0.0),
+        gap: ((bound - objective) / objective.abs().max(1.0)).max(0.0),
     })
+}
+
+/// Outer approximation of the quadratic cost inside a MILP (SPEC §7: the cost of a piece of
+/// duration `tau` with increment `U` is the perspective `(c/2) U^2 / tau`, convex).
+///
+/// An epigraph variable `g >= U^2 / tau` is cut by tangents `g >= 2 r U - r^2 tau` at rates
+/// `r` (exact at `U = r tau`, below elsewhere since `(U - r tau)^2 >= 0`). With fewer cuts the
+/// MILP under-estimates the cost, so its dual bound stays a valid bound on `J`; rates of each
+/// solution are added until the true objective of the incumbent meets the bound.
+#[derive(Debug, Clone)]
+pub(crate) struct TangentRates {
+    /// Rates per link.
+    pub rates: Vec<Vec<f64>>,
+}
+
+impl TangentRates {
+    /// Starts from 9 rates evenly spread over `[-a_l, a_l]`.
+    pub fn new(a: &[f64]) -> Self {
+        TangentRates {
+            rates: a
+                .iter()
+                .map(|&al| (0..9).map(|i| al * (i as f64 / 4.0 - 1.0)).collect())
+                .collect(),
+        }
+    }
+
+    /// Adds rate `r` for link `l` unless a rate within `1e-9 a` is there; true if added.
+    pub fn add(&mut self, l: usize, r: f64, a: f64) -> bool {
+        if self.rates[l].iter().any(|q| (q - r).abs() <= 1e-9 * a) {
+            return false;
+        }
+        self.rates[l].push(r);
+        true
+    }
+
+    /// Adds the cuts of link `l` for epigraph column `g`, increment `u` and duration `tau`
+    /// (a column, or a fixed step when `tau_col` is `None`).
+    pub fn add_cuts(
+        &self,
+        pb: &mut RowProblem,
+        l: usize,
+        g: Col,
+        u: Col,
+        tau_col: Option<Col>,
+        tau: f64,
+    ) {
+        for &r in &self.rates[l] {
+            match tau_col {
+                Some(t) => pb.add_row(0.0.., [(g, 1.0), (u, -2.0 * r), (t, r * r)]),
+                None => pb.add_row(-r * r * tau.., [(g, 1.0), (u, -2.0 * r)]),
+            }
+        }
+    }
 }
 
 /// Knot times (from 0) and actuator lengths (from `L(0) = 0`) of a gait given by phase
@@ -140,22 +200,8 @@ pub(crate) fn block_speed_bound(crawler: &Crawler, problem: &GaitProblem) -> f64
     (s1 * s2).sqrt()
 }
 
-/// Refuses what the MILP formulations do not handle yet, and a bad time limit.
-pub(crate) fn check_supported(problem: &GaitProblem, time_limit: Option<f64>) -> Result<()> {
-    if problem.cost != Cost::None {
-        return Err(Error::invalid(
-            "gait.cost",
-            "quadratic",
-            "the MILP solvers handle f2 = 0 only so far",
-        ));
-    }
-    if problem.max_total_variation.is_some() {
-        return Err(Error::invalid(
-            "gait.max_total_variation",
-            "a bound",
-            "is not handled by the MILP solvers yet",
-        ));
-    }
+/// Refuses a bad time limit.
+pub(crate) fn check_time_limit(time_limit: Option<f64>) -> Result<()> {
     if let Some(t) = time_limit {
         if !(t.is_finite() && t > 0.0) {
             return Err(Error::invalid(
@@ -170,13 +216,24 @@ pub(crate) fn check_supported(problem: &GaitProblem, time_limit: Option<f64>) ->
 
 /// Solves a maximisation MILP with HiGHS (one thread, tight tolerances, optional time limit):
 /// the solution columns, the objective, the dual bound and how it ended.
+///
+/// `start` is a feasible point (all columns) that HiGHS takes as its first incumbent.
 pub(crate) fn solve_max(
     pb: RowProblem,
     time_limit: Option<f64>,
     what: &str,
+    start: Option<&[f64]>,
 ) -> Result<(Vec<f64>, f64, f64, MilpStatus)> {
     let mut model = pb.optimise(Sense::Maximise);
+    if let Some(x) = start {
+        // A start that does not fit is only a lost hint, never a wrong answer.
+        let _ = model.try_set_solution(Some(x), None, None, None);
+    }
     model.make_quiet();
+    if std::env::var_os("CRAWLOPT_HIGHS_LOG").is_some() {
+        model.set_option("output_flag", true);
+        model.set_option("log_to_console", true);
+    }
     model.set_option("threads", 1);
     model.set_option("mip_feasibility_tolerance", 1e-9);
     model.set_option("primal_feasibility_tolerance", 1e-9);

@@ -12,11 +12,17 @@ mod phase;
 mod problem;
 mod result;
 
-pub use discrete::{solve_discrete_global, DiscreteSolution, MAX_M};
+pub use discrete::{
+    discrete_convergence, solve_discrete_global, ConvergenceRow, DiscreteSolution, MAX_M,
+};
 pub use milp::{gait_knots, Certificate, MilpStatus};
 pub use one_link::{one_link_optimum, OneLinkOptimum};
-pub use phase::{solve_phase_global, PhaseSolution};
+pub use phase::{
+    grow_phases, solve_phase_from, solve_phase_global, GrowOptions, GrowthStop, PhaseGrowth,
+    PhaseSolution, PhaseStep, MAX_PHASES,
+};
 pub use problem::{Cost, GaitProblem};
 pub use result::{
-    CrawlerParams, GaitData, GaitResult, ResultCertificate, RESULT_FORMAT, RESULT_VERSION,
+    CrawlerParams, GaitData, GaitResult, PhaseGrowthRecord, ResultCertificate, RESULT_FORMAT,
+    RESULT_VERSION,
 };

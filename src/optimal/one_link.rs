@@ -5,8 +5,15 @@
 //! `max(0, Delta - w) / k` when both extension and contraction move it forward (otherwise no
 //! periodic gait moves it forward). Splitting the variation into several rise-and-fall cycles
 //! loses `w / k` per extra cycle, so one cycle is optimal; it needs `Delta <= a T / 2` (both
-//! halves at most at rate `a`) and, with a total-variation bound `V`, `2 Delta <= V`.
-//! - `f2 = 0`: `Delta* = min(a T, V) / 2`, `J* = max(0, (Delta* - w) / k)`; for `V = inf` this is
+//! halves at most at rate `a`).
+//!
+//! A total-variation bound `TV(u) <= V` (Theorem 2.1's class; `TV` of the periodic control
+//! over one period, jumps summed over links) limits the rates: a rise at rate `r_1` for `t_1`
+//! and a fall at `r_2` for `t_2` (`t_1 + t_2 <= T`) sweep `Delta = T r_1 r_2 / (r_1 + r_2)` at
+//! most, and `TV(u) >= 2 (max u - min u) >= 2 (r_1 + r_2)`; for a given `r_1 + r_2` the sweep is
+//! largest at `r_1 = r_2`, so `Delta <= (T/2) min(a, V/4)` =: `Delta_max` (reached by `+r`
+//! then `-r`, `r = min(a, V/4)`, whose `TV` is `4 r`).
+//! - `f2 = 0`: `Delta* = Delta_max`, `J* = max(0, (Delta* - w) / k)`; for `V = inf` this is
 //!   SPEC §9's `max(0, (a T - 2 w) / (2 k))`.
 //! - `f2 = (c/2) u^2`: for a given `Delta` the cost `(c/2)(Delta^2/t_1 + Delta^2/t_2)`,
 //!   `t_1 + t_2 = T`, is least at `t_1 = t_2 = T/2`, where it is `2 c Delta^2 / T`. So
@@ -79,15 +86,16 @@ pub fn one_link_optimum(crawler: &Crawler, problem: &GaitProblem) -> Result<OneL
                 .into(),
         ));
     }
-    let dmax = (0.5 * a * t).min(
+    let rate_max = a.min(
         problem
             .max_total_variation
-            .map_or(f64::INFINITY, |v| 0.5 * v),
+            .map_or(f64::INFINITY, |v| 0.25 * v),
     );
+    let dmax = 0.5 * rate_max * t;
     if dmax <= w {
         return Ok(idle(format!(
             "the largest sweep of the link force, {dmax}, does not exceed the width of C, {w}: \
-             locomotion needs a T > 2 w (and a total variation > 2 w)"
+             locomotion needs a T > 2 w (and T TV(u) > 8 w with a total-variation bound)"
         )));
     }
     let sweep = match problem.cost {

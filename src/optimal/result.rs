@@ -7,7 +7,10 @@
 use crate::error::{Error, Result};
 use crate::integrate::slip_of;
 use crate::model::Crawler;
-use crate::optimal::{gait_knots, DiscreteSolution, GaitProblem, MilpStatus, PhaseSolution};
+use crate::optimal::{
+    gait_knots, ConvergenceRow, DiscreteSolution, GaitProblem, GrowthStop, MilpStatus,
+    PhaseSolution, PhaseStep,
+};
 use serde::{Deserialize, Serialize};
 
 /// Value of [`GaitResult::format`].
@@ -125,6 +128,21 @@ pub struct GaitResult {
     pub certificate: ResultCertificate,
     /// The gait.
     pub gait: GaitData,
+    /// The growth of `K` that led to a phase gait, when `K` was grown.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub phase_growth: Option<PhaseGrowthRecord>,
+    /// The table of `J_m`, `m = 1..`, when asked for (`--convergence`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub convergence: Option<Vec<ConvergenceRow>>,
+}
+
+/// How `K` was grown ([`grow_phases`](crate::optimal::grow_phases)).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct PhaseGrowthRecord {
+    /// One row per `K` solved.
+    pub table: Vec<PhaseStep>,
+    /// Why the growth stopped.
+    pub stop: GrowthStop,
 }
 
 fn knots(crawler: &Crawler, durations: &[f64], controls: &[Vec<f64>]) -> GaitKnots {
@@ -180,6 +198,8 @@ impl GaitResult {
                 slip: s.modes.clone(),
                 initial_state: s.states.first().cloned().unwrap_or_default(),
             },
+            phase_growth: None,
+            convergence: None,
         }
     }
 
@@ -222,6 +242,8 @@ impl GaitResult {
                 slip,
                 initial_state: s.initial_state.clone(),
             },
+            phase_growth: None,
+            convergence: None,
         }
     }
 
@@ -353,7 +375,10 @@ mod tests {
         let text = serde_json::to_string(&r).unwrap();
         assert_eq!(GaitResult::from_json(&text, "r.json").unwrap(), r);
         let e = GaitResult::from_json(&text[..text.len() / 2], "r.json").unwrap_err();
-        assert!(e.to_string().contains("not a complete JSON document"), "{e}");
+        assert!(
+            e.to_string().contains("not a complete JSON document"),
+            "{e}"
+        );
         let other = text.replace("\"version\":1", "\"version\":2");
         let e = GaitResult::from_json(&other, "r.json").unwrap_err();
         assert!(e.to_string().contains("version"), "{e}");
@@ -361,13 +386,12 @@ mod tests {
         assert!(e.to_string().contains("format"), "{e}");
         let mut short = r.clone();
         short.gait.states.pop();
-        let e = GaitResult::from_json(&serde_json::to_string(&short).unwrap(), "r.json")
-            .unwrap_err();
+        let e =
+            GaitResult::from_json(&serde_json::to_string(&short).unwrap(), "r.json").unwrap_err();
         assert!(e.to_string().contains("gait.states"), "{e}");
         let mut bad = r;
         bad.problem.period = -1.0;
-        let e =
-            GaitResult::from_json(&serde_json::to_string(&bad).unwrap(), "r.json").unwrap_err();
+        let e = GaitResult::from_json(&serde_json::to_string(&bad).unwrap(), "r.json").unwrap_err();
         assert!(e.to_string().contains("gait.period"), "{e}");
     }
 }
