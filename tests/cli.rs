@@ -312,6 +312,41 @@ fn optimize_discrete_returns_a_verified_certified_gait() {
     assert!((v["objective"].as_f64().unwrap() - 3.0).abs() < 1e-8);
     assert_eq!(v["certificate"]["kind"], "global_k_phases");
     assert_eq!(v["certificate"]["phases"], 4);
+    // The default (auto): K grows until the value stops improving; the table is in the result.
+    let out = crawlopt(&["optimize", "examples/one_link_gait.toml", "--json"]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let v = json(&out);
+    assert_eq!(v["format"], "crawlopt-gait-result");
+    assert_eq!(v["method"], "phase");
+    assert!((v["objective"].as_f64().unwrap() - 3.0).abs() < 1e-8);
+    assert_eq!(v["phase_growth"]["stop"], "no_gain");
+    assert_eq!(v["phase_growth"]["table"].as_array().unwrap().len(), 5);
+    // --convergence: J_m for m = 1..=3, all 3 (SPEC §10).
+    let out = crawlopt(&[
+        "optimize",
+        "examples/one_link_gait.toml",
+        "--method",
+        "discrete",
+        "--m",
+        "3",
+        "--convergence",
+        "--json",
+    ]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let v = json(&out);
+    let table = v["convergence"].as_array().unwrap();
+    assert_eq!(table.len(), 3);
+    for row in table {
+        assert!((row["objective"].as_f64().unwrap() - 3.0).abs() < 1e-8);
+    }
+    assert_eq!(v["m"], 3);
+    let out = crawlopt(&["optimize", "examples/one_link_gait.toml", "--convergence"]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(
+        stderr(&out).contains("--method discrete only"),
+        "{}",
+        stderr(&out)
+    );
     let out = crawlopt(&["optimize", "examples/one_link_gait.toml", "--m", "3"]);
     assert_eq!(out.status.code(), Some(2));
     assert!(

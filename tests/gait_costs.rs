@@ -30,7 +30,7 @@ fn quadratic_cost_one_link_matches_the_closed_form_in_both_formulations() {
     let s = solve_phase_global(&c, &p, 4, Some(120.0)).unwrap();
     assert_eq!(s.certificate.status, MilpStatus::Optimal);
     assert!(
-        (s.objective() - 0.5625).abs() < 1e-6,
+        (s.objective() - 0.5625).abs() < 2e-6,
         "phase J = {} (cost {}, {} rounds)",
         s.objective(),
         s.actuation_cost,
@@ -40,7 +40,7 @@ fn quadratic_cost_one_link_matches_the_closed_form_in_both_formulations() {
         s.rounds > 1,
         "the optimal rate 0.625 is not among the first tangents"
     );
-    assert!(s.certificate.gap < 1e-6);
+    assert!(s.certificate.gap <= 1e-6);
     // The optimal gait runs at the closed-form rate (to the square root of the objective's
     // tolerance: J is quadratic in the rate near its maximum).
     for u in &s.controls {
@@ -53,7 +53,7 @@ fn quadratic_cost_one_link_matches_the_closed_form_in_both_formulations() {
         let s = solve_discrete_global(&c, &p, m, Some(120.0)).unwrap();
         assert_eq!(s.certificate.status, MilpStatus::Optimal);
         assert!(
-            (s.objective() - 0.5625).abs() < 1e-6,
+            (s.objective() - 0.5625).abs() < 2e-6,
             "m = {m}: J = {}",
             s.objective()
         );

@@ -40,6 +40,7 @@ use crate::integrate::Method;
 use crate::model::Crawler;
 use crate::optimal::milp::{
     block_speed_bound, certify, check_time_limit, force_row, replay, solve_max, TangentRates,
+    OA_TOL,
 };
 use crate::optimal::{Certificate, Cost, GaitProblem, MilpStatus};
 use highs::{Col, RowProblem};
@@ -260,9 +261,11 @@ pub fn solve_discrete_global(
                         Some((cols, bound, lay)) => {
                             break (cols, lay, bound, MilpStatus::TimeLimit)
                         }
-                        None => return Err(Error::Numerical(format!(
+                        None => {
+                            return Err(Error::Numerical(format!(
                             "{what}: the time limit was reached before any feasible gait was found"
-                        ))),
+                        )))
+                        }
                     }
                 }
                 Some(left)
@@ -290,7 +293,7 @@ pub fn solve_discrete_global(
             })
             .sum();
         let true_objective = disp - cost;
-        let converged = bound - true_objective <= 1e-7 * true_objective.abs().max(1.0);
+        let converged = bound - true_objective <= OA_TOL * true_objective.abs().max(1.0);
         if converged || status == MilpStatus::TimeLimit || rounds >= MAX_OA_ROUNDS {
             let status = match status {
                 MilpStatus::Optimal if !converged => MilpStatus::ApproximationLimit,

@@ -59,6 +59,10 @@ pub(crate) fn certify(
     })
 }
 
+/// The outer approximation stops when the incumbent's true objective is within this of the
+/// MILP's bound (relative above 1, absolute below).
+pub(crate) const OA_TOL: f64 = 1e-6;
+
 /// Outer approximation of the quadratic cost inside a MILP (SPEC §7: the cost of a piece of
 /// duration `tau` with increment `U` is the perspective `(c/2) U^2 / tau`, convex).
 ///
@@ -73,12 +77,12 @@ pub(crate) struct TangentRates {
 }
 
 impl TangentRates {
-    /// Starts from 9 rates evenly spread over `[-a_l, a_l]`.
+    /// Starts from 17 rates evenly spread over `[-a_l, a_l]`.
     pub fn new(a: &[f64]) -> Self {
         TangentRates {
             rates: a
                 .iter()
-                .map(|&al| (0..9).map(|i| al * (i as f64 / 4.0 - 1.0)).collect())
+                .map(|&al| (0..17).map(|i| al * (i as f64 / 8.0 - 1.0)).collect())
                 .collect(),
         }
     }

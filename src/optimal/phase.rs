@@ -42,6 +42,7 @@ use crate::integrate::Method;
 use crate::model::Crawler;
 use crate::optimal::milp::{
     block_speed_bound, certify, check_time_limit, force_row, replay, solve_max, TangentRates,
+    OA_TOL,
 };
 use crate::optimal::{Certificate, Cost, GaitProblem, MilpStatus};
 use highs::{Col, RowProblem};
@@ -443,9 +444,11 @@ pub fn solve_phase_from(
                 if left <= 0.0 {
                     break match incumbent {
                         Some(g) if rounds > 1 => (g, last_bound, MilpStatus::TimeLimit),
-                        _ => return Err(Error::Numerical(format!(
+                        _ => {
+                            return Err(Error::Numerical(format!(
                             "{what}: the time limit was reached before any feasible gait was found"
-                        ))),
+                        )))
+                        }
                     };
                 }
                 Some(left)
@@ -459,7 +462,7 @@ pub fn solve_phase_from(
             break (raw, bound, status);
         };
         let true_objective = raw.displacement() - raw.cost(problem);
-        let converged = bound - true_objective <= 1e-7 * true_objective.abs().max(1.0);
+        let converged = bound - true_objective <= OA_TOL * true_objective.abs().max(1.0);
         if converged || status == MilpStatus::TimeLimit || rounds >= MAX_OA_ROUNDS {
             let status = match status {
                 MilpStatus::Optimal if !converged => MilpStatus::ApproximationLimit,
