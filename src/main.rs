@@ -9,8 +9,9 @@ use crawlopt::integrate::{
 use crawlopt::io::{write_trajectory_csv, ModelFile};
 use crawlopt::model::{Analysis, FaceSign};
 use crawlopt::optimal::{
-    discrete_convergence, grow_phases, one_link_optimum, solve_discrete_global, solve_phase_global,
-    Cost, GaitResult, GrowOptions, GrowthStop, MilpStatus, PhaseGrowthRecord,
+    discrete_convergence, grow_phases, one_link_optimum, solve_discrete_global,
+    solve_discrete_local, solve_phase_global, Cost, CrawlerParams, GaitResult, GrowOptions,
+    GrowthStop, MilpStatus, PhaseGrowthRecord,
 };
 use crawlopt::{Crawler, Error};
 use std::path::PathBuf;
@@ -108,6 +109,10 @@ enum Command {
         /// Solve P_m for m = 1..=M (M = --m) and print the table of J_m (--method discrete).
         #[arg(long)]
         convergence: bool,
+        /// Start gait of --method local: a result file of `optimize --json` (default: the
+        /// phase optimum with K grown, within half the time limit).
+        #[arg(long)]
+        start: Option<PathBuf>,
         /// Stop after this many seconds with the best gait found and its gap.
         #[arg(long = "time-limit")]
         time_limit: Option<f64>,
@@ -154,6 +159,8 @@ enum OptimizeMethod {
     Auto,
     /// The paper's discrete problem P_m on 2^m steps, solved globally (MILP).
     Discrete,
+    /// P_m on 2^m steps by the local LPCC active-set method, from a phase gait or --start.
+    Local,
     /// Exact continuous-time gaits of at most K constant-mode phases, solved globally (MILP).
     Phase,
 }
@@ -280,6 +287,7 @@ fn run(cmd: Command) -> Result<ExitCode, Error> {
             max_phases,
             m,
             convergence,
+            start,
             time_limit,
             json,
         } => {
@@ -296,8 +304,80 @@ fn run(cmd: Command) -> Result<ExitCode, Error> {
                 OptimizeMethod::Auto => OptimizeMethod::Phase,
                 other => other,
             };
+            if start.is_some() && method != OptimizeMethod::Local {
+                return Err(Error::invalid(
+                    "start",
+                    "a file",
+                    "applies to --method local only",
+                ));
+            }
             let progress = Progress::new();
             let result = match method {
+                OptimizeMethod::Local => {
+                    if phases.is_some() || convergence {
+                        return Err(Error::invalid(
+                            "phases/convergence",
+                            "set",
+                            "do not apply to --method local",
+                        ));
+                    }
+                    let m = m.unwrap_or(10);
+                    let began = Instant::now();
+                    let (times, lengths, origin) = match &start {
+                        Some(path) => {
+                            let text = std::fs::read_to_string(path).map_err(|e| Error::Io {
+                                path: path.display().to_string(),
+                                reason: e.to_string(),
+                            })?;
+                            let r = GaitResult::from_json(&text, &path.display().to_string())?;
+                            if r.crawler != CrawlerParams::of(&crawler)
+                                || r.problem.period != problem.period
+                            {
+                                return Err(Error::invalid(
+                                    "start",
+                                    path.display(),
+                                    "was computed for another crawler or period",
+                                ));
+                            }
+                            (
+                                r.gait.times,
+                                r.gait.lengths,
+                                format!("{} ({})", r.method, path.display()),
+                            )
+                        }
+                        None => {
+                            let opts = GrowOptions {
+                                max_phases,
+                                time_limit: time_limit.map(|t| 0.5 * t),
+                                ..GrowOptions::default()
+                            };
+                            progress.say("start: phase gait, K = 2".into());
+                            let g = grow_phases(&crawler, &problem, &opts, &mut |st| {
+                                progress.say(format!(
+                                    "start: phase gait, K = {}: J = {:.9}; K = {} next",
+                                    st.phases,
+                                    st.objective,
+                                    st.phases + 1
+                                ))
+                            })?;
+                            let r = GaitResult::from_phase(&crawler, &problem, &g.best);
+                            (
+                                r.gait.times,
+                                r.gait.lengths,
+                                format!("phase (K = {})", g.best.phases),
+                            )
+                        }
+                    };
+                    progress.say(format!("local LPCC method on P_{m} ({} steps)", 1u64 << m));
+                    let left = time_limit.map(|t| t - began.elapsed().as_secs_f64());
+                    if left.is_some_and(|l| l <= 0.0) {
+                        return Err(Error::Numerical(
+                            "the time limit was reached while computing the start gait".into(),
+                        ));
+                    }
+                    let s = solve_discrete_local(&crawler, &problem, m, &times, &lengths, left)?;
+                    GaitResult::from_local(&crawler, &problem, &s, &origin)
+                }
                 OptimizeMethod::Phase | OptimizeMethod::Auto => {
                     if let Some(m) = m {
                         return Err(Error::invalid("m", m, "applies to --method discrete only"));
@@ -453,6 +533,8 @@ fn status_word(s: MilpStatus) -> &'static str {
         MilpStatus::Optimal => "optimal",
         MilpStatus::TimeLimit => "time_limit",
         MilpStatus::ApproximationLimit => "approximation_limit",
+        MilpStatus::Stationary => "stationary",
+        MilpStatus::Stalled => "stalled",
     }
 }
 
@@ -528,6 +610,16 @@ fn print_gait_result(r: &GaitResult) {
                 st.seconds
             );
         }
+    }
+    if let Some(l) = &r.local {
+        outln!(
+            "local method: from {} (J = {} on this grid), {} LP solves, {} mode switches, stopped: {:?}",
+            l.start,
+            l.start_objective,
+            l.lp_solves,
+            l.switches,
+            l.stop
+        );
     }
     if let Some(table) = &r.convergence {
         outln!("convergence of the discrete problems P_m:");

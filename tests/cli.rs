@@ -340,6 +340,65 @@ fn optimize_discrete_returns_a_verified_certified_gait() {
         assert!((row["objective"].as_f64().unwrap() - 3.0).abs() < 1e-8);
     }
     assert_eq!(v["m"], 3);
+    // The local method from a result file, and its refusals.
+    let dir = tempfile::tempdir().unwrap();
+    let start = dir.path().join("start.json");
+    std::fs::write(&start, &out.stdout).unwrap();
+    let start = start.to_str().unwrap();
+    let out = crawlopt(&[
+        "optimize",
+        "examples/one_link_gait.toml",
+        "--method",
+        "local",
+        "--m",
+        "6",
+        "--start",
+        start,
+        "--json",
+    ]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let v = json(&out);
+    assert_eq!(v["method"], "local");
+    assert_eq!(v["certificate"]["kind"], "local");
+    assert_eq!(v["certificate"]["gap"], serde_json::Value::Null);
+    assert!((v["objective"].as_f64().unwrap() - 3.0).abs() < 1e-8);
+    assert_eq!(v["gait"]["controls"].as_array().unwrap().len(), 64);
+    let out = crawlopt(&[
+        "optimize",
+        "examples/three_blocks_gait.toml",
+        "--method",
+        "local",
+        "--start",
+        start,
+    ]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(stderr(&out).contains("another crawler"), "{}", stderr(&out));
+    let out = crawlopt(&["optimize", "examples/one_link_gait.toml", "--start", start]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(
+        stderr(&out).contains("--method local only"),
+        "{}",
+        stderr(&out)
+    );
+    std::fs::write(
+        dir.path().join("cut.json"),
+        &std::fs::read(start).unwrap()[..100],
+    )
+    .unwrap();
+    let out = crawlopt(&[
+        "optimize",
+        "examples/one_link_gait.toml",
+        "--method",
+        "local",
+        "--start",
+        dir.path().join("cut.json").to_str().unwrap(),
+    ]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(
+        stderr(&out).contains("not a complete JSON"),
+        "{}",
+        stderr(&out)
+    );
     let out = crawlopt(&["optimize", "examples/one_link_gait.toml", "--convergence"]);
     assert_eq!(out.status.code(), Some(2));
     assert!(

@@ -187,7 +187,7 @@ fn build(
             row.push((zqs[i][b], w));
             pb.add_row(..=mp[b], &row);
         }
-        if i > 0 {
+        if i > 0 && std::env::var_os("CRAWLOPT_NOSYM").is_none() {
             // Symmetry: sum_b D^0_b - sum_b D^i_b >= 0.
             let mut row = Vec::with_capacity(4 * nb);
             for b in 0..nb {

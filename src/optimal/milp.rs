@@ -7,7 +7,7 @@ use crate::optimal::GaitProblem;
 use highs::{Col, HighsModelStatus, HighsSolutionStatus, RowProblem, Sense};
 use serde::{Deserialize, Serialize};
 
-/// How a MILP solve ended.
+/// How a solve ended (the MILPs, and the local method's last two variants).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum MilpStatus {
@@ -18,6 +18,10 @@ pub enum MilpStatus {
     /// The outer approximation of a quadratic cost stopped (round limit) before the incumbent
     /// met the bound; see the gap.
     ApproximationLimit,
+    /// The local method ended at a point where no switch of modes pays (no global claim).
+    Stationary,
+    /// The local method stopped improving before its stationarity test held (no global claim).
+    Stalled,
 }
 
 /// What a MILP solve proves about the gait it returns.

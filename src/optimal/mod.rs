@@ -6,6 +6,7 @@
 //! global solver of the paper's discrete problems P_m ([`solve_discrete_global`], SPEC §6).
 
 mod discrete;
+mod local;
 mod milp;
 mod one_link;
 mod phase;
@@ -15,6 +16,7 @@ mod result;
 pub use discrete::{
     discrete_convergence, solve_discrete_global, ConvergenceRow, DiscreteSolution, MAX_M,
 };
+pub use local::{sample_increments, solve_discrete_local, LocalSolution, LocalStop, MAX_LOCAL_M};
 pub use milp::{gait_knots, Certificate, MilpStatus};
 pub use one_link::{one_link_optimum, OneLinkOptimum};
 pub use phase::{
@@ -23,6 +25,6 @@ pub use phase::{
 };
 pub use problem::{Cost, GaitProblem};
 pub use result::{
-    CrawlerParams, GaitData, GaitResult, PhaseGrowthRecord, ResultCertificate, RESULT_FORMAT,
-    RESULT_VERSION,
+    CrawlerParams, GaitData, GaitResult, LocalRecord, PhaseGrowthRecord, ResultCertificate,
+    RESULT_FORMAT, RESULT_VERSION,
 };

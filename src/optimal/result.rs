@@ -8,8 +8,8 @@ use crate::error::{Error, Result};
 use crate::integrate::slip_of;
 use crate::model::Crawler;
 use crate::optimal::{
-    gait_knots, ConvergenceRow, DiscreteSolution, GaitProblem, GrowthStop, MilpStatus,
-    PhaseSolution, PhaseStep,
+    gait_knots, ConvergenceRow, DiscreteSolution, GaitProblem, GrowthStop, LocalSolution,
+    LocalStop, MilpStatus, PhaseSolution, PhaseStep,
 };
 use serde::{Deserialize, Serialize};
 
@@ -134,6 +134,24 @@ pub struct GaitResult {
     /// The table of `J_m`, `m = 1..`, when asked for (`--convergence`).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub convergence: Option<Vec<ConvergenceRow>>,
+    /// How the local method ran (method `local`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub local: Option<LocalRecord>,
+}
+
+/// What the local method did ([`solve_discrete_local`](crate::optimal::solve_discrete_local)).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct LocalRecord {
+    /// `J` of the start gait sampled on the grid.
+    pub start_objective: f64,
+    /// Where the start came from (e.g. `"phase (K = 10)"`).
+    pub start: String,
+    /// LP solves.
+    pub lp_solves: usize,
+    /// Mode switches.
+    pub switches: usize,
+    /// Why it stopped.
+    pub stop: LocalStop,
 }
 
 /// How `K` was grown ([`grow_phases`](crate::optimal::grow_phases)).
@@ -200,6 +218,66 @@ impl GaitResult {
             },
             phase_growth: None,
             convergence: None,
+            local: None,
+        }
+    }
+
+    /// The record of a local P_m answer; `start` says where its start gait came from.
+    pub fn from_local(
+        crawler: &Crawler,
+        problem: &GaitProblem,
+        s: &LocalSolution,
+        start: &str,
+    ) -> Self {
+        let durations = vec![s.step; s.controls.len()];
+        let (times, lengths) = knots(crawler, &durations, &s.controls);
+        let slip = s
+            .block_displacements
+            .iter()
+            .map(|d| d.iter().map(|&v| slip_of(v, 1e-9 * s.step)).collect())
+            .collect();
+        GaitResult {
+            format: RESULT_FORMAT.into(),
+            version: RESULT_VERSION,
+            crawler: CrawlerParams::of(crawler),
+            problem: problem.clone(),
+            method: "local".into(),
+            m: Some(s.m),
+            status: match s.stop {
+                LocalStop::Stationary => MilpStatus::Stationary,
+                LocalStop::TimeLimit => MilpStatus::TimeLimit,
+                LocalStop::Stalled | LocalStop::RoundLimit => MilpStatus::Stalled,
+            },
+            objective: s.objective(),
+            displacement_per_period: s.verified_displacement,
+            actuation_cost: s.actuation_cost,
+            verified_displacement: s.verified_displacement,
+            solver_objective: s.lp_objective,
+            certificate: ResultCertificate {
+                kind: "local".into(),
+                gap: None,
+                bound: None,
+                phases: None,
+            },
+            gait: GaitData {
+                times,
+                durations,
+                lengths,
+                controls: s.controls.clone(),
+                states: s.states.clone(),
+                block_displacements: s.block_displacements.clone(),
+                slip,
+                initial_state: s.initial_state.clone(),
+            },
+            phase_growth: None,
+            convergence: None,
+            local: Some(LocalRecord {
+                start_objective: s.start_objective,
+                start: start.into(),
+                lp_solves: s.lp_solves,
+                switches: s.switches,
+                stop: s.stop,
+            }),
         }
     }
 
@@ -244,6 +322,7 @@ impl GaitResult {
             },
             phase_growth: None,
             convergence: None,
+            local: None,
         }
     }
 

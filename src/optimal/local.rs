@@ -1,0 +1,467 @@
+//! The local method for P_m (SPEC §6): an active-set method on the LPCC, for grids far beyond
+//! the reach of the global MILP (`2^m ~ 10^3` steps and more, several blocks).
+//!
+//! Every complementarity condition of P_m is a three-way choice per step `i` and block `b`
+//! (its *mode*): stick (`D^i_b = 0`, `F_b(x^{i+1})` anywhere in its range), slip+
+//! (`F_b(x^{i+1}) = mu_b^+`, `D^i_b >= 0`) or slip- (`F_b(x^{i+1}) = -mu_b^-`, `D^i_b <= 0`).
+//! With the modes fixed, P_m is a linear program, and every feasible point of it is a
+//! catching-up trajectory (the modes make the KKT system of the projection hold). With the
+//! face values as columns `f^i_b` (`f^i_b = F_b(x^{i+1})`), a mode is nothing but column bounds:
+//!
+//! ```text
+//! stick: D in [0, 0],      f in [-mu^-, mu^+]
+//! slip+: D in [0, Md],     f in [mu^+, mu^+]
+//! slip-: D in [-Md, 0],    f in [-mu^-, -mu^-]
+//! ```
+//!
+//! so one HiGHS model is re-solved from its previous basis after each change of modes.
+//!
+//! Pivoting (minimising `-J`): at the LP optimum a pair is *degenerate* when both sides of its
+//! complementarity are zero (a sticking block whose face is reached, or a slipping block that
+//! does not move); switching its mode keeps the current point feasible, so the next LP is at
+//! least as good. The reduced costs say which switches pay: a sticking block on its `+` face
+//! with `d(D) < 0` (moving it forward lowers `-J`) becomes slip+; on its `-` face with
+//! `d(D) > 0` slip-; a slip+ block at rest with `d(f) > 0` (lowering its force pays) and a
+//! slip- block at rest with `d(f) < 0` stick. All profitable switches are made at once. When
+//! none remains the point is B-stationary as far as these first-order tests see (each single
+//! switch is tested by its reduced cost, not by solving the neighbouring LP), and the result is
+//! reported as a `local` certificate, never as a global one.
+//!
+//! The start is any gait on the same period (typically the phase optimum): its actuation is
+//! sampled on the grid, simulated by catching-up to the periodic orbit, and the modes are read
+//! off that orbit. Every answer is re-verified by replaying it through the simulator.
+
+use crate::error::{Error, Result};
+use crate::integrate::Method;
+use crate::model::Crawler;
+use crate::optimal::milp::{block_speed_bound, check_time_limit, replay};
+use crate::optimal::{Cost, GaitProblem};
+use highs::{Col, HighsModelStatus, Model, RowProblem, Sense};
+use serde::{Deserialize, Serialize};
+use std::time::Instant;
+
+/// Largest `m` of the local method (`2^m` steps).
+pub const MAX_LOCAL_M: u32 = 14;
+
+/// Why the local method stopped.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum LocalStop {
+    /// No profitable switch of modes remains (B-stationary by the reduced-cost test).
+    Stationary,
+    /// Switches no longer improved the objective (degenerate cycling guard).
+    Stalled,
+    /// The round limit.
+    RoundLimit,
+    /// The time limit.
+    TimeLimit,
+}
+
+/// A local solution of P_m.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct LocalSolution {
+    /// `m`.
+    pub m: u32,
+    /// `h = T / 2^m`.
+    pub step: f64,
+    /// `J` of the start gait on this grid (catching-up).
+    pub start_objective: f64,
+    /// The last LP's objective `J`.
+    pub lp_objective: f64,
+    /// Displacement per period, re-verified by simulation.
+    pub verified_displacement: f64,
+    /// `h sum f2(u)` (zero: the local method handles `f2 = 0`).
+    pub actuation_cost: f64,
+    /// LP solves.
+    pub lp_solves: usize,
+    /// Modes switched in all.
+    pub switches: usize,
+    /// Why it stopped.
+    pub stop: LocalStop,
+    /// Initial state on the orbit.
+    pub initial_state: Vec<f64>,
+    /// States `x^i`, `i = 0..=2^m`.
+    pub states: Vec<Vec<f64>>,
+    /// Controls `u^i`.
+    pub controls: Vec<Vec<f64>>,
+    /// Block displacements per step.
+    pub block_displacements: Vec<Vec<f64>>,
+}
+
+impl LocalSolution {
+    /// `J` = verified displacement minus actuation cost.
+    pub fn objective(&self) -> f64 {
+        self.verified_displacement - self.actuation_cost
+    }
+}
+
+/// Grid increments `U^i = K (L(t_{i+1}) - L(t_i))` of a piecewise-linear periodic actuation
+/// given by knots `times` (from 0, the last = `period`) and `lengths` (last row = first),
+/// sampled on `steps` uniform steps; clamped to the rate bounds (rounding only) and centred.
+pub fn sample_increments(
+    times: &[f64],
+    lengths: &[Vec<f64>],
+    stiffness: &[f64],
+    rate_bound: &[f64],
+    period: f64,
+    steps: usize,
+) -> Vec<Vec<f64>> {
+    let h = period / steps as f64;
+    let n = stiffness.len();
+    let at = |t: f64| -> Vec<f64> {
+        let j = match times.iter().rposition(|&s| s <= t) {
+            Some(j) if j + 1 < times.len() => j,
+            Some(_) => return lengths[lengths.len() - 1].clone(),
+            None => 0,
+        };
+        let span = times[j + 1] - times[j];
+        let w = if span > 0.0 {
+            (t - times[j]) / span
+        } else {
+            0.0
+        };
+        (0..n)
+            .map(|l| lengths[j][l] + w * (lengths[j + 1][l] - lengths[j][l]))
+            .collect()
+    };
+    let grid: Vec<Vec<f64>> = (0..=steps).map(|i| at(i as f64 * h)).collect();
+    let mut incs: Vec<Vec<f64>> = grid
+        .windows(2)
+        .map(|w| {
+            (0..n)
+                .map(|l| {
+                    (stiffness[l] * (w[1][l] - w[0][l]))
+                        .clamp(-rate_bound[l] * h, rate_bound[l] * h)
+                })
+                .collect()
+        })
+        .collect();
+    for l in 0..n {
+        let mean = incs.iter().map(|u| u[l]).sum::<f64>() / steps as f64;
+        for u in &mut incs {
+            u[l] = (u[l] - mean).clamp(-rate_bound[l] * h, rate_bound[l] * h);
+        }
+    }
+    incs
+}
+
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum Mode {
+    Stick,
+    Plus,
+    Minus,
+}
+
+/// Solves P_m locally from a start gait given by its knots (module docs).
+pub fn solve_discrete_local(
+    crawler: &Crawler,
+    problem: &GaitProblem,
+    m: u32,
+    start_times: &[f64],
+    start_lengths: &[Vec<f64>],
+    time_limit: Option<f64>,
+) -> Result<LocalSolution> {
+    crawler.require_unique()?;
+    check_time_limit(time_limit)?;
+    if !(1..=MAX_LOCAL_M).contains(&m) {
+        return Err(Error::invalid(
+            "m",
+            m,
+            format!("must be in 1..={MAX_LOCAL_M} for the local method"),
+        ));
+    }
+    if problem.cost != Cost::None {
+        return Err(Error::invalid(
+            "gait.cost",
+            "quadratic",
+            "the local method handles f2 = 0 only; use --method discrete or phase",
+        ));
+    }
+    let began = Instant::now();
+    let (n, nb) = (crawler.links(), crawler.blocks());
+    let (k, mp, mm) = (
+        crawler.stiffness(),
+        crawler.mu_forward(),
+        crawler.mu_backward(),
+    );
+    let big_m = 1usize << m;
+    let t = problem.period;
+    let h = t / big_m as f64;
+    let a = &problem.rate_bound;
+    let what = format!("P_{m} (local)");
+    let md = h * block_speed_bound(crawler, problem);
+
+    // The start on this grid, on its periodic orbit.
+    let incs = sample_increments(start_times, start_lengths, k, a, t, big_m);
+    let x_start = vec![0.0; n];
+    let sim = replay(
+        crawler,
+        t,
+        &vec![h; big_m],
+        &incs,
+        &x_start,
+        Method::CatchingUp,
+        &what,
+    )?;
+    let start_objective = sim.displacement_per_period.expect("converged");
+    let tr = sim.trajectory.expect("one period recorded");
+    let tol_f = 1e-9 * mp.iter().chain(mm).fold(0.0f64, |s, v| s.max(*v));
+    let tol_d = 1e-12 * md.max(1e-300);
+    let mut modes: Vec<Vec<Mode>> = (0..big_m)
+        .map(|i| {
+            let x = &tr.x[i + 1];
+            (0..nb)
+                .map(|b| {
+                    let f = force(x, b);
+                    let d = tr.positions[i + 1][b] - tr.positions[i][b];
+                    if (f - mp[b]).abs() <= tol_f && d >= -tol_d {
+                        Mode::Plus
+                    } else if (f + mm[b]).abs() <= tol_f && d <= tol_d {
+                        Mode::Minus
+                    } else {
+                        Mode::Stick
+                    }
+                })
+                .collect()
+        })
+        .collect();
+
+    // One LP for every choice of modes; modes are column bounds.
+    let ranges = crawler.link_force_ranges();
+    let mut pb = RowProblem::default();
+    let xs: Vec<Vec<Col>> = (0..big_m)
+        .map(|_| {
+            ranges
+                .iter()
+                .map(|r| pb.add_column(0.0, r[0]..=r[1]))
+                .collect()
+        })
+        .collect();
+    let us: Vec<Vec<Col>> = (0..big_m)
+        .map(|_| {
+            a.iter()
+                .map(|&al| pb.add_column(0.0, -al * h..=al * h))
+                .collect()
+        })
+        .collect();
+    let inv_n = 1.0 / nb as f64;
+    let ds: Vec<Vec<Col>> = (0..big_m)
+        .map(|_| (0..nb).map(|_| pb.add_column(-inv_n, -md..=md)).collect())
+        .collect();
+    let fs: Vec<Vec<Col>> = (0..big_m)
+        .map(|_| {
+            (0..nb)
+                .map(|b| pb.add_column(0.0, -mm[b]..=mp[b]))
+                .collect()
+        })
+        .collect();
+    for i in 0..big_m {
+        let next = &xs[(i + 1) % big_m];
+        for l in 0..n {
+            pb.add_row(
+                0.0..=0.0,
+                [
+                    (next[l], 1.0),
+                    (xs[i][l], -1.0),
+                    (us[i][l], -1.0),
+                    (ds[i][l + 1], k[l]),
+                    (ds[i][l], -k[l]),
+                ],
+            );
+        }
+        for b in 0..nb {
+            // f = F_b(x^{i+1}) = x_{b-1} - x_b.
+            let mut row = vec![(fs[i][b], -1.0)];
+            if b > 0 {
+                row.push((next[b - 1], 1.0));
+            }
+            if b < n {
+                row.push((next[b], -1.0));
+            }
+            pb.add_row(0.0..=0.0, row);
+        }
+    }
+    for l in 0..n {
+        pb.add_row(
+            0.0..=0.0,
+            us.iter().map(|u| (u[l], 1.0)).collect::<Vec<_>>(),
+        );
+    }
+    if let Some(v) = problem.max_total_variation {
+        let mut total = Vec::with_capacity(big_m * n);
+        for i in 0..big_m {
+            for l in 0..n {
+                let s = pb.add_column(0.0, 0.0..);
+                let (u0, u1) = (us[i][l], us[(i + 1) % big_m][l]);
+                pb.add_row(0.0.., [(s, 1.0), (u1, -1.0), (u0, 1.0)]);
+                pb.add_row(0.0.., [(s, 1.0), (u1, 1.0), (u0, -1.0)]);
+                total.push((s, 1.0));
+            }
+        }
+        pb.add_row(..=h * v, total);
+    }
+    let mut model = pb.optimise(Sense::Minimise);
+    model.make_quiet();
+    model.set_option("threads", 1);
+    model.set_option("primal_feasibility_tolerance", 1e-10);
+    model.set_option("dual_feasibility_tolerance", 1e-10);
+    let set_bounds = |model: &mut Model, i: usize, b: usize, mode: Mode| match mode {
+        Mode::Stick => {
+            model.change_column_bounds(ds[i][b], 0.0..=0.0);
+            model.change_column_bounds(fs[i][b], -mm[b]..=mp[b]);
+        }
+        Mode::Plus => {
+            model.change_column_bounds(ds[i][b], 0.0..=md);
+            model.change_column_bounds(fs[i][b], mp[b]..=mp[b]);
+        }
+        Mode::Minus => {
+            model.change_column_bounds(ds[i][b], -md..=0.0);
+            model.change_column_bounds(fs[i][b], -mm[b]..=-mm[b]);
+        }
+    };
+    for i in 0..big_m {
+        for b in 0..nb {
+            set_bounds(&mut model, i, b, modes[i][b]);
+        }
+    }
+
+    let max_rounds = 20 * big_m * nb;
+    let mut lp_solves = 0;
+    let mut switches = 0;
+    let mut best = f64::NEG_INFINITY;
+    let mut stalls = 0;
+    let mut last: Option<(Vec<f64>, f64)> = None;
+    let (cols, lp_objective, stop) = loop {
+        if let Some(tl) = time_limit {
+            let left = tl - began.elapsed().as_secs_f64();
+            if left <= 0.0 {
+                match last {
+                    Some((cols, objective)) => break (cols, objective, LocalStop::TimeLimit),
+                    None => {
+                        return Err(Error::Numerical(format!(
+                            "{what}: the time limit was reached before the first LP"
+                        )))
+                    }
+                }
+            }
+            model.set_option("time_limit", left);
+        }
+        let solved = model.solve();
+        lp_solves += 1;
+        match solved.status() {
+            HighsModelStatus::Optimal => {}
+            HighsModelStatus::ReachedTimeLimit => match last {
+                Some((cols, objective)) => break (cols, objective, LocalStop::TimeLimit),
+                None => {
+                    return Err(Error::Numerical(format!(
+                        "{what}: the time limit was reached in the first LP"
+                    )))
+                }
+            },
+            other => {
+                return Err(Error::Numerical(format!(
+                    "{what}: an LP of fixed modes ended with status {other:?}"
+                )))
+            }
+        }
+        let sol = solved.get_solution();
+        let cols = sol.columns().to_vec();
+        let red = sol.dual_columns().to_vec();
+        let objective = -solved.objective_value();
+        model = Model::from(solved);
+        if !best.is_finite() || objective > best + 1e-12 * best.abs().max(1.0) {
+            best = objective;
+            stalls = 0;
+        } else {
+            stalls += 1;
+        }
+        if stalls >= 3 {
+            break (cols, objective, LocalStop::Stalled);
+        }
+        if lp_solves >= max_rounds {
+            break (cols, objective, LocalStop::RoundLimit);
+        }
+        // Profitable switches at degenerate pairs (module docs).
+        let tol_red = 1e-9;
+        let mut changed = 0;
+        for i in 0..big_m {
+            for b in 0..nb {
+                let (d, f) = (cols[ds[i][b].index()], cols[fs[i][b].index()]);
+                let (rd, rf) = (red[ds[i][b].index()], red[fs[i][b].index()]);
+                let new = match modes[i][b] {
+                    Mode::Stick if (f - mp[b]).abs() <= tol_f && rd < -tol_red => Mode::Plus,
+                    Mode::Stick if (f + mm[b]).abs() <= tol_f && rd > tol_red => Mode::Minus,
+                    Mode::Plus if d.abs() <= tol_d && rf > tol_red => Mode::Stick,
+                    Mode::Minus if d.abs() <= tol_d && rf < -tol_red => Mode::Stick,
+                    same => same,
+                };
+                if new != modes[i][b] {
+                    modes[i][b] = new;
+                    set_bounds(&mut model, i, b, new);
+                    changed += 1;
+                }
+            }
+        }
+        switches += changed;
+        if changed == 0 {
+            break (cols, objective, LocalStop::Stationary);
+        }
+        last = Some((cols, objective));
+    };
+
+    // Re-verification: the LP's increments played by catching-up from its x^0.
+    let val = |c: &Col| cols[c.index()];
+    let mut rows: Vec<Vec<f64>> = us.iter().map(|u| u.iter().map(val).collect()).collect();
+    for l in 0..n {
+        let mean = rows.iter().map(|u| u[l]).sum::<f64>() / big_m as f64;
+        for u in &mut rows {
+            u[l] -= mean;
+        }
+    }
+    let x0: Vec<f64> = xs[0].iter().map(val).collect();
+    let sim = replay(
+        crawler,
+        t,
+        &vec![h; big_m],
+        &rows,
+        &x0,
+        Method::CatchingUp,
+        &what,
+    )?;
+    let verified = sim.displacement_per_period.expect("converged");
+    if (verified - lp_objective).abs() > 1e-6 * (1.0 + verified.abs()) {
+        return Err(Error::Numerical(format!(
+            "{what}: the gait moves the crawler {verified} per period when simulated, not {lp_objective}"
+        )));
+    }
+    let tr = sim.trajectory.expect("one period recorded");
+    Ok(LocalSolution {
+        m,
+        step: h,
+        start_objective,
+        lp_objective,
+        verified_displacement: verified,
+        actuation_cost: 0.0,
+        lp_solves,
+        switches,
+        stop,
+        initial_state: sim.orbit_state,
+        block_displacements: tr
+            .positions
+            .windows(2)
+            .map(|w| w[1].iter().zip(&w[0]).map(|(a, b)| a - b).collect())
+            .collect(),
+        states: tr.x,
+        controls: rows
+            .iter()
+            .map(|r| r.iter().map(|v| v / h).collect())
+            .collect(),
+    })
+}
+
+/// `F_b(x) = x_{b-1} - x_b`.
+fn force(x: &[f64], b: usize) -> f64 {
+    let left = if b > 0 { x[b - 1] } else { 0.0 };
+    let right = if b < x.len() { x[b] } else { 0.0 };
+    left - right
+}
