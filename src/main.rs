@@ -572,6 +572,9 @@ fn print_gait_result(r: &GaitResult) {
         r.displacement_per_period,
         r.actuation_cost
     );
+    if r.objective.abs() <= 1e-9 && r.displacement_per_period.abs() <= 1e-9 {
+        outln!("no gait of this class moves the crawler forward: the optimum is 0 (stay idle)");
+    }
     let what = match (c.kind.as_str(), c.phases, r.m) {
         ("global_k_phases", Some(k), _) => format!("global among gaits of at most {k} phases"),
         ("global", _, Some(m)) => format!("global for P_{m} ({} steps)", 1u64 << m),

@@ -10,7 +10,6 @@
 //!            D^i_b = P^i_b - Q^i_b,  0 <= P <= Md zp,  0 <= Q <= Md zq,  zp + zq <= 1
 //!            mu_b^+ - F_b(x^{i+1}) <= W_b (1 - zp^i_b),  F_b(x^{i+1}) + mu_b^- <= W_b (1 - zq^i_b)
 //!            |U^i_l| <= a_l h,  sum_i U^i = 0,
-//!            sum_b D^0_b >= sum_b D^i_b                                      (symmetry)
 //!            sum_{i,l} |U^{i+1}_l - U^i_l| <= h V                   (optional: TV(u) <= V)
 //! ```
 //!
@@ -28,8 +27,12 @@
 //!   (`D = 0`) and `D_{b+1} - D_b = (v_b - x_b)/k_b`, so `|D_b| <= sum_l |v_l - x_l| / k_l
 //!   <= sqrt(sum 1/k) |v - x|_{K^-1}`, and `|v - x|_{K^-1} <= |U|_{K^-1}` because `x^i` is in C
 //!   and the projection is the nearest point;
-//! - the time-shift symmetry of a periodic gait is broken by letting step 0 carry the largest
-//!   displacement (a rotation of any optimum does).
+//! - the time-shift symmetry of a periodic gait is left to HiGHS: the rows that break it
+//!   (step 0 carries the largest displacement; or `x^0_1` is the least `x^i_1`) made the solve
+//!   slower, not faster, on the three-block instance at `2^m = 16` (143 s and 34 s against
+//!   25 s without, one thread; `crawlopt optimize examples/three_blocks_gait.toml --method
+//!   discrete --m 4`), because they cut off the incumbents HiGHS's heuristics find first. The
+//!   phase formulation, whose phases are few, keeps its symmetry rows.
 //!
 //! Every answer is re-verified by the simulator: the returned increments are played by
 //! catching-up (the simulator's [`simulate`](crate::integrate::simulate)) from the returned initial state until the periodic regime, and the verified
@@ -186,19 +189,6 @@ fn build(
             let mut row = f.clone();
             row.push((zqs[i][b], w));
             pb.add_row(..=mp[b], &row);
-        }
-        if i > 0 && std::env::var_os("CRAWLOPT_NOSYM").is_none() {
-            // Symmetry: sum_b D^0_b - sum_b D^i_b >= 0.
-            let mut row = Vec::with_capacity(4 * nb);
-            for b in 0..nb {
-                row.extend([
-                    (ps[0][b], 1.0),
-                    (qs[0][b], -1.0),
-                    (ps[i][b], -1.0),
-                    (qs[i][b], 1.0),
-                ]);
-            }
-            pb.add_row(0.0.., &row);
         }
     }
     for l in 0..n {
