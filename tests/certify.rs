@@ -330,3 +330,67 @@ fn section_4_1_oscillating_controls_are_replaced_by_their_mean() {
         }
     }
 }
+
+#[test]
+fn three_block_phase_optimum_satisfies_theorem_2_2_exactly() {
+    // Phase gaits have no discretisation: p is piecewise constant with jumps at knots where faces
+    // are active, so Theorem 2.2's conditions, the sign dxi >= 0 included, hold to rounding.
+    let (c, p) = three_blocks();
+    let s = solve_phase_global(&c, &p, 6, Some(120.0)).unwrap();
+    let r = GaitResult::from_phase(&c, &p, &s);
+    let cert = certify(
+        &Process::from_result(&r, "phase").unwrap(),
+        &CertifyOptions::default(),
+    )
+    .unwrap();
+    show(&cert);
+    assert!(cert.objective > 2.0, "{}", cert.objective);
+    assert_eq!(cert.lambda, 1.0);
+    for k in &cert.conditions {
+        if k.name != "nondegeneracy" {
+            assert!(k.holds && k.residual <= 1e-9, "{} {}", k.name, k.residual);
+        }
+    }
+    // Some link is at rest or inside its rate bound on some phase, where f2 = 0 forces
+    // p + omega = 0: degenerate in the sense of §4.
+    assert_eq!(cert.verdict, Verdict::Degenerate, "{}", cert.reason);
+}
+
+#[test]
+fn quadratic_cost_one_link_gait_in_closed_form() {
+    // f2 = (c/2) u^2, N = 2, k = 1, a = 1, T = 20, C = [-1, 1]. Among gaits u = +v then -v,
+    // J(v) = (v T - 2 w)/(2 k) - (c/2) v^2 T is largest at v* = 1/(2 k c) = 0.8 for c = 0.625,
+    // inside the rate bound. The multipliers: slip stationarity gives p = -1/(2k) rising and at
+    // the top, +1/(2k) falling; maximality with interior u needs psi = -p - omega - c u = 0, i.e.
+    // u = 1/(2 k c) exactly: v* passes; at v = 0.9 the mismatch |1/2 - c v| = 0.0625 cannot be
+    // absorbed, and the least violating multipliers share it equally between the slip
+    // stationarity and the weak maximality (0.03125 each).
+    let c = Crawler::uniform(2, 1.0, 1.0, 2.0).unwrap();
+    let p = GaitProblem::new(&c, 20.0, &[1.0], Cost::Quadratic { weight: 0.625 }, None).unwrap();
+    for (v, ok) in [(0.8, true), (0.9, false)] {
+        let pr = Process::phase_from_controls(&c, &p, &[10.0, 10.0], &[vec![v], vec![-v]]).unwrap();
+        let cert = certify(&pr, &CertifyOptions::default()).unwrap();
+        show(&cert);
+        let j = (v * 20.0 - 4.0) / 2.0 - 0.5 * 0.625 * v * v * 20.0;
+        assert!(
+            (cert.objective - j).abs() < 1e-9,
+            "{} vs {j}",
+            cert.objective
+        );
+        if ok {
+            assert_eq!(cert.verdict, Verdict::Holds, "{}", cert.reason);
+            for k in &cert.conditions {
+                assert!(k.holds && k.residual <= 1e-9, "{} {}", k.name, k.residual);
+            }
+            for s in cert.multipliers.p_plus_omega.iter().flatten() {
+                assert!((s.abs() - 0.5).abs() < 1e-9, "{s}");
+            }
+        } else {
+            assert_ne!(cert.verdict, Verdict::Holds, "{}", cert.reason);
+            for name in ["weak_maximality", "slip_stationarity"] {
+                let k = cond(&cert, "6.2", name);
+                assert!((k.residual - 0.03125).abs() < 1e-9, "{name} {}", k.residual);
+            }
+        }
+    }
+}
