@@ -39,6 +39,12 @@ pub(crate) struct Structure {
     pub grad_f2: Vec<Vec<f64>>,
     /// `k_l`.
     pub k: Vec<f64>,
+    /// `a_l`.
+    pub a: Vec<f64>,
+    /// `Df2(u_j).u_j - f2(u_j)` per piece (the cost's part of the maximised Hamiltonian).
+    pub cost_h: Vec<f64>,
+    /// Whether the durations are free (phase gaits): then the phase LP is stationary in them.
+    pub phase: bool,
 }
 
 /// The outer normal `x*_f` as (link, value) pairs (at most two).
@@ -153,7 +159,16 @@ impl Structure {
                 Cost::Quadratic { weight } => u.iter().map(|v| weight * v).collect(),
             })
             .collect();
+        let cost_h = p
+            .controls
+            .iter()
+            .zip(&grad_f2)
+            .map(|(u, g)| u.iter().zip(g).map(|(u, g)| u * g).sum::<f64>() - p.problem.cost.eval(u))
+            .collect();
         Structure {
+            a: a.to_vec(),
+            cost_h,
+            phase: p.kind == ProcessKind::Phase,
             n,
             nb,
             np,
@@ -213,6 +228,7 @@ pub(crate) fn solve(
     lambda: f64,
     stage: Stage,
     norm: Option<Norm>,
+    durations_free: bool,
 ) -> Result<Option<Raw>> {
     let (n, np) = (st.n, st.np);
     let inv_n = lambda / st.nb as f64;
@@ -255,6 +271,8 @@ pub(crate) fn solve(
         _ => (0.0, INF),
     };
     let delta = pb.add_column(d_cost, -INF..=d_hi);
+    // The maximised Hamiltonian's constant (phase gaits).
+    let ham = pb.add_column(0.0, -INF..=INF);
 
     // Adjoint equation with transversality (cyclic): p_j - p_{j-1} - sum_f xi_{j,f} x*_f = 0.
     for j in 0..np {
@@ -313,6 +331,27 @@ pub(crate) fn solve(
                 let sg = f64::from(bnd);
                 pb.add_row(0.0.., [(p[j][l], -sg), (omega[l], -sg), (delta, -1.0)]);
             }
+        }
+    }
+    if st.phase && durations_free {
+        // Stationarity in the durations: H_j = sum_l a_l |psi_{j,l}| + lambda (Df2(u).u - f2(u))
+        // equal on every phase, |psi| = sign(u) psi at a bound (0 inside, up to r).
+        for j in 0..np {
+            let mut row: Vec<(Col, f64)> = vec![(ham, -1.0)];
+            let mut cst = lambda * st.cost_h[j];
+            for l in 0..n {
+                let sg = f64::from(st.bound[j][l]);
+                if sg != 0.0 {
+                    row.push((p[j][l], -sg * st.a[l]));
+                    row.push((omega[l], -sg * st.a[l]));
+                    cst -= sg * st.a[l] * lambda * st.grad_f2[j][l];
+                }
+            }
+            let mut lo = row.clone();
+            lo.push((r, 1.0));
+            row.push((r, -1.0));
+            pb.add_row(..=-cst, row);
+            pb.add_row(-cst.., lo);
         }
     }
     for j in 0..np {

@@ -121,7 +121,14 @@
 //!
 //! For P_m the continuous group is reported with the same tolerance and is expected to fail at
 //! `O(h)`: it is the rate at which the discrete multipliers approach Theorem 2.2's.
-//! Not checked: stationarity in the phase durations (the phase LP's `tau` are held fixed).
+//! For phase gaits the durations are variables of the phase LP (SPEC §7) too; its stationarity in
+//! `tau_k` (with `|U| <= a tau`, `sum tau = T`) reads `H_k = sum_l a_l |psi_{k,l}| + lambda
+//! (Df2(u_k).u_k - f2(u_k))` equal on every phase: the maximised Hamiltonian is constant, as for
+//! an autonomous problem. It is checked (condition `duration_stationarity`, group "6.2") with
+//! multipliers of its own, found by the stage-1 LP with these rows added: imposed on the reported
+//! multipliers it can conflict with `dxi >= 0` (the three-block phase optimum: `xi = -1/6`
+//! somewhere), and Theorem 2.2 does not state it. (Checked with `lambda = 1` only.) The block-speed bound `|D| <= V tau` of the
+//! phase MILP is taken as inactive.
 
 mod kkt;
 mod process;
@@ -318,7 +325,7 @@ pub fn certify(pr: &Process, opts: &CertifyOptions) -> Result<NecessaryCondition
     let (tol, eps) = (opts.tol, 1e-12);
     // lambda = 1: the three stages.
     // Always feasible (p constant, xi = 0, r large); an infeasible report is a solver failure.
-    let kkt = kkt::solve(&st, 1.0, Stage::Kkt, None)?.ok_or_else(|| {
+    let kkt = kkt::solve(&st, 1.0, Stage::Kkt, None, false)?.ok_or_else(|| {
         crate::Error::Numerical("certify: HiGHS found the multiplier LP infeasible".into())
     })?;
     let r1 = kkt_residual(pr, &st, &kkt);
@@ -326,10 +333,10 @@ pub fn certify(pr: &Process, opts: &CertifyOptions) -> Result<NecessaryCondition
     let mut chosen = (kkt, "lambda = 1".to_string());
     if r1 <= tol * scale1 {
         let r_max = r1 * (1.0 + 1e-6) + eps;
-        if let Some(sg) = kkt::solve(&st, 1.0, Stage::Sign { r_max }, None)? {
+        if let Some(sg) = kkt::solve(&st, 1.0, Stage::Sign { r_max }, None, false)? {
             let s_max = sign_residual(&sg) * (1.0 + 1e-6) + eps;
             let cap = 10.0 / (st.nb as f64 * st.k.iter().cloned().fold(f64::INFINITY, f64::min));
-            let margin = kkt::solve(&st, 1.0, Stage::Margin { r_max, s_max, cap }, None)?;
+            let margin = kkt::solve(&st, 1.0, Stage::Margin { r_max, s_max, cap }, None, false)?;
             chosen.0 = margin.unwrap_or(sg);
         }
     } else {
@@ -339,7 +346,7 @@ pub fn certify(pr: &Process, opts: &CertifyOptions) -> Result<NecessaryCondition
                 sign,
                 sign_hard: pr.kind == ProcessKind::Phase,
             };
-            let Some(raw) = kkt::solve(&st, 0.0, Stage::Kkt, Some(norm))? else {
+            let Some(raw) = kkt::solve(&st, 0.0, Stage::Kkt, Some(norm), false)? else {
                 continue;
             };
             let size = sup(&raw.p).max(raw.omega.iter().fold(0.0_f64, |m, v| m.max(v.abs())));
@@ -377,7 +384,43 @@ pub fn certify(pr: &Process, opts: &CertifyOptions) -> Result<NecessaryCondition
         }
         None => None,
     };
+    // Phase gaits: the phase LP is stationary in the durations too, with multipliers of their own
+    // (imposing it on the reported ones can conflict with dxi >= 0: three-block phase optimum).
+    let duration = if pr.kind == ProcessKind::Phase && chosen.0.lambda > 0.0 {
+        let raw = kkt::solve(&st, 1.0, Stage::Kkt, None, true)?.ok_or_else(|| {
+            crate::Error::Numerical("certify: HiGHS found the multiplier LP infeasible".into())
+        })?;
+        Some(kkt_residual_with(pr, &st, &raw, true) / sup(&raw.p).max(1.0))
+    } else {
+        None
+    };
     let mut rep = report(pr, &st, chosen.0, chosen.1, opts);
+    if let Some(r) = duration {
+        let tol = opts.tol;
+        rep.conditions.insert(
+            5,
+            ConditionCheck {
+                name: "duration_stationarity".into(),
+                theorem: "6.2".into(),
+                statement: "the phase LP is stationary in the durations too: multipliers (of \
+                            their own) satisfying the conditions above with H_k = sum_l a_l \
+                            |psi_{k,l}| + lambda (Df2(u_k).u_k - f2(u_k)) equal on every phase \
+                            (the maximised Hamiltonian is constant); residual of the KKT system \
+                            with it, relative to max(1, ||p||_inf)"
+                    .into(),
+                residual: r,
+                tolerance: tol,
+                holds: r <= tol,
+            },
+        );
+        if r > tol && rep.verdict != Verdict::Fails {
+            rep.verdict = Verdict::Fails;
+            rep.reason = format!(
+                "the conditions with the durations fixed hold, but the phase LP is not stationary \
+                 in the durations: duration_stationarity (Thm 6.2, residual {r:.3e})"
+            );
+        }
+    }
     rep.branch_lp = branch;
     Ok(rep)
 }
@@ -391,7 +434,12 @@ fn sign_residual(raw: &Raw) -> f64 {
 }
 
 /// The discrete residuals, each as (name, statement, residual).
-fn discrete_residuals(pr: &Process, st: &Structure, raw: &Raw) -> Vec<(&'static str, String, f64)> {
+fn discrete_residuals(
+    pr: &Process,
+    st: &Structure,
+    raw: &Raw,
+    durations_free: bool,
+) -> Vec<(&'static str, String, f64)> {
     let (n, np) = (st.n, st.np);
     let lam_n = raw.lambda / st.nb as f64;
     let mut adj = 0.0_f64;
@@ -436,8 +484,21 @@ fn discrete_residuals(pr: &Process, st: &Structure, raw: &Raw) -> Vec<(&'static 
             maxim = maxim.max(dist_normal(psi, st.bound[j][l]));
         }
     }
-    let _ = pr;
-    vec![
+    // Phase gaits: the maximised Hamiltonian is the same on every phase.
+    let mut ham_lo = f64::INFINITY;
+    let mut ham_hi = f64::NEG_INFINITY;
+    for j in 0..np {
+        let h: f64 = (0..n)
+            .map(|l| {
+                let psi = -raw.p[j][l] - raw.omega[l] - raw.lambda * st.grad_f2[j][l];
+                st.a[l] * psi.abs()
+            })
+            .sum::<f64>()
+            + raw.lambda * st.cost_h[j];
+        ham_lo = ham_lo.min(h);
+        ham_hi = ham_hi.max(h);
+    }
+    let mut out = vec![
         (
             "adjoint",
             "adjoint equation and transversality: p_j - p_{j-1} = sum_f xi_{j,f} x*_f, p(T) = \
@@ -470,12 +531,28 @@ fn discrete_residuals(pr: &Process, st: &Structure, raw: &Raw) -> Vec<(&'static 
             maxim,
         ),
         ("sign", "xi_{j,f} >= 0".into(), sign_residual(raw).max(0.0)),
-    ]
+    ];
+    if durations_free && pr.kind == ProcessKind::Phase {
+        out.push((
+            "duration_stationarity",
+            "H_j = sum_l a_l |psi_{j,l}| + lambda (Df2(u_j).u_j - f2(u_j)) is the same on every \
+             phase (phase LP stationary in the durations: the maximised Hamiltonian is constant); \
+             residual (max H - min H)/2"
+                .into(),
+            0.5 * (ham_hi - ham_lo),
+        ));
+    }
+    out
 }
 
 /// Largest residual of the branch-LP KKT system (all discrete conditions but the sign).
 fn kkt_residual(pr: &Process, st: &Structure, raw: &Raw) -> f64 {
-    discrete_residuals(pr, st, raw)
+    kkt_residual_with(pr, st, raw, false)
+}
+
+/// The same, with the stationarity in the durations of a phase gait when `durations_free`.
+fn kkt_residual_with(pr: &Process, st: &Structure, raw: &Raw, durations_free: bool) -> f64 {
+    discrete_residuals(pr, st, raw, durations_free)
         .iter()
         .filter(|(name, _, _)| *name != "sign")
         .fold(0.0_f64, |m, (_, _, r)| m.max(*r))
@@ -517,7 +594,7 @@ fn report(
     let discrete = matches!(pr.kind, ProcessKind::Discrete { .. });
     let sup_p = sup(&raw.p);
     let pscale = sup_p.max(1.0);
-    let disc = discrete_residuals(pr, st, &raw);
+    let disc = discrete_residuals(pr, st, &raw, false);
     let cont_adj = disc[0].2;
     let cont_sign = disc[5].2;
     let mut conditions: Vec<ConditionCheck> = disc
@@ -917,7 +994,7 @@ mod tests {
             let st = Structure::of(&pr, INPUT_TOL);
             let (opt, raw) = kkt::branch_lp(&pr, &st).unwrap().unwrap();
             assert!((opt - r.objective).abs() < 1e-9, "{opt} vs {}", r.objective);
-            let res = discrete_residuals(&pr, &st, &raw);
+            let res = discrete_residuals(&pr, &st, &raw, false);
             for (name, _, v) in &res {
                 println!("N = {nb}: {name} {v:.3e}");
             }
