@@ -470,7 +470,7 @@ fn print_certificate(c: &NecessaryConditions) {
     outln!("  {}", c.reason);
     let n = &c.normalisation;
     outln!(
-        "  lambda = {} ({}); lambda + ||p||_inf = {:.6}; sum of the paper's (norm) = {:.6}",
+        "  lambda = {} (scaled: {}); lambda + ||p||_inf = {:.6}; sum of the paper's (norm) = {:.6}",
         c.lambda,
         n.scaled_by,
         n.lambda_plus_sup_p,

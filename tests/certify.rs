@@ -394,3 +394,37 @@ fn quadratic_cost_one_link_gait_in_closed_form() {
         }
     }
 }
+
+#[test]
+fn one_link_multipliers_scale_with_the_stiffness() {
+    // Asymmetric friction and k = 2 (as in tests/discrete.rs): C = [-1, 0.8], a = k = 2, interior
+    // arcs 0.9; the multipliers keep their closed form p + omega = ±1/(2k), dxi = 1/k at the
+    // departures from the ends of C.
+    let c = Crawler::new(vec![2.0], vec![1.0, 0.8], vec![2.5, 1.7]).unwrap();
+    let p = GaitProblem::new(&c, 7.0, &[1.0], Cost::None, None).unwrap();
+    let s = solve_phase_global(&c, &p, 4, None).unwrap();
+    let r = GaitResult::from_phase(&c, &p, &s);
+    let cert = certify(
+        &Process::from_result(&r, "phase").unwrap(),
+        &CertifyOptions::default(),
+    )
+    .unwrap();
+    show(&cert);
+    assert_eq!(cert.verdict, Verdict::Holds, "{}", cert.reason);
+    for v in cert.multipliers.p_plus_omega.iter().flatten() {
+        assert!((v.abs() - 0.25).abs() < 1e-9, "{v}");
+    }
+    assert_eq!(cert.multipliers.xi.len(), 2);
+    for x in &cert.multipliers.xi {
+        assert!((x.value - 0.5).abs() < 1e-9, "{x:?}");
+    }
+    let o = cert.one_link.as_ref().unwrap();
+    assert!(o.switch_at_end.iter().all(|&e| e));
+    for arc in &o.interior_arcs {
+        assert!(
+            (arc - o.expected_arc).abs() < 1e-9,
+            "{arc} vs {}",
+            o.expected_arc
+        );
+    }
+}

@@ -655,7 +655,10 @@ fn report(
         .iter()
         .flatten()
         .fold(f64::INFINITY, |m, v| m.min(v.abs()));
-    let nd_tol = 1e-6 * sup(&p_plus_omega).max(f64::MIN_POSITIVE);
+    // Relative to |p + omega|, or to the natural unit of p (|<p, K nu_b>| = lambda/N while block
+    // b slips) when p + omega vanishes identically.
+    let kmax = st.k.iter().fold(0.0_f64, |m, &k| m.max(k));
+    let nd_tol = 1e-6 * sup(&p_plus_omega).max(1.0 / (st.nb as f64 * kmax));
     let a = &pr.problem.rate_bound;
     let mut law = 0.0_f64;
     for j in 0..np {
@@ -710,8 +713,8 @@ fn report(
         ),
         (
             "nondegeneracy",
-            "p_l(t) + omega_l != 0 for all t and l (§4 (nndg)); residual = max(0, 1e-6 sup|p + \
-             omega| - min|p + omega|)",
+            "p_l(t) + omega_l != 0 for all t and l (§4 (nndg)); residual = max(0, 1e-6 max(sup|p \
+             + omega|, 1/(N k_max)) - min|p + omega|)",
             (nd_tol - margin).max(0.0),
             0.0,
         ),
