@@ -47,8 +47,8 @@
 //! reactions are frozen to those of the optimal process so that its state constraints are pure
 //! inequalities, whereas the branch LP of the computational P_m (SPEC §6) leaves the multiplier of
 //! a held face free. It is a genuine extra check, and it can fail on an optimum of P_m: the
-//! three-block P_3 optimum needs `xi = -1/2` somewhere, while the exact three-block phase optimum
-//! satisfies it (tests/certify.rs).
+//! three-block P_3 optimum needs `xi = -1/2` somewhere (P_2: `-1`; P_4: satisfied), while the
+//! exact three-block phase optimum satisfies it with the durations fixed (tests/certify.rs).
 //!
 //! Signs: the paper prints `+p` in Thm 6.2 (pw) and in the proof's (pw2) but `-p` in Theorem 2.2
 //! and §4. With `xi >= 0` only the latter admits the bang-bang one-link optimum (the adjoint rises
