@@ -74,7 +74,9 @@
 //! opposite are maximised over them in the box `|p|, |omega| <= 1`; a non-zero maximiser, scaled
 //! to `max(|p|, |omega|) = 1`, is a degenerate multiplier.
 //! Every residual is then recomputed in plain floating point from the multipliers found, not taken
-//! from the LP.
+//! from the LP. The branch LP itself is solved too (`f2 = 0`): its optimum minus `J` is reported
+//! (`branch_lp.improvement`, positive for a gait beaten on its own branches), and a unit test
+//! checks that HiGHS's duals of it, mapped as above, satisfy this KKT system.
 //!
 //! # Normalisation
 //!
@@ -127,8 +129,8 @@
 //! an autonomous problem. It is checked (condition `duration_stationarity`, group "6.2") with
 //! multipliers of its own, found by the stage-1 LP with these rows added: imposed on the reported
 //! multipliers it can conflict with `dxi >= 0` (the three-block phase optimum: `xi = -1/6`
-//! somewhere), and Theorem 2.2 does not state it. (Checked with `lambda = 1` only.) The block-speed bound `|D| <= V tau` of the
-//! phase MILP is taken as inactive.
+//! somewhere), and Theorem 2.2 does not state it. (Checked with `lambda = 1` only.) The
+//! block-speed bound `|D| <= V tau` of the phase MILP is taken as inactive.
 
 mod kkt;
 mod process;

@@ -468,8 +468,15 @@ impl Process {
                         d[b],
                         format!(
                             "block {} moves on piece {j} but its friction threshold is not \
-                             reached (flow rule, SPEC §2)",
-                            b + 1
+                             reached{} (flow rule, SPEC §2)",
+                            b + 1,
+                            match self.kind {
+                                ProcessKind::Discrete { .. } => " at the step's end",
+                                ProcessKind::Phase => {
+                                    " at both ends of the phase (split phases where a face is \
+                                     reached or left)"
+                                }
+                            }
                         ),
                     ));
                 }
