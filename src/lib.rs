@@ -10,6 +10,8 @@
 //! - [`sweep`]: projections onto C and onto its tangent cones (the hot kernel);
 //! - [`integrate`]: actuations, catching-up and exact event-driven integration, periodic regime;
 //! - [`optimal`]: the gait problem (P) and its optimum (closed form for one link so far);
+//! - [`certify`]: necessary optimality conditions (Theorem 2.2, Theorems 6.1–6.2): multipliers
+//!   of a gait and a checkable certificate;
 //! - [`io`]: the TOML model file and CSV files;
 //! - the `crawlopt` binary: a thin command-line layer.
 //!
@@ -26,6 +28,7 @@
 //! # Ok::<(), crawlopt::Error>(())
 //! ```
 
+pub mod certify;
 pub mod error;
 pub mod integrate;
 pub mod io;

@@ -2,6 +2,7 @@
 //! and renders results; errors are printed as one line and exit with status 2.
 
 use clap::{Parser, Subcommand, ValueEnum};
+use crawlopt::certify::{certify_result, NecessaryConditions};
 use crawlopt::integrate::{
     simulate, Actuation, CatchingUp, ExactPwl, Method, PeriodMap, Search, SimOptions, Simulation,
     Waveform,
@@ -116,6 +117,19 @@ enum Command {
         /// Stop after this many seconds with the best gait found and its gap.
         #[arg(long = "time-limit")]
         time_limit: Option<f64>,
+        /// Also check the necessary conditions (as `certify`); with --json they are added to the
+        /// result as "necessary_conditions".
+        #[arg(long)]
+        certify: bool,
+        /// Print one JSON object.
+        #[arg(long)]
+        json: bool,
+    },
+    /// Check the necessary optimality conditions (Theorem 2.2, Theorems 6.1-6.2) on a gait
+    /// result: multipliers, residuals and a verdict.
+    Certify {
+        /// A result printed by `optimize --json`.
+        file: PathBuf,
         /// Print one JSON object.
         #[arg(long)]
         json: bool,
@@ -289,6 +303,7 @@ fn run(cmd: Command) -> Result<ExitCode, Error> {
             convergence,
             start,
             time_limit,
+            certify,
             json,
         } => {
             let model = ModelFile::load(&file)?;
@@ -461,10 +476,37 @@ fn run(cmd: Command) -> Result<ExitCode, Error> {
                 }
             };
             progress.finish();
+            let cert = if certify {
+                Some(certify_result(&result, "optimize")?)
+            } else {
+                None
+            };
             if json {
-                outln!("{}", serde_json::to_string(&result).expect("serialisable"));
+                let mut v = serde_json::to_value(&result).expect("serialisable");
+                if let Some(c) = &cert {
+                    v["necessary_conditions"] = serde_json::to_value(c).expect("serialisable");
+                }
+                outln!("{}", serde_json::to_string(&v).expect("serialisable"));
             } else {
                 print_gait_result(&result);
+                if let Some(c) = &cert {
+                    print_certificate(c);
+                }
+            }
+            Ok(ExitCode::SUCCESS)
+        }
+        Command::Certify { file, json } => {
+            let what = file.display().to_string();
+            let text = std::fs::read_to_string(&file).map_err(|e| Error::Io {
+                path: what.clone(),
+                reason: e.to_string(),
+            })?;
+            let result = GaitResult::from_json(&text, &what)?;
+            let cert = certify_result(&result, &what)?;
+            if json {
+                outln!("{}", serde_json::to_string(&cert).expect("serialisable"));
+            } else {
+                print_certificate(&cert);
             }
             Ok(ExitCode::SUCCESS)
         }
@@ -647,6 +689,94 @@ fn print_gait_result(r: &GaitResult) {
             g.times[j + 1],
             list(u),
             g.slip[j]
+        );
+    }
+}
+
+/// The human form of a certificate: the same content as its JSON, multipliers abridged.
+fn print_certificate(c: &NecessaryConditions) {
+    outln!(
+        "necessary conditions (Theorem 2.2; discrete form Theorems 6.1-6.2): {}",
+        serde_json::to_string(&c.verdict)
+            .expect("enum")
+            .trim_matches('"')
+    );
+    outln!("  {}", c.reason);
+    let n = &c.normalisation;
+    outln!(
+        "  lambda = {} (scaled: {}); lambda + ||p||_inf = {:.6}; sum of the paper's (norm) = {:.6}",
+        c.lambda,
+        n.scaled_by,
+        n.lambda_plus_sup_p,
+        n.paper_norm
+    );
+    outln!(
+        "  J = {}; min |p + omega| = {:.3e}; omega = {}",
+        c.objective,
+        c.nondegeneracy_margin,
+        list(&c.multipliers.omega)
+    );
+    if let Some(b) = &c.branch_lp {
+        outln!(
+            "  branch LP (active faces and slips fixed): optimum {}, improvement over the gait {:.3e}",
+            b.optimum,
+            b.improvement
+        );
+    }
+    for k in &c.conditions {
+        outln!(
+            "  [Thm {}] {:<18} residual {:>10.3e}  tol {:.1e}  {}  {}",
+            k.theorem,
+            k.name,
+            k.residual,
+            k.tolerance,
+            if k.holds { "holds" } else { "FAILS" },
+            k.statement
+        );
+    }
+    let m = &c.multipliers;
+    let rows = m.p.len();
+    let show = rows.min(64);
+    outln!(
+        "  multipliers per piece ({}{}):",
+        m.extension,
+        if show < rows {
+            format!(", first {show} of {rows}")
+        } else {
+            String::new()
+        }
+    );
+    for j in 0..show {
+        outln!(
+            "    t = {:.6}  u = {}  p + omega = {}",
+            m.times[j],
+            list(&m.u[j]),
+            list(&m.p_plus_omega[j])
+        );
+    }
+    for x in m.xi.iter().take(64) {
+        outln!(
+            "    dxi at t = {:.6} (knot {}): face {}{} mass {:.6e}",
+            x.time,
+            x.knot,
+            x.block,
+            x.side,
+            x.value
+        );
+    }
+    if let Some(o) = &c.one_link {
+        outln!(
+            "  one link (§4): C = [{}, {}], bang-bang {}, switches at t = {} (at an end of C: {:?})",
+            o.alpha,
+            o.beta,
+            o.bang_bang,
+            list(&o.switch_times),
+            o.switch_at_end
+        );
+        outln!(
+            "    interior arcs {} vs (beta - alpha)/a = {}",
+            list(&o.interior_arcs),
+            o.expected_arc
         );
     }
 }

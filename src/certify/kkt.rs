@@ -1,0 +1,529 @@
+//! The multiplier linear programs: the first-order (KKT) system of the fixed-branch LP at a
+//! given process, solved for multipliers that violate it least (module docs of
+//! [`crate::certify`] for the mathematics).
+
+use crate::certify::process::{d_tol, slip, Process, ProcessKind};
+use crate::error::{Error, Result};
+use crate::optimal::Cost;
+use highs::{Col, HighsModelStatus, RowProblem, Sense};
+
+/// A face of C: block `b` (0-based) and side `s` (`+1`: `F_b <= mu_b^+`, outer normal `nu_b`;
+/// `-1`: `-F_b <= mu_b^-`, outer normal `-nu_b`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) struct FaceId {
+    pub b: usize,
+    pub s: i8,
+}
+
+/// The combinatorial data of a process: active faces, held faces, slips, biactive faces and
+/// control bounds. Everything the KKT system needs besides the numbers.
+pub(crate) struct Structure {
+    pub n: usize,
+    pub nb: usize,
+    pub np: usize,
+    /// Faces active at knot `j` (`j = 0..P`, knot `P` is knot 0).
+    pub active: Vec<Vec<FaceId>>,
+    /// Whether the face is held as an equality by a slipping block (then its multiplier in the
+    /// branch LP has no sign).
+    pub held: Vec<Vec<bool>>,
+    /// Slack `c_f - <x*_f, x_j>` of each active face (for the complementarity residual).
+    pub slack: Vec<Vec<f64>>,
+    /// Slip direction of each block on each piece.
+    pub slips: Vec<Vec<i8>>,
+    /// Biactive (block, direction) pairs per piece: the block sticks but its face is active
+    /// where slipping would need it (strong stationarity asks the relaxed sign condition).
+    pub biactive: Vec<Vec<(usize, i8)>>,
+    /// Control at its bound: `+1` upper, `-1` lower, `0` interior, per piece and link.
+    pub bound: Vec<Vec<i8>>,
+    /// `Df2(u_j)` per piece.
+    pub grad_f2: Vec<Vec<f64>>,
+    /// `k_l`.
+    pub k: Vec<f64>,
+    /// `a_l`.
+    pub a: Vec<f64>,
+    /// `Df2(u_j).u_j - f2(u_j)` per piece (the cost's part of the maximised Hamiltonian).
+    pub cost_h: Vec<f64>,
+    /// Whether the durations are free (phase gaits): then the phase LP is stationary in them.
+    pub phase: bool,
+}
+
+/// The outer normal `x*_f` as (link, value) pairs (at most two).
+pub(crate) fn normal(n: usize, f: FaceId) -> Vec<(usize, f64)> {
+    let s = f64::from(f.s);
+    let mut v = Vec::with_capacity(2);
+    if f.b > 0 {
+        v.push((f.b - 1, s));
+    }
+    if f.b < n {
+        v.push((f.b, -s));
+    }
+    v
+}
+
+/// `K nu_b` as (link, value) pairs.
+pub(crate) fn k_nu(n: usize, k: &[f64], b: usize) -> Vec<(usize, f64)> {
+    normal(n, FaceId { b, s: 1 })
+        .into_iter()
+        .map(|(l, v)| (l, v * k[l]))
+        .collect()
+}
+
+impl Structure {
+    pub fn of(p: &Process, tol: f64) -> Self {
+        let c = &p.crawler;
+        let (n, nb, np) = (c.links(), c.blocks(), p.durations.len());
+        let scale = c.state_scale();
+        let dtol = d_tol(c, tol);
+        let slips: Vec<Vec<i8>> = p
+            .block_displacements
+            .iter()
+            .map(|d| d.iter().map(|&v| slip(v, dtol)).collect())
+            .collect();
+        let mut active = Vec::with_capacity(np);
+        let mut held = Vec::with_capacity(np);
+        let mut slack = Vec::with_capacity(np);
+        let is_active = |j: usize, f: FaceId| -> Option<f64> {
+            let force = c.block_forces(&p.states[j])[f.b];
+            let s = if f.s > 0 {
+                c.mu_forward()[f.b] - force
+            } else {
+                c.mu_backward()[f.b] + force
+            };
+            (s <= tol * scale).then_some(s)
+        };
+        for j in 0..np {
+            let prev = (j + np - 1) % np;
+            let (mut a, mut h, mut sl) = (Vec::new(), Vec::new(), Vec::new());
+            for b in 0..nb {
+                for s in [1i8, -1] {
+                    let f = FaceId { b, s };
+                    if let Some(v) = is_active(j, f) {
+                        // Held by the piece ending here (both kinds) or starting here (phase).
+                        let by_prev = slips[prev][b] == s;
+                        let by_next = p.kind == ProcessKind::Phase && slips[j][b] == s;
+                        a.push(f);
+                        h.push(by_prev || by_next);
+                        sl.push(v);
+                    }
+                }
+            }
+            active.push(a);
+            held.push(h);
+            slack.push(sl);
+        }
+        let mut biactive = Vec::with_capacity(np);
+        for j in 0..np {
+            let mut v = Vec::new();
+            for b in 0..nb {
+                if slips[j][b] != 0 {
+                    continue;
+                }
+                for s in [1i8, -1] {
+                    let f = FaceId { b, s };
+                    let end = active[(j + 1) % np].contains(&f);
+                    let start = active[j].contains(&f);
+                    let avail = match p.kind {
+                        ProcessKind::Discrete { .. } => end,
+                        ProcessKind::Phase => end && start,
+                    };
+                    if avail {
+                        v.push((b, s));
+                    }
+                }
+            }
+            biactive.push(v);
+        }
+        let a = &p.problem.rate_bound;
+        let bound = p
+            .controls
+            .iter()
+            .map(|u| {
+                (0..n)
+                    .map(|l| {
+                        if u[l] >= a[l] * (1.0 - tol) {
+                            1
+                        } else if u[l] <= -a[l] * (1.0 - tol) {
+                            -1
+                        } else {
+                            0
+                        }
+                    })
+                    .collect()
+            })
+            .collect();
+        let grad_f2 = p
+            .controls
+            .iter()
+            .map(|u| match p.problem.cost {
+                Cost::None => vec![0.0; n],
+                Cost::Quadratic { weight } => u.iter().map(|v| weight * v).collect(),
+            })
+            .collect();
+        let cost_h = p
+            .controls
+            .iter()
+            .zip(&grad_f2)
+            .map(|(u, g)| u.iter().zip(g).map(|(u, g)| u * g).sum::<f64>() - p.problem.cost.eval(u))
+            .collect();
+        Structure {
+            a: a.to_vec(),
+            cost_h,
+            phase: p.kind == ProcessKind::Phase,
+            n,
+            nb,
+            np,
+            active,
+            held,
+            slack,
+            slips,
+            biactive,
+            bound,
+            grad_f2,
+            k: c.stiffness().to_vec(),
+        }
+    }
+}
+
+/// Raw multipliers: `p_j` per piece, `xi` per active face of every knot (same layout as
+/// [`Structure::active`]), `omega`, at the given `lambda`.
+#[derive(Debug, Clone, PartialEq)]
+pub(crate) struct Raw {
+    pub lambda: f64,
+    pub p: Vec<Vec<f64>>,
+    pub xi: Vec<Vec<f64>>,
+    pub omega: Vec<f64>,
+}
+
+/// Which optimisation over the multiplier set.
+#[derive(Debug, Clone, Copy)]
+pub(crate) enum Stage {
+    /// Minimise the largest violation `r` of the branch LP's KKT system.
+    Kkt,
+    /// Keeping `r <= r_max`, minimise the largest violation `s` of `xi >= 0`.
+    Sign { r_max: f64 },
+    /// Keeping `r <= r_max` and `s <= s_max`, maximise the margin `delta` of
+    /// `-(p + omega) sign(u) >= delta` on the pieces where a control is at its bound.
+    Margin { r_max: f64, s_max: f64, cap: f64 },
+}
+
+/// The search for degenerate multipliers (`lambda = 0`): the conditions are then homogeneous,
+/// so a non-zero `(p, omega)` exists iff the fixed generic linear functional `sign * c` has a
+/// positive maximum over them within the box `|p|, |omega| <= 1`, for `sign = 1` or `-1` (a
+/// non-zero `v` has `c.v != 0` for generic `c`).
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Norm {
+    pub sign: f64,
+    /// Whether `xi >= 0` is imposed too (phase gaits, whose verdict includes it).
+    pub sign_hard: bool,
+}
+
+/// The generic functional: irrational, deterministic weights.
+fn functional(j: usize, l: usize) -> f64 {
+    (1.0 + j as f64 * 0.618_033_988_749_895 + l as f64 * 0.414_213_562_373_095).sin() + 0.1
+}
+
+/// Solves one multiplier LP; `None` when HiGHS does not report an optimum.
+pub(crate) fn solve(
+    st: &Structure,
+    lambda: f64,
+    stage: Stage,
+    norm: Option<Norm>,
+    durations_free: bool,
+) -> Result<Option<Raw>> {
+    let (n, np) = (st.n, st.np);
+    let inv_n = lambda / st.nb as f64;
+    const INF: f64 = f64::INFINITY;
+    let mut pb = RowProblem::default();
+    let (box_, weight) = match norm {
+        Some(Norm { sign, .. }) => (1.0, sign),
+        None => (INF, 0.0),
+    };
+    let p: Vec<Vec<Col>> = (0..np)
+        .map(|j| {
+            (0..n)
+                .map(|l| pb.add_column(-weight * functional(j, l), -box_..=box_))
+                .collect()
+        })
+        .collect();
+    let xi: Vec<Vec<Col>> = st
+        .active
+        .iter()
+        .map(|a| a.iter().map(|_| pb.add_column(0.0, -INF..=INF)).collect())
+        .collect();
+    let omega: Vec<Col> = (0..n)
+        .map(|l| pb.add_column(-weight * functional(np, l), -box_..=box_))
+        .collect();
+    let (r_cost, r_hi) = match stage {
+        Stage::Kkt if norm.is_some() => (0.0, 0.0),
+        Stage::Kkt => (1.0, INF),
+        Stage::Sign { r_max } | Stage::Margin { r_max, .. } => (0.0, r_max),
+    };
+    let r = pb.add_column(r_cost, 0.0..=r_hi);
+    let (s_cost, s_hi) = match stage {
+        Stage::Kkt if norm.is_some_and(|n| n.sign_hard) => (0.0, 0.0),
+        Stage::Kkt => (0.0, INF),
+        Stage::Sign { .. } => (1.0, INF),
+        Stage::Margin { s_max, .. } => (0.0, s_max),
+    };
+    let s = pb.add_column(s_cost, 0.0..=s_hi);
+    let (d_cost, d_hi) = match stage {
+        Stage::Margin { cap, .. } => (-1.0, cap),
+        _ => (0.0, INF),
+    };
+    let delta = pb.add_column(d_cost, -INF..=d_hi);
+    // The maximised Hamiltonian's constant (phase gaits).
+    let ham = pb.add_column(0.0, -INF..=INF);
+
+    // Adjoint equation with transversality (cyclic): p_j - p_{j-1} - sum_f xi_{j,f} x*_f = 0.
+    for j in 0..np {
+        let prev = (j + np - 1) % np;
+        let mut rows: Vec<Vec<(Col, f64)>> = (0..n)
+            .map(|l| vec![(p[j][l], 1.0), (p[prev][l], -1.0)])
+            .collect();
+        for (fi, &f) in st.active[j].iter().enumerate() {
+            for (l, v) in normal(n, f) {
+                rows[l].push((xi[j][fi], -v));
+            }
+        }
+        for row in rows {
+            pb.add_row(0.0..=0.0, row);
+        }
+    }
+    for j in 0..np {
+        // Slip stationarity: p_j . K nu_b + lambda/N = 0 for a slipping block.
+        for b in 0..st.nb {
+            let kn = k_nu(n, &st.k, b);
+            let dot = |extra: (Col, f64)| {
+                let mut row: Vec<(Col, f64)> = kn.iter().map(|&(l, v)| (p[j][l], v)).collect();
+                row.push(extra);
+                row
+            };
+            if st.slips[j][b] != 0 {
+                pb.add_row(..=-inv_n, dot((r, -1.0)));
+                pb.add_row(-inv_n.., dot((r, 1.0)));
+            }
+            for &(bb, dir) in &st.biactive[j] {
+                if bb != b {
+                    continue;
+                }
+                // Relaxed branch: -p.K nu_b - lambda/N >= 0 (dir +), <= 0 (dir -).
+                if dir > 0 {
+                    pb.add_row(..=-inv_n, dot((r, -1.0)));
+                } else {
+                    pb.add_row(-inv_n.., dot((r, 1.0)));
+                }
+            }
+        }
+        // Weak maximality: psi = -p - omega - lambda Df2(u) in N_U(u) (box).
+        for l in 0..n {
+            let g = lambda * st.grad_f2[j][l];
+            let bnd = st.bound[j][l];
+            if bnd >= 0 {
+                // psi >= -r  <=>  -p - omega + r >= g.
+                pb.add_row(g.., [(p[j][l], -1.0), (omega[l], -1.0), (r, 1.0)]);
+            }
+            if bnd <= 0 {
+                // psi <= r  <=>  -p - omega - r <= g.
+                pb.add_row(..=g, [(p[j][l], -1.0), (omega[l], -1.0), (r, -1.0)]);
+            }
+            if bnd != 0 {
+                // Margin: -(p + omega) sign(u) >= delta.
+                let sg = f64::from(bnd);
+                pb.add_row(0.0.., [(p[j][l], -sg), (omega[l], -sg), (delta, -1.0)]);
+            }
+        }
+    }
+    if st.phase && durations_free {
+        // Stationarity in the durations: H_j = sum_l a_l |psi_{j,l}| + lambda (Df2(u).u - f2(u))
+        // equal on every phase, |psi| = sign(u) psi at a bound (0 inside, up to r).
+        for j in 0..np {
+            let mut row: Vec<(Col, f64)> = vec![(ham, -1.0)];
+            let mut cst = lambda * st.cost_h[j];
+            for l in 0..n {
+                let sg = f64::from(st.bound[j][l]);
+                if sg != 0.0 {
+                    row.push((p[j][l], -sg * st.a[l]));
+                    row.push((omega[l], -sg * st.a[l]));
+                    cst -= sg * st.a[l] * lambda * st.grad_f2[j][l];
+                }
+            }
+            let mut lo = row.clone();
+            lo.push((r, 1.0));
+            row.push((r, -1.0));
+            pb.add_row(..=-cst, row);
+            pb.add_row(-cst.., lo);
+        }
+    }
+    for j in 0..np {
+        for (fi, &h) in st.held[j].iter().enumerate() {
+            if !h {
+                // A face held by no slip is an inequality of the branch LP: xi <= r.
+                pb.add_row(..=0.0, [(xi[j][fi], 1.0), (r, -1.0)]);
+            }
+            // Theorem 2.2 / 6.1 sign: xi >= -s.
+            pb.add_row(0.0.., [(xi[j][fi], 1.0), (s, 1.0)]);
+        }
+    }
+    let mut model = pb.optimise(Sense::Minimise);
+    model.make_quiet();
+    model.set_option("threads", 1);
+    model.set_option("primal_feasibility_tolerance", 1e-10);
+    model.set_option("dual_feasibility_tolerance", 1e-10);
+    let solved = model.solve();
+    match solved.status() {
+        HighsModelStatus::Optimal => {}
+        HighsModelStatus::Infeasible => return Ok(None),
+        other => {
+            return Err(Error::Numerical(format!(
+                "certify: the multiplier LP ended with status {other:?}"
+            )))
+        }
+    }
+    let cols = solved.get_solution().columns().to_vec();
+    let val = |c: &Col| cols[c.index()];
+    Ok(Some(Raw {
+        lambda,
+        p: p.iter().map(|r| r.iter().map(val).collect()).collect(),
+        xi: xi.iter().map(|r| r.iter().map(val).collect()).collect(),
+        omega: omega.iter().map(val).collect(),
+    }))
+}
+
+/// The branch LP itself (module docs of [`crate::certify`]), `f2 = 0` only: its optimum and
+/// HiGHS's dual solution mapped to Theorem 2.2's signs (`lambda = 1`). `None` for a quadratic
+/// cost (then the branch problem is not an LP) or when HiGHS reports no optimum.
+pub(crate) fn branch_lp(pr: &Process, st: &Structure) -> Result<Option<(f64, Raw)>> {
+    if pr.problem.cost != Cost::None {
+        return Ok(None);
+    }
+    let (n, nb, np) = (st.n, st.nb, st.np);
+    let c = &pr.crawler;
+    let a = &pr.problem.rate_bound;
+    const INF: f64 = f64::INFINITY;
+    let mut pb = RowProblem::default();
+    let xs: Vec<Vec<Col>> = (0..np)
+        .map(|_| (0..n).map(|_| pb.add_column(0.0, -INF..=INF)).collect())
+        .collect();
+    let us: Vec<Vec<Col>> = (0..np)
+        .map(|j| {
+            (0..n)
+                .map(|l| {
+                    let w = a[l] * pr.durations[j];
+                    pb.add_column(0.0, -w..=w)
+                })
+                .collect()
+        })
+        .collect();
+    let inv_n = 1.0 / nb as f64;
+    let ds: Vec<Vec<Col>> = (0..np)
+        .map(|j| {
+            (0..nb)
+                .map(|b| {
+                    let dir = match st.slips[j][b] {
+                        0 => st.biactive[j]
+                            .iter()
+                            .find(|&&(bb, _)| bb == b)
+                            .map_or(0, |&(_, d)| d),
+                        s => s,
+                    };
+                    match dir {
+                        1 => pb.add_column(inv_n, 0.0..=INF),
+                        -1 => pb.add_column(inv_n, -INF..=0.0),
+                        _ => pb.add_column(inv_n, 0.0..=0.0),
+                    }
+                })
+                .collect()
+        })
+        .collect();
+    let mut row = 0usize;
+    let mut dyn_rows = vec![vec![0usize; n]; np];
+    for j in 0..np {
+        let next = &xs[(j + 1) % np];
+        for l in 0..n {
+            let mut r = vec![(next[l], 1.0), (xs[j][l], -1.0), (us[j][l], -1.0)];
+            for b in 0..nb {
+                for (ll, v) in k_nu(n, &st.k, b) {
+                    if ll == l {
+                        r.push((ds[j][b], v));
+                    }
+                }
+            }
+            pb.add_row(0.0..=0.0, r);
+            dyn_rows[j][l] = row;
+            row += 1;
+        }
+    }
+    let mut face_rows = vec![Vec::new(); np];
+    for j in 0..np {
+        for b in 0..nb {
+            for s in [1i8, -1] {
+                let f = FaceId { b, s };
+                let cf = if s > 0 {
+                    c.mu_forward()[b]
+                } else {
+                    c.mu_backward()[b]
+                };
+                let coeffs: Vec<(Col, f64)> =
+                    normal(n, f).iter().map(|&(l, v)| (xs[j][l], v)).collect();
+                let held = st.active[j]
+                    .iter()
+                    .position(|&g| g == f)
+                    .is_some_and(|fi| st.held[j][fi]);
+                if held {
+                    pb.add_row(cf..=cf, coeffs);
+                } else {
+                    pb.add_row(-INF..=cf, coeffs);
+                }
+                face_rows[j].push((f, row));
+                row += 1;
+            }
+        }
+    }
+    let mut mean_rows = vec![0usize; n];
+    for l in 0..n {
+        pb.add_row(
+            0.0..=0.0,
+            us.iter().map(|u| (u[l], 1.0)).collect::<Vec<_>>(),
+        );
+        mean_rows[l] = row;
+        row += 1;
+    }
+    let mut model = pb.optimise(Sense::Maximise);
+    model.make_quiet();
+    model.set_option("threads", 1);
+    model.set_option("primal_feasibility_tolerance", 1e-10);
+    model.set_option("dual_feasibility_tolerance", 1e-10);
+    let solved = model.solve();
+    if solved.status() != HighsModelStatus::Optimal {
+        return Ok(None);
+    }
+    let sol = solved.get_solution();
+    let y = sol.dual_rows();
+    // HiGHS's row duals y satisfy c = A^T y + (column duals) for either sense, so the
+    // Lagrangian multiplier of "row = rhs" in the text's convention is y: q_j = y(dyn_j),
+    // face dual = y(face), and p = -q, xi = -(face dual), omega = y(mean).
+    let p: Vec<Vec<f64>> = (0..np)
+        .map(|j| (0..n).map(|l| -y[dyn_rows[j][l]]).collect())
+        .collect();
+    let xi: Vec<Vec<f64>> = (0..np)
+        .map(|j| {
+            st.active[j]
+                .iter()
+                .map(|f| {
+                    let (_, r) = face_rows[j].iter().find(|(g, _)| g == f).expect("face");
+                    -y[*r]
+                })
+                .collect()
+        })
+        .collect();
+    let omega = (0..n).map(|l| y[mean_rows[l]]).collect();
+    Ok(Some((
+        solved.objective_value(),
+        Raw {
+            lambda: 1.0,
+            p,
+            xi,
+            omega,
+        },
+    )))
+}

@@ -1,0 +1,176 @@
+//! The `certify` command-line contract: the JSON certificate, `optimize --certify`, and one-line
+//! errors (exit status 2) for bad or inconsistent result files.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+fn crawlopt(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_crawlopt"))
+        .args(args)
+        .output()
+        .unwrap()
+}
+
+fn json(out: &Output) -> serde_json::Value {
+    serde_json::from_slice(&out.stdout)
+        .unwrap_or_else(|e| panic!("{e}: {}", String::from_utf8_lossy(&out.stdout)))
+}
+
+fn stderr(out: &Output) -> String {
+    String::from_utf8_lossy(&out.stderr).into_owned()
+}
+
+fn write(dir: &Path, name: &str, v: &serde_json::Value) -> PathBuf {
+    let p = dir.join(name);
+    std::fs::write(&p, serde_json::to_string(v).unwrap()).unwrap();
+    p
+}
+
+/// `optimize --json` of the one-link example on P_3.
+fn one_link_result() -> serde_json::Value {
+    let out = crawlopt(&[
+        "optimize",
+        "examples/one_link_gait.toml",
+        "--method",
+        "discrete",
+        "--m",
+        "3",
+        "--json",
+    ]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    json(&out)
+}
+
+#[test]
+fn certify_json_has_the_contract_fields() {
+    let dir = tempfile::tempdir().unwrap();
+    let f = write(dir.path(), "r.json", &one_link_result());
+    let out = crawlopt(&["certify", f.to_str().unwrap(), "--json"]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let v = json(&out);
+    assert_eq!(v["format"], "crawlopt-necessary-conditions");
+    assert_eq!(v["verdict"], "holds");
+    assert_eq!(v["lambda"], 1.0);
+    let conds = v["conditions"].as_array().unwrap();
+    assert!(conds.len() >= 12);
+    for c in conds {
+        for key in [
+            "name",
+            "theorem",
+            "statement",
+            "residual",
+            "tolerance",
+            "holds",
+        ] {
+            assert!(!c[key].is_null(), "{key} missing in {c}");
+        }
+    }
+    let m = &v["multipliers"];
+    assert_eq!(m["times"].as_array().unwrap().len(), 9);
+    for key in ["p", "p_plus_omega", "psi", "u"] {
+        assert_eq!(m[key].as_array().unwrap().len(), 8, "{key}");
+    }
+    assert_eq!(m["xi"].as_array().unwrap().len(), 2);
+    assert_eq!(v["one_link"]["bang_bang"], true);
+    // The human form prints the verdict and every condition.
+    let out = crawlopt(&["certify", f.to_str().unwrap()]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(text.contains(": holds"), "{text}");
+    assert!(text.contains("weak_maximality"), "{text}");
+}
+
+#[test]
+fn optimize_certify_adds_the_certificate() {
+    let out = crawlopt(&[
+        "optimize",
+        "examples/one_link_gait.toml",
+        "--phases",
+        "4",
+        "--certify",
+        "--json",
+    ]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let v = json(&out);
+    assert_eq!(v["format"], "crawlopt-gait-result");
+    assert_eq!(v["necessary_conditions"]["verdict"], "holds");
+    assert!(v["necessary_conditions"]["conditions"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .all(|c| c["holds"] == true));
+}
+
+/// An edit of a result file.
+type Edit = Box<dyn Fn(&mut serde_json::Value)>;
+
+#[test]
+fn inconsistent_result_files_are_refused_with_one_line() {
+    let dir = tempfile::tempdir().unwrap();
+    let good = one_link_result();
+    let cases: Vec<(&str, Edit, &str)> = vec![
+        (
+            "grid",
+            Box::new(|v| v["m"] = serde_json::json!(4)),
+            "dyadic grid",
+        ),
+        (
+            "outside",
+            Box::new(|v| {
+                v["gait"]["states"][3][0] = serde_json::json!(5.0);
+            }),
+            "outside C",
+        ),
+        (
+            "periodic",
+            Box::new(|v| {
+                let last = v["gait"]["states"].as_array().unwrap().len() - 1;
+                let x = v["gait"]["states"][last][0].as_f64().unwrap();
+                v["gait"]["states"][last][0] = serde_json::json!(x - 0.5);
+            }),
+            "not periodic",
+        ),
+        (
+            "mean",
+            Box::new(|v| v["gait"]["controls"][0][0] = serde_json::json!(0.5)),
+            "zero mean",
+        ),
+        (
+            "rate",
+            Box::new(|v| v["gait"]["controls"][0][0] = serde_json::json!(1.5)),
+            "rate bound",
+        ),
+        (
+            "dynamics",
+            Box::new(|v| {
+                let d = v["gait"]["block_displacements"][1][1].as_f64().unwrap();
+                v["gait"]["block_displacements"][1][1] = serde_json::json!(d + 0.25);
+            }),
+            "does not follow",
+        ),
+        (
+            "steps",
+            Box::new(|v| {
+                v["gait"]["durations"][0] = serde_json::json!(1.0);
+                v["gait"]["durations"][1] = serde_json::json!(1.5);
+                v["gait"]["times"][1] = serde_json::json!(1.0);
+            }),
+            "h = T / 2^3",
+        ),
+    ];
+    for (name, edit, want) in cases {
+        let mut v = good.clone();
+        edit(&mut v);
+        let f = write(dir.path(), &format!("{name}.json"), &v);
+        let out = crawlopt(&["certify", f.to_str().unwrap()]);
+        let e = stderr(&out);
+        assert_eq!(out.status.code(), Some(2), "{name}: {e}");
+        assert!(out.stdout.is_empty(), "{name}");
+        assert_eq!(e.lines().count(), 1, "{name}: {e}");
+        assert!(e.starts_with("error: "), "{name}: {e}");
+        assert!(e.contains(want), "{name}: {e}");
+    }
+    let out = crawlopt(&["certify", "no/such/file.json"]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(stderr(&out).contains("no/such/file.json"));
+}
