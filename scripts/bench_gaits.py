@@ -79,7 +79,8 @@ with tempfile.TemporaryDirectory() as tmp:
     print("|---|---|---|---|---|")
     best = {}
     for n in map(int, os.environ["PHASE_NS"].split()):
-        r, wall, err = ours([model_file(n, tmp), "--time-limit", str(time_limit)])
+        r, wall, err = ours([model_file(n, tmp), "--time-limit",
+                             os.environ.get("PHASE_TIME_LIMIT", str(time_limit))])
         if r is None:
             print(f"| {n} | error: {err} | - | - | {wall:.2f} |")
             continue
@@ -87,20 +88,25 @@ with tempfile.TemporaryDirectory() as tmp:
         print(f"| {n} | {r['objective']:.6f} | {r['certificate']['phases']} | "
               f"{r['phase_growth']['stop']} | {wall:.2f} |", flush=True)
 
-    print(f"\n## CasADi + IPOPT (Scholtes), {starts} starts, vs crawlopt\n")
-    print("| N | M | IPOPT best (sim) | IPOPT median | IPOPT time s | crawlopt phase J* | "
-          "best IPOPT / J* |")
-    print("|---|---|---|---|---|---|---|")
+    print(f"\n## P_M locally: crawlopt --method local (start: phase gait) vs CasADi + IPOPT "
+          f"(Scholtes, {starts} starts) on the same grid\n")
+    print("| N | M | crawlopt local J_M | time s | IPOPT best (sim) | IPOPT median | IPOPT time s | "
+          "best continuous J* (phase) | crawlopt / J* | IPOPT / J* | IPOPT / crawlopt time |")
+    print("|---|---|---|---|---|---|---|---|---|---|---|")
     for case in os.environ["IPOPT_CASES"].split():
         n, big_m = map(int, case.split(":"))
+        m = big_m.bit_length() - 1
+        r, wall, err = ours([model_file(n, tmp), "--method", "local", "--m", str(m),
+                             "--time-limit", os.environ.get("LOCAL_TIME_LIMIT", "16")])
         rows, pwall = peer("casadi_mpcc.py", ["--N", str(n), "--M", str(big_m), "--mum",
                                               str(mu_backward(n)), "--starts", str(starts)])
-        vals = sorted(r["sim_obj"] for r in rows if r.get("sim_obj") is not None)
-        if not vals:
-            print(f"| {n} | {big_m} | none | - | {pwall:.1f} | - | - |")
-            continue
-        med = vals[len(vals) // 2]
+        vals = sorted(r2["sim_obj"] for r2 in rows if r2.get("sim_obj") is not None)
         j = best.get(n)
-        print(f"| {n} | {big_m} | {vals[-1]:.6f} | {med:.6f} | {pwall:.1f} | "
-              f"{'-' if j is None else f'{j:.6f}'} | "
-              f"{'-' if not j else f'{vals[-1] / j:.3f}'} |", flush=True)
+        ours_txt = f"{r['objective']:.6f} | {wall:.2f}" if r else f"error: {err} | {wall:.2f}"
+        ipopt_txt = (f"{vals[-1]:.6f} | {vals[len(vals) // 2]:.6f} | {pwall:.1f}" if vals
+                     else f"none | - | {pwall:.1f}")
+        j_txt = "-" if j is None else f"{j:.6f}"
+        ours_rel = f"{r['objective'] / j:.4f}" if (j and r) else "-"
+        ipopt_rel = f"{vals[-1] / j:.4f}" if (j and vals) else "-"
+        print(f"| {n} | {big_m} | {ours_txt} | {ipopt_txt} | {j_txt} | {ours_rel} | "
+              f"{ipopt_rel} | {ratio(pwall, wall)} |", flush=True)
