@@ -39,11 +39,10 @@
 //! displacement is the one reported.
 
 use crate::error::{Error, Result};
-use crate::integrate::Method;
 use crate::model::Crawler;
 use crate::optimal::milp::{
-    block_speed_bound, certify, check_time_limit, force_row, replay, solve_max, TangentRates,
-    OA_TOL,
+    block_speed_bound, certify, check_time_limit, force_row, replay_grid, solve_max, GridColumns,
+    TangentRates, OA_TOL,
 };
 use crate::optimal::{Certificate, Cost, GaitProblem, MilpStatus};
 use highs::{Col, RowProblem};
@@ -89,10 +88,22 @@ impl DiscreteSolution {
 }
 
 struct Layout {
-    xs: Vec<Vec<Col>>,
-    us: Vec<Vec<Col>>,
+    grid: GridColumns,
     ps: Vec<Vec<Col>>,
     qs: Vec<Vec<Col>>,
+}
+
+impl Layout {
+    /// `(1/N) sum_{i,b} D^i_b` of a solution.
+    fn displacement(&self, cols: &[f64], blocks: usize) -> f64 {
+        self.ps
+            .iter()
+            .flatten()
+            .zip(self.qs.iter().flatten())
+            .map(|(p, q)| cols[p.index()] - cols[q.index()])
+            .sum::<f64>()
+            / blocks as f64
+    }
 }
 
 fn build(
@@ -111,28 +122,14 @@ fn build(
     );
     let a = &problem.rate_bound;
     let md = h * block_speed_bound(crawler, problem);
-    let ranges = crawler.link_force_ranges();
     let weight = match problem.cost {
         Cost::Quadratic { weight } => weight,
         Cost::None => 0.0,
     };
 
     let mut pb = RowProblem::default();
-    let xs: Vec<Vec<Col>> = (0..big_m)
-        .map(|_| {
-            ranges
-                .iter()
-                .map(|r| pb.add_column(0.0, r[0]..=r[1]))
-                .collect()
-        })
-        .collect();
-    let us: Vec<Vec<Col>> = (0..big_m)
-        .map(|_| {
-            a.iter()
-                .map(|&al| pb.add_column(0.0, -al * h..=al * h))
-                .collect()
-        })
-        .collect();
+    let grid = GridColumns::new(&mut pb, crawler, problem, big_m);
+    let (xs, us) = (&grid.xs, &grid.us);
     let inv_n = 1.0 / nb as f64;
     let per_block = |cost: f64, integer: bool, pb: &mut RowProblem| -> Vec<Vec<Col>> {
         (0..big_m)
@@ -191,25 +188,8 @@ fn build(
             pb.add_row(..=mp[b], &row);
         }
     }
-    for l in 0..n {
-        let row: Vec<(Col, f64)> = us.iter().map(|u| (u[l], 1.0)).collect();
-        pb.add_row(0.0..=0.0, &row);
-    }
-    if let Some(v) = problem.max_total_variation {
-        // |U^{i+1}_l - U^i_l| <= s^i_l, sum s <= h V.
-        let mut total = Vec::with_capacity(big_m * n);
-        for i in 0..big_m {
-            for l in 0..n {
-                let s = pb.add_column(0.0, 0.0..);
-                let (u0, u1) = (us[i][l], us[(i + 1) % big_m][l]);
-                pb.add_row(0.0.., [(s, 1.0), (u1, -1.0), (u0, 1.0)]);
-                pb.add_row(0.0.., [(s, 1.0), (u1, 1.0), (u0, -1.0)]);
-                total.push((s, 1.0));
-            }
-        }
-        pb.add_row(..=h * v, total);
-    }
-    (pb, Layout { xs, us, ps, qs })
+    grid.add_control_rows(&mut pb, problem);
+    (pb, Layout { grid, ps, qs })
 }
 
 /// Solves P_m globally (module docs). `time_limit` in seconds.
@@ -228,7 +208,7 @@ pub fn solve_discrete_global(
         ));
     }
     check_time_limit(time_limit)?;
-    let (n, nb) = (crawler.links(), crawler.blocks());
+    let nb = crawler.blocks();
     let big_m = 1usize << m;
     let h = problem.period / big_m as f64;
     let a = &problem.rate_bound;
@@ -266,23 +246,8 @@ pub fn solve_discrete_global(
         let Some(r) = rates.as_mut() else {
             break (cols, lay, bound, status);
         };
-        let incs: Vec<f64> = lay.us.iter().flatten().map(|c| cols[c.index()]).collect();
-        let disp: f64 = lay
-            .ps
-            .iter()
-            .flatten()
-            .zip(lay.qs.iter().flatten())
-            .map(|(p, q)| cols[p.index()] - cols[q.index()])
-            .sum::<f64>()
-            / nb as f64;
-        let cost: f64 = incs
-            .chunks(n)
-            .map(|u| {
-                let rate: Vec<f64> = u.iter().map(|v| v / h).collect();
-                h * problem.cost.eval(&rate)
-            })
-            .sum();
-        let true_objective = disp - cost;
+        let incs = lay.grid.increments(&cols);
+        let true_objective = lay.displacement(&cols, nb) - grid_cost(problem, &incs, h);
         let converged = bound - true_objective <= OA_TOL * true_objective.abs().max(1.0);
         if converged || status == MilpStatus::TimeLimit || rounds >= MAX_OA_ROUNDS {
             let status = match status {
@@ -292,7 +257,7 @@ pub fn solve_discrete_global(
             break (cols, lay, bound, status);
         }
         let mut added = false;
-        for u in incs.chunks(n) {
+        for u in &incs {
             for (l, &ul) in u.iter().enumerate() {
                 added |= r.add(l, ul / h, a[l]);
             }
@@ -302,56 +267,41 @@ pub fn solve_discrete_global(
         }
         last = Some((cols, bound, lay));
     };
-    // The gait: clean the increments to exact zero mean within the bounds, then simulate it.
-    let mut incs: Vec<f64> = lay.us.iter().flatten().map(|c| cols[c.index()]).collect();
-    for l in 0..n {
-        let mean = (0..big_m).map(|i| incs[i * n + l]).sum::<f64>() / big_m as f64;
-        for i in 0..big_m {
-            incs[i * n + l] -= mean;
-        }
-    }
-    let milp_displacement: f64 = lay
-        .ps
-        .iter()
-        .flatten()
-        .zip(lay.qs.iter().flatten())
-        .map(|(p, q)| cols[p.index()] - cols[q.index()])
-        .sum::<f64>()
-        / nb as f64;
-    let x0: Vec<f64> = lay.xs[0].iter().map(|c| cols[c.index()]).collect();
-    let rows: Vec<Vec<f64>> = incs.chunks(n).map(<[f64]>::to_vec).collect();
-    let controls: Vec<Vec<f64>> = rows
-        .iter()
-        .map(|r| r.iter().map(|v| v / h).collect())
-        .collect();
-    let cost: f64 = controls.iter().map(|u| h * problem.cost.eval(u)).sum();
-    let sim = replay(
-        crawler,
-        problem.period,
-        &vec![h; big_m],
-        &rows,
-        &x0,
-        Method::CatchingUp,
-        &what,
-    )?;
-    let verified = sim.displacement_per_period.expect("converged");
-    let tr = sim.trajectory.expect("one period recorded");
+    // The gait, with increments of exact zero mean, replayed by the simulator.
+    let incs = lay.grid.increments(&cols);
+    let x0: Vec<f64> = lay.grid.xs[0].iter().map(|c| cols[c.index()]).collect();
+    let cost = grid_cost(problem, &incs, h);
+    let g = replay_grid(crawler, problem.period, &incs, &x0, &what)?;
     Ok(DiscreteSolution {
         m,
         step: h,
-        certificate: certify(&what, status, milp_displacement, bound, verified, cost)?,
-        verified_displacement: verified,
+        certificate: certify(
+            &what,
+            status,
+            lay.displacement(&cols, nb),
+            bound,
+            g.verified,
+            cost,
+        )?,
+        verified_displacement: g.verified,
         actuation_cost: cost,
-        initial_state: sim.orbit_state,
-        block_displacements: tr
-            .positions
-            .windows(2)
-            .map(|w| w[1].iter().zip(&w[0]).map(|(a, b)| a - b).collect())
-            .collect(),
-        states: tr.x,
-        controls,
+        initial_state: g.initial_state,
+        block_displacements: g.block_displacements,
+        states: g.states,
+        controls: g.controls,
         rounds,
     })
+}
+
+/// `h sum_i f2(U^i / h)`.
+fn grid_cost(problem: &GaitProblem, increments: &[Vec<f64>], h: f64) -> f64 {
+    increments
+        .iter()
+        .map(|u| {
+            let rate: Vec<f64> = u.iter().map(|v| v / h).collect();
+            h * problem.cost.eval(&rate)
+        })
+        .sum()
 }
 
 /// One row of a convergence table: the optimum `J_m` of P_m.

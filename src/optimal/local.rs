@@ -32,9 +32,8 @@
 //! off that orbit. Every answer is re-verified by replaying it through the simulator.
 
 use crate::error::{Error, Result};
-use crate::integrate::Method;
 use crate::model::Crawler;
-use crate::optimal::milp::{block_speed_bound, check_time_limit, replay};
+use crate::optimal::milp::{block_speed_bound, check_time_limit, replay_grid, GridColumns};
 use crate::optimal::{Cost, GaitProblem};
 use highs::{Col, HighsModelStatus, Model, RowProblem, Sense};
 use serde::{Deserialize, Serialize};
@@ -193,27 +192,17 @@ pub fn solve_discrete_local(
 
     // The start on this grid, on its periodic orbit.
     let incs = sample_increments(start_times, start_lengths, k, a, t, big_m);
-    let x_start = vec![0.0; n];
-    let sim = replay(
-        crawler,
-        t,
-        &vec![h; big_m],
-        &incs,
-        &x_start,
-        Method::CatchingUp,
-        &what,
-    )?;
-    let start_objective = sim.displacement_per_period.expect("converged");
-    let tr = sim.trajectory.expect("one period recorded");
+    let start = replay_grid(crawler, t, &incs, &vec![0.0; n], &what)?;
+    let start_objective = start.verified;
     let tol_f = 1e-9 * mp.iter().chain(mm).fold(0.0f64, |s, v| s.max(*v));
     let tol_d = 1e-12 * md.max(1e-300);
     let mut modes: Vec<Vec<Mode>> = (0..big_m)
         .map(|i| {
-            let x = &tr.x[i + 1];
+            let x = &start.states[i + 1];
             (0..nb)
                 .map(|b| {
                     let f = force(x, b);
-                    let d = tr.positions[i + 1][b] - tr.positions[i][b];
+                    let d = start.block_displacements[i][b];
                     if (f - mp[b]).abs() <= tol_f && d >= -tol_d {
                         Mode::Plus
                     } else if (f + mm[b]).abs() <= tol_f && d <= tol_d {
@@ -227,23 +216,9 @@ pub fn solve_discrete_local(
         .collect();
 
     // One LP for every choice of modes; modes are column bounds.
-    let ranges = crawler.link_force_ranges();
     let mut pb = RowProblem::default();
-    let xs: Vec<Vec<Col>> = (0..big_m)
-        .map(|_| {
-            ranges
-                .iter()
-                .map(|r| pb.add_column(0.0, r[0]..=r[1]))
-                .collect()
-        })
-        .collect();
-    let us: Vec<Vec<Col>> = (0..big_m)
-        .map(|_| {
-            a.iter()
-                .map(|&al| pb.add_column(0.0, -al * h..=al * h))
-                .collect()
-        })
-        .collect();
+    let grid = GridColumns::new(&mut pb, crawler, problem, big_m);
+    let (xs, us) = (&grid.xs, &grid.us);
     let inv_n = 1.0 / nb as f64;
     let ds: Vec<Vec<Col>> = (0..big_m)
         .map(|_| (0..nb).map(|_| pb.add_column(-inv_n, -md..=md)).collect())
@@ -281,25 +256,7 @@ pub fn solve_discrete_local(
             pb.add_row(0.0..=0.0, row);
         }
     }
-    for l in 0..n {
-        pb.add_row(
-            0.0..=0.0,
-            us.iter().map(|u| (u[l], 1.0)).collect::<Vec<_>>(),
-        );
-    }
-    if let Some(v) = problem.max_total_variation {
-        let mut total = Vec::with_capacity(big_m * n);
-        for i in 0..big_m {
-            for l in 0..n {
-                let s = pb.add_column(0.0, 0.0..);
-                let (u0, u1) = (us[i][l], us[(i + 1) % big_m][l]);
-                pb.add_row(0.0.., [(s, 1.0), (u1, -1.0), (u0, 1.0)]);
-                pb.add_row(0.0.., [(s, 1.0), (u1, 1.0), (u0, -1.0)]);
-                total.push((s, 1.0));
-            }
-        }
-        pb.add_row(..=h * v, total);
-    }
+    grid.add_control_rows(&mut pb, problem);
     let mut model = pb.optimise(Sense::Minimise);
     model.make_quiet();
     model.set_option("threads", 1);
@@ -410,52 +367,29 @@ pub fn solve_discrete_local(
     };
 
     // Re-verification: the LP's increments played by catching-up from its x^0.
-    let val = |c: &Col| cols[c.index()];
-    let mut rows: Vec<Vec<f64>> = us.iter().map(|u| u.iter().map(val).collect()).collect();
-    for l in 0..n {
-        let mean = rows.iter().map(|u| u[l]).sum::<f64>() / big_m as f64;
-        for u in &mut rows {
-            u[l] -= mean;
-        }
-    }
-    let x0: Vec<f64> = xs[0].iter().map(val).collect();
-    let sim = replay(
-        crawler,
-        t,
-        &vec![h; big_m],
-        &rows,
-        &x0,
-        Method::CatchingUp,
-        &what,
-    )?;
-    let verified = sim.displacement_per_period.expect("converged");
-    if (verified - lp_objective).abs() > 1e-6 * (1.0 + verified.abs()) {
+    let rows = grid.increments(&cols);
+    let x0: Vec<f64> = xs[0].iter().map(|c| cols[c.index()]).collect();
+    let g = replay_grid(crawler, t, &rows, &x0, &what)?;
+    if (g.verified - lp_objective).abs() > 1e-6 * (1.0 + g.verified.abs()) {
         return Err(Error::Numerical(format!(
-            "{what}: the gait moves the crawler {verified} per period when simulated, not {lp_objective}"
+            "{what}: the gait moves the crawler {} per period when simulated, not {lp_objective}",
+            g.verified
         )));
     }
-    let tr = sim.trajectory.expect("one period recorded");
     Ok(LocalSolution {
         m,
         step: h,
         start_objective,
         lp_objective,
-        verified_displacement: verified,
+        verified_displacement: g.verified,
         actuation_cost: 0.0,
         lp_solves,
         switches,
         stop,
-        initial_state: sim.orbit_state,
-        block_displacements: tr
-            .positions
-            .windows(2)
-            .map(|w| w[1].iter().zip(&w[0]).map(|(a, b)| a - b).collect())
-            .collect(),
-        states: tr.x,
-        controls: rows
-            .iter()
-            .map(|r| r.iter().map(|v| v / h).collect())
-            .collect(),
+        initial_state: g.initial_state,
+        block_displacements: g.block_displacements,
+        states: g.states,
+        controls: g.controls,
     })
 }
 

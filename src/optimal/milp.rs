@@ -178,6 +178,133 @@ pub(crate) fn replay(
     Ok(sim)
 }
 
+/// The columns every grid formulation of P_m shares: states `x^i` (bounded by the link-force
+/// ranges of C) and increments `U^i = h u^i` (`|U^i_l| <= a_l h`), `i = 0..steps`.
+pub(crate) struct GridColumns {
+    pub xs: Vec<Vec<Col>>,
+    pub us: Vec<Vec<Col>>,
+}
+
+impl GridColumns {
+    /// Adds the columns.
+    pub fn new(
+        pb: &mut RowProblem,
+        crawler: &Crawler,
+        problem: &GaitProblem,
+        steps: usize,
+    ) -> Self {
+        let h = problem.period / steps as f64;
+        let ranges = crawler.link_force_ranges();
+        let xs = (0..steps)
+            .map(|_| {
+                ranges
+                    .iter()
+                    .map(|r| pb.add_column(0.0, r[0]..=r[1]))
+                    .collect()
+            })
+            .collect();
+        let us = (0..steps)
+            .map(|_| {
+                problem
+                    .rate_bound
+                    .iter()
+                    .map(|&al| pb.add_column(0.0, -al * h..=al * h))
+                    .collect()
+            })
+            .collect();
+        GridColumns { xs, us }
+    }
+
+    /// Adds the rows on the control alone: zero mean `sum_i U^i = 0` and, with a bound `V` on
+    /// `TV(u)`, `|U^{i+1}_l - U^i_l| <= s^i_l` (periodic), `sum s <= h V`.
+    pub fn add_control_rows(&self, pb: &mut RowProblem, problem: &GaitProblem) {
+        let steps = self.us.len();
+        let n = problem.rate_bound.len();
+        let h = problem.period / steps as f64;
+        for l in 0..n {
+            let row: Vec<(Col, f64)> = self.us.iter().map(|u| (u[l], 1.0)).collect();
+            pb.add_row(0.0..=0.0, row);
+        }
+        if let Some(v) = problem.max_total_variation {
+            let mut total = Vec::with_capacity(steps * n);
+            for i in 0..steps {
+                for l in 0..n {
+                    let s = pb.add_column(0.0, 0.0..);
+                    let (u0, u1) = (self.us[i][l], self.us[(i + 1) % steps][l]);
+                    pb.add_row(0.0.., [(s, 1.0), (u1, -1.0), (u0, 1.0)]);
+                    pb.add_row(0.0.., [(s, 1.0), (u1, 1.0), (u0, -1.0)]);
+                    total.push((s, 1.0));
+                }
+            }
+            pb.add_row(..=h * v, total);
+        }
+    }
+
+    /// The increments of a solution, shifted to an exact zero mean (the solver's is within its
+    /// tolerance), one row per step.
+    pub fn increments(&self, cols: &[f64]) -> Vec<Vec<f64>> {
+        let mut rows: Vec<Vec<f64>> = self
+            .us
+            .iter()
+            .map(|u| u.iter().map(|c| cols[c.index()]).collect())
+            .collect();
+        let steps = rows.len() as f64;
+        for l in 0..rows.first().map_or(0, Vec::len) {
+            let mean = rows.iter().map(|u| u[l]).sum::<f64>() / steps;
+            for u in &mut rows {
+                u[l] -= mean;
+            }
+        }
+        rows
+    }
+}
+
+/// A P_m gait replayed by catching-up on its grid (the re-verification): verified displacement,
+/// orbit state, states, per-step block displacements and controls.
+pub(crate) struct GridReplay {
+    pub verified: f64,
+    pub initial_state: Vec<f64>,
+    pub states: Vec<Vec<f64>>,
+    pub block_displacements: Vec<Vec<f64>>,
+    pub controls: Vec<Vec<f64>>,
+}
+
+/// Replays grid increments from `x0` (see [`replay`]).
+pub(crate) fn replay_grid(
+    crawler: &Crawler,
+    period: f64,
+    increments: &[Vec<f64>],
+    x0: &[f64],
+    what: &str,
+) -> Result<GridReplay> {
+    let h = period / increments.len() as f64;
+    let sim = replay(
+        crawler,
+        period,
+        &vec![h; increments.len()],
+        increments,
+        x0,
+        Method::CatchingUp,
+        what,
+    )?;
+    let verified = sim.displacement_per_period.expect("converged");
+    let tr = sim.trajectory.expect("one period recorded");
+    Ok(GridReplay {
+        verified,
+        initial_state: sim.orbit_state,
+        block_displacements: tr
+            .positions
+            .windows(2)
+            .map(|w| w[1].iter().zip(&w[0]).map(|(a, b)| a - b).collect())
+            .collect(),
+        states: tr.x,
+        controls: increments
+            .iter()
+            .map(|r| r.iter().map(|v| v / h).collect())
+            .collect(),
+    })
+}
+
 /// `F_b(x) = x_{b-1} - x_b` as `(column, coefficient)` pairs (`x_{-1} = x_n = 0`).
 pub(crate) fn force_row(x: &[Col], b: usize) -> Vec<(Col, f64)> {
     let n = x.len();

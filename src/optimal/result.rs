@@ -97,6 +97,34 @@ pub struct GaitData {
     pub initial_state: Vec<f64>,
 }
 
+impl GaitData {
+    /// A gait on a uniform grid of step `step` (P_m), slip modes read off the displacements.
+    fn on_grid(
+        crawler: &Crawler,
+        step: f64,
+        controls: &[Vec<f64>],
+        states: &[Vec<f64>],
+        block_displacements: &[Vec<f64>],
+        initial_state: &[f64],
+    ) -> Self {
+        let durations = vec![step; controls.len()];
+        let (times, lengths) = knots(crawler, &durations, controls);
+        GaitData {
+            times,
+            durations,
+            lengths,
+            controls: controls.to_vec(),
+            states: states.to_vec(),
+            block_displacements: block_displacements.to_vec(),
+            slip: block_displacements
+                .iter()
+                .map(|d| d.iter().map(|&v| slip_of(v, 1e-9 * step)).collect())
+                .collect(),
+            initial_state: initial_state.to_vec(),
+        }
+    }
+}
+
 /// One optimal-gait result (module docs).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct GaitResult {
@@ -229,13 +257,14 @@ impl GaitResult {
         s: &LocalSolution,
         start: &str,
     ) -> Self {
-        let durations = vec![s.step; s.controls.len()];
-        let (times, lengths) = knots(crawler, &durations, &s.controls);
-        let slip = s
-            .block_displacements
-            .iter()
-            .map(|d| d.iter().map(|&v| slip_of(v, 1e-9 * s.step)).collect())
-            .collect();
+        let gait = GaitData::on_grid(
+            crawler,
+            s.step,
+            &s.controls,
+            &s.states,
+            &s.block_displacements,
+            &s.initial_state,
+        );
         GaitResult {
             format: RESULT_FORMAT.into(),
             version: RESULT_VERSION,
@@ -259,16 +288,7 @@ impl GaitResult {
                 bound: None,
                 phases: None,
             },
-            gait: GaitData {
-                times,
-                durations,
-                lengths,
-                controls: s.controls.clone(),
-                states: s.states.clone(),
-                block_displacements: s.block_displacements.clone(),
-                slip,
-                initial_state: s.initial_state.clone(),
-            },
+            gait,
             phase_growth: None,
             convergence: None,
             local: Some(LocalRecord {
@@ -283,14 +303,15 @@ impl GaitResult {
 
     /// The record of a P_m answer.
     pub fn from_discrete(crawler: &Crawler, problem: &GaitProblem, s: &DiscreteSolution) -> Self {
-        let durations = vec![s.step; s.controls.len()];
-        let (times, lengths) = knots(crawler, &durations, &s.controls);
-        let cost = actuation_cost(problem, &durations, &s.controls);
-        let slip = s
-            .block_displacements
-            .iter()
-            .map(|d| d.iter().map(|&v| slip_of(v, 1e-9 * s.step)).collect())
-            .collect();
+        let gait = GaitData::on_grid(
+            crawler,
+            s.step,
+            &s.controls,
+            &s.states,
+            &s.block_displacements,
+            &s.initial_state,
+        );
+        let cost = actuation_cost(problem, &gait.durations, &s.controls);
         GaitResult {
             format: RESULT_FORMAT.into(),
             version: RESULT_VERSION,
@@ -310,16 +331,7 @@ impl GaitResult {
                 bound: Some(s.certificate.bound),
                 phases: None,
             },
-            gait: GaitData {
-                times,
-                durations,
-                lengths,
-                controls: s.controls.clone(),
-                states: s.states.clone(),
-                block_displacements: s.block_displacements.clone(),
-                slip,
-                initial_state: s.initial_state.clone(),
-            },
+            gait,
             phase_growth: None,
             convergence: None,
             local: None,
