@@ -353,7 +353,10 @@ mod tests {
         let text = serde_json::to_string(&r).unwrap();
         assert_eq!(GaitResult::from_json(&text, "r.json").unwrap(), r);
         let e = GaitResult::from_json(&text[..text.len() / 2], "r.json").unwrap_err();
-        assert!(e.to_string().contains("not a complete JSON document"), "{e}");
+        assert!(
+            e.to_string().contains("not a complete JSON document"),
+            "{e}"
+        );
         let other = text.replace("\"version\":1", "\"version\":2");
         let e = GaitResult::from_json(&other, "r.json").unwrap_err();
         assert!(e.to_string().contains("version"), "{e}");
@@ -361,13 +364,12 @@ mod tests {
         assert!(e.to_string().contains("format"), "{e}");
         let mut short = r.clone();
         short.gait.states.pop();
-        let e = GaitResult::from_json(&serde_json::to_string(&short).unwrap(), "r.json")
-            .unwrap_err();
+        let e =
+            GaitResult::from_json(&serde_json::to_string(&short).unwrap(), "r.json").unwrap_err();
         assert!(e.to_string().contains("gait.states"), "{e}");
         let mut bad = r;
         bad.problem.period = -1.0;
-        let e =
-            GaitResult::from_json(&serde_json::to_string(&bad).unwrap(), "r.json").unwrap_err();
+        let e = GaitResult::from_json(&serde_json::to_string(&bad).unwrap(), "r.json").unwrap_err();
         assert!(e.to_string().contains("gait.period"), "{e}");
     }
 }
