@@ -11,6 +11,7 @@
 //! - [`integrate`]: actuations, catching-up and exact event-driven integration, periodic regime;
 //! - [`optimal`]: the gait problem (P) and its optimum (closed form for one link so far);
 //! - [`io`]: the TOML model file and CSV files;
+//! - [`present`]: figures (SVG, PNG) and the self-contained HTML report; nothing depends on it;
 //! - the `crawlopt` binary: a thin command-line layer.
 //!
 //! ```
@@ -31,6 +32,7 @@ pub mod integrate;
 pub mod io;
 pub mod model;
 pub mod optimal;
+pub mod present;
 pub mod sweep;
 
 pub use error::{Error, Result};
