@@ -413,7 +413,11 @@ impl Plot for ActuationSeries {
         let mut c = chart(
             &bottom,
             s,
-            "Rate u = k L′ (piecewise constant; bang-bang arcs sit on ±a)",
+            if self.rate_bound.is_some() {
+                "Rate u = k L′ (bang-bang arcs sit on the dashed bounds ±a)"
+            } else {
+                "Rate u = k L′"
+            },
             (0.0, period),
             ur,
             "time t [time]",
@@ -458,8 +462,14 @@ impl Plot for ActuationSeries {
 pub fn actuation_figure(a: &ActuationSeries) -> Result<Figure> {
     render(
         "actuation",
-        "Actuator lengths L(t) and rates u(t) = k L′(t) over one period; dashed: the rate bounds ±a."
-            .into(),
+        format!(
+            "Actuator lengths L(t) and rates u(t) = k L′(t) over one period{}.",
+            if a.rate_bound.is_some() {
+                "; dashed: the rate bounds ±a"
+            } else {
+                ""
+            }
+        ),
         (FIGURE_SIZE.0, 640),
         a,
     )
