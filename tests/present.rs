@@ -125,3 +125,27 @@ fn a_jm_table_gives_the_convergence_figure() {
         .unwrap_err();
     assert!(e.to_string().contains("one J value per m"), "{e}");
 }
+
+#[test]
+fn the_transient_starts_at_rest_and_ends_on_the_orbit() {
+    let r = three_blocks();
+    let (crawler, sim) = present::replay_gait(&r, 1).unwrap();
+    let act = present::gait_actuation(&r).unwrap();
+    let states = present::transient_states(
+        &crawler,
+        &act,
+        crawlopt::integrate::Method::Exact,
+        r.gait.durations.len(),
+    )
+    .unwrap();
+    assert_eq!(states[0], vec![0.0, 0.0]);
+    // The orbit's states at the phase boundaries include where the transient ends.
+    let end = states.last().unwrap();
+    let traj = sim.trajectory.unwrap();
+    let near = traj
+        .x
+        .iter()
+        .map(|x| (x[0] - end[0]).abs().max((x[1] - end[1]).abs()))
+        .fold(f64::INFINITY, f64::min);
+    assert!(near < 1e-9, "the transient ends {near} away from the orbit");
+}

@@ -255,8 +255,11 @@ fn dedup(pts: Vec<(f64, f64)>) -> Vec<(f64, f64)> {
     out
 }
 
-/// A thick polyline as separate segments with round joints: plotters mitres the joints of a
-/// thick polyline and sharp turns (an orbit running along two faces of C) come out hollow.
+/// A thick polyline. plotters mitres the joints of a thick polyline, and two cases come out
+/// wrong in the bitmap: a segment of zero length in pixels (a spike shooting out of the plot) and
+/// a turn back on itself (a hollow double line), both common on orbits running along the faces of
+/// C. So points falling on the pixel of their predecessor are dropped, and a polyline with turns
+/// sharper than 120° is drawn as separate segments with round joints.
 fn draw_thick<'a, DB: DrawingBackend + 'a>(
     c: &mut Chart2d<'a, DB>,
     pts: &[(f64, f64)],
@@ -267,7 +270,35 @@ fn draw_thick<'a, DB: DrawingBackend + 'a>(
 where
     DB::ErrorType: 'static,
 {
-    let pts = dedup(pts.to_vec());
+    let mut kept: Vec<(f64, f64)> = Vec::with_capacity(pts.len());
+    let mut last_px = None;
+    for &p in pts {
+        let q = c.backend_coord(&p);
+        if last_px != Some(q) {
+            kept.push(p);
+            last_px = Some(q);
+        }
+    }
+    let pts = dedup(kept);
+    let (xr, yr) = (c.x_range(), c.y_range());
+    let (w, h) = c.plotting_area().dim_in_pixel();
+    let (kx, ky) = (
+        w as f64 / (xr.end - xr.start),
+        h as f64 / (yr.end - yr.start),
+    );
+    let sharp = pts.windows(3).any(|w| {
+        let u = (kx * (w[1].0 - w[0].0), ky * (w[1].1 - w[0].1));
+        let v = (kx * (w[2].0 - w[1].0), ky * (w[2].1 - w[1].1));
+        let n = u.0.hypot(u.1) * v.0.hypot(v.1);
+        n > 0.0 && (u.0 * v.0 + u.1 * v.1) < -0.5 * n
+    });
+    if !sharp {
+        c.draw_series(std::iter::once(PathElement::new(
+            pts,
+            s.line(colour, width),
+        )))?;
+        return Ok(());
+    }
     c.draw_series(
         pts.windows(2)
             .map(|w| PathElement::new(vec![w[0], w[1]], s.line(colour, width))),
@@ -400,7 +431,8 @@ impl Plot for ActuationSeries {
                 .zip(&self.lengths)
                 .map(|(&t, row)| (t, row[l]))
                 .collect();
-            c.draw_series(LineSeries::new(dedup(pts), s.line(link_colour(l), 2.2)))?
+            draw_thick(&mut c, &pts, link_colour(l), 2.2, s)?;
+            c.draw_series(std::iter::empty::<PathElement<(f64, f64)>>())?
                 .label(format!("L{}(t)", sub(l + 1)))
                 .legend(legend_line(link_colour(l), s.px(2.5)));
         }
@@ -449,7 +481,8 @@ impl Plot for ActuationSeries {
                 pts.push((self.times[j], u[l]));
                 pts.push((self.times[j + 1], u[l]));
             }
-            c.draw_series(LineSeries::new(dedup(pts), s.line(link_colour(l), 2.2)))?
+            draw_thick(&mut c, &pts, link_colour(l), 2.2, s)?;
+            c.draw_series(std::iter::empty::<PathElement<(f64, f64)>>())?
                 .label(format!("u{}(t)", sub(l + 1)))
                 .legend(legend_line(link_colour(l), s.px(2.5)));
         }
@@ -566,9 +599,9 @@ impl Plot for SpaceTime<'_> {
                     .zip(&tr.positions)
                     .map(|(&t, p)| (t, p[b] + off(b)))
                     .collect();
-            let series = c.draw_series(LineSeries::new(dedup(pts.clone()), s.line(STICK, 1.2)))?;
+            draw_thick(&mut c, &pts, STICK, 1.2, s)?;
             if b == 0 {
-                series
+                c.draw_series(std::iter::empty::<PathElement<(f64, f64)>>())?
                     .label("block sticks")
                     .legend(legend_line(STICK, s.px(1.5)));
             }
@@ -590,10 +623,9 @@ impl Plot for SpaceTime<'_> {
                         open = false;
                     }
                 }
-                c.draw_series(
-                    runs.into_iter()
-                        .map(|r| PathElement::new(dedup(r), s.line(colour, 3.2))),
-                )?;
+                for r in runs {
+                    draw_thick(&mut c, &r, colour, 3.2, s)?;
+                }
             }
             c.draw_series(std::iter::once(Text::new(
                 format!("block {}", b + 1),
@@ -807,6 +839,8 @@ pub struct InC<'a> {
     pub crawler: &'a Crawler,
     /// The periodic orbit (recorded periods), if any.
     pub orbit: Option<&'a Trajectory>,
+    /// The approach to the orbit from rest (states), drawn thin and grey under it.
+    pub transient: Option<&'a [Vec<f64>]>,
 }
 
 impl InC<'_> {
@@ -870,8 +904,10 @@ impl InC<'_> {
         DB::ErrorType: 'static,
     {
         let p = projection(self.crawler, i, j);
-        let xr = range_of(p.vertices.iter().map(|v| &v.0), 0.18);
-        let yr = range_of(p.vertices.iter().map(|v| &v.1), 0.18);
+        // Room around the polygon for the face labels (group labels such as 1–2+ are wide).
+        let pad = if big { 0.18 } else { 0.3 };
+        let xr = range_of(p.vertices.iter().map(|v| &v.0), pad);
+        let yr = range_of(p.vertices.iter().map(|v| &v.1), pad);
         // Equal scales on both axes: widen the shorter range to the plot's aspect ratio.
         let (w, h) = area.dim_in_pixel();
         let (pw, ph) = (
@@ -928,7 +964,7 @@ impl InC<'_> {
             c.draw_series(std::iter::once(Text::new(
                 label.clone(),
                 (m.0 + gap * na, m.1 + gap * nbv),
-                s.text_c(if big { 15.0 } else { 12.0 }, RGBColor(60, 60, 60))
+                s.text_c(if big { 15.0 } else { 14.0 }, RGBColor(60, 60, 60))
                     .pos(Pos::new(h, v)),
             )))?;
         }
@@ -938,6 +974,13 @@ impl InC<'_> {
             s.px(4.0),
             s.line(RGBColor(120, 120, 120), 1.0),
         )))?;
+        if let Some(tr) = self.transient.filter(|t| t.len() >= 2) {
+            let pts: Vec<(f64, f64)> = tr.iter().map(|x| (x[i], x[j])).collect();
+            draw_thick(&mut c, &pts, RGBColor(120, 120, 120), 1.2, s)?;
+            c.draw_series(std::iter::empty::<PathElement<(f64, f64)>>())?
+                .label("transient from x = 0")
+                .legend(legend_line(RGBColor(120, 120, 120), s.px(1.5)));
+        }
         if let Some(o) = self.orbit {
             let pts: Vec<(f64, f64)> = dedup(o.x.iter().map(|x| (x[i], x[j])).collect());
             draw_thick(&mut c, &pts, ORBIT, 2.8, s)?;
@@ -1013,8 +1056,20 @@ impl Plot for InC<'_> {
 }
 
 /// Figure `polytope`: C (interval, polygon with labelled faces, or pairwise projections) with
-/// the periodic orbit of `orbit` highlighted.
-pub fn polytope_figure(crawler: &Crawler, orbit: Option<&Trajectory>) -> Result<Figure> {
+/// the periodic orbit of `orbit` highlighted over the `transient` that leads to it from rest
+/// (states; not drawn for one link, whose figure has time on its axis).
+pub fn polytope_figure(
+    crawler: &Crawler,
+    orbit: Option<&Trajectory>,
+    transient: Option<&[Vec<f64>]>,
+) -> Result<Figure> {
+    if transient.is_some_and(|t| t.iter().any(|x| x.len() != crawler.links())) {
+        return Err(Error::invalid(
+            "transient",
+            "a state of the wrong size",
+            format!("one force per link ({})", crawler.links()),
+        ));
+    }
     if let Some(o) = orbit {
         check_trajectory(o)?;
         if o.x[0].len() != crawler.links() {
@@ -1032,7 +1087,7 @@ pub fn polytope_figure(crawler: &Crawler, orbit: Option<&Trajectory>) -> Result<
         _ => {
             let cols = pairs.len().min(3) as u32;
             let rows = pairs.len().div_ceil(3) as u32;
-            (cols * 420, rows * 400)
+            (cols * 380, rows * 370)
         }
     };
     let what = match n {
@@ -1049,14 +1104,23 @@ pub fn polytope_figure(crawler: &Crawler, orbit: Option<&Trajectory>) -> Result<
         format!(
             "The admissible spring forces: {what}. A face labelled b+ (b−) is where block b slides forward \
              (backward); a range such as 1–2+ is a group of blocks sliding together.{}",
-            if orbit.is_some() {
-                " Green: the periodic orbit x(t), dot at t = 0, arrow in the direction of travel."
-            } else {
-                ""
+            match (orbit.is_some(), transient.is_some() && crawler.links() > 1) {
+                (true, true) => {
+                    " Green: the periodic orbit x(t), dot at t = 0, arrow in the direction of travel; \
+                     grey: the approach to it from rest (x = 0)."
+                }
+                (true, false) => {
+                    " Green: the periodic orbit x(t), dot at t = 0, arrow in the direction of travel."
+                }
+                _ => "",
             }
         ),
         size,
-        &InC { crawler, orbit },
+        &InC {
+            crawler,
+            orbit,
+            transient,
+        },
     )
 }
 
@@ -1557,17 +1621,17 @@ mod tests {
     #[test]
     fn the_polytope_figure_labels_axes_and_faces() {
         let c = Crawler::uniform(3, 1.0, 1.0, 1.5).unwrap();
-        let f = polytope_figure(&c, None).unwrap();
+        let f = polytope_figure(&c, None, None).unwrap();
         check_figure(
             &f,
             (760, 640),
             &["x₁ [force]", "x₂ [force]", "\n1+\n", "\n3−\n", "\n2+\n"],
         );
         let c4 = Crawler::uniform(4, 1.0, 1.0, 3.3).unwrap();
-        let f = polytope_figure(&c4, None).unwrap();
-        check_figure(&f, (1260, 400), &["C projected on (x₁, x₃)", "x₃ [force]"]);
+        let f = polytope_figure(&c4, None, None).unwrap();
+        check_figure(&f, (1140, 370), &["C projected on (x₁, x₃)", "x₃ [force]"]);
         let c1 = Crawler::uniform(2, 1.0, 1.0, 2.0).unwrap();
-        let f = polytope_figure(&c1, None).unwrap();
+        let f = polytope_figure(&c1, None, None).unwrap();
         check_figure(
             &f,
             (760, 640),

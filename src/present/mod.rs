@@ -92,6 +92,50 @@ pub fn record_orbit(
         .ok_or_else(|| Error::Numerical("no trajectory was recorded".into()))
 }
 
+/// Periods shown of the approach to the periodic orbit from rest, at most.
+pub const TRANSIENT_PERIODS: usize = 12;
+
+/// The states from rest (`x = 0`) towards the periodic orbit of `act`: whole periods, each
+/// integrated from where the last ended, until the state repeats or after
+/// [`TRANSIENT_PERIODS`] periods.
+pub fn transient_states(
+    crawler: &Crawler,
+    act: &Actuation,
+    method: Method,
+    steps_per_period: usize,
+) -> Result<Vec<Vec<f64>>> {
+    let mut x = vec![0.0; crawler.links()];
+    let mut states: Vec<Vec<f64>> = Vec::new();
+    for _ in 0..TRANSIENT_PERIODS {
+        let sim = simulate(
+            crawler,
+            act,
+            &SimOptions {
+                method,
+                steps_per_period,
+                record_periods: 1,
+                max_periods: 1,
+                accelerate_after: None,
+                initial_state: Some(x.clone()),
+                ..SimOptions::default()
+            },
+        )?;
+        let tr = sim
+            .trajectory
+            .ok_or_else(|| Error::Numerical("no trajectory was recorded".into()))?;
+        let skip = usize::from(!states.is_empty());
+        states.extend(tr.x.into_iter().skip(skip));
+        match states.last() {
+            Some(last) => x.clone_from(last),
+            None => break,
+        }
+        if sim.converged {
+            break;
+        }
+    }
+    Ok(states)
+}
+
 /// The actuation of `act` over one period as the figure draws it: its own knots when piecewise
 /// linear, else its interpolant on `m` knots.
 pub fn actuation_series(
@@ -108,7 +152,7 @@ pub fn actuation_series(
 
 /// The figures of a crawler alone: C, and v_m for two links.
 pub fn analysis_figures(crawler: &Crawler) -> Result<Vec<Figure>> {
-    let mut v = vec![figures::polytope_figure(crawler, None)?];
+    let mut v = vec![figures::polytope_figure(crawler, None, None)?];
     if crawler.links() == 2 && crawler.uniqueness().holds() {
         v.push(figures::vm_figure(crawler)?);
     }
@@ -128,7 +172,16 @@ pub fn simulation_figures(
     Ok(vec![
         figures::actuation_figure(&series)?,
         figures::spacetime_figure(&traj, act.period())?,
-        figures::polytope_figure(crawler, Some(&traj))?,
+        figures::polytope_figure(
+            crawler,
+            Some(&traj),
+            Some(&transient_states(
+                crawler,
+                act,
+                sim.method,
+                sim.steps_per_period,
+            )?),
+        )?,
     ])
 }
 
@@ -159,7 +212,16 @@ pub fn gait_figures_from(
     let mut v = vec![
         figures::actuation_figure(&series)?,
         figures::spacetime_figure(traj, result.problem.period)?,
-        figures::polytope_figure(crawler, Some(traj))?,
+        figures::polytope_figure(
+            crawler,
+            Some(traj),
+            Some(&transient_states(
+                crawler,
+                &gait_actuation(result)?,
+                Method::Exact,
+                g.durations.len(),
+            )?),
+        )?,
     ];
     if crawler.links() == 2 {
         v.push(figures::vm_figure(crawler)?);
