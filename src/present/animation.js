@@ -163,7 +163,9 @@
         const x1 = cx - (dir * len) / 2, x2 = cx + (dir * len) / 2;
         a.setAttribute("d", `M${x1},${yA} L${x2},${yA} M${x2 - dir * 7},${yA - 5} L${x2},${yA} L${x2 - dir * 7},${yA + 5}`);
         a.setAttribute("stroke", "#fff");
-        fl.textContent = slip[b] > 0 ? `friction μ⁺ = ${fmt(data.mu_forward[b])}` : `friction μ⁻ = ${fmt(data.mu_backward[b])}`;
+        // Few blocks: the whole sentence; many: the threshold only, so that labels do not collide.
+        const mu = slip[b] > 0 ? `μ⁺ = ${fmt(data.mu_forward[b])}` : `μ⁻ = ${fmt(data.mu_backward[b])}`;
+        fl.textContent = N <= 4 ? `friction ${mu}` : N <= 8 ? mu : "";
         fl.setAttribute("x", cx);
         fl.setAttribute("y", top - 8);
         fl.setAttribute("fill", slip[b] > 0 ? FWD : BWD);
@@ -189,7 +191,7 @@
       A.rod.setAttribute("y2", yMid);
       A.label.setAttribute("x", (xr + xa) / 2);
       A.label.setAttribute("y", yMid - 12);
-      A.label.textContent = `L${sub(l + 1)}`;
+      A.label.textContent = xl - xr > 50 ? `L${sub(l + 1)}` : "";
       // Spring: a zig-zag from the actuator's end to the next block.
       const zigs = 10, amp = 8, pts = [`${xa},${yMid}`];
       const sl = xl - xa;

@@ -627,11 +627,15 @@ impl Plot for SpaceTime<'_> {
                     draw_thick(&mut c, &r, colour, 3.2, s)?;
                 }
             }
-            c.draw_series(std::iter::once(Text::new(
-                format!("block {}", b + 1),
-                (t0 + 0.005 * (t_end - t0), pts[0].1 - 0.012 * (yr.1 - yr.0)),
-                s.text(12.0).pos(Pos::new(HPos::Left, VPos::Top)),
-            )))?;
+            // At most about 20 block labels (long chains: every k-th block and the front one).
+            let every = nb.div_ceil(20);
+            if b % every == 0 || b == nb - 1 {
+                c.draw_series(std::iter::once(Text::new(
+                    format!("block {}", b + 1),
+                    (t0 + 0.005 * (t_end - t0), pts[0].1 - 0.012 * (yr.1 - yr.0)),
+                    s.text(12.0).pos(Pos::new(HPos::Left, VPos::Top)),
+                )))?;
+            }
         }
         c.draw_series(std::iter::empty::<PathElement<(f64, f64)>>())?
             .label("slides forward")

@@ -257,7 +257,9 @@ fn page(
     ));
 
     // Parameters.
-    h.push_str("<h2 id=\"crawler\">The crawler</h2>\n<table>\n<tr><th class=\"l\">block b</th>");
+    h.push_str(
+        "<h2 id=\"crawler\">The crawler</h2>\n<div class=\"scroll\">\n<table>\n<tr><th class=\"l\">block b</th>",
+    );
     for b in 1..=nb {
         h.push_str(&format!("<th>{b}</th>"));
     }
@@ -269,7 +271,9 @@ fn page(
     for v in crawler.mu_backward() {
         h.push_str(&format!("<td>{}</td>", num(*v)));
     }
-    h.push_str("</tr>\n</table>\n<table>\n<tr><th class=\"l\">link l (blocks l, l+1)</th>");
+    h.push_str(
+        "</tr>\n</table>\n</div>\n<div class=\"scroll\">\n<table>\n<tr><th class=\"l\">link l (blocks l, l+1)</th>",
+    );
     for l in 1..=n {
         h.push_str(&format!("<th>{l}</th>"));
     }
@@ -285,7 +289,7 @@ fn page(
     for r in &a.link_force_ranges {
         h.push_str(&format!("<td>[{}, {}]</td>", num(r[0]), num(r[1])));
     }
-    h.push_str("</tr>\n</table>\n");
+    h.push_str("</tr>\n</table>\n</div>\n");
     h.push_str(&format!(
         "<p>Gait problem: period T = {}, cost {}{}.</p>\n",
         num(result.problem.period),
@@ -365,7 +369,7 @@ fn page(
         num(result.solver_objective),
         num(result.actuation_cost)
     ));
-    h.push_str("<table>\n<tr><th>piece</th><th>from t</th><th>to t</th>");
+    h.push_str("<div class=\"scroll\">\n<table>\n<tr><th>piece</th><th>from t</th><th>to t</th>");
     for l in 1..=n {
         h.push_str(&format!("<th>u{} [force/time]</th>", figures::sub(l)));
     }
@@ -394,7 +398,7 @@ fn page(
         h.push_str(&format!("<td class=\"l\">{}</td></tr>\n", slip.join(" ")));
     }
     h.push_str(&format!(
-        "</table>\n<p>Initial state on the orbit x(0) = ({}).</p>\n",
+        "</table>\n</div>\n<p>Initial state on the orbit x(0) = ({}).</p>\n",
         nums(&g.initial_state)
     ));
 
