@@ -13,6 +13,7 @@
 //! - [`certify`]: necessary optimality conditions (Theorem 2.2, Theorems 6.1–6.2): multipliers
 //!   of a gait and a checkable certificate;
 //! - [`io`]: the TOML model file and CSV files;
+//! - [`present`]: figures (SVG, PNG) and the self-contained HTML report; nothing depends on it;
 //! - the `crawlopt` binary: a thin command-line layer.
 //!
 //! ```
@@ -34,6 +35,7 @@ pub mod integrate;
 pub mod io;
 pub mod model;
 pub mod optimal;
+pub mod present;
 pub mod sweep;
 
 pub use error::{Error, Result};

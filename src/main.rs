@@ -14,6 +14,7 @@ use crawlopt::optimal::{
     solve_discrete_local, solve_phase_global, Cost, CrawlerParams, GaitResult, GrowOptions,
     GrowthStop, MilpStatus, PhaseGrowthRecord,
 };
+use crawlopt::present::{self, report, write_figures, PlotInput};
 use crawlopt::{Crawler, Error};
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -56,6 +57,9 @@ enum Command {
         /// Print one JSON object.
         #[arg(long)]
         json: bool,
+        /// Write figures (SVG and PNG) into this directory: C, and v_m for two links.
+        #[arg(long, value_name = "DIR")]
+        plot: Option<PathBuf>,
     },
     /// Simulate the actuation of a model file until the periodic regime.
     Simulate {
@@ -88,6 +92,10 @@ enum Command {
         /// Print one JSON object (with the recorded trajectory).
         #[arg(long)]
         json: bool,
+        /// Write figures (SVG and PNG) into this directory: actuation, space-time diagram over
+        /// max(periods, 3) periods, the orbit in C.
+        #[arg(long, value_name = "DIR")]
+        plot: Option<PathBuf>,
     },
     /// Compute an optimal gait of the [gait] problem.
     Optimize {
@@ -121,6 +129,10 @@ enum Command {
         /// result as "necessary_conditions".
         #[arg(long)]
         certify: bool,
+        /// Write the gait's figures (SVG and PNG) into this directory (with --certify, the
+        /// adjoint too; with --convergence, J_m against m).
+        #[arg(long, value_name = "DIR")]
+        plot: Option<PathBuf>,
         /// Print one JSON object.
         #[arg(long)]
         json: bool,
@@ -133,6 +145,34 @@ enum Command {
         /// Print one JSON object.
         #[arg(long)]
         json: bool,
+        /// Write the gait's figures and the adjoint p(t), p + omega, u(t) (SVG and PNG) into
+        /// this directory.
+        #[arg(long, value_name = "DIR")]
+        plot: Option<PathBuf>,
+    },
+    /// Draw the figures of a result file: a gait result (`optimize --json`) or a J_m table.
+    Plot {
+        /// RESULT.json.
+        file: PathBuf,
+        /// Directory for the SVG and PNG files (created if absent).
+        #[arg(long, short = 'o', value_name = "DIR")]
+        output: PathBuf,
+    },
+    /// One self-contained HTML report: parameters, analysis, optimal gait, figures, animation.
+    Report {
+        /// A model file (TOML) with a [gait] section (the optimal gait is computed by the phase
+        /// method), or a gait result (.json, from `optimize --json`).
+        file: PathBuf,
+        /// The HTML file to write.
+        #[arg(long, short = 'o', value_name = "FILE", default_value = "report.html")]
+        output: PathBuf,
+        /// Phases allowed when computing the gait from a model file (default: K grown until
+        /// the value stops improving, as `optimize`).
+        #[arg(long)]
+        phases: Option<usize>,
+        /// Time limit in seconds when computing the gait from a model file.
+        #[arg(long = "time-limit")]
+        time_limit: Option<f64>,
     },
     /// Measure the simulation cost per time step (sine gait L_l = A sin(2 pi t - l phi)).
     Bench {
@@ -195,10 +235,13 @@ fn main() -> ExitCode {
 
 fn run(cmd: Command) -> Result<ExitCode, Error> {
     match cmd {
-        Command::Analyze { file, json } => {
+        Command::Analyze { file, json, plot } => {
             let model = ModelFile::load(&file)?;
             let crawler = model.crawler()?;
             let a = crawler.analyze();
+            if let Some(dir) = &plot {
+                write_figures(dir, &present::analysis_figures(&crawler)?)?;
+            }
             let gait = model.gait(&crawler)?;
             // The one-link closed form (SPEC §9) when the file poses the gait problem.
             let optimum = match &gait {
@@ -258,6 +301,7 @@ fn run(cmd: Command) -> Result<ExitCode, Error> {
             no_accelerate,
             output,
             json,
+            plot,
         } => {
             let model = ModelFile::load(&file)?;
             let crawler = model.crawler()?;
@@ -278,6 +322,10 @@ fn run(cmd: Command) -> Result<ExitCode, Error> {
             let sim = simulate(&crawler, &act, &opts)?;
             if let (Some(path), Some(traj)) = (&output, &sim.trajectory) {
                 write_trajectory_csv(path, traj)?;
+            }
+            if let (Some(dir), true) = (&plot, sim.converged) {
+                let figs = present::simulation_figures(&crawler, &act, &sim, periods.max(3))?;
+                write_figures(dir, &figs)?;
             }
             if json {
                 outln!("{}", serde_json::to_string(&sim).expect("serialisable"));
@@ -305,6 +353,7 @@ fn run(cmd: Command) -> Result<ExitCode, Error> {
             time_limit,
             certify,
             json,
+            plot,
         } => {
             let model = ModelFile::load(&file)?;
             let crawler = model.crawler()?;
@@ -481,6 +530,13 @@ fn run(cmd: Command) -> Result<ExitCode, Error> {
             } else {
                 None
             };
+            if let Some(dir) = &plot {
+                let mut figs = present::gait_figures(&result)?;
+                if let Some(c) = &cert {
+                    figs.push(present::adjoint_figure_of(&c.multipliers)?);
+                }
+                write_figures(dir, &figs)?;
+            }
             if json {
                 let mut v = serde_json::to_value(&result).expect("serialisable");
                 if let Some(c) = &cert {
@@ -495,7 +551,7 @@ fn run(cmd: Command) -> Result<ExitCode, Error> {
             }
             Ok(ExitCode::SUCCESS)
         }
-        Command::Certify { file, json } => {
+        Command::Certify { file, json, plot } => {
             let what = file.display().to_string();
             let text = std::fs::read_to_string(&file).map_err(|e| Error::Io {
                 path: what.clone(),
@@ -503,11 +559,46 @@ fn run(cmd: Command) -> Result<ExitCode, Error> {
             })?;
             let result = GaitResult::from_json(&text, &what)?;
             let cert = certify_result(&result, &what)?;
+            if let Some(dir) = &plot {
+                let mut figs = present::gait_figures(&result)?;
+                figs.push(present::adjoint_figure_of(&cert.multipliers)?);
+                write_figures(dir, &figs)?;
+            }
             if json {
                 outln!("{}", serde_json::to_string(&cert).expect("serialisable"));
             } else {
                 print_certificate(&cert);
             }
+            Ok(ExitCode::SUCCESS)
+        }
+        Command::Plot { file, output } => {
+            let input = PlotInput::from_json(&read_text(&file)?, &file_name(&file))?;
+            let written = write_figures(&output, &input.figures()?)?;
+            for p in written {
+                outln!("wrote {}", p.display());
+            }
+            Ok(ExitCode::SUCCESS)
+        }
+        Command::Report {
+            file,
+            output,
+            phases,
+            time_limit,
+        } => {
+            let name = file_name(&file);
+            let result = if file.extension().is_some_and(|e| e == "json") {
+                GaitResult::from_json(&read_text(&file)?, &name)?
+            } else {
+                report::optimize_model(&ModelFile::load(&file)?, phases, time_limit)?
+            };
+            let html = report::build_report(&result, &name)?;
+            report::write_report(&output, &html)?;
+            outln!(
+                "wrote {} (objective J = {}, displacement per period {})",
+                output.display(),
+                result.objective,
+                result.displacement_per_period
+            );
             Ok(ExitCode::SUCCESS)
         }
         Command::Bench {
@@ -568,6 +659,22 @@ fn run(cmd: Command) -> Result<ExitCode, Error> {
             Ok(ExitCode::SUCCESS)
         }
     }
+}
+
+/// The text of an input file (errors name the file).
+fn read_text(path: &std::path::Path) -> Result<String, Error> {
+    std::fs::read_to_string(path).map_err(|e| Error::Io {
+        path: path.display().to_string(),
+        reason: format!("cannot read: {e}"),
+    })
+}
+
+/// The file name of a path, for messages and the report (no directories).
+fn file_name(path: &std::path::Path) -> String {
+    path.file_name().map_or_else(
+        || path.display().to_string(),
+        |n| n.to_string_lossy().into_owned(),
+    )
 }
 
 fn status_word(s: MilpStatus) -> &'static str {

@@ -472,3 +472,148 @@ fn non_convergence_is_not_reported_as_periodic() {
     assert!(v["last_period_displacement"].is_f64());
     assert!(stderr(&out).contains("not reached"));
 }
+
+#[test]
+fn plot_report_and_plot_flags_write_their_files() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = |name: &str| dir.path().join(name).to_str().unwrap().to_string();
+    // optimize --json, then plot and report from the result file.
+    let out = crawlopt(&[
+        "optimize",
+        "examples/one_link_gait.toml",
+        "--json",
+        "--plot",
+        &d("opt"),
+    ]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let result = write(dir.path(), "r.json", &String::from_utf8_lossy(&out.stdout));
+    for name in ["actuation", "spacetime", "polytope"] {
+        for ext in ["svg", "png"] {
+            assert!(
+                dir.path().join(format!("opt/{name}.{ext}")).is_file(),
+                "{name}.{ext}"
+            );
+        }
+    }
+    let out = crawlopt(&["plot", result.to_str().unwrap(), "-o", &d("figs")]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    assert_eq!(std::fs::read_dir(d("figs")).unwrap().count(), 6);
+    // certify --plot adds the adjoint; optimize --convergence --plot the J_m figure.
+    let out = crawlopt(&["certify", result.to_str().unwrap(), "--plot", &d("cert")]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let adj = std::fs::read_to_string(dir.path().join("cert/adjoint.svg")).unwrap();
+    assert!(
+        adj.contains("p + ω") || adj.contains("p(t) + ω"),
+        "adjoint labels"
+    );
+    let out = crawlopt(&[
+        "optimize",
+        "examples/one_link_gait.toml",
+        "--method",
+        "discrete",
+        "--m",
+        "2",
+        "--convergence",
+        "--plot",
+        &d("conv"),
+    ]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let jm = std::fs::read_to_string(dir.path().join("conv/jm.svg")).unwrap();
+    assert!(jm.contains("Convergence of the discrete optima"));
+    let out = crawlopt(&["report", result.to_str().unwrap(), "-o", &d("r.html")]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let html = std::fs::read_to_string(d("r.html")).unwrap();
+    assert!(html.contains("id=\"crawler-data\"") && html.contains(">r.json"));
+    // From the model file directly (phase method, K = 6).
+    let out = crawlopt(&[
+        "report",
+        "examples/three_blocks_gait.toml",
+        "-o",
+        &d("m.html"),
+    ]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    assert!(std::fs::read_to_string(d("m.html"))
+        .unwrap()
+        .contains("fig-vm"));
+    // --plot on analyze and simulate.
+    let out = crawlopt(&[
+        "analyze",
+        "examples/three_blocks_gait.toml",
+        "--plot",
+        &d("an"),
+    ]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    assert!(dir.path().join("an/vm.svg").is_file() && dir.path().join("an/polytope.png").is_file());
+    let out = crawlopt(&[
+        "simulate",
+        "examples/piecewise_linear.toml",
+        "--plot",
+        &d("sim"),
+    ]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let st = std::fs::read_to_string(dir.path().join("sim/spacetime.svg")).unwrap();
+    assert!(st.contains("position [length]"));
+}
+
+#[test]
+fn plot_and_report_refuse_bad_input_with_nothing_written() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = |name: &str| dir.path().join(name).to_str().unwrap().to_string();
+    let out = crawlopt(&["optimize", "examples/one_link_gait.toml", "--json"]);
+    let text = String::from_utf8_lossy(&out.stdout).into_owned();
+    let truncated = write(dir.path(), "t.json", &text[..text.len() / 2]);
+    let other = write(
+        dir.path(),
+        "v.json",
+        &text.replace("\"version\":1", "\"version\":9"),
+    );
+    let good = write(dir.path(), "r.json", &text);
+    let blocker = write(dir.path(), "file", "x");
+    let cases: [(&[&str], &str); 5] = [
+        (
+            &["plot", truncated.to_str().unwrap(), "-o", &d("f1")],
+            "not a complete JSON document",
+        ),
+        (
+            &["report", truncated.to_str().unwrap(), "-o", &d("r1.html")],
+            "not a complete JSON document",
+        ),
+        (
+            &["plot", other.to_str().unwrap(), "-o", &d("f2")],
+            "version",
+        ),
+        (
+            &[
+                "plot",
+                good.to_str().unwrap(),
+                "-o",
+                &format!("{}/sub", blocker.display()),
+            ],
+            "cannot create the directory",
+        ),
+        (
+            &["report", "examples/one_link.toml", "-o", &d("r2.html")],
+            "no [gait] section",
+        ),
+    ];
+    for (args, msg) in cases {
+        let out = crawlopt(args);
+        assert_eq!(out.status.code(), Some(2), "{args:?}");
+        let err = stderr(&out);
+        assert!(
+            err.starts_with("error: ") && err.lines().count() == 1,
+            "{err}"
+        );
+        assert!(err.contains(msg), "{args:?}: {err}");
+    }
+    let mut left: Vec<String> = std::fs::read_dir(dir.path())
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    left.sort();
+    assert_eq!(
+        left,
+        ["file", "r.json", "t.json", "v.json"],
+        "nothing half-written"
+    );
+}

@@ -1,0 +1,402 @@
+//! Presentation: figures (SVG and PNG) and the self-contained HTML report.
+//!
+//! This layer turns what the others compute into pictures a researcher looks at: the actuation
+//! and its rate, the space-time diagram of the blocks, the state in the polytope C, the heat map
+//! of v_m, the convergence of J_m and the adjoint of a certificate ([`figures`]), and one HTML
+//! file with the numbers, the figures and an animation of the crawler ([`report`]). It depends on
+//! `model`, `integrate`, `optimal` and `io`; nothing depends on it.
+//!
+//! Outputs are all-or-nothing: a set of figures is written under temporary names and renamed into
+//! place only when every file has been written ([`write_figures`]).
+
+pub mod figures;
+pub mod report;
+
+use crate::certify::MultiplierData;
+use crate::error::{Error, Result};
+use crate::integrate::{simulate, Actuation, Method, SimOptions, Simulation, Trajectory};
+use crate::io::AtomicFile;
+use crate::model::Crawler;
+use crate::optimal::GaitResult;
+use figures::{ActuationSeries, Figure};
+use std::io::Write;
+use std::path::{Path, PathBuf};
+
+/// Periods shown by the space-time diagram and the animation: enough to see the advance.
+pub const SHOWN_PERIODS: usize = 4;
+
+/// The piecewise-linear actuation of a gait result (its knots over one period).
+pub fn gait_actuation(result: &GaitResult) -> Result<Actuation> {
+    let g = &result.gait;
+    let p = g.durations.len();
+    Actuation::piecewise_linear(
+        result.problem.period,
+        g.times[..p].to_vec(),
+        g.lengths[..p].to_vec(),
+    )
+}
+
+/// Replays a gait result from its initial state with the simulator that verified it (exact for
+/// phase gaits, catching-up on the grid for P_m answers, global or local), recording `periods`
+/// periods, and checks that it moves the crawler by the displacement the result states (a result
+/// file is input: an edited one is refused rather than pictured).
+pub fn replay_gait(result: &GaitResult, periods: usize) -> Result<(Crawler, Simulation)> {
+    let crawler = result.crawler.crawler()?;
+    crawler.require_unique()?;
+    let act = gait_actuation(result)?;
+    let sim = simulate(
+        &crawler,
+        &act,
+        &SimOptions {
+            method: replay_method(result),
+            steps_per_period: result.gait.durations.len(),
+            record_periods: periods,
+            initial_state: Some(result.gait.initial_state.clone()),
+            ..SimOptions::default()
+        },
+    )?;
+    let d = sim.displacement_per_period.ok_or_else(|| {
+        Error::Numerical("the gait of the result did not reach a periodic regime".into())
+    })?;
+    let want = result.verified_displacement;
+    if (d - want).abs() > 1e-6 * (1.0 + want.abs()) {
+        return Err(Error::invalid(
+            "verified_displacement",
+            want,
+            format!("the result's gait moves the crawler {d} per period when replayed"),
+        ));
+    }
+    Ok((crawler, sim))
+}
+
+/// Records `periods` periods of `act` on its periodic orbit (a second, cheap run from the orbit
+/// state of `sim`, so that a figure can show more periods than the user recorded).
+pub fn record_orbit(
+    crawler: &Crawler,
+    act: &Actuation,
+    sim: &Simulation,
+    periods: usize,
+) -> Result<Trajectory> {
+    let again = simulate(
+        crawler,
+        act,
+        &SimOptions {
+            method: sim.method,
+            steps_per_period: sim.steps_per_period,
+            record_periods: periods,
+            initial_state: Some(sim.orbit_state.clone()),
+            accelerate_after: None,
+            ..SimOptions::default()
+        },
+    )?;
+    again
+        .trajectory
+        .ok_or_else(|| Error::Numerical("no trajectory was recorded".into()))
+}
+
+/// Periods shown of the approach to the periodic orbit from rest, at most.
+pub const TRANSIENT_PERIODS: usize = 12;
+
+/// The states from rest (`x = 0`) towards the periodic orbit of `act`: whole periods, each
+/// integrated from where the last ended, until the state repeats or after
+/// [`TRANSIENT_PERIODS`] periods.
+pub fn transient_states(
+    crawler: &Crawler,
+    act: &Actuation,
+    method: Method,
+    steps_per_period: usize,
+) -> Result<Vec<Vec<f64>>> {
+    let mut x = vec![0.0; crawler.links()];
+    let mut states: Vec<Vec<f64>> = Vec::new();
+    for _ in 0..TRANSIENT_PERIODS {
+        let sim = simulate(
+            crawler,
+            act,
+            &SimOptions {
+                method,
+                steps_per_period,
+                record_periods: 1,
+                max_periods: 1,
+                accelerate_after: None,
+                initial_state: Some(x.clone()),
+                ..SimOptions::default()
+            },
+        )?;
+        let tr = sim
+            .trajectory
+            .ok_or_else(|| Error::Numerical("no trajectory was recorded".into()))?;
+        let skip = usize::from(!states.is_empty());
+        states.extend(tr.x.into_iter().skip(skip));
+        match states.last() {
+            Some(last) => x.clone_from(last),
+            None => break,
+        }
+        if sim.converged {
+            break;
+        }
+    }
+    Ok(states)
+}
+
+/// The actuation of `act` over one period as the figure draws it: its own knots when piecewise
+/// linear, else its interpolant on `m` knots.
+pub fn actuation_series(
+    crawler: &Crawler,
+    act: &Actuation,
+    m: usize,
+    rate_bound: Option<Vec<f64>>,
+) -> Result<ActuationSeries> {
+    let (mut times, mut lengths) = act.knots(m.max(2));
+    times.push(act.period());
+    lengths.push(lengths[0].clone());
+    ActuationSeries::from_knots(&times, &lengths, crawler.stiffness(), rate_bound)
+}
+
+/// The figures of a crawler alone: C, and v_m for two links.
+pub fn analysis_figures(crawler: &Crawler) -> Result<Vec<Figure>> {
+    let mut v = vec![figures::polytope_figure(crawler, None, None)?];
+    if crawler.links() == 2 && crawler.uniqueness().holds() {
+        v.push(figures::vm_figure(crawler)?);
+    }
+    Ok(v)
+}
+
+/// The figures of a simulation: actuation, space-time diagram over `periods` periods, and the
+/// orbit in C.
+pub fn simulation_figures(
+    crawler: &Crawler,
+    act: &Actuation,
+    sim: &Simulation,
+    periods: usize,
+) -> Result<Vec<Figure>> {
+    let traj = record_orbit(crawler, act, sim, periods.max(1))?;
+    let series = actuation_series(crawler, act, sim.steps_per_period.min(2000), None)?;
+    Ok(vec![
+        figures::actuation_figure(&series)?,
+        figures::spacetime_figure(&traj, act.period())?,
+        figures::polytope_figure(
+            crawler,
+            Some(&traj),
+            Some(&transient_states(
+                crawler,
+                act,
+                sim.method,
+                sim.steps_per_period,
+            )?),
+        )?,
+    ])
+}
+
+/// The figures of a gait result: actuation with its rate bounds, space-time diagram over
+/// [`SHOWN_PERIODS`] periods, the orbit in C, and v_m for two links.
+pub fn gait_figures(result: &GaitResult) -> Result<Vec<Figure>> {
+    let (crawler, sim) = replay_gait(result, SHOWN_PERIODS)?;
+    let traj = sim
+        .trajectory
+        .as_ref()
+        .ok_or_else(|| Error::Numerical("no trajectory was recorded".into()))?;
+    gait_figures_from(result, &crawler, traj)
+}
+
+/// [`gait_figures`] from an already replayed trajectory.
+pub fn gait_figures_from(
+    result: &GaitResult,
+    crawler: &Crawler,
+    traj: &Trajectory,
+) -> Result<Vec<Figure>> {
+    let g = &result.gait;
+    let series = ActuationSeries::from_knots(
+        &g.times,
+        &g.lengths,
+        crawler.stiffness(),
+        Some(result.problem.rate_bound.clone()),
+    )?;
+    let mut v = vec![
+        figures::actuation_figure(&series)?,
+        figures::spacetime_figure(traj, result.problem.period)?,
+        figures::polytope_figure(
+            crawler,
+            Some(traj),
+            Some(&transient_states(
+                crawler,
+                &gait_actuation(result)?,
+                replay_method(result),
+                g.durations.len(),
+            )?),
+        )?,
+    ];
+    if crawler.links() == 2 {
+        v.push(figures::vm_figure(crawler)?);
+    }
+    // J_m against m when the result carries a convergence table (`optimize --convergence`).
+    if let Some(table) = &result.convergence {
+        let m: Vec<u32> = table.iter().map(|r| r.m).collect();
+        let values: Vec<f64> = table.iter().map(|r| r.objective).collect();
+        v.push(figures::jm_figure(&m, &values, None)?);
+    }
+    Ok(v)
+}
+
+/// The simulator a result was verified with: catching-up on the grid for P_m answers (global or
+/// local), exact for phase gaits.
+fn replay_method(result: &GaitResult) -> Method {
+    match result.method.as_str() {
+        "discrete" | "local" => Method::CatchingUp,
+        _ => Method::Exact,
+    }
+}
+
+/// Figure `adjoint` of a certificate: `p(t)`, `p(t) + omega` and `u(t)` from its multipliers,
+/// `p` extended as the certificate says (piecewise linear on P_m grids, piecewise constant with
+/// jumps at the knots on phase gaits); `u` is piecewise constant.
+pub fn adjoint_figure_of(m: &MultiplierData) -> Result<Figure> {
+    let pieces = m.u.len();
+    if pieces == 0 || m.times.len() != pieces + 1 || m.p.len() != pieces {
+        return Err(Error::invalid(
+            "multipliers",
+            format!("{pieces} pieces"),
+            "need one row per piece and one more time",
+        ));
+    }
+    let linear = m.extension == "piecewise_linear";
+    let (mut t, mut p, mut ppo, mut u) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
+    for j in 0..pieces {
+        let end = if linear { (j + 1) % pieces } else { j };
+        for (time, row) in [(m.times[j], j), (m.times[j + 1], end)] {
+            t.push(time);
+            p.push(m.p[row].clone());
+            ppo.push(m.p_plus_omega[row].clone());
+            u.push(m.u[j].clone());
+        }
+    }
+    figures::adjoint_figure(&t, &p, &ppo, &u)
+}
+
+fn io_err(path: &Path, reason: impl ToString) -> Error {
+    Error::Io {
+        path: path.display().to_string(),
+        reason: reason.to_string(),
+    }
+}
+
+/// Writes every figure as `DIR/name.svg` and `DIR/name.png`, all or nothing: the directory is
+/// created if needed, every file is written under a temporary name first, and only when all are
+/// complete are they renamed into place. On failure nothing new is left behind (a directory this
+/// call created is removed again). Returns the paths written.
+pub fn write_figures(dir: &Path, figs: &[Figure]) -> Result<Vec<PathBuf>> {
+    for f in figs {
+        for ext in ["svg", "png"] {
+            let path = dir.join(format!("{}.{ext}", f.name));
+            if path.is_dir() {
+                return Err(io_err(
+                    &path,
+                    "is a directory; cannot write the figure there",
+                ));
+            }
+        }
+    }
+    let created = if dir.exists() {
+        if !dir.is_dir() {
+            return Err(io_err(dir, "exists and is not a directory"));
+        }
+        false
+    } else {
+        std::fs::create_dir_all(dir)
+            .map_err(|e| io_err(dir, format!("cannot create the directory: {e}")))?;
+        true
+    };
+    let staged = (|| -> Result<Vec<(AtomicFile, PathBuf)>> {
+        let mut staged = Vec::new();
+        for f in figs {
+            for (ext, bytes) in [("svg", f.svg.as_bytes()), ("png", f.png.as_slice())] {
+                let path = dir.join(format!("{}.{ext}", f.name));
+                let mut file = AtomicFile::create(&path)?;
+                let w = file.writer();
+                w.write_all(bytes)
+                    .and_then(|_| w.flush())
+                    .map_err(|e| io_err(&path, format!("cannot write: {e}")))?;
+                staged.push((file, path));
+            }
+        }
+        Ok(staged)
+    })();
+    let staged = match staged {
+        Ok(s) => s,
+        Err(e) => {
+            if created {
+                let _ = std::fs::remove_dir(dir);
+            }
+            return Err(e);
+        }
+    };
+    let mut written = Vec::with_capacity(staged.len());
+    for (file, path) in staged {
+        file.commit()?;
+        written.push(path);
+    }
+    Ok(written)
+}
+
+/// Value of [`JmTable::format`].
+pub const JM_TABLE_FORMAT: &str = "crawlopt-jm-table";
+
+/// A table of discrete optima `J_m` against `m` (for the convergence figure), as JSON:
+/// `{"format": "crawlopt-jm-table", "version": 1, "m": [1, 2, 3], "values": [..],
+/// "continuous": 3.0}` (`continuous` optional).
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct JmTable {
+    /// Always [`JM_TABLE_FORMAT`].
+    pub format: String,
+    /// Always 1.
+    pub version: u32,
+    /// The `m` values.
+    pub m: Vec<u32>,
+    /// `J_m`, one per `m`.
+    pub values: Vec<f64>,
+    /// The continuous-time value, if known.
+    pub continuous: Option<f64>,
+}
+
+/// What `crawlopt plot` can draw.
+#[derive(Debug, Clone)]
+pub enum PlotInput {
+    /// A gait result (`crawlopt optimize --json`).
+    Gait(Box<GaitResult>),
+    /// A J_m table.
+    Jm(JmTable),
+}
+
+impl PlotInput {
+    /// Reads a gait result or a J_m table from JSON text, telling them apart by `format`;
+    /// truncated files, other formats and other versions are errors naming `what`.
+    pub fn from_json(text: &str, what: &str) -> Result<Self> {
+        let format = serde_json::from_str::<serde_json::Value>(text)
+            .ok()
+            .and_then(|v| v.get("format").and_then(|f| f.as_str()).map(String::from));
+        if format.as_deref() == Some(JM_TABLE_FORMAT) {
+            let t: JmTable = serde_json::from_str(text).map_err(|e| Error::Io {
+                path: what.into(),
+                reason: format!("malformed J_m table: {e}"),
+            })?;
+            if t.version != 1 {
+                return Err(Error::invalid(
+                    format!("{what}: version"),
+                    t.version,
+                    "this build reads J_m tables of version 1 only",
+                ));
+            }
+            return Ok(PlotInput::Jm(t));
+        }
+        // Everything else must be a gait result; its reader explains what is wrong.
+        GaitResult::from_json(text, what).map(|r| PlotInput::Gait(Box::new(r)))
+    }
+
+    /// Its figures.
+    pub fn figures(&self) -> Result<Vec<Figure>> {
+        match self {
+            PlotInput::Gait(r) => gait_figures(r),
+            PlotInput::Jm(t) => Ok(vec![figures::jm_figure(&t.m, &t.values, t.continuous)?]),
+        }
+    }
+}

@@ -1,0 +1,469 @@
+//! The report: one self-contained HTML file for a crawler and its optimal gait.
+//!
+//! Everything is inline (CSS, the figures as SVG, the animation's JavaScript and its data as
+//! JSON), nothing is fetched, so the file opens from disk, can be mailed, and still works in
+//! years. It shows the crawler's parameters and analysis, the optimal gait with its certificate,
+//! the figures of [`super::figures`], and an animation of the crawler playing the gait over
+//! [`SHOWN_PERIODS`] periods (`animation.js`).
+
+use super::figures::{self, Figure};
+use super::{replay_gait, SHOWN_PERIODS};
+use crate::error::{Error, Result};
+use crate::integrate::Trajectory;
+use crate::io::{AtomicFile, ModelFile};
+use crate::model::{Crawler, FaceSign};
+use crate::optimal::{
+    grow_phases, solve_phase_global, Cost, GaitResult, GrowOptions, MilpStatus, PhaseGrowthRecord,
+};
+use serde::Serialize;
+use std::io::Write;
+use std::path::Path;
+
+const CSS: &str = include_str!("report.css");
+const ANIMATION_JS: &str = include_str!("animation.js");
+
+/// The optimal gait of a model file's `[gait]` problem, by the phase method with `phases`
+/// phases (the default of `crawlopt optimize`).
+pub fn optimize_model(
+    model: &ModelFile,
+    phases: Option<usize>,
+    time_limit: Option<f64>,
+) -> Result<GaitResult> {
+    let crawler = model.crawler()?;
+    crawler.require_unique()?;
+    let problem = model.gait(&crawler)?.ok_or_else(|| {
+        Error::invalid(
+            "gait",
+            "nothing",
+            "the model file has no [gait] section (a report shows an optimal gait)",
+        )
+    })?;
+    match phases {
+        Some(k) => {
+            let s = solve_phase_global(&crawler, &problem, k, time_limit)?;
+            Ok(GaitResult::from_phase(&crawler, &problem, &s))
+        }
+        None => {
+            let opts = GrowOptions {
+                time_limit,
+                ..GrowOptions::default()
+            };
+            let g = grow_phases(&crawler, &problem, &opts, &mut |_| {})?;
+            let mut r = GaitResult::from_phase(&crawler, &problem, &g.best);
+            r.phase_growth = Some(PhaseGrowthRecord {
+                table: g.table,
+                stop: g.stop,
+            });
+            Ok(r)
+        }
+    }
+}
+
+/// What the animation plays (serialised into the page).
+#[derive(Serialize)]
+struct AnimationData<'a> {
+    period: f64,
+    periods: usize,
+    displacement: f64,
+    spacing: f64,
+    y0: f64,
+    k: &'a [f64],
+    mu_forward: &'a [f64],
+    mu_backward: &'a [f64],
+    t: &'a [f64],
+    #[serde(rename = "X")]
+    positions: &'a [Vec<f64>],
+    #[serde(rename = "L")]
+    lengths: Vec<Vec<f64>>,
+    x: &'a [Vec<f64>],
+    slip: &'a [Vec<i8>],
+}
+
+/// HTML-escapes text.
+fn esc(s: &str) -> String {
+    let mut o = String::with_capacity(s.len());
+    for c in s.chars() {
+        match c {
+            '&' => o.push_str("&amp;"),
+            '<' => o.push_str("&lt;"),
+            '>' => o.push_str("&gt;"),
+            '"' => o.push_str("&quot;"),
+            '\'' => o.push_str("&#39;"),
+            _ => o.push(c),
+        }
+    }
+    o
+}
+
+/// A number for people: up to 6 significant digits, no trailing zeros.
+fn num(v: f64) -> String {
+    if !v.is_finite() {
+        return format!("{v}");
+    }
+    if v == 0.0 {
+        return "0".into();
+    }
+    let a = v.abs();
+    if (1e-4..1e6).contains(&a) {
+        let digits = (5 - a.log10().floor() as i32).clamp(0, 12) as usize;
+        let s = format!("{v:.digits$}");
+        let s = if s.contains('.') {
+            s.trim_end_matches('0').trim_end_matches('.').to_string()
+        } else {
+            s
+        };
+        if s == "-0" {
+            "0".into()
+        } else {
+            s
+        }
+    } else {
+        format!("{v:.5e}")
+    }
+}
+
+fn nums(v: &[f64]) -> String {
+    v.iter().map(|x| num(*x)).collect::<Vec<_>>().join(", ")
+}
+
+/// An inline SVG that scales with the page: a `viewBox` is added to the root element.
+fn inline_svg(fig: &Figure) -> String {
+    let svg = fig.svg.trim();
+    let start = svg.find("<svg").unwrap_or(0);
+    let svg = &svg[start..];
+    let attr = |name: &str| -> Option<String> {
+        let head = &svg[..svg.find('>').unwrap_or(svg.len())];
+        let i = head.find(&format!(" {name}=\""))? + name.len() + 3;
+        let j = head[i..].find('"')? + i;
+        Some(head[i..j].to_string())
+    };
+    match (attr("width"), attr("height")) {
+        (Some(w), Some(h)) => svg.replacen(
+            "<svg",
+            &format!(
+                "<svg viewBox=\"0 0 {w} {h}\" role=\"img\" aria-label=\"{}\"",
+                esc(&fig.caption)
+            ),
+            1,
+        ),
+        _ => svg.to_string(),
+    }
+}
+
+/// The report of a gait result as one HTML document. `source` names the input (a file name,
+/// shown in the page; no directories).
+pub fn build_report(result: &GaitResult, source: &str) -> Result<String> {
+    let (crawler, sim) = replay_gait(result, SHOWN_PERIODS)?;
+    let traj = sim
+        .trajectory
+        .as_ref()
+        .ok_or_else(|| Error::Numerical("no trajectory was recorded".into()))?;
+    let figs = super::gait_figures_from(result, &crawler, traj)?;
+    let data = animation_data(result, &crawler, traj)?;
+    let json = serde_json::to_string(&data)
+        .map_err(|e| Error::Numerical(format!("report data: {e}")))?
+        .replace("</", "<\\/");
+    Ok(page(result, &crawler, source, &figs, &json))
+}
+
+fn animation_data<'a>(
+    result: &'a GaitResult,
+    crawler: &'a Crawler,
+    traj: &'a Trajectory,
+) -> Result<AnimationData<'a>> {
+    let act = super::gait_actuation(result)?;
+    let lengths = traj
+        .t
+        .iter()
+        .map(|&t| {
+            let mut row = vec![0.0; crawler.links()];
+            act.lengths_at(t, &mut row);
+            row
+        })
+        .collect();
+    Ok(AnimationData {
+        period: result.problem.period,
+        periods: SHOWN_PERIODS,
+        displacement: result.displacement_per_period,
+        spacing: figures::display_spacing(traj),
+        y0: traj.barycentre[0],
+        k: crawler.stiffness(),
+        mu_forward: crawler.mu_forward(),
+        mu_backward: crawler.mu_backward(),
+        t: &traj.t,
+        positions: &traj.positions,
+        lengths,
+        x: &traj.x,
+        slip: &traj.slip,
+    })
+}
+
+fn page(
+    result: &GaitResult,
+    crawler: &Crawler,
+    source: &str,
+    figs: &[Figure],
+    json: &str,
+) -> String {
+    let a = crawler.analyze();
+    let (nb, n) = (crawler.blocks(), crawler.links());
+    let mut h = String::with_capacity(200_000);
+    let title = format!("crawlopt report: {}", source);
+    h.push_str(&format!(
+        "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n\
+         <meta name=\"viewport\" content=\"width=device-width, initial-scale=1\">\n\
+         <meta name=\"generator\" content=\"crawlopt {}\">\n<title>{}</title>\n<style>\n{}</style>\n</head>\n<body>\n<main>\n",
+        env!("CARGO_PKG_VERSION"),
+        esc(&title),
+        CSS
+    ));
+    h.push_str(&format!(
+        "<h1>Optimal gait of a {nb}-block crawler</h1>\n<p class=\"sub\">{} · crawlopt {} · \
+         units: any consistent set (lengths, forces, times as in the input)</p>\n",
+        esc(source),
+        env!("CARGO_PKG_VERSION")
+    ));
+
+    // Key numbers.
+    let c = &result.certificate;
+    let cert = match (c.kind.as_str(), c.phases, result.m) {
+        ("global_k_phases", Some(k), _) => {
+            format!("globally optimal among gaits of at most {k} phases")
+        }
+        ("global", _, Some(m)) => format!("globally optimal for P_{m} ({} steps)", 1u64 << m),
+        ("local", _, Some(m)) => format!("locally optimal for P_{m} ({} steps)", 1u64 << m),
+        (k, _, _) => k.to_string(),
+    };
+    let status = match result.status {
+        MilpStatus::Optimal => "solved to optimality",
+        MilpStatus::TimeLimit => "stopped at the time limit (see the gap)",
+        MilpStatus::ApproximationLimit => {
+            "outer approximation of the cost stopped before closing the gap (see the gap)"
+        }
+        MilpStatus::Stationary => "a stationary point of the local method (no global claim)",
+        MilpStatus::Stalled => "the local method stopped improving (no global claim)",
+    };
+    h.push_str("<div class=\"kpi\">\n");
+    h.push_str(&format!(
+        "<div><span>objective J</span><b id=\"objective\">{}</b><span>displacement − cost per period [length]</span></div>\n",
+        num(result.objective)
+    ));
+    h.push_str(&format!(
+        "<div><span>displacement per period</span><b id=\"displacement-per-period\" data-value=\"{}\">{}</b><span>verified by simulation [length]</span></div>\n",
+        result.displacement_per_period,
+        num(result.displacement_per_period)
+    ));
+    h.push_str(&format!(
+        "<div><span>certificate</span><b>{}</b><span>{}; bound {}</span></div>\n",
+        c.gap.map_or("local".into(), |g| format!("gap {g:.1e}")),
+        esc(&cert),
+        c.bound.map_or("none".into(), num)
+    ));
+    h.push_str("</div>\n");
+
+    // Animation.
+    h.push_str(&format!(
+        "<h2 id=\"animation\">The crawler playing the gait</h2>\n\
+         <p>{SHOWN_PERIODS} periods of the optimal gait on its periodic orbit, replayed by the exact simulator. \
+         Blocks are coloured while they slide (<span style=\"color:var(--fwd)\">forward</span>, \
+         <span style=\"color:var(--bwd)\">backward</span>); the white arrow on a sliding block is the friction force, \
+         which opposes the motion with threshold μ⁺ or μ⁻. Each link is an actuator (grey body and rod, length L) \
+         in series with a spring (zig-zag, compressed when x &gt; 0). Spacing between blocks is for display only.</p>\n\
+         <svg id=\"crawler-svg\" role=\"img\" aria-label=\"animation of the crawler\"></svg>\n\
+         <div class=\"controls\">\n<button id=\"anim-play\" type=\"button\">Pause</button>\n\
+         <label class=\"time\">time <input id=\"anim-time\" type=\"range\" min=\"0\" max=\"1\" step=\"0.001\" value=\"0\"></label>\n\
+         <label>speed <input id=\"anim-speed\" type=\"range\" min=\"0.1\" max=\"4\" step=\"0.05\" value=\"1\"></label>\n\
+         <output id=\"anim-speed-value\"></output>\n</div>\n\
+         <div id=\"anim-state\" aria-live=\"off\"></div>\n\
+         <p class=\"sub\">At speed 1× a period lasts 4 seconds.</p>\n"
+    ));
+
+    // Parameters.
+    h.push_str(
+        "<h2 id=\"crawler\">The crawler</h2>\n<div class=\"scroll\">\n<table>\n<tr><th class=\"l\">block b</th>",
+    );
+    for b in 1..=nb {
+        h.push_str(&format!("<th>{b}</th>"));
+    }
+    h.push_str("</tr>\n<tr><td class=\"l\">μ⁺ (against forward sliding) [force]</td>");
+    for v in crawler.mu_forward() {
+        h.push_str(&format!("<td>{}</td>", num(*v)));
+    }
+    h.push_str("</tr>\n<tr><td class=\"l\">μ⁻ (against backward sliding) [force]</td>");
+    for v in crawler.mu_backward() {
+        h.push_str(&format!("<td>{}</td>", num(*v)));
+    }
+    h.push_str(
+        "</tr>\n</table>\n</div>\n<div class=\"scroll\">\n<table>\n<tr><th class=\"l\">link l (blocks l, l+1)</th>",
+    );
+    for l in 1..=n {
+        h.push_str(&format!("<th>{l}</th>"));
+    }
+    h.push_str("</tr>\n<tr><td class=\"l\">stiffness k [force/length]</td>");
+    for v in crawler.stiffness() {
+        h.push_str(&format!("<td>{}</td>", num(*v)));
+    }
+    h.push_str("</tr>\n<tr><td class=\"l\">rate bound a = k·max|L′| [force/time]</td>");
+    for v in &result.problem.rate_bound {
+        h.push_str(&format!("<td>{}</td>", num(*v)));
+    }
+    h.push_str("</tr>\n<tr><td class=\"l\">range of x over C [force]</td>");
+    for r in &a.link_force_ranges {
+        h.push_str(&format!("<td>[{}, {}]</td>", num(r[0]), num(r[1])));
+    }
+    h.push_str("</tr>\n</table>\n</div>\n");
+    h.push_str(&format!(
+        "<p>Gait problem: period T = {}, cost {}{}.</p>\n",
+        num(result.problem.period),
+        match result.problem.cost {
+            Cost::None => "none (f₂ = 0)".to_string(),
+            Cost::Quadratic { weight } => format!("(c/2)|u|² with c = {}", num(weight)),
+        },
+        result
+            .problem
+            .max_total_variation
+            .map_or(String::new(), |v| format!(
+                ", total variation of u at most {}",
+                num(v)
+            ))
+    ));
+
+    // Analysis.
+    h.push_str("<h2 id=\"analysis\">Analysis</h2>\n<ul>\n");
+    h.push_str(&match (&a.violating_subset, a.uniqueness_margin) {
+        (Some(j), _) => {
+            format!("<li>Uniqueness condition (eq. 3.5) <b>fails</b> for J = {j:?}.</li>\n")
+        }
+        (None, Some(m)) => format!(
+            "<li>Uniqueness condition (eq. 3.5) holds, margin {} (closest subset J = {:?}).</li>\n",
+            num(m),
+            a.closest_subset.clone().unwrap_or_default()
+        ),
+        _ => "<li>Uniqueness condition: undecided.</li>\n".into(),
+    });
+    if let Some(class) = a.vm_class {
+        let class = serde_json::to_string(&class).unwrap_or_default();
+        h.push_str(&format!(
+            "<li>Displacement function vₘ: <b>{}</b>; some shape rate moves the crawler forward: {}, backward: {}.</li>\n",
+            esc(class.trim_matches('"')),
+            yes(a.moves_forward),
+            yes(a.moves_backward)
+        ));
+    }
+    if let Some(o) = &a.one_link {
+        h.push_str(&format!(
+            "<li>One link (paper §4): C = [α, β] = [{}, {}], width w = {}; extension moves it forward: {}, contraction: {}.</li>\n",
+            num(o.alpha),
+            num(o.beta),
+            num(o.width),
+            yes(Some(o.extension_moves_forward)),
+            yes(Some(o.contraction_moves_forward))
+        ));
+    }
+    h.push_str("</ul>\n<table>\n<tr><th class=\"l\">face of C</th><th class=\"l\">constraint</th><th class=\"l\">facet</th><th class=\"l\">meaning</th></tr>\n");
+    for f in &a.faces {
+        let (label, cons, meaning) = match f.sign {
+            FaceSign::Forward => (
+                format!("{}+", f.block),
+                format!("F{} ≤ {}", figures::sub(f.block), num(f.offset)),
+                format!("block {} slides forward", f.block),
+            ),
+            FaceSign::Backward => (
+                format!("{}−", f.block),
+                format!("F{} ≥ {}", figures::sub(f.block), num(-f.offset)),
+                format!("block {} slides backward", f.block),
+            ),
+        };
+        h.push_str(&format!(
+            "<tr><td class=\"l\">{label}</td><td class=\"l\">{cons}</td><td class=\"l\">{}</td><td class=\"l\">{meaning}</td></tr>\n",
+            if f.facet { "yes" } else { "no (redundant)" }
+        ));
+    }
+    h.push_str("</table>\n");
+
+    // The gait.
+    h.push_str(&format!(
+        "<h2 id=\"gait\">The optimal gait</h2>\n<p>Method <code>{}</code>, {status}; {}. \
+         Displacement per period {} (simulator) against {} (solver); actuation cost {}.</p>\n",
+        esc(&result.method),
+        esc(&cert),
+        num(result.verified_displacement),
+        num(result.solver_objective),
+        num(result.actuation_cost)
+    ));
+    h.push_str("<div class=\"scroll\">\n<table>\n<tr><th>piece</th><th>from t</th><th>to t</th>");
+    for l in 1..=n {
+        h.push_str(&format!("<th>u{} [force/time]</th>", figures::sub(l)));
+    }
+    h.push_str("<th class=\"l\">slip of blocks 1..N</th></tr>\n");
+    let g = &result.gait;
+    for (j, u) in g.controls.iter().enumerate() {
+        h.push_str(&format!(
+            "<tr><td>{}</td><td>{}</td><td>{}</td>",
+            j + 1,
+            num(g.times[j]),
+            num(g.times[j + 1])
+        ));
+        for (v, a) in u.iter().zip(&result.problem.rate_bound) {
+            // Solver noise (1e-14 of the rate bound) is shown as the 0 it stands for.
+            let v = if v.abs() <= 1e-9 * a { 0.0 } else { *v };
+            h.push_str(&format!("<td>{}</td>", num(v)));
+        }
+        let slip: Vec<&str> = g.slip[j]
+            .iter()
+            .map(|s| match s {
+                1 => "+",
+                -1 => "−",
+                _ => "0",
+            })
+            .collect();
+        h.push_str(&format!("<td class=\"l\">{}</td></tr>\n", slip.join(" ")));
+    }
+    h.push_str(&format!(
+        "</table>\n</div>\n<p>Initial state on the orbit x(0) = ({}).</p>\n",
+        nums(&g.initial_state)
+    ));
+
+    // Figures.
+    h.push_str("<h2 id=\"figures\">Figures</h2>\n");
+    for f in figs {
+        h.push_str(&format!(
+            "<figure id=\"fig-{}\">\n{}\n<figcaption>{}</figcaption>\n</figure>\n",
+            esc(&f.name),
+            inline_svg(f),
+            esc(&f.caption)
+        ));
+    }
+    h.push_str(&format!(
+        "<footer>Made by crawlopt {} (<code>crawlopt report {}</code>). Figures are also written as SVG and PNG by \
+         <code>crawlopt plot</code>. Paper: “On the optimal control of rate-independent soft crawlers”.</footer>\n",
+        env!("CARGO_PKG_VERSION"),
+        esc(source)
+    ));
+    h.push_str("</main>\n<script type=\"application/json\" id=\"crawler-data\">");
+    h.push_str(json);
+    h.push_str("</script>\n<script>\n");
+    h.push_str(ANIMATION_JS);
+    h.push_str("</script>\n</body>\n</html>\n");
+    h
+}
+
+fn yes(v: Option<bool>) -> &'static str {
+    match v {
+        Some(true) => "yes",
+        Some(false) => "no",
+        None => "unknown",
+    }
+}
+
+/// Writes the report atomically (temporary file renamed into place; nothing left on failure).
+pub fn write_report(path: &Path, html: &str) -> Result<()> {
+    let mut f = AtomicFile::create(path)?;
+    f.writer()
+        .write_all(html.as_bytes())
+        .map_err(|e| Error::Io {
+            path: path.display().to_string(),
+            reason: format!("cannot write: {e}"),
+        })?;
+    f.commit()
+}
