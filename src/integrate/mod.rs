@@ -6,7 +6,7 @@
 //!   constant `u`): between events `x' = P_{T_C(x)}(u)` is constant, so the trajectory is piecewise
 //!   linear and computed without discretisation error; events are face hits and releases.
 //!
-//! [`simulate`] iterates periods until the state repeats (the limit cycle, refs [Kre], [CGV]) and
+//! [`simulate`] iterates periods until the state repeats (the limit cycle, refs \[Kre\], \[CGV\]) and
 //! only then reports a displacement per period.
 
 mod actuation;

@@ -34,7 +34,8 @@ pub enum VmClass {
     Concave,
     /// Neither (e.g. the monkey saddle of Remark 3.3).
     Neither,
-    /// Too many distinct friction values to decide exactly (see [`DIRECT_LIMIT`]).
+    /// Too many distinct friction values to decide exactly (more than the direct enumeration
+    /// limit of this module).
     Undetermined,
 }
 
