@@ -52,6 +52,10 @@ pub enum Error {
     #[error("{0}")]
     Numerical(String),
 
+    /// A time limit ended a computation before it had any answer to return.
+    #[error("{0}")]
+    TimeLimit(String),
+
     /// Reading or writing a file failed.
     #[error("{path}: {reason}")]
     Io {

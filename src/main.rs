@@ -435,7 +435,7 @@ fn run(cmd: Command) -> Result<ExitCode, Error> {
                     progress.say(format!("local LPCC method on P_{m} ({} steps)", 1u64 << m));
                     let left = time_limit.map(|t| t - began.elapsed().as_secs_f64());
                     if left.is_some_and(|l| l <= 0.0) {
-                        return Err(Error::Numerical(
+                        return Err(Error::TimeLimit(
                             "the time limit was reached while computing the start gait".into(),
                         ));
                     }
@@ -721,13 +721,22 @@ fn print_gait_result(r: &GaitResult) {
         r.displacement_per_period,
         r.actuation_cost
     );
-    if r.objective.abs() <= 1e-9 && r.displacement_per_period.abs() <= 1e-9 {
+    let proven = r.status == MilpStatus::Optimal && c.gap.is_some_and(|g| g <= 1e-6);
+    if proven && r.objective.abs() <= 1e-9 && r.displacement_per_period.abs() <= 1e-9 {
         outln!("no gait of this class moves the crawler forward: the optimum is 0 (stay idle)");
     }
-    let what = match (c.kind.as_str(), c.phases, r.m) {
-        ("global_k_phases", Some(k), _) => format!("global among gaits of at most {k} phases"),
-        ("global", _, Some(m)) => format!("global for P_{m} ({} steps)", 1u64 << m),
+    let scope = match (c.kind.as_str(), c.phases, r.m) {
+        ("global_k_phases", Some(k), _) => format!("gaits of at most {k} phases"),
+        ("global", _, Some(m)) => format!("P_{m} ({} steps)", 1u64 << m),
         (kind, _, _) => kind.to_string(),
+    };
+    let what = match (r.status, c.kind.as_str()) {
+        (_, "local") => format!("local ({})", status_word(r.status)),
+        (MilpStatus::Optimal, _) => format!("global among {scope}"),
+        (status, _) => format!(
+            "not proven ({}); the bound is over {scope}",
+            status_word(status)
+        ),
     };
     match (c.gap, c.bound) {
         (Some(gap), Some(bound)) => {

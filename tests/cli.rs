@@ -399,6 +399,25 @@ fn optimize_discrete_returns_a_verified_certified_gait() {
         "{}",
         stderr(&out)
     );
+    // A time limit far too short: the best incumbent with its gap, never a claim of optimality;
+    // or, with no gait found yet, a plain error.
+    let out = crawlopt(&[
+        "optimize",
+        "examples/three_blocks_gait.toml",
+        "--phases",
+        "12",
+        "--time-limit",
+        "0.02",
+        "--json",
+    ]);
+    if out.status.success() {
+        let v = json(&out);
+        assert_eq!(v["status"], "time_limit");
+        assert!(v["certificate"]["gap"].as_f64().unwrap() > 1e-3);
+    } else {
+        assert_eq!(out.status.code(), Some(2));
+        assert!(stderr(&out).contains("time limit"), "{}", stderr(&out));
+    }
     let out = crawlopt(&["optimize", "examples/one_link_gait.toml", "--convergence"]);
     assert_eq!(out.status.code(), Some(2));
     assert!(

@@ -232,7 +232,7 @@ pub fn solve_discrete_global(
                             break (cols, lay, bound, MilpStatus::TimeLimit)
                         }
                         None => {
-                            return Err(Error::Numerical(format!(
+                            return Err(Error::TimeLimit(format!(
                             "{what}: the time limit was reached before any feasible gait was found"
                         )))
                         }
@@ -352,7 +352,7 @@ pub fn discrete_convergence(
         let t0 = Instant::now();
         let s = match solve_discrete_global(crawler, problem, m, left) {
             Ok(s) => s,
-            Err(_) if finest.is_some() && left.is_some() => break,
+            Err(Error::TimeLimit(_)) if finest.is_some() => break,
             Err(e) => return Err(e),
         };
         let row = ConvergenceRow {

@@ -295,7 +295,7 @@ pub fn solve_discrete_local(
                 match last {
                     Some((cols, objective)) => break (cols, objective, LocalStop::TimeLimit),
                     None => {
-                        return Err(Error::Numerical(format!(
+                        return Err(Error::TimeLimit(format!(
                             "{what}: the time limit was reached before the first LP"
                         )))
                     }
@@ -310,7 +310,7 @@ pub fn solve_discrete_local(
             HighsModelStatus::ReachedTimeLimit => match last {
                 Some((cols, objective)) => break (cols, objective, LocalStop::TimeLimit),
                 None => {
-                    return Err(Error::Numerical(format!(
+                    return Err(Error::TimeLimit(format!(
                         "{what}: the time limit was reached in the first LP"
                     )))
                 }

@@ -385,7 +385,7 @@ pub(crate) fn solve_max(
             MilpStatus::TimeLimit
         }
         HighsModelStatus::ReachedTimeLimit => {
-            return Err(Error::Numerical(format!(
+            return Err(Error::TimeLimit(format!(
                 "{what}: the time limit was reached before any feasible gait was found"
             )))
         }

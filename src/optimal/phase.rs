@@ -445,7 +445,7 @@ pub fn solve_phase_from(
                     break match incumbent {
                         Some(g) if rounds > 1 => (g, last_bound, MilpStatus::TimeLimit),
                         _ => {
-                            return Err(Error::Numerical(format!(
+                            return Err(Error::TimeLimit(format!(
                             "{what}: the time limit was reached before any feasible gait was found"
                         )))
                         }
@@ -629,7 +629,7 @@ pub fn grow_phases(
         let t0 = Instant::now();
         let s = match solve_phase_from(crawler, problem, k, left, best.as_ref()) {
             Ok(s) => s,
-            Err(_) if best.is_some() && opts.time_limit.is_some() && left.is_some() => {
+            Err(Error::TimeLimit(_)) if best.is_some() => {
                 stop = GrowthStop::TimeLimit;
                 break;
             }
@@ -683,7 +683,7 @@ pub fn grow_phases(
         }
     }
     let best = best.ok_or_else(|| {
-        Error::Numerical(
+        Error::TimeLimit(
             "phase growth: the time limit was reached before any feasible gait was found".into(),
         )
     })?;
