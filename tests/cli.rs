@@ -587,8 +587,16 @@ fn plot_and_report_refuse_bad_input_with_nothing_written() {
         &text.replace("\"version\":1", "\"version\":9"),
     );
     let good = write(dir.path(), "r.json", &text);
+    // Absurd but finite rate bounds: an axis that cannot be drawn is an error, not a hang.
+    let mut huge: serde_json::Value = serde_json::from_str(&text).unwrap();
+    huge["problem"]["rate_bound"] = serde_json::json!([1e308]);
+    let huge = write(dir.path(), "h.json", &huge.to_string());
     let blocker = write(dir.path(), "file", "x");
-    let cases: [(&[&str], &str); 5] = [
+    let cases: [(&[&str], &str); 6] = [
+        (
+            &["plot", huge.to_str().unwrap(), "-o", &d("f3")],
+            "cannot be drawn",
+        ),
         (
             &["plot", truncated.to_str().unwrap(), "-o", &d("f1")],
             "not a complete JSON document",
@@ -632,7 +640,7 @@ fn plot_and_report_refuse_bad_input_with_nothing_written() {
     left.sort();
     assert_eq!(
         left,
-        ["file", "r.json", "t.json", "v.json"],
+        ["file", "h.json", "r.json", "t.json", "v.json"],
         "nothing half-written"
     );
 }

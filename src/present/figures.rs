@@ -201,6 +201,15 @@ fn chart_x<'a, DB: DrawingBackend>(
 where
     DB::ErrorType: 'static,
 {
+    // plotters' tick search does not end on spans that overflow; such axes are not drawable.
+    for (name, (lo, hi)) in [("x", x), ("y", y)] {
+        let span = hi - lo;
+        if !(span.is_finite() && span > 0.0 && lo.abs().max(hi.abs()) <= 1e100) {
+            return Err(
+                format!("{title}: the {name} axis range [{lo:e}, {hi:e}] cannot be drawn").into(),
+            );
+        }
+    }
     let x_ticks = if integer_x {
         ((x.1.floor() - x.0.ceil()) as usize + 1).clamp(2, 16)
     } else {
