@@ -262,9 +262,13 @@ fn page(
     h.push_str("</div>\n");
 
     // Animation.
+    let replayer = match result.method.as_str() {
+        "discrete" | "local" => "catching-up on the gait's grid (as it was verified)",
+        _ => "the exact simulator",
+    };
     h.push_str(&format!(
         "<h2 id=\"animation\">The crawler playing the gait</h2>\n\
-         <p>{SHOWN_PERIODS} periods of the optimal gait on its periodic orbit, replayed by the exact simulator. \
+         <p>{SHOWN_PERIODS} periods of the optimal gait on its periodic orbit, replayed by {replayer}. \
          Blocks are coloured while they slide (<span style=\"color:var(--fwd)\">forward</span>, \
          <span style=\"color:var(--bwd)\">backward</span>); the white arrow on a sliding block is the friction force, \
          which opposes the motion with threshold μ⁺ or μ⁻. Each link is an actuator (grey body and rod, length L) \
