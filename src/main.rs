@@ -11,8 +11,8 @@ use crawlopt::io::{write_trajectory_csv, ModelFile};
 use crawlopt::model::{Analysis, FaceSign};
 use crawlopt::optimal::{
     discrete_convergence, grow_phases, one_link_optimum, solve_discrete_global,
-    solve_discrete_local, solve_phase_global, Cost, CrawlerParams, GaitResult, GrowOptions,
-    GrowthStop, MilpStatus, PhaseGrowthRecord,
+    solve_discrete_local, solve_phase_global, Cost, CrawlerParams, GaitProblem, GaitResult,
+    GrowOptions, GrowthStop, MilpStatus, PhaseGrowth,
 };
 use crawlopt::present::{self, report, write_figures, PlotInput};
 use crawlopt::{Crawler, Error};
@@ -415,15 +415,8 @@ fn run(cmd: Command) -> Result<ExitCode, Error> {
                                 time_limit: time_limit.map(|t| 0.5 * t),
                                 ..GrowOptions::default()
                             };
-                            progress.say("start: phase gait, K = 2".into());
-                            let g = grow_phases(&crawler, &problem, &opts, &mut |st| {
-                                progress.say(format!(
-                                    "start: phase gait, K = {}: J = {:.9}; K = {} next",
-                                    st.phases,
-                                    st.objective,
-                                    st.phases + 1
-                                ))
-                            })?;
+                            let g =
+                                progress.grow(&crawler, &problem, &opts, "start: phase gait, ")?;
                             let r = GaitResult::from_phase(&crawler, &problem, &g.best);
                             (
                                 r.gait.times,
@@ -465,23 +458,8 @@ fn run(cmd: Command) -> Result<ExitCode, Error> {
                                 time_limit,
                                 ..GrowOptions::default()
                             };
-                            progress.say("K = 2".into());
-                            let g = grow_phases(&crawler, &problem, &opts, &mut |st| {
-                                progress.say(format!(
-                                    "K = {}: J = {:.9} (bound {:.9}, {:.2} s); K = {} next",
-                                    st.phases,
-                                    st.objective,
-                                    st.bound,
-                                    st.seconds,
-                                    st.phases + 1
-                                ))
-                            })?;
-                            let mut r = GaitResult::from_phase(&crawler, &problem, &g.best);
-                            r.phase_growth = Some(PhaseGrowthRecord {
-                                table: g.table,
-                                stop: g.stop,
-                            });
-                            r
+                            let g = progress.grow(&crawler, &problem, &opts, "")?;
+                            GaitResult::from_growth(&crawler, &problem, &g)
                         }
                     }
                 }
@@ -708,6 +686,27 @@ impl Progress {
 
     fn finish(&self) {
         self.0.finish_and_clear();
+    }
+
+    /// [`grow_phases`] showing each K as it is solved.
+    fn grow(
+        &self,
+        crawler: &Crawler,
+        problem: &GaitProblem,
+        opts: &GrowOptions,
+        label: &str,
+    ) -> Result<PhaseGrowth, Error> {
+        self.say(format!("{label}K = {}", opts.min_phases));
+        grow_phases(crawler, problem, opts, &mut |st| {
+            self.say(format!(
+                "{label}K = {}: J = {:.9} (bound {:.9}, {:.2} s); K = {} next",
+                st.phases,
+                st.objective,
+                st.bound,
+                st.seconds,
+                st.phases + 1
+            ))
+        })
     }
 }
 

@@ -9,7 +9,7 @@ use crate::integrate::slip_of;
 use crate::model::Crawler;
 use crate::optimal::{
     gait_knots, ConvergenceRow, DiscreteSolution, GaitProblem, GrowthStop, LocalSolution,
-    LocalStop, MilpStatus, PhaseSolution, PhaseStep,
+    LocalStop, MilpStatus, PhaseGrowth, PhaseSolution, PhaseStep,
 };
 use serde::{Deserialize, Serialize};
 
@@ -248,6 +248,16 @@ impl GaitResult {
             convergence: None,
             local: None,
         }
+    }
+
+    /// The record of a phase gait found by growing `K`, with the growth's table.
+    pub fn from_growth(crawler: &Crawler, problem: &GaitProblem, g: &PhaseGrowth) -> Self {
+        let mut r = GaitResult::from_phase(crawler, problem, &g.best);
+        r.phase_growth = Some(PhaseGrowthRecord {
+            table: g.table.clone(),
+            stop: g.stop,
+        });
+        r
     }
 
     /// The record of a local P_m answer; `start` says where its start gait came from.

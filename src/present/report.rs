@@ -12,9 +12,7 @@ use crate::error::{Error, Result};
 use crate::integrate::Trajectory;
 use crate::io::{AtomicFile, ModelFile};
 use crate::model::{Crawler, FaceSign};
-use crate::optimal::{
-    grow_phases, solve_phase_global, Cost, GaitResult, GrowOptions, MilpStatus, PhaseGrowthRecord,
-};
+use crate::optimal::{grow_phases, solve_phase_global, Cost, GaitResult, GrowOptions, MilpStatus};
 use serde::Serialize;
 use std::io::Write;
 use std::path::Path;
@@ -49,12 +47,7 @@ pub fn optimize_model(
                 ..GrowOptions::default()
             };
             let g = grow_phases(&crawler, &problem, &opts, &mut |_| {})?;
-            let mut r = GaitResult::from_phase(&crawler, &problem, &g.best);
-            r.phase_growth = Some(PhaseGrowthRecord {
-                table: g.table,
-                stop: g.stop,
-            });
-            Ok(r)
+            Ok(GaitResult::from_growth(&crawler, &problem, &g))
         }
     }
 }
