@@ -33,7 +33,9 @@
 
 use crate::error::{Error, Result};
 use crate::model::Crawler;
-use crate::optimal::milp::{block_speed_bound, check_time_limit, replay_grid, GridColumns};
+use crate::optimal::milp::{
+    block_speed_bound, check_time_limit, check_verified, replay_grid, GridColumns,
+};
 use crate::optimal::{Cost, GaitProblem};
 use highs::{Col, HighsModelStatus, Model, RowProblem, Sense};
 use serde::{Deserialize, Serialize};
@@ -370,12 +372,7 @@ pub fn solve_discrete_local(
     let rows = grid.increments(&cols);
     let x0: Vec<f64> = xs[0].iter().map(|c| cols[c.index()]).collect();
     let g = replay_grid(crawler, t, &rows, &x0, &what)?;
-    if (g.verified - lp_objective).abs() > 1e-6 * (1.0 + g.verified.abs()) {
-        return Err(Error::Numerical(format!(
-            "{what}: the gait moves the crawler {} per period when simulated, not {lp_objective}",
-            g.verified
-        )));
-    }
+    check_verified(&what, lp_objective, g.verified)?;
     Ok(LocalSolution {
         m,
         step: h,

@@ -49,11 +49,7 @@ pub(crate) fn certify(
     verified: f64,
     cost: f64,
 ) -> Result<Certificate> {
-    if (milp_displacement - verified).abs() > 1e-6 * (1.0 + verified.abs()) {
-        return Err(Error::Numerical(format!(
-            "{what}: the gait moves the crawler {verified} per period when simulated, not {milp_displacement}"
-        )));
-    }
+    check_verified(what, milp_displacement, verified)?;
     let objective = verified - cost;
     Ok(Certificate {
         status,
@@ -66,6 +62,17 @@ pub(crate) fn certify(
 /// The outer approximation stops when the incumbent's true objective is within this of the
 /// MILP's bound (relative above 1, absolute below).
 pub(crate) const OA_TOL: f64 = 1e-6;
+
+/// The independent re-verification: the solver's displacement per period must be the one the
+/// simulator finds for the returned gait, to the solvers' tolerances.
+pub(crate) fn check_verified(what: &str, solver: f64, verified: f64) -> Result<()> {
+    if (solver - verified).abs() > 1e-6 * (1.0 + verified.abs()) {
+        return Err(Error::Numerical(format!(
+            "{what}: the gait moves the crawler {verified} per period when simulated, not {solver}"
+        )));
+    }
+    Ok(())
+}
 
 /// Outer approximation of the quadratic cost inside a MILP (SPEC §7: the cost of a piece of
 /// duration `tau` with increment `U` is the perspective `(c/2) U^2 / tau`, convex).

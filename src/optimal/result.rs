@@ -5,7 +5,7 @@
 //! consistency of every array.
 
 use crate::error::{Error, Result};
-use crate::integrate::slip_of;
+use crate::integrate::{slip_of, Method};
 use crate::model::Crawler;
 use crate::optimal::{
     gait_knots, ConvergenceRow, DiscreteSolution, GaitProblem, GrowthStop, LocalSolution,
@@ -247,6 +247,15 @@ impl GaitResult {
             phase_growth: None,
             convergence: None,
             local: None,
+        }
+    }
+
+    /// The simulator that verified this result's gait, and so replays it: catching-up on the grid
+    /// for P_m answers (global or local), exact for phase gaits.
+    pub fn verified_with(&self) -> Method {
+        match self.method.as_str() {
+            "discrete" | "local" => Method::CatchingUp,
+            _ => Method::Exact,
         }
     }
 

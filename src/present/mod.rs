@@ -48,7 +48,7 @@ pub fn replay_gait(result: &GaitResult, periods: usize) -> Result<(Crawler, Simu
         &crawler,
         &act,
         &SimOptions {
-            method: replay_method(result),
+            method: result.verified_with(),
             steps_per_period: result.gait.durations.len(),
             record_periods: periods,
             initial_state: Some(result.gait.initial_state.clone()),
@@ -220,7 +220,7 @@ pub fn gait_figures_from(
             Some(&transient_states(
                 crawler,
                 &gait_actuation(result)?,
-                replay_method(result),
+                result.verified_with(),
                 g.durations.len(),
             )?),
         )?,
@@ -235,15 +235,6 @@ pub fn gait_figures_from(
         v.push(figures::jm_figure(&m, &values, None)?);
     }
     Ok(v)
-}
-
-/// The simulator a result was verified with: catching-up on the grid for P_m answers (global or
-/// local), exact for phase gaits.
-fn replay_method(result: &GaitResult) -> Method {
-    match result.method.as_str() {
-        "discrete" | "local" => Method::CatchingUp,
-        _ => Method::Exact,
-    }
 }
 
 /// Figure `adjoint` of a certificate: `p(t)`, `p(t) + omega` and `u(t)` from its multipliers,

@@ -9,7 +9,7 @@
 use super::figures::{self, Figure};
 use super::{replay_gait, SHOWN_PERIODS};
 use crate::error::{Error, Result};
-use crate::integrate::Trajectory;
+use crate::integrate::{Method, Trajectory};
 use crate::io::{AtomicFile, ModelFile};
 use crate::model::{Crawler, FaceSign};
 use crate::optimal::{grow_phases, solve_phase_global, Cost, GaitResult, GrowOptions, MilpStatus};
@@ -255,9 +255,9 @@ fn page(
     h.push_str("</div>\n");
 
     // Animation.
-    let replayer = match result.method.as_str() {
-        "discrete" | "local" => "catching-up on the gait's grid (as it was verified)",
-        _ => "the exact simulator",
+    let replayer = match result.verified_with() {
+        Method::CatchingUp => "catching-up on the gait's grid (as it was verified)",
+        Method::Exact => "the exact simulator",
     };
     h.push_str(&format!(
         "<h2 id=\"animation\">The crawler playing the gait</h2>\n\
