@@ -105,10 +105,14 @@ enum Command {
         /// discrete P_m when the problem bounds TV(u), which phase gaits cannot express).
         #[arg(long, value_enum, default_value = "auto")]
         method: OptimizeMethod,
-        /// Phases allowed in a phase gait; without it K grows from 2 until the value has not
-        /// improved for two K (or --max-phases, or the time limit).
+        /// Slip phases allowed in a phase gait (all-stick transitions between them are free);
+        /// without it K grows from 1 until the value has not improved for --patience K (or
+        /// --max-phases, or the time limit).
         #[arg(long)]
         phases: Option<usize>,
+        /// Consecutive K without a gain that end the growth of K.
+        #[arg(long, default_value_t = 1)]
+        patience: usize,
         /// Largest K tried when K grows.
         #[arg(long = "max-phases", default_value_t = 16)]
         max_phases: usize,
@@ -166,7 +170,7 @@ enum Command {
         /// The HTML file to write.
         #[arg(long, short = 'o', value_name = "FILE", default_value = "report.html")]
         output: PathBuf,
-        /// Phases allowed when computing the gait from a model file (default: K grown until
+        /// Slip phases allowed when computing the gait from a model file (default: K grown until
         /// the value stops improving, as `optimize`).
         #[arg(long)]
         phases: Option<usize>,
@@ -215,7 +219,7 @@ enum OptimizeMethod {
     Discrete,
     /// P_m on 2^m steps by the local LPCC active-set method, from a phase gait or --start.
     Local,
-    /// Exact continuous-time gaits of at most K constant-mode phases, solved globally (MILP).
+    /// Exact continuous-time gaits of at most K slip phases, solved globally (MILP).
     Phase,
 }
 
@@ -346,6 +350,7 @@ fn run(cmd: Command) -> Result<ExitCode, Error> {
             file,
             method,
             phases,
+            patience,
             max_phases,
             m,
             convergence,
@@ -412,6 +417,7 @@ fn run(cmd: Command) -> Result<ExitCode, Error> {
                         None => {
                             let opts = GrowOptions {
                                 max_phases,
+                                patience,
                                 time_limit: time_limit.map(|t| 0.5 * t),
                                 ..GrowOptions::default()
                             };
@@ -455,6 +461,7 @@ fn run(cmd: Command) -> Result<ExitCode, Error> {
                         None => {
                             let opts = GrowOptions {
                                 max_phases,
+                                patience,
                                 time_limit,
                                 ..GrowOptions::default()
                             };
@@ -725,7 +732,7 @@ fn print_gait_result(r: &GaitResult) {
         outln!("no gait of this class moves the crawler forward: the optimum is 0 (stay idle)");
     }
     let scope = match (c.kind.as_str(), c.phases, r.m) {
-        ("global_k_phases", Some(k), _) => format!("gaits of at most {k} phases"),
+        ("global_k_phases", Some(k), _) => format!("gaits of at most {k} slip phases"),
         ("global", _, Some(m)) => format!("P_{m} ({} steps)", 1u64 << m),
         (kind, _, _) => kind.to_string(),
     };

@@ -1,41 +1,67 @@
 //! Exact continuous-time gaits: the phase formulation (SPEC §7), solved globally over gaits of
-//! at most `K` phases as a mixed-integer linear program in HiGHS.
+//! at most `K` slip phases as a mixed-integer linear program in HiGHS.
 //!
-//! Phase `j` lasts `tau_j >= 0` with a constant control `u_j` and a slip mode per block
-//! (stick, slip+, slip-), encoded by binaries `s+_{j,b}`, `s-_{j,b}` (`s+ + s- <= 1`). With
-//! `U_j = tau_j u_j`, states `x_j` at phase starts and block displacements `D_{j,b} = P - Q`:
+//! **What `K` counts.** A phase is a stretch of constant control and constant slip mode. A
+//! phase in which every block sticks (a *transition*: `x` moves straight across C, `x' = u`) is
+//! not counted: two consecutive transitions merge into one (C is convex, the rate bounds are
+//! convex, nothing moves), and so do two consecutive slip phases of the same mode (their faces
+//! are held throughout). So every gait whose slip phases number at most `K`, with any number
+//! of transitions between them, is a gait of `K` *steps* `j`, each a transition followed by a
+//! slip phase:
 //!
 //! ```text
-//! maximise   (1/N) sum_{j,b} D_{j,b} - (c/2) sum_{j,l} g_{j,l}         (g >= U^2 / tau)
-//! subject to x_{j+1} = x_j + U_j - K sum_b D_{j,b} nu_b,   x_K = x_0,   x_j in C
-//!            |U_{j,l}| <= a_l tau_j,   sum_j tau_j = T,   sum_j U_j = 0
-//!            0 <= P_{j,b} <= V tau_j,  P_{j,b} <= V T s+_{j,b}      (likewise Q with s-)
-//!            s+_{j,b} = 1  =>  F_b(x_j) = F_b(x_{j+1}) = mu_b^+     (big-M W_b = mu^+ + mu^-)
-//!            s-_{j,b} = 1  =>  F_b(x_j) = F_b(x_{j+1}) = -mu_b^-
+//! x_j --(transition: sigma_j, W_j, all stick)--> y_j --(slip: tau_j, U_j, mode)--> x_{j+1}
 //! ```
 //!
-//! Every feasible point is an exact solution of the sweeping process: inside a phase `x` moves
-//! on the segment `[x_j, x_{j+1}]` (in C, which is convex) at constant velocity, the faces of the
-//! slipping blocks are held throughout (both ends lie on them), and the reaction
-//! `K sum_b D_{j,b} nu_b` is in their normal cone; solutions being unique, it is *the* solution.
-//! So there is no discretisation error. `V` is the block-speed bound of
-//! [`block_speed_bound`](super::milp) (no motion in zero time). Symmetries are broken: empty
-//! phases come last, and among the rest phase 0 carries the largest displacement.
+//! A `K`-step gait has at most `2K` phases, and every gait of at most `K` phases is one, so
+//! "global among gaits of at most `K` slip phases" is the stronger statement. Counting this
+//! way halves the `K` the growth needs (the three-block optimum has 4 slip phases and 4
+//! transitions), and the MILP's effort grows steeply with `K`: on the three-block instance the
+//! growth certified the optimum in 4.9 s instead of 10.3 s, before any other change
+//! (`crawlopt optimize examples/three_blocks_gait.toml`).
 //!
-//! Valid inequalities: at most `n` blocks slip in a phase (if all `N` did, the forces would
-//! sum to `sum_b ±mu_b = 0`, which the uniqueness condition excludes).
+//! Binaries `s+_{j,b}`, `s-_{j,b}` (`s+ + s- <= 1`) give the mode of slip phase `j`. With
+//! `U_j = tau_j u_j`, `W_j = sigma_j w_j` and block displacements `D_{j,b} = P - Q`:
 //!
-//! The quadratic cost is the perspective `(c/2) |U_j|^2 / tau_j`, handled by outer
-//! approximation ([`TangentRates`]): tangent cuts under-estimate it, so the MILP's bound stays
-//! valid; cuts at the rates of each solution are added and the MILP re-solved (from the previous
-//! gait) until the true objective of the incumbent meets the bound. A total-variation bound on
-//! `u = U / tau` is not linear in these variables and is refused (the discrete method has it).
+//! ```text
+//! maximise   (1/N) sum_{j,b} D_{j,b} - (c/2) sum_{j,l} (g_{j,l} + h_{j,l})
+//!                                        (g >= U^2 / tau, h >= W^2 / sigma)
+//! subject to y_j = x_j + W_j,   x_{j+1} = y_j + U_j - K sum_b D_{j,b} nu_b,   x_K = x_0
+//!            x_j, y_j in C,   |W_{j,l}| <= a_l sigma_j,   |U_{j,l}| <= a_l tau_j
+//!            sum_j (sigma_j + tau_j) = T,   sum_j (W_j + U_j) = 0
+//!            0 <= P_{j,b} <= V tau_j,  P_{j,b} <= V T s+_{j,b}      (likewise Q with s-)
+//!            s+_{j,b} = 1  =>  F_b(y_j) = F_b(x_{j+1}) = mu_b^+     (big-M W_b = mu^+ + mu^-)
+//!            s-_{j,b} = 1  =>  F_b(y_j) = F_b(x_{j+1}) = -mu_b^-
+//! ```
+//!
+//! Every feasible point is an exact solution of the sweeping process: in a transition `x`
+//! moves on `[x_j, y_j]` (in C) with every block sticking, which is always admissible; in a slip
+//! phase `x` moves on `[y_j, x_{j+1}]` at constant velocity, the faces of the slipping blocks
+//! are held throughout (both ends lie on them) and the reaction `K sum_b D_{j,b} nu_b` is in
+//! their normal cone; solutions being unique, it is *the* solution. So there is no
+//! discretisation error. `V` is the block-speed bound of
+//! [`block_speed_bound`](super::milp) (no motion in zero time).
+//!
+//! Symmetries are broken: unused steps come last, a used step holds at least one face (an
+//! all-stick slip phase would merge into the next transition; an idle gait is a gait held on a
+//! face with `D = 0`), and among the used steps step 0 carries the largest displacement.
+//! Valid inequalities: at most `n` blocks slip in a phase (if all `N` did, the forces would sum
+//! to `sum_b ±mu_b = 0`, which the uniqueness condition excludes). Tried and dropped, measured
+//! on the same instance: a bound on the barycentre speed (it halves the root bound, from 20 to
+//! 10.5, but the `K = 5` proof took 1.1 s instead of 0.75 s).
+//!
+//! The quadratic cost is the perspective `(c/2) |U_j|^2 / tau_j` (likewise for `W_j`), handled
+//! by outer approximation ([`TangentRates`]): tangent cuts under-estimate it, so the MILP's
+//! bound stays valid; cuts at the rates of each solution are added and the MILP re-solved (from
+//! the previous gait) until the true objective of the incumbent meets the bound. A
+//! total-variation bound on `u = U / tau` is not linear in these variables and is refused (the
+//! discrete method has it).
 //!
 //! [`grow_phases`] raises `K` until the value stops improving, each MILP starting from the
-//! previous optimum (an empty phase appended), so it has an incumbent from the outset.
+//! previous optimum, so it has an incumbent from the outset.
 //!
 //! Every answer is re-verified by [`simulate`] (exact method) on the piecewise-linear actuation
-//! whose knots are the phase boundaries.
+//! whose knots are the phase boundaries (transitions and slip phases alike).
 
 use crate::error::{Error, Result};
 use crate::integrate::Method;
@@ -49,24 +75,24 @@ use highs::{Col, RowProblem};
 use serde::{Deserialize, Serialize};
 use std::time::Instant;
 
-/// Largest number of phases accepted.
+/// Largest `K` (slip phases) accepted.
 pub const MAX_PHASES: usize = 64;
 
 /// Outer-approximation rounds at most (each a MILP solve).
 const MAX_OA_ROUNDS: usize = 40;
 
-/// A gait of at most `K` phases, globally optimal among them (or with its gap).
+/// A gait of at most `K` slip phases, globally optimal among them (or with its gap).
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct PhaseSolution {
-    /// `K`, the number of phases allowed.
+    /// `K`, the number of slip phases allowed (transitions between them are not counted).
     pub phases: usize,
-    /// What the MILP proves (its bound is on `J` over gaits of at most `phases` phases).
+    /// What the MILP proves (its bound is on `J` over gaits of at most `phases` slip phases).
     pub certificate: Certificate,
     /// Displacement per period re-verified by the exact simulator.
     pub verified_displacement: f64,
     /// `int f2(u) dt` of the gait.
     pub actuation_cost: f64,
-    /// Phase durations `tau_j` (empty phases removed).
+    /// Phase durations, transitions and slip phases in time order (empty ones removed).
     pub durations: Vec<f64>,
     /// Controls `u_j` per phase.
     pub controls: Vec<Vec<f64>>,
@@ -87,18 +113,25 @@ impl PhaseSolution {
     }
 }
 
-/// Columns of the phase MILP.
+/// Columns of the phase MILP: per phase `j`, a transition (`sigma_j`, `W_j`, from `x_j` to
+/// `y_j`, every block sticking) followed by a slip segment (`tau_j`, `U_j`, from `y_j` to
+/// `x_{j+1}`, in the mode of the binaries).
 struct Layout {
+    sigma: Vec<Col>,
     tau: Vec<Col>,
     used: Vec<Col>,
     xs: Vec<Vec<Col>>,
+    ys: Vec<Vec<Col>>,
+    ws: Vec<Vec<Col>>,
     us: Vec<Vec<Col>>,
     ps: Vec<Vec<Col>>,
     qs: Vec<Vec<Col>>,
     sp: Vec<Vec<Col>>,
     sq: Vec<Vec<Col>>,
-    /// Cost epigraph `g_{j,l} >= U_{j,l}^2 / tau_j` (quadratic cost only).
+    /// Cost epigraphs `g_{j,l} >= U_{j,l}^2 / tau_j` and `h_{j,l} >= W_{j,l}^2 / sigma_j`
+    /// (quadratic cost only).
     g: Vec<Vec<Col>>,
+    h: Vec<Vec<Col>>,
 }
 
 fn build(
@@ -123,25 +156,37 @@ fn build(
     };
 
     let mut pb = RowProblem::default();
-    let tau: Vec<Col> = (0..phases).map(|_| pb.add_column(0.0, 0.0..=t)).collect();
+    let durations = |pb: &mut RowProblem| -> Vec<Col> {
+        (0..phases).map(|_| pb.add_column(0.0, 0.0..=t)).collect()
+    };
+    let sigma = durations(&mut pb);
+    let tau = durations(&mut pb);
     let used: Vec<Col> = (0..phases)
         .map(|_| pb.add_integer_column(0.0, 0..=1))
         .collect();
-    let xs: Vec<Vec<Col>> = (0..phases)
-        .map(|_| {
-            ranges
-                .iter()
-                .map(|r| pb.add_column(0.0, r[0]..=r[1]))
-                .collect()
-        })
-        .collect();
-    let us: Vec<Vec<Col>> = (0..phases)
-        .map(|_| {
-            a.iter()
-                .map(|&al| pb.add_column(0.0, -al * t..=al * t))
-                .collect()
-        })
-        .collect();
+    let states = |pb: &mut RowProblem| -> Vec<Vec<Col>> {
+        (0..phases)
+            .map(|_| {
+                ranges
+                    .iter()
+                    .map(|r| pb.add_column(0.0, r[0]..=r[1]))
+                    .collect()
+            })
+            .collect()
+    };
+    let xs = states(&mut pb);
+    let ys = states(&mut pb);
+    let increments = |pb: &mut RowProblem| -> Vec<Vec<Col>> {
+        (0..phases)
+            .map(|_| {
+                a.iter()
+                    .map(|&al| pb.add_column(0.0, -al * t..=al * t))
+                    .collect()
+            })
+            .collect()
+    };
+    let ws = increments(&mut pb);
+    let us = increments(&mut pb);
     let cols = |cost: f64, hi: f64, pb: &mut RowProblem| -> Vec<Vec<Col>> {
         (0..phases)
             .map(|_| (0..nb).map(|_| pb.add_column(cost, 0.0..=hi)).collect())
@@ -156,7 +201,10 @@ fn build(
     };
     let sp = bins(&mut pb);
     let sq = bins(&mut pb);
-    let g: Vec<Vec<Col>> = if rates.is_some() {
+    let epigraphs = |pb: &mut RowProblem| -> Vec<Vec<Col>> {
+        if rates.is_none() {
+            return Vec::new();
+        }
         (0..phases)
             .map(|_| {
                 a.iter()
@@ -164,24 +212,31 @@ fn build(
                     .collect()
             })
             .collect()
-    } else {
-        Vec::new()
     };
+    let g = epigraphs(&mut pb);
+    let h = epigraphs(&mut pb);
     for j in 0..phases {
         let next = &xs[(j + 1) % phases];
         // Empty phases last.
-        pb.add_row(..=0.0, [(tau[j], 1.0), (used[j], -t)]);
+        pb.add_row(..=0.0, [(sigma[j], 1.0), (tau[j], 1.0), (used[j], -t)]);
         if j + 1 < phases {
             pb.add_row(..=0.0, [(used[j + 1], 1.0), (used[j], -1.0)]);
         }
         for l in 0..n {
+            pb.add_row(..=0.0, [(ws[j][l], 1.0), (sigma[j], -a[l])]);
+            pb.add_row(..=0.0, [(ws[j][l], -1.0), (sigma[j], -a[l])]);
             pb.add_row(..=0.0, [(us[j][l], 1.0), (tau[j], -a[l])]);
             pb.add_row(..=0.0, [(us[j][l], -1.0), (tau[j], -a[l])]);
+            // Transition: every block sticks.
+            pb.add_row(
+                0.0..=0.0,
+                [(ys[j][l], 1.0), (xs[j][l], -1.0), (ws[j][l], -1.0)],
+            );
             pb.add_row(
                 0.0..=0.0,
                 [
                     (next[l], 1.0),
-                    (xs[j][l], -1.0),
+                    (ys[j][l], -1.0),
                     (us[j][l], -1.0),
                     (ps[j][l + 1], k[l]),
                     (qs[j][l + 1], -k[l]),
@@ -191,19 +246,21 @@ fn build(
             );
             if let Some(r) = rates {
                 r.add_cuts(&mut pb, l, g[j][l], us[j][l], Some(tau[j]), 0.0);
+                r.add_cuts(&mut pb, l, h[j][l], ws[j][l], Some(sigma[j]), 0.0);
             }
         }
         let mut slipping = Vec::with_capacity(2 * nb);
         for b in 0..nb {
             let w = mp[b] + mm[b];
             pb.add_row(-mm[b]..=mp[b], force_row(&xs[j], b));
+            pb.add_row(-mm[b]..=mp[b], force_row(&ys[j], b));
             pb.add_row(..=0.0, [(ps[j][b], 1.0), (tau[j], -v)]);
             pb.add_row(..=0.0, [(qs[j][b], 1.0), (tau[j], -v)]);
             pb.add_row(..=0.0, [(ps[j][b], 1.0), (sp[j][b], -v * t)]);
             pb.add_row(..=0.0, [(qs[j][b], 1.0), (sq[j][b], -v * t)]);
             pb.add_row(..=1.0, [(sp[j][b], 1.0), (sq[j][b], 1.0)]);
             slipping.extend([(sp[j][b], 1.0), (sq[j][b], 1.0)]);
-            for x in [&xs[j], next] {
+            for x in [&ys[j], next] {
                 // slip+: F_b >= mu^+ - W (1 - s+)  <=>  F_b - W s+ >= -mu^-.
                 let mut row = force_row(x, b);
                 row.push((sp[j][b], -w));
@@ -215,7 +272,11 @@ fn build(
             }
         }
         // At most n blocks slip (module docs).
-        pb.add_row(..=n as f64, slipping);
+        pb.add_row(..=n as f64, slipping.clone());
+        // A used phase holds a face: an all-stick slip segment would merge into the next
+        // transition.
+        slipping.push((used[j], -1.0));
+        pb.add_row(0.0.., slipping);
         if j > 0 {
             let mut row = Vec::with_capacity(4 * nb);
             for b in 0..nb {
@@ -229,23 +290,36 @@ fn build(
             pb.add_row(0.0.., row);
         }
     }
-    pb.add_row(t..=t, tau.iter().map(|&c| (c, 1.0)).collect::<Vec<_>>());
+    pb.add_row(
+        t..=t,
+        tau.iter()
+            .chain(&sigma)
+            .map(|&c| (c, 1.0))
+            .collect::<Vec<_>>(),
+    );
     for l in 0..n {
         pb.add_row(
             0.0..=0.0,
-            us.iter().map(|u| (u[l], 1.0)).collect::<Vec<_>>(),
+            us.iter()
+                .chain(&ws)
+                .map(|u| (u[l], 1.0))
+                .collect::<Vec<_>>(),
         );
     }
     let layout = Layout {
+        sigma,
         tau,
         used,
         xs,
+        ys,
+        ws,
         us,
         ps,
         qs,
         sp,
         sq,
         g,
+        h,
     };
     (pb, layout)
 }
@@ -260,40 +334,41 @@ struct RawGait {
 }
 
 impl RawGait {
+    /// Reads the gait: each used phase gives its transition and its slip segment, those of
+    /// positive duration, in order.
     fn read(lay: &Layout, cols: &[f64], t: f64) -> Self {
         let val = |c: &Col| cols[c.index()];
-        let keep: Vec<usize> = (0..lay.tau.len())
-            .filter(|&j| val(&lay.tau[j]) > 1e-12 * t)
-            .collect();
-        let mut states: Vec<Vec<f64>> = keep
-            .iter()
-            .map(|&j| lay.xs[j].iter().map(val).collect())
-            .collect();
-        let x0 = lay.xs[keep.first().copied().unwrap_or(0)]
-            .iter()
-            .map(val)
-            .collect();
-        states.push(x0);
-        RawGait {
-            durations: keep.iter().map(|&j| val(&lay.tau[j])).collect(),
-            increments: keep
-                .iter()
-                .map(|&j| lay.us[j].iter().map(val).collect())
-                .collect(),
-            states,
-            block_displacements: keep
-                .iter()
-                .map(|&j| {
+        let vals = |cs: &[Col]| -> Vec<f64> { cs.iter().map(val).collect() };
+        let nb = lay.ps.first().map_or(0, Vec::len);
+        let mut g = RawGait {
+            durations: Vec::new(),
+            increments: Vec::new(),
+            states: Vec::new(),
+            block_displacements: Vec::new(),
+            modes: Vec::new(),
+        };
+        for j in 0..lay.tau.len() {
+            let sigma = val(&lay.sigma[j]);
+            if sigma > 1e-12 * t {
+                g.durations.push(sigma);
+                g.increments.push(vals(&lay.ws[j]));
+                g.states.push(vals(&lay.xs[j]));
+                g.block_displacements.push(vec![0.0; nb]);
+                g.modes.push(vec![0; nb]);
+            }
+            let tau = val(&lay.tau[j]);
+            if tau > 1e-12 * t {
+                g.durations.push(tau);
+                g.increments.push(vals(&lay.us[j]));
+                g.states.push(vals(&lay.ys[j]));
+                g.block_displacements.push(
                     lay.ps[j]
                         .iter()
                         .zip(&lay.qs[j])
                         .map(|(p, q)| val(p) - val(q))
-                        .collect()
-                })
-                .collect(),
-            modes: keep
-                .iter()
-                .map(|&j| {
+                        .collect(),
+                );
+                g.modes.push(
                     lay.sp[j]
                         .iter()
                         .zip(&lay.sq[j])
@@ -302,10 +377,25 @@ impl RawGait {
                             (_, true) => -1,
                             _ => 0,
                         })
-                        .collect()
-                })
-                .collect(),
+                        .collect(),
+                );
+            }
         }
+        let x0 = g
+            .states
+            .first()
+            .cloned()
+            .unwrap_or_else(|| vals(&lay.xs[0]));
+        g.states.push(x0);
+        g
+    }
+
+    /// Number of phases in which some block holds a face (what `K` counts).
+    fn slip_phases(&self) -> usize {
+        self.modes
+            .iter()
+            .filter(|m| m.iter().any(|&s| s != 0))
+            .count()
     }
 
     fn displacement(&self) -> f64 {
@@ -326,40 +416,90 @@ impl RawGait {
             .sum()
     }
 
-    /// All columns of a `phases`-phase layout holding this gait (empty phases appended), with
-    /// exact cost epigraphs: a feasible start for the MILP.
-    fn columns(&self, lay: &Layout, ncols: usize) -> Vec<f64> {
-        let mut x = vec![0.0; ncols];
+    /// All columns of a `K`-step layout holding this gait, with exact cost epigraphs: a
+    /// feasible start for the MILP, or `None` when no block ever holds a face (an idle gait,
+    /// which the layout writes differently) or the gait has too many slip phases.
+    ///
+    /// The gait is rotated to start just after a slip phase; each run of all-stick phases
+    /// becomes one transition (a straight move of `x` inside the convex C, every block
+    /// sticking, with the run's total increment and duration), followed by its slip phase.
+    /// The phase of largest displacement goes first, as the symmetry rows require, and unused
+    /// phases come last.
+    fn columns(&self, lay: &Layout, ncols: usize) -> Option<Vec<f64>> {
         let p = self.durations.len();
-        for j in 0..lay.tau.len() {
-            let state = if j < p {
-                &self.states[j]
+        let slips: Vec<usize> = (0..p)
+            .filter(|&j| self.modes[j].iter().any(|&s| s != 0))
+            .collect();
+        let last = *slips.last()?;
+        if slips.len() > lay.tau.len() {
+            return None;
+        }
+        let n = self.increments[0].len();
+        // (sigma, W, x, slip phase index)
+        let mut macros: Vec<(f64, Vec<f64>, Vec<f64>, usize)> = Vec::new();
+        let (mut sigma, mut w, mut x0): (f64, Vec<f64>, Option<&Vec<f64>>) =
+            (0.0, vec![0.0; n], None);
+        for i in 1..=p {
+            let j = (last + i) % p;
+            if self.modes[j].iter().any(|&s| s != 0) {
+                let x = x0.unwrap_or(&self.states[j]).clone();
+                macros.push((sigma, w, x, j));
+                (sigma, w, x0) = (0.0, vec![0.0; n], None);
             } else {
-                &self.states[p]
-            };
-            for (c, v) in lay.xs[j].iter().zip(state) {
-                x[c.index()] = *v;
-            }
-            if j >= p {
-                continue;
-            }
-            let d = self.durations[j];
-            x[lay.tau[j].index()] = d;
-            x[lay.used[j].index()] = 1.0;
-            for (l, (c, u)) in lay.us[j].iter().zip(&self.increments[j]).enumerate() {
-                x[c.index()] = *u;
-                if let Some(g) = lay.g.get(j) {
-                    x[g[l].index()] = u * u / d;
+                sigma += self.durations[j];
+                for (wl, ul) in w.iter_mut().zip(&self.increments[j]) {
+                    *wl += ul;
                 }
-            }
-            for (b, &dv) in self.block_displacements[j].iter().enumerate() {
-                x[lay.ps[j][b].index()] = dv.max(0.0);
-                x[lay.qs[j][b].index()] = (-dv).max(0.0);
-                x[lay.sp[j][b].index()] = f64::from(u8::from(self.modes[j][b] > 0));
-                x[lay.sq[j][b].index()] = f64::from(u8::from(self.modes[j][b] < 0));
+                x0.get_or_insert(&self.states[j]);
             }
         }
-        x
+        let disp = |m: &(f64, Vec<f64>, Vec<f64>, usize)| -> f64 {
+            self.block_displacements[m.3].iter().sum()
+        };
+        let first = (0..macros.len())
+            .max_by(|&i, &j| disp(&macros[i]).total_cmp(&disp(&macros[j])))
+            .unwrap_or(0);
+        macros.rotate_left(first);
+        let mut x = vec![0.0; ncols];
+        let mut set = |cols: &[Col], vals: &[f64]| {
+            for (c, v) in cols.iter().zip(vals) {
+                x[c.index()] = *v;
+            }
+        };
+        let home = macros[0].2.clone();
+        for j in 0..lay.tau.len() {
+            let Some((sig, w, xj, s)) = macros.get(j) else {
+                set(&lay.xs[j], &home);
+                set(&lay.ys[j], &home);
+                continue;
+            };
+            let d = self.durations[*s];
+            set(&lay.xs[j], xj);
+            set(&lay.ys[j], &self.states[*s]);
+            set(&lay.ws[j], w);
+            set(&lay.us[j], &self.increments[*s]);
+            set(&[lay.sigma[j], lay.tau[j], lay.used[j]], &[*sig, d, 1.0]);
+            if let (Some(g), Some(h)) = (lay.g.get(j), lay.h.get(j)) {
+                let sq: Vec<f64> = self.increments[*s].iter().map(|u| u * u / d).collect();
+                set(g, &sq);
+                let sq: Vec<f64> = w
+                    .iter()
+                    .map(|u| if *sig > 0.0 { u * u / sig } else { 0.0 })
+                    .collect();
+                set(h, &sq);
+            }
+            let dj = &self.block_displacements[*s];
+            let mj = &self.modes[*s];
+            let pos: Vec<f64> = dj.iter().map(|v| v.max(0.0)).collect();
+            let neg: Vec<f64> = dj.iter().map(|v| (-v).max(0.0)).collect();
+            set(&lay.ps[j], &pos);
+            set(&lay.qs[j], &neg);
+            let bp: Vec<f64> = mj.iter().map(|&m| f64::from(u8::from(m > 0))).collect();
+            let bq: Vec<f64> = mj.iter().map(|&m| f64::from(u8::from(m < 0))).collect();
+            set(&lay.sp[j], &bp);
+            set(&lay.sq[j], &bq);
+        }
+        Some(x)
     }
 
     fn of(s: &PhaseSolution) -> Self {
@@ -378,7 +518,7 @@ impl RawGait {
     }
 }
 
-/// Solves (P) globally over gaits of at most `phases` phases (module docs).
+/// Solves (P) globally over gaits of at most `phases` slip phases (module docs).
 pub fn solve_phase_global(
     crawler: &Crawler,
     problem: &GaitProblem,
@@ -388,7 +528,8 @@ pub fn solve_phase_global(
     solve_phase_from(crawler, problem, phases, time_limit, None)
 }
 
-/// [`solve_phase_global`] with a known gait of at most `phases` phases as the first incumbent.
+/// [`solve_phase_global`] with a known gait of at most `phases` slip phases as the first
+/// incumbent.
 pub fn solve_phase_from(
     crawler: &Crawler,
     problem: &GaitProblem,
@@ -398,11 +539,11 @@ pub fn solve_phase_from(
 ) -> Result<PhaseSolution> {
     crawler.require_unique()?;
     check_time_limit(time_limit)?;
-    if !(2..=MAX_PHASES).contains(&phases) {
+    if !(1..=MAX_PHASES).contains(&phases) {
         return Err(Error::invalid(
             "phases",
             phases,
-            format!("must be in 2..={MAX_PHASES}"),
+            format!("must be in 1..={MAX_PHASES}"),
         ));
     }
     if let Some(v) = problem.max_total_variation {
@@ -414,11 +555,12 @@ pub fn solve_phase_from(
         ));
     }
     if let Some(s) = start {
-        if s.durations.len() > phases {
+        let slips = RawGait::of(s).slip_phases();
+        if slips > phases {
             return Err(Error::invalid(
                 "start",
-                s.durations.len(),
-                format!("has more than {phases} phases"),
+                slips,
+                format!("has more than {phases} slip phases"),
             ));
         }
     }
@@ -437,7 +579,7 @@ pub fn solve_phase_from(
         rounds += 1;
         let (pb, lay) = build(crawler, problem, phases, rates.as_ref());
         let ncols = pb.num_cols();
-        let start_cols = incumbent.as_ref().map(|g| g.columns(&lay, ncols));
+        let start_cols = incumbent.as_ref().and_then(|g| g.columns(&lay, ncols));
         let left = match time_limit {
             Some(tl) => {
                 let left = tl - began.elapsed().as_secs_f64();
@@ -525,7 +667,9 @@ pub struct GrowOptions {
     /// Last `K` tried.
     pub max_phases: usize,
     /// Stop after this many consecutive `K` without a gain, counted once `J_K > 0` (before,
-    /// `K` is too small for any gait to move the crawler, e.g. one link needs 4 phases).
+    /// `K` is too small for any gait to move the crawler, e.g. one link needs 2 slip phases).
+    /// The default, 1, stops at the first `K` that brings nothing: `K` counts slip phases, so
+    /// a step of `K` is one more slip phase with its transition, never half of one.
     pub patience: usize,
     /// Wall-clock limit for the whole growth, seconds.
     pub time_limit: Option<f64>,
@@ -534,9 +678,9 @@ pub struct GrowOptions {
 impl Default for GrowOptions {
     fn default() -> Self {
         GrowOptions {
-            min_phases: 2,
+            min_phases: 1,
             max_phases: 16,
-            patience: 2,
+            patience: 1,
             time_limit: None,
         }
     }
@@ -588,7 +732,7 @@ pub struct PhaseGrowth {
 /// Raises `K` from `min_phases` until `J_K` has not improved (beyond `1e-7` relative) for
 /// `patience` consecutive `K`, or `max_phases` or the time limit is reached (module docs). The
 /// returned gait is the best found, and its certificate is that of the largest `K` solved to
-/// optimality (the gait has at most that many phases, and no gait of that many does better
+/// optimality (the gait has at most that many slip phases, and no gait of that many does better
 /// than the bound). `progress` sees each `K` as it is solved.
 pub fn grow_phases(
     crawler: &Crawler,
@@ -597,11 +741,11 @@ pub fn grow_phases(
     progress: &mut dyn FnMut(&PhaseStep),
 ) -> Result<PhaseGrowth> {
     check_time_limit(opts.time_limit)?;
-    if opts.min_phases < 2 || opts.max_phases < opts.min_phases || opts.max_phases > MAX_PHASES {
+    if opts.min_phases < 1 || opts.max_phases < opts.min_phases || opts.max_phases > MAX_PHASES {
         return Err(Error::invalid(
             "phases",
             format!("{}..={}", opts.min_phases, opts.max_phases),
-            format!("needs 2 <= min <= max <= {MAX_PHASES}"),
+            format!("needs 1 <= min <= max <= {MAX_PHASES}"),
         ));
     }
     if opts.patience == 0 {
@@ -688,4 +832,79 @@ pub fn grow_phases(
         )
     })?;
     Ok(PhaseGrowth { best, table, stop })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Every column of `lay`, in no particular order.
+    fn all_columns(lay: &Layout) -> Vec<Col> {
+        let mut v: Vec<Col> = Vec::new();
+        for c in [&lay.sigma, &lay.tau, &lay.used] {
+            v.extend(c.iter().copied());
+        }
+        for c in [
+            &lay.xs, &lay.ys, &lay.ws, &lay.us, &lay.ps, &lay.qs, &lay.sp, &lay.sq, &lay.g, &lay.h,
+        ] {
+            v.extend(c.iter().flatten().copied());
+        }
+        v
+    }
+
+    /// Whether `gait` written into a `phases`-step layout satisfies every row: each column is
+    /// pinned to its value and HiGHS must find the problem feasible.
+    fn start_is_feasible(c: &Crawler, p: &GaitProblem, phases: usize, gait: &RawGait) -> bool {
+        let rates = match p.cost {
+            Cost::Quadratic { .. } => Some(TangentRates::new(&p.rate_bound)),
+            Cost::None => None,
+        };
+        let (mut pb, lay) = build(c, p, phases, rates.as_ref());
+        let Some(x) = gait.columns(&lay, pb.num_cols()) else {
+            return false;
+        };
+        let cols = all_columns(&lay);
+        assert_eq!(cols.len(), pb.num_cols(), "the layout holds every column");
+        for col in cols {
+            let v = x[col.index()];
+            let tol = 1e-9 * v.abs().max(1.0);
+            pb.add_row(v - tol..=v + tol, [(col, 1.0)]);
+        }
+        solve_max(pb, Some(30.0), "start check", None).is_ok()
+    }
+
+    fn rotated(g: &RawGait, r: usize) -> RawGait {
+        let p = g.durations.len();
+        let rot = |v: &Vec<Vec<f64>>| -> Vec<Vec<f64>> {
+            (0..p).map(|i| v[(i + r) % p].clone()).collect()
+        };
+        let mut states = rot(&g.states[..p].to_vec());
+        states.push(states[0].clone());
+        RawGait {
+            durations: (0..p).map(|i| g.durations[(i + r) % p]).collect(),
+            increments: rot(&g.increments),
+            states,
+            block_displacements: rot(&g.block_displacements),
+            modes: (0..p).map(|i| g.modes[(i + r) % p].clone()).collect(),
+        }
+    }
+
+    #[test]
+    fn any_rotation_of_a_gait_is_a_feasible_start_for_as_many_steps_or_more() {
+        for cost in [Cost::None, Cost::Quadratic { weight: 0.1 }] {
+            let c = Crawler::uniform(3, 1.0, 1.0, 1.5).unwrap();
+            let p = GaitProblem::new(&c, 10.0, &[1.0, 1.0], cost, None).unwrap();
+            let s = solve_phase_global(&c, &p, 4, Some(60.0)).unwrap();
+            let g = RawGait::of(&s);
+            let slips = g.slip_phases();
+            assert!(g.durations.len() > slips, "the optimum has transitions");
+            for r in 0..g.durations.len() {
+                let h = rotated(&g, r);
+                for k in [slips, slips + 1] {
+                    assert!(start_is_feasible(&c, &p, k, &h), "rotation {r}, K = {k}");
+                }
+                assert!(!start_is_feasible(&c, &p, slips - 1, &h), "too few steps");
+            }
+        }
+    }
 }

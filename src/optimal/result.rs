@@ -65,14 +65,15 @@ impl CrawlerParams {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct ResultCertificate {
     /// `"global"` (optimal for P_m), `"global_k_phases"` (optimal among gaits of at most
-    /// `phases` phases) or `"local"` (a stationary point, no global claim).
+    /// `phases` slip phases, with any all-stick transitions between them) or `"local"` (a
+    /// stationary point, no global claim).
     pub kind: String,
     /// Gap between the bound and the verified value (relative above 1, absolute below); `None`
     /// for local answers.
     pub gap: Option<f64>,
     /// Upper bound on the optimum of the problem solved; `None` for local answers.
     pub bound: Option<f64>,
-    /// `K` for phase gaits.
+    /// `K` (slip phases) for phase gaits.
     pub phases: Option<usize>,
 }
 

@@ -221,7 +221,7 @@ fn page(
     let c = &result.certificate;
     let cert = match (c.kind.as_str(), c.phases, result.m) {
         ("global_k_phases", Some(k), _) => {
-            format!("globally optimal among gaits of at most {k} phases")
+            format!("globally optimal among gaits of at most {k} slip phases")
         }
         ("global", _, Some(m)) => format!("globally optimal for P_{m} ({} steps)", 1u64 << m),
         ("local", _, Some(m)) => format!("locally optimal for P_{m} ({} steps)", 1u64 << m),
