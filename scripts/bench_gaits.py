@@ -75,7 +75,7 @@ with tempfile.TemporaryDirectory() as tmp:
               f"{ratio(p.get('time_s', pwall), wall)} |", flush=True)
 
     print("\n## Continuous-time optimum: crawlopt phase gaits (K grown until no gain)\n")
-    print("| N | J* (K-phase certified) | K | stop | time s |")
+    print("| N | J* (certified among <= K slip phases) | K | stop | time s |")
     print("|---|---|---|---|---|")
     best = {}
     for n in map(int, os.environ["PHASE_NS"].split()):
