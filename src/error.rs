@@ -56,6 +56,11 @@ pub enum Error {
     #[error("{0}")]
     TimeLimit(String),
 
+    /// An optimisation problem has no feasible point (e.g. a fixed sequence of slip modes that
+    /// no gait of the period can follow).
+    #[error("{0}")]
+    Infeasible(String),
+
     /// Reading or writing a file failed.
     #[error("{path}: {reason}")]
     Io {

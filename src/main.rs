@@ -10,9 +10,9 @@ use crawlopt::integrate::{
 use crawlopt::io::{write_trajectory_csv, ModelFile};
 use crawlopt::model::{Analysis, FaceSign};
 use crawlopt::optimal::{
-    discrete_convergence, grow_phases, one_link_optimum, solve_discrete_global,
-    solve_discrete_local, solve_phase_global, Cost, CrawlerParams, GaitProblem, GaitResult,
-    GrowOptions, GrowthStop, MilpStatus, PhaseGrowth,
+    discrete_convergence, grow_phases, one_link_optimum, search_sequences, slip_sequence,
+    solve_discrete_global, solve_discrete_local, solve_phase_global, Cost, CrawlerParams,
+    GaitProblem, GaitResult, GrowOptions, GrowthStop, MilpStatus, PhaseGrowth, MAX_PHASES,
 };
 use crawlopt::present::{self, report, write_figures, PlotInput};
 use crawlopt::{Crawler, Error};
@@ -221,6 +221,44 @@ enum OptimizeMethod {
     Local,
     /// Exact continuous-time gaits of at most K slip phases, solved globally (MILP).
     Phase,
+    /// Local search over the slip-mode sequences of phase gaits (exact gaits, each optimal
+    /// for its sequence; no global claim), from a phase gait or --start: for crawlers or K
+    /// where the MILP is too slow.
+    Sequence,
+}
+
+/// The start of a local method: the result file `path` (checked to be of this crawler and
+/// period), or the phase optimum with `K` grown under `opts`; with where it came from.
+fn start_gait(
+    path: Option<&std::path::Path>,
+    crawler: &Crawler,
+    problem: &GaitProblem,
+    opts: &GrowOptions,
+    progress: &Progress,
+) -> Result<(GaitResult, String), Error> {
+    match path {
+        Some(path) => {
+            let text = std::fs::read_to_string(path).map_err(|e| Error::Io {
+                path: path.display().to_string(),
+                reason: e.to_string(),
+            })?;
+            let r = GaitResult::from_json(&text, &path.display().to_string())?;
+            if r.crawler != CrawlerParams::of(crawler) || r.problem.period != problem.period {
+                return Err(Error::invalid(
+                    "start",
+                    path.display(),
+                    "was computed for another crawler or period",
+                ));
+            }
+            let origin = format!("{} ({})", r.method, path.display());
+            Ok((r, origin))
+        }
+        None => {
+            let g = progress.grow(crawler, problem, opts, "start: phase gait, ")?;
+            let origin = format!("phase (K = {})", g.best.phases);
+            Ok((GaitResult::from_phase(crawler, problem, &g.best), origin))
+        }
+    }
 }
 
 /// Exit status of a simulation whose periodic regime was not reached.
@@ -373,11 +411,13 @@ fn run(cmd: Command) -> Result<ExitCode, Error> {
                 OptimizeMethod::Auto => OptimizeMethod::Phase,
                 other => other,
             };
-            if start.is_some() && method != OptimizeMethod::Local {
+            if start.is_some()
+                && !matches!(method, OptimizeMethod::Local | OptimizeMethod::Sequence)
+            {
                 return Err(Error::invalid(
                     "start",
                     "a file",
-                    "applies to --method local only",
+                    "applies to --method local and sequence only",
                 ));
             }
             let progress = Progress::new();
@@ -392,45 +432,15 @@ fn run(cmd: Command) -> Result<ExitCode, Error> {
                     }
                     let m = m.unwrap_or(10);
                     let began = Instant::now();
-                    let (times, lengths, origin) = match &start {
-                        Some(path) => {
-                            let text = std::fs::read_to_string(path).map_err(|e| Error::Io {
-                                path: path.display().to_string(),
-                                reason: e.to_string(),
-                            })?;
-                            let r = GaitResult::from_json(&text, &path.display().to_string())?;
-                            if r.crawler != CrawlerParams::of(&crawler)
-                                || r.problem.period != problem.period
-                            {
-                                return Err(Error::invalid(
-                                    "start",
-                                    path.display(),
-                                    "was computed for another crawler or period",
-                                ));
-                            }
-                            (
-                                r.gait.times,
-                                r.gait.lengths,
-                                format!("{} ({})", r.method, path.display()),
-                            )
-                        }
-                        None => {
-                            let opts = GrowOptions {
-                                max_phases,
-                                patience,
-                                time_limit: time_limit.map(|t| 0.5 * t),
-                                ..GrowOptions::default()
-                            };
-                            let g =
-                                progress.grow(&crawler, &problem, &opts, "start: phase gait, ")?;
-                            let r = GaitResult::from_phase(&crawler, &problem, &g.best);
-                            (
-                                r.gait.times,
-                                r.gait.lengths,
-                                format!("phase (K = {})", g.best.phases),
-                            )
-                        }
+                    let opts = GrowOptions {
+                        max_phases,
+                        patience,
+                        time_limit: time_limit.map(|t| 0.5 * t),
+                        ..GrowOptions::default()
                     };
+                    let (r, origin) =
+                        start_gait(start.as_deref(), &crawler, &problem, &opts, &progress)?;
+                    let (times, lengths) = (r.gait.times, r.gait.lengths);
                     progress.say(format!("local LPCC method on P_{m} ({} steps)", 1u64 << m));
                     let left = time_limit.map(|t| t - began.elapsed().as_secs_f64());
                     if left.is_some_and(|l| l <= 0.0) {
@@ -440,6 +450,45 @@ fn run(cmd: Command) -> Result<ExitCode, Error> {
                     }
                     let s = solve_discrete_local(&crawler, &problem, m, &times, &lengths, left)?;
                     GaitResult::from_local(&crawler, &problem, &s, &origin)
+                }
+                OptimizeMethod::Sequence => {
+                    if m.is_some() || convergence {
+                        return Err(Error::invalid(
+                            "m/convergence",
+                            "set",
+                            "do not apply to --method sequence",
+                        ));
+                    }
+                    let began = Instant::now();
+                    let opts = GrowOptions {
+                        max_phases,
+                        patience,
+                        time_limit: time_limit.map(|t| 0.5 * t),
+                        ..GrowOptions::default()
+                    };
+                    let (r, origin) =
+                        start_gait(start.as_deref(), &crawler, &problem, &opts, &progress)?;
+                    let seq = slip_sequence(&r.gait.slip);
+                    if seq.is_empty() {
+                        return Err(Error::invalid(
+                            "start",
+                            origin,
+                            "has no slip phase (an idle gait) to start the sequence search from",
+                        ));
+                    }
+                    let k = phases.unwrap_or((seq.len() + 2).min(MAX_PHASES));
+                    progress.say(format!(
+                        "local search over sequences of {k} slip modes, from {} of {origin}",
+                        seq.len()
+                    ));
+                    let left = time_limit.map(|t| t - began.elapsed().as_secs_f64());
+                    if left.is_some_and(|l| l <= 0.0) {
+                        return Err(Error::TimeLimit(
+                            "the time limit was reached while computing the start gait".into(),
+                        ));
+                    }
+                    let s = search_sequences(&crawler, &problem, &seq, k, left)?;
+                    GaitResult::from_sequence(&crawler, &problem, &s, &origin)
                 }
                 OptimizeMethod::Phase | OptimizeMethod::Auto => {
                     if let Some(m) = m {
@@ -762,7 +811,7 @@ fn print_gait_result(r: &GaitResult) {
                 GrowthStop::NoGain => "the value stopped improving",
                 GrowthStop::MaxPhases => "--max-phases (the value was still improving or still 0)",
                 GrowthStop::NoForwardMotion =>
-                    "K = 2: v_m <= 0 for every shape rate, so no gait moves this crawler forward",
+                    "K = 1: v_m <= 0 for every shape rate, so no gait moves this crawler forward",
                 GrowthStop::TimeLimit => "the time limit",
             }
         );
@@ -778,15 +827,24 @@ fn print_gait_result(r: &GaitResult) {
             );
         }
     }
-    if let Some(l) = &r.local {
-        outln!(
+    match (&r.local, r.m) {
+        (Some(l), Some(_)) => outln!(
             "local method: from {} (J = {} on this grid), {} LP solves, {} mode switches, stopped: {:?}",
             l.start,
             l.start_objective,
             l.lp_solves,
             l.switches,
             l.stop
-        );
+        ),
+        (Some(l), None) => outln!(
+            "sequence search: from {} (J = {} for its sequence of slip modes), {} LP solves, {} improving moves, stopped: {:?}",
+            l.start,
+            l.start_objective,
+            l.lp_solves,
+            l.switches,
+            l.stop
+        ),
+        (None, _) => {}
     }
     if let Some(table) = &r.convergence {
         outln!("convergence of the discrete problems P_m:");

@@ -336,7 +336,7 @@ fn three_block_phase_optimum_satisfies_theorem_2_2_exactly() {
     // Phase gaits have no discretisation: p is piecewise constant with jumps at knots where faces
     // are active, so Theorem 2.2's conditions, the sign dxi >= 0 included, hold to rounding.
     let (c, p) = three_blocks();
-    let s = solve_phase_global(&c, &p, 6, Some(120.0)).unwrap();
+    let s = solve_phase_global(&c, &p, 3, Some(120.0)).unwrap();
     let r = GaitResult::from_phase(&c, &p, &s);
     let cert = certify(
         &Process::from_result(&r, "phase").unwrap(),

@@ -378,7 +378,7 @@ fn optimize_discrete_returns_a_verified_certified_gait() {
     let out = crawlopt(&["optimize", "examples/one_link_gait.toml", "--start", start]);
     assert_eq!(out.status.code(), Some(2));
     assert!(
-        stderr(&out).contains("--method local only"),
+        stderr(&out).contains("--method local and sequence only"),
         "{}",
         stderr(&out)
     );
@@ -398,6 +398,52 @@ fn optimize_discrete_returns_a_verified_certified_gait() {
     assert_eq!(out.status.code(), Some(2));
     assert!(
         stderr(&out).contains("not a complete JSON"),
+        "{}",
+        stderr(&out)
+    );
+    // --method sequence: from the best 3-slip-phase gait (13/6) to 2.6 with room for 4, an
+    // exact continuous-time gait with a local certificate.
+    let out = crawlopt(&[
+        "optimize",
+        "examples/three_blocks_gait.toml",
+        "--phases",
+        "3",
+        "--json",
+    ]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let k3 = write(dir.path(), "k3.json", &String::from_utf8_lossy(&out.stdout));
+    let k3 = k3.to_str().unwrap();
+    let out = crawlopt(&[
+        "optimize",
+        "examples/three_blocks_gait.toml",
+        "--method",
+        "sequence",
+        "--start",
+        k3,
+        "--phases",
+        "4",
+        "--json",
+    ]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let v = json(&out);
+    assert_eq!(v["method"], "phase");
+    assert_eq!(v["certificate"]["kind"], "local");
+    assert_eq!(v["certificate"]["phases"], 4);
+    assert_eq!(v["status"], "stationary");
+    assert!((v["objective"].as_f64().unwrap() - 2.6).abs() < 1e-8);
+    assert!((v["local"]["start_objective"].as_f64().unwrap() - 13.0 / 6.0).abs() < 1e-8);
+    assert!(v["local"]["switches"].as_u64().unwrap() >= 1);
+    let out = crawlopt(&[
+        "optimize",
+        "examples/three_blocks_gait.toml",
+        "--method",
+        "sequence",
+        "--m",
+        "3",
+    ]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(
+        stderr(&out).contains("--method sequence"),
         "{}",
         stderr(&out)
     );

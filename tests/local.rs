@@ -71,7 +71,7 @@ fn one_link_local_improves_a_poor_start_and_keeps_the_optimum() {
 fn three_block_local_lies_between_its_start_and_the_global_optimum() {
     let c = Crawler::uniform(3, 1.0, 1.0, 1.5).unwrap();
     let p = GaitProblem::new(&c, 10.0, &[1.0, 1.0], Cost::None, None).unwrap();
-    let phase = solve_phase_global(&c, &p, 8, Some(120.0)).unwrap();
+    let phase = solve_phase_global(&c, &p, 4, Some(120.0)).unwrap();
     let (times, lengths) = knots_of(&phase, c.stiffness());
     for m in [2, 3] {
         let global = solve_discrete_global(&c, &p, m, Some(120.0)).unwrap();

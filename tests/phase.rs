@@ -1,7 +1,10 @@
 //! Exact continuous-time gaits (SPEC §7): the phase MILP against the one-link closed form, and
 //! its monotonicity in the number of phases.
 
-use crawlopt::optimal::{one_link_optimum, solve_phase_global, Cost, GaitProblem, MilpStatus};
+use crawlopt::optimal::{
+    one_link_optimum, search_sequences, slip_mode_is_valid, slip_sequence, solve_phase_global,
+    Cost, GaitProblem, LocalStop, MilpStatus,
+};
 use crawlopt::Crawler;
 use std::time::Instant;
 
@@ -65,4 +68,46 @@ fn three_block_optimum_is_non_decreasing_in_the_number_of_phases() {
         last = s.verified_displacement;
     }
     assert!(last > 0.0);
+}
+
+#[test]
+fn sequence_search_climbs_from_a_smaller_optimum_to_the_global_one() {
+    // From the best 3-slip-phase gait (J = 13/6), with room for 4 slip phases, the search over
+    // slip-mode sequences reaches the global optimum among 4 (J = 2.6, certified by the MILP):
+    // each candidate is an LP for its sequence, so the value never drops below the start.
+    let c = Crawler::uniform(3, 1.0, 1.0, 1.5).unwrap();
+    let p = GaitProblem::new(&c, 10.0, &[1.0, 1.0], Cost::None, None).unwrap();
+    let k3 = solve_phase_global(&c, &p, 3, Some(120.0)).unwrap();
+    assert!((k3.objective() - 13.0 / 6.0).abs() < 1e-7);
+    let seq = slip_sequence(&k3.modes);
+    assert_eq!(seq.len(), 3);
+    let k4 = solve_phase_global(&c, &p, 4, Some(120.0)).unwrap();
+    let s = search_sequences(&c, &p, &seq, 4, Some(120.0)).unwrap();
+    eprintln!(
+        "sequence search: {} -> {} ({} LPs, {} moves, {:?}); MILP K = 4: {}",
+        s.start_objective,
+        s.best.objective(),
+        s.lp_solves,
+        s.moves,
+        s.stop,
+        k4.objective()
+    );
+    assert!(s.start_objective >= k3.objective() - 1e-9);
+    assert!(s.moves >= 1);
+    assert_eq!(s.stop, LocalStop::Stationary);
+    assert!((s.best.objective() - k4.objective()).abs() < 1e-7);
+    assert!(s.best.objective() <= k4.certificate.bound + 1e-7);
+    assert_eq!(s.sequence.len(), 4);
+    assert!(s.sequence.iter().all(|m| slip_mode_is_valid(&c, m)));
+    // The returned gait follows the returned sequence (empty steps aside), transitions between.
+    let used = slip_sequence(&s.best.modes);
+    assert!(used.len() <= 4 && used.iter().all(|m| s.sequence.contains(m)));
+
+    // Refusals: no slip phase, too many, a mode that is no face of C.
+    assert!(search_sequences(&c, &p, &[], 4, None).is_err());
+    assert!(search_sequences(&c, &p, &seq, 2, None).is_err());
+    let e = search_sequences(&c, &p, &[vec![1, 1, 0]], 2, None)
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("not a slip mode of a face of C"), "{e}");
 }

@@ -14,7 +14,7 @@ fn one_link() -> GaitResult {
 fn three_blocks() -> GaitResult {
     let c = Crawler::uniform(3, 1.0, 1.0, 1.5).unwrap();
     let p = GaitProblem::new(&c, 10.0, &[1.0, 1.0], Cost::None, None).unwrap();
-    GaitResult::from_phase(&c, &p, &solve_phase_global(&c, &p, 6, None).unwrap())
+    GaitResult::from_phase(&c, &p, &solve_phase_global(&c, &p, 3, None).unwrap())
 }
 
 #[test]

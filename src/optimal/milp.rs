@@ -396,6 +396,9 @@ pub(crate) fn solve_max(
                 "{what}: the time limit was reached before any feasible gait was found"
             )))
         }
+        HighsModelStatus::Infeasible => {
+            return Err(Error::Infeasible(format!("{what}: no feasible point")))
+        }
         other => {
             return Err(Error::Numerical(format!(
                 "{what}: HiGHS ended with status {other:?}"

@@ -20,8 +20,9 @@ pub use local::{sample_increments, solve_discrete_local, LocalSolution, LocalSto
 pub use milp::{gait_knots, Certificate, MilpStatus};
 pub use one_link::{one_link_optimum, OneLinkOptimum};
 pub use phase::{
-    grow_phases, solve_phase_from, solve_phase_global, GrowOptions, GrowthStop, PhaseGrowth,
-    PhaseSolution, PhaseStep, MAX_PHASES,
+    grow_phases, search_sequences, slip_mode_is_valid, slip_sequence, solve_phase_from,
+    solve_phase_global, GrowOptions, GrowthStop, PhaseGrowth, PhaseSolution, PhaseStep,
+    SequenceSearch, MAX_PHASES,
 };
 pub use problem::{Cost, GaitProblem};
 pub use result::{

@@ -60,6 +60,9 @@
 //! [`grow_phases`] raises `K` until the value stops improving, each MILP starting from the
 //! previous optimum, so it has an incumbent from the outset.
 //!
+//! [`search_sequences`] is the local alternative where the MILP is too slow: the same model
+//! with the slip modes fixed is an LP, and it searches over the sequences of modes.
+//!
 //! Every answer is re-verified by [`simulate`] (exact method) on the piecewise-linear actuation
 //! whose knots are the phase boundaries (transitions and slip phases alike).
 
@@ -70,7 +73,7 @@ use crate::optimal::milp::{
     block_speed_bound, certify, check_time_limit, force_row, replay, solve_max, TangentRates,
     OA_TOL,
 };
-use crate::optimal::{Certificate, Cost, GaitProblem, MilpStatus};
+use crate::optimal::{Certificate, Cost, GaitProblem, LocalStop, MilpStatus};
 use highs::{Col, RowProblem};
 use serde::{Deserialize, Serialize};
 use std::time::Instant;
@@ -134,11 +137,15 @@ struct Layout {
     h: Vec<Vec<Col>>,
 }
 
+/// The MILP of `phases` steps; with `fixed`, the slip modes of the steps are fixed to it (an LP
+/// over the gaits whose slip phases follow that cyclic sequence, some possibly empty), and the
+/// symmetry rows, which would restrict a fixed sequence, are left out.
 fn build(
     crawler: &Crawler,
     problem: &GaitProblem,
     phases: usize,
     rates: Option<&TangentRates>,
+    fixed: Option<&[Vec<i8>]>,
 ) -> (RowProblem, Layout) {
     let (n, nb) = (crawler.links(), crawler.blocks());
     let (k, mp, mm) = (
@@ -162,7 +169,10 @@ fn build(
     let sigma = durations(&mut pb);
     let tau = durations(&mut pb);
     let used: Vec<Col> = (0..phases)
-        .map(|_| pb.add_integer_column(0.0, 0..=1))
+        .map(|_| {
+            let lo = i32::from(fixed.is_some());
+            pb.add_integer_column(0.0, lo..=1)
+        })
         .collect();
     let states = |pb: &mut RowProblem| -> Vec<Vec<Col>> {
         (0..phases)
@@ -194,13 +204,23 @@ fn build(
     };
     let ps = cols(inv_n, v * t, &mut pb);
     let qs = cols(-inv_n, v * t, &mut pb);
-    let bins = |pb: &mut RowProblem| -> Vec<Vec<Col>> {
+    let bins = |pb: &mut RowProblem, sign: i8| -> Vec<Vec<Col>> {
         (0..phases)
-            .map(|_| (0..nb).map(|_| pb.add_integer_column(0.0, 0..=1)).collect())
+            .map(|j| {
+                (0..nb)
+                    .map(|b| match fixed {
+                        Some(m) => {
+                            let v = i32::from(m[j][b] == sign);
+                            pb.add_integer_column(0.0, v..=v)
+                        }
+                        None => pb.add_integer_column(0.0, 0..=1),
+                    })
+                    .collect()
+            })
             .collect()
     };
-    let sp = bins(&mut pb);
-    let sq = bins(&mut pb);
+    let sp = bins(&mut pb, 1);
+    let sq = bins(&mut pb, -1);
     let epigraphs = |pb: &mut RowProblem| -> Vec<Vec<Col>> {
         if rates.is_none() {
             return Vec::new();
@@ -219,7 +239,7 @@ fn build(
         let next = &xs[(j + 1) % phases];
         // Empty phases last.
         pb.add_row(..=0.0, [(sigma[j], 1.0), (tau[j], 1.0), (used[j], -t)]);
-        if j + 1 < phases {
+        if j + 1 < phases && fixed.is_none() {
             pb.add_row(..=0.0, [(used[j + 1], 1.0), (used[j], -1.0)]);
         }
         for l in 0..n {
@@ -277,7 +297,7 @@ fn build(
         // transition.
         slipping.push((used[j], -1.0));
         pb.add_row(0.0.., slipping);
-        if j > 0 {
+        if j > 0 && fixed.is_none() {
             let mut row = Vec::with_capacity(4 * nb);
             for b in 0..nb {
                 row.extend([
@@ -564,6 +584,20 @@ pub fn solve_phase_from(
             ));
         }
     }
+    solve_steps(crawler, problem, phases, time_limit, start, None)
+}
+
+/// The phase MILP of `phases` steps (or, with `fixed` modes, its LP), solved with outer
+/// approximation of a quadratic cost, the answer replayed by the exact simulator and certified.
+/// Arguments are checked by the callers.
+fn solve_steps(
+    crawler: &Crawler,
+    problem: &GaitProblem,
+    phases: usize,
+    time_limit: Option<f64>,
+    start: Option<&PhaseSolution>,
+    fixed: Option<&[Vec<i8>]>,
+) -> Result<PhaseSolution> {
     let t = problem.period;
     let a = &problem.rate_bound;
     let what = format!("{phases}-phase gait");
@@ -577,7 +611,7 @@ pub fn solve_phase_from(
     let mut last_bound = f64::INFINITY;
     let (raw, bound, status) = loop {
         rounds += 1;
-        let (pb, lay) = build(crawler, problem, phases, rates.as_ref());
+        let (pb, lay) = build(crawler, problem, phases, rates.as_ref(), fixed);
         let ncols = pb.num_cols();
         let start_cols = incumbent.as_ref().and_then(|g| g.columns(&lay, ncols));
         let left = match time_limit {
@@ -834,6 +868,234 @@ pub fn grow_phases(
     Ok(PhaseGrowth { best, table, stop })
 }
 
+/// Whether a slip mode (per block `-1`, `0`, `1`) names a nonempty face of C on which some
+/// block slips.
+///
+/// The forces `F_b` sum to zero and determine `x` (`x_l = -sum_{b <= l} F_b`). The face holds
+/// `F_b = mu_b^+` on the blocks `S+` slipping forward, `F_b = -mu_b^-` on `S-`, and leaves the
+/// others free in `[-mu_b^-, mu_b^+]`; it is nonempty iff
+/// `-sum_free mu^+ <= sum_{S+} mu^+ - sum_{S-} mu^- <= sum_free mu^-` with some block free (with
+/// none, equality would violate the uniqueness condition).
+pub fn slip_mode_is_valid(crawler: &Crawler, mode: &[i8]) -> bool {
+    let (mp, mm) = (crawler.mu_forward(), crawler.mu_backward());
+    if mode.len() != mp.len() || mode.iter().any(|&m| !(-1..=1).contains(&m)) {
+        return false;
+    }
+    let (mut held, mut free_p, mut free_m, mut slipping) = (0.0, 0.0, 0.0, 0);
+    for (b, &m) in mode.iter().enumerate() {
+        match m {
+            1 => held += mp[b],
+            -1 => held -= mm[b],
+            _ => {
+                free_p += mp[b];
+                free_m += mm[b];
+            }
+        }
+        slipping += usize::from(m != 0);
+    }
+    slipping > 0 && slipping < mode.len() && -free_p <= held && held <= free_m
+}
+
+/// The valid slip modes that differ from `mode` in one or two blocks.
+fn neighbours(crawler: &Crawler, mode: &[i8]) -> Vec<Vec<i8>> {
+    let nb = mode.len();
+    let mut out: Vec<Vec<i8>> = Vec::new();
+    let mut push = |m: Vec<i8>| {
+        if slip_mode_is_valid(crawler, &m) && !out.contains(&m) {
+            out.push(m);
+        }
+    };
+    for b in 0..nb {
+        for vb in [-1i8, 0, 1] {
+            if vb == mode[b] {
+                continue;
+            }
+            let mut m = mode.to_vec();
+            m[b] = vb;
+            push(m.clone());
+            for c in b + 1..nb {
+                for vc in [-1i8, 0, 1] {
+                    if vc != mode[c] {
+                        let mut m2 = m.clone();
+                        m2[c] = vc;
+                        push(m2);
+                    }
+                }
+            }
+        }
+    }
+    out
+}
+
+/// The slip phases of a gait, in order: the modes of its phases where some block slips, a run
+/// of consecutive phases of one mode merged (it is one slip phase), cyclically.
+pub fn slip_sequence(modes: &[Vec<i8>]) -> Vec<Vec<i8>> {
+    let mut runs: Vec<&Vec<i8>> = Vec::new();
+    for m in modes {
+        if runs.last() != Some(&m) {
+            runs.push(m);
+        }
+    }
+    if runs.len() > 1 && runs.first() == runs.last() {
+        runs.pop();
+    }
+    runs.into_iter()
+        .filter(|m| m.iter().any(|&s| s != 0))
+        .cloned()
+        .collect()
+}
+
+/// The result of [`search_sequences`].
+#[derive(Debug, Clone, PartialEq)]
+pub struct SequenceSearch {
+    /// The best gait found: optimal for its sequence of slip modes (an LP), no global claim.
+    pub best: PhaseSolution,
+    /// Its sequence of slip modes, one per step (some steps may be empty in the gait).
+    pub sequence: Vec<Vec<i8>>,
+    /// `J` of the start sequence (its LP optimum, at least the start gait's `J`).
+    pub start_objective: f64,
+    /// LPs solved.
+    pub lp_solves: usize,
+    /// Improving moves made.
+    pub moves: usize,
+    /// Why it stopped: [`LocalStop::Stationary`] when no single move improves, or the time
+    /// limit.
+    pub stop: LocalStop,
+}
+
+/// Local search over the sequences of slip modes of phase gaits with `phases` steps, for
+/// crawlers or `K` where the MILP is too slow (SPEC §7: "local search over sequences scales
+/// further").
+///
+/// For a fixed cyclic sequence, the best gait following it is an LP (the MILP of the module
+/// docs with its binaries fixed), so every candidate is an exact continuous-time gait, solved
+/// to optimality for its sequence and re-verified by the exact simulator. A move replaces the
+/// mode of one step by a valid mode differing in one or two blocks ([`slip_mode_is_valid`]);
+/// the first improving move is taken, scanning the steps cyclically, until a whole cycle brings
+/// none (a local optimum for these moves) or the time limit. The start sequence is
+/// `start_modes` (e.g. the [`slip_sequence`] of a gait), each mode repeated in turn until there
+/// are `phases` steps: a repeated mode is a slip phase that may stay empty, so the start's
+/// value is kept.
+pub fn search_sequences(
+    crawler: &Crawler,
+    problem: &GaitProblem,
+    start_modes: &[Vec<i8>],
+    phases: usize,
+    time_limit: Option<f64>,
+) -> Result<SequenceSearch> {
+    crawler.require_unique()?;
+    check_time_limit(time_limit)?;
+    if !(1..=MAX_PHASES).contains(&phases) {
+        return Err(Error::invalid(
+            "phases",
+            phases,
+            format!("must be in 1..={MAX_PHASES}"),
+        ));
+    }
+    if let Some(v) = problem.max_total_variation {
+        return Err(Error::invalid(
+            "gait.max_total_variation",
+            v,
+            "bounds the total variation of u = U / tau, which the phase formulation cannot \
+             express linearly; use --method discrete",
+        ));
+    }
+    if start_modes.is_empty() || start_modes.len() > phases {
+        return Err(Error::invalid(
+            "start",
+            format!("{} slip phases", start_modes.len()),
+            format!("needs 1 to {phases} slip phases (--phases)"),
+        ));
+    }
+    if let Some(m) = start_modes.iter().find(|m| !slip_mode_is_valid(crawler, m)) {
+        return Err(Error::invalid(
+            "start",
+            format!("{m:?}"),
+            "is not a slip mode of a face of C",
+        ));
+    }
+    let mut seq: Vec<Vec<i8>> = Vec::with_capacity(phases);
+    for (i, m) in start_modes.iter().enumerate() {
+        seq.push(m.clone());
+        let extra = (phases - start_modes.len()) / start_modes.len()
+            + usize::from(i < (phases - start_modes.len()) % start_modes.len());
+        seq.extend(std::iter::repeat_n(m.clone(), extra));
+    }
+    let began = Instant::now();
+    let left = || match time_limit {
+        Some(tl) => {
+            let l = tl - began.elapsed().as_secs_f64();
+            if l > 0.0 {
+                Ok(Some(l))
+            } else {
+                Err(())
+            }
+        }
+        None => Ok(None),
+    };
+    let mut lp_solves = 1;
+    let Ok(first_left) = left() else {
+        return Err(Error::TimeLimit(
+            "sequence search: the time limit was reached before any gait was found".into(),
+        ));
+    };
+    let mut best = solve_steps(crawler, problem, phases, first_left, None, Some(&seq)).map_err(
+        |e| match e {
+            Error::Infeasible(_) => Error::invalid(
+                "start",
+                format!("{} slip phases", start_modes.len()),
+                "no gait of the period follows this sequence of slip modes",
+            ),
+            e => e,
+        },
+    )?;
+    let start_objective = best.objective();
+    let (mut moves, mut quiet, mut j) = (0, 0, 0);
+    let stop = 'search: loop {
+        let mut improved = false;
+        for cand in neighbours(crawler, &seq[j]) {
+            let Ok(l) = left() else {
+                break 'search LocalStop::TimeLimit;
+            };
+            let mut next = seq.clone();
+            next[j] = cand;
+            lp_solves += 1;
+            match solve_steps(crawler, problem, phases, l, None, Some(&next)) {
+                Ok(s)
+                    if s.objective()
+                        > best.objective() + 1e-9 * best.objective().abs().max(1.0) =>
+                {
+                    best = s;
+                    seq = next;
+                    improved = true;
+                    break;
+                }
+                Ok(_) | Err(Error::Infeasible(_)) => {}
+                Err(Error::TimeLimit(_)) => break 'search LocalStop::TimeLimit,
+                Err(e) => return Err(e),
+            }
+        }
+        if improved {
+            moves += 1;
+            quiet = 0;
+        } else {
+            quiet += 1;
+            if quiet >= phases {
+                break LocalStop::Stationary;
+            }
+        }
+        j = (j + 1) % phases;
+    };
+    Ok(SequenceSearch {
+        best,
+        sequence: seq,
+        start_objective,
+        lp_solves,
+        moves,
+        stop,
+    })
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -859,7 +1121,7 @@ mod tests {
             Cost::Quadratic { .. } => Some(TangentRates::new(&p.rate_bound)),
             Cost::None => None,
         };
-        let (mut pb, lay) = build(c, p, phases, rates.as_ref());
+        let (mut pb, lay) = build(c, p, phases, rates.as_ref(), None);
         let Some(x) = gait.columns(&lay, pb.num_cols()) else {
             return false;
         };
@@ -887,6 +1149,84 @@ mod tests {
             block_displacements: rot(&g.block_displacements),
             modes: (0..p).map(|i| g.modes[(i + r) % p].clone()).collect(),
         }
+    }
+
+    /// Whether the face of `mode` is nonempty, by an LP over `x` (independent of the closed
+    /// form of [`slip_mode_is_valid`]).
+    fn face_is_nonempty(c: &Crawler, mode: &[i8]) -> bool {
+        let (mp, mm) = (c.mu_forward(), c.mu_backward());
+        let mut pb = RowProblem::default();
+        let x: Vec<Col> = (0..c.links())
+            .map(|_| pb.add_column(0.0, f64::NEG_INFINITY..f64::INFINITY))
+            .collect();
+        for (b, &m) in mode.iter().enumerate() {
+            let row = force_row(&x, b);
+            match m {
+                1 => pb.add_row(mp[b]..=mp[b], row),
+                -1 => pb.add_row(-mm[b]..=-mm[b], row),
+                _ => pb.add_row(-mm[b]..=mp[b], row),
+            }
+        }
+        let solved = pb.optimise(highs::Sense::Maximise).solve();
+        solved.status() == highs::HighsModelStatus::Optimal
+    }
+
+    #[test]
+    fn valid_slip_modes_are_the_nonempty_faces_of_c() {
+        let cases = [
+            (vec![1.0, 1.0, 1.0], vec![1.5, 1.5, 1.5]),
+            (vec![1.0, 0.7, 1.3, 0.9], vec![1.6, 2.9, 0.8, 1.1]),
+            (vec![1.0, 1.0, 1.0, 1.0, 1.0], vec![1.6, 1.6, 1.6, 1.6, 1.6]),
+            (vec![2.5, 2.5, 2.5], vec![1.0, 1.0, 1.0]),
+        ];
+        for (mp, mm) in cases {
+            let nb = mp.len();
+            let c = Crawler::new(vec![1.0; nb - 1], mp, mm).unwrap();
+            let mut valid = 0;
+            for code in 0..3usize.pow(nb as u32) {
+                let mode: Vec<i8> = (0..nb)
+                    .map(|b| (code / 3usize.pow(b as u32) % 3) as i8 - 1)
+                    .collect();
+                let slipping = mode.iter().any(|&m| m != 0);
+                let expect = slipping && face_is_nonempty(&c, &mode);
+                assert_eq!(slip_mode_is_valid(&c, &mode), expect, "{mode:?}");
+                valid += usize::from(expect);
+            }
+            if nb == 3 && c.mu_forward()[0] == 1.0 {
+                // One block forward or backward (6), or one each way (6): the hexagon's
+                // edges and vertices.
+                assert_eq!(valid, 12);
+            }
+        }
+        let c = Crawler::uniform(3, 1.0, 1.0, 1.5).unwrap();
+        assert!(!slip_mode_is_valid(&c, &[0, 0, 0]));
+        assert!(!slip_mode_is_valid(&c, &[1, 0]));
+        assert!(!slip_mode_is_valid(&c, &[2, 0, 0]));
+        for m in neighbours(&c, &[1, 0, 0]) {
+            assert!(slip_mode_is_valid(&c, &m) && m != vec![1, 0, 0]);
+        }
+        assert!(neighbours(&c, &[1, 0, 0]).contains(&vec![0, 1, 0]));
+    }
+
+    #[test]
+    fn slip_sequence_merges_repeats_cyclically() {
+        let m = |v: &[i8]| v.to_vec();
+        let modes = vec![
+            m(&[1, 0, 0]),
+            m(&[0, 0, 0]),
+            m(&[0, 1, 0]),
+            m(&[0, 1, 0]),
+            m(&[0, 0, 0]),
+            m(&[0, 1, 0]),
+            m(&[1, 0, 0]),
+        ];
+        // Equal modes separated by a transition are two slip phases; the last merges with the
+        // first across the period's end.
+        assert_eq!(
+            slip_sequence(&modes),
+            vec![m(&[1, 0, 0]), m(&[0, 1, 0]), m(&[0, 1, 0])]
+        );
+        assert!(slip_sequence(&[m(&[0, 0])]).is_empty());
     }
 
     #[test]

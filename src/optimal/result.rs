@@ -9,7 +9,7 @@ use crate::integrate::{slip_of, Method};
 use crate::model::Crawler;
 use crate::optimal::{
     gait_knots, ConvergenceRow, DiscreteSolution, GaitProblem, GrowthStop, LocalSolution,
-    LocalStop, MilpStatus, PhaseGrowth, PhaseSolution, PhaseStep,
+    LocalStop, MilpStatus, PhaseGrowth, PhaseSolution, PhaseStep, SequenceSearch,
 };
 use serde::{Deserialize, Serialize};
 
@@ -168,16 +168,18 @@ pub struct GaitResult {
     pub local: Option<LocalRecord>,
 }
 
-/// What the local method did ([`solve_discrete_local`](crate::optimal::solve_discrete_local)).
+/// What a local method did ([`solve_discrete_local`](crate::optimal::solve_discrete_local) on
+/// P_m, or [`search_sequences`](crate::optimal::search_sequences) on phase gaits).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct LocalRecord {
-    /// `J` of the start gait sampled on the grid.
+    /// `J` of the start: the start gait sampled on the grid (P_m), or the LP optimum of the
+    /// start sequence (phase gaits).
     pub start_objective: f64,
-    /// Where the start came from (e.g. `"phase (K = 10)"`).
+    /// Where the start came from (e.g. `"phase (K = 5)"`).
     pub start: String,
     /// LP solves.
     pub lp_solves: usize,
-    /// Mode switches.
+    /// Mode switches (P_m) or improving moves (phase gaits).
     pub switches: usize,
     /// Why it stopped.
     pub stop: LocalStop,
@@ -258,6 +260,38 @@ impl GaitResult {
             "discrete" | "local" => Method::CatchingUp,
             _ => Method::Exact,
         }
+    }
+
+    /// The record of a phase gait found by [`search_sequences`](crate::optimal::search_sequences):
+    /// an exact continuous-time gait (method `"phase"`, replayed exactly), optimal for its
+    /// sequence of slip modes only, so its certificate is `"local"` (no gap, no bound); `start`
+    /// says where the start sequence came from.
+    pub fn from_sequence(
+        crawler: &Crawler,
+        problem: &GaitProblem,
+        s: &SequenceSearch,
+        start: &str,
+    ) -> Self {
+        let mut r = GaitResult::from_phase(crawler, problem, &s.best);
+        r.status = match s.stop {
+            LocalStop::Stationary => MilpStatus::Stationary,
+            LocalStop::TimeLimit => MilpStatus::TimeLimit,
+            LocalStop::Stalled | LocalStop::RoundLimit => MilpStatus::Stalled,
+        };
+        r.certificate = ResultCertificate {
+            kind: "local".into(),
+            gap: None,
+            bound: None,
+            phases: Some(s.best.phases),
+        };
+        r.local = Some(LocalRecord {
+            start_objective: s.start_objective,
+            start: start.into(),
+            lp_solves: s.lp_solves,
+            switches: s.moves,
+            stop: s.stop,
+        });
+        r
     }
 
     /// The record of a phase gait found by growing `K`, with the growth's table.

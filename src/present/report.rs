@@ -225,6 +225,9 @@ fn page(
         }
         ("global", _, Some(m)) => format!("globally optimal for P_{m} ({} steps)", 1u64 << m),
         ("local", _, Some(m)) => format!("locally optimal for P_{m} ({} steps)", 1u64 << m),
+        ("local", Some(k), None) => format!(
+            "locally optimal: no change of one slip mode in its sequence of {k} improves it"
+        ),
         (k, _, _) => k.to_string(),
     };
     let status = match result.status {
