@@ -61,6 +61,21 @@ fn quadratic_cost_one_link_matches_the_closed_form_in_both_formulations() {
 }
 
 #[test]
+fn growth_with_a_quadratic_cost_stops_within_the_approximation_tolerance() {
+    // With f2 = (c/2) u^2 the values are exact only to the outer approximation's tolerance
+    // (1e-6 relative), so a larger K must gain more than that to count: the one-link optimum
+    // 0.5625 needs 2 slip phases, and K = 3 brings nothing.
+    let (c, p) = quadratic_one_link();
+    let g = grow_phases(&c, &p, &GrowOptions::default(), &mut |_| {}).unwrap();
+    let ks: Vec<usize> = g.table.iter().map(|s| s.phases).collect();
+    assert_eq!(ks, vec![1, 2, 3], "{:?}", g.table);
+    assert_eq!(g.stop, GrowthStop::NoGain);
+    assert!((g.best.objective() - 0.5625).abs() < 2e-6, "{}", g.best.objective());
+    assert!(g.best.certificate.bound >= g.best.objective() - 1e-9);
+    assert!(g.best.certificate.gap <= 2e-6);
+}
+
+#[test]
 fn a_heavy_cost_makes_idling_optimal() {
     // c = 1.4: Delta = T/(4c) = 1.79, J(Delta) = 0.79 - 0.89 < 0: stay idle, J* = 0.
     let c = Crawler::uniform(2, 1.0, 0.5, 1.0).unwrap();
