@@ -70,7 +70,11 @@ fn growth_with_a_quadratic_cost_stops_within_the_approximation_tolerance() {
     let ks: Vec<usize> = g.table.iter().map(|s| s.phases).collect();
     assert_eq!(ks, vec![1, 2, 3], "{:?}", g.table);
     assert_eq!(g.stop, GrowthStop::NoGain);
-    assert!((g.best.objective() - 0.5625).abs() < 2e-6, "{}", g.best.objective());
+    assert!(
+        (g.best.objective() - 0.5625).abs() < 2e-6,
+        "{}",
+        g.best.objective()
+    );
     assert!(g.best.certificate.bound >= g.best.objective() - 1e-9);
     assert!(g.best.certificate.gap <= 2e-6);
 }
