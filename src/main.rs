@@ -111,10 +111,10 @@ enum Command {
         #[arg(long)]
         phases: Option<usize>,
         /// Consecutive K without a gain that end the growth of K.
-        #[arg(long, default_value_t = 1)]
+        #[arg(long, default_value_t = 2)]
         patience: usize,
         /// Largest K tried when K grows.
-        #[arg(long = "max-phases", default_value_t = 16)]
+        #[arg(long = "max-phases", default_value_t = 8)]
         max_phases: usize,
         /// The grid of P_m has 2^m steps (default 3; --method discrete only).
         #[arg(long)]
@@ -469,14 +469,7 @@ fn run(cmd: Command) -> Result<ExitCode, Error> {
                     let (r, origin) =
                         start_gait(start.as_deref(), &crawler, &problem, &opts, &progress)?;
                     let seq = slip_sequence(&r.gait.slip);
-                    if seq.is_empty() {
-                        return Err(Error::invalid(
-                            "start",
-                            origin,
-                            "has no slip phase (an idle gait) to start the sequence search from",
-                        ));
-                    }
-                    let k = phases.unwrap_or((seq.len() + 2).min(MAX_PHASES));
+                    let k = phases.unwrap_or((seq.len().max(1) + 2).min(MAX_PHASES));
                     progress.say(format!(
                         "local search over sequences of {k} slip modes, from {} of {origin}",
                         seq.len()

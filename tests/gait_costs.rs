@@ -64,11 +64,11 @@ fn quadratic_cost_one_link_matches_the_closed_form_in_both_formulations() {
 fn growth_with_a_quadratic_cost_stops_within_the_approximation_tolerance() {
     // With f2 = (c/2) u^2 the values are exact only to the outer approximation's tolerance
     // (1e-6 relative), so a larger K must gain more than that to count: the one-link optimum
-    // 0.5625 needs 2 slip phases, and K = 3 brings nothing.
+    // 0.5625 needs 2 slip phases, and K = 3 and 4 bring nothing.
     let (c, p) = quadratic_one_link();
     let g = grow_phases(&c, &p, &GrowOptions::default(), &mut |_| {}).unwrap();
     let ks: Vec<usize> = g.table.iter().map(|s| s.phases).collect();
-    assert_eq!(ks, vec![1, 2, 3], "{:?}", g.table);
+    assert_eq!(ks, vec![1, 2, 3, 4], "{:?}", g.table);
     assert_eq!(g.stop, GrowthStop::NoGain);
     assert!(
         (g.best.objective() - 0.5625).abs() < 2e-6,
@@ -122,10 +122,10 @@ fn growing_k_stops_where_the_value_stops_improving() {
     let g = grow_phases(&c, &p, &GrowOptions::default(), &mut |_| {}).unwrap();
     assert_eq!(g.stop, GrowthStop::NoGain);
     let ks: Vec<usize> = g.table.iter().map(|s| s.phases).collect();
-    assert_eq!(ks, vec![1, 2, 3]);
+    assert_eq!(ks, vec![1, 2, 3, 4]);
     assert!(g.table[0].objective.abs() < 1e-9);
     assert!((g.best.objective() - 3.0).abs() < 1e-8);
-    assert_eq!(g.best.phases, 3, "certified for the largest K solved");
+    assert_eq!(g.best.phases, 4, "certified for the largest K solved");
 
     // N = 3, mu+ = 1, mu- = 1.5 (the peers' instance): J_K = 0 up to K = 2 slip phases, 13/6
     // at K = 3, then 2.6 from K = 4 on (4 slip phases and 4 transitions); non-decreasing in K.
@@ -143,8 +143,21 @@ fn growing_k_stops_where_the_value_stops_improving() {
         g.best.objective()
     );
     assert_eq!(g.stop, GrowthStop::NoGain);
-    assert_eq!(g.best.phases, 5);
-    assert_eq!(g.table.len(), 5);
+    assert_eq!(g.best.phases, 6);
+    assert_eq!(g.table.len(), 6);
+
+    // a T < 2 w (SPEC §9): nothing moves for any K; idling is certified for every K tried.
+    let c = Crawler::uniform(2, 1.0, 1.0, 2.0).unwrap();
+    let p = GaitProblem::new(&c, 3.0, &[1.0], Cost::None, None).unwrap();
+    let opts = GrowOptions {
+        max_phases: 3,
+        ..GrowOptions::default()
+    };
+    let g = grow_phases(&c, &p, &opts, &mut |_| {}).unwrap();
+    assert_eq!(g.stop, GrowthStop::MaxPhases);
+    assert_eq!(g.table.len(), 3);
+    assert_eq!(g.best.phases, 3, "the idle gait is certified for the last K");
+    assert!(g.best.objective().abs() < 1e-9 && g.best.certificate.bound < 1e-9);
 
     // Backward-only crawler (mu+ > 2 mu-, Remark 3.3): idle is globally optimal at once.
     let c = Crawler::uniform(3, 1.0, 2.5, 1.0).unwrap();

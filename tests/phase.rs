@@ -103,8 +103,19 @@ fn sequence_search_climbs_from_a_smaller_optimum_to_the_global_one() {
     let used = slip_sequence(&s.best.modes);
     assert!(used.len() <= 4 && used.iter().all(|m| s.sequence.contains(m)));
 
-    // Refusals: no slip phase, too many, a mode that is no face of C.
-    assert!(search_sequences(&c, &p, &[], 4, None).is_err());
+    // An idle start is seeded with a peristaltic wave (each block forward in turn, from the
+    // front); its LP alone already moves the crawler.
+    let idle = search_sequences(&c, &p, &[], 4, Some(120.0)).unwrap();
+    eprintln!(
+        "from idle: {} -> {} ({} moves)",
+        idle.start_objective,
+        idle.best.objective(),
+        idle.moves
+    );
+    assert_eq!(idle.sequence.len(), 4);
+    assert!(idle.start_objective > 2.0, "{}", idle.start_objective);
+    assert!(idle.best.objective() >= idle.start_objective - 1e-9);
+    // Refusals: too many slip phases, a mode that is no face of C.
     assert!(search_sequences(&c, &p, &seq, 2, None).is_err());
     let e = search_sequences(&c, &p, &[vec![1, 1, 0]], 2, None)
         .unwrap_err()

@@ -13,12 +13,15 @@
 //! x_j --(transition: sigma_j, W_j, all stick)--> y_j --(slip: tau_j, U_j, mode)--> x_{j+1}
 //! ```
 //!
-//! A `K`-step gait has at most `2K` phases, and every gait of at most `K` phases is one, so
-//! "global among gaits of at most `K` slip phases" is the stronger statement. Counting this
-//! way halves the `K` the growth needs (the three-block optimum has 4 slip phases and 4
-//! transitions), and the MILP's effort grows steeply with `K`: on the three-block instance the
-//! growth certified the optimum in 4.9 s instead of 10.3 s, before any other change
-//! (`crawlopt optimize examples/three_blocks_gait.toml`).
+//! A `K`-step gait has at most `2K` phases, and every gait of at most `K` phases is dominated
+//! by one (its runs merged: the same displacement, no more cost), so "global among gaits of at
+//! most `K` slip phases" is the stronger statement. Counting this way needs up to half the `K`
+//! (the three-block optimum has 4 slip phases and 4 transitions, where phases counted 8), and
+//! the MILP's effort grows steeply with `K`: on the three-block instance the growth certified
+//! the optimum in 4.9 s instead of 10.3 s, before any other change (`crawlopt optimize
+//! examples/three_blocks_gait.toml`). An optimum whose slip phases follow each other without
+//! transitions needs as many steps as it has phases, and each step carries an unused
+//! transition, so such MILPs are larger than before for the same `K`.
 //!
 //! Binaries `s+_{j,b}`, `s-_{j,b}` (`s+ + s- <= 1`) give the mode of slip phase `j`. With
 //! `U_j = tau_j u_j`, `W_j = sigma_j w_j` and block displacements `D_{j,b} = P - Q`:
@@ -410,12 +413,56 @@ impl RawGait {
         g
     }
 
-    /// Number of phases in which some block holds a face (what `K` counts).
+    /// Number of slip phases, runs of one mode merged cyclically (what `K` counts).
     fn slip_phases(&self) -> usize {
-        self.modes
-            .iter()
-            .filter(|m| m.iter().any(|&s| s != 0))
-            .count()
+        slip_sequence(&self.modes).len()
+    }
+
+    /// The same gait with each run of consecutive phases of one mode (all-stick runs included)
+    /// merged into one phase, cyclically: the run's duration, increment and displacements are
+    /// summed and `x` goes straight from the run's first state to its last. For an all-stick
+    /// run that is a straight move inside the convex C with every block sticking; for a slip
+    /// run the faces are held at both ends, hence on the segment. Displacements are unchanged
+    /// and, by convexity, so is or drops the cost.
+    fn merged(&self) -> RawGait {
+        let p = self.durations.len();
+        let first = (0..p)
+            .find(|&j| self.modes[j] != self.modes[(j + p - 1) % p])
+            .unwrap_or(0);
+        let mut g = RawGait {
+            durations: Vec::new(),
+            increments: Vec::new(),
+            states: Vec::new(),
+            block_displacements: Vec::new(),
+            modes: Vec::new(),
+        };
+        for i in 0..p {
+            let j = (first + i) % p;
+            if i > 0 && g.modes.last() == Some(&self.modes[j]) {
+                let last = g.durations.len() - 1;
+                g.durations[last] += self.durations[j];
+                for (a, b) in g.increments[last].iter_mut().zip(&self.increments[j]) {
+                    *a += b;
+                }
+                for (a, b) in g.block_displacements[last]
+                    .iter_mut()
+                    .zip(&self.block_displacements[j])
+                {
+                    *a += b;
+                }
+            } else {
+                g.durations.push(self.durations[j]);
+                g.increments.push(self.increments[j].clone());
+                g.states.push(self.states[j].clone());
+                g.block_displacements
+                    .push(self.block_displacements[j].clone());
+                g.modes.push(self.modes[j].clone());
+            }
+        }
+        if let Some(x0) = g.states.first().cloned() {
+            g.states.push(x0);
+        }
+        g
     }
 
     fn displacement(&self) -> f64 {
@@ -446,6 +493,11 @@ impl RawGait {
     /// The phase of largest displacement goes first, as the symmetry rows require, and unused
     /// phases come last.
     fn columns(&self, lay: &Layout, ncols: usize) -> Option<Vec<f64>> {
+        self.merged().columns_merged(lay, ncols)
+    }
+
+    /// [`RawGait::columns`] of a gait whose runs are merged.
+    fn columns_merged(&self, lay: &Layout, ncols: usize) -> Option<Vec<f64>> {
         let p = self.durations.len();
         let slips: Vec<usize> = (0..p)
             .filter(|&j| self.modes[j].iter().any(|&s| s != 0))
@@ -600,7 +652,7 @@ fn solve_steps(
 ) -> Result<PhaseSolution> {
     let t = problem.period;
     let a = &problem.rate_bound;
-    let what = format!("{phases}-phase gait");
+    let what = format!("gait of at most {phases} slip phases");
     let began = Instant::now();
     let mut rates = match problem.cost {
         Cost::Quadratic { .. } => Some(TangentRates::new(a)),
@@ -714,8 +766,8 @@ pub struct GrowOptions {
     pub max_phases: usize,
     /// Stop after this many consecutive `K` without a gain, counted once `J_K > 0` (before,
     /// `K` is too small for any gait to move the crawler, e.g. one link needs 2 slip phases).
-    /// The default, 1, stops at the first `K` that brings nothing: `K` counts slip phases, so
-    /// a step of `K` is one more slip phase with its transition, never half of one.
+    /// The default is 2: plateaus `J_K = J_{K+1} < J_{K+2}` occur (a 4-block crawler with
+    /// per-block friction had `J_3 = J_4 = 6.575 < J_5 = 6.600`).
     pub patience: usize,
     /// Wall-clock limit for the whole growth, seconds.
     pub time_limit: Option<f64>,
@@ -725,8 +777,8 @@ impl Default for GrowOptions {
     fn default() -> Self {
         GrowOptions {
             min_phases: 1,
-            max_phases: 16,
-            patience: 1,
+            max_phases: 8,
+            patience: 2,
             time_limit: None,
         }
     }
@@ -855,7 +907,15 @@ pub fn grow_phases(
             without_gain = 0;
             best = Some(s);
         } else if best.as_ref().is_some_and(|b| b.objective() <= 0.0) {
-            // Nothing moves yet: K is still too small.
+            // Nothing moves yet: K is still too small. The idle gait is now certified for
+            // this larger K.
+            if let Some(b) = best.as_mut() {
+                b.phases = s.phases;
+                b.certificate.bound = s.certificate.bound;
+                b.certificate.gap =
+                    ((s.certificate.bound - b.objective()) / b.objective().abs().max(1.0)).max(0.0);
+                b.certificate.status = s.certificate.status;
+            }
         } else {
             without_gain += 1;
             if best.as_ref().is_some_and(|b| s.objective() > b.objective()) {
@@ -991,7 +1051,8 @@ pub struct SequenceSearch {
 /// none (a local optimum for these moves) or the time limit. The start sequence is
 /// `start_modes` (e.g. the [`slip_sequence`] of a gait), each mode repeated in turn until there
 /// are `phases` steps: a repeated mode is a slip phase that may stay empty, so the start's
-/// value is kept.
+/// value is kept. An empty start (an idle gait) is seeded with each block slipping forward in
+/// turn, from the front (where that is a face of C; else one block slipping).
 pub fn search_sequences(
     crawler: &Crawler,
     problem: &GaitProblem,
@@ -1016,6 +1077,36 @@ pub fn search_sequences(
              express linearly; use --method discrete",
         ));
     }
+    // An idle start has no slip phase: seed it with each block slipping forward in turn, from
+    // the front (a peristaltic wave), or one block slipping; the LP may leave them all empty
+    // (the idle gait held on a face), so nothing is lost.
+    let seed: Vec<Vec<i8>>;
+    let start_modes = if start_modes.is_empty() {
+        let nb = crawler.blocks();
+        let single = (0..nb).rev().flat_map(|b| {
+            [1i8, -1].map(|s| {
+                let mut m = vec![0i8; nb];
+                m[b] = s;
+                m
+            })
+        });
+        let forward: Vec<Vec<i8>> = single
+            .clone()
+            .filter(|m| m.contains(&1) && slip_mode_is_valid(crawler, m))
+            .take(phases)
+            .collect();
+        seed = if forward.is_empty() {
+            single
+                .filter(|m| slip_mode_is_valid(crawler, m))
+                .take(1)
+                .collect()
+        } else {
+            forward
+        };
+        &seed[..]
+    } else {
+        start_modes
+    };
     if start_modes.is_empty() || start_modes.len() > phases {
         return Err(Error::invalid(
             "start",
@@ -1087,7 +1178,9 @@ pub fn search_sequences(
                     improved = true;
                     break;
                 }
-                Ok(_) | Err(Error::Infeasible(_)) => {}
+                // A sequence no gait can follow, or whose LP answer the simulator does not
+                // reproduce, is no candidate; the search goes on.
+                Ok(_) | Err(Error::Infeasible(_) | Error::Numerical(_)) => {}
                 Err(Error::TimeLimit(_)) => break 'search LocalStop::TimeLimit,
                 Err(e) => return Err(e),
             }
@@ -1262,6 +1355,36 @@ mod tests {
                 }
                 assert!(!start_is_feasible(&c, &p, slips - 1, &h), "too few steps");
             }
+            // A slip phase cut in two halves, the gait rotated so that they sit at its two
+            // ends: still one slip phase, so it fits as many steps.
+            let j = (0..g.durations.len())
+                .find(|&j| g.modes[j].iter().any(|&m| m != 0))
+                .unwrap();
+            let half = |v: &Vec<f64>| -> Vec<f64> { v.iter().map(|x| 0.5 * x).collect() };
+            let mut cut = RawGait {
+                durations: g.durations.clone(),
+                increments: g.increments.clone(),
+                states: g.states.clone(),
+                block_displacements: g.block_displacements.clone(),
+                modes: g.modes.clone(),
+            };
+            let mid: Vec<f64> = g.states[j]
+                .iter()
+                .zip(&g.states[j + 1])
+                .map(|(a, b)| 0.5 * (a + b))
+                .collect();
+            cut.durations[j] *= 0.5;
+            cut.durations.insert(j, cut.durations[j]);
+            cut.increments[j] = half(&g.increments[j]);
+            cut.increments.insert(j, cut.increments[j].clone());
+            cut.block_displacements[j] = half(&g.block_displacements[j]);
+            cut.block_displacements
+                .insert(j, cut.block_displacements[j].clone());
+            cut.modes.insert(j, g.modes[j].clone());
+            cut.states.insert(j + 1, mid);
+            let cut = rotated(&cut, j + 1);
+            assert_eq!(cut.slip_phases(), slips);
+            assert!(start_is_feasible(&c, &p, slips, &cut), "split slip phase");
         }
     }
 }

@@ -20,8 +20,8 @@ use std::path::Path;
 const CSS: &str = include_str!("report.css");
 const ANIMATION_JS: &str = include_str!("animation.js");
 
-/// The optimal gait of a model file's `[gait]` problem, by the phase method with `phases`
-/// phases (the default of `crawlopt optimize`).
+/// The optimal gait of a model file's `[gait]` problem, by the phase method with at most
+/// `phases` slip phases, or with `K` grown when `None` (the default of `crawlopt optimize`).
 pub fn optimize_model(
     model: &ModelFile,
     phases: Option<usize>,
@@ -224,10 +224,15 @@ fn page(
             format!("globally optimal among gaits of at most {k} slip phases")
         }
         ("global", _, Some(m)) => format!("globally optimal for P_{m} ({} steps)", 1u64 << m),
-        ("local", _, Some(m)) => format!("locally optimal for P_{m} ({} steps)", 1u64 << m),
-        ("local", Some(k), None) => format!(
+        ("local", _, Some(m)) if result.status == MilpStatus::Stationary => {
+            format!("locally optimal for P_{m} ({} steps)", 1u64 << m)
+        }
+        ("local", Some(k), None) if result.status == MilpStatus::Stationary => format!(
             "locally optimal: no change of one slip mode in its sequence of {k} improves it"
         ),
+        ("local", _, _) => "the best gait the local method found before it stopped (no \
+                            optimality claim)"
+            .into(),
         (k, _, _) => k.to_string(),
     };
     let status = match result.status {
