@@ -156,7 +156,10 @@ fn growing_k_stops_where_the_value_stops_improving() {
     let g = grow_phases(&c, &p, &opts, &mut |_| {}).unwrap();
     assert_eq!(g.stop, GrowthStop::MaxPhases);
     assert_eq!(g.table.len(), 3);
-    assert_eq!(g.best.phases, 3, "the idle gait is certified for the last K");
+    assert_eq!(
+        g.best.phases, 3,
+        "the idle gait is certified for the last K"
+    );
     assert!(g.best.objective().abs() < 1e-9 && g.best.certificate.bound < 1e-9);
 
     // Backward-only crawler (mu+ > 2 mu-, Remark 3.3): idle is globally optimal at once.
