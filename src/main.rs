@@ -228,15 +228,16 @@ enum OptimizeMethod {
 }
 
 /// The start of a local method: the result file `path` (checked to be of this crawler and
-/// period), or the phase optimum with `K` grown under `opts`; with where it came from.
+/// period), or the phase optimum with `K` grown under `growth` within half its time limit;
+/// with where it came from and the time left of `growth.time_limit`.
 fn start_gait(
     path: Option<&std::path::Path>,
-    crawler: &Crawler,
-    problem: &GaitProblem,
-    opts: &GrowOptions,
+    (crawler, problem): &(&Crawler, &GaitProblem),
+    growth: &GrowOptions,
     progress: &Progress,
-) -> Result<(GaitResult, String), Error> {
-    match path {
+) -> Result<(GaitResult, String, Option<f64>), Error> {
+    let began = Instant::now();
+    let (r, origin) = match path {
         Some(path) => {
             let text = std::fs::read_to_string(path).map_err(|e| Error::Io {
                 path: path.display().to_string(),
@@ -251,14 +252,25 @@ fn start_gait(
                 ));
             }
             let origin = format!("{} ({})", r.method, path.display());
-            Ok((r, origin))
+            (r, origin)
         }
         None => {
-            let g = progress.grow(crawler, problem, opts, "start: phase gait, ")?;
+            let opts = GrowOptions {
+                time_limit: growth.time_limit.map(|t| 0.5 * t),
+                ..growth.clone()
+            };
+            let g = progress.grow(crawler, problem, &opts, "start: phase gait, ")?;
             let origin = format!("phase (K = {})", g.best.phases);
-            Ok((GaitResult::from_phase(crawler, problem, &g.best), origin))
+            (GaitResult::from_phase(crawler, problem, &g.best), origin)
         }
+    };
+    let left = growth.time_limit.map(|t| t - began.elapsed().as_secs_f64());
+    if left.is_some_and(|l| l <= 0.0) {
+        return Err(Error::TimeLimit(
+            "the time limit was reached while computing the start gait".into(),
+        ));
     }
+    Ok((r, origin, left))
 }
 
 /// Exit status of a simulation whose periodic regime was not reached.
@@ -421,6 +433,14 @@ fn run(cmd: Command) -> Result<ExitCode, Error> {
                 ));
             }
             let progress = Progress::new();
+            let problem_of = (&crawler, &problem);
+            // How K grows (auto, phase; and the default start of the local methods).
+            let growth = GrowOptions {
+                max_phases,
+                patience,
+                time_limit,
+                ..GrowOptions::default()
+            };
             let result = match method {
                 OptimizeMethod::Local => {
                     if phases.is_some() || convergence {
@@ -431,23 +451,10 @@ fn run(cmd: Command) -> Result<ExitCode, Error> {
                         ));
                     }
                     let m = m.unwrap_or(10);
-                    let began = Instant::now();
-                    let opts = GrowOptions {
-                        max_phases,
-                        patience,
-                        time_limit: time_limit.map(|t| 0.5 * t),
-                        ..GrowOptions::default()
-                    };
-                    let (r, origin) =
-                        start_gait(start.as_deref(), &crawler, &problem, &opts, &progress)?;
+                    let (r, origin, left) =
+                        start_gait(start.as_deref(), &problem_of, &growth, &progress)?;
                     let (times, lengths) = (r.gait.times, r.gait.lengths);
                     progress.say(format!("local LPCC method on P_{m} ({} steps)", 1u64 << m));
-                    let left = time_limit.map(|t| t - began.elapsed().as_secs_f64());
-                    if left.is_some_and(|l| l <= 0.0) {
-                        return Err(Error::TimeLimit(
-                            "the time limit was reached while computing the start gait".into(),
-                        ));
-                    }
                     let s = solve_discrete_local(&crawler, &problem, m, &times, &lengths, left)?;
                     GaitResult::from_local(&crawler, &problem, &s, &origin)
                 }
@@ -459,27 +466,14 @@ fn run(cmd: Command) -> Result<ExitCode, Error> {
                             "do not apply to --method sequence",
                         ));
                     }
-                    let began = Instant::now();
-                    let opts = GrowOptions {
-                        max_phases,
-                        patience,
-                        time_limit: time_limit.map(|t| 0.5 * t),
-                        ..GrowOptions::default()
-                    };
-                    let (r, origin) =
-                        start_gait(start.as_deref(), &crawler, &problem, &opts, &progress)?;
+                    let (r, origin, left) =
+                        start_gait(start.as_deref(), &problem_of, &growth, &progress)?;
                     let seq = slip_sequence(&r.gait.slip);
                     let k = phases.unwrap_or((seq.len().max(1) + 2).min(MAX_PHASES));
                     progress.say(format!(
                         "local search over sequences of {k} slip modes, from {} of {origin}",
                         seq.len()
                     ));
-                    let left = time_limit.map(|t| t - began.elapsed().as_secs_f64());
-                    if left.is_some_and(|l| l <= 0.0) {
-                        return Err(Error::TimeLimit(
-                            "the time limit was reached while computing the start gait".into(),
-                        ));
-                    }
                     let s = search_sequences(&crawler, &problem, &seq, k, left)?;
                     GaitResult::from_sequence(&crawler, &problem, &s, &origin)
                 }
@@ -501,13 +495,7 @@ fn run(cmd: Command) -> Result<ExitCode, Error> {
                             GaitResult::from_phase(&crawler, &problem, &s)
                         }
                         None => {
-                            let opts = GrowOptions {
-                                max_phases,
-                                patience,
-                                time_limit,
-                                ..GrowOptions::default()
-                            };
-                            let g = progress.grow(&crawler, &problem, &opts, "")?;
+                            let g = progress.grow(&crawler, &problem, &growth, "")?;
                             GaitResult::from_growth(&crawler, &problem, &g)
                         }
                     }

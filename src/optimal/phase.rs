@@ -348,6 +348,7 @@ fn build(
 }
 
 /// A gait read off the MILP's columns, empty phases removed.
+#[derive(Default)]
 struct RawGait {
     durations: Vec<f64>,
     increments: Vec<Vec<f64>>,
@@ -363,13 +364,7 @@ impl RawGait {
         let val = |c: &Col| cols[c.index()];
         let vals = |cs: &[Col]| -> Vec<f64> { cs.iter().map(val).collect() };
         let nb = lay.ps.first().map_or(0, Vec::len);
-        let mut g = RawGait {
-            durations: Vec::new(),
-            increments: Vec::new(),
-            states: Vec::new(),
-            block_displacements: Vec::new(),
-            modes: Vec::new(),
-        };
+        let mut g = RawGait::default();
         for j in 0..lay.tau.len() {
             let sigma = val(&lay.sigma[j]);
             if sigma > 1e-12 * t {
@@ -429,13 +424,7 @@ impl RawGait {
         let first = (0..p)
             .find(|&j| self.modes[j] != self.modes[(j + p - 1) % p])
             .unwrap_or(0);
-        let mut g = RawGait {
-            durations: Vec::new(),
-            increments: Vec::new(),
-            states: Vec::new(),
-            block_displacements: Vec::new(),
-            modes: Vec::new(),
-        };
+        let mut g = RawGait::default();
         for i in 0..p {
             let j = (first + i) % p;
             if i > 0 && g.modes.last() == Some(&self.modes[j]) {
@@ -590,6 +579,34 @@ impl RawGait {
     }
 }
 
+/// Refuses what no phase problem accepts: a crawler failing the uniqueness condition, a bad
+/// time limit, `phases` outside `1..=MAX_PHASES`, a total-variation bound.
+fn check_phase_args(
+    crawler: &Crawler,
+    problem: &GaitProblem,
+    phases: usize,
+    time_limit: Option<f64>,
+) -> Result<()> {
+    crawler.require_unique()?;
+    check_time_limit(time_limit)?;
+    if !(1..=MAX_PHASES).contains(&phases) {
+        return Err(Error::invalid(
+            "phases",
+            phases,
+            format!("must be in 1..={MAX_PHASES}"),
+        ));
+    }
+    if let Some(v) = problem.max_total_variation {
+        return Err(Error::invalid(
+            "gait.max_total_variation",
+            v,
+            "bounds the total variation of u = U / tau, which the phase formulation cannot \
+             express linearly; use --method discrete",
+        ));
+    }
+    Ok(())
+}
+
 /// Solves (P) globally over gaits of at most `phases` slip phases (module docs).
 pub fn solve_phase_global(
     crawler: &Crawler,
@@ -609,23 +626,7 @@ pub fn solve_phase_from(
     time_limit: Option<f64>,
     start: Option<&PhaseSolution>,
 ) -> Result<PhaseSolution> {
-    crawler.require_unique()?;
-    check_time_limit(time_limit)?;
-    if !(1..=MAX_PHASES).contains(&phases) {
-        return Err(Error::invalid(
-            "phases",
-            phases,
-            format!("must be in 1..={MAX_PHASES}"),
-        ));
-    }
-    if let Some(v) = problem.max_total_variation {
-        return Err(Error::invalid(
-            "gait.max_total_variation",
-            v,
-            "bounds the total variation of u = U / tau, which the phase formulation cannot \
-             express linearly; use --method discrete",
-        ));
-    }
+    check_phase_args(crawler, problem, phases, time_limit)?;
     if let Some(s) = start {
         let slips = RawGait::of(s).slip_phases();
         if slips > phases {
@@ -1060,23 +1061,7 @@ pub fn search_sequences(
     phases: usize,
     time_limit: Option<f64>,
 ) -> Result<SequenceSearch> {
-    crawler.require_unique()?;
-    check_time_limit(time_limit)?;
-    if !(1..=MAX_PHASES).contains(&phases) {
-        return Err(Error::invalid(
-            "phases",
-            phases,
-            format!("must be in 1..={MAX_PHASES}"),
-        ));
-    }
-    if let Some(v) = problem.max_total_variation {
-        return Err(Error::invalid(
-            "gait.max_total_variation",
-            v,
-            "bounds the total variation of u = U / tau, which the phase formulation cannot \
-             express linearly; use --method discrete",
-        ));
-    }
+    check_phase_args(crawler, problem, phases, time_limit)?;
     // An idle start has no slip phase: seed it with each block slipping forward in turn, from
     // the front (a peristaltic wave), or one block slipping; the LP may leave them all empty
     // (the idle gait held on a face), so nothing is lost.
