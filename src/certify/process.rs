@@ -4,9 +4,9 @@
 //! wrong number, so every check here names what is wrong.
 
 use crate::error::{Error, Result};
-use crate::integrate::{simulate, Actuation, Method, SimOptions};
+use crate::integrate::Method;
 use crate::model::Crawler;
-use crate::optimal::{gait_knots, GaitProblem, GaitResult};
+use crate::optimal::{replay, GaitProblem, GaitResult};
 
 /// Default relative tolerance on the consistency of an input process (states in C, periodicity,
 /// zero mean, dynamics): relative to the size of C, the rate bounds and the period. Loose enough
@@ -189,32 +189,22 @@ impl Process {
             .zip(controls)
             .map(|(d, u)| u.iter().map(|v| v * d).collect())
             .collect();
-        let (mut times, mut lengths) = gait_knots(durations, &increments, crawler.stiffness());
-        times.pop();
-        lengths.pop();
-        let act = Actuation::piecewise_linear(problem.period, times, lengths)?;
         let method = match kind {
             ProcessKind::Discrete { .. } => Method::CatchingUp,
             ProcessKind::Phase => Method::Exact,
         };
-        let sim = simulate(
+        let sim = replay(
             crawler,
-            &act,
-            &SimOptions {
-                method,
-                steps_per_period: durations.len(),
-                record_periods: 1,
-                ..SimOptions::default()
-            },
+            problem.period,
+            durations,
+            &increments,
+            None,
+            method,
+            "the process",
         )?;
-        let tr = match (sim.converged, sim.trajectory) {
-            (true, Some(tr)) => tr,
-            _ => {
-                return Err(Error::Numerical(
-                    "the gait did not reach a periodic regime".into(),
-                ))
-            }
-        };
+        let tr = sim
+            .trajectory
+            .ok_or_else(|| Error::Numerical("the process: no period was recorded".into()))?;
         // Knots: the grid (P_m); for a phase gait also the events inside pieces recorded by the
         // exact method, so that every piece has one slip mode (SPEC §7).
         let mut knot_t = vec![0.0];

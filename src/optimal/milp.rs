@@ -151,14 +151,14 @@ pub fn gait_knots(
 }
 
 /// Plays a gait (durations and increments over one period) with the given method from `x0`
-/// until the periodic regime, recording one period: the independent re-verification of every
-/// optimizer answer.
+/// (or from rest) until the periodic regime, recording one period: the independent
+/// re-verification of every optimizer answer, and the process `certify` checks.
 pub(crate) fn replay(
     crawler: &Crawler,
     period: f64,
     durations: &[f64],
     increments: &[Vec<f64>],
-    x0: &[f64],
+    x0: Option<&[f64]>,
     method: Method,
     what: &str,
 ) -> Result<Simulation> {
@@ -173,7 +173,7 @@ pub(crate) fn replay(
             method,
             steps_per_period: durations.len(),
             record_periods: 1,
-            initial_state: Some(x0.to_vec()),
+            initial_state: x0.map(<[f64]>::to_vec),
             ..SimOptions::default()
         },
     )?;
@@ -290,7 +290,7 @@ pub(crate) fn replay_grid(
         period,
         &vec![h; increments.len()],
         increments,
-        x0,
+        Some(x0),
         Method::CatchingUp,
         what,
     )?;

@@ -17,6 +17,7 @@ pub use discrete::{
     discrete_convergence, solve_discrete_global, ConvergenceRow, DiscreteSolution, MAX_M,
 };
 pub use local::{sample_increments, solve_discrete_local, LocalSolution, LocalStop, MAX_LOCAL_M};
+pub(crate) use milp::replay;
 pub use milp::{gait_knots, Certificate, MilpStatus};
 pub use one_link::{one_link_optimum, OneLinkOptimum};
 pub use phase::{

@@ -719,7 +719,7 @@ fn solve_steps(
             t,
             &raw.durations,
             &raw.increments,
-            &raw.states[0],
+            Some(&raw.states[0]),
             Method::Exact,
             &what,
         )?

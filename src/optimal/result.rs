@@ -213,44 +213,80 @@ fn actuation_cost(problem: &GaitProblem, durations: &[f64], controls: &[Vec<f64>
         .sum()
 }
 
+/// The result status of a local method's stop.
+fn local_status(stop: LocalStop) -> MilpStatus {
+    match stop {
+        LocalStop::Stationary => MilpStatus::Stationary,
+        LocalStop::TimeLimit => MilpStatus::TimeLimit,
+        LocalStop::Stalled | LocalStop::RoundLimit => MilpStatus::Stalled,
+    }
+}
+
 impl GaitResult {
-    /// The record of a phase-formulation answer.
-    pub fn from_phase(crawler: &Crawler, problem: &GaitProblem, s: &PhaseSolution) -> Self {
-        let (times, lengths) = knots(crawler, &s.durations, &s.controls);
-        let cost = actuation_cost(problem, &s.durations, &s.controls);
+    /// A record of `method` with its header filled in: format, version, crawler, problem and
+    /// the objective from the verified displacement and the cost; no optional records.
+    #[allow(clippy::too_many_arguments)]
+    fn record(
+        crawler: &Crawler,
+        problem: &GaitProblem,
+        method: &str,
+        m: Option<u32>,
+        status: MilpStatus,
+        (verified, cost, solver_objective): (f64, f64, f64),
+        certificate: ResultCertificate,
+        gait: GaitData,
+    ) -> Self {
         GaitResult {
             format: RESULT_FORMAT.into(),
             version: RESULT_VERSION,
             crawler: CrawlerParams::of(crawler),
             problem: problem.clone(),
-            method: "phase".into(),
-            m: None,
-            status: s.certificate.status,
-            objective: s.verified_displacement - cost,
-            displacement_per_period: s.verified_displacement,
+            method: method.into(),
+            m,
+            status,
+            objective: verified - cost,
+            displacement_per_period: verified,
             actuation_cost: cost,
-            verified_displacement: s.verified_displacement,
-            solver_objective: s.certificate.milp_objective,
-            certificate: ResultCertificate {
-                kind: "global_k_phases".into(),
-                gap: Some(s.certificate.gap),
-                bound: Some(s.certificate.bound),
-                phases: Some(s.phases),
-            },
-            gait: GaitData {
-                times,
-                durations: s.durations.clone(),
-                lengths,
-                controls: s.controls.clone(),
-                states: s.states.clone(),
-                block_displacements: s.block_displacements.clone(),
-                slip: s.modes.clone(),
-                initial_state: s.states.first().cloned().unwrap_or_default(),
-            },
+            verified_displacement: verified,
+            solver_objective,
+            certificate,
+            gait,
             phase_growth: None,
             convergence: None,
             local: None,
         }
+    }
+
+    /// The record of a phase-formulation answer.
+    pub fn from_phase(crawler: &Crawler, problem: &GaitProblem, s: &PhaseSolution) -> Self {
+        let (times, lengths) = knots(crawler, &s.durations, &s.controls);
+        let cost = actuation_cost(problem, &s.durations, &s.controls);
+        let gait = GaitData {
+            times,
+            durations: s.durations.clone(),
+            lengths,
+            controls: s.controls.clone(),
+            states: s.states.clone(),
+            block_displacements: s.block_displacements.clone(),
+            slip: s.modes.clone(),
+            initial_state: s.states.first().cloned().unwrap_or_default(),
+        };
+        let certificate = ResultCertificate {
+            kind: "global_k_phases".into(),
+            gap: Some(s.certificate.gap),
+            bound: Some(s.certificate.bound),
+            phases: Some(s.phases),
+        };
+        GaitResult::record(
+            crawler,
+            problem,
+            "phase",
+            None,
+            s.certificate.status,
+            (s.verified_displacement, cost, s.certificate.milp_objective),
+            certificate,
+            gait,
+        )
     }
 
     /// The simulator that verified this result's gait, and so replays it: catching-up on the grid
@@ -273,11 +309,7 @@ impl GaitResult {
         start: &str,
     ) -> Self {
         let mut r = GaitResult::from_phase(crawler, problem, &s.best);
-        r.status = match s.stop {
-            LocalStop::Stationary => MilpStatus::Stationary,
-            LocalStop::TimeLimit => MilpStatus::TimeLimit,
-            LocalStop::Stalled | LocalStop::RoundLimit => MilpStatus::Stalled,
-        };
+        r.status = local_status(s.stop);
         r.certificate = ResultCertificate {
             kind: "local".into(),
             gap: None,
@@ -319,40 +351,30 @@ impl GaitResult {
             &s.block_displacements,
             &s.initial_state,
         );
-        GaitResult {
-            format: RESULT_FORMAT.into(),
-            version: RESULT_VERSION,
-            crawler: CrawlerParams::of(crawler),
-            problem: problem.clone(),
-            method: "local".into(),
-            m: Some(s.m),
-            status: match s.stop {
-                LocalStop::Stationary => MilpStatus::Stationary,
-                LocalStop::TimeLimit => MilpStatus::TimeLimit,
-                LocalStop::Stalled | LocalStop::RoundLimit => MilpStatus::Stalled,
-            },
-            objective: s.objective(),
-            displacement_per_period: s.verified_displacement,
-            actuation_cost: s.actuation_cost,
-            verified_displacement: s.verified_displacement,
-            solver_objective: s.lp_objective,
-            certificate: ResultCertificate {
-                kind: "local".into(),
-                gap: None,
-                bound: None,
-                phases: None,
-            },
+        let certificate = ResultCertificate {
+            kind: "local".into(),
+            gap: None,
+            bound: None,
+            phases: None,
+        };
+        let mut r = GaitResult::record(
+            crawler,
+            problem,
+            "local",
+            Some(s.m),
+            local_status(s.stop),
+            (s.verified_displacement, s.actuation_cost, s.lp_objective),
+            certificate,
             gait,
-            phase_growth: None,
-            convergence: None,
-            local: Some(LocalRecord {
-                start_objective: s.start_objective,
-                start: start.into(),
-                lp_solves: s.lp_solves,
-                switches: s.switches,
-                stop: s.stop,
-            }),
-        }
+        );
+        r.local = Some(LocalRecord {
+            start_objective: s.start_objective,
+            start: start.into(),
+            lp_solves: s.lp_solves,
+            switches: s.switches,
+            stop: s.stop,
+        });
+        r
     }
 
     /// The record of a P_m answer.
@@ -366,30 +388,22 @@ impl GaitResult {
             &s.initial_state,
         );
         let cost = actuation_cost(problem, &gait.durations, &s.controls);
-        GaitResult {
-            format: RESULT_FORMAT.into(),
-            version: RESULT_VERSION,
-            crawler: CrawlerParams::of(crawler),
-            problem: problem.clone(),
-            method: "discrete".into(),
-            m: Some(s.m),
-            status: s.certificate.status,
-            objective: s.verified_displacement - cost,
-            displacement_per_period: s.verified_displacement,
-            actuation_cost: cost,
-            verified_displacement: s.verified_displacement,
-            solver_objective: s.certificate.milp_objective,
-            certificate: ResultCertificate {
-                kind: "global".into(),
-                gap: Some(s.certificate.gap),
-                bound: Some(s.certificate.bound),
-                phases: None,
-            },
+        let certificate = ResultCertificate {
+            kind: "global".into(),
+            gap: Some(s.certificate.gap),
+            bound: Some(s.certificate.bound),
+            phases: None,
+        };
+        GaitResult::record(
+            crawler,
+            problem,
+            "discrete",
+            Some(s.m),
+            s.certificate.status,
+            (s.verified_displacement, cost, s.certificate.milp_objective),
+            certificate,
             gait,
-            phase_growth: None,
-            convergence: None,
-            local: None,
-        }
+        )
     }
 
     /// Reads a result from JSON text, checking the format name, the version and the shape of
