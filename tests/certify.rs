@@ -145,22 +145,39 @@ fn one_link_phase_optimum_reproduces_section_4() {
 
 /// The P_3 optimum of the three-block crawler and a deliberately suboptimal gait made from it:
 /// shifted by half a period (the same gait) with one switch moved by a step (two adjacent
-/// controls swapped, so the mean stays zero), then re-simulated to its periodic orbit.
+/// controls swapped, so the mean stays zero), then re-simulated to its periodic orbit. P_3 has
+/// several optima and which one HiGHS returns depends on its search, so of the swaps at the
+/// switches the one that loses most is taken.
 fn three_block_optimum_and_perturbation() -> (Process, Process) {
+    let displacement = |pr: &Process| -> f64 {
+        pr.block_displacements
+            .iter()
+            .map(|d| d.iter().sum::<f64>() / d.len() as f64)
+            .sum()
+    };
     let (c, p) = three_blocks();
     let m = 3;
     let s = solve_discrete_global(&c, &p, m, Some(60.0)).unwrap();
     let r = GaitResult::from_discrete(&c, &p, &s);
     let opt = Process::from_result(&r, "P_3").unwrap();
     let steps = 1usize << m;
-    let mut u: Vec<Vec<f64>> = (0..steps)
+    let shifted: Vec<Vec<f64>> = (0..steps)
         .map(|i| opt.controls[(i + steps / 2) % steps].clone())
         .collect();
-    let i = (0..steps - 1)
-        .find(|&i| (u[i][0] - u[i + 1][0]).abs() > 0.5)
-        .expect("a switch of link 1");
-    u.swap(i, i + 1);
-    let bad = Process::discrete_from_controls(&c, &p, m, &u).unwrap();
+    let bad = (0..steps - 1)
+        .filter(|&i| {
+            shifted[i]
+                .iter()
+                .zip(&shifted[i + 1])
+                .any(|(a, b)| (a - b).abs() > 0.5)
+        })
+        .map(|i| {
+            let mut u = shifted.clone();
+            u.swap(i, i + 1);
+            Process::discrete_from_controls(&c, &p, m, &u).unwrap()
+        })
+        .min_by(|a, b| displacement(a).total_cmp(&displacement(b)))
+        .expect("a switch");
     (opt, bad)
 }
 
