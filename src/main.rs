@@ -11,8 +11,9 @@ use crawlopt::io::{write_trajectory_csv, ModelFile};
 use crawlopt::model::{Analysis, FaceSign};
 use crawlopt::optimal::{
     discrete_convergence, grow_phases, one_link_optimum, search_sequences, slip_sequence,
-    solve_discrete_global, solve_discrete_local, solve_phase_global, Cost, CrawlerParams,
-    GaitProblem, GaitResult, GrowOptions, GrowthStop, MilpStatus, PhaseGrowth, MAX_PHASES,
+    solve_discrete_global_from, solve_discrete_local, solve_phase_global, Cost, CrawlerParams,
+    GaitProblem, GaitResult, GrowOptions, GrowthStop, MilpStatus, PhaseGrowth, StartRecord,
+    MAX_LOCAL_M, MAX_PHASES,
 };
 use crawlopt::present::{self, report, write_figures, PlotInput};
 use crawlopt::{Crawler, Error};
@@ -122,8 +123,9 @@ enum Command {
         /// Solve P_m for m = 1..=M (M = --m) and print the table of J_m (--method discrete).
         #[arg(long)]
         convergence: bool,
-        /// Start gait of --method local: a result file of `optimize --json` (default: the
-        /// phase optimum with K grown, within half the time limit).
+        /// Start gait: a result file of `optimize --json`. For --method local and sequence
+        /// (default: the phase optimum with K grown, within half the time limit), and for
+        /// --method discrete, whose MILP takes it, sampled on its grid, as the first incumbent.
         #[arg(long)]
         start: Option<PathBuf>,
         /// Stop after this many seconds with the best gait found and its gap.
@@ -271,6 +273,63 @@ fn start_gait(
         ));
     }
     Ok((r, origin, left))
+}
+
+/// A start gait: where it came from, its knot times and actuator lengths.
+type StartKnots = (String, Vec<f64>, Vec<Vec<f64>>);
+
+/// The start of the P_m MILP: the result file `path`; without one, under a time limit, the local
+/// method's gait on the same grid (from the phase optimum with K grown to the first K without a
+/// gain, all within a quarter of the limit;
+/// the phase gait itself with a quadratic cost or beyond the local method's grids), so that a
+/// solve cut short returns at least a local optimum; else none (a start does not shorten the
+/// proof). Where it came from and its knots; a start that cannot be had is said and skipped.
+fn discrete_start(
+    path: Option<&std::path::Path>,
+    (crawler, problem): &(&Crawler, &GaitProblem),
+    m: u32,
+    growth: &GrowOptions,
+    progress: &Progress,
+) -> Result<Option<StartKnots>, Error> {
+    if path.is_some() {
+        let (r, origin, _) = start_gait(path, &(crawler, problem), growth, progress)?;
+        return Ok(Some((origin, r.gait.times, r.gait.lengths)));
+    }
+    let Some(limit) = growth.time_limit else {
+        return Ok(None);
+    };
+    let began = Instant::now();
+    // The start need not be certified: K grows until the first K without a gain.
+    let quarter = GrowOptions {
+        time_limit: Some(0.25 * limit),
+        patience: 1,
+        ..growth.clone()
+    };
+    let local = || -> Result<StartKnots, Error> {
+        let (r, origin, _) = start_gait(None, &(crawler, problem), &quarter, progress)?;
+        if problem.cost != Cost::None || m > MAX_LOCAL_M {
+            return Ok((origin, r.gait.times, r.gait.lengths));
+        }
+        let left = 0.25 * limit - began.elapsed().as_secs_f64();
+        progress.say(format!("start: local LPCC method on P_{m}"));
+        let s = solve_discrete_local(
+            crawler,
+            problem,
+            m,
+            &r.gait.times,
+            &r.gait.lengths,
+            Some(left.max(1e-3)),
+        )?;
+        let g = GaitResult::from_local(crawler, problem, &s, &origin).gait;
+        Ok((format!("local on P_{m}, from {origin}"), g.times, g.lengths))
+    };
+    match local() {
+        Ok(start) => Ok(Some(start)),
+        Err(e) => {
+            progress.say(format!("no start gait ({e}); solving P_{m} without one"));
+            Ok(None)
+        }
+    }
 }
 
 /// Exit status of a simulation whose periodic regime was not reached.
@@ -424,12 +483,15 @@ fn run(cmd: Command) -> Result<ExitCode, Error> {
                 other => other,
             };
             if start.is_some()
-                && !matches!(method, OptimizeMethod::Local | OptimizeMethod::Sequence)
+                && !matches!(
+                    method,
+                    OptimizeMethod::Local | OptimizeMethod::Sequence | OptimizeMethod::Discrete
+                )
             {
                 return Err(Error::invalid(
                     "start",
                     "a file",
-                    "applies to --method local and sequence only",
+                    "applies to --method local, sequence and discrete only",
                 ));
             }
             let progress = Progress::new();
@@ -516,6 +578,14 @@ fn run(cmd: Command) -> Result<ExitCode, Error> {
                             "must be at least 1 (a periodic gait needs two steps)",
                         ));
                     }
+                    if convergence && start.is_some() {
+                        return Err(Error::invalid(
+                            "start",
+                            "a file",
+                            "does not apply to --convergence (each m starts from the optimum of \
+                             m - 1)",
+                        ));
+                    }
                     if convergence {
                         progress.say("m = 1".into());
                         let (table, s) =
@@ -533,9 +603,26 @@ fn run(cmd: Command) -> Result<ExitCode, Error> {
                         r.convergence = Some(table);
                         r
                     } else {
+                        let began = Instant::now();
+                        let from =
+                            discrete_start(start.as_deref(), &problem_of, m, &growth, &progress)?;
+                        let left = time_limit.map(|t| t - began.elapsed().as_secs_f64());
                         progress.say(format!("solving P_{m} ({} steps)", 1u64 << m));
-                        let s = solve_discrete_global(&crawler, &problem, m, time_limit)?;
-                        GaitResult::from_discrete(&crawler, &problem, &s)
+                        let s = solve_discrete_global_from(
+                            &crawler,
+                            &problem,
+                            m,
+                            left,
+                            from.as_ref().map(|(_, t, l)| (&t[..], &l[..])),
+                        )?;
+                        let mut r = GaitResult::from_discrete(&crawler, &problem, &s);
+                        r.discrete_start =
+                            from.zip(s.start_objective)
+                                .map(|((origin, ..), j)| StartRecord {
+                                    start: origin,
+                                    start_objective: j,
+                                });
+                        r
                     }
                 }
             };
@@ -807,6 +894,13 @@ fn print_gait_result(r: &GaitResult) {
                 st.seconds
             );
         }
+    }
+    if let Some(st) = &r.discrete_start {
+        outln!(
+            "the MILP started from {} (J = {} on this grid)",
+            st.start,
+            st.start_objective
+        );
     }
     match (&r.local, r.m) {
         (Some(l), Some(_)) => outln!(

@@ -378,10 +378,75 @@ fn optimize_discrete_returns_a_verified_certified_gait() {
     let out = crawlopt(&["optimize", "examples/one_link_gait.toml", "--start", start]);
     assert_eq!(out.status.code(), Some(2));
     assert!(
-        stderr(&out).contains("--method local and sequence only"),
+        stderr(&out).contains("--method local, sequence and discrete only"),
         "{}",
         stderr(&out)
     );
+    // The P_m MILP from a result file (sampled on its grid), recorded in the result; not with
+    // --convergence, whose m start from m - 1.
+    let out = crawlopt(&[
+        "optimize",
+        "examples/one_link_gait.toml",
+        "--method",
+        "discrete",
+        "--m",
+        "4",
+        "--start",
+        start,
+        "--json",
+    ]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let v = json(&out);
+    assert_eq!(v["certificate"]["kind"], "global");
+    assert!((v["objective"].as_f64().unwrap() - 3.0).abs() < 1e-8);
+    assert!(
+        (v["discrete_start"]["start_objective"].as_f64().unwrap() - 3.0).abs() < 1e-8,
+        "{}",
+        v["discrete_start"]
+    );
+    assert!(v["discrete_start"]["start"]
+        .as_str()
+        .unwrap()
+        .contains("start.json"));
+    let out = crawlopt(&[
+        "optimize",
+        "examples/one_link_gait.toml",
+        "--method",
+        "discrete",
+        "--m",
+        "3",
+        "--convergence",
+        "--start",
+        start,
+    ]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(
+        stderr(&out).contains("does not apply to --convergence"),
+        "{}",
+        stderr(&out)
+    );
+    // Under a time limit the MILP starts from the local method's gait.
+    let out = crawlopt(&[
+        "optimize",
+        "examples/three_blocks_gait.toml",
+        "--method",
+        "discrete",
+        "--m",
+        "3",
+        "--time-limit",
+        "60",
+        "--json",
+    ]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let v = json(&out);
+    assert_eq!(v["status"], "optimal");
+    assert!((v["objective"].as_f64().unwrap() - 2.0).abs() < 1e-8);
+    let from = &v["discrete_start"];
+    assert!(
+        from["start"].as_str().unwrap().starts_with("local on P_3"),
+        "{from}"
+    );
+    assert!(from["start_objective"].as_f64().unwrap() <= 2.0 + 1e-8);
     std::fs::write(
         dir.path().join("cut.json"),
         &std::fs::read(start).unwrap()[..100],

@@ -41,9 +41,10 @@
 use crate::error::{Error, Result};
 use crate::model::Crawler;
 use crate::optimal::milp::{
-    block_speed_bound, certify, check_time_limit, force_row, replay_grid, solve_max, GridColumns,
-    TangentRates, OA_TOL,
+    block_speed_bound, certify, check_time_limit, force, force_row, gait_knots, replay_grid,
+    solve_max, GridColumns, GridReplay, TangentRates, OA_TOL,
 };
+use crate::optimal::sample_increments;
 use crate::optimal::{Certificate, Cost, GaitProblem, MilpStatus};
 use highs::{Col, RowProblem};
 use serde::{Deserialize, Serialize};
@@ -78,6 +79,9 @@ pub struct DiscreteSolution {
     pub block_displacements: Vec<Vec<f64>>,
     /// MILP solves (outer-approximation rounds for a quadratic cost, else 1).
     pub rounds: usize,
+    /// `J` of the start gait on this grid, when the solve had one
+    /// ([`solve_discrete_global_from`]).
+    pub start_objective: Option<f64>,
 }
 
 impl DiscreteSolution {
@@ -85,12 +89,28 @@ impl DiscreteSolution {
     pub fn objective(&self) -> f64 {
         self.verified_displacement - self.actuation_cost
     }
+
+    /// The gait's knots: times `i h` and actuator lengths from `L(0) = 0` (see [`gait_knots`]).
+    pub fn knots(&self, stiffness: &[f64]) -> (Vec<f64>, Vec<Vec<f64>>) {
+        let increments: Vec<Vec<f64>> = self
+            .controls
+            .iter()
+            .map(|u| u.iter().map(|v| v * self.step).collect())
+            .collect();
+        gait_knots(&vec![self.step; increments.len()], &increments, stiffness)
+    }
 }
 
 struct Layout {
     grid: GridColumns,
     ps: Vec<Vec<Col>>,
     qs: Vec<Vec<Col>>,
+    zps: Vec<Vec<Col>>,
+    zqs: Vec<Vec<Col>>,
+    /// Cost epigraphs `g^i_l` (quadratic cost only).
+    gs: Vec<Vec<Col>>,
+    /// Jumps `s^i_l` of the control (TV bound only).
+    jumps: Vec<Vec<Col>>,
 }
 
 impl Layout {
@@ -103,6 +123,48 @@ impl Layout {
             .map(|(p, q)| cols[p.index()] - cols[q.index()])
             .sum::<f64>()
             / blocks as f64
+    }
+
+    /// The MILP's columns at a catching-up trajectory on the grid (increments `incs` played
+    /// from its orbit state, `traj`): a feasible point, given to HiGHS as its first incumbent.
+    /// A block is marked slipping only when its face holds at the end of the step; a
+    /// displacement of rounding size elsewhere is dropped (within the solver's tolerances).
+    fn start_columns(
+        &self,
+        ncols: usize,
+        crawler: &Crawler,
+        incs: &[Vec<f64>],
+        h: f64,
+        traj: &GridReplay,
+    ) -> Vec<f64> {
+        let (mp, mm) = (crawler.mu_forward(), crawler.mu_backward());
+        let steps = incs.len();
+        let mut cols = vec![0.0; ncols];
+        for i in 0..steps {
+            let next = &traj.states[i + 1];
+            for (l, &u) in incs[i].iter().enumerate() {
+                cols[self.grid.xs[i][l].index()] = traj.states[i][l];
+                cols[self.grid.us[i][l].index()] = u;
+                if let Some(g) = self.gs.get(i) {
+                    cols[g[l].index()] = u * u / h;
+                }
+                if let Some(s) = self.jumps.get(i) {
+                    cols[s[l].index()] = (incs[(i + 1) % steps][l] - u).abs();
+                }
+            }
+            for (b, &d) in traj.block_displacements[i].iter().enumerate() {
+                let f = force(next, b);
+                let tol = 1e-10 * (mp[b] + mm[b]);
+                if d > 0.0 && (f - mp[b]).abs() <= tol {
+                    cols[self.ps[i][b].index()] = d;
+                    cols[self.zps[i][b].index()] = 1.0;
+                } else if d < 0.0 && (f + mm[b]).abs() <= tol {
+                    cols[self.qs[i][b].index()] = -d;
+                    cols[self.zqs[i][b].index()] = 1.0;
+                }
+            }
+        }
+        cols
     }
 }
 
@@ -129,6 +191,7 @@ fn build(
 
     let mut pb = RowProblem::default();
     let grid = GridColumns::new(&mut pb, crawler, problem, big_m);
+    let mut gs = Vec::new();
     let (xs, us) = (&grid.xs, &grid.us);
     let inv_n = 1.0 / nb as f64;
     let per_block = |cost: f64, integer: bool, pb: &mut RowProblem| -> Vec<Vec<Col>> {
@@ -169,6 +232,10 @@ fn build(
             if let Some(r) = rates {
                 let g = pb.add_column(-0.5 * weight, 0.0..=a[l] * a[l] * h);
                 r.add_cuts(&mut pb, l, g, us[i][l], None, h);
+                if l == 0 {
+                    gs.push(Vec::with_capacity(n));
+                }
+                gs[i].push(g);
             }
         }
         for b in 0..nb {
@@ -188,8 +255,19 @@ fn build(
             pb.add_row(..=mp[b], &row);
         }
     }
-    grid.add_control_rows(&mut pb, problem);
-    (pb, Layout { grid, ps, qs })
+    let jumps = grid.add_control_rows(&mut pb, problem);
+    (
+        pb,
+        Layout {
+            grid,
+            ps,
+            qs,
+            zps,
+            zqs,
+            gs,
+            jumps,
+        },
+    )
 }
 
 /// Solves P_m globally (module docs). `time_limit` in seconds.
@@ -198,6 +276,26 @@ pub fn solve_discrete_global(
     problem: &GaitProblem,
     m: u32,
     time_limit: Option<f64>,
+) -> Result<DiscreteSolution> {
+    solve_discrete_global_from(crawler, problem, m, time_limit, None)
+}
+
+/// [`solve_discrete_global`] from a start gait given by its knots (`times` from 0 to the
+/// period, `lengths` with the last row equal to the first, as in a [`GaitResult`]'s gait).
+///
+/// The start's actuation is sampled on the grid ([`sample_increments`]) and played by
+/// catching-up to its periodic orbit; that trajectory is a feasible point of the MILP and
+/// becomes HiGHS's first incumbent, so a solve cut short by the time limit returns at least
+/// the start (its value is [`DiscreteSolution::start_objective`]). HiGHS checks the point; one
+/// it refuses (a start violating the TV bound, say) is only a lost hint.
+///
+/// [`GaitResult`]: crate::optimal::GaitResult
+pub fn solve_discrete_global_from(
+    crawler: &Crawler,
+    problem: &GaitProblem,
+    m: u32,
+    time_limit: Option<f64>,
+    start: Option<(&[f64], &[Vec<f64>])>,
 ) -> Result<DiscreteSolution> {
     crawler.require_unique()?;
     if !(1..=MAX_M).contains(&m) {
@@ -217,6 +315,23 @@ pub fn solve_discrete_global(
     let mut rates = match problem.cost {
         Cost::Quadratic { .. } => Some(TangentRates::new(a)),
         Cost::None => None,
+    };
+    let start = match start {
+        Some((times, lengths)) => {
+            let incs = sample_increments(
+                times,
+                lengths,
+                crawler.stiffness(),
+                a,
+                problem.period,
+                big_m,
+            );
+            let from_rest = vec![0.0; crawler.links()];
+            let traj = replay_grid(crawler, problem.period, &incs, &from_rest, &what)?;
+            let objective = traj.verified - grid_cost(problem, &incs, h);
+            Some((incs, traj, objective))
+        }
+        None => None,
     };
     let mut rounds = 0;
     let mut last: Option<(Vec<f64>, f64, Layout)> = None;
@@ -242,7 +357,16 @@ pub fn solve_discrete_global(
             }
             None => None,
         };
-        let (cols, _, bound, status) = solve_max(pb, left, &what, None)?;
+        // The first round starts from the start gait, later ones from the previous round's
+        // solution (the same columns; only cuts were added).
+        let start_cols = match (&last, &start) {
+            (Some((cols, _, _)), _) => Some(cols.clone()),
+            (None, Some((incs, traj, _))) => {
+                Some(lay.start_columns(pb.num_cols(), crawler, incs, h, traj))
+            }
+            (None, None) => None,
+        };
+        let (cols, _, bound, status) = solve_max(pb, left, &what, start_cols.as_deref())?;
         let Some(r) = rates.as_mut() else {
             break (cols, lay, bound, status);
         };
@@ -290,6 +414,7 @@ pub fn solve_discrete_global(
         states: g.states,
         controls: g.controls,
         rounds,
+        start_objective: start.map(|s| s.2),
     })
 }
 
@@ -324,8 +449,9 @@ pub struct ConvergenceRow {
 }
 
 /// Solves P_m for `m = 1..=max_m` (the paper's discrete approximations, §6), each within what
-/// is left of `time_limit`; returns the table and the finest solution. Stops early, keeping
-/// what was solved, when the time runs out.
+/// is left of `time_limit` and each started from the previous optimum (every step of `P_{m-1}`
+/// cut in two: a gait of `P_m`); returns the table and the finest solution. Stops early,
+/// keeping what was solved, when the time runs out.
 pub fn discrete_convergence(
     crawler: &Crawler,
     problem: &GaitProblem,
@@ -350,7 +476,11 @@ pub fn discrete_convergence(
             break;
         }
         let t0 = Instant::now();
-        let s = match solve_discrete_global(crawler, problem, m, left) {
+        let knots = finest
+            .as_ref()
+            .map(|s: &DiscreteSolution| s.knots(crawler.stiffness()));
+        let start = knots.as_ref().map(|(t, l)| (&t[..], &l[..]));
+        let s = match solve_discrete_global_from(crawler, problem, m, left, start) {
             Ok(s) => s,
             Err(Error::TimeLimit(_)) if finest.is_some() => break,
             Err(e) => return Err(e),
@@ -373,4 +503,97 @@ pub fn discrete_convergence(
         }
     }
     Ok((table, finest.expect("m = 1 solved or an error returned")))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Whether the start columns of a gait (knots) pin a feasible point of the MILP of P_m:
+    /// each column is fixed to its value (with `flip`, the slip binary of the first slipping
+    /// block toggled) and HiGHS must find the problem feasible.
+    fn start_is_feasible(
+        c: &Crawler,
+        p: &GaitProblem,
+        m: u32,
+        times: &[f64],
+        lengths: &[Vec<f64>],
+        flip: bool,
+    ) -> bool {
+        let rates = match p.cost {
+            Cost::Quadratic { .. } => Some(TangentRates::new(&p.rate_bound)),
+            Cost::None => None,
+        };
+        let (mut pb, lay) = build(c, p, m, rates.as_ref());
+        let steps = 1usize << m;
+        let h = p.period / steps as f64;
+        let incs = sample_increments(
+            times,
+            lengths,
+            c.stiffness(),
+            &p.rate_bound,
+            p.period,
+            steps,
+        );
+        let traj = replay_grid(c, p.period, &incs, &vec![0.0; c.links()], "test").unwrap();
+        let mut x = lay.start_columns(pb.num_cols(), c, &incs, h, &traj);
+        let mut cols: Vec<Col> = Vec::new();
+        for g in [
+            &lay.grid.xs,
+            &lay.grid.us,
+            &lay.ps,
+            &lay.qs,
+            &lay.zps,
+            &lay.zqs,
+            &lay.gs,
+            &lay.jumps,
+        ] {
+            cols.extend(g.iter().flatten().copied());
+        }
+        assert_eq!(cols.len(), pb.num_cols(), "the layout holds every column");
+        let slipping = lay.zps.iter().flatten().find(|z| x[z.index()] == 1.0);
+        let slipping = *slipping.expect("the start gait slips");
+        if flip {
+            x[slipping.index()] = 0.0;
+        }
+        for col in cols {
+            let v = x[col.index()];
+            let tol = 1e-9 * v.abs().max(1.0);
+            pb.add_row(v - tol..=v + tol, [(col, 1.0)]);
+        }
+        solve_max(pb, Some(30.0), "start check", None).is_ok()
+    }
+
+    #[test]
+    fn start_columns_are_a_feasible_point_of_the_milp() {
+        // A travelling wave of two links (L_2 lags L_1 by a quarter period), sampled on 8 steps:
+        // blocks slip both ways. With no cost, a quadratic cost (epigraph columns) and a TV
+        // bound loose enough for the wave (jump columns), its columns satisfy every row; with
+        // one slip binary switched off they do not (the check can fail).
+        let c = Crawler::uniform(3, 1.0, 1.0, 1.5).unwrap();
+        let times = [0.0, 2.5, 5.0, 7.5, 10.0];
+        let lengths = [
+            vec![0.0, 0.0],
+            vec![2.0, 0.0],
+            vec![2.0, 2.0],
+            vec![0.0, 2.0],
+            vec![0.0, 0.0],
+        ];
+        let variants = [
+            (Cost::None, None),
+            (Cost::Quadratic { weight: 0.2 }, None),
+            (Cost::None, Some(10.0)),
+        ];
+        for (cost, tv) in variants {
+            let p = GaitProblem::new(&c, 10.0, &[1.0, 1.0], cost, tv).unwrap();
+            assert!(
+                start_is_feasible(&c, &p, 3, &times, &lengths, false),
+                "{cost:?} {tv:?}"
+            );
+            assert!(
+                !start_is_feasible(&c, &p, 3, &times, &lengths, true),
+                "{cost:?} {tv:?}"
+            );
+        }
+    }
 }

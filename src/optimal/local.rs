@@ -34,7 +34,7 @@
 use crate::error::{Error, Result};
 use crate::model::Crawler;
 use crate::optimal::milp::{
-    block_speed_bound, check_time_limit, check_verified, replay_grid, GridColumns,
+    block_speed_bound, check_time_limit, check_verified, force, replay_grid, GridColumns,
 };
 use crate::optimal::{Cost, GaitProblem};
 use highs::{Col, HighsModelStatus, Model, RowProblem, Sense};
@@ -388,11 +388,4 @@ pub fn solve_discrete_local(
         states: g.states,
         controls: g.controls,
     })
-}
-
-/// `F_b(x) = x_{b-1} - x_b`.
-fn force(x: &[f64], b: usize) -> f64 {
-    let left = if b > 0 { x[b - 1] } else { 0.0 };
-    let right = if b < x.len() { x[b] } else { 0.0 };
-    left - right
 }

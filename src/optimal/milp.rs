@@ -223,8 +223,9 @@ impl GridColumns {
     }
 
     /// Adds the rows on the control alone: zero mean `sum_i U^i = 0` and, with a bound `V` on
-    /// `TV(u)`, `|U^{i+1}_l - U^i_l| <= s^i_l` (periodic), `sum s <= h V`.
-    pub fn add_control_rows(&self, pb: &mut RowProblem, problem: &GaitProblem) {
+    /// `TV(u)`, `|U^{i+1}_l - U^i_l| <= s^i_l` (periodic), `sum s <= h V`; returns the columns
+    /// `s^i_l` (none without the bound).
+    pub fn add_control_rows(&self, pb: &mut RowProblem, problem: &GaitProblem) -> Vec<Vec<Col>> {
         let steps = self.us.len();
         let n = problem.rate_bound.len();
         let h = problem.period / steps as f64;
@@ -232,19 +233,25 @@ impl GridColumns {
             let row: Vec<(Col, f64)> = self.us.iter().map(|u| (u[l], 1.0)).collect();
             pb.add_row(0.0..=0.0, row);
         }
-        if let Some(v) = problem.max_total_variation {
-            let mut total = Vec::with_capacity(steps * n);
-            for i in 0..steps {
-                for l in 0..n {
-                    let s = pb.add_column(0.0, 0.0..);
-                    let (u0, u1) = (self.us[i][l], self.us[(i + 1) % steps][l]);
-                    pb.add_row(0.0.., [(s, 1.0), (u1, -1.0), (u0, 1.0)]);
-                    pb.add_row(0.0.., [(s, 1.0), (u1, 1.0), (u0, -1.0)]);
-                    total.push((s, 1.0));
-                }
+        let Some(v) = problem.max_total_variation else {
+            return Vec::new();
+        };
+        let mut jumps = Vec::with_capacity(steps);
+        let mut total = Vec::with_capacity(steps * n);
+        for i in 0..steps {
+            let mut row = Vec::with_capacity(n);
+            for l in 0..n {
+                let s = pb.add_column(0.0, 0.0..);
+                let (u0, u1) = (self.us[i][l], self.us[(i + 1) % steps][l]);
+                pb.add_row(0.0.., [(s, 1.0), (u1, -1.0), (u0, 1.0)]);
+                pb.add_row(0.0.., [(s, 1.0), (u1, 1.0), (u0, -1.0)]);
+                total.push((s, 1.0));
+                row.push(s);
             }
-            pb.add_row(..=h * v, total);
+            jumps.push(row);
         }
+        pb.add_row(..=h * v, total);
+        jumps
     }
 
     /// The increments of a solution, shifted to an exact zero mean (the solver's is within its
@@ -310,6 +317,13 @@ pub(crate) fn replay_grid(
             .map(|r| r.iter().map(|v| v / h).collect())
             .collect(),
     })
+}
+
+/// `F_b(x) = x_{b-1} - x_b` (`x_{-1} = x_n = 0`).
+pub(crate) fn force(x: &[f64], b: usize) -> f64 {
+    let left = if b > 0 { x[b - 1] } else { 0.0 };
+    let right = if b < x.len() { x[b] } else { 0.0 };
+    left - right
 }
 
 /// `F_b(x) = x_{b-1} - x_b` as `(column, coefficient)` pairs (`x_{-1} = x_n = 0`).

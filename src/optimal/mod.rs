@@ -14,7 +14,8 @@ mod problem;
 mod result;
 
 pub use discrete::{
-    discrete_convergence, solve_discrete_global, ConvergenceRow, DiscreteSolution, MAX_M,
+    discrete_convergence, solve_discrete_global, solve_discrete_global_from, ConvergenceRow,
+    DiscreteSolution, MAX_M,
 };
 pub use local::{sample_increments, solve_discrete_local, LocalSolution, LocalStop, MAX_LOCAL_M};
 pub(crate) use milp::replay;
@@ -28,5 +29,5 @@ pub use phase::{
 pub use problem::{Cost, GaitProblem};
 pub use result::{
     CrawlerParams, GaitData, GaitResult, LocalRecord, PhaseGrowthRecord, ResultCertificate,
-    RESULT_FORMAT, RESULT_VERSION,
+    StartRecord, RESULT_FORMAT, RESULT_VERSION,
 };

@@ -166,6 +166,19 @@ pub struct GaitResult {
     /// How the local method ran (method `local`).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub local: Option<LocalRecord>,
+    /// The start a P_m MILP took as its first incumbent, when it had one.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub discrete_start: Option<StartRecord>,
+}
+
+/// The start gait of a P_m MILP
+/// ([`solve_discrete_global_from`](crate::optimal::solve_discrete_global_from)).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct StartRecord {
+    /// Where it came from (e.g. `"local (start.json)"`).
+    pub start: String,
+    /// Its `J` on the grid (catching-up on its periodic orbit).
+    pub start_objective: f64,
 }
 
 /// What a local method did ([`solve_discrete_local`](crate::optimal::solve_discrete_local) on
@@ -254,6 +267,7 @@ impl GaitResult {
             phase_growth: None,
             convergence: None,
             local: None,
+            discrete_start: None,
         }
     }
 
