@@ -124,7 +124,8 @@ enum Command {
         #[arg(long)]
         convergence: bool,
         /// Start gait: a result file of `optimize --json`. For --method local and sequence
-        /// (default: the phase optimum with K grown, within half the time limit), and for
+        /// (default: the phase optimum with K grown to the first K without a gain, within half
+        /// the time limit), and for
         /// --method discrete, whose MILP takes it, sampled on its grid, as the first incumbent.
         #[arg(long)]
         start: Option<PathBuf>,
@@ -230,7 +231,8 @@ enum OptimizeMethod {
 }
 
 /// The start of a local method: the result file `path` (checked to be of this crawler and
-/// period), or the phase optimum with `K` grown under `growth` within half its time limit;
+/// period), or the phase optimum with `K` grown under `growth` (but only to the first `K`
+/// without a gain) within half its time limit;
 /// with where it came from and the time left of `growth.time_limit`.
 fn start_gait(
     path: Option<&std::path::Path>,
@@ -257,8 +259,10 @@ fn start_gait(
             (r, origin)
         }
         None => {
+            // A start need not be certified: K grows until the first K without a gain.
             let opts = GrowOptions {
                 time_limit: growth.time_limit.map(|t| 0.5 * t),
+                patience: 1,
                 ..growth.clone()
             };
             let g = progress.grow(crawler, problem, &opts, "start: phase gait, ")?;
@@ -279,11 +283,12 @@ fn start_gait(
 type StartKnots = (String, Vec<f64>, Vec<Vec<f64>>);
 
 /// The start of the P_m MILP: the result file `path`; without one, under a time limit, the local
-/// method's gait on the same grid (from the phase optimum with K grown to the first K without a
-/// gain, all within a quarter of the limit;
-/// the phase gait itself with a quadratic cost or beyond the local method's grids), so that a
-/// solve cut short returns at least a local optimum; else none (a start does not shorten the
-/// proof). Where it came from and its knots; a start that cannot be had is said and skipped.
+/// method's gait on the same grid, so that a solve cut short returns at least a local optimum:
+/// the phase optimum (K grown to the first K without a gain, within a quarter of the limit) is
+/// the local method's start (within the next quarter); the phase gait itself is the MILP's
+/// start with a quadratic cost, beyond the local method's grids or when the local method fails.
+/// Without a time limit none (a start does not shorten the proof). A start that cannot be had
+/// is said and skipped: it is only a hint.
 fn discrete_start(
     path: Option<&std::path::Path>,
     (crawler, problem): &(&Crawler, &GaitProblem),
@@ -299,35 +304,38 @@ fn discrete_start(
         return Ok(None);
     };
     let began = Instant::now();
-    // The start need not be certified: K grows until the first K without a gain.
-    let quarter = GrowOptions {
-        time_limit: Some(0.25 * limit),
-        patience: 1,
+    // start_gait grows K within half of this: a quarter of the limit.
+    let half = GrowOptions {
+        time_limit: Some(0.5 * limit),
         ..growth.clone()
     };
-    let local = || -> Result<StartKnots, Error> {
-        let (r, origin, _) = start_gait(None, &(crawler, problem), &quarter, progress)?;
-        if problem.cost != Cost::None || m > MAX_LOCAL_M {
-            return Ok((origin, r.gait.times, r.gait.lengths));
-        }
-        let left = 0.25 * limit - began.elapsed().as_secs_f64();
-        progress.say(format!("start: local LPCC method on P_{m}"));
-        let s = solve_discrete_local(
-            crawler,
-            problem,
-            m,
-            &r.gait.times,
-            &r.gait.lengths,
-            Some(left.max(1e-3)),
-        )?;
-        let g = GaitResult::from_local(crawler, problem, &s, &origin).gait;
-        Ok((format!("local on P_{m}, from {origin}"), g.times, g.lengths))
-    };
-    match local() {
-        Ok(start) => Ok(Some(start)),
+    let (r, origin) = match start_gait(None, &(crawler, problem), &half, progress) {
+        Ok((r, origin, _)) => (r, origin),
         Err(e) => {
             progress.say(format!("no start gait ({e}); solving P_{m} without one"));
-            Ok(None)
+            return Ok(None);
+        }
+    };
+    let left = 0.5 * limit - began.elapsed().as_secs_f64();
+    if problem.cost != Cost::None || m > MAX_LOCAL_M || left <= 0.0 {
+        return Ok(Some((origin, r.gait.times, r.gait.lengths)));
+    }
+    progress.say(format!("start: local LPCC method on P_{m}"));
+    let (t, l) = (&r.gait.times, &r.gait.lengths);
+    match solve_discrete_local(crawler, problem, m, t, l, Some(left)) {
+        Ok(s) => {
+            let g = GaitResult::from_local(crawler, problem, &s, &origin).gait;
+            Ok(Some((
+                format!("local on P_{m}, from {origin}"),
+                g.times,
+                g.lengths,
+            )))
+        }
+        Err(e) => {
+            progress.say(format!(
+                "start: the local method failed ({e}); the phase gait is it"
+            ));
+            Ok(Some((origin, r.gait.times, r.gait.lengths)))
         }
     }
 }
@@ -607,6 +615,11 @@ fn run(cmd: Command) -> Result<ExitCode, Error> {
                         let from =
                             discrete_start(start.as_deref(), &problem_of, m, &growth, &progress)?;
                         let left = time_limit.map(|t| t - began.elapsed().as_secs_f64());
+                        if left.is_some_and(|l| l <= 0.0) {
+                            return Err(Error::TimeLimit(format!(
+                                "P_{m}: the time limit was reached while computing the start gait"
+                            )));
+                        }
                         progress.say(format!("solving P_{m} ({} steps)", 1u64 << m));
                         let s = solve_discrete_global_from(
                             &crawler,
