@@ -125,8 +125,9 @@ enum Command {
         convergence: bool,
         /// Start gait: a result file of `optimize --json`. For --method local and sequence
         /// (default: the phase optimum with K grown to the first K without a gain, within half
-        /// the time limit), and for
-        /// --method discrete, whose MILP takes it, sampled on its grid, as the first incumbent.
+        /// the time limit), and for --method discrete (default under --time-limit: the local
+        /// method's gait on the same grid; see the README), whose MILP takes it, sampled on its
+        /// grid, as the first incumbent.
         #[arg(long)]
         start: Option<PathBuf>,
         /// Stop after this many seconds with the best gait found and its gap.
@@ -287,8 +288,9 @@ type StartKnots = (String, Vec<f64>, Vec<Vec<f64>>);
 /// the phase optimum (K grown to the first K without a gain, within a quarter of the limit) is
 /// the local method's start (within the next quarter); the phase gait itself is the MILP's
 /// start with a quadratic cost, beyond the local method's grids or when the local method fails.
-/// Without a time limit none (a start does not shorten the proof). A start that cannot be had
-/// is said and skipped: it is only a hint.
+/// None without a time limit (a start does not shorten the proof) or with a TV bound (phase
+/// gaits cannot express it). A start that cannot be had is noted on stderr and skipped: it is
+/// only a hint.
 fn discrete_start(
     path: Option<&std::path::Path>,
     (crawler, problem): &(&Crawler, &GaitProblem),
@@ -303,6 +305,10 @@ fn discrete_start(
     let Some(limit) = growth.time_limit else {
         return Ok(None);
     };
+    if problem.max_total_variation.is_some() {
+        // Phase gaits cannot express the TV bound, so there is no start to compute.
+        return Ok(None);
+    }
     let began = Instant::now();
     // start_gait grows K within half of this: a quarter of the limit.
     let half = GrowOptions {
@@ -312,7 +318,7 @@ fn discrete_start(
     let (r, origin) = match start_gait(None, &(crawler, problem), &half, progress) {
         Ok((r, origin, _)) => (r, origin),
         Err(e) => {
-            progress.say(format!("no start gait ({e}); solving P_{m} without one"));
+            progress.note(format!("no start gait ({e}); solving P_{m} without one"));
             return Ok(None);
         }
     };
@@ -332,8 +338,8 @@ fn discrete_start(
             )))
         }
         Err(e) => {
-            progress.say(format!(
-                "start: the local method failed ({e}); the phase gait is it"
+            progress.note(format!(
+                "the local method failed ({e}); the MILP starts from the phase gait"
             ));
             Ok(Some((origin, r.gait.times, r.gait.lengths)))
         }
@@ -819,6 +825,11 @@ impl Progress {
 
     fn say(&self, msg: String) {
         self.0.set_message(msg);
+    }
+
+    /// A line that stays on stderr (terminal or not), above the spinner.
+    fn note(&self, msg: String) {
+        self.0.suspend(|| eprintln!("note: {msg}"));
     }
 
     fn finish(&self) {

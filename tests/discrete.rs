@@ -111,3 +111,24 @@ fn a_start_changes_no_optimum() {
     assert_eq!(s.certificate.status, MilpStatus::Optimal);
     assert!((s.objective() - plain.objective()).abs() < 1e-8);
 }
+
+#[test]
+fn a_start_breaking_the_tv_bound_is_refused() {
+    // HiGHS would drop such a start without a word; the solver names it instead.
+    let c = Crawler::uniform(3, 1.0, 1.0, 1.5).unwrap();
+    let p = GaitProblem::new(&c, 10.0, &[1.0, 1.0], Cost::None, Some(1.0)).unwrap();
+    let times = [0.0, 2.5, 5.0, 7.5, 10.0];
+    let lengths = [
+        vec![0.0, 0.0],
+        vec![2.0, 0.0],
+        vec![2.0, 2.0],
+        vec![0.0, 2.0],
+        vec![0.0, 0.0],
+    ];
+    let e =
+        solve_discrete_global_from(&c, &p, 3, Some(60.0), Some((&times, &lengths))).unwrap_err();
+    assert!(
+        e.to_string().starts_with("start") && e.to_string().contains("max_total_variation"),
+        "{e}"
+    );
+}

@@ -369,7 +369,11 @@ pub(crate) fn solve(
     model.set_option("threads", 1);
     model.set_option("primal_feasibility_tolerance", 1e-10);
     model.set_option("dual_feasibility_tolerance", 1e-10);
-    let solved = model.solve();
+    let solved = model.try_solve().map_err(|e| {
+        Error::Numerical(format!(
+            "certify: HiGHS could not solve the multiplier LP ({e:?})"
+        ))
+    })?;
     match solved.status() {
         HighsModelStatus::Optimal => {}
         HighsModelStatus::Infeasible => return Ok(None),
@@ -493,7 +497,9 @@ pub(crate) fn branch_lp(pr: &Process, st: &Structure) -> Result<Option<(f64, Raw
     model.set_option("threads", 1);
     model.set_option("primal_feasibility_tolerance", 1e-10);
     model.set_option("dual_feasibility_tolerance", 1e-10);
-    let solved = model.solve();
+    let Ok(solved) = model.try_solve() else {
+        return Ok(None);
+    };
     if solved.status() != HighsModelStatus::Optimal {
         return Ok(None);
     }

@@ -286,8 +286,9 @@ pub fn solve_discrete_global(
 /// The start's actuation is sampled on the grid ([`sample_increments`]) and played by
 /// catching-up to its periodic orbit; that trajectory is a feasible point of the MILP and
 /// becomes HiGHS's first incumbent, so a solve cut short by the time limit returns at least
-/// the start (its value is [`DiscreteSolution::start_objective`]). HiGHS checks the point; one
-/// it refuses (a start violating the TV bound, say) is only a lost hint.
+/// the start (its value is [`DiscreteSolution::start_objective`]). A start whose sampled control
+/// breaks the problem's TV bound is refused (an error naming it), as HiGHS would drop it
+/// unsaid; every other sampled start is a feasible point.
 ///
 /// [`GaitResult`]: crate::optimal::GaitResult
 pub fn solve_discrete_global_from(
@@ -326,6 +327,24 @@ pub fn solve_discrete_global_from(
                 problem.period,
                 big_m,
             );
+            // Sampling keeps the rate bounds and the zero mean; a TV bound it may break, and
+            // HiGHS would drop such a start without a word.
+            if let Some(v) = problem.max_total_variation {
+                let tv: f64 = (0..big_m)
+                    .flat_map(|i| {
+                        let next = &incs[(i + 1) % big_m];
+                        incs[i].iter().zip(next).map(|(u0, u1)| (u1 - u0).abs())
+                    })
+                    .sum::<f64>()
+                    / h;
+                if tv > v * (1.0 + 1e-9) {
+                    return Err(Error::invalid(
+                        "start",
+                        format!("TV(u) = {tv}"),
+                        format!("exceeds gait.max_total_variation = {v} on the grid of P_{m}"),
+                    ));
+                }
+            }
             let from_rest = vec![0.0; crawler.links()];
             let traj = replay_grid(crawler, problem.period, &incs, &from_rest, &what)?;
             let objective = traj.verified - grid_cost(problem, &incs, h);
@@ -358,9 +377,17 @@ pub fn solve_discrete_global_from(
             None => None,
         };
         // The first round starts from the start gait, later ones from the previous round's
-        // solution (the same columns; only cuts were added).
+        // solution (the same columns), its cost epigraphs raised onto the cost, which the new
+        // cuts were placed to exceed.
         let start_cols = match (&last, &start) {
-            (Some((cols, _, _)), _) => Some(cols.clone()),
+            (Some((cols, _, _)), _) => {
+                let mut cols = cols.clone();
+                for (g, u) in lay.gs.iter().flatten().zip(lay.grid.us.iter().flatten()) {
+                    let u = cols[u.index()];
+                    cols[g.index()] = cols[g.index()].max(u * u / h);
+                }
+                Some(cols)
+            }
             (None, Some((incs, traj, _))) => {
                 Some(lay.start_columns(pb.num_cols(), crawler, incs, h, traj))
             }
@@ -551,8 +578,11 @@ mod tests {
             cols.extend(g.iter().flatten().copied());
         }
         assert_eq!(cols.len(), pb.num_cols(), "the layout holds every column");
-        let slipping = lay.zps.iter().flatten().find(|z| x[z.index()] == 1.0);
-        let slipping = *slipping.expect("the start gait slips");
+        let slipping = lay.zps.iter().chain(&lay.zqs).flatten();
+        let slipping = *slipping
+            .clone()
+            .find(|z| x[z.index()] == 1.0)
+            .expect("the start gait slips");
         if flip {
             x[slipping.index()] = 0.0;
         }
@@ -561,39 +591,55 @@ mod tests {
             let tol = 1e-9 * v.abs().max(1.0);
             pb.add_row(v - tol..=v + tol, [(col, 1.0)]);
         }
-        solve_max(pb, Some(30.0), "start check", None).is_ok()
+        // Every column is fixed: an LP feasibility question, asked without presolve (which
+        // fails on this all-fixed model with an error status).
+        let mut model = pb.optimise(highs::Sense::Maximise);
+        model.make_quiet();
+        model.set_option("presolve", "off");
+        model.set_option("primal_feasibility_tolerance", 1e-9);
+        let solved = model.try_solve().expect("HiGHS runs");
+        solved.status() == highs::HighsModelStatus::Optimal
     }
 
     #[test]
     fn start_columns_are_a_feasible_point_of_the_milp() {
-        // A travelling wave of two links (L_2 lags L_1 by a quarter period), sampled on 8 steps:
-        // blocks slip both ways. With no cost, a quadratic cost (epigraph columns) and a TV
+        // A travelling wave of two links (L_2 lags L_1 by a quarter period, strokes longer than C
+        // is wide), sampled on 2 and 8 steps: blocks slip. On a uniform crawler and on one with per-link stiffness
+        // and per-block friction, with no cost, a quadratic cost (epigraph columns) and a TV
         // bound loose enough for the wave (jump columns), its columns satisfy every row; with
         // one slip binary switched off they do not (the check can fail).
-        let c = Crawler::uniform(3, 1.0, 1.0, 1.5).unwrap();
+        let crawlers = [
+            Crawler::uniform(3, 1.0, 1.0, 1.5).unwrap(),
+            Crawler::new(vec![1.0, 3.0], vec![0.9, 1.2, 0.7], vec![1.6, 2.1, 1.3]).unwrap(),
+        ];
         let times = [0.0, 2.5, 5.0, 7.5, 10.0];
         let lengths = [
             vec![0.0, 0.0],
-            vec![2.0, 0.0],
-            vec![2.0, 2.0],
-            vec![0.0, 2.0],
+            vec![4.0, 0.0],
+            vec![4.0, 4.0],
+            vec![0.0, 4.0],
             vec![0.0, 0.0],
         ];
         let variants = [
             (Cost::None, None),
             (Cost::Quadratic { weight: 0.2 }, None),
-            (Cost::None, Some(10.0)),
+            (Cost::None, Some(40.0)),
         ];
-        for (cost, tv) in variants {
-            let p = GaitProblem::new(&c, 10.0, &[1.0, 1.0], cost, tv).unwrap();
-            assert!(
-                start_is_feasible(&c, &p, 3, &times, &lengths, false),
-                "{cost:?} {tv:?}"
-            );
-            assert!(
-                !start_is_feasible(&c, &p, 3, &times, &lengths, true),
-                "{cost:?} {tv:?}"
-            );
+        for c in &crawlers {
+            for (cost, tv) in variants {
+                let p = GaitProblem::new(c, 10.0, &[1.0, 1.0], cost, tv).unwrap();
+                for m in [1, 3] {
+                    let what = format!("{c:?} {cost:?} {tv:?} m = {m}");
+                    assert!(
+                        start_is_feasible(c, &p, m, &times, &lengths, false),
+                        "{what}"
+                    );
+                    assert!(
+                        !start_is_feasible(c, &p, m, &times, &lengths, true),
+                        "{what}"
+                    );
+                }
+            }
         }
     }
 }

@@ -305,7 +305,9 @@ pub fn solve_discrete_local(
             }
             model.set_option("time_limit", left);
         }
-        let solved = model.solve();
+        let solved = model.try_solve().map_err(|e| {
+            Error::Numerical(format!("{what}: HiGHS could not solve the LP ({e:?})"))
+        })?;
         lp_solves += 1;
         match solved.status() {
             HighsModelStatus::Optimal => {}

@@ -397,8 +397,9 @@ pub(crate) fn solve_max(
     // RINS and RENS, HiGHS's sub-MIP heuristics around the incumbent and the LP solution, cost
     // more than they find here: the MILPs' optima are found early (or given as the start) and
     // the time goes into the proof. Without them (one thread, idle machine): the three-block
-    // phase growth to K = 5 in 0.55 s instead of 1.0 s (K = 5 alone 0.34 s, was 0.62 s), P_8 in
-    // 0.66 s (1.08 s) and P_16 in 10.4 s (13.9 s), the four-block P_8 in 10.7 s (16.7 s); the
+    // phase growth to K = 5 in 0.55 s instead of 1.0 s (K = 5 alone 0.34 s, was 0.62 s), P_3 (8
+    // steps) in 0.66 s (1.08 s) and P_4 (16 steps) in 10.4 s (13.9 s), the four-block P_3 in
+    // 10.7 s (16.7 s); the
     // other heuristics (feasibility jump, shifting, ZI rounding, root reduced cost) changed
     // nothing measurable.
     model.set_option("mip_heuristic_run_rins", false);
@@ -406,7 +407,9 @@ pub(crate) fn solve_max(
     if let Some(t) = time_limit {
         model.set_option("time_limit", t);
     }
-    let solved = model.solve();
+    let solved = model
+        .try_solve()
+        .map_err(|e| Error::Numerical(format!("{what}: HiGHS could not solve the MILP ({e:?})")))?;
     let status = match solved.status() {
         HighsModelStatus::Optimal => MilpStatus::Optimal,
         HighsModelStatus::ReachedTimeLimit
