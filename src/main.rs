@@ -11,9 +11,9 @@ use crawlopt::io::{write_trajectory_csv, ModelFile};
 use crawlopt::model::{Analysis, FaceSign};
 use crawlopt::optimal::{
     discrete_convergence, grow_phases, one_link_optimum, search_sequences, slip_sequence,
-    solve_discrete_global_from, solve_discrete_local, solve_phase_global, Cost, CrawlerParams,
-    GaitProblem, GaitResult, GrowOptions, GrowthStop, MilpStatus, PhaseGrowth, StartRecord,
-    MAX_LOCAL_M, MAX_PHASES,
+    solve_discrete_global_from, solve_discrete_local_shifted, solve_phase_global, Cost,
+    CrawlerParams, GaitProblem, GaitResult, GrowOptions, GrowthStop, MilpStatus, PhaseGrowth,
+    StartRecord, MAX_LOCAL_M, MAX_PHASES,
 };
 use crawlopt::present::{self, report, write_figures, PlotInput};
 use crawlopt::{Crawler, Error};
@@ -130,6 +130,11 @@ enum Command {
         /// grid, as the first incumbent.
         #[arg(long)]
         start: Option<PathBuf>,
+        /// Time shifts of the start tried by the local method (--method local, and the default
+        /// start of --method discrete): the start shifted by j T / N, j = 0..N, each sampled on
+        /// the grid and searched from; the best answer is kept.
+        #[arg(long, default_value_t = 8)]
+        shifts: usize,
         /// Stop after this many seconds with the best gait found and its gap.
         #[arg(long = "time-limit")]
         time_limit: Option<f64>,
@@ -280,6 +285,15 @@ fn start_gait(
     Ok((r, origin, left))
 }
 
+/// `origin`, naming the time shift of the start when there is one.
+fn shifted(origin: &str, shift: f64) -> String {
+    if shift == 0.0 {
+        origin.to_string()
+    } else {
+        format!("{origin} shifted by {shift}")
+    }
+}
+
 /// A start gait: where it came from, its knot times and actuator lengths.
 type StartKnots = (String, Vec<f64>, Vec<Vec<f64>>);
 
@@ -294,7 +308,7 @@ type StartKnots = (String, Vec<f64>, Vec<Vec<f64>>);
 fn discrete_start(
     path: Option<&std::path::Path>,
     (crawler, problem): &(&Crawler, &GaitProblem),
-    m: u32,
+    (m, shifts): (u32, usize),
     growth: &GrowOptions,
     progress: &Progress,
 ) -> Result<Option<StartKnots>, Error> {
@@ -328,8 +342,9 @@ fn discrete_start(
     }
     progress.say(format!("start: local LPCC method on P_{m}"));
     let (t, l) = (&r.gait.times, &r.gait.lengths);
-    match solve_discrete_local(crawler, problem, m, t, l, Some(left)) {
-        Ok(s) => {
+    match solve_discrete_local_shifted(crawler, problem, m, t, l, shifts, Some(left)) {
+        Ok((s, shift)) => {
+            let origin = shifted(&origin, shift);
             let g = GaitResult::from_local(crawler, problem, &s, &origin).gait;
             Ok(Some((
                 format!("local on P_{m}, from {origin}"),
@@ -478,6 +493,7 @@ fn run(cmd: Command) -> Result<ExitCode, Error> {
             m,
             convergence,
             start,
+            shifts,
             time_limit,
             certify,
             json,
@@ -531,8 +547,10 @@ fn run(cmd: Command) -> Result<ExitCode, Error> {
                         start_gait(start.as_deref(), &problem_of, &growth, &progress)?;
                     let (times, lengths) = (r.gait.times, r.gait.lengths);
                     progress.say(format!("local LPCC method on P_{m} ({} steps)", 1u64 << m));
-                    let s = solve_discrete_local(&crawler, &problem, m, &times, &lengths, left)?;
-                    GaitResult::from_local(&crawler, &problem, &s, &origin)
+                    let (s, shift) = solve_discrete_local_shifted(
+                        &crawler, &problem, m, &times, &lengths, shifts, left,
+                    )?;
+                    GaitResult::from_local(&crawler, &problem, &s, &shifted(&origin, shift))
                 }
                 OptimizeMethod::Sequence => {
                     if m.is_some() || convergence {
@@ -618,8 +636,13 @@ fn run(cmd: Command) -> Result<ExitCode, Error> {
                         r
                     } else {
                         let began = Instant::now();
-                        let from =
-                            discrete_start(start.as_deref(), &problem_of, m, &growth, &progress)?;
+                        let from = discrete_start(
+                            start.as_deref(),
+                            &problem_of,
+                            (m, shifts),
+                            &growth,
+                            &progress,
+                        )?;
                         let left = time_limit.map(|t| t - began.elapsed().as_secs_f64());
                         if left.is_some_and(|l| l <= 0.0) {
                             return Err(Error::TimeLimit(format!(

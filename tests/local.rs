@@ -2,8 +2,8 @@
 //! global optimum, exact on the one-link closed form, re-verified by the simulator.
 
 use crawlopt::optimal::{
-    gait_knots, sample_increments, solve_discrete_global, solve_discrete_local, solve_phase_global,
-    Cost, GaitProblem, LocalStop,
+    gait_knots, sample_increments, shift_knots, solve_discrete_global, solve_discrete_local,
+    solve_discrete_local_shifted, solve_phase_global, Cost, GaitProblem, LocalStop,
 };
 use crawlopt::Crawler;
 
@@ -113,4 +113,62 @@ fn local_refuses_what_it_does_not_handle() {
     let p = GaitProblem::new(&c, 10.0, &[1.0], Cost::None, None).unwrap();
     let e = solve_discrete_local(&c, &p, 15, &times, &lengths, None).unwrap_err();
     assert!(e.to_string().starts_with("m:"), "{e}");
+}
+
+#[test]
+fn a_start_shifted_by_whole_steps_samples_to_the_rotated_grid_gait() {
+    // shift_knots gives the gait L(s + d): for d = j h its grid increments are those of the
+    // original rotated by j steps.
+    let (t, m) = (10.0, 4u32);
+    let steps = 1usize << m;
+    let times = [0.0, 1.7, 4.0, 6.3, 10.0];
+    let lengths = [
+        vec![0.0, 0.0],
+        vec![1.5, -0.4],
+        vec![0.7, 1.1],
+        vec![-0.3, 0.2],
+        vec![0.0, 0.0],
+    ];
+    let (k, a) = ([1.0, 2.0], [3.0, 3.0]);
+    let base = sample_increments(&times, &lengths, &k, &a, t, steps);
+    for j in [0, 1, 5, 11] {
+        let d = t * j as f64 / steps as f64;
+        let (st, sl) = shift_knots(&times, &lengths, d, t);
+        assert_eq!(st.first(), Some(&0.0));
+        assert_eq!(st.last(), Some(&t));
+        assert_eq!(sl.first(), sl.last());
+        let shifted = sample_increments(&st, &sl, &k, &a, t, steps);
+        for i in 0..steps {
+            for l in 0..2 {
+                let want = base[(i + j) % steps][l];
+                assert!((shifted[i][l] - want).abs() < 1e-12, "j {j} i {i} l {l}");
+            }
+        }
+    }
+}
+
+#[test]
+fn shifted_starts_keep_the_best_local_answer() {
+    // Three blocks on 64 steps from the phase optimum: the unshifted start is the first of the
+    // shifts, so the best of 8 is at least its answer, and one shift is that answer.
+    let c = Crawler::uniform(3, 1.0, 1.0, 1.5).unwrap();
+    let p = GaitProblem::new(&c, 10.0, &[1.0, 1.0], Cost::None, None).unwrap();
+    let phase = solve_phase_global(&c, &p, 4, Some(120.0)).unwrap();
+    let (times, lengths) = knots_of(&phase, c.stiffness());
+    let plain = solve_discrete_local(&c, &p, 6, &times, &lengths, Some(60.0)).unwrap();
+    let (one, d) =
+        solve_discrete_local_shifted(&c, &p, 6, &times, &lengths, 1, Some(60.0)).unwrap();
+    assert_eq!(d, 0.0);
+    assert_eq!(one.objective(), plain.objective());
+    let (best, d) =
+        solve_discrete_local_shifted(&c, &p, 6, &times, &lengths, 8, Some(60.0)).unwrap();
+    println!(
+        "64 steps: unshifted {}, best of 8 shifts {} (shift {d})",
+        plain.objective(),
+        best.objective()
+    );
+    assert!(best.objective() >= plain.objective() - 1e-12);
+    assert!(best.objective() <= 2.6 + 1e-9);
+    let e = solve_discrete_local_shifted(&c, &p, 6, &times, &lengths, 0, None).unwrap_err();
+    assert!(e.to_string().starts_with("shifts"), "{e}");
 }

@@ -17,7 +17,10 @@ pub use discrete::{
     discrete_convergence, solve_discrete_global, solve_discrete_global_from, ConvergenceRow,
     DiscreteSolution, MAX_M,
 };
-pub use local::{sample_increments, solve_discrete_local, LocalSolution, LocalStop, MAX_LOCAL_M};
+pub use local::{
+    sample_increments, shift_knots, solve_discrete_local, solve_discrete_local_shifted,
+    LocalSolution, LocalStop, MAX_LOCAL_M,
+};
 pub(crate) use milp::replay;
 pub use milp::{gait_knots, Certificate, MilpStatus};
 pub use one_link::{one_link_optimum, OneLinkOptimum};
