@@ -41,7 +41,7 @@
 use crate::error::{Error, Result};
 use crate::model::Crawler;
 use crate::optimal::milp::{
-    block_speed_bound, certify, check_time_limit, force, force_row, gait_knots, replay_grid,
+    block_speed_bound, certify, check_time_limit, control_knots, force, force_row, replay_grid,
     solve_max, GridColumns, GridReplay, TangentRates, OA_TOL,
 };
 use crate::optimal::sample_increments;
@@ -90,14 +90,14 @@ impl DiscreteSolution {
         self.verified_displacement - self.actuation_cost
     }
 
-    /// The gait's knots: times `i h` and actuator lengths from `L(0) = 0` (see [`gait_knots`]).
+    /// The gait's knots: times `i h` and actuator lengths from `L(0) = 0` (see
+    /// [`gait_knots`](crate::optimal::gait_knots)).
     pub fn knots(&self, stiffness: &[f64]) -> (Vec<f64>, Vec<Vec<f64>>) {
-        let increments: Vec<Vec<f64>> = self
-            .controls
-            .iter()
-            .map(|u| u.iter().map(|v| v * self.step).collect())
-            .collect();
-        gait_knots(&vec![self.step; increments.len()], &increments, stiffness)
+        control_knots(
+            &vec![self.step; self.controls.len()],
+            &self.controls,
+            stiffness,
+        )
     }
 }
 

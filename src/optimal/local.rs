@@ -109,23 +109,9 @@ pub fn sample_increments(
 ) -> Vec<Vec<f64>> {
     let h = period / steps as f64;
     let n = stiffness.len();
-    let at = |t: f64| -> Vec<f64> {
-        let j = match times.iter().rposition(|&s| s <= t) {
-            Some(j) if j + 1 < times.len() => j,
-            Some(_) => return lengths[lengths.len() - 1].clone(),
-            None => 0,
-        };
-        let span = times[j + 1] - times[j];
-        let w = if span > 0.0 {
-            (t - times[j]) / span
-        } else {
-            0.0
-        };
-        (0..n)
-            .map(|l| lengths[j][l] + w * (lengths[j + 1][l] - lengths[j][l]))
-            .collect()
-    };
-    let grid: Vec<Vec<f64>> = (0..=steps).map(|i| at(i as f64 * h)).collect();
+    let grid: Vec<Vec<f64>> = (0..=steps)
+        .map(|i| length_at(times, lengths, i as f64 * h))
+        .collect();
     let mut incs: Vec<Vec<f64>> = grid
         .windows(2)
         .map(|w| {
@@ -144,6 +130,27 @@ pub fn sample_increments(
         }
     }
     incs
+}
+
+/// The actuator lengths at time `t` of the piecewise-linear actuation with knots `times` and
+/// `lengths` (the last row past the last knot).
+fn length_at(times: &[f64], lengths: &[Vec<f64>], t: f64) -> Vec<f64> {
+    let j = match times.iter().rposition(|&s| s <= t) {
+        Some(j) if j + 1 < times.len() => j,
+        Some(_) => return lengths[lengths.len() - 1].clone(),
+        None => 0,
+    };
+    let span = times[j + 1] - times[j];
+    let w = if span > 0.0 {
+        (t - times[j]) / span
+    } else {
+        0.0
+    };
+    lengths[j]
+        .iter()
+        .zip(&lengths[j + 1])
+        .map(|(a, b)| a + w * (b - a))
+        .collect()
 }
 
 #[derive(Clone, Copy, PartialEq, Eq)]
@@ -402,25 +409,6 @@ pub fn shift_knots(
     shift: f64,
     period: f64,
 ) -> (Vec<f64>, Vec<Vec<f64>>) {
-    let at = |s: f64| -> Vec<f64> {
-        let s = s.rem_euclid(period);
-        let j = times
-            .iter()
-            .rposition(|&x| x <= s)
-            .unwrap_or(0)
-            .min(times.len().saturating_sub(2));
-        let span = times[j + 1] - times[j];
-        let w = if span > 0.0 {
-            (s - times[j]) / span
-        } else {
-            0.0
-        };
-        lengths[j]
-            .iter()
-            .zip(&lengths[j + 1])
-            .map(|(a, b)| a + w * (b - a))
-            .collect()
-    };
     let mut knots: Vec<f64> = times
         .iter()
         .map(|&x| (x - shift).rem_euclid(period))
@@ -430,7 +418,10 @@ pub fn shift_knots(
     knots.dedup_by(|a, b| (*a - *b).abs() <= 1e-12 * period);
     let last = knots.len() - 1;
     knots[last] = period;
-    let mut rows: Vec<Vec<f64>> = knots.iter().map(|&s| at(s + shift)).collect();
+    let mut rows: Vec<Vec<f64>> = knots
+        .iter()
+        .map(|&s| length_at(times, lengths, (s + shift).rem_euclid(period)))
+        .collect();
     rows[last] = rows[0].clone();
     (knots, rows)
 }

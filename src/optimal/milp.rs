@@ -150,6 +150,20 @@ pub fn gait_knots(
     (times, lengths)
 }
 
+/// [`gait_knots`] of a gait given by piece durations and controls `u_j` (force per time).
+pub(crate) fn control_knots(
+    durations: &[f64],
+    controls: &[Vec<f64>],
+    stiffness: &[f64],
+) -> (Vec<f64>, Vec<Vec<f64>>) {
+    let increments: Vec<Vec<f64>> = durations
+        .iter()
+        .zip(controls)
+        .map(|(d, u)| u.iter().map(|v| v * d).collect())
+        .collect();
+    gait_knots(durations, &increments, stiffness)
+}
+
 /// Plays a gait (durations and increments over one period) with the given method from `x0`
 /// (or from rest) until the periodic regime, recording one period: the independent
 /// re-verification of every optimizer answer, and the process `certify` checks.

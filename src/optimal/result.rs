@@ -7,9 +7,10 @@
 use crate::error::{Error, Result};
 use crate::integrate::{slip_of, Method};
 use crate::model::Crawler;
+use crate::optimal::milp::control_knots;
 use crate::optimal::{
-    gait_knots, ConvergenceRow, DiscreteSolution, GaitProblem, GrowthStop, LocalSolution,
-    LocalStop, MilpStatus, PhaseGrowth, PhaseSolution, PhaseStep, SequenceSearch,
+    ConvergenceRow, DiscreteSolution, GaitProblem, GrowthStop, LocalSolution, LocalStop,
+    MilpStatus, PhaseGrowth, PhaseSolution, PhaseStep, SequenceSearch,
 };
 use serde::{Deserialize, Serialize};
 
@@ -208,12 +209,7 @@ pub struct PhaseGrowthRecord {
 }
 
 fn knots(crawler: &Crawler, durations: &[f64], controls: &[Vec<f64>]) -> GaitKnots {
-    let increments: Vec<Vec<f64>> = durations
-        .iter()
-        .zip(controls)
-        .map(|(d, u)| u.iter().map(|v| v * d).collect())
-        .collect();
-    gait_knots(durations, &increments, crawler.stiffness())
+    control_knots(durations, controls, crawler.stiffness())
 }
 
 type GaitKnots = (Vec<f64>, Vec<Vec<f64>>);
