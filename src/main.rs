@@ -10,10 +10,10 @@ use crawlopt::integrate::{
 use crawlopt::io::{write_trajectory_csv, ModelFile};
 use crawlopt::model::{Analysis, FaceSign};
 use crawlopt::optimal::{
-    discrete_convergence, grow_phases, one_link_optimum, search_sequences, slip_sequence,
-    solve_discrete_global_from, solve_discrete_local_shifted, solve_phase_global, Cost,
-    CrawlerParams, GaitProblem, GaitResult, GrowOptions, GrowthStop, MilpStatus, PhaseGrowth,
-    StartRecord, MAX_LOCAL_M, MAX_PHASES,
+    discrete_convergence, discrete_start, grow_phases, one_link_optimum, phase_start,
+    search_sequences, shifted_origin, slip_sequence, solve_discrete_global_from,
+    solve_discrete_local_shifted, solve_phase_global, Cost, GaitProblem, GaitResult, GrowOptions,
+    GrowthStop, MilpStatus, PhaseGrowth, PhaseStep, StartEvent, StartGait, StartRecord, MAX_PHASES,
 };
 use crawlopt::present::{self, report, write_figures, PlotInput};
 use crawlopt::{Crawler, Error};
@@ -111,12 +111,15 @@ enum Command {
         /// --max-phases, or the time limit).
         #[arg(long)]
         phases: Option<usize>,
-        /// Consecutive K without a gain that end the growth of K.
-        #[arg(long, default_value_t = 2)]
-        patience: usize,
-        /// Largest K tried when K grows.
-        #[arg(long = "max-phases", default_value_t = 8)]
-        max_phases: usize,
+        /// Consecutive K without a gain that end the growth of K (default 2; --method phase or
+        /// auto without --phases: the starts of the other methods stop at the first K without
+        /// a gain).
+        #[arg(long)]
+        patience: Option<usize>,
+        /// Largest K tried when K grows (default 8; for --method phase or auto without
+        /// --phases, and for the default start gaits).
+        #[arg(long = "max-phases")]
+        max_phases: Option<usize>,
         /// The grid of P_m has 2^m steps (default 3; --method discrete only).
         #[arg(long)]
         m: Option<u32>,
@@ -132,9 +135,9 @@ enum Command {
         start: Option<PathBuf>,
         /// Time shifts of the start tried by the local method (--method local, and the default
         /// start of --method discrete): the start shifted by j T / N, j = 0..N, each sampled on
-        /// the grid and searched from; the best answer is kept.
-        #[arg(long, default_value_t = 8)]
-        shifts: usize,
+        /// the grid and searched from; the best answer is kept (default 8).
+        #[arg(long)]
+        shifts: Option<usize>,
         /// Stop after this many seconds with the best gait found and its gap.
         #[arg(long = "time-limit")]
         time_limit: Option<f64>,
@@ -237,44 +240,17 @@ enum OptimizeMethod {
 }
 
 /// The start of a local method: the result file `path` (checked to be of this crawler and
-/// period), or the phase optimum with `K` grown under `growth` (but only to the first `K`
-/// without a gain) within half its time limit;
-/// with where it came from and the time left of `growth.time_limit`.
+/// period), or [`phase_start`]; with the time left of `growth.time_limit`.
 fn start_gait(
     path: Option<&std::path::Path>,
     (crawler, problem): &(&Crawler, &GaitProblem),
     growth: &GrowOptions,
     progress: &Progress,
-) -> Result<(GaitResult, String, Option<f64>), Error> {
+) -> Result<(StartGait, Option<f64>), Error> {
     let began = Instant::now();
-    let (r, origin) = match path {
-        Some(path) => {
-            let text = std::fs::read_to_string(path).map_err(|e| Error::Io {
-                path: path.display().to_string(),
-                reason: e.to_string(),
-            })?;
-            let r = GaitResult::from_json(&text, &path.display().to_string())?;
-            if r.crawler != CrawlerParams::of(crawler) || r.problem.period != problem.period {
-                return Err(Error::invalid(
-                    "start",
-                    path.display(),
-                    "was computed for another crawler or period",
-                ));
-            }
-            let origin = format!("{} ({})", r.method, path.display());
-            (r, origin)
-        }
-        None => {
-            // A start need not be certified: K grows until the first K without a gain.
-            let opts = GrowOptions {
-                time_limit: growth.time_limit.map(|t| 0.5 * t),
-                patience: 1,
-                ..growth.clone()
-            };
-            let g = progress.grow(crawler, problem, &opts, "start: phase gait, ")?;
-            let origin = format!("phase (K = {})", g.best.phases);
-            (GaitResult::from_phase(crawler, problem, &g.best), origin)
-        }
+    let start = match path {
+        Some(path) => start_file(path, crawler, problem)?,
+        None => phase_start(crawler, problem, growth, &mut |e| progress.start_event(e))?,
     };
     let left = growth.time_limit.map(|t| t - began.elapsed().as_secs_f64());
     if left.is_some_and(|l| l <= 0.0) {
@@ -282,84 +258,22 @@ fn start_gait(
             "the time limit was reached while computing the start gait".into(),
         ));
     }
-    Ok((r, origin, left))
+    Ok((start, left))
 }
 
-/// `origin`, naming the time shift of the start when there is one.
-fn shifted(origin: &str, shift: f64) -> String {
-    if shift == 0.0 {
-        origin.to_string()
-    } else {
-        format!("{origin} shifted by {shift}")
-    }
+/// The start gait stored in the result file `path`.
+fn start_file(
+    path: &std::path::Path,
+    crawler: &Crawler,
+    problem: &GaitProblem,
+) -> Result<StartGait, Error> {
+    let what = path.display().to_string();
+    let r = GaitResult::from_json(&read_text(path)?, &what)?;
+    StartGait::from_result(crawler, problem, r, &what)
 }
 
-/// A start gait: where it came from, its knot times and actuator lengths.
-type StartKnots = (String, Vec<f64>, Vec<Vec<f64>>);
-
-/// The start of the P_m MILP: the result file `path`; without one, under a time limit, the local
-/// method's gait on the same grid, so that a solve cut short returns at least a local optimum:
-/// the phase optimum (K grown to the first K without a gain, within a quarter of the limit) is
-/// the local method's start (within the next quarter); the phase gait itself is the MILP's
-/// start with a quadratic cost, beyond the local method's grids or when the local method fails.
-/// None without a time limit (a start does not shorten the proof) or with a TV bound (phase
-/// gaits cannot express it). A start that cannot be had is noted on stderr and skipped: it is
-/// only a hint.
-fn discrete_start(
-    path: Option<&std::path::Path>,
-    (crawler, problem): &(&Crawler, &GaitProblem),
-    (m, shifts): (u32, usize),
-    growth: &GrowOptions,
-    progress: &Progress,
-) -> Result<Option<StartKnots>, Error> {
-    if path.is_some() {
-        let (r, origin, _) = start_gait(path, &(crawler, problem), growth, progress)?;
-        return Ok(Some((origin, r.gait.times, r.gait.lengths)));
-    }
-    let Some(limit) = growth.time_limit else {
-        return Ok(None);
-    };
-    if problem.max_total_variation.is_some() {
-        // Phase gaits cannot express the TV bound, so there is no start to compute.
-        return Ok(None);
-    }
-    let began = Instant::now();
-    // start_gait grows K within half of this: a quarter of the limit.
-    let half = GrowOptions {
-        time_limit: Some(0.5 * limit),
-        ..growth.clone()
-    };
-    let (r, origin) = match start_gait(None, &(crawler, problem), &half, progress) {
-        Ok((r, origin, _)) => (r, origin),
-        Err(e) => {
-            progress.note(format!("no start gait ({e}); solving P_{m} without one"));
-            return Ok(None);
-        }
-    };
-    let left = 0.5 * limit - began.elapsed().as_secs_f64();
-    if problem.cost != Cost::None || m > MAX_LOCAL_M || left <= 0.0 {
-        return Ok(Some((origin, r.gait.times, r.gait.lengths)));
-    }
-    progress.say(format!("start: local LPCC method on P_{m}"));
-    let (t, l) = (&r.gait.times, &r.gait.lengths);
-    match solve_discrete_local_shifted(crawler, problem, m, t, l, shifts, Some(left)) {
-        Ok((s, shift)) => {
-            let origin = shifted(&origin, shift);
-            let g = GaitResult::from_local(crawler, problem, &s, &origin).gait;
-            Ok(Some((
-                format!("local on P_{m}, from {origin}"),
-                g.times,
-                g.lengths,
-            )))
-        }
-        Err(e) => {
-            progress.note(format!(
-                "the local method failed ({e}); the MILP starts from the phase gait"
-            ));
-            Ok(Some((origin, r.gait.times, r.gait.lengths)))
-        }
-    }
-}
+/// Time shifts of the start tried by the local method unless `--shifts` says otherwise.
+const DEFAULT_SHIFTS: usize = 8;
 
 /// Exit status of a simulation whose periodic regime was not reached.
 const EXIT_NOT_CONVERGED: u8 = 3;
@@ -524,14 +438,39 @@ fn run(cmd: Command) -> Result<ExitCode, Error> {
                     "applies to --method local, sequence and discrete only",
                 ));
             }
+            // K grows for a certified answer (auto, phase), or for a default start gait.
+            let grows = match method {
+                OptimizeMethod::Auto | OptimizeMethod::Phase => phases.is_none(),
+                OptimizeMethod::Local | OptimizeMethod::Sequence => start.is_none(),
+                OptimizeMethod::Discrete => {
+                    start.is_none()
+                        && !convergence
+                        && time_limit.is_some()
+                        && problem.max_total_variation.is_none()
+                }
+            };
+            let certified_growth =
+                matches!(method, OptimizeMethod::Auto | OptimizeMethod::Phase) && grows;
+            let local_search =
+                method == OptimizeMethod::Local || (method == OptimizeMethod::Discrete && grows);
+            for (given, applies, flag, value) in [
+                (patience, certified_growth, "patience", "--method phase or auto without --phases (start gaits stop at the first K without a gain)"),
+                (max_phases, grows, "max-phases", "a growth of K: --method phase or auto without --phases, or a default start gait (no --start; for discrete, under --time-limit)"),
+                (shifts, local_search, "shifts", "the local method: --method local, or the default start of --method discrete under --time-limit"),
+            ] {
+                if let (Some(v), false) = (given, applies) {
+                    return Err(Error::invalid(flag, v, format!("applies only to {value}")));
+                }
+            }
+            let shifts = shifts.unwrap_or(DEFAULT_SHIFTS);
             let progress = Progress::new();
             let problem_of = (&crawler, &problem);
-            // How K grows (auto, phase; and the default start of the local methods).
+            let defaults = GrowOptions::default();
             let growth = GrowOptions {
-                max_phases,
-                patience,
+                max_phases: max_phases.unwrap_or(defaults.max_phases),
+                patience: patience.unwrap_or(defaults.patience),
                 time_limit,
-                ..GrowOptions::default()
+                ..defaults
             };
             let result = match method {
                 OptimizeMethod::Local => {
@@ -543,14 +482,24 @@ fn run(cmd: Command) -> Result<ExitCode, Error> {
                         ));
                     }
                     let m = m.unwrap_or(10);
-                    let (r, origin, left) =
+                    let (from, left) =
                         start_gait(start.as_deref(), &problem_of, &growth, &progress)?;
-                    let (times, lengths) = (r.gait.times, r.gait.lengths);
                     progress.say(format!("local LPCC method on P_{m} ({} steps)", 1u64 << m));
                     let (s, shift) = solve_discrete_local_shifted(
-                        &crawler, &problem, m, &times, &lengths, shifts, left,
+                        &crawler,
+                        &problem,
+                        m,
+                        from.times(),
+                        from.lengths(),
+                        shifts,
+                        left,
                     )?;
-                    GaitResult::from_local(&crawler, &problem, &s, &shifted(&origin, shift))
+                    GaitResult::from_local(
+                        &crawler,
+                        &problem,
+                        &s,
+                        &shifted_origin(&from.origin, shift),
+                    )
                 }
                 OptimizeMethod::Sequence => {
                     if m.is_some() || convergence {
@@ -560,9 +509,9 @@ fn run(cmd: Command) -> Result<ExitCode, Error> {
                             "do not apply to --method sequence",
                         ));
                     }
-                    let (r, origin, left) =
+                    let (from, left) =
                         start_gait(start.as_deref(), &problem_of, &growth, &progress)?;
-                    let seq = slip_sequence(&r.gait.slip);
+                    let (seq, origin) = (slip_sequence(&from.result.gait.slip), from.origin);
                     let k = phases.unwrap_or((seq.len().max(1) + 2).min(MAX_PHASES));
                     progress.say(format!(
                         "local search over sequences of {k} slip modes, from {} of {origin}",
@@ -589,7 +538,7 @@ fn run(cmd: Command) -> Result<ExitCode, Error> {
                             GaitResult::from_phase(&crawler, &problem, &s)
                         }
                         None => {
-                            let g = progress.grow(&crawler, &problem, &growth, "")?;
+                            let g = progress.grow(&crawler, &problem, &growth)?;
                             GaitResult::from_growth(&crawler, &problem, &g)
                         }
                     }
@@ -636,13 +585,14 @@ fn run(cmd: Command) -> Result<ExitCode, Error> {
                         r
                     } else {
                         let began = Instant::now();
-                        let from = discrete_start(
-                            start.as_deref(),
-                            &problem_of,
-                            (m, shifts),
-                            &growth,
-                            &progress,
-                        )?;
+                        let from = match start.as_deref() {
+                            Some(path) => Some(start_file(path, &crawler, &problem)?),
+                            None => {
+                                discrete_start(&crawler, &problem, m, shifts, &growth, &mut |e| {
+                                    progress.start_event(e)
+                                })?
+                            }
+                        };
                         let left = time_limit.map(|t| t - began.elapsed().as_secs_f64());
                         if left.is_some_and(|l| l <= 0.0) {
                             return Err(Error::TimeLimit(format!(
@@ -655,15 +605,13 @@ fn run(cmd: Command) -> Result<ExitCode, Error> {
                             &problem,
                             m,
                             left,
-                            from.as_ref().map(|(_, t, l)| (&t[..], &l[..])),
+                            from.as_ref().map(|f| (f.times(), f.lengths())),
                         )?;
                         let mut r = GaitResult::from_discrete(&crawler, &problem, &s);
-                        r.discrete_start =
-                            from.zip(s.start_objective)
-                                .map(|((origin, ..), j)| StartRecord {
-                                    start: origin,
-                                    start_objective: j,
-                                });
+                        r.discrete_start = from.zip(s.start_objective).map(|(f, j)| StartRecord {
+                            start: f.origin,
+                            start_objective: j,
+                        });
                         r
                     }
                 }
@@ -859,26 +807,37 @@ impl Progress {
         self.0.finish_and_clear();
     }
 
+    /// Shows what a start policy is doing; its notes stay on stderr.
+    fn start_event(&self, e: StartEvent) {
+        match e {
+            StartEvent::Stage(s) => self.say(s.to_string()),
+            StartEvent::Phase(st) => self.say(format!("start: phase gait, {}", phase_step(st))),
+            StartEvent::Note(s) => self.note(s.to_string()),
+        }
+    }
+
     /// [`grow_phases`] showing each K as it is solved.
     fn grow(
         &self,
         crawler: &Crawler,
         problem: &GaitProblem,
         opts: &GrowOptions,
-        label: &str,
     ) -> Result<PhaseGrowth, Error> {
-        self.say(format!("{label}K = {}", opts.min_phases));
-        grow_phases(crawler, problem, opts, &mut |st| {
-            self.say(format!(
-                "{label}K = {}: J = {:.9} (bound {:.9}, {:.2} s); K = {} next",
-                st.phases,
-                st.objective,
-                st.bound,
-                st.seconds,
-                st.phases + 1
-            ))
-        })
+        self.say(format!("K = {}", opts.min_phases));
+        grow_phases(crawler, problem, opts, &mut |st| self.say(phase_step(st)))
     }
+}
+
+/// One solved K of a phase growth, for the progress line.
+fn phase_step(st: &PhaseStep) -> String {
+    format!(
+        "K = {}: J = {:.9} (bound {:.9}, {:.2} s); K = {} next",
+        st.phases,
+        st.objective,
+        st.bound,
+        st.seconds,
+        st.phases + 1
+    )
 }
 
 /// The human form of an optimal-gait result: the same content as the JSON.

@@ -564,6 +564,26 @@ fn optimize_discrete_returns_a_verified_certified_gait() {
         assert_eq!(out.status.code(), Some(2), "m = {m}");
         assert!(stderr(&out).starts_with("error: m:"), "{}", stderr(&out));
     }
+    // Options of a part that does not run are refused, not silently ignored.
+    for (args, flag) in [
+        (&["--method", "local", "--patience", "1"][..], "patience"),
+        (&["--phases", "3", "--patience", "1"], "patience"),
+        (&["--phases", "3", "--max-phases", "4"], "max-phases"),
+        (&["--method", "phase", "--shifts", "4"], "shifts"),
+        (&["--method", "discrete", "--shifts", "4"], "shifts"),
+        (&["--method", "discrete", "--max-phases", "4"], "max-phases"),
+    ] {
+        let mut all = vec!["optimize", "examples/one_link_gait.toml"];
+        all.extend_from_slice(args);
+        let out = crawlopt(&all);
+        assert_eq!(out.status.code(), Some(2), "{args:?}");
+        assert!(
+            stderr(&out).starts_with(&format!("error: {flag}:"))
+                && stderr(&out).contains("applies only to"),
+            "{args:?}: {}",
+            stderr(&out)
+        );
+    }
 }
 
 #[test]

@@ -12,6 +12,7 @@ mod one_link;
 mod phase;
 mod problem;
 mod result;
+mod start;
 
 pub use discrete::{
     discrete_convergence, solve_discrete_global, solve_discrete_global_from, ConvergenceRow,
@@ -34,3 +35,4 @@ pub use result::{
     CrawlerParams, GaitData, GaitResult, LocalRecord, PhaseGrowthRecord, ResultCertificate,
     StartRecord, RESULT_FORMAT, RESULT_VERSION,
 };
+pub use start::{discrete_start, phase_start, shifted_origin, StartEvent, StartGait};

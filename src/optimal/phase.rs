@@ -828,9 +828,10 @@ pub struct PhaseGrowth {
     pub stop: GrowthStop,
 }
 
-/// Raises `K` from `min_phases` until `J_K` has not improved (beyond [`gain_tolerance`]) for
-/// `patience` consecutive `K`, or `max_phases` or the time limit is reached (module docs). The
-/// returned gait is the best found, and its certificate is that of the largest `K` solved to
+/// Raises `K` from `min_phases` until `J_K` has not improved (by more than a relative `1e-7`,
+/// or the outer-approximation tolerance `1e-6` with a quadratic cost, whose values are only
+/// that accurate) for `patience` consecutive `K`, or `max_phases` or the time limit is reached
+/// (module docs). The returned gait is the best found, and its certificate is that of the largest `K` solved to
 /// optimality (the gait has at most that many slip phases, and no gait of that many does better
 /// than the bound). `progress` sees each `K` as it is solved.
 pub fn grow_phases(

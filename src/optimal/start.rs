@@ -1,0 +1,192 @@
+//! Start gaits: where the local methods (the LPCC active-set method on P_m and the local search
+//! over slip-mode sequences) and the P_m MILP begin when the user gives no start.
+//!
+//! A start need not be certified, only good and quick:
+//! - [`phase_start`]: the phase optimum (SPEC §7) with `K` grown only to the first `K` without a
+//!   gain (patience 1), within half the time limit. It is the default start of the local
+//!   methods: they end where their start leads, and the phase optimum is the best
+//!   continuous-time gait there is to lead them.
+//! - [`discrete_start`]: under a time limit, the local method's gait on the same grid, so that
+//!   a MILP cut short returns at least a local optimum of P_m. Without a time limit there is
+//!   none, because a start does not shorten the proof (three blocks on 16 steps: 12.0 s from
+//!   its own optimum, 10.3 s without).
+//! - [`StartGait::from_result`]: a stored result, checked to be of this crawler and period.
+//!
+//! The policies report what they do through [`StartEvent`]s, so that a front end can show
+//! progress and tell the user when a start could not be had (a start is only a hint: a failure
+//! to compute one is a note, not an error, where the solve can go on without it).
+
+use crate::error::{Error, Result};
+use crate::model::Crawler;
+use crate::optimal::{
+    grow_phases, solve_discrete_local_shifted, Cost, CrawlerParams, GaitProblem, GaitResult,
+    GrowOptions, PhaseStep, MAX_LOCAL_M,
+};
+use std::time::Instant;
+
+/// What a start policy is doing, for a progress display.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum StartEvent<'a> {
+    /// A stage begins (e.g. "local LPCC method on P_6").
+    Stage(&'a str),
+    /// One `K` of the phase growth was solved.
+    Phase(&'a PhaseStep),
+    /// A start could not be had, and the solve goes on with another or without one; the text
+    /// says which and why.
+    Note(&'a str),
+}
+
+/// A start gait and where it came from.
+#[derive(Debug, Clone, PartialEq)]
+pub struct StartGait {
+    /// Its origin in words, as recorded in results: e.g. `phase (K = 5)`, or
+    /// `local on P_6, from phase (K = 5) shifted by 1.25`, or `phase (start.json)`.
+    pub origin: String,
+    /// The gait, with the result of the method that computed it.
+    pub result: GaitResult,
+}
+
+impl StartGait {
+    /// The gait of a stored result `r` (read from `what`, e.g. a path) as a start for
+    /// `crawler` and `problem`: refused when it was computed for another crawler or period.
+    pub fn from_result(
+        crawler: &Crawler,
+        problem: &GaitProblem,
+        r: GaitResult,
+        what: &str,
+    ) -> Result<Self> {
+        if r.crawler != CrawlerParams::of(crawler) || r.problem.period != problem.period {
+            return Err(Error::invalid(
+                "start",
+                what,
+                "was computed for another crawler or period",
+            ));
+        }
+        Ok(StartGait {
+            origin: format!("{} ({what})", r.method),
+            result: r,
+        })
+    }
+
+    /// The knot times of its actuation.
+    pub fn times(&self) -> &[f64] {
+        &self.result.gait.times
+    }
+
+    /// The actuator lengths at [`times`](Self::times), one row per knot.
+    pub fn lengths(&self) -> &[Vec<f64>] {
+        &self.result.gait.lengths
+    }
+}
+
+/// The default start of the local methods: the phase optimum with `K` grown as in `growth` but
+/// with patience 1 (a start need not be certified) and within half of `growth.time_limit`.
+/// A time-limit error when the limit is spent before the growth returns a gait.
+pub fn phase_start(
+    crawler: &Crawler,
+    problem: &GaitProblem,
+    growth: &GrowOptions,
+    progress: &mut dyn FnMut(StartEvent),
+) -> Result<StartGait> {
+    let began = Instant::now();
+    let opts = GrowOptions {
+        time_limit: growth.time_limit.map(|t| 0.5 * t),
+        patience: 1,
+        ..growth.clone()
+    };
+    let g = grow_phases(crawler, problem, &opts, &mut |st| {
+        progress(StartEvent::Phase(st))
+    })?;
+    if growth
+        .time_limit
+        .is_some_and(|t| began.elapsed().as_secs_f64() >= t)
+    {
+        return Err(Error::TimeLimit(
+            "the time limit was reached while computing the start gait".into(),
+        ));
+    }
+    Ok(StartGait {
+        origin: format!("phase (K = {})", g.best.phases),
+        result: GaitResult::from_phase(crawler, problem, &g.best),
+    })
+}
+
+/// The origin of a gait searched from `origin` shifted in time by `shift` (as
+/// [`solve_discrete_local_shifted`] returns it): `origin` itself when the shift is 0.
+pub fn shifted_origin(origin: &str, shift: f64) -> String {
+    if shift == 0.0 {
+        origin.to_string()
+    } else {
+        format!("{origin} shifted by {shift}")
+    }
+}
+
+/// The default start of the P_m MILP on `2^m` steps, under `growth.time_limit`: the phase
+/// start ([`phase_start`], within a quarter of the limit) improved by the local method on the
+/// same grid from `shifts` time shifts of it (within the next quarter). The phase gait itself is
+/// the start with a quadratic cost (the local method has none), beyond the local method's grids
+/// (`m > MAX_LOCAL_M`), when the quarter is spent, or when the local method fails.
+///
+/// `None` without a time limit (a start does not shorten the proof), with a total-variation
+/// bound (phase gaits cannot express it), or when no phase start could be had (a
+/// [`StartEvent::Note`] says why).
+pub fn discrete_start(
+    crawler: &Crawler,
+    problem: &GaitProblem,
+    m: u32,
+    shifts: usize,
+    growth: &GrowOptions,
+    progress: &mut dyn FnMut(StartEvent),
+) -> Result<Option<StartGait>> {
+    let Some(limit) = growth.time_limit else {
+        return Ok(None);
+    };
+    if problem.max_total_variation.is_some() {
+        return Ok(None);
+    }
+    let began = Instant::now();
+    // phase_start grows K within half of this: a quarter of the limit.
+    let half = GrowOptions {
+        time_limit: Some(0.5 * limit),
+        ..growth.clone()
+    };
+    let phase = match phase_start(crawler, problem, &half, progress) {
+        Ok(s) => s,
+        Err(e) => {
+            progress(StartEvent::Note(&format!(
+                "no start gait ({e}); solving P_{m} without one"
+            )));
+            return Ok(None);
+        }
+    };
+    let left = 0.5 * limit - began.elapsed().as_secs_f64();
+    if problem.cost != Cost::None || m > MAX_LOCAL_M || left <= 0.0 {
+        return Ok(Some(phase));
+    }
+    progress(StartEvent::Stage(&format!(
+        "start: local LPCC method on P_{m}"
+    )));
+    match solve_discrete_local_shifted(
+        crawler,
+        problem,
+        m,
+        phase.times(),
+        phase.lengths(),
+        shifts,
+        Some(left),
+    ) {
+        Ok((s, shift)) => {
+            let origin = shifted_origin(&phase.origin, shift);
+            Ok(Some(StartGait {
+                origin: format!("local on P_{m}, from {origin}"),
+                result: GaitResult::from_local(crawler, problem, &s, &origin),
+            }))
+        }
+        Err(e) => {
+            progress(StartEvent::Note(&format!(
+                "the local method failed ({e}); the MILP starts from the phase gait"
+            )));
+            Ok(Some(phase))
+        }
+    }
+}
