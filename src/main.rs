@@ -10,10 +10,11 @@ use crawlopt::integrate::{
 use crawlopt::io::{write_trajectory_csv, ModelFile};
 use crawlopt::model::{Analysis, FaceSign};
 use crawlopt::optimal::{
-    discrete_convergence, discrete_start, grow_phases, one_link_optimum, phase_start,
-    search_sequences, shifted_origin, slip_sequence, solve_discrete_global_from,
-    solve_discrete_local_shifted, solve_phase_global, Cost, GaitProblem, GaitResult, GrowOptions,
-    GrowthStop, MilpStatus, PhaseGrowth, PhaseStep, StartEvent, StartGait, StartRecord, MAX_PHASES,
+    check_local, check_time_limit, discrete_convergence, discrete_start, grow_phases,
+    one_link_optimum, phase_start, search_sequences, shifted_origin, slip_sequence,
+    solve_discrete_global_from, solve_discrete_local_shifted, solve_phase_global, Cost,
+    GaitProblem, GaitResult, GrowOptions, GrowthStop, MilpStatus, PhaseGrowth, PhaseStep,
+    StartEvent, StartGait, StartRecord, MAX_LOCAL_M, MAX_PHASES,
 };
 use crawlopt::present::{self, report, write_figures, PlotInput};
 use crawlopt::{Crawler, Error};
@@ -111,16 +112,17 @@ enum Command {
         /// --max-phases, or the time limit).
         #[arg(long)]
         phases: Option<usize>,
-        /// Consecutive K without a gain that end the growth of K (default 2; --method phase or
-        /// auto without --phases: the starts of the other methods stop at the first K without
-        /// a gain).
+        /// Consecutive K without a gain that end the growth of K (default 2; --method phase, or
+        /// auto without a TV bound, without --phases: the start gaits of the other methods stop
+        /// at the first K without a gain).
         #[arg(long)]
         patience: Option<usize>,
         /// Largest K tried when K grows (default 8; for --method phase or auto without
         /// --phases, and for the default start gaits).
         #[arg(long = "max-phases")]
         max_phases: Option<usize>,
-        /// The grid of P_m has 2^m steps (default 3; --method discrete only).
+        /// The grid of P_m has 2^m steps (--method discrete, default 3; --method local, default
+        /// 10).
         #[arg(long)]
         m: Option<u32>,
         /// Solve P_m for m = 1..=M (M = --m) and print the table of J_m (--method discrete).
@@ -134,8 +136,9 @@ enum Command {
         #[arg(long)]
         start: Option<PathBuf>,
         /// Time shifts of the start tried by the local method (--method local, and the default
-        /// start of --method discrete): the start shifted by j T / N, j = 0..N, each sampled on
-        /// the grid and searched from; the best answer is kept (default 8).
+        /// start of --method discrete under --time-limit when it runs the local method): the
+        /// start shifted by j T / N, j = 0..N, each sampled on the grid and searched from; the
+        /// best answer is kept (default 8).
         #[arg(long)]
         shifts: Option<usize>,
         /// Stop after this many seconds with the best gait found and its gap.
@@ -271,6 +274,12 @@ fn start_file(
     let r = GaitResult::from_json(&read_text(path)?, &what)?;
     StartGait::from_result(crawler, problem, r, &what)
 }
+
+/// `--m` of the discrete method unless given (8 steps).
+const DEFAULT_M_DISCRETE: u32 = 3;
+
+/// `--m` of the local method unless given (1024 steps).
+const DEFAULT_M_LOCAL: u32 = 10;
 
 /// Time shifts of the start tried by the local method unless `--shifts` says otherwise.
 const DEFAULT_SHIFTS: usize = 8;
@@ -449,18 +458,61 @@ fn run(cmd: Command) -> Result<ExitCode, Error> {
                         && problem.max_total_variation.is_none()
                 }
             };
-            let certified_growth =
-                matches!(method, OptimizeMethod::Auto | OptimizeMethod::Phase) && grows;
-            let local_search =
-                method == OptimizeMethod::Local || (method == OptimizeMethod::Discrete && grows);
+            let certified_growth = method == OptimizeMethod::Phase && grows;
+            // The local method runs for --method local, and in discrete's default start unless
+            // the start is the phase gait itself (a quadratic cost, grids beyond the method).
+            let local_search = method == OptimizeMethod::Local
+                || (method == OptimizeMethod::Discrete
+                    && grows
+                    && problem.cost == Cost::None
+                    && m.unwrap_or(DEFAULT_M_DISCRETE) <= MAX_LOCAL_M);
             for (given, applies, flag, value) in [
-                (patience, certified_growth, "patience", "--method phase or auto without --phases (start gaits stop at the first K without a gain)"),
-                (max_phases, grows, "max-phases", "a growth of K: --method phase or auto without --phases, or a default start gait (no --start; for discrete, under --time-limit)"),
-                (shifts, local_search, "shifts", "the local method: --method local, or the default start of --method discrete under --time-limit"),
+                (
+                    patience,
+                    certified_growth,
+                    "patience",
+                    "a certified growth of K: --method phase, or auto without a TV bound, without \
+                     --phases (start gaits stop at the first K without a gain)",
+                ),
+                (
+                    max_phases,
+                    grows,
+                    "max-phases",
+                    "a growth of K: --method phase, or auto without a TV bound, without --phases; \
+                     or a default start gait (no --start; for discrete, under --time-limit and \
+                     without a TV bound)",
+                ),
+                (
+                    shifts,
+                    local_search,
+                    "shifts",
+                    "the local method: --method local, or the default start of --method \
+                     discrete (under --time-limit, without a TV bound or a quadratic cost, m <= \
+                     14)",
+                ),
             ] {
                 if let (Some(v), false) = (given, applies) {
                     return Err(Error::invalid(flag, v, format!("applies only to {value}")));
                 }
+            }
+            // Values are checked before any solve, so that a bad one is not found after a start
+            // gait was computed, or turned into a note by a start policy.
+            check_time_limit(time_limit)?;
+            if shifts == Some(0) {
+                return Err(Error::invalid("shifts", 0, "must be at least 1"));
+            }
+            if patience == Some(0) {
+                return Err(Error::invalid("patience", 0, "must be at least 1"));
+            }
+            if let Some(k) = max_phases.filter(|k| !(1..=MAX_PHASES).contains(k)) {
+                return Err(Error::invalid(
+                    "max-phases",
+                    k,
+                    format!("must be in 1..={MAX_PHASES}"),
+                ));
+            }
+            if method == OptimizeMethod::Local {
+                check_local(&problem, m.unwrap_or(DEFAULT_M_LOCAL))?;
             }
             let shifts = shifts.unwrap_or(DEFAULT_SHIFTS);
             let progress = Progress::new();
@@ -481,7 +533,7 @@ fn run(cmd: Command) -> Result<ExitCode, Error> {
                             "do not apply to --method local",
                         ));
                     }
-                    let m = m.unwrap_or(10);
+                    let m = m.unwrap_or(DEFAULT_M_LOCAL);
                     let (from, left) =
                         start_gait(start.as_deref(), &problem_of, &growth, &progress)?;
                     progress.say(format!("local LPCC method on P_{m} ({} steps)", 1u64 << m));
@@ -551,7 +603,7 @@ fn run(cmd: Command) -> Result<ExitCode, Error> {
                             "applies to --method phase only",
                         ));
                     }
-                    let m = m.unwrap_or(3);
+                    let m = m.unwrap_or(DEFAULT_M_DISCRETE);
                     if m == 0 {
                         return Err(Error::invalid(
                             "m",

@@ -584,6 +584,103 @@ fn optimize_discrete_returns_a_verified_certified_gait() {
             stderr(&out)
         );
     }
+    // Bad values are refused before any solve (not turned into a note by a start policy), and
+    // so is a quadratic cost for the local method; a quadratic cost makes discrete's default
+    // start the phase gait, so --shifts does not apply there.
+    let dir = tempfile::tempdir().unwrap();
+    let text = std::fs::read_to_string("examples/one_link_gait.toml").unwrap();
+    let quadratic = write(
+        dir.path(),
+        "q.toml",
+        &text.replace(
+            "cost = { kind = \"none\" }",
+            "cost = { kind = \"quadratic\", weight = 0.1 }",
+        ),
+    );
+    let quadratic = quadratic.to_str().unwrap();
+    assert!(std::fs::read_to_string(quadratic)
+        .unwrap()
+        .contains("quadratic"));
+    for (args, want) in [
+        (
+            &["--method", "discrete", "--time-limit", "4", "--shifts", "0"][..],
+            "error: shifts:",
+        ),
+        (
+            &[
+                "--method",
+                "discrete",
+                "--time-limit",
+                "4",
+                "--max-phases",
+                "0",
+            ],
+            "error: max-phases:",
+        ),
+        (
+            &["--method", "local", "--max-phases", "100"],
+            "error: max-phases:",
+        ),
+        (&["--patience", "0"], "error: patience:"),
+        (
+            &["--method", "discrete", "--time-limit=-1"],
+            "error: time_limit:",
+        ),
+        (&["--method", "local", "--m", "15"], "error: m:"),
+    ] {
+        let mut all = vec!["optimize", "examples/one_link_gait.toml"];
+        all.extend_from_slice(args);
+        let out = crawlopt(&all);
+        assert_eq!(out.status.code(), Some(2), "{args:?}");
+        assert!(stderr(&out).starts_with(want), "{args:?}: {}", stderr(&out));
+        assert!(!stderr(&out).contains("note:"), "{}", stderr(&out));
+    }
+    for (args, want) in [
+        (&["--method", "local"][..], "error: gait.cost:"),
+        (
+            &["--method", "discrete", "--time-limit", "4", "--shifts", "2"],
+            "error: shifts:",
+        ),
+    ] {
+        let mut all = vec!["optimize", quadratic];
+        all.extend_from_slice(args);
+        let out = crawlopt(&all);
+        assert_eq!(out.status.code(), Some(2), "{args:?}");
+        assert!(stderr(&out).starts_with(want), "{args:?}: {}", stderr(&out));
+    }
+    // Where they apply, they are taken.
+    for args in [
+        &["--method", "sequence", "--phases", "4", "--max-phases", "5"][..],
+        &[
+            "--method",
+            "discrete",
+            "--time-limit",
+            "20",
+            "--shifts",
+            "2",
+            "--max-phases",
+            "5",
+        ],
+        &[
+            "--method",
+            "local",
+            "--m",
+            "3",
+            "--max-phases",
+            "5",
+            "--shifts",
+            "2",
+        ],
+        &["--patience", "1", "--max-phases", "4"],
+    ] {
+        let mut all = vec!["optimize", "examples/one_link_gait.toml", "--json"];
+        all.extend_from_slice(args);
+        let out = crawlopt(&all);
+        assert!(out.status.success(), "{args:?}: {}", stderr(&out));
+        // The one-link optimum (SPEC §10): J = 3 on every method and grid here.
+        let j = json(&out)["objective"].as_f64().unwrap();
+        assert!((j - 3.0).abs() < 1e-8, "{args:?}: {j}");
+    }
 }
 
 #[test]

@@ -38,7 +38,8 @@ fn the_phase_start_stops_at_the_first_k_without_a_gain() {
     );
     assert_eq!(s.origin, "phase (K = 5)");
     assert_eq!(s.result.method, "phase");
-    let ks: Vec<&str> = events
+    assert_eq!(events[0], "stage start: phase gait, K = 1");
+    let ks: Vec<&str> = events[1..]
         .iter()
         .map(|e| e.split(' ').nth(1).unwrap())
         .collect();
@@ -63,8 +64,12 @@ fn the_discrete_start_is_the_local_optimum_under_a_time_limit() {
         s.origin
     );
     assert_eq!(s.result.method, "local");
-    // P_3's optimum is 2 (tests/discrete.rs); a local optimum of it is no better.
-    assert!(s.result.objective > 0.0 && s.result.objective <= 2.0 + 1e-8);
+    // The local method reaches P_3's global optimum, 2 (tests/discrete.rs), from the phase gait.
+    assert!(
+        (s.result.objective - 2.0).abs() < 1e-8,
+        "{}",
+        s.result.objective
+    );
     assert!(
         events
             .iter()
@@ -107,6 +112,31 @@ fn a_start_that_cannot_be_had_is_a_note_not_an_error() {
     // The local methods cannot go on without one: there it is a time-limit error.
     let e = phase_start(&c, &p, &short, &mut |_| {}).unwrap_err();
     assert!(matches!(e, Error::TimeLimit(_)), "{e}");
+    // Bad options are errors, not notes.
+    let limited = GrowOptions {
+        time_limit: Some(60.0),
+        ..GrowOptions::default()
+    };
+    let e = discrete_start(&c, &p, 3, 0, &limited, &mut |_| {}).unwrap_err();
+    assert!(e.to_string().starts_with("shifts"), "{e}");
+    for bad in [
+        GrowOptions {
+            max_phases: 0,
+            ..limited.clone()
+        },
+        GrowOptions {
+            patience: 0,
+            ..limited.clone()
+        },
+        GrowOptions {
+            time_limit: Some(-1.0),
+            ..limited.clone()
+        },
+    ] {
+        let mut events = Vec::new();
+        assert!(discrete_start(&c, &p, 3, 8, &bad, &mut record(&mut events)).is_err());
+        assert!(events.is_empty(), "{events:?}");
+    }
 }
 
 #[test]

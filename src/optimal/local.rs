@@ -160,17 +160,10 @@ enum Mode {
     Minus,
 }
 
-/// Solves P_m locally from a start gait given by its knots (module docs).
-pub fn solve_discrete_local(
-    crawler: &Crawler,
-    problem: &GaitProblem,
-    m: u32,
-    start_times: &[f64],
-    start_lengths: &[Vec<f64>],
-    time_limit: Option<f64>,
-) -> Result<LocalSolution> {
-    crawler.require_unique()?;
-    check_time_limit(time_limit)?;
+/// Refuses what the local method cannot solve: `m` outside `1..=MAX_LOCAL_M`, or a quadratic
+/// cost (the method handles `f2 = 0` only). Cheap, so callers can check before computing a
+/// start.
+pub fn check_local(problem: &GaitProblem, m: u32) -> Result<()> {
     if !(1..=MAX_LOCAL_M).contains(&m) {
         return Err(Error::invalid(
             "m",
@@ -185,6 +178,21 @@ pub fn solve_discrete_local(
             "the local method handles f2 = 0 only; use --method discrete or phase",
         ));
     }
+    Ok(())
+}
+
+/// Solves P_m locally from a start gait given by its knots (module docs).
+pub fn solve_discrete_local(
+    crawler: &Crawler,
+    problem: &GaitProblem,
+    m: u32,
+    start_times: &[f64],
+    start_lengths: &[Vec<f64>],
+    time_limit: Option<f64>,
+) -> Result<LocalSolution> {
+    crawler.require_unique()?;
+    check_time_limit(time_limit)?;
+    check_local(problem, m)?;
     let began = Instant::now();
     let (n, nb) = (crawler.links(), crawler.blocks());
     let (k, mp, mm) = (

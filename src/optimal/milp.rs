@@ -370,8 +370,8 @@ pub(crate) fn block_speed_bound(crawler: &Crawler, problem: &GaitProblem) -> f64
     (s1 * s2).sqrt()
 }
 
-/// Refuses a bad time limit.
-pub(crate) fn check_time_limit(time_limit: Option<f64>) -> Result<()> {
+/// Refuses a time limit that is not positive and finite (field `time_limit`).
+pub fn check_time_limit(time_limit: Option<f64>) -> Result<()> {
     if let Some(t) = time_limit {
         if !(t.is_finite() && t > 0.0) {
             return Err(Error::invalid(

@@ -19,11 +19,11 @@ pub use discrete::{
     DiscreteSolution, MAX_M,
 };
 pub use local::{
-    sample_increments, shift_knots, solve_discrete_local, solve_discrete_local_shifted,
-    LocalSolution, LocalStop, MAX_LOCAL_M,
+    check_local, sample_increments, shift_knots, solve_discrete_local,
+    solve_discrete_local_shifted, LocalSolution, LocalStop, MAX_LOCAL_M,
 };
 pub(crate) use milp::replay;
-pub use milp::{gait_knots, Certificate, MilpStatus};
+pub use milp::{check_time_limit, gait_knots, Certificate, MilpStatus};
 pub use one_link::{one_link_optimum, OneLinkOptimum};
 pub use phase::{
     grow_phases, search_sequences, slip_mode_is_valid, slip_sequence, solve_phase_from,

@@ -785,6 +785,28 @@ impl Default for GrowOptions {
     }
 }
 
+impl GrowOptions {
+    /// Refuses options no growth can run with: `1 <= min_phases <= max_phases <= MAX_PHASES`,
+    /// `patience >= 1`, a positive finite time limit.
+    pub fn check(&self) -> Result<()> {
+        check_time_limit(self.time_limit)?;
+        if self.min_phases < 1 {
+            return Err(Error::invalid("min_phases", 0, "must be at least 1"));
+        }
+        if self.max_phases < self.min_phases || self.max_phases > MAX_PHASES {
+            return Err(Error::invalid(
+                "max_phases",
+                self.max_phases,
+                format!("must be in {}..={MAX_PHASES}", self.min_phases),
+            ));
+        }
+        if self.patience == 0 {
+            return Err(Error::invalid("patience", 0, "must be at least 1"));
+        }
+        Ok(())
+    }
+}
+
 /// One `K` of a growth.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct PhaseStep {
@@ -840,17 +862,7 @@ pub fn grow_phases(
     opts: &GrowOptions,
     progress: &mut dyn FnMut(&PhaseStep),
 ) -> Result<PhaseGrowth> {
-    check_time_limit(opts.time_limit)?;
-    if opts.min_phases < 1 || opts.max_phases < opts.min_phases || opts.max_phases > MAX_PHASES {
-        return Err(Error::invalid(
-            "phases",
-            format!("{}..={}", opts.min_phases, opts.max_phases),
-            format!("needs 1 <= min <= max <= {MAX_PHASES}"),
-        ));
-    }
-    if opts.patience == 0 {
-        return Err(Error::invalid("patience", 0, "must be at least 1"));
-    }
+    opts.check()?;
     let began = Instant::now();
     let mut best: Option<PhaseSolution> = None;
     let mut table = Vec::new();

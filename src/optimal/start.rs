@@ -80,31 +80,27 @@ impl StartGait {
 }
 
 /// The default start of the local methods: the phase optimum with `K` grown as in `growth` but
-/// with patience 1 (a start need not be certified) and within half of `growth.time_limit`.
-/// A time-limit error when the limit is spent before the growth returns a gait.
+/// with patience 1 (a start need not be certified) and within half of `growth.time_limit`
+/// (when that is spent, the best gait found so far; a time-limit error when there is none).
 pub fn phase_start(
     crawler: &Crawler,
     problem: &GaitProblem,
     growth: &GrowOptions,
     progress: &mut dyn FnMut(StartEvent),
 ) -> Result<StartGait> {
-    let began = Instant::now();
+    growth.check()?;
     let opts = GrowOptions {
         time_limit: growth.time_limit.map(|t| 0.5 * t),
         patience: 1,
         ..growth.clone()
     };
+    progress(StartEvent::Stage(&format!(
+        "start: phase gait, K = {}",
+        opts.min_phases
+    )));
     let g = grow_phases(crawler, problem, &opts, &mut |st| {
         progress(StartEvent::Phase(st))
     })?;
-    if growth
-        .time_limit
-        .is_some_and(|t| began.elapsed().as_secs_f64() >= t)
-    {
-        return Err(Error::TimeLimit(
-            "the time limit was reached while computing the start gait".into(),
-        ));
-    }
     Ok(StartGait {
         origin: format!("phase (K = {})", g.best.phases),
         result: GaitResult::from_phase(crawler, problem, &g.best),
@@ -123,13 +119,15 @@ pub fn shifted_origin(origin: &str, shift: f64) -> String {
 
 /// The default start of the P_m MILP on `2^m` steps, under `growth.time_limit`: the phase
 /// start ([`phase_start`], within a quarter of the limit) improved by the local method on the
-/// same grid from `shifts` time shifts of it (within the next quarter). The phase gait itself is
-/// the start with a quadratic cost (the local method has none), beyond the local method's grids
-/// (`m > MAX_LOCAL_M`), when the quarter is spent, or when the local method fails.
+/// same grid from `shifts` time shifts of it (within what is left of the first half). The phase
+/// gait itself is the start with a quadratic cost (the local method has none), beyond the local
+/// method's grids (`m > MAX_LOCAL_M`), when the first half is spent, or when the local method
+/// fails.
 ///
 /// `None` without a time limit (a start does not shorten the proof), with a total-variation
-/// bound (phase gaits cannot express it), or when no phase start could be had (a
-/// [`StartEvent::Note`] says why).
+/// bound (phase gaits cannot express it), or when no phase start could be had in time (a
+/// [`StartEvent::Note`] says why). Bad options (`growth` refused by [`GrowOptions::check`],
+/// `shifts = 0`) are errors, not notes.
 pub fn discrete_start(
     crawler: &Crawler,
     problem: &GaitProblem,
@@ -138,6 +136,10 @@ pub fn discrete_start(
     growth: &GrowOptions,
     progress: &mut dyn FnMut(StartEvent),
 ) -> Result<Option<StartGait>> {
+    growth.check()?;
+    if shifts == 0 {
+        return Err(Error::invalid("shifts", 0, "must be at least 1"));
+    }
     let Some(limit) = growth.time_limit else {
         return Ok(None);
     };
