@@ -10,11 +10,11 @@ use crawlopt::integrate::{
 use crawlopt::io::{write_trajectory_csv, ModelFile};
 use crawlopt::model::{Analysis, FaceSign};
 use crawlopt::optimal::{
-    check_local, check_time_limit, discrete_convergence, discrete_start, grow_phases,
-    one_link_optimum, phase_start, search_sequences, shifted_origin, slip_sequence,
-    solve_discrete_global_from, solve_discrete_local_shifted, solve_phase_global, Cost,
-    GaitProblem, GaitResult, GrowOptions, GrowthStop, MilpStatus, PhaseGrowth, PhaseStep,
-    StartEvent, StartGait, StartRecord, MAX_LOCAL_M, MAX_PHASES,
+    check_local, discrete_convergence, discrete_start, grow_phases, one_link_optimum, phase_start,
+    search_sequences, shifted_origin, slip_sequence, solve_discrete_global_from,
+    solve_discrete_local_shifted, solve_phase_global, Cost, GaitProblem, GaitResult, GrowOptions,
+    GrowthStop, MilpStatus, PhaseGrowth, PhaseStep, StartEvent, StartGait, StartRecord,
+    MAX_LOCAL_M, MAX_PHASES,
 };
 use crawlopt::present::{self, report, write_figures, PlotInput};
 use crawlopt::{Crawler, Error};
@@ -495,28 +495,6 @@ fn run(cmd: Command) -> Result<ExitCode, Error> {
                     return Err(Error::invalid(flag, v, format!("applies only to {value}")));
                 }
             }
-            // Values are checked before any solve, so that a bad one is not found after a start
-            // gait was computed, or turned into a note by a start policy.
-            check_time_limit(time_limit)?;
-            if shifts == Some(0) {
-                return Err(Error::invalid("shifts", 0, "must be at least 1"));
-            }
-            if patience == Some(0) {
-                return Err(Error::invalid("patience", 0, "must be at least 1"));
-            }
-            if let Some(k) = max_phases.filter(|k| !(1..=MAX_PHASES).contains(k)) {
-                return Err(Error::invalid(
-                    "max-phases",
-                    k,
-                    format!("must be in 1..={MAX_PHASES}"),
-                ));
-            }
-            if method == OptimizeMethod::Local {
-                check_local(&problem, m.unwrap_or(DEFAULT_M_LOCAL))?;
-            }
-            let shifts = shifts.unwrap_or(DEFAULT_SHIFTS);
-            let progress = Progress::new();
-            let problem_of = (&crawler, &problem);
             let defaults = GrowOptions::default();
             let growth = GrowOptions {
                 max_phases: max_phases.unwrap_or(defaults.max_phases),
@@ -524,6 +502,18 @@ fn run(cmd: Command) -> Result<ExitCode, Error> {
                 time_limit,
                 ..defaults
             };
+            // Values are checked before any solve, so that a bad one is not found after a start
+            // gait was computed, or turned into a note by a start policy.
+            growth.check()?;
+            if shifts == Some(0) {
+                return Err(Error::invalid("shifts", 0, "must be at least 1"));
+            }
+            if method == OptimizeMethod::Local {
+                check_local(&problem, m.unwrap_or(DEFAULT_M_LOCAL))?;
+            }
+            let shifts = shifts.unwrap_or(DEFAULT_SHIFTS);
+            let progress = Progress::new();
+            let problem_of = (&crawler, &problem);
             let result = match method {
                 OptimizeMethod::Local => {
                     if phases.is_some() || convergence {

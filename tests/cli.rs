@@ -615,11 +615,11 @@ fn optimize_discrete_returns_a_verified_certified_gait() {
                 "--max-phases",
                 "0",
             ],
-            "error: max-phases:",
+            "error: max_phases:",
         ),
         (
             &["--method", "local", "--max-phases", "100"],
-            "error: max-phases:",
+            "error: max_phases:",
         ),
         (&["--patience", "0"], "error: patience:"),
         (
