@@ -26,6 +26,16 @@ fn stderr(out: &Output) -> String {
     String::from_utf8_lossy(&out.stderr).into_owned()
 }
 
+/// Asserts that a run was refused (exit 2) with `want` in its message.
+fn assert_refused(out: &Output, want: &str) {
+    assert_eq!(out.status.code(), Some(2), "{}", stderr(out));
+    assert!(
+        stderr(out).contains(want),
+        "want {want:?} in {}",
+        stderr(out)
+    );
+}
+
 const CRAWLER3: &str =
     "[crawler]\nblocks = 3\nstiffness = 1.0\nmu_forward = 1.0\nmu_backward = 3.0\n";
 
@@ -70,12 +80,7 @@ fn analyze_reports_a_violated_uniqueness_condition_and_exits_2() {
         "[crawler]\nblocks = 5\nstiffness = 1\nmu_forward = 1\nmu_backward = 1.5\n[actuation]\nkind = \"sine\"\nperiod = 1\namplitude = 1\n",
     );
     let out = crawlopt(&["simulate", f.to_str().unwrap()]);
-    assert_eq!(out.status.code(), Some(2));
-    assert!(
-        stderr(&out).contains("fails for blocks J = ["),
-        "{}",
-        stderr(&out)
-    );
+    assert_refused(&out, "fails for blocks J = [");
     assert!(out.stdout.is_empty());
 }
 
@@ -225,8 +230,7 @@ fn bad_input_gives_one_line_naming_the_field_and_exit_2() {
     );
     write(dir.path(), "bad.csv", "0,0,0\n0.5,1,x\n");
     let out = crawlopt(&["simulate", f.to_str().unwrap()]);
-    assert_eq!(out.status.code(), Some(2));
-    assert!(stderr(&out).contains("row 2, column 3"), "{}", stderr(&out));
+    assert_refused(&out, "row 2, column 3");
 }
 
 #[test]
@@ -373,15 +377,9 @@ fn optimize_discrete_returns_a_verified_certified_gait() {
         "--start",
         start,
     ]);
-    assert_eq!(out.status.code(), Some(2));
-    assert!(stderr(&out).contains("another crawler"), "{}", stderr(&out));
+    assert_refused(&out, "another crawler");
     let out = crawlopt(&["optimize", "examples/one_link_gait.toml", "--start", start]);
-    assert_eq!(out.status.code(), Some(2));
-    assert!(
-        stderr(&out).contains("--method local, sequence and discrete only"),
-        "{}",
-        stderr(&out)
-    );
+    assert_refused(&out, "--method local, sequence and discrete only");
     // The P_m MILP from a result file (sampled on its grid), recorded in the result; not with
     // --convergence, whose m start from m - 1.
     let out = crawlopt(&[
@@ -419,12 +417,7 @@ fn optimize_discrete_returns_a_verified_certified_gait() {
         "--start",
         start,
     ]);
-    assert_eq!(out.status.code(), Some(2));
-    assert!(
-        stderr(&out).contains("does not apply to --convergence"),
-        "{}",
-        stderr(&out)
-    );
+    assert_refused(&out, "does not apply to --convergence");
     // Under a time limit the MILP starts from the local method's gait.
     let out = crawlopt(&[
         "optimize",
@@ -460,12 +453,7 @@ fn optimize_discrete_returns_a_verified_certified_gait() {
         "--start",
         dir.path().join("cut.json").to_str().unwrap(),
     ]);
-    assert_eq!(out.status.code(), Some(2));
-    assert!(
-        stderr(&out).contains("not a complete JSON"),
-        "{}",
-        stderr(&out)
-    );
+    assert_refused(&out, "not a complete JSON");
     // --method sequence: from the best 3-slip-phase gait (13/6) to 2.6 with room for 4, an
     // exact continuous-time gait with a local certificate.
     let out = crawlopt(&[
@@ -506,12 +494,7 @@ fn optimize_discrete_returns_a_verified_certified_gait() {
         "--m",
         "3",
     ]);
-    assert_eq!(out.status.code(), Some(2));
-    assert!(
-        stderr(&out).contains("--method sequence"),
-        "{}",
-        stderr(&out)
-    );
+    assert_refused(&out, "--method sequence");
     // A time limit far too short: the best incumbent with its gap, never a claim of optimality;
     // or, with no gait found yet, a plain error.
     let out = crawlopt(&[
@@ -528,30 +511,14 @@ fn optimize_discrete_returns_a_verified_certified_gait() {
         assert_eq!(v["status"], "time_limit");
         assert!(v["certificate"]["gap"].as_f64().unwrap() > 1e-3);
     } else {
-        assert_eq!(out.status.code(), Some(2));
-        assert!(stderr(&out).contains("time limit"), "{}", stderr(&out));
+        assert_refused(&out, "time limit");
     }
     let out = crawlopt(&["optimize", "examples/one_link_gait.toml", "--convergence"]);
-    assert_eq!(out.status.code(), Some(2));
-    assert!(
-        stderr(&out).contains("--method discrete only"),
-        "{}",
-        stderr(&out)
-    );
+    assert_refused(&out, "--method discrete only");
     let out = crawlopt(&["optimize", "examples/one_link_gait.toml", "--m", "3"]);
-    assert_eq!(out.status.code(), Some(2));
-    assert!(
-        stderr(&out).contains("applies to --method discrete only"),
-        "{}",
-        stderr(&out)
-    );
+    assert_refused(&out, "applies to --method discrete only");
     let out = crawlopt(&["optimize", "examples/one_link.toml"]);
-    assert_eq!(out.status.code(), Some(2));
-    assert!(
-        stderr(&out).contains("no [gait] section"),
-        "{}",
-        stderr(&out)
-    );
+    assert_refused(&out, "no [gait] section");
     for m in ["0", "17"] {
         let out = crawlopt(&[
             "optimize",
