@@ -4,8 +4,9 @@
 
 use crate::certify::process::{d_tol, slip, Process, ProcessKind};
 use crate::error::{Error, Result};
+use crate::optimal::solver::{Highs, SolveStatus};
 use crate::optimal::Cost;
-use highs::{Col, HighsModelStatus, RowProblem, Sense};
+use highs::{Col, RowProblem, Sense};
 
 /// A face of C: block `b` (0-based) and side `s` (`+1`: `F_b <= mu_b^+`, outer normal `nu_b`;
 /// `-1`: `-F_b <= mu_b^-`, outer normal `-nu_b`).
@@ -364,26 +365,20 @@ pub(crate) fn solve(
             pb.add_row(0.0.., [(xi[j][fi], 1.0), (s, 1.0)]);
         }
     }
-    let mut model = pb.optimise(Sense::Minimise);
-    model.make_quiet();
-    model.set_option("threads", 1);
-    model.set_option("primal_feasibility_tolerance", 1e-10);
-    model.set_option("dual_feasibility_tolerance", 1e-10);
-    let solved = model.try_solve().map_err(|e| {
-        Error::Numerical(format!(
-            "certify: HiGHS could not solve the multiplier LP ({e:?})"
-        ))
-    })?;
-    match solved.status() {
-        HighsModelStatus::Optimal => {}
-        HighsModelStatus::Infeasible => return Ok(None),
-        other => {
-            return Err(Error::Numerical(format!(
-                "certify: the multiplier LP ended with status {other:?}"
-            )))
+    let mut model = Highs::new(pb, Sense::Minimise, "certify: the multiplier LP")?;
+    model.option("primal_feasibility_tolerance", 1e-10)?;
+    model.option("dual_feasibility_tolerance", 1e-10)?;
+    let solved = model.solve()?;
+    match solved.status {
+        SolveStatus::Optimal => {}
+        SolveStatus::Infeasible => return Ok(None),
+        SolveStatus::TimeLimit { .. } => {
+            return Err(Error::Numerical(
+                "certify: the multiplier LP stopped at a time limit".into(),
+            ))
         }
     }
-    let cols = solved.get_solution().columns().to_vec();
+    let cols = solved.columns;
     let val = |c: &Col| cols[c.index()];
     Ok(Some(Raw {
         lambda,
@@ -492,19 +487,23 @@ pub(crate) fn branch_lp(pr: &Process, st: &Structure) -> Result<Option<(f64, Raw
         mean_rows[l] = row;
         row += 1;
     }
-    let mut model = pb.optimise(Sense::Maximise);
-    model.make_quiet();
-    model.set_option("threads", 1);
-    model.set_option("primal_feasibility_tolerance", 1e-10);
-    model.set_option("dual_feasibility_tolerance", 1e-10);
-    let Ok(solved) = model.try_solve() else {
+    // The branch LP is a cross-check of the certificate: a model HiGHS refuses or does not
+    // solve to optimality gives no cross-check (None), never an error of the certificate.
+    let Ok(mut model) = Highs::new(pb, Sense::Maximise, "certify: the branch LP") else {
         return Ok(None);
     };
-    if solved.status() != HighsModelStatus::Optimal {
+    if model.option("primal_feasibility_tolerance", 1e-10).is_err()
+        || model.option("dual_feasibility_tolerance", 1e-10).is_err()
+    {
         return Ok(None);
     }
-    let sol = solved.get_solution();
-    let y = sol.dual_rows();
+    let Ok(solved) = model.solve() else {
+        return Ok(None);
+    };
+    if solved.status != SolveStatus::Optimal {
+        return Ok(None);
+    }
+    let y = &solved.row_duals;
     // HiGHS's row duals y satisfy c = A^T y + (column duals) for either sense, so the
     // Lagrangian multiplier of "row = rhs" in the text's convention is y: q_j = y(dyn_j),
     // face dual = y(face), and p = -q, xi = -(face dual), omega = y(mean).
@@ -516,15 +515,19 @@ pub(crate) fn branch_lp(pr: &Process, st: &Structure) -> Result<Option<(f64, Raw
             st.active[j]
                 .iter()
                 .map(|f| {
-                    let (_, r) = face_rows[j].iter().find(|(g, _)| g == f).expect("face");
-                    -y[*r]
+                    // Every active face of piece j got a row above (the same loop over
+                    // st.active[j]), so the search cannot miss; a miss would read as 0.
+                    face_rows[j]
+                        .iter()
+                        .find(|(g, _)| g == f)
+                        .map_or(0.0, |(_, r)| -y[*r])
                 })
                 .collect()
         })
         .collect();
     let omega = (0..n).map(|l| y[mean_rows[l]]).collect();
     Ok(Some((
-        solved.objective_value(),
+        solved.objective,
         Raw {
             lambda: 1.0,
             p,

@@ -593,12 +593,11 @@ mod tests {
         }
         // Every column is fixed: an LP feasibility question, asked without presolve (which
         // fails on this all-fixed model with an error status).
-        let mut model = pb.optimise(highs::Sense::Maximise);
-        model.make_quiet();
-        model.set_option("presolve", "off");
-        model.set_option("primal_feasibility_tolerance", 1e-9);
-        let solved = model.try_solve().expect("HiGHS runs");
-        solved.status() == highs::HighsModelStatus::Optimal
+        use crate::optimal::solver::{Highs, SolveStatus};
+        let mut model = Highs::new(pb, highs::Sense::Maximise, "test").unwrap();
+        model.option("presolve", "off").unwrap();
+        model.option("primal_feasibility_tolerance", 1e-9).unwrap();
+        model.solve().unwrap().status == SolveStatus::Optimal
     }
 
     #[test]

@@ -31,13 +31,14 @@
 //! sampled on the grid, simulated by catching-up to the periodic orbit, and the modes are read
 //! off that orbit. Every answer is re-verified by replaying it through the simulator.
 
+use super::solver::{Highs, SolveStatus};
 use crate::error::{Error, Result};
 use crate::model::Crawler;
 use crate::optimal::milp::{
     block_speed_bound, check_time_limit, check_verified, force, replay_grid, GridColumns,
 };
 use crate::optimal::{Cost, GaitProblem};
-use highs::{Col, HighsModelStatus, Model, RowProblem, Sense};
+use highs::{Col, RowProblem, Sense};
 use serde::{Deserialize, Serialize};
 use std::time::Instant;
 
@@ -274,28 +275,26 @@ pub fn solve_discrete_local(
         }
     }
     grid.add_control_rows(&mut pb, problem);
-    let mut model = pb.optimise(Sense::Minimise);
-    model.make_quiet();
-    model.set_option("threads", 1);
-    model.set_option("primal_feasibility_tolerance", 1e-10);
-    model.set_option("dual_feasibility_tolerance", 1e-10);
-    let set_bounds = |model: &mut Model, i: usize, b: usize, mode: Mode| match mode {
+    let mut model = Highs::new(pb, Sense::Minimise, &what)?;
+    model.option("primal_feasibility_tolerance", 1e-10)?;
+    model.option("dual_feasibility_tolerance", 1e-10)?;
+    let set_bounds = |model: &mut Highs, i: usize, b: usize, mode: Mode| match mode {
         Mode::Stick => {
-            model.change_column_bounds(ds[i][b], 0.0..=0.0);
-            model.change_column_bounds(fs[i][b], -mm[b]..=mp[b]);
+            model.set_bounds(ds[i][b], 0.0, 0.0)?;
+            model.set_bounds(fs[i][b], -mm[b], mp[b])
         }
         Mode::Plus => {
-            model.change_column_bounds(ds[i][b], 0.0..=md);
-            model.change_column_bounds(fs[i][b], mp[b]..=mp[b]);
+            model.set_bounds(ds[i][b], 0.0, md)?;
+            model.set_bounds(fs[i][b], mp[b], mp[b])
         }
         Mode::Minus => {
-            model.change_column_bounds(ds[i][b], -md..=0.0);
-            model.change_column_bounds(fs[i][b], -mm[b]..=-mm[b]);
+            model.set_bounds(ds[i][b], -md, 0.0)?;
+            model.set_bounds(fs[i][b], -mm[b], -mm[b])
         }
     };
     for i in 0..big_m {
         for b in 0..nb {
-            set_bounds(&mut model, i, b, modes[i][b]);
+            set_bounds(&mut model, i, b, modes[i][b])?;
         }
     }
 
@@ -318,15 +317,13 @@ pub fn solve_discrete_local(
                     }
                 }
             }
-            model.set_option("time_limit", left);
+            model.time_limit(left)?;
         }
-        let solved = model.try_solve().map_err(|e| {
-            Error::Numerical(format!("{what}: HiGHS could not solve the LP ({e:?})"))
-        })?;
+        let solved = model.solve()?;
         lp_solves += 1;
-        match solved.status() {
-            HighsModelStatus::Optimal => {}
-            HighsModelStatus::ReachedTimeLimit => match last {
+        match solved.status {
+            SolveStatus::Optimal => {}
+            SolveStatus::TimeLimit { .. } => match last {
                 Some((cols, objective)) => break (cols, objective, LocalStop::TimeLimit),
                 None => {
                     return Err(Error::TimeLimit(format!(
@@ -334,17 +331,15 @@ pub fn solve_discrete_local(
                     )))
                 }
             },
-            other => {
+            SolveStatus::Infeasible => {
                 return Err(Error::Numerical(format!(
-                    "{what}: an LP of fixed modes ended with status {other:?}"
+                    "{what}: an LP of fixed modes has no feasible point"
                 )))
             }
         }
-        let sol = solved.get_solution();
-        let cols = sol.columns().to_vec();
-        let red = sol.dual_columns().to_vec();
-        let objective = -solved.objective_value();
-        model = Model::from(solved);
+        let cols = solved.columns;
+        let red = solved.column_duals;
+        let objective = -solved.objective;
         if !best.is_finite() || objective > best + 1e-12 * best.abs().max(1.0) {
             best = objective;
             stalls = 0;
@@ -373,7 +368,7 @@ pub fn solve_discrete_local(
                 };
                 if new != modes[i][b] {
                     modes[i][b] = new;
-                    set_bounds(&mut model, i, b, new);
+                    set_bounds(&mut model, i, b, new)?;
                     changed += 1;
                 }
             }

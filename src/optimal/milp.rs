@@ -1,10 +1,11 @@
 //! Pieces shared by the MILP formulations of the gait problem.
 
+use super::solver::{Highs, SolveStatus};
 use crate::error::{Error, Result};
 use crate::integrate::{simulate, Actuation, Method, SimOptions, Simulation};
 use crate::model::Crawler;
 use crate::optimal::GaitProblem;
-use highs::{Col, HighsModelStatus, HighsSolutionStatus, RowProblem, Sense};
+use highs::{Col, RowProblem, Sense};
 use serde::{Deserialize, Serialize};
 
 /// How a solve ended (the MILPs, and the local method's last two variants).
@@ -394,20 +395,14 @@ pub(crate) fn solve_max(
     what: &str,
     start: Option<&[f64]>,
 ) -> Result<(Vec<f64>, f64, f64, MilpStatus)> {
-    let mut model = pb.optimise(Sense::Maximise);
+    let mut h = Highs::new(pb, Sense::Maximise, what)?;
     if let Some(x) = start {
         // A start that does not fit is only a lost hint, never a wrong answer.
-        let _ = model.try_set_solution(Some(x), None, None, None);
+        h.start(x);
     }
-    model.make_quiet();
-    if std::env::var_os("CRAWLOPT_HIGHS_LOG").is_some() {
-        model.set_option("output_flag", true);
-        model.set_option("log_to_console", true);
-    }
-    model.set_option("threads", 1);
-    model.set_option("mip_feasibility_tolerance", 1e-9);
-    model.set_option("primal_feasibility_tolerance", 1e-9);
-    model.set_option("mip_rel_gap", 1e-9);
+    h.option("mip_feasibility_tolerance", 1e-9)?;
+    h.option("primal_feasibility_tolerance", 1e-9)?;
+    h.option("mip_rel_gap", 1e-9)?;
     // RINS and RENS, HiGHS's sub-MIP heuristics around the incumbent and the LP solution, cost
     // more than they find here: the MILPs' optima are found early (or given as the start) and
     // the time goes into the proof. Without them (one thread, idle machine): the three-block
@@ -416,43 +411,24 @@ pub(crate) fn solve_max(
     // 10.7 s (16.7 s); the
     // other heuristics (feasibility jump, shifting, ZI rounding, root reduced cost) changed
     // nothing measurable.
-    model.set_option("mip_heuristic_run_rins", false);
-    model.set_option("mip_heuristic_run_rens", false);
+    h.option("mip_heuristic_run_rins", false)?;
+    h.option("mip_heuristic_run_rens", false)?;
     if let Some(t) = time_limit {
-        model.set_option("time_limit", t);
+        h.time_limit(t)?;
     }
-    let solved = model
-        .try_solve()
-        .map_err(|e| Error::Numerical(format!("{what}: HiGHS could not solve the MILP ({e:?})")))?;
-    let status = match solved.status() {
-        HighsModelStatus::Optimal => MilpStatus::Optimal,
-        HighsModelStatus::ReachedTimeLimit
-            if solved.primal_solution_status() == HighsSolutionStatus::Feasible =>
-        {
-            MilpStatus::TimeLimit
-        }
-        HighsModelStatus::ReachedTimeLimit => {
+    let a = h.solve()?;
+    let status = match a.status {
+        SolveStatus::Optimal => MilpStatus::Optimal,
+        SolveStatus::TimeLimit { feasible: true } => MilpStatus::TimeLimit,
+        SolveStatus::TimeLimit { feasible: false } => {
             return Err(Error::TimeLimit(format!(
                 "{what}: the time limit was reached before any feasible gait was found"
             )))
         }
-        HighsModelStatus::Infeasible => {
+        SolveStatus::Infeasible => {
             return Err(Error::Infeasible(format!("{what}: no feasible point")))
         }
-        other => {
-            return Err(Error::Numerical(format!(
-                "{what}: HiGHS ended with status {other:?}"
-            )))
-        }
     };
-    let objective = solved.objective_value();
-    let bound = solved
-        .double_info_value(c"mip_dual_bound")
-        .unwrap_or(objective);
-    Ok((
-        solved.get_solution().columns().to_vec(),
-        objective,
-        bound,
-        status,
-    ))
+    let bound = a.dual_bound.unwrap_or(a.objective);
+    Ok((a.columns, a.objective, bound, status))
 }

@@ -12,6 +12,7 @@ mod one_link;
 mod phase;
 mod problem;
 mod result;
+pub(crate) mod solver;
 mod start;
 
 pub use discrete::{

@@ -1275,8 +1275,8 @@ mod tests {
                 _ => pb.add_row(-mm[b]..=mp[b], row),
             }
         }
-        let solved = pb.optimise(highs::Sense::Maximise).solve();
-        solved.status() == highs::HighsModelStatus::Optimal
+        let mut h = crate::optimal::solver::Highs::new(pb, highs::Sense::Maximise, "test").unwrap();
+        h.solve().unwrap().status == crate::optimal::solver::SolveStatus::Optimal
     }
 
     #[test]
