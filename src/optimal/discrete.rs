@@ -299,6 +299,7 @@ pub fn solve_discrete_global_from(
     start: Option<(&[f64], &[Vec<f64>])>,
 ) -> Result<DiscreteSolution> {
     crawler.require_unique()?;
+    problem.check_scales(crawler)?;
     if !(1..=MAX_M).contains(&m) {
         return Err(Error::invalid(
             "m",
@@ -393,7 +394,8 @@ pub fn solve_discrete_global_from(
             }
             (None, None) => None,
         };
-        let (cols, _, bound, status) = solve_max(pb, left, &what, start_cols.as_deref())?;
+        let gap = problem.length_scale(crawler) * 1e-9;
+        let (cols, _, bound, status) = solve_max(pb, left, &what, start_cols.as_deref(), gap)?;
         let Some(r) = rates.as_mut() else {
             break (cols, lay, bound, status);
         };

@@ -192,6 +192,7 @@ pub fn solve_discrete_local(
     time_limit: Option<f64>,
 ) -> Result<LocalSolution> {
     crawler.require_unique()?;
+    problem.check_scales(crawler)?;
     check_time_limit(time_limit)?;
     check_local(problem, m)?;
     let began = Instant::now();

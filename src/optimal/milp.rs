@@ -389,11 +389,15 @@ pub fn check_time_limit(time_limit: Option<f64>) -> Result<()> {
 /// the solution columns, the objective, the dual bound and how it ended.
 ///
 /// `start` is a feasible point (all columns) that HiGHS takes as its first incumbent.
+/// `abs_gap` is the absolute gap at which the proof stops, in the objective's units: HiGHS's
+/// default (1e-6) would certify a gait whose whole displacement is 1e-6 as optimal, so callers
+/// pass a fraction of the problem's length scale ([`GaitProblem::length_scale`]).
 pub(crate) fn solve_max(
     pb: RowProblem,
     time_limit: Option<f64>,
     what: &str,
     start: Option<&[f64]>,
+    abs_gap: f64,
 ) -> Result<(Vec<f64>, f64, f64, MilpStatus)> {
     let mut h = Highs::new(pb, Sense::Maximise, what)?;
     if let Some(x) = start {
@@ -403,6 +407,7 @@ pub(crate) fn solve_max(
     h.option("mip_feasibility_tolerance", 1e-9)?;
     h.option("primal_feasibility_tolerance", 1e-9)?;
     h.option("mip_rel_gap", 1e-9)?;
+    h.option("mip_abs_gap", abs_gap)?;
     // RINS and RENS, HiGHS's sub-MIP heuristics around the incumbent and the LP solution, cost
     // more than they find here: the MILPs' optima are found early (or given as the start) and
     // the time goes into the proof. Without them (one thread, idle machine): the three-block

@@ -31,7 +31,9 @@ pub use phase::{
     solve_phase_global, GrowOptions, GrowthStop, PhaseGrowth, PhaseSolution, PhaseStep,
     SequenceSearch, MAX_PHASES,
 };
-pub use problem::{Cost, GaitProblem};
+pub use problem::{
+    Cost, GaitProblem, FORCE_RANGE, MAX_COST_RATIO, MAX_RATIO, MAX_SWEEP, PERIOD_RANGE,
+};
 pub use result::{
     CrawlerParams, GaitData, GaitResult, LocalRecord, PhaseGrowthRecord, ResultCertificate,
     StartRecord, RESULT_FORMAT, RESULT_VERSION,

@@ -588,6 +588,7 @@ fn check_phase_args(
     time_limit: Option<f64>,
 ) -> Result<()> {
     crawler.require_unique()?;
+    problem.check_scales(crawler)?;
     check_time_limit(time_limit)?;
     if !(1..=MAX_PHASES).contains(&phases) {
         return Err(Error::invalid(
@@ -684,7 +685,8 @@ fn solve_steps(
             }
             None => None,
         };
-        let (cols, _, bound, status) = solve_max(pb, left, &what, start_cols.as_deref())?;
+        let gap = problem.length_scale(crawler) * 1e-9;
+        let (cols, _, bound, status) = solve_max(pb, left, &what, start_cols.as_deref(), gap)?;
         let raw = RawGait::read(&lay, &cols, t);
         last_bound = bound;
         let Some(r) = rates.as_mut() else {
@@ -1240,7 +1242,7 @@ mod tests {
             let tol = 1e-9 * v.abs().max(1.0);
             pb.add_row(v - tol..=v + tol, [(col, 1.0)]);
         }
-        solve_max(pb, Some(30.0), "start check", None).is_ok()
+        solve_max(pb, Some(30.0), "start check", None, 1e-9).is_ok()
     }
 
     fn rotated(g: &RawGait, r: usize) -> RawGait {

@@ -45,6 +45,31 @@ pub struct GaitProblem {
     pub max_total_variation: Option<f64>,
 }
 
+/// The range of every friction threshold `mu_b^±` the solvers accept (force units). Measured on
+/// the one-link problem against its closed form (tests/scales.rs): right at 1e-6 and 1e6, wrong
+/// (J = 0 with a "certificate") at 1e9 and refused by HiGHS at 1e-9, whose absolute
+/// tolerances (1e-9) then no longer separate the forces.
+pub const FORCE_RANGE: [f64; 2] = [1e-6, 1e6];
+
+/// Largest ratio of two stiffnesses, or of two friction thresholds, the solvers accept: beyond
+/// it the weakest link's (or block's) forces drown in the tolerances of the strongest.
+pub const MAX_RATIO: f64 = 1e6;
+
+/// Largest sweep ratio `a_l T / w_l` (how many times the rate bound can cross C's range `w_l`
+/// of link `l` within a period) the solvers accept. The crossing of C then takes a fraction
+/// `1 / (a T / w)` of the period; measured on the one-link problem (`a T / w = 10 k / 3`):
+/// right up to 3e5, gaps of 1e-7 at 3e6, HiGHS solve errors at 3e7 and a wrong J = 0 at 3e9.
+pub const MAX_SWEEP: f64 = 1e6;
+
+/// The range of the period `T` the solvers accept (time units; measured right at 1e-8 and 1e8
+/// with the one-link closed form).
+pub const PERIOD_RANGE: [f64; 2] = [1e-8, 1e8];
+
+/// Largest cost ratio `c a_l k_l` (the cost of moving link `l` at its rate bound against the
+/// displacement that motion can buy) the solvers accept: beyond it the optimum is to stay
+/// idle by a factor the cost's outer approximation cannot represent.
+pub const MAX_COST_RATIO: f64 = 1e6;
+
 fn positive(field: &str, v: f64) -> Result<()> {
     if v.is_finite() && v > 0.0 {
         Ok(())
@@ -99,6 +124,119 @@ impl GaitProblem {
             cost,
             max_total_variation,
         })
+    }
+
+    /// Refuses, naming the field and the supported range, an instance whose scale the LP/MILP
+    /// solvers cannot honour with their tolerances (README, "Supported range"): friction
+    /// thresholds outside [`FORCE_RANGE`], stiffness or friction ratios above [`MAX_RATIO`], a
+    /// period outside [`PERIOD_RANGE`], a sweep ratio `a_l T / w_l` above [`MAX_SWEEP`], a cost
+    /// ratio `c a_l k_l` above [`MAX_COST_RATIO`]. The simulators and the one-link closed form
+    /// are exact and need none of this; every optimiser calls it before building a model.
+    pub fn check_scales(&self, crawler: &Crawler) -> Result<()> {
+        self.validate(crawler)?;
+        let out = |field: String, v: f64, why: String| Err(Error::invalid(field, v, why));
+        for (name, mu) in [
+            ("crawler.mu_forward", crawler.mu_forward()),
+            ("crawler.mu_backward", crawler.mu_backward()),
+        ] {
+            for (b, &v) in mu.iter().enumerate() {
+                if !(FORCE_RANGE[0]..=FORCE_RANGE[1]).contains(&v) {
+                    return out(
+                        format!("{name}[{}]", b + 1),
+                        v,
+                        format!(
+                            "the optimisers support friction thresholds in [{:e}, {:e}] \
+                         (their tolerances are absolute): change the force unit",
+                            FORCE_RANGE[0], FORCE_RANGE[1]
+                        ),
+                    );
+                }
+            }
+        }
+        let ratio = |v: &[f64]| {
+            let (lo, hi) = v.iter().fold((f64::INFINITY, 0.0_f64), |(lo, hi), &x| {
+                (lo.min(x), hi.max(x))
+            });
+            hi / lo
+        };
+        let mus: Vec<f64> = crawler
+            .mu_forward()
+            .iter()
+            .chain(crawler.mu_backward())
+            .copied()
+            .collect();
+        for (field, r) in [
+            ("crawler.stiffness", ratio(crawler.stiffness())),
+            ("crawler.mu_forward, crawler.mu_backward", ratio(&mus)),
+        ] {
+            if r > MAX_RATIO {
+                return out(
+                    field.into(),
+                    r,
+                    format!(
+                        "the ratio of the largest to the smallest value exceeds {MAX_RATIO:e}, \
+                         beyond which the optimisers' tolerances lose the weakest"
+                    ),
+                );
+            }
+        }
+        let t = self.period;
+        if !(PERIOD_RANGE[0]..=PERIOD_RANGE[1]).contains(&t) {
+            return out(
+                "gait.period".into(),
+                t,
+                format!(
+                    "the optimisers support periods in [{:e}, {:e}]: change the time unit",
+                    PERIOD_RANGE[0], PERIOD_RANGE[1]
+                ),
+            );
+        }
+        let k = crawler.stiffness();
+        for (l, w) in crawler.link_force_ranges().iter().enumerate() {
+            let sweep = self.rate_bound[l] * t / (w[1] - w[0]);
+            if !(sweep <= MAX_SWEEP) {
+                return out(
+                    format!("gait.max_actuator_speed[{}]", l + 1),
+                    self.rate_bound[l] / k[l],
+                    format!(
+                        "with the stiffness and the period the actuator can sweep the force \
+                         range of link {} {sweep:.3e} times per period (a T / w), above \
+                         {MAX_SWEEP:e}: crossing C would take less of the period than the \
+                         optimisers resolve (a slower actuator, a shorter period or softer \
+                         springs)",
+                        l + 1
+                    ),
+                );
+            }
+            if let Cost::Quadratic { weight } = self.cost {
+                let q = weight * self.rate_bound[l] * k[l];
+                if !(q <= MAX_COST_RATIO) {
+                    return out(
+                        "gait.cost.weight".into(),
+                        weight,
+                        format!(
+                            "the cost of link {} at its rate bound outweighs the displacement \
+                         it buys by c a k = {q:.3e}, above {MAX_COST_RATIO:e}: the optimum \
+                         is to stay idle, by a margin the solvers cannot represent",
+                            l + 1
+                        ),
+                    );
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// The problem's length unit: the smallest elongation `w_l / k_l` that crosses C's range
+    /// of a link. Displacements and `J` are measured against it (the absolute gap of the
+    /// MILPs is a small multiple of it).
+    pub fn length_scale(&self, crawler: &Crawler) -> f64 {
+        crawler
+            .link_force_ranges()
+            .iter()
+            .zip(crawler.stiffness())
+            .map(|(w, k)| (w[1] - w[0]) / k)
+            .fold(f64::INFINITY, f64::min)
     }
 
     /// Checks problem data that did not come through [`GaitProblem::new`] (e.g. read back from

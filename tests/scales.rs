@@ -1,0 +1,130 @@
+//! The numeric range the optimisers support (README, "Supported range"): at its corners every
+//! optimiser agrees with the one-link closed form (SPEC §9), just outside it they refuse with the
+//! field named, and the inputs that once panicked inside HiGHS or gave a false certificate are
+//! refused, never answered.
+
+use crawlopt::optimal::{
+    one_link_optimum, solve_discrete_global, solve_discrete_local, solve_phase_global, Cost,
+    GaitProblem, FORCE_RANGE, MAX_SWEEP, PERIOD_RANGE,
+};
+use crawlopt::{Crawler, Error};
+
+/// A one-link crawler with `mu^+ = mu`, `mu^- = 2 mu` on both blocks and its gait problem.
+fn one_link(k: f64, mu: f64, period: f64, speed: f64, cost: Cost) -> (Crawler, GaitProblem) {
+    let c = Crawler::new(vec![k], vec![mu; 2], vec![2.0 * mu; 2]).unwrap();
+    let p = GaitProblem::new(&c, period, &[speed], cost, None).unwrap();
+    (c, p)
+}
+
+/// Every optimiser's value against the closed form, relative to the length scale.
+fn agrees_with_closed_form(c: &Crawler, p: &GaitProblem) {
+    let exact = one_link_optimum(c, p).unwrap().value;
+    let scale = p.length_scale(c).max(exact.abs());
+    let phase = solve_phase_global(c, p, 2, None).unwrap();
+    assert!(
+        (phase.objective() - exact).abs() <= 1e-7 * scale,
+        "phase {} against {exact} ({p:?})",
+        phase.objective()
+    );
+    // The bound is valid and close: a gap of the length scale's order is no certificate.
+    let b = phase.certificate.bound;
+    assert!(
+        b >= exact - 1e-7 * scale && b - exact <= 1e-7 * scale,
+        "bound {b}"
+    );
+    if p.cost == Cost::None {
+        // P_3's optimum with a sweep of the whole period is the continuous one (one rise, one
+        // fall, on grid times) whenever the optimum moves; the local method from the idle start
+        // may stop at 0, so only its validity is asserted: never above the optimum.
+        let d = solve_discrete_global(c, p, 3, None).unwrap();
+        assert!(
+            d.objective() <= exact + 1e-7 * scale,
+            "P_3 {}",
+            d.objective()
+        );
+        assert!(d.certificate.bound >= d.objective() - 1e-7 * scale);
+        let times = [0.0, p.period / 2.0, p.period];
+        let rise = p.rate_bound[0] * p.period / 2.0 / c.stiffness()[0];
+        let l = solve_discrete_local(c, p, 3, &times, &[vec![0.0], vec![rise], vec![0.0]], None)
+            .unwrap();
+        assert!(
+            (l.verified_displacement - exact).abs() <= 1e-7 * scale,
+            "local {} against {exact}",
+            l.verified_displacement
+        );
+    }
+}
+
+#[test]
+fn the_corners_of_the_supported_range_agree_with_the_closed_form() {
+    // Time unit: the shortest and the longest period (sweep ratio a T / w = 10 / 3 throughout).
+    for (t, speed) in [(PERIOD_RANGE[0], 1e9), (PERIOD_RANGE[1], 1e-7)] {
+        let (c, p) = one_link(1.0, 1.0, t, speed, Cost::None);
+        agrees_with_closed_form(&c, &p);
+    }
+    // Force unit: the smallest and the largest friction thresholds (mu- = 2 mu at the top).
+    for mu in [FORCE_RANGE[0], FORCE_RANGE[1] / 2.0] {
+        let (c, p) = one_link(mu, mu, 10.0, 1.0, Cost::None);
+        agrees_with_closed_form(&c, &p);
+    }
+    // Length unit: J* = 3e-6 (stiff springs) and 3e6 (soft ones); HiGHS's default absolute gap
+    // (1e-6) once certified the small one at a gap of a third of its value.
+    for (k, speed) in [(1e6, 1e-6), (1e-6, 1e6)] {
+        let (c, p) = one_link(k, 1.0, 10.0, speed, Cost::None);
+        agrees_with_closed_form(&c, &p);
+    }
+    // Sweep ratio just below the limit: a T / w = 10 k / 3 = 3e5.
+    let (c, p) = one_link(9e4, 1.0, 10.0, 1.0, Cost::None);
+    agrees_with_closed_form(&c, &p);
+    // A quadratic cost at a moderate cost ratio.
+    let (c, p) = one_link(1.0, 1.0, 10.0, 1.0, Cost::Quadratic { weight: 0.1 });
+    agrees_with_closed_form(&c, &p);
+}
+
+/// Asserts that every optimiser refuses `(c, p)` naming `field`.
+fn refused(c: &Crawler, p: &GaitProblem, field: &str) {
+    let msgs = [
+        solve_phase_global(c, p, 2, Some(5.0)).map(|_| ()),
+        solve_discrete_global(c, p, 2, Some(5.0)).map(|_| ()),
+        solve_discrete_local(
+            c,
+            p,
+            2,
+            &[0.0, p.period],
+            &vec![vec![0.0; c.links()]; 2],
+            None,
+        )
+        .map(|_| ()),
+    ];
+    for m in msgs {
+        match m {
+            Err(Error::InvalidParameter { field: f, .. }) if f.starts_with(field) => {}
+            other => panic!("{field}: expected a refusal, got {other:?}"),
+        }
+    }
+}
+
+#[test]
+fn outside_the_range_every_optimiser_refuses_naming_the_field() {
+    // The one-link gait of the issue: k = 1e9 once gave J = 0 "certified" where J* = 5.
+    let (c, p) = one_link(1e9, 0.5, 10.0, 1.0, Cost::None);
+    assert!((one_link_optimum(&c, &p).unwrap().value - 5.0).abs() < 1e-8);
+    refused(&c, &p, "gait.max_actuator_speed[1]");
+    // Just above the sweep limit.
+    let (c, p) = one_link(MAX_SWEEP * 0.31, 1.0, 10.0, 1.0, Cost::None);
+    refused(&c, &p, "gait.max_actuator_speed[1]");
+    // Forces, period and speeds that once made the `highs` crate panic.
+    let (c, p) = one_link(1.0, 1e9, 10.0, 1.0, Cost::None);
+    refused(&c, &p, "crawler.mu_forward[1]");
+    let (c, p) = one_link(1.0, 1.0, 1e300, 1.0, Cost::None);
+    refused(&c, &p, "gait.period");
+    let (c, p) = one_link(1.0, 1.0, 10.0, 1e300, Cost::None);
+    refused(&c, &p, "gait.max_actuator_speed[1]");
+    let c = Crawler::new(vec![1e-200, 1e200], vec![1.0; 3], vec![1.5; 3]).unwrap();
+    let p = GaitProblem::new(&c, 10.0, &[1.0, 1.0], Cost::None, None).unwrap();
+    refused(&c, &p, "crawler.stiffness");
+    // A cost that outweighs any motion by 1e300 (P_2 once answered J = -5.8e290).
+    let (c, p) = one_link(1.0, 1.0, 10.0, 1.0, Cost::Quadratic { weight: 1e300 });
+    let e = solve_discrete_global(&c, &p, 2, None).unwrap_err();
+    assert!(e.to_string().starts_with("gait.cost.weight"), "{e}");
+}
