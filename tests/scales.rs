@@ -128,3 +128,41 @@ fn outside_the_range_every_optimiser_refuses_naming_the_field() {
     let e = solve_discrete_global(&c, &p, 2, None).unwrap_err();
     assert!(e.to_string().starts_with("gait.cost.weight"), "{e}");
 }
+
+#[test]
+fn an_actuation_offset_that_would_drown_the_stroke_is_refused() {
+    use crawlopt::integrate::{simulate, Actuation, Method, SimOptions, Waveform};
+    let c = Crawler::uniform(3, 1.0, 1.0, 3.0).unwrap();
+    let wave = |mean: f64| {
+        Actuation::wave(
+            Waveform::Sine,
+            1.0,
+            vec![mean; 2],
+            vec![2.0; 2],
+            vec![0.0, 90.0],
+        )
+    };
+    let disp = |a: &Actuation| {
+        let o = SimOptions {
+            method: Method::Exact,
+            ..SimOptions::default()
+        };
+        simulate(&c, a, &o)
+            .unwrap()
+            .displacement_per_period
+            .unwrap()
+    };
+    // The offset does not move the crawler: up to 1e6 times the stroke it changes nothing
+    // beyond rounding (the three-block sine of the examples moves 1.914 per period)...
+    let (d0, d5) = (disp(&wave(0.0).unwrap()), disp(&wave(2e5).unwrap()));
+    assert!(
+        (d0 - 1.914).abs() < 1e-3 && (d5 - d0).abs() < 1e-6,
+        "{d0} {d5}"
+    );
+    // ...beyond it, the stroke is lost to the offset's rounding (1e300 once moved 0): refused.
+    let e = wave(1e300).unwrap_err();
+    assert!(e.to_string().starts_with("actuation.mean[1]"), "{e}");
+    let e = Actuation::piecewise_linear(1.0, vec![0.0, 0.5], vec![vec![1e12], vec![1e12 + 1.0]])
+        .unwrap_err();
+    assert!(e.to_string().starts_with("actuation.lengths[*][1]"), "{e}");
+}

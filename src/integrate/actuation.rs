@@ -62,6 +62,25 @@ fn finite(field: &str, values: &[f64]) -> Result<()> {
     }
 }
 
+/// Largest ratio of an actuator length's offset to its stroke (the wave's mean to its
+/// amplitude; the largest |L| of piecewise-linear knots to their range). Only the changes of L
+/// move the crawler, and they are computed as differences of lengths: beyond this ratio they
+/// lose more than 6 of their 16 digits to the offset (a mean of 1e300 once left a stroke of 2
+/// as a motion of 0).
+pub const MAX_OFFSET_RATIO: f64 = 1e6;
+
+fn offset_error(field: String, offset: f64, stroke: f64) -> Error {
+    Error::invalid(
+        field,
+        offset,
+        format!(
+            "an offset above {MAX_OFFSET_RATIO:e} times the stroke ({stroke}) leaves the \
+             changes of length, which alone move the crawler, below double precision: subtract \
+             a constant (it does not change the motion)"
+        ),
+    )
+}
+
 impl Actuation {
     /// A wave actuation with validated parameters; `phase_deg` in degrees.
     pub fn wave(
@@ -88,6 +107,13 @@ impl Actuation {
         }
         for (i, &a) in amplitude.iter().enumerate() {
             positive(&format!("actuation.amplitude[{}]", i + 1), a)?;
+            if mean[i].abs() > MAX_OFFSET_RATIO * a {
+                return Err(offset_error(
+                    format!("actuation.mean[{}]", i + 1),
+                    mean[i],
+                    a,
+                ));
+            }
         }
         Ok(Actuation::Wave {
             wave,
@@ -157,6 +183,19 @@ impl Actuation {
                 ));
             }
             finite(&format!("actuation.lengths[{}]", j + 1), row)?;
+        }
+        for l in 0..n {
+            let (lo, hi, big) = lengths.iter().fold(
+                (f64::INFINITY, f64::NEG_INFINITY, 0.0_f64),
+                |(lo, hi, big), r| (lo.min(r[l]), hi.max(r[l]), big.max(r[l].abs())),
+            );
+            if hi > lo && big > MAX_OFFSET_RATIO * (hi - lo) {
+                return Err(offset_error(
+                    format!("actuation.lengths[*][{}]", l + 1),
+                    big,
+                    hi - lo,
+                ));
+            }
         }
         Ok(Actuation::PiecewiseLinear {
             period,

@@ -161,6 +161,7 @@ impl Crawler {
         }
         let (v, face) = self.violation(x);
         if v > tol * self.force_scale() {
+            // `violation` returns a face with every positive violation (v > 0 here).
             let (b, s) = face.expect("a positive violation has a face");
             let f = self.block_forces(x)[b];
             let detail = match s {

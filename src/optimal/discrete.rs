@@ -430,6 +430,7 @@ pub fn solve_discrete_global_from(
         step: h,
         certificate: certify(
             &what,
+            problem.length_scale(crawler),
             status,
             lay.displacement(&cols, nb),
             bound,
@@ -531,6 +532,8 @@ pub fn discrete_convergence(
             break;
         }
     }
+    // m runs from 1 (max_m >= 1, checked) and every m either stores its answer or returns its
+    // error, so `finest` is set here.
     Ok((table, finest.expect("m = 1 solved or an error returned")))
 }
 

@@ -385,7 +385,7 @@ pub fn solve_discrete_local(
     let rows = grid.increments(&cols);
     let x0: Vec<f64> = xs[0].iter().map(|c| cols[c.index()]).collect();
     let g = replay_grid(crawler, t, &rows, &x0, &what)?;
-    check_verified(&what, lp_objective, g.verified)?;
+    check_verified(&what, lp_objective, g.verified, problem.length_scale(crawler))?;
     Ok(LocalSolution {
         m,
         step: h,
@@ -482,5 +482,7 @@ pub fn solve_discrete_local_shifted(
             break;
         }
     }
+    // The loop runs at least once (shifts >= 1, checked) and either stores its first answer
+    // or returns its error, so `best` is set here.
     Ok(best.expect("the first shift solved or an error returned"))
 }

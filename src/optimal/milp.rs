@@ -42,22 +42,31 @@ pub struct Certificate {
 /// period, the simulator `verified`; the gait costs `cost` (exactly evaluated), and the MILP's
 /// dual `bound` is on the objective `J`. An error when the two displacements disagree beyond the
 /// MILP's tolerances.
+#[allow(clippy::too_many_arguments)]
 pub(crate) fn certify(
     what: &str,
+    scale: f64,
     status: MilpStatus,
     milp_displacement: f64,
     bound: f64,
     verified: f64,
     cost: f64,
 ) -> Result<Certificate> {
-    check_verified(what, milp_displacement, verified)?;
+    check_verified(what, milp_displacement, verified, scale)?;
     let objective = verified - cost;
     Ok(Certificate {
         status,
         milp_objective: milp_displacement,
         bound,
-        gap: ((bound - objective) / objective.abs().max(1.0)).max(0.0),
+        gap: Certificate::gap_of(bound, objective),
     })
+}
+
+impl Certificate {
+    /// The gap of a bound over a verified objective: relative above 1, absolute below.
+    pub fn gap_of(bound: f64, objective: f64) -> f64 {
+        ((bound - objective) / objective.abs().max(1.0)).max(0.0)
+    }
 }
 
 /// The outer approximation stops when the incumbent's true objective is within this of the
@@ -65,9 +74,10 @@ pub(crate) fn certify(
 pub(crate) const OA_TOL: f64 = 1e-6;
 
 /// The independent re-verification: the solver's displacement per period must be the one the
-/// simulator finds for the returned gait, to the solvers' tolerances.
-pub(crate) fn check_verified(what: &str, solver: f64, verified: f64) -> Result<()> {
-    if (solver - verified).abs() > 1e-6 * (1.0 + verified.abs()) {
+/// simulator finds for the returned gait, to the solvers' tolerances, relative to the problem's
+/// length unit `scale` ([`GaitProblem::length_scale`]) or to the displacement if larger.
+pub(crate) fn check_verified(what: &str, solver: f64, verified: f64, scale: f64) -> Result<()> {
+    if !((solver - verified).abs() <= 1e-6 * (scale + verified.abs())) {
         return Err(Error::Numerical(format!(
             "{what}: the gait moves the crawler {verified} per period when simulated, not {solver}"
         )));
@@ -316,8 +326,11 @@ pub(crate) fn replay_grid(
         Method::CatchingUp,
         what,
     )?;
-    let verified = sim.displacement_per_period.expect("converged");
-    let tr = sim.trajectory.expect("one period recorded");
+    let (Some(verified), Some(tr)) = (sim.displacement_per_period, sim.trajectory) else {
+        return Err(Error::Numerical(format!(
+            "{what}: the replay recorded no period on the orbit"
+        )));
+    };
     Ok(GridReplay {
         verified,
         initial_state: sim.orbit_state,

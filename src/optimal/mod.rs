@@ -5,7 +5,9 @@
 //! ([`one_link_optimum`], SPEC §9, paper §4), against which every solver is tested, and the
 //! global solver of the paper's discrete problems P_m ([`solve_discrete_global`], SPEC §6).
 
+pub mod consistency;
 mod discrete;
+mod limits;
 mod local;
 mod milp;
 mod one_link;
@@ -19,6 +21,7 @@ pub use discrete::{
     discrete_convergence, solve_discrete_global, solve_discrete_global_from, ConvergenceRow,
     DiscreteSolution, MAX_M,
 };
+pub use limits::{check_shifts, check_size, MAX_BLOCK_STEPS, MAX_OPT_BLOCKS, MAX_SHIFTS};
 pub use local::{
     check_local, sample_increments, shift_knots, solve_discrete_local,
     solve_discrete_local_shifted, LocalSolution, LocalStop, MAX_LOCAL_M,

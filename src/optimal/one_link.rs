@@ -50,6 +50,8 @@ impl OneLinkOptimum {
         (self.sweep > 0.0).then(|| {
             let dl = self.sweep / crawler.stiffness()[0];
             Actuation::piecewise_linear(period, vec![0.0, 0.5 * period], vec![vec![0.0], vec![dl]])
+                // Impossible to refuse: knots 0 < T/2 < T, one finite length (sweep <= a T and
+                // k is a positive normal number, both checked by Crawler and GaitProblem).
                 .expect("valid knots")
         })
     }
@@ -65,6 +67,7 @@ pub fn one_link_optimum(crawler: &Crawler, problem: &GaitProblem) -> Result<OneL
             "the closed-form optimum is for one link (2 blocks)",
         ));
     }
+    // `analyze` fills `one_link` for every two-block crawler, checked just above.
     let facts = crawler.analyze().one_link.expect("two blocks");
     let (k, a, t) = (
         crawler.stiffness()[0],

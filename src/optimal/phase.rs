@@ -726,9 +726,10 @@ fn solve_steps(
             &what,
         )?
         .displacement_per_period
-        .expect("converged")
+        .ok_or_else(|| Error::Numerical(format!("{what}: the replay did not converge")))?
     };
-    let certificate = certify(&what, status, raw.displacement(), bound, verified, cost)?;
+    let scale = problem.length_scale(crawler);
+    let certificate = certify(&what, scale, status, raw.displacement(), bound, verified, cost)?;
     Ok(PhaseSolution {
         phases,
         certificate,

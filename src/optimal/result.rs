@@ -416,8 +416,9 @@ impl GaitResult {
         )
     }
 
-    /// Reads a result from JSON text, checking the format name, the version and the shape of
-    /// every array against the crawler; `what` names the source in errors.
+    /// Reads a result from JSON text, checking the format name, the version, the shape of every
+    /// array against the crawler, and that the result is what it says
+    /// ([`GaitResult::check_consistent`]); `what` names the source in errors.
     pub fn from_json(text: &str, what: &str) -> Result<Self> {
         let v: serde_json::Value = serde_json::from_str(text).map_err(|e| Error::Io {
             path: what.into(),
@@ -440,14 +441,36 @@ impl GaitResult {
                 ))
             }
         }
-        match v.get("version").and_then(|f| f.as_u64()) {
-            Some(x) if x == u64::from(RESULT_VERSION) => {}
-            other => {
+        match v.get("version") {
+            Some(x) if x.as_u64() == Some(u64::from(RESULT_VERSION)) => {}
+            found => {
+                // Say what was found: `"1"` is a string, not the number 1.
+                let found = match found {
+                    None => "nothing".to_string(),
+                    Some(x @ (serde_json::Value::Number(_) | serde_json::Value::Null)) => {
+                        x.to_string()
+                    }
+                    Some(x) => {
+                        let kind = match x {
+                            serde_json::Value::String(_) => "a string",
+                            serde_json::Value::Bool(_) => "a boolean",
+                            serde_json::Value::Array(_) => "an array",
+                            _ => "an object",
+                        };
+                        let mut text = x.to_string();
+                        if text.len() > 40 {
+                            let cut = (0..=37).rev().find(|&i| text.is_char_boundary(i));
+                            text.truncate(cut.unwrap_or(0));
+                            text.push_str("...");
+                        }
+                        format!("{text} ({kind})")
+                    }
+                };
                 return Err(Error::invalid(
                     format!("{what}: version"),
-                    other.map_or("nothing".into(), |x| x.to_string()),
+                    found,
                     format!("this build reads version {RESULT_VERSION} only"),
-                ))
+                ));
             }
         }
         let r: GaitResult = serde_json::from_value(v).map_err(|e| Error::Io {
@@ -455,6 +478,7 @@ impl GaitResult {
             reason: format!("malformed gait result: {e}"),
         })?;
         r.check_shape(what)?;
+        r.check_consistent(what)?;
         Ok(r)
     }
 

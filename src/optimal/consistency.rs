@@ -1,0 +1,618 @@
+//! Is a recorded gait a process of its problem? The checks every reader of a gait runs before
+//! it shows, replays or certifies it: [`GaitResult::from_json`](super::GaitResult::from_json)
+//! (and so `certify`, `plot`, `report` and `--start`) and the certificate's own
+//! [`Process`](crate::certify::Process). A result file is data from elsewhere: every field that
+//! repeats what others determine is checked against them here, never trusted.
+
+use crate::error::{Error, Result};
+use crate::model::Crawler;
+use crate::optimal::milp::control_knots;
+use crate::optimal::{replay, Certificate, GaitProblem, GaitResult, MilpStatus};
+
+/// Default relative tolerance on the consistency of an input process (states in C, periodicity,
+/// zero mean, dynamics): relative to the size of C, the rate bounds and the period. Loose enough
+/// for a gait written with ten significant digits, tight enough that the first-order conditions
+/// are meaningful at the `1e-9` level of the certificate.
+pub const INPUT_TOL: f64 = 1e-7;
+
+/// How the process was discretised, which fixes where a slipping block's face must be active.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ProcessKind {
+    /// A P_m process (SPEC §6): `2^m` equal catching-up steps; a block slipping on step `i`
+    /// has its face active at the end `x^{i+1}` (implicit Euler).
+    Discrete {
+        /// `m`.
+        m: u32,
+    },
+    /// A phase gait (SPEC §7): constant control per phase, exact; a block slipping on a phase
+    /// has its face active at both ends (held throughout).
+    Phase,
+}
+
+/// A periodic state–control pair on its own knots `t_0 = 0 < ... < t_P = T`, borrowed.
+#[derive(Debug, Clone, Copy)]
+pub struct ProcessView<'a> {
+    /// The crawler.
+    pub crawler: &'a Crawler,
+    /// The gait problem (period, rate bounds, cost).
+    pub problem: &'a GaitProblem,
+    /// Discrete (P_m) or phase gait.
+    pub kind: ProcessKind,
+    /// Piece durations `tau_j` (`P` values, summing to `T`).
+    pub durations: &'a [f64],
+    /// Controls `u_j` per piece (force per time).
+    pub controls: &'a [Vec<f64>],
+    /// States at the knots (`P + 1` rows, last = first).
+    pub states: &'a [Vec<f64>],
+    /// Block displacements `D_{j,b}` per piece.
+    pub block_displacements: &'a [Vec<f64>],
+}
+
+fn bad(what: &str, field: &str, got: impl ToString, reason: impl Into<String>) -> Error {
+    Error::invalid(format!("{what}: {field}"), got, reason)
+}
+
+impl ProcessView<'_> {
+    /// Checks that the data is a process of the problem (relative tolerance `tol`): shapes,
+    /// grid (`2^m` equal steps `T / 2^m` for P_m; positive durations summing to `T`), states in
+    /// C, periodicity `x(T) = x(0)`, `|u_l| <= a_l`, zero mean `int u = 0`, the dynamics
+    /// `x_{j+1} = x_j + tau_j u_j - K sum_b D_{j,b} nu_b`, and the flow rule (a block moves only
+    /// against an active face: at the step's end for P_m, at both ends for a phase).
+    pub fn check(&self, what: &str, tol: f64) -> Result<()> {
+        let c = self.crawler;
+        let (n, nb) = (c.links(), c.blocks());
+        let t = self.problem.period;
+        let a = &self.problem.rate_bound;
+        let np = self.durations.len();
+        for (field, rows, want, width) in [
+            ("gait.controls", self.controls, np, n),
+            ("gait.states", self.states, np + 1, n),
+            ("gait.block_displacements", self.block_displacements, np, nb),
+        ] {
+            if rows.len() != want {
+                return Err(bad(
+                    what,
+                    field,
+                    format!("{} rows", rows.len()),
+                    format!("needs {want} rows"),
+                ));
+            }
+            if let Some(j) = rows.iter().position(|r| r.len() != width) {
+                return Err(bad(
+                    what,
+                    &format!("{field}[{j}]"),
+                    format!("{} values", rows[j].len()),
+                    format!("needs {width} values"),
+                ));
+            }
+            if rows.iter().flatten().any(|v| !v.is_finite()) {
+                return Err(bad(what, field, "a non-finite value", "must be finite"));
+            }
+        }
+        if let Some(j) = self
+            .durations
+            .iter()
+            .position(|d| !(d.is_finite() && *d > 0.0))
+        {
+            return Err(bad(
+                what,
+                &format!("gait.durations[{j}]"),
+                self.durations[j],
+                "must be positive and finite",
+            ));
+        }
+        let total: f64 = self.durations.iter().sum();
+        if (total - t).abs() > 1e-9 * t {
+            return Err(bad(
+                what,
+                "gait.durations",
+                format!("a sum of {total}"),
+                format!("must sum to the period {t}"),
+            ));
+        }
+        if let ProcessKind::Discrete { m } = self.kind {
+            if m == 0 || m > super::MAX_M {
+                return Err(bad(
+                    what,
+                    "m",
+                    m,
+                    format!("must be in 1..={}", super::MAX_M),
+                ));
+            }
+            let steps = 1usize << m;
+            if np != steps {
+                return Err(bad(
+                    what,
+                    "gait.durations",
+                    format!("{np} steps"),
+                    format!("a P_{m} gait lives on the dyadic grid of 2^{m} = {steps} steps"),
+                ));
+            }
+            let h = t / steps as f64;
+            if let Some(j) = self.durations.iter().position(|d| (d - h).abs() > 1e-9 * h) {
+                return Err(bad(
+                    what,
+                    &format!("gait.durations[{j}]"),
+                    self.durations[j],
+                    format!("a P_{m} step must be h = T / 2^{m} = {h}"),
+                ));
+            }
+        }
+        let scale = c.state_scale();
+        for (j, x) in self.states.iter().enumerate() {
+            c.check_admissible(&format!("{what}: gait.states[{j}]"), x, tol)?;
+        }
+        let per = max_diff(&self.states[0], &self.states[np]);
+        if per > tol * scale {
+            return Err(bad(
+                what,
+                &format!("gait.states[{np}]"),
+                format!("{:?}", self.states[np]),
+                format!(
+                    "the process is not periodic: x(T) differs from x(0) = {:?} by {per:.3e}",
+                    self.states[0]
+                ),
+            ));
+        }
+        for (j, u) in self.controls.iter().enumerate() {
+            for l in 0..n {
+                if u[l].abs() > a[l] * (1.0 + tol) {
+                    return Err(bad(
+                        what,
+                        &format!("gait.controls[{j}][{l}]"),
+                        u[l],
+                        format!("exceeds the rate bound a = {}", a[l]),
+                    ));
+                }
+            }
+        }
+        for l in 0..n {
+            let mean: f64 = self
+                .controls
+                .iter()
+                .zip(self.durations)
+                .map(|(u, d)| u[l] * d)
+                .sum();
+            if mean.abs() > tol * a[l] * t {
+                return Err(bad(
+                    what,
+                    "gait.controls",
+                    format!("int u_{} dt = {mean:.6e}", l + 1),
+                    "the control must have zero mean (a periodic actuation)",
+                ));
+            }
+        }
+        let k = c.stiffness();
+        let dtol = d_tol(c, tol);
+        for j in 0..np {
+            let (x0, x1, u, d) = (
+                &self.states[j],
+                &self.states[j + 1],
+                &self.controls[j],
+                &self.block_displacements[j],
+            );
+            // x1 - x0 - tau u + k_l (D_{l+1} - D_l) = 0 (K sum_b D_b nu_b, nu_b = e_{b-1} - e_b).
+            for l in 0..n {
+                let r = x1[l] - x0[l] - self.durations[j] * u[l] + k[l] * (d[l + 1] - d[l]);
+                if r.abs() > tol * scale.max(a[l] * self.durations[j]) {
+                    return Err(bad(
+                        what,
+                        &format!("gait.states[{}]", j + 1),
+                        format!("{:?}", x1),
+                        format!(
+                            "does not follow from gait.states[{j}], the control and the block \
+                             displacements of piece {j} (link {}: residual {r:.3e})",
+                            l + 1
+                        ),
+                    ));
+                }
+            }
+            let f1 = c.block_forces(x1);
+            let f0 = c.block_forces(x0);
+            for b in 0..nb {
+                let s = slip(d[b], dtol);
+                if s == 0 {
+                    continue;
+                }
+                let on = |f: f64| {
+                    if s > 0 {
+                        (f - c.mu_forward()[b]).abs() <= tol * scale
+                    } else {
+                        (f + c.mu_backward()[b]).abs() <= tol * scale
+                    }
+                };
+                let ends_ok = match self.kind {
+                    ProcessKind::Discrete { .. } => on(f1[b]),
+                    ProcessKind::Phase => on(f0[b]) && on(f1[b]),
+                };
+                if !ends_ok {
+                    return Err(bad(
+                        what,
+                        &format!("gait.block_displacements[{j}][{b}]"),
+                        d[b],
+                        format!(
+                            "block {} moves on piece {j} but its friction threshold is not \
+                             reached{} (flow rule, SPEC §2)",
+                            b + 1,
+                            match self.kind {
+                                ProcessKind::Discrete { .. } => " at the step's end",
+                                ProcessKind::Phase => {
+                                    " at both ends of the phase (split phases where a face is \
+                                     reached or left)"
+                                }
+                            }
+                        ),
+                    ));
+                }
+            }
+        }
+        Ok(())
+    }
+}
+
+/// `max_l |a_l - b_l|` (infinite when the lengths differ).
+pub(crate) fn max_diff(a: &[f64], b: &[f64]) -> f64 {
+    if a.len() != b.len() {
+        return f64::INFINITY;
+    }
+    a.iter()
+        .zip(b)
+        .fold(0.0_f64, |m, (x, y)| m.max((x - y).abs()))
+}
+
+/// Displacements below this are "no motion": `tol` times the size of C over the stiffest link.
+pub(crate) fn d_tol(c: &Crawler, tol: f64) -> f64 {
+    let kmax = c.stiffness().iter().fold(0.0_f64, |m, &k| m.max(k));
+    tol * c.state_scale() / kmax
+}
+
+/// Slip direction of a displacement with a tolerance.
+pub(crate) fn slip(d: f64, tol: f64) -> i8 {
+    if d > tol {
+        1
+    } else if d < -tol {
+        -1
+    } else {
+        0
+    }
+}
+
+impl GaitResult {
+    /// Checks that a result is what it says (module docs), with relative tolerance
+    /// [`INPUT_TOL`]: the method and `m`; the problem within the optimisers' range; the gait a
+    /// process of the problem ([`ProcessView::check`]); every redundant field against what
+    /// determines it (knot times and the initial state against durations and states, actuator
+    /// lengths against the controls, slip modes against displacements and active faces); the
+    /// displacement, cost and objective recomputed, the displacement replayed by the simulator
+    /// that verified it; the certificate's bound and gap against the objective; the growth and
+    /// convergence tables against the objective and their own invariants. `what` names the
+    /// source in errors.
+    pub fn check_consistent(&self, what: &str) -> Result<()> {
+        let crawler = self.crawler.crawler()?;
+        crawler.require_unique()?;
+        self.problem.check_scales(&crawler)?;
+        let kind = self.process_kind(what)?;
+        let g = &self.gait;
+        let view = ProcessView {
+            crawler: &crawler,
+            problem: &self.problem,
+            kind,
+            durations: &g.durations,
+            controls: &g.controls,
+            states: &g.states,
+            block_displacements: &g.block_displacements,
+        };
+        view.check(what, INPUT_TOL)?;
+        let t = self.problem.period;
+        let np = g.durations.len();
+        // Knot times and the initial state repeat the durations and the states.
+        let mut knot = 0.0;
+        for (j, &tj) in g.times.iter().enumerate() {
+            if (tj - knot).abs() > 1e-9 * t {
+                return Err(bad(
+                    what,
+                    &format!("gait.times[{j}]"),
+                    tj,
+                    format!("disagrees with the sum of the durations before it ({knot})"),
+                ));
+            }
+            knot += g.durations.get(j).copied().unwrap_or(0.0);
+        }
+        let scale = crawler.state_scale();
+        let d0 = max_diff(&g.states[0], &g.initial_state);
+        if d0 > INPUT_TOL * scale {
+            return Err(bad(
+                what,
+                "gait.initial_state",
+                format!("{:?}", g.initial_state),
+                format!("differs from gait.states[0] by {d0:.3e}"),
+            ));
+        }
+        // Actuator lengths: L(0) = 0 and L' = u / k on each piece.
+        let (_, lengths) = control_knots(&g.durations, &g.controls, crawler.stiffness());
+        let len_scale = self.problem.length_scale(&crawler);
+        for (j, (got, want)) in g.lengths.iter().zip(&lengths).enumerate() {
+            let d = max_diff(got, want);
+            let sweep = (0..crawler.links())
+                .map(|l| self.problem.rate_bound[l] * t / crawler.stiffness()[l])
+                .fold(len_scale, f64::max);
+            if d > INPUT_TOL * sweep {
+                return Err(bad(
+                    what,
+                    &format!("gait.lengths[{j}]"),
+                    format!("{got:?}"),
+                    format!("disagrees with the lengths the controls give ({want:?})"),
+                ));
+            }
+        }
+        // Slip modes: the sign of a displacement, and a slipping block on its face.
+        let dtol = d_tol(&crawler, INPUT_TOL);
+        for j in 0..np {
+            let (f0, f1) = (
+                crawler.block_forces(&g.states[j]),
+                crawler.block_forces(&g.states[j + 1]),
+            );
+            for b in 0..crawler.blocks() {
+                let s = g.slip[j][b];
+                let moved = slip(g.block_displacements[j][b], dtol);
+                let face = |f: f64| match s {
+                    1 => (f - crawler.mu_forward()[b]).abs() <= INPUT_TOL * scale,
+                    -1 => (f + crawler.mu_backward()[b]).abs() <= INPUT_TOL * scale,
+                    _ => true,
+                };
+                let on_face = match kind {
+                    ProcessKind::Discrete { .. } => face(f1[b]),
+                    ProcessKind::Phase => face(f0[b]) && face(f1[b]),
+                };
+                if !(-1..=1).contains(&s) || (moved != 0 && moved != s) || !on_face {
+                    return Err(bad(
+                        what,
+                        &format!("gait.slip[{j}][{b}]"),
+                        s,
+                        format!(
+                            "disagrees with the gait: block {} moves by {:.3e} on piece {j} \
+                             {}",
+                            b + 1,
+                            g.block_displacements[j][b],
+                            if on_face {
+                                "in the other direction"
+                            } else {
+                                "and its friction threshold of that direction is not reached"
+                            }
+                        ),
+                    ));
+                }
+            }
+        }
+        // Displacement, cost and objective: recomputed, and replayed.
+        let nb = crawler.blocks() as f64;
+        let moved: f64 = g
+            .block_displacements
+            .iter()
+            .map(|d| d.iter().sum::<f64>() / nb)
+            .sum();
+        let cost: f64 = g
+            .durations
+            .iter()
+            .zip(&g.controls)
+            .map(|(d, u)| d * self.problem.cost.eval(u))
+            .sum();
+        let increments: Vec<Vec<f64>> = g
+            .durations
+            .iter()
+            .zip(&g.controls)
+            .map(|(d, u)| u.iter().map(|v| v * d).collect())
+            .collect();
+        let sim = replay(
+            &crawler,
+            t,
+            &g.durations,
+            &increments,
+            Some(&g.states[0]),
+            self.verified_with(),
+            what,
+        )?;
+        let replayed = sim.displacement_per_period.unwrap_or(f64::NAN);
+        let j_scale = len_scale.max(moved.abs()).max(cost.abs());
+        let close = |a: f64, b: f64| (a - b).abs() <= INPUT_TOL * j_scale;
+        for (field, got, want) in [
+            (
+                "displacement_per_period",
+                self.displacement_per_period,
+                moved,
+            ),
+            ("verified_displacement", self.verified_displacement, moved),
+            ("displacement_per_period", replayed, moved),
+            ("actuation_cost", self.actuation_cost, cost),
+            ("objective", self.objective, moved - cost),
+        ] {
+            if !close(got, want) {
+                return Err(bad(
+                    what,
+                    field,
+                    got,
+                    format!(
+                        "disagrees with the gait: its block displacements, its cost and its \
+                         replay by simulation give {want}"
+                    ),
+                ));
+            }
+        }
+        if !self.solver_objective.is_finite() {
+            return Err(bad(
+                what,
+                "solver_objective",
+                self.solver_objective,
+                "must be finite",
+            ));
+        }
+        self.check_certificate(what, |a, b| close(a, b))?;
+        self.check_tables(what, close)
+    }
+
+    /// The process kind of the method (and `m`) a result names.
+    pub(crate) fn process_kind(&self, what: &str) -> Result<ProcessKind> {
+        match (self.method.as_str(), self.m) {
+            ("discrete" | "local", Some(m)) if (1..=super::MAX_M).contains(&m) => {
+                Ok(ProcessKind::Discrete { m })
+            }
+            ("discrete" | "local", Some(m)) => Err(bad(
+                what,
+                "m",
+                m,
+                format!("must be in 1..={}", super::MAX_M),
+            )),
+            ("discrete" | "local", None) => {
+                Err(bad(what, "m", "nothing", "a discrete (P_m) result needs m"))
+            }
+            ("phase", None) => Ok(ProcessKind::Phase),
+            ("phase", Some(m)) => Err(bad(what, "m", m, "a phase gait has no grid m")),
+            (other, _) => Err(bad(
+                what,
+                "method",
+                other,
+                "must be \"discrete\", \"local\" or \"phase\"",
+            )),
+        }
+    }
+
+    /// The certificate's kind against the method, its bound against the objective and its gap
+    /// against both.
+    fn check_certificate(&self, what: &str, close: impl Fn(f64, f64) -> bool) -> Result<()> {
+        let c = &self.certificate;
+        let kinds: &[&str] = match self.method.as_str() {
+            "phase" => &["global_k_phases", "local"],
+            "discrete" => &["global"],
+            _ => &["local"],
+        };
+        if !kinds.contains(&c.kind.as_str()) {
+            return Err(bad(
+                what,
+                "certificate.kind",
+                &c.kind,
+                format!("a {} result's certificate is one of {kinds:?}", self.method),
+            ));
+        }
+        match (c.kind.as_str(), c.bound, c.gap) {
+            ("local", None, None) => Ok(()),
+            ("local", _, _) => Err(bad(
+                what,
+                "certificate.bound",
+                "a bound",
+                "a local answer proves no bound",
+            )),
+            (_, Some(bound), Some(gap)) => {
+                if !(bound.is_finite() && (bound >= self.objective || close(bound, self.objective)))
+                {
+                    return Err(bad(
+                        what,
+                        "certificate.bound",
+                        bound,
+                        format!("is below the verified objective {}", self.objective),
+                    ));
+                }
+                let want = Certificate::gap_of(bound, self.objective);
+                if !(gap.is_finite() && (gap - want).abs() <= INPUT_TOL * want.abs().max(1.0)) {
+                    return Err(bad(
+                        what,
+                        "certificate.gap",
+                        gap,
+                        format!("disagrees with the bound and the objective ({want})"),
+                    ));
+                }
+                Ok(())
+            }
+            _ => Err(bad(
+                what,
+                "certificate",
+                "no bound or no gap",
+                "a global certificate states both",
+            )),
+        }
+    }
+
+    /// The phase-growth and convergence tables: finite rows, each value at most its bound,
+    /// optimal values non-decreasing in K (in m: nested dyadic grids), and the reported gait's
+    /// objective the table's best (phase growth) or last (convergence) value.
+    fn check_tables(&self, what: &str, close: impl Fn(f64, f64) -> bool) -> Result<()> {
+        let rows: Vec<(usize, f64, f64, MilpStatus, &str)> =
+            match (&self.phase_growth, &self.convergence) {
+                (Some(g), None) => g
+                    .table
+                    .iter()
+                    .map(|r| {
+                        (
+                            r.phases,
+                            r.objective,
+                            r.bound,
+                            r.status,
+                            "phase_growth.table",
+                        )
+                    })
+                    .collect(),
+                (None, Some(c)) => c
+                    .iter()
+                    .map(|r| (r.m as usize, r.objective, r.bound, r.status, "convergence"))
+                    .collect(),
+                (None, None) => return Ok(()),
+                (Some(_), Some(_)) => {
+                    return Err(bad(
+                        what,
+                        "convergence",
+                        "a table",
+                        "a result has a phase growth or a convergence table, not both",
+                    ))
+                }
+            };
+        let mut best = f64::NEG_INFINITY;
+        let mut last_optimal: Option<f64> = None;
+        for (i, &(key, j, bound, status, field)) in rows.iter().enumerate() {
+            let at = format!("{field}[{i}]");
+            if key != i + 1 {
+                return Err(bad(
+                    what,
+                    &at,
+                    key,
+                    format!("rows run over 1, 2, ... (row {} here)", i + 1),
+                ));
+            }
+            if !(j.is_finite() && bound.is_finite()) || (j > bound && !close(j, bound)) {
+                return Err(bad(
+                    what,
+                    &at,
+                    j,
+                    format!("must be finite and at most its bound {bound}"),
+                ));
+            }
+            if status == MilpStatus::Optimal {
+                if let Some(prev) = last_optimal {
+                    if j < prev && !close(j, prev) {
+                        return Err(bad(
+                            what,
+                            &at,
+                            j,
+                            format!(
+                                "an optimum below the previous optimum {prev} of a smaller class"
+                            ),
+                        ));
+                    }
+                }
+                last_optimal = Some(j);
+            }
+            best = best.max(j);
+        }
+        let want = match self.convergence {
+            Some(_) => rows.last().map_or(best, |r| r.1),
+            None => best,
+        };
+        if !close(want, self.objective) {
+            return Err(bad(
+                what,
+                "objective",
+                self.objective,
+                format!("disagrees with the table's value {want} for this gait"),
+            ));
+        }
+        Ok(())
+    }
+}

@@ -1,0 +1,158 @@
+//! Every reader of a gait result (certify, plot, report, --start) runs one consistency check
+//! (`GaitResult::check_consistent`, through `GaitResult::from_json`): the results the optimisers
+//! write pass it, and every mutation the robustness issue found accepted (or drawn) is refused
+//! naming its field.
+
+use crawlopt::optimal::{
+    grow_phases, solve_discrete_global, solve_discrete_local, Cost, GaitProblem, GaitResult,
+    GrowOptions,
+};
+use crawlopt::{Crawler, Error};
+use serde_json::{json, Value};
+
+fn three_blocks() -> (Crawler, GaitProblem) {
+    let c = Crawler::uniform(3, 1.0, 1.0, 1.5).unwrap();
+    let p = GaitProblem::new(&c, 10.0, &[1.0, 1.0], Cost::None, None).unwrap();
+    (c, p)
+}
+
+/// The results of the three formulations, as JSON values.
+fn results() -> Vec<(&'static str, Value)> {
+    let (c, p) = three_blocks();
+    let growth = grow_phases(
+        &c,
+        &p,
+        &GrowOptions {
+            max_phases: 4,
+            ..GrowOptions::default()
+        },
+        &mut |_| {},
+    )
+    .unwrap();
+    let phase = GaitResult::from_growth(&c, &p, &growth);
+    let disc = GaitResult::from_discrete(&c, &p, &solve_discrete_global(&c, &p, 2, None).unwrap());
+    let (t, l) = (&phase.gait.times, &phase.gait.lengths);
+    let local = GaitResult::from_local(
+        &c,
+        &p,
+        &solve_discrete_local(&c, &p, 4, t, l, None).unwrap(),
+        "phase",
+    );
+    [("phase", phase), ("discrete", disc), ("local", local)]
+        .into_iter()
+        .map(|(k, r)| (k, serde_json::to_value(&r).unwrap()))
+        .collect()
+}
+
+fn read(v: &Value) -> crawlopt::Result<GaitResult> {
+    GaitResult::from_json(&v.to_string(), "r.json")
+}
+
+/// Applies `edit` to a copy of `v` and asserts the reader refuses it naming `field`.
+fn refused(v: &Value, field: &str, edit: impl FnOnce(&mut Value)) {
+    let mut w = v.clone();
+    edit(&mut w);
+    match read(&w) {
+        Err(Error::InvalidParameter { field: f, .. }) if f.contains(field) => {}
+        Err(Error::Inadmissible { what, .. }) if what.contains(field) => {}
+        other => panic!("{field}: expected a refusal naming it, got {other:?}"),
+    }
+}
+
+#[test]
+fn optimiser_results_pass_and_mutations_are_refused_by_field() {
+    for (kind, v) in results() {
+        let r = read(&v).unwrap_or_else(|e| panic!("{kind}: {e}"));
+        assert_eq!(serde_json::to_value(&r).unwrap(), v);
+        let g = "gait";
+        // Redundant fields: lengths, slip modes, the objective and its parts.
+        refused(&v, "gait.lengths[1]", |w| {
+            w[g]["lengths"][1][0] = json!(3.5)
+        });
+        refused(&v, "gait.lengths[1]", |w| {
+            w[g]["lengths"][1][0] = json!(1e300)
+        });
+        let moving = r
+            .gait
+            .block_displacements
+            .iter()
+            .enumerate()
+            .find_map(|(j, d)| d.iter().position(|x| x.abs() > 1e-3).map(|b| (j, b)))
+            .unwrap();
+        refused(&v, "gait.slip", |w| {
+            let s = &mut w[g]["slip"][moving.0][moving.1];
+            *s = json!(-s.as_i64().unwrap());
+        });
+        let still = r
+            .gait
+            .slip
+            .iter()
+            .enumerate()
+            .find_map(|(j, s)| s.iter().position(|&x| x == 0).map(|b| (j, b)));
+        if let Some((j, b)) = still {
+            let f = r
+                .crawler
+                .crawler()
+                .unwrap()
+                .block_forces(&r.gait.states[j + 1])[b];
+            if (f + 1.5).abs() > 1e-3 {
+                refused(&v, "gait.slip", |w| w[g]["slip"][j][b] = json!(-1));
+            }
+        }
+        refused(&v, "objective", |w| w["objective"] = json!(7.5));
+        refused(&v, "displacement_per_period", |w| {
+            w["displacement_per_period"] = json!(7.5)
+        });
+        refused(&v, "actuation_cost", |w| w["actuation_cost"] = json!(1.0));
+        // The gait itself: a displacement, a state outside C, a control beyond a = 1, a
+        // non-zero mean, a negative duration, another crawler's friction.
+        refused(&v, "gait.", |w| {
+            w[g]["block_displacements"][0][0] = json!(0.7)
+        });
+        refused(&v, "gait.states[1]", |w| w[g]["states"][1][0] = json!(9.0));
+        refused(&v, "gait.controls", |w| {
+            w[g]["controls"][0][0] = json!(-5.0)
+        });
+        refused(&v, "gait.", |w| {
+            let u = w[g]["controls"][0][1].as_f64().unwrap();
+            w[g]["controls"][0][1] = json!(u + 0.01);
+        });
+        refused(&v, "gait.durations", |w| w[g]["durations"][0] = json!(-1.0));
+        refused(&v, "gait.", |w| {
+            w["crawler"]["mu_forward"] = json!([0.5, 0.5, 0.5])
+        });
+        // Method, grid, certificate.
+        refused(&v, "method", |w| w["method"] = json!("bogus"));
+        refused(&v, "m", |w| w["m"] = json!(40));
+        refused(&v, "certificate", |w| {
+            w["certificate"]["kind"] = json!("global_everything")
+        });
+        if r.certificate.bound.is_some() {
+            refused(&v, "certificate.bound", |w| {
+                w["certificate"]["bound"] = json!(r.objective - 0.5)
+            });
+            refused(&v, "certificate.gap", |w| {
+                w["certificate"]["gap"] = json!(0.5)
+            });
+        }
+        if kind == "discrete" {
+            // An uneven grid: two steps of 2 and 3 where P_2 has 2.5 each.
+            refused(&v, "gait.durations[0]", |w| {
+                w[g]["durations"][0] = json!(2.0);
+                w[g]["durations"][1] = json!(3.0);
+            });
+        }
+        if kind == "phase" {
+            refused(&v, "phase_growth.table", |w| {
+                w["phase_growth"]["table"][0]["objective"] = json!(99.0)
+            });
+            refused(&v, "objective", |w| {
+                let rows = w["phase_growth"]["table"].as_array_mut().unwrap();
+                for row in rows {
+                    row["objective"] = json!(1.0);
+                    row["bound"] = json!(1.0);
+                }
+            });
+        }
+    }
+}
