@@ -5,7 +5,7 @@
 
 use crawlopt::optimal::{
     one_link_optimum, solve_discrete_global, solve_discrete_local, solve_phase_global, Cost,
-    GaitProblem, FORCE_RANGE, MAX_SWEEP, PERIOD_RANGE,
+    GaitProblem, MAX_SWEEP,
 };
 use crawlopt::{Crawler, Error};
 
@@ -56,28 +56,35 @@ fn agrees_with_closed_form(c: &Crawler, p: &GaitProblem) {
 }
 
 #[test]
-fn the_corners_of_the_supported_range_agree_with_the_closed_form() {
-    // Time unit: the shortest and the longest period (sweep ratio a T / w = 10 / 3 throughout).
-    for (t, speed) in [(PERIOD_RANGE[0], 1e9), (PERIOD_RANGE[1], 1e-7)] {
+fn any_units_agree_with_the_closed_form() {
+    // The optimisers solve in internal units (force: the friction scale, time: the period,
+    // length: the smallest elongation crossing C), so the user's units are no limit. Each case
+    // is the reference instance (sweep ratio a T / w = 10 / 3, J* = 3 in its length unit) in
+    // other units; before the change of units, friction thresholds of 1e9 gave J = 0
+    // "certified" and 1e-9 a HiGHS error.
+    for (t, speed) in [(1e-12, 1e13), (1e12, 1e-11)] {
         let (c, p) = one_link(1.0, 1.0, t, speed, Cost::None);
         agrees_with_closed_form(&c, &p);
     }
-    // Force unit: the smallest and the largest friction thresholds (mu- = 2 mu at the top).
-    for mu in [FORCE_RANGE[0], FORCE_RANGE[1] / 2.0] {
+    for mu in [1e-12, 1e-9, 1e9, 1e12] {
         let (c, p) = one_link(mu, mu, 10.0, 1.0, Cost::None);
         agrees_with_closed_form(&c, &p);
     }
-    // Length unit: J* = 3e-6 (stiff springs) and 3e6 (soft ones); HiGHS's default absolute gap
-    // (1e-6) once certified the small one at a gap of a third of its value.
-    for (k, speed) in [(1e6, 1e-6), (1e-6, 1e6)] {
+    // Lengths: J* = 3e-9 (stiff springs) and 3e9 (soft ones); HiGHS's default absolute gap
+    // (1e-6) once certified J = 3e-6 at a gap of a third of its value.
+    for (k, speed) in [(1e9, 1e-9), (1e-9, 1e9)] {
         let (c, p) = one_link(k, 1.0, 10.0, speed, Cost::None);
         agrees_with_closed_form(&c, &p);
     }
+    // All three at once, and a quadratic cost in the reference and in odd units.
+    let (c, p) = one_link(1e7, 1e-5, 1e-4, 1e-7, Cost::None);
+    agrees_with_closed_form(&c, &p);
+    let (c, p) = one_link(1.0, 1.0, 10.0, 1.0, Cost::Quadratic { weight: 0.1 });
+    agrees_with_closed_form(&c, &p);
+    let (c, p) = one_link(1e3, 1e6, 1e-3, 1e3, Cost::Quadratic { weight: 1e-7 });
+    agrees_with_closed_form(&c, &p);
     // Sweep ratio just below the limit: a T / w = 10 k / 3 = 3e5.
     let (c, p) = one_link(9e4, 1.0, 10.0, 1.0, Cost::None);
-    agrees_with_closed_form(&c, &p);
-    // A quadratic cost at a moderate cost ratio.
-    let (c, p) = one_link(1.0, 1.0, 10.0, 1.0, Cost::Quadratic { weight: 0.1 });
     agrees_with_closed_form(&c, &p);
 }
 
@@ -113,11 +120,9 @@ fn outside_the_range_every_optimiser_refuses_naming_the_field() {
     // Just above the sweep limit.
     let (c, p) = one_link(MAX_SWEEP * 0.31, 1.0, 10.0, 1.0, Cost::None);
     refused(&c, &p, "gait.max_actuator_speed[1]");
-    // Forces, period and speeds that once made the `highs` crate panic.
-    let (c, p) = one_link(1.0, 1e9, 10.0, 1.0, Cost::None);
-    refused(&c, &p, "crawler.mu_forward[1]");
+    // A period and a speed that once made the `highs` crate panic.
     let (c, p) = one_link(1.0, 1.0, 1e300, 1.0, Cost::None);
-    refused(&c, &p, "gait.period");
+    refused(&c, &p, "gait.max_actuator_speed[1]");
     let (c, p) = one_link(1.0, 1.0, 10.0, 1e300, Cost::None);
     refused(&c, &p, "gait.max_actuator_speed[1]");
     let c = Crawler::new(vec![1e-200, 1e200], vec![1.0; 3], vec![1.5; 3]).unwrap();

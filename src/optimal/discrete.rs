@@ -45,6 +45,7 @@ use crate::optimal::milp::{
     solve_max, GridColumns, GridReplay, TangentRates, OA_TOL,
 };
 use crate::optimal::sample_increments;
+use crate::optimal::units::Units;
 use crate::optimal::{Certificate, Cost, GaitProblem, MilpStatus};
 use highs::{Col, RowProblem};
 use serde::{Deserialize, Serialize};
@@ -308,6 +309,23 @@ pub fn solve_discrete_global_from(
         ));
     }
     check_time_limit(time_limit)?;
+    // Solved in the optimisers' internal units ([`Units`]), answered in the user's.
+    let units = Units::of(crawler, problem);
+    let (c, p) = (units.crawler(crawler)?, units.problem(problem));
+    let start = start.map(|(t, l)| units.knots_in(t, l));
+    let start = start.as_ref().map(|(t, l)| (t.as_slice(), l.as_slice()));
+    let s = solve_discrete_in(&c, &p, m, time_limit, start)?;
+    Ok(units.discrete(&s))
+}
+
+/// [`solve_discrete_global_from`] in internal units, arguments checked.
+fn solve_discrete_in(
+    crawler: &Crawler,
+    problem: &GaitProblem,
+    m: u32,
+    time_limit: Option<f64>,
+    start: Option<(&[f64], &[Vec<f64>])>,
+) -> Result<DiscreteSolution> {
     let nb = crawler.blocks();
     let big_m = 1usize << m;
     let h = problem.period / big_m as f64;

@@ -37,6 +37,7 @@ use crate::model::Crawler;
 use crate::optimal::milp::{
     block_speed_bound, check_time_limit, check_verified, force, replay_grid, GridColumns,
 };
+use crate::optimal::units::Units;
 use crate::optimal::{Cost, GaitProblem};
 use highs::{Col, RowProblem, Sense};
 use serde::{Deserialize, Serialize};
@@ -195,6 +196,23 @@ pub fn solve_discrete_local(
     problem.check_scales(crawler)?;
     check_time_limit(time_limit)?;
     check_local(problem, m)?;
+    // Solved in the optimisers' internal units ([`Units`]), answered in the user's.
+    let units = Units::of(crawler, problem);
+    let (c, p) = (units.crawler(crawler)?, units.problem(problem));
+    let (times, lengths) = units.knots_in(start_times, start_lengths);
+    let s = solve_local_in(&c, &p, m, &times, &lengths, time_limit)?;
+    Ok(units.local(&s))
+}
+
+/// [`solve_discrete_local`] in internal units, arguments checked.
+fn solve_local_in(
+    crawler: &Crawler,
+    problem: &GaitProblem,
+    m: u32,
+    start_times: &[f64],
+    start_lengths: &[Vec<f64>],
+    time_limit: Option<f64>,
+) -> Result<LocalSolution> {
     let began = Instant::now();
     let (n, nb) = (crawler.links(), crawler.blocks());
     let (k, mp, mm) = (
@@ -385,7 +403,12 @@ pub fn solve_discrete_local(
     let rows = grid.increments(&cols);
     let x0: Vec<f64> = xs[0].iter().map(|c| cols[c.index()]).collect();
     let g = replay_grid(crawler, t, &rows, &x0, &what)?;
-    check_verified(&what, lp_objective, g.verified, problem.length_scale(crawler))?;
+    check_verified(
+        &what,
+        lp_objective,
+        g.verified,
+        problem.length_scale(crawler),
+    )?;
     Ok(LocalSolution {
         m,
         step: h,

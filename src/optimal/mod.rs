@@ -15,6 +15,7 @@ mod phase;
 mod problem;
 mod result;
 pub(crate) mod solver;
+mod units;
 mod start;
 
 pub use discrete::{
@@ -35,7 +36,7 @@ pub use phase::{
     SequenceSearch, MAX_PHASES,
 };
 pub use problem::{
-    Cost, GaitProblem, FORCE_RANGE, MAX_COST_RATIO, MAX_RATIO, MAX_SWEEP, PERIOD_RANGE,
+    Cost, GaitProblem, MAX_COST_RATIO, MAX_RATIO, MAX_SWEEP,
 };
 pub use result::{
     CrawlerParams, GaitData, GaitResult, LocalRecord, PhaseGrowthRecord, ResultCertificate,

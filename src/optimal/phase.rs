@@ -76,6 +76,7 @@ use crate::optimal::milp::{
     block_speed_bound, certify, check_time_limit, force_row, replay, solve_max, TangentRates,
     OA_TOL,
 };
+use crate::optimal::units::Units;
 use crate::optimal::{Certificate, Cost, GaitProblem, LocalStop, MilpStatus};
 use highs::{Col, RowProblem};
 use serde::{Deserialize, Serialize};
@@ -641,10 +642,27 @@ pub fn solve_phase_from(
     solve_steps(crawler, problem, phases, time_limit, start, None)
 }
 
+/// [`solve_steps_in`] in the optimisers' internal units ([`Units`]): the problem and the start
+/// converted in, the answer converted back.
+fn solve_steps(
+    crawler: &Crawler,
+    problem: &GaitProblem,
+    phases: usize,
+    time_limit: Option<f64>,
+    start: Option<&PhaseSolution>,
+    fixed: Option<&[Vec<i8>]>,
+) -> Result<PhaseSolution> {
+    let units = Units::of(crawler, problem);
+    let (c, p) = (units.crawler(crawler)?, units.problem(problem));
+    let start = start.map(|s| units.phase(s, false));
+    let s = solve_steps_in(&c, &p, phases, time_limit, start.as_ref(), fixed)?;
+    Ok(units.phase(&s, true))
+}
+
 /// The phase MILP of `phases` steps (or, with `fixed` modes, its LP), solved with outer
 /// approximation of a quadratic cost, the answer replayed by the exact simulator and certified.
 /// Arguments are checked by the callers.
-fn solve_steps(
+fn solve_steps_in(
     crawler: &Crawler,
     problem: &GaitProblem,
     phases: usize,
@@ -729,7 +747,15 @@ fn solve_steps(
         .ok_or_else(|| Error::Numerical(format!("{what}: the replay did not converge")))?
     };
     let scale = problem.length_scale(crawler);
-    let certificate = certify(&what, scale, status, raw.displacement(), bound, verified, cost)?;
+    let certificate = certify(
+        &what,
+        scale,
+        status,
+        raw.displacement(),
+        bound,
+        verified,
+        cost,
+    )?;
     Ok(PhaseSolution {
         phases,
         certificate,
@@ -906,7 +932,9 @@ pub fn grow_phases(
         table.push(step);
         let timed_out = s.certificate.status == MilpStatus::TimeLimit;
         let gain = best.as_ref().map_or(f64::INFINITY, |b| {
-            s.objective() - b.objective() - gain_tolerance(problem) * b.objective().abs().max(1.0)
+            s.objective()
+                - b.objective()
+                - gain_tolerance(problem) * b.objective().abs().max(problem.length_scale(crawler))
         });
         if timed_out {
             if gain > 0.0 || best.is_none() {
@@ -1172,7 +1200,8 @@ pub fn search_sequences(
                 Ok(s)
                     if s.objective()
                         > best.objective()
-                            + gain_tolerance(problem) * best.objective().abs().max(1.0) =>
+                            + gain_tolerance(problem)
+                                * best.objective().abs().max(problem.length_scale(crawler)) =>
                 {
                     best = s;
                     seq = next;

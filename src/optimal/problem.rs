@@ -45,12 +45,6 @@ pub struct GaitProblem {
     pub max_total_variation: Option<f64>,
 }
 
-/// The range of every friction threshold `mu_b^±` the solvers accept (force units). Measured on
-/// the one-link problem against its closed form (tests/scales.rs): right at 1e-6 and 1e6, wrong
-/// (J = 0 with a "certificate") at 1e9 and refused by HiGHS at 1e-9, whose absolute
-/// tolerances (1e-9) then no longer separate the forces.
-pub const FORCE_RANGE: [f64; 2] = [1e-6, 1e6];
-
 /// Largest ratio of two stiffnesses, or of two friction thresholds, the solvers accept: beyond
 /// it the weakest link's (or block's) forces drown in the tolerances of the strongest.
 pub const MAX_RATIO: f64 = 1e6;
@@ -60,10 +54,6 @@ pub const MAX_RATIO: f64 = 1e6;
 /// `1 / (a T / w)` of the period; measured on the one-link problem (`a T / w = 10 k / 3`):
 /// right up to 3e5, gaps of 1e-7 at 3e6, HiGHS solve errors at 3e7 and a wrong J = 0 at 3e9.
 pub const MAX_SWEEP: f64 = 1e6;
-
-/// The range of the period `T` the solvers accept (time units; measured right at 1e-8 and 1e8
-/// with the one-link closed form).
-pub const PERIOD_RANGE: [f64; 2] = [1e-8, 1e8];
 
 /// Largest cost ratio `c a_l k_l` (the cost of moving link `l` at its rate bound against the
 /// displacement that motion can buy) the solvers accept: beyond it the optimum is to stay
@@ -127,32 +117,16 @@ impl GaitProblem {
     }
 
     /// Refuses, naming the field and the supported range, an instance whose scale the LP/MILP
-    /// solvers cannot honour with their tolerances (README, "Supported range"): friction
-    /// thresholds outside [`FORCE_RANGE`], stiffness or friction ratios above [`MAX_RATIO`], a
-    /// period outside [`PERIOD_RANGE`], a sweep ratio `a_l T / w_l` above [`MAX_SWEEP`], a cost
-    /// ratio `c a_l k_l` above [`MAX_COST_RATIO`]. The simulators and the one-link closed form
-    /// are exact and need none of this; every optimiser calls it before building a model.
+    /// solvers cannot honour with their tolerances (README, "Supported range"): stiffness or
+    /// friction ratios above [`MAX_RATIO`], a sweep ratio `a_l T / w_l` above [`MAX_SWEEP`], a
+    /// cost ratio `c a_l k_l` above [`MAX_COST_RATIO`]. These are the dimensionless numbers of
+    /// the problem: the units themselves (how large the forces, the period or the displacements
+    /// are) are no limit, since the optimisers solve in internal units (`optimal::units`). The
+    /// simulators and the one-link closed form are exact and need none of this; every optimiser
+    /// calls it before building a model.
     pub fn check_scales(&self, crawler: &Crawler) -> Result<()> {
         self.validate(crawler)?;
         let out = |field: String, v: f64, why: String| Err(Error::invalid(field, v, why));
-        for (name, mu) in [
-            ("crawler.mu_forward", crawler.mu_forward()),
-            ("crawler.mu_backward", crawler.mu_backward()),
-        ] {
-            for (b, &v) in mu.iter().enumerate() {
-                if !(FORCE_RANGE[0]..=FORCE_RANGE[1]).contains(&v) {
-                    return out(
-                        format!("{name}[{}]", b + 1),
-                        v,
-                        format!(
-                            "the optimisers support friction thresholds in [{:e}, {:e}] \
-                         (their tolerances are absolute): change the force unit",
-                            FORCE_RANGE[0], FORCE_RANGE[1]
-                        ),
-                    );
-                }
-            }
-        }
         let ratio = |v: &[f64]| {
             let (lo, hi) = v.iter().fold((f64::INFINITY, 0.0_f64), |(lo, hi), &x| {
                 (lo.min(x), hi.max(x))
@@ -181,16 +155,6 @@ impl GaitProblem {
             }
         }
         let t = self.period;
-        if !(PERIOD_RANGE[0]..=PERIOD_RANGE[1]).contains(&t) {
-            return out(
-                "gait.period".into(),
-                t,
-                format!(
-                    "the optimisers support periods in [{:e}, {:e}]: change the time unit",
-                    PERIOD_RANGE[0], PERIOD_RANGE[1]
-                ),
-            );
-        }
         let k = crawler.stiffness();
         for (l, w) in crawler.link_force_ranges().iter().enumerate() {
             let sweep = self.rate_bound[l] * t / (w[1] - w[0]);

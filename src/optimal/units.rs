@@ -1,0 +1,170 @@
+//! Internal units of the optimisers: every LP and MILP is built in units where the problem is
+//! well conditioned, and its answer converted back before anything is reported.
+//!
+//! HiGHS's tolerances are absolute (1e-9), so a crawler whose friction thresholds are 1e9 or
+//! 1e-9, a period of 1e-12 or a displacement of 1e-9 would be mis-solved in the user's units,
+//! although a change of units makes each of them the reference instance. The optimisers
+//! therefore solve in the units
+//! - force: the geometric mean of the friction thresholds (so `mu^±` are of order 1),
+//! - time: the period (so `T = 1`),
+//! - length: the problem's length unit `min_l w_l / k_l` (so the smallest elongation that
+//!   crosses C is 1, and displacements and `J` are of order 1),
+//!
+//! and what no change of units can fix, the dimensionless ratios, is checked by
+//! [`GaitProblem::check_scales`]. A change of units maps gaits to gaits and `J` to `J` times the
+//! length unit, so an optimum in one set of units is the optimum in the other, and a bound is a
+//! bound: only the numbers are converted (gaps are recomputed in the user's units).
+
+use crate::error::Result;
+use crate::model::Crawler;
+use crate::optimal::{
+    Certificate, Cost, DiscreteSolution, GaitProblem, LocalSolution, PhaseSolution,
+};
+
+/// A unit system: the user's force, time and length units expressed in the internal ones.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct Units {
+    force: f64,
+    time: f64,
+    length: f64,
+}
+
+fn scale_rows(rows: &[Vec<f64>], f: f64) -> Vec<Vec<f64>> {
+    rows.iter()
+        .map(|r| r.iter().map(|v| v * f).collect())
+        .collect()
+}
+
+fn scale_all(v: &[f64], f: f64) -> Vec<f64> {
+    v.iter().map(|x| x * f).collect()
+}
+
+impl Units {
+    /// The internal units of a problem (module docs).
+    pub fn of(crawler: &Crawler, problem: &GaitProblem) -> Self {
+        let mus: Vec<f64> = crawler
+            .mu_forward()
+            .iter()
+            .chain(crawler.mu_backward())
+            .copied()
+            .collect();
+        let log_mean = mus.iter().map(|m| m.ln()).sum::<f64>() / mus.len() as f64;
+        Units {
+            force: log_mean.exp(),
+            time: problem.period,
+            length: problem.length_scale(crawler),
+        }
+    }
+
+    /// The crawler in internal units: `mu / F`, `k L / F`.
+    pub fn crawler(&self, c: &Crawler) -> Result<Crawler> {
+        Crawler::new(
+            scale_all(c.stiffness(), self.length / self.force),
+            scale_all(c.mu_forward(), 1.0 / self.force),
+            scale_all(c.mu_backward(), 1.0 / self.force),
+        )
+    }
+
+    /// The problem in internal units: `T / T = 1`, `a T / F`, `c F^2 / (T L)`, `TV T / F`.
+    pub fn problem(&self, p: &GaitProblem) -> GaitProblem {
+        let (f, t, l) = (self.force, self.time, self.length);
+        GaitProblem {
+            period: p.period / t,
+            rate_bound: scale_all(&p.rate_bound, t / f),
+            cost: match p.cost {
+                Cost::None => Cost::None,
+                Cost::Quadratic { weight } => Cost::Quadratic {
+                    weight: weight * f * f / (t * l),
+                },
+            },
+            max_total_variation: p.max_total_variation.map(|v| v * t / f),
+        }
+    }
+
+    /// Knots of a start gait (times, actuator lengths) into internal units.
+    pub fn knots_in(&self, times: &[f64], lengths: &[Vec<f64>]) -> (Vec<f64>, Vec<Vec<f64>>) {
+        (
+            scale_all(times, 1.0 / self.time),
+            scale_rows(lengths, 1.0 / self.length),
+        )
+    }
+
+    /// A phase gait from internal units to the user's (`to_user`) or back.
+    pub fn phase(&self, s: &PhaseSolution, to_user: bool) -> PhaseSolution {
+        let (f, t, l) = self.factors(to_user);
+        let mut out = PhaseSolution {
+            phases: s.phases,
+            certificate: s.certificate.clone(),
+            verified_displacement: s.verified_displacement * l,
+            actuation_cost: s.actuation_cost * l,
+            durations: scale_all(&s.durations, t),
+            controls: scale_rows(&s.controls, f / t),
+            states: scale_rows(&s.states, f),
+            block_displacements: scale_rows(&s.block_displacements, l),
+            modes: s.modes.clone(),
+            rounds: s.rounds,
+        };
+        out.certificate = self.certificate_scaled(&s.certificate, out.objective(), l);
+        out
+    }
+
+    /// A P_m solution from internal units to the user's.
+    pub fn discrete(&self, s: &DiscreteSolution) -> DiscreteSolution {
+        let (f, t, l) = (self.force, self.time, self.length);
+        let mut out = DiscreteSolution {
+            m: s.m,
+            step: s.step * t,
+            certificate: s.certificate.clone(),
+            verified_displacement: s.verified_displacement * l,
+            actuation_cost: s.actuation_cost * l,
+            initial_state: scale_all(&s.initial_state, f),
+            states: scale_rows(&s.states, f),
+            controls: scale_rows(&s.controls, f / t),
+            block_displacements: scale_rows(&s.block_displacements, l),
+            rounds: s.rounds,
+            start_objective: s.start_objective.map(|j| j * l),
+        };
+        out.certificate = self.certificate_scaled(&s.certificate, out.objective(), l);
+        out
+    }
+
+    /// A local P_m solution from internal units to the user's.
+    pub fn local(&self, s: &LocalSolution) -> LocalSolution {
+        let (f, t, l) = (self.force, self.time, self.length);
+        LocalSolution {
+            m: s.m,
+            step: s.step * t,
+            start_objective: s.start_objective * l,
+            lp_objective: s.lp_objective * l,
+            verified_displacement: s.verified_displacement * l,
+            actuation_cost: s.actuation_cost * l,
+            lp_solves: s.lp_solves,
+            switches: s.switches,
+            stop: s.stop,
+            initial_state: scale_all(&s.initial_state, f),
+            states: scale_rows(&s.states, f),
+            controls: scale_rows(&s.controls, f / t),
+            block_displacements: scale_rows(&s.block_displacements, l),
+        }
+    }
+
+    /// Conversion factors (force, time, length) towards the user's units or away from them.
+    fn factors(&self, to_user: bool) -> (f64, f64, f64) {
+        if to_user {
+            (self.force, self.time, self.length)
+        } else {
+            (1.0 / self.force, 1.0 / self.time, 1.0 / self.length)
+        }
+    }
+
+    /// A certificate with its values in length units scaled by `l` (gap recomputed).
+    fn certificate_scaled(&self, c: &Certificate, objective: f64, l: f64) -> Certificate {
+        let bound = c.bound * l;
+        Certificate {
+            status: c.status,
+            milp_objective: c.milp_objective * l,
+            bound,
+            gap: Certificate::gap_of(bound, objective),
+        }
+    }
+}
