@@ -784,7 +784,8 @@ fn plot_and_report_refuse_bad_input_with_nothing_written() {
         &text.replace("\"version\":1", "\"version\":9"),
     );
     let good = write(dir.path(), "r.json", &text);
-    // Absurd but finite rate bounds: an axis that cannot be drawn is an error, not a hang.
+    // Absurd but finite rate bounds: refused by the reader (the sweep ratio a T / w is beyond
+    // what any optimiser resolves), not drawn and not a hang.
     let mut huge: serde_json::Value = serde_json::from_str(&text).unwrap();
     huge["problem"]["rate_bound"] = serde_json::json!([1e308]);
     let huge = write(dir.path(), "h.json", &huge.to_string());
@@ -792,7 +793,7 @@ fn plot_and_report_refuse_bad_input_with_nothing_written() {
     let cases: [(&[&str], &str); 6] = [
         (
             &["plot", huge.to_str().unwrap(), "-o", &d("f3")],
-            "cannot be drawn",
+            "more than 1e308 times per period",
         ),
         (
             &["plot", truncated.to_str().unwrap(), "-o", &d("f1")],

@@ -446,7 +446,7 @@ impl GaitResult {
                 "must be finite",
             ));
         }
-        self.check_certificate(what, |a, b| close(a, b))?;
+        self.check_certificate(what, close)?;
         self.check_tables(what, close)
     }
 

@@ -77,7 +77,8 @@ pub(crate) const OA_TOL: f64 = 1e-6;
 /// simulator finds for the returned gait, to the solvers' tolerances, relative to the problem's
 /// length unit `scale` ([`GaitProblem::length_scale`]) or to the displacement if larger.
 pub(crate) fn check_verified(what: &str, solver: f64, verified: f64, scale: f64) -> Result<()> {
-    if !((solver - verified).abs() <= 1e-6 * (scale + verified.abs())) {
+    let within = (solver - verified).abs() <= 1e-6 * (scale + verified.abs());
+    if !within {
         return Err(Error::Numerical(format!(
             "{what}: the gait moves the crawler {verified} per period when simulated, not {solver}"
         )));

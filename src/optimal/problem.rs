@@ -158,13 +158,19 @@ impl GaitProblem {
         let k = crawler.stiffness();
         for (l, w) in crawler.link_force_ranges().iter().enumerate() {
             let sweep = self.rate_bound[l] * t / (w[1] - w[0]);
-            if !(sweep <= MAX_SWEEP) {
+            let within = sweep <= MAX_SWEEP; // false for NaN and infinity too
+            if !within {
+                let sweep = if sweep.is_finite() {
+                    format!("{sweep:.3e}")
+                } else {
+                    "more than 1e308".into()
+                };
                 return out(
                     format!("gait.max_actuator_speed[{}]", l + 1),
                     self.rate_bound[l] / k[l],
                     format!(
                         "with the stiffness and the period the actuator can sweep the force \
-                         range of link {} {sweep:.3e} times per period (a T / w), above \
+                         range of link {} {sweep} times per period (a T / w), above \
                          {MAX_SWEEP:e}: crossing C would take less of the period than the \
                          optimisers resolve (a slower actuator, a shorter period or softer \
                          springs)",
@@ -174,7 +180,8 @@ impl GaitProblem {
             }
             if let Cost::Quadratic { weight } = self.cost {
                 let q = weight * self.rate_bound[l] * k[l];
-                if !(q <= MAX_COST_RATIO) {
+                let within = q <= MAX_COST_RATIO;
+                if !within {
                     return out(
                         "gait.cost.weight".into(),
                         weight,

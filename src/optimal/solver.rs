@@ -179,12 +179,12 @@ impl Highs {
         }
         let objective = unsafe { highs_sys::Highs_getObjectiveValue(ptr) };
         let dual_bound = double_info(ptr, "mip_dual_bound").filter(|b| b.is_finite());
-        if status == SolveStatus::Optimal || status == (SolveStatus::TimeLimit { feasible: true }) {
-            if !objective.is_finite() || x.iter().any(|v| !v.is_finite()) {
-                return Err(Error::Numerical(format!(
-                    "{what}: HiGHS returned a non-finite solution"
-                )));
-            }
+        let has_solution =
+            status == SolveStatus::Optimal || status == (SolveStatus::TimeLimit { feasible: true });
+        if has_solution && (!objective.is_finite() || x.iter().any(|v| !v.is_finite())) {
+            return Err(Error::Numerical(format!(
+                "{what}: HiGHS returned a non-finite solution"
+            )));
         }
         Ok(Answer {
             status,
