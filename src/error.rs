@@ -23,8 +23,10 @@ pub enum Error {
     /// (1-based block numbers): a group of blocks can slide rigidly against the rest.
     #[error(
         "uniqueness condition (paper eq. 3.5) fails for blocks J = {subset:?}: \
-         sum of mu_forward over J = {forward_sum} equals sum of mu_backward over the other blocks = {backward_sum}; \
-         the motion is not unique (change a friction coefficient)"
+         sum of mu_forward over J = {} equals sum of mu_backward over the other blocks = {} \
+         (within a relative 1e-9); the motion is not unique (change a friction coefficient)",
+        sum_text(.forward_sum),
+        sum_text(.backward_sum)
     )]
     NonUnique {
         /// The violating subset J, 1-based block numbers.
@@ -83,8 +85,74 @@ impl Error {
     ) -> Self {
         Error::InvalidParameter {
             field: field.into(),
-            value: value.to_string(),
+            value: shown(value.to_string()),
             reason: reason.into(),
         }
+    }
+}
+
+/// A friction sum of [`Error::NonUnique`], as text output shows numbers (no snapping: these are
+/// sums of inputs).
+fn sum_text(v: &f64) -> String {
+    crate::present::text::num(*v, 0.0)
+}
+
+/// A value as given, except a number that `{}` wrote out in tens or hundreds of digits
+/// (`1e-300` as 0.000...0001): that one in exponent form, which is exact (`1e-300`).
+fn shown(value: String) -> String {
+    match value.parse::<f64>() {
+        Ok(v) if value.len() > 24 && v.is_finite() => format!("{v:e}"),
+        _ => value,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn long_numbers_are_shown_in_exponent_form() {
+        let e = Error::invalid(
+            "crawler.mu_forward[1]",
+            -1e-300,
+            "must be positive and finite",
+        );
+        assert_eq!(
+            e.to_string(),
+            "crawler.mu_forward[1]: must be positive and finite (got -1e-300)"
+        );
+        let e = Error::invalid("x", 1e300, "too large");
+        assert_eq!(e.to_string(), "x: too large (got 1e300)");
+        // Short values and non-numbers are shown as given.
+        assert_eq!(
+            Error::invalid("x", 0.25, "r").to_string(),
+            "x: r (got 0.25)"
+        );
+        assert_eq!(
+            Error::invalid("x", "a file", "r").to_string(),
+            "x: r (got a file)"
+        );
+        let long = "a name that is longer than twenty-four characters";
+        assert!(Error::invalid("x", long, "r").to_string().contains(long));
+    }
+
+    #[test]
+    fn the_uniqueness_message_rounds_its_sums() {
+        let e = Error::NonUnique {
+            subset: vec![1, 2],
+            forward_sum: 0.30000000000000004,
+            backward_sum: -0.0 + 0.3,
+        };
+        let text = e.to_string();
+        assert!(text.contains("J = [1, 2]"), "{text}");
+        assert!(text.contains("over J = 0.3 equals"), "{text}");
+        assert!(text.contains("other blocks = 0.3 "), "{text}");
+        let e = Error::NonUnique {
+            subset: vec![1],
+            forward_sum: -0.0,
+            backward_sum: 1e-300,
+        };
+        assert!(e.to_string().contains("over J = 0 equals"), "{e}");
+        assert!(e.to_string().contains("= 1e-300 "), "{e}");
     }
 }

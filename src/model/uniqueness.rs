@@ -8,8 +8,14 @@
 //! the search meets in the middle over two halves of the groups.
 //!
 //! Decimal inputs such as `0.1` are not exact in binary floating point, so a subset is taken as
-//! violating when `|w(J) - theta| <= REL_TOL * sum_b w_b`: a crawler that close to a violation
-//! has no well-conditioned motion anyway.
+//! violating when its two sums agree to a relative [`REL_TOL`]:
+//! `|sum_J mu^+ - sum_{J^c} mu^-| <= REL_TOL * (sum_J mu^+ + sum_{J^c} mu^-)`. The tolerance is
+//! relative to the two sums compared, not to the sum of all thresholds: with `mu^+ = 1e300` on
+//! three blocks and `mu^- = 3`, `J = {}` compares 0 with 9, which no rounding makes equal
+//! (a tolerance of `1e-9 * 3e300` called them equal). A crawler whose sums agree that closely
+//! has no well-conditioned motion anyway. The test is meaningful in double precision as long as
+//! the thresholds are normal numbers (relative precision 1e-16, summed by groups); a subnormal
+//! threshold (below 2.2e-308) is refused as undecidable.
 
 /// Relative tolerance below which a subset counts as violating the condition.
 pub const REL_TOL: f64 = 1e-9;
@@ -135,24 +141,43 @@ impl SubsetSearch {
         s
     }
 
-    /// The count vector minimising `|w(J) - theta|`, or `None` when it cannot be enumerated.
-    fn closest_to_theta(&self) -> Option<Vec<usize>> {
+    /// The count vectors minimising `|w(J) - theta|` (absolutely) and `|w(J) - theta| / s(J)`
+    /// (relatively), where `s(J) = theta + sum_g counts[g] diff[g]` and `diff[g]` is
+    /// `mu^+ - mu^-` of group `g`, so that `s(J) = sum_J mu^+ + sum_{J^c} mu^-`, the scale of the
+    /// comparison the uniqueness condition makes. Exact for a direct enumeration; the
+    /// meet-in-the-middle search finds the relative minimum among the sums adjacent to `theta`
+    /// (the same as the absolute one unless friction sums of different subsets differ by
+    /// orders of magnitude). `None` when it cannot be enumerated.
+    fn closest_pair(&self, diff: &[f64]) -> Option<Closest> {
         if self.enumeration_work() <= DIRECT_LIMIT {
-            let mut best = (f64::INFINITY, Vec::new());
+            let mut abs = (f64::INFINITY, Vec::new());
+            let mut rel = (f64::INFINITY, Vec::new());
             self.for_each_state(|c, w| {
                 let d = (w - self.theta).abs();
-                if d < best.0 {
-                    best = (d, c.to_vec());
+                if d < abs.0 {
+                    abs = (d, c.to_vec());
+                }
+                let s = self.theta
+                    + c.iter()
+                        .zip(diff)
+                        .map(|(&c, &dg)| c as f64 * dg)
+                        .sum::<f64>();
+                let r = d / s.max(f64::MIN_POSITIVE);
+                if r < rel.0 {
+                    rel = (r, c.to_vec());
                 }
             });
-            return Some(best.1);
+            return Some(Closest {
+                absolute: abs.1,
+                relative: rel.1,
+            });
         }
-        self.meet_in_the_middle()
+        self.meet_in_the_middle(diff)
     }
 
     /// Splits the groups in two halves of balanced size, lists the sums of one half sorted and
-    /// looks up `theta - s` for every sum `s` of the other.
-    fn meet_in_the_middle(&self) -> Option<Vec<usize>> {
+    /// looks up `theta - s` for every sum `s` of the other ([`Self::closest_pair`]).
+    fn meet_in_the_middle(&self, diff: &[f64]) -> Option<Closest> {
         let g = self.weight.len();
         let mut order: Vec<usize> = (0..g).collect();
         order.sort_by_key(|&i| std::cmp::Reverse(self.members[i].len()));
@@ -171,18 +196,21 @@ impl SubsetSearch {
         if ca > HALF_LIMIT || cb > HALF_LIMIT {
             return None;
         }
-        // Sums of every count vector of a half, with its mixed-radix index (decoded at the end).
-        let half = |groups: &[usize]| -> Vec<(f64, u64)> {
+        // Sums of every count vector of a half (w and the sum of diff), with its mixed-radix
+        // index (decoded at the end).
+        let half = |groups: &[usize]| -> Vec<(f64, f64, u64)> {
             let sub = SubsetSearch {
                 weight: groups.iter().map(|&i| self.weight[i]).collect(),
                 members: groups.iter().map(|&i| self.members[i].clone()).collect(),
                 theta: 0.0,
                 total: 0.0,
             };
+            let sub_diff: Vec<f64> = groups.iter().map(|&i| diff[i]).collect();
             let mut out = Vec::new();
-            sub.for_each_state(|_, w| {
+            sub.for_each_state(|c, w| {
                 let idx = out.len() as u64;
-                out.push((w, idx));
+                let d = c.iter().zip(&sub_diff).map(|(&c, &dg)| c as f64 * dg).sum();
+                out.push((w, d, idx));
             });
             out
         };
@@ -197,28 +225,82 @@ impl SubsetSearch {
         left.sort_by(|x, y| x.0.total_cmp(&y.0));
         let right = half(&b);
         let mut best: (f64, u64, u64) = (f64::INFINITY, 0, 0);
-        for &(wb, jb) in &right {
+        let mut best_rel: (f64, u64, u64) = (f64::INFINITY, 0, 0);
+        for &(wb, db, jb) in &right {
             let target = self.theta - wb;
-            let i = left.partition_point(|(w, _)| *w < target);
+            let i = left.partition_point(|(w, _, _)| *w < target);
             for k in [i.saturating_sub(1), i.min(left.len() - 1)] {
                 let d = (left[k].0 + wb - self.theta).abs();
                 if d < best.0 {
-                    best = (d, left[k].1, jb);
+                    best = (d, left[k].2, jb);
+                }
+                let r = d / (self.theta + left[k].1 + db).max(f64::MIN_POSITIVE);
+                if r < best_rel.0 {
+                    best_rel = (r, left[k].2, jb);
                 }
             }
         }
-        let mut counts = vec![0; g];
-        decode(&a, best.1, &mut counts);
-        decode(&b, best.2, &mut counts);
-        Some(counts)
+        let counts = |(_, ia, ib): (f64, u64, u64)| {
+            let mut counts = vec![0; g];
+            decode(&a, ia, &mut counts);
+            decode(&b, ib, &mut counts);
+            counts
+        };
+        Some(Closest {
+            absolute: counts(best),
+            relative: counts(best_rel),
+        })
     }
+
+    /// `(sum_J mu^+, sum_{J^c} mu^-)` of the count vector `counts`, summed by groups (a count
+    /// times a threshold is one rounding, so the sums keep their relative precision).
+    fn sums_of(&self, counts: &[usize], mu_forward: &[f64], mu_backward: &[f64]) -> (f64, f64) {
+        let mut sums = (0.0, 0.0);
+        for (g, &c) in counts.iter().enumerate() {
+            let first = self.members[g][0];
+            let out = self.members[g].len() - c;
+            sums.0 += c as f64 * mu_forward[first];
+            sums.1 += out as f64 * mu_backward[first];
+        }
+        sums
+    }
+}
+
+/// The subsets nearest to a violation of the condition ([`SubsetSearch::closest_pair`]).
+struct Closest {
+    /// Minimising `|sum_J mu^+ - sum_{J^c} mu^-|`.
+    absolute: Vec<usize>,
+    /// Minimising that difference relative to `sum_J mu^+ + sum_{J^c} mu^-`.
+    relative: Vec<usize>,
 }
 
 impl Uniqueness {
     /// Decides the condition for the given friction thresholds.
+    ///
+    /// A subset violates it when its two sums agree to a relative [`REL_TOL`] (module docs);
+    /// `Undecided` when the subsets are too many to enumerate, or a threshold is subnormal (its
+    /// sums have no relative precision to decide with).
     pub fn decide(mu_forward: &[f64], mu_backward: &[f64]) -> Self {
+        for (name, mu) in [("mu_forward", mu_forward), ("mu_backward", mu_backward)] {
+            if let Some(b) = mu.iter().position(|v| v.is_subnormal()) {
+                return Uniqueness::Undecided {
+                    reason: format!(
+                        "crawler.{name}[{}] = {:e} is below the smallest normal double \
+                         (about 2.2e-308), where sums of friction thresholds lose their relative \
+                         precision; use larger units of force",
+                        b + 1,
+                        mu[b]
+                    ),
+                };
+            }
+        }
         let search = SubsetSearch::new(mu_forward, mu_backward);
-        let Some(counts) = search.closest_to_theta() else {
+        let diff: Vec<f64> = search
+            .members
+            .iter()
+            .map(|m| mu_forward[m[0]] - mu_backward[m[0]])
+            .collect();
+        let Some(closest) = search.closest_pair(&diff) else {
             return Uniqueness::Undecided {
                 reason: format!(
                     "{} distinct friction pairs among {} blocks exceed the exact enumeration limit; \
@@ -228,27 +310,17 @@ impl Uniqueness {
                 ),
             };
         };
-        let subset = search.subset_of(&counts);
-        // Recompute the margin from the subset itself, in one pass, for an honest value.
-        let mut inside = vec![false; mu_forward.len()];
-        subset.iter().for_each(|&b| inside[b] = true);
-        let margin = (0..mu_forward.len())
-            .map(|b| {
-                if inside[b] {
-                    mu_forward[b]
-                } else {
-                    -mu_backward[b]
-                }
-            })
-            .sum::<f64>()
-            .abs();
-        if margin <= REL_TOL * search.total {
-            Uniqueness::Fails { subset }
-        } else {
-            Uniqueness::Holds {
-                margin,
-                closest_subset: subset,
-            }
+        // Recompute the sums of each subset by groups, for honest values.
+        let (a, b) = search.sums_of(&closest.relative, mu_forward, mu_backward);
+        if (a - b).abs() <= REL_TOL * (a + b) {
+            return Uniqueness::Fails {
+                subset: search.subset_of(&closest.relative),
+            };
+        }
+        let (a, b) = search.sums_of(&closest.absolute, mu_forward, mu_backward);
+        Uniqueness::Holds {
+            margin: (a - b).abs(),
+            closest_subset: search.subset_of(&closest.absolute),
         }
     }
 
@@ -316,8 +388,89 @@ mod tests {
             other => panic!("{other:?}"),
         }
         let s = SubsetSearch::new(&mp, &mm);
-        let c = s.meet_in_the_middle().unwrap();
+        let c = s.meet_in_the_middle(&[0.0; 12]).unwrap().absolute;
         let w: f64 = c.iter().zip(&s.weight).map(|(&c, &w)| c as f64 * w).sum();
         assert!(((w - s.theta).abs() - want).abs() < 1e-12);
+    }
+
+    #[test]
+    fn extreme_thresholds_are_compared_at_their_own_scale() {
+        // mu+ = 1e300: J = {} compares 0 with 9, far from equal, and no other J comes close.
+        match Uniqueness::decide(&[1e300; 3], &[3.0; 3]) {
+            Uniqueness::Holds {
+                margin,
+                closest_subset,
+            } => {
+                assert_eq!(margin, 9.0);
+                assert!(closest_subset.is_empty());
+            }
+            other => panic!("{other:?}"),
+        }
+        // mu- = 1e-300: J = {} compares 0 with 3e-300, which is not 0.
+        match Uniqueness::decide(&[1.0; 3], &[1e-300; 3]) {
+            Uniqueness::Holds { margin, .. } => assert_eq!(margin, 3e-300),
+            other => panic!("{other:?}"),
+        }
+        // A true violation at an extreme scale is still one: 1e300 + 1e300 = 2e300.
+        let u = Uniqueness::decide(&[1e300, 1e300, 5e300], &[9e300, 9e300, 2e300]);
+        assert_eq!(u, Uniqueness::Fails { subset: vec![0, 1] });
+        // ... also through the meet in the middle.
+        let (mp, mm) = ([1e300, 1e300, 5e300], [9e300, 9e300, 2e300]);
+        let s = SubsetSearch::new(&mp, &mm);
+        let diff: Vec<f64> = s.members.iter().map(|m| mp[m[0]] - mm[m[0]]).collect();
+        let c = s.meet_in_the_middle(&diff).unwrap();
+        assert_eq!(s.subset_of(&c.relative), vec![0, 1]);
+        // Decimal inputs at a tiny scale violate as they do at scale 1.
+        let u = Uniqueness::decide(&[0.1e-200, 0.2e-200, 5.0e-200], &[7e-200, 7e-200, 0.3e-200]);
+        assert!(matches!(u, Uniqueness::Fails { .. }), "{u:?}");
+    }
+
+    #[test]
+    fn subnormal_thresholds_are_undecided() {
+        let u = Uniqueness::decide(&[1.0, 1e-310], &[2.0, 2.0]);
+        match u {
+            Uniqueness::Undecided { reason } => {
+                assert!(
+                    reason.contains("crawler.mu_forward[2] = 1e-310"),
+                    "{reason}"
+                )
+            }
+            other => panic!("{other:?}"),
+        }
+    }
+
+    #[test]
+    fn relative_and_absolute_closest_agree_with_brute_force() {
+        // Random-ish thresholds over six orders of magnitude: the decision equals the brute
+        // force of the relative test over all subsets.
+        let mut seed = 12345u64;
+        let mut rnd = || {
+            seed = seed
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (seed >> 11) as f64 / (1u64 << 53) as f64
+        };
+        for case in 0..300 {
+            let n = 2 + case % 7;
+            let pick = |r: f64| [1e-3, 0.5, 1.0, 1.5, 2.0, 1e3][(r * 6.0) as usize % 6];
+            let mp: Vec<f64> = (0..n).map(|_| pick(rnd())).collect();
+            let mm: Vec<f64> = (0..n).map(|_| pick(rnd())).collect();
+            let violated = (0u32..(1 << n)).any(|mask| {
+                let (mut a, mut b) = (0.0, 0.0);
+                for i in 0..n {
+                    if mask >> i & 1 == 1 {
+                        a += mp[i];
+                    } else {
+                        b += mm[i];
+                    }
+                }
+                (a - b).abs() <= REL_TOL * (a + b)
+            });
+            let u = Uniqueness::decide(&mp, &mm);
+            assert_eq!(!u.holds(), violated, "{mp:?} {mm:?}: {u:?}");
+            if let Uniqueness::Holds { margin, .. } = u {
+                assert!((margin - brute(&mp, &mm)).abs() < 1e-9, "{mp:?} {mm:?}");
+            }
+        }
     }
 }
