@@ -14,7 +14,7 @@ mod catching_up;
 mod exact;
 mod periodic;
 
-pub use actuation::{Actuation, Waveform};
+pub use actuation::{Actuation, Waveform, MAX_OFFSET_RATIO};
 pub use catching_up::CatchingUp;
 pub use exact::ExactPwl;
 pub use periodic::{simulate, Search, SimOptions, Simulation};
@@ -62,16 +62,24 @@ pub struct Trajectory {
     pub slip: Vec<Vec<Slip>>,
 }
 
-/// Appends samples to a trajectory: positions are `base + accumulated displacement`.
+/// Appends samples to a trajectory: positions are `base + accumulated displacement`. At most
+/// `max_rows` rows are kept: beyond them `overflow` is set and nothing more is recorded (the
+/// exact method records every event, which the size estimated before a run cannot know).
 pub struct Recorder<'a> {
     traj: &'a mut Trajectory,
     base: Vec<f64>,
     t0: f64,
+    max_rows: usize,
+    overflow: bool,
 }
 
 impl Recorder<'_> {
     /// Records the state at local time `t` of the current period.
     pub fn push(&mut self, t: f64, x: &[f64], acc: &[f64], slip: impl Iterator<Item = Slip>) {
+        if self.traj.t.len() >= self.max_rows {
+            self.overflow = true;
+            return;
+        }
         let pos: Vec<f64> = self.base.iter().zip(acc).map(|(b, a)| b + a).collect();
         self.traj.t.push(self.t0 + t);
         self.traj.x.push(x.to_vec());

@@ -24,9 +24,17 @@ use std::collections::VecDeque;
 /// problem of `n x 30` per period is negligible beside the period itself.
 const ANDERSON_MEMORY: usize = 30;
 
-/// Largest number of sampled increments (steps per period times links) of catching-up.
+/// Largest number of sampled increments (steps per period times links) of catching-up, and of
+/// knot lengths of the exact method's interpolant of a smooth actuation: their tables take 16
+/// (catching-up) to about 40 (exact) bytes per value, 0.4 to 1 GB.
 pub const MAX_SAMPLES: f64 = 2.5e7;
-/// Largest number of values in a recorded trajectory (about 400 MB).
+/// Largest `--steps-per-period` (steps of catching-up, knots of the exact method's interpolant
+/// of a smooth actuation), whatever the number of links: the exact method's knot table takes
+/// about 90 bytes per knot for one or two links.
+pub const MAX_STEPS_PER_PERIOD: usize = 10_000_000;
+/// Largest number of values in a recorded trajectory, counted as `3 N` per sample (time,
+/// states, positions, barycentre and slips): about 400 MB, and several times that as the CSV
+/// or JSON text written from it.
 pub const MAX_RECORDED: f64 = 5e7;
 
 /// Options of [`simulate`].
@@ -173,6 +181,18 @@ impl Anderson {
     }
 }
 
+/// The error of a recording beyond [`MAX_RECORDED`] values.
+fn recording_limit(periods: usize, per_period: usize, nb: usize) -> Error {
+    Error::invalid(
+        "periods",
+        periods,
+        format!(
+            "recording that many periods of about {per_period} samples of {nb} blocks exceeds \
+             {MAX_RECORDED:e} values (3 per block and sample): record fewer periods or steps"
+        ),
+    )
+}
+
 /// Simulates the crawler under the actuation until the periodic regime (SPEC §4).
 pub fn simulate(crawler: &Crawler, act: &Actuation, opts: &SimOptions) -> Result<Simulation> {
     crawler.require_unique()?;
@@ -184,11 +204,11 @@ pub fn simulate(crawler: &Crawler, act: &Actuation, opts: &SimOptions) -> Result
         ));
     }
     let uses_m = opts.method == Method::CatchingUp || !act.is_piecewise_linear();
-    if uses_m && (opts.steps_per_period == 0 || opts.steps_per_period > 100_000_000) {
+    if uses_m && !(1..=MAX_STEPS_PER_PERIOD).contains(&opts.steps_per_period) {
         return Err(Error::invalid(
             "steps_per_period",
             opts.steps_per_period,
-            "must be in 1..=100000000",
+            format!("must be in 1..={MAX_STEPS_PER_PERIOD} (memory)"),
         ));
     }
     if opts.max_periods == 0 {
@@ -208,23 +228,16 @@ pub fn simulate(crawler: &Crawler, act: &Actuation, opts: &SimOptions) -> Result
     } else {
         act.knots(0).0.len()
     };
-    if opts.method == Method::CatchingUp && (per_period as f64) * (n as f64) > MAX_SAMPLES {
+    if uses_m && (per_period as f64) * (n as f64) > MAX_SAMPLES {
         return Err(Error::invalid(
             "steps_per_period",
             per_period,
-            format!("steps per period times links must be at most {MAX_SAMPLES:e} (memory)"),
+            format!("steps per period times links ({n}) must be at most {MAX_SAMPLES:e} (memory)"),
         ));
     }
     let recorded = opts.record_periods as f64 * per_period as f64 * (3 * nb) as f64;
     if recorded > MAX_RECORDED {
-        return Err(Error::invalid(
-            "periods",
-            opts.record_periods,
-            format!(
-                "recording that many periods of {per_period} samples of {nb} blocks exceeds \
-                 {MAX_RECORDED:e} values: record fewer periods"
-            ),
-        ));
+        return Err(recording_limit(opts.record_periods, per_period, nb));
     }
     let mut proj = Projector::new(crawler)?;
     let mut scratch_d = vec![0.0; nb];
@@ -309,16 +322,27 @@ pub fn simulate(crawler: &Crawler, act: &Actuation, opts: &SimOptions) -> Result
         let mut traj = Trajectory::default();
         let mut xr = x_start.clone();
         let mut accr = vec![0.0; nb];
+        let max_rows = (MAX_RECORDED / (3 * nb) as f64) as usize;
         for p in 0..opts.record_periods {
             let mut rec = Recorder {
                 traj: &mut traj,
                 base: base.clone(),
                 t0: p as f64 * act.period(),
+                max_rows,
+                overflow: false,
             };
             if p == 0 {
                 rec.push(0.0, &xr, &accr, std::iter::repeat_n(0, nb));
             }
             map.run_period(&mut xr, &mut accr, Some(&mut rec))?;
+            if rec.overflow {
+                // The exact method records its events too: more samples than knots.
+                return Err(recording_limit(
+                    opts.record_periods,
+                    traj.t.len() / (p + 1),
+                    nb,
+                ));
+            }
         }
         Some(traj)
     } else {

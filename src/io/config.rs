@@ -7,6 +7,74 @@ use crate::optimal::{Cost, GaitProblem};
 use serde::Deserialize;
 use std::path::{Path, PathBuf};
 
+/// Largest model file read (bytes): model files are a few hundred bytes; this bounds what a
+/// wrong path (a log, a disk image) makes the reader allocate.
+pub const MAX_MODEL_BYTES: u64 = 16 << 20;
+
+/// Reads an input file of at most `limit` bytes. Only regular files (or links to one) are read:
+/// a directory, a FIFO or a device (`/dev/zero`, `/dev/stdin`) is refused before it is opened,
+/// so that reading can neither block nor go on without end. The error is the reason alone.
+pub(crate) fn read_input_file(path: &Path, limit: u64) -> std::result::Result<Vec<u8>, String> {
+    use std::io::Read;
+    let meta = std::fs::metadata(path).map_err(|e| e.to_string())?;
+    check_regular(&meta)?;
+    let file = std::fs::File::open(path).map_err(|e| e.to_string())?;
+    // Again on the open file: the path may have been replaced in between.
+    check_regular(&file.metadata().map_err(|e| e.to_string())?)?;
+    let mut bytes = Vec::new();
+    file.take(limit + 1)
+        .read_to_end(&mut bytes)
+        .map_err(|e| e.to_string())?;
+    if bytes.len() as u64 > limit {
+        return Err(format!(
+            "larger than {} MiB: not an input file of crawlopt",
+            limit >> 20
+        ));
+    }
+    Ok(bytes)
+}
+
+fn check_regular(meta: &std::fs::Metadata) -> std::result::Result<(), String> {
+    if meta.is_dir() {
+        Err("is a directory, not a file".into())
+    } else if !meta.is_file() {
+        Err("is not a regular file (a device, a FIFO or a socket)".into())
+    } else {
+        Ok(())
+    }
+}
+
+/// A line of the input quoted in a message: at most 80 characters, control characters escaped.
+fn quote_line(line: &str) -> String {
+    let line = line.trim();
+    match line.char_indices().nth(80) {
+        Some((cut, _)) => format!("{}...", escape_controls(&line[..cut])),
+        None => escape_controls(line),
+    }
+}
+
+/// `s` with control characters (and the invisible ones that reorder or hide text) escaped, so
+/// that a message quoting input stays one visible line.
+pub(crate) fn escape_controls(s: &str) -> String {
+    let hidden = |c: char| {
+        c.is_control()
+            || c == '\u{feff}'
+            || ('\u{200b}'..='\u{200f}').contains(&c)
+            || ('\u{202a}'..='\u{202e}').contains(&c)
+            || ('\u{2066}'..='\u{2069}').contains(&c)
+    };
+    s.chars()
+        .flat_map(|c| {
+            let e: Vec<char> = if hidden(c) {
+                c.escape_default().collect()
+            } else {
+                vec![c]
+            };
+            e
+        })
+        .collect()
+}
+
 /// A number for every entry, or one per entry.
 #[derive(Debug, Clone, Deserialize, PartialEq)]
 #[serde(untagged)]
@@ -119,11 +187,18 @@ pub struct ModelFile {
 }
 
 impl ModelFile {
-    /// Reads and parses a model file.
+    /// Reads and parses a model file (a regular file of at most [`MAX_MODEL_BYTES`]).
     pub fn load(path: &Path) -> Result<Self> {
-        let text = std::fs::read_to_string(path).map_err(|e| Error::Io {
+        let bytes = read_input_file(path, MAX_MODEL_BYTES).map_err(|reason| Error::Io {
             path: path.display().to_string(),
-            reason: e.to_string(),
+            reason,
+        })?;
+        let text = String::from_utf8(bytes).map_err(|e| Error::Io {
+            path: path.display().to_string(),
+            reason: format!(
+                "not a text file: invalid UTF-8 at byte {}",
+                e.utf8_error().valid_up_to()
+            ),
         })?;
         let mut m = Self::parse(&text).map_err(|e| match e {
             Error::Io { reason, .. } => Error::Io {
@@ -139,13 +214,19 @@ impl ModelFile {
     /// Parses the TOML text of a model file.
     pub fn parse(text: &str) -> Result<Self> {
         toml::from_str(text).map_err(|e| {
-            let msg = e.message().trim().replace('\n', "; ").replace(
+            let msg = escape_controls(&e.message().trim().replace('\n', "; ")).replace(
                 "data did not match any variant of untagged enum NumberOrList",
                 "expected a number or a list of numbers",
             );
             let at = e.span().map_or(String::new(), |span| {
-                let line = text[..span.start.min(text.len())].matches('\n').count() + 1;
-                let src = text.lines().nth(line - 1).unwrap_or("").trim();
+                // Bytes, not a string slice: a span need not fall on a character boundary.
+                let start = span.start.min(text.len());
+                let line = text.as_bytes()[..start]
+                    .iter()
+                    .filter(|&&b| b == b'\n')
+                    .count()
+                    + 1;
+                let src = quote_line(text.split('\n').nth(line - 1).unwrap_or(""));
                 format!(" at line {line} (`{src}`)")
             });
             Error::Io {
@@ -290,6 +371,13 @@ impl ModelFile {
                     "is required for kind = \"csv\"",
                 )
             })?;
+            if p.trim().is_empty() {
+                return Err(Error::invalid(
+                    "actuation.path",
+                    format!("{p:?}"),
+                    "is empty: name the CSV file of the actuation (relative to the model file)",
+                ));
+            }
             super::read_actuation_csv(&self.base_dir.join(p), links)?
         } else {
             unused("path", a.path.is_some())?;
@@ -379,5 +467,64 @@ mod tests {
                 .starts_with("crawler.stiffness[1]: must be positive and finite"),
             "{e}"
         );
+    }
+
+    const CSV_MODEL: &str = "[crawler]\nblocks = 2\nstiffness = 1\nmu_forward = 1\nmu_backward = 3\n\
+                             [actuation]\nkind = \"csv\"\nperiod = 1\npath = ";
+
+    #[test]
+    fn an_empty_csv_path_is_named_as_such() {
+        for p in ["\"\"", "\"  \""] {
+            let e = ModelFile::parse(&format!("{CSV_MODEL}{p}\n"))
+                .unwrap()
+                .actuation(1)
+                .unwrap_err()
+                .to_string();
+            assert!(
+                e.starts_with("actuation.path: is empty: name the CSV file"),
+                "{e}"
+            );
+        }
+    }
+
+    #[test]
+    fn only_regular_files_are_read() {
+        let dir = std::env::temp_dir().join(format!("crawlopt-config-{}", std::process::id()));
+        std::fs::create_dir_all(dir.join("sub")).unwrap();
+        let mut m = ModelFile::parse(&format!("{CSV_MODEL}\"sub\"\n")).unwrap();
+        m.base_dir = dir.clone();
+        let e = m.actuation(1).unwrap_err().to_string();
+        assert!(e.ends_with("is a directory, not a file"), "{e}");
+        let e = ModelFile::load(&dir).unwrap_err().to_string();
+        assert!(e.ends_with("is a directory, not a file"), "{e}");
+        // A device would be read without end (/dev/zero) or block (a FIFO): refused unopened.
+        #[cfg(unix)]
+        for dev in ["/dev/zero", "/dev/null"] {
+            let e = ModelFile::load(Path::new(dev)).unwrap_err().to_string();
+            assert!(e.contains("is not a regular file"), "{e}");
+            m.actuation.as_mut().unwrap().path = Some(dev.into());
+            let e = m.actuation(1).unwrap_err().to_string();
+            assert!(e.contains("is not a regular file"), "{e}");
+        }
+        // Larger than the limit: refused after reading limit + 1 bytes.
+        let big = dir.join("big.toml");
+        std::fs::write(&big, vec![b'#'; 2000]).unwrap();
+        let e = read_input_file(&big, 1000).unwrap_err();
+        assert!(e.starts_with("larger than"), "{e}");
+        assert_eq!(read_input_file(&big, 2000).unwrap().len(), 2000);
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+
+    #[test]
+    fn parse_errors_quote_one_visible_line() {
+        // A multi-byte character before the error, a control character and a long line.
+        let text = format!(
+            "[crawler]\nblocks = \"é\u{1b}[31m{}\" x\n",
+            "a".repeat(200)
+        );
+        let e = ModelFile::parse(&text).unwrap_err().to_string();
+        assert!(!e.contains('\u{1b}') && !e.contains('\n'), "{e}");
+        assert!(e.contains("\\u{1b}") && e.contains("..."), "{e}");
+        assert!(e.len() < 400, "{e}");
     }
 }

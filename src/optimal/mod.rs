@@ -15,8 +15,8 @@ mod phase;
 mod problem;
 mod result;
 pub(crate) mod solver;
-mod units;
 mod start;
+mod units;
 
 pub use discrete::{
     discrete_convergence, solve_discrete_global, solve_discrete_global_from, ConvergenceRow,
@@ -35,9 +35,7 @@ pub use phase::{
     solve_phase_global, GrowOptions, GrowthStop, PhaseGrowth, PhaseSolution, PhaseStep,
     SequenceSearch, MAX_PHASES,
 };
-pub use problem::{
-    Cost, GaitProblem, MAX_COST_RATIO, MAX_RATIO, MAX_SWEEP,
-};
+pub use problem::{Cost, GaitProblem, MAX_COST_RATIO, MAX_RATIO, MAX_SWEEP};
 pub use result::{
     CrawlerParams, GaitData, GaitResult, LocalRecord, PhaseGrowthRecord, ResultCertificate,
     StartRecord, RESULT_FORMAT, RESULT_VERSION,

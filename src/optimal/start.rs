@@ -19,8 +19,8 @@
 use crate::error::{Error, Result};
 use crate::model::Crawler;
 use crate::optimal::{
-    grow_phases, solve_discrete_local_shifted, Cost, CrawlerParams, GaitProblem, GaitResult,
-    GrowOptions, PhaseStep, MAX_LOCAL_M,
+    check_shifts, check_size, grow_phases, solve_discrete_local_shifted, Cost, CrawlerParams,
+    GaitProblem, GaitResult, GrowOptions, PhaseStep, MAX_LOCAL_M, MAX_M,
 };
 use std::time::Instant;
 
@@ -89,6 +89,7 @@ pub fn phase_start(
     progress: &mut dyn FnMut(StartEvent),
 ) -> Result<StartGait> {
     growth.check()?;
+    check_size(crawler, growth.max_phases, "max_phases", growth.max_phases)?;
     let opts = GrowOptions {
         time_limit: growth.time_limit.map(|t| 0.5 * t),
         patience: 1,
@@ -127,7 +128,7 @@ pub fn shifted_origin(origin: &str, shift: f64) -> String {
 /// `None` without a time limit (a start does not shorten the proof), with a total-variation
 /// bound (phase gaits cannot express it), or when no phase start could be had in time (a
 /// [`StartEvent::Note`] says why). Bad options (`growth` refused by [`GrowOptions::check`],
-/// `shifts = 0`) are errors, not notes.
+/// `shifts` refused by [`check_shifts`], a model beyond [`check_size`]) are errors, not notes.
 pub fn discrete_start(
     crawler: &Crawler,
     problem: &GaitProblem,
@@ -137,9 +138,12 @@ pub fn discrete_start(
     progress: &mut dyn FnMut(StartEvent),
 ) -> Result<Option<StartGait>> {
     growth.check()?;
-    if shifts == 0 {
-        return Err(Error::invalid("shifts", 0, "must be at least 1"));
+    check_shifts(shifts)?;
+    if m <= MAX_M {
+        // (An m beyond the grids is refused by the MILP's own range check.)
+        check_size(crawler, 1 << m, "m", m)?;
     }
+    check_size(crawler, growth.max_phases, "max_phases", growth.max_phases)?;
     let Some(limit) = growth.time_limit else {
         return Ok(None);
     };

@@ -11,6 +11,7 @@
 
 pub mod figures;
 pub mod report;
+pub mod text;
 
 use crate::certify::MultiplierData;
 use crate::error::{Error, Result};
@@ -270,32 +271,67 @@ fn io_err(path: &Path, reason: impl ToString) -> Error {
     }
 }
 
+/// Refuses, without writing anything, a figure directory [`write_figures`] could not write
+/// into: an existing path that is not a directory (a regular file, a device), a symbolic link
+/// that resolves to nothing, or a missing directory under something that is not one. So that
+/// a command can say so before it computes the figures.
+pub fn check_figure_dir(dir: &Path) -> Result<()> {
+    if let Ok(link) = std::fs::symlink_metadata(dir) {
+        return match std::fs::metadata(dir) {
+            Ok(m) if m.is_dir() => Ok(()),
+            Ok(_) => Err(io_err(dir, "exists and is not a directory")),
+            Err(e) if link.file_type().is_symlink() => Err(io_err(
+                dir,
+                format!("is a symbolic link that does not resolve to a directory ({e})"),
+            )),
+            Err(e) => Err(io_err(dir, format!("cannot write: {e}"))),
+        };
+    }
+    // Missing: its nearest existing ancestor must be a directory.
+    match dir
+        .ancestors()
+        .skip(1)
+        .find(|a| a.as_os_str().is_empty() || std::fs::symlink_metadata(a).is_ok())
+    {
+        Some(a) if !a.as_os_str().is_empty() && !a.is_dir() => Err(io_err(
+            dir,
+            format!(
+                "cannot create the directory: {} is not a directory",
+                a.display()
+            ),
+        )),
+        _ => Ok(()),
+    }
+}
+
+/// The directories `create_dir_all(dir)` would create, deepest first.
+fn missing_dirs(dir: &Path) -> Vec<PathBuf> {
+    dir.ancestors()
+        .take_while(|a| !a.as_os_str().is_empty() && std::fs::symlink_metadata(a).is_err())
+        .map(Path::to_path_buf)
+        .collect()
+}
+
 /// Writes every figure as `DIR/name.svg` and `DIR/name.png`, all or nothing: the directory is
 /// created if needed, every file is written under a temporary name first, and only when all are
-/// complete are they renamed into place. On failure nothing new is left behind (a directory this
-/// call created is removed again). Returns the paths written.
+/// complete are they renamed into place. On failure nothing new is left behind (the
+/// directories this call created are removed again). `DIR` must be a directory (or missing);
+/// each file follows the rules of [`AtomicFile`] (a directory in the way is refused). Returns
+/// the paths written.
 pub fn write_figures(dir: &Path, figs: &[Figure]) -> Result<Vec<PathBuf>> {
-    for f in figs {
-        for ext in ["svg", "png"] {
-            let path = dir.join(format!("{}.{ext}", f.name));
-            if path.is_dir() {
-                return Err(io_err(
-                    &path,
-                    "is a directory; cannot write the figure there",
-                ));
+    check_figure_dir(dir)?;
+    if dir.is_dir() {
+        for f in figs {
+            for ext in ["svg", "png"] {
+                AtomicFile::check(&dir.join(format!("{}.{ext}", f.name)))?;
             }
         }
     }
-    let created = if dir.exists() {
-        if !dir.is_dir() {
-            return Err(io_err(dir, "exists and is not a directory"));
-        }
-        false
-    } else {
+    let created = missing_dirs(dir);
+    if !created.is_empty() {
         std::fs::create_dir_all(dir)
             .map_err(|e| io_err(dir, format!("cannot create the directory: {e}")))?;
-        true
-    };
+    }
     let staged = (|| -> Result<Vec<(AtomicFile, PathBuf)>> {
         let mut staged = Vec::new();
         for f in figs {
@@ -314,8 +350,8 @@ pub fn write_figures(dir: &Path, figs: &[Figure]) -> Result<Vec<PathBuf>> {
     let staged = match staged {
         Ok(s) => s,
         Err(e) => {
-            if created {
-                let _ = std::fs::remove_dir(dir);
+            for d in &created {
+                let _ = std::fs::remove_dir(d);
             }
             return Err(e);
         }

@@ -461,7 +461,10 @@ fn yes(v: Option<bool>) -> &'static str {
     }
 }
 
-/// Writes the report atomically (temporary file renamed into place; nothing left on failure).
+/// Writes the report by the rules of [`AtomicFile`]: a regular file (or the file a symbolic
+/// link resolves to) atomically, a temporary file renamed into place, nothing left on
+/// failure; a device or FIFO straight into it; a directory is refused before anything is
+/// written.
 pub fn write_report(path: &Path, html: &str) -> Result<()> {
     let mut f = AtomicFile::create(path)?;
     f.writer()

@@ -1,0 +1,188 @@
+//! Numbers in human-readable (text) output.
+//!
+//! Text output shows values at a precision a reader can use: [`DIGITS`] significant digits by
+//! default, solver noise (below [`SNAP`] times the scale of the quantity) shown as `0`, and
+//! exponent notation for very large or small magnitudes, so that no value prints as hundreds of
+//! digits (Rust's `{}` writes `1e300` as 301 digits). JSON output does not use this: it keeps
+//! every number at full precision.
+
+/// Significant digits of a value in text output unless the quantity asks for others: enough for
+/// an objective or a displacement to be compared, few enough to hide the last bits of floating
+/// point (`1.0000000000005613` shows as `1`).
+pub const DIGITS: usize = 10;
+
+/// A value smaller in magnitude than `SNAP` times the scale of its quantity is solver or
+/// rounding noise: text shows it as `0`.
+pub const SNAP: f64 = 1e-9;
+
+/// `v` for text output, the one formatter of every human-readable number:
+/// - `0` when `|v| < SNAP * scale` (the scale of the quantity: e.g. the rate bound for a
+///   control, the period for a time; `0` never snaps), and for `-0`;
+/// - otherwise rounded to `digits` significant digits (1 to 17), trailing zeros dropped;
+/// - positional when the rounded value has a decimal exponent in `-5..digits`
+///   (`2.5625`, `0.00015`, `1000000`), in Rust's exponent notation otherwise (`1e300`,
+///   `-1.5e-7`, `1.234567891e10`);
+/// - `NaN`, `inf` and `-inf` as such.
+pub fn number(v: f64, scale: f64, digits: usize) -> String {
+    if v.is_nan() {
+        return "NaN".into();
+    }
+    if v.is_infinite() {
+        return if v > 0.0 { "inf" } else { "-inf" }.into();
+    }
+    let snaps = scale.is_finite() && scale > 0.0 && v.abs() < SNAP * scale;
+    if v == 0.0 || snaps {
+        return "0".into();
+    }
+    let digits = digits.clamp(1, 17);
+    // Rounding by the standard library's exponent formatting: "d.ddde-7".
+    let e = format!("{:.*e}", digits - 1, v);
+    let Some((mantissa, exp)) = e.split_once('e') else {
+        return format!("{v:e}");
+    };
+    let Ok(exp) = exp.parse::<i32>() else {
+        return format!("{v:e}");
+    };
+    let (sign, mantissa) = match mantissa.strip_prefix('-') {
+        Some(m) => ("-", m),
+        None => ("", mantissa),
+    };
+    // The significant digits, trailing zeros dropped (at least one digit stays).
+    let sig: String = mantissa.chars().filter(char::is_ascii_digit).collect();
+    let sig = match sig.trim_end_matches('0') {
+        "" => "0",
+        s => s,
+    };
+    if !(-5..digits as i32).contains(&exp) {
+        let (first, rest) = sig.split_at(1);
+        return if rest.is_empty() {
+            format!("{sign}{first}e{exp}")
+        } else {
+            format!("{sign}{first}.{rest}e{exp}")
+        };
+    }
+    if exp < 0 {
+        let zeros = "0".repeat((-exp - 1) as usize);
+        return format!("{sign}0.{zeros}{sig}");
+    }
+    // 0 <= exp < digits: the first exp + 1 digits are the integer part.
+    let int_len = exp as usize + 1;
+    if sig.len() <= int_len {
+        format!("{sign}{sig}{}", "0".repeat(int_len - sig.len()))
+    } else {
+        let (int, frac) = sig.split_at(int_len);
+        format!("{sign}{int}.{frac}")
+    }
+}
+
+/// [`number`] with [`DIGITS`] significant digits.
+pub fn num(v: f64, scale: f64) -> String {
+    number(v, scale, DIGITS)
+}
+
+/// A vector as `[a, b, c]`, each entry by [`num`] with the same scale.
+pub fn list(v: &[f64], scale: f64) -> String {
+    let parts: Vec<String> = v.iter().map(|&x| num(x, scale)).collect();
+    format!("[{}]", parts.join(", "))
+}
+
+/// A vector as `[a, b, c]`, entry `i` by [`num`] with scale `scales[i]` (e.g. each link's
+/// control at its own rate bound; entries without a scale are not snapped).
+pub fn list_each(v: &[f64], scales: &[f64]) -> String {
+    let parts: Vec<String> = v
+        .iter()
+        .enumerate()
+        .map(|(i, &x)| num(x, scales.get(i).copied().unwrap_or(0.0)))
+        .collect();
+    format!("[{}]", parts.join(", "))
+}
+
+/// The largest magnitude among `v` (0 when empty; NaN entries ignored): a scale for [`num`]
+/// when a quantity has no better one.
+pub fn max_abs<'a>(v: impl IntoIterator<Item = &'a f64>) -> f64 {
+    v.into_iter()
+        .filter(|x| x.is_finite())
+        .fold(0.0, |m, x| m.max(x.abs()))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn rounds_snaps_and_never_prints_hundreds_of_digits() {
+        assert_eq!(num(1.0000000000005613, 1.0), "1");
+        assert_eq!(num(1.0000000000005613, 0.0), "1");
+        assert_eq!(num(1.4431e-13, 1.0), "0");
+        assert_eq!(num(0.0000000000001443115198287173, 3.0), "0");
+        assert_eq!(num(1e-300, 0.0), "1e-300");
+        assert_eq!(num(1e300, 0.0), "1e300");
+        assert_eq!(num(-1e300, 1.0), "-1e300");
+        assert_eq!(num(2.5625, 1.0), "2.5625");
+        assert_eq!(num(-0.0, 0.0), "0");
+        assert_eq!(num(0.0, 1.0), "0");
+        assert_eq!(num(-0.9999999999999999, 1.0), "-1");
+        assert_eq!(num(-0.00000000000000008326672684688674, 1.0), "0");
+        assert_eq!(num(1.9142135623730947, 1.0), "1.914213562");
+        assert_eq!(num(0.1 + 0.2, 0.0), "0.3");
+        assert_eq!(num(-0.5000000000000004, 3.0), "-0.5");
+        assert_eq!(num(9.99999999999, 0.0), "10");
+        assert_eq!(num(123456.789, 0.0), "123456.789");
+        assert_eq!(num(1e6, 0.0), "1000000");
+        assert_eq!(num(1e10, 0.0), "1e10");
+        assert_eq!(num(12345678901.0, 0.0), "1.23456789e10");
+        assert_eq!(num(0.00015, 0.0), "0.00015");
+        assert_eq!(num(-0.000015, 0.0), "-0.000015");
+        assert_eq!(num(1.5e-6, 0.0), "1.5e-6");
+        assert_eq!(num(f64::MIN_POSITIVE / 4.0, 0.0), "5.562684646e-309");
+        assert_eq!(num(f64::NAN, 1.0), "NaN");
+        assert_eq!(num(f64::INFINITY, 1.0), "inf");
+        assert_eq!(num(f64::NEG_INFINITY, 1.0), "-inf");
+    }
+
+    #[test]
+    fn snapping_is_relative_to_the_scale_and_strict() {
+        assert_eq!(num(1e-10, 1.0), "0");
+        assert_eq!(num(1e-10, 0.01), "1e-10");
+        assert_eq!(num(1e-9, 1.0), "1e-9");
+        assert_eq!(num(5e290, 1e300), "0");
+        // A scale that is no scale never snaps.
+        assert_eq!(num(1e-20, f64::NAN), "1e-20");
+        assert_eq!(num(1e-20, f64::INFINITY), "1e-20");
+        assert_eq!(num(1e-20, -1.0), "1e-20");
+    }
+
+    #[test]
+    fn digits_are_honoured_and_clamped() {
+        assert_eq!(number(std::f64::consts::PI, 0.0, 3), "3.14");
+        assert_eq!(number(std::f64::consts::PI, 0.0, 0), "3");
+        assert_eq!(number(std::f64::consts::PI, 0.0, 40), "3.1415926535897931");
+        assert_eq!(number(0.1, 0.0, 17), "0.10000000000000001");
+        assert_eq!(number(1234.5, 0.0, 3), "1.23e3");
+    }
+
+    #[test]
+    fn lists_share_a_scale() {
+        assert_eq!(list(&[1.0000000000005613, -1.0], 1.0), "[1, -1]");
+        assert_eq!(list(&[], 1.0), "[]");
+        assert_eq!(
+            list_each(&[1e-12, 1e-12, 1e-12], &[1.0, 1e-6]),
+            "[0, 1e-12, 1e-12]"
+        );
+        assert_eq!(max_abs(&[1.0, -3.0, f64::NAN]), 3.0);
+    }
+
+    #[test]
+    fn every_finite_value_is_short_and_reads_back_close() {
+        let mut x: f64 = 1.234567890123e-308;
+        while x.is_finite() {
+            for v in [x, -x, x * 1.0000000001, 1.0 / 3.0 * x] {
+                let s = num(v, 0.0);
+                assert!(s.len() <= 22, "{v:e}: {s}");
+                let back: f64 = s.parse().unwrap();
+                assert!(((back - v) / v).abs() < 6e-10, "{v:e}: {s}");
+            }
+            x *= 7.3;
+        }
+    }
+}
