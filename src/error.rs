@@ -22,9 +22,10 @@ pub enum Error {
     /// The uniqueness condition (SPEC §2, paper eq. 3.5) fails for the subset `subset`
     /// (1-based block numbers): a group of blocks can slide rigidly against the rest.
     #[error(
-        "uniqueness condition (paper eq. 3.5) fails for blocks J = {subset:?}: \
+        "uniqueness condition (paper eq. 3.5) fails for blocks J = {}: \
          sum of mu_forward over J = {} equals sum of mu_backward over the other blocks = {} \
          (within a relative 1e-9); the motion is not unique (change a friction coefficient)",
+        subset_text(.subset),
         sum_text(.forward_sum),
         sum_text(.backward_sum)
     )]
@@ -93,6 +94,26 @@ impl Error {
 
 /// A friction sum of [`Error::NonUnique`], as text output shows numbers (no snapping: these are
 /// sums of inputs).
+/// A subset of blocks for a one-line message: in full up to 12 blocks, else its first and last
+/// five and how many (a long chain's subset would fill screens).
+fn subset_text(subset: &[usize]) -> String {
+    if subset.len() <= 12 {
+        return format!("{subset:?}");
+    }
+    let show = |v: &[usize]| {
+        v.iter()
+            .map(ToString::to_string)
+            .collect::<Vec<_>>()
+            .join(", ")
+    };
+    format!(
+        "[{}, ..., {}] ({} blocks)",
+        show(&subset[..5]),
+        show(&subset[subset.len() - 5..]),
+        subset.len()
+    )
+}
+
 fn sum_text(v: &f64) -> String {
     crate::present::text::num(*v, 0.0)
 }

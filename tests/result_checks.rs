@@ -156,3 +156,18 @@ fn optimiser_results_pass_and_mutations_are_refused_by_field() {
         }
     }
 }
+
+#[test]
+fn an_idle_gait_of_one_piece_is_read_drawn_and_reported() {
+    // K = 1 on the one-link problem: the optimum is to stay idle, one piece with u = 0. Its
+    // replay and its figures once failed ("actuation.times: needs at least 2 knots").
+    let c = Crawler::uniform(2, 1.0, 1.0, 2.0).unwrap();
+    let p = GaitProblem::new(&c, 10.0, &[1.0], Cost::None, None).unwrap();
+    let s = crawlopt::optimal::solve_phase_global(&c, &p, 1, None).unwrap();
+    let r = GaitResult::from_phase(&c, &p, &s);
+    assert_eq!((r.gait.durations.len(), r.objective), (1, 0.0));
+    let back = read(&serde_json::to_value(&r).unwrap()).unwrap();
+    assert!(!crawlopt::present::gait_figures(&back).unwrap().is_empty());
+    let html = crawlopt::present::report::build_report(&back, "r.json").unwrap();
+    assert!(html.contains("<svg"));
+}

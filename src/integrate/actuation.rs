@@ -204,6 +204,18 @@ impl Actuation {
         })
     }
 
+    /// The actuation of a gait's knots over one period (`times` from 0, one row of `lengths`
+    /// per knot, the closing knot at `T` left out). A gait of one piece has one knot: its
+    /// zero-mean control is 0, so `L` is constant, and a second knot of the same length makes
+    /// it an actuation (which needs two).
+    pub fn of_gait(period: f64, mut times: Vec<f64>, mut lengths: Vec<Vec<f64>>) -> Result<Self> {
+        if times.len() == 1 && lengths.len() == 1 {
+            times.push(0.5 * period);
+            lengths.push(lengths[0].clone());
+        }
+        Actuation::piecewise_linear(period, times, lengths)
+    }
+
     /// The period `T`.
     pub fn period(&self) -> f64 {
         match self {

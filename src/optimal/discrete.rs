@@ -308,6 +308,7 @@ pub fn solve_discrete_global_from(
             format!("must be in 1..={MAX_M} (a periodic gait needs two steps)"),
         ));
     }
+    crate::optimal::check_size(crawler, 1 << m, "m", m)?;
     check_time_limit(time_limit)?;
     // Solved in the optimisers' internal units ([`Units`]), answered in the user's.
     let units = Units::of(crawler, problem);
@@ -514,6 +515,7 @@ pub fn discrete_convergence(
             format!("must be in 1..={MAX_M}"),
         ));
     }
+    crate::optimal::check_size(crawler, 1 << max_m, "m", max_m)?;
     check_time_limit(time_limit)?;
     let began = Instant::now();
     let mut table = Vec::new();

@@ -196,6 +196,7 @@ pub fn solve_discrete_local(
     problem.check_scales(crawler)?;
     check_time_limit(time_limit)?;
     check_local(problem, m)?;
+    crate::optimal::check_size(crawler, 1 << m, "m", m)?;
     // Solved in the optimisers' internal units ([`Units`]), answered in the user's.
     let units = Units::of(crawler, problem);
     let (c, p) = (units.crawler(crawler)?, units.problem(problem));
@@ -468,9 +469,7 @@ pub fn solve_discrete_local_shifted(
     shifts: usize,
     time_limit: Option<f64>,
 ) -> Result<(LocalSolution, f64)> {
-    if shifts == 0 {
-        return Err(Error::invalid("shifts", 0, "must be at least 1"));
-    }
+    crate::optimal::check_shifts(shifts)?;
     check_time_limit(time_limit)?;
     let began = Instant::now();
     let t = problem.period;

@@ -191,7 +191,7 @@ pub(crate) fn replay(
     let (mut times, mut lengths) = gait_knots(durations, increments, crawler.stiffness());
     times.pop();
     lengths.pop();
-    let act = Actuation::piecewise_linear(period, times, lengths)?;
+    let act = Actuation::of_gait(period, times, lengths)?;
     let sim = simulate(
         crawler,
         &act,

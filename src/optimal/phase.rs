@@ -598,6 +598,7 @@ fn check_phase_args(
             format!("must be in 1..={MAX_PHASES}"),
         ));
     }
+    crate::optimal::check_size(crawler, phases, "phases", phases)?;
     if let Some(v) = problem.max_total_variation {
         return Err(Error::invalid(
             "gait.max_total_variation",

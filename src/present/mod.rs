@@ -30,7 +30,7 @@ pub const SHOWN_PERIODS: usize = 4;
 pub fn gait_actuation(result: &GaitResult) -> Result<Actuation> {
     let g = &result.gait;
     let p = g.durations.len();
-    Actuation::piecewise_linear(
+    Actuation::of_gait(
         result.problem.period,
         g.times[..p].to_vec(),
         g.lengths[..p].to_vec(),
