@@ -415,14 +415,21 @@ fn run(cmd: Command) -> Result<ExitCode, Error> {
                 _ => None,
             };
             if json {
-                let mut v = serde_json::to_value(&a).expect("serialisable");
-                if let Some(g) = &gait {
-                    v["gait"] = serde_json::json!({ "problem": g, "one_link_optimum": optimum });
+                // Streamed: a document of 10^7 blocks is gigabytes as a serde_json::Value tree.
+                #[derive(serde::Serialize)]
+                struct Doc<'a> {
+                    #[serde(flatten)]
+                    analysis: &'a Analysis,
+                    #[serde(skip_serializing_if = "Option::is_none")]
+                    gait: Option<serde_json::Value>,
                 }
-                outln!(
-                    "{}",
-                    serde_json::to_string_pretty(&v).expect("serialisable")
-                );
+                let doc = Doc {
+                    analysis: &a,
+                    gait: gait
+                        .as_ref()
+                        .map(|g| serde_json::json!({ "problem": g, "one_link_optimum": optimum })),
+                };
+                write_json(&doc);
             } else {
                 print_analysis(&crawler, &a);
                 if let Some(g) = &gait {
@@ -988,6 +995,24 @@ fn run(cmd: Command) -> Result<ExitCode, Error> {
             }
             Ok(ExitCode::SUCCESS)
         }
+    }
+}
+
+/// Writes `value` as pretty JSON and a newline to stdout without building it in memory first;
+/// ends the process quietly when stdout is closed, like `outln!`.
+fn write_json(value: &impl serde::Serialize) {
+    use std::io::Write as _;
+    let mut w = std::io::BufWriter::new(std::io::stdout().lock());
+    let done = serde_json::to_writer_pretty(&mut w, value)
+        .map_err(std::io::Error::from)
+        .and_then(|()| writeln!(w))
+        .and_then(|()| w.flush());
+    if let Err(e) = done {
+        if e.kind() == std::io::ErrorKind::BrokenPipe {
+            std::process::exit(0);
+        }
+        eprintln!("error: cannot write the output: {e}");
+        std::process::exit(2);
     }
 }
 
