@@ -848,11 +848,7 @@ fn run(cmd: Command) -> Result<ExitCode, Error> {
         }
         Command::Certify { file, json, plot } => {
             let what = file.display().to_string();
-            let text = std::fs::read_to_string(&file).map_err(|e| Error::Io {
-                path: what.clone(),
-                reason: e.to_string(),
-            })?;
-            let result = GaitResult::from_json(&text, &what)?;
+            let result = GaitResult::from_json(&read_text(&file)?, &what)?;
             let cert = certify_result(&result, &what)?;
             if let Some(dir) = &plot {
                 let mut figs = present::gait_figures(&result)?;
@@ -1018,10 +1014,7 @@ fn write_json(value: &impl serde::Serialize) {
 
 /// The text of an input file (errors name the file).
 fn read_text(path: &std::path::Path) -> Result<String, Error> {
-    std::fs::read_to_string(path).map_err(|e| Error::Io {
-        path: path.display().to_string(),
-        reason: format!("cannot read: {e}"),
-    })
+    crawlopt::io::read_input_text(path, crawlopt::io::MAX_RESULT_BYTES)
 }
 
 /// The file name of a path, for messages and the report (no directories).

@@ -469,7 +469,8 @@ mod tests {
         );
     }
 
-    const CSV_MODEL: &str = "[crawler]\nblocks = 2\nstiffness = 1\nmu_forward = 1\nmu_backward = 3\n\
+    const CSV_MODEL: &str =
+        "[crawler]\nblocks = 2\nstiffness = 1\nmu_forward = 1\nmu_backward = 3\n\
                              [actuation]\nkind = \"csv\"\nperiod = 1\npath = ";
 
     #[test]
@@ -518,10 +519,7 @@ mod tests {
     #[test]
     fn parse_errors_quote_one_visible_line() {
         // A multi-byte character before the error, a control character and a long line.
-        let text = format!(
-            "[crawler]\nblocks = \"é\u{1b}[31m{}\" x\n",
-            "a".repeat(200)
-        );
+        let text = format!("[crawler]\nblocks = \"é\u{1b}[31m{}\" x\n", "a".repeat(200));
         let e = ModelFile::parse(&text).unwrap_err().to_string();
         assert!(!e.contains('\u{1b}') && !e.contains('\n'), "{e}");
         assert!(e.contains("\\u{1b}") && e.contains("..."), "{e}");

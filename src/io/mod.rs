@@ -34,3 +34,22 @@ pub use config::{
     ActuationSpec, CostSpec, CrawlerSpec, GaitSpec, ModelFile, NumberOrList, SimulationSpec,
 };
 pub use csv_io::{read_actuation_csv, write_trajectory_csv, AtomicFile};
+
+use crate::error::{Error, Result};
+
+/// Largest result file or J_m table read (bytes): a gait at the optimisers' size limit (2^18
+/// block-steps) is tens of MiB as JSON.
+pub const MAX_RESULT_BYTES: u64 = 256 << 20;
+
+/// The text of an input file of at most `limit` bytes (a gait result, a J_m table). Only
+/// regular files (or links to one) are read, so a FIFO or a device (`/dev/zero`) is refused
+/// before it is opened instead of blocking or filling memory; errors name the file.
+pub fn read_input_text(path: &std::path::Path, limit: u64) -> Result<String> {
+    let io = |reason: String| Error::Io {
+        path: path.display().to_string(),
+        reason,
+    };
+    let bytes =
+        config::read_input_file(path, limit).map_err(|e| io(format!("cannot read: {e}")))?;
+    String::from_utf8(bytes).map_err(|_| io("cannot read: not UTF-8 text".into()))
+}
