@@ -1,21 +1,10 @@
 //! The command-line contract: JSON fields, exit statuses, one-line errors naming the field,
 //! no partial output files.
 
-use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+use std::process::Output;
 
-fn crawlopt(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_crawlopt"))
-        .args(args)
-        .output()
-        .unwrap()
-}
-
-fn write(dir: &Path, name: &str, text: &str) -> PathBuf {
-    let p = dir.join(name);
-    std::fs::write(&p, text).unwrap();
-    p
-}
+mod common;
+use common::{crawlopt, write};
 
 fn json(out: &Output) -> serde_json::Value {
     serde_json::from_slice(&out.stdout)

@@ -2,14 +2,10 @@
 //! errors (exit status 2) for bad or inconsistent result files.
 
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+use std::process::Output;
 
-fn crawlopt(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_crawlopt"))
-        .args(args)
-        .output()
-        .unwrap()
-}
+mod common;
+use common::crawlopt;
 
 fn json(out: &Output) -> serde_json::Value {
     serde_json::from_slice(&out.stdout)

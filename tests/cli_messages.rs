@@ -5,21 +5,11 @@
 
 use crawlopt::optimal::GaitResult;
 use crawlopt::present::text::num;
-use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+use std::path::Path;
+use std::process::Output;
 
-fn crawlopt(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_crawlopt"))
-        .args(args)
-        .output()
-        .unwrap()
-}
-
-fn write(dir: &Path, name: &str, text: &str) -> PathBuf {
-    let p = dir.join(name);
-    std::fs::write(&p, text).unwrap();
-    p
-}
+mod common;
+use common::{crawlopt, write};
 
 fn stdout(out: &Output) -> String {
     String::from_utf8_lossy(&out.stdout).into_owned()

@@ -115,6 +115,15 @@ impl Crawler {
         &self.mu_backward
     }
 
+    /// Every friction threshold, `mu^+` of each block then `mu^-` of each block.
+    pub fn friction_thresholds(&self) -> Vec<f64> {
+        self.mu_forward
+            .iter()
+            .chain(&self.mu_backward)
+            .copied()
+            .collect()
+    }
+
     /// The outcome of the uniqueness check (paper eq. 3.5), decided at construction.
     pub fn uniqueness(&self) -> &Uniqueness {
         &self.uniqueness

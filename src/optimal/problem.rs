@@ -133,12 +133,7 @@ impl GaitProblem {
             });
             hi / lo
         };
-        let mus: Vec<f64> = crawler
-            .mu_forward()
-            .iter()
-            .chain(crawler.mu_backward())
-            .copied()
-            .collect();
+        let mus = crawler.friction_thresholds();
         for (field, r) in [
             ("crawler.stiffness", ratio(crawler.stiffness())),
             ("crawler.mu_forward, crawler.mu_backward", ratio(&mus)),

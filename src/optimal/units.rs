@@ -42,12 +42,7 @@ fn scale_all(v: &[f64], f: f64) -> Vec<f64> {
 impl Units {
     /// The internal units of a problem (module docs).
     pub fn of(crawler: &Crawler, problem: &GaitProblem) -> Self {
-        let mus: Vec<f64> = crawler
-            .mu_forward()
-            .iter()
-            .chain(crawler.mu_backward())
-            .copied()
-            .collect();
+        let mus = crawler.friction_thresholds();
         let log_mean = mus.iter().map(|m| m.ln()).sum::<f64>() / mus.len() as f64;
         Units {
             force: log_mean.exp(),

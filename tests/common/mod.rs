@@ -3,6 +3,8 @@
 
 use crawlopt::integrate::{simulate, Actuation, Method, SimOptions, Simulation, Waveform};
 use crawlopt::Crawler;
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
 
 pub fn sine(n: usize, period: f64, amp: f64, phase_step_deg: f64) -> Actuation {
     Actuation::wave(
@@ -38,4 +40,19 @@ pub fn run(c: &Crawler, a: &Actuation, method: Method, m: usize) -> Simulation {
 
 pub fn disp(c: &Crawler, a: &Actuation, method: Method, m: usize) -> f64 {
     run(c, a, method, m).displacement_per_period.unwrap()
+}
+
+/// Runs the `crawlopt` binary with `args` (from the crate's directory).
+pub fn crawlopt(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_crawlopt"))
+        .args(args)
+        .output()
+        .unwrap()
+}
+
+/// Writes `text` to `dir/name` and returns the path.
+pub fn write(dir: &Path, name: &str, text: &str) -> PathBuf {
+    let p = dir.join(name);
+    std::fs::write(&p, text).unwrap();
+    p
 }
