@@ -64,6 +64,12 @@ pub enum Error {
     #[error("{0}")]
     Infeasible(String),
 
+    /// The caller cancelled the job ([`crate::progress::Cancel`]); it stopped at its next check
+    /// (between MILPs, periods or iterations, or inside a running MILP through HiGHS's
+    /// interrupt callback) without an answer.
+    #[error("cancelled")]
+    Cancelled,
+
     /// Reading or writing a file failed.
     #[error("{path}: {reason}")]
     Io {

@@ -14,7 +14,10 @@
 //!   of a gait and a checkable certificate;
 //! - [`io`]: the TOML model file and CSV files;
 //! - [`present`]: figures (SVG, PNG) and the self-contained HTML report; nothing depends on it;
-//! - the `crawlopt` binary: a thin command-line layer.
+//! - [`api`]: one call per job (analyze, optimize, bench) with settings, events and
+//!   cancellation ([`progress`]); every front end goes through it;
+//! - the `crawlopt` binary (`src/cli/`) and the Python package (`python/`): thin layers that
+//!   translate arguments and render results.
 //!
 //! ```
 //! use crawlopt::integrate::{simulate, Actuation, Method, SimOptions, Waveform};
@@ -29,6 +32,7 @@
 //! # Ok::<(), crawlopt::Error>(())
 //! ```
 
+pub mod api;
 pub mod certify;
 pub mod error;
 pub mod integrate;
@@ -36,7 +40,13 @@ pub mod io;
 pub mod model;
 pub mod optimal;
 pub mod present;
+pub mod progress;
 pub mod sweep;
 
 pub use error::{Error, Result};
 pub use model::Crawler;
+
+/// The README's Rust examples, compiled and run as doc tests.
+#[cfg(doctest)]
+#[doc = include_str!("../README.md")]
+pub struct ReadmeDoctests;

@@ -882,7 +882,12 @@ fn run(cmd: Command) -> Result<ExitCode, Error> {
             let result = if file.extension().is_some_and(|e| e == "json") {
                 GaitResult::from_json(&read_text(&file)?, &name)?
             } else {
-                report::optimize_model(&ModelFile::load(&file)?, phases, time_limit)?
+                report::optimize_model(
+                    &ModelFile::load(&file)?,
+                    phases,
+                    time_limit,
+                    Default::default(),
+                )?
             };
             let html = report::build_report(&result, &name)?;
             report::write_report(&output, &html)?;

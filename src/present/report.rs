@@ -8,11 +8,12 @@
 
 use super::figures::{self, Figure};
 use super::{replay_gait, SHOWN_PERIODS};
+use crate::api::{self, GaitMethod, Hooks, OptimizeSettings};
 use crate::error::{Error, Result};
 use crate::integrate::{Method, Trajectory};
 use crate::io::{AtomicFile, ModelFile};
 use crate::model::{Crawler, FaceSign};
-use crate::optimal::{grow_phases, solve_phase_global, Cost, GaitResult, GrowOptions, MilpStatus};
+use crate::optimal::{Cost, GaitResult, MilpStatus};
 use serde::Serialize;
 use std::io::Write;
 use std::path::Path;
@@ -26,30 +27,27 @@ pub fn optimize_model(
     model: &ModelFile,
     phases: Option<usize>,
     time_limit: Option<f64>,
+    hooks: Hooks<'_>,
 ) -> Result<GaitResult> {
-    let crawler = model.crawler()?;
-    crawler.require_unique()?;
-    let problem = model.gait(&crawler)?.ok_or_else(|| {
-        Error::invalid(
-            "gait",
-            "nothing",
-            "the model file has no [gait] section (a report shows an optimal gait)",
-        )
+    let (crawler, problem) = api::gait_problem(model).map_err(|e| match e {
+        Error::InvalidParameter {
+            field,
+            value,
+            reason,
+        } if field == "gait" => Error::InvalidParameter {
+            field,
+            value,
+            reason: format!("{reason} (a report shows an optimal gait)"),
+        },
+        other => other,
     })?;
-    match phases {
-        Some(k) => {
-            let s = solve_phase_global(&crawler, &problem, k, time_limit)?;
-            Ok(GaitResult::from_phase(&crawler, &problem, &s))
-        }
-        None => {
-            let opts = GrowOptions {
-                time_limit,
-                ..GrowOptions::default()
-            };
-            let g = grow_phases(&crawler, &problem, &opts, &mut |_| {})?;
-            Ok(GaitResult::from_growth(&crawler, &problem, &g))
-        }
-    }
+    let settings = OptimizeSettings {
+        method: GaitMethod::Phase,
+        phases,
+        time_limit,
+        ..OptimizeSettings::default()
+    };
+    Ok(api::optimize(&crawler, &problem, &settings, hooks)?.result)
 }
 
 /// What the animation plays (serialised into the page).

@@ -1,0 +1,330 @@
+//! `bench`: the simulation cost per time step on a travelling sine gait
+//! `L_l = A sin(2 pi t - l phi)`, k = 1, uniform friction, for several numbers of blocks.
+
+use super::settings::Naming;
+use crate::error::{Error, Result};
+use crate::integrate::{
+    simulate, Actuation, CatchingUp, ExactPwl, Method, PeriodMap, SimOptions, Waveform,
+};
+use crate::model::Crawler;
+use serde::Serialize;
+use std::time::Instant;
+
+/// Largest number of blocks of a case: the periodic search on 1000 blocks (the default's
+/// largest case) takes 30 to 50 s per method on the 2-core machine, and grows as N^2 (the
+/// periods to the regime grow with N).
+pub const BENCH_MAX_BLOCKS: usize = 1000;
+
+/// Most blocks x `steps` of a case (1000 x 1000, the default's largest case).
+pub const BENCH_MAX_BLOCK_STEPS: usize = 1_000_000;
+
+/// Most `periods` x blocks x `steps` of one repetition of a case with `periods` (about a
+/// minute at the measured 40-60 ns per block-step; the periodic search on 1000 blocks
+/// integrates 8e8).
+pub const BENCH_MAX_WORK: usize = 1_000_000_000;
+
+/// Largest `min_time`, seconds (per case).
+pub const BENCH_MAX_MIN_TIME: f64 = 600.0;
+
+/// The range of `amplitude`, `mu_forward` and `mu_backward` (with k = 1): a benchmark needs no
+/// other, and far outside it the runs fail (an amplitude of 1e308 overflows the positions;
+/// 1e100 against mu+ = 1e-300 exceeds the exact method's events).
+pub const BENCH_VALUE_RANGE: [f64; 2] = [1e-6, 1e6];
+
+/// The cases of a benchmark. Defaults as `crawlopt bench`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct BenchSettings {
+    /// Numbers of blocks (default 3, 10, 100, 1000).
+    pub blocks: Vec<usize>,
+    /// Time steps per period (default 1000).
+    pub steps: usize,
+    /// Amplitude A (default 2).
+    pub amplitude: f64,
+    /// Phase lag phi between consecutive links, degrees (default 90).
+    pub phase_deg: f64,
+    /// mu^+ on every block (default 1).
+    pub mu_forward: f64,
+    /// mu^- on every block (default 3.3).
+    pub mu_backward: f64,
+    /// Minimum measured time per case, seconds (default 1).
+    pub min_time: f64,
+    /// Integrate exactly this many periods from x = 0 (plain iteration, as a peer would)
+    /// instead of searching for the periodic regime.
+    pub periods: Option<usize>,
+    /// How messages name the settings.
+    pub naming: Naming,
+}
+
+impl Default for BenchSettings {
+    fn default() -> Self {
+        BenchSettings {
+            blocks: vec![3, 10, 100, 1000],
+            steps: 1000,
+            amplitude: 2.0,
+            phase_deg: 90.0,
+            mu_forward: 1.0,
+            mu_backward: 3.3,
+            min_time: 1.0,
+            periods: None,
+            naming: Naming::Keywords,
+        }
+    }
+}
+
+/// One measured case.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct BenchCase {
+    /// Blocks.
+    #[serde(rename = "N")]
+    pub blocks: usize,
+    /// The integrator.
+    pub method: String,
+    /// Steps per period.
+    pub steps_per_period: usize,
+    /// Displacement per period (`None`: the periodic regime was not reached).
+    pub disp_per_period: Option<f64>,
+    /// Periods integrated per repetition.
+    pub periods: usize,
+    /// Whether the periodic regime was reached.
+    pub converged: bool,
+    /// Whether a fixed number of periods was integrated.
+    pub fixed_periods: bool,
+    /// Wall time per time step, microseconds.
+    pub us_per_step: f64,
+    /// Links x steps per second.
+    pub link_steps_per_s: f64,
+    /// Repetitions timed.
+    pub repetitions: usize,
+}
+
+impl BenchSettings {
+    /// Refuses, naming the setting, cases that would not end within minutes (or at all: a
+    /// `min_time` of NaN or infinity) or would mean nothing (`periods = 0`).
+    pub fn check(&self) -> Result<()> {
+        let n = |s: &str| self.naming.setting(s);
+        let min_time = self.min_time;
+        if !(min_time.is_finite() && min_time > 0.0 && min_time <= BENCH_MAX_MIN_TIME) {
+            return Err(Error::invalid(
+                n("min_time"),
+                min_time,
+                format!("must be a number of seconds in (0, {BENCH_MAX_MIN_TIME}]"),
+            ));
+        }
+        let Some(&largest) = self.blocks.iter().max() else {
+            return Err(Error::invalid(
+                n("blocks"),
+                "nothing",
+                "give at least one N",
+            ));
+        };
+        if let Some(&nb) = self
+            .blocks
+            .iter()
+            .find(|&&nb| !(2..=BENCH_MAX_BLOCKS).contains(&nb))
+        {
+            return Err(Error::invalid(
+                n("blocks"),
+                nb,
+                format!(
+                    "must be in 2..={BENCH_MAX_BLOCKS} (a case of more would run for hours: \
+                     the periodic search grows as N^2)"
+                ),
+            ));
+        }
+        let steps = self.steps;
+        if steps == 0 || largest.saturating_mul(steps) > BENCH_MAX_BLOCK_STEPS {
+            return Err(Error::invalid(
+                n("steps"),
+                steps,
+                format!(
+                    "must be at least 1, and at most {BENCH_MAX_BLOCK_STEPS} / N ({largest} \
+                     blocks) so that a case ends within minutes"
+                ),
+            ));
+        }
+        if let Some(k) = self.periods {
+            let work = k.saturating_mul(largest).saturating_mul(steps);
+            if k == 0 || work > BENCH_MAX_WORK {
+                return Err(Error::invalid(
+                    n("periods"),
+                    k,
+                    format!(
+                        "must be at least 1, and periods x blocks x steps ({largest} x {steps}) \
+                         at most {BENCH_MAX_WORK:e} so that a repetition ends within about a \
+                         minute"
+                    ),
+                ));
+            }
+        }
+        for (name, v) in [
+            ("amplitude", self.amplitude),
+            ("mu_forward", self.mu_forward),
+            ("mu_backward", self.mu_backward),
+        ] {
+            if !(BENCH_VALUE_RANGE[0]..=BENCH_VALUE_RANGE[1]).contains(&v) {
+                return Err(Error::invalid(
+                    n(name),
+                    v,
+                    format!(
+                        "must be in [{:e}, {:e}] (k = 1: a benchmark needs no other scale)",
+                        BENCH_VALUE_RANGE[0], BENCH_VALUE_RANGE[1]
+                    ),
+                ));
+            }
+        }
+        if !self.phase_deg.is_finite() {
+            return Err(Error::invalid(
+                n("phase_deg"),
+                self.phase_deg,
+                "must be finite",
+            ));
+        }
+        Ok(())
+    }
+
+    /// A library error renamed after the setting that set the value (the library names
+    /// model-file fields such as `crawler.mu_forward[1]`).
+    fn named(&self, e: Error) -> Error {
+        let n = |s: &str| self.naming.setting(s);
+        let names = [
+            ("crawler.mu_forward", n("mu_forward")),
+            ("crawler.mu_backward", n("mu_backward")),
+            ("crawler.blocks", n("blocks")),
+            (
+                "crawler",
+                format!("{}, {}", n("mu_forward"), n("mu_backward")),
+            ),
+            ("actuation.amplitude", n("amplitude")),
+            ("actuation.phase_deg", n("phase_deg")),
+            ("actuation", n("amplitude")),
+            ("steps_per_period", n("steps")),
+            ("periods", n("periods")),
+        ];
+        rename_fields(e, &names)
+    }
+}
+
+/// `e` with the field of an [`Error::InvalidParameter`] renamed by `names` (`(field, name)`; a
+/// field matches itself and its indexed entries `field[i]`).
+pub fn rename_fields(e: Error, names: &[(&str, String)]) -> Error {
+    match e {
+        Error::InvalidParameter {
+            field,
+            value,
+            reason,
+        } => {
+            let to = names.iter().find(|(name, _)| {
+                field
+                    .strip_prefix(name)
+                    .is_some_and(|rest| rest.is_empty() || rest.starts_with('['))
+            });
+            Error::InvalidParameter {
+                field: to.map_or(field, |(_, f)| f.clone()),
+                value,
+                reason,
+            }
+        }
+        other => other,
+    }
+}
+
+/// Runs the benchmark: every crawler is built and checked before the first case is timed;
+/// `on_case` receives each case as it is measured (catching-up, then exact, per N).
+pub fn bench(settings: &BenchSettings, on_case: &mut dyn FnMut(&BenchCase)) -> Result<()> {
+    settings.check()?;
+    let s = settings;
+    let mut cases = Vec::with_capacity(s.blocks.len());
+    for &nb in &s.blocks {
+        let crawler =
+            Crawler::uniform(nb, 1.0, s.mu_forward, s.mu_backward).map_err(|e| s.named(e))?;
+        crawler.require_unique().map_err(|e| {
+            let n = |x: &str| s.naming.setting(x);
+            Error::invalid(
+                format!("{}, {}", n("mu_forward"), n("mu_backward")),
+                format!("{}, {}", s.mu_forward, s.mu_backward),
+                format!("with {} {nb}: {e}", n("blocks")),
+            )
+        })?;
+        let links = crawler.links();
+        let act = Actuation::wave(
+            Waveform::Sine,
+            1.0,
+            vec![0.0; links],
+            vec![s.amplitude; links],
+            (0..links).map(|l| l as f64 * s.phase_deg).collect(),
+        )
+        .map_err(|e| s.named(e))?;
+        cases.push((crawler, act));
+    }
+    for (crawler, act) in &cases {
+        for method in [Method::CatchingUp, Method::Exact] {
+            let case = bench_case(crawler, act, method, s.steps, s.periods, s.min_time)
+                .map_err(|e| s.named(e))?;
+            on_case(&case);
+        }
+    }
+    Ok(())
+}
+
+/// Times one case, repeated until `min_time` has passed: either the whole periodic search, or
+/// exactly `periods` plain periods from x = 0 (what the peers do).
+fn bench_case(
+    crawler: &Crawler,
+    act: &Actuation,
+    method: Method,
+    steps: usize,
+    periods: Option<usize>,
+    min_time: f64,
+) -> Result<BenchCase> {
+    let (n, nb) = (crawler.links(), crawler.blocks());
+    let t0 = Instant::now();
+    let mut reps = 0;
+    loop {
+        crate::progress::check()?;
+        let (disp, done, converged) = match periods {
+            Some(k) => {
+                let mut map: Box<dyn PeriodMap> = match method {
+                    Method::CatchingUp => Box::new(CatchingUp::new(crawler, act, steps)?),
+                    Method::Exact => Box::new(ExactPwl::new(crawler, act, steps)?),
+                };
+                let (mut x, mut acc) = (vec![0.0; n], vec![0.0; nb]);
+                for _ in 0..k {
+                    acc.iter_mut().for_each(|a| *a = 0.0);
+                    map.run_period(&mut x, &mut acc, None)?;
+                }
+                (Some(acc.iter().sum::<f64>() / nb as f64), k, false)
+            }
+            None => {
+                let opts = SimOptions {
+                    method,
+                    steps_per_period: steps,
+                    record_periods: 0,
+                    ..SimOptions::default()
+                };
+                let sim = simulate(crawler, act, &opts)?;
+                (
+                    sim.displacement_per_period,
+                    sim.periods_simulated,
+                    sim.converged,
+                )
+            }
+        };
+        reps += 1;
+        let wall = t0.elapsed().as_secs_f64();
+        if wall >= min_time {
+            let us_per_step = 1e6 * wall / (reps * done * steps) as f64;
+            return Ok(BenchCase {
+                blocks: nb,
+                method: method.to_string(),
+                steps_per_period: steps,
+                disp_per_period: disp,
+                periods: done,
+                converged,
+                fixed_periods: periods.is_some(),
+                us_per_step,
+                link_steps_per_s: us_per_step.recip() * 1e6 * n as f64,
+                repetitions: reps,
+            });
+        }
+    }
+}

@@ -1,0 +1,127 @@
+//! The library's entry points: one call per job, each taking a settings struct with documented
+//! defaults and returning one result type. The command line (`src/cli/`) and the Python package
+//! (`python/`) only translate arguments into these and render what they return; every decision
+//! (defaults, which options apply, start policies, growth of K, re-verification) lives here or
+//! below.
+//!
+//! - [`analyze`]: a model file's crawler analysed, its gait problem and, for one link, the
+//!   closed-form optimum (paper §4);
+//! - [`simulate`] with [`SimOptions`]: the periodic regime of an actuation (cancellable);
+//! - [`optimize`] with [`OptimizeSettings`]: an optimal gait, verified, optionally certified;
+//! - [`crate::certify::certify_result`]: the necessary conditions (Theorem 2.2) of a result;
+//! - [`crate::present`]: figures and the report;
+//! - [`bench`]: the simulation cost per step.
+//!
+//! Progress arrives as [`Event`]s through [`Hooks`], which also carry a
+//! [`crate::progress::Cancel`] token that stops a job within a HiGHS callback.
+//!
+//! ```no_run
+//! use crawlopt::api::{optimize, GaitMethod, Hooks, OptimizeSettings};
+//! use crawlopt::io::ModelFile;
+//!
+//! let model = ModelFile::load("examples/three_blocks_gait.toml".as_ref())?;
+//! let (crawler, problem) = crawlopt::api::gait_problem(&model)?;
+//! let settings = OptimizeSettings { method: GaitMethod::Phase, phases: Some(3), ..Default::default() };
+//! let best = optimize(&crawler, &problem, &settings, Hooks::default())?;
+//! println!("J = {}", best.result.objective);
+//! # Ok::<(), crawlopt::Error>(())
+//! ```
+
+mod bench;
+mod events;
+mod optimize;
+mod settings;
+
+pub use bench::{bench, BenchCase, BenchSettings};
+pub use events::{Event, Hooks, Observer};
+pub use optimize::{optimize, Optimized};
+pub use settings::{
+    GaitMethod, Naming, OptimizeSettings, Plan, Start, DEFAULT_M_DISCRETE, DEFAULT_M_LOCAL,
+    DEFAULT_SHIFTS,
+};
+
+use crate::error::{Error, Result};
+use crate::integrate::{Actuation, SimOptions, Simulation};
+use crate::io::ModelFile;
+use crate::model::{Analysis, Crawler};
+use crate::optimal::{one_link_optimum, GaitProblem, OneLinkOptimum};
+use serde::Serialize;
+
+/// The crawler of a model file, checked for uniqueness (paper eq. 3.5), and its `[gait]`
+/// problem (an error naming `gait` when the file has none).
+pub fn gait_problem(model: &ModelFile) -> Result<(Crawler, GaitProblem)> {
+    let crawler = model.crawler()?;
+    crawler.require_unique()?;
+    let problem = model
+        .gait(&crawler)?
+        .ok_or_else(|| Error::invalid("gait", "nothing", "the model file has no [gait] section"))?;
+    Ok((crawler, problem))
+}
+
+/// What [`analyze`] finds in a model file.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct ModelAnalysis {
+    /// The crawler.
+    #[serde(skip)]
+    pub crawler: Crawler,
+    /// Its analysis: C, uniqueness, v_m and its directions.
+    #[serde(flatten)]
+    pub analysis: Analysis,
+    /// The `[gait]` problem, with the one-link closed form where it applies.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub gait: Option<GaitAnalysis>,
+}
+
+/// A model file's gait problem, as `analyze` reports it.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct GaitAnalysis {
+    /// The problem.
+    pub problem: GaitProblem,
+    /// For one link with a unique motion, J* and an optimal gait in closed form (SPEC §9,
+    /// paper §4); `None` otherwise.
+    pub one_link_optimum: Option<OneLinkOptimum>,
+}
+
+/// The analysis of a model file's crawler (the polytope C, the uniqueness condition, v_m and
+/// its directions) and, when the file poses a gait problem, that problem with the one-link
+/// closed form (SPEC §9). A crawler that violates the uniqueness condition is analysed (the
+/// analysis says so in `uniqueness_ok`), not refused.
+pub fn analyze(model: &ModelFile) -> Result<ModelAnalysis> {
+    let crawler = model.crawler()?;
+    let analysis = crawler.analyze();
+    let gait = match model.gait(&crawler)? {
+        Some(problem) => {
+            let one_link_optimum = if analysis.uniqueness_ok && crawler.blocks() == 2 {
+                Some(one_link_optimum(&crawler, &problem)?)
+            } else {
+                None
+            };
+            Some(GaitAnalysis {
+                problem,
+                one_link_optimum,
+            })
+        }
+        None => None,
+    };
+    Ok(ModelAnalysis {
+        crawler,
+        analysis,
+        gait,
+    })
+}
+
+/// [`crate::integrate::simulate`] under `hooks`: the periodic regime of `act` for `crawler`
+/// (SPEC §3–4), stopped by the hooks' token between periods. `options` are checked by the
+/// simulator (errors name the field, e.g. `steps_per_period`).
+pub fn simulate(
+    crawler: &Crawler,
+    act: &Actuation,
+    options: &SimOptions,
+    hooks: Hooks<'_>,
+) -> Result<Simulation> {
+    events::run_with(hooks, |em| {
+        crate::progress::check()?;
+        em.stage("simulating to the periodic regime");
+        crate::integrate::simulate(crawler, act, options)
+    })
+}

@@ -1,0 +1,195 @@
+//! The optimisation job: settings in, one verified (and optionally certified) result out.
+
+use super::events::{run_with, Emitter, Event, Hooks};
+use super::settings::{GaitMethod, OptimizeSettings, Plan, Start};
+use crate::certify::{certify_result, NecessaryConditions};
+use crate::error::{Error, Result};
+use crate::io::{read_input_text, MAX_RESULT_BYTES};
+use crate::model::Crawler;
+use crate::optimal::{
+    discrete_convergence, discrete_start, grow_phases, phase_start, search_sequences,
+    shifted_origin, slip_sequence, solve_discrete_global_from, solve_discrete_local_shifted,
+    solve_phase_global, GaitProblem, GaitResult, StartGait, StartRecord, MAX_PHASES,
+};
+use serde::Serialize;
+use std::time::Instant;
+
+/// The answer of [`optimize`]: the gait result (verified by simulation, with its certificate
+/// and status), the necessary conditions when asked for, and the notes the job sent.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Optimized {
+    /// The result, as `optimize --json` writes it.
+    #[serde(flatten)]
+    pub result: GaitResult,
+    /// The necessary conditions of Theorem 2.2 on the gait ([`OptimizeSettings::certify`]).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub necessary_conditions: Option<NecessaryConditions>,
+    /// Notes on how the job went (e.g. a start that could not be had).
+    #[serde(skip)]
+    pub notes: Vec<String>,
+}
+
+/// An optimal gait of `problem` for `crawler` under `settings` (every method of the paper's
+/// problem (P), §§5–7: phase MILPs, P_m global and local, sequence search). Every answer is
+/// re-verified by simulation before it is returned; `settings.certify` adds the necessary
+/// conditions (Theorem 2.2). Progress and cancellation go through `hooks`.
+pub fn optimize(
+    crawler: &Crawler,
+    problem: &GaitProblem,
+    settings: &OptimizeSettings,
+    hooks: Hooks<'_>,
+) -> Result<Optimized> {
+    crawler.require_unique()?;
+    let plan = settings.plan(crawler, problem)?;
+    run_with(hooks, |em| {
+        crate::progress::check()?;
+        let result = solve(crawler, problem, settings, &plan, em)?;
+        let necessary_conditions = if settings.certify {
+            em.stage("checking the necessary conditions");
+            Some(certify_result(&result, "optimize")?)
+        } else {
+            None
+        };
+        Ok(Optimized {
+            result,
+            necessary_conditions,
+            notes: em.notes(),
+        })
+    })
+}
+
+/// The method of `plan` run.
+fn solve(
+    crawler: &Crawler,
+    problem: &GaitProblem,
+    settings: &OptimizeSettings,
+    plan: &Plan,
+    em: &Emitter<'_>,
+) -> Result<GaitResult> {
+    let (m, time_limit) = (plan.m, settings.time_limit);
+    let start = settings.start.as_ref();
+    match plan.method {
+        GaitMethod::Local => {
+            let (from, left) = start_gait(start, crawler, problem, plan, em)?;
+            em.stage(format!("local LPCC method on P_{m} ({} steps)", 1u64 << m));
+            let (s, shift) = solve_discrete_local_shifted(
+                crawler,
+                problem,
+                m,
+                from.times(),
+                from.lengths(),
+                plan.shifts,
+                left,
+            )?;
+            let origin = shifted_origin(&from.origin, shift);
+            Ok(GaitResult::from_local(crawler, problem, &s, &origin))
+        }
+        GaitMethod::Sequence => {
+            let (from, left) = start_gait(start, crawler, problem, plan, em)?;
+            let (seq, origin) = (slip_sequence(&from.result.gait.slip), from.origin);
+            let k = settings
+                .phases
+                .unwrap_or((seq.len().max(1) + 2).min(MAX_PHASES));
+            em.stage(format!(
+                "local search over sequences of {k} slip modes, from {} of {origin}",
+                seq.len()
+            ));
+            let s = search_sequences(crawler, problem, &seq, k, left)?;
+            Ok(GaitResult::from_sequence(crawler, problem, &s, &origin))
+        }
+        GaitMethod::Phase | GaitMethod::Auto => match settings.phases {
+            Some(k) => {
+                em.stage(format!("solving the {k}-phase MILP"));
+                let s = solve_phase_global(crawler, problem, k, time_limit)?;
+                Ok(GaitResult::from_phase(crawler, problem, &s))
+            }
+            None => {
+                em.stage(format!("K = {}", plan.growth.min_phases));
+                let g = grow_phases(crawler, problem, &plan.growth, &mut |st| {
+                    em.send(Event::PhaseSolved {
+                        step: st.clone(),
+                        start: false,
+                    })
+                })?;
+                Ok(GaitResult::from_growth(crawler, problem, &g))
+            }
+        },
+        GaitMethod::Discrete if settings.convergence => {
+            em.stage("m = 1");
+            let (table, s) = discrete_convergence(crawler, problem, m, time_limit, &mut |row| {
+                em.send(Event::DiscreteSolved(row.clone()))
+            })?;
+            let mut r = GaitResult::from_discrete(crawler, problem, &s);
+            r.convergence = Some(table);
+            Ok(r)
+        }
+        GaitMethod::Discrete => {
+            let began = Instant::now();
+            let from = match start {
+                Some(s) => Some(start_of(s, crawler, problem)?),
+                None => discrete_start(crawler, problem, m, plan.shifts, &plan.growth, &mut |e| {
+                    em.start_event(e)
+                })?,
+            };
+            let left = time_left(time_limit, began, &format!("P_{m}: "))?;
+            em.stage(format!("solving P_{m} ({} steps)", 1u64 << m));
+            let s = solve_discrete_global_from(
+                crawler,
+                problem,
+                m,
+                left,
+                from.as_ref().map(|f| (f.times(), f.lengths())),
+            )?;
+            let mut r = GaitResult::from_discrete(crawler, problem, &s);
+            r.discrete_start = from.zip(s.start_objective).map(|(f, j)| StartRecord {
+                start: f.origin,
+                start_objective: j,
+            });
+            Ok(r)
+        }
+    }
+}
+
+/// What is left of `time_limit` since `began`; an error (prefixed by `what`) when nothing is.
+fn time_left(time_limit: Option<f64>, began: Instant, what: &str) -> Result<Option<f64>> {
+    let left = time_limit.map(|t| t - began.elapsed().as_secs_f64());
+    if left.is_some_and(|l| l <= 0.0) {
+        return Err(Error::TimeLimit(format!(
+            "{what}the time limit was reached while computing the start gait"
+        )));
+    }
+    Ok(left)
+}
+
+/// The start of a local method: the given one (checked to be of this crawler and period), or
+/// [`phase_start`]; with the time left.
+fn start_gait(
+    start: Option<&Start>,
+    crawler: &Crawler,
+    problem: &GaitProblem,
+    plan: &Plan,
+    em: &Emitter<'_>,
+) -> Result<(StartGait, Option<f64>)> {
+    let began = Instant::now();
+    let start = match start {
+        Some(s) => start_of(s, crawler, problem)?,
+        None => phase_start(crawler, problem, &plan.growth, &mut |e| em.start_event(e))?,
+    };
+    Ok((start, time_left(plan.growth.time_limit, began, "")?))
+}
+
+/// A given start gait, read (a file) and checked against the crawler and the period.
+fn start_of(start: &Start, crawler: &Crawler, problem: &GaitProblem) -> Result<StartGait> {
+    let (result, name) = match start {
+        Start::File(path) => {
+            let name = path.display().to_string();
+            let text = read_input_text(path, MAX_RESULT_BYTES)?;
+            (GaitResult::from_json(&text, &name)?, name)
+        }
+        Start::Result { result, name } => {
+            result.check_consistent(name)?;
+            ((**result).clone(), name.clone())
+        }
+    };
+    StartGait::from_result(crawler, problem, result, &name)
+}

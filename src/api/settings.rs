@@ -1,0 +1,373 @@
+//! The settings of an optimisation ([`OptimizeSettings`]) and what they decide ([`Plan`]):
+//! which method runs, which options apply to it, their defaults, and what is checked before any
+//! solve.
+
+use crate::error::{Error, Result};
+use crate::model::Crawler;
+use crate::optimal::{
+    check_local, check_shifts, check_size, Cost, GaitProblem, GaitResult, GrowOptions, MAX_LOCAL_M,
+    MAX_M,
+};
+use serde::{Deserialize, Serialize};
+use std::path::PathBuf;
+
+/// `m` of the discrete method unless given (8 steps).
+pub const DEFAULT_M_DISCRETE: u32 = 3;
+
+/// `m` of the local method unless given (1024 steps).
+pub const DEFAULT_M_LOCAL: u32 = 10;
+
+/// Time shifts of the start tried by the local method unless given.
+pub const DEFAULT_SHIFTS: usize = 8;
+
+/// The method of an optimisation.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum GaitMethod {
+    /// Phase gaits with K grown until no gain; the discrete P_m when the problem bounds TV(u),
+    /// which phase gaits cannot express.
+    #[default]
+    Auto,
+    /// The paper's discrete problem P_m on 2^m steps (§6), solved globally (MILP).
+    Discrete,
+    /// P_m on 2^m steps by the local LPCC active-set method, from a phase gait or a start.
+    Local,
+    /// Exact continuous-time gaits of at most K slip phases (SPEC §7), solved globally (MILP).
+    Phase,
+    /// Local search over the slip-mode sequences of phase gaits (each optimal for its
+    /// sequence; no global claim), from a phase gait or a start.
+    Sequence,
+}
+
+impl GaitMethod {
+    /// Its name, as the command line and Python spell it (`"discrete"`).
+    pub fn name(self) -> &'static str {
+        match self {
+            GaitMethod::Auto => "auto",
+            GaitMethod::Discrete => "discrete",
+            GaitMethod::Local => "local",
+            GaitMethod::Phase => "phase",
+            GaitMethod::Sequence => "sequence",
+        }
+    }
+
+    /// The method of a name ([`GaitMethod::name`]).
+    pub fn from_name(name: &str) -> Result<Self> {
+        [
+            Self::Auto,
+            Self::Discrete,
+            Self::Local,
+            Self::Phase,
+            Self::Sequence,
+        ]
+        .into_iter()
+        .find(|m| m.name() == name)
+        .ok_or_else(|| {
+            Error::invalid(
+                "method",
+                name,
+                "must be one of auto, discrete, local, phase, sequence",
+            )
+        })
+    }
+}
+
+/// How messages name settings: after the front end the user typed them in.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Naming {
+    /// Keyword arguments and struct fields: `max_phases`, `method="local"` (Python, Rust).
+    #[default]
+    Keywords,
+    /// Command-line flags: `max-phases`, `--method local`.
+    Flags,
+}
+
+impl Naming {
+    /// A setting as the field of an error (`max_phases`, or `max-phases` for flags).
+    pub fn field(self, name: &str) -> String {
+        match self {
+            Naming::Keywords => name.to_string(),
+            Naming::Flags => name.replace('_', "-"),
+        }
+    }
+
+    /// A setting inside a sentence (`max_phases`, or `--max-phases`).
+    pub fn setting(self, name: &str) -> String {
+        match self {
+            Naming::Keywords => name.to_string(),
+            Naming::Flags => format!("--{}", name.replace('_', "-")),
+        }
+    }
+
+    /// Methods inside a sentence: `--method local, sequence and discrete` for flags,
+    /// `method="local", "sequence" and "discrete"` for keywords.
+    pub fn methods(self, methods: &[GaitMethod]) -> String {
+        let names: Vec<String> = methods
+            .iter()
+            .map(|m| match self {
+                Naming::Keywords => format!("\"{}\"", m.name()),
+                Naming::Flags => m.name().to_string(),
+            })
+            .collect();
+        let list = match names.split_last() {
+            Some((last, rest)) if !rest.is_empty() => format!("{} and {last}", rest.join(", ")),
+            _ => names.join(""),
+        };
+        match self {
+            Naming::Keywords => format!("method={list}"),
+            Naming::Flags => format!("--method {list}"),
+        }
+    }
+}
+
+/// A start gait for the local methods and the P_m MILP.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Start {
+    /// A result file of `optimize` (read only when the method takes a start).
+    File(PathBuf),
+    /// A result in memory, and a name for messages and the recorded origin.
+    Result {
+        /// The gait result.
+        result: Box<GaitResult>,
+        /// What to call it (e.g. `start.json`).
+        name: String,
+    },
+}
+
+/// Everything an optimisation can be told. Every field has a default (`None`: the method's
+/// own, documented at the field); [`OptimizeSettings::plan`] checks them against the method and
+/// the problem before any solve.
+///
+/// ```
+/// use crawlopt::api::{GaitMethod, OptimizeSettings};
+/// let s = OptimizeSettings { method: GaitMethod::Discrete, m: Some(4), ..Default::default() };
+/// assert_eq!(s.time_limit, None);
+/// ```
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct OptimizeSettings {
+    /// The method (default [`GaitMethod::Auto`]).
+    pub method: GaitMethod,
+    /// Slip phases allowed in a phase gait (phase, auto); the sequence method's number of slip
+    /// modes (default: the start's plus 2). Without it K grows from 1 until the value has not
+    /// improved for `patience` K (or `max_phases`, or the time limit).
+    pub phases: Option<usize>,
+    /// Consecutive K without a gain that end a certified growth of K (default 2).
+    pub patience: Option<usize>,
+    /// Largest K tried when K grows (default 8).
+    pub max_phases: Option<usize>,
+    /// The grid of P_m has 2^m steps (discrete: default [`DEFAULT_M_DISCRETE`]; local: default
+    /// [`DEFAULT_M_LOCAL`]).
+    pub m: Option<u32>,
+    /// Solve P_m for m = 1..=M and record the table of J_m (discrete).
+    pub convergence: bool,
+    /// A start gait (local, sequence, discrete). Default: the phase optimum with K grown to the
+    /// first K without a gain (local, sequence), or under a time limit the local method's gait
+    /// on the same grid (discrete).
+    pub start: Option<Start>,
+    /// Time shifts of the start tried by the local method (default [`DEFAULT_SHIFTS`]).
+    pub shifts: Option<usize>,
+    /// Wall-clock limit, seconds: the best gait found is returned with its gap.
+    pub time_limit: Option<f64>,
+    /// Also check the necessary conditions (Theorem 2.2) on the answer.
+    pub certify: bool,
+    /// How messages name the settings.
+    pub naming: Naming,
+}
+
+/// What [`OptimizeSettings`] decide for a problem: the method that runs and every value it
+/// runs with, defaults filled in.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Plan {
+    /// The method that runs (auto resolved).
+    pub method: GaitMethod,
+    /// The options of a growth of K (certified, or a start's).
+    pub growth: GrowOptions,
+    /// Whether the certified growth of K runs (phase without `phases`).
+    pub certified_growth: bool,
+    /// `m` of the P_m methods.
+    pub m: u32,
+    /// Shifts of the local method.
+    pub shifts: usize,
+}
+
+impl OptimizeSettings {
+    /// Resolves the method, checks that every option given applies to it and has a usable
+    /// value, and the size of the model, before any solve: so that a bad value is not found
+    /// after a start gait was computed, or turned into a note by a start policy.
+    pub fn plan(&self, crawler: &Crawler, problem: &GaitProblem) -> Result<Plan> {
+        use GaitMethod::*;
+        let n = self.naming;
+        let method = match self.method {
+            Auto if problem.max_total_variation.is_some() => Discrete,
+            Auto => Phase,
+            other => other,
+        };
+        if self.start.is_some() && !matches!(method, Local | Sequence | Discrete) {
+            return Err(Error::invalid(
+                n.field("start"),
+                "a file",
+                format!(
+                    "applies to {} only",
+                    n.methods(&[Local, Sequence, Discrete])
+                ),
+            ));
+        }
+        let no_start = self.start.is_none();
+        // K grows for a certified answer (phase), or for a default start gait.
+        let grows = match method {
+            Auto | Phase => self.phases.is_none(),
+            Local | Sequence => no_start,
+            Discrete => {
+                no_start
+                    && !self.convergence
+                    && self.time_limit.is_some()
+                    && problem.max_total_variation.is_none()
+            }
+        };
+        let certified_growth = method == Phase && grows;
+        let m = self.m.unwrap_or(if method == Local {
+            DEFAULT_M_LOCAL
+        } else {
+            DEFAULT_M_DISCRETE
+        });
+        // The local method runs for local, and in discrete's default start unless the start is
+        // the phase gait itself (a quadratic cost, grids beyond the method).
+        let local_search = method == Local
+            || (method == Discrete && grows && problem.cost == Cost::None && m <= MAX_LOCAL_M);
+        let (phase, auto, phases) = (n.methods(&[Phase]), "auto without a TV bound", "phases");
+        let without_phases = format!("without {}", n.setting(phases));
+        for (given, applies, name, scope) in [
+            (
+                self.patience,
+                certified_growth,
+                "patience",
+                format!(
+                    "a certified growth of K: {phase}, or {auto}, {without_phases} (start gaits \
+                     stop at the first K without a gain)"
+                ),
+            ),
+            (
+                self.max_phases,
+                grows,
+                "max_phases",
+                format!(
+                    "a growth of K: {phase}, or {auto}, {without_phases}; or a default start \
+                     gait (no {}; for discrete, under {} and without a TV bound)",
+                    n.setting("start"),
+                    n.setting("time_limit")
+                ),
+            ),
+            (
+                self.shifts,
+                local_search,
+                "shifts",
+                format!(
+                    "the local method: {}, or the default start of {} (under {}, without a TV \
+                     bound or a quadratic cost, m <= {MAX_LOCAL_M})",
+                    n.methods(&[Local]),
+                    n.methods(&[Discrete]),
+                    n.setting("time_limit")
+                ),
+            ),
+        ] {
+            if let (Some(v), false) = (given, applies) {
+                return Err(Error::invalid(
+                    n.field(name),
+                    v,
+                    format!("applies only to {scope}"),
+                ));
+            }
+        }
+        let defaults = GrowOptions::default();
+        let growth = GrowOptions {
+            max_phases: self.max_phases.unwrap_or(defaults.max_phases),
+            patience: self.patience.unwrap_or(defaults.patience),
+            time_limit: self.time_limit,
+            ..defaults
+        };
+        growth.check()?;
+        if let Some(s) = self.shifts {
+            check_shifts(s)?;
+        }
+        if method == Local {
+            check_local(problem, m)?;
+        }
+        // The size of the models (blocks, blocks x grid steps), before any allocation.
+        match method {
+            Local | Discrete => {
+                // An m beyond the grids is refused by the solver's own range check.
+                let steps = if m <= MAX_M { 1usize << m } else { 1 };
+                check_size(crawler, steps, "m", m)?;
+            }
+            _ => {
+                let k = self.phases.unwrap_or(growth.max_phases);
+                check_size(crawler, k, "phases", k)?;
+            }
+        }
+        self.check_method_options(method, m)?;
+        Ok(Plan {
+            method,
+            growth,
+            certified_growth,
+            m,
+            shifts: self.shifts.unwrap_or(DEFAULT_SHIFTS),
+        })
+    }
+
+    /// The options that belong to one method only.
+    fn check_method_options(&self, method: GaitMethod, m: u32) -> Result<()> {
+        use GaitMethod::*;
+        let n = self.naming;
+        let set = |name: &str| n.field(name);
+        match method {
+            Local if self.phases.is_some() || self.convergence => Err(Error::invalid(
+                format!("{}/{}", set("phases"), set("convergence")),
+                "set",
+                format!("do not apply to {}", n.methods(&[Local])),
+            )),
+            Sequence if self.m.is_some() || self.convergence => Err(Error::invalid(
+                format!("{}/{}", set("m"), set("convergence")),
+                "set",
+                format!("do not apply to {}", n.methods(&[Sequence])),
+            )),
+            Phase | Auto => {
+                let only = format!("applies to {} only", n.methods(&[Discrete]));
+                if let Some(m) = self.m {
+                    return Err(Error::invalid(set("m"), m, only));
+                }
+                if self.convergence {
+                    return Err(Error::invalid(set("convergence"), "set", only));
+                }
+                Ok(())
+            }
+            Discrete => {
+                if let Some(k) = self.phases {
+                    return Err(Error::invalid(
+                        set("phases"),
+                        k,
+                        format!("applies to {} only", n.methods(&[Phase])),
+                    ));
+                }
+                if m == 0 {
+                    return Err(Error::invalid(
+                        set("m"),
+                        0,
+                        "must be at least 1 (a periodic gait needs two steps)",
+                    ));
+                }
+                if self.convergence && self.start.is_some() {
+                    return Err(Error::invalid(
+                        set("start"),
+                        "a file",
+                        format!(
+                            "does not apply to {} (each m starts from the optimum of m - 1)",
+                            n.setting("convergence")
+                        ),
+                    ));
+                }
+                Ok(())
+            }
+            _ => Ok(()),
+        }
+    }
+}

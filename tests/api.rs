@@ -1,0 +1,257 @@
+//! The library's job API (`crawlopt::api`): defaults and option applicability decided by the
+//! library (not by a front end), messages in the caller's naming, events, notes and
+//! cancellation, and the numbers of the paper's examples through it.
+
+use crawlopt::api::{
+    self, optimize, Event, GaitMethod, Hooks, Naming, OptimizeSettings, Start, DEFAULT_M_DISCRETE,
+    DEFAULT_M_LOCAL, DEFAULT_SHIFTS,
+};
+use crawlopt::io::ModelFile;
+use crawlopt::optimal::{Cost, GaitProblem};
+use crawlopt::progress::Cancel;
+use crawlopt::{Crawler, Error};
+
+fn model(name: &str) -> (Crawler, GaitProblem) {
+    let m = ModelFile::load(format!("examples/{name}.toml").as_ref()).unwrap();
+    api::gait_problem(&m).unwrap()
+}
+
+fn with_tv(mut p: GaitProblem) -> GaitProblem {
+    p.max_total_variation = Some(40.0);
+    p
+}
+
+#[test]
+fn defaults_are_the_library_s() {
+    let (c, p) = model("one_link_gait");
+    let plan = |s: OptimizeSettings, p: &GaitProblem| s.plan(&c, p).unwrap();
+    let auto = plan(OptimizeSettings::default(), &p);
+    assert_eq!(auto.method, GaitMethod::Phase);
+    assert!(auto.certified_growth);
+    assert_eq!((auto.growth.max_phases, auto.growth.patience), (8, 2));
+    // A total-variation bound makes auto the discrete P_m (phase gaits cannot express it).
+    let tv = plan(OptimizeSettings::default(), &with_tv(p.clone()));
+    assert_eq!(
+        (tv.method, tv.m),
+        (GaitMethod::Discrete, DEFAULT_M_DISCRETE)
+    );
+    let local = OptimizeSettings {
+        method: GaitMethod::Local,
+        ..Default::default()
+    };
+    let local = plan(local, &p);
+    assert_eq!((local.m, local.shifts), (DEFAULT_M_LOCAL, DEFAULT_SHIFTS));
+    assert!(!local.certified_growth);
+    let given = OptimizeSettings {
+        method: GaitMethod::Phase,
+        patience: Some(3),
+        max_phases: Some(5),
+        time_limit: Some(9.0),
+        ..Default::default()
+    };
+    let given = plan(given, &p);
+    assert_eq!(
+        (
+            given.growth.patience,
+            given.growth.max_phases,
+            given.growth.time_limit
+        ),
+        (3, 5, Some(9.0))
+    );
+}
+
+#[test]
+fn options_that_do_not_apply_are_refused_in_the_caller_s_naming() {
+    let (c, p) = model("one_link_gait");
+    let refused = |s: OptimizeSettings, p: &GaitProblem| match s.plan(&c, p) {
+        Err(Error::InvalidParameter { field, reason, .. }) => (field, reason),
+        other => panic!("{other:?}"),
+    };
+    let s = OptimizeSettings {
+        method: GaitMethod::Phase,
+        start: Some(Start::File("x.json".into())),
+        ..Default::default()
+    };
+    let (field, reason) = refused(s.clone(), &p);
+    assert_eq!(field, "start");
+    assert_eq!(
+        reason,
+        "applies to method=\"local\", \"sequence\" and \"discrete\" only"
+    );
+    let flags = OptimizeSettings {
+        naming: Naming::Flags,
+        ..s
+    };
+    assert_eq!(
+        refused(flags, &p).1,
+        "applies to --method local, sequence and discrete only"
+    );
+    // max_phases applies to a growth of K; with `phases` fixed nothing grows.
+    let s = OptimizeSettings {
+        phases: Some(3),
+        max_phases: Some(5),
+        ..Default::default()
+    };
+    let (field, reason) = refused(s.clone(), &p);
+    assert_eq!(field, "max_phases");
+    assert!(
+        reason.starts_with("applies only to a growth of K"),
+        "{reason}"
+    );
+    assert!(reason.contains("without phases"), "{reason}");
+    let flags = OptimizeSettings {
+        naming: Naming::Flags,
+        ..s
+    };
+    let (field, reason) = refused(flags, &p);
+    assert_eq!(field, "max-phases");
+    assert!(reason.contains("without --phases"), "{reason}");
+    // shifts: the local method only; with a quadratic cost discrete's start is no local one.
+    let quadratic = GaitProblem {
+        cost: Cost::Quadratic { weight: 0.5 },
+        ..p.clone()
+    };
+    let s = OptimizeSettings {
+        method: GaitMethod::Discrete,
+        time_limit: Some(5.0),
+        shifts: Some(2),
+        ..Default::default()
+    };
+    assert!(s.plan(&c, &p).is_ok());
+    assert_eq!(refused(s, &quadratic).0, "shifts");
+    // Method-specific options.
+    let s = OptimizeSettings {
+        method: GaitMethod::Discrete,
+        phases: Some(2),
+        ..Default::default()
+    };
+    assert_eq!(
+        refused(s, &p),
+        ("phases".into(), "applies to method=\"phase\" only".into())
+    );
+    let s = OptimizeSettings {
+        m: Some(3),
+        ..Default::default()
+    };
+    assert_eq!(refused(s, &p).0, "m");
+    let s = OptimizeSettings {
+        method: GaitMethod::Discrete,
+        m: Some(0),
+        ..Default::default()
+    };
+    assert!(refused(s, &p).1.contains("at least 1"));
+    // Values are checked before any solve.
+    let s = OptimizeSettings {
+        time_limit: Some(-1.0),
+        ..Default::default()
+    };
+    assert_eq!(refused(s, &p).0, "time_limit");
+    assert_eq!(
+        GaitMethod::from_name("sequence").unwrap(),
+        GaitMethod::Sequence
+    );
+    assert!(GaitMethod::from_name("fast").is_err());
+}
+
+#[test]
+fn the_three_block_optimum_with_its_events() {
+    // The peers' instance (examples/three_blocks_gait.toml): J* = 2.6 among phase gaits, K
+    // grown until two K bring no gain.
+    let (c, p) = model("three_blocks_gait");
+    let mut events = Vec::new();
+    let mut on = |e: &Event, t: f64| events.push((e.clone(), t));
+    let best = optimize(
+        &c,
+        &p,
+        &OptimizeSettings {
+            certify: true,
+            ..Default::default()
+        },
+        Hooks {
+            events: Some(&mut on),
+            cancel: None,
+        },
+    )
+    .unwrap();
+    assert!((best.result.objective - 2.6).abs() < 1e-8);
+    assert_eq!(best.result.method, "phase");
+    assert!(best.necessary_conditions.is_some());
+    let solved: Vec<usize> = events
+        .iter()
+        .filter_map(|(e, _)| match e {
+            Event::PhaseSolved { step, start: false } => Some(step.phases),
+            _ => None,
+        })
+        .collect();
+    let growth = best.result.phase_growth.as_ref().unwrap();
+    assert_eq!(solved.len(), growth.table.len());
+    assert_eq!(solved, (1..=solved.len()).collect::<Vec<_>>());
+    // Events come in time order, each stamped with the seconds since the job began.
+    assert!(events.windows(2).all(|w| w[0].1 <= w[1].1));
+    assert!(matches!(events[0].0, Event::Stage(_)));
+}
+
+#[test]
+fn the_one_link_closed_form_through_analyze_and_optimize() {
+    // SPEC §10: J* = (a T - 2 w) / (2 k) = 3.
+    let m = ModelFile::load("examples/one_link_gait.toml".as_ref()).unwrap();
+    let a = api::analyze(&m).unwrap();
+    let closed = a.gait.unwrap().one_link_optimum.unwrap().value;
+    assert!((closed - 3.0).abs() < 1e-12);
+    let (c, p) = api::gait_problem(&m).unwrap();
+    let best = optimize(&c, &p, &OptimizeSettings::default(), Hooks::default()).unwrap();
+    assert!((best.result.objective - closed).abs() < 1e-8);
+}
+
+#[test]
+fn a_cancelled_job_stops_with_cancelled() {
+    let (c, p) = model("three_blocks_gait");
+    let cancel = Cancel::new();
+    cancel.cancel();
+    let r = optimize(
+        &c,
+        &p,
+        &OptimizeSettings::default(),
+        Hooks {
+            events: None,
+            cancel: Some(&cancel),
+        },
+    );
+    assert_eq!(r, Err(Error::Cancelled));
+}
+
+#[test]
+fn a_start_in_memory_is_checked_and_recorded() {
+    let (c, p) = model("three_blocks_gait");
+    let phase = optimize(
+        &c,
+        &p,
+        &OptimizeSettings {
+            method: GaitMethod::Phase,
+            phases: Some(3),
+            ..Default::default()
+        },
+        Hooks::default(),
+    )
+    .unwrap()
+    .result;
+    let s = OptimizeSettings {
+        method: GaitMethod::Sequence,
+        start: Some(Start::Result {
+            result: Box::new(phase.clone()),
+            name: "k3".into(),
+        }),
+        phases: Some(4),
+        ..Default::default()
+    };
+    let seq = optimize(&c, &p, &s, Hooks::default()).unwrap().result;
+    assert!((seq.objective - 2.6).abs() < 1e-8, "{}", seq.objective);
+    // A start of another crawler is refused, naming the start.
+    let (c2, p2) = model("one_link_gait");
+    match optimize(&c2, &p2, &s, Hooks::default()) {
+        Err(Error::InvalidParameter { field, value, .. }) => {
+            assert_eq!((field.as_str(), value.as_str()), ("start", "k3"))
+        }
+        other => panic!("{other:?}"),
+    }
+}
