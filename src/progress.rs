@@ -105,6 +105,12 @@ fn with_current<R>(g: impl FnOnce(&mut Scope<'_>) -> R) -> Option<R> {
     Some(g(unsafe { &mut *ptr.as_ptr() }))
 }
 
+/// Whether this thread runs inside a [`scoped`] job (the kernels then install their hooks, such
+/// as HiGHS's callback; outside one they run exactly as without this module).
+pub fn in_scope() -> bool {
+    CURRENT.with(|c| c.get().is_some())
+}
+
 /// Whether this thread's job was cancelled.
 pub fn cancelled() -> bool {
     with_current(|s| s.cancel.is_some_and(Cancel::is_cancelled)).unwrap_or(false)

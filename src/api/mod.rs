@@ -32,7 +32,7 @@ mod events;
 mod optimize;
 mod settings;
 
-pub use bench::{bench, BenchCase, BenchSettings};
+pub use bench::{bench, rename_fields, BenchCase, BenchSettings};
 pub use events::{Event, Hooks, Observer};
 pub use optimize::{optimize, Optimized};
 pub use settings::{
@@ -72,14 +72,29 @@ pub struct ModelAnalysis {
     pub gait: Option<GaitAnalysis>,
 }
 
-/// A model file's gait problem, as `analyze` reports it.
+/// A model file's gait problem, as `analyze` reports it (`analyze --json`'s `gait`: each part
+/// with its keys in alphabetical order, as the command has always written them).
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct GaitAnalysis {
-    /// The problem.
-    pub problem: GaitProblem,
     /// For one link with a unique motion, J* and an optimal gait in closed form (SPEC §9,
     /// paper §4); `None` otherwise.
+    #[serde(serialize_with = "sorted_keys")]
     pub one_link_optimum: Option<OneLinkOptimum>,
+    /// The problem.
+    #[serde(serialize_with = "sorted_keys")]
+    pub problem: GaitProblem,
+}
+
+/// Serialises `v` with the keys of its objects in alphabetical order (through a
+/// `serde_json::Value`).
+fn sorted_keys<T: Serialize, S: serde::Serializer>(
+    v: &T,
+    s: S,
+) -> std::result::Result<S::Ok, S::Error> {
+    use serde::ser::Error as _;
+    serde_json::to_value(v)
+        .map_err(S::Error::custom)?
+        .serialize(s)
 }
 
 /// The analysis of a model file's crawler (the polytope C, the uniqueness condition, v_m and

@@ -274,6 +274,8 @@ pub fn simulate(crawler: &Crawler, act: &Actuation, opts: &SimOptions) -> Result
     let mut history: Vec<f64> = Vec::new();
     let mut k = 0;
     while k < opts.max_periods {
+        // A cancelled job stops between periods (crate::progress).
+        crate::progress::check()?;
         k += 1;
         x_start.copy_from_slice(&x);
         acc.iter_mut().for_each(|a| *a = 0.0);

@@ -315,7 +315,9 @@ pub fn solve_discrete_global_from(
     let (c, p) = (units.crawler(crawler)?, units.problem(problem));
     let start = start.map(|(t, l)| units.knots_in(t, l));
     let start = start.as_ref().map(|(t, l)| (t.as_slice(), l.as_slice()));
-    let s = solve_discrete_in(&c, &p, m, time_limit, start)?;
+    let s = crate::progress::with_objective_scale(units.objective_scale(), || {
+        solve_discrete_in(&c, &p, m, time_limit, start)
+    })?;
     Ok(units.discrete(&s))
 }
 

@@ -201,7 +201,9 @@ pub fn solve_discrete_local(
     let units = Units::of(crawler, problem);
     let (c, p) = (units.crawler(crawler)?, units.problem(problem));
     let (times, lengths) = units.knots_in(start_times, start_lengths);
-    let s = solve_local_in(&c, &p, m, &times, &lengths, time_limit)?;
+    let s = crate::progress::with_objective_scale(units.objective_scale(), || {
+        solve_local_in(&c, &p, m, &times, &lengths, time_limit)
+    })?;
     Ok(units.local(&s))
 }
 

@@ -656,7 +656,9 @@ fn solve_steps(
     let units = Units::of(crawler, problem);
     let (c, p) = (units.crawler(crawler)?, units.problem(problem));
     let start = start.map(|s| units.phase(s, false));
-    let s = solve_steps_in(&c, &p, phases, time_limit, start.as_ref(), fixed)?;
+    let s = crate::progress::with_objective_scale(units.objective_scale(), || {
+        solve_steps_in(&c, &p, phases, time_limit, start.as_ref(), fixed)
+    })?;
     Ok(units.phase(&s, true))
 }
 

@@ -14,6 +14,7 @@
 //! arrives here as an error.
 
 use crate::error::{Error, Result};
+use crate::progress;
 use highs::{Col, HighsOptionValue, Model, RowProblem, Sense};
 use highs_sys::HighsInt;
 use std::ffi::CString;
@@ -131,13 +132,27 @@ impl Highs {
 
     /// Runs HiGHS. Optimal, time-limited and infeasible ends are answers; every other end
     /// (unbounded, a solver error, an unknown status) is an [`Error::Numerical`] naming it.
+    ///
+    /// Inside a [`progress`] scope the run is watched through HiGHS's callback: it is
+    /// interrupted once the job is cancelled ([`Error::Cancelled`]), and a MILP reports its
+    /// incumbent and bound.
     pub fn solve(&mut self) -> Result<Answer> {
+        progress::check()?;
         let what = &self.what;
         let ptr = self.model.as_mut_ptr();
+        let mut watch = Watch::new();
+        let watched = progress::in_scope() && watch.install(ptr);
         // SAFETY (every call below): `ptr` is the live HiGHS instance owned by `self.model`,
         // borrowed mutably for the whole function; buffers are sized from HiGHS's own counts.
+        // `watch` outlives the run and its callback is removed right after it.
         let run = unsafe { highs_sys::Highs_run(ptr) };
+        if watched {
+            Watch::remove(ptr);
+        }
         let model_status = unsafe { highs_sys::Highs_getModelStatus(ptr) };
+        if model_status == highs_sys::kHighsModelStatusInterrupt && progress::cancelled() {
+            return Err(Error::Cancelled);
+        }
         if run == highs_sys::STATUS_ERROR && model_status != highs_sys::MODEL_STATUS_INFEASIBLE {
             return Err(Error::Numerical(format!(
                 "{what}: HiGHS failed to solve the model ({})",
@@ -195,6 +210,103 @@ impl Highs {
             dual_bound,
         })
     }
+}
+
+/// What HiGHS's callback needs between calls: when MILP progress was last reported (at most
+/// [`Watch::EVERY`] apart, improving solutions always).
+struct Watch {
+    last: Option<std::time::Instant>,
+}
+
+impl Watch {
+    /// Shortest time between two reports of MILP progress, seconds.
+    const EVERY: f64 = 0.2;
+
+    /// The callbacks that are started: the interrupts of each solver, and the MILP's reports.
+    const KINDS: [HighsInt; 5] = [
+        highs_sys::kHighsCallbackSimplexInterrupt,
+        highs_sys::kHighsCallbackIpmInterrupt,
+        highs_sys::kHighsCallbackMipInterrupt,
+        highs_sys::kHighsCallbackMipImprovingSolution,
+        highs_sys::kHighsCallbackMipLogging,
+    ];
+
+    fn new() -> Self {
+        Watch { last: None }
+    }
+
+    /// Installs [`callback`] with `self` as its data; `false` if HiGHS refuses (the solve then
+    /// runs unwatched: a cancellation is seen at the next check between solves).
+    fn install(&mut self, ptr: *mut std::ffi::c_void) -> bool {
+        let data = (self as *mut Watch).cast();
+        // SAFETY: `ptr` is a live HiGHS instance; `data` points to `self`, which the caller
+        // keeps alive until `remove` after the run.
+        let set = unsafe { highs_sys::Highs_setCallback(ptr, Some(callback), data) };
+        set != highs_sys::STATUS_ERROR
+            && Self::KINDS.iter().all(
+                |&k| unsafe { highs_sys::Highs_startCallback(ptr, k) } != highs_sys::STATUS_ERROR,
+            )
+    }
+
+    /// Stops the callbacks and forgets the data pointer.
+    fn remove(ptr: *mut std::ffi::c_void) {
+        // SAFETY: as in `install`.
+        unsafe {
+            for k in Self::KINDS {
+                highs_sys::Highs_stopCallback(ptr, k);
+            }
+            highs_sys::Highs_setCallback(ptr, None, std::ptr::null_mut());
+        }
+    }
+}
+
+/// HiGHS's callback: sets `user_interrupt` once the job is cancelled, and reports a MILP's
+/// incumbent and bound (HiGHS gives both in the sense of the model: for our maximisations,
+/// incumbent <= bound). Never unwinds into C.
+unsafe extern "C" fn callback(
+    kind: std::os::raw::c_int,
+    _message: *const std::os::raw::c_char,
+    out: *const highs_sys::HighsCallbackDataOut,
+    input: *mut highs_sys::HighsCallbackDataIn,
+    data: *mut std::ffi::c_void,
+) {
+    let _ = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+        // SAFETY: HiGHS passes valid pointers for the duration of the call; `data` is the
+        // `Watch` installed for this run.
+        let (out, watch) = unsafe { (out.as_ref(), data.cast::<Watch>().as_mut()) };
+        let interrupt = [
+            highs_sys::kHighsCallbackSimplexInterrupt,
+            highs_sys::kHighsCallbackIpmInterrupt,
+            highs_sys::kHighsCallbackMipInterrupt,
+        ];
+        if interrupt.contains(&kind) && progress::cancelled() {
+            if let Some(input) = unsafe { input.as_mut() } {
+                input.user_interrupt = 1;
+            }
+            return;
+        }
+        let (Some(out), Some(watch)) = (out, watch) else {
+            return;
+        };
+        let mip = [
+            highs_sys::kHighsCallbackMipImprovingSolution,
+            highs_sys::kHighsCallbackMipLogging,
+            highs_sys::kHighsCallbackMipInterrupt,
+        ];
+        let due = kind == highs_sys::kHighsCallbackMipImprovingSolution
+            || watch
+                .last
+                .is_none_or(|t| t.elapsed().as_secs_f64() >= Watch::EVERY);
+        if mip.contains(&kind) && due {
+            watch.last = Some(std::time::Instant::now());
+            let finite = |v: f64| Some(v).filter(|v| v.is_finite());
+            progress::report_milp(progress::MilpProgress {
+                incumbent: finite(out.mip_primal_bound),
+                bound: finite(out.mip_dual_bound),
+                seconds: out.running_time,
+            });
+        }
+    }));
 }
 
 /// An integer info value of the last solve, if HiGHS knows the name.

@@ -158,6 +158,8 @@ pub fn discrete_start(
     };
     let phase = match phase_start(crawler, problem, &half, progress) {
         Ok(s) => s,
+        // A cancelled job ends; it does not go on without a start.
+        Err(Error::Cancelled) => return Err(Error::Cancelled),
         Err(e) => {
             progress(StartEvent::Note(&format!(
                 "no start gait ({e}); solving P_{m} without one"
@@ -188,6 +190,7 @@ pub fn discrete_start(
                 result: GaitResult::from_local(crawler, problem, &s, &origin),
             }))
         }
+        Err(Error::Cancelled) => Err(Error::Cancelled),
         Err(e) => {
             progress(StartEvent::Note(&format!(
                 "the local method failed ({e}); the MILP starts from the phase gait"

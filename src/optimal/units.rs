@@ -143,6 +143,12 @@ impl Units {
         }
     }
 
+    /// The factor from an objective in internal units to the user's (the length unit): for the
+    /// MILP progress reported while a solve runs ([`crate::progress::with_objective_scale`]).
+    pub fn objective_scale(&self) -> f64 {
+        self.length
+    }
+
     /// Conversion factors (force, time, length) towards the user's units or away from them.
     fn factors(&self, to_user: bool) -> (f64, f64, f64) {
         if to_user {

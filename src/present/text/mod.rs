@@ -5,6 +5,90 @@
 //! exponent notation for very large or small magnitudes, so that no value prints as hundreds of
 //! digits (Rust's `{}` writes `1e300` as 301 digits). JSON output does not use this: it keeps
 //! every number at full precision.
+//!
+//! The human forms of results (what the command line prints and Python's summaries show) are
+//! here too, each a function returning the text: [`analysis`], [`simulation`],
+//! [`gait_result`], [`certificate`].
+
+mod analysis;
+mod gait;
+mod simulation;
+
+pub use analysis::{analysis, gait_problem};
+pub use gait::{certificate, gait_result, phase_step};
+pub use simulation::simulation;
+
+use crate::model::Crawler;
+use crate::optimal::{GaitProblem, GaitResult, MilpStatus};
+
+/// `writeln!` into a `String` (which cannot fail).
+macro_rules! wln {
+    ($o:expr, $($arg:tt)*) => {{
+        use std::fmt::Write as _;
+        let _ = writeln!($o, $($arg)*);
+    }};
+}
+pub(crate) use wln;
+
+/// The scales of a gait problem's quantities: text output shows a value smaller than
+/// [`text::SNAP`] times its quantity's scale as 0 (solver noise).
+pub struct GaitScales {
+    /// Lengths, displacements and the objective: the largest stroke an actuator can make in a
+    /// period, `T max_l a_l / k_l`.
+    pub length: f64,
+    /// Times: the period.
+    pub time: f64,
+    /// Computed forces (states, the ends of C): the smallest friction threshold, the smallest
+    /// force the model tells apart ([`force_scale`]).
+    pub force: f64,
+}
+
+impl GaitScales {
+    pub fn new(
+        stiffness: &[f64],
+        mu: impl IntoIterator<Item = f64>,
+        problem: &GaitProblem,
+    ) -> Self {
+        let sweep = problem.rate_bound.iter().zip(stiffness);
+        GaitScales {
+            length: problem.period * sweep.fold(0.0_f64, |m, (a, k)| m.max(a / k)),
+            time: problem.period,
+            force: mu.into_iter().fold(f64::INFINITY, f64::min),
+        }
+    }
+
+    /// Of a problem posed for a crawler.
+    pub fn of_problem(crawler: &Crawler, problem: &GaitProblem) -> Self {
+        let mu = crawler.mu_forward().iter().chain(crawler.mu_backward());
+        Self::new(crawler.stiffness(), mu.copied(), problem)
+    }
+
+    /// Of a result (its crawler and problem).
+    pub fn of(r: &GaitResult) -> Self {
+        let c = &r.crawler;
+        let mu = c.mu_forward.iter().chain(&c.mu_backward);
+        Self::new(&c.stiffness, mu.copied(), &r.problem)
+    }
+}
+
+/// The scale of computed forces of a crawler (states, the ends of C, vertices): its smallest
+/// friction threshold. The exact ones are sums of thresholds, so a force smaller than
+/// [`text::SNAP`] times the smallest threshold is rounding noise of a zero. (Not the largest
+/// threshold: with mu+ = 1e300 and mu- = 3, C spans [-6, 3].)
+pub fn force_scale(crawler: &Crawler) -> f64 {
+    let mu = crawler.mu_forward().iter().chain(crawler.mu_backward());
+    mu.fold(f64::INFINITY, |m, &v| m.min(v))
+}
+
+pub fn status_word(s: MilpStatus) -> &'static str {
+    match s {
+        MilpStatus::Optimal => "optimal",
+        MilpStatus::TimeLimit => "time_limit",
+        MilpStatus::ApproximationLimit => "approximation_limit",
+        MilpStatus::Stationary => "stationary",
+        MilpStatus::Stalled => "stalled",
+    }
+}
 
 /// Significant digits of a value in text output unless the quantity asks for others: enough for
 /// an objective or a displacement to be compared, few enough to hide the last bits of floating

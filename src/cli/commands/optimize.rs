@@ -1,0 +1,163 @@
+//! `crawlopt optimize`: the flags as [`OptimizeSettings`], one call of
+//! [`crawlopt::api::optimize`] (which holds every policy: method, defaults, starts, growth,
+//! time budget), rendered; figures and the report written from the result.
+
+use crate::output::{file_name, json_line_sorted, out, outln};
+use crate::parse::{count, count_u32};
+use crate::progress::Spinner;
+use clap::{Args, ValueEnum};
+use crawlopt::api::{self, GaitMethod, Hooks, Naming, OptimizeSettings, Start};
+use crawlopt::io::{AtomicFile, ModelFile};
+use crawlopt::present::text::{self, GaitScales};
+use crawlopt::present::{self, report, write_figures};
+use crawlopt::Error;
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+#[derive(Clone, Copy, PartialEq, ValueEnum)]
+pub enum OptimizeMethod {
+    /// Phase gaits with K grown until no gain; discrete when TV(u) is bounded.
+    Auto,
+    /// The paper's discrete problem P_m on 2^m steps, solved globally (MILP).
+    Discrete,
+    /// P_m on 2^m steps by the local LPCC active-set method, from a phase gait or --start.
+    Local,
+    /// Exact continuous-time gaits of at most K slip phases, solved globally (MILP).
+    Phase,
+    /// Local search over the slip-mode sequences of phase gaits (exact gaits, each optimal
+    /// for its sequence; no global claim), from a phase gait or --start: for crawlers or K
+    /// where the MILP is too slow.
+    Sequence,
+}
+
+#[derive(Args)]
+pub struct OptimizeArgs {
+    /// Model file (TOML) with a [gait] section.
+    pub file: PathBuf,
+    /// Formulation; auto: phase gaits with K grown until the value stops improving (the
+    /// discrete P_m when the problem bounds TV(u), which phase gaits cannot express).
+    #[arg(long, value_enum, default_value = "auto")]
+    pub method: OptimizeMethod,
+    /// Slip phases allowed in a phase gait (all-stick transitions between them are free);
+    /// without it K grows from 1 until the value has not improved for --patience K (or
+    /// --max-phases, or the time limit).
+    #[arg(long, allow_negative_numbers = true, value_parser = count)]
+    pub phases: Option<usize>,
+    /// Consecutive K without a gain that end the growth of K (default 2; --method phase, or
+    /// auto without a TV bound, without --phases: the start gaits of the other methods stop
+    /// at the first K without a gain).
+    #[arg(long, allow_negative_numbers = true, value_parser = count)]
+    pub patience: Option<usize>,
+    /// Largest K tried when K grows (default 8; for --method phase or auto without
+    /// --phases, and for the default start gaits).
+    #[arg(long = "max-phases", allow_negative_numbers = true, value_parser = count)]
+    pub max_phases: Option<usize>,
+    /// The grid of P_m has 2^m steps (--method discrete, default 3; --method local, default
+    /// 10).
+    #[arg(long, allow_negative_numbers = true, value_parser = count_u32)]
+    pub m: Option<u32>,
+    /// Solve P_m for m = 1..=M (M = --m) and print the table of J_m (--method discrete).
+    #[arg(long)]
+    pub convergence: bool,
+    /// Start gait: a result file of `optimize --json`. For --method local and sequence
+    /// (default: the phase optimum with K grown to the first K without a gain, within half
+    /// the time limit), and for --method discrete (default under --time-limit: the local
+    /// method's gait on the same grid; see the README), whose MILP takes it, sampled on its
+    /// grid, as the first incumbent.
+    #[arg(long)]
+    pub start: Option<PathBuf>,
+    /// Time shifts of the start tried by the local method (--method local, and the default
+    /// start of --method discrete under --time-limit when it runs the local method): the
+    /// start shifted by j T / N, j = 0..N, each sampled on the grid and searched from; the
+    /// best answer is kept (default 8).
+    #[arg(long, allow_negative_numbers = true, value_parser = count)]
+    pub shifts: Option<usize>,
+    /// Stop after this many seconds with the best gait found and its gap.
+    #[arg(long = "time-limit", value_name = "S", allow_hyphen_values = true)]
+    pub time_limit: Option<f64>,
+    /// Also check the necessary conditions (as `certify`); with --json they are added to the
+    /// result as "necessary_conditions".
+    #[arg(long)]
+    pub certify: bool,
+    /// Write the gait's figures (SVG and PNG) into this directory (with --certify, the
+    /// adjoint too; with --convergence, J_m against m).
+    #[arg(long, value_name = "DIR")]
+    pub plot: Option<PathBuf>,
+    /// Also write the self-contained HTML report of the gait (as `crawlopt report`) to this
+    /// file.
+    #[arg(long, value_name = "FILE")]
+    pub report: Option<PathBuf>,
+    /// Print one JSON object.
+    #[arg(long)]
+    pub json: bool,
+}
+
+impl From<OptimizeMethod> for GaitMethod {
+    fn from(m: OptimizeMethod) -> Self {
+        match m {
+            OptimizeMethod::Auto => GaitMethod::Auto,
+            OptimizeMethod::Discrete => GaitMethod::Discrete,
+            OptimizeMethod::Local => GaitMethod::Local,
+            OptimizeMethod::Phase => GaitMethod::Phase,
+            OptimizeMethod::Sequence => GaitMethod::Sequence,
+        }
+    }
+}
+
+pub fn run(a: OptimizeArgs) -> Result<ExitCode, Error> {
+    let model = ModelFile::load(&a.file)?;
+    let (crawler, problem) = api::gait_problem(&model)?;
+    if let Some(path) = &a.report {
+        AtomicFile::check(path)?;
+    }
+    let settings = OptimizeSettings {
+        method: a.method.into(),
+        phases: a.phases,
+        patience: a.patience,
+        max_phases: a.max_phases,
+        m: a.m,
+        convergence: a.convergence,
+        start: a.start.map(Start::File),
+        shifts: a.shifts,
+        time_limit: a.time_limit,
+        certify: a.certify,
+        naming: Naming::Flags,
+    };
+    let mut spinner = Spinner::new(GaitScales::of_problem(&crawler, &problem).length);
+    let mut show = |e: &api::Event, _: f64| spinner.show(e);
+    let hooks = Hooks {
+        events: Some(&mut show),
+        cancel: None,
+    };
+    let answer = api::optimize(&crawler, &problem, &settings, hooks);
+    spinner.finish(answer.as_ref().map_or(&[][..], |r| &r.notes));
+    let answer = answer?;
+    let (result, cert) = (&answer.result, answer.necessary_conditions.as_ref());
+    if let Some(dir) = &a.plot {
+        let mut figs = present::gait_figures(result)?;
+        if let Some(c) = cert {
+            figs.push(present::adjoint_figure_of(&c.multipliers)?);
+        }
+        write_figures(dir, &figs)?;
+    }
+    if let Some(path) = &a.report {
+        report::write_report(path, &report::build_report(result, &file_name(&a.file))?)?;
+    }
+    if a.json {
+        json_line_sorted(&answer);
+    } else {
+        out(&text::gait_result(result));
+        if let Some(c) = cert {
+            out(&text::certificate(c, result));
+        }
+    }
+    if let Some(path) = &a.report {
+        let line = format!("wrote {}", path.display());
+        if a.json {
+            eprintln!("{line}");
+        } else {
+            outln(&line);
+        }
+    }
+    Ok(ExitCode::SUCCESS)
+}

@@ -1,0 +1,158 @@
+//! `crawlopt simulate`: [`crawlopt::api::simulate`] with the flags as its options, rendered;
+//! the trajectory as CSV and the figures written only once the periodic regime is reached.
+
+use crate::output::{json_line, out};
+use crate::parse::count;
+use clap::{Args, ValueEnum};
+use crawlopt::api::{self, rename_fields, Hooks};
+use crawlopt::integrate::{Method, SimOptions};
+use crawlopt::io::{write_trajectory_csv, AtomicFile, ModelFile};
+use crawlopt::present::{self, text, write_figures};
+use crawlopt::Error;
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+/// Exit status of a simulation whose periodic regime was not reached.
+const EXIT_NOT_CONVERGED: u8 = 3;
+
+#[derive(Clone, Copy, ValueEnum)]
+pub enum MethodArg {
+    Exact,
+    CatchingUp,
+}
+
+#[derive(Args)]
+pub struct SimulateArgs {
+    /// Model file (TOML) with an [actuation] section.
+    pub file: PathBuf,
+    /// Periods recorded on the periodic orbit (trajectory output); 0 records none.
+    #[arg(long, default_value_t = 1, allow_negative_numbers = true, value_parser = count)]
+    pub periods: usize,
+    /// Steps per period (catching-up), or knots of the interpolant of a sine/triangle (exact).
+    #[arg(
+        long = "steps-per-period",
+        default_value_t = 1000,
+        allow_negative_numbers = true,
+        value_parser = count
+    )]
+    pub steps_per_period: usize,
+    /// Integration method.
+    #[arg(long, value_enum, default_value = "exact")]
+    pub method: MethodArg,
+    /// Give up the search for the periodic regime after this many periods.
+    #[arg(
+        long = "max-periods",
+        default_value_t = 5000,
+        allow_negative_numbers = true,
+        value_parser = count
+    )]
+    pub max_periods: usize,
+    /// The state repeats when it changes by at most tol * (size of C) over a period.
+    #[arg(long, default_value_t = 1e-12, allow_hyphen_values = true)]
+    pub tol: f64,
+    /// Iterate periods plainly this many times, then accelerate the search (Anderson).
+    #[arg(
+        long = "accelerate-after",
+        default_value_t = 50,
+        allow_negative_numbers = true,
+        value_parser = count
+    )]
+    pub accelerate_after: usize,
+    /// Never accelerate: the search is the physical transient.
+    #[arg(long = "no-accelerate")]
+    pub no_accelerate: bool,
+    /// Write the recorded trajectory as CSV.
+    #[arg(long, short = 'o')]
+    pub output: Option<PathBuf>,
+    /// Print one JSON object (with the recorded trajectory).
+    #[arg(long)]
+    pub json: bool,
+    /// Write figures (SVG and PNG) into this directory: actuation, space-time diagram over
+    /// max(periods, 3) periods, the orbit in C.
+    #[arg(long, value_name = "DIR")]
+    pub plot: Option<PathBuf>,
+}
+
+/// A library error renamed after the flag that set the value.
+fn flags(e: Error) -> Error {
+    let names = [
+        ("steps_per_period", "--steps-per-period"),
+        ("periods", "--periods"),
+        ("max_periods", "--max-periods"),
+        ("tol", "--tol"),
+    ];
+    rename_fields(e, &names.map(|(f, flag)| (f, flag.to_string())))
+}
+
+pub fn run(a: SimulateArgs) -> Result<ExitCode, Error> {
+    let model = ModelFile::load(&a.file)?;
+    let crawler = model.crawler()?;
+    crawler.require_unique()?;
+    let act = model.actuation(crawler.links())?;
+    let opts = SimOptions {
+        method: match a.method {
+            MethodArg::Exact => Method::Exact,
+            MethodArg::CatchingUp => Method::CatchingUp,
+        },
+        steps_per_period: a.steps_per_period,
+        record_periods: a.periods,
+        max_periods: a.max_periods,
+        tol: a.tol,
+        accelerate_after: (!a.no_accelerate).then_some(a.accelerate_after),
+        initial_state: model.simulation.initial_state.clone(),
+    };
+    // Output paths are checked before the work: a directory for -o, a file for --plot.
+    if let Some(path) = &a.output {
+        AtomicFile::check(path)?;
+    }
+    if let Some(dir) = &a.plot {
+        present::check_figure_dir(dir)?;
+    }
+    let sim = api::simulate(&crawler, &act, &opts, Hooks::default()).map_err(flags)?;
+    // Without a periodic regime nothing is written (exit 3 below says so). The figures are
+    // computed before anything is written, so that their failure leaves no CSV.
+    let figs = match (&a.plot, sim.converged) {
+        (Some(_), true) => Some(
+            present::simulation_figures(&crawler, &act, &sim, a.periods.max(3)).map_err(flags)?,
+        ),
+        _ => None,
+    };
+    let written = match (&a.output, &sim.trajectory, sim.converged) {
+        (Some(path), Some(traj), true) => {
+            write_trajectory_csv(path, traj)?;
+            Some(path.as_path())
+        }
+        _ => None,
+    };
+    if let (Some(dir), Some(figs)) = (&a.plot, &figs) {
+        write_figures(dir, figs)?;
+    }
+    if a.json {
+        json_line(&sim);
+    } else {
+        out(&text::simulation(&sim, &crawler, &act, written));
+    }
+    if sim.converged {
+        return Ok(ExitCode::SUCCESS);
+    }
+    let unwritten: Vec<String> = [
+        a.output
+            .as_ref()
+            .map(|p| format!("no trajectory written to {}", p.display())),
+        a.plot
+            .as_ref()
+            .map(|d| format!("no figures written to {}", d.display())),
+    ]
+    .into_iter()
+    .flatten()
+    .map(|s| format!(", {s}"))
+    .collect();
+    eprintln!(
+        "error: the periodic regime was not reached within {} periods (residual {:.3e}); \
+         displacement_per_period is not reported{} (raise --max-periods or --tol)",
+        sim.periods_simulated,
+        sim.period_residual,
+        unwritten.concat()
+    );
+    Ok(ExitCode::from(EXIT_NOT_CONVERGED))
+}

@@ -1,0 +1,54 @@
+//! `crawlopt`: the command-line layer over the library. Each command translates its arguments
+//! into the library's settings, calls the library once ([`crawlopt::api`] and the modules it
+//! names) and renders the result; errors are printed as one line and exit with status 2.
+
+mod commands;
+mod output;
+mod parse;
+mod progress;
+
+use clap::{Parser, Subcommand};
+use std::process::ExitCode;
+
+/// Simulation and optimal gaits of rate-independent soft crawlers.
+#[derive(Parser)]
+#[command(name = "crawlopt", version, about, long_about = None)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Analyse a crawler: the polytope C, the uniqueness condition, v_m and its directions.
+    Analyze(commands::analyze::AnalyzeArgs),
+    /// Simulate the actuation of a model file until the periodic regime.
+    Simulate(commands::simulate::SimulateArgs),
+    /// Compute an optimal gait of the [gait] problem.
+    Optimize(commands::optimize::OptimizeArgs),
+    /// Check the necessary optimality conditions (Theorem 2.2, Theorems 6.1-6.2) on a gait
+    /// result: multipliers, residuals and a verdict.
+    Certify(commands::certify::CertifyArgs),
+    /// Draw the figures of a result file: a gait result (`optimize --json`) or a J_m table.
+    Plot(commands::plot::PlotArgs),
+    /// One self-contained HTML report: parameters, analysis, optimal gait, figures, animation.
+    Report(commands::report::ReportArgs),
+    /// Measure the simulation cost per time step (sine gait L_l = A sin(2 pi t - l phi)).
+    Bench(commands::bench::BenchArgs),
+}
+
+fn main() -> ExitCode {
+    let result = match Cli::parse().command {
+        Command::Analyze(a) => commands::analyze::run(a),
+        Command::Simulate(a) => commands::simulate::run(a),
+        Command::Optimize(a) => commands::optimize::run(a),
+        Command::Certify(a) => commands::certify::run(a),
+        Command::Plot(a) => commands::plot::run(a),
+        Command::Report(a) => commands::report::run(a),
+        Command::Bench(a) => commands::bench::run(a),
+    };
+    result.unwrap_or_else(|e| {
+        eprintln!("error: {e}");
+        ExitCode::from(2)
+    })
+}

@@ -1,0 +1,260 @@
+//! The text of an optimal-gait result and of its necessary conditions.
+
+use super::{list, num, status_word, wln, GaitScales};
+use crate::certify::NecessaryConditions;
+use crate::optimal::{GaitResult, GrowthStop, MilpStatus, PhaseStep};
+use crate::present::text;
+
+/// The human form of an optimal-gait result: the same content as the JSON.
+pub fn gait_result(r: &GaitResult) -> String {
+    let mut out = String::new();
+    let c = &r.certificate;
+    let sc = GaitScales::of(r);
+    let len = |v: f64| num(v, sc.length);
+    wln!(out, "method {}: {}", r.method, status_word(r.status));
+    wln!(
+        out,
+        "objective J = {} (displacement per period {}, actuation cost {})",
+        len(r.objective),
+        len(r.displacement_per_period),
+        len(r.actuation_cost)
+    );
+    let proven = r.status == MilpStatus::Optimal && c.gap.is_some_and(|g| g <= 1e-6);
+    // Zero as the text shows it (below the snap of the length scale).
+    let zero = |v: f64| v.abs() < text::SNAP * sc.length;
+    if proven && zero(r.objective) && zero(r.displacement_per_period) {
+        wln!(
+            out,
+            "no gait of this class moves the crawler forward: the optimum is 0 (stay idle)"
+        );
+    }
+    let scope = match (c.kind.as_str(), c.phases, r.m) {
+        ("global_k_phases", Some(k), _) => format!("gaits of at most {k} slip phases"),
+        ("global", _, Some(m)) => format!("P_{m} ({} steps)", 1u64 << m),
+        (kind, _, _) => kind.to_string(),
+    };
+    let what = match (r.status, c.kind.as_str()) {
+        (_, "local") => format!("local ({})", status_word(r.status)),
+        (MilpStatus::Optimal, _) => format!("global among {scope}"),
+        (status, _) => format!(
+            "not proven ({}); the bound is over {scope}",
+            status_word(status)
+        ),
+    };
+    match (c.gap, c.bound) {
+        (Some(gap), Some(bound)) => {
+            wln!(
+                out,
+                "certificate: {what}, gap {gap:.3e} (bound {})",
+                len(bound)
+            )
+        }
+        _ => wln!(out, "certificate: {what}"),
+    }
+    wln!(
+        out,
+        "verified by simulation: {} (solver: {})",
+        len(r.verified_displacement),
+        len(r.solver_objective)
+    );
+    if let Some(pg) = &r.phase_growth {
+        wln!(
+            out,
+            "phases grown until {}:",
+            match pg.stop {
+                GrowthStop::NoGain => "the value stopped improving",
+                GrowthStop::MaxPhases => "--max-phases (the value was still improving or still 0)",
+                GrowthStop::NoForwardMotion =>
+                    "K = 1: v_m <= 0 for every shape rate, so no gait moves this crawler forward",
+                GrowthStop::TimeLimit => "the time limit",
+            }
+        );
+        wln!(out, "  | K | J_K | bound | status | seconds |");
+        for st in &pg.table {
+            wln!(
+                out,
+                "  | {} | {} | {} | {} | {:.2} |",
+                st.phases,
+                len(st.objective),
+                len(st.bound),
+                status_word(st.status),
+                st.seconds
+            );
+        }
+    }
+    if let Some(st) = &r.discrete_start {
+        wln!(
+            out,
+            "the MILP started from {} (J = {} on this grid)",
+            st.start,
+            len(st.start_objective)
+        );
+    }
+    match (&r.local, r.m) {
+        (Some(l), Some(_)) => wln!(
+        out,
+            "local method: from {} (J = {} on this grid), {} LP solves, {} mode switches, stopped: {:?}",
+            l.start,
+            len(l.start_objective),
+            l.lp_solves,
+            l.switches,
+            l.stop
+        ),
+        (Some(l), None) => wln!(
+        out,
+            "sequence search: from {} (J = {} for its sequence of slip modes), {} LP solves, {} improving moves, stopped: {:?}",
+            l.start,
+            len(l.start_objective),
+            l.lp_solves,
+            l.switches,
+            l.stop
+        ),
+        (None, _) => {}
+    }
+    if let Some(table) = &r.convergence {
+        wln!(out, "convergence of the discrete problems P_m:");
+        wln!(out, "  | m | steps | J_m | gap | status | seconds |");
+        for row in table {
+            wln!(
+                out,
+                "  | {} | {} | {} | {:.1e} | {} | {:.2} |",
+                row.m,
+                row.steps,
+                len(row.objective),
+                row.gap,
+                status_word(row.status),
+                row.seconds
+            );
+        }
+    }
+    let g = &r.gait;
+    for (j, u) in g.controls.iter().enumerate() {
+        wln!(
+            out,
+            "  {j:>4}: t = [{}, {}]  u = {}  slip = {:?}",
+            num(g.times[j], sc.time),
+            num(g.times[j + 1], sc.time),
+            text::list_each(u, &r.problem.rate_bound),
+            g.slip[j]
+        );
+    }
+    out
+}
+
+/// The human form of a certificate of the gait of `r`: the same content as its JSON,
+/// multipliers abridged.
+pub fn certificate(c: &NecessaryConditions, r: &GaitResult) -> String {
+    let mut out = String::new();
+    let sc = GaitScales::of(r);
+    let m = &c.multipliers;
+    // The adjoint's own scale (lambda + ||p||_inf is normalised, but omega shifts it).
+    let adjoint = text::max_abs(m.p_plus_omega.iter().flatten().chain(&m.omega));
+    wln!(
+        out,
+        "necessary conditions (Theorem 2.2; discrete form Theorems 6.1-6.2): {}",
+        serde_json::to_string(&c.verdict)
+            .expect("enum")
+            .trim_matches('"')
+    );
+    wln!(out, "  {}", c.reason);
+    let n = &c.normalisation;
+    wln!(
+        out,
+        "  lambda = {} (scaled: {}); lambda + ||p||_inf = {}; sum of the paper's (norm) = {}",
+        num(c.lambda, 1.0),
+        n.scaled_by,
+        num(n.lambda_plus_sup_p, 0.0),
+        num(n.paper_norm, 0.0)
+    );
+    wln!(
+        out,
+        "  J = {}; min |p + omega| = {:.3e}; omega = {}",
+        num(c.objective, sc.length),
+        c.nondegeneracy_margin,
+        list(&m.omega, adjoint)
+    );
+    if let Some(b) = &c.branch_lp {
+        wln!(
+        out,
+            "  branch LP (active faces and slips fixed): optimum {}, improvement over the gait {:.3e}",
+            num(b.optimum, sc.length),
+            b.improvement
+        );
+    }
+    for k in &c.conditions {
+        wln!(
+            out,
+            "  [Thm {}] {:<18} residual {:>10.3e}  tol {:.1e}  {}  {}",
+            k.theorem,
+            k.name,
+            k.residual,
+            k.tolerance,
+            if k.holds { "holds" } else { "FAILS" },
+            k.statement
+        );
+    }
+    let rows = m.p.len();
+    let show = rows.min(64);
+    wln!(
+        out,
+        "  multipliers per piece ({}{}):",
+        m.extension,
+        if show < rows {
+            format!(", first {show} of {rows}")
+        } else {
+            String::new()
+        }
+    );
+    for j in 0..show {
+        wln!(
+            out,
+            "    t = {}  u = {}  p + omega = {}",
+            num(m.times[j], sc.time),
+            text::list_each(&m.u[j], &r.problem.rate_bound),
+            list(&m.p_plus_omega[j], adjoint)
+        );
+    }
+    let mass = text::max_abs(m.xi.iter().map(|x| &x.value));
+    for x in m.xi.iter().take(64) {
+        wln!(
+            out,
+            "    dxi at t = {} (knot {}): face {}{} mass {}",
+            num(x.time, sc.time),
+            x.knot,
+            x.block,
+            x.side,
+            num(x.value, mass)
+        );
+    }
+    if let Some(o) = &c.one_link {
+        wln!(
+        out,
+            "  one link (§4): C = [{}, {}], bang-bang {}, switches at t = {} (at an end of C: {:?})",
+            num(o.alpha, sc.force),
+            num(o.beta, sc.force),
+            o.bang_bang,
+            list(&o.switch_times, sc.time),
+            o.switch_at_end
+        );
+        wln!(
+            out,
+            "    interior arcs {} vs (beta - alpha)/a = {}",
+            list(&o.interior_arcs, sc.time),
+            num(o.expected_arc, sc.time)
+        );
+    }
+    out
+}
+
+/// One solved K of a phase growth, for the progress line (J and the bound at the problem's
+/// length scale `length`).
+pub fn phase_step(st: &PhaseStep, length: f64) -> String {
+    format!(
+        "K = {}: J = {} (bound {}, {:.2} s); K = {} next",
+        st.phases,
+        num(st.objective, length),
+        num(st.bound, length),
+        st.seconds,
+        st.phases + 1
+    )
+}
