@@ -134,6 +134,7 @@ pub fn simulate(
     options: &SimOptions,
     hooks: Hooks<'_>,
 ) -> Result<Simulation> {
+    crawler.require_unique()?;
     events::run_with(hooks, |em| {
         crate::progress::check()?;
         em.stage("simulating to the periodic regime");

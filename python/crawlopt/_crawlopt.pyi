@@ -1,0 +1,108 @@
+"""Type stubs of the extension module (Rust, PyO3). The public API is in crawlopt/__init__.py."""
+
+from pathlib import Path
+from typing import Callable, Optional, Union
+
+import numpy as np
+
+__version__: str
+
+class InputError(ValueError):
+    field: str
+    value: Optional[str]
+
+class NonUniqueError(InputError):
+    subset: Optional[list[int]]
+    forward_sum: float
+    backward_sum: float
+
+class InadmissibleError(InputError): ...
+class FileError(InputError): ...
+class CrawloptError(RuntimeError): ...
+
+class TimeLimitError(CrawloptError):
+    incumbent: None
+
+class InfeasibleError(CrawloptError): ...
+class NumericalError(CrawloptError): ...
+
+class Crawler:
+    def __init__(
+        self, stiffness: list[float], mu_forward: list[float], mu_backward: list[float]
+    ) -> None: ...
+    @property
+    def stiffness(self) -> list[float]: ...
+    @property
+    def mu_forward(self) -> list[float]: ...
+    @property
+    def mu_backward(self) -> list[float]: ...
+    def analyze_json(self) -> str: ...
+    def vm(self, rates: list[float]) -> float: ...
+    def require_unique(self) -> None: ...
+
+class Actuation:
+    @staticmethod
+    def wave(
+        kind: str, period: float, mean: list[float], amplitude: list[float], phase_deg: list[float]
+    ) -> Actuation: ...
+    @staticmethod
+    def piecewise_linear(
+        period: float, times: list[float], lengths: list[list[float]]
+    ) -> Actuation: ...
+    @property
+    def period(self) -> float: ...
+    @property
+    def links(self) -> int: ...
+    def lengths_at(self, t: list[float]) -> list[list[float]]: ...
+
+class GaitProblem:
+    def __init__(
+        self,
+        crawler: Crawler,
+        period: float,
+        max_actuator_speed: list[float],
+        quadratic_weight: Optional[float] = None,
+        max_total_variation: Optional[float] = None,
+    ) -> None: ...
+    def to_json(self) -> str: ...
+
+class GaitResult:
+    @staticmethod
+    def from_json(text: str, name: str = "result") -> GaitResult: ...
+    def to_json(self) -> str: ...
+    def certify_json(self) -> str: ...
+    def figures(self, certified: bool = False) -> list[tuple[str, str, str]]: ...
+    def report_html(self, source: str = "crawlopt") -> str: ...
+    def write_report(self, path: Union[str, Path], source: str = "crawlopt") -> None: ...
+    def text(self) -> str: ...
+
+def load(
+    path: Union[str, Path],
+) -> tuple[Crawler, Optional[GaitProblem], Optional[Actuation], Optional[list[float]]]: ...
+def simulate(
+    crawler: Crawler,
+    actuation: Actuation,
+    method: str,
+    steps_per_period: int,
+    record_periods: int,
+    max_periods: int,
+    tol: float,
+    accelerate_after: Optional[int],
+    initial_state: Optional[list[float]],
+    progress: Optional[Callable[[str], None]],
+) -> tuple[str, dict[str, np.ndarray]]: ...
+def optimize(
+    crawler: Crawler,
+    problem: GaitProblem,
+    method: str,
+    phases: Optional[int],
+    patience: Optional[int],
+    max_phases: Optional[int],
+    m: Optional[int],
+    convergence: bool,
+    start: Optional[GaitResult],
+    shifts: Optional[int],
+    time_limit: Optional[float],
+    certify: bool,
+    progress: Optional[Callable[[str], None]],
+) -> tuple[GaitResult, Optional[str], list[str]]: ...

@@ -1,0 +1,135 @@
+//! The jobs: `simulate` and `optimize`, their keyword arguments turned into the library's
+//! settings, run through [`crate::run::run`].
+
+use crate::errors::to_py;
+use crate::model::{Actuation, Crawler, GaitProblem};
+use crate::results::GaitResult;
+use crate::run::run;
+use crawlopt::api::{self, GaitMethod, Naming, OptimizeSettings, Start};
+use crawlopt::integrate::{Method, SimOptions, Simulation};
+use numpy::{PyArray1, PyArray2, PyArrayMethods};
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+
+/// Rows of equal length as a 2-D array (`cols` columns when there are no rows).
+fn matrix<'py, T: numpy::Element + Copy>(
+    py: Python<'py>,
+    rows: &[Vec<T>],
+    cols: usize,
+) -> Bound<'py, PyArray2<T>> {
+    let flat: Vec<T> = rows.iter().flatten().copied().collect();
+    PyArray1::from_vec(py, flat)
+        .reshape([rows.len(), cols])
+        .expect("rows of equal length")
+}
+
+/// A simulation: its scalar results as JSON text, and the recorded trajectory as arrays
+/// (`t`, `x`, `X`, `y`, `slip`) when periods were recorded (taken out before the summary is
+/// serialised: it is most of the work otherwise).
+fn simulation_out(
+    py: Python<'_>,
+    mut s: Simulation,
+    links: usize,
+    blocks: usize,
+) -> PyResult<(String, Bound<'_, PyDict>)> {
+    let trajectory = s.trajectory.take();
+    let summary = serde_json::to_string(&s).expect("serialisable");
+    let arrays = PyDict::new(py);
+    if let Some(tr) = &trajectory {
+        arrays.set_item("t", PyArray1::from_slice(py, &tr.t))?;
+        arrays.set_item("x", matrix(py, &tr.x, links))?;
+        arrays.set_item("X", matrix(py, &tr.positions, blocks))?;
+        arrays.set_item("y", PyArray1::from_slice(py, &tr.barycentre))?;
+        arrays.set_item("slip", matrix(py, &tr.slip, blocks))?;
+    }
+    Ok((summary, arrays))
+}
+
+/// Simulates `actuation` on `crawler` to the periodic regime (SPEC §3–4); see
+/// `crawlopt.simulate` for the arguments.
+#[pyfunction]
+#[pyo3(signature = (crawler, actuation, method, steps_per_period, record_periods, max_periods, tol, accelerate_after, initial_state, progress))]
+#[allow(clippy::too_many_arguments)]
+pub fn simulate<'py>(
+    py: Python<'py>,
+    crawler: &Crawler,
+    actuation: &Actuation,
+    method: &str,
+    steps_per_period: usize,
+    record_periods: usize,
+    max_periods: usize,
+    tol: f64,
+    accelerate_after: Option<usize>,
+    initial_state: Option<Vec<f64>>,
+    progress: Option<PyObject>,
+) -> PyResult<(String, Bound<'py, PyDict>)> {
+    let method = match method {
+        "exact" => Method::Exact,
+        "catching-up" | "catching_up" => Method::CatchingUp,
+        other => {
+            let e =
+                crawlopt::Error::invalid("method", other, "must be \"exact\" or \"catching_up\"");
+            return Err(to_py(py, e));
+        }
+    };
+    let opts = SimOptions {
+        method,
+        steps_per_period,
+        record_periods,
+        max_periods,
+        tol,
+        accelerate_after,
+        initial_state,
+    };
+    let (c, a) = (crawler.inner.clone(), actuation.inner.clone());
+    let s = run(py, progress, |hooks| api::simulate(&c, &a, &opts, hooks))?;
+    simulation_out(py, s, c.links(), c.blocks())
+}
+
+/// An optimal gait of `problem` for `crawler` (`crawlopt::api::optimize`); see
+/// `crawlopt.optimize` for the arguments.
+#[pyfunction]
+#[pyo3(signature = (crawler, problem, method, phases, patience, max_phases, m, convergence, start, shifts, time_limit, certify, progress))]
+#[allow(clippy::too_many_arguments)]
+pub fn optimize(
+    py: Python<'_>,
+    crawler: &Crawler,
+    problem: &GaitProblem,
+    method: &str,
+    phases: Option<usize>,
+    patience: Option<usize>,
+    max_phases: Option<usize>,
+    m: Option<u32>,
+    convergence: bool,
+    start: Option<&GaitResult>,
+    shifts: Option<usize>,
+    time_limit: Option<f64>,
+    certify: bool,
+    progress: Option<PyObject>,
+) -> PyResult<(GaitResult, Option<String>, Vec<String>)> {
+    let settings = OptimizeSettings {
+        method: GaitMethod::from_name(method).map_err(|e| to_py(py, e))?,
+        phases,
+        patience,
+        max_phases,
+        m,
+        convergence,
+        start: start.map(|r| Start::Result {
+            result: Box::new(r.inner.clone()),
+            name: "start".into(),
+        }),
+        shifts,
+        time_limit,
+        certify,
+        naming: Naming::Keywords,
+    };
+    let (c, p) = (crawler.inner.clone(), problem.inner.clone());
+    let done = run(py, progress, |hooks| {
+        api::optimize(&c, &p, &settings, hooks)
+    })?;
+    let conditions = done
+        .necessary_conditions
+        .as_ref()
+        .map(|n| serde_json::to_string(n).expect("serialisable"));
+    Ok((GaitResult { inner: done.result }, conditions, done.notes))
+}

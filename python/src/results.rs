@@ -1,0 +1,81 @@
+//! A gait result (what `crawlopt optimize --json` writes) as a Python class: read and written
+//! as the same JSON, certified, drawn and reported by the library.
+
+use crate::errors::to_py;
+use crate::run::run;
+use crawlopt::certify::certify_result;
+use crawlopt::present::{self, report, text};
+use pyo3::prelude::*;
+
+/// A gait result: the optimal gait, its certificate and status, verified by simulation.
+#[pyclass(module = "crawlopt._crawlopt", frozen)]
+#[derive(Clone)]
+pub struct GaitResult {
+    pub inner: crawlopt::optimal::GaitResult,
+}
+
+#[pymethods]
+impl GaitResult {
+    /// Reads a result document, checked as `crawlopt certify` checks it (`name` for messages).
+    #[staticmethod]
+    #[pyo3(signature = (text, name="result"))]
+    fn from_json(py: Python<'_>, text: &str, name: &str) -> PyResult<Self> {
+        crawlopt::optimal::GaitResult::from_json(text, name)
+            .map(|inner| GaitResult { inner })
+            .map_err(|e| to_py(py, e))
+    }
+
+    /// The result document: the JSON `crawlopt optimize --json` writes (keys sorted).
+    fn to_json(&self) -> String {
+        let v = serde_json::to_value(&self.inner).expect("serialisable");
+        serde_json::to_string(&v).expect("serialisable")
+    }
+
+    /// The necessary conditions of Theorem 2.2 (discrete form Theorems 6.1–6.2) on the gait,
+    /// as the JSON `crawlopt certify --json` writes.
+    fn certify_json(&self, py: Python<'_>) -> PyResult<String> {
+        let r = self.inner.clone();
+        let c = run(py, None, |_| certify_result(&r, "result"))?;
+        Ok(serde_json::to_string(&c).expect("serialisable"))
+    }
+
+    /// The figures of the gait (with the adjoint when `certified`): (name, caption, SVG).
+    #[pyo3(signature = (certified=false))]
+    fn figures(&self, py: Python<'_>, certified: bool) -> PyResult<Vec<(String, String, String)>> {
+        let r = self.inner.clone();
+        let figs = run(py, None, |_| {
+            let mut figs = present::gait_figures(&r)?;
+            if certified {
+                let c = certify_result(&r, "result")?;
+                figs.push(present::adjoint_figure_of(&c.multipliers)?);
+            }
+            Ok(figs)
+        })?;
+        Ok(figs
+            .into_iter()
+            .map(|f| (f.name, f.caption, f.svg))
+            .collect())
+    }
+
+    /// The self-contained HTML report (`source` names the input in the page).
+    #[pyo3(signature = (source="crawlopt"))]
+    fn report_html(&self, py: Python<'_>, source: &str) -> PyResult<String> {
+        let r = self.inner.clone();
+        run(py, None, |_| report::build_report(&r, source))
+    }
+
+    /// Writes the report to `path` (atomically, as `crawlopt report -o`).
+    #[pyo3(signature = (path, source="crawlopt"))]
+    fn write_report(&self, py: Python<'_>, path: std::path::PathBuf, source: &str) -> PyResult<()> {
+        let r = self.inner.clone();
+        run(py, None, |_| {
+            crawlopt::io::AtomicFile::check(&path)?;
+            report::write_report(&path, &report::build_report(&r, source)?)
+        })
+    }
+
+    /// The text `crawlopt optimize` prints.
+    fn text(&self) -> String {
+        text::gait_result(&self.inner)
+    }
+}

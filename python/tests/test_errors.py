@@ -1,0 +1,63 @@
+"""Every exception type with its fields; no panic crosses into Python."""
+
+import crawlopt as co
+import pytest
+
+
+def test_input_error_names_the_field_and_value():
+    m = co.load("examples/three_blocks_gait.toml")
+    with pytest.raises(co.InputError) as e:
+        co.optimize(m.crawler, m.gait_problem, m=3)
+    assert e.value.field == "m" and e.value.value == "3"
+    assert 'applies to method="discrete" only' in str(e.value)
+    assert isinstance(e.value, ValueError)
+    with pytest.raises(co.InputError) as e:
+        co.optimize(m.crawler, m.gait_problem, method="fast")
+    assert e.value.field == "method"
+    with pytest.raises(co.InputError) as e:
+        co.Crawler(blocks=3, mu_forward=[1.0, -1.0, 1.0])
+    assert e.value.field == "crawler.mu_forward[2]" and e.value.value == "-1"
+    with pytest.raises(co.InputError) as e:
+        co.optimize(m.crawler, m.gait_problem, time_limit=-1.0)
+    assert e.value.field == "time_limit"
+
+
+def test_non_unique_error_carries_the_subset():
+    c = co.Crawler(blocks=2, mu_forward=1.0, mu_backward=1.0)
+    act = co.Actuation.sine(period=1.0, amplitude=[1.0])
+    with pytest.raises(co.NonUniqueError) as e:
+        co.simulate(c, act)
+    assert e.value.subset in ([1], [2])
+    assert e.value.forward_sum == pytest.approx(e.value.backward_sum)
+    assert isinstance(e.value, co.InputError)
+    assert c.analyze().uniqueness_ok is False
+
+
+def test_file_error_names_the_path(tmp_path):
+    with pytest.raises(co.FileError) as e:
+        co.load(tmp_path / "missing.toml")
+    assert e.value.field.endswith("missing.toml")
+    with pytest.raises(co.InputError):
+        co.GaitResult.from_json('{"format": "crawlopt-gait-result"}')
+
+
+def test_time_limit_without_a_gait_raises():
+    # The local method's start gait alone needs more than 10 ms for six blocks.
+    c = co.Crawler(blocks=6, mu_backward=1.63)
+    with pytest.raises(co.TimeLimitError) as e:
+        co.optimize(c, co.GaitProblem(period=10), method="local", m=4, time_limit=0.01)
+    assert e.value.incumbent is None
+    assert isinstance(e.value, co.CrawloptError)
+
+
+def test_infeasible_and_numerical_errors_are_crawlopt_errors():
+    assert issubclass(co.InfeasibleError, co.CrawloptError)
+    assert issubclass(co.NumericalError, co.CrawloptError)
+    assert issubclass(co.InadmissibleError, co.InputError)
+
+
+def test_inadmissible_initial_state():
+    m = co.load("examples/three_blocks_sine.toml")
+    with pytest.raises(co.InadmissibleError) as e:
+        co.simulate(m.crawler, m.actuation, initial_state=[100.0, 0.0])
+    assert "initial_state" in e.value.field

@@ -1,0 +1,134 @@
+"""Numbers through Python: the paper's closed forms, the N = 3 optimum with its certificate,
+arrays' shapes and dtypes, round trips with the command line."""
+
+import json
+import subprocess
+
+import crawlopt as co
+import numpy as np
+import pytest
+
+
+@pytest.mark.parametrize("method", ["exact", "catching_up"])
+@pytest.mark.parametrize("amplitude", [0.5, 1.0, 3.0, 7.0])
+def test_one_link_sine_displacement_is_the_closed_form(method, amplitude):
+    # SPEC §10: one link, k = 1, mu+ = 1, mu- = 2 on both blocks, L = A sin(2 pi t): the
+    # displacement per period is max(0, 2A - 2) (the paper's §4).
+    c = co.Crawler(blocks=2, stiffness=1.0, mu_forward=1.0, mu_backward=2.0)
+    act = co.Actuation.sine(period=1.0, amplitude=[amplitude])
+    sim = co.simulate(c, act, method=method, steps_per_period=4000)
+    tol = 1e-12 if method == "exact" else 2e-3
+    assert sim.displacement_per_period == pytest.approx(max(0.0, 2 * amplitude - 2), abs=tol)
+
+
+def test_one_link_gait_optimum_is_the_closed_form():
+    # SPEC §10: J* = (a T - 2 w) / (2 k) = (10 - 4) / 2 = 3 for examples/one_link_gait.toml.
+    m = co.load("examples/one_link_gait.toml")
+    a = m.crawler.analyze()
+    assert a.one_link["width"] == pytest.approx(2.0)  # w = 2 (the file's comment)
+    r = co.optimize(m.crawler, m.gait_problem)
+    assert r.objective == pytest.approx(3.0, abs=1e-8)
+    assert r.status == "optimal"
+
+
+def test_three_blocks_optimum_with_its_certificate():
+    m = co.load("examples/three_blocks_gait.toml")
+    r = co.optimize(m.crawler, m.gait_problem, certify=True)
+    assert r.objective == pytest.approx(2.6, abs=1e-8)
+    assert r.certificate["kind"] == "global_k_phases"
+    assert r.certificate["gap"] <= 1e-6
+    assert r.necessary_conditions["verdict"] in ("holds", "degenerate")
+    # The phase growth: J_K = 0 up to K = 2, 13/6 at K = 3, 2.6 from K = 4 (tests/gait_costs.rs).
+    table = r.phase_growth["table"]
+    assert [row["phases"] for row in table][:4] == [1, 2, 3, 4]
+    assert table[2]["objective"] == pytest.approx(13 / 6, abs=1e-8)
+    assert r.verified_displacement == pytest.approx(2.6, abs=1e-8)
+
+
+def test_same_problem_built_in_python_and_read_from_the_file():
+    c = co.Crawler(blocks=3, stiffness=1.0, mu_forward=1.0, mu_backward=1.5)
+    prob = co.GaitProblem(period=10, max_actuator_speed=1.0)
+    r = co.optimize(c, prob, method="phase", phases=3)
+    assert r.objective == pytest.approx(13 / 6, abs=1e-8)
+    quad = co.optimize(
+        c, co.GaitProblem(period=10, cost=co.Quadratic(0.5)), method="phase", phases=4
+    )
+    assert quad.objective < 2.6
+    assert quad.actuation_cost > 0
+
+
+def test_arrays_have_their_shapes_and_dtypes():
+    m = co.load("examples/three_blocks_sine.toml")
+    sim = co.simulate(m.crawler, m.actuation, periods=2)
+    assert sim.displacement_per_period == pytest.approx(1.914213562, abs=1e-9)
+    n = len(sim.t)
+    assert sim.t.dtype == np.float64 and sim.t.shape == (n,)
+    assert sim.x.shape == (n, 2) and sim.X.shape == (n, 3) and sim.y.shape == (n,)
+    assert sim.slip.dtype == np.int8 and sim.slip.shape == (n, 3)
+    for a in (sim.t, sim.x, sim.X, sim.y, sim.slip):
+        assert a.flags["C_CONTIGUOUS"]
+    # The barycentre is the mean of the blocks; two periods recorded.
+    assert np.allclose(sim.y, sim.X.mean(axis=1))
+    assert sim.t[-1] - sim.t[0] == pytest.approx(2.0)
+    r = co.optimize(
+        co.Crawler(blocks=3, mu_backward=1.5), co.GaitProblem(period=10), method="phase", phases=3
+    )
+    g = r.gait
+    k = len(g.u)
+    assert g.t.shape == (k + 1,) and g.u.shape == (k, 2) and g.slip.shape == (k, 3)
+    assert g.slip.dtype == np.int8 and g.L.dtype == np.float64
+
+
+def test_results_round_trip_with_the_command_line(cli, tmp_path):
+    out = subprocess.run(
+        [cli, "optimize", "examples/three_blocks_gait.toml", "--json"],
+        check=True,
+        capture_output=True,
+        text=True,
+    ).stdout
+    r = co.GaitResult.from_json(out)
+    assert r.objective == pytest.approx(2.6, abs=1e-8)
+    # Python writes the same document, byte for byte.
+    assert r.to_json() == out.strip()
+    path = tmp_path / "r.json"
+    path.write_text(r.to_json())
+    cert = json.loads(
+        subprocess.run(
+            [cli, "certify", str(path), "--json"], check=True, capture_output=True, text=True
+        ).stdout
+    )
+    mine = r.certify()
+    assert cert["verdict"] == mine["verdict"]
+    assert cert["objective"] == pytest.approx(mine["objective"], abs=1e-12)
+    # And a result computed in Python is read by the CLI's report.
+    html = tmp_path / "r.html"
+    subprocess.run([cli, "report", str(path), "-o", str(html)], check=True, capture_output=True)
+    assert "2.6" in html.read_text()
+
+
+def test_figures_and_report(tmp_path):
+    m = co.load("examples/three_blocks_gait.toml")
+    r = co.optimize(m.crawler, m.gait_problem, method="phase", phases=4)
+    figs = r.figures(adjoint=True)
+    assert {"spacetime", "actuation", "adjoint"} <= set(figs)
+    assert (
+        figs["spacetime"]._repr_svg_().lstrip().startswith("<svg")
+        or "<svg" in figs["spacetime"].svg[:200]
+    )
+    html = r.report(tmp_path / "gait.html")
+    assert (tmp_path / "gait.html").read_text() == html
+    assert "<script" in html and "2.6" in html
+    assert "2.6" in r._repr_html_() and "<svg" in r._repr_html_()
+    assert len(repr(r).splitlines()) == 1
+
+
+def test_progress_events_arrive_in_order():
+    events = []
+    m = co.load("examples/three_blocks_gait.toml")
+    co.optimize(m.crawler, m.gait_problem, progress=events.append)
+    kinds = [e["kind"] for e in events]
+    assert kinds[0] == "stage"
+    phases = [e["K"] for e in events if e["kind"] == "phase"]
+    assert phases == list(range(1, len(phases) + 1))
+    assert all(a["seconds"] <= b["seconds"] for a, b in zip(events, events[1:]))
+    assert any(e["kind"] == "milp" and e["incumbent"] is not None for e in events)
