@@ -334,17 +334,20 @@ def simulate(
     actuation: Actuation,
     *,
     method: str = "exact",
-    steps_per_period: int = 1000,
-    periods: int = 1,
-    max_periods: int = 5000,
-    tol: float = 1e-12,
-    accelerate_after: Optional[int] = 50,
+    steps_per_period: Optional[int] = None,
+    periods: Optional[int] = None,
+    max_periods: Optional[int] = None,
+    tol: Optional[float] = None,
+    accelerate: bool = True,
+    accelerate_after: Optional[int] = None,
     initial_state: Optional[Sequence[float]] = None,
     progress: Progress = False,
 ) -> Simulation:
     """Plays ``actuation`` on ``crawler`` until the periodic regime (the sweeping process of
     SPEC §3, exact event-driven or catching-up) and records ``periods`` periods of the orbit.
-    Arguments as ``crawlopt simulate``'s flags (``accelerate_after=None``: never accelerate).
+    Arguments as ``crawlopt simulate``'s flags; None takes the library's default (1000 steps or
+    knots per period, 1 period recorded, at most 5000 periods, tol 1e-12, Anderson acceleration
+    after 50 plain periods; ``accelerate=False``: never).
     The GIL is released; Ctrl-C stops it (KeyboardInterrupt)."""
     summary, arrays = _rs.simulate(
         crawler._inner,
@@ -354,6 +357,7 @@ def simulate(
         periods,
         max_periods,
         tol,
+        accelerate,
         accelerate_after,
         None if initial_state is None else [float(v) for v in initial_state],
         progress_callback(progress),

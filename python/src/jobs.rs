@@ -48,17 +48,18 @@ fn simulation_out(
 /// Simulates `actuation` on `crawler` to the periodic regime (SPEC §3–4); see
 /// `crawlopt.simulate` for the arguments.
 #[pyfunction]
-#[pyo3(signature = (crawler, actuation, method, steps_per_period, record_periods, max_periods, tol, accelerate_after, initial_state, progress))]
+#[pyo3(signature = (crawler, actuation, method, steps_per_period, record_periods, max_periods, tol, accelerate, accelerate_after, initial_state, progress))]
 #[allow(clippy::too_many_arguments)]
 pub fn simulate<'py>(
     py: Python<'py>,
     crawler: &Crawler,
     actuation: &Actuation,
     method: &str,
-    steps_per_period: usize,
-    record_periods: usize,
-    max_periods: usize,
-    tol: f64,
+    steps_per_period: Option<usize>,
+    record_periods: Option<usize>,
+    max_periods: Option<usize>,
+    tol: Option<f64>,
+    accelerate: bool,
     accelerate_after: Option<usize>,
     initial_state: Option<Vec<f64>>,
     progress: Option<PyObject>,
@@ -72,13 +73,17 @@ pub fn simulate<'py>(
             return Err(to_py(py, e));
         }
     };
+    // None: the library's default.
+    let d = SimOptions::DEFAULT;
     let opts = SimOptions {
         method,
-        steps_per_period,
-        record_periods,
-        max_periods,
-        tol,
-        accelerate_after,
+        steps_per_period: steps_per_period.unwrap_or(d.steps_per_period),
+        record_periods: record_periods.unwrap_or(d.record_periods),
+        max_periods: max_periods.unwrap_or(d.max_periods),
+        tol: tol.unwrap_or(d.tol),
+        accelerate_after: accelerate
+            .then(|| accelerate_after.or(d.accelerate_after))
+            .flatten(),
         initial_state,
     };
     let (c, a) = (crawler.inner.clone(), actuation.inner.clone());

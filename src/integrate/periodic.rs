@@ -58,17 +58,22 @@ pub struct SimOptions {
     pub initial_state: Option<Vec<f64>>,
 }
 
+impl SimOptions {
+    /// The defaults (also those of `crawlopt simulate`'s flags and Python's `simulate`).
+    pub const DEFAULT: SimOptions = SimOptions {
+        method: Method::Exact,
+        steps_per_period: 1000,
+        record_periods: 1,
+        max_periods: 5000,
+        tol: 1e-12,
+        accelerate_after: Some(50),
+        initial_state: None,
+    };
+}
+
 impl Default for SimOptions {
     fn default() -> Self {
-        SimOptions {
-            method: Method::Exact,
-            steps_per_period: 1000,
-            record_periods: 1,
-            max_periods: 5000,
-            tol: 1e-12,
-            accelerate_after: Some(50),
-            initial_state: None,
-        }
+        Self::DEFAULT
     }
 }
 

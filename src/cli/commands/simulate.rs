@@ -12,6 +12,15 @@ use crawlopt::Error;
 use std::path::PathBuf;
 use std::process::ExitCode;
 
+/// The library's defaults, shown and used as the flags' defaults.
+const DEFAULTS: SimOptions = SimOptions::DEFAULT;
+
+/// `--accelerate-after` unless given: the library's.
+const DEFAULT_ACCELERATE_AFTER: usize = match SimOptions::DEFAULT.accelerate_after {
+    Some(k) => k,
+    None => 0,
+};
+
 /// Exit status of a simulation whose periodic regime was not reached.
 const EXIT_NOT_CONVERGED: u8 = 3;
 
@@ -26,12 +35,12 @@ pub struct SimulateArgs {
     /// Model file (TOML) with an [actuation] section.
     pub file: PathBuf,
     /// Periods recorded on the periodic orbit (trajectory output); 0 records none.
-    #[arg(long, default_value_t = 1, allow_negative_numbers = true, value_parser = count)]
+    #[arg(long, default_value_t = DEFAULTS.record_periods, allow_negative_numbers = true, value_parser = count)]
     pub periods: usize,
     /// Steps per period (catching-up), or knots of the interpolant of a sine/triangle (exact).
     #[arg(
         long = "steps-per-period",
-        default_value_t = 1000,
+        default_value_t = DEFAULTS.steps_per_period,
         allow_negative_numbers = true,
         value_parser = count
     )]
@@ -42,18 +51,18 @@ pub struct SimulateArgs {
     /// Give up the search for the periodic regime after this many periods.
     #[arg(
         long = "max-periods",
-        default_value_t = 5000,
+        default_value_t = DEFAULTS.max_periods,
         allow_negative_numbers = true,
         value_parser = count
     )]
     pub max_periods: usize,
     /// The state repeats when it changes by at most tol * (size of C) over a period.
-    #[arg(long, default_value_t = 1e-12, allow_hyphen_values = true)]
+    #[arg(long, default_value_t = DEFAULTS.tol, allow_hyphen_values = true)]
     pub tol: f64,
     /// Iterate periods plainly this many times, then accelerate the search (Anderson).
     #[arg(
         long = "accelerate-after",
-        default_value_t = 50,
+        default_value_t = DEFAULT_ACCELERATE_AFTER,
         allow_negative_numbers = true,
         value_parser = count
     )]
