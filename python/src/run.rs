@@ -24,6 +24,7 @@ pub fn run<T: Send>(
     job: impl FnOnce(Hooks<'_>) -> crawlopt::Result<T> + Send,
 ) -> PyResult<T> {
     let cancel = Cancel::new();
+    let watching = progress.is_some();
     let (tx, rx) = mpsc::channel::<String>();
     std::thread::scope(|scope| {
         let cancel_ref = &cancel;
@@ -31,8 +32,9 @@ pub fn run<T: Send>(
             let mut send = |e: &Event, t: f64| {
                 let _ = tx.send(event_json(e, t));
             };
+            // Without a callback no event is sent (each would wake the waiting thread).
             let hooks = Hooks {
-                events: Some(&mut send),
+                events: if watching { Some(&mut send) } else { None },
                 cancel: Some(cancel_ref),
             };
             job(hooks)

@@ -132,3 +132,30 @@ def test_progress_events_arrive_in_order():
     assert phases == list(range(1, len(phases) + 1))
     assert all(a["seconds"] <= b["seconds"] for a, b in zip(events, events[1:]))
     assert any(e["kind"] == "milp" and e["incumbent"] is not None for e in events)
+
+
+def test_tables_as_pandas():
+    pd = pytest.importorskip("pandas")
+    m = co.load("examples/three_blocks_sine.toml")
+    sim = co.simulate(m.crawler, m.actuation, periods=1)
+    df = sim.to_pandas()
+    assert isinstance(df, pd.DataFrame)
+    assert list(df.columns[:4]) == ["t", "y", "x_1", "x_2"]
+    assert len(df) == len(sim.t) and np.allclose(df["X_3"], sim.X[:, 2])
+    g = co.load("examples/three_blocks_gait.toml")
+    r = co.optimize(g.crawler, g.gait_problem)
+    growth = r.phase_growth_table()
+    assert growth["objective"].iloc[-1] == pytest.approx(2.6, abs=1e-8)
+    pieces = r.to_pandas()
+    assert len(pieces) == len(r.gait.u)
+    assert np.allclose(pieces["t_end"] - pieces["t_start"], r.gait.durations)
+    table = co.optimize(
+        co.load("examples/one_link_gait.toml").crawler,
+        co.load("examples/one_link_gait.toml").gait_problem,
+        method="discrete",
+        m=3,
+        convergence=True,
+    ).convergence_table()
+    assert list(table["m"]) == [1, 2, 3]
+    # J_m approaches the continuous optimum 3 from below.
+    assert (table["objective"] <= 3.0 + 1e-9).all()
