@@ -40,6 +40,12 @@ impl Cancel {
     pub fn is_cancelled(&self) -> bool {
         self.0.load(Ordering::SeqCst)
     }
+
+    /// The flag itself, for a signal handler to trip with one atomic store (storing `true` is
+    /// [`Cancel::cancel`]; a handler may not call anything that allocates or locks).
+    pub fn flag(&self) -> &AtomicBool {
+        &self.0
+    }
 }
 
 /// The state of a running MILP, as HiGHS reports it through its callback: the best objective

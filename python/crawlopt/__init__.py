@@ -299,8 +299,7 @@ class Simulation:
 
     def __init__(self, summary: dict, arrays: dict):
         self._summary = summary
-        for k, v in summary.items():
-            setattr(self, k, v)
+        self.__dict__.update(summary)
         empty = np.zeros((0,))
         self.t = arrays.get("t", empty)
         self.x = arrays.get("x", empty.reshape(0, 0))
@@ -362,7 +361,7 @@ def simulate(
         None if initial_state is None else [float(v) for v in initial_state],
         progress_callback(progress),
     )
-    return Simulation(json.loads(summary), arrays)
+    return Simulation(summary, arrays)
 
 
 class GaitResult:

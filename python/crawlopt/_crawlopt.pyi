@@ -1,7 +1,7 @@
 """Type stubs of the extension module (Rust, PyO3). The public API is in crawlopt/__init__.py."""
 
 from pathlib import Path
-from typing import Callable, Optional, Union
+from typing import Any, Callable, Optional, Union
 
 import numpy as np
 
@@ -91,7 +91,7 @@ def simulate(
     accelerate_after: Optional[int],
     initial_state: Optional[list[float]],
     progress: Optional[Callable[[str], None]],
-) -> tuple[str, dict[str, np.ndarray]]: ...
+) -> tuple[dict[str, Any], dict[str, np.ndarray]]: ...
 def optimize(
     crawler: Crawler,
     problem: GaitProblem,
