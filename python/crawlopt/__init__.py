@@ -106,6 +106,7 @@ class Analysis:
             setattr(self, k, v)
 
     def to_dict(self) -> dict:
+        """The fields of the JSON document as a dict (as ``--json`` prints them)."""
         return dict(self._doc)
 
     def __repr__(self) -> str:
@@ -140,11 +141,19 @@ class Crawler:
             )
         self._inner = _inner
 
-    blocks = property(lambda self: len(self._inner.mu_forward))
-    links = property(lambda self: len(self._inner.stiffness))
-    stiffness = property(lambda self: np.array(self._inner.stiffness))
-    mu_forward = property(lambda self: np.array(self._inner.mu_forward))
-    mu_backward = property(lambda self: np.array(self._inner.mu_backward))
+    blocks = property(lambda self: len(self._inner.mu_forward), doc="N, the number of blocks.")
+    links = property(lambda self: len(self._inner.stiffness), doc="n = N - 1, the number of links.")
+    stiffness = property(
+        lambda self: np.array(self._inner.stiffness), doc="k_l per link (force / length)."
+    )
+    mu_forward = property(
+        lambda self: np.array(self._inner.mu_forward),
+        doc="mu_b^+ per block: the friction threshold against forward sliding (force).",
+    )
+    mu_backward = property(
+        lambda self: np.array(self._inner.mu_backward),
+        doc="mu_b^- per block: the friction threshold against backward sliding (force).",
+    )
 
     def analyze(self) -> Analysis:
         """The polytope C, the uniqueness condition, v_m's class and directions (exact)."""
@@ -199,7 +208,7 @@ class Actuation:
         inner = _rs.Actuation.piecewise_linear(float(period), [float(x) for x in t], rows.tolist())
         return Actuation(inner)
 
-    period = property(lambda self: self._inner.period)
+    period = property(lambda self: self._inner.period, doc="The period T (time).")
 
     def __call__(self, t) -> np.ndarray:
         """L at the times ``t``: an array (times x links)."""
@@ -308,6 +317,7 @@ class Simulation:
         self.slip = arrays.get("slip", np.zeros((0, 0), dtype=np.int8))
 
     def to_dict(self) -> dict:
+        """The fields of the JSON document as a dict (as ``--json`` prints them)."""
         return dict(self._summary)
 
     def to_pandas(self):
@@ -393,6 +403,7 @@ class GaitResult:
         return self._inner.to_json()
 
     def to_dict(self) -> dict:
+        """The fields of the JSON document as a dict (as ``--json`` prints them)."""
         return json.loads(self.to_json())
 
     def certify(self) -> dict:
