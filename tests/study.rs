@@ -363,3 +363,39 @@ fn errors_name_the_field() {
     let e = out.row.error.unwrap();
     assert!(e.starts_with("settings.m: "), "{e}");
 }
+
+#[test]
+fn figures_of_a_table_have_the_axes_and_the_no_locomotion_boundary() {
+    let s = spec(&ONE_LINK.replace("job = \"optimize\"", "job = \"analyze\""));
+    let rows = run_all(&s, &SweepSettings::default());
+    let axes: Vec<String> = s.axes.iter().map(|a| a.field.clone()).collect();
+    let figs = study::figures(&axes, &rows).unwrap();
+    let names: Vec<&str> = figs.iter().map(|f| f.name.as_str()).collect();
+    assert_eq!(names, ["sweep_lines", "sweep_map"]);
+    for f in &figs {
+        assert!(
+            f.svg.starts_with("<svg") && f.svg.contains("gait.period"),
+            "{}",
+            f.name
+        );
+        assert!(f.png.starts_with(b"\x89PNG"));
+    }
+    // One line per value of mu+, labelled; the map has the boundary and the error cells.
+    assert!(figs[0].svg.contains("crawler.mu_forward = 0.5"));
+    assert!(figs[1].svg.contains("boundary of no locomotion"));
+    assert!(figs[1].svg.contains("no value (error)"));
+    // The table read back without its sweep file gives the same figures.
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("t.jsonl");
+    let (mut w, _) = TableWriter::open(&s, Some(&path), Format::Csv, false).unwrap();
+    for r in &rows {
+        w.write(r).unwrap();
+    }
+    let (axes_back, rows_back) = study::read_any_table(&path).unwrap();
+    assert_eq!(axes_back, axes);
+    assert_eq!(rows_back, rows);
+    // Not a sweep table: refused naming the file.
+    std::fs::write(&path, "{\"a\": 1}\n").unwrap();
+    let e = study::read_any_table(&path).unwrap_err().to_string();
+    assert!(e.contains("not a sweep table"), "{e}");
+}

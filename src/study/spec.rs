@@ -197,6 +197,26 @@ impl SweepSpec {
                 crate::io::escape_controls(&e.to_string().trim().replace('\n', "; "))
             ),
         })?;
+        Self::from_file(f, dir)
+    }
+
+    /// Parses a sweep given as JSON (the same keys and tables as the TOML file: the Python
+    /// package's dictionaries), relative paths starting at `dir`.
+    pub fn from_json(text: &str, dir: &Path) -> Result<Self> {
+        let f: SweepFile = serde_json::from_str(text).map_err(|e| {
+            Error::invalid(
+                "spec",
+                "the dictionary given",
+                format!(
+                    "not a sweep: {}",
+                    crate::io::escape_controls(&e.to_string())
+                ),
+            )
+        })?;
+        Self::from_file(f, dir)
+    }
+
+    fn from_file(f: SweepFile, dir: &Path) -> Result<Self> {
         let (model, model_dir) =
             match (&f.base, f.model) {
                 (Some(base), None) => {

@@ -55,7 +55,11 @@ impl Plot for Lines<'_> {
         )?;
         let many = g.y.len() > PALETTE.len() * 2;
         for (iy, yv) in g.y.iter().enumerate() {
-            let colour = PALETTE[iy % PALETTE.len()];
+            // Beyond the palette, its colours darkened (so that no two lines look alike).
+            let p = PALETTE[iy % PALETTE.len()];
+            let dark = |v: u8, k: usize| (v as usize / (k + 1)) as u8;
+            let k = iy / PALETTE.len();
+            let colour = RGBColor(dark(p.0, k), dark(p.1, k), dark(p.2, k));
             // Gaps where a point has no value.
             let mut runs: Vec<Vec<(f64, f64)>> = vec![Vec::new()];
             for (ix, v) in g.values[iy].iter().enumerate() {
