@@ -583,8 +583,11 @@ fn range_values(r: &RangeFile, name: &str) -> Result<Vec<f64>> {
         return Ok(vec![r.from]);
     }
     let t = |i: usize| i as f64 / (n - 1) as f64;
+    // Weighted ends, not from + step * i: 2 to 20 in 6 gives 12.8, not 12.799999999999999.
+    let (a, b) = (r.from, r.to);
+    let lin = |i: usize| ((n - 1 - i) as f64 * a + i as f64 * b) / (n - 1) as f64;
     let mut v: Vec<f64> = match r.scale.as_deref() {
-        None | Some("linear") => (0..n).map(|i| r.from + (r.to - r.from) * t(i)).collect(),
+        None | Some("linear") => (0..n).map(lin).collect(),
         Some("log") => {
             if r.from <= 0.0 || r.to <= 0.0 {
                 return Err(Error::invalid(
