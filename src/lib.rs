@@ -14,6 +14,8 @@
 //!   of a gait and a checkable certificate;
 //! - [`io`]: the TOML model file and CSV files;
 //! - [`present`]: figures (SVG, PNG) and the self-contained HTML report; nothing depends on it;
+//! - [`study`]: parameter studies (`crawlopt sweep`): a job over a grid of model parameters,
+//!   in parallel, one row per point;
 //! - [`api`]: one call per job (analyze, optimize, bench) with settings, events and
 //!   cancellation ([`progress`]); every front end goes through it;
 //! - the `crawlopt` binary (`src/cli/`) and the Python package (`python/`): thin layers that
@@ -41,6 +43,7 @@ pub mod model;
 pub mod optimal;
 pub mod present;
 pub mod progress;
+pub mod study;
 pub mod sweep;
 
 pub use error::{Error, Result};

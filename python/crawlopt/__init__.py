@@ -55,6 +55,7 @@ __all__ = [
     "load",
     "optimize",
     "simulate",
+    "sweep",
 ]
 
 Numbers = Union[float, Sequence[float]]
@@ -526,3 +527,40 @@ def optimize(
         progress_callback(progress),
     )
     return GaitResult(inner, None if conditions is None else json.loads(conditions), notes)
+
+
+def _sweep_source(spec) -> tuple[str, bool, str]:
+    """A sweep as (source, is_path, base_dir): a file's absolute path, or a dictionary as JSON
+    with relative paths (``base``) from the current directory."""
+    import os
+
+    if isinstance(spec, dict):
+        return json.dumps(spec), False, os.getcwd()
+    if isinstance(spec, (str, os.PathLike)):
+        return os.path.abspath(os.fspath(spec)), True, ""
+    raise InputError(f"spec: must be a sweep file's path or a dict (got {type(spec).__name__})")
+
+
+def sweep(spec, executor=None, *, threads: int = 0):
+    """A parameter study (``crawlopt sweep``): one job over a grid of model parameters, one row
+    per point, as a pandas DataFrame sorted by point (columns ``point``, one per axis named by
+    its field, ``objective``, ``displacement_per_period``, ``certificate``, ``gap``, ``bound``,
+    ``status``, ``seconds``, ``error``; an ill-posed point is a row with its error).
+
+    ``spec`` is a sweep file's path or a dict with the file's keys (``base`` or ``model``,
+    ``job``, ``combine``, ``settings``, ``axis``: a list of dicts). Without ``executor`` the
+    points run in the library on ``threads`` threads (0: one per core) with the GIL released;
+    with any ``concurrent.futures.Executor`` (a process pool, or a Dask cluster's
+    ``distributed.Client(...).get_executor()``) each point is one task, run wherever the
+    executor runs it (the base model file must be readable there)."""
+    source, is_path, base_dir = _sweep_source(spec)
+    header, n = _rs.sweep_size(source, is_path, base_dir)
+    if executor is None:
+        lines = _rs.sweep_run(source, is_path, base_dir, int(threads))
+    else:
+        futures = [executor.submit(_rs.sweep_point, source, is_path, base_dir, i) for i in range(n)]
+        lines = [f.result() for f in futures]
+    rows = sorted((json.loads(line) for line in lines), key=lambda r: r["point"])
+    import pandas as pd  # optional dependency
+
+    return pd.DataFrame(rows, columns=header)

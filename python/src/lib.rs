@@ -9,6 +9,7 @@ mod jobs;
 mod model;
 mod results;
 mod run;
+mod sweep;
 
 use pyo3::prelude::*;
 
@@ -29,6 +30,9 @@ fn _crawlopt(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(model::load, m)?)?;
     m.add_function(wrap_pyfunction!(jobs::simulate, m)?)?;
     m.add_function(wrap_pyfunction!(jobs::optimize, m)?)?;
+    m.add_function(wrap_pyfunction!(sweep::sweep_size, m)?)?;
+    m.add_function(wrap_pyfunction!(sweep::sweep_point, m)?)?;
+    m.add_function(wrap_pyfunction!(sweep::sweep_run, m)?)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())
 }

@@ -10,7 +10,9 @@
 //! - [`optimize`] with [`OptimizeSettings`]: an optimal gait, verified, optionally certified;
 //! - [`crate::certify::certify_result`]: the necessary conditions (Theorem 2.2) of a result;
 //! - [`crate::present`]: figures and the report;
-//! - [`bench`]: the simulation cost per step.
+//! - [`bench`]: the simulation cost per step;
+//! - [`sweep`] with [`crate::study::SweepSettings`]: a parameter study (a job over a grid of
+//!   model parameters, in parallel), see [`crate::study`].
 //!
 //! Progress arrives as [`Event`]s through [`Hooks`], which also carry a
 //! [`crate::progress::Cancel`] token that stops a job within a HiGHS callback.
@@ -32,6 +34,7 @@ mod events;
 mod optimize;
 mod settings;
 
+pub use crate::study::run as sweep;
 pub use bench::{bench, rename_fields, BenchCase, BenchSettings};
 pub use events::{Event, Hooks, Observer};
 pub use optimize::{optimize, Optimized};

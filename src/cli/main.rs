@@ -35,6 +35,9 @@ enum Command {
     Report(commands::report::ReportArgs),
     /// Measure the simulation cost per time step (sine gait L_l = A sin(2 pi t - l phi)).
     Bench(commands::bench::BenchArgs),
+    /// Run a job over a grid of model parameters (a sweep file), in parallel, one row per
+    /// point; `sweep merge` joins the tables of shards.
+    Sweep(commands::sweep::SweepArgs),
 }
 
 fn main() -> ExitCode {
@@ -46,6 +49,7 @@ fn main() -> ExitCode {
         Command::Plot(a) => commands::plot::run(a),
         Command::Report(a) => commands::report::run(a),
         Command::Bench(a) => commands::bench::run(a),
+        Command::Sweep(a) => commands::sweep::run(a),
     };
     result.unwrap_or_else(|e| {
         eprintln!("error: {e}");

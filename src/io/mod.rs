@@ -30,6 +30,7 @@
 mod config;
 mod csv_io;
 
+pub(crate) use config::escape_controls;
 pub use config::{
     ActuationSpec, CostSpec, CrawlerSpec, GaitSpec, ModelFile, NumberOrList, SimulationSpec,
 };

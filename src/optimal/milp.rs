@@ -188,6 +188,18 @@ pub(crate) fn replay(
     method: Method,
     what: &str,
 ) -> Result<Simulation> {
+    // The durations a solver returns sum to the period only within its tolerance; a sum
+    // above it would put the last knots at or past the period (a gait at the threshold of
+    // locomotion, a T = 2w, once failed so). The process is rate-independent, so scaling the
+    // times to sum to the period exactly leaves the displacement as it is.
+    let total: f64 = durations.iter().sum();
+    let scaled: Vec<f64>;
+    let durations = if total > 0.0 && total != period {
+        scaled = durations.iter().map(|d| d * (period / total)).collect();
+        &scaled[..]
+    } else {
+        durations
+    };
     let (mut times, mut lengths) = gait_knots(durations, increments, crawler.stiffness());
     times.pop();
     lengths.pop();

@@ -23,6 +23,8 @@ use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
 use std::sync::Once;
 
+pub mod sweep;
+
 /// Font family written into the SVG files and name under which the embedded font is registered.
 pub const FONT: &str = "DejaVu Sans, sans-serif";
 static FONT_BYTES: &[u8] = include_bytes!("../../assets/fonts/DejaVuSans.ttf");

@@ -8,3 +8,4 @@ pub mod optimize;
 pub mod plot;
 pub mod report;
 pub mod simulate;
+pub mod sweep;

@@ -9,7 +9,7 @@ use std::process::ExitCode;
 
 #[derive(Args)]
 pub struct PlotArgs {
-    /// RESULT.json.
+    /// RESULT.json, or a sweep's table (TABLE.csv or .jsonl).
     pub file: PathBuf,
     /// Directory for the SVG and PNG files (created if absent).
     #[arg(long, short = 'o', value_name = "DIR")]
@@ -17,6 +17,15 @@ pub struct PlotArgs {
 }
 
 pub fn run(a: PlotArgs) -> Result<ExitCode, Error> {
+    // A sweep's table (`crawlopt sweep -o`): its figures.
+    let ext = a.file.extension().and_then(|e| e.to_str());
+    if matches!(ext, Some("csv" | "jsonl" | "ndjson")) {
+        let (axes, rows) = crawlopt::study::read_any_table(&a.file)?;
+        for p in write_figures(&a.output, &crawlopt::study::figures(&axes, &rows)?)? {
+            outln(&format!("wrote {}", p.display()));
+        }
+        return Ok(ExitCode::SUCCESS);
+    }
     let input = PlotInput::from_json(&read_text(&a.file)?, &file_name(&a.file))?;
     for p in write_figures(&a.output, &input.figures()?)? {
         outln(&format!("wrote {}", p.display()));
