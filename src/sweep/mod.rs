@@ -16,9 +16,9 @@ use crate::model::Crawler;
 /// Below this many links a catching-up step uses the warm-started active-set method
 /// ([`ChainQp`]), from it on the exact dynamic programme ([`ChainDp`]), whose cost does not
 /// depend on how many faces change. Measured on the travelling sine gait (mu- = 3.3, 1000 steps,
-/// loaded 2-core machine): on the orbit 3.2 against 4.2 us per step at N = 100, 47 against
-/// 45 us at N = 1000 (3 active-set iterations per step), 2.9 ms against 0.45 ms at N = 10^4
-/// (21 iterations); `cargo bench --bench step -- projection`.
+/// shared 2-core machine, `cargo bench --bench step -- projection`): per step near the orbit,
+/// 1.39 against 2.37 us at N = 100, 28.0 against 18.1 us at N = 1000 (3 active-set iterations
+/// per step); a timing loop gave 2.9 ms against 0.45 ms at N = 10^4 (21 iterations).
 pub const DP_MIN_LINKS: usize = 512;
 
 /// The catching-up projection onto C (SPEC §4): `x+ = argmin_{x in C} |x - v|^2_{K^{-1}}`,
