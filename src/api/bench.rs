@@ -10,13 +10,17 @@ use crate::model::Crawler;
 use serde::Serialize;
 use std::time::Instant;
 
-/// Largest number of blocks of a case: the periodic search on 1000 blocks (the default's
-/// largest case) takes 30 to 50 s per method on the 2-core machine, and grows as N^2 (the
-/// periods to the regime grow with N).
-pub const BENCH_MAX_BLOCKS: usize = 1000;
+/// Largest number of blocks of a case with `periods` (a fixed number of periods from rest).
+pub const BENCH_MAX_BLOCKS: usize = 100_000;
 
-/// Most blocks x `steps` of a case (1000 x 1000, the default's largest case).
-pub const BENCH_MAX_BLOCK_STEPS: usize = 1_000_000;
+/// Largest number of blocks of a case that searches for the periodic regime: the search on 1000
+/// blocks (the default's largest case) takes 30 to 50 s per method on the 2-core machine, and
+/// grows as N^2 (the periods to the regime grow with N).
+pub const BENCH_MAX_SEARCH_BLOCKS: usize = 1000;
+
+/// Most blocks x `steps` of a case: the sampled increments of catching-up, 8 bytes each
+/// (the limit of `crawlopt simulate`, 2.5e7).
+pub const BENCH_MAX_BLOCK_STEPS: usize = 25_000_000;
 
 /// Most `periods` x blocks x `steps` of one repetition of a case with `periods` (about a
 /// minute at the measured 40-60 ns per block-step; the periodic search on 1000 blocks
@@ -95,6 +99,9 @@ pub struct BenchCase {
     pub link_steps_per_s: f64,
     /// Repetitions timed.
     pub repetitions: usize,
+    /// Wall time of one repetition, seconds: the time to the answer (the whole periodic search,
+    /// or the fixed periods).
+    pub seconds: f64,
 }
 
 impl BenchSettings {
@@ -125,9 +132,18 @@ impl BenchSettings {
             return Err(Error::invalid(
                 n("blocks"),
                 nb,
+                format!("must be in 2..={BENCH_MAX_BLOCKS}"),
+            ));
+        }
+        if self.periods.is_none() && largest > BENCH_MAX_SEARCH_BLOCKS {
+            return Err(Error::invalid(
+                n("blocks"),
+                largest,
                 format!(
-                    "must be in 2..={BENCH_MAX_BLOCKS} (a case of more would run for hours: \
-                     the periodic search grows as N^2)"
+                    "must be at most {BENCH_MAX_SEARCH_BLOCKS} without {}: the search for the \
+                     periodic regime would run for hours (its periods grow with N); give a \
+                     number of periods",
+                    n("periods")
                 ),
             ));
         }
@@ -138,7 +154,7 @@ impl BenchSettings {
                 steps,
                 format!(
                     "must be at least 1, and at most {BENCH_MAX_BLOCK_STEPS} / N ({largest} \
-                     blocks) so that a case ends within minutes"
+                     blocks): the increments of a period are held in memory"
                 ),
             ));
         }
@@ -324,6 +340,7 @@ fn bench_case(
                 us_per_step,
                 link_steps_per_s: us_per_step.recip() * 1e6 * n as f64,
                 repetitions: reps,
+                seconds: wall / reps as f64,
             });
         }
     }

@@ -61,6 +61,12 @@ impl CatchingUp {
     pub fn iterations(&self) -> u64 {
         self.iterations
     }
+
+    /// Projects with the exact dynamic programme (`true`) or the active-set method (`false`)
+    /// whatever the length of the chain (default: [`crate::sweep::DP_MIN_LINKS`]).
+    pub fn set_dynamic_programming(&mut self, on: bool) {
+        self.proj.set_dynamic_programming(on);
+    }
 }
 
 impl PeriodMap for CatchingUp {
@@ -87,5 +93,14 @@ impl PeriodMap for CatchingUp {
             }
         }
         Ok(())
+    }
+
+    fn run_period_tangent(&mut self, x: &mut [f64], dx: &mut [f64]) -> Result<bool> {
+        let n = self.n;
+        for delta in self.deltas.chunks_exact(n) {
+            self.iterations += self.proj.step(x, delta, &mut self.d)? as u64;
+            self.proj.tangent(dx);
+        }
+        Ok(true)
     }
 }

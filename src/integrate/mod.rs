@@ -124,4 +124,11 @@ pub trait PeriodMap {
         acc: &mut [f64],
         rec: Option<&mut Recorder>,
     ) -> Result<()>;
+
+    /// The period from `x` (advanced in place) with its tangent map applied to `dx` in place:
+    /// `dx <- J dx`, `J` the Jacobian of the period map on the active pattern of every step.
+    /// `Ok(false)` (and nothing changed) where the integrator has none.
+    fn run_period_tangent(&mut self, _x: &mut [f64], _dx: &mut [f64]) -> Result<bool> {
+        Ok(false)
+    }
 }

@@ -264,6 +264,43 @@ impl ChainQp {
     }
 }
 
+/// The derivative of the projection with respect to `v` on a fixed working set `ws` (one entry per
+/// block), applied in place to `dv`: links glued by active increments into a segment that reaches
+/// an end of the chain are pinned (`dx = 0`), every other segment moves rigidly with the
+/// `1/k`-weighted mean of `dv` over it (SPEC §4: the minimiser of the equality-constrained
+/// subproblem is affine in `v`). On a degenerate face any choice is an element of the
+/// generalised Jacobian of the piecewise-affine projection. `O(n)`.
+pub fn tangent(ws: &[Bound], inv_k: &[f64], dv: &mut [f64]) {
+    let n = dv.len();
+    debug_assert!(ws.len() == n + 1 && inv_k.len() == n);
+    let mut start: Option<usize> = None;
+    let mut pinned_left = true;
+    for b in 0..=n {
+        if ws[b] != Bound::Free {
+            continue;
+        }
+        // Links start..b form one segment, closed on the right by the free block b.
+        let s = start.unwrap_or(0);
+        if pinned_left {
+            dv[..b].iter_mut().for_each(|d| *d = 0.0);
+            pinned_left = false;
+        } else if b > s {
+            let (mut sw, mut swv) = (0.0, 0.0);
+            for l in s..b {
+                sw += inv_k[l];
+                swv += inv_k[l] * dv[l];
+            }
+            let c = swv / sw;
+            dv[s..b].iter_mut().for_each(|d| *d = c);
+        }
+        start = Some(b);
+    }
+    match start {
+        Some(s) => dv[s..].iter_mut().for_each(|d| *d = 0.0),
+        None => dv.iter_mut().for_each(|d| *d = 0.0),
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -1,0 +1,189 @@
+//! The exact dynamic-programming projection onto C ([`ChainDp`]) against the active-set method
+//! ([`ChainQp`]) on random chains (per-link stiffness, per-block friction) and random states:
+//! the same minimiser and the same block displacements (multipliers, SPEC §4) to 1e-12 relative.
+
+use crawlopt::sweep::{ChainDp, ChainQp};
+use crawlopt::Crawler;
+use proptest::prelude::*;
+
+/// Random chains whose uniqueness condition holds with a margin of at least `1 / (8 N)`:
+/// `mu^+` multiples of 1/4 and `mu^-` multiples of 1/4 plus `1 / (8 N)`, so that
+/// `sum_J mu^+ - sum_{J^c} mu^-` is `|J^c| / (8 N)` modulo 1/4 (the block displacements at a
+/// vertex of C are as well conditioned as that margin; with real-valued random thresholds the
+/// margin of 40 blocks is ~1e-8 and D is determined only to ~1e-8 relative).
+fn crawler_strategy() -> impl Strategy<Value = Crawler> {
+    (2usize..=40)
+        .prop_flat_map(|nb| {
+            (
+                prop::collection::vec(0.2f64..5.0, nb - 1),
+                prop::collection::vec(1u32..=12, nb),
+                prop::collection::vec(1u32..=12, nb),
+            )
+        })
+        .prop_map(|(k, mp, mm)| {
+            let nb = mp.len() as f64;
+            let mp = mp.iter().map(|&i| i as f64 / 4.0).collect();
+            let mm = mm
+                .iter()
+                .map(|&j| j as f64 / 4.0 + 1.0 / (8.0 * nb))
+                .collect();
+            Crawler::new(k, mp, mm).unwrap()
+        })
+}
+
+/// Both solvers on `v`, the active-set one warm-started from `x_prev` (in C); returns the worst
+/// difference of x and of D, relative to the scale of the data.
+fn compare(c: &Crawler, qp: &mut ChainQp, x_prev: &mut [f64], v: &[f64]) -> (f64, f64) {
+    let (n, nb) = (c.links(), c.blocks());
+    let lo: Vec<f64> = c.mu_forward().iter().map(|m| -m).collect();
+    let hi = c.mu_backward().to_vec();
+    let mut dp = ChainDp::new(c.stiffness());
+    let (mut x1, mut d1) = (vec![0.0; n], vec![0.0; nb]);
+    dp.solve(&lo, &hi, v, &mut x1, &mut d1);
+    let mut d2 = vec![0.0; nb];
+    qp.solve(&lo, &hi, v, x_prev, &mut d2).unwrap();
+    let scale = v
+        .iter()
+        .chain(x_prev.iter())
+        .fold(c.state_scale(), |m, a| m.max(a.abs()));
+    let kmin = c.stiffness().iter().copied().fold(f64::INFINITY, f64::min);
+    let dx = x1
+        .iter()
+        .zip(x_prev.iter())
+        .map(|(a, b)| (a - b).abs())
+        .fold(0.0, f64::max);
+    let dd = d1
+        .iter()
+        .zip(&d2)
+        .map(|(a, b)| (a - b).abs())
+        .fold(0.0, f64::max);
+    (dx / scale, dd * kmin / scale)
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 256, failure_persistence: None, ..ProptestConfig::default() })]
+
+    #[test]
+    fn dp_equals_active_set_from_rest_and_along_steps(
+        (c, pts, far) in crawler_strategy().prop_flat_map(|c| {
+            let n = c.links();
+            (Just(c), prop::collection::vec(prop::collection::vec(-3.0f64..3.0, n), 1..30),
+             prop::collection::vec(-1.0e3f64..1.0e3, n))
+        })
+    ) {
+        let n = c.links();
+        // Catching-up steps (warm active set) and a far point from rest (cold).
+        let mut qp = ChainQp::new(c.stiffness());
+        let mut x = vec![0.0; n];
+        for delta in &pts {
+            let v: Vec<f64> = x.iter().zip(delta).map(|(a, b)| a + b).collect();
+            let (ex, ed) = compare(&c, &mut qp, &mut x, &v);
+            prop_assert!(ex <= 1e-12 && ed <= 1e-12, "x: {ex:e}, D: {ed:e}");
+        }
+        let mut cold = ChainQp::new(c.stiffness());
+        let mut x0 = vec![0.0; n];
+        let (ex, ed) = compare(&c, &mut cold, &mut x0, &far);
+        prop_assert!(ex <= 1e-12 && ed <= 1e-12, "far point: x: {ex:e}, D: {ed:e}");
+    }
+}
+
+/// The tangent map of a catching-up period (each step's projection differentiated on its active
+/// faces) is the derivative of the period map: the period map is piecewise affine, so a small
+/// perturbation of the state moves the end of the period by exactly `J` times it (up to
+/// rounding) unless it crosses a change of pattern. Both projection methods give the same `J w`.
+#[test]
+fn period_tangent_is_the_derivative_of_the_period_map() {
+    use crawlopt::integrate::{Actuation, CatchingUp, PeriodMap, Waveform};
+    let nb = 40;
+    let c = Crawler::new(
+        (0..nb - 1).map(|l| 0.5 + (l % 3) as f64 * 0.5).collect(),
+        (0..nb).map(|b| 1.0 + (b % 2) as f64 * 0.25).collect(),
+        (0..nb)
+            .map(|b| 3.0 + (b % 3) as f64 * 0.25 + 1.0 / (8.0 * nb as f64))
+            .collect(),
+    )
+    .unwrap();
+    c.require_unique().unwrap();
+    let n = c.links();
+    let act = Actuation::wave(
+        Waveform::Sine,
+        1.0,
+        vec![0.0; n],
+        vec![2.0; n],
+        (0..n).map(|l| 90.0 * l as f64).collect(),
+    )
+    .unwrap();
+    let w: Vec<f64> = (0..n).map(|l| ((l * 7 % 11) as f64 - 5.0) / 5.0).collect();
+    let mut tangents = Vec::new();
+    for dp in [true, false] {
+        let mut cu = CatchingUp::new(&c, &act, 400).unwrap();
+        cu.set_dynamic_programming(dp);
+        let mut x0 = vec![0.0; n];
+        let mut acc = vec![0.0; nb];
+        for _ in 0..20 {
+            cu.run_period(&mut x0, &mut acc, None).unwrap();
+        }
+        let (mut xa, mut jw) = (x0.clone(), w.clone());
+        assert!(cu.run_period_tangent(&mut xa, &mut jw).unwrap());
+        let eps = 1e-7;
+        let mut xb: Vec<f64> = x0.iter().zip(&w).map(|(a, b)| a + eps * b).collect();
+        let mut xc = x0.clone();
+        cu.run_period(&mut xb, &mut acc, None).unwrap();
+        cu.run_period(&mut xc, &mut acc, None).unwrap();
+        let err = (0..n)
+            .map(|l| ((xb[l] - xc[l]) / eps - jw[l]).abs())
+            .fold(0.0, f64::max);
+        let size = jw.iter().fold(0.0_f64, |m, a| m.max(a.abs()));
+        assert!(size > 1e-3, "the tangent must not vanish: {size}");
+        assert!(
+            err <= 1e-6,
+            "method dp = {dp}: J w off by {err:e} (|J w| = {size})"
+        );
+        tangents.push(jw);
+    }
+    let diff = (0..n)
+        .map(|l| (tangents[0][l] - tangents[1][l]).abs())
+        .fold(0.0, f64::max);
+    assert!(
+        diff <= 1e-9,
+        "dp and active-set tangents differ by {diff:e}"
+    );
+}
+
+/// On the bench gait with 1000 blocks (where catching-up uses the dynamic programme), twenty
+/// periods from rest move every block as with the active-set method, to 1e-10.
+#[test]
+fn long_chain_periods_agree_between_methods() {
+    use crawlopt::integrate::{Actuation, CatchingUp, PeriodMap, Waveform};
+    let nb = 1000;
+    let c = Crawler::uniform(nb, 1.0, 1.0, 3.3).unwrap();
+    let n = c.links();
+    let act = Actuation::wave(
+        Waveform::Sine,
+        1.0,
+        vec![0.0; n],
+        vec![2.0; n],
+        (0..n).map(|l| 90.0 * l as f64).collect(),
+    )
+    .unwrap();
+    let mut out = Vec::new();
+    for dp in [true, false] {
+        let mut cu = CatchingUp::new(&c, &act, 1000).unwrap();
+        cu.set_dynamic_programming(dp);
+        let (mut x, mut acc) = (vec![0.0; n], vec![0.0; nb]);
+        for _ in 0..20 {
+            cu.run_period(&mut x, &mut acc, None).unwrap();
+        }
+        out.push((x, acc));
+    }
+    let dx = (0..n)
+        .map(|l| (out[0].0[l] - out[1].0[l]).abs())
+        .fold(0.0, f64::max);
+    let dd = (0..nb)
+        .map(|b| (out[0].1[b] - out[1].1[b]).abs())
+        .fold(0.0, f64::max);
+    let y = out[1].1.iter().sum::<f64>() / nb as f64;
+    assert!(y > 10.0, "the crawler moves: {y}");
+    assert!(dx <= 1e-10 * c.state_scale(), "states differ by {dx:e}");
+    assert!(dd <= 1e-10 * y, "block displacements differ by {dd:e}");
+}
