@@ -10,7 +10,9 @@
 //! - [`optimize`] with [`OptimizeSettings`]: an optimal gait, verified, optionally certified;
 //! - [`crate::certify::certify_result`]: the necessary conditions (Theorem 2.2) of a result;
 //! - [`crate::present`]: figures and the report;
-//! - [`bench`]: the simulation cost per step.
+//! - [`bench`]: the simulation cost per step;
+//! - [`general`]: the general problem (P) of the paper's §2 (`[sweeping_process]` files):
+//!   [`analyze_general`], [`simulate_general`].
 //!
 //! Progress arrives as [`Event`]s through [`Hooks`], which also carry a
 //! [`crate::progress::Cancel`] token that stops a job within a HiGHS callback.
@@ -29,11 +31,15 @@
 
 mod bench;
 mod events;
+pub mod general;
 mod optimize;
 mod settings;
 
 pub use bench::{bench, rename_fields, BenchCase, BenchSettings};
 pub use events::{Event, Hooks, Observer};
+pub use general::{
+    analyze_general, general_problem, simulate_general, GeneralAnalysis, GeneralSimulated,
+};
 pub use optimize::{optimize, Optimized};
 pub use settings::{
     GaitMethod, Naming, OptimizeSettings, Plan, Start, DEFAULT_M_DISCRETE, DEFAULT_M_LOCAL,

@@ -12,11 +12,15 @@
 mod actuation;
 mod catching_up;
 mod exact;
+pub mod general;
 mod periodic;
 
 pub use actuation::{Actuation, Waveform, MAX_OFFSET_RATIO};
 pub use catching_up::CatchingUp;
 pub use exact::ExactPwl;
+pub use general::{
+    simulate_general, ControlInput, GeneralSimOptions, GeneralSimulation, InputKind,
+};
 pub use periodic::{simulate, Search, SimOptions, Simulation};
 
 use crate::error::Result;

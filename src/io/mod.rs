@@ -29,11 +29,13 @@
 
 mod config;
 mod csv_io;
+pub mod general;
 
 pub use config::{
     ActuationSpec, CostSpec, CrawlerSpec, GaitSpec, ModelFile, NumberOrList, SimulationSpec,
 };
 pub use csv_io::{read_actuation_csv, write_trajectory_csv, AtomicFile};
+pub use general::GeneralFile;
 
 use crate::error::{Error, Result};
 

@@ -1,0 +1,85 @@
+//! `analyze` and `simulate` on a problem file of the general kind (`[sweeping_process]`, the
+//! paper's §2 problem (P)): [`crawlopt::api::analyze_general`] and
+//! [`crawlopt::api::simulate_general`] rendered.
+
+use crate::commands::analyze::AnalyzeArgs;
+use crate::commands::simulate::SimulateArgs;
+use crate::output::{json_line, out, write_json};
+use crawlopt::api::{self, rename_fields};
+use crawlopt::integrate::GeneralSimOptions;
+use crawlopt::io::GeneralFile;
+use crawlopt::present::text;
+use crawlopt::Error;
+use std::process::ExitCode;
+
+/// `crawlopt analyze` of a general problem: the analysis printed, then exit 2 with the first
+/// failed check's message if any.
+pub fn analyze(file: &GeneralFile, a: &AnalyzeArgs) -> Result<ExitCode, Error> {
+    if a.plot.is_some() {
+        return Err(Error::invalid(
+            "--plot",
+            "a directory",
+            "has no figures for a general problem file yet",
+        ));
+    }
+    let found = api::analyze_general(file)?;
+    if a.json {
+        write_json(&found);
+    } else {
+        out(&text::general_analysis(&found));
+    }
+    match found.failure {
+        Some(e) => {
+            eprintln!("error: {e}");
+            Ok(ExitCode::from(2))
+        }
+        None => Ok(ExitCode::SUCCESS),
+    }
+}
+
+/// `crawlopt simulate` of a general problem (catching-up; `--method` does not apply).
+pub fn simulate(file: &GeneralFile, a: &SimulateArgs) -> Result<ExitCode, Error> {
+    let unsupported = |flag: &str| {
+        Err(Error::invalid(
+            flag,
+            "a value",
+            "is not supported for a general problem file yet",
+        ))
+    };
+    if a.output.is_some() {
+        return unsupported("--output");
+    }
+    if a.plot.is_some() {
+        return unsupported("--plot");
+    }
+    if a.periods != 1 {
+        return unsupported("--periods");
+    }
+    let opts = GeneralSimOptions {
+        steps_per_period: a.steps_per_period,
+        max_periods: a.max_periods,
+        tol: a.tol,
+    };
+    let names = [
+        ("steps_per_period", "--steps-per-period"),
+        ("max_periods", "--max-periods"),
+        ("tol", "--tol"),
+    ];
+    let r = api::simulate_general(file, &opts)
+        .map_err(|e| rename_fields(e, &names.map(|(f, flag)| (f, flag.to_string()))))?;
+    if a.json {
+        json_line(&r);
+    } else {
+        out(&text::general_simulation(&r));
+    }
+    if r.simulation.converged {
+        Ok(ExitCode::SUCCESS)
+    } else {
+        eprintln!(
+            "error: the periodic regime was not reached within {} periods; J is not reported \
+             (raise --max-periods or --tol)",
+            r.simulation.periods
+        );
+        Ok(ExitCode::from(3))
+    }
+}
