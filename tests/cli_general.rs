@@ -170,3 +170,35 @@ fn bad_problem_files_exit_2_naming_the_field() {
     let out = crawlopt(&["analyze", f.to_str().unwrap()]);
     assert!(out.status.success(), "{}", stderr(&out));
 }
+
+#[test]
+fn optimize_solves_p_m_of_a_general_file() {
+    let out = crawlopt(&[
+        "optimize",
+        "examples/general_one_link.toml",
+        "--m",
+        "2",
+        "--json",
+    ]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let v = json(&out);
+    let j = v["solution"]["objective"].as_f64().unwrap();
+    assert!((j - 3.0).abs() < 1e-7, "{j}");
+    assert_eq!(v["solution"]["certificate"]["status"], "optimal");
+    assert_eq!(v["solution"]["u"].as_array().unwrap().len(), 4);
+    for (args, want) in [
+        (&["--method", "phase"][..], "error: --method"),
+        (&["--certify"][..], "error: --certify"),
+        (&["--m", "11"][..], "error: --m"),
+    ] {
+        let mut all = vec!["optimize", "examples/general_one_link.toml"];
+        all.extend_from_slice(args);
+        let out = crawlopt(&all);
+        assert_eq!(out.status.code(), Some(2), "{args:?}");
+        assert!(stderr(&out).starts_with(want), "{}", stderr(&out));
+    }
+    // f2 quadratic is not supported by P_m of a general problem yet: refused, named.
+    let out = crawlopt(&["optimize", "examples/general_drift.toml"]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(stderr(&out).starts_with("error: objective.cost"));
+}

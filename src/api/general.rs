@@ -213,3 +213,47 @@ pub fn simulate_general(file: &GeneralFile, opts: &GeneralSimOptions) -> Result<
         simulation,
     })
 }
+
+/// Settings of [`optimize_general`].
+#[derive(Debug, Clone, PartialEq)]
+pub struct GeneralPmSettings {
+    /// `m`: P_m on `2^m` steps (default [`crate::api::DEFAULT_M_DISCRETE`]).
+    pub m: u32,
+    /// Seconds for the MILP (`None`: no limit).
+    pub time_limit: Option<f64>,
+}
+
+impl Default for GeneralPmSettings {
+    fn default() -> Self {
+        GeneralPmSettings {
+            m: crate::api::DEFAULT_M_DISCRETE,
+            time_limit: None,
+        }
+    }
+}
+
+/// [`optimize_general`]'s answer.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct GeneralOptimized {
+    /// `"general"`.
+    pub kind: &'static str,
+    /// `"discrete"`: the paper's P_m, globally.
+    pub method: &'static str,
+    /// The period.
+    pub period: f64,
+    /// The verified optimum of P_m with its certificate.
+    pub solution: crate::optimal::general::GeneralPm,
+}
+
+/// The global optimum of P_m for a problem file ([`crate::optimal::general::discrete`]),
+/// re-verified by the general simulator.
+pub fn optimize_general(file: &GeneralFile, s: &GeneralPmSettings) -> Result<GeneralOptimized> {
+    let (p, g) = general_problem(file)?;
+    let solution = crate::optimal::general::solve_general_pm(&p, &g, s.m, s.time_limit)?;
+    Ok(GeneralOptimized {
+        kind: "general",
+        method: "discrete",
+        period: p.period,
+        solution,
+    })
+}

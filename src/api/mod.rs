@@ -12,7 +12,7 @@
 //! - [`crate::present`]: figures and the report;
 //! - [`bench`]: the simulation cost per step;
 //! - [`general`]: the general problem (P) of the paper's §2 (`[sweeping_process]` files):
-//!   [`analyze_general`], [`simulate_general`].
+//!   [`analyze_general`], [`simulate_general`], [`optimize_general`] (P_m, globally).
 //!
 //! Progress arrives as [`Event`]s through [`Hooks`], which also carry a
 //! [`crate::progress::Cancel`] token that stops a job within a HiGHS callback.
@@ -38,7 +38,8 @@ mod settings;
 pub use bench::{bench, rename_fields, BenchCase, BenchSettings};
 pub use events::{Event, Hooks, Observer};
 pub use general::{
-    analyze_general, general_problem, simulate_general, GeneralAnalysis, GeneralSimulated,
+    analyze_general, general_problem, optimize_general, simulate_general, GeneralAnalysis,
+    GeneralOptimized, GeneralPmSettings, GeneralSimulated,
 };
 pub use optimize::{optimize, Optimized};
 pub use settings::{

@@ -3,6 +3,7 @@
 //! [`crawlopt::api::simulate_general`] rendered.
 
 use crate::commands::analyze::AnalyzeArgs;
+use crate::commands::optimize::{OptimizeArgs, OptimizeMethod};
 use crate::commands::simulate::SimulateArgs;
 use crate::output::{json_line, out, write_json};
 use crawlopt::api::{self, rename_fields};
@@ -82,4 +83,46 @@ pub fn simulate(file: &GeneralFile, a: &SimulateArgs) -> Result<ExitCode, Error>
         );
         Ok(ExitCode::from(3))
     }
+}
+
+/// `crawlopt optimize` of a general problem: P_m globally (`--method discrete`, or `auto`).
+pub fn optimize(file: &GeneralFile, a: &OptimizeArgs) -> Result<ExitCode, Error> {
+    if !matches!(a.method, OptimizeMethod::Auto | OptimizeMethod::Discrete) {
+        return Err(Error::invalid(
+            "--method",
+            "phase, local or sequence",
+            "only discrete (P_m, globally) applies to a general problem file so far",
+        ));
+    }
+    let refused = [
+        ("--phases", a.phases.is_some()),
+        ("--patience", a.patience.is_some()),
+        ("--max-phases", a.max_phases.is_some()),
+        ("--convergence", a.convergence),
+        ("--start", a.start.is_some()),
+        ("--shifts", a.shifts.is_some()),
+        ("--certify", a.certify),
+        ("--plot", a.plot.is_some()),
+        ("--report", a.report.is_some()),
+    ];
+    if let Some((flag, _)) = refused.iter().find(|(_, given)| *given) {
+        return Err(Error::invalid(
+            *flag,
+            "given",
+            "does not apply to a general problem file (P_m only, so far)",
+        ));
+    }
+    let settings = api::GeneralPmSettings {
+        m: a.m.unwrap_or(api::GeneralPmSettings::default().m),
+        time_limit: a.time_limit,
+    };
+    let names = [("m", "--m"), ("time_limit", "--time-limit")];
+    let r = api::optimize_general(file, &settings)
+        .map_err(|e| rename_fields(e, &names.map(|(f, flag)| (f, flag.to_string()))))?;
+    if a.json {
+        json_line(&r);
+    } else {
+        out(&text::general_optimum(&r));
+    }
+    Ok(ExitCode::SUCCESS)
 }

@@ -3,7 +3,7 @@
 //! scaling; computed states at C's scale (the largest `|c_j|`).
 
 use super::{list, num, wln};
-use crate::api::general::{CheckStatus, GeneralAnalysis, GeneralSimulated};
+use crate::api::general::{CheckStatus, GeneralAnalysis, GeneralOptimized, GeneralSimulated};
 use crate::model::general::{Boundary, ControlSet, GeneralCost, GeneralProblem, Reward};
 
 /// The human form of [`crate::api::analyze_general`].
@@ -183,5 +183,49 @@ pub fn general_simulation(r: &GeneralSimulated) -> String {
         "largest KKT residual of a projection: {:.3e}",
         sim.max_kkt_residual
     );
+    out
+}
+
+/// The human form of [`crate::api::optimize_general`].
+pub fn general_optimum(r: &GeneralOptimized) -> String {
+    let mut out = String::new();
+    let s = &r.solution;
+    let c = &s.certificate;
+    let scale = s.objective.abs().max(c.bound.abs()).max(1e-300);
+    wln!(
+        out,
+        "P_{} ({} steps of h = {}), global MILP: {}",
+        s.m,
+        s.u.len(),
+        num(r.period / s.u.len() as f64, 0.0),
+        super::status_word(c.status)
+    );
+    wln!(
+        out,
+        "J = {}   (verified by simulation; MILP {}, bound {}, gap {:.3e})",
+        num(s.objective, scale),
+        num(c.milp_objective, scale),
+        num(c.bound, scale),
+        c.gap
+    );
+    let xs =
+        s.x.iter()
+            .flatten()
+            .fold(0.0_f64, |m, v| m.max(v.abs()))
+            .max(1e-300);
+    let us =
+        s.u.iter()
+            .flatten()
+            .fold(0.0_f64, |m, v| m.max(v.abs()))
+            .max(1e-300);
+    for (i, u) in s.u.iter().enumerate() {
+        wln!(
+            out,
+            "  step {:>4}: x = {}  u = {}",
+            i + 1,
+            list(&s.x[i], xs),
+            list(u, us)
+        );
+    }
     out
 }
