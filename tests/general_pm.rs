@@ -154,13 +154,16 @@ fn random_instances_against_the_enumeration_of_branches() {
 
 #[test]
 fn p_m_refuses_what_it_cannot_solve() {
-    // An unbounded C, a quadratic cost, m beyond the limit: errors naming the field.
+    // An unbounded C, m beyond the limit, a branch LP with a quadratic cost: errors naming
+    // the field.
     let mut p = one_link(-1.0, 1.0, 10.0);
     let g = check_problem(&p).unwrap();
     let e = solve_general_pm(&p, &g, 11, None).unwrap_err().to_string();
     assert!(e.starts_with("m:"), "{e}");
     p.cost = GeneralCost::Quadratic { weight: 1.0 };
-    let e = solve_general_pm(&p, &g, 1, None).unwrap_err().to_string();
+    let e = solve_general_branch(&p, 1, &vec![vec![false; 2]; 2])
+        .unwrap_err()
+        .to_string();
     assert!(e.starts_with("objective.cost"), "{e}");
     let half = GeneralProblem::new(GeneralParts {
         normals: vec![vec![1.0]],
@@ -180,4 +183,44 @@ fn p_m_refuses_what_it_cannot_solve() {
         .unwrap_err()
         .to_string();
     assert!(e.starts_with("sweeping_process"), "{e}");
+}
+
+#[test]
+fn a_quadratic_cost_by_outer_approximation() {
+    // f2 = (c/2) u^2 on the one-link problem: a control of constant magnitude v up then down
+    // gives J(v) = (v T - 2 w)/2 - c v^2 T/2 (the reaction pays half the travel beyond the
+    // width w = b - a; for a given int |u|, int u^2 is least at constant |u|, Jensen), so
+    // v* = min(1, 1/(2c)) and, for c = 1, J* = T/8 - w when T > 8 w. P_m attains it on every
+    // grid whose half period is whole steps. T = 40, w = 2: J* = 3.
+    let mut p = one_link(-1.0, 1.0, 40.0);
+    p.cost = GeneralCost::Quadratic { weight: 1.0 };
+    let g = check_problem(&p).unwrap();
+    for m in 1..=2 {
+        let s = solve_general_pm(&p, &g, m, None).unwrap();
+        assert_eq!(s.certificate.status, MilpStatus::Optimal);
+        assert!((s.objective - 3.0).abs() < 1e-5, "m = {m}: {}", s.objective);
+        assert!(s.certificate.bound >= s.objective - 1e-9);
+        assert!(
+            s.u.iter().all(|u| (u[0].abs() - 0.5).abs() < 1e-3),
+            "{:?}",
+            s.u
+        );
+    }
+    // A crawler instance with a quadratic cost against the crawler's P_m.
+    let crawler = Crawler::new(vec![1.0, 2.0], vec![1.0, 1.2, 0.9], vec![2.5, 3.1, 2.7]).unwrap();
+    let speed = vec![1.0; 2];
+    let gp =
+        GaitProblem::new(&crawler, 6.0, &speed, Cost::Quadratic { weight: 0.3 }, None).unwrap();
+    let inst = crawler_as_general(
+        &crawler,
+        6.0,
+        &gp.rate_bound,
+        GeneralCost::Quadratic { weight: 0.3 },
+    )
+    .unwrap();
+    let g = check_problem(&inst.problem).unwrap();
+    let want = solve_discrete_global(&crawler, &gp, 2, None).unwrap();
+    let got = solve_general_pm(&inst.problem, &g, 2, None).unwrap();
+    let j = want.verified_displacement - want.actuation_cost;
+    assert!((got.objective - j).abs() < 1e-5, "{} vs {j}", got.objective);
 }

@@ -22,14 +22,18 @@
 //!   active normals (removing rows of a matrix of full row rank does not lower it: the
 //!   eigenvalues of a principal submatrix of `N N^T` interlace).
 //!
-//! `f2` must be none so far (quadratic costs need the outer approximation of the crawler's
-//! P_m, not yet shared); C and U bounded.
+//! A quadratic `f2(u) = (1/2) u^T R u` (`R = c I` for `quadratic`) enters by its outer
+//! approximation: an epigraph variable `e^i >= f2(u0) + Df2(u0) (u^i - u0)` for cut points `u0`
+//! (tangent planes, below `f2` by convexity), `-h e^i` in the objective. With fewer cuts the MILP
+//! under-estimates the cost, so its bound stays a bound on P_m; the controls of each solution
+//! become cut points until the true objective of the incumbent meets the bound within
+//! [`OA_TOL`] (relative above 1, absolute below), as for the crawler's P_m. C and U bounded.
 
-use super::geometry::{Geometry, REL_TOL};
+use super::geometry::Geometry;
 use crate::error::{Error, Result};
 use crate::integrate::{simulate_general, ControlInput, GeneralSimOptions, InputKind};
 use crate::model::general::{dot, Boundary, ControlSet, GeneralCost, GeneralProblem, Reward};
-use crate::optimal::milp::{solve_max, Certificate, MilpStatus};
+use crate::optimal::milp::{solve_max, Certificate, MilpStatus, OA_TOL};
 use crate::optimal::solver::{Highs, SolveStatus};
 use highs::{Col, RowProblem, Sense};
 use nalgebra::DMatrix;
@@ -183,13 +187,6 @@ fn check(p: &GeneralProblem, g: &Geometry, m: u32) -> Result<()> {
             "P_m needs independent active normals at every vertex (unique multipliers)",
         ));
     }
-    if p.cost != GeneralCost::None {
-        return Err(Error::invalid(
-            "objective.cost",
-            "a quadratic cost",
-            "P_m of a general problem supports f2 = none so far",
-        ));
-    }
     Ok(())
 }
 
@@ -197,6 +194,7 @@ fn check(p: &GeneralProblem, g: &Geometry, m: u32) -> Result<()> {
 struct Layout {
     x: Vec<Vec<Col>>,
     u: Vec<Vec<Col>>,
+    mu: Vec<Vec<Col>>,
 }
 
 /// Builds P_m: with `branches = None` the MILP (binaries and big-M rows), with
@@ -207,6 +205,7 @@ fn build(
     m: u32,
     bm: Option<&BigM>,
     branches: Option<&[Vec<bool>]>,
+    cuts: &[Vec<f64>],
 ) -> (RowProblem, Layout) {
     let (n, sigma, mm) = (p.states(), p.c.faces(), 1usize << m);
     let h = p.period / mm as f64;
@@ -307,6 +306,18 @@ fn build(
             }
         }
     }
+    if let Some(r) = cost_matrix(&p.cost, p.controls()) {
+        for u in &us {
+            let e = pb.add_column(-h, 0.0..);
+            for u0 in cuts {
+                // e - (R u0) . u >= -(1/2) u0^T R u0.
+                let ru0: Vec<f64> = r.iter().map(|row| dot(row, u0)).collect();
+                let mut row = vec![(e, 1.0)];
+                row.extend(u.iter().zip(&ru0).map(|(&c, &a)| (c, -a)));
+                pb.add_row(-0.5 * dot(u0, &ru0)..=f64::INFINITY, row);
+            }
+        }
+    }
     if p.zero_mean {
         for k in 0..p.controls() {
             let row: Vec<_> = us.iter().map(|u| (u[k], 1.0)).collect();
@@ -314,8 +325,24 @@ fn build(
         }
     }
     let x = (0..=mm).map(|i| x_at(i).clone()).collect();
-    (pb, Layout { x, u: us })
+    (pb, Layout { x, u: us, mu: mus })
 }
+
+/// `R` of a quadratic cost (`None` for `f2 = 0`).
+fn cost_matrix(cost: &GeneralCost, m: usize) -> Option<Vec<Vec<f64>>> {
+    match cost {
+        GeneralCost::None => None,
+        GeneralCost::Quadratic { weight } => Some(
+            (0..m)
+                .map(|i| (0..m).map(|k| if i == k { *weight } else { 0.0 }).collect())
+                .collect(),
+        ),
+        GeneralCost::Matrix { matrix } => Some(matrix.clone()),
+    }
+}
+
+/// Most rounds of the outer approximation of a quadratic cost.
+const MAX_OA_ROUNDS: usize = 40;
 
 /// Solves P_m globally (module docs); `time_limit` in seconds.
 pub fn solve_general_pm(
@@ -329,12 +356,40 @@ pub fn solve_general_pm(
     let mm = 1usize << m;
     let h = p.period / mm as f64;
     let bm = big_m(p, g, h)?;
-    let (pb, lay) = build(p, m, Some(&bm), None);
     let what = format!("P_{m} of the general problem");
     let scale = p.c.scale();
-    let (cols, milp_objective, bound, status) =
-        solve_max(pb, time_limit, &what, None, 1e-9 * scale.max(1e-300))?;
-    verified(p, m, &lay, &cols, milp_objective, bound, status, &what)
+    let began = std::time::Instant::now();
+    // Initial cut points: 0 and the extreme values of each control component in U.
+    let mut cuts = vec![vec![0.0; p.controls()]];
+    for k in 0..p.controls() {
+        for sign in [1.0, -1.0] {
+            let mut d = vec![0.0; p.controls()];
+            d[k] = sign;
+            let mut u0 = vec![0.0; p.controls()];
+            u0[k] = sign * support_u(&p.control, &d)?;
+            cuts.push(u0);
+        }
+    }
+    let mut round = 0;
+    loop {
+        round += 1;
+        let (pb, lay) = build(p, m, Some(&bm), None, &cuts);
+        let left = time_limit.map(|t| (t - began.elapsed().as_secs_f64()).max(1e-3));
+        let (cols, milp_objective, bound, status) =
+            solve_max(pb, left, &what, None, 1e-9 * scale.max(1e-300))?;
+        let sol = verified(p, m, &lay, &cols, milp_objective, bound, status, &what)?;
+        let gap = Certificate::gap_of(bound, sol.objective);
+        let done = p.cost == GeneralCost::None || gap <= OA_TOL || status != MilpStatus::Optimal;
+        if done {
+            return Ok(sol);
+        }
+        if round >= MAX_OA_ROUNDS {
+            let mut sol = sol;
+            sol.certificate.status = MilpStatus::ApproximationLimit;
+            return Ok(sol);
+        }
+        cuts.extend(sol.u.iter().cloned());
+    }
 }
 
 /// The optimum of P_m on fixed complementarity branches (an LP; `None` when infeasible):
@@ -344,7 +399,14 @@ pub fn solve_general_branch(
     m: u32,
     active: &[Vec<bool>],
 ) -> Result<Option<f64>> {
-    let (pb, _) = build(p, m, None, Some(active));
+    if p.cost != GeneralCost::None {
+        return Err(Error::invalid(
+            "objective.cost",
+            "a quadratic cost",
+            "the branch LP of P_m is linear: f2 = none",
+        ));
+    }
+    let (pb, _) = build(p, m, None, Some(active), &[]);
     let a = Highs::new(pb, Sense::Maximise, "a branch LP of P_m")?.solve()?;
     Ok(match a.status {
         SolveStatus::Optimal => Some(a.objective),
@@ -398,13 +460,19 @@ fn verified(
     };
     let sim = simulate_general(&cauchy, &input, &x[0], &opts)?;
     let scale = p.c.scale();
-    let j = sim.objective.unwrap_or(f64::NAN);
-    let tol = 1e-6 * (scale + j.abs());
-    if (j - milp_objective).abs() > tol {
+    let w = reward_weights(p);
+    let milp_reward: f64 = lay
+        .mu
+        .iter()
+        .map(|r| r.iter().zip(&w).map(|(c, w)| w * val(c)).sum::<f64>())
+        .sum();
+    let reward = sim.reward;
+    if (reward - milp_reward).abs() > 1e-6 * (scale + reward.abs()) {
         return Err(Error::Numerical(format!(
-            "{what}: the controls give J = {j} when simulated, not {milp_objective}"
+            "{what}: the controls give int f1 = {reward} when simulated, not {milp_reward}"
         )));
     }
+    let j = sim.objective.unwrap_or(f64::NAN);
     if p.boundary == Boundary::Periodic {
         let end = sim.x.last().expect("steps");
         let gap = end
@@ -417,7 +485,6 @@ fn verified(
             )));
         }
     }
-    let _ = REL_TOL;
     Ok(GeneralPm {
         m,
         objective: j,
