@@ -83,6 +83,12 @@ fn bad_problem_files_exit_2_naming_the_field() {
             "lower = [0.5]",
             "control.lower[1], control.upper[1]",
         ),
+        (
+            "analyze",
+            "offsets = [1.0, 1.0]",
+            "offsets = [-1.0, -1.0]",
+            "sweeping_process: C is empty",
+        ),
         // C = {0}: no interior (the paper's PLICQ).
         (
             "analyze",

@@ -52,9 +52,21 @@ pub struct GeneralAnalysis {
 /// need C's geometry ([`crate::optimal::general::check_problem`]). Returns C's geometry too.
 pub fn general_problem(file: &GeneralFile) -> Result<(GeneralProblem, Geometry)> {
     let p = file.problem()?;
-    let g = analyze_polyhedron(&p.c)?;
+    let g = geometry_of(&p)?;
     check_with(&p, &g)?;
     Ok((p, g))
+}
+
+/// C's geometry; an empty C is an error naming `sweeping_process`.
+fn geometry_of(p: &GeneralProblem) -> Result<Geometry> {
+    analyze_polyhedron(&p.c).map_err(|e| match e {
+        Error::Infeasible(_) => Error::invalid(
+            "sweeping_process",
+            format!("{} faces", p.c.faces()),
+            "C is empty: no x satisfies every face",
+        ),
+        other => other,
+    })
 }
 
 /// Analyses a problem file: C's faces, redundant faces, vertices, Chebyshev centre, and the
@@ -62,7 +74,7 @@ pub fn general_problem(file: &GeneralFile) -> Result<(GeneralProblem, Geometry)>
 /// failed check is reported in the answer and as [`GeneralAnalysis::failure`].
 pub fn analyze_general(file: &GeneralFile) -> Result<GeneralAnalysis> {
     let p = file.problem()?;
-    let g = analyze_polyhedron(&p.c)?;
+    let g = geometry_of(&p)?;
     let failure = check_with(&p, &g).err();
     let mut checks = Vec::new();
     let mut add = |name: &str, status, detail: String| {
