@@ -36,6 +36,19 @@ fn analyze_and_simulate_the_examples() {
     // J* = (T - 2 (b - a)) / 2 = 3, on the bang-bang gait.
     let j = v["simulation"]["objective"].as_f64().unwrap();
     assert!((j - 3.0).abs() < 1e-12, "{j}");
+    // A = 0 and a piecewise-constant input: the exact method unless catching-up is asked.
+    assert_eq!(v["method"], "exact");
+    let out = crawlopt(&[
+        "simulate",
+        "examples/general_one_link.toml",
+        "--method",
+        "catching-up",
+        "--json",
+    ]);
+    let v = json(&out);
+    assert_eq!(v["method"], "catching-up");
+    let j = v["simulation"]["objective"].as_f64().unwrap();
+    assert!((j - 3.0).abs() < 1e-12, "{j}");
     assert_eq!(v["simulation"]["converged"], true);
     let out = crawlopt(&["simulate", "examples/general_drift.toml"]);
     assert!(out.status.success(), "{}", stderr(&out));

@@ -4,8 +4,8 @@
 //! linear drift), and the crawler as an instance (same steps as the dedicated crawler path).
 
 use crawlopt::integrate::{
-    simulate, simulate_general, Actuation, ControlInput, GeneralSimOptions, InputKind, Method,
-    SimOptions,
+    simulate, simulate_general, simulate_general_exact, Actuation, ControlInput, GeneralSimOptions,
+    InputKind, Method, SimOptions,
 };
 use crawlopt::model::general::{GeneralCost, GeneralParts, GeneralProblem, Polyhedron};
 use crawlopt::model::{crawler_as_general, Crawler};
@@ -337,6 +337,88 @@ fn the_crawler_as_an_instance_gives_the_crawler_path_to_1e_12() {
             (a - b).abs() <= 1e-11 * a.abs(),
             "N = {}: {a} vs {b}",
             crawler.blocks()
+        );
+    }
+}
+
+#[test]
+fn the_exact_method_where_a_is_zero_matches_the_crawler_exact_method() {
+    // The crawler's exact event-driven method (K^-1 metric) and the general exact method on
+    // the crawler's general form (Euclidean in x~), on the same piecewise-linear actuation:
+    // the same displacement per period (1e-12), and the general catching-up converging to it.
+    for crawler in crawlers() {
+        let n = crawler.links();
+        let t = 4.0;
+        let times = vec![0.0, 1.0, 2.0, 3.0];
+        let lengths: Vec<Vec<f64>> = (0..4)
+            .map(|k| {
+                (0..n)
+                    .map(|l| [0.0, 3.0, 1.0, 2.5][(k + l) % 4] * (1.0 + 0.2 * l as f64))
+                    .collect()
+            })
+            .collect();
+        let act = Actuation::piecewise_linear(t, times.clone(), lengths.clone()).unwrap();
+        let ks = crawler.stiffness();
+        let u: Vec<Vec<f64>> = (0..4)
+            .map(|k| {
+                let (t1, next) = if k == 3 {
+                    (t, &lengths[0])
+                } else {
+                    (times[k + 1], &lengths[k + 1])
+                };
+                (0..n)
+                    .map(|l| ks[l] * (next[l] - lengths[k][l]) / (t1 - times[k]))
+                    .collect()
+            })
+            .collect();
+        let a_max: Vec<f64> = (0..n)
+            .map(|l| u.iter().fold(0.0_f64, |m, r| m.max(r[l].abs())) + 1.0)
+            .collect();
+        let inst = crawler_as_general(&crawler, t, &a_max, GeneralCost::None).unwrap();
+        let p = &inst.problem;
+        let input = ControlInput::new(
+            InputKind::PiecewiseConstant,
+            t,
+            times.clone(),
+            u,
+            &p.control,
+            "input",
+        )
+        .unwrap();
+        let sim = simulate(
+            &crawler,
+            &act,
+            &SimOptions {
+                method: Method::Exact,
+                accelerate_after: None,
+                ..SimOptions::default()
+            },
+        )
+        .unwrap();
+        let want = sim.displacement_per_period.unwrap();
+        let ex = simulate_general_exact(p, &input, &vec![0.0; n], 5000, 1e-12).unwrap();
+        let got = ex.objective.unwrap();
+        assert!(
+            (got - want).abs() <= 1e-12 * want.abs().max(1.0),
+            "N = {}: {got} vs {want}",
+            crawler.blocks()
+        );
+        assert!(ex.max_kkt_residual <= 1e-12);
+        // Catching-up approaches it as the step shrinks.
+        let cu = simulate_general(
+            p,
+            &input,
+            &vec![0.0; n],
+            &GeneralSimOptions {
+                steps_per_period: 4000,
+                ..GeneralSimOptions::DEFAULT
+            },
+        )
+        .unwrap();
+        assert!(
+            (cu.objective.unwrap() - want).abs() < 1e-2 * want.abs().max(1.0),
+            "{} vs {want}",
+            cu.objective.unwrap()
         );
     }
 }

@@ -182,7 +182,8 @@ pub fn analyze_general(file: &GeneralFile) -> Result<GeneralAnalysis> {
 pub struct GeneralSimulated {
     /// `"general"`.
     pub kind: &'static str,
-    /// `"catching-up"` (the only method for the general problem so far).
+    /// `"exact"` (event-driven, where `A = 0` and the input is piecewise constant, unless
+    /// catching-up is asked) or `"catching-up"`.
     pub method: &'static str,
     /// Steps per period.
     pub steps_per_period: usize,
@@ -197,7 +198,9 @@ pub struct GeneralSimulated {
     pub simulation: GeneralSimulation,
 }
 
-/// Simulates the file's `[input]` (catching-up, [`crate::integrate::general`]): for a
+/// Simulates the file's `[input]`: exactly where `A = 0` and the input is piecewise constant
+/// ([`crate::integrate::general_exact`], unless `opts.method` asks for catching-up), else by
+/// catching-up ([`crate::integrate::general`]): for a
 /// periodic problem until the periodic regime, with `J` of one period on the orbit; for a
 /// Cauchy problem over `[0, T]` from `x(0)`.
 pub fn simulate_general(file: &GeneralFile, opts: &GeneralSimOptions) -> Result<GeneralSimulated> {
@@ -214,10 +217,17 @@ pub fn simulate_general(file: &GeneralFile, opts: &GeneralSimOptions) -> Result<
             }
         }
     };
-    let simulation = integrate_general(&p, &input, &start, opts)?;
+    let exact = opts.method == crate::integrate::GeneralMethod::Auto
+        && p.dynamics.is_state_independent()
+        && input.kind == crate::integrate::InputKind::PiecewiseConstant;
+    let simulation = if exact {
+        crate::integrate::simulate_general_exact(&p, &input, &start, opts.max_periods, opts.tol)?
+    } else {
+        integrate_general(&p, &input, &start, opts)?
+    };
     Ok(GeneralSimulated {
         kind: "general",
-        method: "catching-up",
+        method: if exact { "exact" } else { "catching-up" },
         steps_per_period: opts.steps_per_period,
         start,
         start_from,

@@ -147,9 +147,22 @@ impl ControlInput {
     }
 }
 
+/// Which integrator `crate::api::simulate_general` uses.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum GeneralMethod {
+    /// Exact where it applies (`A = 0` and a piecewise-constant input), else catching-up.
+    Auto,
+    /// Catching-up ([`simulate_general`]).
+    CatchingUp,
+}
+
 /// Options of [`simulate_general`].
 #[derive(Debug, Clone, PartialEq)]
 pub struct GeneralSimOptions {
+    /// The integrator chosen by `crate::api::simulate_general` (default auto);
+    /// [`simulate_general`] itself is catching-up.
+    pub method: GeneralMethod,
     /// Steps `M` per period.
     pub steps_per_period: usize,
     /// Give up the search for the periodic regime after this many periods.
@@ -161,6 +174,7 @@ pub struct GeneralSimOptions {
 impl GeneralSimOptions {
     /// The defaults.
     pub const DEFAULT: GeneralSimOptions = GeneralSimOptions {
+        method: GeneralMethod::Auto,
         steps_per_period: 1000,
         max_periods: 5000,
         tol: 1e-12,

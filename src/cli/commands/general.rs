@@ -4,10 +4,10 @@
 
 use crate::commands::analyze::AnalyzeArgs;
 use crate::commands::optimize::{OptimizeArgs, OptimizeMethod};
-use crate::commands::simulate::SimulateArgs;
+use crate::commands::simulate::{MethodArg, SimulateArgs};
 use crate::output::{json_line, out, write_json};
 use crawlopt::api::{self, rename_fields};
-use crawlopt::integrate::GeneralSimOptions;
+use crawlopt::integrate::{GeneralMethod, GeneralSimOptions};
 use crawlopt::io::GeneralFile;
 use crawlopt::present::text;
 use crawlopt::Error;
@@ -38,7 +38,8 @@ pub fn analyze(file: &GeneralFile, a: &AnalyzeArgs) -> Result<ExitCode, Error> {
     }
 }
 
-/// `crawlopt simulate` of a general problem (catching-up; `--method` does not apply).
+/// `crawlopt simulate` of a general problem: exact where it applies (`A = 0`, piecewise-constant
+/// input) unless `--method catching-up`, else catching-up.
 pub fn simulate(file: &GeneralFile, a: &SimulateArgs) -> Result<ExitCode, Error> {
     let unsupported = |flag: &str| {
         Err(Error::invalid(
@@ -57,6 +58,10 @@ pub fn simulate(file: &GeneralFile, a: &SimulateArgs) -> Result<ExitCode, Error>
         return unsupported("--periods");
     }
     let opts = GeneralSimOptions {
+        method: match a.method {
+            MethodArg::Exact => GeneralMethod::Auto,
+            MethodArg::CatchingUp => GeneralMethod::CatchingUp,
+        },
         steps_per_period: a.steps_per_period,
         max_periods: a.max_periods,
         tol: a.tol,

@@ -138,9 +138,13 @@ pub fn general_simulation(r: &GeneralSimulated) -> String {
     let sim = &r.simulation;
     wln!(
         out,
-        "method: {}, {} steps per period, started at {} ({})",
+        "method: {}{}, started at {} ({})",
         r.method,
-        r.steps_per_period,
+        if r.method == "exact" {
+            String::new()
+        } else {
+            format!(", {} steps per period", r.steps_per_period)
+        },
         list(&r.start, 0.0),
         r.start_from
     );
