@@ -50,9 +50,35 @@ fn analyze_and_simulate_the_examples() {
     let j = v["simulation"]["objective"].as_f64().unwrap();
     assert!((j - 3.0).abs() < 1e-12, "{j}");
     assert_eq!(v["simulation"]["converged"], true);
-    let out = crawlopt(&["simulate", "examples/general_drift.toml"]);
+    let dir = tempfile::tempdir().unwrap();
+    let csv = dir.path().join("drift.csv");
+    let out = crawlopt(&[
+        "simulate",
+        "examples/general_drift.toml",
+        "--steps-per-period",
+        "100",
+        "-o",
+        csv.to_str().unwrap(),
+    ]);
     assert!(out.status.success(), "{}", stderr(&out));
     assert!(String::from_utf8_lossy(&out.stdout).contains("J = "));
+    // t, x_1, x_2, u_1, u_2, lambda_1..lambda_4; 101 rows after the header.
+    let text = std::fs::read_to_string(&csv).unwrap();
+    let rows: Vec<&str> = text.lines().collect();
+    assert_eq!(
+        rows[0],
+        "t,x_1,x_2,u_1,u_2,lambda_1,lambda_2,lambda_3,lambda_4"
+    );
+    assert_eq!(rows.len(), 102);
+    assert_eq!(rows[1].split(',').count(), 9);
+    // A directory as the output file is refused before any work.
+    let out = crawlopt(&[
+        "simulate",
+        "examples/general_drift.toml",
+        "-o",
+        dir.path().to_str().unwrap(),
+    ]);
+    assert_eq!(out.status.code(), Some(2));
 }
 
 #[test]

@@ -286,3 +286,42 @@ impl GeneralFile {
         ControlInput::new(kind, p.period, times, values, &p.control, "input")
     }
 }
+
+/// Writes a simulated period of the general problem as CSV:
+/// `t, x_1..x_n, u_1..u_m, lambda_1..lambda_sigma` (1-based names); `u` and `lambda` are those of
+/// the step (or segment) ending at `t`, empty on the first row. Written atomically.
+pub fn write_general_csv(path: &Path, sim: &crate::integrate::GeneralSimulation) -> Result<()> {
+    let io = |e: csv::Error| Error::Io {
+        path: path.display().to_string(),
+        reason: e.to_string(),
+    };
+    let mut out = super::AtomicFile::create(path)?;
+    let n = sim.x.first().map_or(0, Vec::len);
+    let m = sim.mean_control.len();
+    let sigma = sim.lambda.first().map_or(0, Vec::len);
+    {
+        let mut w = csv::Writer::from_writer(out.writer());
+        let mut header = vec!["t".to_string()];
+        header.extend((1..=n).map(|k| format!("x_{k}")));
+        header.extend((1..=m).map(|k| format!("u_{k}")));
+        header.extend((1..=sigma).map(|j| format!("lambda_{j}")));
+        w.write_record(&header).map_err(io)?;
+        for i in 0..sim.t.len() {
+            let mut row = vec![format!("{}", sim.t[i])];
+            row.extend(sim.x[i].iter().map(|v| format!("{v}")));
+            match i.checked_sub(1) {
+                Some(k) if k < sim.u.len() => {
+                    row.extend(sim.u[k].iter().map(|v| format!("{v}")));
+                    row.extend(sim.lambda[k].iter().map(|v| format!("{v}")));
+                }
+                _ => row.extend(std::iter::repeat_n(String::new(), m + sigma)),
+            }
+            w.write_record(&row).map_err(io)?;
+        }
+        w.flush().map_err(|e| Error::Io {
+            path: path.display().to_string(),
+            reason: e.to_string(),
+        })?;
+    }
+    out.commit()
+}

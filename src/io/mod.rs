@@ -35,7 +35,7 @@ pub use config::{
     ActuationSpec, CostSpec, CrawlerSpec, GaitSpec, ModelFile, NumberOrList, SimulationSpec,
 };
 pub use csv_io::{read_actuation_csv, write_trajectory_csv, AtomicFile};
-pub use general::GeneralFile;
+pub use general::{write_general_csv, GeneralFile};
 
 use crate::error::{Error, Result};
 

@@ -48,8 +48,8 @@ pub fn simulate(file: &GeneralFile, a: &SimulateArgs) -> Result<ExitCode, Error>
             "is not supported for a general problem file yet",
         ))
     };
-    if a.output.is_some() {
-        return unsupported("--output");
+    if let Some(path) = &a.output {
+        crawlopt::io::AtomicFile::check(path)?;
     }
     if a.plot.is_some() {
         return unsupported("--plot");
@@ -73,10 +73,21 @@ pub fn simulate(file: &GeneralFile, a: &SimulateArgs) -> Result<ExitCode, Error>
     ];
     let r = api::simulate_general(file, &opts)
         .map_err(|e| rename_fields(e, &names.map(|(f, flag)| (f, flag.to_string()))))?;
+    // The recorded period, only once the periodic regime is reached.
+    let written = match &a.output {
+        Some(path) if r.simulation.converged => {
+            crawlopt::io::write_general_csv(path, &r.simulation)?;
+            true
+        }
+        _ => false,
+    };
     if a.json {
         json_line(&r);
     } else {
         out(&text::general_simulation(&r));
+        if let (true, Some(path)) = (written, &a.output) {
+            out(&format!("trajectory written to {}\n", path.display()));
+        }
     }
     if r.simulation.converged {
         Ok(ExitCode::SUCCESS)
