@@ -246,6 +246,14 @@ fn small_sim(method: Method, initial_state: Option<Vec<f64>>) -> SimOptions {
 /// Crawlers of more than 1000 blocks are left to the binary (its memory is limited).
 fn model_chain(path: PathBuf) -> impl FnOnce(&Steps) + Send + 'static {
     move |s: &Steps| {
+        // A general problem file (`[sweeping_process]`): analysis, simulation, P_1.
+        match s.step("GeneralFile::load_if_general", || {
+            crawlopt::io::GeneralFile::load_if_general(&path)
+        }) {
+            Some(Some(general)) => return general_chain(s, &general),
+            Some(None) => {}
+            None => return,
+        }
         let Some(model) = s.step("ModelFile::load", || ModelFile::load(&path)) else {
             return;
         };
@@ -350,6 +358,25 @@ fn outcome_of(
     consumer: &str,
 ) -> Option<Failure> {
     judge_steps(consumer, steps, stats)
+}
+
+/// The library's jobs on a general problem file, with small budgets.
+fn general_chain(s: &Steps, file: &crawlopt::io::GeneralFile) {
+    use crawlopt::api;
+    s.step("api::analyze_general", || api::analyze_general(file));
+    let opts = crawlopt::integrate::GeneralSimOptions {
+        steps_per_period: 50,
+        max_periods: 50,
+        ..Default::default()
+    };
+    s.step("api::simulate_general", || {
+        api::simulate_general(file, &opts)
+    });
+    let pm = api::GeneralPmSettings {
+        m: 1,
+        time_limit: Some(1.0),
+    };
+    s.step("api::optimize_general", || api::optimize_general(file, &pm));
 }
 
 /// Model files: every mutation through the in-process chain and `analyze` + `simulate`.

@@ -13,6 +13,8 @@
 //! - [`bench`]: the simulation cost per step;
 //! - [`sweep`] with [`crate::study::SweepSettings`]: a parameter study (a job over a grid of
 //!   model parameters, in parallel), see [`crate::study`].
+//! - [`general`]: the general problem (P) of the paper's §2 (`[sweeping_process]` files):
+//!   [`analyze_general`], [`simulate_general`], [`optimize_general`] (P_m, globally).
 //!
 //! Progress arrives as [`Event`]s through [`Hooks`], which also carry a
 //! [`crate::progress::Cancel`] token that stops a job within a HiGHS callback.
@@ -31,12 +33,17 @@
 
 mod bench;
 mod events;
+pub mod general;
 mod optimize;
 mod settings;
 
 pub use crate::study::run as sweep;
 pub use bench::{bench, rename_fields, BenchCase, BenchSettings};
 pub use events::{Event, Hooks, Observer};
+pub use general::{
+    analyze_general, general_problem, optimize_general, simulate_general, GeneralAnalysis,
+    GeneralOptimized, GeneralPmSettings, GeneralSimulated,
+};
 pub use optimize::{optimize, Optimized};
 pub use settings::{
     GaitMethod, Naming, OptimizeSettings, Plan, Start, DEFAULT_M_DISCRETE, DEFAULT_M_LOCAL,

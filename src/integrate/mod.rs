@@ -12,11 +12,17 @@
 mod actuation;
 mod catching_up;
 mod exact;
+pub mod general;
+pub mod general_exact;
 mod periodic;
 
 pub use actuation::{Actuation, Waveform, MAX_OFFSET_RATIO};
 pub use catching_up::CatchingUp;
 pub use exact::ExactPwl;
+pub use general::{
+    simulate_general, ControlInput, GeneralMethod, GeneralSimOptions, GeneralSimulation, InputKind,
+};
+pub use general_exact::simulate_general_exact;
 pub use periodic::{simulate, Search, SimOptions, Simulation};
 
 use crate::error::Result;

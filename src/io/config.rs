@@ -213,27 +213,7 @@ impl ModelFile {
 
     /// Parses the TOML text of a model file.
     pub fn parse(text: &str) -> Result<Self> {
-        toml::from_str(text).map_err(|e| {
-            let msg = escape_controls(&e.message().trim().replace('\n', "; ")).replace(
-                "data did not match any variant of untagged enum NumberOrList",
-                "expected a number or a list of numbers",
-            );
-            let at = e.span().map_or(String::new(), |span| {
-                // Bytes, not a string slice: a span need not fall on a character boundary.
-                let start = span.start.min(text.len());
-                let line = text.as_bytes()[..start]
-                    .iter()
-                    .filter(|&&b| b == b'\n')
-                    .count()
-                    + 1;
-                let src = quote_line(text.split('\n').nth(line - 1).unwrap_or(""));
-                format!(" at line {line} (`{src}`)")
-            });
-            Error::Io {
-                path: "<model>".into(),
-                reason: format!("invalid model file{at}: {msg}"),
-            }
-        })
+        parse_toml(text)
     }
 
     /// The crawler of `[crawler]`.
@@ -404,6 +384,31 @@ impl ModelFile {
         };
         Actuation::piecewise_linear(a.period, times, lengths)
     }
+}
+
+/// Parses the TOML text of a model file of either kind into `T`; errors quote the line.
+pub(crate) fn parse_toml<T: serde::de::DeserializeOwned>(text: &str) -> Result<T> {
+    toml::from_str(text).map_err(|e| {
+        let msg = escape_controls(&e.message().trim().replace('\n', "; ")).replace(
+            "data did not match any variant of untagged enum NumberOrList",
+            "expected a number or a list of numbers",
+        );
+        let at = e.span().map_or(String::new(), |span| {
+            // Bytes, not a string slice: a span need not fall on a character boundary.
+            let start = span.start.min(text.len());
+            let line = text.as_bytes()[..start]
+                .iter()
+                .filter(|&&b| b == b'\n')
+                .count()
+                + 1;
+            let src = quote_line(text.split('\n').nth(line - 1).unwrap_or(""));
+            format!(" at line {line} (`{src}`)")
+        });
+        Error::Io {
+            path: "<model>".into(),
+            reason: format!("invalid model file{at}: {msg}"),
+        }
+    })
 }
 
 #[cfg(test)]

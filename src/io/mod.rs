@@ -29,12 +29,14 @@
 
 mod config;
 mod csv_io;
+pub mod general;
 
 pub(crate) use config::escape_controls;
 pub use config::{
     ActuationSpec, CostSpec, CrawlerSpec, GaitSpec, ModelFile, NumberOrList, SimulationSpec,
 };
 pub use csv_io::{read_actuation_csv, write_trajectory_csv, AtomicFile};
+pub use general::{write_general_csv, GeneralFile};
 
 use crate::error::{Error, Result};
 

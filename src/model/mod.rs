@@ -10,12 +10,15 @@
 
 mod analysis;
 mod crawler;
+pub mod general;
+mod general_crawler;
 mod polytope;
 mod uniqueness;
 mod vm;
 
 pub use analysis::{Analysis, OneLink, MAX_LINKS_FOR_VERTICES};
 pub use crawler::Crawler;
+pub use general_crawler::{crawler_as_general, CrawlerInstance};
 pub use polytope::{Face, FaceSign, MAX_LINKS_FOR_NORMALS};
 pub use uniqueness::{SubsetSearch, Uniqueness};
 pub use vm::{block_velocities, VmAnalysis, VmClass};

@@ -7,6 +7,7 @@
 
 pub mod consistency;
 mod discrete;
+pub mod general;
 mod limits;
 mod local;
 mod milp;

@@ -2,13 +2,16 @@
 //! `K^{-1}` metric, with the block displacements read off the multipliers.
 //!
 //! Both are instances of one structured QP, solved by [`ChainQp`] in `O(n)` per active-set
-//! iteration. This layer knows the crawler's parameters but nothing of time or actuation.
+//! iteration. [`polyhedron`] projects onto any polyhedron (the general problem (P), SPEC §11)
+//! by an exact active-set method. This layer knows the crawler's parameters but nothing of time or actuation.
 
 mod chain;
 mod dp;
+pub mod polyhedron;
 
 pub use chain::{increment, tangent, Bound, ChainQp};
 pub use dp::ChainDp;
+pub use polyhedron::{PolyProjector, Projection};
 
 use crate::error::Result;
 use crate::model::Crawler;

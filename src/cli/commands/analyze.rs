@@ -22,6 +22,9 @@ pub struct AnalyzeArgs {
 }
 
 pub fn run(a: AnalyzeArgs) -> Result<ExitCode, Error> {
+    if let Some(general) = crawlopt::io::GeneralFile::load_if_general(&a.file)? {
+        return super::general::analyze(&general, &a);
+    }
     let model = ModelFile::load(&a.file)?;
     let found = api::analyze(&model)?;
     if let Some(dir) = &a.plot {

@@ -4,6 +4,7 @@
 pub mod analyze;
 pub mod bench;
 pub mod certify;
+pub mod general;
 pub mod optimize;
 pub mod plot;
 pub mod report;

@@ -105,6 +105,9 @@ impl From<OptimizeMethod> for GaitMethod {
 }
 
 pub fn run(a: OptimizeArgs) -> Result<ExitCode, Error> {
+    if let Some(general) = crawlopt::io::GeneralFile::load_if_general(&a.file)? {
+        return super::general::optimize(&general, &a);
+    }
     let model = ModelFile::load(&a.file)?;
     let (crawler, problem) = api::gait_problem(&model)?;
     if let Some(path) = &a.report {

@@ -94,6 +94,9 @@ fn flags(e: Error) -> Error {
 }
 
 pub fn run(a: SimulateArgs) -> Result<ExitCode, Error> {
+    if let Some(general) = crawlopt::io::GeneralFile::load_if_general(&a.file)? {
+        return super::general::simulate(&general, &a);
+    }
     let model = ModelFile::load(&a.file)?;
     let crawler = model.crawler()?;
     crawler.require_unique()?;

@@ -1,0 +1,281 @@
+//! The general problem (P) (SPEC §11) as jobs: a problem file analysed (C's geometry and every
+//! check of the problem) and simulated for a given control.
+
+use crate::error::{Error, Result};
+use crate::integrate::GeneralSimulation;
+use crate::integrate::{simulate_general as integrate_general, ControlInput, GeneralSimOptions};
+use crate::io::GeneralFile;
+use crate::model::general::{ControlSet, GeneralProblem, Reward};
+use crate::optimal::general::{analyze_polyhedron, check_with, Geometry};
+use serde::Serialize;
+
+/// How a check came out.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum CheckStatus {
+    /// Holds.
+    Pass,
+    /// Fails: the problem is refused.
+    Fail,
+    /// A property reported, not required of every method.
+    Info,
+}
+
+/// One check of the problem.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Check {
+    /// What is checked.
+    pub name: String,
+    /// The outcome.
+    pub status: CheckStatus,
+    /// Numbers and reasons.
+    pub detail: String,
+}
+
+/// [`analyze_general`]'s answer.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct GeneralAnalysis {
+    /// `"general"` (a crawler's analysis has no such field).
+    pub kind: &'static str,
+    /// The problem (rows of C scaled to unit normals).
+    pub problem: GeneralProblem,
+    /// C's geometry.
+    pub geometry: Geometry,
+    /// The checks, in order.
+    pub checks: Vec<Check>,
+    /// The first failed check as the error a solver would return (`None`: well posed).
+    #[serde(skip)]
+    pub failure: Option<Error>,
+}
+
+/// The problem of a file with every check: those of [`GeneralFile::problem`] and those that
+/// need C's geometry ([`crate::optimal::general::check_problem`]). Returns C's geometry too.
+pub fn general_problem(file: &GeneralFile) -> Result<(GeneralProblem, Geometry)> {
+    let p = file.problem()?;
+    let g = geometry_of(&p)?;
+    check_with(&p, &g)?;
+    Ok((p, g))
+}
+
+/// C's geometry; an empty C is an error naming `sweeping_process`.
+fn geometry_of(p: &GeneralProblem) -> Result<Geometry> {
+    analyze_polyhedron(&p.c).map_err(|e| match e {
+        Error::Infeasible(_) => Error::invalid(
+            "sweeping_process",
+            format!("{} faces", p.c.faces()),
+            "C is empty: no x satisfies every face",
+        ),
+        other => other,
+    })
+}
+
+/// Analyses a problem file: C's faces, redundant faces, vertices, Chebyshev centre, and the
+/// checks. Errors only where no analysis can be made (a malformed file, an empty C); a
+/// failed check is reported in the answer and as [`GeneralAnalysis::failure`].
+pub fn analyze_general(file: &GeneralFile) -> Result<GeneralAnalysis> {
+    let p = file.problem()?;
+    let g = geometry_of(&p)?;
+    let failure = check_with(&p, &g).err();
+    let mut checks = Vec::new();
+    let mut add = |name: &str, status, detail: String| {
+        checks.push(Check {
+            name: name.into(),
+            status,
+            detail,
+        })
+    };
+    let interior = g.has_interior(p.c.scale());
+    add(
+        "C has a non-empty interior (PLICQ)",
+        if interior {
+            CheckStatus::Pass
+        } else {
+            CheckStatus::Fail
+        },
+        format!(
+            "Chebyshev radius {}{}",
+            g.chebyshev_radius,
+            if g.radius_capped { " or more" } else { "" }
+        ),
+    );
+    add(
+        "C is bounded",
+        CheckStatus::Info,
+        if g.bounded {
+            "yes".into()
+        } else {
+            "no (P_m's global method needs a bounded C)".into()
+        },
+    );
+    let u = match &p.control {
+        ControlSet::Box { .. } => "a box".to_string(),
+        ControlSet::Polytope(u) => format!("a polytope of {} faces", u.faces()),
+    };
+    let u_failed =
+        matches!(&failure, Some(Error::InvalidParameter { field, .. }) if field == "control");
+    add(
+        "U is convex with a non-empty interior",
+        if u_failed {
+            CheckStatus::Fail
+        } else {
+            CheckStatus::Pass
+        },
+        if p.zero_mean {
+            format!("{u}, 0 in its interior (zero_mean)")
+        } else {
+            u
+        },
+    );
+    match &p.reward {
+        Reward::ReactionWeights(_) => add(
+            "face weights well defined",
+            CheckStatus::Info,
+            "not needed: f1 = <q, eta>".into(),
+        ),
+        Reward::FaceWeights(_) => {
+            let (status, detail) = match (&g.vertices, g.degenerate_vertex) {
+                (None, _) => (CheckStatus::Fail, "vertices not enumerated".to_string()),
+                (Some(vs), Some(k)) => (
+                    CheckStatus::Fail,
+                    format!(
+                        "vertex {k} = {:?}: active faces {:?} have dependent normals",
+                        vs[k - 1].point,
+                        vs[k - 1].active
+                    ),
+                ),
+                (Some(vs), None) => (
+                    CheckStatus::Pass,
+                    format!(
+                        "active normals independent at all {} {}",
+                        vs.len(),
+                        if g.rank == g.dim {
+                            "vertices"
+                        } else {
+                            "minimal faces"
+                        }
+                    ),
+                ),
+            };
+            add("face weights well defined", status, detail);
+        }
+    }
+    add(
+        "dynamics",
+        CheckStatus::Info,
+        if p.dynamics.is_state_independent() {
+            "A = 0: piecewise-linear motion under piecewise-constant controls".into()
+        } else {
+            "A != 0: state-dependent drift".into()
+        },
+    );
+    Ok(GeneralAnalysis {
+        kind: "general",
+        problem: p,
+        geometry: g,
+        checks,
+        failure,
+    })
+}
+
+/// [`simulate_general`]'s answer.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct GeneralSimulated {
+    /// `"general"`.
+    pub kind: &'static str,
+    /// `"exact"` (event-driven, where `A = 0` and the input is piecewise constant, unless
+    /// catching-up is asked) or `"catching-up"`.
+    pub method: &'static str,
+    /// Steps per period.
+    pub steps_per_period: usize,
+    /// Where the integration started: `x(0)` of a Cauchy problem, else the origin when it
+    /// lies in C, else C's Chebyshev centre.
+    pub start: Vec<f64>,
+    /// Which of the three `start` is (`initial_state`, `origin`, `chebyshev_centre`).
+    pub start_from: &'static str,
+    /// The control played.
+    pub input: ControlInput,
+    /// The simulation.
+    pub simulation: GeneralSimulation,
+}
+
+/// Simulates the file's `[input]`: exactly where `A = 0` and the input is piecewise constant
+/// ([`crate::integrate::general_exact`], unless `opts.method` asks for catching-up), else by
+/// catching-up ([`crate::integrate::general`]): for a
+/// periodic problem until the periodic regime, with `J` of one period on the orbit; for a
+/// Cauchy problem over `[0, T]` from `x(0)`.
+pub fn simulate_general(file: &GeneralFile, opts: &GeneralSimOptions) -> Result<GeneralSimulated> {
+    let (p, g) = general_problem(file)?;
+    let input = file.input(&p)?;
+    let (start, start_from) = match &p.boundary {
+        crate::model::general::Boundary::Initial(x0) => (x0.clone(), "initial_state"),
+        crate::model::general::Boundary::Periodic => {
+            let origin = vec![0.0; p.states()];
+            if p.c.violation(&origin, 0.0).is_none() {
+                (origin, "origin")
+            } else {
+                (g.chebyshev_centre.clone(), "chebyshev_centre")
+            }
+        }
+    };
+    let exact = opts.method == crate::integrate::GeneralMethod::Auto
+        && p.dynamics.is_state_independent()
+        && input.kind == crate::integrate::InputKind::PiecewiseConstant;
+    let simulation = if exact {
+        crate::integrate::simulate_general_exact(&p, &input, &start, opts.max_periods, opts.tol)?
+    } else {
+        integrate_general(&p, &input, &start, opts)?
+    };
+    Ok(GeneralSimulated {
+        kind: "general",
+        method: if exact { "exact" } else { "catching-up" },
+        steps_per_period: opts.steps_per_period,
+        start,
+        start_from,
+        input,
+        simulation,
+    })
+}
+
+/// Settings of [`optimize_general`].
+#[derive(Debug, Clone, PartialEq)]
+pub struct GeneralPmSettings {
+    /// `m`: P_m on `2^m` steps (default [`crate::api::DEFAULT_M_DISCRETE`]).
+    pub m: u32,
+    /// Seconds for the MILP (`None`: no limit).
+    pub time_limit: Option<f64>,
+}
+
+impl Default for GeneralPmSettings {
+    fn default() -> Self {
+        GeneralPmSettings {
+            m: crate::api::DEFAULT_M_DISCRETE,
+            time_limit: None,
+        }
+    }
+}
+
+/// [`optimize_general`]'s answer.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct GeneralOptimized {
+    /// `"general"`.
+    pub kind: &'static str,
+    /// `"discrete"`: the paper's P_m, globally.
+    pub method: &'static str,
+    /// The period.
+    pub period: f64,
+    /// The verified optimum of P_m with its certificate.
+    pub solution: crate::optimal::general::GeneralPm,
+}
+
+/// The global optimum of P_m for a problem file ([`crate::optimal::general::discrete`]),
+/// re-verified by the general simulator.
+pub fn optimize_general(file: &GeneralFile, s: &GeneralPmSettings) -> Result<GeneralOptimized> {
+    let (p, g) = general_problem(file)?;
+    let solution = crate::optimal::general::solve_general_pm(&p, &g, s.m, s.time_limit)?;
+    Ok(GeneralOptimized {
+        kind: "general",
+        method: "discrete",
+        period: p.period,
+        solution,
+    })
+}

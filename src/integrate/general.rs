@@ -1,0 +1,408 @@
+//! Simulation of the general problem (P) (SPEC §11) for a given control: the catching-up scheme
+//! `x^(i+1) = Proj_C(x^i + h g(x^i, u^i))` on `M` uniform steps of a period, explicit in `g` and
+//! with the exact projection of [`crate::sweep::polyhedron`]; the reactions
+//! `lambda^i = mu^i / h` per face (the projection's multipliers divided by `h`), and the
+//! functional `J = sum_i h (f1(eta^i) - f2(u^i))` (paper eq. 2.4, discretised as in §6).
+//!
+//! `u^i` is the mean of the control over step `i` (exact integrals of the piecewise-constant or
+//! piecewise-linear input), so that for `g = B u` the scheme sees the exact increment
+//! `B int u dt` of each step, as the crawler's catching-up does with `K (L(t_(i+1)) - L(t_i))`.
+//!
+//! Periodic problems: the period map is iterated until the state repeats within `tol` times
+//! C's scale, and `J` is the value of one period on that orbit. Cauchy problems: one horizon
+//! `[0, T]` from `x(0)`.
+
+use crate::error::{Error, Result};
+use crate::model::general::{Boundary, ControlSet, GeneralProblem};
+use crate::sweep::PolyProjector;
+use serde::Serialize;
+
+/// How the given control is interpolated between its knots.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum InputKind {
+    /// `u(t) = u_k` on `[t_k, t_(k+1))`, the last value up to `T`.
+    PiecewiseConstant,
+    /// Linear between knots, from the last knot back to the first value at `t = T`.
+    PiecewiseLinear,
+}
+
+/// A `T`-periodic control `u(t)` given at knots `0 = t_0 < t_1 < ... < T`.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct ControlInput {
+    /// Interpolation.
+    pub kind: InputKind,
+    /// Period `T`.
+    pub period: f64,
+    /// Knot times.
+    pub times: Vec<f64>,
+    /// Knot values, one row of `m` per knot.
+    pub values: Vec<Vec<f64>>,
+}
+
+impl ControlInput {
+    /// Checks the knots (times from 0, increasing, below the period; one row of `m` finite
+    /// values per knot, each in U, so that the whole control lies in U by convexity). `field`
+    /// prefixes the messages (`input`).
+    pub fn new(
+        kind: InputKind,
+        period: f64,
+        times: Vec<f64>,
+        values: Vec<Vec<f64>>,
+        control: &ControlSet,
+        field: &str,
+    ) -> Result<Self> {
+        if times.is_empty() || times[0] != 0.0 {
+            return Err(Error::invalid(
+                format!("{field}.times"),
+                format!("{times:?}"),
+                "needs knots starting at t = 0",
+            ));
+        }
+        for k in 1..times.len() {
+            if !(times[k] > times[k - 1] && times[k] < period && times[k].is_finite()) {
+                return Err(Error::invalid(
+                    format!("{field}.times[{}]", k + 1),
+                    times[k],
+                    "knot times must increase and stay below the period",
+                ));
+            }
+        }
+        if values.len() != times.len() {
+            return Err(Error::invalid(
+                format!("{field}.values"),
+                format!("{} rows", values.len()),
+                format!("needs one row per knot ({})", times.len()),
+            ));
+        }
+        let m = control.dim();
+        let tol = 1e-12 * values.iter().flatten().fold(1.0_f64, |s, v| s.max(v.abs()));
+        for (k, row) in values.iter().enumerate() {
+            let f = format!("{field}.values[{}]", k + 1);
+            if row.len() != m {
+                return Err(Error::invalid(
+                    &f,
+                    format!("{} values", row.len()),
+                    format!("needs one value per control ({m})"),
+                ));
+            }
+            if let Some(i) = row.iter().position(|v| !v.is_finite()) {
+                return Err(Error::invalid(
+                    format!("{f}[{}]", i + 1),
+                    row[i],
+                    "must be finite",
+                ));
+            }
+            if !control.contains(row, tol) {
+                return Err(Error::invalid(&f, format!("{row:?}"), "lies outside U"));
+            }
+        }
+        Ok(ControlInput {
+            kind,
+            period,
+            times,
+            values,
+        })
+    }
+
+    /// `int_0^t u` for `t` in `[0, T]`, into `out`.
+    fn integral_within(&self, t: f64, out: &mut [f64]) {
+        out.iter_mut().for_each(|o| *o = 0.0);
+        let k = self.times.len();
+        for s in 0..k {
+            let (a, b) = (
+                self.times[s],
+                if s + 1 < k {
+                    self.times[s + 1]
+                } else {
+                    self.period
+                },
+            );
+            if t <= a {
+                break;
+            }
+            let e = t.min(b);
+            let next = &self.values[(s + 1) % k];
+            for (i, o) in out.iter_mut().enumerate() {
+                let u0 = self.values[s][i];
+                *o += match self.kind {
+                    InputKind::PiecewiseConstant => u0 * (e - a),
+                    InputKind::PiecewiseLinear => {
+                        let slope = (next[i] - u0) / (b - a);
+                        u0 * (e - a) + 0.5 * slope * (e - a) * (e - a)
+                    }
+                };
+            }
+        }
+    }
+
+    /// The mean of `u` over `[t0, t1]` (`0 <= t0 < t1 <= T`), into `out`.
+    pub fn mean(&self, t0: f64, t1: f64, out: &mut [f64]) {
+        let mut a = vec![0.0; out.len()];
+        self.integral_within(t0, &mut a);
+        self.integral_within(t1, out);
+        for (o, a) in out.iter_mut().zip(&a) {
+            *o = (*o - a) / (t1 - t0);
+        }
+    }
+}
+
+/// Which integrator `crate::api::simulate_general` uses.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum GeneralMethod {
+    /// Exact where it applies (`A = 0` and a piecewise-constant input), else catching-up.
+    Auto,
+    /// Catching-up ([`simulate_general`]).
+    CatchingUp,
+}
+
+/// Options of [`simulate_general`].
+#[derive(Debug, Clone, PartialEq)]
+pub struct GeneralSimOptions {
+    /// The integrator chosen by `crate::api::simulate_general` (default auto);
+    /// [`simulate_general`] itself is catching-up.
+    pub method: GeneralMethod,
+    /// Steps `M` per period.
+    pub steps_per_period: usize,
+    /// Give up the search for the periodic regime after this many periods.
+    pub max_periods: usize,
+    /// The state repeats when it changes by at most `tol` times C's scale over a period.
+    pub tol: f64,
+}
+
+impl GeneralSimOptions {
+    /// The defaults.
+    pub const DEFAULT: GeneralSimOptions = GeneralSimOptions {
+        method: GeneralMethod::Auto,
+        steps_per_period: 1000,
+        max_periods: 5000,
+        tol: 1e-12,
+    };
+
+    /// Checks the options for a problem whose recorded period holds `per_step` values a step
+    /// (states, controls, reactions): at most [`super::periodic::MAX_RECORDED`] in all.
+    fn check(&self, per_step: usize) -> Result<()> {
+        if (self.steps_per_period as f64) * (per_step as f64) > super::periodic::MAX_RECORDED {
+            return Err(Error::invalid(
+                "steps_per_period",
+                self.steps_per_period,
+                format!(
+                    "the recorded period would hold more than {:e} values",
+                    super::periodic::MAX_RECORDED
+                ),
+            ));
+        }
+        if self.steps_per_period == 0
+            || self.steps_per_period > super::periodic::MAX_STEPS_PER_PERIOD
+        {
+            return Err(Error::invalid(
+                "steps_per_period",
+                self.steps_per_period,
+                format!(
+                    "must be between 1 and {}",
+                    super::periodic::MAX_STEPS_PER_PERIOD
+                ),
+            ));
+        }
+        if self.max_periods == 0 {
+            return Err(Error::invalid("max_periods", 0, "must be at least 1"));
+        }
+        if !(self.tol.is_finite() && self.tol > 0.0) {
+            return Err(Error::invalid(
+                "tol",
+                self.tol,
+                "must be positive and finite",
+            ));
+        }
+        Ok(())
+    }
+}
+
+impl Default for GeneralSimOptions {
+    fn default() -> Self {
+        Self::DEFAULT
+    }
+}
+
+/// A simulated period (or horizon) of the general problem.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct GeneralSimulation {
+    /// Periodic problems: whether the state repeated (the values below are then on the
+    /// orbit); Cauchy problems: always true.
+    pub converged: bool,
+    /// Periods integrated (the transient included).
+    pub periods: usize,
+    /// `J = int f1(eta) - f2(u)` over the recorded period (`None` without a periodic regime).
+    pub objective: Option<f64>,
+    /// `int f1(eta)` over it.
+    pub reward: f64,
+    /// `int f2(u)` over it.
+    pub cost: f64,
+    /// The mean of the control over a period (0 under the zero-mean constraint).
+    pub mean_control: Vec<f64>,
+    /// Times `t_i = i h`, `i = 0..M`.
+    pub t: Vec<f64>,
+    /// States `x^i` (`M + 1` rows).
+    pub x: Vec<Vec<f64>>,
+    /// Controls `u^i` (`M` rows: the mean over each step).
+    pub u: Vec<Vec<f64>>,
+    /// Reactions per face `lambda^i = mu^i / h` (`M` rows of `sigma`).
+    pub lambda: Vec<Vec<f64>>,
+    /// The largest KKT residual of a projection of the recorded period.
+    pub max_kkt_residual: f64,
+}
+
+/// Simulates `p` under `input` from `x0` (a point of C; the problem's `x(0)` for a Cauchy
+/// problem). See the module docs.
+pub fn simulate_general(
+    p: &GeneralProblem,
+    input: &ControlInput,
+    x0: &[f64],
+    opts: &GeneralSimOptions,
+) -> Result<GeneralSimulation> {
+    opts.check(p.states() + p.controls() + p.c.faces())?;
+    if (input.period - p.period).abs() > 1e-12 * p.period {
+        return Err(Error::invalid(
+            "input.period",
+            input.period,
+            format!("must be the problem's period ({})", p.period),
+        ));
+    }
+    let (n, m, mm) = (p.states(), p.controls(), opts.steps_per_period);
+    let h = p.period / mm as f64;
+    // The controls of the steps, the same every period.
+    let mut us = vec![vec![0.0; m]; mm];
+    for (i, u) in us.iter_mut().enumerate() {
+        let t1 = if i + 1 == mm {
+            p.period
+        } else {
+            (i + 1) as f64 * h
+        };
+        input.mean(i as f64 * h, t1, u);
+    }
+    let mut proj = PolyProjector::new(p.c.clone());
+    let scale = p.c.scale();
+    let mut x = x0.to_vec();
+    let mut g = vec![0.0; n];
+    let mut v = vec![0.0; n];
+    // One period from `x`; with `record`, the trajectory.
+    let mut period = |x: &mut Vec<f64>, record: Option<&mut GeneralSimulation>| -> Result<()> {
+        let mut rec = record;
+        for (i, u) in us.iter().enumerate() {
+            p.dynamics.eval(x, u, &mut g);
+            for k in 0..n {
+                v[k] = x[k] + h * g[k];
+            }
+            let a = proj.project(x, &v)?;
+            *x = a.x;
+            if let Some(r) = rec.as_deref_mut() {
+                let lambda: Vec<f64> = a.mu.iter().map(|mu| mu / h).collect();
+                r.reward += h * p.reward.eval(&p.c.normals, &lambda);
+                r.cost += h * p.cost.eval(u);
+                r.max_kkt_residual = r.max_kkt_residual.max(a.residual);
+                r.t.push((i + 1) as f64 * h);
+                r.x.push(x.clone());
+                r.u.push(u.clone());
+                r.lambda.push(lambda);
+            }
+        }
+        Ok(())
+    };
+    let mut periods = 0;
+    let converged = match p.boundary {
+        Boundary::Initial(_) => true,
+        Boundary::Periodic => loop {
+            crate::progress::check()?;
+            let start = x.clone();
+            period(&mut x, None)?;
+            periods += 1;
+            let change = x
+                .iter()
+                .zip(&start)
+                .fold(0.0_f64, |d, (a, b)| d.max((a - b).abs()));
+            if change <= opts.tol * scale {
+                break true;
+            }
+            if periods >= opts.max_periods {
+                break false;
+            }
+        },
+    };
+    let mut mean_control = vec![0.0; m];
+    input.mean(0.0, p.period, &mut mean_control);
+    let mut sim = GeneralSimulation {
+        converged,
+        periods,
+        objective: None,
+        reward: 0.0,
+        cost: 0.0,
+        mean_control,
+        t: vec![0.0],
+        x: vec![x.clone()],
+        u: vec![],
+        lambda: vec![],
+        max_kkt_residual: 0.0,
+    };
+    if converged {
+        period(&mut x, Some(&mut sim))?;
+        sim.periods += 1;
+        sim.objective = Some(sim.reward - sim.cost);
+    }
+    Ok(sim)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn means_of_the_inputs_are_exact() {
+        let u = ControlSet::Box {
+            lower: vec![-2.0],
+            upper: vec![2.0],
+        };
+        let pwc = ControlInput::new(
+            InputKind::PiecewiseConstant,
+            4.0,
+            vec![0.0, 1.0],
+            vec![vec![2.0], vec![-1.0]],
+            &u,
+            "input",
+        )
+        .unwrap();
+        let mut out = [0.0];
+        pwc.mean(0.5, 1.5, &mut out);
+        assert_eq!(out, [0.5]);
+        pwc.mean(0.0, 4.0, &mut out);
+        assert_eq!(out, [(2.0 - 3.0) / 4.0]);
+        // Linear from 2 at t = 0 to -1 at t = 1, then back to 2 at t = 4.
+        let pwl = ControlInput {
+            kind: InputKind::PiecewiseLinear,
+            ..pwc
+        };
+        pwl.mean(0.0, 1.0, &mut out);
+        assert_eq!(out, [0.5]);
+        pwl.mean(0.0, 4.0, &mut out);
+        assert_eq!(out, [(0.5 + 3.0 * 0.5) / 4.0]);
+        for (times, values, field) in [
+            (vec![0.5], vec![vec![0.0]], "input.times"),
+            (vec![0.0, 4.0], vec![vec![0.0]; 2], "input.times[2]"),
+            (vec![0.0], vec![vec![3.0]], "input.values[1]"),
+            (vec![0.0], vec![vec![0.0, 1.0]], "input.values[1]"),
+            (vec![0.0, 1.0], vec![vec![0.0]], "input.values"),
+        ] {
+            let e = ControlInput::new(
+                InputKind::PiecewiseConstant,
+                4.0,
+                times,
+                values,
+                &u,
+                "input",
+            )
+            .unwrap_err()
+            .to_string();
+            assert!(e.starts_with(field), "{e}");
+        }
+    }
+}

@@ -1,0 +1,742 @@
+//! The general problem (P) of the paper's §2 (SPEC §11): a sweeping process
+//! `x' in -N_C(x) + g(x, u)` in a polyhedron `C = {x : <x*_j, x> <= c_j, j = 1..sigma}`, affine
+//! dynamics `g(x, u) = A x + B u + b`, controls in a box or a polytope `U` (with zero mean over a
+//! period when imposed), the reward `f1` of the reaction `eta = g - x'` and the cost `f2(u)`.
+//!
+//! This module holds the data and the checks that need no solver: dimensions, finiteness, rows
+//! scaled to unit normals, `U` non-empty with `0` in its interior under the zero-mean
+//! constraint, a positive semidefinite cost matrix. The checks that need linear programs (the
+//! interior of C, redundant faces, boundedness, vertices and the face weights' well-posedness)
+//! are [`crate::optimal::general::geometry`]'s; `crate::api::general_problem` runs both.
+//!
+//! Indices are 0-based here; every message and output numbers faces, components and vertices
+//! from 1.
+
+use crate::error::{Error, Result};
+use serde::Serialize;
+
+/// A polyhedron `{x : <x*_j, x> <= c_j}` with unit normals (paper §2: the `x*_j` are unit
+/// vectors; each given row `(x*_j, c_j)` is divided by `|x*_j|`, which leaves the set unchanged).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Polyhedron {
+    /// Unit normals `x*_j`, one row per face.
+    pub normals: Vec<Vec<f64>>,
+    /// Offsets `c_j` (after scaling).
+    pub offsets: Vec<f64>,
+    /// The lengths `|x*_j|` of the rows as given (the scaling applied).
+    pub row_norms: Vec<f64>,
+}
+
+impl Polyhedron {
+    /// Checks and scales the rows. `field` prefixes the messages (e.g. `sweeping_process`, whose
+    /// rows are `normals` and `offsets`).
+    pub fn new(normals: Vec<Vec<f64>>, offsets: Vec<f64>, field: &str) -> Result<Self> {
+        let (nf, of) = (format!("{field}.normals"), format!("{field}.offsets"));
+        if normals.is_empty() {
+            return Err(Error::invalid(&nf, "[]", "needs at least one face"));
+        }
+        let n = normals[0].len();
+        if n == 0 {
+            return Err(Error::invalid(
+                format!("{nf}[1]"),
+                "[]",
+                "a normal needs at least one component",
+            ));
+        }
+        if offsets.len() != normals.len() {
+            return Err(Error::invalid(
+                &of,
+                format!("{} values", offsets.len()),
+                format!("needs one offset per face ({})", normals.len()),
+            ));
+        }
+        let mut scaled = Vec::with_capacity(normals.len());
+        let mut cs = Vec::with_capacity(normals.len());
+        let mut norms = Vec::with_capacity(normals.len());
+        for (j, (row, &c)) in normals.iter().zip(&offsets).enumerate() {
+            if row.len() != n {
+                return Err(Error::invalid(
+                    format!("{nf}[{}]", j + 1),
+                    format!("{} components", row.len()),
+                    format!("every normal needs the dimension of the first ({n})"),
+                ));
+            }
+            check_finite(&format!("{nf}[{}]", j + 1), row)?;
+            if !c.is_finite() {
+                return Err(Error::invalid(
+                    format!("{of}[{}]", j + 1),
+                    c,
+                    "must be finite",
+                ));
+            }
+            let norm = row.iter().map(|v| v * v).sum::<f64>().sqrt();
+            if !(norm > 0.0 && norm.is_finite()) {
+                return Err(Error::invalid(
+                    format!("{nf}[{}]", j + 1),
+                    format!("{row:?}"),
+                    "a normal must be non-zero (and its length finite)",
+                ));
+            }
+            scaled.push(row.iter().map(|v| v / norm).collect());
+            cs.push(c / norm);
+            norms.push(norm);
+        }
+        Ok(Polyhedron {
+            normals: scaled,
+            offsets: cs,
+            row_norms: norms,
+        })
+    }
+
+    /// The dimension `n` of the space.
+    pub fn dim(&self) -> usize {
+        self.normals[0].len()
+    }
+
+    /// The number of faces `sigma`.
+    pub fn faces(&self) -> usize {
+        self.normals.len()
+    }
+
+    /// `<x*_j, x> - c_j`, positive outside face `j`'s half-space.
+    pub fn slack(&self, j: usize, x: &[f64]) -> f64 {
+        dot(&self.normals[j], x) - self.offsets[j]
+    }
+
+    /// The most violated face and by how much (`None` inside C within `tol`).
+    pub fn violation(&self, x: &[f64], tol: f64) -> Option<(usize, f64)> {
+        (0..self.faces())
+            .map(|j| (j, self.slack(j, x)))
+            .filter(|&(_, s)| s > tol)
+            .max_by(|a, b| a.1.total_cmp(&b.1))
+    }
+
+    /// A length scale of C: the largest `|c_j|`, at least 1e-300 (tolerances are relative to it).
+    pub fn scale(&self) -> f64 {
+        self.offsets
+            .iter()
+            .fold(0.0_f64, |m, c| m.max(c.abs()))
+            .max(1e-300)
+    }
+}
+
+/// The control set `U`.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+#[serde(tag = "kind", rename_all = "snake_case")]
+pub enum ControlSet {
+    /// `lower <= u <= upper` componentwise.
+    Box {
+        /// Lower bounds.
+        lower: Vec<f64>,
+        /// Upper bounds.
+        upper: Vec<f64>,
+    },
+    /// `{u : <G_k, u> <= h_k}`, rows scaled to unit length as for C.
+    Polytope(Polyhedron),
+}
+
+impl ControlSet {
+    /// The dimension of `u`.
+    pub fn dim(&self) -> usize {
+        match self {
+            ControlSet::Box { lower, .. } => lower.len(),
+            ControlSet::Polytope(p) => p.dim(),
+        }
+    }
+
+    /// Whether `u` lies in U within `tol` (absolute, on the unit rows or the bounds).
+    pub fn contains(&self, u: &[f64], tol: f64) -> bool {
+        match self {
+            ControlSet::Box { lower, upper } => u
+                .iter()
+                .zip(lower.iter().zip(upper))
+                .all(|(v, (lo, hi))| *v >= lo - tol && *v <= hi + tol),
+            ControlSet::Polytope(p) => p.violation(u, tol).is_none(),
+        }
+    }
+}
+
+/// The reward `f1` of the reaction `eta in N_C(x)`.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+#[serde(tag = "kind", content = "weights", rename_all = "snake_case")]
+pub enum Reward {
+    /// `f1(eta) = sum_j w_j lambda_j` with `eta = sum_j lambda_j x*_j`, `lambda >= 0` supported on
+    /// the active faces: well defined when the active normals are independent everywhere (checked
+    /// at the vertices by the geometry). The weights are those of the unit normals: a row given
+    /// as `s x*_j` has the same weight (the reaction's multiplier of the unit row).
+    FaceWeights(Vec<f64>),
+    /// `f1(eta) = <q, eta>`.
+    ReactionWeights(Vec<f64>),
+}
+
+impl Reward {
+    /// `f1` of the reaction with multipliers `lambda` (one per face of unit normals `normals`).
+    pub fn eval(&self, normals: &[Vec<f64>], lambda: &[f64]) -> f64 {
+        match self {
+            Reward::FaceWeights(w) => dot(w, lambda),
+            Reward::ReactionWeights(q) => lambda
+                .iter()
+                .zip(normals)
+                .map(|(l, nj)| l * dot(q, nj))
+                .sum(),
+        }
+    }
+}
+
+/// The cost `f2(u)`.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+#[serde(tag = "kind", rename_all = "snake_case")]
+pub enum GeneralCost {
+    /// `f2 = 0`.
+    None,
+    /// `f2(u) = (c/2) |u|^2`, `c >= 0`.
+    Quadratic {
+        /// `c`.
+        weight: f64,
+    },
+    /// `f2(u) = (1/2) u^T R u`, `R` symmetric positive semidefinite.
+    Matrix {
+        /// `R`, one row per component.
+        matrix: Vec<Vec<f64>>,
+    },
+}
+
+impl GeneralCost {
+    /// `f2(u)`.
+    pub fn eval(&self, u: &[f64]) -> f64 {
+        match self {
+            GeneralCost::None => 0.0,
+            GeneralCost::Quadratic { weight } => 0.5 * weight * dot(u, u),
+            GeneralCost::Matrix { matrix } => {
+                0.5 * matrix
+                    .iter()
+                    .zip(u)
+                    .map(|(row, ui)| ui * dot(row, u))
+                    .sum::<f64>()
+            }
+        }
+    }
+}
+
+/// The affine dynamics `g(x, u) = A x + B u + b`.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Dynamics {
+    /// `A` (`n x n`; all zero when omitted).
+    pub a: Vec<Vec<f64>>,
+    /// `B` (`n x m`).
+    pub b: Vec<Vec<f64>>,
+    /// `b` (`n`; zero when omitted).
+    pub drift: Vec<f64>,
+}
+
+impl Dynamics {
+    /// `g(x, u)` into `out`.
+    pub fn eval(&self, x: &[f64], u: &[f64], out: &mut [f64]) {
+        for i in 0..out.len() {
+            out[i] = dot(&self.a[i], x) + dot(&self.b[i], u) + self.drift[i];
+        }
+    }
+
+    /// Whether `A = 0` (the motion is then piecewise linear under piecewise-constant `u`).
+    pub fn is_state_independent(&self) -> bool {
+        self.a.iter().all(|r| r.iter().all(|v| *v == 0.0))
+    }
+}
+
+/// The end conditions of the horizon `[0, T]`.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+#[serde(tag = "kind", content = "state", rename_all = "snake_case")]
+pub enum Boundary {
+    /// `x(0) = x(T)` (the paper's (P)).
+    Periodic,
+    /// A Cauchy problem from the given `x(0)` (in C: checked by the geometry's tolerance).
+    Initial(Vec<f64>),
+}
+
+/// The general problem (P) (SPEC §11), checked as far as no linear program is needed.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct GeneralProblem {
+    /// `C`.
+    pub c: Polyhedron,
+    /// `g`.
+    pub dynamics: Dynamics,
+    /// `U`.
+    pub control: ControlSet,
+    /// `int_0^T u dt = 0` imposed.
+    pub zero_mean: bool,
+    /// `f1`.
+    pub reward: Reward,
+    /// `f2`.
+    pub cost: GeneralCost,
+    /// `T`.
+    pub period: f64,
+    /// Periodic or Cauchy.
+    pub boundary: Boundary,
+}
+
+/// The raw pieces of a [`GeneralProblem`] as a file or a caller gives them (rows not yet
+/// scaled); [`GeneralProblem::new`] checks them.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct GeneralParts {
+    /// Rows `x*_j`.
+    pub normals: Vec<Vec<f64>>,
+    /// `c_j`.
+    pub offsets: Vec<f64>,
+    /// `A` (`None`: 0).
+    pub a: Option<Vec<Vec<f64>>>,
+    /// `B`.
+    pub b: Vec<Vec<f64>>,
+    /// `b` (`None`: 0).
+    pub drift: Option<Vec<f64>>,
+    /// Box bounds of U.
+    pub lower: Option<Vec<f64>>,
+    /// Box bounds of U.
+    pub upper: Option<Vec<f64>>,
+    /// Polytope U: rows `G_k`.
+    pub g: Option<Vec<Vec<f64>>>,
+    /// Polytope U: `h_k`.
+    pub h: Option<Vec<f64>>,
+    /// Zero-mean constraint.
+    pub zero_mean: bool,
+    /// `f1` as face weights.
+    pub face_weights: Option<Vec<f64>>,
+    /// `f1` as `<q, eta>`.
+    pub reaction_weights: Option<Vec<f64>>,
+    /// `f2`.
+    pub cost: Option<GeneralCost>,
+    /// `T`.
+    pub period: f64,
+    /// `x(0) = x(T)`.
+    pub periodic: bool,
+    /// `x(0)` of a Cauchy problem.
+    pub initial_state: Option<Vec<f64>>,
+}
+
+impl GeneralProblem {
+    /// Checks the parts (every message names the file's field) and scales the rows of C and of
+    /// a polytope U to unit normals.
+    pub fn new(p: GeneralParts) -> Result<Self> {
+        let c = Polyhedron::new(p.normals, p.offsets, "sweeping_process")?;
+        let n = c.dim();
+        let a = match p.a {
+            None => vec![vec![0.0; n]; n],
+            Some(a) => {
+                check_matrix("dynamics.A", &a, n, Some(n), "the state's dimension")?;
+                a
+            }
+        };
+        if p.b.is_empty() {
+            return Err(Error::invalid(
+                "dynamics.B",
+                "[]",
+                format!("needs one row per state component ({n})"),
+            ));
+        }
+        let m = p.b[0].len();
+        if m == 0 {
+            return Err(Error::invalid(
+                "dynamics.B[1]",
+                "[]",
+                "needs at least one control",
+            ));
+        }
+        check_matrix("dynamics.B", &p.b, n, Some(m), "the first row's")?;
+        let drift = match p.drift {
+            None => vec![0.0; n],
+            Some(d) => {
+                check_len("dynamics.b", &d, n, "state component")?;
+                check_finite("dynamics.b", &d)?;
+                d
+            }
+        };
+        let control =
+            match (p.lower, p.upper, p.g, p.h) {
+                (Some(lower), Some(upper), None, None) => {
+                    check_len("control.lower", &lower, m, "control (columns of B)")?;
+                    check_len("control.upper", &upper, m, "control (columns of B)")?;
+                    check_finite("control.lower", &lower)?;
+                    check_finite("control.upper", &upper)?;
+                    for i in 0..m {
+                        let field = format!("control.upper[{}]", i + 1);
+                        if upper[i] < lower[i] {
+                            return Err(Error::invalid(
+                                field,
+                                upper[i],
+                                format!("must be at least control.lower[{}]", i + 1),
+                            ));
+                        }
+                        if p.zero_mean && !(lower[i] < 0.0 && 0.0 < upper[i]) {
+                            return Err(Error::invalid(
+                                format!("control.lower[{}], control.upper[{}]", i + 1, i + 1),
+                                format!("[{}, {}]", lower[i], upper[i]),
+                                "zero_mean needs 0 in the interior of U (lower < 0 < upper)",
+                            ));
+                        }
+                    }
+                    ControlSet::Box { lower, upper }
+                }
+                (None, None, Some(g), Some(h)) => {
+                    let u = Polyhedron::new(g, h, "control")
+                        .map_err(|e| rename(e, "control.normals", "control.G"))
+                        .map_err(|e| rename(e, "control.offsets", "control.h"))?;
+                    if u.dim() != m {
+                        return Err(Error::invalid(
+                            "control.G",
+                            format!("{} columns", u.dim()),
+                            format!("needs one column per control (columns of B: {m})"),
+                        ));
+                    }
+                    if p.zero_mean {
+                        if let Some(k) = (0..u.faces()).find(|&k| u.offsets[k] <= 0.0) {
+                            return Err(Error::invalid(
+                                format!("control.h[{}]", k + 1),
+                                u.offsets[k] * u.row_norms[k],
+                                "zero_mean needs 0 in the interior of U (every h_k > 0)",
+                            ));
+                        }
+                    }
+                    ControlSet::Polytope(u)
+                }
+                (None, None, None, None) => {
+                    return Err(Error::invalid(
+                        "control",
+                        "nothing",
+                        "needs a box (lower, upper) or a polytope (G, h)",
+                    ))
+                }
+                _ => return Err(Error::invalid(
+                    "control",
+                    "a mixture",
+                    "give either lower and upper (a box) or G and h (a polytope), both of a pair",
+                )),
+            };
+        let reward = match (p.face_weights, p.reaction_weights) {
+            (Some(w), None) => {
+                check_len("objective.face_weights", &w, c.faces(), "face")?;
+                check_finite("objective.face_weights", &w)?;
+                Reward::FaceWeights(w)
+            }
+            (None, Some(q)) => {
+                check_len("objective.reaction_weights", &q, n, "state component")?;
+                check_finite("objective.reaction_weights", &q)?;
+                Reward::ReactionWeights(q)
+            }
+            (None, None) => {
+                return Err(Error::invalid(
+                    "objective",
+                    "nothing",
+                    "needs face_weights or reaction_weights (f1)",
+                ))
+            }
+            (Some(_), Some(_)) => {
+                return Err(Error::invalid(
+                    "objective",
+                    "face_weights and reaction_weights",
+                    "give one form of f1, not both",
+                ))
+            }
+        };
+        let cost = p.cost.unwrap_or(GeneralCost::None);
+        check_cost(&cost, m)?;
+        if !(p.period.is_finite() && p.period > 0.0) {
+            return Err(Error::invalid(
+                "problem.period",
+                p.period,
+                "must be positive and finite",
+            ));
+        }
+        let boundary = match (p.periodic, p.initial_state) {
+            (true, None) => Boundary::Periodic,
+            (false, Some(x0)) => {
+                check_len("problem.initial_state", &x0, n, "state component")?;
+                check_finite("problem.initial_state", &x0)?;
+                if let Some((j, s)) = c.violation(&x0, 1e-9 * c.scale()) {
+                    return Err(Error::Inadmissible {
+                        what: "problem.initial_state".into(),
+                        detail: format!("face {} is exceeded by {s:e}", j + 1),
+                    });
+                }
+                Boundary::Initial(x0)
+            }
+            (true, Some(_)) => {
+                return Err(Error::invalid(
+                    "problem.initial_state",
+                    "a state",
+                    "a periodic problem has no initial state (set periodic = false)",
+                ))
+            }
+            (false, None) => {
+                return Err(Error::invalid(
+                    "problem.initial_state",
+                    "nothing",
+                    "a problem that is not periodic needs x(0)",
+                ))
+            }
+        };
+        Ok(GeneralProblem {
+            c,
+            dynamics: Dynamics { a, b: p.b, drift },
+            control,
+            zero_mean: p.zero_mean,
+            reward,
+            cost,
+            period: p.period,
+            boundary,
+        })
+    }
+
+    /// The state dimension `n`.
+    pub fn states(&self) -> usize {
+        self.c.dim()
+    }
+
+    /// The control dimension `m`.
+    pub fn controls(&self) -> usize {
+        self.control.dim()
+    }
+}
+
+fn check_cost(cost: &GeneralCost, m: usize) -> Result<()> {
+    match cost {
+        GeneralCost::None => Ok(()),
+        GeneralCost::Quadratic { weight } => {
+            if weight.is_finite() && *weight >= 0.0 {
+                Ok(())
+            } else {
+                Err(Error::invalid(
+                    "objective.cost.weight",
+                    weight,
+                    "must be non-negative and finite",
+                ))
+            }
+        }
+        GeneralCost::Matrix { matrix } => {
+            check_matrix("objective.cost.matrix", matrix, m, Some(m), "the controls'")?;
+            for i in 0..m {
+                for k in 0..i {
+                    let (a, b) = (matrix[i][k], matrix[k][i]);
+                    if (a - b).abs() > 1e-12 * a.abs().max(b.abs()) {
+                        return Err(Error::invalid(
+                            format!("objective.cost.matrix[{}][{}]", i + 1, k + 1),
+                            a,
+                            format!("R must be symmetric (entry [{}][{}] is {b})", k + 1, i + 1),
+                        ));
+                    }
+                }
+            }
+            let r = nalgebra::DMatrix::from_fn(m, m, |i, k| matrix[i][k]);
+            let eig = r.symmetric_eigenvalues();
+            let scale = eig.iter().fold(0.0_f64, |s, v| s.max(v.abs()));
+            let min = eig.iter().copied().fold(f64::INFINITY, f64::min);
+            if min < -1e-12 * scale {
+                return Err(Error::invalid(
+                    "objective.cost.matrix",
+                    format!("smallest eigenvalue {min:e}"),
+                    "R must be positive semidefinite (f2 convex)",
+                ));
+            }
+            Ok(())
+        }
+    }
+}
+
+fn rename(e: Error, from: &str, to: &str) -> Error {
+    match e {
+        Error::InvalidParameter {
+            field,
+            value,
+            reason,
+        } => Error::InvalidParameter {
+            field: field.replacen(from, to, 1),
+            value,
+            reason,
+        },
+        other => other,
+    }
+}
+
+fn check_len(field: &str, v: &[f64], len: usize, what: &str) -> Result<()> {
+    if v.len() == len {
+        Ok(())
+    } else {
+        Err(Error::invalid(
+            field,
+            format!("{} values", v.len()),
+            format!("needs one value per {what} ({len})"),
+        ))
+    }
+}
+
+fn check_finite(field: &str, v: &[f64]) -> Result<()> {
+    match v.iter().position(|x| !x.is_finite()) {
+        None => Ok(()),
+        Some(i) => Err(Error::invalid(
+            format!("{field}[{}]", i + 1),
+            v[i],
+            "must be finite",
+        )),
+    }
+}
+
+/// A `rows x cols` matrix of finite entries (`cols = None`: as the first row).
+fn check_matrix(
+    field: &str,
+    m: &[Vec<f64>],
+    rows: usize,
+    cols: Option<usize>,
+    cols_what: &str,
+) -> Result<()> {
+    if m.len() != rows {
+        return Err(Error::invalid(
+            field,
+            format!("{} rows", m.len()),
+            format!("needs {rows} rows"),
+        ));
+    }
+    let cols = cols.unwrap_or_else(|| m.first().map_or(0, Vec::len));
+    for (i, row) in m.iter().enumerate() {
+        let f = format!("{field}[{}]", i + 1);
+        if row.len() != cols {
+            return Err(Error::invalid(
+                &f,
+                format!("{} values", row.len()),
+                format!("needs {cols} columns ({cols_what} dimension)"),
+            ));
+        }
+        check_finite(&f, row)?;
+    }
+    Ok(())
+}
+
+/// `<a, b>`.
+pub(crate) fn dot(a: &[f64], b: &[f64]) -> f64 {
+    a.iter().zip(b).map(|(x, y)| x * y).sum()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn one_link() -> GeneralParts {
+        GeneralParts {
+            normals: vec![vec![2.0], vec![-1.0]],
+            offsets: vec![2.0, 1.0],
+            b: vec![vec![1.0]],
+            lower: Some(vec![-1.0]),
+            upper: Some(vec![1.0]),
+            zero_mean: true,
+            face_weights: Some(vec![0.5, 0.5]),
+            period: 10.0,
+            periodic: true,
+            ..Default::default()
+        }
+    }
+
+    #[test]
+    fn rows_are_scaled_to_unit_normals() {
+        let p = GeneralProblem::new(one_link()).unwrap();
+        assert_eq!(p.c.normals, vec![vec![1.0], vec![-1.0]]);
+        assert_eq!(p.c.offsets, vec![1.0, 1.0]);
+        assert_eq!(p.c.row_norms, vec![2.0, 1.0]);
+        assert!(p.dynamics.is_state_independent());
+        assert_eq!(p.dynamics.drift, vec![0.0]);
+    }
+
+    #[test]
+    fn every_check_names_its_field() {
+        type Edit = Box<dyn Fn(&mut GeneralParts)>;
+        let cases: Vec<(Edit, &str)> = vec![
+            (
+                Box::new(|p| p.offsets.push(1.0)),
+                "sweeping_process.offsets",
+            ),
+            (
+                Box::new(|p| p.normals[1] = vec![0.0]),
+                "sweeping_process.normals[2]",
+            ),
+            (
+                Box::new(|p| p.normals[0] = vec![f64::NAN]),
+                "sweeping_process.normals[1][1]",
+            ),
+            (
+                Box::new(|p| p.offsets[1] = f64::INFINITY),
+                "sweeping_process.offsets[2]",
+            ),
+            (
+                Box::new(|p| p.a = Some(vec![vec![1.0, 2.0]])),
+                "dynamics.A[1]",
+            ),
+            (Box::new(|p| p.b = vec![]), "dynamics.B"),
+            (Box::new(|p| p.drift = Some(vec![1.0, 2.0])), "dynamics.b"),
+            (Box::new(|p| p.lower = Some(vec![0.5])), "control.lower[1]"),
+            (Box::new(|p| p.upper = Some(vec![-2.0])), "control.upper[1]"),
+            (Box::new(|p| p.upper = None), "control"),
+            (
+                Box::new(|p| {
+                    (p.lower, p.upper) = (None, None);
+                    (p.g, p.h) = (Some(vec![vec![1.0], vec![-1.0]]), Some(vec![1.0, 0.0]));
+                }),
+                "control.h[2]",
+            ),
+            (
+                Box::new(|p| p.face_weights = Some(vec![1.0])),
+                "objective.face_weights",
+            ),
+            (
+                Box::new(|p| p.reaction_weights = Some(vec![1.0])),
+                "objective",
+            ),
+            (
+                Box::new(|p| p.cost = Some(GeneralCost::Quadratic { weight: -1.0 })),
+                "objective.cost.weight",
+            ),
+            (
+                Box::new(|p| {
+                    p.cost = Some(GeneralCost::Matrix {
+                        matrix: vec![vec![-1.0]],
+                    })
+                }),
+                "objective.cost.matrix",
+            ),
+            (Box::new(|p| p.period = 0.0), "problem.period"),
+            (
+                Box::new(|p| p.initial_state = Some(vec![0.0])),
+                "problem.initial_state",
+            ),
+            (
+                Box::new(|p| {
+                    p.periodic = false;
+                    p.initial_state = Some(vec![3.0]);
+                }),
+                "problem.initial_state",
+            ),
+        ];
+        for (edit, field) in cases {
+            let mut p = one_link();
+            edit(&mut p);
+            let e = GeneralProblem::new(p).unwrap_err().to_string();
+            assert!(e.starts_with(field), "{field}: {e}");
+        }
+    }
+
+    #[test]
+    fn costs_and_rewards_evaluate() {
+        let r = GeneralCost::Matrix {
+            matrix: vec![vec![2.0, 1.0], vec![1.0, 2.0]],
+        };
+        assert_eq!(r.eval(&[1.0, -1.0]), 1.0);
+        assert_eq!(
+            GeneralCost::Quadratic { weight: 4.0 }.eval(&[1.0, 1.0]),
+            4.0
+        );
+        let normals = vec![vec![1.0, 0.0], vec![0.0, 1.0]];
+        assert_eq!(
+            Reward::ReactionWeights(vec![2.0, 3.0]).eval(&normals, &[1.0, 1.0]),
+            5.0
+        );
+        assert_eq!(
+            Reward::FaceWeights(vec![0.5, -1.0]).eval(&normals, &[2.0, 1.0]),
+            0.0
+        );
+    }
+}

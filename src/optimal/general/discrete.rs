@@ -1,0 +1,501 @@
+//! The paper's discrete problem P_m (§6, SPEC §11) for the general problem (P), globally: a
+//! mixed-integer linear program on `M = 2^m` steps of `h = T / M`, re-verified by the general
+//! simulator ([`crate::integrate::general`]).
+//!
+//! Variables: states `x^i` (`i = 0..M`, `x^M = x^0` when periodic, `x^0` fixed for a Cauchy
+//! problem), controls `u^i in U`, the projection's multipliers `mu^i_j >= 0` (`mu = h lambda`)
+//! and a binary `z^i_j` per step and face. The catching-up step is its KKT system:
+//! `x^(i+1) = x^i + h (A x^i + B u^i + b) - sum_j mu^i_j x*_j`, `<x*_j, x^(i+1)> <= c_j`, and
+//! complementarity by big-M: `mu^i_j <= M_mu z^i_j`, `c_j - <x*_j, x^(i+1)> <= S_j (1 - z^i_j)`.
+//! Since the projection is unique and, with the active normals independent at every vertex
+//! (checked), so are its multipliers, every feasible point is the catching-up process of its
+//! controls. Objective: `sum_i [f1(mu^i) - h f2(u^i)]` with `f1` linear in `mu` (face weights
+//! `w_j`, or `<q, x*_j>` for `f1 = <q, eta>`); `sum_i u^i = 0` under the zero-mean constraint.
+//!
+//! The constants, from linear programs over C and U:
+//! - `S_j = c_j - min_{x in C} <x*_j, x>`: the largest slack of face `j` in C (C bounded);
+//! - `M_mu = h G / sigma_*`: `|v - x^(i+1)| <= |v - x^i| = h |g(x^i, u^i)| <= h G` (`x^i` is in C
+//!   and the projection is the nearest point), `G^2 = sum_k max(|max g_k|, |min g_k|)^2` with
+//!   `max g_k = max_{x in C} (A x)_k + max_{u in U} (B u)_k + b_k`, and
+//!   `|mu| <= |v - x^(i+1)| / sigma_min(N_W)` for the active normals `N_W`, whose smallest
+//!   singular value is at least `sigma_*`, the least over the vertices of C of that of their
+//!   active normals (removing rows of a matrix of full row rank does not lower it: the
+//!   eigenvalues of a principal submatrix of `N N^T` interlace).
+//!
+//! A quadratic `f2(u) = (1/2) u^T R u` (`R = c I` for `quadratic`) enters by its outer
+//! approximation: an epigraph variable `e^i >= f2(u0) + Df2(u0) (u^i - u0)` for cut points `u0`
+//! (tangent planes, below `f2` by convexity), `-h e^i` in the objective. With fewer cuts the MILP
+//! under-estimates the cost, so its bound stays a bound on P_m; the controls of each solution
+//! become cut points until the true objective of the incumbent meets the bound within
+//! [`OA_TOL`] (relative above 1, absolute below), as for the crawler's P_m. C and U bounded.
+
+use super::geometry::Geometry;
+use crate::error::{Error, Result};
+use crate::integrate::{simulate_general, ControlInput, GeneralSimOptions, InputKind};
+use crate::model::general::{dot, Boundary, ControlSet, GeneralCost, GeneralProblem, Reward};
+use crate::optimal::milp::{solve_max, Certificate, MilpStatus, OA_TOL};
+use crate::optimal::solver::{Highs, SolveStatus};
+use highs::{Col, RowProblem, Sense};
+use nalgebra::DMatrix;
+use serde::Serialize;
+
+/// Largest `m` (`2^m` steps) of the general P_m.
+pub const MAX_GENERAL_M: u32 = 10;
+
+/// The global optimum of P_m for a general problem, re-verified.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct GeneralPm {
+    /// `m`.
+    pub m: u32,
+    /// `J` of the controls, as the simulator replays them.
+    pub objective: f64,
+    /// The MILP's status, objective, bound and gap.
+    pub certificate: Certificate,
+    /// States `x^0..x^M`.
+    pub x: Vec<Vec<f64>>,
+    /// Controls `u^0..u^(M-1)`.
+    pub u: Vec<Vec<f64>>,
+    /// Reactions `lambda^i = mu^i / h`.
+    pub lambda: Vec<Vec<f64>>,
+}
+
+/// The big-M constants (module docs).
+#[derive(Debug, Clone, PartialEq)]
+struct BigM {
+    slack: Vec<f64>,
+    multiplier: f64,
+}
+
+/// `max_{x in C} <d, x>` (C bounded).
+fn support(rows: &[Vec<f64>], offsets: &[f64], d: &[f64], what: &str) -> Result<f64> {
+    let mut pb = RowProblem::default();
+    let x: Vec<Col> = d
+        .iter()
+        .map(|&di| pb.add_column(di, f64::NEG_INFINITY..f64::INFINITY))
+        .collect();
+    for (r, &c) in rows.iter().zip(offsets) {
+        pb.add_row(
+            ..=c,
+            x.iter().zip(r).map(|(&x, &a)| (x, a)).collect::<Vec<_>>(),
+        );
+    }
+    let a = Highs::new(pb, Sense::Maximise, what)?.solve()?;
+    match a.status {
+        SolveStatus::Optimal => Ok(a.objective),
+        _ => Err(Error::Numerical(format!("{what}: no optimum"))),
+    }
+}
+
+/// `max_{u in U} <d, u>`.
+fn support_u(u: &ControlSet, d: &[f64]) -> Result<f64> {
+    match u {
+        ControlSet::Box { lower, upper } => Ok(d
+            .iter()
+            .zip(lower.iter().zip(upper))
+            .map(|(di, (lo, hi))| if *di >= 0.0 { di * hi } else { di * lo })
+            .sum()),
+        ControlSet::Polytope(p) => support(&p.normals, &p.offsets, d, "support function of U"),
+    }
+}
+
+fn big_m(p: &GeneralProblem, g: &Geometry, h: f64) -> Result<BigM> {
+    let c = &p.c;
+    let mut slack = Vec::with_capacity(c.faces());
+    for j in 0..c.faces() {
+        let neg: Vec<f64> = c.normals[j].iter().map(|v| -v).collect();
+        let min = -support(&c.normals, &c.offsets, &neg, "big-M of P_m (slack)")?;
+        slack.push((c.offsets[j] - min).max(0.0) * (1.0 + 1e-9) + 1e-12 * c.scale());
+    }
+    let mut g2 = 0.0;
+    for k in 0..p.states() {
+        let mut ext = [0.0_f64; 2];
+        for (e, sign) in ext.iter_mut().zip([1.0, -1.0]) {
+            let ax: Vec<f64> = p.dynamics.a[k].iter().map(|v| sign * v).collect();
+            let bu: Vec<f64> = p.dynamics.b[k].iter().map(|v| sign * v).collect();
+            let x = if ax.iter().all(|v| *v == 0.0) {
+                0.0
+            } else {
+                support(&c.normals, &c.offsets, &ax, "big-M of P_m (drift)")?
+            };
+            *e = x + support_u(&p.control, &bu)? + sign * p.dynamics.drift[k];
+        }
+        let m = ext[0].abs().max(ext[1].abs());
+        g2 += m * m;
+    }
+    let vertices = g.vertices.as_ref().ok_or_else(|| {
+        Error::invalid(
+            "sweeping_process",
+            format!("{} faces in dimension {}", c.faces(), c.dim()),
+            "P_m needs the vertices of C, which are too many to enumerate",
+        )
+    })?;
+    let mut sigma_min = f64::INFINITY;
+    for v in vertices {
+        let rows: Vec<&Vec<f64>> = v.active.iter().map(|&j| &c.normals[j - 1]).collect();
+        let a = DMatrix::from_fn(rows.len(), c.dim(), |i, k| rows[i][k]);
+        let s = a
+            .singular_values()
+            .iter()
+            .copied()
+            .fold(f64::INFINITY, f64::min);
+        sigma_min = sigma_min.min(s);
+    }
+    Ok(BigM {
+        slack,
+        multiplier: h * g2.sqrt() / sigma_min * (1.0 + 1e-6) + 1e-12,
+    })
+}
+
+/// The coefficient of `mu_j` in `f1` (module docs).
+fn reward_weights(p: &GeneralProblem) -> Vec<f64> {
+    match &p.reward {
+        Reward::FaceWeights(w) => w.clone(),
+        Reward::ReactionWeights(q) => p.c.normals.iter().map(|n| dot(q, n)).collect(),
+    }
+}
+
+/// Checks that P_m's global method applies to `p`.
+fn check(p: &GeneralProblem, g: &Geometry, m: u32) -> Result<()> {
+    if m > MAX_GENERAL_M {
+        return Err(Error::invalid(
+            "m",
+            m,
+            format!("must be at most {MAX_GENERAL_M}"),
+        ));
+    }
+    if !g.bounded {
+        return Err(Error::invalid(
+            "sweeping_process",
+            "an unbounded C",
+            "P_m's global method needs a bounded C (its big-M constants)",
+        ));
+    }
+    if let ControlSet::Polytope(u) = &p.control {
+        let ug = super::geometry::analyze_polyhedron(u)?;
+        if !ug.bounded {
+            return Err(Error::invalid(
+                "control",
+                "an unbounded U",
+                "P_m's global method needs a bounded U",
+            ));
+        }
+    }
+    if let Some(k) = g.degenerate_vertex {
+        return Err(Error::invalid(
+            "sweeping_process",
+            format!("vertex {k}"),
+            "P_m needs independent active normals at every vertex (unique multipliers)",
+        ));
+    }
+    Ok(())
+}
+
+/// The columns of the MILP (or of a branch LP).
+struct Layout {
+    x: Vec<Vec<Col>>,
+    u: Vec<Vec<Col>>,
+    mu: Vec<Vec<Col>>,
+}
+
+/// Builds P_m: with `branches = None` the MILP (binaries and big-M rows), with
+/// `Some(active)` the LP of those complementarity branches (`mu^i_j = 0` off `active[i][j]`,
+/// face `j` held at `x^(i+1)` on it).
+fn build(
+    p: &GeneralProblem,
+    m: u32,
+    bm: Option<&BigM>,
+    branches: Option<&[Vec<bool>]>,
+    cuts: &[Vec<f64>],
+) -> (RowProblem, Layout) {
+    let (n, sigma, mm) = (p.states(), p.c.faces(), 1usize << m);
+    let h = p.period / mm as f64;
+    let w = reward_weights(p);
+    let free = || f64::NEG_INFINITY..f64::INFINITY;
+    let mut pb = RowProblem::default();
+    let nx = match p.boundary {
+        Boundary::Periodic => mm,
+        Boundary::Initial(_) => mm + 1,
+    };
+    let xs: Vec<Vec<Col>> = (0..nx)
+        .map(|i| match &p.boundary {
+            Boundary::Initial(x0) if i == 0 => {
+                x0.iter().map(|&v| pb.add_column(0.0, v..=v)).collect()
+            }
+            _ => (0..n).map(|_| pb.add_column(0.0, free())).collect(),
+        })
+        .collect();
+    let x_at = |i: usize| &xs[i % nx];
+    let us: Vec<Vec<Col>> = (0..mm)
+        .map(|_| match &p.control {
+            ControlSet::Box { lower, upper } => (0..p.controls())
+                .map(|k| pb.add_column(0.0, lower[k]..=upper[k]))
+                .collect(),
+            ControlSet::Polytope(_) => (0..p.controls())
+                .map(|_| pb.add_column(0.0, free()))
+                .collect(),
+        })
+        .collect();
+    let mus: Vec<Vec<Col>> = (0..mm)
+        .map(|i| {
+            (0..sigma)
+                .map(|j| {
+                    let off = branches.is_some_and(|b| !b[i][j]);
+                    let hi = match bm {
+                        Some(bm) => bm.multiplier,
+                        None => f64::INFINITY,
+                    };
+                    pb.add_column(w[j], 0.0..=if off { 0.0 } else { hi })
+                })
+                .collect()
+        })
+        .collect();
+    for i in 0..mm {
+        if let ControlSet::Polytope(u) = &p.control {
+            for k in 0..u.faces() {
+                let row: Vec<_> = us[i]
+                    .iter()
+                    .zip(&u.normals[k])
+                    .map(|(&c, &a)| (c, a))
+                    .collect();
+                pb.add_row(..=u.offsets[k], row);
+            }
+        }
+        // x^(i+1) - (I + h A) x^i - h B u^i + sum_j mu_j x*_j = h b.
+        for r in 0..n {
+            let mut row = vec![(x_at(i + 1)[r], 1.0)];
+            for k in 0..n {
+                let a = -(if k == r { 1.0 } else { 0.0 }) - h * p.dynamics.a[r][k];
+                if a != 0.0 {
+                    row.push((x_at(i)[k], a));
+                }
+            }
+            for k in 0..p.controls() {
+                let b = p.dynamics.b[r][k];
+                if b != 0.0 {
+                    row.push((us[i][k], -h * b));
+                }
+            }
+            for j in 0..sigma {
+                let a = p.c.normals[j][r];
+                if a != 0.0 {
+                    row.push((mus[i][j], a));
+                }
+            }
+            let rhs = h * p.dynamics.drift[r];
+            pb.add_row(rhs..=rhs, row);
+        }
+        for j in 0..sigma {
+            let face: Vec<_> = x_at(i + 1)
+                .iter()
+                .zip(&p.c.normals[j])
+                .map(|(&c, &a)| (c, a))
+                .collect();
+            let c = p.c.offsets[j];
+            match (bm, branches) {
+                (_, Some(b)) if b[i][j] => pb.add_row(c..=c, face),
+                (Some(bm), None) => {
+                    // mu <= M_mu z and c - <x*, x> <= S (1 - z), i.e. <x*, x> - S z >= c - S.
+                    let z = pb.add_integer_column(0.0, 0..=1);
+                    pb.add_row(..=0.0, [(mus[i][j], 1.0), (z, -bm.multiplier)]);
+                    let mut row = face.clone();
+                    row.push((z, -bm.slack[j]));
+                    pb.add_row(c - bm.slack[j]..=f64::INFINITY, row);
+                    pb.add_row(..=c, face);
+                }
+                _ => pb.add_row(..=c, face),
+            }
+        }
+    }
+    if let Some(r) = cost_matrix(&p.cost, p.controls()) {
+        for u in &us {
+            let e = pb.add_column(-h, 0.0..);
+            for u0 in cuts {
+                // e - (R u0) . u >= -(1/2) u0^T R u0.
+                let ru0: Vec<f64> = r.iter().map(|row| dot(row, u0)).collect();
+                let mut row = vec![(e, 1.0)];
+                row.extend(u.iter().zip(&ru0).map(|(&c, &a)| (c, -a)));
+                pb.add_row(-0.5 * dot(u0, &ru0)..=f64::INFINITY, row);
+            }
+        }
+    }
+    if p.zero_mean {
+        for k in 0..p.controls() {
+            let row: Vec<_> = us.iter().map(|u| (u[k], 1.0)).collect();
+            pb.add_row(0.0..=0.0, row);
+        }
+    }
+    let x = (0..=mm).map(|i| x_at(i).clone()).collect();
+    (pb, Layout { x, u: us, mu: mus })
+}
+
+/// `R` of a quadratic cost (`None` for `f2 = 0`).
+fn cost_matrix(cost: &GeneralCost, m: usize) -> Option<Vec<Vec<f64>>> {
+    match cost {
+        GeneralCost::None => None,
+        GeneralCost::Quadratic { weight } => Some(
+            (0..m)
+                .map(|i| (0..m).map(|k| if i == k { *weight } else { 0.0 }).collect())
+                .collect(),
+        ),
+        GeneralCost::Matrix { matrix } => Some(matrix.clone()),
+    }
+}
+
+/// Most rounds of the outer approximation of a quadratic cost.
+const MAX_OA_ROUNDS: usize = 40;
+
+/// Solves P_m globally (module docs); `time_limit` in seconds.
+pub fn solve_general_pm(
+    p: &GeneralProblem,
+    g: &Geometry,
+    m: u32,
+    time_limit: Option<f64>,
+) -> Result<GeneralPm> {
+    check(p, g, m)?;
+    crate::optimal::check_time_limit(time_limit)?;
+    let mm = 1usize << m;
+    let h = p.period / mm as f64;
+    let bm = big_m(p, g, h)?;
+    let what = format!("P_{m} of the general problem");
+    let scale = p.c.scale();
+    let began = std::time::Instant::now();
+    // Initial cut points: 0 and the extreme values of each control component in U.
+    let mut cuts = vec![vec![0.0; p.controls()]];
+    for k in 0..p.controls() {
+        for sign in [1.0, -1.0] {
+            let mut d = vec![0.0; p.controls()];
+            d[k] = sign;
+            let mut u0 = vec![0.0; p.controls()];
+            u0[k] = sign * support_u(&p.control, &d)?;
+            cuts.push(u0);
+        }
+    }
+    let mut round = 0;
+    loop {
+        round += 1;
+        let (pb, lay) = build(p, m, Some(&bm), None, &cuts);
+        let left = time_limit.map(|t| (t - began.elapsed().as_secs_f64()).max(1e-3));
+        let (cols, milp_objective, bound, status) =
+            solve_max(pb, left, &what, None, 1e-9 * scale.max(1e-300))?;
+        let sol = verified(p, m, &lay, &cols, milp_objective, bound, status, &what)?;
+        let gap = Certificate::gap_of(bound, sol.objective);
+        let done = p.cost == GeneralCost::None || gap <= OA_TOL || status != MilpStatus::Optimal;
+        if done {
+            return Ok(sol);
+        }
+        if round >= MAX_OA_ROUNDS {
+            let mut sol = sol;
+            sol.certificate.status = MilpStatus::ApproximationLimit;
+            return Ok(sol);
+        }
+        cuts.extend(sol.u.iter().cloned());
+    }
+}
+
+/// The optimum of P_m on fixed complementarity branches (an LP; `None` when infeasible):
+/// `active[i][j]` holds face `j` at `x^(i+1)` and lets `mu^i_j` be positive.
+pub fn solve_general_branch(
+    p: &GeneralProblem,
+    m: u32,
+    active: &[Vec<bool>],
+) -> Result<Option<f64>> {
+    if p.cost != GeneralCost::None {
+        return Err(Error::invalid(
+            "objective.cost",
+            "a quadratic cost",
+            "the branch LP of P_m is linear: f2 = none",
+        ));
+    }
+    let (pb, _) = build(p, m, None, Some(active), &[]);
+    let a = Highs::new(pb, Sense::Maximise, "a branch LP of P_m")?.solve()?;
+    Ok(match a.status {
+        SolveStatus::Optimal => Some(a.objective),
+        _ => None,
+    })
+}
+
+/// Replays the MILP's controls in the simulator from its `x^0` and certifies the answer.
+#[allow(clippy::too_many_arguments)]
+fn verified(
+    p: &GeneralProblem,
+    m: u32,
+    lay: &Layout,
+    cols: &[f64],
+    milp_objective: f64,
+    bound: f64,
+    status: MilpStatus,
+    what: &str,
+) -> Result<GeneralPm> {
+    let mm = 1usize << m;
+    let h = p.period / mm as f64;
+    let val = |c: &Col| cols[c.index()];
+    let x: Vec<Vec<f64>> = lay.x.iter().map(|r| r.iter().map(val).collect()).collect();
+    let u: Vec<Vec<f64>> = lay.u.iter().map(|r| r.iter().map(val).collect()).collect();
+    // The controls, clipped into U against the MILP's feasibility tolerance.
+    let u: Vec<Vec<f64>> = u
+        .into_iter()
+        .map(|r| match &p.control {
+            ControlSet::Box { lower, upper } => r
+                .iter()
+                .zip(lower.iter().zip(upper))
+                .map(|(v, (lo, hi))| v.clamp(*lo, *hi))
+                .collect(),
+            ControlSet::Polytope(_) => r,
+        })
+        .collect();
+    let times: Vec<f64> = (0..mm).map(|i| i as f64 * h).collect();
+    let input = ControlInput::new(
+        InputKind::PiecewiseConstant,
+        p.period,
+        times,
+        u.clone(),
+        &p.control,
+        "P_m controls",
+    )?;
+    let mut cauchy = p.clone();
+    cauchy.boundary = Boundary::Initial(x[0].clone());
+    let opts = GeneralSimOptions {
+        steps_per_period: mm,
+        ..GeneralSimOptions::DEFAULT
+    };
+    let sim = simulate_general(&cauchy, &input, &x[0], &opts)?;
+    let scale = p.c.scale();
+    let w = reward_weights(p);
+    let milp_reward: f64 = lay
+        .mu
+        .iter()
+        .map(|r| r.iter().zip(&w).map(|(c, w)| w * val(c)).sum::<f64>())
+        .sum();
+    let reward = sim.reward;
+    if (reward - milp_reward).abs() > 1e-6 * (scale + reward.abs()) {
+        return Err(Error::Numerical(format!(
+            "{what}: the controls give int f1 = {reward} when simulated, not {milp_reward}"
+        )));
+    }
+    let j = sim.objective.unwrap_or(f64::NAN);
+    if p.boundary == Boundary::Periodic {
+        let end = sim.x.last().expect("steps");
+        let gap = end
+            .iter()
+            .zip(&x[0])
+            .fold(0.0_f64, |d, (a, b)| d.max((a - b).abs()));
+        if gap > 1e-6 * scale {
+            return Err(Error::Numerical(format!(
+                "{what}: the simulated process is not periodic (x(T) - x(0) = {gap:e})"
+            )));
+        }
+    }
+    Ok(GeneralPm {
+        m,
+        objective: j,
+        certificate: Certificate {
+            status,
+            milp_objective,
+            bound,
+            gap: Certificate::gap_of(bound, j),
+        },
+        x: sim.x,
+        u,
+        lambda: sim.lambda,
+    })
+}

@@ -1,0 +1,235 @@
+//! The text of the general problem's analysis and simulation (`crawlopt analyze` and
+//! `simulate` on a `[sweeping_process]` file). Inputs (faces, offsets) are shown as given after
+//! scaling; computed states at C's scale (the largest `|c_j|`).
+
+use super::{list, num, wln};
+use crate::api::general::{CheckStatus, GeneralAnalysis, GeneralOptimized, GeneralSimulated};
+use crate::model::general::{Boundary, ControlSet, GeneralCost, GeneralProblem, Reward};
+
+/// The human form of [`crate::api::analyze_general`].
+pub fn general_analysis(a: &GeneralAnalysis) -> String {
+    let mut out = String::new();
+    let p = &a.problem;
+    let g = &a.geometry;
+    let s = p.c.scale();
+    problem_lines(&mut out, p);
+    wln!(
+        out,
+        "polyhedron C: {} faces in dimension {} (rank of the normals {}; rows scaled to unit \
+         normals):",
+        g.faces,
+        g.dim,
+        g.rank
+    );
+    for j in 0..p.c.faces() {
+        let redundant = g.redundant_faces.contains(&(j + 1));
+        wln!(
+            out,
+            "  face {:>3}: <{}, x> <= {}{}",
+            j + 1,
+            list(&p.c.normals[j], 0.0),
+            num(p.c.offsets[j], 0.0),
+            if redundant { "   (redundant)" } else { "" }
+        );
+    }
+    wln!(
+        out,
+        "  Chebyshev centre {} radius {}{}",
+        list(&g.chebyshev_centre, s),
+        num(g.chebyshev_radius, s),
+        if g.radius_capped {
+            " (the LP's cap: C is unbounded)"
+        } else {
+            ""
+        }
+    );
+    wln!(out, "  bounded: {}", if g.bounded { "yes" } else { "no" });
+    match &g.vertices {
+        None => wln!(
+            out,
+            "  vertices: not enumerated (more than {} candidate subsets)",
+            crate::optimal::general::MAX_VERTEX_SUBSETS
+        ),
+        Some(vs) => {
+            let what = if g.rank == g.dim {
+                "vertices"
+            } else {
+                "minimal faces (C has no vertex; a point of each)"
+            };
+            wln!(out, "  {} {what}:", vs.len());
+            for v in vs {
+                wln!(
+                    out,
+                    "    {}   active faces {:?}",
+                    list(&v.point, s),
+                    v.active
+                );
+            }
+        }
+    }
+    wln!(out, "checks:");
+    for c in &a.checks {
+        let mark = match c.status {
+            CheckStatus::Pass => "ok  ",
+            CheckStatus::Fail => "FAIL",
+            CheckStatus::Info => "    ",
+        };
+        wln!(out, "  {mark} {}: {}", c.name, c.detail);
+    }
+    out
+}
+
+fn problem_lines(out: &mut String, p: &GeneralProblem) {
+    wln!(
+        out,
+        "general problem (P): n = {} states, m = {} controls, period T = {}, {}",
+        p.states(),
+        p.controls(),
+        num(p.period, 0.0),
+        match &p.boundary {
+            Boundary::Periodic => "periodic x(0) = x(T)".to_string(),
+            Boundary::Initial(x0) => format!("Cauchy problem from x(0) = {}", list(x0, 0.0)),
+        }
+    );
+    wln!(out, "  g(x, u) = A x + B u + b");
+    for i in 0..p.states() {
+        wln!(
+            out,
+            "    A[{}] = {}   B[{}] = {}   b[{}] = {}",
+            i + 1,
+            list(&p.dynamics.a[i], 0.0),
+            i + 1,
+            list(&p.dynamics.b[i], 0.0),
+            i + 1,
+            num(p.dynamics.drift[i], 0.0)
+        );
+    }
+    match &p.control {
+        ControlSet::Box { lower, upper } => wln!(
+            out,
+            "  U: box {} <= u <= {}{}",
+            list(lower, 0.0),
+            list(upper, 0.0),
+            if p.zero_mean { ", zero mean" } else { "" }
+        ),
+        ControlSet::Polytope(u) => wln!(
+            out,
+            "  U: polytope of {} faces{}",
+            u.faces(),
+            if p.zero_mean { ", zero mean" } else { "" }
+        ),
+    }
+    match &p.reward {
+        Reward::FaceWeights(w) => wln!(out, "  f1: face weights {}", list(w, 0.0)),
+        Reward::ReactionWeights(q) => wln!(out, "  f1: <q, eta>, q = {}", list(q, 0.0)),
+    }
+    match &p.cost {
+        GeneralCost::None => wln!(out, "  f2: none"),
+        GeneralCost::Quadratic { weight } => {
+            wln!(out, "  f2: (c/2)|u|^2, c = {}", num(*weight, 0.0))
+        }
+        GeneralCost::Matrix { matrix } => wln!(out, "  f2: (1/2) u^T R u, R = {matrix:?}"),
+    }
+}
+
+/// The human form of [`crate::api::simulate_general`].
+pub fn general_simulation(r: &GeneralSimulated) -> String {
+    let mut out = String::new();
+    let sim = &r.simulation;
+    wln!(
+        out,
+        "method: {}{}, started at {} ({})",
+        r.method,
+        if r.method == "exact" {
+            String::new()
+        } else {
+            format!(", {} steps per period", r.steps_per_period)
+        },
+        list(&r.start, 0.0),
+        r.start_from
+    );
+    let scale = sim
+        .x
+        .iter()
+        .flatten()
+        .fold(0.0_f64, |m, v| m.max(v.abs()))
+        .max(1e-300);
+    if !sim.converged {
+        wln!(
+            out,
+            "periodic regime NOT reached after {} periods; last state {}",
+            sim.periods,
+            list(sim.x.last().map_or(&[][..], |x| x), scale)
+        );
+        return out;
+    }
+    wln!(out, "periods integrated: {}", sim.periods);
+    let j_scale = sim.reward.abs().max(sim.cost.abs()).max(1e-300);
+    wln!(
+        out,
+        "J = {}   (int f1(eta) = {}, int f2(u) = {})",
+        num(sim.objective.unwrap_or(f64::NAN), j_scale),
+        num(sim.reward, j_scale),
+        num(sim.cost, j_scale)
+    );
+    wln!(
+        out,
+        "mean control over a period: {}",
+        list(&sim.mean_control, 0.0)
+    );
+    wln!(
+        out,
+        "x(0) on the recorded period: {}",
+        list(&sim.x[0], scale)
+    );
+    wln!(
+        out,
+        "largest KKT residual of a projection: {:.3e}",
+        sim.max_kkt_residual
+    );
+    out
+}
+
+/// The human form of [`crate::api::optimize_general`].
+pub fn general_optimum(r: &GeneralOptimized) -> String {
+    let mut out = String::new();
+    let s = &r.solution;
+    let c = &s.certificate;
+    let scale = s.objective.abs().max(c.bound.abs()).max(1e-300);
+    wln!(
+        out,
+        "P_{} ({} steps of h = {}), global MILP: {}",
+        s.m,
+        s.u.len(),
+        num(r.period / s.u.len() as f64, 0.0),
+        super::status_word(c.status)
+    );
+    wln!(
+        out,
+        "J = {}   (verified by simulation; MILP {}, bound {}, gap {:.3e})",
+        num(s.objective, scale),
+        num(c.milp_objective, scale),
+        num(c.bound, scale),
+        c.gap
+    );
+    let xs =
+        s.x.iter()
+            .flatten()
+            .fold(0.0_f64, |m, v| m.max(v.abs()))
+            .max(1e-300);
+    let us =
+        s.u.iter()
+            .flatten()
+            .fold(0.0_f64, |m, v| m.max(v.abs()))
+            .max(1e-300);
+    for (i, u) in s.u.iter().enumerate() {
+        wln!(
+            out,
+            "  step {:>4}: x = {}  u = {}",
+            i + 1,
+            list(&s.x[i], xs),
+            list(u, us)
+        );
+    }
+    out
+}

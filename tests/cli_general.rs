@@ -1,0 +1,256 @@
+//! The command line on general problem files (`[sweeping_process]`, SPEC §11): `analyze` and
+//! `simulate` on the examples, and every refused input with exit 2 and its field named.
+
+use std::process::Output;
+
+mod common;
+use common::{crawlopt, write};
+
+fn stderr(out: &Output) -> String {
+    String::from_utf8_lossy(&out.stderr).into_owned()
+}
+
+fn json(out: &Output) -> serde_json::Value {
+    serde_json::from_slice(&out.stdout)
+        .unwrap_or_else(|e| panic!("{e}: {}", String::from_utf8_lossy(&out.stdout)))
+}
+
+/// The one-link problem of the paper's §4 in general form, with `edit` applied to its text.
+const ONE_LINK: &str = "[sweeping_process]\nnormals = [[1.0], [-1.0]]\noffsets = [1.0, 1.0]\n\
+[dynamics]\nB = [[1.0]]\n[control]\nlower = [-1.0]\nupper = [1.0]\n\
+[objective]\nface_weights = [0.5, 0.5]\n[problem]\nperiod = 10.0\n\
+[input]\nkind = \"piecewise_constant\"\ntimes = [0.0, 5.0]\nvalues = [[1.0], [-1.0]]\n";
+
+#[test]
+fn analyze_and_simulate_the_examples() {
+    let out = crawlopt(&["analyze", "examples/general_drift.toml", "--json"]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let v = json(&out);
+    assert_eq!(v["kind"], "general");
+    assert_eq!(v["geometry"]["vertices"].as_array().unwrap().len(), 4);
+    assert_eq!(v["geometry"]["bounded"], true);
+    assert_eq!(v["geometry"]["chebyshev_radius"], 1.0);
+    let out = crawlopt(&["simulate", "examples/general_one_link.toml", "--json"]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let v = json(&out);
+    // J* = (T - 2 (b - a)) / 2 = 3, on the bang-bang gait.
+    let j = v["simulation"]["objective"].as_f64().unwrap();
+    assert!((j - 3.0).abs() < 1e-12, "{j}");
+    // A = 0 and a piecewise-constant input: the exact method unless catching-up is asked.
+    assert_eq!(v["method"], "exact");
+    let out = crawlopt(&[
+        "simulate",
+        "examples/general_one_link.toml",
+        "--method",
+        "catching-up",
+        "--json",
+    ]);
+    let v = json(&out);
+    assert_eq!(v["method"], "catching-up");
+    let j = v["simulation"]["objective"].as_f64().unwrap();
+    assert!((j - 3.0).abs() < 1e-12, "{j}");
+    assert_eq!(v["simulation"]["converged"], true);
+    let dir = tempfile::tempdir().unwrap();
+    let csv = dir.path().join("drift.csv");
+    let out = crawlopt(&[
+        "simulate",
+        "examples/general_drift.toml",
+        "--steps-per-period",
+        "100",
+        "-o",
+        csv.to_str().unwrap(),
+    ]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    assert!(String::from_utf8_lossy(&out.stdout).contains("J = "));
+    // t, x_1, x_2, u_1, u_2, lambda_1..lambda_4; 101 rows after the header.
+    let text = std::fs::read_to_string(&csv).unwrap();
+    let rows: Vec<&str> = text.lines().collect();
+    assert_eq!(
+        rows[0],
+        "t,x_1,x_2,u_1,u_2,lambda_1,lambda_2,lambda_3,lambda_4"
+    );
+    assert_eq!(rows.len(), 102);
+    assert_eq!(rows[1].split(',').count(), 9);
+    // A directory as the output file is refused before any work.
+    let out = crawlopt(&[
+        "simulate",
+        "examples/general_drift.toml",
+        "-o",
+        dir.path().to_str().unwrap(),
+    ]);
+    assert_eq!(out.status.code(), Some(2));
+}
+
+#[test]
+fn bad_problem_files_exit_2_naming_the_field() {
+    let dir = tempfile::tempdir().unwrap();
+    let cases: &[(&str, &str, &str, &str)] = &[
+        // (command, replace, with, the message's start)
+        (
+            "analyze",
+            "offsets = [1.0, 1.0]",
+            "offsets = [1.0]",
+            "sweeping_process.offsets",
+        ),
+        (
+            "analyze",
+            "offsets = [1.0, 1.0]",
+            "offsets = [1.0, inf]",
+            "sweeping_process.offsets[2]",
+        ),
+        (
+            "analyze",
+            "[[1.0], [-1.0]]",
+            "[[1.0], [0.0]]",
+            "sweeping_process.normals[2]",
+        ),
+        (
+            "analyze",
+            "B = [[1.0]]",
+            "B = [[1.0, 2.0]]",
+            "control.lower",
+        ),
+        (
+            "analyze",
+            "B = [[1.0]]",
+            "B = [[1.0]]\nA = [[nan]]",
+            "dynamics.A[1][1]",
+        ),
+        (
+            "analyze",
+            "lower = [-1.0]",
+            "lower = [0.5]",
+            "control.lower[1], control.upper[1]",
+        ),
+        (
+            "analyze",
+            "offsets = [1.0, 1.0]",
+            "offsets = [-1.0, -1.0]",
+            "sweeping_process: C is empty",
+        ),
+        // C = {0}: no interior (the paper's PLICQ).
+        (
+            "analyze",
+            "offsets = [1.0, 1.0]",
+            "offsets = [0.0, 0.0]",
+            "sweeping_process",
+        ),
+        (
+            "analyze",
+            "face_weights = [0.5, 0.5]",
+            "face_weights = [0.5]",
+            "objective.face_weights",
+        ),
+        (
+            "analyze",
+            "period = 10.0",
+            "period = -1.0",
+            "problem.period",
+        ),
+        (
+            "simulate",
+            "values = [[1.0], [-1.0]]",
+            "values = [[2.0], [-1.0]]",
+            "input.values[1]",
+        ),
+        (
+            "simulate",
+            "times = [0.0, 5.0]",
+            "times = [0.0, 12.0]",
+            "input.times[2]",
+        ),
+        (
+            "analyze",
+            "[problem]",
+            "[problem]\nperiodic = false",
+            "problem.initial_state",
+        ),
+        (
+            "analyze",
+            "[objective]",
+            "[objective]\nextra = 1",
+            "invalid model file",
+        ),
+    ];
+    for (i, (cmd, from, to, want)) in cases.iter().enumerate() {
+        assert!(ONE_LINK.contains(from), "{from}");
+        let f = write(
+            dir.path(),
+            &format!("p{i}.toml"),
+            &ONE_LINK.replacen(from, to, 1),
+        );
+        let out = crawlopt(&[cmd, f.to_str().unwrap()]);
+        assert_eq!(out.status.code(), Some(2), "{to}: {}", stderr(&out));
+        let err = stderr(&out);
+        // A parse error starts with the file's path.
+        let named = err.starts_with(&format!("error: {want}"))
+            || (want.starts_with("invalid") && err.contains(want));
+        assert!(named, "{to}: want {want:?}, got {err}");
+    }
+    // Face weights at a vertex where three faces meet: the vertex is named, after the report.
+    let square = "[sweeping_process]\n\
+        normals = [[1.0, 0.0], [0.0, 1.0], [-1.0, 0.0], [0.0, -1.0], [1.0, 1.0]]\n\
+        offsets = [1.0, 1.0, 1.0, 1.0, 2.0]\n[dynamics]\nB = [[1.0, 0.0], [0.0, 1.0]]\n\
+        [control]\nlower = [-1.0, -1.0]\nupper = [1.0, 1.0]\n\
+        [objective]\nface_weights = [1.0, 0.0, 0.0, 0.0, 0.0]\n[problem]\nperiod = 1.0\n";
+    let f = write(dir.path(), "square.toml", square);
+    let out = crawlopt(&["analyze", f.to_str().unwrap()]);
+    assert_eq!(out.status.code(), Some(2));
+    let err = stderr(&out);
+    assert!(
+        err.contains("objective.face_weights") && err.contains("vertex 1 = [1.0, 1.0]"),
+        "{err}"
+    );
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(text.contains("FAIL face weights well defined") && text.contains("(redundant)"));
+    // With reaction weights the same polytope is fine.
+    let f = write(
+        dir.path(),
+        "square_q.toml",
+        &square.replace(
+            "face_weights = [1.0, 0.0, 0.0, 0.0, 0.0]",
+            "reaction_weights = [1.0, 0.0]",
+        ),
+    );
+    let out = crawlopt(&["analyze", f.to_str().unwrap()]);
+    assert!(out.status.success(), "{}", stderr(&out));
+}
+
+#[test]
+fn optimize_solves_p_m_of_a_general_file() {
+    let out = crawlopt(&[
+        "optimize",
+        "examples/general_one_link.toml",
+        "--m",
+        "2",
+        "--json",
+    ]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let v = json(&out);
+    let j = v["solution"]["objective"].as_f64().unwrap();
+    assert!((j - 3.0).abs() < 1e-7, "{j}");
+    assert_eq!(v["solution"]["certificate"]["status"], "optimal");
+    assert_eq!(v["solution"]["u"].as_array().unwrap().len(), 4);
+    for (args, want) in [
+        (&["--method", "phase"][..], "error: --method"),
+        (&["--certify"][..], "error: --certify"),
+        (&["--m", "11"][..], "error: --m"),
+    ] {
+        let mut all = vec!["optimize", "examples/general_one_link.toml"];
+        all.extend_from_slice(args);
+        let out = crawlopt(&all);
+        assert_eq!(out.status.code(), Some(2), "{args:?}");
+        assert!(stderr(&out).starts_with(want), "{}", stderr(&out));
+    }
+    // The drift example (A != 0, quadratic cost) on P_1.
+    let out = crawlopt(&[
+        "optimize",
+        "examples/general_drift.toml",
+        "--m",
+        "1",
+        "--json",
+    ]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let v = json(&out);
+    assert!(v["solution"]["objective"].as_f64().unwrap().is_finite());
+}

@@ -1,0 +1,226 @@
+//! P_m of the general problem (P) (SPEC §11), globally as a MILP: the paper's §4 one-link
+//! problem in general form against its closed form, crawler instances against the dedicated
+//! crawler P_m, and random small instances against the enumeration of every complementarity
+//! branch (an LP each, no big-M).
+
+use crawlopt::model::general::{GeneralCost, GeneralParts, GeneralProblem};
+use crawlopt::model::{crawler_as_general, Crawler};
+use crawlopt::optimal::general::{
+    analyze_polyhedron, check_problem, solve_general_branch, solve_general_pm,
+};
+use crawlopt::optimal::{solve_discrete_global, Cost, GaitProblem, MilpStatus};
+
+fn one_link(a: f64, b: f64, period: f64) -> GeneralProblem {
+    GeneralProblem::new(GeneralParts {
+        normals: vec![vec![1.0], vec![-1.0]],
+        offsets: vec![b, -a],
+        b: vec![vec![1.0]],
+        lower: Some(vec![-1.0]),
+        upper: Some(vec![1.0]),
+        zero_mean: true,
+        face_weights: Some(vec![0.5, 0.5]),
+        period,
+        periodic: true,
+        ..Default::default()
+    })
+    .unwrap()
+}
+
+#[test]
+fn the_one_link_problem_of_section_4() {
+    // J* = (T - 2 (b - a)) / 2 for T > 2 (b - a), 0 below; P_m attains it for every m >= 1
+    // when the half period is a whole number of steps that reaches across C (SPEC §10).
+    for (a, b, t, want) in [
+        (-1.0, 1.0, 10.0, 3.0),
+        (-0.5, 1.5, 12.0, 4.0),
+        (-1.0, 1.0, 3.0, 0.0),
+    ] {
+        let p = one_link(a, b, t);
+        let g = check_problem(&p).unwrap();
+        for m in 1..=3 {
+            let s = solve_general_pm(&p, &g, m, None).unwrap();
+            assert_eq!(s.certificate.status, MilpStatus::Optimal);
+            assert!(
+                (s.objective - want).abs() < 1e-7,
+                "T = {t}, m = {m}: {}",
+                s.objective
+            );
+            assert!(s.certificate.bound <= want + 1e-6);
+        }
+    }
+}
+
+#[test]
+fn crawler_instances_give_the_crawler_p_m_optima() {
+    let cases = [
+        Crawler::new(vec![1.0], vec![1.0, 1.0], vec![2.0, 2.0]).unwrap(),
+        Crawler::new(vec![1.0, 2.0], vec![1.0, 1.2, 0.9], vec![2.5, 3.1, 2.7]).unwrap(),
+    ];
+    for crawler in cases {
+        crawler.require_unique().unwrap();
+        let speed = vec![1.0; crawler.links()];
+        let gp = GaitProblem::new(&crawler, 6.0, &speed, Cost::None, None).unwrap();
+        let inst = crawler_as_general(&crawler, 6.0, &gp.rate_bound, GeneralCost::None).unwrap();
+        let g = check_problem(&inst.problem).unwrap();
+        for m in 1..=2 {
+            let want = solve_discrete_global(&crawler, &gp, m, None).unwrap();
+            let got = solve_general_pm(&inst.problem, &g, m, None).unwrap();
+            let j = want.verified_displacement - want.actuation_cost;
+            assert!(
+                (got.objective - j).abs() < 1e-7,
+                "N = {}, m = {m}: {} vs {j}",
+                crawler.blocks(),
+                got.objective
+            );
+        }
+    }
+}
+
+/// xorshift64*, uniform in [0, 1).
+struct Rng(u64);
+impl Rng {
+    fn next(&mut self) -> f64 {
+        self.0 ^= self.0 >> 12;
+        self.0 ^= self.0 << 25;
+        self.0 ^= self.0 >> 27;
+        (self.0.wrapping_mul(0x2545_f491_4f6c_dd1d) >> 11) as f64 / (1u64 << 53) as f64
+    }
+    fn range(&mut self, a: f64, b: f64) -> f64 {
+        a + (b - a) * self.next()
+    }
+}
+
+/// A random bounded polygon (faces at spread angles), random `A`, `B`, `b` and weights.
+fn random_problem(rng: &mut Rng, sigma: usize) -> GeneralProblem {
+    let normals = (0..sigma)
+        .map(|k| {
+            let th = std::f64::consts::TAU * (k as f64 + rng.range(-0.2, 0.2)) / sigma as f64;
+            vec![th.cos(), th.sin()]
+        })
+        .collect();
+    let mut r = || rng.range(-0.5, 0.5);
+    GeneralProblem::new(GeneralParts {
+        normals,
+        offsets: (0..sigma).map(|_| 0.5 + r().abs() * 2.0).collect(),
+        a: Some(vec![vec![r(), r()], vec![r(), r()]]),
+        b: vec![vec![1.0 + r(), r()], vec![r(), 1.0 + r()]],
+        drift: Some(vec![r() * 0.2, r() * 0.2]),
+        lower: Some(vec![-1.0, -1.0]),
+        upper: Some(vec![1.0, 1.0]),
+        zero_mean: true,
+        face_weights: Some((0..sigma).map(|_| 0.4 + 1.2 * r()).collect()),
+        period: 4.0 + 8.0 * r().abs(),
+        periodic: true,
+        ..Default::default()
+    })
+    .unwrap()
+}
+
+#[test]
+fn random_instances_against_the_enumeration_of_branches() {
+    let mut rng = Rng(0x2545_f491_4f6c_dd1d);
+    let mut moving = 0;
+    for (sigma, m, count) in [(3, 1, 4), (4, 1, 3), (3, 2, 2)] {
+        for _ in 0..count {
+            let p = random_problem(&mut rng, sigma);
+            let g = analyze_polyhedron(&p.c).unwrap();
+            assert!(g.bounded && g.degenerate_vertex.is_none());
+            let steps = 1usize << m;
+            let mut best = f64::NEG_INFINITY;
+            for mask in 0u64..(1 << (steps * sigma)) {
+                let active: Vec<Vec<bool>> = (0..steps)
+                    .map(|i| {
+                        (0..sigma)
+                            .map(|j| mask >> (i * sigma + j) & 1 == 1)
+                            .collect()
+                    })
+                    .collect();
+                if let Some(v) = solve_general_branch(&p, m, &active).unwrap() {
+                    best = best.max(v);
+                }
+            }
+            let s = solve_general_pm(&p, &g, m, None).unwrap();
+            assert!(
+                (s.objective - best).abs() < 1e-7 * (1.0 + best.abs()),
+                "sigma = {sigma}, m = {m}: MILP {} vs branches {best}",
+                s.objective
+            );
+            moving += usize::from(best > 1e-3);
+        }
+    }
+    // Most instances have a non-trivial optimum (the reactions pay).
+    assert!(moving >= 7, "{moving} of 9");
+}
+
+#[test]
+fn p_m_refuses_what_it_cannot_solve() {
+    // An unbounded C, m beyond the limit, a branch LP with a quadratic cost: errors naming
+    // the field.
+    let mut p = one_link(-1.0, 1.0, 10.0);
+    let g = check_problem(&p).unwrap();
+    let e = solve_general_pm(&p, &g, 11, None).unwrap_err().to_string();
+    assert!(e.starts_with("m:"), "{e}");
+    p.cost = GeneralCost::Quadratic { weight: 1.0 };
+    let e = solve_general_branch(&p, 1, &vec![vec![false; 2]; 2])
+        .unwrap_err()
+        .to_string();
+    assert!(e.starts_with("objective.cost"), "{e}");
+    let half = GeneralProblem::new(GeneralParts {
+        normals: vec![vec![1.0]],
+        offsets: vec![1.0],
+        b: vec![vec![1.0]],
+        lower: Some(vec![-1.0]),
+        upper: Some(vec![1.0]),
+        zero_mean: true,
+        face_weights: Some(vec![1.0]),
+        period: 1.0,
+        periodic: true,
+        ..Default::default()
+    })
+    .unwrap();
+    let g = check_problem(&half).unwrap();
+    let e = solve_general_pm(&half, &g, 1, None)
+        .unwrap_err()
+        .to_string();
+    assert!(e.starts_with("sweeping_process"), "{e}");
+}
+
+#[test]
+fn a_quadratic_cost_by_outer_approximation() {
+    // f2 = (c/2) u^2 on the one-link problem: a control of constant magnitude v up then down
+    // gives J(v) = (v T - 2 w)/2 - c v^2 T/2 (the reaction pays half the travel beyond the
+    // width w = b - a; for a given int |u|, int u^2 is least at constant |u|, Jensen), so
+    // v* = min(1, 1/(2c)) and, for c = 1, J* = T/8 - w when T > 8 w. P_m attains it on every
+    // grid whose half period is whole steps. T = 40, w = 2: J* = 3.
+    let mut p = one_link(-1.0, 1.0, 40.0);
+    p.cost = GeneralCost::Quadratic { weight: 1.0 };
+    let g = check_problem(&p).unwrap();
+    for m in 1..=2 {
+        let s = solve_general_pm(&p, &g, m, None).unwrap();
+        assert_eq!(s.certificate.status, MilpStatus::Optimal);
+        assert!((s.objective - 3.0).abs() < 1e-5, "m = {m}: {}", s.objective);
+        assert!(s.certificate.bound >= s.objective - 1e-9);
+        assert!(
+            s.u.iter().all(|u| (u[0].abs() - 0.5).abs() < 1e-3),
+            "{:?}",
+            s.u
+        );
+    }
+    // A crawler instance with a quadratic cost against the crawler's P_m.
+    let crawler = Crawler::new(vec![1.0, 2.0], vec![1.0, 1.2, 0.9], vec![2.5, 3.1, 2.7]).unwrap();
+    let speed = vec![1.0; 2];
+    let gp =
+        GaitProblem::new(&crawler, 6.0, &speed, Cost::Quadratic { weight: 0.3 }, None).unwrap();
+    let inst = crawler_as_general(
+        &crawler,
+        6.0,
+        &gp.rate_bound,
+        GeneralCost::Quadratic { weight: 0.3 },
+    )
+    .unwrap();
+    let g = check_problem(&inst.problem).unwrap();
+    let want = solve_discrete_global(&crawler, &gp, 2, None).unwrap();
+    let got = solve_general_pm(&inst.problem, &g, 2, None).unwrap();
+    let j = want.verified_displacement - want.actuation_cost;
+    assert!((got.objective - j).abs() < 1e-5, "{} vs {j}", got.objective);
+}
