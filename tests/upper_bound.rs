@@ -89,13 +89,13 @@ fn crawlers() -> Vec<(Crawler, Vec<f64>, usize, usize)> {
             Crawler::new(vec![1.0, 2.0], vec![1.0, 0.5, 1.25], vec![1.5, 2.5, 1.75]).unwrap(),
             vec![1.0, 1.5],
             5,
-            4,
+            2,
         ),
         (
             Crawler::new(vec![1.0, 1.0], vec![1.0, 1.0, 1.0], vec![1.5, 1.5, 1.5]).unwrap(),
             vec![1.0, 1.0],
             5,
-            4,
+            2,
         ),
         (
             Crawler::new(
@@ -120,7 +120,7 @@ fn never_below_a_random_gait_or_a_phase_optimum() {
         let bound = upper_bound(&c, &p, &settings(r, rb)).unwrap();
         assert_eq!(bound.status, BoundStatus::Optimal);
         let mut best = 0.0_f64;
-        for trial in 0..40 {
+        for trial in 0..30 {
             let act = random_gait(
                 &mut rng,
                 c.stiffness(),

@@ -20,18 +20,21 @@ pub(crate) struct Grid {
     pub counts: Vec<usize>,
     pub origin: Vec<f64>,
     pub step: Vec<f64>,
+    /// Every friction threshold is a multiple of the `x` step: the simplices inside C tile it,
+    /// the others are dropped and the face test is exact.
+    pub aligned: bool,
 }
 
 impl Grid {
     /// The lattice for `x` step `h` over C's bounding box and `cells` steps over `[0, lmax_l]`.
-    pub fn new(crawler: &Crawler, h: f64, lmax: &[f64], cells: usize) -> Self {
+    pub fn new(crawler: &Crawler, h: f64, lmax: &[f64], cells: usize, aligned: bool) -> Self {
         let n = crawler.links();
         let mut counts = Vec::with_capacity(2 * n);
         let mut origin = Vec::with_capacity(2 * n);
         let mut step = Vec::with_capacity(2 * n);
         for r in crawler.link_force_ranges() {
-            let lo = (r[0] / h - 1e-9).floor();
-            let hi = (r[1] / h + 1e-9).ceil();
+            let lo = (r[0] / h + 1e-9).floor();
+            let hi = (r[1] / h - 1e-9).ceil();
             counts.push((hi - lo) as usize + 1);
             origin.push(lo * h);
             step.push(h);
@@ -46,6 +49,7 @@ impl Grid {
             counts,
             origin,
             step,
+            aligned,
         }
     }
 
@@ -69,10 +73,13 @@ impl Grid {
 
     /// Calls `row(nodes, coefficients, y)` for every row `<g_S, d> + rho >= y` of the LP:
     /// every kept simplex `S`, every face of C that `S` may meet, every control vertex of that
-    /// face. A simplex is kept when no half-space of C excludes all its `x` vertices; a face is
-    /// taken when each of its active hyperplanes separates none of the simplex's `x` vertices
-    /// strictly (both tests keep a superset of the simplices and faces that meet, which is what
-    /// validity needs). Returns the node set used (`true` where some row refers to it).
+    /// face. Aligned grid: the simplices inside C are kept (each Kuhn simplex's `x` part lies in
+    /// one alcove, so it is inside C or meets C only on its boundary, and those inside tile C),
+    /// and a face is taken when a vertex of the simplex lies on all its hyperplanes (exact).
+    /// Otherwise a simplex is kept when no half-space of C excludes all its `x` vertices, and a
+    /// face is taken when none of its hyperplanes separates the simplex's `x` vertices strictly:
+    /// supersets of the simplices and faces that meet, which is what validity needs.
+    /// Returns the node set used (`true` where some row refers to it).
     pub fn for_each_row(
         &self,
         crawler: &Crawler,
@@ -127,14 +134,27 @@ impl Grid {
                         hi[j] = hi[j].max(v);
                     }
                 }
-                if (0..hs.len()).any(|j| lo[j] > hs[j].offset + tol) {
+                let outside = |j: usize| {
+                    lo[j] > hs[j].offset + tol || (self.aligned && hi[j] > hs[j].offset + tol)
+                };
+                if (0..hs.len()).any(outside) {
                     continue;
                 }
                 for (active, motion) in faces {
-                    if !active
-                        .iter()
-                        .all(|&j| lo[j] <= hs[j].offset + tol && hi[j] >= hs[j].offset - tol)
-                    {
+                    let meets = if self.aligned {
+                        // S_x in C: S_x meets F iff a vertex of S_x lies on all of F's
+                        // hyperplanes (each cuts S_x in the face spanned by its tight vertices).
+                        xs.iter().any(|x| {
+                            active
+                                .iter()
+                                .all(|&j| (dot(&normals[j], x) - hs[j].offset).abs() <= tol)
+                        })
+                    } else {
+                        active
+                            .iter()
+                            .all(|&j| lo[j] <= hs[j].offset + tol && hi[j] >= hs[j].offset - tol)
+                    };
+                    if !meets {
                         continue;
                     }
                     for (d, y) in &motion.controls {

@@ -60,7 +60,7 @@ use crate::model::Crawler;
 use crate::optimal::solver::{Highs, SolveStatus};
 use crate::optimal::GaitProblem;
 use crate::progress;
-use highs::{RowProblem, Sense};
+use highs::{ColProblem, Row, Sense};
 use serde::{Deserialize, Serialize};
 use std::time::Instant;
 
@@ -123,9 +123,9 @@ pub struct UpperBound {
     pub status: BoundStatus,
     /// Whether the grid tiles C exactly (all thresholds multiples of the step).
     pub aligned: bool,
-    /// LP size: rows and columns.
+    /// LP size: rows (simplex, face, control vertex) of the primal.
     pub rows: usize,
-    /// LP columns (node values and `rho`).
+    /// LP columns of the primal (node values and `rho`).
     pub columns: usize,
     /// Wall-clock seconds (grid, LP and re-evaluation).
     pub seconds: f64,
@@ -193,7 +193,7 @@ pub fn upper_bound(
         .iter()
         .chain(crawler.mu_backward())
         .all(|m| ((m / h).round() * h - m).abs() <= tol);
-    let grid = grid::Grid::new(crawler, h, &lmax, settings.box_resolution);
+    let grid = grid::Grid::new(crawler, h, &lmax, settings.box_resolution, aligned);
     let fact: usize = (1..=2 * n).product();
     let simplices = grid.cells().saturating_mul(fact);
     if simplices > MAX_SIMPLICES {
@@ -211,37 +211,50 @@ pub fn upper_bound(
         })
         .collect();
 
-    let mut pb = RowProblem::default();
-    let cols: Vec<_> = (0..grid.nodes())
-        .map(|_| pb.add_column(0.0, f64::NEG_INFINITY..f64::INFINITY))
+    // The LP  min rho  s.t.  <g_S, d> + rho >= y'  (one row per (S, F, u)) has far more rows
+    // than node values, and rho is in every row: HiGHS's interior point method chokes on that
+    // dense column (measured: 465 s for 6.4e5 rows), so its dual is solved,
+    //   max sum_r y'_r m_r  s.t.  sum_r A_{r,p} m_r = 0 (every node p but one),
+    //                             sum_r m_r <= 1,  m >= 0,
+    // (an occupation measure on (simplex, face, control) that is invariant when tested against
+    // the piecewise-linear functions of the grid), and V is read from its node duals.
+    let used = grid.for_each_row(crawler, &motions, tol, |_, _, _| {});
+    let pinned = used.iter().position(|&u| u);
+    let mut pb = ColProblem::default();
+    // Each constrained node's row handle and its index (HiGHS numbers rows as they are added).
+    let mut added = 0usize;
+    let node_rows: Vec<Option<(Row, usize)>> = used
+        .iter()
+        .enumerate()
+        .map(|(p, &u)| {
+            (u && Some(p) != pinned).then(|| {
+                added += 1;
+                (pb.add_row(0.0..=0.0), added - 1)
+            })
+        })
         .collect();
-    let rho = pb.add_column(1.0, 0.0..f64::INFINITY);
+    let mass = pb.add_row(..=1.0);
     let mut rows = 0usize;
-    let used = grid.for_each_row(crawler, &motions, tol, |nodes, coefs, y| {
-        let mut entries: Vec<_> = nodes
-            .iter()
-            .zip(coefs)
-            .filter(|(_, c)| **c != 0.0)
-            .map(|(&p, &c)| (cols[p], c))
-            .collect();
-        entries.push((rho, 1.0));
-        pb.add_row(y.., entries);
+    let mut entries: Vec<(Row, f64)> = Vec::with_capacity(2 * n + 2);
+    grid.for_each_row(crawler, &motions, tol, |nodes, coefs, y| {
+        entries.clear();
+        for (&p, &c) in nodes.iter().zip(coefs) {
+            if let (Some((r, _)), true) = (node_rows[p], c != 0.0) {
+                entries.push((r, c));
+            }
+        }
+        entries.push((mass, 1.0));
+        pb.add_column(y, 0.0.., &entries);
         rows += 1;
     });
     progress::check()?;
-    let mut solver = Highs::new(pb, Sense::Minimise, "upper bound LP")?;
-    // Unused nodes and one used node are pinned to 0 (V is defined up to a constant).
-    let first = used.iter().position(|&u| u);
-    for (p, &u) in used.iter().enumerate() {
-        if !u || Some(p) == first {
-            solver.set_bounds(cols[p], 0.0, 0.0)?;
-        }
-    }
-    // Interior point without crossover: the LP has many more rows than columns and is highly
-    // degenerate (simplex stalls on it); a vertex solution is not needed, as the bound is
-    // re-evaluated from V below.
+    let mut solver = Highs::new(pb, Sense::Maximise, "upper bound LP")?;
+    // Interior point without crossover: a vertex is not needed, as the bound is re-evaluated
+    // from V below.
     solver.option("solver", "ipm")?;
     solver.option("run_crossover", "off")?;
+    // Presolve off: without a basis HiGHS's postsolve cannot restore the duals V is read from.
+    solver.option("presolve", "off")?;
     let elapsed = started.elapsed().as_secs_f64();
     solver.time_limit((settings.time_limit - elapsed).max(1e-3))?;
     let answer = solver.solve()?;
@@ -250,19 +263,24 @@ pub fn upper_bound(
         SolveStatus::TimeLimit { .. } => BoundStatus::TimeLimit,
         SolveStatus::Infeasible => {
             return Err(Error::Numerical(
-                "upper bound LP: HiGHS reports it infeasible (it has the feasible point \
-                 V = 0, rho = max y')"
+                "upper bound LP: HiGHS reports it infeasible (it has the feasible point m = 0)"
                     .into(),
             ))
         }
     };
-    // Re-evaluation: the smallest rho the returned V satisfies every row with.
-    let v = &answer.columns;
-    let mut rate = 0.0_f64;
+    let dual: Vec<f64> = node_rows
+        .iter()
+        .map(|r| r.map_or(0.0, |(_, i)| answer.row_duals[i]))
+        .collect();
+    // Re-evaluation: the smallest rho the storage function satisfies every row with. The sign
+    // of HiGHS's duals is a convention; both signs give valid bounds, the smaller is reported.
+    let mut rate = [0.0_f64; 2];
     grid.for_each_row(crawler, &motions, tol, |nodes, coefs, y| {
-        let g: f64 = nodes.iter().zip(coefs).map(|(&p, c)| c * v[p]).sum();
-        rate = rate.max(y - g);
+        let g: f64 = nodes.iter().zip(coefs).map(|(&p, c)| c * dual[p]).sum();
+        rate[0] = rate[0].max(y - g);
+        rate[1] = rate[1].max(y + g);
     });
+    let rate = rate[0].min(rate[1]);
     if !rate.is_finite() {
         return Err(Error::Numerical(
             "upper bound LP: the storage function is not finite".into(),
@@ -276,7 +294,7 @@ pub fn upper_bound(
         status,
         aligned,
         rows,
-        columns: cols.len() + 1,
+        columns: used.iter().filter(|&&u| u).count() + 1,
         seconds: started.elapsed().as_secs_f64(),
     })
 }
