@@ -26,7 +26,8 @@
 //! - `d/dt V(p(t))` is the one-sided directional derivative of `V` at `p(t)` along
 //!   `p'(t)` (Lipschitz `V`: `V(p + h p' + o(h)) = V(p + h p') + o(h)`). The finitely many closed
 //!   simplices cover a neighbourhood of `p(t)` in `C x box`, and `p(t) + e p'(t)` lies in
-//!   `C x box` for small `e > 0` (where the derivative exists the path moves into the set); so
+//!   `C x box` for small `e > 0` (`x'` is along `F(t)`, and `l_l' = 0` wherever `l_l` is at an
+//!   end of its range, an extremum of a differentiable function); so
 //!   one simplex `S` holds `p + e p'` for all small `e` (each simplex meets the ray in an
 //!   interval starting at `e = 0` or not at all), and the derivative is `<g_S, p'>`. That `S`
 //!   holds points whose `x` lies in the relative interior of `F(t)`, so `S` meets `F(t)` and
