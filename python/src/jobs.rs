@@ -128,6 +128,7 @@ pub fn optimize(
         time_limit,
         certify,
         naming: Naming::Keywords,
+        bound: None,
     };
     let (c, p) = (crawler.inner.clone(), problem.inner.clone());
     let done = run(py, progress, |hooks| {

@@ -43,7 +43,20 @@ pub fn optimize(
     let plan = settings.plan(crawler, problem)?;
     run_with(hooks, |em| {
         crate::progress::check()?;
-        let result = solve(crawler, problem, settings, &plan, em)?;
+        let mut result = solve(crawler, problem, settings, &plan, em)?;
+        if let Some(b) = &settings.bound {
+            em.stage("proving an upper bound over all periodic gaits");
+            let ub = crate::certify::bound::upper_bound(crawler, problem, b)?;
+            if ub.value.is_nan()
+                || ub.value < result.objective - 1e-9 * result.objective.abs().max(1.0)
+            {
+                return Err(crate::Error::Numerical(format!(
+                    "upper bound {} below the verified gait {}: a defect of the bound",
+                    ub.value, result.objective
+                )));
+            }
+            result.certificate.upper_bound = Some(ub);
+        }
         let necessary_conditions = if settings.certify {
             em.stage("checking the necessary conditions");
             Some(certify_result(&result, "optimize")?)

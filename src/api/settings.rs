@@ -172,6 +172,9 @@ pub struct OptimizeSettings {
     pub certify: bool,
     /// How messages name the settings.
     pub naming: Naming,
+    /// Also prove an upper bound over all periodic gaits ([`crate::certify::bound`]), recorded
+    /// as `certificate.upper_bound` (default: none).
+    pub bound: Option<crate::certify::bound::BoundSettings>,
 }
 
 /// What [`OptimizeSettings`] decide for a problem: the method that runs and every value it

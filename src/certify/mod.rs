@@ -132,6 +132,7 @@
 //! somewhere), and Theorem 2.2 does not state it. (Checked with `lambda = 1` only.) The
 //! block-speed bound `|D| <= V tau` of the phase MILP is taken as inactive.
 
+pub mod bound;
 mod kkt;
 mod process;
 

@@ -76,6 +76,11 @@ pub struct ResultCertificate {
     pub bound: Option<f64>,
     /// `K` (slip phases) for phase gaits.
     pub phases: Option<usize>,
+    /// A bound on `J` over *all* periodic gaits (`optimize --bound`, [`crate::certify::bound`]),
+    /// with the method and grid that proved it; read from a file it is taken as recorded
+    /// (checked to be finite and at least the objective, not recomputed).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub upper_bound: Option<crate::certify::bound::UpperBound>,
 }
 
 /// The gait over one period, on its own knots: `times` has one entry more than the pieces.
@@ -286,6 +291,7 @@ impl GaitResult {
             gap: Some(s.certificate.gap),
             bound: Some(s.certificate.bound),
             phases: Some(s.phases),
+            upper_bound: None,
         };
         GaitResult::record(
             crawler,
@@ -325,6 +331,7 @@ impl GaitResult {
             gap: None,
             bound: None,
             phases: Some(s.best.phases),
+            upper_bound: None,
         };
         r.local = Some(LocalRecord {
             start_objective: s.start_objective,
@@ -366,6 +373,7 @@ impl GaitResult {
             gap: None,
             bound: None,
             phases: None,
+            upper_bound: None,
         };
         let mut r = GaitResult::record(
             crawler,
@@ -403,6 +411,7 @@ impl GaitResult {
             gap: Some(s.certificate.gap),
             bound: Some(s.certificate.bound),
             phases: None,
+            upper_bound: None,
         };
         GaitResult::record(
             crawler,

@@ -15,7 +15,7 @@
 
 use crate::error::{Error, Result};
 use crate::progress;
-use highs::{Col, HighsOptionValue, Model, RowProblem, Sense};
+use highs::{Col, ColMatrix, HighsOptionValue, Model, Problem, Sense};
 use highs_sys::HighsInt;
 use std::ffi::CString;
 
@@ -59,7 +59,10 @@ pub(crate) struct Highs {
 
 impl Highs {
     /// Checks and passes the problem to HiGHS; `what` names the computation in errors.
-    pub fn new(pb: RowProblem, sense: Sense, what: &str) -> Result<Self> {
+    pub fn new<M: Default>(pb: Problem<M>, sense: Sense, what: &str) -> Result<Self>
+    where
+        Problem<ColMatrix>: From<Problem<M>>,
+    {
         let model = pb.try_optimise(sense).map_err(|s| {
             Error::Numerical(format!(
                 "{what}: HiGHS refused the model ({s:?}): a coefficient, cost or bound outside \
@@ -355,6 +358,7 @@ fn model_status_name(s: HighsInt) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use highs::RowProblem;
 
     #[test]
     fn a_coefficient_highs_reads_as_infinite_is_an_error_not_a_panic() {

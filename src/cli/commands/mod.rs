@@ -3,6 +3,7 @@
 
 pub mod analyze;
 pub mod bench;
+pub mod bound_flags;
 pub mod certify;
 pub mod general;
 pub mod optimize;

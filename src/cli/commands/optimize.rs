@@ -79,6 +79,8 @@ pub struct OptimizeArgs {
     /// result as "necessary_conditions".
     #[arg(long)]
     pub certify: bool,
+    #[command(flatten)]
+    pub bound: super::bound_flags::BoundArgs,
     /// Write the gait's figures (SVG and PNG) into this directory (with --certify, the
     /// adjoint too; with --convergence, J_m against m).
     #[arg(long, value_name = "DIR")]
@@ -125,6 +127,7 @@ pub fn run(a: OptimizeArgs) -> Result<ExitCode, Error> {
         time_limit: a.time_limit,
         certify: a.certify,
         naming: Naming::Flags,
+        bound: a.bound.settings()?,
     };
     let mut spinner = Spinner::new(GaitScales::of_problem(&crawler, &problem).length);
     let mut show = |e: &api::Event, _: f64| spinner.show(e);

@@ -51,6 +51,29 @@ pub fn gait_result(r: &GaitResult) -> String {
         }
         _ => wln!(out, "certificate: {what}"),
     }
+    if let Some(ub) = &c.upper_bound {
+        let within = if ub.value > 0.0 {
+            format!(
+                "{:.1} %",
+                100.0 * (ub.value - r.objective).max(0.0) / ub.value
+            )
+        } else {
+            "0 %".into()
+        };
+        wln!(
+            out,
+            "upper bound over all periodic gaits: {} ({}, grid {} x {}{}): optimal within {within}",
+            len(ub.value),
+            ub.method,
+            ub.resolution,
+            ub.box_resolution,
+            if ub.status == crate::certify::bound::BoundStatus::TimeLimit {
+                ", LP cut short by the time limit"
+            } else {
+                ""
+            }
+        );
+    }
     wln!(
         out,
         "verified by simulation: {} (solver: {})",

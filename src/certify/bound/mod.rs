@@ -1,0 +1,301 @@
+//! An upper bound on the continuous-time gait problem (P) over *all* `T`-periodic gaits (SPEC
+//! §12), by a piecewise-linear storage function: no limit on the number of slip phases.
+//!
+//! # The argument
+//!
+//! Let `(x, L)` be any `T`-periodic gait (`|u_l| <= a_l`, `u = K L'`, `x(0) = x(T)`,
+//! `L(0) = L(T)`) and `l = L - min_t L` componentwise. `L_l` rises and falls back within a period at
+//! rate at most `a_l / k_l`, so `l_l(t) in [0, lmax_l]`, `lmax_l = a_l T / (2 k_l)`: the state
+//! `p = (x, l)` stays in `C x box`. Let `V` be continuous on a simplicial grid covering
+//! `C x box`, linear on each simplex `S` with gradient `g_S`, and suppose
+//!
+//! ```text
+//! (R)   <g_S, (x', l')> + rho >= y'     for every simplex S, every face F of C that S meets,
+//!                                       and every control u with which x stays on F,
+//! ```
+//!
+//! where `(x', l', y')` are the rates on the relative interior of `F` under `u` (linear in `u`
+//! there: [`faces`]). Then `J = y(T) - y(0) <= rho T`. Proof: `x`, `l` are Lipschitz; at almost
+//! every `t` they are differentiable, `V(p(t))` is differentiable, and
+//! - `x'(t)` lies in the lineality space of the tangent cone of C at `x(t)` (`x` stays in C both
+//!   forward and backward in time), so with `F(t)` the face whose relative interior holds
+//!   `x(t)`, `x'` is along `F(t)` and, by the Moreau decomposition of `u = x' + K eta`,
+//!   `eta in N_C(x)`, `x'` is the projection of `u` and the reaction multipliers `lambda(u)` are
+//!   non-negative: `u` is one of the controls of (R) for `F(t)`, and `y'(t)` is its `y'` (the
+//!   block velocities are the multipliers, SPEC §4);
+//! - `d/dt V(p(t))` is the one-sided directional derivative of `V` at `p(t)` along
+//!   `p'(t)` (Lipschitz `V`: `V(p + h p' + o(h)) = V(p + h p') + o(h)`). The finitely many closed
+//!   simplices cover a neighbourhood of `p(t)` in `C x box`, and `p(t) + e p'(t)` lies in
+//!   `C x box` for small `e > 0` (`x'` is along `F(t)`, and `l_l' = 0` wherever `l_l` is at an
+//!   end of its range, an extremum of a differentiable function); so
+//!   one simplex `S` holds `p + e p'` for all small `e` (each simplex meets the ray in an
+//!   interval starting at `e = 0` or not at all), and the derivative is `<g_S, p'>`. That `S`
+//!   holds points whose `x` lies in the relative interior of `F(t)`, so `S` meets `F(t)` and
+//!   (R) applies to the pair `(S, F(t))`, whether `p(t)` is inside a simplex, on a boundary
+//!   between simplices, on a face of C or on a face of the box.
+//!
+//! So `y' <= rho + d/dt V(p(t))` almost everywhere; integrate over the period: `V(p(T)) =
+//! V(p(0))`. Each inequality of (R) is linear in `u` on the polytope of controls that keep `x`
+//! on `F`, so it holds on that polytope iff at its vertices: (R) is a finite LP in the node
+//! values of `V` and `rho`; minimising `rho` gives the bound. The pairs `(S, F)` are taken from
+//! a superset of those that meet (a test on the simplex's vertices, [`grid`]), which only adds
+//! rows. Whatever `V` the solver returns, the bound reported is recomputed from it,
+//! `rho = max over rows of (y' - <g_S, d>)`, so it holds exactly for that `V` (an unfinished
+//! solve gives a weaker but still valid bound).
+//!
+//! The bound ignores the actuation cost (`f2 >= 0`, so it bounds `J` for every cost, tightly
+//! only for `f2 = 0`) and any bound on the total variation (a relaxation).
+//!
+//! # Tightness
+//!
+//! The LP's dual is a measure on (simplex, face, control vertex) invariant under the flow when
+//! tested against piecewise-linear functions on the grid: controls are relaxed (convex
+//! combinations) and positions are blurred within a simplex, so the bound is above the optimum
+//! and tightens as the grid is refined (measured in the README, "Upper bound over all gaits").
+
+mod faces;
+mod grid;
+
+use crate::error::{Error, Result};
+use crate::model::Crawler;
+use crate::optimal::solver::{Highs, SolveStatus};
+use crate::optimal::GaitProblem;
+use crate::progress;
+use highs::{ColProblem, Row, Sense};
+use serde::{Deserialize, Serialize};
+use std::time::Instant;
+
+/// Name of the method in results.
+pub const METHOD: &str = "pl-storage";
+
+/// Largest number of links the bound accepts (the grid has `2n` dimensions).
+pub const MAX_BOUND_LINKS: usize = 3;
+
+/// Largest number of grid simplices (an LP with a few rows each).
+pub const MAX_SIMPLICES: usize = 4_000_000;
+
+/// Settings of [`upper_bound`].
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct BoundSettings {
+    /// Grid steps across the widest link-force range of C (the `x` step `h` is that range over
+    /// this; C is tiled exactly when every friction threshold is a multiple of `h`).
+    pub resolution: usize,
+    /// Grid steps across each actuator-length range `[0, a_l T / (2 k_l)]`.
+    pub box_resolution: usize,
+    /// Time limit of the LP in seconds (a solve cut short still gives a valid, weaker bound).
+    pub time_limit: f64,
+}
+
+impl Default for BoundSettings {
+    /// Resolution 8 in `x` and in `l`, one minute.
+    fn default() -> Self {
+        BoundSettings {
+            resolution: 8,
+            box_resolution: 8,
+            time_limit: 60.0,
+        }
+    }
+}
+
+/// How the LP ended.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum BoundStatus {
+    /// The LP was solved: the bound is the best this grid gives.
+    Optimal,
+    /// The time limit stopped the LP: the bound holds but a finished solve would lower it.
+    TimeLimit,
+}
+
+/// A proven upper bound on `J` over all `T`-periodic gaits.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct UpperBound {
+    /// The method ([`METHOD`]).
+    pub method: String,
+    /// `x` grid steps across C's widest link-force range.
+    pub resolution: usize,
+    /// Grid steps across each actuator-length range.
+    pub box_resolution: usize,
+    /// The bound on the displacement per period, `rho T`.
+    pub value: f64,
+    /// How the LP ended.
+    pub status: BoundStatus,
+    /// Whether the grid tiles C exactly (all thresholds multiples of the step).
+    pub aligned: bool,
+    /// LP size: rows (simplex, face, control vertex) of the primal.
+    pub rows: usize,
+    /// LP columns of the primal (node values and `rho`).
+    pub columns: usize,
+    /// Wall-clock seconds (grid, LP and re-evaluation).
+    pub seconds: f64,
+}
+
+fn check_settings(s: &BoundSettings) -> Result<()> {
+    if s.resolution == 0 || s.resolution > 1000 {
+        return Err(Error::invalid(
+            "bound.resolution",
+            s.resolution,
+            "must be between 1 and 1000",
+        ));
+    }
+    if s.box_resolution == 0 || s.box_resolution > 1000 {
+        return Err(Error::invalid(
+            "bound.box_resolution",
+            s.box_resolution,
+            "must be between 1 and 1000",
+        ));
+    }
+    if !(s.time_limit.is_finite() && s.time_limit > 0.0) {
+        return Err(Error::invalid(
+            "bound.time_limit",
+            s.time_limit,
+            "must be positive and finite",
+        ));
+    }
+    Ok(())
+}
+
+/// A valid upper bound on `J` over every `T`-periodic gait of `problem` for `crawler` (the
+/// module's argument), from the piecewise-linear storage function the LP finds on the grid of
+/// `settings`.
+pub fn upper_bound(
+    crawler: &Crawler,
+    problem: &GaitProblem,
+    settings: &BoundSettings,
+) -> Result<UpperBound> {
+    check_settings(settings)?;
+    crawler.require_unique()?;
+    let n = crawler.links();
+    if n > MAX_BOUND_LINKS {
+        return Err(Error::invalid(
+            "crawler.blocks",
+            crawler.blocks(),
+            format!(
+                "the upper bound's grid has 2(N-1) dimensions: at most {} blocks",
+                MAX_BOUND_LINKS + 1
+            ),
+        ));
+    }
+    let started = Instant::now();
+    let a = &problem.rate_bound;
+    let k = crawler.stiffness();
+    let lmax: Vec<f64> = (0..n)
+        .map(|l| a[l] * problem.period / (2.0 * k[l]))
+        .collect();
+    let ranges = crawler.link_force_ranges();
+    let width = ranges.iter().fold(0.0_f64, |w, r| w.max(r[1] - r[0]));
+    let h = width / settings.resolution as f64;
+    let scale = crawler.force_scale();
+    let tol = 1e-9 * scale;
+    let aligned = crawler
+        .mu_forward()
+        .iter()
+        .chain(crawler.mu_backward())
+        .all(|m| ((m / h).round() * h - m).abs() <= tol);
+    let grid = grid::Grid::new(crawler, h, &lmax, settings.box_resolution, aligned);
+    let fact: usize = (1..=2 * n).product();
+    let simplices = grid.cells().saturating_mul(fact);
+    if simplices > MAX_SIMPLICES {
+        return Err(Error::invalid(
+            "bound.resolution",
+            format!("{} x {}", settings.resolution, settings.box_resolution),
+            format!("the grid has {simplices} simplices (at most {MAX_SIMPLICES})"),
+        ));
+    }
+    let motions: Vec<_> = faces::faces(crawler, tol)
+        .into_iter()
+        .map(|f| {
+            let m = faces::face_motion(crawler, a, &f);
+            (f, m)
+        })
+        .collect();
+
+    // The LP  min rho  s.t.  <g_S, d> + rho >= y'  (one row per (S, F, u)) has far more rows
+    // than node values, and rho is in every row: HiGHS's interior point method chokes on that
+    // dense column (measured: 465 s for 6.4e5 rows), so its dual is solved,
+    //   max sum_r y'_r m_r  s.t.  sum_r A_{r,p} m_r = 0 (every node p but one),
+    //                             sum_r m_r <= 1,  m >= 0,
+    // (an occupation measure on (simplex, face, control) that is invariant when tested against
+    // the piecewise-linear functions of the grid), and V is read from its node duals.
+    let used = grid.for_each_row(crawler, &motions, tol, |_, _, _| {});
+    let pinned = used.iter().position(|&u| u);
+    let mut pb = ColProblem::default();
+    // Each constrained node's row handle and its index (HiGHS numbers rows as they are added).
+    let mut added = 0usize;
+    let node_rows: Vec<Option<(Row, usize)>> = used
+        .iter()
+        .enumerate()
+        .map(|(p, &u)| {
+            (u && Some(p) != pinned).then(|| {
+                added += 1;
+                (pb.add_row(0.0..=0.0), added - 1)
+            })
+        })
+        .collect();
+    let mass = pb.add_row(..=1.0);
+    let mut rows = 0usize;
+    let mut entries: Vec<(Row, f64)> = Vec::with_capacity(2 * n + 2);
+    grid.for_each_row(crawler, &motions, tol, |nodes, coefs, y| {
+        entries.clear();
+        for (&p, &c) in nodes.iter().zip(coefs) {
+            if let (Some((r, _)), true) = (node_rows[p], c != 0.0) {
+                entries.push((r, c));
+            }
+        }
+        entries.push((mass, 1.0));
+        pb.add_column(y, 0.0.., &entries);
+        rows += 1;
+    });
+    progress::check()?;
+    let mut solver = Highs::new(pb, Sense::Maximise, "upper bound LP")?;
+    // Interior point without crossover: a vertex is not needed, as the bound is re-evaluated
+    // from V below.
+    solver.option("solver", "ipm")?;
+    solver.option("run_crossover", "off")?;
+    // Presolve off: without a basis HiGHS's postsolve cannot restore the duals V is read from.
+    solver.option("presolve", "off")?;
+    let elapsed = started.elapsed().as_secs_f64();
+    solver.time_limit((settings.time_limit - elapsed).max(1e-3))?;
+    let answer = solver.solve()?;
+    let status = match answer.status {
+        SolveStatus::Optimal => BoundStatus::Optimal,
+        SolveStatus::TimeLimit { .. } => BoundStatus::TimeLimit,
+        SolveStatus::Infeasible => {
+            return Err(Error::Numerical(
+                "upper bound LP: HiGHS reports it infeasible (it has the feasible point m = 0)"
+                    .into(),
+            ))
+        }
+    };
+    let dual: Vec<f64> = node_rows
+        .iter()
+        .map(|r| r.map_or(0.0, |(_, i)| answer.row_duals[i]))
+        .collect();
+    // Re-evaluation: the smallest rho the storage function satisfies every row with. The sign
+    // of HiGHS's duals is a convention; both signs give valid bounds, the smaller is reported.
+    let mut rate = [0.0_f64; 2];
+    grid.for_each_row(crawler, &motions, tol, |nodes, coefs, y| {
+        let g: f64 = nodes.iter().zip(coefs).map(|(&p, c)| c * dual[p]).sum();
+        rate[0] = rate[0].max(y - g);
+        rate[1] = rate[1].max(y + g);
+    });
+    let rate = rate[0].min(rate[1]);
+    if !rate.is_finite() {
+        return Err(Error::Numerical(
+            "upper bound LP: the storage function is not finite".into(),
+        ));
+    }
+    Ok(UpperBound {
+        method: METHOD.to_string(),
+        resolution: settings.resolution,
+        box_resolution: settings.box_resolution,
+        value: rate * problem.period,
+        status,
+        aligned,
+        rows,
+        columns: used.iter().filter(|&&u| u).count() + 1,
+        seconds: started.elapsed().as_secs_f64(),
+    })
+}

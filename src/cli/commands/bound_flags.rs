@@ -1,0 +1,53 @@
+//! The flags of `optimize --bound`: an upper bound over all periodic gaits
+//! (`crawlopt::certify::bound`), its grid and time limit; defaults are the library's.
+
+use crate::parse::count;
+use clap::Args;
+use crawlopt::certify::bound::BoundSettings;
+use crawlopt::Error;
+
+#[derive(Args, Debug)]
+pub struct BoundArgs {
+    /// Also prove an upper bound on J over all periodic gaits (no limit on slip phases;
+    /// N <= 4), recorded as "certificate.upper_bound" with the method and grid.
+    #[arg(long)]
+    pub bound: bool,
+    /// Grid steps across C's widest link-force range [default: 8].
+    #[arg(long = "bound-resolution", value_name = "R", allow_negative_numbers = true, value_parser = count)]
+    pub resolution: Option<usize>,
+    /// Grid steps across each actuator-length range [default: 8].
+    #[arg(long = "bound-box-resolution", value_name = "R", allow_negative_numbers = true, value_parser = count)]
+    pub box_resolution: Option<usize>,
+    /// Time limit of the bound's LP, seconds [default: 60].
+    #[arg(
+        long = "bound-time-limit",
+        value_name = "S",
+        allow_hyphen_values = true
+    )]
+    pub time_limit: Option<f64>,
+}
+
+impl BoundArgs {
+    /// The library's settings, or `None` without `--bound` (the grid flags need it).
+    pub fn settings(&self) -> Result<Option<BoundSettings>, Error> {
+        if !self.bound {
+            if self.resolution.is_some()
+                || self.box_resolution.is_some()
+                || self.time_limit.is_some()
+            {
+                return Err(Error::invalid(
+                    "--bound-resolution",
+                    "given",
+                    "the --bound-* flags need --bound",
+                ));
+            }
+            return Ok(None);
+        }
+        let d = BoundSettings::default();
+        Ok(Some(BoundSettings {
+            resolution: self.resolution.unwrap_or(d.resolution),
+            box_resolution: self.box_resolution.unwrap_or(d.box_resolution),
+            time_limit: self.time_limit.unwrap_or(d.time_limit),
+        }))
+    }
+}

@@ -1,0 +1,69 @@
+//! `optimize --bound`: the upper bound over all periodic gaits beside the K-phase certificate,
+//! in the text, in the JSON result, and read back by `certify`.
+
+mod common;
+
+use common::crawlopt;
+
+#[test]
+fn optimize_reports_the_upper_bound_and_the_file_reads_back() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = crawlopt(&[
+        "optimize",
+        "examples/one_link_gait.toml",
+        "--bound",
+        "--bound-resolution",
+        "16",
+        "--bound-box-resolution",
+        "16",
+    ]);
+    assert_eq!(out.status.code(), Some(0));
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    // J* = 3; the bound on the 16 x 16 grid is 3.25 (gap 2h, h = w / 16).
+    assert!(
+        stdout.contains("upper bound over all periodic gaits: 3.25")
+            && stdout.contains("pl-storage, grid 16 x 16")
+            && stdout.contains("optimal within 7.7 %"),
+        "{stdout}"
+    );
+    let out = crawlopt(&[
+        "optimize",
+        "examples/one_link_gait.toml",
+        "--bound",
+        "--json",
+    ]);
+    assert_eq!(out.status.code(), Some(0));
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let ub = &v["certificate"]["upper_bound"];
+    assert_eq!(ub["method"], "pl-storage");
+    assert_eq!(ub["resolution"], 8);
+    assert!((ub["value"].as_f64().unwrap() - 3.5).abs() < 1e-6, "{ub}");
+    // The file is readable, and a bound below the objective is refused by name.
+    let file = dir.path().join("g.json");
+    std::fs::write(&file, &out.stdout).unwrap();
+    let ok = crawlopt(&["certify", file.to_str().unwrap()]);
+    assert_eq!(
+        ok.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&ok.stderr)
+    );
+    let mut bad = v.clone();
+    bad["certificate"]["upper_bound"]["value"] = serde_json::json!(2.5);
+    std::fs::write(&file, serde_json::to_vec(&bad).unwrap()).unwrap();
+    let err = crawlopt(&["certify", file.to_str().unwrap()]);
+    assert_eq!(err.status.code(), Some(2));
+    assert!(
+        String::from_utf8_lossy(&err.stderr).contains("certificate.upper_bound.value"),
+        "{}",
+        String::from_utf8_lossy(&err.stderr)
+    );
+    // Grid flags need --bound.
+    let out = crawlopt(&[
+        "optimize",
+        "examples/one_link_gait.toml",
+        "--bound-resolution",
+        "4",
+    ]);
+    assert_eq!(out.status.code(), Some(2));
+}

@@ -1,0 +1,218 @@
+//! The upper bound over all periodic gaits (SPEC §12, `certify::bound`): never below a gait,
+//! and converging to the closed form for one link.
+
+use crawlopt::certify::bound::{upper_bound, BoundSettings, BoundStatus};
+use crawlopt::integrate::{simulate, Actuation, SimOptions};
+use crawlopt::optimal::{one_link_optimum, solve_phase_global, Cost, GaitProblem};
+use crawlopt::Crawler;
+
+fn settings(resolution: usize, box_resolution: usize) -> BoundSettings {
+    BoundSettings {
+        resolution,
+        box_resolution,
+        time_limit: 600.0,
+    }
+}
+
+/// The tables of the README: `BOUND_CASES="2:32:32 3:10:8"` (blocks:resolution:box_resolution),
+/// on the reference crawlers (N = 2: mu = 1 / 2; N = 3: mu = 1 / 1.5; k = a = 1, T = 10).
+#[test]
+#[ignore]
+fn measure_table() {
+    let cases = std::env::var("BOUND_CASES").unwrap_or_else(|_| "2:8:8 3:5:4".into());
+    for case in cases.split_whitespace() {
+        let v: Vec<usize> = case.split(':').map(|s| s.parse().unwrap()).collect();
+        let (nb, r, rb) = (v[0], v[1], v[2]);
+        let mu_back = if nb == 2 { 2.0 } else { 1.5 };
+        let c = Crawler::uniform(nb, 1.0, 1.0, mu_back).unwrap();
+        let p = GaitProblem::new(&c, 10.0, &vec![1.0; nb - 1], Cost::None, None).unwrap();
+        let b = upper_bound(&c, &p, &settings(r, rb)).unwrap();
+        println!(
+            "N={nb} r={r} rb={rb}: bound {:.6} status {:?} rows {} cols {} seconds {:.2}",
+            b.value, b.status, b.rows, b.columns, b.seconds
+        );
+    }
+}
+
+/// A random `T`-periodic piecewise-linear actuation with `|u_l| <= a_l`: random rates on random
+/// pieces, the mean removed per link and scaled into the bound (so `L` is periodic).
+fn random_gait(rng: &mut u64, k: &[f64], a: &[f64], period: f64, pieces: usize) -> Actuation {
+    let mut next = || {
+        *rng ^= *rng << 13;
+        *rng ^= *rng >> 7;
+        *rng ^= *rng << 17;
+        (*rng >> 11) as f64 / (1u64 << 53) as f64
+    };
+    let w: Vec<f64> = (0..pieces).map(|_| 0.2 + next()).collect();
+    let total: f64 = w.iter().sum();
+    let tau: Vec<f64> = w.iter().map(|v| v / total * period).collect();
+    let n = k.len();
+    let mut u = vec![vec![0.0; n]; pieces];
+    for l in 0..n {
+        // Bang-bang-like values favour large sweeps, where the bound is tested hardest.
+        let raw: Vec<f64> = (0..pieces)
+            .map(|_| {
+                if next() < 0.7 {
+                    next().round() * 2.0 - 1.0
+                } else {
+                    2.0 * next() - 1.0
+                }
+            })
+            .collect();
+        let mean = raw.iter().zip(&tau).map(|(r, t)| r * t).sum::<f64>() / period;
+        let centred: Vec<f64> = raw.iter().map(|r| r - mean).collect();
+        let peak = centred.iter().fold(1e-12_f64, |m, v| m.max(v.abs()));
+        let s = a[l] / peak * (0.6 + 0.4 * next());
+        (0..pieces).for_each(|i| u[i][l] = centred[i] * s);
+    }
+    // Knots in [0, T); the last piece returns to the first knot (the mean was removed).
+    let mut times = vec![0.0];
+    let mut lengths = vec![vec![0.0; n]];
+    for i in 0..pieces - 1 {
+        let prev = lengths[i].clone();
+        times.push(times[i] + tau[i]);
+        lengths.push((0..n).map(|l| prev[l] + u[i][l] * tau[i] / k[l]).collect());
+    }
+    Actuation::piecewise_linear(period, times, lengths).unwrap()
+}
+
+/// Crawlers with per-link stiffness and per-block friction, N = 2..4, and their rate bounds.
+fn crawlers() -> Vec<(Crawler, Vec<f64>, usize, usize)> {
+    vec![
+        (
+            Crawler::new(vec![2.0], vec![1.0, 0.75], vec![2.0, 1.5]).unwrap(),
+            vec![1.5],
+            16,
+            16,
+        ),
+        (
+            Crawler::new(vec![1.0, 2.0], vec![1.0, 0.5, 1.25], vec![1.5, 2.5, 1.75]).unwrap(),
+            vec![1.0, 1.5],
+            5,
+            2,
+        ),
+        (
+            Crawler::new(vec![1.0, 1.0], vec![1.0, 1.0, 1.0], vec![1.5, 1.5, 1.5]).unwrap(),
+            vec![1.0, 1.0],
+            5,
+            2,
+        ),
+        (
+            Crawler::new(
+                vec![1.0, 1.5, 1.0],
+                vec![1.0, 1.0, 0.5, 1.0],
+                vec![1.5, 1.5, 2.0, 1.5],
+            )
+            .unwrap(),
+            vec![1.0, 1.0, 1.0],
+            2,
+            1,
+        ),
+    ]
+}
+
+#[test]
+fn never_below_a_random_gait_or_a_phase_optimum() {
+    let period = 10.0;
+    let mut rng = 0x9e37_79b9_7f4a_7c15_u64;
+    for (c, speed, r, rb) in crawlers() {
+        let p = GaitProblem::new(&c, period, &speed, Cost::None, None).unwrap();
+        let bound = upper_bound(&c, &p, &settings(r, rb)).unwrap();
+        assert_eq!(bound.status, BoundStatus::Optimal);
+        let mut best = 0.0_f64;
+        for trial in 0..30 {
+            let act = random_gait(
+                &mut rng,
+                c.stiffness(),
+                &p.rate_bound,
+                period,
+                2 + trial % 7,
+            );
+            let sim = simulate(&c, &act, &SimOptions::default()).unwrap();
+            let j = sim.displacement_per_period.expect("periodic orbit");
+            best = best.max(j);
+            assert!(
+                j <= bound.value + 1e-9,
+                "N = {}: random gait {trial} moves {j} > bound {}",
+                c.blocks(),
+                bound.value
+            );
+        }
+        // crawlopt's own optimum among gaits of few slip phases (a global MILP).
+        let phases = if c.blocks() <= 3 { 4 } else { 2 };
+        let opt = solve_phase_global(&c, &p, phases, Some(60.0)).unwrap();
+        assert!(
+            opt.verified_displacement <= bound.value + 1e-9,
+            "N = {}: phase gait {} > bound {}",
+            c.blocks(),
+            opt.verified_displacement,
+            bound.value
+        );
+        println!(
+            "N = {}: bound {:.4}, best random {best:.4}, phase (K <= {phases}) {:.4}",
+            c.blocks(),
+            bound.value,
+            opt.verified_displacement
+        );
+    }
+}
+
+#[test]
+fn one_link_converges_to_the_closed_form() {
+    // SPEC §9: J* = (a T - 2 w) / (2 k). The reference crawler (w = 2, J* = 3) and one with
+    // per-block friction and k = 2 whose C = [-1, 0.75] is not tiled by the grid for every r.
+    let cases = [
+        (Crawler::uniform(2, 1.0, 1.0, 2.0).unwrap(), 1.0),
+        (
+            Crawler::new(vec![2.0], vec![1.0, 0.75], vec![2.0, 1.5]).unwrap(),
+            1.5,
+        ),
+    ];
+    for (c, speed) in cases {
+        let p = GaitProblem::new(&c, 10.0, &[speed], Cost::None, None).unwrap();
+        let exact = one_link_optimum(&c, &p).unwrap().value;
+        let mut last = f64::INFINITY;
+        for r in [4, 8, 16, 32] {
+            let b = upper_bound(&c, &p, &settings(r, r)).unwrap();
+            assert!(
+                b.value >= exact - 1e-7,
+                "r = {r}: {} < J* = {exact}",
+                b.value
+            );
+            assert!(b.value <= last + 1e-7, "r = {r}: {} after {last}", b.value);
+            last = b.value;
+        }
+        // Measured: the gap is 2h (h = w / r: 3.125 against 3 at r = 32 on the reference).
+        let w = c.link_force_ranges()[0][1] - c.link_force_ranges()[0][0];
+        assert!(
+            last - exact <= 2.5 * w / 32.0,
+            "gap {} at r = 32",
+            last - exact
+        );
+        println!("J* = {exact}: bound {last} at r = 32");
+    }
+}
+
+#[test]
+fn settings_are_checked_by_field() {
+    let c = Crawler::uniform(3, 1.0, 1.0, 1.5).unwrap();
+    let p = GaitProblem::new(&c, 10.0, &[1.0, 1.0], Cost::None, None).unwrap();
+    let bad = |s: BoundSettings, field: &str| {
+        let e = upper_bound(&c, &p, &s).unwrap_err().to_string();
+        assert!(e.starts_with(field), "{e}");
+    };
+    bad(settings(0, 4), "bound.resolution");
+    bad(settings(4, 0), "bound.box_resolution");
+    bad(
+        BoundSettings {
+            time_limit: f64::NAN,
+            ..BoundSettings::default()
+        },
+        "bound.time_limit",
+    );
+    bad(settings(400, 400), "bound.resolution");
+    let c5 = Crawler::uniform(5, 1.0, 1.0, 1.6).unwrap();
+    let p5 = GaitProblem::new(&c5, 10.0, &[1.0; 4], Cost::None, None).unwrap();
+    let e = upper_bound(&c5, &p5, &BoundSettings::default()).unwrap_err();
+    assert!(e.to_string().starts_with("crawler.blocks"), "{e}");
+}
