@@ -62,13 +62,21 @@ Numbers = Union[float, Sequence[float]]
 Progress = Union[bool, Callable[[dict], Any], None]
 
 
+def _input_error(field: str, value: Any, reason: str) -> InputError:
+    """An InputError raised on the Python side, with ``.field`` and ``.value`` as the library's
+    (the value as text)."""
+    e = InputError(f"{field}: {reason} (got {value})")
+    e.field, e.value = field, str(value)
+    return e
+
+
 def _each(value: Numbers, count: int, name: str) -> list[float]:
     """A number for every entry, or a list of them (as the TOML schema allows)."""
     if np.ndim(value) == 0:
         return [float(value)] * count
     values = [float(v) for v in np.asarray(value, dtype=float).ravel()]
     if len(values) != count:
-        raise InputError(f"{name}: must have {count} entries (got {len(values)})")
+        raise _input_error(name, len(values), f"must have {count} entries")
     return values
 
 
@@ -134,7 +142,7 @@ class Crawler:
     ):
         if _inner is None:
             if not isinstance(blocks, (int, np.integer)) or blocks < 2:
-                raise InputError(f"crawler.blocks: must be a whole number >= 2 (got {blocks!r})")
+                raise _input_error("crawler.blocks", repr(blocks), "must be a whole number >= 2")
             _inner = _rs.Crawler(
                 _each(stiffness, blocks - 1, "crawler.stiffness"),
                 _each(mu_forward, blocks, "crawler.mu_forward"),
@@ -483,6 +491,23 @@ class _Gait:
         return f"Gait({len(self.u)} pieces, {self.u.shape[1] if self.u.ndim == 2 else 0} links)"
 
 
+def _bound_settings(bound) -> Optional[tuple]:
+    """``optimize``'s ``bound`` as the extension takes it (None: no bound)."""
+    if bound is None or bound is False:
+        return None
+    if bound is True:
+        return (None, None, None)
+    if not isinstance(bound, dict):
+        raise _input_error("bound", repr(bound), "must be True, False, None or a dict")
+    keys = ("resolution", "box_resolution", "time_limit")
+    for k in bound:
+        if k not in keys:
+            raise _input_error(
+                f"bound.{k}", repr(bound[k]), f"unknown setting (known: {', '.join(keys)})"
+            )
+    return tuple(bound.get(k) for k in keys)
+
+
 def optimize(
     crawler: Crawler,
     problem: GaitProblem,
@@ -497,6 +522,7 @@ def optimize(
     shifts: Optional[int] = None,
     time_limit: Optional[float] = None,
     certify: bool = False,
+    bound: Union[bool, dict, None] = None,
     progress: Progress = False,
 ) -> GaitResult:
     """An optimal gait of the problem (P) (paper §§5–7), every method and option of
@@ -508,7 +534,11 @@ def optimize(
     it. The answer is verified by simulation; ``certify`` adds the necessary conditions
     (Theorem 2.2) as ``necessary_conditions``. A time limit that ends the search with a gait
     returns it (``status == "time_limit"``, with its gap); TimeLimitError only when there is
-    none. The GIL is released; Ctrl-C stops the solve within about a second (KeyboardInterrupt).
+    none. ``bound``: True (or a dict with ``resolution``, ``box_resolution``, ``time_limit``;
+    missing keys take the library's defaults 8, 8, 60 s) also proves an upper bound on J over
+    all periodic gaits (a piecewise-linear storage function on a grid of C x box, SPEC §12;
+    N <= 4), recorded as ``certificate["upper_bound"]``. The GIL is released; Ctrl-C stops the
+    solve within about a second (KeyboardInterrupt).
     ``progress``: True for a progress bar (tqdm if installed, else a text line), a callable to
     receive each event as a dict."""
     inner, conditions, notes = _rs.optimize(
@@ -524,6 +554,7 @@ def optimize(
         shifts,
         time_limit,
         certify,
+        _bound_settings(bound),
         progress_callback(progress),
     )
     return GaitResult(inner, None if conditions is None else json.loads(conditions), notes)
@@ -538,7 +569,7 @@ def _sweep_source(spec) -> tuple[str, bool, str]:
         return json.dumps(spec), False, os.getcwd()
     if isinstance(spec, (str, os.PathLike)):
         return os.path.abspath(os.fspath(spec)), True, ""
-    raise InputError(f"spec: must be a sweep file's path or a dict (got {type(spec).__name__})")
+    raise _input_error("spec", type(spec).__name__, "must be a sweep file's path or a dict")
 
 
 def sweep(spec, executor=None, *, threads: int = 0):

@@ -105,6 +105,7 @@ def optimize(
     shifts: Optional[int],
     time_limit: Optional[float],
     certify: bool,
+    bound: Optional[tuple[Optional[int], Optional[int], Optional[float]]],
     progress: Optional[Callable[[str], None]],
 ) -> tuple[GaitResult, Optional[str], list[str]]: ...
 def sweep_size(source: str, is_path: bool, base_dir: str) -> tuple[list[str], int]: ...

@@ -6,6 +6,7 @@ use crate::model::{Actuation, Crawler, GaitProblem};
 use crate::results::GaitResult;
 use crate::run::run;
 use crawlopt::api::{self, GaitMethod, Naming, OptimizeSettings, Start};
+use crawlopt::certify::bound::BoundSettings;
 use crawlopt::integrate::{Method, SimOptions, Simulation};
 use numpy::{PyArray1, PyArray2, PyArrayMethods};
 use pyo3::prelude::*;
@@ -95,7 +96,7 @@ pub fn simulate<'py>(
 /// An optimal gait of `problem` for `crawler` (`crawlopt::api::optimize`); see
 /// `crawlopt.optimize` for the arguments.
 #[pyfunction]
-#[pyo3(signature = (crawler, problem, method, phases, patience, max_phases, m, convergence, start, shifts, time_limit, certify, progress))]
+#[pyo3(signature = (crawler, problem, method, phases, patience, max_phases, m, convergence, start, shifts, time_limit, certify, bound, progress))]
 #[allow(clippy::too_many_arguments)]
 pub fn optimize(
     py: Python<'_>,
@@ -111,8 +112,18 @@ pub fn optimize(
     shifts: Option<usize>,
     time_limit: Option<f64>,
     certify: bool,
+    bound: Option<(Option<usize>, Option<usize>, Option<f64>)>,
     progress: Option<PyObject>,
 ) -> PyResult<(GaitResult, Option<String>, Vec<String>)> {
+    // The upper bound's settings, each None taking the library's default.
+    let bound = bound.map(|(resolution, box_resolution, time_limit)| {
+        let d = BoundSettings::default();
+        BoundSettings {
+            resolution: resolution.unwrap_or(d.resolution),
+            box_resolution: box_resolution.unwrap_or(d.box_resolution),
+            time_limit: time_limit.unwrap_or(d.time_limit),
+        }
+    });
     let settings = OptimizeSettings {
         method: GaitMethod::from_name(method).map_err(|e| to_py(py, e))?,
         phases,
@@ -128,7 +139,7 @@ pub fn optimize(
         time_limit,
         certify,
         naming: Naming::Keywords,
-        bound: None,
+        bound,
     };
     let (c, p) = (crawler.inner.clone(), problem.inner.clone());
     let done = run(py, progress, |hooks| {

@@ -159,3 +159,25 @@ def test_tables_as_pandas():
     assert list(table["m"]) == [1, 2, 3]
     # J_m approaches the continuous optimum 3 from below.
     assert (table["objective"] <= 3.0 + 1e-9).all()
+
+
+def test_the_upper_bound_over_all_gaits_for_one_link():
+    # N = 2, mu+ = 1, mu- = 2, k = a = 1, T = 10: J* = 3 (SPEC §10); the storage-function bound
+    # on an R x R grid is J* + 2h with h = w / R = 2 / R (measured exactly: README).
+    c = co.Crawler(blocks=2, mu_forward=1.0, mu_backward=2.0)
+    p = co.GaitProblem(period=10, max_actuator_speed=1.0)
+    r = co.optimize(c, p, bound={"resolution": 16, "box_resolution": 16})
+    ub = r.certificate["upper_bound"]
+    assert r.objective == pytest.approx(3.0, abs=1e-9)
+    assert ub["value"] == pytest.approx(3.25, abs=1e-7)
+    assert ub["method"] == "pl-storage" and ub["resolution"] == 16
+    assert "upper bound over all periodic gaits" in str(r)
+    assert 'id="upper-bound"' in r.report()
+    back = co.GaitResult.from_json(r.to_json())
+    assert back.certificate["upper_bound"]["value"] == ub["value"]
+    with pytest.raises(co.InputError) as e:
+        co.optimize(c, p, bound={"grid": 4})
+    assert e.value.field == "bound.grid"
+    with pytest.raises(co.InputError) as e:
+        co.optimize(c, p, bound={"resolution": 0})
+    assert e.value.field == "bound.resolution"

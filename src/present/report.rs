@@ -267,6 +267,23 @@ fn page(
         esc(&cert),
         c.bound.map_or("none".into(), num)
     ));
+    if let Some(ub) = &c.upper_bound {
+        // Like the bound above: recorded in a file, checked to be at least the verified J.
+        let recorded = if source.ends_with(".json") {
+            " (as recorded in the file, not re-proven here)"
+        } else {
+            ""
+        };
+        h.push_str(&format!(
+            "<div><span>upper bound over all periodic gaits</span><b id=\"upper-bound\">{}</b>\
+             <span>{} on a {} x {} grid: optimal within {:.1} % among all periodic gaits{recorded}</span></div>\n",
+            num(ub.value),
+            esc(&ub.method),
+            ub.resolution,
+            ub.box_resolution,
+            100.0 * ub.within(result.objective)
+        ));
+    }
     h.push_str("</div>\n");
 
     // Animation.

@@ -132,6 +132,18 @@ pub struct UpperBound {
     pub seconds: f64,
 }
 
+impl UpperBound {
+    /// How far a gait of objective `j` can be from the best periodic gait, as a fraction of the
+    /// bound: `(value - j) / value` (0 when the bound is not positive: then `j` = 0 is optimal).
+    pub fn within(&self, j: f64) -> f64 {
+        if self.value > 0.0 {
+            (self.value - j).max(0.0) / self.value
+        } else {
+            0.0
+        }
+    }
+}
+
 fn check_settings(s: &BoundSettings) -> Result<()> {
     if s.resolution == 0 || s.resolution > 1000 {
         return Err(Error::invalid(

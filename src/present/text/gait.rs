@@ -52,14 +52,7 @@ pub fn gait_result(r: &GaitResult) -> String {
         _ => wln!(out, "certificate: {what}"),
     }
     if let Some(ub) = &c.upper_bound {
-        let within = if ub.value > 0.0 {
-            format!(
-                "{:.1} %",
-                100.0 * (ub.value - r.objective).max(0.0) / ub.value
-            )
-        } else {
-            "0 %".into()
-        };
+        let within = format!("{:.1} %", 100.0 * ub.within(r.objective));
         wln!(
             out,
             "upper bound over all periodic gaits: {} ({}, grid {} x {}{}): optimal within {within}",
