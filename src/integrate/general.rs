@@ -282,12 +282,11 @@ pub fn simulate_general(
         input.mean(i as f64 * h, t1, u);
     }
     let mut proj = PolyProjector::new(p.c.clone());
-    let scale = p.c.scale();
-    let mut x = x0.to_vec();
+    let x = x0.to_vec();
     let mut g = vec![0.0; n];
     let mut v = vec![0.0; n];
     // One period from `x`; with `record`, the trajectory.
-    let mut period = |x: &mut Vec<f64>, record: Option<&mut GeneralSimulation>| -> Result<()> {
+    let period = |x: &mut Vec<f64>, record: Option<&mut GeneralSimulation>| -> Result<()> {
         let mut rec = record;
         for (i, u) in us.iter().enumerate() {
             p.dynamics.eval(x, u, &mut g);
@@ -309,6 +308,22 @@ pub fn simulate_general(
         }
         Ok(())
     };
+    periodic_regime(p, input, x, opts.max_periods, opts.tol, period)
+}
+
+/// The regime of a simulation from `x`, given one of its `period` maps (with a recording, the
+/// trajectory): for a Cauchy problem one horizon; for a periodic one, periods until the state
+/// repeats within `tol` times C's scale (at most `max_periods`). Then one period recorded, with
+/// `J` on it (none without the regime).
+pub(super) fn periodic_regime(
+    p: &GeneralProblem,
+    input: &ControlInput,
+    mut x: Vec<f64>,
+    max_periods: usize,
+    tol: f64,
+    mut period: impl FnMut(&mut Vec<f64>, Option<&mut GeneralSimulation>) -> Result<()>,
+) -> Result<GeneralSimulation> {
+    let scale = p.c.scale();
     let mut periods = 0;
     let converged = match p.boundary {
         Boundary::Initial(_) => true,
@@ -321,15 +336,15 @@ pub fn simulate_general(
                 .iter()
                 .zip(&start)
                 .fold(0.0_f64, |d, (a, b)| d.max((a - b).abs()));
-            if change <= opts.tol * scale {
+            if change <= tol * scale {
                 break true;
             }
-            if periods >= opts.max_periods {
+            if periods >= max_periods {
                 break false;
             }
         },
     };
-    let mut mean_control = vec![0.0; m];
+    let mut mean_control = vec![0.0; p.controls()];
     input.mean(0.0, p.period, &mut mean_control);
     let mut sim = GeneralSimulation {
         converged,
@@ -350,59 +365,4 @@ pub fn simulate_general(
         sim.objective = Some(sim.reward - sim.cost);
     }
     Ok(sim)
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn means_of_the_inputs_are_exact() {
-        let u = ControlSet::Box {
-            lower: vec![-2.0],
-            upper: vec![2.0],
-        };
-        let pwc = ControlInput::new(
-            InputKind::PiecewiseConstant,
-            4.0,
-            vec![0.0, 1.0],
-            vec![vec![2.0], vec![-1.0]],
-            &u,
-            "input",
-        )
-        .unwrap();
-        let mut out = [0.0];
-        pwc.mean(0.5, 1.5, &mut out);
-        assert_eq!(out, [0.5]);
-        pwc.mean(0.0, 4.0, &mut out);
-        assert_eq!(out, [(2.0 - 3.0) / 4.0]);
-        // Linear from 2 at t = 0 to -1 at t = 1, then back to 2 at t = 4.
-        let pwl = ControlInput {
-            kind: InputKind::PiecewiseLinear,
-            ..pwc
-        };
-        pwl.mean(0.0, 1.0, &mut out);
-        assert_eq!(out, [0.5]);
-        pwl.mean(0.0, 4.0, &mut out);
-        assert_eq!(out, [(0.5 + 3.0 * 0.5) / 4.0]);
-        for (times, values, field) in [
-            (vec![0.5], vec![vec![0.0]], "input.times"),
-            (vec![0.0, 4.0], vec![vec![0.0]; 2], "input.times[2]"),
-            (vec![0.0], vec![vec![3.0]], "input.values[1]"),
-            (vec![0.0], vec![vec![0.0, 1.0]], "input.values[1]"),
-            (vec![0.0, 1.0], vec![vec![0.0]], "input.values"),
-        ] {
-            let e = ControlInput::new(
-                InputKind::PiecewiseConstant,
-                4.0,
-                times,
-                values,
-                &u,
-                "input",
-            )
-            .unwrap_err()
-            .to_string();
-            assert!(e.starts_with(field), "{e}");
-        }
-    }
 }

@@ -8,7 +8,7 @@
 
 use super::general::{ControlInput, GeneralSimulation, InputKind};
 use crate::error::{Error, Result};
-use crate::model::general::{Boundary, GeneralProblem, Polyhedron};
+use crate::model::general::{GeneralProblem, Polyhedron};
 use crate::sweep::PolyProjector;
 
 /// Most segments of one period before the integration is declared Zeno-like and stopped.
@@ -38,49 +38,9 @@ pub fn simulate_general_exact(
             "the exact method needs a piecewise-constant control",
         ));
     }
-    let scale = p.c.scale();
-    let mut x = x0.to_vec();
-    let mut periods = 0;
-    let converged = match p.boundary {
-        Boundary::Initial(_) => true,
-        Boundary::Periodic => loop {
-            crate::progress::check()?;
-            let start = x.clone();
-            period(p, input, &mut x, None)?;
-            periods += 1;
-            let change = x
-                .iter()
-                .zip(&start)
-                .fold(0.0_f64, |d, (a, b)| d.max((a - b).abs()));
-            if change <= tol * scale {
-                break true;
-            }
-            if periods >= max_periods {
-                break false;
-            }
-        },
-    };
-    let mut mean_control = vec![0.0; p.controls()];
-    input.mean(0.0, p.period, &mut mean_control);
-    let mut sim = GeneralSimulation {
-        converged,
-        periods,
-        objective: None,
-        reward: 0.0,
-        cost: 0.0,
-        mean_control,
-        t: vec![0.0],
-        x: vec![x.clone()],
-        u: vec![],
-        lambda: vec![],
-        max_kkt_residual: 0.0,
-    };
-    if converged {
-        period(p, input, &mut x, Some(&mut sim))?;
-        sim.periods += 1;
-        sim.objective = Some(sim.reward - sim.cost);
-    }
-    Ok(sim)
+    super::general::periodic_regime(p, input, x0.to_vec(), max_periods, tol, |x, rec| {
+        period(p, input, x, rec)
+    })
 }
 
 /// One period from `x`; with `rec`, its segments (`t` and `x` at the events, `u` and the

@@ -353,6 +353,38 @@ where
     Ok(())
 }
 
+/// The axes of a heat map's colour bar in `area`: values from `-vmax` to `vmax` on the right,
+/// named `desc`; the caller draws the bands.
+fn colour_bar<'a, DB: DrawingBackend>(
+    area: &'a DrawingArea<DB, Shift>,
+    s: Sty,
+    vmax: f64,
+    desc: &str,
+) -> std::result::Result<Chart2d<'a, DB>, Box<dyn std::error::Error>>
+where
+    DB::ErrorType: 'static,
+{
+    let mut cb = ChartBuilder::on(area)
+        .margin_top(s.px(40.0))
+        .margin_bottom(s.px(56.0))
+        .margin_left(s.px(8.0))
+        .margin_right(s.px(10.0))
+        .y_label_area_size(s.px(0.0))
+        .right_y_label_area_size(s.px(70.0))
+        .build_cartesian_2d(0.0..1.0, -vmax..vmax)?;
+    let span = 2.0 * vmax;
+    cb.configure_mesh()
+        .disable_x_mesh()
+        .disable_y_mesh()
+        .disable_x_axis()
+        .y_label_formatter(&|v| tick(*v, span))
+        .y_desc(desc)
+        .label_style(s.text(12.0))
+        .axis_desc_style(s.text(13.0))
+        .draw()?;
+    Ok(cb)
+}
+
 fn legend<'a, DB: DrawingBackend + 'a>(
     c: &mut Chart2d<'a, DB>,
     s: Sty,
@@ -1299,25 +1331,7 @@ impl Plot for VmMap<'_> {
             }
         }
         legend(&mut c, s, SeriesLabelPosition::UpperLeft)?;
-        // Colour bar.
-        let mut cb = ChartBuilder::on(&bar)
-            .margin_top(s.px(40.0))
-            .margin_bottom(s.px(56.0))
-            .margin_left(s.px(8.0))
-            .margin_right(s.px(10.0))
-            .y_label_area_size(s.px(0.0))
-            .right_y_label_area_size(s.px(70.0))
-            .build_cartesian_2d(0.0..1.0, -vmax..vmax)?;
-        let span = 2.0 * vmax;
-        cb.configure_mesh()
-            .disable_x_mesh()
-            .disable_y_mesh()
-            .disable_x_axis()
-            .y_label_formatter(&|v| tick(*v, span))
-            .y_desc("vₘ [length/time]")
-            .label_style(s.text(12.0))
-            .axis_desc_style(s.text(13.0))
-            .draw()?;
+        let mut cb = colour_bar(&bar, s, vmax, "vₘ [length/time]")?;
         let steps = 2 * LEVELS + 1;
         cb.draw_series((0..steps).map(|k| {
             let level = k as f64 - LEVELS as f64;

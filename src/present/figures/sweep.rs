@@ -2,7 +2,9 @@
 //! value against one axis with one line per value of a second axis, and a heat map over two
 //! axes with the boundary of the no-locomotion region (value = 0).
 
-use super::{chart, diverging, legend, legend_line, render, tick, Figure, Plot, Sty, PALETTE};
+use super::{
+    chart, colour_bar, diverging, legend, legend_line, render, tick, Figure, Plot, Sty, PALETTE,
+};
 use crate::error::{Error, Result};
 use plotters::coord::Shift;
 use plotters::prelude::*;
@@ -171,25 +173,8 @@ impl Plot for Heat<'_> {
             .legend(move |(x, y)| Rectangle::new([(x, y - 5), (x + 14, y + 5)], grey.filled()));
         }
         legend(&mut c, s, SeriesLabelPosition::UpperLeft)?;
-        let mut cb = ChartBuilder::on(&bar)
-            .margin_top(s.px(40.0))
-            .margin_bottom(s.px(56.0))
-            .margin_left(s.px(8.0))
-            .margin_right(s.px(10.0))
-            .y_label_area_size(s.px(0.0))
-            .right_y_label_area_size(s.px(70.0))
-            .build_cartesian_2d(0.0..1.0, -vmax..vmax)?;
-        let span = 2.0 * vmax;
-        cb.configure_mesh()
-            .disable_x_mesh()
-            .disable_y_mesh()
-            .disable_x_axis()
-            .y_label_formatter(&|v| tick(*v, span))
-            .y_desc(g.value_name.as_str())
-            .label_style(s.text(12.0))
-            .axis_desc_style(s.text(13.0))
-            .draw()?;
-        let steps = 100;
+        let mut cb = colour_bar(&bar, s, vmax, &g.value_name)?;
+        let (span, steps) = (2.0 * vmax, 100);
         cb.draw_series((0..steps).map(|k| {
             let a = -vmax + span * k as f64 / steps as f64;
             let b = -vmax + span * (k + 1) as f64 / steps as f64;
