@@ -3,27 +3,16 @@
 //! simulation against closed forms (the paper's §4 one-link problem in general form, a box with
 //! linear drift), and the crawler as an instance (same steps as the dedicated crawler path).
 
+mod common;
+
+use common::Rng;
 use crawlopt::integrate::{
     simulate, simulate_general, simulate_general_exact, Actuation, ControlInput, GeneralSimOptions,
     InputKind, Method, SimOptions,
 };
 use crawlopt::model::general::{GeneralCost, GeneralParts, GeneralProblem, Polyhedron};
-use crawlopt::model::{crawler_as_general, Crawler};
+use crawlopt::model::{crawler_as_general, Crawler, CrawlerInstance};
 use crawlopt::sweep::{PolyProjector, Projector};
-
-/// A small deterministic generator (xorshift64*), uniform in [0, 1).
-struct Rng(u64);
-impl Rng {
-    fn next(&mut self) -> f64 {
-        self.0 ^= self.0 >> 12;
-        self.0 ^= self.0 << 25;
-        self.0 ^= self.0 >> 27;
-        (self.0.wrapping_mul(0x2545_f491_4f6c_dd1d) >> 11) as f64 / (1u64 << 53) as f64
-    }
-    fn range(&mut self, a: f64, b: f64) -> f64 {
-        a + (b - a) * self.next()
-    }
-}
 
 fn dot(a: &[f64], b: &[f64]) -> f64 {
     a.iter().zip(b).map(|(x, y)| x * y).sum()
@@ -241,49 +230,57 @@ fn crawlers() -> Vec<Crawler> {
         .collect()
 }
 
+/// A gait of `crawler` over T = 4 (each link extends then contracts, shifted from link to
+/// link): its piecewise-linear actuation, the crawler's general form with rate bounds above its
+/// controls, and those controls u = K L' (the last piece back to the first row at T) as the
+/// general form's piecewise-constant input.
+fn shifted_gait(crawler: &Crawler) -> (f64, Actuation, CrawlerInstance, ControlInput) {
+    let n = crawler.links();
+    let t = 4.0;
+    let times = vec![0.0, 1.0, 2.0, 3.0];
+    let lengths: Vec<Vec<f64>> = (0..4)
+        .map(|k| {
+            (0..n)
+                .map(|l| [0.0, 3.0, 1.0, 2.5][(k + l) % 4] * (1.0 + 0.2 * l as f64))
+                .collect()
+        })
+        .collect();
+    let act = Actuation::piecewise_linear(t, times.clone(), lengths.clone()).unwrap();
+    let ks = crawler.stiffness();
+    let u: Vec<Vec<f64>> = (0..4)
+        .map(|k| {
+            let (t1, next) = if k == 3 {
+                (t, &lengths[0])
+            } else {
+                (times[k + 1], &lengths[k + 1])
+            };
+            (0..n)
+                .map(|l| ks[l] * (next[l] - lengths[k][l]) / (t1 - times[k]))
+                .collect()
+        })
+        .collect();
+    let a_max: Vec<f64> = (0..n)
+        .map(|l| u.iter().fold(0.0_f64, |m, r| m.max(r[l].abs())) + 1.0)
+        .collect();
+    let inst = crawler_as_general(crawler, t, &a_max, GeneralCost::None).unwrap();
+    let input = ControlInput::new(
+        InputKind::PiecewiseConstant,
+        t,
+        times,
+        u,
+        &inst.problem.control,
+        "input",
+    )
+    .unwrap();
+    (t, act, inst, input)
+}
+
 #[test]
 fn the_crawler_as_an_instance_gives_the_crawler_path_to_1e_12() {
     for crawler in crawlers() {
         let n = crawler.links();
-        let t = 4.0;
-        // A piecewise-linear actuation from t = 0: each link extends then contracts, shifted.
-        let times = vec![0.0, 1.0, 2.0, 3.0];
-        let lengths: Vec<Vec<f64>> = (0..4)
-            .map(|k| {
-                (0..n)
-                    .map(|l| [0.0, 3.0, 1.0, 2.5][(k + l) % 4] * (1.0 + 0.2 * l as f64))
-                    .collect()
-            })
-            .collect();
-        let act = Actuation::piecewise_linear(t, times.clone(), lengths.clone()).unwrap();
-        // u = K L' on each piece (the last back to the first row at T).
-        let ks = crawler.stiffness();
-        let u: Vec<Vec<f64>> = (0..4)
-            .map(|k| {
-                let (t1, next) = if k == 3 {
-                    (t, &lengths[0])
-                } else {
-                    (times[k + 1], &lengths[k + 1])
-                };
-                (0..n)
-                    .map(|l| ks[l] * (next[l] - lengths[k][l]) / (t1 - times[k]))
-                    .collect()
-            })
-            .collect();
-        let a_max: Vec<f64> = (0..n)
-            .map(|l| u.iter().fold(0.0_f64, |m, r| m.max(r[l].abs())) + 1.0)
-            .collect();
-        let inst = crawler_as_general(&crawler, t, &a_max, GeneralCost::None).unwrap();
+        let (t, act, inst, input) = shifted_gait(&crawler);
         let p = &inst.problem;
-        let input = ControlInput::new(
-            InputKind::PiecewiseConstant,
-            t,
-            times.clone(),
-            u.clone(),
-            &p.control,
-            "input",
-        )
-        .unwrap();
         let m = 400;
         let h = t / m as f64;
         // One period step by step from x = 0: the crawler's projector in the K^-1 metric and the
@@ -348,43 +345,8 @@ fn the_exact_method_where_a_is_zero_matches_the_crawler_exact_method() {
     // the same displacement per period (1e-12), and the general catching-up converging to it.
     for crawler in crawlers() {
         let n = crawler.links();
-        let t = 4.0;
-        let times = vec![0.0, 1.0, 2.0, 3.0];
-        let lengths: Vec<Vec<f64>> = (0..4)
-            .map(|k| {
-                (0..n)
-                    .map(|l| [0.0, 3.0, 1.0, 2.5][(k + l) % 4] * (1.0 + 0.2 * l as f64))
-                    .collect()
-            })
-            .collect();
-        let act = Actuation::piecewise_linear(t, times.clone(), lengths.clone()).unwrap();
-        let ks = crawler.stiffness();
-        let u: Vec<Vec<f64>> = (0..4)
-            .map(|k| {
-                let (t1, next) = if k == 3 {
-                    (t, &lengths[0])
-                } else {
-                    (times[k + 1], &lengths[k + 1])
-                };
-                (0..n)
-                    .map(|l| ks[l] * (next[l] - lengths[k][l]) / (t1 - times[k]))
-                    .collect()
-            })
-            .collect();
-        let a_max: Vec<f64> = (0..n)
-            .map(|l| u.iter().fold(0.0_f64, |m, r| m.max(r[l].abs())) + 1.0)
-            .collect();
-        let inst = crawler_as_general(&crawler, t, &a_max, GeneralCost::None).unwrap();
+        let (_, act, inst, input) = shifted_gait(&crawler);
         let p = &inst.problem;
-        let input = ControlInput::new(
-            InputKind::PiecewiseConstant,
-            t,
-            times.clone(),
-            u,
-            &p.control,
-            "input",
-        )
-        .unwrap();
         let sim = simulate(
             &crawler,
             &act,

@@ -3,6 +3,9 @@
 //! crawler P_m, and random small instances against the enumeration of every complementarity
 //! branch (an LP each, no big-M).
 
+mod common;
+
+use common::Rng;
 use crawlopt::model::general::{GeneralCost, GeneralParts, GeneralProblem};
 use crawlopt::model::{crawler_as_general, Crawler};
 use crawlopt::optimal::general::{
@@ -73,20 +76,6 @@ fn crawler_instances_give_the_crawler_p_m_optima() {
                 got.objective
             );
         }
-    }
-}
-
-/// xorshift64*, uniform in [0, 1).
-struct Rng(u64);
-impl Rng {
-    fn next(&mut self) -> f64 {
-        self.0 ^= self.0 >> 12;
-        self.0 ^= self.0 << 25;
-        self.0 ^= self.0 >> 27;
-        (self.0.wrapping_mul(0x2545_f491_4f6c_dd1d) >> 11) as f64 / (1u64 << 53) as f64
-    }
-    fn range(&mut self, a: f64, b: f64) -> f64 {
-        a + (b - a) * self.next()
     }
 }
 
