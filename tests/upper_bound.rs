@@ -11,6 +11,7 @@ fn settings(resolution: usize, box_resolution: usize) -> BoundSettings {
         resolution,
         box_resolution,
         time_limit: 600.0,
+        ..BoundSettings::default()
     }
 }
 
@@ -193,6 +194,68 @@ fn one_link_converges_to_the_closed_form() {
     }
 }
 
+/// One link with `f2 = (c/2) u^2` on the reference crawler (w = 2): the bound against the closed
+/// form of `optimal::one_link`, per (R, box R, tangents).
+fn quadratic_bound(period: f64, weight: f64, r: usize, rb: usize, m: usize) -> (f64, f64) {
+    let c = Crawler::uniform(2, 1.0, 1.0, 2.0).unwrap();
+    let p = GaitProblem::new(&c, period, &[1.0], Cost::Quadratic { weight }, None).unwrap();
+    let exact = one_link_optimum(&c, &p).unwrap().value;
+    let s = BoundSettings {
+        cost_tangents: m,
+        ..settings(r, rb)
+    };
+    let b = upper_bound(&c, &p, &s).unwrap();
+    assert_eq!(b.status, BoundStatus::Optimal);
+    assert_eq!(b.cost_tangents, m);
+    (b.value, exact)
+}
+
+/// `BOUND_QUAD_CASES="20:0.8:32:32:8"` (T:c:R:box R:tangents), one link with quadratic cost.
+#[test]
+#[ignore]
+fn measure_quadratic() {
+    let cases = std::env::var("BOUND_QUAD_CASES").unwrap_or_else(|_| "20:0.8:16:16:4".into());
+    for case in cases.split_whitespace() {
+        let v: Vec<f64> = case.split(':').map(|s| s.parse().unwrap()).collect();
+        let started = std::time::Instant::now();
+        let (b, exact) = quadratic_bound(v[0], v[1], v[2] as usize, v[3] as usize, v[4] as usize);
+        println!(
+            "T={} c={} r={} rb={} m={}: bound {b:.6} closed form {exact:.6} gap {:.6} seconds {:.2}",
+            v[0],
+            v[1],
+            v[2],
+            v[3],
+            v[4],
+            b - exact,
+            started.elapsed().as_secs_f64()
+        );
+    }
+}
+
+#[test]
+fn quadratic_cost_against_the_closed_form() {
+    // h = w / R is the x step, T c a^2 / (2 m^2) the cost's under-estimation (a = 1).
+    let slack = |period: f64, weight: f64, r: usize, m: usize| {
+        2.0 * 2.0 / r as f64 + period * weight / (2.0 * (m * m) as f64)
+    };
+    for (r, m) in [(8, 2), (16, 4), (32, 8)] {
+        // Rate-limited optimum (c <= (1 - 2w/(aT)) / (2ak) = 0.3): T = 10, c = 0.2, sweep 5,
+        // J* = 3 - 2 c 25 / T = 2. Measured: the gap is exactly 2h + T c a^2 / (2 m^2).
+        let (b, exact) = quadratic_bound(10.0, 0.2, r, r, m);
+        assert!((exact - 2.0).abs() < 1e-12);
+        assert!(b >= exact - 1e-7, "{r} x {r}, m = {m}: {b} < J* = {exact}");
+        assert!(b - exact <= slack(10.0, 0.2, r, m) + 1e-5, "{r}, {m}: {b}");
+        // Interior optimum: T = 20, c = 0.8, J* = T/(8c) - w = 1.125. The gait of period 40 at
+        // rate 0.5 sweeping the whole box moves 0.1 per unit time (module doc), and its
+        // occupation measure satisfies every row: the bound is at least 20 x 0.1 = 2, for
+        // every grid, and approaches it.
+        let (b, exact) = quadratic_bound(20.0, 0.8, r, r, m);
+        assert!((exact - 1.125).abs() < 1e-12);
+        assert!(b >= 2.0 - 1e-7, "{r} x {r}, m = {m}: {b} < 2");
+        assert!(b - 2.0 <= slack(20.0, 0.8, r, m) + 1e-5, "{r}, {m}: {b}");
+    }
+}
+
 #[test]
 fn settings_are_checked_by_field() {
     let c = Crawler::uniform(3, 1.0, 1.0, 1.5).unwrap();
@@ -211,6 +274,13 @@ fn settings_are_checked_by_field() {
         "bound.time_limit",
     );
     bad(settings(400, 400), "bound.resolution");
+    bad(
+        BoundSettings {
+            cost_tangents: 0,
+            ..BoundSettings::default()
+        },
+        "bound.cost_tangents",
+    );
     let c5 = Crawler::uniform(5, 1.0, 1.0, 1.6).unwrap();
     let p5 = GaitProblem::new(&c5, 10.0, &[1.0; 4], Cost::None, None).unwrap();
     let e = upper_bound(&c5, &p5, &BoundSettings::default()).unwrap_err();

@@ -122,6 +122,7 @@ pub fn optimize(
             resolution: resolution.unwrap_or(d.resolution),
             box_resolution: box_resolution.unwrap_or(d.box_resolution),
             time_limit: time_limit.unwrap_or(d.time_limit),
+            ..d
         }
     });
     let settings = OptimizeSettings {

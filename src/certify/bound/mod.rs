@@ -43,8 +43,13 @@
 //! `rho = max over rows of (y' - <g_S, d>)`, so it holds exactly for that `V` (an unfinished
 //! solve gives a weaker but still valid bound).
 //!
-//! The bound ignores the actuation cost (`f2 >= 0`, so it bounds `J` for every cost, tightly
-//! only for `f2 = 0`) and any bound on the total variation (a relaxation).
+//! A quadratic cost `f2(u) = (c/2) |u|^2` enters through a piecewise-linear under-estimator
+//! `f2_low <= f2`, per link the largest of `m` tangents ([`BoundSettings::cost_tangents`]), and
+//! the rows read `<g_S, d> + rho >= y' - f2_low(u)`: then `y' - f2 <= rho + dV/dt` and
+//! `J <= rho T` as above. `f2_low` is affine on each cell of a product of intervals of the
+//! control box, so the row, affine in `u` there, holds on `U_F` iff it holds at the vertices
+//! of `U_F` cut by each cell (module `faces`). A bound on the total variation is ignored (a
+//! relaxation).
 //!
 //! # Tightness
 //!
@@ -52,6 +57,15 @@
 //! tested against piecewise-linear functions on the grid: controls are relaxed (convex
 //! combinations) and positions are blurred within a simplex, so the bound is above the optimum
 //! and tightens as the grid is refined (measured in the README, "Upper bound over all gaits").
+//!
+//! Where it stops: the rows hold along *every* motion with `l` in the box, not only the
+//! `T`-periodic ones, so `rho` is at least the displacement per unit time of any periodic gait
+//! of any period whose actuator lengths fit the box. Without a cost and for one link the best of
+//! those is the `T`-periodic optimum (the bound converges to it); with a quadratic cost a
+//! slower gait of a longer period over the whole box pays less: for one link, sweep
+//! `D = a T / 2` at rate `r = (D - w) / (2 D k c)` moves `(D - w)^2 / (8 D^2 k^2 c)` per unit
+//! time, above `J* / T` unless `r >= a`, i.e. `c <= (1 - 2 w / (a T)) / (2 a k)` (the optimum
+//! runs at the rate bound). Beyond that the bound stays above `J*` on every grid.
 //!
 //! # A time-dependent `V(t, x, l)` cannot do better
 //!
@@ -85,7 +99,7 @@ mod timed;
 use crate::error::{Error, Result};
 use crate::model::Crawler;
 use crate::optimal::solver::{Highs, SolveStatus};
-use crate::optimal::GaitProblem;
+use crate::optimal::{Cost, GaitProblem};
 use crate::progress;
 use highs::{ColProblem, Row, Sense};
 use serde::{Deserialize, Serialize};
@@ -111,15 +125,21 @@ pub struct BoundSettings {
     pub box_resolution: usize,
     /// Time limit of the LP in seconds (a solve cut short still gives a valid, weaker bound).
     pub time_limit: f64,
+    /// With a quadratic cost: tangents per link of its piecewise-linear under-estimator (taken
+    /// at the centres of equal cells of `[-a_l, a_l]`; it is below the cost by at most
+    /// `c a_l^2 / (2 m^2)`). More tangents tighten the bound and multiply the control vertices,
+    /// hence the rows, by up to about `m^n`. Ignored without a cost.
+    pub cost_tangents: usize,
 }
 
 impl Default for BoundSettings {
-    /// Resolution 8 in `x` and in `l`, one minute.
+    /// Resolution 8 in `x` and in `l`, one minute, 4 tangents of the cost per link.
     fn default() -> Self {
         BoundSettings {
             resolution: 8,
             box_resolution: 8,
             time_limit: 60.0,
+            cost_tangents: 4,
         }
     }
 }
@@ -144,6 +164,9 @@ pub struct UpperBound {
     pub resolution: usize,
     /// Grid steps across each actuator-length range.
     pub box_resolution: usize,
+    /// Tangents per link of the quadratic cost's under-estimator (0: the problem has no cost).
+    #[serde(default)]
+    pub cost_tangents: usize,
     /// The bound on the displacement per period, `rho T`.
     pub value: f64,
     /// How the LP ended.
@@ -182,6 +205,13 @@ fn check_settings(s: &BoundSettings) -> Result<()> {
         return Err(Error::invalid(
             "bound.box_resolution",
             s.box_resolution,
+            "must be between 1 and 1000",
+        ));
+    }
+    if s.cost_tangents == 0 || s.cost_tangents > 1000 {
+        return Err(Error::invalid(
+            "bound.cost_tangents",
+            s.cost_tangents,
             "must be between 1 and 1000",
         ));
     }
@@ -243,10 +273,17 @@ fn prepare(crawler: &Crawler, problem: &GaitProblem, settings: &BoundSettings) -
             format!("the grid has {simplices} simplices (at most {MAX_SIMPLICES})"),
         ));
     }
+    let cost = faces::CostModel {
+        weight: match problem.cost {
+            Cost::None => 0.0,
+            Cost::Quadratic { weight } => weight,
+        },
+        tangents: settings.cost_tangents,
+    };
     let motions: Vec<_> = faces::faces(crawler, tol)
         .into_iter()
         .map(|f| {
-            let m = faces::face_motion(crawler, a, &f);
+            let m = faces::face_motion(crawler, a, &f, cost);
             (f, m)
         })
         .collect();
@@ -371,6 +408,14 @@ fn solve_storage_lp(columns: usize, rows: &RowSource, time_limit: f64) -> Result
     })
 }
 
+/// The tangents of the cost used (0 without a cost), as recorded in results.
+fn cost_tangents(problem: &GaitProblem, settings: &BoundSettings) -> usize {
+    match problem.cost {
+        Cost::None => 0,
+        Cost::Quadratic { .. } => settings.cost_tangents,
+    }
+}
+
 /// A valid upper bound on `J` over every `T`-periodic gait of `problem` for `crawler` (the
 /// module's argument), from the piecewise-linear storage function the LP finds on the grid of
 /// `settings`.
@@ -392,6 +437,7 @@ pub fn upper_bound(
         method: METHOD.to_string(),
         resolution: settings.resolution,
         box_resolution: settings.box_resolution,
+        cost_tangents: cost_tangents(problem, settings),
         value: lp.rate * problem.period,
         status: lp.status,
         aligned: pre.aligned,

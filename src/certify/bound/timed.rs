@@ -60,6 +60,7 @@ pub(crate) fn time_dependent_bound(
         method: TIME_METHOD.to_string(),
         resolution: settings.resolution,
         box_resolution: settings.box_resolution,
+        cost_tangents: super::cost_tangents(problem, settings),
         value: lp.rate * problem.period,
         status: lp.status,
         aligned: pre.aligned,
@@ -80,6 +81,7 @@ mod tests {
             resolution,
             box_resolution,
             time_limit: 600.0,
+            ..BoundSettings::default()
         }
     }
 
