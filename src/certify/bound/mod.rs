@@ -76,10 +76,11 @@
 //! a measure `mu(p, u)` invariant for `V(p)` lifts to `(dt / T) x mu`, invariant for `V(t, p)`
 //! with the same value. Discrete form, on the same spatial grid: take `V_k(p)`, `k = 0..nt-1`
 //! (`V_nt = V_0`), linear in `t` between the times `k dt`, `dt = T / nt`. On the slab
-//! `t = (k + theta) dt` and a simplex `S` with control `u`, `d/dt V = (V_{k+1}(p) - V_k(p)) / dt
-//! + <(1 - theta) g_k + theta g_{k+1}, d(u)>`: affine in `p` (through the first term), affine in
-//! `theta`, affine in `u`, separately (the product is `theta` times a function of `u`), so on the
-//! product `S x [0, 1] x U_F` its minimum is at a vertex of each factor: the rows
+//! `t = (k + theta) dt` and a simplex `S` with control `u`,
+//! `d/dt V = (V_{k+1}(p) - V_k(p)) / dt + <(1 - theta) g_k + theta g_{k+1}, d(u)>`: affine in
+//! `p` (through the first term), affine in `theta`, affine in `u`, separately (the product is
+//! `theta` times a function of `u`), so on the product `S x [0, 1] x U_F` its minimum is at a
+//! vertex of each factor: the rows
 //! `rho + (V_{k+1}(v) - V_k(v)) / dt + <g_{k+theta}, d(u)> >= y'(u)` at the vertices `v` of `S`,
 //! `theta in {0, 1}`, the control vertices `u`, are valid (the slab ends are a null set of
 //! times, and motion along simplex boundaries is handled as above, with prisms `S x slab`).
