@@ -38,6 +38,17 @@ fn measure_table() {
 /// A random `T`-periodic piecewise-linear actuation with `|u_l| <= a_l`: random rates on random
 /// pieces, the mean removed per link and scaled into the bound (so `L` is periodic).
 fn random_gait(rng: &mut u64, k: &[f64], a: &[f64], period: f64, pieces: usize) -> Actuation {
+    random_gait_with_energy(rng, k, a, period, pieces).0
+}
+
+/// [`random_gait`] and its `int |u|^2 / 2 dt` (the cost per unit weight `c`).
+fn random_gait_with_energy(
+    rng: &mut u64,
+    k: &[f64],
+    a: &[f64],
+    period: f64,
+    pieces: usize,
+) -> (Actuation, f64) {
     let mut next = || {
         *rng ^= *rng << 13;
         *rng ^= *rng >> 7;
@@ -74,7 +85,13 @@ fn random_gait(rng: &mut u64, k: &[f64], a: &[f64], period: f64, pieces: usize) 
         times.push(times[i] + tau[i]);
         lengths.push((0..n).map(|l| prev[l] + u[i][l] * tau[i] / k[l]).collect());
     }
-    Actuation::piecewise_linear(period, times, lengths).unwrap()
+    let energy = (0..pieces)
+        .map(|i| 0.5 * tau[i] * u[i].iter().map(|v| v * v).sum::<f64>())
+        .sum();
+    (
+        Actuation::piecewise_linear(period, times, lengths).unwrap(),
+        energy,
+    )
 }
 
 /// Crawlers with per-link stiffness and per-block friction, N = 2..4, and their rate bounds.
@@ -154,6 +171,66 @@ fn never_below_a_random_gait_or_a_phase_optimum() {
             c.blocks(),
             bound.value,
             opt.verified_displacement
+        );
+    }
+}
+
+#[test]
+fn with_a_quadratic_cost_never_below_a_random_gait_or_a_phase_optimum() {
+    // The cost's cells cut U_F in two dimensions for N = 3: the rows must still cover every
+    // control. J = displacement - c int |u|^2 / 2.
+    let (period, weight) = (10.0, 0.3);
+    let mut rng = 0x2545_f491_4f6c_dd1d_u64;
+    for (c, speed, r, rb) in crawlers().into_iter().take(3) {
+        let p = GaitProblem::new(&c, period, &speed, Cost::Quadratic { weight }, None).unwrap();
+        let s = BoundSettings {
+            cost_tangents: 3,
+            ..settings(r, rb)
+        };
+        let bound = upper_bound(&c, &p, &s).unwrap();
+        assert_eq!(bound.status, BoundStatus::Optimal);
+        let free_problem = GaitProblem {
+            cost: Cost::None,
+            ..p.clone()
+        };
+        let free = upper_bound(&c, &free_problem, &settings(r, rb)).unwrap();
+        assert!(
+            bound.value <= free.value + 1e-7,
+            "{} > {}",
+            bound.value,
+            free.value
+        );
+        for trial in 0..30 {
+            let (act, energy) = random_gait_with_energy(
+                &mut rng,
+                c.stiffness(),
+                &p.rate_bound,
+                period,
+                2 + trial % 7,
+            );
+            let sim = simulate(&c, &act, &SimOptions::default()).unwrap();
+            let j = sim.displacement_per_period.expect("periodic orbit") - weight * energy;
+            assert!(
+                j <= bound.value + 1e-9,
+                "N = {}: random gait {trial}: J = {j} > bound {}",
+                c.blocks(),
+                bound.value
+            );
+        }
+        let opt = solve_phase_global(&c, &p, 3, Some(60.0)).unwrap();
+        assert!(
+            opt.objective() <= bound.value + 1e-9,
+            "N = {}: phase gait {} > bound {}",
+            c.blocks(),
+            opt.objective(),
+            bound.value
+        );
+        println!(
+            "N = {}: bound {:.4} (without the cost {:.4}), phase (K <= 3) {:.4}",
+            c.blocks(),
+            bound.value,
+            free.value,
+            opt.objective()
         );
     }
 }
