@@ -59,11 +59,48 @@ fn optimize_reports_the_upper_bound_and_the_file_reads_back() {
         String::from_utf8_lossy(&err.stderr)
     );
     // Grid flags need --bound.
+    for flag in ["--bound-resolution", "--bound-cost-tangents"] {
+        let out = crawlopt(&["optimize", "examples/one_link_gait.toml", flag, "4"]);
+        assert_eq!(out.status.code(), Some(2), "{flag}");
+    }
+}
+
+#[test]
+fn the_quadratic_cost_enters_the_bound_by_its_tangents() {
+    // c = 0.2: J* = 2 at the rate bound; on 16 x 16 with 4 tangents the bound is
+    // J* + 2h + T c a^2 / (2 M^2) = 2 + 0.25 + 0.0625 (tests/upper_bound.rs).
+    let dir = tempfile::tempdir().unwrap();
+    let file = dir.path().join("q.toml");
+    let text = std::fs::read_to_string("examples/one_link_gait.toml").unwrap();
+    let text = text.replace(
+        r#"cost = { kind = "none" }"#,
+        r#"cost = { kind = "quadratic", weight = 0.2 }"#,
+    );
+    std::fs::write(&file, text).unwrap();
     let out = crawlopt(&[
         "optimize",
-        "examples/one_link_gait.toml",
+        file.to_str().unwrap(),
+        "--bound",
         "--bound-resolution",
+        "16",
+        "--bound-box-resolution",
+        "16",
+        "--bound-cost-tangents",
         "4",
+        "--json",
     ]);
-    assert_eq!(out.status.code(), Some(2));
+    assert_eq!(
+        out.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let ub = &v["certificate"]["upper_bound"];
+    assert_eq!(ub["cost_tangents"], 4);
+    assert!(
+        (ub["value"].as_f64().unwrap() - 2.3125).abs() < 1e-6,
+        "{ub}"
+    );
+    assert!((v["objective"].as_f64().unwrap() - 2.0).abs() < 1e-6, "{v}");
 }

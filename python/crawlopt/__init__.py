@@ -496,10 +496,10 @@ def _bound_settings(bound) -> Optional[tuple]:
     if bound is None or bound is False:
         return None
     if bound is True:
-        return (None, None, None)
+        return (None, None, None, None)
     if not isinstance(bound, dict):
         raise _input_error("bound", repr(bound), "must be True, False, None or a dict")
-    keys = ("resolution", "box_resolution", "time_limit")
+    keys = ("resolution", "box_resolution", "time_limit", "cost_tangents")
     for k in bound:
         if k not in keys:
             raise _input_error(
@@ -534,11 +534,11 @@ def optimize(
     it. The answer is verified by simulation; ``certify`` adds the necessary conditions
     (Theorem 2.2) as ``necessary_conditions``. A time limit that ends the search with a gait
     returns it (``status == "time_limit"``, with its gap); TimeLimitError only when there is
-    none. ``bound``: True (or a dict with ``resolution``, ``box_resolution``, ``time_limit``;
-    missing keys take the library's defaults 8, 8, 60 s) also proves an upper bound on J over
-    all periodic gaits (a piecewise-linear storage function on a grid of C x box, SPEC §12;
-    N <= 4), recorded as ``certificate["upper_bound"]``. The GIL is released; Ctrl-C stops the
-    solve within about a second (KeyboardInterrupt).
+    none. ``bound``: True (or a dict with ``resolution``, ``box_resolution``, ``time_limit``,
+    ``cost_tangents``; missing keys take the library's defaults 8, 8, 60 s, 4) also proves an
+    upper bound on J over all periodic gaits (a piecewise-linear storage function on a grid of
+    C x box, SPEC §12; N <= 4), recorded as ``certificate["upper_bound"]``. The GIL is
+    released; Ctrl-C stops the solve within about a second (KeyboardInterrupt).
     ``progress``: True for a progress bar (tqdm if installed, else a text line), a callable to
     receive each event as a dict."""
     inner, conditions, notes = _rs.optimize(

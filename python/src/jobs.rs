@@ -12,6 +12,10 @@ use numpy::{PyArray1, PyArray2, PyArrayMethods};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
+/// `optimize`'s bound settings as Python passes them: resolution, box resolution, time limit,
+/// cost tangents (each `None` takes the library's default).
+type BoundTuple = (Option<usize>, Option<usize>, Option<f64>, Option<usize>);
+
 /// Rows of equal length as a 2-D array (`cols` columns when there are no rows).
 fn matrix<'py, T: numpy::Element + Copy>(
     py: Python<'py>,
@@ -112,16 +116,17 @@ pub fn optimize(
     shifts: Option<usize>,
     time_limit: Option<f64>,
     certify: bool,
-    bound: Option<(Option<usize>, Option<usize>, Option<f64>)>,
+    bound: Option<BoundTuple>,
     progress: Option<PyObject>,
 ) -> PyResult<(GaitResult, Option<String>, Vec<String>)> {
     // The upper bound's settings, each None taking the library's default.
-    let bound = bound.map(|(resolution, box_resolution, time_limit)| {
+    let bound = bound.map(|(resolution, box_resolution, time_limit, cost_tangents)| {
         let d = BoundSettings::default();
         BoundSettings {
             resolution: resolution.unwrap_or(d.resolution),
             box_resolution: box_resolution.unwrap_or(d.box_resolution),
             time_limit: time_limit.unwrap_or(d.time_limit),
+            cost_tangents: cost_tangents.unwrap_or(d.cost_tangents),
         }
     });
     let settings = OptimizeSettings {

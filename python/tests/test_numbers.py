@@ -181,3 +181,10 @@ def test_the_upper_bound_over_all_gaits_for_one_link():
     with pytest.raises(co.InputError) as e:
         co.optimize(c, p, bound={"resolution": 0})
     assert e.value.field == "bound.resolution"
+    # Quadratic cost c = 0.2 (optimum at the rate bound, J* = 2): the bound is J* + 2h plus
+    # T c a^2 / (2 M^2) from M tangents per link (tests/upper_bound.rs, README).
+    q = co.GaitProblem(period=10, max_actuator_speed=1.0, cost=co.Quadratic(0.2))
+    r = co.optimize(c, q, bound={"resolution": 16, "box_resolution": 16, "cost_tangents": 4})
+    assert r.objective == pytest.approx(2.0, abs=1e-6)
+    assert r.certificate["upper_bound"]["value"] == pytest.approx(2.3125, abs=1e-6)
+    assert r.certificate["upper_bound"]["cost_tangents"] == 4

@@ -113,8 +113,55 @@ pub(crate) fn dot(a: &[f64], b: &[f64]) -> f64 {
     a.iter().zip(b).map(|(x, y)| x * y).sum()
 }
 
-/// The motions on the face with active half-spaces `active` (indices into [`half_spaces`]).
-pub(crate) fn face_motion(crawler: &Crawler, rate: &[f64], active: &[usize]) -> FaceMotion {
+/// The quadratic cost `f2(u) = (c/2) |u|^2` as the LP sees it: per link, the largest of the
+/// tangents of `(c/2) u_l^2` at the centres of `tangents` equal cells of `[-a_l, a_l]`, a
+/// piecewise-linear under-estimator (convexity) that is affine on each cell and below `f2` by
+/// at most `c a_l^2 / (2 tangents^2)` per link. `weight = 0`: no cost.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct CostModel {
+    pub weight: f64,
+    pub tangents: usize,
+}
+
+impl CostModel {
+    /// Cells per link of the control box on which the under-estimator is affine.
+    fn cells(&self) -> usize {
+        if self.weight > 0.0 {
+            self.tangents.max(1)
+        } else {
+            1
+        }
+    }
+
+    /// The under-estimator at `u` (0 without a cost).
+    pub fn under(&self, rate: &[f64], u: &[f64]) -> f64 {
+        if self.weight <= 0.0 {
+            return 0.0;
+        }
+        let m = self.cells() as f64;
+        u.iter()
+            .zip(rate)
+            .map(|(&v, &a)| {
+                (0..self.cells())
+                    .map(|i| {
+                        let centre = -a + a * (2 * i + 1) as f64 / m;
+                        self.weight * centre * (v - 0.5 * centre)
+                    })
+                    .fold(f64::NEG_INFINITY, f64::max)
+            })
+            .sum()
+    }
+}
+
+/// The motions on the face with active half-spaces `active` (indices into [`half_spaces`]);
+/// with a cost, `y'` is replaced by `y' - f2_low(u)` and the controls are the vertices of `U_F`
+/// cut by each cell of the cost's under-estimator (on each cut the row is affine in `u`).
+pub(crate) fn face_motion(
+    crawler: &Crawler,
+    rate: &[f64],
+    active: &[usize],
+    cost: CostModel,
+) -> FaceMotion {
     let n = crawler.links();
     let nb = crawler.blocks() as f64;
     let k = crawler.stiffness();
@@ -131,20 +178,47 @@ pub(crate) fn face_motion(crawler: &Crawler, rate: &[f64], active: &[usize]) -> 
         let ginv = g.try_inverse().unwrap_or_else(|| DMatrix::zeros(m, m));
         ginv * nmat.transpose()
     };
-    // Constraints a.u <= b of U_F: the box, then -lambda_j(u) <= 0.
-    let mut rows: Vec<(Vec<f64>, f64)> = Vec::new();
-    for l in 0..n {
-        let mut e = vec![0.0; n];
-        e[l] = 1.0;
-        rows.push((e.clone(), rate[l]));
-        e[l] = -1.0;
-        rows.push((e, rate[l]));
-    }
-    for j in 0..m {
-        rows.push(((0..n).map(|i| -lam[(j, i)]).collect(), 0.0));
-    }
+    // Constraints a.u <= b of U_F cut to one cell: the cell's box, then -lambda_j(u) <= 0.
+    let cells = cost.cells();
     let scale = rate.iter().fold(0.0_f64, |s, v| s.max(*v));
-    let verts = polytope_vertices(n, &rows, 1e-10 * scale);
+    let tol = 1e-10 * scale;
+    let mut verts: Vec<Vec<f64>> = Vec::new();
+    let mut cell = vec![0usize; n];
+    loop {
+        let mut rows: Vec<(Vec<f64>, f64)> = Vec::new();
+        for l in 0..n {
+            let edge = |i: usize| -rate[l] + 2.0 * rate[l] * i as f64 / cells as f64;
+            let mut e = vec![0.0; n];
+            e[l] = 1.0;
+            rows.push((e.clone(), edge(cell[l] + 1)));
+            e[l] = -1.0;
+            rows.push((e, -edge(cell[l])));
+        }
+        for j in 0..m {
+            rows.push(((0..n).map(|i| -lam[(j, i)]).collect(), 0.0));
+        }
+        for u in polytope_vertices(n, &rows, tol) {
+            if !verts
+                .iter()
+                .any(|w| w.iter().zip(&u).all(|(p, q)| (p - q).abs() <= tol))
+            {
+                verts.push(u);
+            }
+        }
+        // Next cell (odometer over the links).
+        let mut l = 0;
+        while l < n {
+            cell[l] += 1;
+            if cell[l] < cells {
+                break;
+            }
+            cell[l] = 0;
+            l += 1;
+        }
+        if l == n {
+            break;
+        }
+    }
     let controls = verts
         .into_iter()
         .map(|u| {
@@ -153,7 +227,7 @@ pub(crate) fn face_motion(crawler: &Crawler, rate: &[f64], active: &[usize]) -> 
             let mut d: Vec<f64> = (0..n).map(|i| u[i] - react[i]).collect();
             d.extend((0..n).map(|i| u[i] / k[i]));
             let y = (0..m).map(|j| act[j].sign * lv[j]).sum::<f64>() / nb;
-            (d, y)
+            (d, y - cost.under(rate, &u))
         })
         .collect();
     FaceMotion {
@@ -214,7 +288,11 @@ mod tests {
         assert_eq!(fs.len(), 3, "{fs:?}");
         assert!(fs.contains(&vec![]));
         for f in &fs {
-            let m = face_motion(&c, &[1.0], f);
+            let none = CostModel {
+                weight: 0.0,
+                tangents: 4,
+            };
+            let m = face_motion(&c, &[1.0], f, none);
             if f.is_empty() {
                 assert_eq!(m.controls.len(), 2);
                 continue;
@@ -227,6 +305,68 @@ mod tests {
             assert!(d[0].abs() < 1e-12);
             assert!((d[1].abs() - 0.5).abs() < 1e-12);
             assert!((y - 0.25).abs() < 1e-12);
+        }
+    }
+
+    #[test]
+    fn cost_under_estimator() {
+        // Below (c/2)|u|^2 by at most c a^2 / (2 m^2) per link, exact at the cell centres.
+        let (c, rate) = (0.8, [1.5, 0.5]);
+        for m in [1, 2, 5] {
+            let cost = CostModel {
+                weight: c,
+                tangents: m,
+            };
+            for i in 0..=40 {
+                for j in 0..=40 {
+                    let u = [
+                        rate[0] * (i as f64 / 20.0 - 1.0),
+                        rate[1] * (j as f64 / 20.0 - 1.0),
+                    ];
+                    let f2 = 0.5 * c * (u[0] * u[0] + u[1] * u[1]);
+                    let gap = f2 - cost.under(&rate, &u);
+                    let most = rate.iter().map(|a| c * a * a).sum::<f64>() / (2 * m * m) as f64;
+                    assert!(
+                        gap >= -1e-12 && gap <= most + 1e-12,
+                        "m = {m}, u = {u:?}: {gap}"
+                    );
+                }
+            }
+            let centre = [
+                rate[0] * (1.0 / m as f64 - 1.0),
+                rate[1] * (1.0 / m as f64 - 1.0),
+            ];
+            let f2 = 0.5 * c * (centre[0] * centre[0] + centre[1] * centre[1]);
+            assert!((f2 - cost.under(&rate, &centre)).abs() < 1e-12);
+        }
+        let none = CostModel {
+            weight: 0.0,
+            tangents: 3,
+        };
+        assert_eq!(none.under(&rate, &[1.0, -0.5]), 0.0);
+    }
+
+    #[test]
+    fn quadratic_cost_adds_the_cell_edges_as_controls() {
+        // N = 2 (k = 2), interior of C: U_F = [-1, 1] cut into 4 cells gives 5 controls (the
+        // cell edges), l' = u / k, and y' = -f2_low(u), the largest tangent of 0.4 u^2 at the
+        // centres +-0.25, +-0.75.
+        let c = Crawler::uniform(2, 2.0, 1.0, 2.0).unwrap();
+        let cost = CostModel {
+            weight: 0.8,
+            tangents: 4,
+        };
+        let m = face_motion(&c, &[1.0], &[], cost);
+        assert_eq!(m.controls.len(), 5);
+        for (d, y) in &m.controls {
+            let u = d[0];
+            assert!((d[1] - u / 2.0).abs() < 1e-12);
+            let low = [0.25_f64, 0.75]
+                .iter()
+                .flat_map(|&v| [v, -v])
+                .map(|u0| 0.8 * u0 * (u - 0.5 * u0))
+                .fold(f64::NEG_INFINITY, f64::max);
+            assert!((y + low).abs() < 1e-12, "u = {u}: {y}");
         }
     }
 

@@ -79,19 +79,17 @@ impl Grid {
     /// Otherwise a simplex is kept when no half-space of C excludes all its `x` vertices, and a
     /// face is taken when none of its hyperplanes separates the simplex's `x` vertices strictly:
     /// supersets of the simplices and faces that meet, which is what validity needs.
-    /// Returns the node set used (`true` where some row refers to it).
     pub fn for_each_row(
         &self,
         crawler: &Crawler,
         faces: &[(Vec<usize>, FaceMotion)],
         tol: f64,
         mut row: impl FnMut(&[usize], &[f64], f64),
-    ) -> Vec<bool> {
+    ) {
         let n = self.dims / 2;
         let hs = half_spaces(crawler);
         let normals: Vec<Vec<f64>> = hs.iter().map(|a| normal(n, a)).collect();
         let perms = permutations(self.dims);
-        let mut used = vec![false; self.nodes()];
         let mut cell = vec![0usize; self.dims];
         let cell_counts: Vec<usize> = self.counts.iter().map(|c| c - 1).collect();
         let mut nodes = vec![0usize; self.dims + 1];
@@ -171,13 +169,11 @@ impl Grid {
                         row(&nodes, &coefs, *y);
                     }
                 }
-                nodes.iter().for_each(|&p| used[p] = true);
             }
             if !advance(&mut cell, &cell_counts) {
                 break;
             }
         }
-        used
     }
 }
 

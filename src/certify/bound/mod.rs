@@ -43,8 +43,13 @@
 //! `rho = max over rows of (y' - <g_S, d>)`, so it holds exactly for that `V` (an unfinished
 //! solve gives a weaker but still valid bound).
 //!
-//! The bound ignores the actuation cost (`f2 >= 0`, so it bounds `J` for every cost, tightly
-//! only for `f2 = 0`) and any bound on the total variation (a relaxation).
+//! A quadratic cost `f2(u) = (c/2) |u|^2` enters through a piecewise-linear under-estimator
+//! `f2_low <= f2`, per link the largest of `m` tangents ([`BoundSettings::cost_tangents`]), and
+//! the rows read `<g_S, d> + rho >= y' - f2_low(u)`: then `y' - f2 <= rho + dV/dt` and
+//! `J <= rho T` as above. `f2_low` is affine on each cell of a product of intervals of the
+//! control box, so the row, affine in `u` there, holds on `U_F` iff it holds at the vertices
+//! of `U_F` cut by each cell (module `faces`). A bound on the total variation is ignored (a
+//! relaxation).
 //!
 //! # Tightness
 //!
@@ -52,14 +57,50 @@
 //! tested against piecewise-linear functions on the grid: controls are relaxed (convex
 //! combinations) and positions are blurred within a simplex, so the bound is above the optimum
 //! and tightens as the grid is refined (measured in the README, "Upper bound over all gaits").
+//!
+//! Where it stops: the rows hold along *every* motion with `l` in the box, not only the
+//! `T`-periodic ones, so `rho` is at least the displacement per unit time of any periodic gait
+//! of any period whose actuator lengths fit the box. Without a cost and for one link the best of
+//! those is the `T`-periodic optimum (the bound converges to it); with a quadratic cost a
+//! slower gait of a longer period over the whole box pays less: for one link, sweep
+//! `D = a T / 2` at rate `r = (D - w) / (2 D k c)` moves `(D - w)^2 / (8 D^2 k^2 c)` per unit
+//! time, above `J* / T` unless `r >= a`, i.e. `c <= (1 - 2 w / (a T)) / (2 a k)` (the optimum
+//! runs at the rate bound). Beyond that the bound stays above `J*` on every grid.
+//!
+//! # A time-dependent `V(t, x, l)` cannot do better
+//!
+//! The problem is autonomous (neither the motions nor `y'` depend on `t`). Continuous form: if
+//! `V(t, p)`, `T`-periodic in `t`, satisfies `rho + d_t V + <grad_p V, p'> >= y'` for every
+//! `(t, p, u)`, average over `t`: `int_0^T d_t V dt = V(T, p) - V(0, p) = 0`, so `Vbar =
+//! (1/T) int V dt` satisfies the time-independent inequality with the same `rho`. In the dual:
+//! a measure `mu(p, u)` invariant for `V(p)` lifts to `(dt / T) x mu`, invariant for `V(t, p)`
+//! with the same value. Discrete form, on the same spatial grid: take `V_k(p)`, `k = 0..nt-1`
+//! (`V_nt = V_0`), linear in `t` between the times `k dt`, `dt = T / nt`. On the slab
+//! `t = (k + theta) dt` and a simplex `S` with control `u`,
+//! `d/dt V = (V_{k+1}(p) - V_k(p)) / dt + <(1 - theta) g_k + theta g_{k+1}, d(u)>`: affine in
+//! `p` (through the first term), affine in `theta`, affine in `u`, separately (the product is
+//! `theta` times a function of `u`), so on the product `S x [0, 1] x U_F` its minimum is at a
+//! vertex of each factor: the rows
+//! `rho + (V_{k+1}(v) - V_k(v)) / dt + <g_{k+theta}, d(u)> >= y'(u)` at the vertices `v` of `S`,
+//! `theta in {0, 1}`, the control vertices `u`, are valid (the slab ends are a null set of
+//! times, and motion along simplex boundaries is handled as above, with prisms `S x slab`).
+//! Summing the `theta = 0` rows over `k` at a fixed `v` telescopes the time-derivative terms to
+//! 0 and leaves `nt (rho + <gbar, d(u)> - y'(u)) >= 0`, the time-independent row for
+//! `Vbar = mean_k V_k` (`gbar` its gradient on `S`); a time-independent `V` is a time-dependent
+//! one with `V_k = V`. So both LPs have the same optimal `rho`. The time-dependent LP is built in
+//! the tests (`timed`) and agrees to solver tolerance (README, "Upper bound over all gaits");
+//! the period enters the bound only through the box `[0, a_l T / (2 k_l)]`.
 
 mod faces;
 mod grid;
+// Built only to measure it against the time-independent bound (module doc: it never helps).
+#[cfg(test)]
+mod timed;
 
 use crate::error::{Error, Result};
 use crate::model::Crawler;
 use crate::optimal::solver::{Highs, SolveStatus};
-use crate::optimal::GaitProblem;
+use crate::optimal::{Cost, GaitProblem};
 use crate::progress;
 use highs::{ColProblem, Row, Sense};
 use serde::{Deserialize, Serialize};
@@ -85,15 +126,21 @@ pub struct BoundSettings {
     pub box_resolution: usize,
     /// Time limit of the LP in seconds (a solve cut short still gives a valid, weaker bound).
     pub time_limit: f64,
+    /// With a quadratic cost: tangents per link of its piecewise-linear under-estimator (taken
+    /// at the centres of equal cells of `[-a_l, a_l]`; it is below the cost by at most
+    /// `c a_l^2 / (2 m^2)`). More tangents tighten the bound and multiply the control vertices,
+    /// hence the rows, by up to about `m^n`. Ignored without a cost.
+    pub cost_tangents: usize,
 }
 
 impl Default for BoundSettings {
-    /// Resolution 8 in `x` and in `l`, one minute.
+    /// Resolution 8 in `x` and in `l`, one minute, 4 tangents of the cost per link.
     fn default() -> Self {
         BoundSettings {
             resolution: 8,
             box_resolution: 8,
             time_limit: 60.0,
+            cost_tangents: 4,
         }
     }
 }
@@ -118,6 +165,9 @@ pub struct UpperBound {
     pub resolution: usize,
     /// Grid steps across each actuator-length range.
     pub box_resolution: usize,
+    /// Tangents per link of the quadratic cost's under-estimator (0: the problem has no cost).
+    #[serde(default)]
+    pub cost_tangents: usize,
     /// The bound on the displacement per period, `rho T`.
     pub value: f64,
     /// How the LP ended.
@@ -159,6 +209,13 @@ fn check_settings(s: &BoundSettings) -> Result<()> {
             "must be between 1 and 1000",
         ));
     }
+    if s.cost_tangents == 0 || s.cost_tangents > 1000 {
+        return Err(Error::invalid(
+            "bound.cost_tangents",
+            s.cost_tangents,
+            "must be between 1 and 1000",
+        ));
+    }
     if !(s.time_limit.is_finite() && s.time_limit > 0.0) {
         return Err(Error::invalid(
             "bound.time_limit",
@@ -169,14 +226,16 @@ fn check_settings(s: &BoundSettings) -> Result<()> {
     Ok(())
 }
 
-/// A valid upper bound on `J` over every `T`-periodic gait of `problem` for `crawler` (the
-/// module's argument), from the piecewise-linear storage function the LP finds on the grid of
-/// `settings`.
-pub fn upper_bound(
-    crawler: &Crawler,
-    problem: &GaitProblem,
-    settings: &BoundSettings,
-) -> Result<UpperBound> {
+/// The grid and the face motions of one bound computation.
+struct Prepared {
+    grid: grid::Grid,
+    motions: Vec<(Vec<usize>, faces::FaceMotion)>,
+    tol: f64,
+    aligned: bool,
+}
+
+/// Checks the settings and the crawler, and builds the grid of `C x box` and the face motions.
+fn prepare(crawler: &Crawler, problem: &GaitProblem, settings: &BoundSettings) -> Result<Prepared> {
     check_settings(settings)?;
     crawler.require_unique()?;
     let n = crawler.links();
@@ -190,7 +249,6 @@ pub fn upper_bound(
             ),
         ));
     }
-    let started = Instant::now();
     let a = &problem.rate_bound;
     let k = crawler.stiffness();
     let lmax: Vec<f64> = (0..n)
@@ -216,22 +274,58 @@ pub fn upper_bound(
             format!("the grid has {simplices} simplices (at most {MAX_SIMPLICES})"),
         ));
     }
+    let cost = faces::CostModel {
+        weight: match problem.cost {
+            Cost::None => 0.0,
+            Cost::Quadratic { weight } => weight,
+        },
+        tangents: settings.cost_tangents,
+    };
     let motions: Vec<_> = faces::faces(crawler, tol)
         .into_iter()
         .map(|f| {
-            let m = faces::face_motion(crawler, a, &f);
+            let m = faces::face_motion(crawler, a, &f, cost);
             (f, m)
         })
         .collect();
+    Ok(Prepared {
+        grid,
+        motions,
+        tol,
+        aligned,
+    })
+}
 
-    // The LP  min rho  s.t.  <g_S, d> + rho >= y'  (one row per (S, F, u)) has far more rows
+/// Receives one row `sum_i c_i V[col_i] + rho >= y` of a storage LP: `(cols, c, y)`.
+type RowSink<'a> = dyn FnMut(&[usize], &[f64], f64) + 'a;
+
+/// Emits every row of a storage LP to the sink it is given.
+type RowSource<'a> = dyn Fn(&mut RowSink) + 'a;
+
+/// What [`solve_storage_lp`] found.
+struct LpOutcome {
+    /// The smallest `rho` the returned storage function satisfies every row with.
+    rate: f64,
+    status: BoundStatus,
+    rows: usize,
+    /// Storage values referred to by some row, plus `rho`.
+    columns: usize,
+}
+
+/// Minimises `rho` subject to the rows of `rows` over `columns` storage values (a column may
+/// appear twice in a row: its coefficients are added), then re-evaluates `rho` from the storage
+/// function read off the dual, so the rate returned is valid for whatever the solver returned.
+fn solve_storage_lp(columns: usize, rows: &RowSource, time_limit: f64) -> Result<LpOutcome> {
+    // The LP  min rho  s.t.  <g_S, d> + rho >= y  (one row per (S, F, u)) has far more rows
     // than node values, and rho is in every row: HiGHS's interior point method chokes on that
     // dense column (measured: 465 s for 6.4e5 rows), so its dual is solved,
     //   max sum_r y'_r m_r  s.t.  sum_r A_{r,p} m_r = 0 (every node p but one),
     //                             sum_r m_r <= 1,  m >= 0,
     // (an occupation measure on (simplex, face, control) that is invariant when tested against
     // the piecewise-linear functions of the grid), and V is read from its node duals.
-    let used = grid.for_each_row(crawler, &motions, tol, |_, _, _| {});
+    let started = Instant::now();
+    let mut used = vec![false; columns];
+    rows(&mut |cols, _, _| cols.iter().for_each(|&p| used[p] = true));
     let pinned = used.iter().position(|&u| u);
     let mut pb = ColProblem::default();
     // Each constrained node's row handle and its index (HiGHS numbers rows as they are added).
@@ -247,18 +341,26 @@ pub fn upper_bound(
         })
         .collect();
     let mass = pb.add_row(..=1.0);
-    let mut rows = 0usize;
-    let mut entries: Vec<(Row, f64)> = Vec::with_capacity(2 * n + 2);
-    grid.for_each_row(crawler, &motions, tol, |nodes, coefs, y| {
+    let mut count = 0usize;
+    let mut entries: Vec<(Row, f64)> = Vec::new();
+    let mut merged: Vec<(usize, f64)> = Vec::new();
+    rows(&mut |cols, coefs, y| {
+        merged.clear();
+        for (&p, &c) in cols.iter().zip(coefs) {
+            match merged.iter_mut().find(|(q, _)| *q == p) {
+                Some(e) => e.1 += c,
+                None => merged.push((p, c)),
+            }
+        }
         entries.clear();
-        for (&p, &c) in nodes.iter().zip(coefs) {
+        for &(p, c) in &merged {
             if let (Some((r, _)), true) = (node_rows[p], c != 0.0) {
                 entries.push((r, c));
             }
         }
         entries.push((mass, 1.0));
         pb.add_column(y, 0.0.., &entries);
-        rows += 1;
+        count += 1;
     });
     progress::check()?;
     let mut solver = Highs::new(pb, Sense::Maximise, "upper bound LP")?;
@@ -269,7 +371,7 @@ pub fn upper_bound(
     // Presolve off: without a basis HiGHS's postsolve cannot restore the duals V is read from.
     solver.option("presolve", "off")?;
     let elapsed = started.elapsed().as_secs_f64();
-    solver.time_limit((settings.time_limit - elapsed).max(1e-3))?;
+    solver.time_limit((time_limit - elapsed).max(1e-3))?;
     let answer = solver.solve()?;
     let status = match answer.status {
         SolveStatus::Optimal => BoundStatus::Optimal,
@@ -287,9 +389,9 @@ pub fn upper_bound(
         .collect();
     // Re-evaluation: the smallest rho the storage function satisfies every row with. The sign
     // of HiGHS's duals is a convention; both signs give valid bounds, the smaller is reported.
-    let mut rate = [0.0_f64; 2];
-    grid.for_each_row(crawler, &motions, tol, |nodes, coefs, y| {
-        let g: f64 = nodes.iter().zip(coefs).map(|(&p, c)| c * dual[p]).sum();
+    let mut rate = [f64::NEG_INFINITY; 2];
+    rows(&mut |cols, coefs, y| {
+        let g: f64 = cols.iter().zip(coefs).map(|(&p, c)| c * dual[p]).sum();
         rate[0] = rate[0].max(y - g);
         rate[1] = rate[1].max(y + g);
     });
@@ -299,15 +401,49 @@ pub fn upper_bound(
             "upper bound LP: the storage function is not finite".into(),
         ));
     }
+    Ok(LpOutcome {
+        rate,
+        status,
+        rows: count,
+        columns: used.iter().filter(|&&u| u).count() + 1,
+    })
+}
+
+/// The tangents of the cost used (0 without a cost), as recorded in results.
+fn cost_tangents(problem: &GaitProblem, settings: &BoundSettings) -> usize {
+    match problem.cost {
+        Cost::None => 0,
+        Cost::Quadratic { .. } => settings.cost_tangents,
+    }
+}
+
+/// A valid upper bound on `J` over every `T`-periodic gait of `problem` for `crawler` (the
+/// module's argument), from the piecewise-linear storage function the LP finds on the grid of
+/// `settings`.
+pub fn upper_bound(
+    crawler: &Crawler,
+    problem: &GaitProblem,
+    settings: &BoundSettings,
+) -> Result<UpperBound> {
+    let started = Instant::now();
+    let pre = prepare(crawler, problem, settings)?;
+    let rows = |sink: &mut RowSink| {
+        pre.grid
+            .for_each_row(crawler, &pre.motions, pre.tol, |nodes, coefs, y| {
+                sink(nodes, coefs, y)
+            });
+    };
+    let lp = solve_storage_lp(pre.grid.nodes(), &rows, settings.time_limit)?;
     Ok(UpperBound {
         method: METHOD.to_string(),
         resolution: settings.resolution,
         box_resolution: settings.box_resolution,
-        value: rate * problem.period,
-        status,
-        aligned,
-        rows,
-        columns: used.iter().filter(|&&u| u).count() + 1,
+        cost_tangents: cost_tangents(problem, settings),
+        value: lp.rate * problem.period,
+        status: lp.status,
+        aligned: pre.aligned,
+        rows: lp.rows,
+        columns: lp.columns,
         seconds: started.elapsed().as_secs_f64(),
     })
 }

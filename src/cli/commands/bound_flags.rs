@@ -25,6 +25,10 @@ pub struct BoundArgs {
         allow_hyphen_values = true
     )]
     pub time_limit: Option<f64>,
+    /// With a quadratic cost: tangents per link of its piecewise-linear under-estimator
+    /// [default: 4].
+    #[arg(long = "bound-cost-tangents", value_name = "M", allow_negative_numbers = true, value_parser = count)]
+    pub cost_tangents: Option<usize>,
 }
 
 impl BoundArgs {
@@ -34,6 +38,7 @@ impl BoundArgs {
             if self.resolution.is_some()
                 || self.box_resolution.is_some()
                 || self.time_limit.is_some()
+                || self.cost_tangents.is_some()
             {
                 return Err(Error::invalid(
                     "--bound-resolution",
@@ -48,6 +53,7 @@ impl BoundArgs {
             resolution: self.resolution.unwrap_or(d.resolution),
             box_resolution: self.box_resolution.unwrap_or(d.box_resolution),
             time_limit: self.time_limit.unwrap_or(d.time_limit),
+            cost_tangents: self.cost_tangents.unwrap_or(d.cost_tangents),
         }))
     }
 }
