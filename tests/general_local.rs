@@ -198,3 +198,35 @@ fn the_local_method_refuses_what_it_cannot_solve() {
     let e = solve_general_local(&p, &g, 3, &square(3, 1.0, 0), None).unwrap_err();
     assert!(e.to_string().starts_with("objective.cost:"), "{e}");
 }
+
+#[test]
+fn the_api_job_reports_its_starts_and_can_be_cancelled() {
+    use crawlopt::api::{optimize_general_local, Event, GeneralLocalSettings, Hooks};
+    use crawlopt::io::GeneralFile;
+    use crawlopt::progress::Cancel;
+    let file = GeneralFile::load_if_general("examples/general_one_link.toml".as_ref())
+        .unwrap()
+        .unwrap();
+    let settings = GeneralLocalSettings {
+        m: 3,
+        shifts: 3,
+        time_limit: None,
+    };
+    let mut stages = 0;
+    let mut count = |e: &Event, _: f64| stages += usize::from(matches!(e, Event::Stage(_)));
+    let hooks = Hooks {
+        events: Some(&mut count),
+        cancel: None,
+    };
+    let r = optimize_general_local(&file, &settings, hooks).unwrap();
+    assert_eq!((r.start_from, r.starts_tried, stages), ("input", 3, 3));
+    assert!((r.solution.objective - 3.0).abs() < 1e-9);
+    let cancel = Cancel::new();
+    cancel.cancel();
+    let hooks = Hooks {
+        events: None,
+        cancel: Some(&cancel),
+    };
+    let e = optimize_general_local(&file, &settings, hooks).unwrap_err();
+    assert!(matches!(e, crawlopt::Error::Cancelled), "{e}");
+}

@@ -13,8 +13,13 @@
 //! other branch keeps the point feasible. An on-face pair with `mu = 0` whose slack column has a
 //! positive reduced cost (leaving the face pays) goes off; an off-face pair with `s = 0` whose
 //! multiplier column has a positive reduced cost (pushing on the face pays) goes on. All such
-//! switches are made at once, until none remains (B-stationary by the reduced-cost test), as
-//! for crawlers.
+//! switches are made at once, as for crawlers. Where none pays, the reduced costs of a
+//! degenerate LP being those of one of its optimal bases, each degenerate pair's neighbouring
+//! LP (that pair switched) is solved from the current basis and the first that gains is
+//! taken; when none gains the point is stationary for every single switch (status
+//! `stationary`). That is a local solution, not a global one: on the one-link problem with 16
+//! steps, the square wave of amplitude 0.5 ends at J = 1.75 < J* = 3 (tests/general_local.rs),
+//! on a plateau of J that only two switches at once leave.
 //!
 //! The start is a control on the grid (one row per step), simulated by catching-up to its
 //! periodic regime (or over the horizon of a Cauchy problem); the branches are read off that
