@@ -1,7 +1,7 @@
 //! P_m of the general problem (P) (SPEC §11), globally as a MILP: the paper's §4 one-link
 //! problem in general form against its closed form, crawler instances against the dedicated
 //! crawler P_m, and random small instances against the enumeration of every complementarity
-//! branch (an LP each, no big-M).
+//! branch (an LP each, no big-M): polygons for m = 1, 2, intervals for m = 3.
 
 mod common;
 
@@ -139,6 +139,64 @@ fn random_instances_against_the_enumeration_of_branches() {
     }
     // Most instances have a non-trivial optimum (the reactions pay).
     assert!(moving >= 7, "{moving} of 9");
+}
+
+/// A random interval C = [a, b] (n = 1) with random `A`, `B`, `b` and face weights.
+fn random_interval(rng: &mut Rng) -> GeneralProblem {
+    let mut r = || rng.range(-0.5, 0.5);
+    let (lo, hi) = (0.3 + r().abs(), 0.3 + r().abs());
+    GeneralProblem::new(GeneralParts {
+        normals: vec![vec![1.0], vec![-1.0]],
+        offsets: vec![hi, lo],
+        a: Some(vec![vec![r()]]),
+        b: vec![vec![1.0 + r()]],
+        drift: Some(vec![r() * 0.2]),
+        lower: Some(vec![-1.0]),
+        upper: Some(vec![1.0]),
+        zero_mean: true,
+        face_weights: Some(vec![0.4 + 1.2 * r(), 0.4 + 1.2 * r()]),
+        period: 4.0 + 6.0 * r().abs(),
+        periodic: true,
+        ..Default::default()
+    })
+    .unwrap()
+}
+
+#[test]
+fn random_intervals_against_the_enumeration_of_branches_for_m_3() {
+    // m = 3: 8 steps. In one dimension at most one of the two faces is active at a point
+    // (b > a), so each step has three branches (off both, on the upper, on the lower face):
+    // 3^8 = 6561 LPs per instance, the subsets with both faces held skipped as infeasible.
+    let mut rng = Rng(0x5851_f42d_4c95_7f2d);
+    let m = 3;
+    let steps = 1usize << m;
+    let mut moving = 0;
+    for _ in 0..3 {
+        let p = random_interval(&mut rng);
+        let g = analyze_polyhedron(&p.c).unwrap();
+        let mut best = f64::NEG_INFINITY;
+        for code in 0..3usize.pow(steps as u32) {
+            let mut c = code;
+            let active: Vec<Vec<bool>> = (0..steps)
+                .map(|_| {
+                    let k = c % 3;
+                    c /= 3;
+                    vec![k == 1, k == 2]
+                })
+                .collect();
+            if let Some(v) = solve_general_branch(&p, m, &active).unwrap() {
+                best = best.max(v);
+            }
+        }
+        let s = solve_general_pm(&p, &g, m, None).unwrap();
+        assert!(
+            (s.objective - best).abs() < 1e-7 * (1.0 + best.abs()),
+            "m = {m}: MILP {} vs branches {best}",
+            s.objective
+        );
+        moving += usize::from(best > 1e-3);
+    }
+    assert!(moving >= 2, "{moving} of 3");
 }
 
 #[test]
