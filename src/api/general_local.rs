@@ -1,6 +1,7 @@
 //! The general problem's P_m solved locally as a job ([`optimize_general_local`]): the start
 //! policy (the file's `[input]`, else square waves along each control axis, each at several
-//! time shifts), the time budget across starts, progress and cancellation.
+//! time shifts), the time budget across starts, progress and cancellation; and the global
+//! job with hooks ([`optimize_general_with_hooks`]).
 
 use super::events::{run_with, Hooks};
 use super::settings::{DEFAULT_M_LOCAL, DEFAULT_SHIFTS};
@@ -11,6 +12,23 @@ use crate::optimal::general::{
 };
 use serde::Serialize;
 use std::time::Instant;
+
+/// [`super::optimize_general`] with `hooks`: cancellable (within a HiGHS callback) and
+/// reporting its stage and the MILP's incumbent and bound as events.
+pub fn optimize_general_with_hooks(
+    file: &GeneralFile,
+    s: &super::GeneralPmSettings,
+    hooks: Hooks<'_>,
+) -> Result<super::GeneralOptimized> {
+    run_with(hooks, |em| {
+        em.stage(format!(
+            "P_{} of the general problem ({} steps), global MILP",
+            s.m,
+            1u64 << s.m.min(63)
+        ));
+        super::optimize_general(file, s)
+    })
+}
 
 /// Settings of [`optimize_general_local`].
 #[derive(Debug, Clone, PartialEq)]

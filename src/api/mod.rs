@@ -46,7 +46,10 @@ pub use general::{
     analyze_general, general_problem, optimize_general, simulate_general, GeneralAnalysis,
     GeneralOptimized, GeneralPmSettings, GeneralSimulated,
 };
-pub use general_local::{optimize_general_local, GeneralLocalOptimized, GeneralLocalSettings};
+pub use general_local::{
+    optimize_general_local, optimize_general_with_hooks, GeneralLocalOptimized,
+    GeneralLocalSettings,
+};
 pub use optimize::{optimize, Optimized};
 pub use settings::{
     GaitMethod, Naming, OptimizeSettings, Plan, Start, DEFAULT_M_DISCRETE, DEFAULT_M_LOCAL,
