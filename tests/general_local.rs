@@ -4,29 +4,13 @@
 
 mod common;
 
-use common::Rng;
+use common::{one_link_problem, random_polygon_problem, Rng};
 use crawlopt::integrate::{simulate_general, ControlInput, GeneralSimOptions, InputKind};
-use crawlopt::model::general::{Boundary, GeneralCost, GeneralParts, GeneralProblem};
+use crawlopt::model::general::{Boundary, GeneralCost};
 use crawlopt::optimal::general::{
     analyze_polyhedron, check_problem, default_starts, solve_general_local, solve_general_pm,
 };
 use crawlopt::optimal::LocalStop;
-
-fn one_link(a: f64, b: f64, period: f64) -> GeneralProblem {
-    GeneralProblem::new(GeneralParts {
-        normals: vec![vec![1.0], vec![-1.0]],
-        offsets: vec![b, -a],
-        b: vec![vec![1.0]],
-        lower: Some(vec![-1.0]),
-        upper: Some(vec![1.0]),
-        zero_mean: true,
-        face_weights: Some(vec![0.5, 0.5]),
-        period,
-        periodic: true,
-        ..Default::default()
-    })
-    .unwrap()
-}
 
 /// The square wave `+v` then `-v` on `2^m` steps, rotated by `r` steps.
 fn square(m: u32, v: f64, r: usize) -> Vec<Vec<f64>> {
@@ -52,7 +36,7 @@ fn the_one_link_problem_reaches_its_closed_form_from_reasonable_starts() {
     // (T = 10, C = [-1, 1]: J* = 3). A sine wave and a square wave of amplitude 0.8 travel
     // slower than they may (the square wave's J = (0.8 T - 4) / 2 = 2); the branch LP and the
     // pivots at degenerate pairs reach J*.
-    let p = one_link(-1.0, 1.0, 10.0);
+    let p = one_link_problem(-1.0, 1.0, 10.0);
     let g = check_problem(&p).unwrap();
     for m in 3..=5 {
         for (name, start) in [("sine", sine(m)), ("square 0.8", square(m, 0.8, 1))] {
@@ -87,33 +71,6 @@ fn the_one_link_problem_reaches_its_closed_form_from_reasonable_starts() {
     );
 }
 
-/// A random bounded polygon (faces at spread angles), random `A`, `B`, `b` and weights (as in
-/// tests/general_pm.rs).
-fn random_problem(rng: &mut Rng, sigma: usize) -> GeneralProblem {
-    let normals = (0..sigma)
-        .map(|k| {
-            let th = std::f64::consts::TAU * (k as f64 + rng.range(-0.2, 0.2)) / sigma as f64;
-            vec![th.cos(), th.sin()]
-        })
-        .collect();
-    let mut r = || rng.range(-0.5, 0.5);
-    GeneralProblem::new(GeneralParts {
-        normals,
-        offsets: (0..sigma).map(|_| 0.5 + r().abs() * 2.0).collect(),
-        a: Some(vec![vec![r(), r()], vec![r(), r()]]),
-        b: vec![vec![1.0 + r(), r()], vec![r(), 1.0 + r()]],
-        drift: Some(vec![r() * 0.2, r() * 0.2]),
-        lower: Some(vec![-1.0, -1.0]),
-        upper: Some(vec![1.0, 1.0]),
-        zero_mean: true,
-        face_weights: Some((0..sigma).map(|_| 0.4 + 1.2 * r()).collect()),
-        period: 4.0 + 8.0 * r().abs(),
-        periodic: true,
-        ..Default::default()
-    })
-    .unwrap()
-}
-
 #[test]
 fn random_instances_never_above_the_global_optimum_and_true_processes() {
     let mut rng = Rng(0x9e37_79b9_7f4a_7c15);
@@ -121,7 +78,7 @@ fn random_instances_never_above_the_global_optimum_and_true_processes() {
     let mut cases = 0;
     for (sigma, m) in [(3, 2), (4, 2), (5, 2), (6, 2), (3, 3)] {
         for _ in 0..2 {
-            let p = random_problem(&mut rng, sigma);
+            let p = random_polygon_problem(&mut rng, sigma);
             let g = analyze_polyhedron(&p.c).unwrap();
             let global = solve_general_pm(&p, &g, m, None).unwrap();
             for start in default_starts(&p, m, 2) {
@@ -175,7 +132,7 @@ fn random_instances_never_above_the_global_optimum_and_true_processes() {
 
 #[test]
 fn the_local_method_refuses_what_it_cannot_solve() {
-    let mut p = one_link(-1.0, 1.0, 10.0);
+    let mut p = one_link_problem(-1.0, 1.0, 10.0);
     let g = check_problem(&p).unwrap();
     let e = solve_general_local(&p, &g, 0, &square(1, 1.0, 0), None).unwrap_err();
     assert!(e.to_string().starts_with("m:"), "{e}");
