@@ -3,8 +3,12 @@
 //! n links (N = n + 1 blocks, sigma = 2N faces), k = 1, mu+ = 1, mu- = 3.3, under the travelling
 //! sine `L_l = 2 sin(2 pi t - l pi/2)`, 200 steps a period, from the periodic orbit; the general
 //! projector works on the crawler's general form (`model::crawler_as_general`), warm-started
-//! like the crawler's. `cargo bench --bench projection`; throughput in steps per second.
+//! like the crawler's; and a generic QP solver, Clarabel (interior point, a fresh solve per
+//! step from the same matrices: it has no warm start), on the same general form.
+//! `cargo bench --bench projection`; throughput in steps per second.
 
+use clarabel::algebra::CscMatrix;
+use clarabel::solver::{DefaultSettings, DefaultSolver, IPSolver, NonnegativeConeT};
 use crawlopt::integrate::{Actuation, Waveform};
 use crawlopt::model::crawler_as_general;
 use crawlopt::model::general::GeneralCost;
@@ -34,6 +38,21 @@ fn increments(c: &Crawler) -> Vec<Vec<f64>> {
             (0..n).map(|l| c.stiffness()[l] * (l1[l] - l0[l])).collect()
         })
         .collect()
+}
+
+/// `rows` (dense, one per constraint) as a compressed-column matrix.
+fn csc(rows: &[Vec<f64>], n: usize) -> CscMatrix<f64> {
+    let (mut colptr, mut rowval, mut nzval) = (vec![0], vec![], vec![]);
+    for k in 0..n {
+        for (i, r) in rows.iter().enumerate() {
+            if r[k] != 0.0 {
+                rowval.push(i);
+                nzval.push(r[k]);
+            }
+        }
+        colptr.push(rowval.len());
+    }
+    CscMatrix::new(rows.len(), n, colptr, rowval, nzval)
 }
 
 fn bench_projection(c: &mut Criterion) {
@@ -75,6 +94,30 @@ fn bench_projection(c: &mut Criterion) {
         }
         g.bench_with_input(BenchmarkId::new("general", n), &n, |b, _| {
             b.iter(|| period_g(black_box(&mut xt)))
+        });
+        // Clarabel: min (1/2)|x|^2 - <v, x> s.t. N x <= c, its default tolerances (1e-8).
+        let cpoly = &inst.problem.c;
+        let (p, a) = (CscMatrix::identity(n), csc(&cpoly.normals, n));
+        let cones = [NonnegativeConeT(cpoly.faces())];
+        let mut xq = xt.clone();
+        let mut q = vec![0.0; n];
+        let mut period_q = |xq: &mut Vec<f64>| {
+            for delta in &incs_t {
+                for k in 0..n {
+                    q[k] = -(xq[k] + delta[k]);
+                }
+                let settings = DefaultSettings {
+                    verbose: false,
+                    ..Default::default()
+                };
+                let mut s =
+                    DefaultSolver::new(&p, &q, &a, &cpoly.offsets, &cones, settings).unwrap();
+                s.solve();
+                xq.copy_from_slice(&s.solution.x);
+            }
+        };
+        g.bench_with_input(BenchmarkId::new("clarabel", n), &n, |b, _| {
+            b.iter(|| period_q(black_box(&mut xq)))
         });
     }
     g.finish();

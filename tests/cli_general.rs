@@ -254,3 +254,56 @@ fn optimize_solves_p_m_of_a_general_file() {
     let v = json(&out);
     assert!(v["solution"]["objective"].as_f64().unwrap().is_finite());
 }
+
+#[test]
+fn optimize_method_local_solves_p_m_locally() {
+    // From the file's [input], a square wave of amplitude 0.8 (J = (0.8 T - 4) / 2 = 2): the
+    // local method reaches the one-link optimum J* = (T - 2 (b - a)) / 2 = 3.
+    let dir = tempfile::tempdir().unwrap();
+    let slow = ONE_LINK.replace("values = [[1.0], [-1.0]]", "values = [[0.8], [-0.8]]");
+    let f = write(dir.path(), "slow.toml", &slow);
+    let f = f.to_str().unwrap();
+    let out = crawlopt(&[
+        "optimize", f, "--method", "local", "--m", "4", "--shifts", "2", "--json",
+    ]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let v = json(&out);
+    assert_eq!(v["method"], "local");
+    assert_eq!(v["start_from"], "input");
+    assert_eq!(v["starts_tried"], 2);
+    assert_eq!(v["solution"]["stop"], "stationary");
+    let start = v["solution"]["start_objective"].as_f64().unwrap();
+    assert!((start - 2.0).abs() < 1e-9, "{start}");
+    let j = v["solution"]["objective"].as_f64().unwrap();
+    assert!((j - 3.0).abs() < 1e-7, "{j}");
+    assert_eq!(v["solution"]["u"].as_array().unwrap().len(), 16);
+    let out = crawlopt(&["optimize", f, "--method", "local", "--m", "3"]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    assert!(String::from_utf8_lossy(&out.stdout).contains("local LPCC method: stationary"));
+    for (file, args, want) in [
+        (f, &["--method", "sequence"][..], "error: --method"),
+        (f, &["--shifts", "2"][..], "error: --shifts"),
+        (
+            f,
+            &["--method", "local", "--shifts", "0"][..],
+            "error: --shifts",
+        ),
+        (f, &["--method", "local", "--m", "15"][..], "error: --m"),
+        (
+            f,
+            &["--method", "local", "--time-limit", "-1"][..],
+            "error: --time-limit",
+        ),
+        (
+            "examples/general_drift.toml",
+            &["--method", "local"][..],
+            "error: objective.cost",
+        ),
+    ] {
+        let mut all = vec!["optimize", file];
+        all.extend_from_slice(args);
+        let out = crawlopt(&all);
+        assert_eq!(out.status.code(), Some(2), "{args:?}");
+        assert!(stderr(&out).starts_with(want), "{}", stderr(&out));
+    }
+}

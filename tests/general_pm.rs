@@ -1,33 +1,17 @@
 //! P_m of the general problem (P) (SPEC §11), globally as a MILP: the paper's §4 one-link
 //! problem in general form against its closed form, crawler instances against the dedicated
 //! crawler P_m, and random small instances against the enumeration of every complementarity
-//! branch (an LP each, no big-M).
+//! branch (an LP each, no big-M): polygons for m = 1, 2, intervals for m = 3.
 
 mod common;
 
-use common::Rng;
+use common::{one_link_problem, random_polygon_problem, Rng};
 use crawlopt::model::general::{GeneralCost, GeneralParts, GeneralProblem};
 use crawlopt::model::{crawler_as_general, Crawler};
 use crawlopt::optimal::general::{
     analyze_polyhedron, check_problem, solve_general_branch, solve_general_pm,
 };
 use crawlopt::optimal::{solve_discrete_global, Cost, GaitProblem, MilpStatus};
-
-fn one_link(a: f64, b: f64, period: f64) -> GeneralProblem {
-    GeneralProblem::new(GeneralParts {
-        normals: vec![vec![1.0], vec![-1.0]],
-        offsets: vec![b, -a],
-        b: vec![vec![1.0]],
-        lower: Some(vec![-1.0]),
-        upper: Some(vec![1.0]),
-        zero_mean: true,
-        face_weights: Some(vec![0.5, 0.5]),
-        period,
-        periodic: true,
-        ..Default::default()
-    })
-    .unwrap()
-}
 
 #[test]
 fn the_one_link_problem_of_section_4() {
@@ -38,7 +22,7 @@ fn the_one_link_problem_of_section_4() {
         (-0.5, 1.5, 12.0, 4.0),
         (-1.0, 1.0, 3.0, 0.0),
     ] {
-        let p = one_link(a, b, t);
+        let p = one_link_problem(a, b, t);
         let g = check_problem(&p).unwrap();
         for m in 1..=3 {
             let s = solve_general_pm(&p, &g, m, None).unwrap();
@@ -79,39 +63,13 @@ fn crawler_instances_give_the_crawler_p_m_optima() {
     }
 }
 
-/// A random bounded polygon (faces at spread angles), random `A`, `B`, `b` and weights.
-fn random_problem(rng: &mut Rng, sigma: usize) -> GeneralProblem {
-    let normals = (0..sigma)
-        .map(|k| {
-            let th = std::f64::consts::TAU * (k as f64 + rng.range(-0.2, 0.2)) / sigma as f64;
-            vec![th.cos(), th.sin()]
-        })
-        .collect();
-    let mut r = || rng.range(-0.5, 0.5);
-    GeneralProblem::new(GeneralParts {
-        normals,
-        offsets: (0..sigma).map(|_| 0.5 + r().abs() * 2.0).collect(),
-        a: Some(vec![vec![r(), r()], vec![r(), r()]]),
-        b: vec![vec![1.0 + r(), r()], vec![r(), 1.0 + r()]],
-        drift: Some(vec![r() * 0.2, r() * 0.2]),
-        lower: Some(vec![-1.0, -1.0]),
-        upper: Some(vec![1.0, 1.0]),
-        zero_mean: true,
-        face_weights: Some((0..sigma).map(|_| 0.4 + 1.2 * r()).collect()),
-        period: 4.0 + 8.0 * r().abs(),
-        periodic: true,
-        ..Default::default()
-    })
-    .unwrap()
-}
-
 #[test]
 fn random_instances_against_the_enumeration_of_branches() {
     let mut rng = Rng(0x2545_f491_4f6c_dd1d);
     let mut moving = 0;
     for (sigma, m, count) in [(3, 1, 4), (4, 1, 3), (3, 2, 2)] {
         for _ in 0..count {
-            let p = random_problem(&mut rng, sigma);
+            let p = random_polygon_problem(&mut rng, sigma);
             let g = analyze_polyhedron(&p.c).unwrap();
             assert!(g.bounded && g.degenerate_vertex.is_none());
             let steps = 1usize << m;
@@ -141,11 +99,69 @@ fn random_instances_against_the_enumeration_of_branches() {
     assert!(moving >= 7, "{moving} of 9");
 }
 
+/// A random interval C = [a, b] (n = 1) with random `A`, `B`, `b` and face weights.
+fn random_interval(rng: &mut Rng) -> GeneralProblem {
+    let mut r = || rng.range(-0.5, 0.5);
+    let (lo, hi) = (0.3 + r().abs(), 0.3 + r().abs());
+    GeneralProblem::new(GeneralParts {
+        normals: vec![vec![1.0], vec![-1.0]],
+        offsets: vec![hi, lo],
+        a: Some(vec![vec![r()]]),
+        b: vec![vec![1.0 + r()]],
+        drift: Some(vec![r() * 0.2]),
+        lower: Some(vec![-1.0]),
+        upper: Some(vec![1.0]),
+        zero_mean: true,
+        face_weights: Some(vec![0.4 + 1.2 * r(), 0.4 + 1.2 * r()]),
+        period: 4.0 + 6.0 * r().abs(),
+        periodic: true,
+        ..Default::default()
+    })
+    .unwrap()
+}
+
+#[test]
+fn random_intervals_against_the_enumeration_of_branches_for_m_3() {
+    // m = 3: 8 steps. In one dimension at most one of the two faces is active at a point
+    // (b > a), so each step has three branches (off both, on the upper, on the lower face):
+    // 3^8 = 6561 LPs per instance, the subsets with both faces held skipped as infeasible.
+    let mut rng = Rng(0x5851_f42d_4c95_7f2d);
+    let m = 3;
+    let steps = 1usize << m;
+    let mut moving = 0;
+    for _ in 0..3 {
+        let p = random_interval(&mut rng);
+        let g = analyze_polyhedron(&p.c).unwrap();
+        let mut best = f64::NEG_INFINITY;
+        for code in 0..3usize.pow(steps as u32) {
+            let mut c = code;
+            let active: Vec<Vec<bool>> = (0..steps)
+                .map(|_| {
+                    let k = c % 3;
+                    c /= 3;
+                    vec![k == 1, k == 2]
+                })
+                .collect();
+            if let Some(v) = solve_general_branch(&p, m, &active).unwrap() {
+                best = best.max(v);
+            }
+        }
+        let s = solve_general_pm(&p, &g, m, None).unwrap();
+        assert!(
+            (s.objective - best).abs() < 1e-7 * (1.0 + best.abs()),
+            "m = {m}: MILP {} vs branches {best}",
+            s.objective
+        );
+        moving += usize::from(best > 1e-3);
+    }
+    assert!(moving >= 2, "{moving} of 3");
+}
+
 #[test]
 fn p_m_refuses_what_it_cannot_solve() {
     // An unbounded C, m beyond the limit, a branch LP with a quadratic cost: errors naming
     // the field.
-    let mut p = one_link(-1.0, 1.0, 10.0);
+    let mut p = one_link_problem(-1.0, 1.0, 10.0);
     let g = check_problem(&p).unwrap();
     let e = solve_general_pm(&p, &g, 11, None).unwrap_err().to_string();
     assert!(e.starts_with("m:"), "{e}");
@@ -181,7 +197,7 @@ fn a_quadratic_cost_by_outer_approximation() {
     // width w = b - a; for a given int |u|, int u^2 is least at constant |u|, Jensen), so
     // v* = min(1, 1/(2c)) and, for c = 1, J* = T/8 - w when T > 8 w. P_m attains it on every
     // grid whose half period is whole steps. T = 40, w = 2: J* = 3.
-    let mut p = one_link(-1.0, 1.0, 40.0);
+    let mut p = one_link_problem(-1.0, 1.0, 40.0);
     p.cost = GeneralCost::Quadratic { weight: 1.0 };
     let g = check_problem(&p).unwrap();
     for m in 1..=2 {

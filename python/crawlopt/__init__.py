@@ -43,6 +43,7 @@ __all__ = [
     "FileError",
     "GaitProblem",
     "GaitResult",
+    "GeneralProblem",
     "InadmissibleError",
     "InfeasibleError",
     "InputError",
@@ -299,8 +300,72 @@ class _BoundProblem(GaitProblem):
         return self._inner
 
 
-def load(path: str) -> Model:
-    """Reads a model file (the TOML schema of the command line), checked as the CLI checks it."""
+def _arrays(d: dict, keys: Sequence[str]) -> dict:
+    """The series among ``keys`` of ``d`` as float NumPy arrays (in place)."""
+    for k in keys:
+        if d.get(k) is not None:
+            d[k] = np.asarray(d[k], dtype=float)
+    return d
+
+
+class GeneralProblem:
+    """A general problem (P) of the paper's §2 (a ``[sweeping_process]`` file, SPEC §11): a
+    polyhedron C, affine dynamics g = A x + B u + b, a control set U, f1 and f2. Every check and
+    default is the library's (``crawlopt analyze``, ``simulate`` and ``optimize`` on the same
+    file); answers are dicts with the fields of their ``--json`` documents, series as NumPy
+    arrays (states x, controls u, reactions ``lambda`` per face, one row per step)."""
+
+    def __init__(self, inner):
+        self._inner = inner
+
+    def analyze(self) -> dict:
+        """C's faces, redundant faces, vertices and Chebyshev centre, and the checks;
+        ``failure`` is the first failed check's message (None: well posed)."""
+        analysis, failure = self._inner.analyze()
+        analysis["failure"] = failure
+        return analysis
+
+    def simulate(
+        self,
+        *,
+        method: str = "exact",
+        steps_per_period: Optional[int] = None,
+        max_periods: Optional[int] = None,
+        tol: Optional[float] = None,
+    ) -> dict:
+        """The file's ``[input]`` simulated (exactly where A = 0 and the input is piecewise
+        constant, unless ``method="catching_up"``) to its periodic regime: ``simulation`` holds
+        ``objective`` (J, None without the regime), ``t``, ``x``, ``u``, ``lambda``."""
+        d = self._inner.simulate(method, steps_per_period, max_periods, tol)
+        _arrays(d["simulation"], ("t", "x", "u", "lambda", "mean_control"))
+        return d
+
+    def optimize(
+        self,
+        *,
+        m: Optional[int] = None,
+        method: str = "discrete",
+        shifts: Optional[int] = None,
+        time_limit: Optional[float] = None,
+        progress: Progress = False,
+    ) -> dict:
+        """The paper's P_m on 2^``m`` steps: ``method`` "discrete" (global MILP, with its
+        certificate) or "local" (the LPCC active-set method from the file's ``[input]`` or
+        square waves, ``shifts`` rotations of each; no global claim). ``solution`` holds
+        ``objective`` (J re-verified by simulation), ``x``, ``u``, ``lambda``. Ctrl-C stops it
+        (KeyboardInterrupt); ``progress`` as for ``optimize``."""
+        d = self._inner.optimize(method, m, shifts, time_limit, progress_callback(progress))
+        _arrays(d["solution"], ("x", "u", "lambda"))
+        return d
+
+
+def load(path: str) -> Union[Model, GeneralProblem]:
+    """Reads a model file (the TOML schema of the command line), checked as the CLI checks it:
+    a crawler file gives a ``Model``, a general problem file (``[sweeping_process]``) a
+    ``GeneralProblem``."""
+    general = _rs.load_general(str(path))
+    if general is not None:
+        return GeneralProblem(general)
     crawler, problem, actuation, x0 = _rs.load(str(path))
     c = Crawler(0, _inner=crawler)
     gp = None if problem is None else _BoundProblem(problem)

@@ -76,9 +76,28 @@ class GaitResult:
     def write_report(self, path: Union[str, Path], source: str = "crawlopt") -> None: ...
     def text(self) -> str: ...
 
+class GeneralProblem:
+    def analyze(self) -> tuple[dict[str, Any], Optional[str]]: ...
+    def simulate(
+        self,
+        method: str,
+        steps_per_period: Optional[int],
+        max_periods: Optional[int],
+        tol: Optional[float],
+    ) -> dict[str, Any]: ...
+    def optimize(
+        self,
+        method: str,
+        m: Optional[int],
+        shifts: Optional[int],
+        time_limit: Optional[float],
+        progress: Optional[Callable[[str], None]],
+    ) -> dict[str, Any]: ...
+
 def load(
     path: Union[str, Path],
 ) -> tuple[Crawler, Optional[GaitProblem], Optional[Actuation], Optional[list[float]]]: ...
+def load_general(path: Union[str, Path]) -> Optional[GeneralProblem]: ...
 def simulate(
     crawler: Crawler,
     actuation: Actuation,

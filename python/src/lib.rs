@@ -5,6 +5,7 @@
 //! Python classes). No decision is taken here.
 
 mod errors;
+mod general;
 mod jobs;
 mod model;
 mod results;
@@ -27,7 +28,9 @@ fn _crawlopt(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<model::Actuation>()?;
     m.add_class::<model::GaitProblem>()?;
     m.add_class::<results::GaitResult>()?;
+    m.add_class::<general::GeneralProblem>()?;
     m.add_function(wrap_pyfunction!(model::load, m)?)?;
+    m.add_function(wrap_pyfunction!(general::load_general, m)?)?;
     m.add_function(wrap_pyfunction!(jobs::simulate, m)?)?;
     m.add_function(wrap_pyfunction!(jobs::optimize, m)?)?;
     m.add_function(wrap_pyfunction!(sweep::sweep_size, m)?)?;

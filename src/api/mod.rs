@@ -14,7 +14,8 @@
 //! - [`sweep`] with [`crate::study::SweepSettings`]: a parameter study (a job over a grid of
 //!   model parameters, in parallel), see [`crate::study`].
 //! - [`general`]: the general problem (P) of the paper's §2 (`[sweeping_process]` files):
-//!   [`analyze_general`], [`simulate_general`], [`optimize_general`] (P_m, globally).
+//!   [`analyze_general`], [`simulate_general`], [`optimize_general`] (P_m, globally),
+//!   [`optimize_general_local`] (P_m, locally).
 //!
 //! Progress arrives as [`Event`]s through [`Hooks`], which also carry a
 //! [`crate::progress::Cancel`] token that stops a job within a HiGHS callback.
@@ -34,6 +35,7 @@
 mod bench;
 mod events;
 pub mod general;
+mod general_local;
 mod optimize;
 mod settings;
 
@@ -43,6 +45,10 @@ pub use events::{Event, Hooks, Observer};
 pub use general::{
     analyze_general, general_problem, optimize_general, simulate_general, GeneralAnalysis,
     GeneralOptimized, GeneralPmSettings, GeneralSimulated,
+};
+pub use general_local::{
+    optimize_general_local, optimize_general_with_hooks, GeneralLocalOptimized,
+    GeneralLocalSettings,
 };
 pub use optimize::{optimize, Optimized};
 pub use settings::{

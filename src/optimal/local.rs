@@ -31,7 +31,8 @@
 //! sampled on the grid, simulated by catching-up to the periodic orbit, and the modes are read
 //! off that orbit. Every answer is re-verified by replaying it through the simulator.
 
-use super::solver::{Highs, SolveStatus};
+use super::active_set;
+use super::solver::Highs;
 use crate::error::{Error, Result};
 use crate::model::Crawler;
 use crate::optimal::milp::{
@@ -40,25 +41,13 @@ use crate::optimal::milp::{
 use crate::optimal::units::Units;
 use crate::optimal::{Cost, GaitProblem};
 use highs::{Col, RowProblem, Sense};
-use serde::{Deserialize, Serialize};
+use serde::Serialize;
 use std::time::Instant;
 
 /// Largest `m` of the local method (`2^m` steps).
 pub const MAX_LOCAL_M: u32 = 14;
 
-/// Why the local method stopped.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "snake_case")]
-pub enum LocalStop {
-    /// No profitable switch of modes remains (B-stationary by the reduced-cost test).
-    Stationary,
-    /// Switches no longer improved the objective (degenerate cycling guard).
-    Stalled,
-    /// The round limit.
-    RoundLimit,
-    /// The time limit.
-    TimeLimit,
-}
+pub use super::active_set::LocalStop;
 
 /// A local solution of P_m.
 #[derive(Debug, Clone, PartialEq, Serialize)]
@@ -320,62 +309,9 @@ fn solve_local_in(
         }
     }
 
-    let max_rounds = 20 * big_m * nb;
-    let mut lp_solves = 0;
-    let mut switches = 0;
-    let mut best = f64::NEG_INFINITY;
-    let mut stalls = 0;
-    let mut last: Option<(Vec<f64>, f64)> = None;
-    let (cols, lp_objective, stop) = loop {
-        if let Some(tl) = time_limit {
-            let left = tl - began.elapsed().as_secs_f64();
-            if left <= 0.0 {
-                match last {
-                    Some((cols, objective)) => break (cols, objective, LocalStop::TimeLimit),
-                    None => {
-                        return Err(Error::TimeLimit(format!(
-                            "{what}: the time limit was reached before the first LP"
-                        )))
-                    }
-                }
-            }
-            model.time_limit(left)?;
-        }
-        let solved = model.solve()?;
-        lp_solves += 1;
-        match solved.status {
-            SolveStatus::Optimal => {}
-            SolveStatus::TimeLimit { .. } => match last {
-                Some((cols, objective)) => break (cols, objective, LocalStop::TimeLimit),
-                None => {
-                    return Err(Error::TimeLimit(format!(
-                        "{what}: the time limit was reached in the first LP"
-                    )))
-                }
-            },
-            SolveStatus::Infeasible => {
-                return Err(Error::Numerical(format!(
-                    "{what}: an LP of fixed modes has no feasible point"
-                )))
-            }
-        }
-        let cols = solved.columns;
-        let red = solved.column_duals;
-        let objective = -solved.objective;
-        if !best.is_finite() || objective > best + 1e-12 * best.abs().max(1.0) {
-            best = objective;
-            stalls = 0;
-        } else {
-            stalls += 1;
-        }
-        if stalls >= 3 {
-            break (cols, objective, LocalStop::Stalled);
-        }
-        if lp_solves >= max_rounds {
-            break (cols, objective, LocalStop::RoundLimit);
-        }
-        // Profitable switches at degenerate pairs (module docs).
-        let tol_red = 1e-9;
+    // Profitable switches at degenerate pairs (module docs).
+    let tol_red = 1e-9;
+    let pivot = |model: &mut Highs, cols: &[f64], red: &[f64], _: f64| -> Result<usize> {
         let mut changed = 0;
         for i in 0..big_m {
             for b in 0..nb {
@@ -390,17 +326,24 @@ fn solve_local_in(
                 };
                 if new != modes[i][b] {
                     modes[i][b] = new;
-                    set_bounds(&mut model, i, b, new)?;
+                    set_bounds(model, i, b, new)?;
                     changed += 1;
                 }
             }
         }
-        switches += changed;
-        if changed == 0 {
-            break (cols, objective, LocalStop::Stationary);
-        }
-        last = Some((cols, objective));
+        Ok(changed)
     };
+    let run = active_set::run(
+        &mut model,
+        -1.0,
+        20 * big_m * nb,
+        3,
+        time_limit,
+        began,
+        &what,
+        pivot,
+    )?;
+    let (cols, lp_objective) = (run.cols, run.objective);
 
     // Re-verification: the LP's increments played by catching-up from its x^0.
     let rows = grid.increments(&cols);
@@ -419,9 +362,9 @@ fn solve_local_in(
         lp_objective,
         verified_displacement: g.verified,
         actuation_cost: 0.0,
-        lp_solves,
-        switches,
-        stop,
+        lp_solves: run.lp_solves,
+        switches: run.switches,
+        stop: run.stop,
         initial_state: g.initial_state,
         block_displacements: g.block_displacements,
         states: g.states,

@@ -5,6 +5,7 @@
 //! ([`one_link_optimum`], SPEC §9, paper §4), against which every solver is tested, and the
 //! global solver of the paper's discrete problems P_m ([`solve_discrete_global`], SPEC §6).
 
+mod active_set;
 pub mod consistency;
 mod discrete;
 pub mod general;

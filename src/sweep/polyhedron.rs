@@ -6,7 +6,9 @@
 //! `z = v - N_W^T mu` with `(N_W N_W^T) mu = N_W v - c_W`; the step toward `z` stops at the first
 //! face it would cross (added to `W`), and at `z` a face with a negative multiplier leaves `W`.
 //! A face that blocks a step is independent of `W` (the step keeps `N_W x` fixed and crosses
-//! it), so `N_W N_W^T` stays positive definite. The answer is the solution of the KKT system of
+//! it), so `N_W N_W^T` stays positive definite. A multiplier in `(-1e-14 s, 0)` (`s` the scale
+//! of `v` and C) counts as zero (clamped to it in the answer): dropping its face would cycle
+//! between adding and dropping a face through the answer. The answer is the solution of the KKT system of
 //! the final active set, so its residual is that of one small dense solve (the tests ask
 //! `<= 1e-12` relative to `max(|v|, max_j |c_j|)`), not an interior-point tolerance.
 //!
@@ -65,6 +67,10 @@ impl PolyProjector {
         let mut x = start.to_vec();
         let mut w = std::mem::take(&mut self.working);
         let budget = 20 * (sigma + n) + 100;
+        // A multiplier above `-tiny` is a rounding of zero: dropping its face would let the
+        // step back cross it at `alpha = 0` and cycle (a face through the answer whose
+        // multiplier is zero in exact arithmetic).
+        let tiny = 1e-14 * c.scale().max(v.iter().fold(0.0_f64, |s, a| s.max(a.abs())));
         for it in 1..=budget {
             let (z, mu) = equality_solution(c, &w, v)?;
             // The step x -> z, stopped by the first face outside W that it would cross.
@@ -93,7 +99,7 @@ impl PolyProjector {
             match mu
                 .iter()
                 .enumerate()
-                .filter(|(_, m)| **m < 0.0)
+                .filter(|(_, m)| **m < -tiny)
                 .min_by(|a, b| a.1.total_cmp(b.1))
             {
                 Some((k, _)) => {
@@ -102,7 +108,7 @@ impl PolyProjector {
                 None => {
                     let mut full = vec![0.0; sigma];
                     for (k, &j) in w.iter().enumerate() {
-                        full[j] = mu[k];
+                        full[j] = mu[k].max(0.0);
                     }
                     let residual = kkt_residual(c, v, &x, &full);
                     self.working = w.clone();

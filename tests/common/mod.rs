@@ -2,6 +2,7 @@
 #![allow(dead_code)]
 
 use crawlopt::integrate::{simulate, Actuation, Method, SimOptions, Simulation, Waveform};
+use crawlopt::model::general::{GeneralParts, GeneralProblem};
 use crawlopt::Crawler;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
@@ -70,4 +71,50 @@ impl Rng {
     pub fn range(&mut self, a: f64, b: f64) -> f64 {
         a + (b - a) * self.next()
     }
+}
+
+/// A general problem on a random bounded polygon of `sigma` faces (at spread angles), with
+/// random `A`, `B`, `b` and face weights, box U with zero mean, periodic (tests/general_pm.rs,
+/// tests/general_local.rs).
+pub fn random_polygon_problem(rng: &mut Rng, sigma: usize) -> GeneralProblem {
+    let normals = (0..sigma)
+        .map(|k| {
+            let th = std::f64::consts::TAU * (k as f64 + rng.range(-0.2, 0.2)) / sigma as f64;
+            vec![th.cos(), th.sin()]
+        })
+        .collect();
+    let mut r = || rng.range(-0.5, 0.5);
+    GeneralProblem::new(GeneralParts {
+        normals,
+        offsets: (0..sigma).map(|_| 0.5 + r().abs() * 2.0).collect(),
+        a: Some(vec![vec![r(), r()], vec![r(), r()]]),
+        b: vec![vec![1.0 + r(), r()], vec![r(), 1.0 + r()]],
+        drift: Some(vec![r() * 0.2, r() * 0.2]),
+        lower: Some(vec![-1.0, -1.0]),
+        upper: Some(vec![1.0, 1.0]),
+        zero_mean: true,
+        face_weights: Some((0..sigma).map(|_| 0.4 + 1.2 * r()).collect()),
+        period: 4.0 + 8.0 * r().abs(),
+        periodic: true,
+        ..Default::default()
+    })
+    .unwrap()
+}
+
+/// The paper's §4 one-link problem in general form: C = [a, b], g = u, U = [-1, 1] with zero
+/// mean, f1 = |eta| / 2 (face weights 1/2, 1/2), periodic.
+pub fn one_link_problem(a: f64, b: f64, period: f64) -> GeneralProblem {
+    GeneralProblem::new(GeneralParts {
+        normals: vec![vec![1.0], vec![-1.0]],
+        offsets: vec![b, -a],
+        b: vec![vec![1.0]],
+        lower: Some(vec![-1.0]),
+        upper: Some(vec![1.0]),
+        zero_mean: true,
+        face_weights: Some(vec![0.5, 0.5]),
+        period,
+        periodic: true,
+        ..Default::default()
+    })
+    .unwrap()
 }

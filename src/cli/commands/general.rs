@@ -101,13 +101,16 @@ pub fn simulate(file: &GeneralFile, a: &SimulateArgs) -> Result<ExitCode, Error>
     }
 }
 
-/// `crawlopt optimize` of a general problem: P_m globally (`--method discrete`, or `auto`).
+/// `crawlopt optimize` of a general problem: P_m globally (`--method discrete`, or `auto`) or
+/// locally (`--method local`).
 pub fn optimize(file: &GeneralFile, a: &OptimizeArgs) -> Result<ExitCode, Error> {
-    if !matches!(a.method, OptimizeMethod::Auto | OptimizeMethod::Discrete) {
+    let local = a.method == OptimizeMethod::Local;
+    if !(local || matches!(a.method, OptimizeMethod::Auto | OptimizeMethod::Discrete)) {
         return Err(Error::invalid(
             "--method",
-            "phase, local or sequence",
-            "only discrete (P_m, globally) applies to a general problem file so far",
+            "phase or sequence",
+            "only discrete (P_m, globally) and local (P_m, locally) apply to a general problem \
+             file so far",
         ));
     }
     let refused = [
@@ -116,7 +119,7 @@ pub fn optimize(file: &GeneralFile, a: &OptimizeArgs) -> Result<ExitCode, Error>
         ("--max-phases", a.max_phases.is_some()),
         ("--convergence", a.convergence),
         ("--start", a.start.is_some()),
-        ("--shifts", a.shifts.is_some()),
+        ("--shifts", a.shifts.is_some() && !local),
         ("--certify", a.certify),
         ("--plot", a.plot.is_some()),
         ("--report", a.report.is_some()),
@@ -125,16 +128,37 @@ pub fn optimize(file: &GeneralFile, a: &OptimizeArgs) -> Result<ExitCode, Error>
         return Err(Error::invalid(
             *flag,
             "given",
-            "does not apply to a general problem file (P_m only, so far)",
+            "does not apply to a general problem file (P_m only, so far; --shifts with \
+             --method local)",
         ));
+    }
+    let names = [
+        ("m", "--m"),
+        ("time_limit", "--time-limit"),
+        ("shifts", "--shifts"),
+    ];
+    let flags = |e| rename_fields(e, &names.map(|(f, flag)| (f, flag.to_string())));
+    if local {
+        let defaults = api::GeneralLocalSettings::default();
+        let settings = api::GeneralLocalSettings {
+            m: a.m.unwrap_or(defaults.m),
+            shifts: a.shifts.unwrap_or(defaults.shifts),
+            time_limit: a.time_limit,
+        };
+        let r =
+            api::optimize_general_local(file, &settings, api::Hooks::default()).map_err(flags)?;
+        if a.json {
+            json_line(&r);
+        } else {
+            out(&text::general_local(&r));
+        }
+        return Ok(ExitCode::SUCCESS);
     }
     let settings = api::GeneralPmSettings {
         m: a.m.unwrap_or(api::GeneralPmSettings::default().m),
         time_limit: a.time_limit,
     };
-    let names = [("m", "--m"), ("time_limit", "--time-limit")];
-    let r = api::optimize_general(file, &settings)
-        .map_err(|e| rename_fields(e, &names.map(|(f, flag)| (f, flag.to_string()))))?;
+    let r = api::optimize_general(file, &settings).map_err(flags)?;
     if a.json {
         json_line(&r);
     } else {

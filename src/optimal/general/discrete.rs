@@ -61,7 +61,7 @@ pub struct GeneralPm {
 
 /// The big-M constants (module docs).
 #[derive(Debug, Clone, PartialEq)]
-struct BigM {
+pub(super) struct BigM {
     slack: Vec<f64>,
     multiplier: f64,
 }
@@ -163,11 +163,19 @@ fn check(p: &GeneralProblem, g: &Geometry, m: u32) -> Result<()> {
             format!("must be at most {MAX_GENERAL_M}"),
         ));
     }
+    check_sets(p, g, "P_m's global method")
+}
+
+/// Checks what every method for P_m needs (`who` names the method): C and U bounded (the
+/// big-M constants; a bounded LP of fixed branches) and independent active normals at every
+/// vertex of C (unique multipliers, so that every feasible point is the catching-up process
+/// of its controls).
+pub(super) fn check_sets(p: &GeneralProblem, g: &Geometry, who: &str) -> Result<()> {
     if !g.bounded {
         return Err(Error::invalid(
             "sweeping_process",
             "an unbounded C",
-            "P_m's global method needs a bounded C (its big-M constants)",
+            format!("{who} needs a bounded C"),
         ));
     }
     if let ControlSet::Polytope(u) = &p.control {
@@ -176,7 +184,7 @@ fn check(p: &GeneralProblem, g: &Geometry, m: u32) -> Result<()> {
             return Err(Error::invalid(
                 "control",
                 "an unbounded U",
-                "P_m's global method needs a bounded U",
+                format!("{who} needs a bounded U"),
             ));
         }
     }
@@ -191,20 +199,43 @@ fn check(p: &GeneralProblem, g: &Geometry, m: u32) -> Result<()> {
 }
 
 /// The columns of the MILP (or of a branch LP).
-struct Layout {
-    x: Vec<Vec<Col>>,
-    u: Vec<Vec<Col>>,
-    mu: Vec<Vec<Col>>,
+pub(super) struct Layout {
+    /// States `x^0..x^M` (`x^M` the columns of `x^0` when periodic).
+    pub x: Vec<Vec<Col>>,
+    /// Controls `u^0..u^(M-1)`.
+    pub u: Vec<Vec<Col>>,
+    /// Multipliers `mu^i_j`.
+    pub mu: Vec<Vec<Col>>,
+    /// Slacks `s^i_j = c_j - <x*_j, x^(i+1)>` (branch LPs only; empty for the MILP).
+    pub s: Vec<Vec<Col>>,
 }
 
-/// Builds P_m: with `branches = None` the MILP (binaries and big-M rows), with
-/// `Some(active)` the LP of those complementarity branches (`mu^i_j = 0` off `active[i][j]`,
-/// face `j` held at `x^(i+1)` on it).
-fn build(
+/// Which form of P_m [`build`] makes.
+#[derive(Clone, Copy)]
+pub(super) enum Form<'a> {
+    /// The MILP: a binary per step and face, big-M rows.
+    Milp(&'a BigM),
+    /// The LP of fixed complementarity branches: a slack column `s^i_j` per step and face
+    /// (`<x*_j, x^(i+1)> + s^i_j = c_j`) and, on branch `active[i][j]`, `s^i_j = 0` and
+    /// `mu^i_j >= 0`, off it `mu^i_j = 0` and `s^i_j >= 0`: the branches are column bounds
+    /// ([`branch_bounds`]), which the local method changes between solves.
+    Branches(&'a [Vec<bool>]),
+}
+
+/// The bounds of `(mu^i_j, s^i_j)` on branch `active` (see [`Form::Branches`]).
+pub(super) fn branch_bounds(active: bool) -> [(f64, f64); 2] {
+    if active {
+        [(0.0, f64::INFINITY), (0.0, 0.0)]
+    } else {
+        [(0.0, 0.0), (0.0, f64::INFINITY)]
+    }
+}
+
+/// Builds P_m in `form` (the objective `J`, to be maximised).
+pub(super) fn build(
     p: &GeneralProblem,
     m: u32,
-    bm: Option<&BigM>,
-    branches: Option<&[Vec<bool>]>,
+    form: Form<'_>,
     cuts: &[Vec<f64>],
 ) -> (RowProblem, Layout) {
     let (n, sigma, mm) = (p.states(), p.c.faces(), 1usize << m);
@@ -238,17 +269,17 @@ fn build(
     let mus: Vec<Vec<Col>> = (0..mm)
         .map(|i| {
             (0..sigma)
-                .map(|j| {
-                    let off = branches.is_some_and(|b| !b[i][j]);
-                    let hi = match bm {
-                        Some(bm) => bm.multiplier,
-                        None => f64::INFINITY,
-                    };
-                    pb.add_column(w[j], 0.0..=if off { 0.0 } else { hi })
+                .map(|j| match form {
+                    Form::Milp(bm) => pb.add_column(w[j], 0.0..=bm.multiplier),
+                    Form::Branches(b) => {
+                        let (lo, hi) = branch_bounds(b[i][j])[0];
+                        pb.add_column(w[j], lo..=hi)
+                    }
                 })
                 .collect()
         })
         .collect();
+    let mut slacks: Vec<Vec<Col>> = Vec::new();
     for i in 0..mm {
         if let ControlSet::Polytope(u) = &p.control {
             for k in 0..u.faces() {
@@ -291,9 +322,19 @@ fn build(
                 .map(|(&c, &a)| (c, a))
                 .collect();
             let c = p.c.offsets[j];
-            match (bm, branches) {
-                (_, Some(b)) if b[i][j] => pb.add_row(c..=c, face),
-                (Some(bm), None) => {
+            match form {
+                Form::Branches(b) => {
+                    if j == 0 {
+                        slacks.push(Vec::with_capacity(sigma));
+                    }
+                    let (lo, hi) = branch_bounds(b[i][j])[1];
+                    let s = pb.add_column(0.0, lo..=hi);
+                    slacks[i].push(s);
+                    let mut row = face;
+                    row.push((s, 1.0));
+                    pb.add_row(c..=c, row);
+                }
+                Form::Milp(bm) => {
                     // mu <= M_mu z and c - <x*, x> <= S (1 - z), i.e. <x*, x> - S z >= c - S.
                     let z = pb.add_integer_column(0.0, 0..=1);
                     pb.add_row(..=0.0, [(mus[i][j], 1.0), (z, -bm.multiplier)]);
@@ -302,7 +343,6 @@ fn build(
                     pb.add_row(c - bm.slack[j]..=f64::INFINITY, row);
                     pb.add_row(..=c, face);
                 }
-                _ => pb.add_row(..=c, face),
             }
         }
     }
@@ -325,7 +365,15 @@ fn build(
         }
     }
     let x = (0..=mm).map(|i| x_at(i).clone()).collect();
-    (pb, Layout { x, u: us, mu: mus })
+    (
+        pb,
+        Layout {
+            x,
+            u: us,
+            mu: mus,
+            s: slacks,
+        },
+    )
 }
 
 /// `R` of a quadratic cost (`None` for `f2 = 0`).
@@ -373,7 +421,7 @@ pub fn solve_general_pm(
     let mut round = 0;
     loop {
         round += 1;
-        let (pb, lay) = build(p, m, Some(&bm), None, &cuts);
+        let (pb, lay) = build(p, m, Form::Milp(&bm), &cuts);
         let left = time_limit.map(|t| (t - began.elapsed().as_secs_f64()).max(1e-3));
         let (cols, milp_objective, bound, status) =
             solve_max(pb, left, &what, None, 1e-9 * scale.max(1e-300))?;
@@ -406,7 +454,7 @@ pub fn solve_general_branch(
             "the branch LP of P_m is linear: f2 = none",
         ));
     }
-    let (pb, _) = build(p, m, None, Some(active), &[]);
+    let (pb, _) = build(p, m, Form::Branches(active), &[]);
     let a = Highs::new(pb, Sense::Maximise, "a branch LP of P_m")?.solve()?;
     Ok(match a.status {
         SolveStatus::Optimal => Some(a.objective),
@@ -414,24 +462,34 @@ pub fn solve_general_branch(
     })
 }
 
-/// Replays the MILP's controls in the simulator from its `x^0` and certifies the answer.
-#[allow(clippy::too_many_arguments)]
-fn verified(
+/// The controls of an LP or MILP solution, replayed by the general simulator from its `x^0`:
+/// the process they make, checked against the solver's (the reward `int f1` and, for a
+/// periodic problem, `x^M = x^0`); a disagreement is an error naming `what`.
+pub(super) struct Replayed {
+    /// `J` as simulated.
+    pub objective: f64,
+    /// States `x^0..x^M`, simulated.
+    pub x: Vec<Vec<f64>>,
+    /// Controls (clipped into a box U against the solver's feasibility tolerance).
+    pub u: Vec<Vec<f64>>,
+    /// Reactions `lambda^i`, simulated.
+    pub lambda: Vec<Vec<f64>>,
+}
+
+/// See [`Replayed`].
+pub(super) fn replay(
     p: &GeneralProblem,
     m: u32,
     lay: &Layout,
     cols: &[f64],
-    milp_objective: f64,
-    bound: f64,
-    status: MilpStatus,
     what: &str,
-) -> Result<GeneralPm> {
+) -> Result<Replayed> {
     let mm = 1usize << m;
     let h = p.period / mm as f64;
     let val = |c: &Col| cols[c.index()];
     let x: Vec<Vec<f64>> = lay.x.iter().map(|r| r.iter().map(val).collect()).collect();
     let u: Vec<Vec<f64>> = lay.u.iter().map(|r| r.iter().map(val).collect()).collect();
-    // The controls, clipped into U against the MILP's feasibility tolerance.
+    // The controls, clipped into U against the solver's feasibility tolerance.
     let u: Vec<Vec<f64>> = u
         .into_iter()
         .map(|r| match &p.control {
@@ -461,18 +519,17 @@ fn verified(
     let sim = simulate_general(&cauchy, &input, &x[0], &opts)?;
     let scale = p.c.scale();
     let w = reward_weights(p);
-    let milp_reward: f64 = lay
+    let lp_reward: f64 = lay
         .mu
         .iter()
         .map(|r| r.iter().zip(&w).map(|(c, w)| w * val(c)).sum::<f64>())
         .sum();
     let reward = sim.reward;
-    if (reward - milp_reward).abs() > 1e-6 * (scale + reward.abs()) {
+    if (reward - lp_reward).abs() > 1e-6 * (scale + reward.abs()) {
         return Err(Error::Numerical(format!(
-            "{what}: the controls give int f1 = {reward} when simulated, not {milp_reward}"
+            "{what}: the controls give int f1 = {reward} when simulated, not {lp_reward}"
         )));
     }
-    let j = sim.objective.unwrap_or(f64::NAN);
     if p.boundary == Boundary::Periodic {
         let end = sim.x.last().expect("steps");
         let gap = end
@@ -485,17 +542,39 @@ fn verified(
             )));
         }
     }
+    Ok(Replayed {
+        objective: sim.objective.unwrap_or(f64::NAN),
+        x: sim.x,
+        u,
+        lambda: sim.lambda,
+    })
+}
+
+/// Replays the MILP's controls in the simulator from its `x^0` ([`replay`]) and certifies the
+/// answer.
+#[allow(clippy::too_many_arguments)]
+fn verified(
+    p: &GeneralProblem,
+    m: u32,
+    lay: &Layout,
+    cols: &[f64],
+    milp_objective: f64,
+    bound: f64,
+    status: MilpStatus,
+    what: &str,
+) -> Result<GeneralPm> {
+    let r = replay(p, m, lay, cols, what)?;
     Ok(GeneralPm {
         m,
-        objective: j,
+        objective: r.objective,
         certificate: Certificate {
             status,
             milp_objective,
             bound,
-            gap: Certificate::gap_of(bound, j),
+            gap: Certificate::gap_of(bound, r.objective),
         },
-        x: sim.x,
-        u,
-        lambda: sim.lambda,
+        x: r.x,
+        u: r.u,
+        lambda: r.lambda,
     })
 }

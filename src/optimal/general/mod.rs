@@ -1,12 +1,17 @@
 //! The general problem (P) of the paper's §2 (SPEC §11): the geometry of its polyhedron by
 //! linear programs (the Chebyshev centre, boundedness, redundant faces, vertices) and the
-//! checks that need them; the paper's P_m globally as a MILP, re-verified by the general
-//! simulator.
+//! checks that need them; the paper's P_m globally as a MILP and locally by the active-set
+//! method on its LPCC, both re-verified by the general simulator.
 
 pub mod discrete;
 pub mod geometry;
+pub mod local;
 
 pub use discrete::{solve_general_branch, solve_general_pm, GeneralPm, MAX_GENERAL_M};
 pub use geometry::{
     analyze_polyhedron, check_problem, check_with, Geometry, Vertex, MAX_VERTEX_SUBSETS,
+};
+pub use local::{
+    check_general_local, default_starts, grid_controls, solve_general_local, GeneralLocal,
+    MAX_GENERAL_LOCAL_M,
 };

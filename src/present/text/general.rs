@@ -4,7 +4,9 @@
 
 use super::{list, num, wln};
 use crate::api::general::{CheckStatus, GeneralAnalysis, GeneralOptimized, GeneralSimulated};
+use crate::api::GeneralLocalOptimized;
 use crate::model::general::{Boundary, ControlSet, GeneralCost, GeneralProblem, Reward};
+use crate::optimal::LocalStop;
 
 /// The human form of [`crate::api::analyze_general`].
 pub fn general_analysis(a: &GeneralAnalysis) -> String {
@@ -211,6 +213,58 @@ pub fn general_optimum(r: &GeneralOptimized) -> String {
         num(c.milp_objective, scale),
         num(c.bound, scale),
         c.gap
+    );
+    let xs =
+        s.x.iter()
+            .flatten()
+            .fold(0.0_f64, |m, v| m.max(v.abs()))
+            .max(1e-300);
+    let us =
+        s.u.iter()
+            .flatten()
+            .fold(0.0_f64, |m, v| m.max(v.abs()))
+            .max(1e-300);
+    for (i, u) in s.u.iter().enumerate() {
+        wln!(
+            out,
+            "  step {:>4}: x = {}  u = {}",
+            i + 1,
+            list(&s.x[i], xs),
+            list(u, us)
+        );
+    }
+    out
+}
+
+/// A local optimum of the general P_m ([`crate::api::optimize_general_local`]).
+pub fn general_local(r: &GeneralLocalOptimized) -> String {
+    let mut out = String::new();
+    let s = &r.solution;
+    let scale = s.objective.abs().max(s.start_objective.abs()).max(1e-300);
+    wln!(
+        out,
+        "P_{} ({} steps of h = {}), local LPCC method: {} after {} LPs, {} branch switches",
+        s.m,
+        s.u.len(),
+        num(r.period / s.u.len() as f64, 0.0),
+        match s.stop {
+            LocalStop::Stationary => "stationary",
+            LocalStop::Stalled => "stalled",
+            LocalStop::RoundLimit => "round limit",
+            LocalStop::TimeLimit => "time limit",
+        },
+        s.lp_solves,
+        s.switches
+    );
+    wln!(
+        out,
+        "J = {}   (verified by simulation; a local optimum, no global claim; from start {} of \
+         {} ({}), whose J = {})",
+        num(s.objective, scale),
+        r.best_start + 1,
+        r.starts_tried,
+        r.start_from.replace('_', " "),
+        num(s.start_objective, scale)
     );
     let xs =
         s.x.iter()

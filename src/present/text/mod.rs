@@ -17,7 +17,7 @@ mod simulation;
 
 pub use analysis::{analysis, gait_problem};
 pub use gait::{certificate, gait_result, phase_step};
-pub use general::{general_analysis, general_optimum, general_simulation};
+pub use general::{general_analysis, general_local, general_optimum, general_simulation};
 pub use simulation::simulation;
 
 use crate::model::Crawler;

@@ -1,0 +1,129 @@
+//! A general problem file (`[sweeping_process]`, the paper's §2 problem (P)) as a Python class:
+//! `analyze`, `simulate` and `optimize` of `crawlopt::api::general`, run through
+//! [`crate::run::run`]; answers as dicts (`pythonize`), which `crawlopt/__init__.py` turns into
+//! NumPy arrays where they are series.
+
+use crate::errors::to_py;
+use crate::run::run;
+use crawlopt::api::{self, GeneralLocalSettings, GeneralPmSettings};
+use crawlopt::integrate::{GeneralMethod, GeneralSimOptions};
+use crawlopt::io::GeneralFile;
+use pyo3::prelude::*;
+
+/// A general problem read from its file, every check of `crawlopt analyze` passed or reported.
+#[pyclass(module = "crawlopt._crawlopt", frozen)]
+#[derive(Clone)]
+pub struct GeneralProblem {
+    pub inner: GeneralFile,
+}
+
+#[pymethods]
+impl GeneralProblem {
+    /// The analysis `crawlopt analyze --json` prints (faces, redundant faces, vertices, the
+    /// Chebyshev centre, the checks), and the first failed check's message (or None).
+    fn analyze<'py>(&self, py: Python<'py>) -> PyResult<(Bound<'py, PyAny>, Option<String>)> {
+        let f = self.inner.clone();
+        let a = run(py, None, |_| api::analyze_general(&f))?;
+        let failure = a.failure.as_ref().map(|e| e.to_string());
+        Ok((pythonize::pythonize(py, &a)?, failure))
+    }
+
+    /// The file's `[input]` simulated (`crawlopt simulate --json`); `method` "exact" (where it
+    /// applies, else catching-up) or "catching_up"; None takes the library's default.
+    #[pyo3(signature = (method, steps_per_period, max_periods, tol))]
+    fn simulate<'py>(
+        &self,
+        py: Python<'py>,
+        method: &str,
+        steps_per_period: Option<usize>,
+        max_periods: Option<usize>,
+        tol: Option<f64>,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        let d = GeneralSimOptions::DEFAULT;
+        let method = match method {
+            "exact" => GeneralMethod::Auto,
+            "catching-up" | "catching_up" => GeneralMethod::CatchingUp,
+            other => {
+                let e = crawlopt::Error::invalid(
+                    "method",
+                    other,
+                    "must be \"exact\" or \"catching_up\"",
+                );
+                return Err(to_py(py, e));
+            }
+        };
+        let opts = GeneralSimOptions {
+            method,
+            steps_per_period: steps_per_period.unwrap_or(d.steps_per_period),
+            max_periods: max_periods.unwrap_or(d.max_periods),
+            tol: tol.unwrap_or(d.tol),
+        };
+        let f = self.inner.clone();
+        let s = run(py, None, |_| api::simulate_general(&f, &opts))?;
+        Ok(pythonize::pythonize(py, &s)?)
+    }
+
+    /// P_m of the problem (`crawlopt optimize --json`): `method` "discrete" (global MILP) or
+    /// "local" (the LPCC active-set method, `shifts` rotations of each start); None takes the
+    /// library's default. Cancellable (Ctrl-C); `progress` receives the events.
+    #[pyo3(signature = (method, m, shifts, time_limit, progress))]
+    fn optimize<'py>(
+        &self,
+        py: Python<'py>,
+        method: &str,
+        m: Option<u32>,
+        shifts: Option<usize>,
+        time_limit: Option<f64>,
+        progress: Option<PyObject>,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        let f = self.inner.clone();
+        match method {
+            "discrete" | "auto" => {
+                if shifts.is_some() {
+                    let e = crawlopt::Error::invalid(
+                        "shifts",
+                        "given",
+                        "applies to method=\"local\" only",
+                    );
+                    return Err(to_py(py, e));
+                }
+                let s = GeneralPmSettings {
+                    m: m.unwrap_or(GeneralPmSettings::default().m),
+                    time_limit,
+                };
+                let r = run(py, progress, |hooks| {
+                    api::optimize_general_with_hooks(&f, &s, hooks)
+                })?;
+                Ok(pythonize::pythonize(py, &r)?)
+            }
+            "local" => {
+                let d = GeneralLocalSettings::default();
+                let s = GeneralLocalSettings {
+                    m: m.unwrap_or(d.m),
+                    shifts: shifts.unwrap_or(d.shifts),
+                    time_limit,
+                };
+                let r = run(py, progress, |hooks| {
+                    api::optimize_general_local(&f, &s, hooks)
+                })?;
+                Ok(pythonize::pythonize(py, &r)?)
+            }
+            other => {
+                let e = crawlopt::Error::invalid(
+                    "method",
+                    other,
+                    "must be \"discrete\" or \"local\" for a general problem",
+                );
+                Err(to_py(py, e))
+            }
+        }
+    }
+}
+
+/// Reads a problem file if it is of the general kind (None for a crawler file).
+#[pyfunction]
+pub fn load_general(py: Python<'_>, path: std::path::PathBuf) -> PyResult<Option<GeneralProblem>> {
+    GeneralFile::load_if_general(&path)
+        .map(|f| f.map(|inner| GeneralProblem { inner }))
+        .map_err(|e| to_py(py, e))
+}

@@ -1,0 +1,72 @@
+"""General problem files (``[sweeping_process]``, the paper's §2 problem (P)) from Python:
+``crawlopt.load`` gives a GeneralProblem whose analysis, simulation and P_m (global and local)
+are the library's, with the closed form of the §4 one-link problem."""
+
+import crawlopt as co
+import numpy as np
+import pytest
+from conftest import example
+
+# The one-link problem of §4 in general form: C = [a, b] = [-1, 1], g = u, U = [-1, 1],
+# f1 = |eta| / 2, T = 10: J* = (T - 2 (b - a)) / 2 = 3.
+ONE_LINK = example("general_one_link.toml")
+J_STAR = (10.0 - 2 * (1.0 - (-1.0))) / 2
+
+
+def test_load_gives_a_general_problem_with_its_analysis():
+    p = co.load(ONE_LINK)
+    assert isinstance(p, co.GeneralProblem)
+    a = p.analyze()
+    assert a["kind"] == "general" and a["failure"] is None
+    assert all(c["status"] != "fail" for c in a["checks"])
+    assert a["geometry"]["chebyshev_radius"] == pytest.approx(1.0)
+    # A crawler file still gives a Model.
+    assert isinstance(co.load(example("three_blocks_gait.toml")), co.Model)
+
+
+def test_simulate_and_optimize_reach_the_closed_form():
+    p = co.load(ONE_LINK)
+    s = p.simulate()
+    sim = s["simulation"]
+    assert s["method"] == "exact"
+    assert sim["objective"] == pytest.approx(J_STAR, abs=1e-9)
+    assert isinstance(sim["x"], np.ndarray) and sim["x"].shape[1] == 1
+    c = p.simulate(method="catching_up", steps_per_period=64)["simulation"]
+    assert c["objective"] == pytest.approx(J_STAR, abs=1e-9)
+    assert c["lambda"].shape == (64, 2) and c["u"].shape == (64, 1)
+
+    g = p.optimize(m=2)
+    assert g["method"] == "discrete"
+    assert g["solution"]["objective"] == pytest.approx(J_STAR, abs=1e-7)
+    assert g["solution"]["certificate"]["status"] == "optimal"
+    assert g["solution"]["u"].shape == (4, 1)
+
+    events = []
+    loc = p.optimize(m=5, method="local", shifts=2, progress=events.append)
+    sol = loc["solution"]
+    assert loc["method"] == "local" and loc["starts_tried"] == 2
+    assert sol["objective"] == pytest.approx(J_STAR, abs=1e-7)
+    assert sol["stop"] == "stationary"
+    assert sol["x"].shape == (33, 1) and abs(sol["u"].sum()) < 1e-9
+    assert [e["kind"] for e in events] == ["stage", "stage"]
+
+
+def test_bad_arguments_raise_input_errors_naming_the_field():
+    p = co.load(ONE_LINK)
+    cases = [
+        (lambda: p.optimize(m=11), "m"),
+        (lambda: p.optimize(m=15, method="local"), "m"),
+        (lambda: p.optimize(method="phase"), "method"),
+        (lambda: p.optimize(shifts=2), "shifts"),
+        (lambda: p.optimize(method="local", shifts=0), "shifts"),
+        (lambda: p.optimize(time_limit=-1.0), "time_limit"),
+        (lambda: p.simulate(method="rk4"), "method"),
+        (lambda: p.simulate(method="catching_up", steps_per_period=0), "steps_per_period"),
+    ]
+    for call, field in cases:
+        with pytest.raises(co.InputError) as e:
+            call()
+        assert e.value.field == field, str(e.value)
+    with pytest.raises(co.InputError) as e:
+        co.load(example("general_drift.toml")).optimize(method="local")
+    assert e.value.field == "objective.cost"

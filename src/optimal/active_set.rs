@@ -1,0 +1,137 @@
+//! The active-set loop on an LPCC shared by the local methods for P_m (SPEC §6): the crawler's
+//! ([`crate::optimal::local`], three modes per block) and the general problem's
+//! ([`crate::optimal::general::local`], two branches per step and face).
+//!
+//! With every complementarity pair on a fixed branch, P_m is a linear program whose branches
+//! are column bounds, so one HiGHS model is re-solved from its previous basis after each
+//! change of branches. After each LP the caller's `pivot` reads the columns and their reduced
+//! costs, moves every *degenerate* pair (both sides of its complementarity zero, so that the
+//! current point satisfies both branches and the next LP is at least as good) whose reduced
+//! cost says that its other branch pays (the caller may also solve neighbouring LPs on `model`
+//! where the reduced costs of a degenerate LP say nothing), and tells how many it moved. The
+//! loop ends when none moves (stationary as far as the caller's tests see), when the objective
+//! no longer improves (a guard against degenerate cycling), at the round limit or the time
+//! limit (also when it ran out while `pivot` searched).
+
+use super::solver::{Highs, SolveStatus};
+use crate::error::{Error, Result};
+use serde::{Deserialize, Serialize};
+use std::time::Instant;
+
+/// Why the local method stopped.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum LocalStop {
+    /// No profitable switch of modes remains (B-stationary by the reduced-cost test).
+    Stationary,
+    /// Switches no longer improved the objective (degenerate cycling guard).
+    Stalled,
+    /// The round limit.
+    RoundLimit,
+    /// The time limit.
+    TimeLimit,
+}
+
+/// What [`run`] ends with.
+pub(crate) struct Outcome {
+    /// The columns of the last LP optimum (the best one kept on a time limit).
+    pub cols: Vec<f64>,
+    /// Its objective, in the maximised sense (`J`).
+    pub objective: f64,
+    /// Why the loop stopped.
+    pub stop: LocalStop,
+    /// LPs solved.
+    pub lp_solves: usize,
+    /// Pairs moved in all.
+    pub switches: usize,
+}
+
+/// Runs the active-set loop (module docs) on `model`, whose branches the caller has set.
+/// `sign` turns the model's objective into the maximised `J` (`-1` for a model that minimises
+/// `-J`, `1` for one that maximises `J`); `pivot(model, columns, reduced_costs, J)` moves the
+/// profitable degenerate pairs and returns how many; `max_stalls` consecutive LPs without a gain
+/// end the loop ([`LocalStop::Stalled`]). `what` names P_m in errors.
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn run(
+    model: &mut Highs,
+    sign: f64,
+    max_rounds: usize,
+    max_stalls: usize,
+    time_limit: Option<f64>,
+    began: Instant,
+    what: &str,
+    mut pivot: impl FnMut(&mut Highs, &[f64], &[f64], f64) -> Result<usize>,
+) -> Result<Outcome> {
+    let mut lp_solves = 0;
+    let mut switches = 0;
+    let mut best = f64::NEG_INFINITY;
+    let mut stalls = 0;
+    let mut last: Option<(Vec<f64>, f64)> = None;
+    let end = |cols, objective, stop, lp_solves, switches| {
+        Ok(Outcome {
+            cols,
+            objective,
+            stop,
+            lp_solves,
+            switches,
+        })
+    };
+    loop {
+        if let Some(tl) = time_limit {
+            let left = tl - began.elapsed().as_secs_f64();
+            if left <= 0.0 {
+                return match last {
+                    Some((cols, j)) => end(cols, j, LocalStop::TimeLimit, lp_solves, switches),
+                    None => Err(Error::TimeLimit(format!(
+                        "{what}: the time limit was reached before the first LP"
+                    ))),
+                };
+            }
+            model.time_limit(left)?;
+        }
+        let solved = model.solve()?;
+        lp_solves += 1;
+        match solved.status {
+            SolveStatus::Optimal => {}
+            SolveStatus::TimeLimit { .. } => {
+                return match last {
+                    Some((cols, j)) => end(cols, j, LocalStop::TimeLimit, lp_solves, switches),
+                    None => Err(Error::TimeLimit(format!(
+                        "{what}: the time limit was reached in the first LP"
+                    ))),
+                }
+            }
+            SolveStatus::Infeasible => {
+                return Err(Error::Numerical(format!(
+                    "{what}: an LP of fixed branches has no feasible point"
+                )))
+            }
+        }
+        let cols = solved.columns;
+        let objective = sign * solved.objective;
+        if !best.is_finite() || objective > best + 1e-12 * best.abs().max(1.0) {
+            best = objective;
+            stalls = 0;
+        } else {
+            stalls += 1;
+        }
+        if stalls >= max_stalls {
+            return end(cols, objective, LocalStop::Stalled, lp_solves, switches);
+        }
+        if lp_solves >= max_rounds {
+            return end(cols, objective, LocalStop::RoundLimit, lp_solves, switches);
+        }
+        let changed = pivot(model, &cols, &solved.column_duals, objective)?;
+        switches += changed;
+        if changed == 0 {
+            let out_of_time = time_limit.is_some_and(|tl| began.elapsed().as_secs_f64() >= tl);
+            let stop = if out_of_time {
+                LocalStop::TimeLimit
+            } else {
+                LocalStop::Stationary
+            };
+            return end(cols, objective, stop, lp_solves, switches);
+        }
+        last = Some((cols, objective));
+    }
+}

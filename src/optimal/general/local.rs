@@ -1,0 +1,334 @@
+//! The paper's P_m (§6, SPEC §11) for the general problem (P), locally: the active-set method on
+//! its LPCC ([`crate::optimal::active_set`], shared with the crawler's local method), for grids
+//! beyond the reach of the global MILP ([`super::discrete`]).
+//!
+//! P_m's complementarity is, per step `i` and face `j`, `0 <= mu^i_j ⊥ s^i_j >= 0` with the
+//! slack `s^i_j = c_j - <x*_j, x^(i+1)>` of the catching-up step's KKT system (the module docs
+//! of [`super::discrete`]). A *branch* picks one side: on face (`s = 0`, `mu >= 0`) or off it
+//! (`mu = 0`, `s >= 0`). With every branch fixed P_m is the LP of [`super::discrete::Form::
+//! Branches`], where the branches are column bounds, and, the multipliers being unique
+//! (independent active normals, checked), every feasible point of it is a catching-up process.
+//!
+//! Pivoting (maximising `J`): at the LP optimum a pair is degenerate when `mu = s = 0`; its
+//! other branch keeps the point feasible. An on-face pair with `mu = 0` whose slack column has a
+//! positive reduced cost (leaving the face pays) goes off; an off-face pair with `s = 0` whose
+//! multiplier column has a positive reduced cost (pushing on the face pays) goes on. All such
+//! switches are made at once, as for crawlers. Where none pays, the reduced costs of a
+//! degenerate LP being those of one of its optimal bases, each degenerate pair's neighbouring
+//! LP (that pair switched) is solved from the current basis and the first that gains is
+//! taken; when none gains the point is stationary for every single switch (status
+//! `stationary`). That is a local solution, not a global one: on the one-link problem with 16
+//! steps, the square wave of amplitude 0.5 ends at J = 1.75 < J* = 3 (tests/general_local.rs),
+//! on a plateau of J that only two switches at once leave.
+//!
+//! The start is a control on the grid (one row per step), simulated by catching-up to its
+//! periodic regime (or over the horizon of a Cauchy problem); the branches are read off that
+//! process: on face where the projection's multiplier is positive. [`default_starts`] gives
+//! square waves along each control axis, at several time shifts. Every answer is re-verified by
+//! replaying its controls through the general simulator ([`super::discrete`]'s replay).
+
+use super::discrete::{branch_bounds, build, check_sets, replay, Form};
+use super::geometry::Geometry;
+use crate::error::{Error, Result};
+use crate::integrate::{simulate_general, ControlInput, GeneralSimOptions, InputKind};
+use crate::model::general::{Boundary, ControlSet, GeneralCost, GeneralProblem, Reward};
+use crate::optimal::active_set::{self, LocalStop};
+use crate::optimal::solver::{Highs, SolveStatus};
+use highs::Sense;
+use serde::Serialize;
+use std::time::Instant;
+
+/// Largest `m` (`2^m` steps) of the general local method.
+pub const MAX_GENERAL_LOCAL_M: u32 = 14;
+
+/// A local solution of the general P_m, re-verified.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct GeneralLocal {
+    /// `m`.
+    pub m: u32,
+    /// `J` of the controls, as the simulator replays them.
+    pub objective: f64,
+    /// `J` of the last LP.
+    pub lp_objective: f64,
+    /// `J` of the start (its simulated process on this grid).
+    pub start_objective: f64,
+    /// LPs solved.
+    pub lp_solves: usize,
+    /// Branches switched in all.
+    pub switches: usize,
+    /// Why the method stopped.
+    pub stop: LocalStop,
+    /// States `x^0..x^M`.
+    pub x: Vec<Vec<f64>>,
+    /// Controls `u^0..u^(M-1)`.
+    pub u: Vec<Vec<f64>>,
+    /// Reactions `lambda^i = mu^i / h`.
+    pub lambda: Vec<Vec<f64>>,
+}
+
+/// Refuses what the local method cannot solve (cheap, before any start is simulated): `m`
+/// outside `1..=MAX_GENERAL_LOCAL_M`, a quadratic cost (the branch problems are LPs), and what
+/// [`check_sets`] refuses.
+pub fn check_general_local(p: &GeneralProblem, g: &Geometry, m: u32) -> Result<()> {
+    if !(1..=MAX_GENERAL_LOCAL_M).contains(&m) {
+        return Err(Error::invalid(
+            "m",
+            m,
+            format!("must be in 1..={MAX_GENERAL_LOCAL_M} for the local method"),
+        ));
+    }
+    if p.cost != GeneralCost::None {
+        return Err(Error::invalid(
+            "objective.cost",
+            "a quadratic cost",
+            "the local method handles f2 = none only; use the discrete (global) method",
+        ));
+    }
+    check_sets(p, g, "P_m's local method")
+}
+
+/// The largest `t >= 0` with `t d` in U (U contains 0).
+fn reach(u: &ControlSet, d: &[f64]) -> f64 {
+    let ratio = |a: f64, c: f64| if a > 0.0 { c / a } else { f64::INFINITY };
+    match u {
+        ControlSet::Box { lower, upper } => d
+            .iter()
+            .zip(lower.iter().zip(upper))
+            .map(|(&d, (&lo, &hi))| ratio(d, hi).min(ratio(-d, -lo)))
+            .fold(f64::INFINITY, f64::min),
+        ControlSet::Polytope(q) => q
+            .normals
+            .iter()
+            .zip(&q.offsets)
+            .map(|(n, &c)| ratio(crate::model::general::dot(n, d), c))
+            .fold(f64::INFINITY, f64::min),
+    }
+}
+
+/// The default starts on `2^m` steps: for each control component `k`, the square wave `+a e_k`
+/// on the first half period and `-a e_k` on the second (`a` the largest with both in U, so the
+/// mean is zero), rotated by `j M / shifts` steps, `j = 0..shifts` (on a grid, where a wave
+/// switches decides which process it makes). Components along which U holds no segment
+/// through 0 are skipped.
+pub fn default_starts(p: &GeneralProblem, m: u32, shifts: usize) -> Vec<Vec<Vec<f64>>> {
+    let mm = 1usize << m;
+    let nu = p.controls();
+    let mut starts = Vec::new();
+    for k in 0..nu {
+        let mut e = vec![0.0; nu];
+        e[k] = 1.0;
+        let up = reach(&p.control, &e);
+        e[k] = -1.0;
+        let down = reach(&p.control, &e);
+        let a = up.min(down);
+        if !(a.is_finite() && a > 0.0) {
+            continue;
+        }
+        let wave: Vec<Vec<f64>> = (0..mm)
+            .map(|i| {
+                let mut u = vec![0.0; nu];
+                u[k] = if i < mm / 2 { a } else { -a };
+                u
+            })
+            .collect();
+        let mut rotations: Vec<usize> = (0..shifts).map(|j| j * mm / shifts).collect();
+        rotations.dedup();
+        for r in rotations {
+            let mut w = wave.clone();
+            w.rotate_right(r);
+            starts.push(w);
+        }
+    }
+    starts
+}
+
+/// The controls of `input` on `2^m` steps: the mean over each step.
+pub fn grid_controls(input: &ControlInput, m: u32) -> Vec<Vec<f64>> {
+    let mm = 1usize << m;
+    let h = input.period / mm as f64;
+    (0..mm)
+        .map(|i| {
+            let t1 = if i + 1 == mm {
+                input.period
+            } else {
+                (i + 1) as f64 * h
+            };
+            let mut u = vec![0.0; input.values[0].len()];
+            input.mean(i as f64 * h, t1, &mut u);
+            u
+        })
+        .collect()
+}
+
+/// Solves P_m locally from `start` (one control per step of `2^m`; module docs); `time_limit`
+/// in seconds. The start is refused (field `start`) when it does not have one row in U per
+/// step, or a non-zero mean under the zero-mean constraint, or when its periodic regime is not
+/// reached.
+pub fn solve_general_local(
+    p: &GeneralProblem,
+    g: &Geometry,
+    m: u32,
+    start: &[Vec<f64>],
+    time_limit: Option<f64>,
+) -> Result<GeneralLocal> {
+    check_general_local(p, g, m)?;
+    crate::optimal::check_time_limit(time_limit)?;
+    let began = Instant::now();
+    let mm = 1usize << m;
+    let h = p.period / mm as f64;
+    let what = format!("P_{m} of the general problem (local)");
+    if start.len() != mm {
+        return Err(Error::invalid(
+            "start",
+            format!("{} steps", start.len()),
+            format!("needs one control per step ({mm})"),
+        ));
+    }
+    let scale = p.c.scale();
+    let umax = start.iter().flatten().fold(1.0_f64, |s, v| s.max(v.abs()));
+    if p.zero_mean {
+        for k in 0..p.controls() {
+            let mean = start.iter().map(|u| u[k]).sum::<f64>() / mm as f64;
+            if mean.abs() > 1e-9 * umax {
+                return Err(Error::invalid(
+                    format!("start[{}]", k + 1),
+                    mean,
+                    "the start control must have zero mean (zero_mean = true)",
+                ));
+            }
+        }
+    }
+    // The start's process on this grid.
+    let times: Vec<f64> = (0..mm).map(|i| i as f64 * h).collect();
+    let input = ControlInput::new(
+        InputKind::PiecewiseConstant,
+        p.period,
+        times,
+        start.to_vec(),
+        &p.control,
+        "start",
+    )?;
+    let x0 = match &p.boundary {
+        Boundary::Initial(x0) => x0.clone(),
+        Boundary::Periodic if p.c.violation(&vec![0.0; p.states()], 0.0).is_none() => {
+            vec![0.0; p.states()]
+        }
+        Boundary::Periodic => g.chebyshev_centre.clone(),
+    };
+    let opts = GeneralSimOptions {
+        steps_per_period: mm,
+        ..GeneralSimOptions::DEFAULT
+    };
+    let sim = simulate_general(p, &input, &x0, &opts)?;
+    let start_objective = sim.objective.ok_or_else(|| {
+        Error::invalid(
+            "start",
+            "the start control",
+            format!(
+                "its periodic regime was not reached within {} periods",
+                opts.max_periods
+            ),
+        )
+    })?;
+    let mut active: Vec<Vec<bool>> = sim
+        .lambda
+        .iter()
+        .map(|l| l.iter().map(|&l| l > 0.0).collect())
+        .collect();
+
+    // One LP for every choice of branches; branches are column bounds.
+    let (pb, lay) = build(p, m, Form::Branches(&active), &[]);
+    let mut model = Highs::new(pb, Sense::Maximise, &what)?;
+    model.option("primal_feasibility_tolerance", 1e-10)?;
+    model.option("dual_feasibility_tolerance", 1e-10)?;
+    let tol_x = 1e-9 * scale;
+    let w_max = match &p.reward {
+        Reward::FaceWeights(w) | Reward::ReactionWeights(w) => {
+            w.iter().fold(0.0_f64, |s, v| s.max(v.abs()))
+        }
+    };
+    let tol_red = 1e-9 * w_max.max(1e-300);
+    let tol_j = 1e-9 * (w_max * scale).max(1e-300);
+    let sigma = p.c.faces();
+    // Switches at degenerate pairs (module docs): the reduced cost of a column is the rate at
+    // which J changes as it rises from its bound; where none pays (the reduced costs of a
+    // degenerate LP are those of one of its bases), each degenerate pair's neighbouring LP is
+    // solved and the first flip that gains is taken.
+    let mut trials = 0;
+    let flip = |model: &mut Highs, active: &mut [Vec<bool>], i: usize, j: usize| -> Result<()> {
+        active[i][j] = !active[i][j];
+        let [bm, bs] = branch_bounds(active[i][j]);
+        model.set_bounds(lay.mu[i][j], bm.0, bm.1)?;
+        model.set_bounds(lay.s[i][j], bs.0, bs.1)
+    };
+    let pivot = |model: &mut Highs, cols: &[f64], red: &[f64], j_now: f64| -> Result<usize> {
+        let mut changed = 0;
+        let mut degenerate = Vec::new();
+        for i in 0..mm {
+            for j in 0..sigma {
+                let (mu, s) = (lay.mu[i][j].index(), lay.s[i][j].index());
+                let (zero, rate) = if active[i][j] {
+                    (cols[mu] <= tol_x, red[s])
+                } else {
+                    (cols[s] <= tol_x, red[mu])
+                };
+                if !zero {
+                    continue;
+                }
+                if rate > tol_red {
+                    flip(model, &mut active, i, j)?;
+                    changed += 1;
+                } else {
+                    degenerate.push((i, j));
+                }
+            }
+        }
+        if changed > 0 {
+            return Ok(changed);
+        }
+        for (i, j) in degenerate {
+            flip(model, &mut active, i, j)?;
+            trials += 1;
+            let a = model.solve()?;
+            flip(model, &mut active, i, j)?;
+            match a.status {
+                SolveStatus::Optimal if a.objective > j_now + tol_j => {
+                    flip(model, &mut active, i, j)?;
+                    return Ok(1);
+                }
+                SolveStatus::TimeLimit { .. } => return Ok(0),
+                _ => {}
+            }
+        }
+        Ok(0)
+    };
+    let run = active_set::run(
+        &mut model,
+        1.0,
+        20 * mm * sigma,
+        3,
+        time_limit,
+        began,
+        &what,
+        pivot,
+    )?;
+    let r = replay(p, m, &lay, &run.cols, &what)?;
+    if (r.objective - run.objective).abs() > 1e-6 * (scale + r.objective.abs()) {
+        return Err(Error::Numerical(format!(
+            "{what}: the controls give J = {} when simulated, not {}",
+            r.objective, run.objective
+        )));
+    }
+    Ok(GeneralLocal {
+        m,
+        objective: r.objective,
+        lp_objective: run.objective,
+        start_objective,
+        lp_solves: run.lp_solves + trials,
+        switches: run.switches,
+        stop: run.stop,
+        x: r.x,
+        u: r.u,
+        lambda: r.lambda,
+    })
+}

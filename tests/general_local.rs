@@ -1,0 +1,189 @@
+//! P_m of the general problem (P) locally (the active-set method on its LPCC): the paper's §4
+//! one-link problem against its closed form from starts that are not optimal, and random small
+//! instances against the global MILP (never above it) and the simulator (a true process).
+
+mod common;
+
+use common::{one_link_problem, random_polygon_problem, Rng};
+use crawlopt::integrate::{simulate_general, ControlInput, GeneralSimOptions, InputKind};
+use crawlopt::model::general::{Boundary, GeneralCost};
+use crawlopt::optimal::general::{
+    analyze_polyhedron, check_problem, default_starts, solve_general_local, solve_general_pm,
+};
+use crawlopt::optimal::LocalStop;
+
+/// The square wave `+v` then `-v` on `2^m` steps, rotated by `r` steps.
+fn square(m: u32, v: f64, r: usize) -> Vec<Vec<f64>> {
+    let mm = 1usize << m;
+    let mut w: Vec<Vec<f64>> = (0..mm)
+        .map(|i| vec![if i < mm / 2 { v } else { -v }])
+        .collect();
+    w.rotate_right(r);
+    w
+}
+
+/// `sin(2 pi t / T)` at the middle of each of `2^m` steps.
+fn sine(m: u32) -> Vec<Vec<f64>> {
+    let mm = 1usize << m;
+    (0..mm)
+        .map(|i| vec![(std::f64::consts::TAU * (i as f64 + 0.5) / mm as f64).sin()])
+        .collect()
+}
+
+#[test]
+fn the_one_link_problem_reaches_its_closed_form_from_reasonable_starts() {
+    // J* = (T - 2 (b - a)) / 2, attained on every grid whose half period is whole steps
+    // (T = 10, C = [-1, 1]: J* = 3). A sine wave and a square wave of amplitude 0.8 travel
+    // slower than they may (the square wave's J = (0.8 T - 4) / 2 = 2); the branch LP and the
+    // pivots at degenerate pairs reach J*.
+    let p = one_link_problem(-1.0, 1.0, 10.0);
+    let g = check_problem(&p).unwrap();
+    for m in 3..=5 {
+        for (name, start) in [("sine", sine(m)), ("square 0.8", square(m, 0.8, 1))] {
+            let s = solve_general_local(&p, &g, m, &start, None).unwrap();
+            assert_eq!(s.stop, LocalStop::Stationary);
+            assert!(s.start_objective < 2.0 + 1e-9, "{}", s.start_objective);
+            assert!(
+                (s.objective - 3.0).abs() < 1e-7,
+                "m = {m}, {name}: J = {} after {} LPs",
+                s.objective,
+                s.lp_solves
+            );
+        }
+    }
+    // The default starts (full-amplitude square waves at shifts) are optimal themselves here.
+    for m in [2, 6] {
+        for start in default_starts(&p, m, 4) {
+            let s = solve_general_local(&p, &g, m, &start, None).unwrap();
+            assert!((s.objective - 3.0).abs() < 1e-7, "m = {m}: {}", s.objective);
+        }
+    }
+    // Local, not global: from the square wave of amplitude 0.5 on 16 steps (J = 0.5) the
+    // method stops at a stationary point of P_4 below J* (J = 1.75 on a plateau of J: the
+    // gain needs two branches switched at once), never above it.
+    let s = solve_general_local(&p, &g, 4, &square(4, 0.5, 0), None).unwrap();
+    assert!((s.start_objective - 0.5).abs() < 1e-9);
+    assert_eq!(s.stop, LocalStop::Stationary);
+    assert!(
+        s.objective > 0.5 && s.objective < 3.0 - 1e-6,
+        "{}",
+        s.objective
+    );
+}
+
+#[test]
+fn random_instances_never_above_the_global_optimum_and_true_processes() {
+    let mut rng = Rng(0x9e37_79b9_7f4a_7c15);
+    let mut improved = 0;
+    let mut cases = 0;
+    for (sigma, m) in [(3, 2), (4, 2), (5, 2), (6, 2), (3, 3)] {
+        for _ in 0..2 {
+            let p = random_polygon_problem(&mut rng, sigma);
+            let g = analyze_polyhedron(&p.c).unwrap();
+            let global = solve_general_pm(&p, &g, m, None).unwrap();
+            for start in default_starts(&p, m, 2) {
+                let s = solve_general_local(&p, &g, m, &start, None).unwrap();
+                cases += 1;
+                let tol = 1e-7 * (1.0 + global.objective.abs());
+                assert!(
+                    s.objective <= global.objective + tol,
+                    "sigma = {sigma}, m = {m}: local {} above global {}",
+                    s.objective,
+                    global.objective
+                );
+                assert!(s.objective >= s.start_objective - tol);
+                improved += usize::from(s.objective > s.start_objective + 1e-6);
+                // A true process: its controls, simulated from its x^0, give its states and J.
+                let mm = 1usize << m;
+                let h = p.period / mm as f64;
+                let input = ControlInput::new(
+                    InputKind::PiecewiseConstant,
+                    p.period,
+                    (0..mm).map(|i| i as f64 * h).collect(),
+                    s.u.clone(),
+                    &p.control,
+                    "u",
+                )
+                .unwrap();
+                let mut cauchy = p.clone();
+                cauchy.boundary = Boundary::Initial(s.x[0].clone());
+                let opts = GeneralSimOptions {
+                    steps_per_period: mm,
+                    ..Default::default()
+                };
+                let sim = simulate_general(&cauchy, &input, &s.x[0], &opts).unwrap();
+                let dx = sim
+                    .x
+                    .iter()
+                    .flatten()
+                    .zip(s.x.iter().flatten())
+                    .fold(0.0_f64, |d, (a, b)| d.max((a - b).abs()));
+                assert!(dx < 1e-9, "states differ by {dx}");
+                assert!((sim.objective.unwrap() - s.objective).abs() < 1e-9);
+                assert!((s.x[mm].iter().zip(&s.x[0])).all(|(a, b)| (a - b).abs() < 1e-7));
+                let sum: f64 = s.u.iter().map(|u| u[0]).sum();
+                assert!(sum.abs() < 1e-7, "mean {sum}");
+            }
+        }
+    }
+    // The method does move: most starts end above where they began.
+    assert!(improved * 2 >= cases, "{improved} of {cases}");
+}
+
+#[test]
+fn the_local_method_refuses_what_it_cannot_solve() {
+    let mut p = one_link_problem(-1.0, 1.0, 10.0);
+    let g = check_problem(&p).unwrap();
+    let e = solve_general_local(&p, &g, 0, &square(1, 1.0, 0), None).unwrap_err();
+    assert!(e.to_string().starts_with("m:"), "{e}");
+    let e = solve_general_local(&p, &g, 15, &square(1, 1.0, 0), None).unwrap_err();
+    assert!(e.to_string().starts_with("m:"), "{e}");
+    let e = solve_general_local(&p, &g, 3, &square(2, 1.0, 0), None).unwrap_err();
+    assert!(e.to_string().starts_with("start:"), "{e}");
+    let mut biased = square(3, 1.0, 0);
+    biased[0][0] = 0.5;
+    let e = solve_general_local(&p, &g, 3, &biased, None).unwrap_err();
+    assert!(e.to_string().starts_with("start[1]:"), "{e}");
+    let mut outside = square(3, 1.0, 0);
+    outside[0][0] = 2.0;
+    outside[7][0] = -2.0;
+    let e = solve_general_local(&p, &g, 3, &outside, None).unwrap_err();
+    assert!(e.to_string().starts_with("start.values[1]"), "{e}");
+    let e = solve_general_local(&p, &g, 3, &square(3, 1.0, 0), Some(-1.0)).unwrap_err();
+    assert!(e.to_string().starts_with("time_limit:"), "{e}");
+    p.cost = GeneralCost::Quadratic { weight: 1.0 };
+    let e = solve_general_local(&p, &g, 3, &square(3, 1.0, 0), None).unwrap_err();
+    assert!(e.to_string().starts_with("objective.cost:"), "{e}");
+}
+
+#[test]
+fn the_api_job_reports_its_starts_and_can_be_cancelled() {
+    use crawlopt::api::{optimize_general_local, Event, GeneralLocalSettings, Hooks};
+    use crawlopt::io::GeneralFile;
+    use crawlopt::progress::Cancel;
+    let file = GeneralFile::load_if_general("examples/general_one_link.toml".as_ref())
+        .unwrap()
+        .unwrap();
+    let settings = GeneralLocalSettings {
+        m: 3,
+        shifts: 3,
+        time_limit: None,
+    };
+    let mut stages = 0;
+    let mut count = |e: &Event, _: f64| stages += usize::from(matches!(e, Event::Stage(_)));
+    let hooks = Hooks {
+        events: Some(&mut count),
+        cancel: None,
+    };
+    let r = optimize_general_local(&file, &settings, hooks).unwrap();
+    assert_eq!((r.start_from, r.starts_tried, stages), ("input", 3, 3));
+    assert!((r.solution.objective - 3.0).abs() < 1e-9);
+    let cancel = Cancel::new();
+    cancel.cancel();
+    let hooks = Hooks {
+        events: None,
+        cancel: Some(&cancel),
+    };
+    let e = optimize_general_local(&file, &settings, hooks).unwrap_err();
+    assert!(matches!(e, crawlopt::Error::Cancelled), "{e}");
+}
