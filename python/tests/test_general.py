@@ -62,6 +62,9 @@ def test_bad_arguments_raise_input_errors_naming_the_field():
         (lambda: p.optimize(time_limit=-1.0), "time_limit"),
         (lambda: p.simulate(method="rk4"), "method"),
         (lambda: p.simulate(method="catching_up", steps_per_period=0), "steps_per_period"),
+        # The exact method (the default here, A = 0) is held to the same settings.
+        (lambda: p.simulate(steps_per_period=0), "steps_per_period"),
+        (lambda: p.simulate(max_periods=0), "max_periods"),
     ]
     for call, field in cases:
         with pytest.raises(co.InputError) as e:

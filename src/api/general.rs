@@ -206,6 +206,7 @@ pub struct GeneralSimulated {
 pub fn simulate_general(file: &GeneralFile, opts: &GeneralSimOptions) -> Result<GeneralSimulated> {
     let (p, g) = general_problem(file)?;
     let input = file.input(&p)?;
+    opts.check(p.states() + p.controls() + p.c.faces())?;
     let (start, start_from) = match &p.boundary {
         crate::model::general::Boundary::Initial(x0) => (x0.clone(), "initial_state"),
         crate::model::general::Boundary::Periodic => {

@@ -182,7 +182,9 @@ impl GeneralSimOptions {
 
     /// Checks the options for a problem whose recorded period holds `per_step` values a step
     /// (states, controls, reactions): at most [`super::periodic::MAX_RECORDED`] in all.
-    fn check(&self, per_step: usize) -> Result<()> {
+    /// Both general methods are held to it, so that no setting is accepted by one and refused
+    /// by the other.
+    pub fn check(&self, per_step: usize) -> Result<()> {
         if (self.steps_per_period as f64) * (per_step as f64) > super::periodic::MAX_RECORDED {
             return Err(Error::invalid(
                 "steps_per_period",
