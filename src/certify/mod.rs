@@ -133,9 +133,13 @@
 //! block-speed bound `|D| <= V tau` of the phase MILP is taken as inactive.
 
 pub mod bound;
+pub mod general;
+mod general_kkt;
+mod general_report;
 mod kkt;
 mod process;
 
+pub use general::{certify_general, residuals_of, GeneralNecessaryConditions, GeneralProcess};
 pub use process::{Process, ProcessKind, INPUT_TOL};
 
 use crate::error::Result;
