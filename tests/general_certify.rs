@@ -4,6 +4,9 @@
 //! after the change of variables, a two-dimensional problem with drift whose P_1 optimum and
 //! multipliers are derived by hand, and a feasible process that is not optimal.
 
+mod common;
+
+use common::crawlopt;
 use crawlopt::api::general_problem;
 use crawlopt::certify::general::{GeneralFaceMultiplier, GeneralMultipliers};
 use crawlopt::certify::{
@@ -363,4 +366,39 @@ fn inconsistent_processes_are_refused() {
             .to_string();
         assert!(e.starts_with(field), "{field}: {e}");
     }
+}
+
+/// `crawlopt optimize GENERAL.toml --certify`: the certificate in the text and, with `--json`,
+/// as `necessary_conditions` of the result.
+#[test]
+fn optimize_certify_prints_the_certificate() {
+    let args = [
+        "optimize",
+        "examples/general_one_link.toml",
+        "--m",
+        "2",
+        "--certify",
+    ];
+    let out = crawlopt(&args);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let text = String::from_utf8(out.stdout).unwrap();
+    assert!(
+        text.contains("necessary conditions (Theorem 2.2; discrete form Theorems 6.1-6.2): holds"),
+        "{text}"
+    );
+    assert!(text.contains("reaction_stationarity") && text.contains("dxi at t = "));
+    let mut json = args.to_vec();
+    json.push("--json");
+    let out = crawlopt(&json);
+    assert!(out.status.success());
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let c = &v["necessary_conditions"];
+    assert_eq!(c["format"], "crawlopt-general-necessary-conditions");
+    assert_eq!(c["verdict"], "holds");
+    assert_eq!(c["m"], 2);
+    assert!((c["objective"].as_f64().unwrap() - 3.0).abs() < 1e-9);
 }

@@ -101,7 +101,8 @@ pub fn simulate(file: &GeneralFile, a: &SimulateArgs) -> Result<ExitCode, Error>
     }
 }
 
-/// `crawlopt optimize` of a general problem: P_m globally (`--method discrete`, or `auto`).
+/// `crawlopt optimize` of a general problem: P_m globally (`--method discrete`, or `auto`),
+/// with `--certify` its necessary conditions.
 pub fn optimize(file: &GeneralFile, a: &OptimizeArgs) -> Result<ExitCode, Error> {
     if !matches!(a.method, OptimizeMethod::Auto | OptimizeMethod::Discrete) {
         return Err(Error::invalid(
@@ -117,7 +118,6 @@ pub fn optimize(file: &GeneralFile, a: &OptimizeArgs) -> Result<ExitCode, Error>
         ("--convergence", a.convergence),
         ("--start", a.start.is_some()),
         ("--shifts", a.shifts.is_some()),
-        ("--certify", a.certify),
         ("--plot", a.plot.is_some()),
         ("--report", a.report.is_some()),
     ];
@@ -131,6 +131,7 @@ pub fn optimize(file: &GeneralFile, a: &OptimizeArgs) -> Result<ExitCode, Error>
     let settings = api::GeneralPmSettings {
         m: a.m.unwrap_or(api::GeneralPmSettings::default().m),
         time_limit: a.time_limit,
+        certify: a.certify,
     };
     let names = [("m", "--m"), ("time_limit", "--time-limit")];
     let r = api::optimize_general(file, &settings)
@@ -139,6 +140,9 @@ pub fn optimize(file: &GeneralFile, a: &OptimizeArgs) -> Result<ExitCode, Error>
         json_line(&r);
     } else {
         out(&text::general_optimum(&r));
+        if let Some(c) = &r.necessary_conditions {
+            out(&text::general_certificate(c));
+        }
     }
     Ok(ExitCode::SUCCESS)
 }
