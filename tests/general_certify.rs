@@ -6,7 +6,7 @@
 
 mod common;
 
-use common::crawlopt;
+use common::{crawlopt, Rng};
 use crawlopt::api::general_problem;
 use crawlopt::certify::general::{GeneralFaceMultiplier, GeneralMultipliers};
 use crawlopt::certify::{
@@ -401,4 +401,104 @@ fn optimize_certify_prints_the_certificate() {
     assert_eq!(c["verdict"], "holds");
     assert_eq!(c["m"], 2);
     assert!((c["objective"].as_f64().unwrap() - 3.0).abs() < 1e-9);
+}
+
+/// The one-link example with U given as the polytope `{u <= 1, -u <= 1}` instead of the box:
+/// the same certificate, the normal-cone weights on the active rows being `|B^T p + omega|`.
+#[test]
+fn a_polytope_u_gives_the_box_certificate() {
+    let text = std::fs::read_to_string("examples/general_one_link.toml").unwrap();
+    let (p, g) = general_problem(&GeneralFile::parse(&text).unwrap()).unwrap();
+    let poly = text.replace(
+        "lower = [-1.0]\nupper = [1.0]",
+        "G = [[1.0], [-1.0]]\nh = [1.0, 1.0]",
+    );
+    assert_ne!(poly, text);
+    let (q, _) = general_problem(&GeneralFile::parse(&poly).unwrap()).unwrap();
+    let s = solve_general_pm(&p, &g, 2, None).unwrap();
+    let pr = GeneralProcess::from_pm(&s);
+    let opts = CertifyOptions::default();
+    let (a, b) = (
+        certify_general(&p, &pr, &opts).unwrap(),
+        certify_general(&q, &pr, &opts).unwrap(),
+    );
+    assert_eq!(a.verdict, Verdict::Holds);
+    assert_eq!(b.verdict, Verdict::Holds, "{}", b.reason);
+    assert!(max_diff(&a.multipliers.p, &b.multipliers.p) < 1e-9);
+    assert!((a.nondegeneracy_margin - b.nondegeneracy_margin).abs() < 1e-9);
+    for (w, sg) in b
+        .multipliers
+        .normal_cone
+        .iter()
+        .zip(&b.multipliers.switching)
+    {
+        assert_eq!(w.len(), 1);
+        assert!((w[0].1 - sg[0].abs()).abs() < 1e-9, "{w:?} {sg:?}");
+    }
+}
+
+/// Random small instances (a polygon of 3..5 faces, random `A`, `B`, `b`, face weights, a box
+/// or a polygonal U, f2 = 0): the certificate of the global P_1 optimum never fails (LP
+/// duality on its branches), and the LP on its branches does not improve on it.
+#[test]
+fn random_optima_satisfy_the_conditions() {
+    let mut rng = Rng(0x9e37_79b9_7f4a_7c15);
+    let mut holds = 0;
+    for k in 0..8 {
+        let sigma = 3 + k % 3;
+        let phase = rng.range(0.0, 1.0);
+        let normals = (0..sigma)
+            .map(|j| {
+                let th = std::f64::consts::TAU * (j as f64 + phase) / sigma as f64;
+                vec![th.cos(), th.sin()]
+            })
+            .collect();
+        let mut r = || rng.range(-0.5, 0.5);
+        let (lower, upper, gm, hv) = if k % 2 == 0 {
+            (Some(vec![-1.0, -1.0]), Some(vec![1.0, 1.0]), None, None)
+        } else {
+            let g = vec![vec![1.0, 1.0], vec![-1.0, 1.0], vec![0.0, -1.0]];
+            (
+                None,
+                None,
+                Some(g),
+                Some(vec![1.0 + r(), 1.0 + r(), 1.0 + r()]),
+            )
+        };
+        let p = GeneralProblem::new(GeneralParts {
+            normals,
+            offsets: (0..sigma).map(|_| 0.7 + r().abs()).collect(),
+            a: Some(vec![vec![r(), r()], vec![r(), r()]]),
+            b: vec![vec![1.0 + r(), r()], vec![r(), 1.0 + r()]],
+            drift: Some(vec![0.2 * r(), 0.2 * r()]),
+            lower,
+            upper,
+            g: gm,
+            h: hv,
+            zero_mean: true,
+            face_weights: Some((0..sigma).map(|_| 0.4 + 1.2 * r()).collect()),
+            period: 4.0 + 8.0 * r().abs(),
+            periodic: true,
+            ..Default::default()
+        })
+        .unwrap();
+        let g = check_problem(&p).unwrap();
+        let s = solve_general_pm(&p, &g, 1, None).unwrap();
+        let c =
+            certify_general(&p, &GeneralProcess::from_pm(&s), &CertifyOptions::default()).unwrap();
+        println!(
+            "instance {k}: J = {:.6}, {:?}: {}",
+            s.objective, c.verdict, c.reason
+        );
+        assert_ne!(c.verdict, Verdict::Fails, "instance {k}: {}", c.reason);
+        let b = c.branch_lp.as_ref().unwrap();
+        assert!(
+            b.improvement.abs() < 1e-7 * (1.0 + b.optimum.abs()),
+            "{b:?}"
+        );
+        holds += usize::from(c.verdict == Verdict::Holds);
+    }
+    // The box instances hold non-degenerately (3 of 4); on P_1 a polygonal U rarely has both
+    // controls u and -u at vertices, so those are degenerate.
+    assert!(holds >= 3, "{holds}");
 }
