@@ -366,6 +366,11 @@ fn inconsistent_processes_are_refused() {
             .to_string();
         assert!(e.starts_with(field), "{field}: {e}");
     }
+    // A Cauchy problem: only periodic problems are certified.
+    let mut cauchy = p.clone();
+    cauchy.boundary = crawlopt::model::general::Boundary::Initial(vec![0.0, 0.0]);
+    let e = certify_general(&cauchy, &good, &CertifyOptions::default()).unwrap_err();
+    assert!(e.to_string().starts_with("problem.periodic"), "{e}");
 }
 
 /// `crawlopt optimize GENERAL.toml --certify`: the certificate in the text and, with `--json`,
