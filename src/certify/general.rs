@@ -3,9 +3,10 @@
 //! polytope `{G u <= h}`) with zero mean, `f1` linear in the reaction, `f2(u) = (1/2) u^T R u`.
 //! The crawler's certificate ([`crate::certify`], whose module docs explain the method, the
 //! stages and the verdict) is the instance `A = 0, B = K^(-1/2)` after the change of variables
-//! `x = K^(1/2) x~`; this module reuses its types ([`ConditionCheck`], [`Verdict`],
-//! [`Normalisation`], [`BranchLp`]), its stages and its options, and states the conditions for
-//! the general data.
+//! `x = K^(1/2) x~`; both share the types ([`ConditionCheck`], [`Verdict`],
+//! [`Normalisation`], [`BranchLp`], [`CertifyOptions`]) and the staged search for multipliers
+//! (`certify::stages`); this module states the conditions for the general data (its multiplier
+//! LP in `certify::general_kkt`, its report in `certify::general_report`).
 //!
 //! # The branch LP and its KKT system
 //!
@@ -41,7 +42,7 @@
 //!   `u^i` (a box: the rows `+-e_l`); `omega = 0` without the zero-mean constraint;
 //! - **sign** (Thm 6.1, Thm 2.2, reported separately as for crawlers): `xi_{k,f} >= 0`.
 //!
-//! The multipliers are found by the crawler's three LPs (least violation `r` of the first
+//! The multipliers are found by the shared staged search (least violation `r` of the first
 //! five, then least violation of the sign, then the largest margin `delta`: every `rho_{i,r} >=
 //! delta` where `u^i` is a vertex of U), or with `lambda = 0` by the same generic functional;
 //! every residual is then recomputed in floating point. Only periodic problems are certified.
@@ -66,7 +67,7 @@
 //! it for quadratic costs too).
 
 use super::general_kkt::{solve_general, GeneralRaw, GeneralStructure};
-use super::kkt::{Norm, Stage};
+use super::stages::sign_residual;
 use super::{BranchLp, CertifyOptions, ConditionCheck, Normalisation, Verdict};
 use crate::error::{Error, Result};
 use crate::integrate::{simulate_general, ControlInput, GeneralSimOptions, InputKind};
@@ -362,53 +363,14 @@ pub(crate) fn certify_with(
 ) -> Result<GeneralNecessaryConditions> {
     pr.check(p, opts.structure_tol)?;
     let st = GeneralStructure::of(p, pr, opts.structure_tol);
-    let (tol, eps) = (opts.tol, 1e-12);
-    let solve = |lambda, stage, norm| solve_general(p, &st, lambda, stage, norm, drift_term);
-    let first = solve(1.0, Stage::Kkt, None)?.ok_or_else(|| {
-        Error::Numerical("certify: HiGHS found the general multiplier LP infeasible".into())
-    })?;
-    let r1 = kkt_residual(p, &st, &first, drift_term);
-    let mut chosen = (first, "lambda = 1".to_string());
-    if r1 <= tol * sup(&chosen.0.p).max(1.0) {
-        let r_max = r1 * (1.0 + 1e-6) + eps;
-        if let Some(sg) = solve(1.0, Stage::Sign { r_max }, None)? {
-            let s_max = sign_residual(&sg) * (1.0 + 1e-6) + eps;
-            let wmax = st.w.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
-            let cap = 10.0 * wmax.max(1.0);
-            let margin = solve(1.0, Stage::Margin { r_max, s_max, cap }, None)?;
-            chosen.0 = margin.unwrap_or(sg);
-        }
-    } else {
-        for sign in [1.0, -1.0] {
-            let norm = Norm {
-                sign,
-                sign_hard: false,
-            };
-            let Some(raw) = solve(0.0, Stage::Kkt, Some(norm))? else {
-                continue;
-            };
-            let size = sup(&raw.p).max(raw.omega.iter().fold(0.0_f64, |m, v| m.max(v.abs())));
-            if size < 1e-6 {
-                continue;
-            }
-            let scale = |rows: &Vec<Vec<f64>>| -> Vec<Vec<f64>> {
-                rows.iter()
-                    .map(|r| r.iter().map(|v| v / size).collect())
-                    .collect()
-            };
-            let raw = GeneralRaw {
-                lambda: 0.0,
-                p: scale(&raw.p),
-                xi: scale(&raw.xi),
-                omega: raw.omega.iter().map(|v| v / size).collect(),
-                rho: scale(&raw.rho),
-            };
-            if kkt_residual(p, &st, &raw, drift_term) <= tol {
-                chosen = (raw, "lambda = 0, max(|p|, |omega|) = 1".into());
-                break;
-            }
-        }
-    }
+    let wmax = st.w.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
+    let chosen = super::stages::search(
+        |lambda, stage, norm| solve_general(p, &st, lambda, stage, norm, drift_term),
+        |raw| kkt_residual(p, &st, raw, drift_term),
+        opts.tol,
+        10.0 * wmax.max(1.0),
+        false,
+    )?;
     let mut rep = super::general_report::report(p, pr, &st, &chosen.0, chosen.1, opts, drift_term);
     if p.cost == GeneralCost::None {
         let active: Vec<Vec<bool>> = (0..st.steps)
@@ -437,16 +399,30 @@ pub(crate) fn certify_with(
     Ok(rep)
 }
 
-pub(crate) fn sup(rows: &[Vec<f64>]) -> f64 {
-    rows.iter().flatten().fold(0.0_f64, |m, v| m.max(v.abs()))
-}
-
-pub(crate) fn sign_residual(raw: &GeneralRaw) -> f64 {
-    raw.xi
-        .iter()
-        .flatten()
-        .fold(0.0_f64, |m, &v| m.max(-v))
-        .max(0.0)
+impl super::stages::Multipliers for GeneralRaw {
+    fn p(&self) -> &[Vec<f64>] {
+        &self.p
+    }
+    fn omega(&self) -> &[f64] {
+        &self.omega
+    }
+    fn xi(&self) -> &[Vec<f64>] {
+        &self.xi
+    }
+    fn degenerate(self, by: f64) -> Self {
+        let div = |rows: Vec<Vec<f64>>| -> Vec<Vec<f64>> {
+            rows.into_iter()
+                .map(|r| r.into_iter().map(|v| v / by).collect())
+                .collect()
+        };
+        GeneralRaw {
+            lambda: 0.0,
+            p: div(self.p),
+            xi: div(self.xi),
+            omega: self.omega.into_iter().map(|v| v / by).collect(),
+            rho: div(self.rho),
+        }
+    }
 }
 
 /// The discrete residuals as (name, statement, residual), recomputed in floating point.

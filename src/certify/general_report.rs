@@ -3,10 +3,11 @@
 //! [`crate::certify`] and [`crate::certify::general`]).
 
 use super::general::{
-    is_box, psi_of, residuals, strictly_convex, sup, GeneralFaceMultiplier, GeneralMultipliers,
+    is_box, psi_of, residuals, strictly_convex, GeneralFaceMultiplier, GeneralMultipliers,
     GeneralNecessaryConditions, GeneralProcess, GENERAL_CERTIFICATE_FORMAT,
 };
 use super::general_kkt::{GeneralRaw, GeneralStructure};
+use super::stages::sup;
 use super::{CertifyOptions, ConditionCheck, Normalisation, Verdict, CERTIFICATE_VERSION};
 use crate::model::general::{ControlSet, GeneralCost, GeneralProblem};
 
