@@ -42,6 +42,11 @@
 //!   `u^i` (a box: the rows `+-e_l`); `omega = 0` without the zero-mean constraint;
 //! - **sign** (Thm 6.1, Thm 2.2, reported separately as for crawlers): `xi_{k,f} >= 0`.
 //!
+//! With them, in the group "2.2" as for crawlers (not part of a P_m verdict): support of `dxi`
+//! with `p` extended piecewise linearly (§9), nontriviality, non-degeneracy, the control law
+//! weak maximality implies (a box U, `f2 = 0` or `(c/2)|u|^2`) and, for a box U, weak maximality
+//! in `L^1(0, T)` on that extension (`O(h)` on P_m grids, as for crawlers).
+//!
 //! The multipliers are found by the shared staged search (least violation `r` of the first
 //! five, then least violation of the sign, then the largest margin `delta`: every `rho_{i,r} >=
 //! delta` where `u^i` is a vertex of U), or with `lambda = 0` by the same generic functional;

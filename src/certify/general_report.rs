@@ -8,7 +8,7 @@ use super::general::{
 };
 use super::general_kkt::{GeneralRaw, GeneralStructure};
 use super::stages::sup;
-use super::{CertifyOptions, ConditionCheck, Normalisation, Verdict, CERTIFICATE_VERSION};
+use super::{int_pos, CertifyOptions, ConditionCheck, Normalisation, Verdict, CERTIFICATE_VERSION};
 use crate::model::general::{ControlSet, GeneralCost, GeneralProblem};
 
 fn check(name: &str, theorem: &str, statement: &str, residual: f64, tol: f64) -> ConditionCheck {
@@ -119,6 +119,34 @@ pub(crate) fn report(
         }
         _ => None,
     };
+    // Weak maximality in L^1(0, T) with p extended piecewise linearly (§9; a box U): on step
+    // i, psi ramps from its value at p_i to that at p_(i+1), u^i fixed.
+    let l1 = if let ControlSet::Box { .. } = &p.control {
+        let mut l1 = 0.0;
+        for i in 0..steps {
+            let next = &raw.p[(i + 1) % steps];
+            let end: Vec<f64> = (0..m)
+                .map(|l| {
+                    let btp: f64 = (0..n).map(|q| p.dynamics.b[q][l] * next[q]).sum();
+                    -btp - raw.omega[l] - raw.lambda * st.grad_f2[i][l]
+                })
+                .collect();
+            for l in 0..m {
+                let (a, b) = (psi[i][l], end[l]);
+                let up = st.urows_active[i].contains(&(2 * l));
+                let down = st.urows_active[i].contains(&(2 * l + 1));
+                l1 += match (up, down) {
+                    (true, true) => 0.0,
+                    (true, false) => int_pos(-a, -b, h),
+                    (false, true) => int_pos(a, b, h),
+                    (false, false) => int_pos(a, b, h) + int_pos(-a, -b, h),
+                };
+            }
+        }
+        Some(l1)
+    } else {
+        None
+    };
     let nontrivial = raw.lambda + sup_p;
     conditions.push(check(
         "adjoint",
@@ -143,6 +171,16 @@ pub(crate) fn report(
         misplaced,
         ptol,
     ));
+    if let Some(l1) = l1 {
+        conditions.push(check(
+            "weak_maximality",
+            "2.2",
+            "int_0^T dist(psi(t), N_U(u(t))) dt, psi = -B^T p - omega - lambda Df2(u), p \
+             piecewise linear (Thm 2.2; O(h) on P_m grids)",
+            l1,
+            ptol * p.period,
+        ));
+    }
     conditions.push(check(
         "nontriviality",
         "2.2",

@@ -552,7 +552,7 @@ fn dist_normal(psi: f64, bound: i8) -> f64 {
 }
 
 /// `int_0^tau max(0, linear from a to b) ds`.
-fn int_pos(a: f64, b: f64, tau: f64) -> f64 {
+pub(crate) fn int_pos(a: f64, b: f64, tau: f64) -> f64 {
     if a >= 0.0 && b >= 0.0 {
         0.5 * tau * (a + b)
     } else if a <= 0.0 && b <= 0.0 {
