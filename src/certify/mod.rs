@@ -135,6 +135,7 @@
 pub mod bound;
 pub mod general;
 mod general_kkt;
+mod general_process;
 mod general_report;
 mod kkt;
 mod process;
