@@ -224,7 +224,11 @@ fn crawler_instances_match_the_crawler_certificate() {
 /// `A = diag(-alpha_1, -alpha_2)`, `U = [-1, 1]^2` with zero mean, `f1` the reactions on the two
 /// upper faces (weights 1, 1, 0, 0), `f2 = (c/2)|u|^2`, `T = 4`.
 fn drift_problem(alpha: [f64; 2], c: f64) -> GeneralProblem {
-    GeneralProblem::new(GeneralParts {
+    GeneralProblem::new(drift_parts(alpha, c)).unwrap()
+}
+
+fn drift_parts(alpha: [f64; 2], c: f64) -> GeneralParts {
+    GeneralParts {
         normals: vec![
             vec![1.0, 0.0],
             vec![0.0, 1.0],
@@ -242,8 +246,7 @@ fn drift_problem(alpha: [f64; 2], c: f64) -> GeneralProblem {
         period: 4.0,
         periodic: true,
         ..Default::default()
-    })
-    .unwrap()
+    }
 }
 
 /// (c) A problem with state-dependent drift, derived by hand. The components decouple; take
@@ -268,7 +271,9 @@ fn drift_problem(alpha: [f64; 2], c: f64) -> GeneralProblem {
 /// h alpha (1 + beta)` = (3/4, 16/25) >= 0. Weak maximality (u at its bounds):
 /// `psi_0 = 1 - omega - c >= 0`, `psi_1 = beta - omega + c <= 0`: `omega in [beta + c, 1 - c]`,
 /// non-empty iff `1 - beta >= 2 c` — the same condition as `s* = 1`. Without the drift term
-/// `p_1 = p_0 = -1` and `omega in [1 + c, 1 - c]` is empty: the conditions fail.
+/// `p_1 = p_0 = -1` and `omega in [1 + c, 1 - c]` is empty: the conditions fail (the unit test
+/// `certify::general::tests::the_drift_term_of_the_adjoint_matters`). The same with
+/// `f1` given as reaction weights `q = (1, 1)`.
 #[test]
 fn a_two_dimensional_problem_with_drift_derived_by_hand() {
     let (alpha, c) = ([0.25, 0.2], 0.05);
@@ -310,6 +315,21 @@ fn a_two_dimensional_problem_with_drift_derived_by_hand() {
         assert!((xi.value - 2.0 * alpha[l] * (1.0 + beta[l])).abs() < 1e-9);
     }
     assert_eq!(m.xi.len(), 2, "{:?}", m.xi);
+
+    // f1 = <q, eta> with q = (1, 1): face weights <q, x*_j> = (1, 1, -1, -1). The lower faces
+    // stay inactive at this optimum, so J*, the optimum and the multipliers are the same.
+    let q = GeneralProblem::new(GeneralParts {
+        face_weights: None,
+        reaction_weights: Some(vec![1.0, 1.0]),
+        ..drift_parts(alpha, c)
+    })
+    .unwrap();
+    let sq = solve_general_pm(&q, &check_problem(&q).unwrap(), 1, None).unwrap();
+    assert!((sq.objective - want).abs() < 1e-7, "{}", sq.objective);
+    let cq = certify_general(&q, &pr, &CertifyOptions::default()).unwrap();
+    assert_eq!(cq.verdict, Verdict::Holds, "{}", cq.reason);
+    assert!(max_diff(&cq.multipliers.p, &m.p) < 1e-9);
+    assert!((cq.objective - want).abs() < 1e-12);
 }
 
 /// (d) Feasible but not optimal: the drift problem with `s = 0.9` in the first component (weak
