@@ -233,7 +233,7 @@ fn optimize_solves_p_m_of_a_general_file() {
     assert_eq!(v["solution"]["u"].as_array().unwrap().len(), 4);
     for (args, want) in [
         (&["--method", "phase"][..], "error: --method"),
-        (&["--certify"][..], "error: --certify"),
+        (&["--plot", "figures"][..], "error: --plot"),
         (&["--m", "11"][..], "error: --m"),
     ] {
         let mut all = vec!["optimize", "examples/general_one_link.toml"];

@@ -375,6 +375,7 @@ fn general_chain(s: &Steps, file: &crawlopt::io::GeneralFile) {
     let pm = api::GeneralPmSettings {
         m: 1,
         time_limit: Some(1.0),
+        certify: true,
     };
     s.step("api::optimize_general", || api::optimize_general(file, &pm));
 }

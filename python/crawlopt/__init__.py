@@ -347,14 +347,19 @@ class GeneralProblem:
         method: str = "discrete",
         shifts: Optional[int] = None,
         time_limit: Optional[float] = None,
+        certify: bool = False,
         progress: Progress = False,
     ) -> dict:
         """The paper's P_m on 2^``m`` steps: ``method`` "discrete" (global MILP, with its
         certificate) or "local" (the LPCC active-set method from the file's ``[input]`` or
         square waves, ``shifts`` rotations of each; no global claim). ``solution`` holds
-        ``objective`` (J re-verified by simulation), ``x``, ``u``, ``lambda``. Ctrl-C stops it
+        ``objective`` (J re-verified by simulation), ``x``, ``u``, ``lambda``. ``certify``
+        (discrete only) adds ``necessary_conditions``: Theorem 2.2's conditions on the optimum
+        with their residuals and ``verdict`` (``crawlopt optimize --certify``). Ctrl-C stops it
         (KeyboardInterrupt); ``progress`` as for ``optimize``."""
-        d = self._inner.optimize(method, m, shifts, time_limit, progress_callback(progress))
+        d = self._inner.optimize(
+            method, m, shifts, time_limit, certify, progress_callback(progress)
+        )
         _arrays(d["solution"], ("x", "u", "lambda"))
         return d
 

@@ -91,6 +91,7 @@ class GeneralProblem:
         m: Optional[int],
         shifts: Optional[int],
         time_limit: Optional[float],
+        certify: bool,
         progress: Optional[Callable[[str], None]],
     ) -> dict[str, Any]: ...
 

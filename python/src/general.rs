@@ -66,7 +66,8 @@ impl GeneralProblem {
     /// P_m of the problem (`crawlopt optimize --json`): `method` "discrete" (global MILP) or
     /// "local" (the LPCC active-set method, `shifts` rotations of each start); None takes the
     /// library's default. Cancellable (Ctrl-C); `progress` receives the events.
-    #[pyo3(signature = (method, m, shifts, time_limit, progress))]
+    #[pyo3(signature = (method, m, shifts, time_limit, certify, progress))]
+    #[allow(clippy::too_many_arguments)]
     fn optimize<'py>(
         &self,
         py: Python<'py>,
@@ -74,6 +75,7 @@ impl GeneralProblem {
         m: Option<u32>,
         shifts: Option<usize>,
         time_limit: Option<f64>,
+        certify: bool,
         progress: Option<PyObject>,
     ) -> PyResult<Bound<'py, PyAny>> {
         let f = self.inner.clone();
@@ -90,6 +92,7 @@ impl GeneralProblem {
                 let s = GeneralPmSettings {
                     m: m.unwrap_or(GeneralPmSettings::default().m),
                     time_limit,
+                    certify,
                 };
                 let r = run(py, progress, |hooks| {
                     api::optimize_general_with_hooks(&f, &s, hooks)
@@ -97,6 +100,14 @@ impl GeneralProblem {
                 Ok(pythonize::pythonize(py, &r)?)
             }
             "local" => {
+                if certify {
+                    let e = crawlopt::Error::invalid(
+                        "certify",
+                        true,
+                        "applies to method=\"discrete\" only (the global P_m optimum)",
+                    );
+                    return Err(to_py(py, e));
+                }
                 let d = GeneralLocalSettings::default();
                 let s = GeneralLocalSettings {
                     m: m.unwrap_or(d.m),

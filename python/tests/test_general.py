@@ -40,6 +40,11 @@ def test_simulate_and_optimize_reach_the_closed_form():
     assert g["solution"]["objective"] == pytest.approx(J_STAR, abs=1e-7)
     assert g["solution"]["certificate"]["status"] == "optimal"
     assert g["solution"]["u"].shape == (4, 1)
+    # Theorem 2.2's necessary conditions on the P_3 optimum (tests/general_certify.rs checks
+    # them against the crawler certificate of the same problem).
+    nc = p.optimize(m=3, certify=True)["necessary_conditions"]
+    assert nc["verdict"] == "holds", nc["reason"]
+    assert nc["objective"] == pytest.approx(J_STAR, abs=1e-7)
 
     events = []
     loc = p.optimize(m=5, method="local", shifts=2, progress=events.append)
@@ -59,6 +64,7 @@ def test_bad_arguments_raise_input_errors_naming_the_field():
         (lambda: p.optimize(method="phase"), "method"),
         (lambda: p.optimize(shifts=2), "shifts"),
         (lambda: p.optimize(method="local", shifts=0), "shifts"),
+        (lambda: p.optimize(method="local", certify=True), "certify"),
         (lambda: p.optimize(time_limit=-1.0), "time_limit"),
         (lambda: p.simulate(method="rk4"), "method"),
         (lambda: p.simulate(method="catching_up", steps_per_period=0), "steps_per_period"),

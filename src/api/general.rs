@@ -244,6 +244,9 @@ pub struct GeneralPmSettings {
     pub m: u32,
     /// Seconds for the MILP (`None`: no limit).
     pub time_limit: Option<f64>,
+    /// Also check the necessary conditions on the optimum ([`crate::certify::general`];
+    /// default false).
+    pub certify: bool,
 }
 
 impl Default for GeneralPmSettings {
@@ -251,6 +254,7 @@ impl Default for GeneralPmSettings {
         GeneralPmSettings {
             m: crate::api::DEFAULT_M_DISCRETE,
             time_limit: None,
+            certify: false,
         }
     }
 }
@@ -266,17 +270,31 @@ pub struct GeneralOptimized {
     pub period: f64,
     /// The verified optimum of P_m with its certificate.
     pub solution: crate::optimal::general::GeneralPm,
+    /// The necessary conditions on it, when asked ([`GeneralPmSettings::certify`]).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub necessary_conditions: Option<crate::certify::GeneralNecessaryConditions>,
 }
 
 /// The global optimum of P_m for a problem file ([`crate::optimal::general::discrete`]),
-/// re-verified by the general simulator.
+/// re-verified by the general simulator, with its necessary conditions when asked.
 pub fn optimize_general(file: &GeneralFile, s: &GeneralPmSettings) -> Result<GeneralOptimized> {
     let (p, g) = general_problem(file)?;
     let solution = crate::optimal::general::solve_general_pm(&p, &g, s.m, s.time_limit)?;
+    let necessary_conditions = if s.certify {
+        let pr = crate::certify::GeneralProcess::from_pm(&solution);
+        Some(crate::certify::certify_general(
+            &p,
+            &pr,
+            &crate::certify::CertifyOptions::default(),
+        )?)
+    } else {
+        None
+    };
     Ok(GeneralOptimized {
         kind: "general",
         method: "discrete",
         period: p.period,
         solution,
+        necessary_conditions,
     })
 }

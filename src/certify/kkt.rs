@@ -219,7 +219,7 @@ pub(crate) struct Norm {
 }
 
 /// The generic functional: irrational, deterministic weights.
-fn functional(j: usize, l: usize) -> f64 {
+pub(crate) fn functional(j: usize, l: usize) -> f64 {
     (1.0 + j as f64 * 0.618_033_988_749_895 + l as f64 * 0.414_213_562_373_095).sin() + 0.1
 }
 

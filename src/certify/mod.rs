@@ -133,15 +133,22 @@
 //! block-speed bound `|D| <= V tau` of the phase MILP is taken as inactive.
 
 pub mod bound;
+pub mod general;
+mod general_kkt;
+mod general_process;
+mod general_report;
 mod kkt;
 mod process;
+mod stages;
 
+pub use general::{certify_general, residuals_of, GeneralNecessaryConditions, GeneralProcess};
 pub use process::{Process, ProcessKind, INPUT_TOL};
 
 use crate::error::Result;
 use crate::optimal::{Cost, GaitResult};
-use kkt::{normal, FaceId, Norm, Raw, Stage, Structure};
+use kkt::{normal, FaceId, Raw, Stage, Structure};
 use serde::{Deserialize, Serialize};
+use stages::{sign_residual, sup};
 
 /// Value of [`NecessaryConditions::format`].
 pub const CERTIFICATE_FORMAT: &str = "crawlopt-necessary-conditions";
@@ -325,57 +332,14 @@ pub fn certify_result(r: &GaitResult, what: &str) -> Result<NecessaryConditions>
 pub fn certify(pr: &Process, opts: &CertifyOptions) -> Result<NecessaryConditions> {
     pr.check("process", opts.structure_tol)?;
     let st = Structure::of(pr, opts.structure_tol);
-    let (tol, eps) = (opts.tol, 1e-12);
-    // lambda = 1: the three stages.
-    // Always feasible (p constant, xi = 0, r large); an infeasible report is a solver failure.
-    let kkt = kkt::solve(&st, 1.0, Stage::Kkt, None, false)?.ok_or_else(|| {
-        crate::Error::Numerical("certify: HiGHS found the multiplier LP infeasible".into())
-    })?;
-    let r1 = kkt_residual(pr, &st, &kkt);
-    let scale1 = sup(&kkt.p).max(1.0);
-    let mut chosen = (kkt, "lambda = 1".to_string());
-    if r1 <= tol * scale1 {
-        let r_max = r1 * (1.0 + 1e-6) + eps;
-        if let Some(sg) = kkt::solve(&st, 1.0, Stage::Sign { r_max }, None, false)? {
-            let s_max = sign_residual(&sg) * (1.0 + 1e-6) + eps;
-            let cap = 10.0 / (st.nb as f64 * st.k.iter().cloned().fold(f64::INFINITY, f64::min));
-            let margin = kkt::solve(&st, 1.0, Stage::Margin { r_max, s_max, cap }, None, false)?;
-            chosen.0 = margin.unwrap_or(sg);
-        }
-    } else {
-        // lambda = 0: look for a non-zero (p, omega) satisfying the homogeneous conditions.
-        for sign in [1.0, -1.0] {
-            let norm = Norm {
-                sign,
-                sign_hard: pr.kind == ProcessKind::Phase,
-            };
-            let Some(raw) = kkt::solve(&st, 0.0, Stage::Kkt, Some(norm), false)? else {
-                continue;
-            };
-            let size = sup(&raw.p).max(raw.omega.iter().fold(0.0_f64, |m, v| m.max(v.abs())));
-            if size < 1e-6 {
-                continue;
-            }
-            let raw = Raw {
-                lambda: 0.0,
-                p: raw
-                    .p
-                    .iter()
-                    .map(|r| r.iter().map(|v| v / size).collect())
-                    .collect(),
-                xi: raw
-                    .xi
-                    .iter()
-                    .map(|r| r.iter().map(|v| v / size).collect())
-                    .collect(),
-                omega: raw.omega.iter().map(|v| v / size).collect(),
-            };
-            if kkt_residual(pr, &st, &raw) <= tol {
-                chosen = (raw, "lambda = 0, max(|p|, |omega|) = 1".into());
-                break;
-            }
-        }
-    }
+    let cap = 10.0 / (st.nb as f64 * st.k.iter().cloned().fold(f64::INFINITY, f64::min));
+    let chosen = stages::search(
+        |lambda, stage, norm| kkt::solve(&st, lambda, stage, norm, false),
+        |raw| kkt_residual(pr, &st, raw),
+        opts.tol,
+        cap,
+        pr.kind == ProcessKind::Phase,
+    )?;
     let branch = match kkt::branch_lp(pr, &st)? {
         Some((optimum, _)) => {
             let j = process_objective(pr);
@@ -428,12 +392,29 @@ pub fn certify(pr: &Process, opts: &CertifyOptions) -> Result<NecessaryCondition
     Ok(rep)
 }
 
-fn sup(rows: &[Vec<f64>]) -> f64 {
-    rows.iter().flatten().fold(0.0_f64, |m, v| m.max(v.abs()))
-}
-
-fn sign_residual(raw: &Raw) -> f64 {
-    raw.xi.iter().flatten().fold(0.0_f64, |m, &v| m.max(-v))
+impl stages::Multipliers for Raw {
+    fn p(&self) -> &[Vec<f64>] {
+        &self.p
+    }
+    fn omega(&self) -> &[f64] {
+        &self.omega
+    }
+    fn xi(&self) -> &[Vec<f64>] {
+        &self.xi
+    }
+    fn degenerate(self, by: f64) -> Self {
+        let div = |rows: Vec<Vec<f64>>| -> Vec<Vec<f64>> {
+            rows.into_iter()
+                .map(|r| r.into_iter().map(|v| v / by).collect())
+                .collect()
+        };
+        Raw {
+            lambda: 0.0,
+            p: div(self.p),
+            xi: div(self.xi),
+            omega: self.omega.into_iter().map(|v| v / by).collect(),
+        }
+    }
 }
 
 /// The discrete residuals, each as (name, statement, residual).
@@ -572,7 +553,7 @@ fn dist_normal(psi: f64, bound: i8) -> f64 {
 }
 
 /// `int_0^tau max(0, linear from a to b) ds`.
-fn int_pos(a: f64, b: f64, tau: f64) -> f64 {
+pub(crate) fn int_pos(a: f64, b: f64, tau: f64) -> f64 {
     if a >= 0.0 && b >= 0.0 {
         0.5 * tau * (a + b)
     } else if a <= 0.0 && b <= 0.0 {

@@ -101,8 +101,8 @@ pub fn simulate(file: &GeneralFile, a: &SimulateArgs) -> Result<ExitCode, Error>
     }
 }
 
-/// `crawlopt optimize` of a general problem: P_m globally (`--method discrete`, or `auto`) or
-/// locally (`--method local`).
+/// `crawlopt optimize` of a general problem: P_m globally (`--method discrete`, or `auto`),
+/// with `--certify` its necessary conditions, or locally (`--method local`).
 pub fn optimize(file: &GeneralFile, a: &OptimizeArgs) -> Result<ExitCode, Error> {
     let local = a.method == OptimizeMethod::Local;
     if !(local || matches!(a.method, OptimizeMethod::Auto | OptimizeMethod::Discrete)) {
@@ -120,7 +120,7 @@ pub fn optimize(file: &GeneralFile, a: &OptimizeArgs) -> Result<ExitCode, Error>
         ("--convergence", a.convergence),
         ("--start", a.start.is_some()),
         ("--shifts", a.shifts.is_some() && !local),
-        ("--certify", a.certify),
+        ("--certify", a.certify && local),
         ("--plot", a.plot.is_some()),
         ("--report", a.report.is_some()),
     ];
@@ -128,8 +128,8 @@ pub fn optimize(file: &GeneralFile, a: &OptimizeArgs) -> Result<ExitCode, Error>
         return Err(Error::invalid(
             *flag,
             "given",
-            "does not apply to a general problem file (P_m only, so far; --shifts with \
-             --method local)",
+            "does not apply to a general problem file (P_m only, so far; --certify with the global \
+             method, --shifts with --method local)",
         ));
     }
     let names = [
@@ -157,12 +157,16 @@ pub fn optimize(file: &GeneralFile, a: &OptimizeArgs) -> Result<ExitCode, Error>
     let settings = api::GeneralPmSettings {
         m: a.m.unwrap_or(api::GeneralPmSettings::default().m),
         time_limit: a.time_limit,
+        certify: a.certify,
     };
     let r = api::optimize_general(file, &settings).map_err(flags)?;
     if a.json {
         json_line(&r);
     } else {
         out(&text::general_optimum(&r));
+        if let Some(c) = &r.necessary_conditions {
+            out(&text::general_certificate(c));
+        }
     }
     Ok(ExitCode::SUCCESS)
 }

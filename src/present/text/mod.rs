@@ -13,11 +13,13 @@
 mod analysis;
 mod gait;
 mod general;
+mod general_certify;
 mod simulation;
 
 pub use analysis::{analysis, gait_problem};
 pub use gait::{certificate, gait_result, phase_step};
 pub use general::{general_analysis, general_local, general_optimum, general_simulation};
+pub use general_certify::general_certificate;
 pub use simulation::simulation;
 
 use crate::model::Crawler;

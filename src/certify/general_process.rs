@@ -1,0 +1,208 @@
+//! The process a general certificate is about ([`crate::certify::general`]): a periodic P_m
+//! process of the general problem, from an optimum or from controls by simulation, checked for
+//! consistency before any multiplier is computed (a certificate of something that is not a
+//! process would be a silent wrong number), every message naming the field.
+
+use crate::error::{Error, Result};
+use crate::integrate::{simulate_general, ControlInput, GeneralSimOptions, InputKind};
+use crate::model::general::{Boundary, GeneralProblem};
+use crate::optimal::general::GeneralPm;
+use serde::Serialize;
+
+/// A periodic P_m process of the general problem: `x^0..x^M` (`x^M = x^0`), `u^0..u^(M-1)`
+/// and the reactions `lambda^i = mu^i / h` per face.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct GeneralProcess {
+    /// `m` (`M = 2^m` steps).
+    pub m: u32,
+    /// States at the knots (`M + 1` rows).
+    pub x: Vec<Vec<f64>>,
+    /// Controls per step.
+    pub u: Vec<Vec<f64>>,
+    /// Reactions per step and face.
+    pub lambda: Vec<Vec<f64>>,
+}
+
+impl GeneralProcess {
+    /// The process of a P_m optimum.
+    pub fn from_pm(s: &GeneralPm) -> Self {
+        GeneralProcess {
+            m: s.m,
+            x: s.x.clone(),
+            u: s.u.clone(),
+            lambda: s.lambda.clone(),
+        }
+    }
+
+    /// The catching-up process of the controls (`2^m` rows) on its periodic orbit, reached from
+    /// `x0` by the general simulator. Used to certify processes no optimizer produced.
+    pub fn from_controls(
+        p: &GeneralProblem,
+        m: u32,
+        controls: &[Vec<f64>],
+        x0: &[f64],
+    ) -> Result<Self> {
+        let steps = 1usize << m.min(20);
+        if controls.len() != steps {
+            return Err(Error::invalid(
+                "controls",
+                format!("{} rows", controls.len()),
+                format!("needs 2^m = {steps} rows"),
+            ));
+        }
+        let h = p.period / steps as f64;
+        let times = (0..steps).map(|i| i as f64 * h).collect();
+        let input = ControlInput::new(
+            InputKind::PiecewiseConstant,
+            p.period,
+            times,
+            controls.to_vec(),
+            &p.control,
+            "controls",
+        )?;
+        let opts = GeneralSimOptions {
+            steps_per_period: steps,
+            ..GeneralSimOptions::DEFAULT
+        };
+        let sim = simulate_general(p, &input, x0, &opts)?;
+        if !sim.converged {
+            return Err(Error::invalid(
+                "controls",
+                "a control",
+                "its catching-up process reached no periodic regime",
+            ));
+        }
+        Ok(GeneralProcess {
+            m,
+            x: sim.x,
+            u: sim.u,
+            lambda: sim.lambda,
+        })
+    }
+
+    /// Checks that this is a periodic P_m process of `p` within the relative tolerance `tol`:
+    /// shapes, `x^M = x^0`, `x^k in C`, `u^i in U`, zero mean, `lambda >= 0`, the catching-up
+    /// step and complementarity. Every message names the field of `process`.
+    pub fn check(&self, p: &GeneralProblem, tol: f64) -> Result<()> {
+        let bad = |field: String, got: String, why: &str| {
+            Err(Error::invalid(format!("process.{field}"), got, why))
+        };
+        if p.boundary != Boundary::Periodic {
+            return Err(Error::invalid(
+                "problem.periodic",
+                false,
+                "the necessary conditions are certified for periodic problems only",
+            ));
+        }
+        if self.m > crate::optimal::general::MAX_GENERAL_M {
+            return bad("m".into(), self.m.to_string(), "too many steps");
+        }
+        let (n, mc, sigma, steps) = (p.states(), p.controls(), p.c.faces(), 1usize << self.m);
+        let shape = |rows: &[Vec<f64>], len: usize, width: usize| {
+            rows.len() == len && rows.iter().all(|r| r.len() == width)
+        };
+        for (name, rows, want) in [
+            ("x", &self.x, (steps + 1, n)),
+            ("u", &self.u, (steps, mc)),
+            ("lambda", &self.lambda, (steps, sigma)),
+        ] {
+            if !shape(rows, want.0, want.1) {
+                return bad(
+                    name.into(),
+                    format!("{} rows", rows.len()),
+                    &format!("needs {} rows of {} values", want.0, want.1),
+                );
+            }
+        }
+        let all = self.x.iter().chain(&self.u).chain(&self.lambda);
+        if all.flatten().any(|v| !v.is_finite()) {
+            return bad(
+                "values".into(),
+                "a non-finite value".into(),
+                "must be finite",
+            );
+        }
+        let scale = p.c.scale();
+        let h = p.period / steps as f64;
+        let gap = max_diff(&self.x[steps], &self.x[0]);
+        if gap > tol * scale {
+            return bad(
+                format!("x[{steps}]"),
+                format!("{gap:e} from x[0]"),
+                "not periodic",
+            );
+        }
+        for (k, x) in self.x.iter().enumerate() {
+            if let Some((j, s)) = p.c.violation(x, tol * scale) {
+                return bad(
+                    format!("x[{k}]"),
+                    format!("{s:e}"),
+                    &format!("outside face {}", j + 1),
+                );
+            }
+        }
+        let uscale = crate::certify::general_kkt::control_rows(&p.control)
+            .iter()
+            .fold(0.0_f64, |s, (_, h)| s.max(h.abs()));
+        let mut mean = vec![0.0; mc];
+        for (i, u) in self.u.iter().enumerate() {
+            if !p.control.contains(u, tol * uscale) {
+                return bad(format!("u[{i}]"), format!("{u:?}"), "outside U");
+            }
+            for (m, v) in mean.iter_mut().zip(u) {
+                *m += v / steps as f64;
+            }
+        }
+        if p.zero_mean && mean.iter().any(|v| v.abs() > tol * uscale) {
+            return bad("u".into(), format!("mean {mean:?}"), "must have zero mean");
+        }
+        let mut g = vec![0.0; n];
+        for i in 0..steps {
+            let lam = &self.lambda[i];
+            if let Some(j) = lam.iter().position(|&l| h * l < -tol * scale) {
+                return bad(format!("lambda[{i}][{j}]"), lam[j].to_string(), "negative");
+            }
+            p.dynamics.eval(&self.x[i], &self.u[i], &mut g);
+            let mut res = 0.0_f64;
+            for l in 0..n {
+                let react: f64 = (0..sigma).map(|j| lam[j] * p.c.normals[j][l]).sum();
+                let v = self.x[i][l] + h * (g[l] - react) - self.x[i + 1][l];
+                res = res.max(v.abs());
+            }
+            if res > tol * scale {
+                return bad(
+                    format!("x[{}]", i + 1),
+                    format!("{res:e}"),
+                    "the catching-up step x^(i+1) = x^i + h (g - sum lambda x*) does not hold",
+                );
+            }
+            for j in 0..sigma {
+                let c = h * lam[j] * (-p.c.slack(j, &self.x[i + 1]));
+                if c > tol * scale * scale {
+                    return bad(
+                        format!("lambda[{i}][{}]", j + 1),
+                        lam[j].to_string(),
+                        "reaction on an inactive face",
+                    );
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// `J = sum_i h (f1(lambda^i) - f2(u^i))`.
+    pub fn objective(&self, p: &GeneralProblem) -> f64 {
+        let h = p.period / self.u.len() as f64;
+        self.u
+            .iter()
+            .zip(&self.lambda)
+            .map(|(u, l)| h * (p.reward.eval(&p.c.normals, l) - p.cost.eval(u)))
+            .sum()
+    }
+}
+
+fn max_diff(a: &[f64], b: &[f64]) -> f64 {
+    a.iter()
+        .zip(b)
+        .fold(0.0_f64, |d, (x, y)| d.max((x - y).abs()))
+}

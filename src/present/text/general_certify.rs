@@ -1,0 +1,98 @@
+//! The text of a general P_m certificate ([`crate::certify::general`]): the crawler
+//! certificate's layout ([`super::certificate`]), faces numbered from 1 as in the problem file.
+
+use super::{list, max_abs, num, wln};
+use crate::certify::GeneralNecessaryConditions;
+
+/// The human form of [`crate::certify::certify_general`]: the same content as its JSON,
+/// multipliers abridged (the first 64 steps and masses).
+pub fn general_certificate(c: &GeneralNecessaryConditions) -> String {
+    let mut out = String::new();
+    let m = &c.multipliers;
+    let adjoint = max_abs(m.switching.iter().flatten().chain(&m.omega)).max(1e-300);
+    wln!(
+        out,
+        "necessary conditions (Theorem 2.2; discrete form Theorems 6.1-6.2): {}",
+        serde_json::to_string(&c.verdict)
+            .expect("enum")
+            .trim_matches('"')
+    );
+    wln!(out, "  {}", c.reason);
+    let n = &c.normalisation;
+    wln!(
+        out,
+        "  lambda = {} (scaled: {}); lambda + ||p||_inf = {}; sum of the paper's (norm) = {}",
+        num(c.lambda, 1.0),
+        n.scaled_by,
+        num(n.lambda_plus_sup_p, 0.0),
+        num(n.paper_norm, 0.0)
+    );
+    wln!(
+        out,
+        "  J = {}; non-degeneracy margin {:.3e} ({}); omega = {}",
+        num(c.objective, c.objective.abs().max(1e-300)),
+        c.nondegeneracy_margin,
+        if c.margin_required {
+            "required"
+        } else {
+            "not required: f2 strictly convex"
+        },
+        list(&m.omega, adjoint)
+    );
+    if let Some(b) = &c.branch_lp {
+        let scale = b.optimum.abs().max(b.process_objective.abs()).max(1e-300);
+        wln!(
+            out,
+            "  branch LP (reactions fixed): optimum {}, improvement over the process {:.3e}",
+            num(b.optimum, scale),
+            b.improvement
+        );
+    }
+    for k in &c.conditions {
+        wln!(
+            out,
+            "  [Thm {}] {:<21} residual {:>10.3e}  tol {:.1e}  {}  {}",
+            k.theorem,
+            k.name,
+            k.residual,
+            k.tolerance,
+            if k.holds { "holds" } else { "FAILS" },
+            k.statement
+        );
+    }
+    let rows = m.p.len();
+    let show = rows.min(64);
+    let us = max_abs(m.u.iter().flatten()).max(1e-300);
+    let ps = max_abs(m.p.iter().flatten()).max(1e-300);
+    wln!(
+        out,
+        "  multipliers per step{}:",
+        if show < rows {
+            format!(" (first {show} of {rows})")
+        } else {
+            String::new()
+        }
+    );
+    for j in 0..show {
+        wln!(
+            out,
+            "    t = {}  u = {}  p = {}  B^T p + omega = {}",
+            num(m.times[j], m.times[rows]),
+            list(&m.u[j], us),
+            list(&m.p[j], ps),
+            list(&m.switching[j], adjoint)
+        );
+    }
+    let mass = max_abs(m.xi.iter().map(|x| &x.value));
+    for x in m.xi.iter().take(64) {
+        wln!(
+            out,
+            "    dxi at t = {} (knot {}): face {} mass {}",
+            num(x.time, m.times[rows]),
+            x.knot,
+            x.face,
+            num(x.value, mass)
+        );
+    }
+    out
+}

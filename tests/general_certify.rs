@@ -1,0 +1,532 @@
+//! The necessary conditions (Theorem 2.2, Theorems 6.1-6.2) for optima of the general problem's
+//! P_m (SPEC §11, `crawlopt::certify::general`): the §4 one-link problem in general form against
+//! the crawler certificate and §4's structure, crawler instances against the crawler certificate
+//! after the change of variables, a two-dimensional problem with drift whose P_1 optimum and
+//! multipliers are derived by hand, and a feasible process that is not optimal.
+
+mod common;
+
+use common::{crawlopt, Rng};
+use crawlopt::api::general_problem;
+use crawlopt::certify::general::{GeneralFaceMultiplier, GeneralMultipliers};
+use crawlopt::certify::{
+    self, certify_general, one_link_structure, residuals_of, CertifyOptions, ConditionCheck,
+    GeneralProcess, Process, Verdict,
+};
+use crawlopt::io::GeneralFile;
+use crawlopt::model::general::{GeneralCost, GeneralParts, GeneralProblem};
+use crawlopt::model::{crawler_as_general, Crawler};
+use crawlopt::optimal::general::{check_problem, solve_general_pm};
+use crawlopt::optimal::{solve_discrete_global, Cost, GaitProblem, GaitResult, MilpStatus};
+
+fn condition(c: &[ConditionCheck], name: &str, theorem: &str) -> f64 {
+    c.iter()
+        .find(|k| k.name == name && k.theorem == theorem)
+        .unwrap_or_else(|| panic!("no condition {name}"))
+        .residual
+}
+
+fn max_diff(a: &[Vec<f64>], b: &[Vec<f64>]) -> f64 {
+    a.iter()
+        .flatten()
+        .zip(b.iter().flatten())
+        .fold(0.0_f64, |d, (x, y)| d.max((x - y).abs()))
+}
+
+/// (a) examples/general_one_link.toml (C = [-1, 1], g = u, U = [-1, 1], f1 = |eta|/2, T = 10):
+/// the P_3 optimum J* = 3 is certified, and its multipliers are those of the crawler certificate
+/// of the same process on the crawler with this C (N = 2, k = 1, mu^+ = 1, mu^- = 2, SPEC §10;
+/// k = 1 and unit normals, so no change of variables): the same verdict, adjoint, omega and dxi
+/// masses, with §4's structure (bang-bang, u = -sign(p + omega), switches at the ends of C,
+/// interior arcs (beta - alpha)/a = 2, up to the grid).
+#[test]
+fn the_one_link_problem_matches_the_crawler_certificate() {
+    let text = std::fs::read_to_string("examples/general_one_link.toml").unwrap();
+    let (p, g) = general_problem(&GeneralFile::parse(&text).unwrap()).unwrap();
+    let m = 3;
+    let s = solve_general_pm(&p, &g, m, None).unwrap();
+    assert!((s.objective - 3.0).abs() < 1e-9, "{}", s.objective);
+    let pr = GeneralProcess::from_pm(&s);
+    let c = certify_general(&p, &pr, &CertifyOptions::default()).unwrap();
+    assert_eq!(c.verdict, Verdict::Holds, "{}", c.reason);
+    assert!((c.objective - 3.0).abs() < 1e-9);
+    let b = c.branch_lp.as_ref().expect("f2 = 0: the branch LP");
+    assert!(b.improvement.abs() < 1e-9, "{b:?}");
+
+    let crawler = Crawler::uniform(2, 1.0, 1.0, 2.0).unwrap();
+    let gp = GaitProblem::new(&crawler, 10.0, &[1.0], Cost::None, None).unwrap();
+    let cp = Process::discrete_from_controls(&crawler, &gp, m, &s.u).unwrap();
+    assert!(max_diff(&cp.states, &s.x) < 1e-12);
+    let cc = certify::certify(&cp, &CertifyOptions::default()).unwrap();
+    assert_eq!(cc.verdict, c.verdict);
+    let (cm, gm) = (&cc.multipliers, &c.multipliers);
+    assert!(max_diff(&cm.p, &gm.p) < 1e-9, "{:?} vs {:?}", cm.p, gm.p);
+    assert!((cm.omega[0] - gm.omega[0]).abs() < 1e-9);
+    assert!((cc.nondegeneracy_margin - c.nondegeneracy_margin).abs() < 1e-9);
+    // Theorem 2.2's weak maximality in L^1 (p piecewise linear): O(h), the same on both.
+    let a = condition(&cc.conditions, "weak_maximality", "2.2");
+    let b = condition(&c.conditions, "weak_maximality", "2.2");
+    assert!(a > 0.1 && (a - b).abs() < 1e-9, "{a} vs {b}");
+    // Faces: general 1 is x <= 1 (block 2 forward), general 2 is -x <= 1 (block 1 forward).
+    assert_eq!(cm.xi.len(), gm.xi.len());
+    for (x, y) in cm.xi.iter().zip(&gm.xi) {
+        let face = if x.block == 2 { 1 } else { 2 };
+        assert_eq!((x.knot, x.side.as_str(), face), (y.knot, "+", y.face));
+        assert!((x.value - y.value).abs() < 1e-9);
+        assert!(y.value > 0.0);
+    }
+    // §4: u = -sign(p + omega) (sigma = p + omega for B = 1), switches at the ends of C.
+    for (u, sg) in gm.u.iter().zip(&gm.switching) {
+        assert_eq!(u[0], -sg[0].signum());
+    }
+    let one = one_link_structure(&cp, 1e-7).unwrap();
+    assert!(one.bang_bang && one.switch_at_end.iter().all(|&e| e));
+    // The interior arcs: (beta - alpha)/a = 2 rounded up to the grid (h = 1.25).
+    assert!(one.interior_arcs.iter().all(|a| (a - 2.5).abs() < 1e-9));
+}
+
+/// The crawler's P_m process in the general variables (`crate::model::general_crawler`):
+/// `x~ = K^(-1/2) x`, the reactions of the unit rows `lambda_(b+-) = s_b max(+-D_b, 0) / h`.
+fn general_process(c: &Crawler, r: &GaitResult, m: u32) -> GeneralProcess {
+    let sk: Vec<f64> = c.stiffness().iter().map(|k| k.sqrt()).collect();
+    let h = r.problem.period / (1usize << m) as f64;
+    let s = |b: usize| {
+        let (l, r) = (
+            if b > 0 { c.stiffness()[b - 1] } else { 0.0 },
+            c.stiffness().get(b),
+        );
+        (l + r.copied().unwrap_or(0.0)).sqrt()
+    };
+    GeneralProcess {
+        m,
+        x: r.gait
+            .states
+            .iter()
+            .map(|x| x.iter().zip(&sk).map(|(x, s)| x / s).collect())
+            .collect(),
+        u: r.gait.controls.clone(),
+        lambda: r
+            .gait
+            .block_displacements
+            .iter()
+            .map(|d| {
+                d.iter()
+                    .enumerate()
+                    .flat_map(|(b, &v)| [s(b) * v.max(0.0) / h, s(b) * (-v).max(0.0) / h])
+                    .collect()
+            })
+            .collect(),
+    }
+}
+
+/// (b) Crawlers (N = 2, 3, per-link stiffness) as general problems: on the same P_m optimum
+/// (the crawler's, in the variables x~ = K^(-1/2) x) the general certificate gives the crawler
+/// certificate's verdict, and its multipliers are the crawler's transformed: p~ = K^(1/2) p,
+/// omega unchanged (so B^T p~ + omega = p + omega, the crawler's switching function), and the
+/// dxi masses xi~_(b+-) = s_b xi_(b+-) with s_b = |K^(1/2) nu_b| (module docs of
+/// `certify::general`).
+#[test]
+fn crawler_instances_match_the_crawler_certificate() {
+    let cases = [
+        (
+            Crawler::new(vec![2.0], vec![1.0, 1.0], vec![2.0, 2.0]).unwrap(),
+            10.0,
+            3,
+        ),
+        (
+            Crawler::new(vec![1.0, 2.0], vec![1.0, 1.2, 0.9], vec![2.5, 3.1, 2.7]).unwrap(),
+            6.0,
+            2,
+        ),
+        (Crawler::uniform(3, 1.0, 1.0, 1.5).unwrap(), 10.0, 3),
+    ];
+    for (crawler, period, m) in cases {
+        let nb = crawler.blocks();
+        let speed = vec![1.0; crawler.links()];
+        let gp = GaitProblem::new(&crawler, period, &speed, Cost::None, None).unwrap();
+        let a = gp.rate_bound.clone();
+        let sol = solve_discrete_global(&crawler, &gp, m, None).unwrap();
+        let r = GaitResult::from_discrete(&crawler, &gp, &sol);
+        let cc = certify::certify_result(&r, "test").unwrap();
+        let inst = crawler_as_general(&crawler, period, &a, GeneralCost::None).unwrap();
+        let pr = general_process(&crawler, &r, m);
+        let opts = CertifyOptions::default();
+        let c = certify_general(&inst.problem, &pr, &opts).unwrap();
+        println!(
+            "N = {nb}: crawler {:?}, general {:?}",
+            cc.verdict, c.verdict
+        );
+        assert_eq!(
+            cc.verdict, c.verdict,
+            "N = {nb}: {} / {}",
+            cc.reason, c.reason
+        );
+        assert!((cc.objective - c.objective).abs() < 1e-9);
+        // The crawler's multipliers in the general variables satisfy the general system.
+        let cm = &cc.multipliers;
+        let s_b = |b: usize| {
+            let k = crawler.stiffness();
+            (b.checked_sub(1).map_or(0.0, |l| k[l]) + k.get(b).copied().unwrap_or(0.0)).sqrt()
+        };
+        let mapped = GeneralMultipliers {
+            p: cm
+                .p
+                .iter()
+                .map(|p| p.iter().zip(&inst.sqrt_k).map(|(p, s)| p * s).collect())
+                .collect(),
+            omega: cm.omega.clone(),
+            xi: cm
+                .xi
+                .iter()
+                .map(|x| GeneralFaceMultiplier {
+                    knot: x.knot,
+                    time: x.time,
+                    face: 2 * x.block - usize::from(x.side == "+"),
+                    value: s_b(x.block - 1) * x.value,
+                })
+                .collect(),
+            normal_cone: cm
+                .u
+                .iter()
+                .zip(&cm.psi)
+                .map(|(u, psi)| {
+                    (0..u.len())
+                        .filter_map(|l| {
+                            let at = |v: f64| (u[l] - v).abs() <= 1e-7 * a[l];
+                            if at(a[l]) {
+                                Some((2 * l + 1, psi[l]))
+                            } else if at(-a[l]) {
+                                Some((2 * l + 2, -psi[l]))
+                            } else {
+                                None
+                            }
+                        })
+                        .collect()
+                })
+                .collect(),
+            ..c.multipliers.clone()
+        };
+        let res = residuals_of(&inst.problem, &pr, cc.lambda, &mapped, &opts).unwrap();
+        for (name, r) in res {
+            if name != "sign" {
+                assert!(r < 1e-9, "N = {nb}: {name} {r:e}");
+            }
+        }
+        // Where the multipliers are unique (these optima with verdict `holds`), they agree.
+        if c.verdict == Verdict::Holds {
+            assert!(max_diff(&mapped.p, &c.multipliers.p) < 1e-9, "N = {nb}: p");
+            assert!(max_diff(&cm.p_plus_omega, &c.multipliers.switching) < 1e-9);
+        }
+    }
+}
+
+/// The two-dimensional problem of (c): `C = [-d, 1]^2` with `d = 2`, `g = A x + u` with
+/// `A = diag(-alpha_1, -alpha_2)`, `U = [-1, 1]^2` with zero mean, `f1` the reactions on the two
+/// upper faces (weights 1, 1, 0, 0), `f2 = (c/2)|u|^2`, `T = 4`.
+fn drift_problem(alpha: [f64; 2], c: f64) -> GeneralProblem {
+    GeneralProblem::new(drift_parts(alpha, c)).unwrap()
+}
+
+fn drift_parts(alpha: [f64; 2], c: f64) -> GeneralParts {
+    GeneralParts {
+        normals: vec![
+            vec![1.0, 0.0],
+            vec![0.0, 1.0],
+            vec![-1.0, 0.0],
+            vec![0.0, -1.0],
+        ],
+        offsets: vec![1.0, 1.0, 2.0, 2.0],
+        a: Some(vec![vec![-alpha[0], 0.0], vec![0.0, -alpha[1]]]),
+        b: vec![vec![1.0, 0.0], vec![0.0, 1.0]],
+        lower: Some(vec![-1.0, -1.0]),
+        upper: Some(vec![1.0, 1.0]),
+        zero_mean: true,
+        face_weights: Some(vec![1.0, 1.0, 0.0, 0.0]),
+        cost: Some(GeneralCost::Quadratic { weight: c }),
+        period: 4.0,
+        periodic: true,
+        ..Default::default()
+    }
+}
+
+/// (c) A problem with state-dependent drift, derived by hand. The components decouple; take
+/// one, with `beta = 1 - h alpha`, `h = T/2 = 2`, `a = 1`, on P_1 (two steps, `u^0 = s`,
+/// `u^1 = -s` by the zero mean): `x^1 = P(beta x^0 + h s)`, `x^2 = P(beta x^1 - h s) = x^0`,
+/// reward `mu^0 + mu^1` with `mu^i = (v^i - 1)^+` on the upper face, cost `h c s^2`.
+///
+/// Optimum. Shifting the steps by one maps a process to one with `-s`, so let `s >= 0`. Then
+/// `v^1 <= beta < 1`: `mu^1 = 0`. A reward needs `mu^0 > 0`, so `x^1 = 1` and
+/// `x^0 = P(beta - h s) = beta - h s` (>= beta - 2 > -d: inside C), and
+/// `mu^0 = beta (beta - h s) + h s - 1 = (1 - beta)(h s - 1 - beta)`; otherwise `J <= 0`. So
+/// `J(s) = (1 - beta)(h s - 1 - beta) - h c s^2`, increasing on `[0, 1]` when
+/// `1 - beta >= 2 c`: `s* = 1` and `J* = (1 - beta)(h - 1 - beta) - h c` per component, if
+/// positive. With `alpha = (1/4, 1/5)`, `c = 1/20`: `beta = (1/2, 3/5)`,
+/// `J* = (1/4 - 1/10) + (4/25 - 1/10) = 0.21`, at `x^0 = (beta - 2) = (-3/2, -7/5)` (inside),
+/// `x^1 = (1, 1)`.
+///
+/// Multipliers. Step 0 has a reaction on each upper face: `1 + p_0,l = 0`, `p_0 = (-1, -1)`.
+/// Knot 0 is interior (no `xi`): `p_0 - p_1 = -h A^T p_0 = h alpha p_0`, so
+/// `p_1 = beta p_0 = -beta` — the drift term. Knot 1 (upper faces): `p_1 - p_0 = h alpha beta +
+/// xi_1`... precisely `xi_(1,l) = p_1 - p_0 + h A^T p_1 = 1 - beta + h alpha beta =
+/// h alpha (1 + beta)` = (3/4, 16/25) >= 0. Weak maximality (u at its bounds):
+/// `psi_0 = 1 - omega - c >= 0`, `psi_1 = beta - omega + c <= 0`: `omega in [beta + c, 1 - c]`,
+/// non-empty iff `1 - beta >= 2 c` — the same condition as `s* = 1`. Without the drift term
+/// `p_1 = p_0 = -1` and `omega in [1 + c, 1 - c]` is empty: the conditions fail (the unit test
+/// `certify::general::tests::the_drift_term_of_the_adjoint_matters`). The same with
+/// `f1` given as reaction weights `q = (1, 1)`.
+#[test]
+fn a_two_dimensional_problem_with_drift_derived_by_hand() {
+    let (alpha, c) = ([0.25, 0.2], 0.05);
+    let p = drift_problem(alpha, c);
+    let g = check_problem(&p).unwrap();
+    let beta = [0.5, 0.6];
+    let want: f64 = (0..2)
+        .map(|l| (1.0 - beta[l]) * (2.0 - 1.0 - beta[l]) - 2.0 * c)
+        .sum();
+    assert!((want - 0.21).abs() < 1e-15);
+    let s = solve_general_pm(&p, &g, 1, None).unwrap();
+    assert_eq!(s.certificate.status, MilpStatus::Optimal);
+    assert!((s.objective - want).abs() < 1e-7, "{}", s.objective);
+    for l in 0..2 {
+        assert!((s.u[0][l].abs() - 1.0).abs() < 1e-9 && (s.u[0][l] + s.u[1][l]).abs() < 1e-12);
+    }
+    let c0 = certify_general(&p, &GeneralProcess::from_pm(&s), &CertifyOptions::default()).unwrap();
+    assert_eq!(c0.verdict, Verdict::Holds, "{}", c0.reason);
+
+    // The optimum with s = +1 in both components, and its multipliers by hand.
+    let pr = GeneralProcess::from_controls(&p, 1, &[vec![1.0, 1.0], vec![-1.0, -1.0]], &[0.0, 0.0])
+        .unwrap();
+    for l in 0..2 {
+        assert!((pr.x[0][l] - (beta[l] - 2.0)).abs() < 1e-12 && (pr.x[1][l] - 1.0).abs() < 1e-12);
+    }
+    let cert = certify_general(&p, &pr, &CertifyOptions::default()).unwrap();
+    assert_eq!(cert.verdict, Verdict::Holds, "{}", cert.reason);
+    assert!((cert.objective - want).abs() < 1e-12);
+    let m = &cert.multipliers;
+    for l in 0..2 {
+        assert!((m.p[0][l] + 1.0).abs() < 1e-9, "{:?}", m.p);
+        assert!((m.p[1][l] + beta[l]).abs() < 1e-9, "{:?}", m.p);
+        let w = m.omega[l];
+        assert!(w >= beta[l] + c - 1e-9 && w <= 1.0 - c + 1e-9, "omega {w}");
+        let xi =
+            m.xi.iter()
+                .find(|x| x.knot == 1 && x.face == l + 1)
+                .unwrap();
+        assert!((xi.value - 2.0 * alpha[l] * (1.0 + beta[l])).abs() < 1e-9);
+    }
+    assert_eq!(m.xi.len(), 2, "{:?}", m.xi);
+
+    // f1 = <q, eta> with q = (1, 1): face weights <q, x*_j> = (1, 1, -1, -1). The lower faces
+    // stay inactive at this optimum, so J*, the optimum and the multipliers are the same.
+    let q = GeneralProblem::new(GeneralParts {
+        face_weights: None,
+        reaction_weights: Some(vec![1.0, 1.0]),
+        ..drift_parts(alpha, c)
+    })
+    .unwrap();
+    let sq = solve_general_pm(&q, &check_problem(&q).unwrap(), 1, None).unwrap();
+    assert!((sq.objective - want).abs() < 1e-7, "{}", sq.objective);
+    let cq = certify_general(&q, &pr, &CertifyOptions::default()).unwrap();
+    assert_eq!(cq.verdict, Verdict::Holds, "{}", cq.reason);
+    assert!(max_diff(&cq.multipliers.p, &m.p) < 1e-9);
+    assert!((cq.objective - want).abs() < 1e-12);
+}
+
+/// (d) Feasible but not optimal: the drift problem with `s = 0.9` in the first component (weak
+/// maximality then asks `1 - omega = 0.9 c` and `beta - omega = -0.9 c`, impossible), and the
+/// one-link problem at half rate (`u = +-1/2`, J = 1/2 < 3: with `f2 = 0` an interior control
+/// needs `p + omega = 0`, but `p = -1/2` where the upper face reacts and `+1/2` at the lower
+/// one) fail, and the branch LP improves on the latter.
+#[test]
+fn feasible_processes_that_are_not_optimal_fail() {
+    let p = drift_problem([0.25, 0.2], 0.05);
+    let pr = GeneralProcess::from_controls(&p, 1, &[vec![0.9, 1.0], vec![-0.9, -1.0]], &[0.0, 0.0])
+        .unwrap();
+    let c = certify_general(&p, &pr, &CertifyOptions::default()).unwrap();
+    assert_eq!(c.verdict, Verdict::Fails, "{}", c.reason);
+    assert!(
+        condition(&c.conditions, "weak_maximality", "6.2") > 1e-3,
+        "{}",
+        c.reason
+    );
+
+    let text = std::fs::read_to_string("examples/general_one_link.toml").unwrap();
+    let (p, _) = general_problem(&GeneralFile::parse(&text).unwrap()).unwrap();
+    let u: Vec<Vec<f64>> = (0..8)
+        .map(|i| vec![if i < 4 { 0.5 } else { -0.5 }])
+        .collect();
+    let pr = GeneralProcess::from_controls(&p, 3, &u, &[0.0]).unwrap();
+    let c = certify_general(&p, &pr, &CertifyOptions::default()).unwrap();
+    assert!(c.objective < 3.0 - 1e-3, "{}", c.objective);
+    assert_eq!(c.verdict, Verdict::Fails, "{}", c.reason);
+    assert!(c.branch_lp.as_ref().unwrap().improvement > 1e-3);
+}
+
+/// Processes that are not P_m processes of the problem are refused, naming the field.
+#[test]
+fn inconsistent_processes_are_refused() {
+    let p = drift_problem([0.25, 0.2], 0.05);
+    let good =
+        GeneralProcess::from_controls(&p, 1, &[vec![1.0, 1.0], vec![-1.0, -1.0]], &[0.0, 0.0])
+            .unwrap();
+    type Edit = Box<dyn Fn(&mut GeneralProcess)>;
+    let cases: Vec<(Edit, &str)> = vec![
+        (Box::new(|q| q.x[2][0] += 0.1), "process.x[2]"),
+        (Box::new(|q| q.u[0][0] = 1.5), "process.u[0]"),
+        (Box::new(|q| q.u[1][1] = -0.5), "process.u"),
+        (Box::new(|q| q.lambda[0][0] += 0.1), "process.x[1]"),
+        (
+            Box::new(|q| q.lambda.pop().map(|_| ()).unwrap_or(())),
+            "process.lambda",
+        ),
+        (Box::new(|q| q.x[1][1] = 1.5), "process.x[1]"),
+    ];
+    for (edit, field) in cases {
+        let mut q = good.clone();
+        edit(&mut q);
+        let e = certify_general(&p, &q, &CertifyOptions::default())
+            .unwrap_err()
+            .to_string();
+        assert!(e.starts_with(field), "{field}: {e}");
+    }
+    // A Cauchy problem: only periodic problems are certified.
+    let mut cauchy = p.clone();
+    cauchy.boundary = crawlopt::model::general::Boundary::Initial(vec![0.0, 0.0]);
+    let e = certify_general(&cauchy, &good, &CertifyOptions::default()).unwrap_err();
+    assert!(e.to_string().starts_with("problem.periodic"), "{e}");
+}
+
+/// `crawlopt optimize GENERAL.toml --certify`: the certificate in the text and, with `--json`,
+/// as `necessary_conditions` of the result.
+#[test]
+fn optimize_certify_prints_the_certificate() {
+    let args = [
+        "optimize",
+        "examples/general_one_link.toml",
+        "--m",
+        "2",
+        "--certify",
+    ];
+    let out = crawlopt(&args);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let text = String::from_utf8(out.stdout).unwrap();
+    assert!(
+        text.contains("necessary conditions (Theorem 2.2; discrete form Theorems 6.1-6.2): holds"),
+        "{text}"
+    );
+    assert!(text.contains("reaction_stationarity") && text.contains("dxi at t = "));
+    let mut json = args.to_vec();
+    json.push("--json");
+    let out = crawlopt(&json);
+    assert!(out.status.success());
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let c = &v["necessary_conditions"];
+    assert_eq!(c["format"], "crawlopt-general-necessary-conditions");
+    assert_eq!(c["verdict"], "holds");
+    assert_eq!(c["m"], 2);
+    assert!((c["objective"].as_f64().unwrap() - 3.0).abs() < 1e-9);
+}
+
+/// The one-link example with U given as the polytope `{u <= 1, -u <= 1}` instead of the box:
+/// the same certificate, the normal-cone weights on the active rows being `|B^T p + omega|`.
+#[test]
+fn a_polytope_u_gives_the_box_certificate() {
+    let text = std::fs::read_to_string("examples/general_one_link.toml").unwrap();
+    let (p, g) = general_problem(&GeneralFile::parse(&text).unwrap()).unwrap();
+    let poly = text.replace(
+        "lower = [-1.0]\nupper = [1.0]",
+        "G = [[1.0], [-1.0]]\nh = [1.0, 1.0]",
+    );
+    assert_ne!(poly, text);
+    let (q, _) = general_problem(&GeneralFile::parse(&poly).unwrap()).unwrap();
+    let s = solve_general_pm(&p, &g, 2, None).unwrap();
+    let pr = GeneralProcess::from_pm(&s);
+    let opts = CertifyOptions::default();
+    let (a, b) = (
+        certify_general(&p, &pr, &opts).unwrap(),
+        certify_general(&q, &pr, &opts).unwrap(),
+    );
+    assert_eq!(a.verdict, Verdict::Holds);
+    assert_eq!(b.verdict, Verdict::Holds, "{}", b.reason);
+    assert!(max_diff(&a.multipliers.p, &b.multipliers.p) < 1e-9);
+    assert!((a.nondegeneracy_margin - b.nondegeneracy_margin).abs() < 1e-9);
+    for (w, sg) in b
+        .multipliers
+        .normal_cone
+        .iter()
+        .zip(&b.multipliers.switching)
+    {
+        assert_eq!(w.len(), 1);
+        assert!((w[0].1 - sg[0].abs()).abs() < 1e-9, "{w:?} {sg:?}");
+    }
+}
+
+/// Random small instances (a polygon of 3..5 faces, random `A`, `B`, `b`, face weights, a box
+/// or a polygonal U, f2 = 0): the certificate of the global P_1 optimum never fails (LP
+/// duality on its branches), and the LP on its branches does not improve on it.
+#[test]
+fn random_optima_satisfy_the_conditions() {
+    let mut rng = Rng(0x9e37_79b9_7f4a_7c15);
+    let mut holds = 0;
+    for k in 0..8 {
+        let sigma = 3 + k % 3;
+        let phase = rng.range(0.0, 1.0);
+        let normals = (0..sigma)
+            .map(|j| {
+                let th = std::f64::consts::TAU * (j as f64 + phase) / sigma as f64;
+                vec![th.cos(), th.sin()]
+            })
+            .collect();
+        let mut r = || rng.range(-0.5, 0.5);
+        let (lower, upper, gm, hv) = if k % 2 == 0 {
+            (Some(vec![-1.0, -1.0]), Some(vec![1.0, 1.0]), None, None)
+        } else {
+            let g = vec![vec![1.0, 1.0], vec![-1.0, 1.0], vec![0.0, -1.0]];
+            (
+                None,
+                None,
+                Some(g),
+                Some(vec![1.0 + r(), 1.0 + r(), 1.0 + r()]),
+            )
+        };
+        let p = GeneralProblem::new(GeneralParts {
+            normals,
+            offsets: (0..sigma).map(|_| 0.7 + r().abs()).collect(),
+            a: Some(vec![vec![r(), r()], vec![r(), r()]]),
+            b: vec![vec![1.0 + r(), r()], vec![r(), 1.0 + r()]],
+            drift: Some(vec![0.2 * r(), 0.2 * r()]),
+            lower,
+            upper,
+            g: gm,
+            h: hv,
+            zero_mean: true,
+            face_weights: Some((0..sigma).map(|_| 0.4 + 1.2 * r()).collect()),
+            period: 4.0 + 8.0 * r().abs(),
+            periodic: true,
+            ..Default::default()
+        })
+        .unwrap();
+        let g = check_problem(&p).unwrap();
+        let s = solve_general_pm(&p, &g, 1, None).unwrap();
+        let c =
+            certify_general(&p, &GeneralProcess::from_pm(&s), &CertifyOptions::default()).unwrap();
+        println!(
+            "instance {k}: J = {:.6}, {:?}: {}",
+            s.objective, c.verdict, c.reason
+        );
+        assert_ne!(c.verdict, Verdict::Fails, "instance {k}: {}", c.reason);
+        let b = c.branch_lp.as_ref().unwrap();
+        assert!(
+            b.improvement.abs() < 1e-7 * (1.0 + b.optimum.abs()),
+            "{b:?}"
+        );
+        holds += usize::from(c.verdict == Verdict::Holds);
+    }
+    // The box instances hold non-degenerately (3 of 4); on P_1 a polygonal U rarely has both
+    // controls u and -u at vertices, so those are degenerate.
+    assert!(holds >= 3, "{holds}");
+}
