@@ -103,4 +103,21 @@ fn the_quadratic_cost_enters_the_bound_by_its_tangents() {
         "{ub}"
     );
     assert!((v["objective"].as_f64().unwrap() - 2.0).abs() < 1e-6, "{v}");
+    // The text names the tangents with the grid.
+    let out = crawlopt(&[
+        "optimize",
+        file.to_str().unwrap(),
+        "--bound",
+        "--bound-resolution",
+        "16",
+        "--bound-box-resolution",
+        "16",
+        "--bound-cost-tangents",
+        "4",
+    ]);
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        text.contains("(pl-storage, grid 16 x 16, 4 cost tangents)"),
+        "{text}"
+    );
 }

@@ -235,6 +235,7 @@ fn optimize_solves_p_m_of_a_general_file() {
         (&["--method", "phase"][..], "error: --method"),
         (&["--plot", "figures"][..], "error: --plot"),
         (&["--m", "11"][..], "error: --m"),
+        (&["--m", "0"][..], "error: --m: must be at least 1"),
     ] {
         let mut all = vec!["optimize", "examples/general_one_link.toml"];
         all.extend_from_slice(args);

@@ -276,11 +276,10 @@ fn page(
         };
         h.push_str(&format!(
             "<div><span>upper bound over all periodic gaits</span><b id=\"upper-bound\">{}</b>\
-             <span>{} on a {} x {} grid: optimal within {:.1} % among all periodic gaits{recorded}</span></div>\n",
+             <span>{} on a {} grid: optimal within {:.1} % among all periodic gaits{recorded}</span></div>\n",
             num(ub.value),
             esc(&ub.method),
-            ub.resolution,
-            ub.box_resolution,
+            esc(&ub.resolution_text()),
             100.0 * ub.within(result.objective)
         ));
     }

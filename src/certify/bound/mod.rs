@@ -192,6 +192,16 @@ impl UpperBound {
             0.0
         }
     }
+
+    /// The resolution that gave the bound, as the text and the report print it:
+    /// `"R x R'"`, with `", M cost tangents"` when a quadratic cost entered through tangents.
+    pub fn resolution_text(&self) -> String {
+        let mut s = format!("{} x {}", self.resolution, self.box_resolution);
+        if self.cost_tangents > 0 {
+            s.push_str(&format!(", {} cost tangents", self.cost_tangents));
+        }
+        s
+    }
 }
 
 fn check_settings(s: &BoundSettings) -> Result<()> {

@@ -156,11 +156,19 @@ fn reward_weights(p: &GeneralProblem) -> Vec<f64> {
 
 /// Checks that P_m's global method applies to `p`.
 fn check(p: &GeneralProblem, g: &Geometry, m: u32) -> Result<()> {
+    if m == 0 {
+        // One step with zero-mean controls is u = 0: no model, only a degenerate one.
+        return Err(Error::invalid(
+            "m",
+            m,
+            "must be at least 1 (a periodic process with zero-mean controls needs two steps)",
+        ));
+    }
     if m > MAX_GENERAL_M {
         return Err(Error::invalid(
             "m",
             m,
-            format!("must be at most {MAX_GENERAL_M}"),
+            format!("must be in 1..={MAX_GENERAL_M}"),
         ));
     }
     check_sets(p, g, "P_m's global method")

@@ -55,11 +55,10 @@ pub fn gait_result(r: &GaitResult) -> String {
         let within = format!("{:.1} %", 100.0 * ub.within(r.objective));
         wln!(
             out,
-            "upper bound over all periodic gaits: {} ({}, grid {} x {}{}): optimal within {within}",
+            "upper bound over all periodic gaits: {} ({}, grid {}{}): optimal within {within}",
             len(ub.value),
             ub.method,
-            ub.resolution,
-            ub.box_resolution,
+            ub.resolution_text(),
             if ub.status == crate::certify::bound::BoundStatus::TimeLimit {
                 ", LP cut short by the time limit"
             } else {
