@@ -87,13 +87,17 @@ pub struct BenchCase {
     pub steps_per_period: usize,
     /// Displacement per period (`None`: the periodic regime was not reached).
     pub disp_per_period: Option<f64>,
-    /// Periods integrated per repetition.
+    /// Periods integrated per repetition (plain period evaluations).
     pub periods: usize,
+    /// Jacobian-vector products of the period map per repetition (the Newton-Krylov search's
+    /// tangent period evaluations, each cheaper than a period: no projection).
+    pub tangent_products: usize,
     /// Whether the periodic regime was reached.
     pub converged: bool,
     /// Whether a fixed number of periods was integrated.
     pub fixed_periods: bool,
-    /// Wall time per time step, microseconds.
+    /// Wall time per time step, microseconds: the whole wall time (tangent products included)
+    /// over the plain periods' steps.
     pub us_per_step: f64,
     /// Links x steps per second.
     pub link_steps_per_s: f64,
@@ -297,7 +301,7 @@ fn bench_case(
     let mut reps = 0;
     loop {
         crate::progress::check()?;
-        let (disp, done, converged) = match periods {
+        let (disp, done, products, converged) = match periods {
             Some(k) => {
                 let mut map: Box<dyn PeriodMap> = match method {
                     Method::CatchingUp => Box::new(CatchingUp::new(crawler, act, steps)?),
@@ -308,7 +312,7 @@ fn bench_case(
                     acc.iter_mut().for_each(|a| *a = 0.0);
                     map.run_period(&mut x, &mut acc, None)?;
                 }
-                (Some(acc.iter().sum::<f64>() / nb as f64), k, false)
+                (Some(acc.iter().sum::<f64>() / nb as f64), k, 0, false)
             }
             None => {
                 let opts = SimOptions {
@@ -321,6 +325,7 @@ fn bench_case(
                 (
                     sim.displacement_per_period,
                     sim.periods_simulated,
+                    sim.tangent_products,
                     sim.converged,
                 )
             }
@@ -335,6 +340,7 @@ fn bench_case(
                 steps_per_period: steps,
                 disp_per_period: disp,
                 periods: done,
+                tangent_products: products,
                 converged,
                 fixed_periods: periods.is_some(),
                 us_per_step,

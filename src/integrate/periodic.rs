@@ -5,10 +5,10 @@
 //! period (0.997 for 100 blocks under a travelling sine wave). The search therefore first
 //! iterates the period map as the crawler would (the count is then the physical transient), and
 //! if that has not converged after [`SimOptions::accelerate_after`] periods it switches to
-//! Newton-Krylov steps on `G(x) - x` where the integrator has tangent maps (catching-up; see
-//! [`super::newton`] for why the iterations then do not grow with N), safeguarded by Anderson
-//! acceleration of the fixed-point problem `G(x) = x`, and to Anderson alone otherwise, every
-//! proposed state projected onto C. Either way a displacement is reported only for a period actually integrated from a
+//! Newton-Krylov steps on `G(x) - x` (see [`super::newton`] for why the iterations then do not
+//! grow with N; the exact method, which has no tangent map, takes the Jacobian of catching-up on
+//! the same knots), safeguarded by Anderson acceleration of the fixed-point problem `G(x) = x`,
+//! every proposed state projected onto C. Either way a displacement is reported only for a period actually integrated from a
 //! state `x` with `|G(x) - x|_inf <= tol * s`, `s` the size of C: acceleration only chooses where to look.
 
 use super::newton::{newton_step, NewtonOptions};
@@ -66,9 +66,9 @@ pub struct SimOptions {
     /// chain's plain transient runs for `O(N^2)` periods). `None`: never, the search is then the
     /// physical transient.
     pub accelerate_after: Option<usize>,
-    /// Newton-Krylov steps in the accelerated search where the integrator has tangent maps
-    /// (catching-up), safeguarded by Anderson (`None`: Anderson alone). Default
-    /// [`NewtonOptions::DEFAULT`].
+    /// Newton-Krylov steps in the accelerated search, safeguarded by Anderson (`None`: Anderson
+    /// alone). The exact method takes the Jacobian of catching-up on its knots (when they fit
+    /// [`MAX_SAMPLES`]; else Anderson alone). Default [`NewtonOptions::DEFAULT`].
     pub newton: Option<NewtonOptions>,
     /// Initial state `x(0)` (default 0, the unloaded crawler).
     pub initial_state: Option<Vec<f64>>,
@@ -131,6 +131,8 @@ pub struct Simulation {
     pub periods_simulated: usize,
     /// Jacobian-vector products of the period map in the search (Newton-Krylov): each applies
     /// the tangent maps of a period's steps recorded in the last period, without projections.
+    /// With the exact method (no tangent map) the Jacobian is that of catching-up on the same
+    /// knots, and each Newton step's catching-up period that records it counts as one more.
     pub tangent_products: usize,
     /// Newton steps taken in the search.
     pub newton_steps: usize,
@@ -297,8 +299,28 @@ pub fn simulate(crawler: &Crawler, act: &Actuation, opts: &SimOptions) -> Result
     let tol_abs = opts.tol * crawler.state_scale();
     let mut plain = opts.accelerate_after.unwrap_or(usize::MAX).max(1);
     let mut anderson = Anderson::new(ANDERSON_MEMORY);
+    // The exact method has no tangent map: its Newton steps take the Jacobian of catching-up on
+    // the same knots (a surrogate; the safeguard catches a step it spoils), one catching-up
+    // period from the current state per step.
+    let mut surrogate: Option<CatchingUp> = None;
     let newton = match opts.newton {
-        Some(o) if opts.accelerate_after.is_some() && map.record_tangent(true) => Some(o),
+        Some(o) if opts.accelerate_after.is_some() => {
+            if map.record_tangent(true) {
+                Some(o)
+            } else if opts.method == Method::Exact
+                && opts.steps_per_period >= 1
+                && (opts.steps_per_period as f64) * (n as f64) <= MAX_SAMPLES
+            {
+                // Increments that overflow leave the exact method to Anderson alone.
+                surrogate = CatchingUp::new(crawler, act, opts.steps_per_period).ok();
+                surrogate.as_mut().map(|cu| {
+                    cu.record_tangent(true);
+                    o
+                })
+            } else {
+                None
+            }
+        }
         _ => None,
     };
     let (mut products, mut newton_steps, mut failures) = (0, 0, 0);
@@ -357,8 +379,21 @@ pub fn simulate(crawler: &Crawler, act: &Actuation, opts: &SimOptions) -> Result
                     let r: Vec<f64> = x.iter().zip(&x_start).map(|(a, b)| a - b).collect();
                     let r2 = r.iter().map(|v| v * v).sum::<f64>().sqrt();
                     let rel_tol = (0.1 * tol_abs / r2).clamp(1e-13, 1e-2);
-                    let (step, used, _) =
-                        newton_step(&mut |v: &mut [f64]| map.apply_tangent(v), &r, rel_tol, &o);
+                    let tangents: &dyn PeriodMap = match surrogate.as_mut() {
+                        Some(cu) => {
+                            let (mut xs, mut a) = (x_start.clone(), vec![0.0; nb]);
+                            cu.run_period(&mut xs, &mut a, None)?;
+                            products += 1;
+                            cu
+                        }
+                        None => map.as_ref(),
+                    };
+                    let (step, used, _) = newton_step(
+                        &mut |v: &mut [f64]| tangents.apply_tangent(v),
+                        &r,
+                        rel_tol,
+                        &o,
+                    );
                     products += used;
                     newton_steps += 1;
                     pending_newton = Some(residual);

@@ -74,19 +74,20 @@ pub fn run(a: BenchArgs) -> Result<ExitCode, Error> {
                 num(s.mu_backward, 0.0),
                 s.steps
             ));
-            outln("| N | method | disp/period | periods | steps | us/step | link-steps/s | s/answer |");
-            outln("|---|---|---|---|---|---|---|---|");
+            outln("| N | method | disp/period | periods | tangent | steps | us/step | link-steps/s | s/answer |");
+            outln("|---|---|---|---|---|---|---|---|---|");
         }
         if a.json {
             json_line_sorted(case);
         } else {
             outln(&format!(
-                "| {} | {} | {} | {} | {} | {:.3} | {:.3e} | {:.3} |",
+                "| {} | {} | {} | {} | {} | {} | {:.3} | {:.3e} | {:.3} |",
                 case.blocks,
                 case.method,
                 case.disp_per_period
                     .map_or("not converged".into(), |d| format!("{d:.15}")),
                 case.periods,
+                case.tangent_products,
                 case.periods * s.steps,
                 case.us_per_step,
                 case.link_steps_per_s,

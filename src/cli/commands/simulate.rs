@@ -60,7 +60,7 @@ pub struct SimulateArgs {
     #[arg(long, default_value_t = DEFAULTS.tol, allow_hyphen_values = true)]
     pub tol: f64,
     /// Iterate periods plainly this many times (fewer when plain iteration is predicted not to
-    /// converge in time), then accelerate the search (Newton-Krylov with catching-up, Anderson).
+    /// converge in time), then accelerate the search (Newton-Krylov, safeguarded by Anderson).
     #[arg(
         long = "accelerate-after",
         default_value_t = DEFAULT_ACCELERATE_AFTER,
