@@ -45,6 +45,9 @@ pub struct BenchArgs {
     /// report the displacement of the last one, instead of searching for the periodic regime.
     #[arg(long, allow_negative_numbers = true, value_parser = count)]
     pub periods: Option<usize>,
+    /// Search with Anderson acceleration alone (no Newton-Krylov steps), for comparison.
+    #[arg(long = "no-newton")]
+    pub no_newton: bool,
     /// Print JSON lines.
     #[arg(long)]
     pub json: bool,
@@ -60,6 +63,7 @@ pub fn run(a: BenchArgs) -> Result<ExitCode, Error> {
         mu_backward: a.mu_backward,
         min_time: a.min_time,
         periods: a.periods,
+        newton: !a.no_newton,
         naming: Naming::Flags,
     };
     let s = &settings;
