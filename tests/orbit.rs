@@ -4,7 +4,8 @@
 //! catching-up and with the exact method (whose Newton steps take catching-up's Jacobian).
 
 use crawlopt::integrate::{
-    simulate, Actuation, CatchingUp, ExactPwl, Method, PeriodMap, Search, SimOptions, Waveform,
+    simulate, Actuation, CatchingUp, ExactPwl, Method, NewtonOptions, PeriodMap, Search,
+    SimOptions, Waveform,
 };
 use crawlopt::Crawler;
 
@@ -101,4 +102,30 @@ fn newton_and_anderson_give_the_same_displacement() {
             );
         }
     }
+}
+
+/// A Newton step starved of products (one: the preconditioner's alpha, no Krylov step) leaves
+/// the state where it was: every step fails, and after `max_failures` of them Anderson alone
+/// finds the orbit, with the same displacement.
+#[test]
+fn failed_newton_steps_leave_the_search_to_anderson() {
+    let (c, a) = bench_gait(100);
+    let starved = NewtonOptions {
+        max_products: 1,
+        ..NewtonOptions::DEFAULT
+    };
+    let opts = SimOptions {
+        method: Method::CatchingUp,
+        record_periods: 0,
+        newton: Some(starved),
+        ..SimOptions::default()
+    };
+    let sim = simulate(&c, &a, &opts).unwrap();
+    let anderson = search(&c, &a, Method::CatchingUp, false);
+    assert_eq!(sim.newton_steps, starved.max_failures);
+    let (d, da) = (
+        sim.displacement_per_period.unwrap(),
+        anderson.displacement_per_period.unwrap(),
+    );
+    assert!((d - da).abs() <= 1e-10, "{d} against {da}");
 }

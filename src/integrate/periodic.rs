@@ -325,7 +325,8 @@ pub fn simulate(crawler: &Crawler, act: &Actuation, opts: &SimOptions) -> Result
     };
     let (mut products, mut newton_steps, mut failures) = (0, 0, 0);
     let mut newton_from = 0;
-    let mut pending_newton: Option<f64> = None;
+    // The residual before the last Newton step and the state a plain period gave there.
+    let mut pending_newton: Option<(f64, Vec<f64>)> = None;
     let mut search = Search::Iteration;
     let mut acc = vec![0.0; nb];
     let mut x_start = x.clone();
@@ -356,11 +357,15 @@ pub fn simulate(crawler: &Crawler, act: &Actuation, opts: &SimOptions) -> Result
             break;
         }
         // A Newton step that did not halve the residual counts as failed: Anderson takes over
-        // for a while.
-        if let (Some(before), Some(o)) = (pending_newton.take(), newton) {
+        // for a while, from the plain period before the step when the residual grew.
+        if let (Some((before, plain_next)), Some(o)) = (pending_newton.take(), newton) {
             if residual > 0.5 * before {
                 failures += 1;
                 newton_from = k + o.retry_after;
+                if residual > before {
+                    x = plain_next;
+                    continue;
+                }
             }
         }
         // Plain iteration predicted (from the last contraction) not to converge within
@@ -396,7 +401,7 @@ pub fn simulate(crawler: &Crawler, act: &Actuation, opts: &SimOptions) -> Result
                     );
                     products += used;
                     newton_steps += 1;
-                    pending_newton = Some(residual);
+                    pending_newton = Some((residual, x.clone()));
                     anderson.reset();
                     x_start.iter().zip(&step).map(|(a, b)| a + b).collect()
                 }
