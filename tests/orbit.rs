@@ -129,3 +129,51 @@ fn failed_newton_steps_leave_the_search_to_anderson() {
     );
     assert!((d - da).abs() <= 1e-10, "{d} against {da}");
 }
+
+/// The findings behind the Newton-Krylov search (`src/integrate/newton.rs`), on the Jacobian of
+/// the period map at the orbit built densely from N tangent products: a nonnegative matrix with
+/// row sums at most 1, whose slowest mode contracts by `1 - lambda_1 ~ 30 / N^2`, the next by
+/// four times less (a diffusion: `1 - lambda_j ~ j^2`), with a leading eigenvector of one sign
+/// (the lowest sine mode of the chain, pinned at its ends).
+#[test]
+fn period_jacobian_is_a_pinned_diffusion() {
+    use nalgebra::{DMatrix, DVector};
+    for nb in [50, 100] {
+        let (c, a) = bench_gait(nb);
+        let n = nb - 1;
+        let sim = search(&c, &a, Method::CatchingUp, true);
+        let mut map = CatchingUp::new(&c, &a, 1000).unwrap();
+        let mut j = DMatrix::zeros(n, n);
+        for col in 0..n {
+            let (mut x, mut dx) = (sim.orbit_state.clone(), vec![0.0; n]);
+            dx[col] = 1.0;
+            assert!(map.run_period_tangent(&mut x, &mut dx).unwrap());
+            j.set_column(col, &DVector::from_vec(dx));
+        }
+        assert!(j.iter().all(|&v| v >= -1e-15), "N = {nb}");
+        assert!((0..n).all(|r| j.row(r).sum() <= 1.0 + 1e-12), "N = {nb}");
+        let mut ev: Vec<_> = j.complex_eigenvalues().iter().copied().collect();
+        ev.sort_by(|p, q| q.norm().total_cmp(&p.norm()));
+        let (l1, l2) = (ev[0], ev[1]);
+        assert!(
+            l1.im.abs() < 1e-9 && l2.im.abs() < 1e-9,
+            "N = {nb}: {l1}, {l2}"
+        );
+        let gap = (1.0 - l1.re) * (nb * nb) as f64;
+        assert!(
+            (25.0..35.0).contains(&gap),
+            "N = {nb}: (1 - lambda_1) N^2 = {gap}"
+        );
+        let ratio = (1.0 - l2.re) / (1.0 - l1.re);
+        assert!((3.5..4.5).contains(&ratio), "N = {nb}: ratio {ratio}");
+        // Leading eigenvector by inverse iteration: one sign along the chain.
+        let lu = (&j - DMatrix::identity(n, n) * (l1.re * (1.0 + 1e-9))).lu();
+        let mut v = DVector::from_element(n, 1.0);
+        for _ in 0..4 {
+            v = lu.solve(&v).unwrap();
+            v /= v.norm();
+        }
+        let s = v.sum().signum();
+        assert!(v.iter().all(|&e| e * s >= -1e-12), "N = {nb}: {v}");
+    }
+}
