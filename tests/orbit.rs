@@ -177,3 +177,40 @@ fn period_jacobian_is_a_pinned_diffusion() {
         assert!(v.iter().all(|&e| e * s >= -1e-12), "N = {nb}: {v}");
     }
 }
+
+/// A heterogeneous chain (per-link stiffness in [0.5, 2], per-block friction, a wave of 60
+/// degrees per link), where the Newton steps fail (see `NewtonOptions::max_failures`): the
+/// safeguard still gives Anderson's displacement, with both methods.
+#[test]
+fn heterogeneous_chain_gives_andersons_displacement() {
+    let nb = 120;
+    let n = nb - 1;
+    let mut state = 11u64;
+    let mut next = || {
+        state = state
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        (state >> 11) as f64 / (1u64 << 53) as f64
+    };
+    let k: Vec<f64> = (0..n).map(|_| 0.5 + 1.5 * next()).collect();
+    // Four friction pairs (the uniqueness check enumerates distinct pairs), mu- off the grid of
+    // mu+ by 1/(8 N) so that the uniqueness condition holds with a margin.
+    let mp: Vec<f64> = (0..nb)
+        .map(|_| if next() < 0.5 { 0.75 } else { 1.0 })
+        .collect();
+    let mm: Vec<f64> = (0..nb)
+        .map(|_| if next() < 0.5 { 2.5 } else { 3.5 } + 1.0 / (8.0 * nb as f64))
+        .collect();
+    let c = Crawler::new(k, mp, mm).unwrap();
+    let phases = (0..n).map(|l| l as f64 * 60.0).collect();
+    let a = Actuation::wave(Waveform::Sine, 1.0, vec![0.0; n], vec![1.5; n], phases).unwrap();
+    for method in [Method::CatchingUp, Method::Exact] {
+        let newton = search(&c, &a, method, true);
+        let anderson = search(&c, &a, method, false);
+        let (dn, da) = (
+            newton.displacement_per_period.unwrap(),
+            anderson.displacement_per_period.unwrap(),
+        );
+        assert!((dn - da).abs() <= 1e-10, "{method}: {dn} against {da}");
+    }
+}

@@ -402,7 +402,6 @@ pub fn simulate(crawler: &Crawler, act: &Actuation, opts: &SimOptions) -> Result
                     products += used;
                     newton_steps += 1;
                     pending_newton = Some((residual, x.clone()));
-                    anderson.reset();
                     x_start.iter().zip(&step).map(|(a, b)| a + b).collect()
                 }
                 _ => {
