@@ -37,9 +37,11 @@ pub struct NewtonOptions {
     /// Newton steps that may fail (the residual of the period from the new state not below
     /// half the previous one) before the search continues with Anderson only (default 2). On
     /// the bench gait the first step lands on the orbit; on the heterogeneous chain of
-    /// `tests/orbit.rs` (N = 120) every step fails (not diagnosed further: the active pattern
-    /// may not settle near that orbit), and catching-up's search took 96 periods + 91 products
-    /// with 4 failures, 92 + 48 with 2, 93 + 26 with 1, against 62 periods of Anderson alone.
+    /// `tests/orbit.rs` (N = 120) every step fails: they are tried at residuals 8e-2 to 8e-4,
+    /// farther from the orbit than its active pattern holds (the tangent map is the orbit's
+    /// within 1e-3 of it, but not within 1e-2), and catching-up's search took 96 periods + 91
+    /// products with 4 failures, 92 + 48 with 2, 93 + 26 with 1, against 62 periods of Anderson
+    /// alone.
     pub max_failures: usize,
     /// Periods of Anderson acceleration after a failed Newton step before the next one
     /// (default 10).
