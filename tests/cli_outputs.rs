@@ -392,7 +392,10 @@ fn bench_refuses_every_flag_that_would_hang_or_mean_nothing_by_its_name() {
             &["--blocks", "2..=100000"],
         ),
         (&["--blocks", "1"], &["--blocks", "2..=100000"]),
-        (&["--blocks", "2000"], &["--blocks", "without --periods"]),
+        (
+            &["--blocks", "2000", "--no-newton"],
+            &["--blocks", "1000 without --periods with --no-newton"],
+        ),
         (&["--blocks", "3", "--steps", "0"], &["--steps"]),
         (
             &["--blocks", "100000", "--steps", "2000", "--periods", "1"],

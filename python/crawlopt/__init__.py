@@ -434,8 +434,9 @@ def simulate(
     """Plays ``actuation`` on ``crawler`` until the periodic regime (the sweeping process of
     SPEC §3, exact event-driven or catching-up) and records ``periods`` periods of the orbit.
     Arguments as ``crawlopt simulate``'s flags; None takes the library's default (1000 steps or
-    knots per period, 1 period recorded, at most 5000 periods, tol 1e-12, Anderson acceleration
-    after 50 plain periods; ``accelerate=False``: never).
+    knots per period, 1 period recorded, at most 5000 periods, tol 1e-12, acceleration after 50
+    plain periods or earlier when plain iteration is predicted too slow: Newton-Krylov steps
+    safeguarded by Anderson; ``accelerate=False``: never).
     The GIL is released; Ctrl-C stops it (KeyboardInterrupt)."""
     summary, arrays = _rs.simulate(
         crawler._inner,

@@ -90,6 +90,7 @@ pub fn simulate<'py>(
         accelerate_after: accelerate
             .then(|| accelerate_after.or(d.accelerate_after))
             .flatten(),
+        newton: SimOptions::DEFAULT.newton,
         initial_state,
     };
     let (c, a) = (crawler.inner.clone(), actuation.inner.clone());

@@ -13,10 +13,17 @@ use std::time::Instant;
 /// Largest number of blocks of a case with `periods` (a fixed number of periods from rest).
 pub const BENCH_MAX_BLOCKS: usize = 100_000;
 
-/// Largest number of blocks of a case that searches for the periodic regime: the search on 1000
-/// blocks (the default's largest case) takes 30 to 50 s per method on the 2-core machine, and
-/// grows as N^2 (the periods to the regime grow with N).
-pub const BENCH_MAX_SEARCH_BLOCKS: usize = 1000;
+/// Largest number of blocks of an exact-method case that searches for the periodic regime
+/// (beyond it only catching-up is searched): the Newton-Krylov search's period evaluations do
+/// not grow with N, but the exact method's period does faster than N (its events): 10^4 blocks
+/// took 3.5 s (catching-up) and 11 s (exact) on the loaded 2-core machine, 10^5 blocks on 250
+/// steps 4.8 s with catching-up, and one exact period alone 131 s.
+pub const BENCH_MAX_EXACT_SEARCH_BLOCKS: usize = 10_000;
+
+/// Largest number of blocks of a case that searches with Anderson acceleration alone
+/// ([`BenchSettings::newton`] off): the search on 1000 blocks takes 20 to 50 s per method on
+/// the 2-core machine, and grows as N^2 (its periods grow with N).
+pub const BENCH_MAX_ANDERSON_BLOCKS: usize = 1000;
 
 /// Most blocks x `steps` of a case: the sampled increments of catching-up, 8 bytes each
 /// (the limit of `crawlopt simulate`, 2.5e7).
@@ -55,6 +62,9 @@ pub struct BenchSettings {
     /// Integrate exactly this many periods from x = 0 (plain iteration, as a peer would)
     /// instead of searching for the periodic regime.
     pub periods: Option<usize>,
+    /// Search with Newton-Krylov steps (default `true`); `false`: Anderson acceleration alone,
+    /// the search before issue 15, for comparison.
+    pub newton: bool,
     /// How messages name the settings.
     pub naming: Naming,
 }
@@ -70,6 +80,7 @@ impl Default for BenchSettings {
             mu_backward: 3.3,
             min_time: 1.0,
             periods: None,
+            newton: true,
             naming: Naming::Keywords,
         }
     }
@@ -87,13 +98,17 @@ pub struct BenchCase {
     pub steps_per_period: usize,
     /// Displacement per period (`None`: the periodic regime was not reached).
     pub disp_per_period: Option<f64>,
-    /// Periods integrated per repetition.
+    /// Periods integrated per repetition (plain period evaluations).
     pub periods: usize,
+    /// Jacobian-vector products of the period map per repetition (the Newton-Krylov search's
+    /// tangent period evaluations, each cheaper than a period: no projection).
+    pub tangent_products: usize,
     /// Whether the periodic regime was reached.
     pub converged: bool,
     /// Whether a fixed number of periods was integrated.
     pub fixed_periods: bool,
-    /// Wall time per time step, microseconds.
+    /// Wall time per time step, microseconds: the whole wall time (tangent products included)
+    /// over the plain periods' steps.
     pub us_per_step: f64,
     /// Links x steps per second.
     pub link_steps_per_s: f64,
@@ -135,15 +150,19 @@ impl BenchSettings {
                 format!("must be in 2..={BENCH_MAX_BLOCKS}"),
             ));
         }
-        if self.periods.is_none() && largest > BENCH_MAX_SEARCH_BLOCKS {
+        let max_search = BENCH_MAX_ANDERSON_BLOCKS;
+        if self.periods.is_none() && !self.newton && largest > max_search {
             return Err(Error::invalid(
                 n("blocks"),
                 largest,
                 format!(
-                    "must be at most {BENCH_MAX_SEARCH_BLOCKS} without {}: the search for the \
-                     periodic regime would run for hours (its periods grow with N); give a \
-                     number of periods",
-                    n("periods")
+                    "must be at most {max_search} without {} {}: the search for the periodic \
+                     regime would run for hours; give a number of periods",
+                    n("periods"),
+                    match self.naming {
+                        Naming::Flags => "with --no-newton",
+                        Naming::Keywords => "with newton = false",
+                    }
                 ),
             ));
         }
@@ -245,7 +264,8 @@ pub fn rename_fields(e: Error, names: &[(&str, String)]) -> Error {
 }
 
 /// Runs the benchmark: every crawler is built and checked before the first case is timed;
-/// `on_case` receives each case as it is measured (catching-up, then exact, per N).
+/// `on_case` receives each case as it is measured (catching-up, then exact, per N; a search
+/// beyond [`BENCH_MAX_EXACT_SEARCH_BLOCKS`] blocks is catching-up's only).
 pub fn bench(settings: &BenchSettings, on_case: &mut dyn FnMut(&BenchCase)) -> Result<()> {
     settings.check()?;
     let s = settings;
@@ -274,8 +294,13 @@ pub fn bench(settings: &BenchSettings, on_case: &mut dyn FnMut(&BenchCase)) -> R
     }
     for (crawler, act) in &cases {
         for method in [Method::CatchingUp, Method::Exact] {
-            let case = bench_case(crawler, act, method, s.steps, s.periods, s.min_time)
-                .map_err(|e| s.named(e))?;
+            if method == Method::Exact
+                && s.periods.is_none()
+                && crawler.blocks() > BENCH_MAX_EXACT_SEARCH_BLOCKS
+            {
+                continue;
+            }
+            let case = bench_case(crawler, act, method, s, s.min_time).map_err(|e| s.named(e))?;
             on_case(&case);
         }
     }
@@ -288,16 +313,16 @@ fn bench_case(
     crawler: &Crawler,
     act: &Actuation,
     method: Method,
-    steps: usize,
-    periods: Option<usize>,
+    s: &BenchSettings,
     min_time: f64,
 ) -> Result<BenchCase> {
+    let (steps, periods) = (s.steps, s.periods);
     let (n, nb) = (crawler.links(), crawler.blocks());
     let t0 = Instant::now();
     let mut reps = 0;
     loop {
         crate::progress::check()?;
-        let (disp, done, converged) = match periods {
+        let (disp, done, products, converged) = match periods {
             Some(k) => {
                 let mut map: Box<dyn PeriodMap> = match method {
                     Method::CatchingUp => Box::new(CatchingUp::new(crawler, act, steps)?),
@@ -308,19 +333,25 @@ fn bench_case(
                     acc.iter_mut().for_each(|a| *a = 0.0);
                     map.run_period(&mut x, &mut acc, None)?;
                 }
-                (Some(acc.iter().sum::<f64>() / nb as f64), k, false)
+                (Some(acc.iter().sum::<f64>() / nb as f64), k, 0, false)
             }
             None => {
                 let opts = SimOptions {
                     method,
                     steps_per_period: steps,
                     record_periods: 0,
+                    newton: if s.newton {
+                        SimOptions::DEFAULT.newton
+                    } else {
+                        None
+                    },
                     ..SimOptions::default()
                 };
                 let sim = simulate(crawler, act, &opts)?;
                 (
                     sim.displacement_per_period,
                     sim.periods_simulated,
+                    sim.tangent_products,
                     sim.converged,
                 )
             }
@@ -335,6 +366,7 @@ fn bench_case(
                 steps_per_period: steps,
                 disp_per_period: disp,
                 periods: done,
+                tangent_products: products,
                 converged,
                 fixed_periods: periods.is_some(),
                 us_per_step,

@@ -6,7 +6,7 @@
 use super::{slip_of, Actuation, PeriodMap, Recorder};
 use crate::error::Result;
 use crate::model::Crawler;
-use crate::sweep::Projector;
+use crate::sweep::{tangent, Bound, Projector};
 
 /// Catching-up on `m` uniform steps per period.
 #[derive(Debug, Clone)]
@@ -18,6 +18,11 @@ pub struct CatchingUp {
     d: Vec<f64>,
     n: usize,
     iterations: u64,
+    /// The working set of every step of the last period (row-major `m x (n + 1)`) when
+    /// recording ([`PeriodMap::record_tangent`]), else empty.
+    pattern: Vec<Bound>,
+    recording: bool,
+    inv_k: Vec<f64>,
 }
 
 impl CatchingUp {
@@ -54,6 +59,9 @@ impl CatchingUp {
             d: vec![0.0; crawler.blocks()],
             n,
             iterations: 0,
+            pattern: Vec::new(),
+            recording: false,
+            inv_k: crawler.stiffness().iter().map(|k| 1.0 / k).collect(),
         })
     }
 
@@ -77,8 +85,12 @@ impl PeriodMap for CatchingUp {
         mut rec: Option<&mut Recorder>,
     ) -> Result<()> {
         let n = self.n;
+        self.pattern.clear();
         for (i, delta) in self.deltas.chunks_exact(n).enumerate() {
             self.iterations += self.proj.step(x, delta, &mut self.d)? as u64;
+            if self.recording {
+                self.pattern.extend_from_slice(self.proj.active());
+            }
             for (a, d) in acc.iter_mut().zip(&self.d) {
                 *a += d;
             }
@@ -102,5 +114,19 @@ impl PeriodMap for CatchingUp {
             self.proj.tangent(dx);
         }
         Ok(true)
+    }
+
+    fn record_tangent(&mut self, on: bool) -> bool {
+        self.recording = on;
+        if !on {
+            self.pattern = Vec::new();
+        }
+        true
+    }
+
+    fn apply_tangent(&self, dx: &mut [f64]) {
+        for ws in self.pattern.chunks_exact(self.n + 1) {
+            tangent(ws, &self.inv_k, dx);
+        }
     }
 }

@@ -14,6 +14,7 @@ mod catching_up;
 mod exact;
 pub mod general;
 pub mod general_exact;
+mod newton;
 mod periodic;
 
 pub use actuation::{Actuation, Waveform, MAX_OFFSET_RATIO};
@@ -23,7 +24,8 @@ pub use general::{
     simulate_general, ControlInput, GeneralMethod, GeneralSimOptions, GeneralSimulation, InputKind,
 };
 pub use general_exact::simulate_general_exact;
-pub use periodic::{simulate, Search, SimOptions, Simulation};
+pub use newton::NewtonOptions;
+pub use periodic::{simulate, Search, SimOptions, Simulation, EARLY_SWITCH_MIN};
 
 use crate::error::Result;
 use serde::Serialize;
@@ -137,4 +139,16 @@ pub trait PeriodMap {
     fn run_period_tangent(&mut self, _x: &mut [f64], _dx: &mut [f64]) -> Result<bool> {
         Ok(false)
     }
+
+    /// Whether the following [`PeriodMap::run_period`] calls record the tangent map of every
+    /// step (its active pattern), for [`PeriodMap::apply_tangent`]. Returns whether the
+    /// integrator can (`false`: it has no tangent map, nothing is recorded).
+    fn record_tangent(&mut self, _on: bool) -> bool {
+        false
+    }
+
+    /// `dx <- J dx`, `J` the Jacobian of the period map on the active pattern recorded during the
+    /// last [`PeriodMap::run_period`] with recording on: the cost of the tangent maps alone, no
+    /// projection. Does nothing where nothing was recorded.
+    fn apply_tangent(&self, _dx: &mut [f64]) {}
 }

@@ -5,10 +5,13 @@
 //! period (0.997 for 100 blocks under a travelling sine wave). The search therefore first
 //! iterates the period map as the crawler would (the count is then the physical transient), and
 //! if that has not converged after [`SimOptions::accelerate_after`] periods it switches to
-//! Anderson acceleration of the fixed-point problem `G(x) = x`, every proposed state projected
-//! onto C. Either way a displacement is reported only for a period actually integrated from a
+//! Newton-Krylov steps on `G(x) - x` (see [`super::newton`] for why the iterations then do not
+//! grow with N; the exact method, which has no tangent map, takes the Jacobian of catching-up on
+//! the same knots), safeguarded by Anderson acceleration of the fixed-point problem `G(x) = x`,
+//! every proposed state projected onto C. Either way a displacement is reported only for a period actually integrated from a
 //! state `x` with `|G(x) - x|_inf <= tol * s`, `s` the size of C: acceleration only chooses where to look.
 
+use super::newton::{newton_step, NewtonOptions};
 use super::Actuation;
 use super::{CatchingUp, ExactPwl, Method, PeriodMap, Recorder, Trajectory};
 use crate::error::{Error, Result};
@@ -37,6 +40,12 @@ pub const MAX_STEPS_PER_PERIOD: usize = 10_000_000;
 /// or JSON text written from it.
 pub const MAX_RECORDED: f64 = 5e7;
 
+/// The earliest period after which the search may switch to acceleration before
+/// [`SimOptions::accelerate_after`] (when plain iteration is predicted not to converge in time).
+/// Five plain periods are enough for the Newton step of the bench gait (N = 100 to 3000: one
+/// step of 16 to 19 products lands on the orbit from the sixth period).
+pub const EARLY_SWITCH_MIN: usize = 5;
+
 /// Options of [`simulate`].
 #[derive(Debug, Clone, PartialEq)]
 pub struct SimOptions {
@@ -51,9 +60,16 @@ pub struct SimOptions {
     /// The state repeats when `max_l |x_l(kT) - x_l((k-1)T)| <= tol * s`, `s` the size of C
     /// ([`Crawler::state_scale`]).
     pub tol: f64,
-    /// Switch from plain iteration to Anderson acceleration after this many periods
-    /// (`None`: never, the search is then the physical transient).
+    /// Switch from plain iteration to the accelerated search (Newton-Krylov or Anderson) after
+    /// this many periods, or from period [`EARLY_SWITCH_MIN`] on as soon as the contraction of the
+    /// last plain period predicts that plain iteration would not converge within them (a long
+    /// chain's plain transient runs for `O(N^2)` periods). `None`: never, the search is then the
+    /// physical transient.
     pub accelerate_after: Option<usize>,
+    /// Newton-Krylov steps in the accelerated search, safeguarded by Anderson (`None`: Anderson
+    /// alone). The exact method takes the Jacobian of catching-up on its knots (when they fit
+    /// [`MAX_SAMPLES`]; else Anderson alone). Default [`NewtonOptions::DEFAULT`].
+    pub newton: Option<NewtonOptions>,
     /// Initial state `x(0)` (default 0, the unloaded crawler).
     pub initial_state: Option<Vec<f64>>,
 }
@@ -67,6 +83,7 @@ impl SimOptions {
         max_periods: 5000,
         tol: 1e-12,
         accelerate_after: Some(50),
+        newton: Some(NewtonOptions::DEFAULT),
         initial_state: None,
     };
 }
@@ -86,6 +103,9 @@ pub enum Search {
     /// Anderson-accelerated fixed-point search after the plain periods: `periods_to_converge`
     /// counts period integrations, the physical transient is longer.
     Anderson,
+    /// Newton-Krylov steps (safeguarded by Anderson) after the plain periods: as for
+    /// `Anderson`, plus [`Simulation::tangent_products`] Jacobian-vector products.
+    Newton,
 }
 
 /// Result of [`simulate`].
@@ -109,6 +129,13 @@ pub struct Simulation {
     pub search: Search,
     /// Periods integrated in the search.
     pub periods_simulated: usize,
+    /// Jacobian-vector products of the period map in the search (Newton-Krylov): each applies
+    /// the tangent maps of a period's steps recorded in the last period, without projections.
+    /// With the exact method (no tangent map) the Jacobian is that of catching-up on the same
+    /// knots, and each Newton step's catching-up period that records it counts as one more.
+    pub tangent_products: usize,
+    /// Newton steps taken in the search.
+    pub newton_steps: usize,
     /// `max_l |G(x)_l - x_l|` for the last period integrated in the search.
     pub period_residual: f64,
     /// The same residual after every period of the search (convergence history).
@@ -270,8 +297,36 @@ pub fn simulate(crawler: &Crawler, act: &Actuation, opts: &SimOptions) -> Result
         ),
     };
     let tol_abs = opts.tol * crawler.state_scale();
-    let plain = opts.accelerate_after.unwrap_or(usize::MAX).max(1);
+    let mut plain = opts.accelerate_after.unwrap_or(usize::MAX).max(1);
     let mut anderson = Anderson::new(ANDERSON_MEMORY);
+    // The exact method has no tangent map: its Newton steps take the Jacobian of catching-up on
+    // the same knots (a surrogate; the safeguard catches a step it spoils), one catching-up
+    // period from the current state per step.
+    let mut surrogate: Option<CatchingUp> = None;
+    let newton = match opts.newton {
+        Some(o) if opts.accelerate_after.is_some() => {
+            if map.record_tangent(true) {
+                Some(o)
+            } else if opts.method == Method::Exact
+                && opts.steps_per_period >= 1
+                && (opts.steps_per_period as f64) * (n as f64) <= MAX_SAMPLES
+            {
+                // Increments that overflow leave the exact method to Anderson alone.
+                surrogate = CatchingUp::new(crawler, act, opts.steps_per_period).ok();
+                surrogate.as_mut().map(|cu| {
+                    cu.record_tangent(true);
+                    o
+                })
+            } else {
+                None
+            }
+        }
+        _ => None,
+    };
+    let (mut products, mut newton_steps, mut failures) = (0, 0, 0);
+    let mut newton_from = 0;
+    // The residual before the last Newton step and the state a plain period gave there.
+    let mut pending_newton: Option<(f64, Vec<f64>)> = None;
     let mut search = Search::Iteration;
     let mut acc = vec![0.0; nb];
     let mut x_start = x.clone();
@@ -301,20 +356,73 @@ pub fn simulate(crawler: &Crawler, act: &Actuation, opts: &SimOptions) -> Result
             converged_at = Some(k);
             break;
         }
-        if k >= plain {
-            search = Search::Anderson;
-            // Safeguard: a residual that grew restarts the acceleration from a plain step.
-            let best = history[..history.len() - 1]
-                .iter()
-                .copied()
-                .fold(f64::INFINITY, f64::min);
-            if residual > 2.0 * best {
-                anderson.reset();
+        // A Newton step that did not halve the residual counts as failed: Anderson takes over
+        // for a while, from the plain period before the step when the residual grew.
+        if let (Some((before, plain_next)), Some(o)) = (pending_newton.take(), newton) {
+            if residual > 0.5 * before {
+                failures += 1;
+                newton_from = k + o.retry_after;
+                if residual > before {
+                    x = plain_next;
+                    continue;
+                }
             }
-            let proposal = anderson.next(&x_start, &x);
+        }
+        // Plain iteration predicted (from the last contraction) not to converge within
+        // `accelerate_after` periods: accelerate now.
+        if k < plain && k >= EARLY_SWITCH_MIN && opts.accelerate_after.is_some() {
+            let rho = residual / history[k - 2];
+            let needed = (tol_abs / residual).ln() / rho.ln();
+            if rho >= 1.0 || k as f64 + needed > plain as f64 {
+                plain = k;
+            }
+        }
+        if k >= plain {
+            let proposal = match newton {
+                Some(o) if failures < o.max_failures && k >= newton_from => {
+                    search = Search::Newton;
+                    let r: Vec<f64> = x.iter().zip(&x_start).map(|(a, b)| a - b).collect();
+                    let r2 = r.iter().map(|v| v * v).sum::<f64>().sqrt();
+                    let rel_tol = (0.1 * tol_abs / r2).clamp(1e-13, 1e-2);
+                    let tangents: &dyn PeriodMap = match surrogate.as_mut() {
+                        Some(cu) => {
+                            let (mut xs, mut a) = (x_start.clone(), vec![0.0; nb]);
+                            cu.run_period(&mut xs, &mut a, None)?;
+                            products += 1;
+                            cu
+                        }
+                        None => map.as_ref(),
+                    };
+                    let (step, used, _) = newton_step(
+                        &mut |v: &mut [f64]| tangents.apply_tangent(v),
+                        &r,
+                        rel_tol,
+                        &o,
+                    );
+                    products += used;
+                    newton_steps += 1;
+                    pending_newton = Some((residual, x.clone()));
+                    x_start.iter().zip(&step).map(|(a, b)| a + b).collect()
+                }
+                _ => {
+                    if search == Search::Iteration {
+                        search = Search::Anderson;
+                    }
+                    // Safeguard: a residual that grew restarts the acceleration from a plain step.
+                    let best = history[..history.len() - 1]
+                        .iter()
+                        .copied()
+                        .fold(f64::INFINITY, f64::min);
+                    if residual > 2.0 * best {
+                        anderson.reset();
+                    }
+                    anderson.next(&x_start, &x)
+                }
+            };
             proj.project_from_origin(&proposal, &mut x, &mut scratch_d)?;
         }
     }
+    map.record_tangent(false);
     let last = acc.iter().sum::<f64>() / nb as f64;
     let trajectory = if opts.record_periods > 0 {
         // Positions at the start of the recording: y = 0 and X_{b+1} - X_b = L_b(0) - x_b / k_b.
@@ -364,6 +472,8 @@ pub fn simulate(crawler: &Crawler, act: &Actuation, opts: &SimOptions) -> Result
         periods_to_converge: converged_at,
         search,
         periods_simulated: k,
+        tangent_products: products,
+        newton_steps,
         period_residual: history.last().copied().unwrap_or(f64::INFINITY),
         residual_history: history,
         displacement_per_period: converged_at.map(|_| last),

@@ -684,6 +684,7 @@ fn simulate_options(t: toml::Table) -> Result<SimOptions> {
         } else {
             k.accelerate_after.or(d.accelerate_after)
         },
+        newton: SimOptions::DEFAULT.newton,
         initial_state: None,
     })
 }

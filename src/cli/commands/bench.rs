@@ -45,6 +45,9 @@ pub struct BenchArgs {
     /// report the displacement of the last one, instead of searching for the periodic regime.
     #[arg(long, allow_negative_numbers = true, value_parser = count)]
     pub periods: Option<usize>,
+    /// Search with Anderson acceleration alone (no Newton-Krylov steps), for comparison.
+    #[arg(long = "no-newton")]
+    pub no_newton: bool,
     /// Print JSON lines.
     #[arg(long)]
     pub json: bool,
@@ -60,6 +63,7 @@ pub fn run(a: BenchArgs) -> Result<ExitCode, Error> {
         mu_backward: a.mu_backward,
         min_time: a.min_time,
         periods: a.periods,
+        newton: !a.no_newton,
         naming: Naming::Flags,
     };
     let s = &settings;
@@ -74,19 +78,20 @@ pub fn run(a: BenchArgs) -> Result<ExitCode, Error> {
                 num(s.mu_backward, 0.0),
                 s.steps
             ));
-            outln("| N | method | disp/period | periods | steps | us/step | link-steps/s | s/answer |");
-            outln("|---|---|---|---|---|---|---|---|");
+            outln("| N | method | disp/period | periods | tangent | steps | us/step | link-steps/s | s/answer |");
+            outln("|---|---|---|---|---|---|---|---|---|");
         }
         if a.json {
             json_line_sorted(case);
         } else {
             outln(&format!(
-                "| {} | {} | {} | {} | {} | {:.3} | {:.3e} | {:.3} |",
+                "| {} | {} | {} | {} | {} | {} | {:.3} | {:.3e} | {:.3} |",
                 case.blocks,
                 case.method,
                 case.disp_per_period
                     .map_or("not converged".into(), |d| format!("{d:.15}")),
                 case.periods,
+                case.tangent_products,
                 case.periods * s.steps,
                 case.us_per_step,
                 case.link_steps_per_s,

@@ -59,7 +59,8 @@ pub struct SimulateArgs {
     /// The state repeats when it changes by at most tol * (size of C) over a period.
     #[arg(long, default_value_t = DEFAULTS.tol, allow_hyphen_values = true)]
     pub tol: f64,
-    /// Iterate periods plainly this many times, then accelerate the search (Anderson).
+    /// Iterate periods plainly this many times (fewer when plain iteration is predicted not to
+    /// converge in time), then accelerate the search (Newton-Krylov, safeguarded by Anderson).
     #[arg(
         long = "accelerate-after",
         default_value_t = DEFAULT_ACCELERATE_AFTER,
@@ -111,6 +112,7 @@ pub fn run(a: SimulateArgs) -> Result<ExitCode, Error> {
         max_periods: a.max_periods,
         tol: a.tol,
         accelerate_after: (!a.no_accelerate).then_some(a.accelerate_after),
+        newton: SimOptions::DEFAULT.newton,
         initial_state: model.simulation.initial_state.clone(),
     };
     // Output paths are checked before the work: a directory for -o, a file for --plot.

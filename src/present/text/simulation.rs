@@ -56,6 +56,7 @@ pub fn simulation(
         match s.search {
             Search::Iteration => "plain iteration: the physical transient",
             Search::Anderson => "Anderson-accelerated search",
+            Search::Newton => "Newton-Krylov search",
         }
     );
     wln!(

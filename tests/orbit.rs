@@ -1,0 +1,216 @@
+//! The Newton-Krylov search of the periodic orbit (issue 15) against Anderson's: on the bench
+//! gait (travelling sine, k = 1, mu+ = 1, mu- = 3.3, 1000 steps or knots) the orbit it finds is
+//! a true fixed point of the period map, and its displacement per period is Anderson's, with
+//! catching-up and with the exact method (whose Newton steps take catching-up's Jacobian).
+
+use crawlopt::integrate::{
+    simulate, Actuation, CatchingUp, ExactPwl, Method, NewtonOptions, PeriodMap, Search,
+    SimOptions, Waveform,
+};
+use crawlopt::Crawler;
+
+/// The bench gait of `crawlopt bench` on `nb` blocks: `L_l = 2 sin(2 pi t - l pi / 2)`.
+fn bench_gait(nb: usize) -> (Crawler, Actuation) {
+    let c = Crawler::uniform(nb, 1.0, 1.0, 3.3).unwrap();
+    let n = nb - 1;
+    let phases = (0..n).map(|l| l as f64 * 90.0).collect();
+    let a = Actuation::wave(Waveform::Sine, 1.0, vec![0.0; n], vec![2.0; n], phases).unwrap();
+    (c, a)
+}
+
+fn search(
+    c: &Crawler,
+    a: &Actuation,
+    method: Method,
+    newton: bool,
+) -> crawlopt::integrate::Simulation {
+    let opts = SimOptions {
+        method,
+        record_periods: 0,
+        newton: if newton {
+            SimOptions::DEFAULT.newton
+        } else {
+            None
+        },
+        ..SimOptions::default()
+    };
+    simulate(c, a, &opts).unwrap()
+}
+
+#[test]
+fn newton_orbit_is_a_fixed_point_of_one_plain_period() {
+    for (nb, method) in [
+        (30, Method::CatchingUp),
+        (200, Method::CatchingUp),
+        (200, Method::Exact),
+    ] {
+        let (c, a) = bench_gait(nb);
+        let sim = search(&c, &a, method, true);
+        assert_eq!(sim.search, Search::Newton, "N = {nb}");
+        assert!(sim.newton_steps >= 1 && sim.tangent_products >= 1);
+        // One plain period, integrated here, from the orbit state: it returns within the
+        // search's tolerance, 1e-12 times the size of C.
+        let mut map: Box<dyn PeriodMap> = match method {
+            Method::CatchingUp => Box::new(CatchingUp::new(&c, &a, 1000).unwrap()),
+            Method::Exact => Box::new(ExactPwl::new(&c, &a, 1000).unwrap()),
+        };
+        let mut x = sim.orbit_state.clone();
+        let mut acc = vec![0.0; nb];
+        map.run_period(&mut x, &mut acc, None).unwrap();
+        let residual = x
+            .iter()
+            .zip(&sim.orbit_state)
+            .map(|(p, q)| (p - q).abs())
+            .fold(0.0, f64::max);
+        assert!(
+            residual <= 1e-12 * c.state_scale(),
+            "N = {nb}, {method}: residual {residual:e}"
+        );
+        let disp = acc.iter().sum::<f64>() / nb as f64;
+        assert_eq!(Some(disp), sim.displacement_per_period, "N = {nb}");
+    }
+}
+
+#[test]
+fn newton_and_anderson_give_the_same_displacement() {
+    for (nb, method) in [3, 5, 10, 30, 100, 200]
+        .into_iter()
+        .flat_map(|nb| [(nb, Method::CatchingUp), (nb, Method::Exact)])
+    {
+        let (c, a) = bench_gait(nb);
+        let newton = search(&c, &a, method, true);
+        let anderson = search(&c, &a, method, false);
+        let (dn, da) = (
+            newton.displacement_per_period.unwrap(),
+            anderson.displacement_per_period.unwrap(),
+        );
+        assert!(
+            (dn - da).abs() <= 1e-10,
+            "N = {nb}, {method}: {dn} against {da}"
+        );
+        // From 10 blocks on, plain iteration is slow and Newton steps are taken; from 100 blocks
+        // on Newton needs fewer period evaluations (plain and tangent) than Anderson.
+        if nb >= 10 {
+            assert_eq!(newton.search, Search::Newton, "N = {nb}, {method}");
+        }
+        if nb >= 100 {
+            let evaluations = newton.periods_simulated + newton.tangent_products;
+            assert!(
+                evaluations < anderson.periods_simulated,
+                "N = {nb}, {method}: {evaluations} against {}",
+                anderson.periods_simulated
+            );
+        }
+    }
+}
+
+/// A Newton step starved of products (one: the preconditioner's alpha, no Krylov step) leaves
+/// the state where it was: every step fails, and after `max_failures` of them Anderson alone
+/// finds the orbit, with the same displacement.
+#[test]
+fn failed_newton_steps_leave_the_search_to_anderson() {
+    let (c, a) = bench_gait(100);
+    let starved = NewtonOptions {
+        max_products: 1,
+        ..NewtonOptions::DEFAULT
+    };
+    let opts = SimOptions {
+        method: Method::CatchingUp,
+        record_periods: 0,
+        newton: Some(starved),
+        ..SimOptions::default()
+    };
+    let sim = simulate(&c, &a, &opts).unwrap();
+    let anderson = search(&c, &a, Method::CatchingUp, false);
+    assert_eq!(sim.newton_steps, starved.max_failures);
+    let (d, da) = (
+        sim.displacement_per_period.unwrap(),
+        anderson.displacement_per_period.unwrap(),
+    );
+    assert!((d - da).abs() <= 1e-10, "{d} against {da}");
+}
+
+/// The findings behind the Newton-Krylov search (`src/integrate/newton.rs`), on the Jacobian of
+/// the period map at the orbit built densely from N tangent products: a nonnegative matrix with
+/// row sums at most 1, whose slowest mode contracts by `1 - lambda_1 ~ 30 / N^2`, the next by
+/// four times less (a diffusion: `1 - lambda_j ~ j^2`), with a leading eigenvector of one sign
+/// (the lowest sine mode of the chain, pinned at its ends).
+#[test]
+fn period_jacobian_is_a_pinned_diffusion() {
+    use nalgebra::{DMatrix, DVector};
+    for nb in [50, 100] {
+        let (c, a) = bench_gait(nb);
+        let n = nb - 1;
+        let sim = search(&c, &a, Method::CatchingUp, true);
+        let mut map = CatchingUp::new(&c, &a, 1000).unwrap();
+        let mut j = DMatrix::zeros(n, n);
+        for col in 0..n {
+            let (mut x, mut dx) = (sim.orbit_state.clone(), vec![0.0; n]);
+            dx[col] = 1.0;
+            assert!(map.run_period_tangent(&mut x, &mut dx).unwrap());
+            j.set_column(col, &DVector::from_vec(dx));
+        }
+        assert!(j.iter().all(|&v| v >= -1e-15), "N = {nb}");
+        assert!((0..n).all(|r| j.row(r).sum() <= 1.0 + 1e-12), "N = {nb}");
+        let mut ev: Vec<_> = j.complex_eigenvalues().iter().copied().collect();
+        ev.sort_by(|p, q| q.norm().total_cmp(&p.norm()));
+        let (l1, l2) = (ev[0], ev[1]);
+        assert!(
+            l1.im.abs() < 1e-9 && l2.im.abs() < 1e-9,
+            "N = {nb}: {l1}, {l2}"
+        );
+        let gap = (1.0 - l1.re) * (nb * nb) as f64;
+        assert!(
+            (25.0..35.0).contains(&gap),
+            "N = {nb}: (1 - lambda_1) N^2 = {gap}"
+        );
+        let ratio = (1.0 - l2.re) / (1.0 - l1.re);
+        assert!((3.5..4.5).contains(&ratio), "N = {nb}: ratio {ratio}");
+        // Leading eigenvector by inverse iteration: one sign along the chain.
+        let lu = (&j - DMatrix::identity(n, n) * (l1.re * (1.0 + 1e-9))).lu();
+        let mut v = DVector::from_element(n, 1.0);
+        for _ in 0..4 {
+            v = lu.solve(&v).unwrap();
+            v /= v.norm();
+        }
+        let s = v.sum().signum();
+        assert!(v.iter().all(|&e| e * s >= -1e-12), "N = {nb}: {v}");
+    }
+}
+
+/// A heterogeneous chain (per-link stiffness in [0.5, 2], per-block friction, a wave of 60
+/// degrees per link), where the Newton steps fail (see `NewtonOptions::max_failures`): the
+/// safeguard still gives Anderson's displacement, with both methods.
+#[test]
+fn heterogeneous_chain_gives_andersons_displacement() {
+    let nb = 120;
+    let n = nb - 1;
+    let mut state = 11u64;
+    let mut next = || {
+        state = state
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        (state >> 11) as f64 / (1u64 << 53) as f64
+    };
+    let k: Vec<f64> = (0..n).map(|_| 0.5 + 1.5 * next()).collect();
+    // Four friction pairs (the uniqueness check enumerates distinct pairs), mu- off the grid of
+    // mu+ by 1/(8 N) so that the uniqueness condition holds with a margin.
+    let mp: Vec<f64> = (0..nb)
+        .map(|_| if next() < 0.5 { 0.75 } else { 1.0 })
+        .collect();
+    let mm: Vec<f64> = (0..nb)
+        .map(|_| if next() < 0.5 { 2.5 } else { 3.5 } + 1.0 / (8.0 * nb as f64))
+        .collect();
+    let c = Crawler::new(k, mp, mm).unwrap();
+    let phases = (0..n).map(|l| l as f64 * 60.0).collect();
+    let a = Actuation::wave(Waveform::Sine, 1.0, vec![0.0; n], vec![1.5; n], phases).unwrap();
+    for method in [Method::CatchingUp, Method::Exact] {
+        let newton = search(&c, &a, method, true);
+        let anderson = search(&c, &a, method, false);
+        let (dn, da) = (
+            newton.displacement_per_period.unwrap(),
+            anderson.displacement_per_period.unwrap(),
+        );
+        assert!((dn - da).abs() <= 1e-10, "{method}: {dn} against {da}");
+    }
+}
