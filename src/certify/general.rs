@@ -217,11 +217,7 @@ impl super::stages::Multipliers for GeneralRaw {
         &self.xi
     }
     fn degenerate(self, by: f64) -> Self {
-        let div = |rows: Vec<Vec<f64>>| -> Vec<Vec<f64>> {
-            rows.into_iter()
-                .map(|r| r.into_iter().map(|v| v / by).collect())
-                .collect()
-        };
+        let div = |rows| super::stages::divided(rows, by);
         GeneralRaw {
             lambda: 0.0,
             p: div(self.p),

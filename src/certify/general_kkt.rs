@@ -184,24 +184,7 @@ pub(crate) fn solve_general(
         .iter()
         .map(|a| a.iter().map(|_| pb.add_column(0.0, 0.0..=INF)).collect())
         .collect();
-    let (r_cost, r_hi) = match stage {
-        Stage::Kkt if norm.is_some() => (0.0, 0.0),
-        Stage::Kkt => (1.0, INF),
-        Stage::Sign { r_max } | Stage::Margin { r_max, .. } => (0.0, r_max),
-    };
-    let r = pb.add_column(r_cost, 0.0..=r_hi);
-    let (s_cost, s_hi) = match stage {
-        Stage::Kkt if norm.is_some_and(|n| n.sign_hard) => (0.0, 0.0),
-        Stage::Kkt => (0.0, INF),
-        Stage::Sign { .. } => (1.0, INF),
-        Stage::Margin { s_max, .. } => (0.0, s_max),
-    };
-    let s = pb.add_column(s_cost, 0.0..=s_hi);
-    let (d_cost, d_hi) = match stage {
-        Stage::Margin { cap, .. } => (-1.0, cap),
-        _ => (0.0, INF),
-    };
-    let delta = pb.add_column(d_cost, -INF..=d_hi);
+    let (r, s, delta) = stage.columns(&mut pb, norm);
     let a = &p.dynamics.a;
     // Adjoint with transversality (cyclic): p_k - p_{k-1} + h A^T p_k - sum xi_{k,f} x*_f = 0.
     for k in 0..steps {

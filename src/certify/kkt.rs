@@ -207,6 +207,35 @@ pub(crate) enum Stage {
     Margin { r_max: f64, s_max: f64, cap: f64 },
 }
 
+impl Stage {
+    /// The stage's three scalar columns of a multiplier LP, with its objective and bounds:
+    /// the KKT violation `r`, the sign violation `s` and the margin `delta`. A degenerate
+    /// search (`norm`) holds the KKT system exactly (`r = 0`), and `s = 0` where it imposes
+    /// `xi >= 0`.
+    pub(crate) fn columns(self, pb: &mut RowProblem, norm: Option<Norm>) -> (Col, Col, Col) {
+        const INF: f64 = f64::INFINITY;
+        let (r_cost, r_hi) = match self {
+            Stage::Kkt if norm.is_some() => (0.0, 0.0),
+            Stage::Kkt => (1.0, INF),
+            Stage::Sign { r_max } | Stage::Margin { r_max, .. } => (0.0, r_max),
+        };
+        let r = pb.add_column(r_cost, 0.0..=r_hi);
+        let (s_cost, s_hi) = match self {
+            Stage::Kkt if norm.is_some_and(|n| n.sign_hard) => (0.0, 0.0),
+            Stage::Kkt => (0.0, INF),
+            Stage::Sign { .. } => (1.0, INF),
+            Stage::Margin { s_max, .. } => (0.0, s_max),
+        };
+        let s = pb.add_column(s_cost, 0.0..=s_hi);
+        let (d_cost, d_hi) = match self {
+            Stage::Margin { cap, .. } => (-1.0, cap),
+            _ => (0.0, INF),
+        };
+        let delta = pb.add_column(d_cost, -INF..=d_hi);
+        (r, s, delta)
+    }
+}
+
 /// The search for degenerate multipliers (`lambda = 0`): the conditions are then homogeneous,
 /// so a non-zero `(p, omega)` exists iff the fixed generic linear functional `sign * c` has a
 /// positive maximum over them within the box `|p|, |omega| <= 1`, for `sign = 1` or `-1` (a
@@ -254,24 +283,7 @@ pub(crate) fn solve(
     let omega: Vec<Col> = (0..n)
         .map(|l| pb.add_column(-weight * functional(np, l), -box_..=box_))
         .collect();
-    let (r_cost, r_hi) = match stage {
-        Stage::Kkt if norm.is_some() => (0.0, 0.0),
-        Stage::Kkt => (1.0, INF),
-        Stage::Sign { r_max } | Stage::Margin { r_max, .. } => (0.0, r_max),
-    };
-    let r = pb.add_column(r_cost, 0.0..=r_hi);
-    let (s_cost, s_hi) = match stage {
-        Stage::Kkt if norm.is_some_and(|n| n.sign_hard) => (0.0, 0.0),
-        Stage::Kkt => (0.0, INF),
-        Stage::Sign { .. } => (1.0, INF),
-        Stage::Margin { s_max, .. } => (0.0, s_max),
-    };
-    let s = pb.add_column(s_cost, 0.0..=s_hi);
-    let (d_cost, d_hi) = match stage {
-        Stage::Margin { cap, .. } => (-1.0, cap),
-        _ => (0.0, INF),
-    };
-    let delta = pb.add_column(d_cost, -INF..=d_hi);
+    let (r, s, delta) = stage.columns(&mut pb, norm);
     // The maximised Hamiltonian's constant (phase gaits).
     let ham = pb.add_column(0.0, -INF..=INF);
 

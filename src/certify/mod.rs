@@ -403,11 +403,7 @@ impl stages::Multipliers for Raw {
         &self.xi
     }
     fn degenerate(self, by: f64) -> Self {
-        let div = |rows: Vec<Vec<f64>>| -> Vec<Vec<f64>> {
-            rows.into_iter()
-                .map(|r| r.into_iter().map(|v| v / by).collect())
-                .collect()
-        };
+        let div = |rows| stages::divided(rows, by);
         Raw {
             lambda: 0.0,
             p: div(self.p),

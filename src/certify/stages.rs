@@ -21,6 +21,13 @@ pub(crate) trait Multipliers: Sized {
     fn degenerate(self, by: f64) -> Self;
 }
 
+/// The rows divided by `by` (a degenerate multiplier's scaling, [`Multipliers::degenerate`]).
+pub(crate) fn divided(rows: Vec<Vec<f64>>, by: f64) -> Vec<Vec<f64>> {
+    rows.into_iter()
+        .map(|r| r.into_iter().map(|v| v / by).collect())
+        .collect()
+}
+
 /// `max |v|` over the rows.
 pub(crate) fn sup(rows: &[Vec<f64>]) -> f64 {
     rows.iter().flatten().fold(0.0_f64, |m, v| m.max(v.abs()))

@@ -164,23 +164,7 @@ pub fn certificate(c: &NecessaryConditions, r: &GaitResult) -> String {
     let m = &c.multipliers;
     // The adjoint's own scale (lambda + ||p||_inf is normalised, but omega shifts it).
     let adjoint = text::max_abs(m.p_plus_omega.iter().flatten().chain(&m.omega));
-    wln!(
-        out,
-        "necessary conditions (Theorem 2.2; discrete form Theorems 6.1-6.2): {}",
-        serde_json::to_string(&c.verdict)
-            .expect("enum")
-            .trim_matches('"')
-    );
-    wln!(out, "  {}", c.reason);
-    let n = &c.normalisation;
-    wln!(
-        out,
-        "  lambda = {} (scaled: {}); lambda + ||p||_inf = {}; sum of the paper's (norm) = {}",
-        num(c.lambda, 1.0),
-        n.scaled_by,
-        num(n.lambda_plus_sup_p, 0.0),
-        num(n.paper_norm, 0.0)
-    );
+    super::conditions_head(&mut out, c.verdict, &c.reason, c.lambda, &c.normalisation);
     wln!(
         out,
         "  J = {}; min |p + omega| = {:.3e}; omega = {}",
@@ -272,4 +256,31 @@ pub fn phase_step(st: &PhaseStep, length: f64) -> String {
         st.seconds,
         st.phases + 1
     )
+}
+
+/// The first lines of a certificate, crawler or general: the verdict, its reason, and how the
+/// multipliers are scaled.
+pub(super) fn conditions_head(
+    out: &mut String,
+    verdict: crate::certify::Verdict,
+    reason: &str,
+    lambda: f64,
+    n: &crate::certify::Normalisation,
+) {
+    wln!(
+        out,
+        "necessary conditions (Theorem 2.2; discrete form Theorems 6.1-6.2): {}",
+        serde_json::to_string(&verdict)
+            .expect("enum")
+            .trim_matches('"')
+    );
+    wln!(out, "  {}", reason);
+    wln!(
+        out,
+        "  lambda = {} (scaled: {}); lambda + ||p||_inf = {}; sum of the paper's (norm) = {}",
+        num(lambda, 1.0),
+        n.scaled_by,
+        num(n.lambda_plus_sup_p, 0.0),
+        num(n.paper_norm, 0.0)
+    );
 }

@@ -10,23 +10,7 @@ pub fn general_certificate(c: &GeneralNecessaryConditions) -> String {
     let mut out = String::new();
     let m = &c.multipliers;
     let adjoint = max_abs(m.switching.iter().flatten().chain(&m.omega)).max(1e-300);
-    wln!(
-        out,
-        "necessary conditions (Theorem 2.2; discrete form Theorems 6.1-6.2): {}",
-        serde_json::to_string(&c.verdict)
-            .expect("enum")
-            .trim_matches('"')
-    );
-    wln!(out, "  {}", c.reason);
-    let n = &c.normalisation;
-    wln!(
-        out,
-        "  lambda = {} (scaled: {}); lambda + ||p||_inf = {}; sum of the paper's (norm) = {}",
-        num(c.lambda, 1.0),
-        n.scaled_by,
-        num(n.lambda_plus_sup_p, 0.0),
-        num(n.paper_norm, 0.0)
-    );
+    super::conditions_head(&mut out, c.verdict, &c.reason, c.lambda, &c.normalisation);
     wln!(
         out,
         "  J = {}; non-degeneracy margin {:.3e} ({}); omega = {}",
