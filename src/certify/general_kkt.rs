@@ -5,7 +5,7 @@
 //! ([`crate::certify`]: [`Stage`], [`Norm`], the same generic functional).
 
 use super::general::GeneralProcess;
-use super::kkt::{functional, Norm, Stage};
+use super::kkt::{adjoint_columns, functional, norm_box, Norm, Stage};
 use crate::error::{Error, Result};
 use crate::model::general::{dot, ControlSet, GeneralCost, GeneralProblem, Reward};
 use crate::optimal::solver::{Highs, SolveStatus};
@@ -159,22 +159,8 @@ pub(crate) fn solve_general(
     let (n, m, steps, h) = (st.n, st.m, st.steps, st.h);
     const INF: f64 = f64::INFINITY;
     let mut pb = RowProblem::default();
-    let (box_, weight) = match norm {
-        Some(Norm { sign, .. }) => (1.0, sign),
-        None => (INF, 0.0),
-    };
-    let pc: Vec<Vec<Col>> = (0..steps)
-        .map(|i| {
-            (0..n)
-                .map(|l| pb.add_column(-weight * functional(i, l), -box_..=box_))
-                .collect()
-        })
-        .collect();
-    let xi: Vec<Vec<Col>> = st
-        .active
-        .iter()
-        .map(|a| a.iter().map(|_| pb.add_column(0.0, -INF..=INF)).collect())
-        .collect();
+    let (pc, xi) = adjoint_columns(&mut pb, norm, steps, n, &st.active);
+    let (box_, weight) = norm_box(norm);
     let om_box = if p.zero_mean { box_ } else { 0.0 };
     let omega: Vec<Col> = (0..m)
         .map(|l| pb.add_column(-weight * functional(steps, l), -om_box..=om_box))

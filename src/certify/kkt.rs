@@ -247,6 +247,43 @@ pub(crate) struct Norm {
     pub sign_hard: bool,
 }
 
+/// The box `|p|, |omega| <= box` and the weight of the generic functional in the objective:
+/// `(1, sign)` in a degenerate search, `(inf, 0)` otherwise.
+pub(crate) fn norm_box(norm: Option<Norm>) -> (f64, f64) {
+    match norm {
+        Some(Norm { sign, .. }) => (1.0, sign),
+        None => (f64::INFINITY, 0.0),
+    }
+}
+
+/// The adjoint's columns `p_j` (`pieces` x `n`, in [`norm_box`]'s box, weighted by the generic
+/// functional) and the free reaction multipliers `xi`, one per knot and active face.
+pub(crate) fn adjoint_columns<F>(
+    pb: &mut RowProblem,
+    norm: Option<Norm>,
+    pieces: usize,
+    n: usize,
+    active: &[Vec<F>],
+) -> (Vec<Vec<Col>>, Vec<Vec<Col>>) {
+    let (box_, weight) = norm_box(norm);
+    let p = (0..pieces)
+        .map(|j| {
+            (0..n)
+                .map(|l| pb.add_column(-weight * functional(j, l), -box_..=box_))
+                .collect()
+        })
+        .collect();
+    let xi = active
+        .iter()
+        .map(|a| {
+            a.iter()
+                .map(|_| pb.add_column(0.0, f64::NEG_INFINITY..=f64::INFINITY))
+                .collect()
+        })
+        .collect();
+    (p, xi)
+}
+
 /// The generic functional: irrational, deterministic weights.
 pub(crate) fn functional(j: usize, l: usize) -> f64 {
     (1.0 + j as f64 * 0.618_033_988_749_895 + l as f64 * 0.414_213_562_373_095).sin() + 0.1
@@ -264,22 +301,8 @@ pub(crate) fn solve(
     let inv_n = lambda / st.nb as f64;
     const INF: f64 = f64::INFINITY;
     let mut pb = RowProblem::default();
-    let (box_, weight) = match norm {
-        Some(Norm { sign, .. }) => (1.0, sign),
-        None => (INF, 0.0),
-    };
-    let p: Vec<Vec<Col>> = (0..np)
-        .map(|j| {
-            (0..n)
-                .map(|l| pb.add_column(-weight * functional(j, l), -box_..=box_))
-                .collect()
-        })
-        .collect();
-    let xi: Vec<Vec<Col>> = st
-        .active
-        .iter()
-        .map(|a| a.iter().map(|_| pb.add_column(0.0, -INF..=INF)).collect())
-        .collect();
+    let (p, xi) = adjoint_columns(&mut pb, norm, np, n, &st.active);
+    let (box_, weight) = norm_box(norm);
     let omega: Vec<Col> = (0..n)
         .map(|l| pb.add_column(-weight * functional(np, l), -box_..=box_))
         .collect();

@@ -2,7 +2,7 @@
 //! `simulate` on a `[sweeping_process]` file). Inputs (faces, offsets) are shown as given after
 //! scaling; computed states at C's scale (the largest `|c_j|`).
 
-use super::{list, num, wln};
+use super::{list, max_abs, num, wln};
 use crate::api::general::{CheckStatus, GeneralAnalysis, GeneralOptimized, GeneralSimulated};
 use crate::api::GeneralLocalOptimized;
 use crate::model::general::{Boundary, ControlSet, GeneralCost, GeneralProblem, Reward};
@@ -214,25 +214,7 @@ pub fn general_optimum(r: &GeneralOptimized) -> String {
         num(c.bound, scale),
         c.gap
     );
-    let xs =
-        s.x.iter()
-            .flatten()
-            .fold(0.0_f64, |m, v| m.max(v.abs()))
-            .max(1e-300);
-    let us =
-        s.u.iter()
-            .flatten()
-            .fold(0.0_f64, |m, v| m.max(v.abs()))
-            .max(1e-300);
-    for (i, u) in s.u.iter().enumerate() {
-        wln!(
-            out,
-            "  step {:>4}: x = {}  u = {}",
-            i + 1,
-            list(&s.x[i], xs),
-            list(u, us)
-        );
-    }
+    steps(&mut out, &s.x, &s.u);
     out
 }
 
@@ -266,24 +248,22 @@ pub fn general_local(r: &GeneralLocalOptimized) -> String {
         r.start_from.replace('_', " "),
         num(s.start_objective, scale)
     );
-    let xs =
-        s.x.iter()
-            .flatten()
-            .fold(0.0_f64, |m, v| m.max(v.abs()))
-            .max(1e-300);
-    let us =
-        s.u.iter()
-            .flatten()
-            .fold(0.0_f64, |m, v| m.max(v.abs()))
-            .max(1e-300);
-    for (i, u) in s.u.iter().enumerate() {
+    steps(&mut out, &s.x, &s.u);
+    out
+}
+
+/// A P_m process step by step: the state at the step's start and its control, each column
+/// scaled by its largest entry.
+fn steps(out: &mut String, x: &[Vec<f64>], u: &[Vec<f64>]) {
+    let xs = max_abs(x.iter().flatten()).max(1e-300);
+    let us = max_abs(u.iter().flatten()).max(1e-300);
+    for (i, ui) in u.iter().enumerate() {
         wln!(
             out,
             "  step {:>4}: x = {}  u = {}",
             i + 1,
-            list(&s.x[i], xs),
-            list(u, us)
+            list(&x[i], xs),
+            list(ui, us)
         );
     }
-    out
 }
