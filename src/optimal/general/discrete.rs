@@ -62,8 +62,10 @@ pub struct GeneralPm {
 /// The big-M constants (module docs).
 #[derive(Debug, Clone, PartialEq)]
 pub(super) struct BigM {
-    slack: Vec<f64>,
-    multiplier: f64,
+    /// `S_j`, the largest slack of face `j` over C.
+    pub(super) slack: Vec<f64>,
+    /// `M_mu` (with `h = 1`: a bound on the reaction rates `lambda_j`).
+    pub(super) multiplier: f64,
 }
 
 /// `max_{x in C} <d, x>` (C bounded).
@@ -98,7 +100,7 @@ fn support_u(u: &ControlSet, d: &[f64]) -> Result<f64> {
     }
 }
 
-fn big_m(p: &GeneralProblem, g: &Geometry, h: f64) -> Result<BigM> {
+pub(super) fn big_m(p: &GeneralProblem, g: &Geometry, h: f64) -> Result<BigM> {
     let c = &p.c;
     let mut slack = Vec::with_capacity(c.faces());
     for j in 0..c.faces() {
@@ -147,7 +149,7 @@ fn big_m(p: &GeneralProblem, g: &Geometry, h: f64) -> Result<BigM> {
 }
 
 /// The coefficient of `mu_j` in `f1` (module docs).
-fn reward_weights(p: &GeneralProblem) -> Vec<f64> {
+pub(super) fn reward_weights(p: &GeneralProblem) -> Vec<f64> {
     match &p.reward {
         Reward::FaceWeights(w) => w.clone(),
         Reward::ReactionWeights(q) => p.c.normals.iter().map(|n| dot(q, n)).collect(),

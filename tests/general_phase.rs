@@ -1,0 +1,178 @@
+//! Exact continuous-time gaits of the general problem (P) where `A = 0` (SPEC §7 generalised,
+//! §11): the phase MILP against the paper's §4 one-link closed form, against the dedicated
+//! crawler phase method on crawler instances, re-verified by an independent replay in the
+//! exact simulator, non-decreasing in K, and its refusals.
+
+mod common;
+
+use common::one_link_problem;
+use crawlopt::integrate::{simulate_general_exact, ControlInput, InputKind};
+use crawlopt::model::general::{Boundary, GeneralCost, GeneralParts, GeneralProblem};
+use crawlopt::model::{crawler_as_general, Crawler};
+use crawlopt::optimal::general::{check_problem, solve_general_phase, GeneralPhaseGait};
+use crawlopt::optimal::{solve_phase_global, Cost, GaitProblem, MilpStatus};
+use crawlopt::Error;
+
+/// Replays the gait's controls and durations in the exact simulator from its `x_0` and
+/// returns `(int f1, the largest state difference at the phase boundaries, x(T) - x(0))`.
+fn replay(p: &GeneralProblem, s: &GeneralPhaseGait) -> (f64, f64, f64) {
+    let mut times = vec![0.0];
+    for d in &s.durations[..s.durations.len() - 1] {
+        times.push(times.last().unwrap() + d);
+    }
+    let total: f64 = s.durations.iter().sum();
+    let input = ControlInput::new(
+        InputKind::PiecewiseConstant,
+        total,
+        times.clone(),
+        s.controls.clone(),
+        &p.control,
+        "input",
+    )
+    .unwrap();
+    let mut cauchy = p.clone();
+    cauchy.period = total;
+    cauchy.boundary = Boundary::Initial(s.states[0].clone());
+    let sim = simulate_general_exact(&cauchy, &input, &s.states[0], 1, 1e-12).unwrap();
+    let mut gap = 0.0_f64;
+    for (j, &t) in times.iter().enumerate().skip(1) {
+        let i = sim.t.iter().position(|&v| v == t).unwrap();
+        for (a, b) in sim.x[i].iter().zip(&s.states[j]) {
+            gap = gap.max((a - b).abs());
+        }
+    }
+    let end = sim.x.last().unwrap();
+    for (a, b) in end.iter().zip(s.states.last().unwrap()) {
+        gap = gap.max((a - b).abs());
+    }
+    let periodic = end
+        .iter()
+        .zip(&s.states[0])
+        .fold(0.0_f64, |d, (a, b)| d.max((a - b).abs()));
+    (sim.reward, gap, periodic)
+}
+
+#[test]
+fn the_one_link_problem_of_section_4() {
+    // J* = (T - 2 (b - a)) / 2 for T > 2 (b - a), 0 below. The optimum needs 4 phases: a free
+    // rise across C, a slide held on b (u = 1, lambda = 1), a free fall, a slide held on a.
+    // With 3 phases no periodic gait slides with u != 0 (the slide's U must cancel the two
+    // crossings' +-(b - a)), so J = 0 below K = 4.
+    for (a, b, t, want) in [
+        (-1.0, 1.0, 10.0, 3.0),
+        (-0.5, 1.5, 12.0, 4.0),
+        (-1.0, 1.0, 3.0, 0.0),
+    ] {
+        let p = one_link_problem(a, b, t);
+        let g = check_problem(&p).unwrap();
+        let mut last = f64::NEG_INFINITY;
+        for k in 1..=5 {
+            let s = solve_general_phase(&p, &g, k, None).unwrap();
+            assert_eq!(s.certificate.status, MilpStatus::Optimal);
+            let expect = if k >= 4 { want } else { 0.0 };
+            assert!(
+                (s.objective - expect).abs() < 1e-7,
+                "T = {t}, K = {k}: {} vs {expect}",
+                s.objective
+            );
+            assert!(s.certificate.bound <= expect + 1e-6);
+            assert!(
+                s.objective >= last - 1e-9,
+                "K = {k}: {} < {last}",
+                s.objective
+            );
+            last = s.objective;
+            let total: f64 = s.durations.iter().sum();
+            assert!((total - t).abs() < 1e-9 * t);
+            let (reward, gap, periodic) = replay(&p, &s);
+            assert!(
+                (reward - s.objective).abs() < 1e-9,
+                "{reward} vs {}",
+                s.objective
+            );
+            assert!(gap < 1e-9 && periodic < 1e-9, "{gap:e} {periodic:e}");
+        }
+    }
+}
+
+#[test]
+fn crawler_instances_give_the_crawler_phase_optima() {
+    // A crawler step (a transition and a slip phase) is two general phases: the crawler's
+    // optimum over K steps is the general optimum over 2K phases.
+    let cases = [
+        (
+            Crawler::new(vec![1.0], vec![1.0, 1.0], vec![2.0, 2.0]).unwrap(),
+            vec![1, 2],
+        ),
+        (
+            Crawler::new(vec![1.0, 2.0], vec![1.0, 1.2, 0.9], vec![2.5, 3.1, 2.7]).unwrap(),
+            vec![1, 2, 3],
+        ),
+    ];
+    for (crawler, steps) in cases {
+        crawler.require_unique().unwrap();
+        let speed = vec![1.0; crawler.links()];
+        let t = 6.0;
+        let gp = GaitProblem::new(&crawler, t, &speed, Cost::None, None).unwrap();
+        let inst = crawler_as_general(&crawler, t, &gp.rate_bound, GeneralCost::None).unwrap();
+        let g = check_problem(&inst.problem).unwrap();
+        for k in steps {
+            let want = solve_phase_global(&crawler, &gp, k, Some(60.0)).unwrap();
+            assert_eq!(want.certificate.status, MilpStatus::Optimal);
+            let got = solve_general_phase(&inst.problem, &g, 2 * k, Some(60.0)).unwrap();
+            assert_eq!(got.certificate.status, MilpStatus::Optimal);
+            assert!(
+                (got.objective - want.objective()).abs() < 1e-7,
+                "N = {}, K = {k}: {} vs {}",
+                crawler.blocks(),
+                got.objective,
+                want.objective()
+            );
+            let (reward, gap, periodic) = replay(&inst.problem, &got);
+            assert!((reward - got.objective).abs() < 1e-9);
+            assert!(gap < 1e-9 && periodic < 1e-9, "{gap:e} {periodic:e}");
+        }
+    }
+}
+
+fn parts() -> GeneralParts {
+    GeneralParts {
+        normals: vec![vec![1.0], vec![-1.0]],
+        offsets: vec![1.0, 1.0],
+        b: vec![vec![1.0]],
+        lower: Some(vec![-1.0]),
+        upper: Some(vec![1.0]),
+        zero_mean: true,
+        face_weights: Some(vec![0.5, 0.5]),
+        period: 10.0,
+        periodic: true,
+        ..Default::default()
+    }
+}
+
+fn refused_field(p: GeneralParts, k: usize) -> String {
+    let p = GeneralProblem::new(p).unwrap();
+    let g = check_problem(&p).unwrap();
+    match solve_general_phase(&p, &g, k, None) {
+        Err(Error::InvalidParameter { field, .. }) => field,
+        other => panic!("not refused: {other:?}"),
+    }
+}
+
+#[test]
+fn bad_input_is_refused_naming_the_field() {
+    let mut a = parts();
+    a.a = Some(vec![vec![-0.5]]);
+    assert_eq!(refused_field(a, 4), "dynamics.A");
+    let mut c = parts();
+    c.cost = Some(GeneralCost::Quadratic { weight: 0.1 });
+    assert_eq!(refused_field(c, 4), "objective.cost");
+    assert_eq!(refused_field(parts(), 0), "max_phases");
+    assert_eq!(refused_field(parts(), 1000), "max_phases");
+    let p = GeneralProblem::new(parts()).unwrap();
+    let g = check_problem(&p).unwrap();
+    match solve_general_phase(&p, &g, 4, Some(-1.0)) {
+        Err(Error::InvalidParameter { field, .. }) => assert_eq!(field, "time_limit"),
+        other => panic!("not refused: {other:?}"),
+    }
+}
