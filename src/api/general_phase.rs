@@ -42,9 +42,9 @@ pub struct GeneralPhaseOptimized {
     pub solution: GeneralPhaseGait,
 }
 
-/// The globally optimal exact gait of at most `K` phases of a problem file (`A = 0`, `f2 =
-/// none`), re-verified by the exact simulator. Errors name `dynamics.A`, `objective.cost`,
-/// `max_phases` or `time_limit`.
+/// The globally optimal exact gait of at most `K` phases of a problem file (`A = 0`; a
+/// quadratic `f2` by outer approximation), re-verified by the exact simulator. Errors name
+/// `dynamics.A`, `max_phases` or `time_limit`.
 pub fn optimize_general_phase(
     file: &GeneralFile,
     s: &GeneralPhaseSettings,

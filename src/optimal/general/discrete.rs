@@ -89,7 +89,7 @@ fn support(rows: &[Vec<f64>], offsets: &[f64], d: &[f64], what: &str) -> Result<
 }
 
 /// `max_{u in U} <d, u>`.
-fn support_u(u: &ControlSet, d: &[f64]) -> Result<f64> {
+pub(super) fn support_u(u: &ControlSet, d: &[f64]) -> Result<f64> {
     match u {
         ControlSet::Box { lower, upper } => Ok(d
             .iter()
@@ -387,7 +387,7 @@ pub(super) fn build(
 }
 
 /// `R` of a quadratic cost (`None` for `f2 = 0`).
-fn cost_matrix(cost: &GeneralCost, m: usize) -> Option<Vec<Vec<f64>>> {
+pub(super) fn cost_matrix(cost: &GeneralCost, m: usize) -> Option<Vec<Vec<f64>>> {
     match cost {
         GeneralCost::None => None,
         GeneralCost::Quadratic { weight } => Some(
@@ -400,7 +400,7 @@ fn cost_matrix(cost: &GeneralCost, m: usize) -> Option<Vec<Vec<f64>>> {
 }
 
 /// Most rounds of the outer approximation of a quadratic cost.
-const MAX_OA_ROUNDS: usize = 40;
+pub(super) const MAX_OA_ROUNDS: usize = 40;
 
 /// Solves P_m globally (module docs); `time_limit` in seconds.
 pub fn solve_general_pm(

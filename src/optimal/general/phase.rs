@@ -47,15 +47,22 @@
 //! `tau_j <= T y_j`, `s_{j,f} <= y_j` and `y_{j+1} <= y_j`, so unused phases come last (empty
 //! phases can always be moved to the end: they do not move `x`).
 //!
-//! A cost `f2` would enter as the perspective `tau_j f2(U_j / tau_j)`, which is not linear:
-//! refused (naming `objective.cost`).
+//! A quadratic cost `f2(u) = (1/2) u^T R u` (`R = c I` for `quadratic`) costs `tau_j f2(u_j)`
+//! per phase, the perspective `tau_j f2(U_j / tau_j)`: convex in `(U_j, tau_j)`, not linear. It
+//! enters by its outer approximation, as the crawler's phase method does: an epigraph variable
+//! `e_j >= 0` with, for cut points `u0`, `e_j >= (R u0) . U_j - f2(u0) tau_j` (the perspective's
+//! tangent plane: `f2(U / tau) >= f2(u0) + Df2(u0) (U / tau - u0)` times `tau`, with
+//! `Df2(u0) u0 = 2 f2(u0)`), and `-sum_j e_j` in the objective. Fewer cuts under-estimate the
+//! cost, so the MILP's bound stays a bound; the rates `u_j` of each solution become cut points
+//! until the true (replayed) `J` of the incumbent meets the bound within [`OA_TOL`] (status
+//! `approximation_limit` after [`MAX_OA_ROUNDS`] rounds).
 
-use super::discrete::{big_m, check_sets, reward_weights};
+use super::discrete::{big_m, check_sets, cost_matrix, reward_weights, support_u, MAX_OA_ROUNDS};
 use super::geometry::Geometry;
 use crate::error::{Error, Result};
 use crate::integrate::{simulate_general_exact, ControlInput, InputKind};
-use crate::model::general::{Boundary, ControlSet, GeneralCost, GeneralProblem};
-use crate::optimal::milp::{solve_max, Certificate, MilpStatus};
+use crate::model::general::{dot, Boundary, ControlSet, GeneralCost, GeneralProblem};
+use crate::optimal::milp::{solve_max, Certificate, MilpStatus, OA_TOL};
 use highs::{Col, RowProblem};
 use serde::Serialize;
 
@@ -86,6 +93,10 @@ pub struct GeneralPhaseGait {
     pub reactions: Vec<Vec<f64>>,
     /// The largest difference between the MILP's states and the replayed ones.
     pub state_gap: f64,
+    /// `int f2(u) dt` of the gait (0 without a cost).
+    pub actuation_cost: f64,
+    /// MILP solves (outer-approximation rounds for a quadratic cost, else 1).
+    pub rounds: usize,
 }
 
 /// Checks that the phase method applies to `p` with `k` phases.
@@ -95,14 +106,6 @@ pub fn check_general_phase(p: &GeneralProblem, g: &Geometry, k: usize) -> Result
             "dynamics.A",
             "non-zero",
             "the phase method needs A = 0 (piecewise-linear motion); use P_m (--method discrete)",
-        ));
-    }
-    if p.cost != GeneralCost::None {
-        return Err(Error::invalid(
-            "objective.cost",
-            "a cost",
-            "the phase method handles f2 = none only (the perspective tau f2(U / tau) is not \
-             linear); use P_m (--method discrete)",
         ));
     }
     if !(1..=MAX_GENERAL_PHASES).contains(&k) {
@@ -124,7 +127,12 @@ struct Layout {
     s: Vec<Vec<Col>>,
 }
 
-fn build(p: &GeneralProblem, g: &Geometry, k: usize) -> Result<(RowProblem, Layout)> {
+fn build(
+    p: &GeneralProblem,
+    g: &Geometry,
+    k: usize,
+    cuts: &[Vec<f64>],
+) -> Result<(RowProblem, Layout)> {
     let bm = big_m(p, g, 1.0)?;
     let (n, sigma, m) = (p.states(), p.c.faces(), p.controls());
     let t = p.period;
@@ -244,6 +252,18 @@ fn build(p: &GeneralProblem, g: &Geometry, k: usize) -> Result<(RowProblem, Layo
             pb.add_row(0.0..=0.0, row);
         }
     }
+    if let Some(r) = cost_matrix(&p.cost, m) {
+        for j in 0..k {
+            let e = pb.add_column(-1.0, 0.0..);
+            for u0 in cuts {
+                // e - (R u0) . U + f2(u0) tau >= 0.
+                let ru0: Vec<f64> = r.iter().map(|row| dot(row, u0)).collect();
+                let mut row = vec![(e, 1.0), (tau[j], 0.5 * dot(u0, &ru0))];
+                row.extend(us[j].iter().zip(&ru0).map(|(&c, &a)| (c, -a)));
+                pb.add_row(0.0..=f64::INFINITY, row);
+            }
+        }
+    }
     let x = (0..=k).map(x_at).collect();
     Ok((
         pb,
@@ -280,12 +300,41 @@ pub fn solve_general_phase(
 ) -> Result<GeneralPhaseGait> {
     check_general_phase(p, g, k)?;
     crate::optimal::check_time_limit(time_limit)?;
-    let (pb, lay) = build(p, g, k)?;
     let what = format!("the phase MILP of the general problem (K = {k})");
     let scale = p.c.scale();
-    let (cols, milp_objective, bound, status) =
-        solve_max(pb, time_limit, &what, None, 1e-9 * scale.max(1e-300))?;
-    verified(p, &lay, &cols, milp_objective, bound, status, k, &what)
+    let began = std::time::Instant::now();
+    // Initial cut points: 0 and the extreme values of each control component in U.
+    let mut cuts = vec![vec![0.0; p.controls()]];
+    for c in 0..p.controls() {
+        for sign in [1.0, -1.0] {
+            let mut d = vec![0.0; p.controls()];
+            d[c] = sign;
+            let mut u0 = vec![0.0; p.controls()];
+            u0[c] = sign * support_u(&p.control, &d)?;
+            cuts.push(u0);
+        }
+    }
+    let mut round = 0;
+    loop {
+        round += 1;
+        let (pb, lay) = build(p, g, k, &cuts)?;
+        let left = time_limit.map(|t| (t - began.elapsed().as_secs_f64()).max(1e-3));
+        let (cols, milp_objective, bound, status) =
+            solve_max(pb, left, &what, None, 1e-9 * scale.max(1e-300))?;
+        let mut sol = verified(p, &lay, &cols, milp_objective, bound, status, k, &what)?;
+        sol.rounds = round;
+        let done = p.cost == GeneralCost::None
+            || sol.certificate.gap <= OA_TOL
+            || status != MilpStatus::Optimal;
+        if done {
+            return Ok(sol);
+        }
+        if round >= MAX_OA_ROUNDS {
+            sol.certificate.status = MilpStatus::ApproximationLimit;
+            return Ok(sol);
+        }
+        cuts.extend(sol.controls.iter().cloned());
+    }
 }
 
 /// Reads the MILP's gait, replays its controls and durations in the exact simulator from its
@@ -377,7 +426,12 @@ fn verified(
         .flat_map(|(a, b)| a.iter().zip(b).map(|(a, b)| (a - b).abs()))
         .fold(0.0_f64, f64::max);
     let objective = sim.objective.unwrap_or(sim.reward - sim.cost);
-    let lp_reward: f64 = milp_objective;
+    let w = reward_weights(p);
+    let lp_reward: f64 = lay
+        .lam
+        .iter()
+        .map(|r| r.iter().zip(&w).map(|(c, w)| w * val(c)).sum::<f64>())
+        .sum();
     if (sim.reward - lp_reward).abs() > 1e-6 * (scale + lp_reward.abs()) || state_gap > 1e-6 * scale
     {
         return Err(Error::Numerical(format!(
@@ -414,5 +468,7 @@ fn verified(
         held,
         reactions,
         state_gap,
+        actuation_cost: sim.cost,
+        rounds: 1,
     })
 }

@@ -258,6 +258,14 @@ pub fn general_phase(r: &GeneralPhaseOptimized) -> String {
         num(c.bound, scale),
         c.gap
     );
+    if s.actuation_cost != 0.0 {
+        wln!(
+            out,
+            "int f2(u) dt = {}   ({} MILP rounds of the outer approximation)",
+            num(s.actuation_cost, scale),
+            s.rounds
+        );
+    }
     let xs = s
         .states
         .iter()
