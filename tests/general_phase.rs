@@ -246,6 +246,30 @@ fn a_quadratic_cost_by_outer_approximation() {
     }
 }
 
+#[test]
+fn a_cauchy_problem_from_a_face() {
+    // The one-link problem from x(0) = a = -1 with x(T) free, T = 10: with eta = lambda_b -
+    // lambda_a, J = (L_a + L_b)/2 (L the integrated reactions), and int |u| = L_a + L_b + the
+    // free travel <= T. Reactions on both faces need a travel of at least b - a = 2, so
+    // J <= (T - 2)/2 = 4, attained by 3 phases: slide on a (u = -1, 5 s), rise (u = 1, 2 s),
+    // slide on b (u = 1, 3 s), zero mean. (On one face only, its reaction is paid back by as
+    // much free travel: J <= T/4 = 2.5.)
+    let mut q = parts();
+    q.periodic = false;
+    q.initial_state = Some(vec![-1.0]);
+    let p = GeneralProblem::new(q).unwrap();
+    let g = check_problem(&p).unwrap();
+    for k in [3, 4] {
+        let s = solve_general_phase(&p, &g, k, None).unwrap();
+        assert_eq!(s.certificate.status, MilpStatus::Optimal);
+        assert!((s.objective - 4.0).abs() < 1e-7, "K = {k}: {}", s.objective);
+        assert!((s.states[0][0] + 1.0).abs() < 1e-12);
+        let (reward, gap, _) = replay(&p, &s);
+        assert!((reward - s.objective).abs() < 1e-9);
+        assert!(gap < 1e-9, "{gap:e}");
+    }
+}
+
 fn parts() -> GeneralParts {
     GeneralParts {
         normals: vec![vec![1.0], vec![-1.0]],
