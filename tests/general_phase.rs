@@ -247,6 +247,30 @@ fn a_quadratic_cost_by_outer_approximation() {
 }
 
 #[test]
+fn a_polytope_u_gives_the_box_optimum() {
+    // U = {u <= 1, -u <= 1} is the box [-1, 1]: the same J* = 3 with 4 phases, 0 with 3.
+    let mut q = parts();
+    q.lower = None;
+    q.upper = None;
+    q.g = Some(vec![vec![1.0], vec![-1.0]]);
+    q.h = Some(vec![1.0, 1.0]);
+    let p = GeneralProblem::new(q).unwrap();
+    let g = check_problem(&p).unwrap();
+    for (k, want) in [(3, 0.0), (4, 3.0)] {
+        let s = solve_general_phase(&p, &g, k, None).unwrap();
+        assert_eq!(s.certificate.status, MilpStatus::Optimal);
+        assert!(
+            (s.objective - want).abs() < 1e-7,
+            "K = {k}: {}",
+            s.objective
+        );
+        let (reward, gap, periodic) = replay(&p, &s);
+        assert!((reward - s.objective).abs() < 1e-9);
+        assert!(gap < 1e-9 && periodic < 1e-9, "{gap:e} {periodic:e}");
+    }
+}
+
+#[test]
 fn a_cauchy_problem_from_a_face() {
     // The one-link problem from x(0) = a = -1 with x(T) free, T = 10: with eta = lambda_b -
     // lambda_a, J = (L_a + L_b)/2 (L the integrated reactions), and int |u| = L_a + L_b + the
