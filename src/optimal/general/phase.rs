@@ -26,9 +26,10 @@
 //! `eta_j = g(u_j) - v_j = sum_f (L_{j,f} / tau_j) x*_f` (a non-negative combination of active
 //! normals) lies in `N_C(x(t))` throughout. So `x` solves `x' in -N_C(x) + g` on every phase,
 //! and solutions of the sweeping process are unique: it is *the* solution of its controls.
-//! Nothing asks that the faces not held carry no reaction nor that a held face does: if a
-//! face not held had to push, `x` would not be a solution, which it is; uniqueness is what makes
-//! the reactions of the MILP the process's. The reward is well defined: with the active normals
+//! So the MILP need not decide which faces must push: reactions sit only on held faces, a face
+//! not held gets none, and no other reaction is possible, since another would make another
+//! solution (a face not held that "ought" to push would contradict uniqueness). A held face
+//! with `L = 0` is harmless (the face is merely touched). The reward is well defined: with the active normals
 //! independent at every vertex of C (checked by `check_sets`, and so at every point of a
 //! bounded C, whose active sets are subsets of a vertex's), `eta` has one representation and
 //! `f1(eta_j) = sum_f w_f L_{j,f} / tau_j`, which integrates to the objective. A phase of
@@ -55,7 +56,7 @@
 //! `Df2(u0) u0 = 2 f2(u0)`), and `-sum_j e_j` in the objective. Fewer cuts under-estimate the
 //! cost, so the MILP's bound stays a bound; the rates `u_j` of each solution become cut points
 //! until the true (replayed) `J` of the incumbent meets the bound within [`OA_TOL`] (status
-//! `approximation_limit` after [`MAX_OA_ROUNDS`] rounds).
+//! `approximation_limit` after 40 rounds, as for P_m).
 
 use super::discrete::{big_m, check_sets, cost_matrix, reward_weights, support_u, MAX_OA_ROUNDS};
 use super::geometry::Geometry;
