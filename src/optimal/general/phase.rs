@@ -2,7 +2,7 @@
 //! SPEC §11): a mixed-integer linear program over gaits of at most `K` *phases*, each a
 //! stretch of constant control `u_j` and of held faces, solved globally in HiGHS and
 //! re-verified by the exact event-driven simulator
-//! ([`simulate_general_exact`](crate::integrate::simulate_general_exact)).
+//! ([`simulate_general_exact`]).
 //!
 //! With `g = B u + b`, phase `j` lasts `tau_j >= 0` (`sum_j tau_j = T`) and carries
 //! `U_j = tau_j u_j` and the integrated reactions `L_{j,f} = tau_j lambda_{j,f} >= 0`:
@@ -36,7 +36,7 @@
 //! `tau_j = 0` has `U_j = 0`, `L_j = 0`, `x_{j+1} = x_j`: nothing. So there is no
 //! discretisation error, and the optimum is global among gaits whose motion is a chain of at
 //! most `K` such phases. The paper's §4 one-link optimum needs 4 (free rise, slide on `b`, free
-//! fall, slide on `a`); a crawler step of [`crate::optimal::phase`] (a transition and a slip
+//! fall, slide on `a`); a crawler step of the crawler's phase method (a transition and a slip
 //! phase) is 2 phases here.
 //!
 //! The constants: `S_f = c_f - min_{x in C} <x*_f, x>` (C bounded), and `M = G / sigma_*` of
@@ -55,7 +55,7 @@
 //! tangent plane: `f2(U / tau) >= f2(u0) + Df2(u0) (U / tau - u0)` times `tau`, with
 //! `Df2(u0) u0 = 2 f2(u0)`), and `-sum_j e_j` in the objective. Fewer cuts under-estimate the
 //! cost, so the MILP's bound stays a bound; the rates `u_j` of each solution become cut points
-//! until the true (replayed) `J` of the incumbent meets the bound within [`OA_TOL`] (status
+//! until the true (replayed) `J` of the incumbent meets the bound within 1e-6 (`OA_TOL`; status
 //! `approximation_limit` after 40 rounds, as for P_m).
 
 use super::discrete::{big_m, check_sets, cost_matrix, reward_weights, support_u, MAX_OA_ROUNDS};
