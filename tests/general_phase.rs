@@ -97,8 +97,12 @@ fn the_one_link_problem_of_section_4() {
 
 #[test]
 fn crawler_instances_give_the_crawler_phase_optima() {
-    // A crawler step (a transition and a slip phase) is two general phases: the crawler's
-    // optimum over K steps is the general optimum over 2K phases.
+    // A crawler step (a transition and a slip phase) is two general phases, and a general
+    // phase is a transition or a slip phase, so crawler(K) <= general(2K) <= crawler(2K) steps.
+    // The two need not be equal: the crawler of stiffness (1, 2, 1.5), mu+ = (1, 1.2, 0.9, 1.1),
+    // mu- = (2.5, 3.1, 2.7, 2), unit rate bounds, T = 8 has crawler(3) = 3.0667 < general(6) =
+    // 3.0818 = crawler(4), its general gait two slip phases in a row, twice (measured, 20 s:
+    // not run here). On these instances they are equal (measured).
     let cases = [
         (
             Crawler::new(vec![1.0], vec![1.0, 1.0], vec![2.0, 2.0]).unwrap(),
@@ -128,6 +132,8 @@ fn crawler_instances_give_the_crawler_phase_optima() {
                 got.objective,
                 want.objective()
             );
+            let above = solve_phase_global(&crawler, &gp, 2 * k, Some(60.0)).unwrap();
+            assert!(got.objective <= above.objective() + 1e-7);
             let (reward, gap, periodic) = replay(&inst.problem, &got);
             assert!((reward - got.objective).abs() < 1e-9);
             assert!(gap < 1e-9 && periodic < 1e-9, "{gap:e} {periodic:e}");
