@@ -40,8 +40,9 @@
 //! phase) is 2 phases here, and a phase here is a transition or a slip phase, so on a crawler
 //! instance the crawler's optimum over `K` steps is at most this one over `2K` phases, which is
 //! at most the crawler's over `2K` steps. Not equal in general: for a crawler of 4 blocks with
-//! `T = 8` (measured; its parameters in `tests/general_phase.rs`), 3 crawler steps give 3.0667, 6 phases give 3.0818
-//! (two slip phases in a row, twice), which the crawler reaches with 4 steps.
+//! `T = 8` (measured; its parameters in `tests/general_phase.rs`), 3 crawler steps give
+//! 3.0667, 6 phases give 3.0818 (two slip phases in a row, twice), which the crawler reaches
+//! with 4 steps.
 //!
 //! The constants: `S_f = c_f - min_{x in C} <x*_f, x>` (C bounded), and `M = G / sigma_*` of
 //! [P_m](super::discrete) with `h = 1`. It bounds the true reaction rates: on a solution
