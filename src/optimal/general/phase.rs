@@ -29,9 +29,10 @@
 //! So the MILP need not decide which faces must push: reactions sit only on held faces, a face
 //! not held gets none, and no other reaction is possible, since another would make another
 //! solution (a face not held that "ought" to push would contradict uniqueness). A held face
-//! with `L = 0` is harmless (the face is merely touched). The reward is well defined: with the active normals
-//! independent at every vertex of C (checked by `check_sets`, and so at every point of a
-//! bounded C, whose active sets are subsets of a vertex's), `eta` has one representation and
+//! with `L = 0` is harmless (the face is merely touched). The reward is well defined: with the
+//! active normals independent at every vertex of C (checked by `check_sets`, and so at every
+//! point of a bounded C, whose active sets are subsets of a vertex's), `eta` has one
+//! representation and
 //! `f1(eta_j) = sum_f w_f L_{j,f} / tau_j`, which integrates to the objective. A phase of
 //! `tau_j = 0` has `U_j = 0`, `L_j = 0`, `x_{j+1} = x_j`: nothing. So there is no
 //! discretisation error, and the optimum is global among gaits whose motion is a chain of at
