@@ -232,7 +232,11 @@ fn optimize_solves_p_m_of_a_general_file() {
     assert_eq!(v["solution"]["certificate"]["status"], "optimal");
     assert_eq!(v["solution"]["u"].as_array().unwrap().len(), 4);
     for (args, want) in [
-        (&["--method", "phase"][..], "error: --method"),
+        (&["--method", "phase", "--m", "2"][..], "error: --m"),
+        (
+            &["--method", "phase", "--max-phases", "0"][..],
+            "error: --max-phases",
+        ),
         (&["--plot", "figures"][..], "error: --plot"),
         (&["--m", "11"][..], "error: --m"),
         (&["--m", "0"][..], "error: --m: must be at least 1"),
@@ -254,6 +258,56 @@ fn optimize_solves_p_m_of_a_general_file() {
     assert!(out.status.success(), "{}", stderr(&out));
     let v = json(&out);
     assert!(v["solution"]["objective"].as_f64().unwrap().is_finite());
+}
+
+#[test]
+fn optimize_method_phase_finds_the_exact_gait() {
+    // The one-link problem: J* = (T - 2 (b - a)) / 2 = 3 with 4 phases (free rise, slide on
+    // b, free fall, slide on a), two of them with a held face.
+    let out = crawlopt(&[
+        "optimize",
+        "examples/general_one_link.toml",
+        "--method",
+        "phase",
+        "--json",
+    ]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let v = json(&out);
+    assert_eq!(v["method"], "phase");
+    let j = v["solution"]["objective"].as_f64().unwrap();
+    assert!((j - 3.0).abs() < 1e-7, "{j}");
+    assert_eq!(v["solution"]["certificate"]["status"], "optimal");
+    let held = v["solution"]["held"].as_array().unwrap();
+    assert_eq!(held.len(), 4);
+    assert_eq!(
+        held.iter()
+            .filter(|h| !h.as_array().unwrap().is_empty())
+            .count(),
+        2
+    );
+    let out = crawlopt(&[
+        "optimize",
+        "examples/general_one_link.toml",
+        "--method",
+        "phase",
+        "--max-phases",
+        "3",
+    ]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    assert!(String::from_utf8_lossy(&out.stdout).contains("J = 0"));
+    // A != 0 is refused naming the field.
+    let out = crawlopt(&[
+        "optimize",
+        "examples/general_drift.toml",
+        "--method",
+        "phase",
+    ]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(
+        stderr(&out).starts_with("error: dynamics.A"),
+        "{}",
+        stderr(&out)
+    );
 }
 
 #[test]

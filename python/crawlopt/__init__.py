@@ -349,6 +349,7 @@ class GeneralProblem:
         time_limit: Optional[float] = None,
         certify: bool = False,
         progress: Progress = False,
+        max_phases: Optional[int] = None,
     ) -> dict:
         """The paper's P_m on 2^``m`` steps: ``method`` "discrete" (global MILP, with its
         certificate) or "local" (the LPCC active-set method from the file's ``[input]`` or
@@ -356,11 +357,24 @@ class GeneralProblem:
         ``objective`` (J re-verified by simulation), ``x``, ``u``, ``lambda``. ``certify``
         (discrete only) adds ``necessary_conditions``: Theorem 2.2's conditions on the optimum
         with their residuals and ``verdict`` (``crawlopt optimize --certify``). Ctrl-C stops it
-        (KeyboardInterrupt); ``progress`` as for ``optimize``."""
+        (KeyboardInterrupt); ``progress`` as for ``optimize``. ``method`` "phase" (where A = 0):
+        the exact continuous-time gait of at most ``max_phases`` phases (default 4), globally
+        (``crawlopt optimize --method phase``); its ``solution`` holds ``objective`` (J
+        re-verified by the exact simulation), ``durations``, ``controls``, ``states``,
+        ``held`` (faces, 1-based) and ``reactions`` per phase."""
         d = self._inner.optimize(
-            method, m, shifts, time_limit, certify, progress_callback(progress)
+            method,
+            m,
+            shifts,
+            time_limit,
+            certify,
+            progress_callback(progress),
+            max_phases,
         )
-        _arrays(d["solution"], ("x", "u", "lambda"))
+        if method == "phase":
+            _arrays(d["solution"], ("durations", "controls", "states", "reactions"))
+        else:
+            _arrays(d["solution"], ("x", "u", "lambda"))
         return d
 
 

@@ -93,6 +93,7 @@ class GeneralProblem:
         time_limit: Optional[float],
         certify: bool,
         progress: Optional[Callable[[str], None]],
+        max_phases: Optional[int],
     ) -> dict[str, Any]: ...
 
 def load(

@@ -5,7 +5,7 @@
 
 use crate::errors::to_py;
 use crate::run::run;
-use crawlopt::api::{self, GeneralLocalSettings, GeneralPmSettings};
+use crawlopt::api::{self, GeneralLocalSettings, GeneralPhaseSettings, GeneralPmSettings};
 use crawlopt::integrate::{GeneralMethod, GeneralSimOptions};
 use crawlopt::io::GeneralFile;
 use pyo3::prelude::*;
@@ -65,8 +65,9 @@ impl GeneralProblem {
 
     /// P_m of the problem (`crawlopt optimize --json`): `method` "discrete" (global MILP) or
     /// "local" (the LPCC active-set method, `shifts` rotations of each start); None takes the
-    /// library's default. Cancellable (Ctrl-C); `progress` receives the events.
-    #[pyo3(signature = (method, m, shifts, time_limit, certify, progress))]
+    /// library's default; "phase" (exact gaits of at most `max_phases` phases where `A = 0`,
+    /// globally). Cancellable (Ctrl-C); `progress` receives the events.
+    #[pyo3(signature = (method, m, shifts, time_limit, certify, progress, max_phases))]
     #[allow(clippy::too_many_arguments)]
     fn optimize<'py>(
         &self,
@@ -77,8 +78,14 @@ impl GeneralProblem {
         time_limit: Option<f64>,
         certify: bool,
         progress: Option<PyObject>,
+        max_phases: Option<usize>,
     ) -> PyResult<Bound<'py, PyAny>> {
         let f = self.inner.clone();
+        if max_phases.is_some() && method != "phase" {
+            let e =
+                crawlopt::Error::invalid("max_phases", "given", "applies to method=\"phase\" only");
+            return Err(to_py(py, e));
+        }
         match method {
             "discrete" | "auto" => {
                 if shifts.is_some() {
@@ -119,11 +126,32 @@ impl GeneralProblem {
                 })?;
                 Ok(pythonize::pythonize(py, &r)?)
             }
+            "phase" => {
+                let given = [
+                    ("m", m.is_some()),
+                    ("shifts", shifts.is_some()),
+                    ("certify", certify),
+                ];
+                if let Some((field, _)) = given.iter().find(|(_, g)| *g) {
+                    let e = crawlopt::Error::invalid(
+                        *field,
+                        "given",
+                        "does not apply to method=\"phase\" (max_phases, time_limit)",
+                    );
+                    return Err(to_py(py, e));
+                }
+                let s = GeneralPhaseSettings {
+                    max_phases: max_phases.unwrap_or(GeneralPhaseSettings::default().max_phases),
+                    time_limit,
+                };
+                let r = run(py, progress, |_| api::optimize_general_phase(&f, &s))?;
+                Ok(pythonize::pythonize(py, &r)?)
+            }
             other => {
                 let e = crawlopt::Error::invalid(
                     "method",
                     other,
-                    "must be \"discrete\" or \"local\" for a general problem",
+                    "must be \"discrete\", \"local\" or \"phase\" for a general problem",
                 );
                 Err(to_py(py, e))
             }

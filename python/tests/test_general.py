@@ -1,6 +1,6 @@
 """General problem files (``[sweeping_process]``, the paper's §2 problem (P)) from Python:
 ``crawlopt.load`` gives a GeneralProblem whose analysis, simulation and P_m (global and local)
-are the library's, with the closed form of the §4 one-link problem."""
+and exact phase gaits are the library's, with the closed form of the §4 one-link problem."""
 
 import crawlopt as co
 import numpy as np
@@ -55,13 +55,30 @@ def test_simulate_and_optimize_reach_the_closed_form():
     assert sol["x"].shape == (33, 1) and abs(sol["u"].sum()) < 1e-9
     assert [e["kind"] for e in events] == ["stage", "stage"]
 
+    # Exact continuous-time gaits (A = 0): J* with 4 phases (free rise, slide on b, free fall,
+    # slide on a), none with 3.
+    ph = p.optimize(method="phase")
+    sol = ph["solution"]
+    assert ph["method"] == "phase" and sol["max_phases"] == 4
+    assert sol["objective"] == pytest.approx(J_STAR, abs=1e-7)
+    assert sol["certificate"]["status"] == "optimal"
+    assert sol["durations"].sum() == pytest.approx(10.0, abs=1e-9)
+    assert sol["states"].shape == (5, 1) and sol["controls"].shape == (4, 1)
+    assert sum(1 for h in sol["held"] if h) == 2
+    assert p.optimize(method="phase", max_phases=3)["solution"]["objective"] == pytest.approx(
+        0.0, abs=1e-9
+    )
+
 
 def test_bad_arguments_raise_input_errors_naming_the_field():
     p = co.load(ONE_LINK)
     cases = [
         (lambda: p.optimize(m=11), "m"),
         (lambda: p.optimize(m=15, method="local"), "m"),
-        (lambda: p.optimize(method="phase"), "method"),
+        (lambda: p.optimize(method="sequence"), "method"),
+        (lambda: p.optimize(method="phase", max_phases=0), "max_phases"),
+        (lambda: p.optimize(method="phase", m=3), "m"),
+        (lambda: p.optimize(max_phases=4), "max_phases"),
         (lambda: p.optimize(shifts=2), "shifts"),
         (lambda: p.optimize(method="local", shifts=0), "shifts"),
         (lambda: p.optimize(method="local", certify=True), "certify"),

@@ -15,7 +15,8 @@
 //!   model parameters, in parallel), see [`crate::study`].
 //! - [`general`]: the general problem (P) of the paper's §2 (`[sweeping_process]` files):
 //!   [`analyze_general`], [`simulate_general`], [`optimize_general`] (P_m, globally),
-//!   [`optimize_general_local`] (P_m, locally).
+//!   [`optimize_general_local`] (P_m, locally), [`optimize_general_phase`] (exact gaits of at
+//!   most `K` phases where `A = 0`, globally).
 //!
 //! Progress arrives as [`Event`]s through [`Hooks`], which also carry a
 //! [`crate::progress::Cancel`] token that stops a job within a HiGHS callback.
@@ -36,6 +37,7 @@ mod bench;
 mod events;
 pub mod general;
 mod general_local;
+mod general_phase;
 mod optimize;
 mod settings;
 
@@ -49,6 +51,9 @@ pub use general::{
 pub use general_local::{
     optimize_general_local, optimize_general_with_hooks, GeneralLocalOptimized,
     GeneralLocalSettings,
+};
+pub use general_phase::{
+    optimize_general_phase, GeneralPhaseOptimized, GeneralPhaseSettings, DEFAULT_GENERAL_PHASES,
 };
 pub use optimize::{optimize, Optimized};
 pub use settings::{

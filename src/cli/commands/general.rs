@@ -105,12 +105,15 @@ pub fn simulate(file: &GeneralFile, a: &SimulateArgs) -> Result<ExitCode, Error>
 /// with `--certify` its necessary conditions, or locally (`--method local`).
 pub fn optimize(file: &GeneralFile, a: &OptimizeArgs) -> Result<ExitCode, Error> {
     let local = a.method == OptimizeMethod::Local;
+    if a.method == OptimizeMethod::Phase {
+        return optimize_phase(file, a);
+    }
     if !(local || matches!(a.method, OptimizeMethod::Auto | OptimizeMethod::Discrete)) {
         return Err(Error::invalid(
             "--method",
-            "phase or sequence",
-            "only discrete (P_m, globally) and local (P_m, locally) apply to a general problem \
-             file so far",
+            "sequence",
+            "only discrete (P_m, globally), local (P_m, locally) and phase (exact gaits where \
+             A = 0) apply to a general problem file",
         ));
     }
     let refused = [
@@ -167,6 +170,46 @@ pub fn optimize(file: &GeneralFile, a: &OptimizeArgs) -> Result<ExitCode, Error>
         if let Some(c) = &r.necessary_conditions {
             out(&text::general_certificate(c));
         }
+    }
+    Ok(ExitCode::SUCCESS)
+}
+
+/// `crawlopt optimize GENERAL.toml --method phase`: the exact gait of at most `--max-phases`
+/// phases, globally ([`crawlopt::api::optimize_general_phase`]).
+fn optimize_phase(file: &GeneralFile, a: &OptimizeArgs) -> Result<ExitCode, Error> {
+    let refused = [
+        ("--phases", a.phases.is_some()),
+        ("--patience", a.patience.is_some()),
+        ("--m", a.m.is_some()),
+        ("--convergence", a.convergence),
+        ("--start", a.start.is_some()),
+        ("--shifts", a.shifts.is_some()),
+        ("--certify", a.certify),
+        ("--plot", a.plot.is_some()),
+        ("--report", a.report.is_some()),
+    ];
+    if let Some((flag, _)) = refused.iter().find(|(_, given)| *given) {
+        return Err(Error::invalid(
+            *flag,
+            "given",
+            "does not apply to --method phase on a general problem file (--max-phases, \
+             --time-limit, --json)",
+        ));
+    }
+    let settings = api::GeneralPhaseSettings {
+        max_phases: a.max_phases.unwrap_or(api::DEFAULT_GENERAL_PHASES),
+        time_limit: a.time_limit,
+    };
+    let names = [
+        ("max_phases", "--max-phases"),
+        ("time_limit", "--time-limit"),
+    ];
+    let r = api::optimize_general_phase(file, &settings)
+        .map_err(|e| rename_fields(e, &names.map(|(f, flag)| (f, flag.to_string()))))?;
+    if a.json {
+        json_line(&r);
+    } else {
+        out(&text::general_phase(&r));
     }
     Ok(ExitCode::SUCCESS)
 }

@@ -62,8 +62,10 @@ pub struct GeneralPm {
 /// The big-M constants (module docs).
 #[derive(Debug, Clone, PartialEq)]
 pub(super) struct BigM {
-    slack: Vec<f64>,
-    multiplier: f64,
+    /// `S_j`, the largest slack of face `j` over C.
+    pub(super) slack: Vec<f64>,
+    /// `M_mu` (with `h = 1`: a bound on the reaction rates `lambda_j`).
+    pub(super) multiplier: f64,
 }
 
 /// `max_{x in C} <d, x>` (C bounded).
@@ -87,7 +89,7 @@ fn support(rows: &[Vec<f64>], offsets: &[f64], d: &[f64], what: &str) -> Result<
 }
 
 /// `max_{u in U} <d, u>`.
-fn support_u(u: &ControlSet, d: &[f64]) -> Result<f64> {
+pub(super) fn support_u(u: &ControlSet, d: &[f64]) -> Result<f64> {
     match u {
         ControlSet::Box { lower, upper } => Ok(d
             .iter()
@@ -98,7 +100,7 @@ fn support_u(u: &ControlSet, d: &[f64]) -> Result<f64> {
     }
 }
 
-fn big_m(p: &GeneralProblem, g: &Geometry, h: f64) -> Result<BigM> {
+pub(super) fn big_m(p: &GeneralProblem, g: &Geometry, h: f64) -> Result<BigM> {
     let c = &p.c;
     let mut slack = Vec::with_capacity(c.faces());
     for j in 0..c.faces() {
@@ -147,7 +149,7 @@ fn big_m(p: &GeneralProblem, g: &Geometry, h: f64) -> Result<BigM> {
 }
 
 /// The coefficient of `mu_j` in `f1` (module docs).
-fn reward_weights(p: &GeneralProblem) -> Vec<f64> {
+pub(super) fn reward_weights(p: &GeneralProblem) -> Vec<f64> {
     match &p.reward {
         Reward::FaceWeights(w) => w.clone(),
         Reward::ReactionWeights(q) => p.c.normals.iter().map(|n| dot(q, n)).collect(),
@@ -385,7 +387,7 @@ pub(super) fn build(
 }
 
 /// `R` of a quadratic cost (`None` for `f2 = 0`).
-fn cost_matrix(cost: &GeneralCost, m: usize) -> Option<Vec<Vec<f64>>> {
+pub(super) fn cost_matrix(cost: &GeneralCost, m: usize) -> Option<Vec<Vec<f64>>> {
     match cost {
         GeneralCost::None => None,
         GeneralCost::Quadratic { weight } => Some(
@@ -398,7 +400,7 @@ fn cost_matrix(cost: &GeneralCost, m: usize) -> Option<Vec<Vec<f64>>> {
 }
 
 /// Most rounds of the outer approximation of a quadratic cost.
-const MAX_OA_ROUNDS: usize = 40;
+pub(super) const MAX_OA_ROUNDS: usize = 40;
 
 /// Solves P_m globally (module docs); `time_limit` in seconds.
 pub fn solve_general_pm(

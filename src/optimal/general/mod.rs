@@ -1,11 +1,14 @@
 //! The general problem (P) of the paper's §2 (SPEC §11): the geometry of its polyhedron by
 //! linear programs (the Chebyshev centre, boundedness, redundant faces, vertices) and the
 //! checks that need them; the paper's P_m globally as a MILP and locally by the active-set
-//! method on its LPCC, both re-verified by the general simulator.
+//! method on its LPCC, both re-verified by the general simulator; where `A = 0`, exact
+//! continuous-time gaits of at most `K` phases globally ([`phase`]), re-verified by the exact
+//! simulator.
 
 pub mod discrete;
 pub mod geometry;
 pub mod local;
+pub mod phase;
 
 pub use discrete::{solve_general_branch, solve_general_pm, GeneralPm, MAX_GENERAL_M};
 pub use geometry::{
@@ -15,3 +18,4 @@ pub use local::{
     check_general_local, default_starts, grid_controls, solve_general_local, GeneralLocal,
     MAX_GENERAL_LOCAL_M,
 };
+pub use phase::{check_general_phase, solve_general_phase, GeneralPhaseGait, MAX_GENERAL_PHASES};

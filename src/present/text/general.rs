@@ -4,7 +4,7 @@
 
 use super::{list, max_abs, num, wln};
 use crate::api::general::{CheckStatus, GeneralAnalysis, GeneralOptimized, GeneralSimulated};
-use crate::api::GeneralLocalOptimized;
+use crate::api::{GeneralLocalOptimized, GeneralPhaseOptimized};
 use crate::model::general::{Boundary, ControlSet, GeneralCost, GeneralProblem, Reward};
 use crate::optimal::LocalStop;
 
@@ -215,6 +215,62 @@ pub fn general_optimum(r: &GeneralOptimized) -> String {
         c.gap
     );
     steps(&mut out, &s.x, &s.u);
+    out
+}
+
+/// The exact gait of at most `K` phases ([`crate::api::optimize_general_phase`]): the
+/// certificate, then per phase its duration, start state, control and held faces.
+pub fn general_phase(r: &GeneralPhaseOptimized) -> String {
+    let mut out = String::new();
+    let s = &r.solution;
+    let c = &s.certificate;
+    let scale = s.objective.abs().max(c.bound.abs()).max(1e-300);
+    wln!(
+        out,
+        "exact gait of at most {} phases (T = {}), global MILP: {}",
+        s.max_phases,
+        num(r.period, 0.0),
+        super::status_word(c.status)
+    );
+    wln!(
+        out,
+        "J = {}   (verified by the exact simulation; MILP {}, bound {}, gap {:.3e})",
+        num(s.objective, scale),
+        num(c.milp_objective, scale),
+        num(c.bound, scale),
+        c.gap
+    );
+    if s.actuation_cost != 0.0 {
+        wln!(
+            out,
+            "int f2(u) dt = {}   ({} MILP rounds of the outer approximation)",
+            num(s.actuation_cost, scale),
+            s.rounds
+        );
+    }
+    let xs = s
+        .states
+        .iter()
+        .flatten()
+        .fold(0.0_f64, |m, v| m.max(v.abs()))
+        .max(1e-300);
+    let us = s
+        .controls
+        .iter()
+        .flatten()
+        .fold(0.0_f64, |m, v| m.max(v.abs()))
+        .max(1e-300);
+    for (j, u) in s.controls.iter().enumerate() {
+        wln!(
+            out,
+            "  phase {:>3}: tau = {}  x = {}  u = {}  held faces {:?}",
+            j + 1,
+            num(s.durations[j], r.period),
+            list(&s.states[j], xs),
+            list(u, us),
+            s.held[j]
+        );
+    }
     out
 }
 

@@ -19,7 +19,9 @@ mod simulation;
 pub use analysis::{analysis, gait_problem};
 use gait::conditions_head;
 pub use gait::{certificate, gait_result, phase_step};
-pub use general::{general_analysis, general_local, general_optimum, general_simulation};
+pub use general::{
+    general_analysis, general_local, general_optimum, general_phase, general_simulation,
+};
 pub use general_certify::general_certificate;
 pub use simulation::simulation;
 

@@ -1,0 +1,481 @@
+//! Exact continuous-time gaits of the general problem (P) where `A = 0` (SPEC §7 generalised,
+//! SPEC §11): a mixed-integer linear program over gaits of at most `K` *phases*, each a
+//! stretch of constant control `u_j` and of held faces, solved globally in HiGHS and
+//! re-verified by the exact event-driven simulator
+//! ([`simulate_general_exact`]).
+//!
+//! With `g = B u + b`, phase `j` lasts `tau_j >= 0` (`sum_j tau_j = T`) and carries
+//! `U_j = tau_j u_j` and the integrated reactions `L_{j,f} = tau_j lambda_{j,f} >= 0`:
+//!
+//! ```text
+//! maximise   sum_{j,f} w_f L_{j,f}
+//! subject to x_{j+1} = x_j + B U_j + b tau_j - sum_f L_{j,f} x*_f,   x_j in C,   x_K = x_0
+//!            U_j in tau_j U  (box: lower tau_j <= U_j <= upper tau_j; polytope: G U_j <= h tau_j)
+//!            sum_j U_j = 0   (zero mean)
+//!            L_{j,f} <= M tau_j,   L_{j,f} <= M T s_{j,f}
+//!            s_{j,f} = 1  =>  <x*_f, x_j> = c_f = <x*_f, x_{j+1}>   (big-M S_f)
+//! ```
+//!
+//! `w_f` are the face weights (for `f1 = <q, eta>`, `w_f = <q, x*_f>`, as P_m does). `x_0` is
+//! fixed for a Cauchy problem and `x_K` is then free.
+//!
+//! **Every feasible point is the exact solution.** On phase `j` (`tau_j > 0`) put
+//! `x(t) = x_j + (t - t_j) v_j` with `v_j = (x_{j+1} - x_j) / tau_j`: a segment between two
+//! points of C, so in C (convexity). A face with `L_{j,f} > 0` has `s_{j,f} = 1`, so both ends
+//! lie on it; `<x*_f, x(t)>` is affine in `t`, so the face is active along the whole phase, and
+//! `eta_j = g(u_j) - v_j = sum_f (L_{j,f} / tau_j) x*_f` (a non-negative combination of active
+//! normals) lies in `N_C(x(t))` throughout. So `x` solves `x' in -N_C(x) + g` on every phase,
+//! and solutions of the sweeping process are unique: it is *the* solution of its controls.
+//! So the MILP need not decide which faces must push: reactions sit only on held faces, a face
+//! not held gets none, and no other reaction is possible, since another would make another
+//! solution (a face not held that "ought" to push would contradict uniqueness). A held face
+//! with `L = 0` is harmless (the face is merely touched). The reward is well defined: with the
+//! active normals independent at every vertex of C (checked by `check_sets`, and so at every
+//! point of a bounded C, whose active sets are subsets of a vertex's), `eta` has one
+//! representation and
+//! `f1(eta_j) = sum_f w_f L_{j,f} / tau_j`, which integrates to the objective. A phase of
+//! `tau_j = 0` has `U_j = 0`, `L_j = 0`, `x_{j+1} = x_j`: nothing. So there is no
+//! discretisation error, and the optimum is global among gaits whose motion is a chain of at
+//! most `K` such phases. The paper's §4 one-link optimum needs 4 (free rise, slide on `b`, free
+//! fall, slide on `a`); a crawler step of the crawler's phase method (a transition and a slip
+//! phase) is 2 phases here, and a phase here is a transition or a slip phase, so on a crawler
+//! instance the crawler's optimum over `K` steps is at most this one over `2K` phases, which is
+//! at most the crawler's over `2K` steps. Not equal in general: for a crawler of 4 blocks with
+//! `T = 8` (measured; its parameters in `tests/general_phase.rs`), 3 crawler steps give
+//! 3.0667, 6 phases give 3.0818 (two slip phases in a row, twice), which the crawler reaches
+//! with 4 steps.
+//!
+//! The constants: `S_f = c_f - min_{x in C} <x*_f, x>` (C bounded), and `M = G / sigma_*` of
+//! [P_m](super::discrete) with `h = 1`. It bounds the true reaction rates: on a solution
+//! `eta = g - Proj_{T_C(x)}(g) = Proj_{N_C(x)}(g)`, so `|eta| <= |g| <= G` and
+//! `|lambda| <= |eta| / sigma_*`; since every feasible point is a solution, the bound cuts none.
+//!
+//! Symmetry is broken where it costs `K` binaries: a binary `y_j` per phase with
+//! `tau_j <= T y_j`, `s_{j,f} <= y_j` and `y_{j+1} <= y_j`, so unused phases come last (empty
+//! phases can always be moved to the end: they do not move `x`).
+//!
+//! A quadratic cost `f2(u) = (1/2) u^T R u` (`R = c I` for `quadratic`) costs `tau_j f2(u_j)`
+//! per phase, the perspective `tau_j f2(U_j / tau_j)`: convex in `(U_j, tau_j)`, not linear. It
+//! enters by its outer approximation, as the crawler's phase method does: an epigraph variable
+//! `e_j >= 0` with, for cut points `u0`, `e_j >= (R u0) . U_j - f2(u0) tau_j` (the perspective's
+//! tangent plane: `f2(U / tau) >= f2(u0) + Df2(u0) (U / tau - u0)` times `tau`, with
+//! `Df2(u0) u0 = 2 f2(u0)`), and `-sum_j e_j` in the objective. Fewer cuts under-estimate the
+//! cost, so the MILP's bound stays a bound; the rates `u_j` of each solution become cut points
+//! until the true (replayed) `J` of the incumbent meets the bound within 1e-6 (`OA_TOL`; status
+//! `approximation_limit` after 40 rounds, as for P_m).
+
+use super::discrete::{big_m, check_sets, cost_matrix, reward_weights, support_u, MAX_OA_ROUNDS};
+use super::geometry::Geometry;
+use crate::error::{Error, Result};
+use crate::integrate::{simulate_general_exact, ControlInput, InputKind};
+use crate::model::general::{dot, Boundary, ControlSet, GeneralCost, GeneralProblem};
+use crate::optimal::milp::{solve_max, Certificate, MilpStatus, OA_TOL};
+use highs::{Col, RowProblem};
+use serde::Serialize;
+
+/// Largest `K` of the general phase method.
+pub const MAX_GENERAL_PHASES: usize = 24;
+
+/// Phases shorter than this times `T` are dropped from the answer (the MILP's zero durations).
+const EMPTY_PHASE: f64 = 1e-12;
+
+/// A globally optimal gait among those of at most `K` phases, re-verified.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct GeneralPhaseGait {
+    /// `K`, the phases allowed.
+    pub max_phases: usize,
+    /// `J` of the gait as the exact simulator replays it.
+    pub objective: f64,
+    /// The MILP's status, objective, bound (on `J` over gaits of at most `K` phases) and gap.
+    pub certificate: Certificate,
+    /// Durations `tau_j` of the phases used (empty ones removed), in time order.
+    pub durations: Vec<f64>,
+    /// Controls `u_j = U_j / tau_j` per phase.
+    pub controls: Vec<Vec<f64>>,
+    /// States `x_j` at the phase starts and the end, as replayed.
+    pub states: Vec<Vec<f64>>,
+    /// Faces held per phase (1-based).
+    pub held: Vec<Vec<usize>>,
+    /// Reaction rates `lambda_{j,f} = L_{j,f} / tau_j` per phase and face.
+    pub reactions: Vec<Vec<f64>>,
+    /// The largest difference between the MILP's states and the replayed ones.
+    pub state_gap: f64,
+    /// `int f2(u) dt` of the gait (0 without a cost).
+    pub actuation_cost: f64,
+    /// MILP solves (outer-approximation rounds for a quadratic cost, else 1).
+    pub rounds: usize,
+}
+
+/// Checks that the phase method applies to `p` with `k` phases.
+pub fn check_general_phase(p: &GeneralProblem, g: &Geometry, k: usize) -> Result<()> {
+    if !p.dynamics.is_state_independent() {
+        return Err(Error::invalid(
+            "dynamics.A",
+            "non-zero",
+            "the phase method needs A = 0 (piecewise-linear motion); use P_m (--method discrete)",
+        ));
+    }
+    if !(1..=MAX_GENERAL_PHASES).contains(&k) {
+        return Err(Error::invalid(
+            "max_phases",
+            k,
+            format!("must be in 1..={MAX_GENERAL_PHASES}"),
+        ));
+    }
+    check_sets(p, g, "the phase method")
+}
+
+/// The columns of the phase MILP.
+struct Layout {
+    x: Vec<Vec<Col>>,
+    tau: Vec<Col>,
+    u: Vec<Vec<Col>>,
+    lam: Vec<Vec<Col>>,
+    s: Vec<Vec<Col>>,
+}
+
+fn build(
+    p: &GeneralProblem,
+    g: &Geometry,
+    k: usize,
+    cuts: &[Vec<f64>],
+) -> Result<(RowProblem, Layout)> {
+    let bm = big_m(p, g, 1.0)?;
+    let (n, sigma, m) = (p.states(), p.c.faces(), p.controls());
+    let t = p.period;
+    let w = reward_weights(p);
+    let free = || f64::NEG_INFINITY..f64::INFINITY;
+    let mut pb = RowProblem::default();
+    let nx = match p.boundary {
+        Boundary::Periodic => k,
+        Boundary::Initial(_) => k + 1,
+    };
+    let xs: Vec<Vec<Col>> = (0..nx)
+        .map(|i| match &p.boundary {
+            Boundary::Initial(x0) if i == 0 => {
+                x0.iter().map(|&v| pb.add_column(0.0, v..=v)).collect()
+            }
+            _ => (0..n).map(|_| pb.add_column(0.0, free())).collect(),
+        })
+        .collect();
+    let x_at = |i: usize| xs[i % nx].clone();
+    let tau: Vec<Col> = (0..k).map(|_| pb.add_column(0.0, 0.0..=t)).collect();
+    let y: Vec<Col> = (0..k).map(|_| pb.add_integer_column(0.0, 0..=1)).collect();
+    let us: Vec<Vec<Col>> = (0..k)
+        .map(|_| (0..m).map(|_| pb.add_column(0.0, free())).collect())
+        .collect();
+    let lam: Vec<Vec<Col>> = (0..k)
+        .map(|_| {
+            (0..sigma)
+                .map(|f| pb.add_column(w[f], 0.0..=bm.multiplier * t))
+                .collect()
+        })
+        .collect();
+    let s: Vec<Vec<Col>> = (0..k)
+        .map(|_| {
+            (0..sigma)
+                .map(|_| pb.add_integer_column(0.0, 0..=1))
+                .collect()
+        })
+        .collect();
+    pb.add_row(t..=t, tau.iter().map(|&c| (c, 1.0)).collect::<Vec<_>>());
+    for j in 0..k {
+        // tau_j <= T y_j, y_{j+1} <= y_j.
+        pb.add_row(..=0.0, [(tau[j], 1.0), (y[j], -t)]);
+        if j + 1 < k {
+            pb.add_row(..=0.0, [(y[j + 1], 1.0), (y[j], -1.0)]);
+        }
+        match &p.control {
+            ControlSet::Box { lower, upper } => {
+                for c in 0..m {
+                    pb.add_row(..=0.0, [(us[j][c], 1.0), (tau[j], -upper[c])]);
+                    pb.add_row(0.0.., [(us[j][c], 1.0), (tau[j], -lower[c])]);
+                }
+            }
+            ControlSet::Polytope(u) => {
+                for f in 0..u.faces() {
+                    let mut row: Vec<_> = us[j]
+                        .iter()
+                        .zip(&u.normals[f])
+                        .map(|(&c, &a)| (c, a))
+                        .collect();
+                    row.push((tau[j], -u.offsets[f]));
+                    pb.add_row(..=0.0, row);
+                }
+            }
+        }
+        // x_{j+1} - x_j - B U_j - b tau_j + sum_f L_{j,f} x*_f = 0.
+        let (xj, xn) = (x_at(j), x_at(j + 1));
+        for r in 0..n {
+            let mut row = vec![(xn[r], 1.0), (xj[r], -1.0)];
+            for c in 0..m {
+                let b = p.dynamics.b[r][c];
+                if b != 0.0 {
+                    row.push((us[j][c], -b));
+                }
+            }
+            if p.dynamics.drift[r] != 0.0 {
+                row.push((tau[j], -p.dynamics.drift[r]));
+            }
+            for f in 0..sigma {
+                let a = p.c.normals[f][r];
+                if a != 0.0 {
+                    row.push((lam[j][f], a));
+                }
+            }
+            pb.add_row(0.0..=0.0, merged(row));
+        }
+        for f in 0..sigma {
+            let c = p.c.offsets[f];
+            pb.add_row(..=0.0, [(lam[j][f], 1.0), (tau[j], -bm.multiplier)]);
+            pb.add_row(..=0.0, [(lam[j][f], 1.0), (s[j][f], -bm.multiplier * t)]);
+            pb.add_row(..=0.0, [(s[j][f], 1.0), (y[j], -1.0)]);
+            // <x*_f, x> - S_f s >= c_f - S_f at both ends.
+            for end in [&xj, &xn] {
+                let mut row: Vec<_> = end
+                    .iter()
+                    .zip(&p.c.normals[f])
+                    .map(|(&col, &a)| (col, a))
+                    .collect();
+                row.push((s[j][f], -bm.slack[f]));
+                pb.add_row(c - bm.slack[f]..=f64::INFINITY, row);
+            }
+        }
+    }
+    // Every x_j in C (x_K is x_0 when periodic).
+    for xj in &xs {
+        for f in 0..sigma {
+            let row: Vec<_> = xj
+                .iter()
+                .zip(&p.c.normals[f])
+                .map(|(&col, &a)| (col, a))
+                .collect();
+            pb.add_row(..=p.c.offsets[f], row);
+        }
+    }
+    if p.zero_mean {
+        for c in 0..m {
+            let row: Vec<_> = us.iter().map(|u| (u[c], 1.0)).collect();
+            pb.add_row(0.0..=0.0, row);
+        }
+    }
+    if let Some(r) = cost_matrix(&p.cost, m) {
+        for j in 0..k {
+            let e = pb.add_column(-1.0, 0.0..);
+            for u0 in cuts {
+                // e - (R u0) . U + f2(u0) tau >= 0.
+                let ru0: Vec<f64> = r.iter().map(|row| dot(row, u0)).collect();
+                let mut row = vec![(e, 1.0), (tau[j], 0.5 * dot(u0, &ru0))];
+                row.extend(us[j].iter().zip(&ru0).map(|(&c, &a)| (c, -a)));
+                pb.add_row(0.0..=f64::INFINITY, row);
+            }
+        }
+    }
+    let x = (0..=k).map(x_at).collect();
+    Ok((
+        pb,
+        Layout {
+            x,
+            tau,
+            u: us,
+            lam,
+            s,
+        },
+    ))
+}
+
+/// `row` with the coefficients of a repeated column summed (with `K = 1` and a periodic
+/// problem `x_1` is `x_0`), which HiGHS would refuse.
+fn merged(row: Vec<(Col, f64)>) -> Vec<(Col, f64)> {
+    let mut out: Vec<(Col, f64)> = Vec::with_capacity(row.len());
+    for (c, a) in row {
+        match out.iter_mut().find(|(d, _)| d.index() == c.index()) {
+            Some(e) => e.1 += a,
+            None => out.push((c, a)),
+        }
+    }
+    out
+}
+
+/// The globally optimal gait among those of at most `k` phases (module docs), re-verified by
+/// the exact simulator; `time_limit` in seconds.
+pub fn solve_general_phase(
+    p: &GeneralProblem,
+    g: &Geometry,
+    k: usize,
+    time_limit: Option<f64>,
+) -> Result<GeneralPhaseGait> {
+    check_general_phase(p, g, k)?;
+    crate::optimal::check_time_limit(time_limit)?;
+    let what = format!("the phase MILP of the general problem (K = {k})");
+    let scale = p.c.scale();
+    let began = std::time::Instant::now();
+    // Initial cut points: 0 and the extreme values of each control component in U.
+    let mut cuts = vec![vec![0.0; p.controls()]];
+    for c in 0..p.controls() {
+        for sign in [1.0, -1.0] {
+            let mut d = vec![0.0; p.controls()];
+            d[c] = sign;
+            let mut u0 = vec![0.0; p.controls()];
+            u0[c] = sign * support_u(&p.control, &d)?;
+            cuts.push(u0);
+        }
+    }
+    let mut round = 0;
+    loop {
+        round += 1;
+        let (pb, lay) = build(p, g, k, &cuts)?;
+        let left = time_limit.map(|t| (t - began.elapsed().as_secs_f64()).max(1e-3));
+        let (cols, milp_objective, bound, status) =
+            solve_max(pb, left, &what, None, 1e-9 * scale.max(1e-300))?;
+        let mut sol = verified(p, &lay, &cols, milp_objective, bound, status, k, &what)?;
+        sol.rounds = round;
+        let done = p.cost == GeneralCost::None
+            || sol.certificate.gap <= OA_TOL
+            || status != MilpStatus::Optimal;
+        if done {
+            return Ok(sol);
+        }
+        if round >= MAX_OA_ROUNDS {
+            sol.certificate.status = MilpStatus::ApproximationLimit;
+            return Ok(sol);
+        }
+        cuts.extend(sol.controls.iter().cloned());
+    }
+}
+
+/// Reads the MILP's gait, replays its controls and durations in the exact simulator from its
+/// `x_0` (a Cauchy problem over one period) and checks the replay against the MILP: `int f1`
+/// and the states at the phase boundaries (and `x(T) = x(0)` when periodic), within `1e-6`
+/// relative; a disagreement is an error naming `what`.
+#[allow(clippy::too_many_arguments)]
+fn verified(
+    p: &GeneralProblem,
+    lay: &Layout,
+    cols: &[f64],
+    milp_objective: f64,
+    bound: f64,
+    status: MilpStatus,
+    k: usize,
+    what: &str,
+) -> Result<GeneralPhaseGait> {
+    let val = |c: &Col| cols[c.index()];
+    let t = p.period;
+    let scale = p.c.scale();
+    let mut durations = Vec::new();
+    let mut controls = Vec::new();
+    let mut held = Vec::new();
+    let mut reactions = Vec::new();
+    let mut milp_states = vec![lay.x[0].iter().map(val).collect::<Vec<f64>>()];
+    for j in 0..lay.tau.len() {
+        let tau = val(&lay.tau[j]);
+        if tau <= EMPTY_PHASE * t {
+            continue;
+        }
+        let u: Vec<f64> = lay.u[j].iter().map(|c| val(c) / tau).collect();
+        // Clipped into a box U against the solver's feasibility tolerance.
+        let u = match &p.control {
+            ControlSet::Box { lower, upper } => u
+                .iter()
+                .zip(lower.iter().zip(upper))
+                .map(|(v, (lo, hi))| v.clamp(*lo, *hi))
+                .collect(),
+            ControlSet::Polytope(_) => u,
+        };
+        durations.push(tau);
+        controls.push(u);
+        held.push(
+            (0..lay.s[j].len())
+                .filter(|&f| val(&lay.s[j][f]) > 0.5)
+                .map(|f| f + 1)
+                .collect(),
+        );
+        reactions.push(lay.lam[j].iter().map(|c| val(c) / tau).collect());
+        milp_states.push(lay.x[j + 1].iter().map(val).collect());
+    }
+    if durations.is_empty() {
+        return Err(Error::Numerical(format!(
+            "{what}: no phase of positive duration"
+        )));
+    }
+    let total: f64 = durations.iter().sum();
+    let mut times = Vec::with_capacity(durations.len());
+    let mut at = 0.0;
+    for d in &durations {
+        times.push(at);
+        at += d;
+    }
+    let input = ControlInput::new(
+        InputKind::PiecewiseConstant,
+        total,
+        times.clone(),
+        controls.clone(),
+        &p.control,
+        "phase controls",
+    )?;
+    let mut cauchy = p.clone();
+    cauchy.period = total;
+    cauchy.boundary = Boundary::Initial(milp_states[0].clone());
+    let sim = simulate_general_exact(&cauchy, &input, &milp_states[0], 1, 1e-12)?;
+    // The states at the knots (the simulator records each knot's time exactly) and the end.
+    let mut states = Vec::with_capacity(durations.len() + 1);
+    for &tk in times.iter().skip(1) {
+        let i = sim.t.iter().position(|&s| s == tk).ok_or_else(|| {
+            Error::Numerical(format!("{what}: the replay has no state at t = {tk}"))
+        })?;
+        states.push(sim.x[i].clone());
+    }
+    states.insert(0, sim.x[0].clone());
+    states.push(sim.x.last().expect("events").clone());
+    let state_gap = states
+        .iter()
+        .zip(&milp_states)
+        .flat_map(|(a, b)| a.iter().zip(b).map(|(a, b)| (a - b).abs()))
+        .fold(0.0_f64, f64::max);
+    let objective = sim.objective.unwrap_or(sim.reward - sim.cost);
+    let w = reward_weights(p);
+    let lp_reward: f64 = lay
+        .lam
+        .iter()
+        .map(|r| r.iter().zip(&w).map(|(c, w)| w * val(c)).sum::<f64>())
+        .sum();
+    if (sim.reward - lp_reward).abs() > 1e-6 * (scale + lp_reward.abs()) || state_gap > 1e-6 * scale
+    {
+        return Err(Error::Numerical(format!(
+            "{what}: the gait replayed gives int f1 = {} (MILP {lp_reward}) and states off by \
+             {state_gap:e}",
+            sim.reward
+        )));
+    }
+    if p.boundary == Boundary::Periodic {
+        let gap = states
+            .last()
+            .expect("states")
+            .iter()
+            .zip(&states[0])
+            .fold(0.0_f64, |d, (a, b)| d.max((a - b).abs()));
+        if gap > 1e-6 * scale {
+            return Err(Error::Numerical(format!(
+                "{what}: the replayed gait is not periodic (x(T) - x(0) = {gap:e})"
+            )));
+        }
+    }
+    Ok(GeneralPhaseGait {
+        max_phases: k,
+        objective,
+        certificate: Certificate {
+            status,
+            milp_objective,
+            bound,
+            gap: Certificate::gap_of(bound, objective),
+        },
+        durations,
+        controls,
+        states,
+        held,
+        reactions,
+        state_gap,
+        actuation_cost: sim.cost,
+        rounds: 1,
+    })
+}
