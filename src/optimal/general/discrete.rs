@@ -402,6 +402,22 @@ pub(super) fn cost_matrix(cost: &GeneralCost, m: usize) -> Option<Vec<Vec<f64>>>
 /// Most rounds of the outer approximation of a quadratic cost.
 pub(super) const MAX_OA_ROUNDS: usize = 40;
 
+/// The first cut points of a quadratic cost's outer approximation (P_m and phase gaits): 0 and
+/// the extreme values of each control component in U.
+pub(super) fn initial_cuts(p: &GeneralProblem) -> Result<Vec<Vec<f64>>> {
+    let mut cuts = vec![vec![0.0; p.controls()]];
+    for k in 0..p.controls() {
+        for sign in [1.0, -1.0] {
+            let mut d = vec![0.0; p.controls()];
+            d[k] = sign;
+            let mut u0 = vec![0.0; p.controls()];
+            u0[k] = sign * support_u(&p.control, &d)?;
+            cuts.push(u0);
+        }
+    }
+    Ok(cuts)
+}
+
 /// Solves P_m globally (module docs); `time_limit` in seconds.
 pub fn solve_general_pm(
     p: &GeneralProblem,
@@ -417,17 +433,7 @@ pub fn solve_general_pm(
     let what = format!("P_{m} of the general problem");
     let scale = p.c.scale();
     let began = std::time::Instant::now();
-    // Initial cut points: 0 and the extreme values of each control component in U.
-    let mut cuts = vec![vec![0.0; p.controls()]];
-    for k in 0..p.controls() {
-        for sign in [1.0, -1.0] {
-            let mut d = vec![0.0; p.controls()];
-            d[k] = sign;
-            let mut u0 = vec![0.0; p.controls()];
-            u0[k] = sign * support_u(&p.control, &d)?;
-            cuts.push(u0);
-        }
-    }
+    let mut cuts = initial_cuts(p)?;
     let mut round = 0;
     loop {
         round += 1;

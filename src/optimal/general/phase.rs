@@ -64,7 +64,9 @@
 //! until the true (replayed) `J` of the incumbent meets the bound within 1e-6 (`OA_TOL`; status
 //! `approximation_limit` after 40 rounds, as for P_m).
 
-use super::discrete::{big_m, check_sets, cost_matrix, reward_weights, support_u, MAX_OA_ROUNDS};
+use super::discrete::{
+    big_m, check_sets, cost_matrix, initial_cuts, reward_weights, MAX_OA_ROUNDS,
+};
 use super::geometry::Geometry;
 use crate::error::{Error, Result};
 use crate::integrate::{simulate_general_exact, ControlInput, InputKind};
@@ -310,17 +312,7 @@ pub fn solve_general_phase(
     let what = format!("the phase MILP of the general problem (K = {k})");
     let scale = p.c.scale();
     let began = std::time::Instant::now();
-    // Initial cut points: 0 and the extreme values of each control component in U.
-    let mut cuts = vec![vec![0.0; p.controls()]];
-    for c in 0..p.controls() {
-        for sign in [1.0, -1.0] {
-            let mut d = vec![0.0; p.controls()];
-            d[c] = sign;
-            let mut u0 = vec![0.0; p.controls()];
-            u0[c] = sign * support_u(&p.control, &d)?;
-            cuts.push(u0);
-        }
-    }
+    let mut cuts = initial_cuts(p)?;
     let mut round = 0;
     loop {
         round += 1;
