@@ -253,18 +253,8 @@ pub(super) fn build(
     let w = reward_weights(p);
     let free = || f64::NEG_INFINITY..f64::INFINITY;
     let mut pb = RowProblem::default();
-    let nx = match p.boundary {
-        Boundary::Periodic => mm,
-        Boundary::Initial(_) => mm + 1,
-    };
-    let xs: Vec<Vec<Col>> = (0..nx)
-        .map(|i| match &p.boundary {
-            Boundary::Initial(x0) if i == 0 => {
-                x0.iter().map(|&v| pb.add_column(0.0, v..=v)).collect()
-            }
-            _ => (0..n).map(|_| pb.add_column(0.0, free())).collect(),
-        })
-        .collect();
+    let xs = state_columns(&mut pb, p, mm);
+    let nx = xs.len();
     let x_at = |i: usize| &xs[i % nx];
     let us: Vec<Vec<Col>> = (0..mm)
         .map(|_| match &p.control {
@@ -401,6 +391,30 @@ pub(super) fn cost_matrix(cost: &GeneralCost, m: usize) -> Option<Vec<Vec<f64>>>
 
 /// Most rounds of the outer approximation of a quadratic cost.
 pub(super) const MAX_OA_ROUNDS: usize = 40;
+
+/// The state columns at the knots of `pieces` pieces: `pieces` of them for a periodic problem
+/// (the last knot is the first), `pieces + 1` for a Cauchy problem, whose first is fixed to
+/// `x(0)`.
+pub(super) fn state_columns(
+    pb: &mut RowProblem,
+    p: &GeneralProblem,
+    pieces: usize,
+) -> Vec<Vec<Col>> {
+    let nx = match p.boundary {
+        Boundary::Periodic => pieces,
+        Boundary::Initial(_) => pieces + 1,
+    };
+    (0..nx)
+        .map(|i| match &p.boundary {
+            Boundary::Initial(x0) if i == 0 => {
+                x0.iter().map(|&v| pb.add_column(0.0, v..=v)).collect()
+            }
+            _ => (0..p.states())
+                .map(|_| pb.add_column(0.0, f64::NEG_INFINITY..f64::INFINITY))
+                .collect(),
+        })
+        .collect()
+}
 
 /// The first cut points of a quadratic cost's outer approximation (P_m and phase gaits): 0 and
 /// the extreme values of each control component in U.

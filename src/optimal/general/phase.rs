@@ -65,7 +65,7 @@
 //! `approximation_limit` after 40 rounds, as for P_m).
 
 use super::discrete::{
-    big_m, check_sets, cost_matrix, initial_cuts, reward_weights, MAX_OA_ROUNDS,
+    big_m, check_sets, cost_matrix, initial_cuts, reward_weights, state_columns, MAX_OA_ROUNDS,
 };
 use super::geometry::Geometry;
 use crate::error::{Error, Result};
@@ -148,18 +148,8 @@ fn build(
     let w = reward_weights(p);
     let free = || f64::NEG_INFINITY..f64::INFINITY;
     let mut pb = RowProblem::default();
-    let nx = match p.boundary {
-        Boundary::Periodic => k,
-        Boundary::Initial(_) => k + 1,
-    };
-    let xs: Vec<Vec<Col>> = (0..nx)
-        .map(|i| match &p.boundary {
-            Boundary::Initial(x0) if i == 0 => {
-                x0.iter().map(|&v| pb.add_column(0.0, v..=v)).collect()
-            }
-            _ => (0..n).map(|_| pb.add_column(0.0, free())).collect(),
-        })
-        .collect();
+    let xs = state_columns(&mut pb, p, k);
+    let nx = xs.len();
     let x_at = |i: usize| xs[i % nx].clone();
     let tau: Vec<Col> = (0..k).map(|_| pb.add_column(0.0, 0.0..=t)).collect();
     let y: Vec<Col> = (0..k).map(|_| pb.add_integer_column(0.0, 0..=1)).collect();
