@@ -416,6 +416,31 @@ pub(super) fn state_columns(
         .collect()
 }
 
+/// A replayed answer of a periodic problem must end where it began (to `1e-6` of C's scale):
+/// else the solver's process and the simulated one differ, and the answer is refused.
+pub(super) fn replay_periodic(
+    p: &GeneralProblem,
+    end: &[f64],
+    start: &[f64],
+    scale: f64,
+    what: &str,
+    replayed: &str,
+) -> Result<()> {
+    if p.boundary != Boundary::Periodic {
+        return Ok(());
+    }
+    let gap = end
+        .iter()
+        .zip(start)
+        .fold(0.0_f64, |d, (a, b)| d.max((a - b).abs()));
+    if gap > 1e-6 * scale {
+        return Err(Error::Numerical(format!(
+            "{what}: the {replayed} is not periodic (x(T) - x(0) = {gap:e})"
+        )));
+    }
+    Ok(())
+}
+
 /// The first cut points of a quadratic cost's outer approximation (P_m and phase gaits): 0 and
 /// the extreme values of each control component in U.
 pub(super) fn initial_cuts(p: &GeneralProblem) -> Result<Vec<Vec<f64>>> {
@@ -560,18 +585,14 @@ pub(super) fn replay(
             "{what}: the controls give int f1 = {reward} when simulated, not {lp_reward}"
         )));
     }
-    if p.boundary == Boundary::Periodic {
-        let end = sim.x.last().expect("steps");
-        let gap = end
-            .iter()
-            .zip(&x[0])
-            .fold(0.0_f64, |d, (a, b)| d.max((a - b).abs()));
-        if gap > 1e-6 * scale {
-            return Err(Error::Numerical(format!(
-                "{what}: the simulated process is not periodic (x(T) - x(0) = {gap:e})"
-            )));
-        }
-    }
+    replay_periodic(
+        p,
+        sim.x.last().expect("steps"),
+        &x[0],
+        scale,
+        what,
+        "simulated process",
+    )?;
     Ok(Replayed {
         objective: sim.objective.unwrap_or(f64::NAN),
         x: sim.x,

@@ -65,7 +65,8 @@
 //! `approximation_limit` after 40 rounds, as for P_m).
 
 use super::discrete::{
-    big_m, check_sets, cost_matrix, initial_cuts, reward_weights, state_columns, MAX_OA_ROUNDS,
+    big_m, check_sets, cost_matrix, initial_cuts, replay_periodic, reward_weights, state_columns,
+    MAX_OA_ROUNDS,
 };
 use super::geometry::Geometry;
 use crate::error::{Error, Result};
@@ -429,19 +430,14 @@ fn verified(
             sim.reward
         )));
     }
-    if p.boundary == Boundary::Periodic {
-        let gap = states
-            .last()
-            .expect("states")
-            .iter()
-            .zip(&states[0])
-            .fold(0.0_f64, |d, (a, b)| d.max((a - b).abs()));
-        if gap > 1e-6 * scale {
-            return Err(Error::Numerical(format!(
-                "{what}: the replayed gait is not periodic (x(T) - x(0) = {gap:e})"
-            )));
-        }
-    }
+    replay_periodic(
+        p,
+        states.last().expect("states"),
+        &states[0],
+        scale,
+        what,
+        "replayed gait",
+    )?;
     Ok(GeneralPhaseGait {
         max_phases: k,
         objective,
