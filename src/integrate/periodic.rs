@@ -11,7 +11,7 @@
 //! every proposed state projected onto C. Either way a displacement is reported only for a period actually integrated from a
 //! state `x` with `|G(x) - x|_inf <= tol * s`, `s` the size of C: acceleration only chooses where to look.
 
-use super::newton::{newton_step, NewtonOptions};
+use super::newton::{newton_step, Diffusion, NewtonOptions};
 use super::Actuation;
 use super::{CatchingUp, ExactPwl, Method, PeriodMap, Recorder, Trajectory};
 use crate::error::{Error, Result};
@@ -213,6 +213,27 @@ impl Anderson {
     }
 }
 
+/// The tangent maps for a Newton step or the preconditioner: those the period map recorded in
+/// its last period, or (the exact method) those of catching-up on the same knots recorded in one
+/// catching-up period from `x_start`, counted as one more product.
+fn tangent_source<'a>(
+    map: &'a dyn PeriodMap,
+    surrogate: Option<&'a mut CatchingUp>,
+    x_start: &[f64],
+    products: &mut usize,
+) -> Result<&'a dyn PeriodMap> {
+    Ok(match surrogate {
+        Some(cu) => {
+            let nb = x_start.len() + 1;
+            let (mut xs, mut a) = (x_start.to_vec(), vec![0.0; nb]);
+            cu.run_period(&mut xs, &mut a, None)?;
+            *products += 1;
+            cu
+        }
+        None => map,
+    })
+}
+
 /// The error of a recording beyond [`MAX_RECORDED`] values.
 fn recording_limit(periods: usize, per_period: usize, nb: usize) -> Error {
     Error::invalid(
@@ -323,6 +344,9 @@ pub fn simulate(crawler: &Crawler, act: &Actuation, opts: &SimOptions) -> Result
         }
         _ => None,
     };
+    // The preconditioner of Anderson's mixing (NewtonOptions::precondition_anderson), measured
+    // once at the first Anderson period.
+    let mut mixing: Option<Diffusion> = None;
     let (mut products, mut newton_steps, mut failures) = (0, 0, 0);
     let mut newton_from = 0;
     // The residual before the last Newton step and the state a plain period gave there.
@@ -384,15 +408,8 @@ pub fn simulate(crawler: &Crawler, act: &Actuation, opts: &SimOptions) -> Result
                     let r: Vec<f64> = x.iter().zip(&x_start).map(|(a, b)| a - b).collect();
                     let r2 = r.iter().map(|v| v * v).sum::<f64>().sqrt();
                     let rel_tol = (0.1 * tol_abs / r2).clamp(1e-13, 1e-2);
-                    let tangents: &dyn PeriodMap = match surrogate.as_mut() {
-                        Some(cu) => {
-                            let (mut xs, mut a) = (x_start.clone(), vec![0.0; nb]);
-                            cu.run_period(&mut xs, &mut a, None)?;
-                            products += 1;
-                            cu
-                        }
-                        None => map.as_ref(),
-                    };
+                    let tangents =
+                        tangent_source(map.as_ref(), surrogate.as_mut(), &x_start, &mut products)?;
                     let (step, used, _) = newton_step(
                         &mut |v: &mut [f64]| tangents.apply_tangent(v),
                         &r,
@@ -413,10 +430,40 @@ pub fn simulate(crawler: &Crawler, act: &Actuation, opts: &SimOptions) -> Result
                         .iter()
                         .copied()
                         .fold(f64::INFINITY, f64::min);
-                    if residual > 2.0 * best {
+                    let grew = residual > 2.0 * best;
+                    if grew {
                         anderson.reset();
                     }
-                    anderson.next(&x_start, &x)
+                    match newton.filter(|o| o.precondition_anderson) {
+                        Some(_) => {
+                            // Mix x + P^{-1} (G(x) - x), P the chain's diffusion (newton.rs):
+                            // the mixed map contracts by about a half per period whatever N.
+                            if mixing.is_none() {
+                                let tangents = tangent_source(
+                                    map.as_ref(),
+                                    surrogate.as_mut(),
+                                    &x_start,
+                                    &mut products,
+                                )?;
+                                mixing = Some(Diffusion::measured(n, &mut |v: &mut [f64]| {
+                                    tangents.apply_tangent(v)
+                                }));
+                                products += 1;
+                            }
+                            let pre = mixing.as_mut().expect("measured above");
+                            // A residual that grew: the model overshoots (far from the orbit
+                            // the chain's slow modes contract less than measured), damp it.
+                            if grew {
+                                pre.weight *= 0.5;
+                            }
+                            let r: Vec<f64> = x.iter().zip(&x_start).map(|(a, b)| a - b).collect();
+                            let mut z = vec![0.0; n];
+                            pre.apply(&r, &mut z);
+                            let h: Vec<f64> = x_start.iter().zip(&z).map(|(a, b)| a + b).collect();
+                            anderson.next(&x_start, &h)
+                        }
+                        None => anderson.next(&x_start, &x),
+                    }
                 }
             };
             proj.project_from_origin(&proposal, &mut x, &mut scratch_d)?;
