@@ -444,14 +444,17 @@ def simulate(
     accelerate_after: Optional[int] = None,
     initial_state: Optional[Sequence[float]] = None,
     progress: Progress = False,
+    newton: bool = True,
 ) -> Simulation:
     """Plays ``actuation`` on ``crawler`` until the periodic regime (the sweeping process of
     SPEC §3, exact event-driven or catching-up) and records ``periods`` periods of the orbit.
     Arguments as ``crawlopt simulate``'s flags; None takes the library's default (1000 steps or
     knots per period, 1 period recorded, at most 5000 periods, tol 1e-12, acceleration after 50
     plain periods or earlier when plain iteration is predicted too slow: Newton-Krylov steps
-    safeguarded by Anderson; ``accelerate=False``: never).
-    The GIL is released; Ctrl-C stops it (KeyboardInterrupt)."""
+    safeguarded by Anderson; ``accelerate=False``: never; ``newton=False``: Anderson alone,
+    ``crawlopt simulate --no-newton``). ``search``, ``periods_simulated``, ``newton_steps`` and
+    ``tangent_products`` say what the search cost. The GIL is released; Ctrl-C stops it
+    (KeyboardInterrupt)."""
     summary, arrays = _rs.simulate(
         crawler._inner,
         actuation._inner,
@@ -464,6 +467,7 @@ def simulate(
         accelerate_after,
         None if initial_state is None else [float(v) for v in initial_state],
         progress_callback(progress),
+        newton,
     )
     return Simulation(summary, arrays)
 

@@ -112,6 +112,7 @@ def simulate(
     accelerate_after: Optional[int],
     initial_state: Optional[list[float]],
     progress: Optional[Callable[[str], None]],
+    newton: bool = True,
 ) -> tuple[dict[str, Any], dict[str, np.ndarray]]: ...
 def optimize(
     crawler: Crawler,

@@ -54,7 +54,7 @@ fn simulation_out(
 /// Simulates `actuation` on `crawler` to the periodic regime (SPEC §3–4); see
 /// `crawlopt.simulate` for the arguments.
 #[pyfunction]
-#[pyo3(signature = (crawler, actuation, method, steps_per_period, record_periods, max_periods, tol, accelerate, accelerate_after, initial_state, progress))]
+#[pyo3(signature = (crawler, actuation, method, steps_per_period, record_periods, max_periods, tol, accelerate, accelerate_after, initial_state, progress, newton = true))]
 #[allow(clippy::too_many_arguments)]
 pub fn simulate<'py>(
     py: Python<'py>,
@@ -69,6 +69,7 @@ pub fn simulate<'py>(
     accelerate_after: Option<usize>,
     initial_state: Option<Vec<f64>>,
     progress: Option<PyObject>,
+    newton: bool,
 ) -> PyResult<(Bound<'py, PyAny>, Bound<'py, PyDict>)> {
     let method = match method {
         "exact" => Method::Exact,
@@ -90,7 +91,7 @@ pub fn simulate<'py>(
         accelerate_after: accelerate
             .then(|| accelerate_after.or(d.accelerate_after))
             .flatten(),
-        newton: SimOptions::DEFAULT.newton,
+        newton: d.newton.filter(|_| newton),
         initial_state,
     };
     let (c, a) = (crawler.inner.clone(), actuation.inner.clone());

@@ -57,6 +57,9 @@ pub fn simulate(file: &GeneralFile, a: &SimulateArgs) -> Result<ExitCode, Error>
     if a.periods != 1 {
         return unsupported("--periods");
     }
+    if a.no_newton {
+        return unsupported("--no-newton");
+    }
     let opts = GeneralSimOptions {
         method: match a.method {
             MethodArg::Exact => GeneralMethod::Auto,

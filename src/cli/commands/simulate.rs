@@ -71,6 +71,9 @@ pub struct SimulateArgs {
     /// Never accelerate: the search is the physical transient.
     #[arg(long = "no-accelerate")]
     pub no_accelerate: bool,
+    /// Accelerate with Anderson alone, without Newton-Krylov steps (the search before them).
+    #[arg(long = "no-newton")]
+    pub no_newton: bool,
     /// Write the recorded trajectory as CSV.
     #[arg(long, short = 'o')]
     pub output: Option<PathBuf>,
@@ -112,7 +115,7 @@ pub fn run(a: SimulateArgs) -> Result<ExitCode, Error> {
         max_periods: a.max_periods,
         tol: a.tol,
         accelerate_after: (!a.no_accelerate).then_some(a.accelerate_after),
-        newton: SimOptions::DEFAULT.newton,
+        newton: SimOptions::DEFAULT.newton.filter(|_| !a.no_newton),
         initial_state: model.simulation.initial_state.clone(),
     };
     // Output paths are checked before the work: a directory for -o, a file for --plot.

@@ -59,6 +59,15 @@ pub fn simulation(
             Search::Newton => "Newton-Krylov search",
         }
     );
+    if s.search != Search::Iteration {
+        wln!(
+            out,
+            "search cost: {} period(s) integrated, {} Newton step(s), {} Jacobian-vector product(s)",
+            s.periods_simulated,
+            s.newton_steps,
+            s.tangent_products
+        );
+    }
     wln!(
         out,
         "block displacement per period: {}",
