@@ -246,3 +246,36 @@ fn heterogeneous_chains_need_fewer_evaluations_than_anderson() {
         );
     }
 }
+
+/// N = 1000 on the bench gait (catching-up): the Newton-Krylov search's displacement is
+/// Anderson's to 1e-10, Anderson's searched to a tolerance ten times tighter (1e-13 times the
+/// size of C: at the default 1e-12 the state that repeats lies up to `tol / (1 - lambda_1)`
+/// from the orbit, `1 - lambda_1 ~ 30 / N^2`, and the two answers differ by 1.04e-10). The
+/// slowest test of this file: Anderson alone takes 873 periods, about 17 s on the loaded
+/// 2-core machine. The exact method at N = 1000 (Anderson alone: about 30 s) is compared by
+/// `crawlopt bench --blocks 1000 --min-time 0.01` with and without `--no-newton`.
+#[test]
+fn newton_and_anderson_agree_at_1000_blocks() {
+    let (c, a) = bench_gait(1000);
+    let newton = search(&c, &a, Method::CatchingUp, true);
+    let opts = SimOptions {
+        method: Method::CatchingUp,
+        record_periods: 0,
+        newton: None,
+        tol: 1e-13,
+        ..SimOptions::default()
+    };
+    let anderson = simulate(&c, &a, &opts).unwrap();
+    let (dn, da) = (
+        newton.displacement_per_period.unwrap(),
+        anderson.displacement_per_period.unwrap(),
+    );
+    assert!((dn - da).abs() <= 1e-10, "{dn} against {da}");
+    assert_eq!(newton.search, Search::Newton);
+    let evaluations = newton.periods_simulated + newton.tangent_products;
+    assert!(
+        evaluations < anderson.periods_simulated,
+        "{evaluations} against {}",
+        anderson.periods_simulated
+    );
+}
