@@ -8,6 +8,142 @@ use crate::error::Result;
 use crate::model::Crawler;
 use crate::sweep::{tangent, Bound, Projector};
 
+/// The active pattern of a period, for the tangent map `dx <- J dx` of the period
+/// ([`PeriodMap::apply_tangent`]): the tangent of a step ([`crate::sweep::tangent`]) depends only
+/// on which blocks are free (off their faces), so the log keeps the free set after the first
+/// step and then, step by step, the blocks whose free/on-a-face state changed. On a settled
+/// orbit a block changes a few times per period: memory `O(N + M + changes)` instead of one
+/// byte per block and step.
+///
+/// The tangent of a step is the `K^{-1}`-orthogonal projection onto the vectors constant on
+/// every segment of links between consecutive free blocks and zero on the end segments (before
+/// the first free block, after the last): idempotent, so after one step a step with the same
+/// free set changes nothing, and one whose free set differs at some blocks only changes the
+/// segments around those blocks (a segment whose end blocks and interior did not change is a
+/// segment of the previous step, on which `dx` is already constant). [`PatternLog::apply`]
+/// re-averages only those: per step `O(changes + length of the touched segments)`.
+#[derive(Debug, Clone, Default)]
+struct PatternLog {
+    /// The working set after the first step, normalised (`Free`, or `Lower` for a block on
+    /// either face).
+    first: Vec<Bound>,
+    /// The same, after the last step recorded.
+    last: Vec<Bound>,
+    /// Blocks whose state changed, step after step.
+    changed: Vec<u32>,
+    /// `changed[starts[i - 1]..starts[i]]` changed at step `i` (`i >= 1`).
+    starts: Vec<usize>,
+}
+
+impl PatternLog {
+    fn clear(&mut self) {
+        self.first.clear();
+        self.last.clear();
+        self.changed.clear();
+        self.starts.clear();
+    }
+
+    /// Records the working set of the next step.
+    fn push(&mut self, ws: &[Bound]) {
+        let norm = |b: &Bound| {
+            if *b == Bound::Free {
+                Bound::Free
+            } else {
+                Bound::Lower
+            }
+        };
+        if self.first.is_empty() {
+            self.first.extend(ws.iter().map(norm));
+            self.last.clone_from(&self.first);
+            return;
+        }
+        for (b, (w, l)) in ws.iter().zip(self.last.iter_mut()).enumerate() {
+            let w = norm(w);
+            if w != *l {
+                *l = w;
+                // The number of blocks is at most MAX_SAMPLES + 1, below u32::MAX.
+                self.changed.push(b as u32);
+            }
+        }
+        self.starts.push(self.changed.len());
+    }
+
+    fn bytes(&self) -> usize {
+        (self.first.capacity() + self.last.capacity()) * std::mem::size_of::<Bound>()
+            + self.changed.capacity() * std::mem::size_of::<u32>()
+            + self.starts.capacity() * std::mem::size_of::<usize>()
+    }
+
+    /// `dx <- J dx` on the recorded steps (nothing when nothing was recorded).
+    fn apply(&self, inv_k: &[f64], dx: &mut [f64]) {
+        if self.first.is_empty() {
+            return;
+        }
+        let mut ws = self.first.clone();
+        tangent(&ws, inv_k, dx);
+        let mut from = 0;
+        for &to in &self.starts {
+            let changed = &self.changed[from..to];
+            from = to;
+            if changed.is_empty() {
+                continue;
+            }
+            for &b in changed {
+                let b = b as usize;
+                ws[b] = if ws[b] == Bound::Free {
+                    Bound::Lower
+                } else {
+                    Bound::Free
+                };
+            }
+            // Changed blocks come in increasing order, so are their segments: a link inside
+            // the last segment found is skipped, and every segment is scanned once (O(N) per
+            // step at most, however many blocks changed).
+            let mut last: Option<(usize, usize)> = None;
+            for &b in changed {
+                let b = b as usize;
+                // The links beside block b: b - 1 and b.
+                for l in [b.wrapping_sub(1), b] {
+                    if l >= dx.len() || last.is_some_and(|(lo, hi)| (lo..hi).contains(&l)) {
+                        continue;
+                    }
+                    let (lo, hi) = segment(&ws, l);
+                    average(&ws, inv_k, dx, lo, hi);
+                    last = Some((lo, hi));
+                }
+            }
+        }
+    }
+}
+
+/// The segment of link `l` under the free set `ws`: links `lo..hi` between the nearest free
+/// block at or left of `l` and the nearest free block right of it (block `l + 1` on).
+fn segment(ws: &[Bound], l: usize) -> (usize, usize) {
+    let lo = (0..=l).rev().find(|&b| ws[b] == Bound::Free).unwrap_or(0);
+    let hi = (l + 1..ws.len())
+        .find(|&b| ws[b] == Bound::Free)
+        .unwrap_or(ws.len() - 1);
+    (lo, hi)
+}
+
+/// The tangent on the links `lo..hi` of one segment: zero where the segment reaches an end of
+/// the chain without a free block there, else the `1/k`-weighted mean.
+fn average(ws: &[Bound], inv_k: &[f64], dx: &mut [f64], lo: usize, hi: usize) {
+    let pinned = ws[lo] != Bound::Free || ws[hi] != Bound::Free;
+    let seg = &mut dx[lo..hi];
+    if pinned {
+        seg.iter_mut().for_each(|d| *d = 0.0);
+        return;
+    }
+    let (mut sw, mut swv) = (0.0, 0.0);
+    for (d, w) in seg.iter().zip(&inv_k[lo..hi]) {
+        sw += w;
+        swv += w * d;
+    }
+    let c = swv / sw;
+    seg.iter_mut().for_each(|d| *d = c);
+}
+
 /// Catching-up on `m` uniform steps per period.
 #[derive(Debug, Clone)]
 pub struct CatchingUp {
@@ -18,9 +154,8 @@ pub struct CatchingUp {
     d: Vec<f64>,
     n: usize,
     iterations: u64,
-    /// The working set of every step of the last period (row-major `m x (n + 1)`) when
-    /// recording ([`PeriodMap::record_tangent`]), else empty.
-    pattern: Vec<Bound>,
+    /// The active pattern of the last period when recording ([`PeriodMap::record_tangent`]).
+    pattern: PatternLog,
     recording: bool,
     inv_k: Vec<f64>,
 }
@@ -59,10 +194,16 @@ impl CatchingUp {
             d: vec![0.0; crawler.blocks()],
             n,
             iterations: 0,
-            pattern: Vec::new(),
+            pattern: PatternLog::default(),
             recording: false,
             inv_k: crawler.stiffness().iter().map(|k| 1.0 / k).collect(),
         })
+    }
+
+    /// Bytes held by the active pattern recorded in the last period
+    /// ([`PeriodMap::record_tangent`]): `O(N + M + changes)`.
+    pub fn recorded_pattern_bytes(&self) -> usize {
+        self.pattern.bytes()
     }
 
     /// Total active-set iterations so far (a cost measure of the projection kernel).
@@ -89,7 +230,7 @@ impl PeriodMap for CatchingUp {
         for (i, delta) in self.deltas.chunks_exact(n).enumerate() {
             self.iterations += self.proj.step(x, delta, &mut self.d)? as u64;
             if self.recording {
-                self.pattern.extend_from_slice(self.proj.active());
+                self.pattern.push(self.proj.active());
             }
             for (a, d) in acc.iter_mut().zip(&self.d) {
                 *a += d;
@@ -119,14 +260,12 @@ impl PeriodMap for CatchingUp {
     fn record_tangent(&mut self, on: bool) -> bool {
         self.recording = on;
         if !on {
-            self.pattern = Vec::new();
+            self.pattern = PatternLog::default();
         }
         true
     }
 
     fn apply_tangent(&self, dx: &mut [f64]) {
-        for ws in self.pattern.chunks_exact(self.n + 1) {
-            tangent(ws, &self.inv_k, dx);
-        }
+        self.pattern.apply(&self.inv_k, dx);
     }
 }

@@ -24,8 +24,11 @@
 //! `P ~ I ~ I - J` (their eigenvalues of `J` are small), so the preconditioned operator is close
 //! to the identity whatever N, and the GMRES iterations do not grow with N. `alpha` is measured
 //! with one product on the slowest sine mode. Each product applies the tangent maps recorded
-//! during the last period ([`super::PeriodMap::apply_tangent`]), without a projection. Memory
-//! `O(m N)` for a Krylov basis of `m` vectors, nothing `N x N`.
+//! during the last period ([`super::PeriodMap::apply_tangent`]), without a projection: the
+//! pattern is kept as the blocks that change state step after step, and a product re-averages
+//! only the segments around them (catching-up's `PatternLog`; 0.03 ms per product at
+//! N = 1000 where applying every step's tangent took 3.4 ms). Memory `O(m N)` for a Krylov
+//! basis of `m` vectors and `O(N + M + changes)` for the pattern, nothing `N x N`.
 //!
 //! **Heterogeneous chains.** On the chain of `tests/orbit.rs` (N = 120, per-link stiffness in
 //! [0.5, 2], four friction pairs, 60 degrees per link) the Jacobian at the orbit is the same kind
