@@ -105,8 +105,8 @@ fn newton_and_anderson_give_the_same_displacement() {
 }
 
 /// A Newton step starved of products (one: the preconditioner's alpha, no Krylov step) leaves
-/// the state where it was: every step fails, and after `max_failures` of them Anderson alone
-/// finds the orbit, with the same displacement.
+/// the state where it was: every step fails, and after `max_failures` of them Anderson (mixing
+/// the preconditioned residual) finds the orbit, with the displacement of Anderson alone.
 #[test]
 fn failed_newton_steps_leave_the_search_to_anderson() {
     let (c, a) = bench_gait(100);

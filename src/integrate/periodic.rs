@@ -7,8 +7,10 @@
 //! if that has not converged after [`SimOptions::accelerate_after`] periods it switches to
 //! Newton-Krylov steps on `G(x) - x` (see [`super::newton`] for why the iterations then do not
 //! grow with N; the exact method, which has no tangent map, takes the Jacobian of catching-up on
-//! the same knots), safeguarded by Anderson acceleration of the fixed-point problem `G(x) = x`,
-//! every proposed state projected onto C. Either way a displacement is reported only for a period actually integrated from a
+//! the same knots), safeguarded by Anderson acceleration of the fixed-point problem `G(x) = x`
+//! (mixing the residual preconditioned by the chain's diffusion,
+//! [`NewtonOptions::precondition_anderson`], once a Newton step failed), every proposed state
+//! projected onto C. Either way a displacement is reported only for a period actually integrated from a
 //! state `x` with `|G(x) - x|_inf <= tol * s`, `s` the size of C: acceleration only chooses where to look.
 
 use super::newton::{newton_step, Diffusion, NewtonOptions};
