@@ -241,7 +241,7 @@ fn compare_warm(
     let mut d2 = vec![0.0; nb];
     qp.solve(&lo, &hi, v, x_qp, &mut d2).unwrap();
     let (mut x3, mut d3) = (vec![f64::NAN; n], vec![f64::NAN; nb]);
-    warm.solve(&lo, &hi, v, &mut x3, &mut d3);
+    warm.solve(v, &mut x3, &mut d3);
     let scale = v.iter().fold(c.state_scale(), |m, a| m.max(a.abs()));
     let kmin = c.stiffness().iter().copied().fold(f64::INFINITY, f64::min);
     let mut ex: f64 = 0.0;
@@ -288,7 +288,8 @@ proptest! {
         })
     ) {
         let (n, nb) = (c.links(), c.blocks());
-        let mut warm = ChainWarm::new(c.stiffness());
+        let lo: Vec<f64> = c.mu_forward().iter().map(|m| -m).collect();
+        let mut warm = ChainWarm::new(c.stiffness(), &lo, c.mu_backward());
         let mut qp = ChainQp::new(c.stiffness());
         let mut x = vec![0.0; n];
         for (delta, e) in &steps {
@@ -299,7 +300,7 @@ proptest! {
             prop_assert!(faces, "step: the faces differ");
         }
         // Cold: an empty guess, and a random one (faces that need not be anywhere near).
-        let mut cold = ChainWarm::new(c.stiffness());
+        let mut cold = ChainWarm::new(c.stiffness(), &lo, c.mu_backward());
         let (mut qp0, mut x0) = (ChainQp::new(c.stiffness()), vec![0.0; n]);
         let (ex, ed, faces) = compare_warm(&c, &mut cold, &mut qp0, &mut x0, &far);
         prop_assert!(ex <= 1e-12 && ed <= 1e-12 && faces, "far point: x: {ex:e}, D: {ed:e}");
@@ -307,7 +308,7 @@ proptest! {
             .iter()
             .map(|g| [Bound::Free, Bound::Lower, Bound::Upper][*g as usize])
             .collect();
-        let mut wrong = ChainWarm::new(c.stiffness());
+        let mut wrong = ChainWarm::new(c.stiffness(), &lo, c.mu_backward());
         wrong.set_working_set(&ws);
         let (mut qp1, mut x1) = (ChainQp::new(c.stiffness()), vec![0.0; n]);
         let (ex, ed, faces) = compare_warm(&c, &mut wrong, &mut qp1, &mut x1, &far);

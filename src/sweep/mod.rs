@@ -53,14 +53,16 @@ impl Projector {
     /// A projector for this crawler. The crawler must satisfy the uniqueness condition (checked).
     pub fn new(crawler: &Crawler) -> Result<Self> {
         crawler.require_unique()?;
+        let lo: Vec<f64> = crawler.mu_forward().iter().map(|m| -m).collect();
+        let hi = crawler.mu_backward().to_vec();
         Ok(Projector {
             qp: ChainQp::new(crawler.stiffness()),
             dp: ChainDp::new(crawler.stiffness()),
-            warm: ChainWarm::new(crawler.stiffness()),
+            warm: ChainWarm::new(crawler.stiffness(), &lo, &hi),
             method: ProjectionMethod::Warm,
             inv_k: crawler.stiffness().iter().map(|k| 1.0 / k).collect(),
-            lo: crawler.mu_forward().iter().map(|m| -m).collect(),
-            hi: crawler.mu_backward().to_vec(),
+            lo,
+            hi,
             v: vec![0.0; crawler.links()],
         })
     }
@@ -77,7 +79,7 @@ impl Projector {
         }
         match self.method {
             ProjectionMethod::Warm => {
-                self.warm.solve(&self.lo, &self.hi, &self.v, x, d);
+                self.warm.solve(&self.v, x, d);
                 Ok(1)
             }
             ProjectionMethod::Dp => {
@@ -125,7 +127,7 @@ impl Projector {
     ) -> Result<usize> {
         match self.method {
             ProjectionMethod::Warm => {
-                self.warm.solve(&self.lo, &self.hi, v, x, d);
+                self.warm.solve(v, x, d);
                 return Ok(1);
             }
             ProjectionMethod::Dp => {

@@ -26,7 +26,7 @@
 //! bad guess only costs time. Windows are `O(size)` each; once they have covered twice the
 //! chain the whole chain is solved by the DP instead, so a step is `O(n)` in the worst case.
 
-use super::chain::Bound;
+use super::chain::{increment, Bound};
 use super::dp::ChainDp;
 
 /// Solver of the chain QP from the previous solution's working set. See the module docs.
@@ -34,9 +34,23 @@ use super::dp::ChainDp;
 pub struct ChainWarm {
     inv_k: Vec<f64>,
     max_inv_k: f64,
+    lo: Vec<f64>,
+    hi: Vec<f64>,
     /// The working set: the guess on entry to [`ChainWarm::solve`], the faces of the solution on
     /// exit.
     ws: Vec<Bound>,
+    /// Per block: all ones where the working set holds the block on a face, else zero (a mask
+    /// that restarts the running sums of the pass without a branch).
+    act: Vec<u64>,
+    /// Per block: `+1` on a forward face (needs `D >= 0`), `-1` on a backward one, else `0`.
+    sgn: Vec<f64>,
+    /// Per link, from the working set alone: the offset `o_l` of the link in its segment, and
+    /// over the segment's links so far `sum w o` and `1 / sum w`.
+    off: Vec<f64>,
+    cwo: Vec<f64>,
+    cisw: Vec<f64>,
+    /// Running `sum w v` over each link's segment (scratch of the pass).
+    swv: Vec<f64>,
     /// Blocks whose check failed in the pass and no window has repaired yet.
     bad: Vec<bool>,
     viol: Vec<usize>,
@@ -46,21 +60,46 @@ pub struct ChainWarm {
     full: u64,
 }
 
+/// `a` where `mask` is all ones, else `0`.
+#[inline(always)]
+fn keep(a: f64, mask: u64) -> f64 {
+    f64::from_bits(a.to_bits() & mask)
+}
+
+/// `a` where `mask` is all ones, else `b`.
+#[inline(always)]
+fn select(mask: u64, a: f64, b: f64) -> f64 {
+    f64::from_bits((a.to_bits() & mask) | (b.to_bits() & !mask))
+}
+
 impl ChainWarm {
-    /// A solver for links of stiffness `k` (weights `1/k_l`), with an empty working set.
-    pub fn new(stiffness: &[f64]) -> Self {
+    /// A solver for links of stiffness `k` (weights `1/k_l`) and finite bounds `lo < hi` per
+    /// block whose feasible set contains a point (for C: `lo = -mu^+`, `hi = mu^-`, and 0), with
+    /// an empty working set.
+    pub fn new(stiffness: &[f64], lo: &[f64], hi: &[f64]) -> Self {
         let n = stiffness.len();
-        ChainWarm {
+        debug_assert!(lo.len() == n + 1 && hi.len() == n + 1);
+        let mut s = ChainWarm {
             inv_k: stiffness.iter().map(|k| 1.0 / k).collect(),
             max_inv_k: stiffness.iter().fold(0.0_f64, |m, k| m.max(1.0 / k)),
+            lo: lo.to_vec(),
+            hi: hi.to_vec(),
             ws: vec![Bound::Free; n + 1],
+            act: vec![0; n + 1],
+            sgn: vec![0.0; n + 1],
+            off: vec![0.0; n],
+            cwo: vec![0.0; n],
+            cisw: vec![0.0; n],
+            swv: vec![0.0; n],
             bad: vec![false; n + 1],
             viol: Vec::new(),
             dp: ChainDp::new(stiffness),
             windows: 0,
             window_links: 0,
             full: 0,
-        }
+        };
+        s.sync();
+        s
     }
 
     /// The faces of the last solution (one entry per block).
@@ -71,6 +110,7 @@ impl ChainWarm {
     /// Replaces the working set used as the next guess.
     pub fn set_working_set(&mut self, ws: &[Bound]) {
         self.ws.copy_from_slice(ws);
+        self.sync();
     }
 
     /// Work counters so far: windows solved by the DP, links in them, and whole-chain DP solves.
@@ -78,158 +118,182 @@ impl ChainWarm {
         (self.windows, self.window_links, self.full)
     }
 
-    /// Solves the QP for finite bounds `lo < hi` whose feasible set contains a point (for C: 0).
-    /// `x` receives the minimiser (its content on entry is not used), `d` the multipliers `D_b`;
-    /// the working set becomes the solution's faces. Returns the number of windows solved
-    /// (0 when the guess was right).
-    pub fn solve(
-        &mut self,
-        lo: &[f64],
-        hi: &[f64],
-        v: &[f64],
-        x: &mut [f64],
-        d: &mut [f64],
-    ) -> usize {
+    /// Projects `v`: `x` receives the minimiser (its content on entry is not used), `d` the
+    /// multipliers `D_b`; the working set becomes the solution's faces. Returns the number of
+    /// windows solved (0 when the guess was right).
+    pub fn solve(&mut self, v: &[f64], x: &mut [f64], d: &mut [f64]) -> usize {
         let n = v.len();
-        debug_assert!(lo.len() == n + 1 && hi.len() == n + 1 && x.len() == n && d.len() == n + 1);
-        let scale = v.iter().fold(0.0_f64, |m, a| m.max(a.abs()));
-        // Rounding of an increment (two values of size `scale`) and of a multiplier summed along
-        // a segment of a few links; the DP settles anything within these anyway.
-        let tol_p = 8.0 * f64::EPSILON * scale;
-        let tol_d = 64.0 * f64::EPSILON * scale * self.max_inv_k;
+        assert!(n == self.inv_k.len() && x.len() == n && d.len() == n + 1);
         self.viol.clear();
-        if !self.pass(lo, hi, v, x, d, tol_p, tol_d) {
-            self.full_dp(lo, hi, v, x, d);
+        let Some(tol_p) = self.pass(v, x, d) else {
+            self.full_dp(v, x, d);
+            self.sync();
             return 1;
-        }
+        };
         if self.viol.is_empty() {
-            self.clean(d);
             return 0;
         }
-        let windows = self.repair(lo, hi, v, x, d, tol_p);
+        let windows = self.repair(v, x, d, tol_p);
+        self.sync();
         self.clean(d);
         windows
     }
 
-    /// The fused pass: `x` and `D` of the working set, and the blocks that violate a KKT
-    /// condition (flagged in `bad`, listed in `viol`). `false` when no block is free.
-    #[allow(clippy::too_many_arguments)]
-    fn pass(
-        &mut self,
-        lo: &[f64],
-        hi: &[f64],
-        v: &[f64],
-        x: &mut [f64],
-        d: &mut [f64],
-        tol_p: f64,
-        tol_d: f64,
-    ) -> bool {
+    /// The pass: `x` and `D` of the working set, and the blocks that violate a KKT condition
+    /// (flagged in `bad`, listed in `viol`). Returns the primal tolerance, or `None` when no
+    /// block is free.
+    ///
+    /// Between the first and the last free block the segments float; they are swept without a
+    /// branch on the segment structure (segments are short near an orbit, so branches on their
+    /// ends would mispredict), with what depends on the working set alone cached by `sync`:
+    /// forward, the running `sum w v` restarted (masked) at free blocks; backward, the mean of
+    /// the segment's last link carried over it, `x = o + c`, `D` summed from `D = 0` at the
+    /// segment's right end, and both checks or-ed into one flag. Only when the flag is up is
+    /// the chain scanned again for the blocks to repair.
+    fn pass(&mut self, v: &[f64], x: &mut [f64], d: &mut [f64]) -> Option<f64> {
         let n = v.len();
-        let ws = &self.ws;
-        let w = &self.inv_k;
-        let bound = |b: usize| match ws[b] {
+        let f0 = self.ws.iter().position(|&b| b == Bound::Free)?;
+        let fl = self
+            .ws
+            .iter()
+            .rposition(|&b| b == Bound::Free)
+            .unwrap_or(f0);
+        let (w, act, lo, hi) = (
+            &self.inv_k[..n],
+            &self.act[..=n],
+            &self.lo[..=n],
+            &self.hi[..=n],
+        );
+        let sgn = &self.sgn[..=n];
+        let bnd = |b: usize| match self.ws[b] {
             Bound::Lower => lo[b],
             Bound::Upper => hi[b],
             Bound::Free => 0.0,
         };
-        let wrong = |b: usize, db: f64| match ws[b] {
-            Bound::Lower => db < -tol_d,
-            Bound::Upper => db > tol_d,
+        // Wrong sign of D on a face, by more than the tolerance.
+        let wrong = |b: usize, db: f64, tol: f64| match self.ws[b] {
+            Bound::Lower => db < -tol,
+            Bound::Upper => db > tol,
             Bound::Free => false,
         };
-        let Some(f0) = ws.iter().position(|&b| b == Bound::Free) else {
-            return false;
-        };
-        let viol = &mut self.viol;
-        let bad = &mut self.bad;
-        let mut flag = |b: usize| {
-            bad[b] = true;
-            viol.push(b);
-        };
-        // Links 0..f0 pinned to x_{-1} = 0; D backward from D_f0 = 0.
+        // Floating segments over links f0..fl, forward; the scale of the data on the way.
+        let (off, cwo, cisw) = (&self.off[..n], &self.cwo[..n], &self.cisw[..n]);
+        let swv = &mut self.swv[..n];
+        let mut s = 0.0_f64;
+        let mut scale = 0.0_f64;
+        for l in f0..fl {
+            s = keep(s, act[l]) + w[l] * v[l];
+            swv[l] = s;
+            scale = scale.max(v[l].abs());
+        }
+        for vl in v[..f0].iter().chain(&v[fl..]) {
+            scale = scale.max(vl.abs());
+        }
+        // Rounding of an increment (two values of size `scale`) and of a multiplier summed along
+        // a segment of a few links; the DP settles anything within these anyway.
+        let tol_p = 8.0 * f64::EPSILON * scale;
+        let tol_d = 64.0 * f64::EPSILON * scale * self.max_inv_k;
+        // Links fl..n pinned to x_n = 0; D forward from D_fl = 0.
         let mut p = 0.0;
-        for l in 0..f0 {
-            p += bound(l);
+        for l in (fl..n).rev() {
+            p -= bnd(l + 1);
             x[l] = p;
         }
+        d[fl] = 0.0;
+        let mut dl = 0.0;
+        let mut bad = false;
+        for b in fl + 1..=n {
+            dl += (v[b - 1] - x[b - 1]) * w[b - 1];
+            d[b] = dl;
+            bad |= wrong(b, dl, tol_d);
+        }
+        // Backward over links fl - 1..f0: x, D and the checks of blocks f0 + 1..=fl.
+        let (mut c, mut db) = (0.0_f64, 0.0_f64);
+        let mut right = if fl < n { x[fl] } else { 0.0 };
+        for l in (f0..fl).rev() {
+            let m = act[l + 1];
+            c = select(m, c, (swv[l] - cwo[l]) * cisw[l]);
+            let xl = off[l] + c;
+            x[l] = xl;
+            let dn = keep(db, m);
+            d[l + 1] = dn;
+            let inc = right - xl;
+            bad |= (sgn[l + 1] * dn < -tol_d)
+                | ((m == 0) & ((inc < lo[l + 1] - tol_p) | (inc > hi[l + 1] + tol_p)));
+            db = dn + (xl - v[l]) * w[l];
+            right = xl;
+        }
         d[f0] = 0.0;
+        // Links 0..f0 pinned to x_{-1} = 0; D backward from D_f0 = 0.
+        let mut p = 0.0;
+        for (l, xl) in x[..f0].iter_mut().enumerate() {
+            p += bnd(l);
+            *xl = p;
+        }
         let mut dl = 0.0;
         for b in (0..f0).rev() {
             dl += (x[b] - v[b]) * w[b];
             d[b] = dl;
-            if wrong(b, dl) {
-                flag(b);
+            bad |= wrong(b, dl, tol_d);
+        }
+        let inc = increment(x, f0);
+        bad |= inc < lo[f0] - tol_p || inc > hi[f0] + tol_p;
+        if bad {
+            for b in 0..=n {
+                let inc = increment(x, b);
+                let wrong_p =
+                    self.ws[b] == Bound::Free && (inc < lo[b] - tol_p || inc > hi[b] + tol_p);
+                if wrong_p || wrong(b, d[b], tol_d) {
+                    self.bad[b] = true;
+                    self.viol.push(b);
+                }
             }
         }
-        // Segments start..e closed by free blocks: floating, then the last one pinned to x_n = 0.
-        let mut start = f0;
-        loop {
-            let e = (start + 1..=n)
-                .find(|&b| ws[b] == Bound::Free)
-                .unwrap_or(n + 1);
-            let end = e.min(n);
-            if e <= n {
-                // Floating: x_l = c + o_l over links start..e.
-                let (mut o, mut sw, mut swv) = (0.0, 0.0, 0.0);
-                for l in start..e {
-                    if l > start {
-                        o += bound(l);
-                    }
-                    x[l] = o;
-                    sw += w[l];
-                    swv += w[l] * (v[l] - o);
-                }
-                let c = swv / sw;
-                for xl in &mut x[start..e] {
-                    *xl += c;
-                }
-            } else {
-                // Pinned to x_n = 0 from the right.
-                let mut p = 0.0;
-                for l in (start..n).rev() {
-                    p -= bound(l + 1);
-                    x[l] = p;
-                }
+        // Tiny wrong-signed multipliers of degenerate faces (rounding) are zero (after a repair,
+        // once the faces are final).
+        if !bad {
+            for (db, sb) in d.iter_mut().zip(sgn) {
+                *db = if sb * *db < 0.0 { 0.0 } else { *db };
             }
-            // The free block `start`: its increment within bounds.
-            let left = if start > 0 { x[start - 1] } else { 0.0 };
-            let right = if start < n { x[start] } else { 0.0 };
-            let inc = right - left;
-            if inc < lo[start] - tol_p || inc > hi[start] + tol_p {
-                flag(start);
-            }
-            // D forward from D_start = 0 over the segment's active blocks.
-            let mut dl = 0.0;
-            for b in start + 1..=end {
-                dl += (v[b - 1] - x[b - 1]) * w[b - 1];
-                if b == e {
-                    break;
-                }
-                d[b] = dl;
-                if wrong(b, dl) {
-                    flag(b);
-                }
-            }
-            if e > n {
-                break;
-            }
-            d[e] = 0.0;
-            start = e;
         }
-        true
+        Some(tol_p)
+    }
+
+    /// The per-link data of the pass that depend on the working set alone (see `pass`).
+    fn sync(&mut self) {
+        let n = self.off.len();
+        for (b, ws) in self.ws.iter().enumerate() {
+            self.act[b] = if *ws == Bound::Free { 0 } else { u64::MAX };
+            self.sgn[b] = match ws {
+                Bound::Free => 0.0,
+                Bound::Lower => 1.0,
+                Bound::Upper => -1.0,
+            };
+        }
+        let (mut o, mut swo, mut sw) = (0.0, 0.0, 0.0);
+        for l in 0..n {
+            let b = match self.ws[l] {
+                Bound::Lower => self.lo[l],
+                Bound::Upper => self.hi[l],
+                Bound::Free => {
+                    (o, swo, sw) = (0.0, 0.0, 0.0);
+                    0.0
+                }
+            };
+            if self.ws[l] != Bound::Free {
+                o += b;
+            }
+            sw += self.inv_k[l];
+            swo += self.inv_k[l] * o;
+            self.off[l] = o;
+            self.cwo[l] = swo;
+            self.cisw[l] = 1.0 / sw;
+        }
     }
 
     /// Repairs every flagged block by windows solved with the DP (see the module docs).
     /// Returns the number of windows.
-    fn repair(
-        &mut self,
-        lo: &[f64],
-        hi: &[f64],
-        v: &[f64],
-        x: &mut [f64],
-        d: &mut [f64],
-        tol_p: f64,
-    ) -> usize {
+    fn repair(&mut self, v: &[f64], x: &mut [f64], d: &mut [f64], tol_p: f64) -> usize {
         let n = v.len();
         let budget = 2 * (n as u64 + 1);
         let mut spent = 0u64;
@@ -248,11 +312,18 @@ impl ChainWarm {
                 windows += 1;
                 if spent > budget {
                     self.viol = viol;
-                    self.full_dp(lo, hi, v, x, d);
+                    self.full_dp(v, x, d);
                     return windows;
                 }
-                self.dp
-                    .solve_window(lo, hi, v, x, d, (ls, s.is_some()), (le, e.is_some()));
+                self.dp.solve_window(
+                    &self.lo,
+                    &self.hi,
+                    v,
+                    x,
+                    d,
+                    (ls, s.is_some()),
+                    (le, e.is_some()),
+                );
                 self.windows += 1;
                 self.window_links += (le - ls) as u64;
                 let inc = |b: usize| {
@@ -262,7 +333,7 @@ impl ChainWarm {
                 };
                 let ok = |b: usize| {
                     let i = inc(b);
-                    i >= lo[b] - tol_p && i <= hi[b] + tol_p
+                    i >= self.lo[b] - tol_p && i <= self.hi[b] + tol_p
                 };
                 let left_ok = s.is_none_or(ok);
                 let right_ok = e.is_none_or(ok);
@@ -326,8 +397,8 @@ impl ChainWarm {
         None
     }
 
-    fn full_dp(&mut self, lo: &[f64], hi: &[f64], v: &[f64], x: &mut [f64], d: &mut [f64]) {
-        self.dp.solve(lo, hi, v, x, d);
+    fn full_dp(&mut self, v: &[f64], x: &mut [f64], d: &mut [f64]) {
+        self.dp.solve(&self.lo, &self.hi, v, x, d);
         self.ws.copy_from_slice(self.dp.working_set());
         self.bad.iter_mut().for_each(|f| *f = false);
         self.full += 1;
@@ -340,6 +411,58 @@ impl ChainWarm {
                 Bound::Lower if *db < 0.0 => *db = 0.0,
                 Bound::Upper if *db > 0.0 => *db = 0.0,
                 _ => {}
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Tiny chains (1 to 6 links, thresholds on a grid of 1/4 plus 0.01 so that the uniqueness
+    /// condition holds) along steps of random size: the same minimiser as the DP.
+    #[test]
+    fn matches_dp_on_small_chains_along_steps() {
+        let mut seed = 11u64;
+        let mut rnd = || {
+            seed = seed
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            ((seed >> 11) as f64) / (1u64 << 53) as f64
+        };
+        for case in 0..2000 {
+            let n = 1 + (rnd() * 6.0) as usize;
+            let k: Vec<f64> = (0..n).map(|_| 0.5 + rnd()).collect();
+            let lo: Vec<f64> = (0..=n)
+                .map(|_| -(0.25 + (rnd() * 8.0).floor() / 4.0))
+                .collect();
+            let hi: Vec<f64> = (0..=n)
+                .map(|_| 0.25 + (rnd() * 8.0).floor() / 4.0 + 0.01)
+                .collect();
+            let mut warm = ChainWarm::new(&k, &lo, &hi);
+            let mut dp = ChainDp::new(&k);
+            for step in 0..5 {
+                let v: Vec<f64> = (0..n).map(|_| 4.0 * rnd() - 2.0).collect();
+                let ws0 = warm.working_set().to_vec();
+                let (mut x1, mut d1) = (vec![0.0; n], vec![0.0; n + 1]);
+                let (mut x2, mut d2) = (vec![0.0; n], vec![0.0; n + 1]);
+                dp.solve(&lo, &hi, &v, &mut x1, &mut d1);
+                let w = warm.solve(&v, &mut x2, &mut d2);
+                let e = x1
+                    .iter()
+                    .zip(&x2)
+                    .map(|(a, b)| (a - b).abs())
+                    .fold(0.0, f64::max);
+                let ed = d1
+                    .iter()
+                    .zip(&d2)
+                    .map(|(a, b)| (a - b).abs())
+                    .fold(0.0, f64::max);
+                assert!(
+                    e < 1e-12 && ed < 1e-12,
+                    "case {case} step {step} ({w} windows) from {ws0:?}: x {x2:?} against {x1:?}"
+                );
             }
         }
     }
