@@ -39,16 +39,10 @@ pub struct ChainWarm {
     /// The working set: the guess on entry to [`ChainWarm::solve`], the faces of the solution on
     /// exit.
     ws: Vec<Bound>,
-    /// Per block: all ones where the working set holds the block on a face, else zero (a mask
-    /// that restarts the running sums of the pass without a branch).
-    act: Vec<u64>,
     /// Per block: `+1` on a forward face (needs `D >= 0`), `-1` on a backward one, else `0`.
     sgn: Vec<f64>,
-    /// Per link, from the working set alone: the offset `o_l` of the link in its segment, and
-    /// over the segment's links so far `sum w o` and `1 / sum w`.
-    off: Vec<f64>,
-    cwo: Vec<f64>,
-    cisw: Vec<f64>,
+    /// Per link `l`, what the pass reads of link `l` and block `l + 1`, in one record.
+    rec: Vec<Rec>,
     /// Running `sum w v` over each link's segment (scratch of the pass).
     swv: Vec<f64>,
     /// Blocks whose check failed in the pass and no window has repaired yet.
@@ -60,16 +54,20 @@ pub struct ChainWarm {
     full: u64,
 }
 
-/// `a` where `mask` is all ones, else `0`.
-#[inline(always)]
-fn keep(a: f64, mask: u64) -> f64 {
-    f64::from_bits(a.to_bits() & mask)
-}
-
-/// `a` where `mask` is all ones, else `b`.
-#[inline(always)]
-fn select(mask: u64, a: f64, b: f64) -> f64 {
-    f64::from_bits((a.to_bits() & mask) | (b.to_bits() & !mask))
+/// What the pass reads per link `l` (see `ChainWarm::pass`), from the working set and the
+/// data alone: the link's offset `o_l` in its segment, over the segment's links so far `sum w o`
+/// and `1 / sum w`, the weight `w_l = 1/k_l`; of block `l + 1`: `1` on a face (the segment goes
+/// on) else `0`, the sign its multiplier needs (`+1`, `-1`, `0` when free), its bounds.
+#[derive(Debug, Clone, Copy, Default)]
+struct Rec {
+    off: f64,
+    cwo: f64,
+    cisw: f64,
+    w: f64,
+    on: f64,
+    sgn: f64,
+    lo: f64,
+    hi: f64,
 }
 
 impl ChainWarm {
@@ -85,11 +83,8 @@ impl ChainWarm {
             lo: lo.to_vec(),
             hi: hi.to_vec(),
             ws: vec![Bound::Free; n + 1],
-            act: vec![0; n + 1],
             sgn: vec![0.0; n + 1],
-            off: vec![0.0; n],
-            cwo: vec![0.0; n],
-            cisw: vec![0.0; n],
+            rec: vec![Rec::default(); n],
             swv: vec![0.0; n],
             bad: vec![false; n + 1],
             viol: Vec::new(),
@@ -158,12 +153,7 @@ impl ChainWarm {
             .iter()
             .rposition(|&b| b == Bound::Free)
             .unwrap_or(f0);
-        let (w, act, lo, hi) = (
-            &self.inv_k[..n],
-            &self.act[..=n],
-            &self.lo[..=n],
-            &self.hi[..=n],
-        );
+        let (w, lo, hi) = (&self.inv_k[..n], &self.lo[..=n], &self.hi[..=n]);
         let sgn = &self.sgn[..=n];
         let bnd = |b: usize| match self.ws[b] {
             Bound::Lower => lo[b],
@@ -176,19 +166,20 @@ impl ChainWarm {
             Bound::Upper => db > tol,
             Bound::Free => false,
         };
-        // Floating segments over links f0..fl, forward; the scale of the data on the way.
-        let (off, cwo, cisw) = (&self.off[..n], &self.cwo[..n], &self.cisw[..n]);
-        let swv = &mut self.swv[..n];
+        // Floating segments over links f0..fl, forward: the running sum restarts after a link
+        // whose right block is free (`on = 0`); block f0 is free.
+        let rec = &self.rec[f0..fl];
+        let (vm, swv) = (&v[f0..fl], &mut self.swv[f0..fl]);
         let mut s = 0.0_f64;
-        let mut scale = 0.0_f64;
-        for l in f0..fl {
-            s = keep(s, act[l]) + w[l] * v[l];
-            swv[l] = s;
-            scale = scale.max(v[l].abs());
+        let mut on = 0.0_f64;
+        for ((r, &vl), sl) in rec.iter().zip(vm).zip(swv.iter_mut()) {
+            s = if on != 0.0 { s } else { 0.0 } + r.w * vl;
+            *sl = s;
+            on = r.on;
         }
-        for vl in v[..f0].iter().chain(&v[fl..]) {
-            scale = scale.max(vl.abs());
-        }
+        let scale = v
+            .iter()
+            .fold(0.0_f64, |m, a| if a.abs() > m { a.abs() } else { m });
         // Rounding of an increment (two values of size `scale`) and of a multiplier summed along
         // a segment of a few links; the DP settles anything within these anyway.
         let tol_p = 8.0 * f64::EPSILON * scale;
@@ -210,17 +201,20 @@ impl ChainWarm {
         // Backward over links fl - 1..f0: x, D and the checks of blocks f0 + 1..=fl.
         let (mut c, mut db) = (0.0_f64, 0.0_f64);
         let mut right = if fl < n { x[fl] } else { 0.0 };
-        for l in (f0..fl).rev() {
-            let m = act[l + 1];
-            c = select(m, c, (swv[l] - cwo[l]) * cisw[l]);
-            let xl = off[l] + c;
-            x[l] = xl;
-            let dn = keep(db, m);
-            d[l + 1] = dn;
+        let (xm, dm) = (&mut x[f0..fl], &mut d[f0 + 1..=fl]);
+        let swv = &self.swv[f0..fl];
+        for i in (0..fl - f0).rev() {
+            let r = rec[i];
+            let on = r.on != 0.0;
+            c = if on { c } else { (swv[i] - r.cwo) * r.cisw };
+            let xl = r.off + c;
+            xm[i] = xl;
+            let dn = if on { db } else { 0.0 };
+            dm[i] = dn;
             let inc = right - xl;
-            bad |= (sgn[l + 1] * dn < -tol_d)
-                | ((m == 0) & ((inc < lo[l + 1] - tol_p) | (inc > hi[l + 1] + tol_p)));
-            db = dn + (xl - v[l]) * w[l];
+            // Both checks on every block: on a face the increment is its bound (to rounding).
+            bad |= (r.sgn * dn < -tol_d) | (inc < r.lo - tol_p) | (inc > r.hi + tol_p);
+            db = dn + (xl - vm[i]) * r.w;
             right = xl;
         }
         d[f0] = 0.0;
@@ -251,7 +245,7 @@ impl ChainWarm {
         }
         // Tiny wrong-signed multipliers of degenerate faces (rounding) are zero (after a repair,
         // once the faces are final).
-        if !bad {
+        if self.viol.is_empty() {
             for (db, sb) in d.iter_mut().zip(sgn) {
                 *db = if sb * *db < 0.0 { 0.0 } else { *db };
             }
@@ -259,11 +253,10 @@ impl ChainWarm {
         Some(tol_p)
     }
 
-    /// The per-link data of the pass that depend on the working set alone (see `pass`).
+    /// The per-link records of the pass, which depend on the working set alone (see `pass`).
     fn sync(&mut self) {
-        let n = self.off.len();
+        let n = self.rec.len();
         for (b, ws) in self.ws.iter().enumerate() {
-            self.act[b] = if *ws == Bound::Free { 0 } else { u64::MAX };
             self.sgn[b] = match ws {
                 Bound::Free => 0.0,
                 Bound::Lower => 1.0,
@@ -272,22 +265,28 @@ impl ChainWarm {
         }
         let (mut o, mut swo, mut sw) = (0.0, 0.0, 0.0);
         for l in 0..n {
-            let b = match self.ws[l] {
-                Bound::Lower => self.lo[l],
-                Bound::Upper => self.hi[l],
-                Bound::Free => {
-                    (o, swo, sw) = (0.0, 0.0, 0.0);
-                    0.0
-                }
-            };
-            if self.ws[l] != Bound::Free {
-                o += b;
+            match self.ws[l] {
+                Bound::Lower => o += self.lo[l],
+                Bound::Upper => o += self.hi[l],
+                Bound::Free => (o, swo, sw) = (0.0, 0.0, 0.0),
             }
-            sw += self.inv_k[l];
-            swo += self.inv_k[l] * o;
-            self.off[l] = o;
-            self.cwo[l] = swo;
-            self.cisw[l] = 1.0 / sw;
+            let w = self.inv_k[l];
+            sw += w;
+            swo += w * o;
+            self.rec[l] = Rec {
+                off: o,
+                cwo: swo,
+                cisw: 1.0 / sw,
+                w,
+                on: if self.ws[l + 1] == Bound::Free {
+                    0.0
+                } else {
+                    1.0
+                },
+                sgn: self.sgn[l + 1],
+                lo: self.lo[l + 1],
+                hi: self.hi[l + 1],
+            };
         }
     }
 
