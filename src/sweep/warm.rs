@@ -177,9 +177,22 @@ impl ChainWarm {
             *sl = s;
             on = r.on;
         }
-        let scale = v
-            .iter()
-            .fold(0.0_f64, |m, a| if a.abs() > m { a.abs() } else { m });
+        // max |v| in four independent lanes (no loop-carried chain through one register).
+        let mut lanes = [0.0_f64; 4];
+        let chunks = v.chunks_exact(4);
+        for a in chunks.remainder() {
+            lanes[0] = if a.abs() > lanes[0] {
+                a.abs()
+            } else {
+                lanes[0]
+            };
+        }
+        for ch in chunks {
+            for (m, a) in lanes.iter_mut().zip(ch) {
+                *m = if a.abs() > *m { a.abs() } else { *m };
+            }
+        }
+        let scale = lanes.iter().fold(0.0_f64, |m, &a| m.max(a));
         // Rounding of an increment (two values of size `scale`) and of a multiplier summed along
         // a segment of a few links; the DP settles anything within these anyway.
         let tol_p = 8.0 * f64::EPSILON * scale;
@@ -203,6 +216,8 @@ impl ChainWarm {
         let mut right = if fl < n { x[fl] } else { 0.0 };
         let (xm, dm) = (&mut x[f0..fl], &mut d[f0 + 1..=fl]);
         let swv = &self.swv[f0..fl];
+        // The least of `sgn D`, of `inc - lo` and of `hi - inc` (three independent minima).
+        let (mut min_d, mut min_lo, mut min_hi) = (0.0_f64, f64::INFINITY, f64::INFINITY);
         for i in (0..fl - f0).rev() {
             let r = rec[i];
             let on = r.on != 0.0;
@@ -213,10 +228,14 @@ impl ChainWarm {
             dm[i] = dn;
             let inc = right - xl;
             // Both checks on every block: on a face the increment is its bound (to rounding).
-            bad |= (r.sgn * dn < -tol_d) | (inc < r.lo - tol_p) | (inc > r.hi + tol_p);
+            let (sd, dlo, dhi) = (r.sgn * dn, inc - r.lo, r.hi - inc);
+            min_d = if sd < min_d { sd } else { min_d };
+            min_lo = if dlo < min_lo { dlo } else { min_lo };
+            min_hi = if dhi < min_hi { dhi } else { min_hi };
             db = dn + (xl - vm[i]) * r.w;
             right = xl;
         }
+        bad |= min_d < -tol_d || min_lo < -tol_p || min_hi < -tol_p;
         d[f0] = 0.0;
         // Links 0..f0 pinned to x_{-1} = 0; D backward from D_f0 = 0.
         let mut p = 0.0;
