@@ -7,11 +7,12 @@
 //! [`super::ChainQp`]): a segment touching an end of the chain is pinned, every other floats at
 //! the `1/k`-weighted mean of `v` minus its offsets. The multipliers follow segment by segment
 //! from stationarity `D_{b+1} - D_b = (v_b - x_b)/k_b` with `D = 0` on the free blocks (SPEC §4).
-//! One fused pass computes `x`, `D` and both checks of the KKT conditions: every free block's
-//! increment within its bounds (primal), every active block's multiplier of the right sign
-//! (`D_b >= 0` on a forward face, `<= 0` on a backward one). When both hold, `(x, D)` is the
-//! unique minimiser (a strictly convex QP) and the step cost one pass: on the bench gait near
-//! its orbit this is 95% of the steps.
+//! One pass (a forward sweep of running sums, a backward one for the rest) computes `x`, `D` and
+//! both checks of the KKT conditions: every free block's increment within its bounds (primal),
+//! every active block's multiplier of the right sign (`D_b >= 0` on a forward face, `<= 0` on a
+//! backward one). When both hold, `(x, D)` is the unique minimiser (a strictly convex QP) and
+//! the step cost one pass: on the bench gait near its orbit (N = 1000) this is about 96 % of the
+//! steps, and the windows of the others span about three links each.
 //!
 //! **Local repair.** A block that is free in the solution decouples the QP: with its constraint
 //! dropped the problem splits into two independent ones, and if their solutions satisfy the
