@@ -55,12 +55,12 @@ fn bench_period(c: &mut Criterion) {
 
 /// One period of catching-up with each projection method (the warm guess-and-repair default, the
 /// exact dynamic programme and the warm-started active-set method), near the orbit (after ten
-/// periods) and from rest (the first period from x = 0 with an empty working set).
+/// periods) and from rest (the first period from x = 0 with an empty working set), N = 3 to 10^4.
 fn bench_projection(c: &mut Criterion) {
     let mut g = c.benchmark_group("projection");
     g.throughput(Throughput::Elements(M as u64));
     g.sample_size(10);
-    for nb in [100usize, 1000, 10000] {
+    for nb in [3usize, 10, 100, 1000, 10000] {
         let (crawler, act) = setup(nb);
         let n = crawler.links();
         let mut acc = vec![0.0; nb];
