@@ -4,6 +4,7 @@
 //! `cargo bench --bench step`; throughput is reported in steps per second.
 
 use crawlopt::integrate::{Actuation, CatchingUp, ExactPwl, PeriodMap, Waveform};
+use crawlopt::sweep::ProjectionMethod;
 use crawlopt::Crawler;
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
 use std::hint::black_box;
@@ -52,38 +53,44 @@ fn bench_period(c: &mut Criterion) {
     g.finish();
 }
 
-/// One period of catching-up with each projection method (the exact dynamic programme and the
-/// warm-started active-set method), near the orbit (after ten periods) and from rest (the first
-/// period from x = 0).
+/// One period of catching-up with each projection method (the warm guess-and-repair default, the
+/// exact dynamic programme and the warm-started active-set method), near the orbit (after ten
+/// periods) and from rest (the first period from x = 0 with an empty working set), N = 3 to 10^4.
 fn bench_projection(c: &mut Criterion) {
     let mut g = c.benchmark_group("projection");
     g.throughput(Throughput::Elements(M as u64));
     g.sample_size(10);
-    for nb in [100usize, 1000, 10000] {
+    for nb in [3usize, 10, 100, 1000, 10000] {
         let (crawler, act) = setup(nb);
         let n = crawler.links();
         let mut acc = vec![0.0; nb];
         // Near the orbit: ten periods from rest with the (faster) dynamic programme, shared.
         let mut near = vec![0.0; n];
         let mut warm = CatchingUp::new(&crawler, &act, M).unwrap();
-        warm.set_dynamic_programming(true);
         for _ in 0..10 {
             warm.run_period(&mut near, &mut acc, None).unwrap();
         }
-        for (name, dp) in [("dp", true), ("active-set", false)] {
+        for (name, method) in [
+            ("warm", ProjectionMethod::Warm),
+            ("dp", ProjectionMethod::Dp),
+            ("active-set", ProjectionMethod::ActiveSet),
+        ] {
             let mut cu = CatchingUp::new(&crawler, &act, M).unwrap();
-            cu.set_dynamic_programming(dp);
             let mut x = vec![0.0; n];
             g.bench_with_input(
                 BenchmarkId::new(format!("{name}/from-rest"), nb),
                 &nb,
                 |b, _| {
                     b.iter(|| {
+                        // Cold: x = 0 and an empty working set (set_method resets it).
+                        cu.set_method(ProjectionMethod::Dp);
+                        cu.set_method(method);
                         x.iter_mut().for_each(|v| *v = 0.0);
                         cu.run_period(black_box(&mut x), &mut acc, None).unwrap()
                     })
                 },
             );
+            cu.set_method(method);
             x.copy_from_slice(&near);
             g.bench_with_input(
                 BenchmarkId::new(format!("{name}/orbit"), nb),

@@ -2,7 +2,7 @@
 //! ([`ChainQp`]) on random chains (per-link stiffness, per-block friction) and random states:
 //! the same minimiser and the same block displacements (multipliers, SPEC §4) to 1e-12 relative.
 
-use crawlopt::sweep::{ChainDp, ChainQp};
+use crawlopt::sweep::{increment, Bound, ChainDp, ChainQp, ChainWarm};
 use crawlopt::Crawler;
 use proptest::prelude::*;
 
@@ -90,10 +90,12 @@ proptest! {
 /// The tangent map of a catching-up period (each step's projection differentiated on its active
 /// faces) is the derivative of the period map: the period map is piecewise affine, so a small
 /// perturbation of the state moves the end of the period by exactly `J` times it (up to
-/// rounding) unless it crosses a change of pattern. Both projection methods give the same `J w`.
+/// rounding) unless it crosses a change of pattern. The three projection methods give the same
+/// `J w`.
 #[test]
 fn period_tangent_is_the_derivative_of_the_period_map() {
     use crawlopt::integrate::{Actuation, CatchingUp, PeriodMap, Waveform};
+    use crawlopt::sweep::ProjectionMethod;
     let nb = 40;
     let c = Crawler::new(
         (0..nb - 1).map(|l| 0.5 + (l % 3) as f64 * 0.5).collect(),
@@ -115,9 +117,13 @@ fn period_tangent_is_the_derivative_of_the_period_map() {
     .unwrap();
     let w: Vec<f64> = (0..n).map(|l| ((l * 7 % 11) as f64 - 5.0) / 5.0).collect();
     let mut tangents = Vec::new();
-    for dp in [true, false] {
+    for method in [
+        ProjectionMethod::Dp,
+        ProjectionMethod::ActiveSet,
+        ProjectionMethod::Warm,
+    ] {
         let mut cu = CatchingUp::new(&c, &act, 400).unwrap();
-        cu.set_dynamic_programming(dp);
+        cu.set_method(method);
         let mut x0 = vec![0.0; n];
         let mut acc = vec![0.0; nb];
         for _ in 0..20 {
@@ -137,24 +143,24 @@ fn period_tangent_is_the_derivative_of_the_period_map() {
         assert!(size > 1e-3, "the tangent must not vanish: {size}");
         assert!(
             err <= 1e-6,
-            "method dp = {dp}: J w off by {err:e} (|J w| = {size})"
+            "method {method:?}: J w off by {err:e} (|J w| = {size})"
         );
         tangents.push(jw);
     }
-    let diff = (0..n)
-        .map(|l| (tangents[0][l] - tangents[1][l]).abs())
-        .fold(0.0, f64::max);
-    assert!(
-        diff <= 1e-9,
-        "dp and active-set tangents differ by {diff:e}"
-    );
+    for t in &tangents[1..] {
+        let diff = (0..n)
+            .map(|l| (tangents[0][l] - t[l]).abs())
+            .fold(0.0, f64::max);
+        assert!(diff <= 1e-9, "the methods' tangents differ by {diff:e}");
+    }
 }
 
-/// On the bench gait with 1000 blocks (where catching-up uses the dynamic programme), twenty
-/// periods from rest move every block as with the active-set method, to 1e-10.
+/// On the bench gait with 1000 blocks, twenty periods from rest move every block the same with
+/// the three projection methods, to 1e-10.
 #[test]
 fn long_chain_periods_agree_between_methods() {
     use crawlopt::integrate::{Actuation, CatchingUp, PeriodMap, Waveform};
+    use crawlopt::sweep::ProjectionMethod;
     let nb = 1000;
     let c = Crawler::uniform(nb, 1.0, 1.0, 3.3).unwrap();
     let n = c.links();
@@ -167,23 +173,146 @@ fn long_chain_periods_agree_between_methods() {
     )
     .unwrap();
     let mut out = Vec::new();
-    for dp in [true, false] {
+    for method in [
+        ProjectionMethod::Dp,
+        ProjectionMethod::ActiveSet,
+        ProjectionMethod::Warm,
+    ] {
         let mut cu = CatchingUp::new(&c, &act, 1000).unwrap();
-        cu.set_dynamic_programming(dp);
+        cu.set_method(method);
         let (mut x, mut acc) = (vec![0.0; n], vec![0.0; nb]);
         for _ in 0..20 {
             cu.run_period(&mut x, &mut acc, None).unwrap();
         }
         out.push((x, acc));
     }
-    let dx = (0..n)
-        .map(|l| (out[0].0[l] - out[1].0[l]).abs())
-        .fold(0.0, f64::max);
-    let dd = (0..nb)
-        .map(|b| (out[0].1[b] - out[1].1[b]).abs())
-        .fold(0.0, f64::max);
     let y = out[1].1.iter().sum::<f64>() / nb as f64;
     assert!(y > 10.0, "the crawler moves: {y}");
-    assert!(dx <= 1e-10 * c.state_scale(), "states differ by {dx:e}");
-    assert!(dd <= 1e-10 * y, "block displacements differ by {dd:e}");
+    for o in &out[1..] {
+        let dx = (0..n)
+            .map(|l| (out[0].0[l] - o.0[l]).abs())
+            .fold(0.0, f64::max);
+        let dd = (0..nb)
+            .map(|b| (out[0].1[b] - o.1[b]).abs())
+            .fold(0.0, f64::max);
+        assert!(dx <= 1e-10 * c.state_scale(), "states differ by {dx:e}");
+        assert!(dd <= 1e-10 * y, "block displacements differ by {dd:e}");
+    }
+}
+
+/// Random chains of 1 to 300 links with the margin of [`crawler_strategy`].
+fn long_crawler_strategy() -> impl Strategy<Value = Crawler> {
+    (2usize..=301)
+        .prop_flat_map(|nb| {
+            (
+                prop::collection::vec(0.2f64..5.0, nb - 1),
+                prop::collection::vec(1u32..=12, nb),
+                prop::collection::vec(1u32..=12, nb),
+            )
+        })
+        .prop_map(|(k, mp, mm)| {
+            let nb = mp.len() as f64;
+            let mp = mp.iter().map(|&i| i as f64 / 4.0).collect();
+            let mm = mm
+                .iter()
+                .map(|&j| j as f64 / 4.0 + 1.0 / (8.0 * nb))
+                .collect();
+            Crawler::new(k, mp, mm).unwrap()
+        })
+}
+
+/// [`ChainWarm`] (guess from its last working set, certify, repair) against [`ChainDp`] and the
+/// warm [`ChainQp`] on `v`: the worst differences of x and D relative to the scale, and whether
+/// the faces agree on every block that is not degenerate (a multiplier clearly nonzero, or an
+/// increment clearly inside its bounds).
+fn compare_warm(
+    c: &Crawler,
+    warm: &mut ChainWarm,
+    qp: &mut ChainQp,
+    x_qp: &mut [f64],
+    v: &[f64],
+) -> (f64, f64, bool) {
+    let (n, nb) = (c.links(), c.blocks());
+    let lo: Vec<f64> = c.mu_forward().iter().map(|m| -m).collect();
+    let hi = c.mu_backward().to_vec();
+    let mut dp = ChainDp::new(c.stiffness());
+    let (mut x1, mut d1) = (vec![0.0; n], vec![0.0; nb]);
+    dp.solve(&lo, &hi, v, &mut x1, &mut d1);
+    let mut d2 = vec![0.0; nb];
+    qp.solve(&lo, &hi, v, x_qp, &mut d2).unwrap();
+    let (mut x3, mut d3) = (vec![f64::NAN; n], vec![f64::NAN; nb]);
+    warm.solve(v, &mut x3, &mut d3);
+    let scale = v.iter().fold(c.state_scale(), |m, a| m.max(a.abs()));
+    let kmin = c.stiffness().iter().copied().fold(f64::INFINITY, f64::min);
+    let mut ex: f64 = 0.0;
+    for l in 0..n {
+        ex = ex.max((x3[l] - x1[l]).abs()).max((x3[l] - x_qp[l]).abs());
+    }
+    let mut ed: f64 = 0.0;
+    for b in 0..nb {
+        ed = ed.max((d3[b] - d1[b]).abs()).max((d3[b] - d2[b]).abs());
+    }
+    let tol = 1e-9 * scale;
+    let faces_agree = (0..nb).all(|b| {
+        let w = warm.working_set()[b];
+        let inc = increment(&x1, b);
+        let clearly_free = inc - lo[b] > tol && hi[b] - inc > tol;
+        let clearly_active = d1[b].abs() * kmin > tol;
+        let others = [dp.working_set()[b], qp.working_set()[b]];
+        if clearly_free {
+            w == Bound::Free && others.iter().all(|&o| o == Bound::Free)
+        } else if clearly_active {
+            w != Bound::Free && others.iter().all(|&o| o == w)
+        } else {
+            true
+        }
+    });
+    (ex / scale, ed * kmin / scale, faces_agree)
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 192, failure_persistence: None, ..ProptestConfig::default() })]
+
+    /// The warm projection equals the DP and the active-set method to 1e-12 along sequences of
+    /// catching-up steps of random sizes (from orbit-like steps that keep the faces to jumps that
+    /// change most of them), from rest (an empty guess) and from a random wrong guess.
+    #[test]
+    fn warm_equals_dp_and_active_set(
+        (c, steps, far, guess) in long_crawler_strategy().prop_flat_map(|c| {
+            let (n, nb) = (c.links(), c.blocks());
+            (Just(c),
+             prop::collection::vec(
+                 (prop::collection::vec(-3.0f64..3.0, n), -4i32..=0), 1..25),
+             prop::collection::vec(-1.0e3f64..1.0e3, n),
+             prop::collection::vec(0u8..3, nb))
+        })
+    ) {
+        let (n, nb) = (c.links(), c.blocks());
+        let lo: Vec<f64> = c.mu_forward().iter().map(|m| -m).collect();
+        let mut warm = ChainWarm::new(c.stiffness(), &lo, c.mu_backward());
+        let mut qp = ChainQp::new(c.stiffness());
+        let mut x = vec![0.0; n];
+        for (delta, e) in &steps {
+            let h = 10f64.powi(*e);
+            let v: Vec<f64> = x.iter().zip(delta).map(|(a, b)| a + h * b).collect();
+            let (ex, ed, faces) = compare_warm(&c, &mut warm, &mut qp, &mut x, &v);
+            prop_assert!(ex <= 1e-12 && ed <= 1e-12, "step: x: {ex:e}, D: {ed:e}");
+            prop_assert!(faces, "step: the faces differ");
+        }
+        // Cold: an empty guess, and a random one (faces that need not be anywhere near).
+        let mut cold = ChainWarm::new(c.stiffness(), &lo, c.mu_backward());
+        let (mut qp0, mut x0) = (ChainQp::new(c.stiffness()), vec![0.0; n]);
+        let (ex, ed, faces) = compare_warm(&c, &mut cold, &mut qp0, &mut x0, &far);
+        prop_assert!(ex <= 1e-12 && ed <= 1e-12 && faces, "far point: x: {ex:e}, D: {ed:e}");
+        let ws: Vec<Bound> = guess
+            .iter()
+            .map(|g| [Bound::Free, Bound::Lower, Bound::Upper][*g as usize])
+            .collect();
+        let mut wrong = ChainWarm::new(c.stiffness(), &lo, c.mu_backward());
+        wrong.set_working_set(&ws);
+        let (mut qp1, mut x1) = (ChainQp::new(c.stiffness()), vec![0.0; n]);
+        let (ex, ed, faces) = compare_warm(&c, &mut wrong, &mut qp1, &mut x1, &far);
+        prop_assert!(ex <= 1e-12 && ed <= 1e-12 && faces, "wrong guess: x: {ex:e}, D: {ed:e}");
+        prop_assert_eq!(wrong.working_set().len(), nb);
+    }
 }

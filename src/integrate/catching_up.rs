@@ -6,7 +6,7 @@
 use super::{slip_of, Actuation, PeriodMap, Recorder};
 use crate::error::Result;
 use crate::model::Crawler;
-use crate::sweep::{tangent, Bound, Projector};
+use crate::sweep::{tangent, Bound, ProjectionMethod, Projector};
 
 /// The active pattern of a period, for the tangent map `dx <- J dx` of the period
 /// ([`PeriodMap::apply_tangent`]): the tangent of a step ([`crate::sweep::tangent`]) depends only
@@ -213,10 +213,15 @@ impl CatchingUp {
         self.iterations
     }
 
-    /// Projects with the exact dynamic programme (`true`) or the active-set method (`false`)
-    /// whatever the length of the chain (default: [`crate::sweep::DP_MIN_LINKS`]).
-    pub fn set_dynamic_programming(&mut self, on: bool) {
-        self.proj.set_dynamic_programming(on);
+    /// Projects with this method whatever the length of the chain (default:
+    /// [`ProjectionMethod::Warm`]; all give the same steps).
+    pub fn set_method(&mut self, method: ProjectionMethod) {
+        self.proj.set_method(method);
+    }
+
+    /// Work counters of the warm projection (see [`crate::sweep::ChainWarm::counters`]).
+    pub fn warm_counters(&self) -> (u64, u64, u64) {
+        self.proj.warm_counters()
     }
 }
 

@@ -83,6 +83,27 @@ impl ChainDp {
     pub fn solve(&mut self, lo: &[f64], hi: &[f64], v: &[f64], x: &mut [f64], d: &mut [f64]) {
         let n = self.inv_k.len();
         debug_assert!(lo.len() == n + 1 && hi.len() == n + 1 && v.len() == n && x.len() == n);
+        self.solve_window(lo, hi, v, x, d, (0, false), (n, false));
+    }
+
+    /// Solves the sub-chain of links `ls..le` exactly: the constraints of blocks `ls + 1..le`,
+    /// and of block `ls` (with `x_{ls-1} = 0`, so `ls = 0`) unless `left.1` (the block is cut:
+    /// its constraint dropped, `D_ls = 0`), of block `le` (with `x_le = 0`, so `le = n`) unless
+    /// `right.1`. With both ends cut the sub-chain floats. Writes `x[ls..le]`, `d[ls..=le]` and
+    /// the faces of blocks `ls..=le` (a cut block is free). `O(le - ls)`.
+    #[allow(clippy::too_many_arguments)]
+    pub(crate) fn solve_window(
+        &mut self,
+        lo: &[f64],
+        hi: &[f64],
+        v: &[f64],
+        x: &mut [f64],
+        d: &mut [f64],
+        (ls, left_cut): (usize, bool),
+        (le, right_cut): (usize, bool),
+    ) {
+        let n = self.inv_k.len();
+        debug_assert!(ls < le && le <= n && (left_cut || ls == 0) && (right_cut || le == n));
         self.left.clear();
         self.right.clear();
         let (mut off_l, mut off_r) = (0.0_f64, 0.0_f64);
@@ -90,23 +111,40 @@ impl ChainDp {
         let (mut z, mut g_l, mut g_r, mut s_l, mut s_r) =
             (0.0_f64, f64::NEG_INFINITY, f64::INFINITY, 0.0_f64, 0.0_f64);
         let mut crossings = 0u64;
-        for l in 0..n {
-            // Min-convolution with [lo_l, hi_l]: the cut at z becomes two knots and a flat piece.
-            self.left.push(Knot {
-                t: z - off_l,
-                dslope: -s_l,
-                jump: -g_l,
-            });
-            self.right.push(Knot {
-                t: z - off_r,
-                dslope: s_r,
-                jump: g_r,
-            });
-            off_l += lo[l];
-            off_r += hi[l];
+        for l in ls..le {
+            let mut r;
+            if l == ls && left_cut {
+                // A free left end: the domain is the whole line (end knots at infinity).
+                self.left.push(Knot {
+                    t: f64::NEG_INFINITY,
+                    dslope: 0.0,
+                    jump: f64::INFINITY,
+                });
+                self.right.push(Knot {
+                    t: f64::INFINITY,
+                    dslope: 0.0,
+                    jump: f64::INFINITY,
+                });
+                r = 0.0;
+            } else {
+                // Min-convolution with [lo_l, hi_l]: the cut at z becomes two knots and a flat
+                // piece.
+                self.left.push(Knot {
+                    t: z - off_l,
+                    dslope: -s_l,
+                    jump: -g_l,
+                });
+                self.right.push(Knot {
+                    t: z - off_r,
+                    dslope: s_r,
+                    jump: g_r,
+                });
+                off_l += lo[l];
+                off_r += hi[l];
+                r = z + lo[l];
+            }
             // Add q_l' = (x - v_l) / k_l: the value at the reference point r and the slope there.
             let ik = self.inv_k[l];
-            let mut r = z + lo[l];
             let mut g = (r - v[l]) * ik;
             let mut s = ik;
             // Find the zero.
@@ -156,9 +194,17 @@ impl ChainDp {
             self.kinks[l] = g_l < 0.0 || g_r > 0.0;
         }
         self.crossings += crossings;
-        // Backtracking: the clamps give the solution and the face of every block b >= 1.
+        // Backtracking: the clamps give the solution and the face of every block b > ls.
+        let mut top = le;
         let mut xl = 0.0;
-        for b in (1..=n).rev() {
+        if right_cut {
+            xl = self.zeros[le - 1];
+            x[le - 1] = xl;
+            self.ws[le] = Bound::Free;
+            self.anchors[le] = true;
+            top = le - 1;
+        }
+        for b in (ls + 1..=top).rev() {
             let (a, c) = (xl - hi[b], xl - lo[b]);
             let m = self.zeros[b - 1];
             let (xv, w) = if m < a {
@@ -186,49 +232,65 @@ impl ChainDp {
             self.anchors[b] = w == Bound::Free;
             xl = xv;
         }
-        self.multipliers(lo, hi, v, x, d);
+        if left_cut {
+            self.ws[ls] = Bound::Free;
+            self.anchors[ls] = true;
+        }
+        self.multipliers(lo, hi, v, x, d, (ls, left_cut), le);
     }
 
-    /// `D` from stationarity `D_{b+1} = D_b - (x_b - v_b) / k_b`, anchored at `D = 0` on a block
-    /// that is free for certain (a clamp that kept a smooth zero); the face of block 0.
-    fn multipliers(&mut self, lo: &[f64], hi: &[f64], v: &[f64], x: &[f64], d: &mut [f64]) {
-        let nb = self.ws.len();
-        let scale = v
-            .iter()
-            .chain(x.iter())
-            .chain(lo.iter())
-            .chain(hi.iter())
-            .fold(0.0_f64, |m, a| m.max(a.abs()));
-        let tol = 1e-12 * scale;
-        let x0 = x[0];
-        self.ws[0] = if x0 - lo[0] <= tol {
-            Bound::Lower
-        } else if hi[0] - x0 <= tol {
-            Bound::Upper
-        } else {
-            Bound::Free
-        };
-        self.anchors[0] = self.ws[0] == Bound::Free && !self.anchors[1..].contains(&true);
+    /// `D` from stationarity `D_{b+1} = D_b - (x_b - v_b) / k_b` over blocks `ls..=le`,
+    /// anchored at `D = 0` on a block that is free for certain (a clamp that kept a smooth zero,
+    /// or a cut end); the face of block 0 when the window starts there uncut.
+    #[allow(clippy::too_many_arguments)]
+    fn multipliers(
+        &mut self,
+        lo: &[f64],
+        hi: &[f64],
+        v: &[f64],
+        x: &[f64],
+        d: &mut [f64],
+        (ls, left_cut): (usize, bool),
+        le: usize,
+    ) {
+        if !left_cut {
+            let scale = v[ls..le]
+                .iter()
+                .chain(x[ls..le].iter())
+                .chain(lo[ls..=le].iter())
+                .chain(hi[ls..=le].iter())
+                .fold(0.0_f64, |m, a| m.max(a.abs()));
+            let tol = 1e-12 * scale;
+            let x0 = x[0];
+            self.ws[0] = if x0 - lo[0] <= tol {
+                Bound::Lower
+            } else if hi[0] - x0 <= tol {
+                Bound::Upper
+            } else {
+                Bound::Free
+            };
+            self.anchors[0] = self.ws[0] == Bound::Free && !self.anchors[1..=le].contains(&true);
+        }
         // D up to a constant: P_0 = 0, P_{b+1} = P_b - g_b, restarted at every anchor.
         let g = |l: usize| (x[l] - v[l]) * self.inv_k[l];
-        let first = self.anchors.iter().position(|&a| a);
-        let f0 = first.unwrap_or(0);
+        let first = (ls..=le).find(|&b| self.anchors[b]);
+        let f0 = first.unwrap_or(ls);
         d[f0] = 0.0;
-        for b in f0 + 1..nb {
+        for b in f0 + 1..=le {
             d[b] = if self.anchors[b] {
                 0.0
             } else {
                 d[b - 1] - g(b - 1)
             };
         }
-        for b in (0..f0).rev() {
+        for b in (ls..f0).rev() {
             d[b] = d[b + 1] + g(b);
         }
         if first.is_none() {
             // Every block within rounding of a face (only when the uniqueness condition holds
             // by a margin near the rounding): the constant that best fits the signs of the faces.
             let (mut lo_c, mut hi_c) = (f64::NEG_INFINITY, f64::INFINITY);
-            for b in 0..nb {
+            for b in ls..=le {
                 match self.ws[b] {
                     Bound::Lower => lo_c = lo_c.max(-d[b]),
                     Bound::Upper => hi_c = hi_c.min(-d[b]),
@@ -241,10 +303,10 @@ impl ChainDp {
                 (false, true) => hi_c,
                 (false, false) => 0.0,
             };
-            d.iter_mut().for_each(|di| *di += c);
+            d[ls..=le].iter_mut().for_each(|di| *di += c);
         }
         // Tiny wrong-signed multipliers of degenerate faces (rounding) are zero.
-        for b in 0..nb {
+        for b in ls..=le {
             match self.ws[b] {
                 Bound::Lower if d[b] < 0.0 => d[b] = 0.0,
                 Bound::Upper if d[b] > 0.0 => d[b] = 0.0,

@@ -1,37 +1,48 @@
 //! Projections for the sweeping process (SPEC §3–4): onto C and onto its tangent cones, in the
 //! `K^{-1}` metric, with the block displacements read off the multipliers.
 //!
-//! Both are instances of one structured QP, solved by [`ChainQp`] in `O(n)` per active-set
-//! iteration. [`polyhedron`] projects onto any polyhedron (the general problem (P), SPEC §11)
+//! Both are instances of one structured QP over the chain: a catching-up step is solved by
+//! [`ChainWarm`] (the previous faces guessed, certified by one `O(n)` pass, repaired on windows
+//! by the exact dynamic programme [`ChainDp`]), a tangent-cone projection by the active-set
+//! method [`ChainQp`] in `O(n)` per iteration. [`polyhedron`] projects onto any polyhedron (the general problem (P), SPEC §11)
 //! by an exact active-set method. This layer knows the crawler's parameters but nothing of time or actuation.
 
 mod chain;
 mod dp;
 pub mod polyhedron;
+mod warm;
 
 pub use chain::{increment, tangent, Bound, ChainQp};
 pub use dp::ChainDp;
 pub use polyhedron::{PolyProjector, Projection};
+pub use warm::ChainWarm;
 
 use crate::error::Result;
 use crate::model::Crawler;
 
-/// Below this many links a catching-up step uses the warm-started active-set method
-/// ([`ChainQp`]), from it on the exact dynamic programme ([`ChainDp`]), whose cost does not
-/// depend on how many faces change. Measured on the travelling sine gait (mu- = 3.3, 1000 steps,
-/// shared 2-core machine, `cargo bench --bench step -- projection`): per step near the orbit,
-/// 1.39 against 2.37 us at N = 100, 28.0 against 18.1 us at N = 1000 (3 active-set iterations
-/// per step); a timing loop gave 2.9 ms against 0.45 ms at N = 10^4 (21 iterations).
-pub const DP_MIN_LINKS: usize = 512;
+/// How [`Projector`] solves a catching-up projection. All three give the same step (the QP is
+/// strictly convex); they differ in cost.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ProjectionMethod {
+    /// The previous step's faces as a guess, certified by one pass and repaired by exact
+    /// windows ([`ChainWarm`]). The default at every length.
+    Warm,
+    /// The exact dynamic programme over the whole chain ([`ChainDp`]).
+    Dp,
+    /// The primal active-set method warm-started from the previous faces ([`ChainQp`]).
+    ActiveSet,
+}
 
 /// The catching-up projection onto C (SPEC §4): `x+ = argmin_{x in C} |x - v|^2_{K^{-1}}`,
-/// by the active-set method warm-started from the previous active set on short chains and by
-/// the exact `O(n)` dynamic programme on long ones ([`DP_MIN_LINKS`]).
+/// by default guessed from the previous step's faces and certified or repaired ([`ChainWarm`]),
+/// which is `O(n)` whatever the number of faces that change and faster than both other methods
+/// at every length measured (`cargo bench --bench step -- projection`, N = 100 to 10^4).
 #[derive(Debug, Clone)]
 pub struct Projector {
     qp: ChainQp,
     dp: ChainDp,
-    use_dp: bool,
+    warm: ChainWarm,
+    method: ProjectionMethod,
     inv_k: Vec<f64>,
     lo: Vec<f64>,
     hi: Vec<f64>,
@@ -42,13 +53,16 @@ impl Projector {
     /// A projector for this crawler. The crawler must satisfy the uniqueness condition (checked).
     pub fn new(crawler: &Crawler) -> Result<Self> {
         crawler.require_unique()?;
+        let lo: Vec<f64> = crawler.mu_forward().iter().map(|m| -m).collect();
+        let hi = crawler.mu_backward().to_vec();
         Ok(Projector {
             qp: ChainQp::new(crawler.stiffness()),
             dp: ChainDp::new(crawler.stiffness()),
-            use_dp: crawler.links() >= DP_MIN_LINKS,
+            warm: ChainWarm::new(crawler.stiffness(), &lo, &hi),
+            method: ProjectionMethod::Warm,
             inv_k: crawler.stiffness().iter().map(|k| 1.0 / k).collect(),
-            lo: crawler.mu_forward().iter().map(|m| -m).collect(),
-            hi: crawler.mu_backward().to_vec(),
+            lo,
+            hi,
             v: vec![0.0; crawler.links()],
         })
     }
@@ -57,23 +71,44 @@ impl Projector {
     ///
     /// `x` must be in C. `d[b]` receives the displacement of block `b` over the step
     /// (`D_b = lambda_b^+ - lambda_b^-`, SPEC §4); the barycentre moves by `mean(d)`.
-    /// Returns the number of active-set iterations (1 for the dynamic programme).
+    /// Returns the number of active-set iterations (1 for the dynamic programme and for the
+    /// warm method: its windows are counted by [`ChainWarm::counters`]).
     pub fn step(&mut self, x: &mut [f64], delta: &[f64], d: &mut [f64]) -> Result<usize> {
         for ((vi, xi), di) in self.v.iter_mut().zip(x.iter()).zip(delta) {
             *vi = xi + di;
         }
-        if self.use_dp {
-            self.dp.solve(&self.lo, &self.hi, &self.v, x, d);
-            Ok(1)
-        } else {
-            self.qp.solve(&self.lo, &self.hi, &self.v, x, d)
+        match self.method {
+            ProjectionMethod::Warm => {
+                self.warm.solve(&self.v, x, d);
+                Ok(1)
+            }
+            ProjectionMethod::Dp => {
+                self.dp.solve(&self.lo, &self.hi, &self.v, x, d);
+                Ok(1)
+            }
+            ProjectionMethod::ActiveSet => self.qp.solve(&self.lo, &self.hi, &self.v, x, d),
         }
     }
 
-    /// Chooses the method: the dynamic programme (`true`) or the active-set method (`false`),
-    /// whatever the length of the chain (for comparisons; both give the same step).
-    pub fn set_dynamic_programming(&mut self, on: bool) {
-        self.use_dp = on;
+    /// Chooses the method whatever the length of the chain (for comparisons; all give the same
+    /// step). The next step of the warm and active-set methods starts from an empty working set
+    /// if the method changed.
+    pub fn set_method(&mut self, method: ProjectionMethod) {
+        if method != self.method {
+            self.qp.reset();
+            self.warm.set_working_set(&vec![Bound::Free; self.lo.len()]);
+        }
+        self.method = method;
+    }
+
+    /// The method in use.
+    pub fn method(&self) -> ProjectionMethod {
+        self.method
+    }
+
+    /// Work counters of the warm method (see [`ChainWarm::counters`]).
+    pub fn warm_counters(&self) -> (u64, u64, u64) {
+        self.warm.counters()
     }
 
     /// The derivative of the last step's projection on its active faces applied to `dv` in
@@ -90,9 +125,16 @@ impl Projector {
         x: &mut [f64],
         d: &mut [f64],
     ) -> Result<usize> {
-        if self.use_dp {
-            self.dp.solve(&self.lo, &self.hi, v, x, d);
-            return Ok(1);
+        match self.method {
+            ProjectionMethod::Warm => {
+                self.warm.solve(v, x, d);
+                return Ok(1);
+            }
+            ProjectionMethod::Dp => {
+                self.dp.solve(&self.lo, &self.hi, v, x, d);
+                return Ok(1);
+            }
+            ProjectionMethod::ActiveSet => {}
         }
         x.iter_mut().for_each(|xi| *xi = 0.0);
         self.qp.reset();
@@ -101,10 +143,10 @@ impl Projector {
 
     /// The working set after the last step (per block: free, forward face, backward face).
     pub fn active(&self) -> &[Bound] {
-        if self.use_dp {
-            self.dp.working_set()
-        } else {
-            self.qp.working_set()
+        match self.method {
+            ProjectionMethod::Warm => self.warm.working_set(),
+            ProjectionMethod::Dp => self.dp.working_set(),
+            ProjectionMethod::ActiveSet => self.qp.working_set(),
         }
     }
 }
