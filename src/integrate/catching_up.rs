@@ -208,7 +208,9 @@ impl CatchingUp {
         self.pattern.bytes()
     }
 
-    /// Total active-set iterations so far (a cost measure of the projection kernel).
+    /// Total projection iterations so far (a cost measure of the projection kernel): the
+    /// active-set method's iterations, one per step for the warm method (the default) and the
+    /// dynamic programme, whose windows are counted by [`crate::sweep::Projector::warm_counters`].
     pub fn iterations(&self) -> u64 {
         self.iterations
     }
