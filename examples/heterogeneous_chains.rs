@@ -9,31 +9,12 @@
 //! in [0.5, 2], mu+ in {0.75, 1} and mu- in {2.5, 3.5} + 1/(8 N) per block, a sine wave of
 //! amplitude 1.5 and 60 degrees per link, catching-up on 1000 steps per period.
 
-use crawlopt::integrate::{simulate, Actuation, Method, SimOptions, Simulation, Waveform};
+#[path = "support/heterogeneous.rs"]
+mod heterogeneous;
+
+use crawlopt::integrate::{simulate, Actuation, Method, SimOptions, Simulation};
 use crawlopt::Crawler;
 use std::time::Instant;
-
-fn chain(nb: usize, seed: u64) -> Result<(Crawler, Actuation), crawlopt::Error> {
-    let n = nb - 1;
-    let mut state = seed;
-    let mut next = || {
-        state = state
-            .wrapping_mul(6364136223846793005)
-            .wrapping_add(1442695040888963407);
-        (state >> 11) as f64 / (1u64 << 53) as f64
-    };
-    let k: Vec<f64> = (0..n).map(|_| 0.5 + 1.5 * next()).collect();
-    let mp: Vec<f64> = (0..nb)
-        .map(|_| if next() < 0.5 { 0.75 } else { 1.0 })
-        .collect();
-    let mm: Vec<f64> = (0..nb)
-        .map(|_| if next() < 0.5 { 2.5 } else { 3.5 } + 1.0 / (8.0 * nb as f64))
-        .collect();
-    let c = Crawler::new(k, mp, mm)?;
-    let phases = (0..n).map(|l| l as f64 * 60.0).collect();
-    let a = Actuation::wave(Waveform::Sine, 1.0, vec![0.0; n], vec![1.5; n], phases)?;
-    Ok((c, a))
-}
 
 fn timed(c: &Crawler, a: &Actuation, newton: bool) -> Result<(Simulation, f64), crawlopt::Error> {
     let opts = SimOptions {
@@ -69,7 +50,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         "N,seed,periods,products,seconds,anderson_periods,anderson_seconds,displacement_difference"
     );
     for (nb, seed) in cases {
-        let (c, a) = chain(nb, seed)?;
+        let (c, a) = heterogeneous::heterogeneous_chain(nb, seed)?;
         let (s, t) = timed(&c, &a, true)?;
         let (sa, ta) = timed(&c, &a, false)?;
         let diff = match (s.displacement_per_period, sa.displacement_per_period) {

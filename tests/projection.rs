@@ -12,7 +12,12 @@ use proptest::prelude::*;
 /// vertex of C are as well conditioned as that margin; with real-valued random thresholds the
 /// margin of 40 blocks is ~1e-8 and D is determined only to ~1e-8 relative).
 fn crawler_strategy() -> impl Strategy<Value = Crawler> {
-    (2usize..=40)
+    crawler_strategy_upto(40)
+}
+
+/// [`crawler_strategy`] with 2 to `max_blocks` blocks.
+fn crawler_strategy_upto(max_blocks: usize) -> impl Strategy<Value = Crawler> {
+    (2usize..=max_blocks)
         .prop_flat_map(|nb| {
             (
                 prop::collection::vec(0.2f64..5.0, nb - 1),
@@ -202,23 +207,7 @@ fn long_chain_periods_agree_between_methods() {
 
 /// Random chains of 1 to 300 links with the margin of [`crawler_strategy`].
 fn long_crawler_strategy() -> impl Strategy<Value = Crawler> {
-    (2usize..=301)
-        .prop_flat_map(|nb| {
-            (
-                prop::collection::vec(0.2f64..5.0, nb - 1),
-                prop::collection::vec(1u32..=12, nb),
-                prop::collection::vec(1u32..=12, nb),
-            )
-        })
-        .prop_map(|(k, mp, mm)| {
-            let nb = mp.len() as f64;
-            let mp = mp.iter().map(|&i| i as f64 / 4.0).collect();
-            let mm = mm
-                .iter()
-                .map(|&j| j as f64 / 4.0 + 1.0 / (8.0 * nb))
-                .collect();
-            Crawler::new(k, mp, mm).unwrap()
-        })
+    crawler_strategy_upto(301)
 }
 
 /// [`ChainWarm`] (guess from its last working set, certify, repair) against [`ChainDp`] and the
