@@ -227,6 +227,13 @@ fn compare_warm(
     let mut dp = ChainDp::new(c.stiffness());
     let (mut x1, mut d1) = (vec![0.0; n], vec![0.0; nb]);
     dp.solve(&lo, &hi, v, &mut x1, &mut d1);
+    // The same step as a catching-up step from x_qp (`solve_increment`, v formed in the pass)
+    // by a twin of the warm solver with the same guess.
+    let mut twin = warm.clone();
+    let mut x4 = x_qp.to_vec();
+    let delta: Vec<f64> = v.iter().zip(&x4).map(|(a, b)| a - b).collect();
+    let mut d4 = vec![f64::NAN; nb];
+    twin.solve_increment(&mut x4, &delta, &mut d4);
     let mut d2 = vec![0.0; nb];
     qp.solve(&lo, &hi, v, x_qp, &mut d2).unwrap();
     let (mut x3, mut d3) = (vec![f64::NAN; n], vec![f64::NAN; nb]);
@@ -235,11 +242,17 @@ fn compare_warm(
     let kmin = c.stiffness().iter().copied().fold(f64::INFINITY, f64::min);
     let mut ex: f64 = 0.0;
     for l in 0..n {
-        ex = ex.max((x3[l] - x1[l]).abs()).max((x3[l] - x_qp[l]).abs());
+        ex = ex
+            .max((x3[l] - x1[l]).abs())
+            .max((x3[l] - x_qp[l]).abs())
+            .max((x4[l] - x1[l]).abs());
     }
     let mut ed: f64 = 0.0;
     for b in 0..nb {
-        ed = ed.max((d3[b] - d1[b]).abs()).max((d3[b] - d2[b]).abs());
+        ed = ed
+            .max((d3[b] - d1[b]).abs())
+            .max((d3[b] - d2[b]).abs())
+            .max((d4[b] - d1[b]).abs());
     }
     let tol = 1e-9 * scale;
     let faces_agree = (0..nb).all(|b| {
@@ -247,7 +260,11 @@ fn compare_warm(
         let inc = increment(&x1, b);
         let clearly_free = inc - lo[b] > tol && hi[b] - inc > tol;
         let clearly_active = d1[b].abs() * kmin > tol;
-        let others = [dp.working_set()[b], qp.working_set()[b]];
+        let others = [
+            dp.working_set()[b],
+            qp.working_set()[b],
+            twin.working_set()[b],
+        ];
         if clearly_free {
             w == Bound::Free && others.iter().all(|&o| o == Bound::Free)
         } else if clearly_active {

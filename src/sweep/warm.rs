@@ -30,6 +30,12 @@
 use super::chain::{increment, Bound};
 use super::dp::ChainDp;
 
+/// The point to project: given, or `x + delta` formed by the pass into `v`.
+enum Input<'a> {
+    Point(&'a [f64]),
+    Increment { delta: &'a [f64], v: &'a mut [f64] },
+}
+
 /// Solver of the chain QP from the previous solution's working set. See the module docs.
 #[derive(Debug, Clone)]
 pub struct ChainWarm {
@@ -49,6 +55,8 @@ pub struct ChainWarm {
     /// Blocks whose check failed in the pass and no window has repaired yet.
     bad: Vec<bool>,
     viol: Vec<usize>,
+    /// `x + delta` of [`ChainWarm::solve_increment`].
+    v: Vec<f64>,
     dp: ChainDp,
     windows: u64,
     window_links: u64,
@@ -89,6 +97,7 @@ impl ChainWarm {
             swv: vec![0.0; n],
             bad: vec![false; n + 1],
             viol: Vec::new(),
+            v: vec![0.0; n],
             dp: ChainDp::new(stiffness),
             windows: 0,
             window_links: 0,
@@ -121,7 +130,28 @@ impl ChainWarm {
         let n = v.len();
         assert!(n == self.inv_k.len() && x.len() == n && d.len() == n + 1);
         self.viol.clear();
-        let Some(tol_p) = self.pass(v, x, d) else {
+        let res = self.pass(Input::Point(v), x, d);
+        self.finish(res, v, x, d)
+    }
+
+    /// A catching-up step: projects `v = x + delta` (`x` the state on entry, in C), as
+    /// [`ChainWarm::solve`]. `v` is formed inside the pass's forward sweep, whose running sums
+    /// leave the memory system time to stream `delta` (a separate sum over it was about a fifth
+    /// of a step at N = 1000, the period's increments being read from memory).
+    pub fn solve_increment(&mut self, x: &mut [f64], delta: &[f64], d: &mut [f64]) -> usize {
+        let n = x.len();
+        assert!(n == self.inv_k.len() && delta.len() == n && d.len() == n + 1);
+        self.viol.clear();
+        let mut v = std::mem::take(&mut self.v);
+        let res = self.pass(Input::Increment { delta, v: &mut v }, x, d);
+        let windows = self.finish(res, &v, x, d);
+        self.v = v;
+        windows
+    }
+
+    /// After the pass: the whole-chain DP when no block is free, else the windows' repair.
+    fn finish(&mut self, res: Option<f64>, v: &[f64], x: &mut [f64], d: &mut [f64]) -> usize {
+        let Some(tol_p) = res else {
             self.full_dp(v, x, d);
             self.sync();
             return 1;
@@ -146,9 +176,16 @@ impl ChainWarm {
     /// the segment's last link carried over it, `x = o + c`, `D` summed from `D = 0` at the
     /// segment's right end, and both checks or-ed into one flag. Only when the flag is up is
     /// the chain scanned again for the blocks to repair.
-    fn pass(&mut self, v: &[f64], x: &mut [f64], d: &mut [f64]) -> Option<f64> {
-        let n = v.len();
-        let f0 = self.ws.iter().position(|&b| b == Bound::Free)?;
+    fn pass(&mut self, input: Input<'_>, x: &mut [f64], d: &mut [f64]) -> Option<f64> {
+        let n = x.len();
+        let Some(f0) = self.ws.iter().position(|&b| b == Bound::Free) else {
+            if let Input::Increment { delta, v } = input {
+                for ((vl, xl), dl) in v.iter_mut().zip(x.iter()).zip(delta) {
+                    *vl = xl + dl;
+                }
+            }
+            return None;
+        };
         let fl = self
             .ws
             .iter()
@@ -170,14 +207,33 @@ impl ChainWarm {
         // Floating segments over links f0..fl, forward: the running sum restarts after a link
         // whose right block is free (`on = 0`); block f0 is free.
         let rec = &self.rec[f0..fl];
-        let (vm, swv) = (&v[f0..fl], &mut self.swv[f0..fl]);
+        let swv = &mut self.swv[f0..fl];
         let mut s = 0.0_f64;
         let mut on = 0.0_f64;
-        for ((r, &vl), sl) in rec.iter().zip(vm).zip(swv.iter_mut()) {
-            s = if on != 0.0 { s } else { 0.0 } + r.w * vl;
-            *sl = s;
-            on = r.on;
-        }
+        let v: &[f64] = match input {
+            Input::Point(v) => {
+                for ((r, &vl), sl) in rec.iter().zip(&v[f0..fl]).zip(swv.iter_mut()) {
+                    s = if on != 0.0 { s } else { 0.0 } + r.w * vl;
+                    *sl = s;
+                    on = r.on;
+                }
+                v
+            }
+            Input::Increment { delta, v } => {
+                for l in (0..f0).chain(fl..n) {
+                    v[l] = x[l] + delta[l];
+                }
+                let it = rec.iter().zip(swv.iter_mut()).zip(&mut v[f0..fl]);
+                for (((r, sl), vl), (xl, dl)) in it.zip(x[f0..fl].iter().zip(&delta[f0..fl])) {
+                    *vl = xl + dl;
+                    s = if on != 0.0 { s } else { 0.0 } + r.w * *vl;
+                    *sl = s;
+                    on = r.on;
+                }
+                v
+            }
+        };
+        let vm = &v[f0..fl];
         // max |v| in four independent lanes (no loop-carried chain through one register).
         let mut lanes = [0.0_f64; 4];
         let chunks = v.chunks_exact(4);
