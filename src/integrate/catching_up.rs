@@ -6,7 +6,7 @@
 use super::{slip_of, Actuation, PeriodMap, Recorder};
 use crate::error::Result;
 use crate::model::Crawler;
-use crate::sweep::{tangent, Bound, ProjectionMethod, Projector};
+use crate::sweep::{rigid_mean, tangent, Bound, ProjectionMethod, Projector};
 
 /// The active pattern of a period, for the tangent map `dx <- J dx` of the period
 /// ([`PeriodMap::apply_tangent`]): the tangent of a step ([`crate::sweep::tangent`]) depends only
@@ -137,13 +137,7 @@ fn average(ws: &[Bound], inv_k: &[f64], dx: &mut [f64], lo: usize, hi: usize) {
         seg.iter_mut().for_each(|d| *d = 0.0);
         return;
     }
-    let (mut sw, mut swv) = (0.0, 0.0);
-    for (d, w) in seg.iter().zip(&inv_k[lo..hi]) {
-        sw += w;
-        swv += w * d;
-    }
-    let c = swv / sw;
-    seg.iter_mut().for_each(|d| *d = c);
+    rigid_mean(&inv_k[lo..hi], seg);
 }
 
 /// Catching-up on `m` uniform steps per period.

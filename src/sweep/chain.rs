@@ -264,6 +264,18 @@ impl ChainQp {
     }
 }
 
+/// Moves the links of one floating segment rigidly: every entry of `dv` becomes its
+/// `1/k`-weighted mean (weights `inv_k`), the tangent of the projection on that segment.
+pub fn rigid_mean(inv_k: &[f64], dv: &mut [f64]) {
+    let (mut sw, mut swv) = (0.0, 0.0);
+    for (d, w) in dv.iter().zip(inv_k) {
+        sw += w;
+        swv += w * d;
+    }
+    let c = swv / sw;
+    dv.iter_mut().for_each(|d| *d = c);
+}
+
 /// The derivative of the projection with respect to `v` on a fixed working set `ws` (one entry per
 /// block), applied in place to `dv`: links glued by active increments into a segment that reaches
 /// an end of the chain are pinned (`dx = 0`), every other segment moves rigidly with the
@@ -285,13 +297,7 @@ pub fn tangent(ws: &[Bound], inv_k: &[f64], dv: &mut [f64]) {
             dv[..b].iter_mut().for_each(|d| *d = 0.0);
             pinned_left = false;
         } else if b > s {
-            let (mut sw, mut swv) = (0.0, 0.0);
-            for l in s..b {
-                sw += inv_k[l];
-                swv += inv_k[l] * dv[l];
-            }
-            let c = swv / sw;
-            dv[s..b].iter_mut().for_each(|d| *d = c);
+            rigid_mean(&inv_k[s..b], &mut dv[s..b]);
         }
         start = Some(b);
     }

@@ -12,7 +12,7 @@ mod dp;
 pub mod polyhedron;
 mod warm;
 
-pub use chain::{increment, tangent, Bound, ChainQp};
+pub use chain::{increment, rigid_mean, tangent, Bound, ChainQp};
 pub use dp::ChainDp;
 pub use polyhedron::{PolyProjector, Projection};
 pub use warm::ChainWarm;
