@@ -440,19 +440,21 @@ pub fn simulate(crawler: &Crawler, act: &Actuation, opts: &SimOptions) -> Result
                         Some(_) => {
                             // Mix x + P^{-1} (G(x) - x), P the chain's diffusion (newton.rs):
                             // the mixed map contracts by about a half per period whatever N.
-                            if mixing.is_none() {
-                                let tangents = tangent_source(
-                                    map.as_ref(),
-                                    surrogate.as_mut(),
-                                    &x_start,
-                                    &mut products,
-                                )?;
-                                mixing = Some(Diffusion::measured(n, &mut |v: &mut [f64]| {
-                                    tangents.apply_tangent(v)
-                                }));
-                                products += 1;
-                            }
-                            let pre = mixing.as_mut().expect("measured above");
+                            let pre = match mixing.as_mut() {
+                                Some(pre) => pre,
+                                None => {
+                                    let tangents = tangent_source(
+                                        map.as_ref(),
+                                        surrogate.as_mut(),
+                                        &x_start,
+                                        &mut products,
+                                    )?;
+                                    products += 1;
+                                    mixing.insert(Diffusion::measured(n, &mut |v: &mut [f64]| {
+                                        tangents.apply_tangent(v)
+                                    }))
+                                }
+                            };
                             // A residual that grew: the model overshoots (far from the orbit
                             // the chain's slow modes contract less than measured), damp it.
                             if grew {
