@@ -1,9 +1,10 @@
 //! Cost of one simulation time step (catching-up: one projection onto C; exact: the events of
 //! one knot interval) on the travelling sine gait `L_l = 2 sin(2 pi t - l pi/2)`, k = 1,
-//! mu+ = 1, mu- = 3.3, 1000 steps per period, measured on the periodic orbit.
+//! mu+ = 1, mu- = 3.3, 1000 steps per period, measured on the periodic orbit; catching-up with
+//! its increments stored and streamed.
 //! `cargo bench --bench step`; throughput is reported in steps per second.
 
-use crawlopt::integrate::{Actuation, CatchingUp, ExactPwl, PeriodMap, Waveform};
+use crawlopt::integrate::{Actuation, CatchingUp, ExactPwl, IncrementStorage, PeriodMap, Waveform};
 use crawlopt::sweep::ProjectionMethod;
 use crawlopt::Crawler;
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
@@ -33,14 +34,20 @@ fn bench_period(c: &mut Criterion) {
         let (crawler, act) = setup(nb);
         let n = crawler.links();
         let mut acc = vec![0.0; nb];
-        let mut cu = CatchingUp::new(&crawler, &act, M).unwrap();
-        let mut x = vec![0.0; n];
-        for _ in 0..50 {
-            cu.run_period(&mut x, &mut acc, None).unwrap();
+        // The increments as a table, and formed step by step (memory O(N)).
+        for (name, storage) in [
+            ("catching-up", IncrementStorage::Stored),
+            ("catching-up-streamed", IncrementStorage::Streamed),
+        ] {
+            let mut cu = CatchingUp::with_storage(&crawler, &act, M, storage).unwrap();
+            let mut x = vec![0.0; n];
+            for _ in 0..50 {
+                cu.run_period(&mut x, &mut acc, None).unwrap();
+            }
+            g.bench_with_input(BenchmarkId::new(name, nb), &nb, |b, _| {
+                b.iter(|| cu.run_period(black_box(&mut x), &mut acc, None).unwrap())
+            });
         }
-        g.bench_with_input(BenchmarkId::new("catching-up", nb), &nb, |b, _| {
-            b.iter(|| cu.run_period(black_box(&mut x), &mut acc, None).unwrap())
-        });
         let mut ex = ExactPwl::new(&crawler, &act, M).unwrap();
         let mut x = vec![0.0; n];
         for _ in 0..50 {
@@ -66,7 +73,8 @@ fn bench_projection(c: &mut Criterion) {
         let mut acc = vec![0.0; nb];
         // Near the orbit: ten periods from rest with the (faster) dynamic programme, shared.
         let mut near = vec![0.0; n];
-        let mut warm = CatchingUp::new(&crawler, &act, M).unwrap();
+        let stored = IncrementStorage::Stored;
+        let mut warm = CatchingUp::with_storage(&crawler, &act, M, stored).unwrap();
         for _ in 0..10 {
             warm.run_period(&mut near, &mut acc, None).unwrap();
         }
@@ -75,7 +83,7 @@ fn bench_projection(c: &mut Criterion) {
             ("dp", ProjectionMethod::Dp),
             ("active-set", ProjectionMethod::ActiveSet),
         ] {
-            let mut cu = CatchingUp::new(&crawler, &act, M).unwrap();
+            let mut cu = CatchingUp::with_storage(&crawler, &act, M, stored).unwrap();
             let mut x = vec![0.0; n];
             g.bench_with_input(
                 BenchmarkId::new(format!("{name}/from-rest"), nb),

@@ -445,6 +445,7 @@ def simulate(
     initial_state: Optional[Sequence[float]] = None,
     progress: Progress = False,
     newton: bool = True,
+    increment_budget: Optional[int] = None,
 ) -> Simulation:
     """Plays ``actuation`` on ``crawler`` until the periodic regime (the sweeping process of
     SPEC §3, exact event-driven or catching-up) and records ``periods`` periods of the orbit.
@@ -453,7 +454,9 @@ def simulate(
     plain periods or earlier when plain iteration is predicted too slow: Newton-Krylov steps
     safeguarded by Anderson; ``accelerate=False``: never; ``newton=False``: Anderson alone,
     ``crawlopt simulate --no-newton``). ``search``, ``periods_simulated``, ``newton_steps`` and
-    ``tangent_products`` say what the search cost. The GIL is released; Ctrl-C stops it
+    ``tangent_products`` say what the search cost. ``increment_budget``: bytes up to which
+    catching-up keeps the period's increments as a table (default 64 MiB); beyond it they are
+    formed step by step, memory O(N), the same result. The GIL is released; Ctrl-C stops it
     (KeyboardInterrupt)."""
     summary, arrays = _rs.simulate(
         crawler._inner,
@@ -468,6 +471,7 @@ def simulate(
         None if initial_state is None else [float(v) for v in initial_state],
         progress_callback(progress),
         newton,
+        increment_budget,
     )
     return Simulation(summary, arrays)
 

@@ -54,7 +54,7 @@ fn simulation_out(
 /// Simulates `actuation` on `crawler` to the periodic regime (SPEC §3–4); see
 /// `crawlopt.simulate` for the arguments.
 #[pyfunction]
-#[pyo3(signature = (crawler, actuation, method, steps_per_period, record_periods, max_periods, tol, accelerate, accelerate_after, initial_state, progress, newton = true))]
+#[pyo3(signature = (crawler, actuation, method, steps_per_period, record_periods, max_periods, tol, accelerate, accelerate_after, initial_state, progress, newton = true, increment_budget = None))]
 #[allow(clippy::too_many_arguments)]
 pub fn simulate<'py>(
     py: Python<'py>,
@@ -70,6 +70,7 @@ pub fn simulate<'py>(
     initial_state: Option<Vec<f64>>,
     progress: Option<PyObject>,
     newton: bool,
+    increment_budget: Option<usize>,
 ) -> PyResult<(Bound<'py, PyAny>, Bound<'py, PyDict>)> {
     let method = match method {
         "exact" => Method::Exact,
@@ -93,6 +94,7 @@ pub fn simulate<'py>(
             .flatten(),
         newton: d.newton.filter(|_| newton),
         initial_state,
+        increment_budget: increment_budget.unwrap_or(d.increment_budget),
     };
     let (c, a) = (crawler.inner.clone(), actuation.inner.clone());
     let s = run(py, progress, |hooks| api::simulate(&c, &a, &opts, hooks))?;

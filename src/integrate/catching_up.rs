@@ -3,6 +3,7 @@
 //! step are the multipliers `D_b`. Here `h u^i = K (L(t_{i+1}) - L(t_i))`: the exact increment of
 //! the actuation over the step, so the scheme is rate-independent.
 
+use super::increments::{IncrementStorage, Increments};
 use super::{slip_of, Actuation, PeriodMap, Recorder};
 use crate::error::Result;
 use crate::model::Crawler;
@@ -144,11 +145,10 @@ fn average(ws: &[Bound], inv_k: &[f64], dx: &mut [f64], lo: usize, hi: usize) {
 #[derive(Debug, Clone)]
 pub struct CatchingUp {
     proj: Projector,
-    /// `K (L^{i+1} - L^i)`, row-major `m x n`.
-    deltas: Vec<f64>,
+    /// `K (L^{i+1} - L^i)` of every step.
+    incs: Increments,
     times: Vec<f64>,
     d: Vec<f64>,
-    n: usize,
     iterations: u64,
     /// The active pattern of the last period when recording ([`PeriodMap::record_tangent`]).
     pattern: PatternLog,
@@ -158,42 +158,53 @@ pub struct CatchingUp {
 
 impl CatchingUp {
     /// Samples the actuation at `t_i = i T / m`, `i = 0..=m` (with `L(t_m) = L(t_0)` exactly, so
-    /// the increments sum to zero).
+    /// the increments sum to zero), holding the increments as a table when it fits in
+    /// [`IncrementStorage::DEFAULT_BUDGET`] bytes.
     pub fn new(crawler: &Crawler, act: &Actuation, m: usize) -> Result<Self> {
-        let n = crawler.links();
-        let period = act.period();
-        let mut samples = vec![0.0; (m + 1) * n];
-        for i in 0..m {
-            act.lengths_at(
-                (i as f64 / m as f64) * period,
-                &mut samples[i * n..(i + 1) * n],
-            );
-        }
-        let (head, tail) = samples.split_at_mut(m * n);
-        tail.copy_from_slice(&head[..n]);
-        let k = crawler.stiffness();
-        let deltas = (0..m * n)
-            .map(|j| k[j % n] * (samples[j + n] - samples[j]))
-            .collect();
-        Self::from_increments(crawler, deltas, period)
+        let storage =
+            IncrementStorage::within(IncrementStorage::DEFAULT_BUDGET, crawler.links(), m);
+        Self::with_storage(crawler, act, m, storage)
+    }
+
+    /// As [`CatchingUp::new`], the increments held as `storage` says (both give bitwise the same
+    /// steps).
+    pub fn with_storage(
+        crawler: &Crawler,
+        act: &Actuation,
+        m: usize,
+        storage: IncrementStorage,
+    ) -> Result<Self> {
+        let incs = Increments::new(act, crawler.stiffness(), m, storage)?;
+        Self::build(crawler, incs, act.period())
     }
 
     /// Catching-up on given increments `K (L^{i+1} - L^i)` (row-major `m x n`) over a period.
     pub fn from_increments(crawler: &Crawler, deltas: Vec<f64>, period: f64) -> Result<Self> {
-        let n = crawler.links();
-        let m = deltas.len() / n;
-        super::check_increments(&deltas)?;
+        Self::build(crawler, Increments::given(deltas, crawler.links())?, period)
+    }
+
+    fn build(crawler: &Crawler, incs: Increments, period: f64) -> Result<Self> {
+        let m = incs.steps();
         Ok(CatchingUp {
             proj: Projector::new(crawler)?,
-            deltas,
+            incs,
             times: (0..=m).map(|i| (i as f64 / m as f64) * period).collect(),
             d: vec![0.0; crawler.blocks()],
-            n,
             iterations: 0,
             pattern: PatternLog::default(),
             recording: false,
             inv_k: crawler.stiffness().iter().map(|k| 1.0 / k).collect(),
         })
+    }
+
+    /// How the increments are held.
+    pub fn increment_storage(&self) -> IncrementStorage {
+        self.incs.storage()
+    }
+
+    /// Bytes held for the increments: `8 N M` stored, `40 N` streamed.
+    pub fn increment_bytes(&self) -> usize {
+        self.incs.bytes()
     }
 
     /// Bytes held by the active pattern recorded in the last period
@@ -228,9 +239,9 @@ impl PeriodMap for CatchingUp {
         acc: &mut [f64],
         mut rec: Option<&mut Recorder>,
     ) -> Result<()> {
-        let n = self.n;
         self.pattern.clear();
-        for (i, delta) in self.deltas.chunks_exact(n).enumerate() {
+        for i in 0..self.times.len() - 1 {
+            let delta = self.incs.row(i);
             self.iterations += self.proj.step(x, delta, &mut self.d)? as u64;
             if self.recording {
                 self.pattern.push(self.proj.active());
@@ -252,8 +263,8 @@ impl PeriodMap for CatchingUp {
     }
 
     fn run_period_tangent(&mut self, x: &mut [f64], dx: &mut [f64]) -> Result<bool> {
-        let n = self.n;
-        for delta in self.deltas.chunks_exact(n) {
+        for i in 0..self.times.len() - 1 {
+            let delta = self.incs.row(i);
             self.iterations += self.proj.step(x, delta, &mut self.d)? as u64;
             self.proj.tangent(dx);
         }

@@ -14,6 +14,7 @@ mod catching_up;
 mod exact;
 pub mod general;
 pub mod general_exact;
+mod increments;
 mod newton;
 mod periodic;
 
@@ -24,6 +25,7 @@ pub use general::{
     simulate_general, ControlInput, GeneralMethod, GeneralSimOptions, GeneralSimulation, InputKind,
 };
 pub use general_exact::simulate_general_exact;
+pub use increments::IncrementStorage;
 pub use newton::NewtonOptions;
 pub use periodic::{simulate, Search, SimOptions, Simulation, EARLY_SWITCH_MIN};
 

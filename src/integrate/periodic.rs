@@ -15,7 +15,7 @@
 
 use super::newton::{newton_step, Diffusion, NewtonOptions};
 use super::Actuation;
-use super::{CatchingUp, ExactPwl, Method, PeriodMap, Recorder, Trajectory};
+use super::{CatchingUp, ExactPwl, IncrementStorage, Method, PeriodMap, Recorder, Trajectory};
 use crate::error::{Error, Result};
 use crate::model::Crawler;
 use crate::sweep::Projector;
@@ -74,6 +74,12 @@ pub struct SimOptions {
     pub newton: Option<NewtonOptions>,
     /// Initial state `x(0)` (default 0, the unloaded crawler).
     pub initial_state: Option<Vec<f64>>,
+    /// Catching-up keeps the period's increments `K (L^{i+1} - L^i)` as a table (8 bytes per
+    /// link and step) when it fits in this many bytes, and forms them step by step from the
+    /// actuation otherwise (memory `O(N)`, a slower step; bitwise the same results). Default
+    /// [`IncrementStorage::DEFAULT_BUDGET`] (64 MiB). A table is refused beyond
+    /// [`MAX_SAMPLES`] increments.
+    pub increment_budget: usize,
 }
 
 impl SimOptions {
@@ -87,6 +93,7 @@ impl SimOptions {
         accelerate_after: Some(50),
         newton: Some(NewtonOptions::DEFAULT),
         initial_state: None,
+        increment_budget: IncrementStorage::DEFAULT_BUDGET,
     };
 }
 
@@ -277,17 +284,31 @@ pub fn simulate(crawler: &Crawler, act: &Actuation, opts: &SimOptions) -> Result
         ));
     }
     let (n, nb) = (crawler.links(), crawler.blocks());
-    // Memory guards: the sampled increments (catching-up) and the recorded trajectory.
+    // Memory guards: the sampled increments (catching-up, unless streamed), the exact method's
+    // knots and the recorded trajectory.
     let per_period = if opts.method == Method::CatchingUp || !act.is_piecewise_linear() {
         opts.steps_per_period
     } else {
         act.knots(0).0.len()
     };
-    if uses_m && (per_period as f64) * (n as f64) > MAX_SAMPLES {
+    let storage = IncrementStorage::within(opts.increment_budget, n, opts.steps_per_period);
+    let streamed = opts.method == Method::CatchingUp && storage == IncrementStorage::Streamed;
+    if uses_m && !streamed && (per_period as f64) * (n as f64) > MAX_SAMPLES {
+        let (field, value, also) = match opts.method {
+            Method::CatchingUp => (
+                "increment_budget",
+                opts.increment_budget,
+                ": a smaller budget streams them",
+            ),
+            Method::Exact => ("steps_per_period", per_period, ""),
+        };
         return Err(Error::invalid(
-            "steps_per_period",
-            per_period,
-            format!("steps per period times links ({n}) must be at most {MAX_SAMPLES:e} (memory)"),
+            field,
+            value,
+            format!(
+                "holds {per_period} steps per period times {n} links, at most {MAX_SAMPLES:e} are \
+                 held (memory){also}"
+            ),
         ));
     }
     let recorded = opts.record_periods as f64 * per_period as f64 * (3 * nb) as f64;
@@ -303,7 +324,12 @@ pub fn simulate(crawler: &Crawler, act: &Actuation, opts: &SimOptions) -> Result
     }
     let initial_state = x.clone();
     let mut map: Box<dyn PeriodMap> = match opts.method {
-        Method::CatchingUp => Box::new(CatchingUp::new(crawler, act, opts.steps_per_period)?),
+        Method::CatchingUp => Box::new(CatchingUp::with_storage(
+            crawler,
+            act,
+            opts.steps_per_period,
+            storage,
+        )?),
         Method::Exact => Box::new(ExactPwl::new(crawler, act, opts.steps_per_period)?),
     };
     let (steps_per_period, actuation_model) = match opts.method {
@@ -335,7 +361,8 @@ pub fn simulate(crawler: &Crawler, act: &Actuation, opts: &SimOptions) -> Result
                 && (opts.steps_per_period as f64) * (n as f64) <= MAX_SAMPLES
             {
                 // Increments that overflow leave the exact method to Anderson alone.
-                surrogate = CatchingUp::new(crawler, act, opts.steps_per_period).ok();
+                surrogate =
+                    CatchingUp::with_storage(crawler, act, opts.steps_per_period, storage).ok();
                 surrogate.as_mut().map(|cu| {
                     cu.record_tangent(true);
                     o

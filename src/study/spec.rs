@@ -686,6 +686,7 @@ fn simulate_options(t: toml::Table) -> Result<SimOptions> {
         },
         newton: SimOptions::DEFAULT.newton,
         initial_state: None,
+        increment_budget: d.increment_budget,
     })
 }
 

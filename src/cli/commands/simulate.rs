@@ -74,6 +74,16 @@ pub struct SimulateArgs {
     /// Accelerate with Anderson alone, without Newton-Krylov steps (the search before them).
     #[arg(long = "no-newton")]
     pub no_newton: bool,
+    /// Catching-up keeps the period's increments as a table (8 bytes per link and step) up to
+    /// this many bytes, and forms them step by step beyond (memory O(N), the same result).
+    #[arg(
+        long = "increment-budget",
+        value_name = "BYTES",
+        default_value_t = DEFAULTS.increment_budget,
+        allow_negative_numbers = true,
+        value_parser = count
+    )]
+    pub increment_budget: usize,
     /// Write the recorded trajectory as CSV.
     #[arg(long, short = 'o')]
     pub output: Option<PathBuf>,
@@ -93,6 +103,7 @@ fn flags(e: Error) -> Error {
         ("periods", "--periods"),
         ("max_periods", "--max-periods"),
         ("tol", "--tol"),
+        ("increment_budget", "--increment-budget"),
     ];
     rename_fields(e, &names.map(|(f, flag)| (f, flag.to_string())))
 }
@@ -117,6 +128,7 @@ pub fn run(a: SimulateArgs) -> Result<ExitCode, Error> {
         accelerate_after: (!a.no_accelerate).then_some(a.accelerate_after),
         newton: SimOptions::DEFAULT.newton.filter(|_| !a.no_newton),
         initial_state: model.simulation.initial_state.clone(),
+        increment_budget: a.increment_budget,
     };
     // Output paths are checked before the work: a directory for -o, a file for --plot.
     if let Some(path) = &a.output {
