@@ -60,7 +60,9 @@ def check_links(site: Path) -> tuple[int, list[str]]:
     checked: set[tuple[Path, str]] = set()
     failures: list[str] = []
     rust = site / "rust"
-    pages = [p for p in site.rglob("*.html") if rust not in p.parents]
+    # 404.html is served in place of any missing page, so MkDocs writes its links from the site's
+    # root ("/index.html"), not relative to a place on disk: not checked here.
+    pages = [p for p in site.rglob("*.html") if rust not in p.parents and p.name != "404.html"]
     for page in sorted(pages):
         for href in _parse(page, cache).links:
             parts = urlsplit(href)
@@ -69,7 +71,6 @@ def check_links(site: Path) -> tuple[int, list[str]]:
             target = page if not parts.path else (page.parent / unquote(parts.path)).resolve()
             if target.is_dir():
                 target = target / "index.html"
-            key = (target, parts.fragment)
             where = f"{page.relative_to(site)}: {href}"
             if (page, href) in checked:
                 continue
@@ -80,7 +81,6 @@ def check_links(site: Path) -> tuple[int, list[str]]:
             if parts.fragment and target.suffix == ".html":
                 if unquote(parts.fragment) not in _parse(target, cache).ids:
                     failures.append(f"{where}: no anchor #{parts.fragment}")
-            del key
     return len(checked), failures
 
 
@@ -98,7 +98,9 @@ def samples(docs: Path) -> list[tuple[str, str, str]]:
             if not m:
                 found.append((where, "", "no fenced block after the sample mark"))
                 continue
-            end = next((j for j in range(i + 2, len(lines)) if lines[j].startswith(m.group(1))), None)
+            end = next(
+                (j for j in range(i + 2, len(lines)) if lines[j].startswith(m.group(1))), None
+            )
             if end is None:
                 found.append((where, "", "the fenced block is not closed"))
                 continue
@@ -122,7 +124,11 @@ def run_samples(docs: Path, examples: Path, python: str) -> tuple[int, list[str]
             began = time.monotonic()
             try:
                 run = subprocess.run(
-                    cmd, cwd=tmp, capture_output=True, text=True, timeout=SAMPLE_SECONDS,
+                    cmd,
+                    cwd=tmp,
+                    capture_output=True,
+                    text=True,
+                    timeout=SAMPLE_SECONDS,
                     env=dict(os.environ, MPLBACKEND="Agg"),
                 )
                 ok, detail = run.returncode == 0, f"exit {run.returncode}"
@@ -130,8 +136,10 @@ def run_samples(docs: Path, examples: Path, python: str) -> tuple[int, list[str]
             except (OSError, subprocess.TimeoutExpired) as e:
                 ok, detail, output = False, str(e), ""
             seconds = time.monotonic() - began
-        print(f"docs sample {where} ({lang}): {'ok' if ok else 'FAILED'} ({seconds:.1f} s)",
-              file=sys.stderr)
+        print(
+            f"docs sample {where} ({lang}): {'ok' if ok else 'FAILED'} ({seconds:.1f} s)",
+            file=sys.stderr,
+        )
         if not ok:
             failures.append(f"{where}: {detail}\n{output}")
     return len(found), failures
@@ -151,14 +159,18 @@ def main() -> int:
         n, failures = 0, ["the site was not built"]
     for f in failures:
         print(f"docs link: {f}", file=sys.stderr)
-    print(f"test result: docs. {n - len(failures) if n else 0} passed; {len(failures)} failed "
-          f"(links: internal links of the built pages)")
+    print(
+        f"test result: docs. {n - len(failures) if n else 0} passed; {len(failures)} failed "
+        f"(links: internal links of the built pages)"
+    )
     bad |= bool(failures)
     n, failures = run_samples(a.docs, a.examples, a.python)
     for f in failures:
         print(f"docs sample: {f}", file=sys.stderr)
-    print(f"test result: docs. {n - len(failures)} passed; {len(failures)} failed "
-          f"(samples: marked code blocks run)")
+    print(
+        f"test result: docs. {n - len(failures)} passed; {len(failures)} failed "
+        f"(samples: marked code blocks run)"
+    )
     bad |= bool(failures) or n == 0
     return 1 if bad else 0
 
