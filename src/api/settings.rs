@@ -170,6 +170,11 @@ pub struct OptimizeSettings {
     pub time_limit: Option<f64>,
     /// Also check the necessary conditions (Theorem 2.2) on the answer.
     pub certify: bool,
+    /// Polish a P_m answer of a quadratic cost on its fixed slip pattern, a QP solved to the
+    /// solvers' resolution ([`crate::optimal::polish`]; discrete). Default (`None`):
+    /// [`crate::optimal::polish::POLISH_DEFAULT`], on; without it a rate off its bounds is
+    /// only as accurate as the MILP's outer approximation (about 1e-3).
+    pub polish: Option<bool>,
     /// How messages name the settings.
     pub naming: Naming,
     /// Also prove an upper bound over all periodic gaits ([`crate::certify::bound`]), recorded
