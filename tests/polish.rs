@@ -7,7 +7,9 @@
 mod common;
 
 use common::crawlopt;
-use crawlopt::api::{general_problem, optimize_general, GeneralPmSettings};
+use crawlopt::api::{
+    general_problem, optimize_general, GaitMethod, GeneralPmSettings, OptimizeSettings,
+};
 use crawlopt::certify::{certify_result, ConditionCheck, Verdict};
 use crawlopt::integrate::{
     simulate, simulate_general, Actuation, ControlInput, GeneralSimOptions, InputKind, Method,
@@ -18,7 +20,7 @@ use crawlopt::model::general::Boundary;
 use crawlopt::optimal::{
     one_link_optimum, solve_discrete_global, Cost, GaitProblem, GaitResult, MilpStatus,
 };
-use crawlopt::Crawler;
+use crawlopt::{Crawler, Error};
 
 /// The largest residual of the discrete conditions (Theorem 6.2).
 fn discrete_residual(c: &[ConditionCheck]) -> f64 {
@@ -186,4 +188,29 @@ fn the_cli_prints_the_polish_and_can_turn_it_off() {
         "--no-polish",
     ]);
     assert_eq!(local.status.code(), Some(2));
+    // Only P_m's answers are polished: the setting is refused elsewhere, in the caller's naming.
+    let phase = crawlopt(&["optimize", "examples/one_link_gait.toml", "--no-polish"]);
+    assert_eq!(phase.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&phase.stderr);
+    assert!(
+        err.contains("no-polish") && err.contains("--method discrete"),
+        "{err}"
+    );
+    let c = Crawler::uniform(2, 1.0, 1.0, 2.0).unwrap();
+    let p = GaitProblem::new(&c, 10.0, &[1.0], Cost::None, None).unwrap();
+    let s = OptimizeSettings {
+        method: GaitMethod::Local,
+        polish: Some(true),
+        ..Default::default()
+    };
+    match s.plan(&c, &p) {
+        Err(Error::InvalidParameter { field, .. }) => assert_eq!(field, "polish"),
+        other => panic!("{other:?}"),
+    }
+    let s = OptimizeSettings {
+        method: GaitMethod::Discrete,
+        polish: Some(false),
+        ..Default::default()
+    };
+    assert!(s.plan(&c, &p).is_ok());
 }

@@ -220,6 +220,18 @@ impl OptimizeSettings {
                 ),
             ));
         }
+        if let (Some(v), false) = (self.polish, method == Discrete) {
+            // Only P_m's MILP answers are polished; the CLI's flag is --no-polish.
+            let name = match n {
+                Naming::Keywords => "polish".to_string(),
+                Naming::Flags => "no-polish".to_string(),
+            };
+            return Err(Error::invalid(
+                name,
+                v,
+                format!("applies to {} only", n.methods(&[Discrete])),
+            ));
+        }
         let no_start = self.start.is_none();
         // K grows for a certified answer (phase), or for a default start gait.
         let grows = match method {
