@@ -1,7 +1,7 @@
 //! Polishing a P_m answer: the convex QP of P_m on a fixed complementarity pattern, solved to
 //! the solvers' resolution.
 //!
-//! With a quadratic cost `f2`, the MILPs of P_m (the crawler's, [`crate::optimal::discrete`],
+//! With a quadratic cost `f2`, the MILPs of P_m (the crawler's, `optimal::discrete`,
 //! and the general problem's, [`crate::optimal::general::discrete`]) carry `f2` by an outer
 //! approximation: tangent cuts, refined until the incumbent's true objective meets the bound
 //! to [`OA_TOL`](crate::optimal::milp::OA_TOL). A control not at a bound of U is then only
@@ -42,6 +42,7 @@ pub(crate) const MAX_EXACT_KKT: usize = 2500;
 
 /// What polishing did to a P_m answer.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct PolishRecord {
     /// Whether the polished answer replaced the MILP's.
     pub applied: bool,

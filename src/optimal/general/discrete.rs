@@ -474,8 +474,8 @@ pub fn solve_general_pm(
 }
 
 /// [`solve_general_pm`], with `polish` saying whether the answer of a quadratic cost is
-/// polished on its fixed face pattern ([`super::polish`]): the outer approximation leaves a
-/// control off the bounds of U accurate only to the cuts' spacing.
+/// polished on its fixed face pattern ([`crate::optimal::polish`]): the outer approximation
+/// leaves a control off the bounds of U accurate only to the cuts' spacing.
 pub fn solve_general_pm_with(
     p: &GeneralProblem,
     g: &Geometry,
