@@ -376,6 +376,7 @@ fn general_chain(s: &Steps, file: &crawlopt::io::GeneralFile) {
         m: 1,
         time_limit: Some(1.0),
         certify: true,
+        ..Default::default()
     };
     s.step("api::optimize_general", || api::optimize_general(file, &pm));
 }

@@ -100,6 +100,7 @@ impl GeneralProblem {
                     m: m.unwrap_or(GeneralPmSettings::default().m),
                     time_limit,
                     certify,
+                    ..GeneralPmSettings::default()
                 };
                 let r = run(py, progress, |hooks| {
                     api::optimize_general_with_hooks(&f, &s, hooks)

@@ -147,6 +147,7 @@ pub fn optimize(
         shifts,
         time_limit,
         certify,
+        polish: None,
         naming: Naming::Keywords,
         bound,
     };

@@ -247,6 +247,12 @@ pub struct GeneralPmSettings {
     /// Also check the necessary conditions on the optimum ([`crate::certify::general`];
     /// default false).
     pub certify: bool,
+    /// Polish the answer of a quadratic cost on its fixed face pattern, a QP solved to the
+    /// solvers' resolution ([`crate::optimal::polish`]; default
+    /// [`crate::optimal::polish::POLISH_DEFAULT`], on): without it a control off the bounds
+    /// of U is only as accurate as the MILP's outer approximation (about 1e-3), and the
+    /// necessary conditions fail at that size.
+    pub polish: bool,
 }
 
 impl Default for GeneralPmSettings {
@@ -255,6 +261,7 @@ impl Default for GeneralPmSettings {
             m: crate::api::DEFAULT_M_DISCRETE,
             time_limit: None,
             certify: false,
+            polish: crate::optimal::polish::POLISH_DEFAULT,
         }
     }
 }
@@ -279,7 +286,8 @@ pub struct GeneralOptimized {
 /// re-verified by the general simulator, with its necessary conditions when asked.
 pub fn optimize_general(file: &GeneralFile, s: &GeneralPmSettings) -> Result<GeneralOptimized> {
     let (p, g) = general_problem(file)?;
-    let solution = crate::optimal::general::solve_general_pm(&p, &g, s.m, s.time_limit)?;
+    let solution =
+        crate::optimal::general::solve_general_pm_with(&p, &g, s.m, s.time_limit, s.polish)?;
     let necessary_conditions = if s.certify {
         let pr = crate::certify::GeneralProcess::from_pm(&solution);
         Some(crate::certify::certify_general(

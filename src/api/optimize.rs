@@ -8,7 +8,7 @@ use crate::io::{read_input_text, MAX_RESULT_BYTES};
 use crate::model::Crawler;
 use crate::optimal::{
     discrete_convergence, discrete_start, grow_phases, phase_start, search_sequences,
-    shifted_origin, slip_sequence, solve_discrete_global_from, solve_discrete_local_shifted,
+    shifted_origin, slip_sequence, solve_discrete_global_with, solve_discrete_local_shifted,
     solve_phase_global, GaitProblem, GaitResult, StartGait, StartRecord, MAX_PHASES,
 };
 use serde::Serialize;
@@ -146,12 +146,15 @@ fn solve(
             };
             let left = time_left(time_limit, began, &format!("P_{m}: "))?;
             em.stage(format!("solving P_{m} ({} steps)", 1u64 << m));
-            let s = solve_discrete_global_from(
+            let s = solve_discrete_global_with(
                 crawler,
                 problem,
                 m,
                 left,
                 from.as_ref().map(|f| (f.times(), f.lengths())),
+                settings
+                    .polish
+                    .unwrap_or(crate::optimal::polish::POLISH_DEFAULT),
             )?;
             let mut r = GaitResult::from_discrete(crawler, problem, &s);
             r.discrete_start = from.zip(s.start_objective).map(|(f, j)| StartRecord {

@@ -170,6 +170,11 @@ pub struct OptimizeSettings {
     pub time_limit: Option<f64>,
     /// Also check the necessary conditions (Theorem 2.2) on the answer.
     pub certify: bool,
+    /// Polish a P_m answer of a quadratic cost on its fixed slip pattern, a QP solved to the
+    /// solvers' resolution ([`crate::optimal::polish`]; discrete). Default (`None`):
+    /// [`crate::optimal::polish::POLISH_DEFAULT`], on; without it a rate off its bounds is
+    /// only as accurate as the MILP's outer approximation (about 1e-3).
+    pub polish: Option<bool>,
     /// How messages name the settings.
     pub naming: Naming,
     /// Also prove an upper bound over all periodic gaits ([`crate::certify::bound`]), recorded
@@ -213,6 +218,18 @@ impl OptimizeSettings {
                     "applies to {} only",
                     n.methods(&[Local, Sequence, Discrete])
                 ),
+            ));
+        }
+        if let (Some(v), false) = (self.polish, method == Discrete) {
+            // Only P_m's MILP answers are polished; the CLI's flag is --no-polish.
+            let name = match n {
+                Naming::Keywords => "polish".to_string(),
+                Naming::Flags => "no-polish".to_string(),
+            };
+            return Err(Error::invalid(
+                name,
+                v,
+                format!("applies to {} only", n.methods(&[Discrete])),
             ));
         }
         let no_start = self.start.is_none();

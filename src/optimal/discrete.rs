@@ -44,6 +44,7 @@ use crate::optimal::milp::{
     block_speed_bound, certify, check_time_limit, control_knots, force, force_row, replay_grid,
     solve_max, GridColumns, GridReplay, TangentRates, OA_TOL,
 };
+use crate::optimal::polish::{PolishRecord, POLISH_DEFAULT};
 use crate::optimal::sample_increments;
 use crate::optimal::units::Units;
 use crate::optimal::{Certificate, Cost, GaitProblem, MilpStatus};
@@ -83,6 +84,10 @@ pub struct DiscreteSolution {
     /// `J` of the start gait on this grid, when the solve had one
     /// ([`solve_discrete_global_from`]).
     pub start_objective: Option<f64>,
+    /// What polishing on the fixed slip pattern did ([`crate::optimal::polish`]); `None`
+    /// without a quadratic cost (the MILP's answer is then exact) or with polishing off.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub polish: Option<PolishRecord>,
 }
 
 impl DiscreteSolution {
@@ -299,6 +304,21 @@ pub fn solve_discrete_global_from(
     time_limit: Option<f64>,
     start: Option<(&[f64], &[Vec<f64>])>,
 ) -> Result<DiscreteSolution> {
+    solve_discrete_global_with(crawler, problem, m, time_limit, start, POLISH_DEFAULT)
+}
+
+/// [`solve_discrete_global_from`], with `polish` saying whether the answer of a quadratic cost
+/// is polished on its fixed slip pattern ([`crate::optimal::polish`]; the default,
+/// [`POLISH_DEFAULT`], is on): the outer approximation leaves a rate off its bounds accurate
+/// only to the cuts' spacing.
+pub fn solve_discrete_global_with(
+    crawler: &Crawler,
+    problem: &GaitProblem,
+    m: u32,
+    time_limit: Option<f64>,
+    start: Option<(&[f64], &[Vec<f64>])>,
+    polish: bool,
+) -> Result<DiscreteSolution> {
     crawler.require_unique()?;
     problem.check_scales(crawler)?;
     if !(1..=MAX_M).contains(&m) {
@@ -318,6 +338,10 @@ pub fn solve_discrete_global_from(
     let s = crate::progress::with_objective_scale(units.objective_scale(), || {
         solve_discrete_in(&c, &p, m, time_limit, start)
     })?;
+    let s = match p.cost {
+        Cost::Quadratic { .. } if polish => super::discrete_polish::polish(&c, &p, s),
+        _ => s,
+    };
     Ok(units.discrete(&s))
 }
 
@@ -466,11 +490,12 @@ fn solve_discrete_in(
         controls: g.controls,
         rounds,
         start_objective: start.map(|s| s.2),
+        polish: None,
     })
 }
 
 /// `h sum_i f2(U^i / h)`.
-fn grid_cost(problem: &GaitProblem, increments: &[Vec<f64>], h: f64) -> f64 {
+pub(super) fn grid_cost(problem: &GaitProblem, increments: &[Vec<f64>], h: f64) -> f64 {
     increments
         .iter()
         .map(|u| {

@@ -8,12 +8,14 @@
 mod active_set;
 pub mod consistency;
 mod discrete;
+mod discrete_polish;
 pub mod general;
 mod limits;
 mod local;
 mod milp;
 mod one_link;
 mod phase;
+pub mod polish;
 mod problem;
 mod result;
 pub(crate) mod solver;
@@ -21,8 +23,8 @@ mod start;
 mod units;
 
 pub use discrete::{
-    discrete_convergence, solve_discrete_global, solve_discrete_global_from, ConvergenceRow,
-    DiscreteSolution, MAX_M,
+    discrete_convergence, solve_discrete_global, solve_discrete_global_from,
+    solve_discrete_global_with, ConvergenceRow, DiscreteSolution, MAX_M,
 };
 pub use limits::{check_shifts, check_size, MAX_BLOCK_STEPS, MAX_OPT_BLOCKS, MAX_SHIFTS};
 pub use local::{

@@ -175,6 +175,10 @@ pub struct GaitResult {
     /// The start a P_m MILP took as its first incumbent, when it had one.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub discrete_start: Option<StartRecord>,
+    /// What polishing on the fixed slip pattern did to a P_m answer of a quadratic cost
+    /// ([`crate::optimal::polish`]).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub polish: Option<crate::optimal::polish::PolishRecord>,
 }
 
 /// The start gait of a P_m MILP
@@ -269,6 +273,7 @@ impl GaitResult {
             convergence: None,
             local: None,
             discrete_start: None,
+            polish: None,
         }
     }
 
@@ -413,7 +418,7 @@ impl GaitResult {
             phases: None,
             upper_bound: None,
         };
-        GaitResult::record(
+        let mut r = GaitResult::record(
             crawler,
             problem,
             "discrete",
@@ -422,7 +427,9 @@ impl GaitResult {
             (s.verified_displacement, cost, s.certificate.milp_objective),
             certificate,
             gait,
-        )
+        );
+        r.polish = s.polish.clone();
+        r
     }
 
     /// Reads a result from JSON text, checking the format name, the version, the shape of every

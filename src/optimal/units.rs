@@ -17,6 +17,7 @@
 
 use crate::error::Result;
 use crate::model::Crawler;
+use crate::optimal::polish::PolishRecord;
 use crate::optimal::{
     Certificate, Cost, DiscreteSolution, GaitProblem, LocalSolution, PhaseSolution,
 };
@@ -118,6 +119,12 @@ impl Units {
             block_displacements: scale_rows(&s.block_displacements, l),
             rounds: s.rounds,
             start_objective: s.start_objective.map(|j| j * l),
+            polish: s.polish.as_ref().map(|r| PolishRecord {
+                objective_before: r.objective_before * l,
+                objective_after: r.objective_after * l,
+                control_change: r.control_change * f / t,
+                ..r.clone()
+            }),
         };
         out.certificate = self.certificate_scaled(&s.certificate, out.objective(), l);
         out

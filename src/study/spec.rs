@@ -649,6 +649,7 @@ fn optimize_settings(t: toml::Table, dir: &Path) -> Result<OptimizeSettings> {
         shifts: k.shifts,
         time_limit: k.time_limit,
         certify: k.certify,
+        polish: None,
         // The upper bound over all gaits is not a sweep setting (yet): its grid and LP are
         // a study of their own.
         bound: None,

@@ -127,6 +127,7 @@ pub fn optimize(file: &GeneralFile, a: &OptimizeArgs) -> Result<ExitCode, Error>
         ("--start", a.start.is_some()),
         ("--shifts", a.shifts.is_some() && !local),
         ("--certify", a.certify && local),
+        ("--no-polish", a.no_polish && local),
         ("--plot", a.plot.is_some()),
         ("--report", a.report.is_some()),
     ];
@@ -164,6 +165,7 @@ pub fn optimize(file: &GeneralFile, a: &OptimizeArgs) -> Result<ExitCode, Error>
         m: a.m.unwrap_or(api::GeneralPmSettings::default().m),
         time_limit: a.time_limit,
         certify: a.certify,
+        polish: !a.no_polish,
     };
     let r = api::optimize_general(file, &settings).map_err(flags)?;
     if a.json {
@@ -188,6 +190,7 @@ fn optimize_phase(file: &GeneralFile, a: &OptimizeArgs) -> Result<ExitCode, Erro
         ("--start", a.start.is_some()),
         ("--shifts", a.shifts.is_some()),
         ("--certify", a.certify),
+        ("--no-polish", a.no_polish),
         ("--plot", a.plot.is_some()),
         ("--report", a.report.is_some()),
     ];

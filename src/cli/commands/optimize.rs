@@ -79,6 +79,11 @@ pub struct OptimizeArgs {
     /// result as "necessary_conditions".
     #[arg(long)]
     pub certify: bool,
+    /// Keep a P_m answer of a quadratic cost as the MILP's outer approximation leaves it
+    /// (--method discrete; by default it is polished on its fixed slip or face pattern, a QP
+    /// solved to the solvers' resolution).
+    #[arg(long = "no-polish")]
+    pub no_polish: bool,
     #[command(flatten)]
     pub bound: super::bound_flags::BoundArgs,
     /// Write the gait's figures (SVG and PNG) into this directory (with --certify, the
@@ -126,6 +131,7 @@ pub fn run(a: OptimizeArgs) -> Result<ExitCode, Error> {
         shifts: a.shifts,
         time_limit: a.time_limit,
         certify: a.certify,
+        polish: a.no_polish.then_some(false),
         naming: Naming::Flags,
         bound: a.bound.settings()?,
     };

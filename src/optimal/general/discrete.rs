@@ -34,6 +34,7 @@ use crate::error::{Error, Result};
 use crate::integrate::{simulate_general, ControlInput, GeneralSimOptions, InputKind};
 use crate::model::general::{dot, Boundary, ControlSet, GeneralCost, GeneralProblem, Reward};
 use crate::optimal::milp::{solve_max, Certificate, MilpStatus, OA_TOL};
+use crate::optimal::polish::POLISH_DEFAULT;
 use crate::optimal::solver::{Highs, SolveStatus};
 use highs::{Col, RowProblem, Sense};
 use nalgebra::DMatrix;
@@ -57,6 +58,10 @@ pub struct GeneralPm {
     pub u: Vec<Vec<f64>>,
     /// Reactions `lambda^i = mu^i / h`.
     pub lambda: Vec<Vec<f64>>,
+    /// What polishing on the fixed face pattern did ([`crate::optimal::polish`]); `None`
+    /// without a quadratic cost (the MILP's answer is then exact) or with polishing off.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub polish: Option<crate::optimal::polish::PolishRecord>,
 }
 
 /// The big-M constants (module docs).
@@ -457,8 +462,37 @@ pub(super) fn initial_cuts(p: &GeneralProblem) -> Result<Vec<Vec<f64>>> {
     Ok(cuts)
 }
 
-/// Solves P_m globally (module docs); `time_limit` in seconds.
+/// Solves P_m globally (module docs); `time_limit` in seconds. A quadratic cost's answer is
+/// polished ([`solve_general_pm_with`], [`POLISH_DEFAULT`]).
 pub fn solve_general_pm(
+    p: &GeneralProblem,
+    g: &Geometry,
+    m: u32,
+    time_limit: Option<f64>,
+) -> Result<GeneralPm> {
+    solve_general_pm_with(p, g, m, time_limit, POLISH_DEFAULT)
+}
+
+/// [`solve_general_pm`], with `polish` saying whether the answer of a quadratic cost is
+/// polished on its fixed face pattern ([`crate::optimal::polish`]): the outer approximation
+/// leaves a control off the bounds of U accurate only to the cuts' spacing.
+pub fn solve_general_pm_with(
+    p: &GeneralProblem,
+    g: &Geometry,
+    m: u32,
+    time_limit: Option<f64>,
+    polish: bool,
+) -> Result<GeneralPm> {
+    let sol = solve_milp(p, g, m, time_limit)?;
+    Ok(if polish && p.cost != GeneralCost::None {
+        super::polish::polish(p, sol)
+    } else {
+        sol
+    })
+}
+
+/// The MILP's answer of [`solve_general_pm`], with its outer approximation, unpolished.
+fn solve_milp(
     p: &GeneralProblem,
     g: &Geometry,
     m: u32,
@@ -539,11 +573,29 @@ pub(super) fn replay(
     cols: &[f64],
     what: &str,
 ) -> Result<Replayed> {
+    let val = |c: &Col| cols[c.index()];
+    let x0: Vec<f64> = lay.x[0].iter().map(val).collect();
+    let u: Vec<Vec<f64>> = lay.u.iter().map(|r| r.iter().map(val).collect()).collect();
+    let w = reward_weights(p);
+    let lp_reward: f64 = lay
+        .mu
+        .iter()
+        .map(|r| r.iter().zip(&w).map(|(c, w)| w * val(c)).sum::<f64>())
+        .sum();
+    replay_controls(p, m, &x0, u, lp_reward, what)
+}
+
+/// [`replay`] of controls `u` from `x0`, the solver's reward `int f1` being `lp_reward`.
+pub(super) fn replay_controls(
+    p: &GeneralProblem,
+    m: u32,
+    x0: &[f64],
+    u: Vec<Vec<f64>>,
+    lp_reward: f64,
+    what: &str,
+) -> Result<Replayed> {
     let mm = 1usize << m;
     let h = p.period / mm as f64;
-    let val = |c: &Col| cols[c.index()];
-    let x: Vec<Vec<f64>> = lay.x.iter().map(|r| r.iter().map(val).collect()).collect();
-    let u: Vec<Vec<f64>> = lay.u.iter().map(|r| r.iter().map(val).collect()).collect();
     // The controls, clipped into U against the solver's feasibility tolerance.
     let u: Vec<Vec<f64>> = u
         .into_iter()
@@ -566,19 +618,13 @@ pub(super) fn replay(
         "P_m controls",
     )?;
     let mut cauchy = p.clone();
-    cauchy.boundary = Boundary::Initial(x[0].clone());
+    cauchy.boundary = Boundary::Initial(x0.to_vec());
     let opts = GeneralSimOptions {
         steps_per_period: mm,
         ..GeneralSimOptions::DEFAULT
     };
-    let sim = simulate_general(&cauchy, &input, &x[0], &opts)?;
+    let sim = simulate_general(&cauchy, &input, x0, &opts)?;
     let scale = p.c.scale();
-    let w = reward_weights(p);
-    let lp_reward: f64 = lay
-        .mu
-        .iter()
-        .map(|r| r.iter().zip(&w).map(|(c, w)| w * val(c)).sum::<f64>())
-        .sum();
     let reward = sim.reward;
     if (reward - lp_reward).abs() > 1e-6 * (scale + reward.abs()) {
         return Err(Error::Numerical(format!(
@@ -588,7 +634,7 @@ pub(super) fn replay(
     replay_periodic(
         p,
         sim.x.last().expect("steps"),
-        &x[0],
+        x0,
         scale,
         what,
         "simulated process",
@@ -627,5 +673,6 @@ fn verified(
         x: r.x,
         u: r.u,
         lambda: r.lambda,
+        polish: None,
     })
 }

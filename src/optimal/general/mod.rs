@@ -9,8 +9,11 @@ pub mod discrete;
 pub mod geometry;
 pub mod local;
 pub mod phase;
+mod polish;
 
-pub use discrete::{solve_general_branch, solve_general_pm, GeneralPm, MAX_GENERAL_M};
+pub use discrete::{
+    solve_general_branch, solve_general_pm, solve_general_pm_with, GeneralPm, MAX_GENERAL_M,
+};
 pub use geometry::{
     analyze_polyhedron, check_problem, check_with, Geometry, Vertex, MAX_VERTEX_SUBSETS,
 };

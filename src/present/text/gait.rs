@@ -72,6 +72,9 @@ pub fn gait_result(r: &GaitResult) -> String {
         len(r.verified_displacement),
         len(r.solver_objective)
     );
+    if let Some(p) = &r.polish {
+        wln!(out, "{}", super::polish_line(p, "slip pattern", len));
+    }
     if let Some(pg) = &r.phase_growth {
         wln!(
             out,

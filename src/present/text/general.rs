@@ -214,6 +214,13 @@ pub fn general_optimum(r: &GeneralOptimized) -> String {
         num(c.bound, scale),
         c.gap
     );
+    if let Some(p) = &s.polish {
+        wln!(
+            out,
+            "{}",
+            super::polish_line(p, "face pattern", |v| num(v, scale))
+        );
+    }
     steps(&mut out, &s.x, &s.u);
     out
 }

@@ -171,6 +171,27 @@ pub fn num(v: f64, scale: f64) -> String {
     number(v, scale, DIGITS)
 }
 
+/// The line of a P_m answer's polishing ([`crate::optimal::polish`]): `J` before and after and
+/// how far the controls moved, or why the MILP's answer was kept; `pattern` names what was
+/// fixed, `fmt` formats an objective.
+pub fn polish_line(
+    r: &crate::optimal::polish::PolishRecord,
+    pattern: &str,
+    fmt: impl Fn(f64) -> String,
+) -> String {
+    if r.applied {
+        format!(
+            "polished on its fixed {pattern} ({}): J {} -> {}, controls moved by {:.3e}",
+            r.note,
+            fmt(r.objective_before),
+            fmt(r.objective_after),
+            r.control_change
+        )
+    } else {
+        format!("not polished: {}", r.note)
+    }
+}
+
 /// A vector as `[a, b, c]`, each entry by [`num`] with the same scale.
 pub fn list(v: &[f64], scale: f64) -> String {
     let parts: Vec<String> = v.iter().map(|&x| num(x, scale)).collect();

@@ -1,0 +1,359 @@
+//! Polishing a P_m answer: the convex QP of P_m on a fixed complementarity pattern, solved to
+//! the solvers' resolution.
+//!
+//! With a quadratic cost `f2`, the MILPs of P_m (the crawler's, `optimal::discrete`,
+//! and the general problem's, [`crate::optimal::general::discrete`]) carry `f2` by an outer
+//! approximation: tangent cuts, refined until the incumbent's true objective meets the bound
+//! to [`OA_TOL`](crate::optimal::milp::OA_TOL). A control not at a bound of U is then only
+//! accurate to about the cuts' spacing (1e-3 on the examples), and the discrete necessary
+//! conditions (Theorem 6.2 (pw): `-B^T p - omega - lambda Df2(u)` in `N_U(u)`) fail at that
+//! size although the answer is the MILP's optimum to its gap.
+//!
+//! With the discrete complementarity fixed (which faces hold, or which blocks slip which way,
+//! at every step), P_m is a convex QP: linear dynamics, linear reward, the quadratic cost. Its
+//! feasible set holds the MILP's answer, so its optimum is no worse; and every feasible point of
+//! it is a feasible point of P_m (the KKT system of the catching-up projection with its signs
+//! on the fixed pattern). Each formulation describes that QP as a [`Qp`] (columns with bounds,
+//! rows with ranges, a quadratic and a linear objective, minimised); [`Qp::solve`] solves it
+//! by Clarabel (an interior-point method) and then exactly on the active set Clarabel finds
+//! (the KKT system of the equality-constrained QP, dense), keeping the exact point when it is
+//! feasible and no worse. The caller replays the polished controls in the simulator, as every
+//! optimiser answer, and keeps the polished answer only when the replayed objective is no
+//! worse than the MILP's ([`PolishRecord`] says what happened).
+
+use crate::error::{Error, Result};
+use clarabel::algebra::CscMatrix;
+use clarabel::solver::{
+    DefaultSettings, DefaultSolver, IPSolver, NonnegativeConeT, SolverStatus, SupportedConeT,
+    ZeroConeT,
+};
+use nalgebra::{DMatrix, DVector};
+use serde::{Deserialize, Serialize};
+use std::collections::BTreeMap;
+
+/// Polishing is on unless a setting turns it off (`GeneralPmSettings::polish`,
+/// `OptimizeSettings::polish`).
+pub const POLISH_DEFAULT: bool = true;
+
+/// Largest KKT system (columns plus equality and active rows) solved densely for the exact
+/// point; above it the interior-point answer is kept (a dense LU of this size takes about a
+/// second).
+pub(crate) const MAX_EXACT_KKT: usize = 2500;
+
+/// What polishing did to a P_m answer.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PolishRecord {
+    /// Whether the polished answer replaced the MILP's.
+    pub applied: bool,
+    /// `J` of the MILP's answer, as the simulator replays it.
+    pub objective_before: f64,
+    /// `J` of the returned answer, as the simulator replays it (the MILP's when not applied).
+    pub objective_after: f64,
+    /// `max |u_polished - u_milp|` over steps and components (0 when not applied).
+    pub control_change: f64,
+    /// How the QP was solved, or why the MILP's answer was kept.
+    pub note: String,
+}
+
+impl PolishRecord {
+    /// The record of an answer kept as the MILP gave it, with the reason.
+    pub fn kept(objective: f64, note: impl Into<String>) -> Self {
+        PolishRecord {
+            applied: false,
+            objective_before: objective,
+            objective_after: objective,
+            control_change: 0.0,
+            note: note.into(),
+        }
+    }
+}
+
+/// Whether a polished objective may replace the MILP's: no worse, to the rounding of the
+/// replays (`1e-9` relative above 1, absolute below).
+pub(crate) fn no_worse(polished: f64, milp: f64) -> bool {
+    polished >= milp - 1e-9 * milp.abs().max(1.0)
+}
+
+/// A row `lo <= sum a_k v_k <= hi`.
+#[derive(Debug, Clone)]
+struct Row {
+    entries: Vec<(usize, f64)>,
+    lo: f64,
+    hi: f64,
+}
+
+/// A convex QP over a column vector `v`: minimise `(1/2) v^T P v + q^T v` subject to column
+/// bounds `lo_k <= v_k <= hi_k` and rows `lo <= a v <= hi` (infinite bounds allowed; equal
+/// bounds an equality). `P` must be positive semidefinite (the caller's cost is convex).
+#[derive(Debug, Clone, Default)]
+pub(crate) struct Qp {
+    q: Vec<f64>,
+    lo: Vec<f64>,
+    hi: Vec<f64>,
+    /// Entries of `P`, `(i, j)` with `i <= j`, summed.
+    p: BTreeMap<(usize, usize), f64>,
+    rows: Vec<Row>,
+}
+
+/// The solution of a [`Qp`].
+#[derive(Debug, Clone)]
+pub(crate) struct QpSolution {
+    /// `v`.
+    pub v: Vec<f64>,
+    /// Whether `v` is the exact solution of the KKT system on the active set (else Clarabel's).
+    pub exact: bool,
+}
+
+/// One constraint in Clarabel's form `a v + s = b`, `s` in its cone.
+struct Conic {
+    entries: Vec<(usize, f64)>,
+    b: f64,
+}
+
+impl Qp {
+    /// Adds a column of linear cost `cost` and bounds `lo..=hi`; returns its index.
+    pub fn add_column(&mut self, cost: f64, lo: f64, hi: f64) -> usize {
+        self.q.push(cost);
+        self.lo.push(lo);
+        self.hi.push(hi);
+        self.q.len() - 1
+    }
+
+    /// Adds the row `lo <= sum a_k v_k <= hi`.
+    pub fn add_row(&mut self, lo: f64, hi: f64, entries: Vec<(usize, f64)>) {
+        self.rows.push(Row { entries, lo, hi });
+    }
+
+    /// Adds `value` to the entries `(i, j)` and `(j, i)` of the symmetric `P` (once when `i = j`).
+    pub fn add_quadratic(&mut self, i: usize, j: usize, value: f64) {
+        if value != 0.0 {
+            *self.p.entry((i.min(j), i.max(j))).or_insert(0.0) += value;
+        }
+    }
+
+    /// Number of columns.
+    pub fn columns(&self) -> usize {
+        self.q.len()
+    }
+
+    /// `(1/2) v^T P v + q^T v`.
+    pub fn objective(&self, v: &[f64]) -> f64 {
+        let quad: f64 = self
+            .p
+            .iter()
+            .map(|(&(i, j), &a)| {
+                if i == j {
+                    0.5 * a * v[i] * v[i]
+                } else {
+                    a * v[i] * v[j]
+                }
+            })
+            .sum();
+        quad + self.q.iter().zip(v).map(|(q, v)| q * v).sum::<f64>()
+    }
+
+    /// The constraints as Clarabel's equalities and inequalities (`a v <= b`).
+    fn conic(&self) -> (Vec<Conic>, Vec<Conic>) {
+        let (mut eq, mut le) = (Vec::new(), Vec::new());
+        let mut put = |entries: Vec<(usize, f64)>, lo: f64, hi: f64| {
+            if lo == hi {
+                eq.push(Conic { entries, b: hi });
+                return;
+            }
+            if hi.is_finite() {
+                le.push(Conic {
+                    entries: entries.clone(),
+                    b: hi,
+                });
+            }
+            if lo.is_finite() {
+                le.push(Conic {
+                    entries: entries.iter().map(|&(k, a)| (k, -a)).collect(),
+                    b: -lo,
+                });
+            }
+        };
+        for k in 0..self.columns() {
+            put(vec![(k, 1.0)], self.lo[k], self.hi[k]);
+        }
+        for r in &self.rows {
+            put(r.entries.clone(), r.lo, r.hi);
+        }
+        (eq, le)
+    }
+
+    /// Solves the QP (module docs); `what` names it in errors. An error when Clarabel finds no
+    /// solution (an infeasible pattern, or numerical trouble).
+    pub fn solve(&self, what: &str) -> Result<QpSolution> {
+        let n = self.columns();
+        let (eq, le) = self.conic();
+        let all: Vec<&Conic> = eq.iter().chain(&le).collect();
+        let a = csc(&all, n);
+        let b: Vec<f64> = all.iter().map(|c| c.b).collect();
+        let (pi, pj, pv): (Vec<usize>, Vec<usize>, Vec<f64>) = {
+            let mut cols: Vec<(usize, usize, f64)> =
+                self.p.iter().map(|(&(i, j), &v)| (j, i, v)).collect();
+            cols.sort_by_key(|&(j, i, _)| (j, i));
+            (
+                cols.iter().map(|c| c.1).collect(),
+                cols.iter().map(|c| c.0).collect(),
+                cols.iter().map(|c| c.2).collect(),
+            )
+        };
+        let p = CscMatrix::new_from_triplets(n, n, pi, pj, pv);
+        let cones: Vec<SupportedConeT<f64>> = vec![ZeroConeT(eq.len()), NonnegativeConeT(le.len())];
+        let settings = DefaultSettings {
+            verbose: false,
+            tol_gap_abs: 1e-10,
+            tol_gap_rel: 1e-10,
+            tol_feas: 1e-10,
+            max_iter: 400,
+            ..Default::default()
+        };
+        let mut s = DefaultSolver::new(&p, &self.q, &a, &b, &cones, settings)
+            .map_err(|e| Error::Numerical(format!("{what}: the QP solver refused it ({e})")))?;
+        s.solve();
+        let sol = &s.solution;
+        if !matches!(
+            sol.status,
+            SolverStatus::Solved | SolverStatus::AlmostSolved
+        ) {
+            return Err(Error::Numerical(format!(
+                "{what}: no solution of the QP on the fixed pattern ({:?})",
+                sol.status
+            )));
+        }
+        let interior = sol.x.clone();
+        // The active set: the inequalities whose slack is below their multiplier.
+        let active: Vec<&Conic> = le
+            .iter()
+            .enumerate()
+            .filter(|&(k, _)| sol.s[eq.len() + k] <= sol.z[eq.len() + k])
+            .map(|(_, c)| c)
+            .collect();
+        let exact = self.exact_on(&eq, &active, n).filter(|v| {
+            self.feasible(v)
+                && self.objective(v)
+                    <= self.objective(&interior) + 1e-9 * self.objective(&interior).abs().max(1.0)
+        });
+        Ok(match exact {
+            Some(v) => QpSolution { v, exact: true },
+            None => QpSolution {
+                v: interior,
+                exact: false,
+            },
+        })
+    }
+
+    /// The minimiser of the objective on `{eq, active}` as equalities: the KKT system
+    /// `[P E^T; E 0] [v; y] = [-q; e]`, dense (LU, then least squares by SVD when singular);
+    /// `None` when too large or without a consistent solution.
+    fn exact_on(&self, eq: &[Conic], active: &[&Conic], n: usize) -> Option<Vec<f64>> {
+        let rows: Vec<&Conic> = eq.iter().chain(active.iter().copied()).collect();
+        let dim = n + rows.len();
+        if dim > MAX_EXACT_KKT {
+            return None;
+        }
+        let mut k = DMatrix::<f64>::zeros(dim, dim);
+        for (&(i, j), &a) in &self.p {
+            k[(i, j)] += a;
+            if i != j {
+                k[(j, i)] += a;
+            }
+        }
+        let mut rhs = DVector::<f64>::zeros(dim);
+        for (i, q) in self.q.iter().enumerate() {
+            rhs[i] = -q;
+        }
+        for (r, c) in rows.iter().enumerate() {
+            for &(j, a) in &c.entries {
+                k[(n + r, j)] += a;
+                k[(j, n + r)] += a;
+            }
+            rhs[n + r] = c.b;
+        }
+        let norm = k.amax().max(rhs.amax()).max(1e-300);
+        let close = |x: &DVector<f64>| (&k * x - &rhs).amax() <= 1e-11 * norm * x.amax().max(1.0);
+        if let Some(x) = k.clone().lu().solve(&rhs).filter(|x| close(x)) {
+            return Some(x.rows(0, n).iter().copied().collect());
+        }
+        if dim > MAX_EXACT_KKT / 4 {
+            return None;
+        }
+        let x = k.clone().svd(true, true).solve(&rhs, 1e-12 * norm).ok()?;
+        close(&x).then(|| x.rows(0, n).iter().copied().collect())
+    }
+
+    /// Whether `v` satisfies every bound and row to `1e-10` of the row's size.
+    fn feasible(&self, v: &[f64]) -> bool {
+        let ok = |value: f64, size: f64, lo: f64, hi: f64| {
+            let tol = 1e-10 * (1.0 + size + lo.abs().min(hi.abs()));
+            value >= lo - tol && value <= hi + tol
+        };
+        let cols = v
+            .iter()
+            .enumerate()
+            .all(|(k, &x)| x.is_finite() && ok(x, x.abs(), self.lo[k], self.hi[k]));
+        cols && self.rows.iter().all(|r| {
+            let value: f64 = r.entries.iter().map(|&(k, a)| a * v[k]).sum();
+            let size: f64 = r.entries.iter().map(|&(k, a)| (a * v[k]).abs()).sum();
+            ok(value, size, r.lo, r.hi)
+        })
+    }
+}
+
+/// The constraint rows as a compressed-column matrix.
+fn csc(rows: &[&Conic], n: usize) -> CscMatrix<f64> {
+    let mut cols: Vec<Vec<(usize, f64)>> = vec![Vec::new(); n];
+    for (i, r) in rows.iter().enumerate() {
+        let mut merged: BTreeMap<usize, f64> = BTreeMap::new();
+        for &(j, a) in &r.entries {
+            *merged.entry(j).or_insert(0.0) += a;
+        }
+        for (j, a) in merged {
+            if a != 0.0 {
+                cols[j].push((i, a));
+            }
+        }
+    }
+    let (mut colptr, mut rowval, mut nzval) = (vec![0], Vec::new(), Vec::new());
+    for c in cols {
+        for (i, a) in c {
+            rowval.push(i);
+            nzval.push(a);
+        }
+        colptr.push(rowval.len());
+    }
+    CscMatrix::new(rows.len(), n, colptr, rowval, nzval)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_small_qp_is_solved_exactly_on_its_active_set() {
+        // min (1/2)(v0^2 + v1^2) - 3 v0 - v1 s.t. v0 + v1 = 1, v0 <= 0.75: the unconstrained
+        // minimiser on the line is v0 = 1.5, cut by the bound to (0.75, 0.25).
+        let mut qp = Qp::default();
+        let a = qp.add_column(-3.0, f64::NEG_INFINITY, 0.75);
+        let b = qp.add_column(-1.0, f64::NEG_INFINITY, f64::INFINITY);
+        qp.add_quadratic(a, a, 1.0);
+        qp.add_quadratic(b, b, 1.0);
+        qp.add_row(1.0, 1.0, vec![(a, 1.0), (b, 1.0)]);
+        let s = qp.solve("test").unwrap();
+        assert!(s.exact);
+        assert!((s.v[0] - 0.75).abs() <= 1e-14, "{:?}", s.v);
+        assert!((s.v[1] - 0.25).abs() <= 1e-14, "{:?}", s.v);
+    }
+
+    #[test]
+    fn an_infeasible_qp_is_an_error() {
+        let mut qp = Qp::default();
+        let a = qp.add_column(1.0, 0.0, 1.0);
+        qp.add_quadratic(a, a, 1.0);
+        qp.add_row(2.0, 3.0, vec![(a, 1.0)]);
+        assert!(qp.solve("test").is_err());
+    }
+}
