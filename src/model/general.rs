@@ -15,6 +15,12 @@
 use crate::error::{Error, Result};
 use serde::Serialize;
 
+/// Most faces of C (and of a polytope U) a problem may have. The analysis decides redundancy
+/// with at most one linear program of `sigma` rows per face (`crate::optimal::general::geometry`;
+/// most faces need none), and that worst case (every face a duplicate) takes seconds at this
+/// size; the vertex enumeration is capped separately (it is exponential in the dimension).
+pub const MAX_FACES: usize = 1000;
+
 /// A polyhedron `{x : <x*_j, x> <= c_j}` with unit normals (paper §2: the `x*_j` are unit
 /// vectors; each given row `(x*_j, c_j)` is divided by `|x*_j|`, which leaves the set unchanged).
 #[derive(Debug, Clone, PartialEq, Serialize)]
@@ -34,6 +40,13 @@ impl Polyhedron {
         let (nf, of) = (format!("{field}.normals"), format!("{field}.offsets"));
         if normals.is_empty() {
             return Err(Error::invalid(&nf, "[]", "needs at least one face"));
+        }
+        if normals.len() > MAX_FACES {
+            return Err(Error::invalid(
+                &nf,
+                format!("{} faces", normals.len()),
+                format!("at most {MAX_FACES} faces are accepted (the analysis's limit)"),
+            ));
         }
         let n = normals[0].len();
         if n == 0 {
@@ -69,16 +82,36 @@ impl Polyhedron {
                     "must be finite",
                 ));
             }
-            let norm = row.iter().map(|v| v * v).sum::<f64>().sqrt();
-            if !(norm > 0.0 && norm.is_finite()) {
+            let norm = length(row);
+            if norm == 0.0 {
                 return Err(Error::invalid(
                     format!("{nf}[{}]", j + 1),
                     format!("{row:?}"),
-                    "a normal must be non-zero (and its length finite)",
+                    "a normal must be non-zero",
                 ));
             }
-            scaled.push(row.iter().map(|v| v / norm).collect());
-            cs.push(c / norm);
+            if !norm.is_finite() {
+                return Err(Error::invalid(
+                    format!("{nf}[{}]", j + 1),
+                    format!("{row:?}"),
+                    "its length overflows the floating-point range",
+                ));
+            }
+            let unit: Vec<f64> = row.iter().map(|v| v / norm).collect();
+            let offset = c / norm;
+            if !offset.is_finite() {
+                return Err(Error::invalid(
+                    format!("{of}[{}]", j + 1),
+                    c,
+                    format!(
+                        "divided by the length {norm:e} of normal {} it overflows the \
+                         floating-point range (scale the row down)",
+                        j + 1
+                    ),
+                ));
+            }
+            scaled.push(unit);
+            cs.push(offset);
             norms.push(norm);
         }
         Ok(Polyhedron {
@@ -240,6 +273,107 @@ impl Dynamics {
     /// Whether `A = 0` (the motion is then piecewise linear under piecewise-constant `u`).
     pub fn is_state_independent(&self) -> bool {
         self.a.iter().all(|r| r.iter().all(|v| *v == 0.0))
+    }
+}
+
+/// The largest `h * rate` accepted where a part of the drift is stepped explicitly (forward
+/// Euler): [`DriftSplit::stiff_rate`] for the paper's explicit P_m, [`DriftSplit::skew_rate`]
+/// for the simulator's semi-implicit step. At `h * rate <= 2` the factor `1 + h lambda` of a
+/// decaying real mode `lambda in [-rate, 0]` stays in `[-1, 1]`: forward Euler's stability
+/// limit (monotone up to `h * rate = 1`, a decaying oscillation between 1 and 2). Beyond it
+/// the factor grows the mode each step and the explicit answer is wrong by orders of
+/// magnitude (the state thrown between faces of C, each throw a large reaction), so the step
+/// is refused, naming the grid (`steps_per_period`, `m`). (A rotating mode `i omega` is not
+/// damped by forward Euler at any step; the bound keeps its gain per step at most
+/// `sqrt(1 + (h omega)^2) <= sqrt(5)`, the consistency error that refinement removes.)
+pub const EXPLICIT_STEP_LIMIT: f64 = 2.0;
+
+/// The largest `h |S_+|_2` the simulator's semi-implicit step accepts: a growing mode is
+/// stepped explicitly, by the factor `1 + h mu`, and a state held on a face by it is then
+/// projected from `|v| ~ h mu |x|`, whose rounding (`1e-16 |v|`) would reach `1e-10` of C's
+/// scale beyond this.
+pub const GROWTH_STEP_LIMIT: f64 = 1e6;
+
+/// `A` split by how a step of the catching-up scheme treats it: `A = S_- + S_+ + K` with
+/// `S = (A + A^T)/2 = S_- + S_+` (its negative and positive semidefinite parts, from the
+/// eigenvalues of `S`) and `K = (A - A^T)/2`.
+#[derive(Debug, Clone, PartialEq)]
+pub struct DriftSplit {
+    /// `S_-` (`n x n`, symmetric negative semidefinite): the damping, stepped implicitly by
+    /// the simulator (stable for any step).
+    pub damping: Vec<Vec<f64>>,
+    /// `A - S_-` (`= S_+ + K`), stepped explicitly by the simulator.
+    pub rest: Vec<Vec<f64>>,
+    /// `|K|_2`, the rate of the rotating part (the simulator's explicit limit).
+    pub skew_rate: f64,
+    /// `|S_+|_2`, the rate of the growing part (the simulator's precision limit
+    /// [`GROWTH_STEP_LIMIT`]).
+    pub growth_rate: f64,
+    /// `|S_- + K|_2`, the rate of everything but the growing part `S_+` (the explicit
+    /// scheme's limit: forward Euler resolves a growing real mode at any step, as `1 + h mu`
+    /// with the projection onto C holding it, but not a decaying or rotating one).
+    pub stiff_rate: f64,
+}
+
+impl DriftSplit {
+    /// Whether `S_- = 0` (then the semi-implicit step is the explicit one).
+    pub fn undamped(&self) -> bool {
+        self.damping.iter().flatten().all(|v| *v == 0.0)
+    }
+}
+
+/// The fewest steps `M` of a period `T` with `(T / M) * rate <= EXPLICIT_STEP_LIMIT`
+/// (saturating; 1 for a zero rate).
+pub fn min_steps(period: f64, rate: f64) -> f64 {
+    (period * rate / EXPLICIT_STEP_LIMIT).ceil().max(1.0)
+}
+
+impl Dynamics {
+    /// [`DriftSplit`] of `A`.
+    pub fn split(&self) -> DriftSplit {
+        let n = self.a.len();
+        if self.is_state_independent() {
+            return DriftSplit {
+                damping: vec![vec![0.0; n]; n],
+                rest: self.a.clone(),
+                skew_rate: 0.0,
+                growth_rate: 0.0,
+                stiff_rate: 0.0,
+            };
+        }
+        let a = nalgebra::DMatrix::from_fn(n, n, |i, k| self.a[i][k]);
+        // Halves first: no overflow for entries near the largest float.
+        let sym = &a * 0.5 + a.transpose() * 0.5;
+        let skew = &a * 0.5 - a.transpose() * 0.5;
+        let eig = sym.clone().symmetric_eigen();
+        let neg = eig.eigenvalues.map(|l| l.min(0.0));
+        let mut damping = &eig.eigenvectors
+            * nalgebra::DMatrix::from_diagonal(&neg)
+            * eig.eigenvectors.transpose();
+        if neg.iter().all(|l| *l == 0.0) {
+            damping.fill(0.0);
+        } else {
+            // Exactly symmetric.
+            damping = &damping * 0.5 + damping.transpose() * 0.5;
+        }
+        let rest = &a - &damping;
+        let norm2 = |m: &nalgebra::DMatrix<f64>| {
+            if m.iter().all(|v| *v == 0.0) {
+                0.0
+            } else {
+                m.singular_values().max()
+            }
+        };
+        let rows = |m: &nalgebra::DMatrix<f64>| -> Vec<Vec<f64>> {
+            (0..n).map(|i| m.row(i).iter().copied().collect()).collect()
+        };
+        DriftSplit {
+            growth_rate: eig.eigenvalues.iter().fold(0.0_f64, |m, l| m.max(*l)),
+            skew_rate: norm2(&skew),
+            stiff_rate: norm2(&(&damping + &skew)),
+            damping: rows(&damping),
+            rest: rows(&rest),
+        }
     }
 }
 
@@ -445,6 +579,7 @@ impl GeneralProblem {
                 "must be positive and finite",
             ));
         }
+        check_scales(&reward, &cost, &control, p.period)?;
         let boundary = match (p.periodic, p.initial_state) {
             (true, None) => Boundary::Periodic,
             (false, Some(x0)) => {
@@ -494,6 +629,55 @@ impl GeneralProblem {
     pub fn controls(&self) -> usize {
         self.control.dim()
     }
+}
+
+/// Refuses weights whose size alone takes `J` out of the floating-point range: the sum of
+/// `|w_j|` (or `|q|`) times the period `T` (a reaction rate of 1 on every face over the
+/// period), and for a box U the cost weight times the largest `|u|^2` times `T` (the largest
+/// `int f2`). Where no such bound can be read off the data (the reactions' size, a polytope
+/// U), the computed numbers are checked instead (`crate::integrate::general`).
+fn check_scales(reward: &Reward, cost: &GeneralCost, u: &ControlSet, period: f64) -> Result<()> {
+    let (field, w) = match reward {
+        Reward::FaceWeights(w) => ("objective.face_weights", w),
+        Reward::ReactionWeights(q) => ("objective.reaction_weights", q),
+    };
+    let total = w.iter().map(|v| v.abs()).sum::<f64>() * period;
+    if !total.is_finite() {
+        return Err(Error::invalid(
+            field,
+            format!("{w:?}"),
+            format!(
+                "the sum of their sizes times the period ({period}) overflows the \
+                 floating-point range, so J could not be represented; scale f1 down"
+            ),
+        ));
+    }
+    if let ControlSet::Box { lower, upper } = u {
+        let u2: f64 = lower
+            .iter()
+            .zip(upper)
+            .map(|(lo, hi)| lo.abs().max(hi.abs()).powi(2))
+            .sum();
+        let (field, size) = match cost {
+            GeneralCost::None => return Ok(()),
+            GeneralCost::Quadratic { weight } => ("objective.cost.weight", weight.abs()),
+            GeneralCost::Matrix { matrix } => (
+                "objective.cost.matrix",
+                matrix.iter().flatten().map(|v| v.abs()).sum::<f64>(),
+            ),
+        };
+        if !(0.5 * size * u2 * period).is_finite() {
+            return Err(Error::invalid(
+                field,
+                size,
+                format!(
+                    "times the largest |u|^2 of U ({u2:e}) and the period it overflows the \
+                     floating-point range, so int f2 could not be represented; scale f2 down"
+                ),
+            ));
+        }
+    }
+    Ok(())
 }
 
 fn check_cost(cost: &GeneralCost, m: usize) -> Result<()> {
@@ -606,6 +790,17 @@ fn check_matrix(
         check_finite(&f, row)?;
     }
     Ok(())
+}
+
+/// The Euclidean length of `v`, without overflow or underflow in the squares: computed on
+/// `v / max_i |v_i|`, so that a row `[1e308]` has length 1e308 and `[1e-300]` length 1e-300
+/// (both are then scaled to the unit normal `[1]`, with the offset divided alike).
+pub(crate) fn length(v: &[f64]) -> f64 {
+    let top = v.iter().fold(0.0_f64, |t, x| t.max(x.abs()));
+    if top == 0.0 || !top.is_finite() {
+        return top;
+    }
+    top * v.iter().map(|x| (x / top) * (x / top)).sum::<f64>().sqrt()
 }
 
 /// `<a, b>`.

@@ -10,7 +10,9 @@ pub mod geometry;
 pub mod local;
 pub mod phase;
 
-pub use discrete::{solve_general_branch, solve_general_pm, GeneralPm, MAX_GENERAL_M};
+pub use discrete::{
+    solve_general_branch, solve_general_pm, GeneralPm, MAX_GENERAL_M, PM_DATA_RANGE,
+};
 pub use geometry::{
     analyze_polyhedron, check_problem, check_with, Geometry, Vertex, MAX_VERTEX_SUBSETS,
 };
