@@ -146,6 +146,28 @@ fn a_stiff_drift_converges_under_refinement_to_the_closed_form() {
     for w in errors.windows(2) {
         assert!(w[1] < 0.5 * w[0], "errors do not shrink: {errors:?}");
     }
+    // A fast rotation (|K| = 300, explicit in the semi-implicit step) is refused on grids
+    // where forward Euler's spurious growth exp(T h |K|^2 / 2) over a period exceeds e: 6000
+    // steps pass the stability limit h |K| <= 2 (with |K| = 1e3, 50000 steps reached no
+    // periodic regime in 5000 periods); the message gives the steps needed (T^2 |K|^2 / 2 =
+    // 4.5e6), and where no grid of at most 1e7 steps has them, says to scale A down.
+    let rot = STIFF.replace(
+        "A = [[-1000.0, 0.0], [0.0, 1000.0]]",
+        "A = [[-1.0, 300.0], [-300.0, -1.0]]",
+    );
+    let e = err_of(api::simulate_general(&file(&rot), &steps(6000)));
+    assert!(
+        e.starts_with("steps_per_period")
+            && e.contains("exp(T h |K|^2 / 2)")
+            && e.contains("needs at least 4.5")
+            && e.contains("e6 steps"),
+        "{e}"
+    );
+    let e = err_of(api::simulate_general(
+        &file(&rot.replace("300.0", "1000.0")),
+        &steps(6000),
+    ));
+    assert!(e.contains("scale dynamics.A down"), "{e}");
     // The paper's explicit step (which P_m uses) refuses the grid beyond its stability limit,
     // naming it and the steps it needs.
     let opts = GeneralSimOptions {

@@ -16,7 +16,8 @@
 //!   that holds the state is `g`'s normal component, as in the continuous problem. Stable for
 //!   any step in the damped directions (backward Euler); the growing part `S_+` is explicit
 //!   (forward Euler under-grows, never oscillates, and C holds it); only a rotating part `K`
-//!   limits the step, `h |K|_2 <= EXPLICIT_STEP_LIMIT`, and the precision of a state held on a
+//!   limits the step, `h |K|_2 <= EXPLICIT_STEP_LIMIT` and `T h |K|_2^2 / 2 <= 1` (forward Euler
+//!   grows a rotation by `(1 + (h |K|)^2)^(1/2)` a step), and the precision of a state held on a
 //!   face by the growing part, `h |S_+|_2 <= GROWTH_STEP_LIMIT`. With `S_- = 0` both steps are
 //!   the same.
 //!
@@ -306,39 +307,7 @@ pub fn simulate_general(
     let (n, m, mm) = (p.states(), p.controls(), opts.steps_per_period);
     let h = p.period / mm as f64;
     let split = p.dynamics.split();
-    let (rate, what) = match opts.drift {
-        DriftStep::Explicit => (
-            split.stiff_rate,
-            "the decaying and rotating part |S_- + K|_2",
-        ),
-        DriftStep::SemiImplicit => (split.skew_rate, "the rotating part |K|_2"),
-    };
-    if !(h * rate <= EXPLICIT_STEP_LIMIT) {
-        return Err(Error::invalid(
-            "steps_per_period",
-            mm,
-            format!(
-                "is too coarse for the drift: the step h = {h:e} times {what} of \
-                 dynamics.A ({rate:e}) exceeds the explicit stability limit \
-                 {EXPLICIT_STEP_LIMIT}; needs at least {:e} steps",
-                min_steps(p.period, rate)
-            ),
-        ));
-    }
-    if opts.drift == DriftStep::SemiImplicit && !(h * split.growth_rate <= GROWTH_STEP_LIMIT) {
-        return Err(Error::invalid(
-            "steps_per_period",
-            mm,
-            format!(
-                "is too coarse for the drift: the step h = {h:e} times the growing rate \
-                 |S_+|_2 of dynamics.A ({:e}) exceeds {GROWTH_STEP_LIMIT:e}, beyond which a \
-                 state held on a face loses its precision in the projection; needs at least \
-                 {:e} steps (or scale A down)",
-                split.growth_rate,
-                (p.period * split.growth_rate / GROWTH_STEP_LIMIT).ceil()
-            ),
-        ));
-    }
+    check_drift_step(p, mm, opts.drift, &split)?;
     let implicit = opts.drift == DriftStep::SemiImplicit && !split.undamped();
     let metric = if implicit {
         Some(Metric::new(&split.damping, &p.c, h)?)
@@ -395,6 +364,84 @@ pub fn simulate_general(
         Ok(())
     };
     periodic_regime(p, input, x, opts.max_periods, opts.tol, period)
+}
+
+/// Refuses `steps_per_period = mm` where the drift's explicit part is beyond its limit (module
+/// docs): forward Euler's stability limit `h rate <= EXPLICIT_STEP_LIMIT` on the part stepped
+/// explicitly (all of `A` but its growing part for [`DriftStep::Explicit`], the rotating part
+/// `K` for [`DriftStep::SemiImplicit`]); for the semi-implicit step also the spurious growth of
+/// an explicit rotation over a period, `prod (1 + (h |K|)^2)^(1/2) ~ exp(T h |K|^2 / 2) <= e`,
+/// and the precision of a state held by the growing part, `h |S_+|_2 <= GROWTH_STEP_LIMIT`.
+/// The message names the steps needed (or says that no grid of at most
+/// `MAX_STEPS_PER_PERIOD` steps has them).
+fn check_drift_step(
+    p: &GeneralProblem,
+    mm: usize,
+    drift: DriftStep,
+    split: &crate::model::general::DriftSplit,
+) -> Result<()> {
+    let t = p.period;
+    let h = t / mm as f64;
+    let refuse = |why: String, need: f64| {
+        let max = super::periodic::MAX_STEPS_PER_PERIOD;
+        let need = if need <= max as f64 {
+            format!("needs at least {need:e} steps")
+        } else {
+            format!(
+                "no grid of at most {max} steps is fine enough: scale dynamics.A down (or the \
+                 period)"
+            )
+        };
+        Err(Error::invalid(
+            "steps_per_period",
+            mm,
+            format!("is too coarse for the drift: {why}; {need}"),
+        ))
+    };
+    let (rate, what) = match drift {
+        DriftStep::Explicit => (split.stiff_rate, "decaying and rotating part |S_- + K|_2"),
+        DriftStep::SemiImplicit => (split.skew_rate, "rotating part |K|_2"),
+    };
+    if !within(h * rate, EXPLICIT_STEP_LIMIT) {
+        return refuse(
+            format!(
+                "the step h = {h:e} times the {what} of dynamics.A ({rate:e}) exceeds the \
+                 explicit stability limit {EXPLICIT_STEP_LIMIT}"
+            ),
+            min_steps(t, rate),
+        );
+    }
+    if drift == DriftStep::Explicit {
+        return Ok(());
+    }
+    let k = split.skew_rate;
+    if !within(t * h * k * k / 2.0, 1.0) {
+        return refuse(
+            format!(
+                "the explicit step of the rotating part |K|_2 = {k:e} of dynamics.A grows the \
+                 state spuriously by exp(T h |K|^2 / 2) = exp({:e}) over a period (at most e)",
+                t * h * k * k / 2.0
+            ),
+            (t * t * k * k / 2.0).ceil(),
+        );
+    }
+    let g = split.growth_rate;
+    if !within(h * g, GROWTH_STEP_LIMIT) {
+        return refuse(
+            format!(
+                "the step h = {h:e} times the growing rate |S_+|_2 of dynamics.A ({g:e}) \
+                 exceeds {GROWTH_STEP_LIMIT:e}, beyond which a state held on a face loses its \
+                 precision in the projection"
+            ),
+            (t * g / GROWTH_STEP_LIMIT).ceil(),
+        );
+    }
+    Ok(())
+}
+
+/// `v <= limit`, false for NaN.
+fn within(v: f64, limit: f64) -> bool {
+    v <= limit
 }
 
 /// The semi-implicit step's metric `M = I - h S_-` (module docs): `M = L L^T`, and C in

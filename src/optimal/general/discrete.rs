@@ -221,7 +221,7 @@ pub(super) fn check_solver_range(p: &GeneralProblem, h: f64, bm: Option<&BigM>) 
         ));
     }
     for (field, what, v) in sizes {
-        if !(v <= hi) {
+        if v.is_nan() || v > hi {
             return Err(Error::invalid(
                 field,
                 format!("{what} {v:e}"),
@@ -256,8 +256,8 @@ fn check(p: &GeneralProblem, g: &Geometry, m: u32) -> Result<()> {
     check_sets(p, g, "P_m's global method")
 }
 
-/// Refuses a grid too coarse for P_m's explicit step (paper §6: `x^(i+1) = x^i + h g(x^i, u^i)
-/// - h eta^i`): `h = T / 2^m` times the rate of A's decaying and rotating part
+/// Refuses a grid too coarse for P_m's explicit step (paper §6:
+/// `x^(i+1) = x^i + h g(x^i, u^i) - h eta^i`): `h = T / 2^m` times the rate of A's decaying and rotating part
 /// ([`crate::model::general::DriftSplit::stiff_rate`]) must be at most
 /// [`EXPLICIT_STEP_LIMIT`], else a stiff drift oscillates between faces of C and the optimum
 /// of P_m is wrong by orders of magnitude (the simulator steps such a drift implicitly).
