@@ -284,7 +284,8 @@ pub struct GeneralSimulation {
     pub u: Vec<Vec<f64>>,
     /// Reactions per face `lambda^i = mu^i / h` (`M` rows of `sigma`).
     pub lambda: Vec<Vec<f64>>,
-    /// The largest KKT residual of a projection of the recorded period.
+    /// The largest KKT residual of a projection of the recorded period (for the semi-implicit
+    /// step with a damping, of the Euclidean projection in `z = L^T x`).
     pub max_kkt_residual: f64,
 }
 
