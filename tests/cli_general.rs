@@ -247,12 +247,21 @@ fn optimize_solves_p_m_of_a_general_file() {
         assert_eq!(out.status.code(), Some(2), "{args:?}");
         assert!(stderr(&out).starts_with(want), "{}", stderr(&out));
     }
-    // The drift example (A != 0, quadratic cost) on P_1.
+    // The drift example (A != 0, quadratic cost): P_1's step h = 5 is beyond the explicit
+    // limit for A = -0.5 I (h |A| = 2.5 > 2: the factor 1 + h A = -1.5 reverses and grows
+    // x), refused naming m and the m it needs; P_3 (h |A| = 0.625) is solved.
+    let out = crawlopt(&["optimize", "examples/general_drift.toml", "--m", "1"]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(
+        stderr(&out).starts_with("error: --m:") && stderr(&out).contains("needs m >= 2"),
+        "{}",
+        stderr(&out)
+    );
     let out = crawlopt(&[
         "optimize",
         "examples/general_drift.toml",
         "--m",
-        "1",
+        "3",
         "--json",
     ]);
     assert!(out.status.success(), "{}", stderr(&out));

@@ -789,3 +789,9 @@ fn regression_result_files_that_are_not_regular_files() {
         }
     }
 }
+
+// ---------------------------------------------------------------------------------------------
+// General-problem files (issue 30): the property `general_files::fuzz_general_files`.
+
+#[path = "fuzz/general.rs"]
+mod general_files;

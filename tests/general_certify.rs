@@ -14,7 +14,7 @@ use crawlopt::certify::{
     GeneralProcess, Process, Verdict,
 };
 use crawlopt::io::GeneralFile;
-use crawlopt::model::general::{GeneralCost, GeneralParts, GeneralProblem};
+use crawlopt::model::general::{GeneralCost, GeneralParts, GeneralProblem, EXPLICIT_STEP_LIMIT};
 use crawlopt::model::{crawler_as_general, Crawler};
 use crawlopt::optimal::general::{check_problem, solve_general_pm};
 use crawlopt::optimal::{solve_discrete_global, Cost, GaitProblem, GaitResult, MilpStatus};
@@ -493,7 +493,7 @@ fn random_optima_satisfy_the_conditions() {
                 Some(vec![1.0 + r(), 1.0 + r(), 1.0 + r()]),
             )
         };
-        let p = GeneralProblem::new(GeneralParts {
+        let mut p = GeneralProblem::new(GeneralParts {
             normals,
             offsets: (0..sigma).map(|_| 0.7 + r().abs()).collect(),
             a: Some(vec![vec![r(), r()], vec![r(), r()]]),
@@ -510,6 +510,15 @@ fn random_optima_satisfy_the_conditions() {
             ..Default::default()
         })
         .unwrap();
+        // A drift within P_1's explicit limit (beyond, m is refused).
+        let over = p.period / 2.0 * p.dynamics.split().stiff_rate / EXPLICIT_STEP_LIMIT;
+        if over > 1.0 {
+            p.dynamics
+                .a
+                .iter_mut()
+                .flatten()
+                .for_each(|v| *v /= 1.01 * over);
+        }
         let g = check_problem(&p).unwrap();
         let s = solve_general_pm(&p, &g, 1, None).unwrap();
         let c =

@@ -5,7 +5,9 @@
 mod common;
 
 use common::{one_link_problem, random_polygon_problem, Rng};
-use crawlopt::integrate::{simulate_general, ControlInput, GeneralSimOptions, InputKind};
+use crawlopt::integrate::{
+    simulate_general, ControlInput, DriftStep, GeneralSimOptions, InputKind,
+};
 use crawlopt::model::general::{Boundary, GeneralCost};
 use crawlopt::optimal::general::{
     analyze_polyhedron, check_problem, default_starts, solve_general_local, solve_general_pm,
@@ -107,8 +109,10 @@ fn random_instances_never_above_the_global_optimum_and_true_processes() {
                 .unwrap();
                 let mut cauchy = p.clone();
                 cauchy.boundary = Boundary::Initial(s.x[0].clone());
+                // P_m's explicit step (the simulator's default steps a damping implicitly).
                 let opts = GeneralSimOptions {
                     steps_per_period: mm,
+                    drift: DriftStep::Explicit,
                     ..Default::default()
                 };
                 let sim = simulate_general(&cauchy, &input, &s.x[0], &opts).unwrap();

@@ -6,7 +6,7 @@
 mod common;
 
 use common::{one_link_problem, random_polygon_problem, Rng};
-use crawlopt::model::general::{GeneralCost, GeneralParts, GeneralProblem};
+use crawlopt::model::general::{GeneralCost, GeneralParts, GeneralProblem, EXPLICIT_STEP_LIMIT};
 use crawlopt::model::{crawler_as_general, Crawler};
 use crawlopt::optimal::general::{
     analyze_polyhedron, check_problem, solve_general_branch, solve_general_pm,
@@ -69,7 +69,17 @@ fn random_instances_against_the_enumeration_of_branches() {
     let mut moving = 0;
     for (sigma, m, count) in [(3, 1, 4), (4, 1, 3), (3, 2, 2)] {
         for _ in 0..count {
-            let p = random_polygon_problem(&mut rng, sigma);
+            let mut p = random_polygon_problem(&mut rng, sigma);
+            // A drift within P_m's explicit limit on this grid (beyond, m is refused).
+            let h = p.period / (1u64 << m) as f64;
+            let over = h * p.dynamics.split().stiff_rate / EXPLICIT_STEP_LIMIT;
+            if over > 1.0 {
+                p.dynamics
+                    .a
+                    .iter_mut()
+                    .flatten()
+                    .for_each(|v| *v /= 1.01 * over);
+            }
             let g = analyze_polyhedron(&p.c).unwrap();
             assert!(g.bounded && g.degenerate_vertex.is_none());
             let steps = 1usize << m;

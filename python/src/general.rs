@@ -57,6 +57,7 @@ impl GeneralProblem {
             steps_per_period: steps_per_period.unwrap_or(d.steps_per_period),
             max_periods: max_periods.unwrap_or(d.max_periods),
             tol: tol.unwrap_or(d.tol),
+            ..d
         };
         let f = self.inner.clone();
         let s = run(py, None, |_| api::simulate_general(&f, &opts))?;

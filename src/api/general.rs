@@ -200,7 +200,7 @@ pub struct GeneralSimulated {
 
 /// Simulates the file's `[input]`: exactly where `A = 0` and the input is piecewise constant
 /// ([`crate::integrate::general_exact`], unless `opts.method` asks for catching-up), else by
-/// catching-up ([`crate::integrate::general`]): for a
+/// catching-up ([`crate::integrate::general`], the damping of `A` stepped implicitly): for a
 /// periodic problem until the periodic regime, with `J` of one period on the orbit; for a
 /// Cauchy problem over `[0, T]` from `x(0)`.
 pub fn simulate_general(file: &GeneralFile, opts: &GeneralSimOptions) -> Result<GeneralSimulated> {

@@ -62,6 +62,7 @@ impl GeneralProcess {
         )?;
         let opts = GeneralSimOptions {
             steps_per_period: steps,
+            drift: crate::integrate::DriftStep::Explicit,
             ..GeneralSimOptions::DEFAULT
         };
         let sim = simulate_general(p, &input, x0, &opts)?;

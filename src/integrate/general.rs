@@ -1,8 +1,25 @@
 //! Simulation of the general problem (P) (SPEC §11) for a given control: the catching-up scheme
-//! `x^(i+1) = Proj_C(x^i + h g(x^i, u^i))` on `M` uniform steps of a period, explicit in `g` and
-//! with the exact projection of [`crate::sweep::polyhedron`]; the reactions
-//! `lambda^i = mu^i / h` per face (the projection's multipliers divided by `h`), and the
-//! functional `J = sum_i h (f1(eta^i) - f2(u^i))` (paper eq. 2.4, discretised as in §6).
+//! on `M` uniform steps of a period, with the exact projection of [`crate::sweep::polyhedron`];
+//! the reactions `lambda^i = mu^i / h` per face (the projection's multipliers divided by `h`),
+//! and the functional `J = sum_i h (f1(eta^i) - f2(u^i))` (paper eq. 2.4, discretised as in §6).
+//!
+//! Two steps ([`DriftStep`]), with `A = S_- + (S_+ + K)` split as in
+//! [`crate::model::general::DriftSplit`]:
+//! - explicit (the paper's P_m, §6): `x^(i+1) = Proj_C(x^i + h g(x^i, u^i))`; refused when
+//!   `h |S_- + K|_2` exceeds [`EXPLICIT_STEP_LIMIT`] (a stiff decaying drift would oscillate
+//!   between faces and give a reward wrong by orders of magnitude);
+//! - semi-implicit (the default): the damping `S_-` at the new state,
+//!   `x^(i+1) - x^i - h (S_- x^(i+1) + (S_+ + K) x^i + B u^i + b) in -h N_C(x^(i+1))`, i.e.
+//!   `x^(i+1)` is the projection onto C of `v = M^-1 ((I + h (S_+ + K)) x^i + h (B u^i + b))`
+//!   in the metric of `M = I - h S_-` (computed as a Euclidean projection in `z = L^T x`,
+//!   `M = L L^T`), and `h M (v - x^(i+1)) = h sum_j lambda_j x*_j`, so the reaction on a face
+//!   that holds the state is `g`'s normal component, as in the continuous problem. Stable for
+//!   any step in the damped directions (backward Euler); the growing part `S_+` is explicit
+//!   (forward Euler under-grows, never oscillates, and C holds it); only a rotating part `K`
+//!   limits the step, `h |K|_2 <= EXPLICIT_STEP_LIMIT` and `T h |K|_2^2 / 2 <= 1` (forward Euler
+//!   grows a rotation by `(1 + (h |K|)^2)^(1/2)` a step), and the precision of a state held on a
+//!   face by the growing part, `h |S_+|_2 <= GROWTH_STEP_LIMIT`. With `S_- = 0` both steps are
+//!   the same.
 //!
 //! `u^i` is the mean of the control over step `i` (exact integrals of the piecewise-constant or
 //! piecewise-linear input), so that for `g = B u` the scheme sees the exact increment
@@ -13,7 +30,10 @@
 //! `[0, T]` from `x(0)`.
 
 use crate::error::{Error, Result};
-use crate::model::general::{Boundary, ControlSet, GeneralProblem};
+use crate::model::general::{
+    min_steps, Boundary, ControlSet, GeneralProblem, Polyhedron, EXPLICIT_STEP_LIMIT,
+    GROWTH_STEP_LIMIT,
+};
 use crate::sweep::PolyProjector;
 use serde::Serialize;
 
@@ -157,6 +177,16 @@ pub enum GeneralMethod {
     CatchingUp,
 }
 
+/// How [`simulate_general`] steps the drift `A x` (module docs).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum DriftStep {
+    /// Damping implicit, the rest explicit: stable for any step unless `A` rotates.
+    SemiImplicit,
+    /// All explicit: the paper's P_m, whose answers the optimisers replay with it.
+    Explicit,
+}
+
 /// Options of [`simulate_general`].
 #[derive(Debug, Clone, PartialEq)]
 pub struct GeneralSimOptions {
@@ -169,6 +199,8 @@ pub struct GeneralSimOptions {
     pub max_periods: usize,
     /// The state repeats when it changes by at most `tol` times C's scale over a period.
     pub tol: f64,
+    /// The step of the drift (default semi-implicit; P_m's replays are explicit).
+    pub drift: DriftStep,
 }
 
 impl GeneralSimOptions {
@@ -178,6 +210,7 @@ impl GeneralSimOptions {
         steps_per_period: 1000,
         max_periods: 5000,
         tol: 1e-12,
+        drift: DriftStep::SemiImplicit,
     };
 
     /// Checks the options for a problem whose recorded period holds `per_step` values a step
@@ -251,7 +284,8 @@ pub struct GeneralSimulation {
     pub u: Vec<Vec<f64>>,
     /// Reactions per face `lambda^i = mu^i / h` (`M` rows of `sigma`).
     pub lambda: Vec<Vec<f64>>,
-    /// The largest KKT residual of a projection of the recorded period.
+    /// The largest KKT residual of a projection of the recorded period (for the semi-implicit
+    /// step with a damping, of the Euclidean projection in `z = L^T x`).
     pub max_kkt_residual: f64,
 }
 
@@ -273,6 +307,16 @@ pub fn simulate_general(
     }
     let (n, m, mm) = (p.states(), p.controls(), opts.steps_per_period);
     let h = p.period / mm as f64;
+    let split = p.dynamics.split();
+    check_drift_step(p, mm, opts.drift, &split)?;
+    let implicit = opts.drift == DriftStep::SemiImplicit && !split.undamped();
+    let metric = if implicit {
+        Some(Metric::new(&split.damping, &p.c, h)?)
+    } else {
+        None
+    };
+    // The explicit part of the drift: all of A, or A - S_-.
+    let a_exp = if implicit { &split.rest } else { &p.dynamics.a };
     // The controls of the steps, the same every period.
     let mut us = vec![vec![0.0; m]; mm];
     for (i, u) in us.iter_mut().enumerate() {
@@ -283,7 +327,10 @@ pub fn simulate_general(
         };
         input.mean(i as f64 * h, t1, u);
     }
-    let mut proj = PolyProjector::new(p.c.clone());
+    let mut proj = PolyProjector::new(match &metric {
+        Some(mt) => mt.c.clone(),
+        None => p.c.clone(),
+    });
     let x = x0.to_vec();
     let mut g = vec![0.0; n];
     let mut v = vec![0.0; n];
@@ -291,11 +338,18 @@ pub fn simulate_general(
     let period = |x: &mut Vec<f64>, record: Option<&mut GeneralSimulation>| -> Result<()> {
         let mut rec = record;
         for (i, u) in us.iter().enumerate() {
-            p.dynamics.eval(x, u, &mut g);
+            for k in 0..n {
+                g[k] = crate::model::general::dot(&a_exp[k], x)
+                    + crate::model::general::dot(&p.dynamics.b[k], u)
+                    + p.dynamics.drift[k];
+            }
             for k in 0..n {
                 v[k] = x[k] + h * g[k];
             }
-            let a = proj.project(x, &v)?;
+            let a = match &metric {
+                None => proj.project(x, &v)?,
+                Some(mt) => mt.project(&mut proj, x, &v)?,
+            };
             *x = a.x;
             if let Some(r) = rec.as_deref_mut() {
                 let lambda: Vec<f64> = a.mu.iter().map(|mu| mu / h).collect();
@@ -311,6 +365,159 @@ pub fn simulate_general(
         Ok(())
     };
     periodic_regime(p, input, x, opts.max_periods, opts.tol, period)
+}
+
+/// Refuses `steps_per_period = mm` where the drift's explicit part is beyond its limit (module
+/// docs): forward Euler's stability limit `h rate <= EXPLICIT_STEP_LIMIT` on the part stepped
+/// explicitly (all of `A` but its growing part for [`DriftStep::Explicit`], the rotating part
+/// `K` for [`DriftStep::SemiImplicit`]); for the semi-implicit step also the spurious growth of
+/// an explicit rotation over a period, `prod (1 + (h |K|)^2)^(1/2) ~ exp(T h |K|^2 / 2) <= e`,
+/// and the precision of a state held by the growing part, `h |S_+|_2 <= GROWTH_STEP_LIMIT`.
+/// The message names the steps needed (or says that no grid of at most
+/// `MAX_STEPS_PER_PERIOD` steps has them).
+fn check_drift_step(
+    p: &GeneralProblem,
+    mm: usize,
+    drift: DriftStep,
+    split: &crate::model::general::DriftSplit,
+) -> Result<()> {
+    let t = p.period;
+    let h = t / mm as f64;
+    let refuse = |why: String, need: f64| {
+        let max = super::periodic::MAX_STEPS_PER_PERIOD;
+        let need = if need <= max as f64 {
+            format!("needs at least {need:e} steps")
+        } else {
+            format!(
+                "no grid of at most {max} steps is fine enough: scale dynamics.A down (or the \
+                 period)"
+            )
+        };
+        Err(Error::invalid(
+            "steps_per_period",
+            mm,
+            format!("is too coarse for the drift: {why}; {need}"),
+        ))
+    };
+    let (rate, what) = match drift {
+        DriftStep::Explicit => (split.stiff_rate, "decaying and rotating part |S_- + K|_2"),
+        DriftStep::SemiImplicit => (split.skew_rate, "rotating part |K|_2"),
+    };
+    if !within(h * rate, EXPLICIT_STEP_LIMIT) {
+        return refuse(
+            format!(
+                "the step h = {h:e} times the {what} of dynamics.A ({rate:e}) exceeds the \
+                 explicit stability limit {EXPLICIT_STEP_LIMIT}"
+            ),
+            min_steps(t, rate),
+        );
+    }
+    if drift == DriftStep::Explicit {
+        return Ok(());
+    }
+    let k = split.skew_rate;
+    if !within(t * h * k * k / 2.0, 1.0) {
+        return refuse(
+            format!(
+                "the explicit step of the rotating part |K|_2 = {k:e} of dynamics.A grows the \
+                 state spuriously by exp(T h |K|^2 / 2) = exp({:e}) over a period (at most e)",
+                t * h * k * k / 2.0
+            ),
+            (t * t * k * k / 2.0).ceil(),
+        );
+    }
+    let g = split.growth_rate;
+    if !within(h * g, GROWTH_STEP_LIMIT) {
+        return refuse(
+            format!(
+                "the step h = {h:e} times the growing rate |S_+|_2 of dynamics.A ({g:e}) \
+                 exceeds {GROWTH_STEP_LIMIT:e}, beyond which a state held on a face loses its \
+                 precision in the projection"
+            ),
+            (t * g / GROWTH_STEP_LIMIT).ceil(),
+        );
+    }
+    Ok(())
+}
+
+/// `v <= limit`, false for NaN.
+fn within(v: f64, limit: f64) -> bool {
+    v <= limit
+}
+
+/// The semi-implicit step's metric `M = I - h S_-` (module docs): `M = L L^T`, and C in
+/// `z = L^T x` as `{z : <L^-1 x*_j, z> <= c_j}` (rows scaled to unit length `nu_j`).
+struct Metric {
+    /// `L^-1` (rows).
+    l_inv: nalgebra::DMatrix<f64>,
+    /// `L^-T`.
+    l_inv_t: nalgebra::DMatrix<f64>,
+    /// `L^T`.
+    l_t: nalgebra::DMatrix<f64>,
+    /// C in `z`.
+    c: Polyhedron,
+}
+
+impl Metric {
+    fn new(damping: &[Vec<f64>], c: &Polyhedron, h: f64) -> Result<Metric> {
+        let n = damping.len();
+        let m = nalgebra::DMatrix::from_fn(n, n, |i, k| {
+            (if i == k { 1.0 } else { 0.0 }) - h * damping[i][k]
+        });
+        let chol = m.cholesky().ok_or_else(|| {
+            Error::Numerical(format!(
+                "semi-implicit step: I - h S_- is not positive definite at h = {h:e} (A's \
+                 damping out of the floating-point range)"
+            ))
+        })?;
+        let l = chol.l();
+        let l_inv = l
+            .clone()
+            .try_inverse()
+            .ok_or_else(|| Error::Numerical("semi-implicit step: L is singular".into()))?;
+        let rows: Vec<Vec<f64>> = c
+            .normals
+            .iter()
+            .map(|nj| {
+                (&l_inv * nalgebra::DVector::from_column_slice(nj))
+                    .iter()
+                    .copied()
+                    .collect()
+            })
+            .collect();
+        let cz = Polyhedron::new(
+            rows,
+            c.offsets.clone(),
+            "sweeping_process (in the metric of I - h S_-)",
+        )?;
+        Ok(Metric {
+            l_inv_t: l_inv.transpose(),
+            l_inv,
+            l_t: l.transpose(),
+            c: cz,
+        })
+    }
+
+    /// The projection of `M^-1 r` (`r` given) onto C in the metric `M`, from `x`; its
+    /// multipliers are those of the unit normals of C (`M (v - x^+) = sum_j mu_j x*_j`).
+    fn project(
+        &self,
+        proj: &mut PolyProjector,
+        x: &[f64],
+        r: &[f64],
+    ) -> Result<crate::sweep::Projection> {
+        let z0 = &self.l_t * nalgebra::DVector::from_column_slice(x);
+        let zv = &self.l_inv * nalgebra::DVector::from_column_slice(r);
+        let mut a = proj.project(z0.as_slice(), zv.as_slice())?;
+        a.x = (&self.l_inv_t * nalgebra::DVector::from_vec(a.x))
+            .iter()
+            .copied()
+            .collect();
+        for (mu, nu) in a.mu.iter_mut().zip(&self.c.row_norms) {
+            *mu /= nu;
+        }
+        Ok(a)
+    }
 }
 
 /// The regime of a simulation from `x`, given one of its `period` maps (with a recording, the
@@ -364,7 +571,51 @@ pub(super) fn periodic_regime(
     if converged {
         period(&mut x, Some(&mut sim))?;
         sim.periods += 1;
-        sim.objective = Some(sim.reward - sim.cost);
+        let objective = sim.reward - sim.cost;
+        check_finite_answer(&sim, objective)?;
+        sim.objective = Some(objective);
+    } else if let Some(i) = x.iter().position(|v| !v.is_finite()) {
+        return Err(Error::Numerical(format!(
+            "the state's component {} is {} after {periods} periods: the simulation \
+             overflowed (the dynamics' A, B or b too large for C's scale)",
+            i + 1,
+            x[i]
+        )));
     }
     Ok(sim)
+}
+
+/// Refuses a recorded period whose numbers left the floating-point range, naming what
+/// overflowed: no `J = inf` (or NaN) is reported as an answer.
+fn check_finite_answer(sim: &GeneralSimulation, objective: f64) -> Result<()> {
+    let overflow = |what: &str, v: f64, cause: &str| {
+        Error::Numerical(format!(
+            "{what} over the recorded period is {v}: it overflowed the floating-point range \
+             ({cause}); scale the problem down"
+        ))
+    };
+    if let Some(row) = sim.x.iter().find(|r| r.iter().any(|v| !v.is_finite())) {
+        return Err(overflow(
+            "the state",
+            row.iter()
+                .copied()
+                .find(|v| !v.is_finite())
+                .unwrap_or(f64::NAN),
+            "the dynamics' A, B or b too large for C's scale",
+        ));
+    }
+    if !sim.reward.is_finite() {
+        return Err(overflow(
+            "int f1(eta)",
+            sim.reward,
+            "the reactions times objective.face_weights or objective.reaction_weights",
+        ));
+    }
+    if !sim.cost.is_finite() {
+        return Err(overflow("int f2(u)", sim.cost, "objective.cost"));
+    }
+    if !objective.is_finite() {
+        return Err(overflow("J = int f1 - int f2", objective, "both integrals"));
+    }
+    Ok(())
 }

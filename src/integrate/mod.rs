@@ -22,7 +22,8 @@ pub use actuation::{Actuation, Waveform, MAX_OFFSET_RATIO};
 pub use catching_up::CatchingUp;
 pub use exact::ExactPwl;
 pub use general::{
-    simulate_general, ControlInput, GeneralMethod, GeneralSimOptions, GeneralSimulation, InputKind,
+    simulate_general, ControlInput, DriftStep, GeneralMethod, GeneralSimOptions, GeneralSimulation,
+    InputKind,
 };
 pub use general_exact::simulate_general_exact;
 pub use increments::IncrementStorage;

@@ -15,6 +15,14 @@
 use crate::error::{Error, Result};
 use serde::Serialize;
 
+pub use super::general_drift::{min_steps, DriftSplit, EXPLICIT_STEP_LIMIT, GROWTH_STEP_LIMIT};
+
+/// Most faces of C (and of a polytope U) a problem may have. The analysis decides redundancy
+/// with at most one linear program of `sigma` rows per face (`crate::optimal::general::geometry`;
+/// most faces need none), and that worst case (every face a duplicate) takes seconds at this
+/// size; the vertex enumeration is capped separately (it is exponential in the dimension).
+pub const MAX_FACES: usize = 1000;
+
 /// A polyhedron `{x : <x*_j, x> <= c_j}` with unit normals (paper §2: the `x*_j` are unit
 /// vectors; each given row `(x*_j, c_j)` is divided by `|x*_j|`, which leaves the set unchanged).
 #[derive(Debug, Clone, PartialEq, Serialize)]
@@ -34,6 +42,13 @@ impl Polyhedron {
         let (nf, of) = (format!("{field}.normals"), format!("{field}.offsets"));
         if normals.is_empty() {
             return Err(Error::invalid(&nf, "[]", "needs at least one face"));
+        }
+        if normals.len() > MAX_FACES {
+            return Err(Error::invalid(
+                &nf,
+                format!("{} faces", normals.len()),
+                format!("at most {MAX_FACES} faces are accepted (the analysis's limit)"),
+            ));
         }
         let n = normals[0].len();
         if n == 0 {
@@ -69,16 +84,36 @@ impl Polyhedron {
                     "must be finite",
                 ));
             }
-            let norm = row.iter().map(|v| v * v).sum::<f64>().sqrt();
-            if !(norm > 0.0 && norm.is_finite()) {
+            let norm = length(row);
+            if norm == 0.0 {
                 return Err(Error::invalid(
                     format!("{nf}[{}]", j + 1),
                     format!("{row:?}"),
-                    "a normal must be non-zero (and its length finite)",
+                    "a normal must be non-zero",
                 ));
             }
-            scaled.push(row.iter().map(|v| v / norm).collect());
-            cs.push(c / norm);
+            if !norm.is_finite() {
+                return Err(Error::invalid(
+                    format!("{nf}[{}]", j + 1),
+                    format!("{row:?}"),
+                    "its length overflows the floating-point range",
+                ));
+            }
+            let unit: Vec<f64> = row.iter().map(|v| v / norm).collect();
+            let offset = c / norm;
+            if !offset.is_finite() {
+                return Err(Error::invalid(
+                    format!("{of}[{}]", j + 1),
+                    c,
+                    format!(
+                        "divided by the length {norm:e} of normal {} it overflows the \
+                         floating-point range (scale the row down)",
+                        j + 1
+                    ),
+                ));
+            }
+            scaled.push(unit);
+            cs.push(offset);
             norms.push(norm);
         }
         Ok(Polyhedron {
@@ -445,6 +480,7 @@ impl GeneralProblem {
                 "must be positive and finite",
             ));
         }
+        check_scales(&reward, &cost, &control, p.period)?;
         let boundary = match (p.periodic, p.initial_state) {
             (true, None) => Boundary::Periodic,
             (false, Some(x0)) => {
@@ -494,6 +530,55 @@ impl GeneralProblem {
     pub fn controls(&self) -> usize {
         self.control.dim()
     }
+}
+
+/// Refuses weights whose size alone takes `J` out of the floating-point range: the sum of
+/// `|w_j|` (or `|q|`) times the period `T` (a reaction rate of 1 on every face over the
+/// period), and for a box U the cost weight times the largest `|u|^2` times `T` (the largest
+/// `int f2`). Where no such bound can be read off the data (the reactions' size, a polytope
+/// U), the computed numbers are checked instead (`crate::integrate::general`).
+fn check_scales(reward: &Reward, cost: &GeneralCost, u: &ControlSet, period: f64) -> Result<()> {
+    let (field, w) = match reward {
+        Reward::FaceWeights(w) => ("objective.face_weights", w),
+        Reward::ReactionWeights(q) => ("objective.reaction_weights", q),
+    };
+    let total = w.iter().map(|v| v.abs()).sum::<f64>() * period;
+    if !total.is_finite() {
+        return Err(Error::invalid(
+            field,
+            format!("{w:?}"),
+            format!(
+                "the sum of their sizes times the period ({period}) overflows the \
+                 floating-point range, so J could not be represented; scale f1 down"
+            ),
+        ));
+    }
+    if let ControlSet::Box { lower, upper } = u {
+        let u2: f64 = lower
+            .iter()
+            .zip(upper)
+            .map(|(lo, hi)| lo.abs().max(hi.abs()).powi(2))
+            .sum();
+        let (field, size) = match cost {
+            GeneralCost::None => return Ok(()),
+            GeneralCost::Quadratic { weight } => ("objective.cost.weight", weight.abs()),
+            GeneralCost::Matrix { matrix } => (
+                "objective.cost.matrix",
+                matrix.iter().flatten().map(|v| v.abs()).sum::<f64>(),
+            ),
+        };
+        if !(0.5 * size * u2 * period).is_finite() {
+            return Err(Error::invalid(
+                field,
+                size,
+                format!(
+                    "times the largest |u|^2 of U ({u2:e}) and the period it overflows the \
+                     floating-point range, so int f2 could not be represented; scale f2 down"
+                ),
+            ));
+        }
+    }
+    Ok(())
 }
 
 fn check_cost(cost: &GeneralCost, m: usize) -> Result<()> {
@@ -606,6 +691,17 @@ fn check_matrix(
         check_finite(&f, row)?;
     }
     Ok(())
+}
+
+/// The Euclidean length of `v`, without overflow or underflow in the squares: computed on
+/// `v / max_i |v_i|`, so that a row `[1e308]` has length 1e308 and `[1e-300]` length 1e-300
+/// (both are then scaled to the unit normal `[1]`, with the offset divided alike).
+pub(crate) fn length(v: &[f64]) -> f64 {
+    let top = v.iter().fold(0.0_f64, |t, x| t.max(x.abs()));
+    if top == 0.0 || !top.is_finite() {
+        return top;
+    }
+    top * v.iter().map(|x| (x / top) * (x / top)).sum::<f64>().sqrt()
 }
 
 /// `<a, b>`.

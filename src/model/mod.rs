@@ -12,6 +12,7 @@ mod analysis;
 mod crawler;
 pub mod general;
 mod general_crawler;
+mod general_drift;
 mod polytope;
 mod uniqueness;
 mod vm;

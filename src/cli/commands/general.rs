@@ -68,6 +68,7 @@ pub fn simulate(file: &GeneralFile, a: &SimulateArgs) -> Result<ExitCode, Error>
         steps_per_period: a.steps_per_period,
         max_periods: a.max_periods,
         tol: a.tol,
+        ..GeneralSimOptions::DEFAULT
     };
     let names = [
         ("steps_per_period", "--steps-per-period"),

@@ -32,7 +32,9 @@
 use super::geometry::Geometry;
 use crate::error::{Error, Result};
 use crate::integrate::{simulate_general, ControlInput, GeneralSimOptions, InputKind};
-use crate::model::general::{dot, Boundary, ControlSet, GeneralCost, GeneralProblem, Reward};
+use crate::model::general::{
+    dot, Boundary, ControlSet, GeneralCost, GeneralProblem, Reward, EXPLICIT_STEP_LIMIT,
+};
 use crate::optimal::milp::{solve_max, Certificate, MilpStatus, OA_TOL};
 use crate::optimal::polish::POLISH_DEFAULT;
 use crate::optimal::solver::{Highs, SolveStatus};
@@ -161,6 +163,83 @@ pub(super) fn reward_weights(p: &GeneralProblem) -> Vec<f64> {
     }
 }
 
+/// The range of magnitudes P_m's linear programs are handed (C's scale, the controls' bounds,
+/// `h` times the dynamics, the weights, the big-M constants): HiGHS takes values from 1e20 on
+/// as infinite and solves to absolute tolerances near 1e-9, so data beyond this range are
+/// refused up front, naming the field, rather than failing inside HiGHS ("unbounded", "refused
+/// the model") or giving an answer within its tolerance of anything.
+pub const PM_DATA_RANGE: (f64, f64) = (1e-6, 1e12);
+
+/// Refuses data of `p` outside [`PM_DATA_RANGE`] for P_m on steps `h` (module docs of the
+/// constant); `bm`: the big-M constants of the MILP, where they are used.
+pub(super) fn check_solver_range(p: &GeneralProblem, h: f64, bm: Option<&BigM>) -> Result<()> {
+    let (lo, hi) = PM_DATA_RANGE;
+    let top = |v: &mut dyn Iterator<Item = f64>| v.fold(0.0_f64, |t, x| t.max(x.abs()));
+    let scale = p.c.scale();
+    let advice = "scale the problem (lengths, time, rates, weights) so that its data lie within";
+    if !(lo..=hi).contains(&scale) {
+        return Err(Error::invalid(
+            "sweeping_process.offsets",
+            format!("C's scale max |c_j| = {scale:e}"),
+            format!("P_m's solver needs it within [{lo:e}, {hi:e}]; {advice} that range"),
+        ));
+    }
+    let (u_field, u_top) = match &p.control {
+        ControlSet::Box { lower, upper } => (
+            "control.lower, control.upper",
+            top(&mut lower.iter().chain(upper).copied()),
+        ),
+        ControlSet::Polytope(u) => ("control.h", top(&mut u.offsets.iter().copied())),
+    };
+    let w_field = match p.reward {
+        Reward::FaceWeights(_) => "objective.face_weights",
+        Reward::ReactionWeights(_) => "objective.reaction_weights",
+    };
+    let mut sizes = vec![
+        (u_field, "its largest size", u_top),
+        (
+            "dynamics.A",
+            "its largest entry times h",
+            h * top(&mut p.dynamics.a.iter().flatten().copied()),
+        ),
+        (
+            "dynamics.B",
+            "its largest entry times h",
+            h * top(&mut p.dynamics.b.iter().flatten().copied()),
+        ),
+        (
+            "dynamics.b",
+            "its largest entry times h",
+            h * top(&mut p.dynamics.drift.iter().copied()),
+        ),
+        (
+            w_field,
+            "the largest weight (of the unit normals)",
+            top(&mut reward_weights(p).into_iter()),
+        ),
+    ];
+    if let Some(bm) = bm {
+        sizes.push((
+            "dynamics",
+            "the bound M_mu on the reactions it gives over C and U",
+            bm.multiplier,
+        ));
+    }
+    for (field, what, v) in sizes {
+        if v.is_nan() || v > hi {
+            return Err(Error::invalid(
+                field,
+                format!("{what} {v:e}"),
+                format!(
+                    "is beyond P_m's solver range (magnitudes up to {hi:e}; HiGHS takes 1e20 \
+                     as infinite); {advice} [{lo:e}, {hi:e}]"
+                ),
+            ));
+        }
+    }
+    Ok(())
+}
+
 /// Checks that P_m's global method applies to `p`.
 fn check(p: &GeneralProblem, g: &Geometry, m: u32) -> Result<()> {
     if m == 0 {
@@ -178,7 +257,39 @@ fn check(p: &GeneralProblem, g: &Geometry, m: u32) -> Result<()> {
             format!("must be in 1..={MAX_GENERAL_M}"),
         ));
     }
+    check_explicit_step(p, m)?;
     check_sets(p, g, "P_m's global method")
+}
+
+/// Refuses a grid too coarse for P_m's explicit step (paper §6:
+/// `x^(i+1) = x^i + h g(x^i, u^i) - h eta^i`): `h = T / 2^m` times the rate of A's decaying and rotating part
+/// ([`crate::model::general::DriftSplit::stiff_rate`]) must be at most
+/// [`EXPLICIT_STEP_LIMIT`], else a stiff drift oscillates between faces of C and the optimum
+/// of P_m is wrong by orders of magnitude (the simulator steps such a drift implicitly).
+pub(super) fn check_explicit_step(p: &GeneralProblem, m: u32) -> Result<()> {
+    let h = p.period / (1u64 << m.min(63)) as f64;
+    let rate = p.dynamics.split().stiff_rate;
+    if h * rate <= EXPLICIT_STEP_LIMIT {
+        return Ok(());
+    }
+    let need = crate::model::general::min_steps(p.period, rate)
+        .log2()
+        .ceil();
+    Err(Error::invalid(
+        "m",
+        m,
+        format!(
+            "P_m's explicit step h = T/2^m = {h:e} times the decaying and rotating rate \
+             {rate:e} of dynamics.A (|S_- + K|_2) exceeds the stability limit \
+             {EXPLICIT_STEP_LIMIT}: P_m needs m >= {need}{}; or scale A down (the simulator \
+             steps a stiff damping implicitly)",
+            if need > f64::from(MAX_GENERAL_M) {
+                format!(", beyond the largest m ({MAX_GENERAL_M})")
+            } else {
+                String::new()
+            }
+        ),
+    ))
 }
 
 /// Checks what every method for P_m needs (`who` names the method): C and U bounded (the
@@ -502,7 +613,9 @@ fn solve_milp(
     crate::optimal::check_time_limit(time_limit)?;
     let mm = 1usize << m;
     let h = p.period / mm as f64;
+    check_solver_range(p, h, None)?;
     let bm = big_m(p, g, h)?;
+    check_solver_range(p, h, Some(&bm))?;
     let what = format!("P_{m} of the general problem");
     let scale = p.c.scale();
     let began = std::time::Instant::now();
@@ -621,6 +734,7 @@ pub(super) fn replay_controls(
     cauchy.boundary = Boundary::Initial(x0.to_vec());
     let opts = GeneralSimOptions {
         steps_per_period: mm,
+        drift: crate::integrate::DriftStep::Explicit,
         ..GeneralSimOptions::DEFAULT
     };
     let sim = simulate_general(&cauchy, &input, x0, &opts)?;

@@ -6,9 +6,19 @@
 //! The linear programs go through [`crate::optimal::solver`] and are posed in units of C's
 //! scale `s = max_j |c_j|` (the state divided by `s`), so that HiGHS's absolute tolerances
 //! (1e-9) are relative to C; every decision below uses the relative tolerance [`REL_TOL`].
+//!
+//! Cost in the number of faces `sigma` (at most [`crate::model::general::MAX_FACES`]): the
+//! centre and boundedness are one LP each; redundancy is decided for most faces without an LP,
+//! by a ray from the centre along the face's normal that leaves C through that face alone (a
+//! point feasible for every other face and outside it: `O(sigma^2 n)` in all), and by one LP of
+//! `sigma` rows for each face the rays leave undecided (duplicates, faces through a vertex, C
+//! without interior). The vertex enumeration is the one exponential part: it tries the
+//! `C(sigma, rank)` subsets of faces (exponential in the dimension), and is skipped beyond
+//! [`MAX_VERTEX_SUBSETS`] of them (face weights are then refused, `reaction_weights`
+//! accepted).
 
 use crate::error::{Error, Result};
-use crate::model::general::{GeneralProblem, Polyhedron, Reward};
+use crate::model::general::{dot, GeneralProblem, Polyhedron, Reward};
 use crate::optimal::solver::{Highs, SolveStatus};
 use highs::{RowProblem, Sense};
 use nalgebra::{DMatrix, DVector};
@@ -74,7 +84,7 @@ pub fn analyze_polyhedron(c: &Polyhedron) -> Result<Geometry> {
     let (centre, radius, capped) = chebyshev(c, s)?;
     let rank = rank(&c.normals);
     let bounded = rank == c.dim() && positively_dependent(c)?;
-    let redundant_faces = redundant(c, s)?;
+    let redundant_faces = redundant(c, s, &centre, radius)?;
     let vertices = vertices(c, s, rank);
     let degenerate_vertex = vertices
         .as_ref()
@@ -205,13 +215,34 @@ fn positively_dependent(c: &Polyhedron) -> Result<bool> {
     Ok(a.status == SolveStatus::Optimal && a.columns[0] > REL_TOL)
 }
 
+/// Whether a ray from the interior point `centre` (at distance at least `radius > 0` from every
+/// face) along `x*_j` shows face `j` needed: the point where it crosses the next face lies
+/// outside face `j` by more than the LP's tolerance, within the cap `s` (see [`redundant`]),
+/// so that LP's optimum would exceed `c_j` by more than [`REL_TOL`]`s`.
+fn ray_shows_needed(c: &Polyhedron, s: f64, centre: &[f64], j: usize) -> bool {
+    let nj = &c.normals[j];
+    let own = c.offsets[j] - dot(nj, centre);
+    let mut next = f64::INFINITY;
+    for k in (0..c.faces()).filter(|&k| k != j) {
+        let rate = dot(&c.normals[k], nj);
+        if rate > 0.0 {
+            next = next.min((c.offsets[k] - dot(&c.normals[k], centre)) / rate);
+        }
+    }
+    (next - own).min(s) > 100.0 * REL_TOL * s
+}
+
 /// The faces implied by the others, tested in order against the faces not yet found redundant
 /// (so of two equal faces only the first is listed): `max <x*_j, x>` over the others and
-/// `<x*_j, x> <= c_j + s` (which bounds the LP) is at most `c_j`.
-fn redundant(c: &Polyhedron, s: f64) -> Result<Vec<usize>> {
+/// `<x*_j, x> <= c_j + s` (which bounds the LP) is at most `c_j`. The LP is skipped for a face
+/// that a ray from the Chebyshev centre shows needed ([`ray_shows_needed`]; module docs).
+fn redundant(c: &Polyhedron, s: f64, centre: &[f64], radius: f64) -> Result<Vec<usize>> {
     let n = c.dim();
     let mut removed = vec![false; c.faces()];
     for j in 0..c.faces() {
+        if radius > REL_TOL * s && ray_shows_needed(c, s, centre, j) {
+            continue;
+        }
         let mut pb = RowProblem::default();
         let x: Vec<_> = (0..n)
             .map(|i| pb.add_column(c.normals[j][i], f64::NEG_INFINITY..f64::INFINITY))

@@ -84,6 +84,8 @@ pub fn check_general_local(p: &GeneralProblem, g: &Geometry, m: u32) -> Result<(
             "the local method handles f2 = none only; use the discrete (global) method",
         ));
     }
+    super::discrete::check_explicit_step(p, m)?;
+    super::discrete::check_solver_range(p, p.period / (1u64 << m) as f64, None)?;
     check_sets(p, g, "P_m's local method")
 }
 
@@ -217,6 +219,7 @@ pub fn solve_general_local(
     };
     let opts = GeneralSimOptions {
         steps_per_period: mm,
+        drift: crate::integrate::DriftStep::Explicit,
         ..GeneralSimOptions::DEFAULT
     };
     let sim = simulate_general(p, &input, &x0, &opts)?;

@@ -13,6 +13,7 @@ mod polish;
 
 pub use discrete::{
     solve_general_branch, solve_general_pm, solve_general_pm_with, GeneralPm, MAX_GENERAL_M,
+    PM_DATA_RANGE,
 };
 pub use geometry::{
     analyze_polyhedron, check_problem, check_with, Geometry, Vertex, MAX_VERTEX_SUBSETS,

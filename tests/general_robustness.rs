@@ -1,0 +1,332 @@
+//! Robustness of the general problem (P) (issue 30, items 3, 4, 7 and 14): no non-finite number
+//! reported as an answer, a stiff drift integrated stably (the answer converges under grid
+//! refinement, against closed forms) or refused naming the grid, a documented limit on the
+//! faces with an analysis that scales with them, and normals of extreme length accepted.
+
+use crawlopt::api::{self, GeneralPmSettings};
+use crawlopt::integrate::{DriftStep, GeneralMethod, GeneralSimOptions};
+use crawlopt::io::GeneralFile;
+use crawlopt::model::general::MAX_FACES;
+
+/// The paper's one-link problem in general form (J* = 3 for the bang-bang input below).
+const ONE_LINK: &str = r#"
+[sweeping_process]
+normals = [[1.0], [-1.0]]
+offsets = [1.0, 1.0]
+[dynamics]
+B = [[1.0]]
+[control]
+lower = [-1.0]
+upper = [1.0]
+zero_mean = true
+[objective]
+face_weights = [0.5, 0.5]
+[problem]
+period = 10.0
+[input]
+kind = "piecewise_constant"
+times = [0.0, 5.0]
+values = [[1.0], [-1.0]]
+"#;
+
+/// The issue's stiff example: the box [-1, 1]^2, A = diag(-1e3, 1e3), the weight on x1 <= 1.
+const STIFF: &str = r#"
+[sweeping_process]
+normals = [[1.0, 0.0], [0.0, 1.0], [-1.0, 0.0], [0.0, -1.0]]
+offsets = [1.0, 1.0, 1.0, 1.0]
+[dynamics]
+A = [[-1000.0, 0.0], [0.0, 1000.0]]
+B = [[1.0, 0.0], [0.0, 1.0]]
+[control]
+lower = [-1.0, -1.0]
+upper = [1.0, 1.0]
+zero_mean = true
+[objective]
+face_weights = [1.0, 0.0, 0.0, 0.0]
+[problem]
+period = 10.0
+[input]
+kind = "piecewise_constant"
+times = [0.0, 2.5, 5.0, 7.5]
+values = [[1.0, 0.5], [1.0, -0.5], [-1.0, -0.5], [-1.0, 0.5]]
+"#;
+
+fn file(text: &str) -> GeneralFile {
+    GeneralFile::parse(text).unwrap()
+}
+
+fn steps(n: usize) -> GeneralSimOptions {
+    GeneralSimOptions {
+        steps_per_period: n,
+        ..GeneralSimOptions::DEFAULT
+    }
+}
+
+fn j_of(text: &str, n: usize) -> f64 {
+    api::simulate_general(&file(text), &steps(n))
+        .unwrap()
+        .simulation
+        .objective
+        .unwrap()
+}
+
+fn err_of<T: std::fmt::Debug>(r: crawlopt::Result<T>) -> String {
+    r.unwrap_err().to_string()
+}
+
+#[test]
+fn weights_whose_product_overflows_are_refused_naming_the_field() {
+    // Item 3: [1e308, 1e308] summed times T overflows: refused up front (it printed J = inf).
+    let huge = ONE_LINK.replace("[0.5, 0.5]", "[1e308, 1e308]");
+    let e = err_of(api::simulate_general(&file(&huge), &steps(100)));
+    assert!(e.starts_with("objective.face_weights"), "{e}");
+    let e = err_of(api::analyze_general(&file(&huge)));
+    assert!(e.starts_with("objective.face_weights"), "{e}");
+    // A cost weight whose int f2 overflows over U.
+    let cost = ONE_LINK.replace(
+        "face_weights = [0.5, 0.5]",
+        "face_weights = [0.5, 0.5]\ncost = { kind = \"quadratic\", weight = 1e308 }",
+    );
+    let e = err_of(api::simulate_general(&file(&cost), &steps(100)));
+    assert!(e.starts_with("objective.cost.weight"), "{e}");
+    // Weights that pass the check (their sum times T is finite) but whose reactions (1e10 on
+    // a held face, B = 1e10) take int f1 past the range: the computed number is refused, by
+    // both integrators, naming what overflowed (no answer with J = inf or null).
+    let fast = ONE_LINK
+        .replace("[0.5, 0.5]", "[1e300, 1e300]")
+        .replace("B = [[1.0]]", "B = [[1e10]]");
+    for method in [GeneralMethod::Auto, GeneralMethod::CatchingUp] {
+        let opts = GeneralSimOptions {
+            method,
+            ..steps(100)
+        };
+        let e = err_of(api::simulate_general(&file(&fast), &opts));
+        assert!(
+            e.starts_with("int f1(eta)") && e.contains("overflow"),
+            "{e}"
+        );
+    }
+    // The same reactions with unit weights are an answer.
+    let ok = ONE_LINK.replace("B = [[1.0]]", "B = [[1e10]]");
+    assert!(j_of(&ok, 100).is_finite());
+}
+
+#[test]
+fn a_stiff_drift_converges_under_refinement_to_the_closed_form() {
+    // Item 4, the issue's example: x1' = -1000 x1 + u1 stays within 1e-3 of 0 and never
+    // reaches x1 = 1, so J = 0 exactly; the explicit step gave 4900, 4000 and 0 at M = 100,
+    // 1000, 100000. The semi-implicit step gives 0 on every grid.
+    for m in [10, 100, 1000, 10_000] {
+        let j = j_of(STIFF, m);
+        assert!(j.abs() < 1e-12, "M = {m}: J = {j}");
+    }
+    // The faces x2 = +-1 held by the unstable x2' = 1000 x2 + u2: the reaction is
+    // 1000 + u2 on the face the orbit sits on, J = int (1000 + u2) = 1e4 on every grid (the
+    // explicit growing part gives the normal component of g exactly on a held face).
+    let held = STIFF.replace("[1.0, 0.0, 0.0, 0.0]", "[0.0, 1.0, 0.0, 1.0]");
+    for m in [10, 100, 1000, 10_000] {
+        let j = j_of(&held, m);
+        assert!((j - 1e4).abs() < 1e-6, "M = {m}: J = {j}");
+    }
+    // A transient at the stiff rate: C = [-1, 1], x' = -1000 x + 1500 u, u = +1 then -1.
+    // From -1 the state reaches 1 at t* = ln(5)/1000, then is held with reaction
+    // -1000 + 1500 = 500 until T/2: J = 500 (5 - ln(5)/1000). The errors shrink as h does
+    // (first order, faster once h resolves the transient) and the coarse grids are already
+    // within a per cent.
+    let transient = ONE_LINK
+        .replace("B = [[1.0]]", "A = [[-1000.0]]\nB = [[1500.0]]")
+        .replace("[0.5, 0.5]", "[1.0, 0.0]");
+    let exact = 500.0 * (5.0 - 5f64.ln() / 1000.0);
+    let errors: Vec<f64> = [1000, 10_000, 100_000]
+        .iter()
+        .map(|&m| (j_of(&transient, m) - exact).abs())
+        .collect();
+    assert!(errors[0] < 1e-2 * exact, "{errors:?}");
+    assert!(errors[2] < 0.1, "{errors:?}");
+    for w in errors.windows(2) {
+        assert!(w[1] < 0.5 * w[0], "errors do not shrink: {errors:?}");
+    }
+    // A fast rotation (|K| = 300, explicit in the semi-implicit step) is refused on grids
+    // where forward Euler's spurious growth exp(T h |K|^2 / 2) over a period exceeds e: 6000
+    // steps pass the stability limit h |K| <= 2 (with |K| = 1e3, 50000 steps reached no
+    // periodic regime in 5000 periods); the message gives the steps needed (T^2 |K|^2 / 2 =
+    // 4.5e6), and where no grid of at most 1e7 steps has them, says to scale A down.
+    let rot = STIFF.replace(
+        "A = [[-1000.0, 0.0], [0.0, 1000.0]]",
+        "A = [[-1.0, 300.0], [-300.0, -1.0]]",
+    );
+    let e = err_of(api::simulate_general(&file(&rot), &steps(6000)));
+    assert!(
+        e.starts_with("steps_per_period")
+            && e.contains("exp(T h |K|^2 / 2)")
+            && e.contains("needs at least 4.5")
+            && e.contains("e6 steps"),
+        "{e}"
+    );
+    let e = err_of(api::simulate_general(
+        &file(&rot.replace("300.0", "1000.0")),
+        &steps(6000),
+    ));
+    assert!(e.contains("scale dynamics.A down"), "{e}");
+    // The paper's explicit step (which P_m uses) refuses the grid beyond its stability limit,
+    // naming it and the steps it needs.
+    let opts = GeneralSimOptions {
+        drift: DriftStep::Explicit,
+        ..steps(1000)
+    };
+    let e = err_of(api::simulate_general(&file(&transient), &opts));
+    assert!(
+        e.starts_with("steps_per_period") && e.contains("needs at least 5e3 steps"),
+        "{e}"
+    );
+    let opts = GeneralSimOptions {
+        drift: DriftStep::Explicit,
+        ..steps(100_000)
+    };
+    let j = api::simulate_general(&file(&transient), &opts)
+        .unwrap()
+        .simulation
+        .objective
+        .unwrap();
+    assert!((j - exact).abs() < 0.1, "{j}");
+}
+
+#[test]
+fn p_m_refuses_a_step_beyond_the_explicit_limit() {
+    // Item 4: A = 1e12 returned 5e12 from `optimize` and `--method local`; P_m's explicit step
+    // at h = 10/2^m is refused naming m (beyond the largest m here).
+    let stiff = STIFF.replace("1000.0", "1e12");
+    let e = err_of(api::optimize_general(
+        &file(&stiff),
+        &GeneralPmSettings::default(),
+    ));
+    assert!(e.starts_with("m:") && e.contains("stability limit"), "{e}");
+    let e = err_of(api::optimize_general_local(
+        &file(&stiff),
+        &api::GeneralLocalSettings::default(),
+        api::Hooks::default(),
+    ));
+    assert!(e.starts_with("m:") && e.contains("stability limit"), "{e}");
+    // A = 1e300 (the KKT residual of 1e296 reported with exit 0): the simulator's growing
+    // part is beyond its precision limit on any grid, refused naming the grid.
+    let e = err_of(api::simulate_general(
+        &file(&STIFF.replace("1000.0", "1e300")),
+        &steps(1000),
+    ));
+    assert!(e.starts_with("steps_per_period"), "{e}");
+    // Within the limit (A = -0.5 I on P_3, h |A| = 0.625 <= 2) P_m solves as before.
+    let mild = STIFF.replace("-1000.0", "-0.5").replace("1000.0", "-0.5");
+    let s = GeneralPmSettings {
+        m: 3,
+        ..Default::default()
+    };
+    assert!(api::optimize_general(&file(&mild), &s).is_ok());
+}
+
+/// A regular polygon of `k` faces around the origin (inradius 1), `f1` by reaction weights.
+fn polygon(k: usize, extra: &str) -> String {
+    let normals: Vec<String> = (0..k)
+        .map(|j| {
+            let a = std::f64::consts::TAU * j as f64 / k as f64;
+            format!("[{:?}, {:?}]", a.cos(), a.sin())
+        })
+        .collect();
+    format!(
+        "[sweeping_process]\nnormals = [{}{extra}]\noffsets = [{}{}]\n[dynamics]\n\
+         B = [[1.0, 0.0], [0.0, 1.0]]\n[control]\nlower = [-1.0, -1.0]\nupper = [1.0, 1.0]\n\
+         zero_mean = true\n[objective]\nreaction_weights = [1.0, 0.0]\n[problem]\nperiod = 10.0\n\
+         [input]\nkind = \"piecewise_constant\"\ntimes = [0.0, 5.0]\n\
+         values = [[1.0, 0.0], [-1.0, 0.0]]\n",
+        normals.join(", "),
+        vec!["1.0"; k].join(", "),
+        if extra.is_empty() { "" } else { ", 2.0, 1.0" },
+    )
+}
+
+#[test]
+fn faces_are_limited_and_redundancy_needs_no_lp_per_face() {
+    // Item 7: beyond MAX_FACES the file is refused naming the field.
+    let e = err_of(api::analyze_general(&file(&polygon(MAX_FACES + 1, ""))));
+    assert!(e.starts_with("sweeping_process.normals"), "{e}");
+    assert!(e.contains(&MAX_FACES.to_string()), "{e}");
+    // At the limit: analysed (each face shown needed by a ray from the centre, no LP each) and
+    // simulated. A redundant face x <= 2 and a duplicate of face 1 are still found (by LP).
+    let text = polygon(MAX_FACES - 2, ", [1.0, 0.0], [1.0, 0.0]");
+    let a = api::analyze_general(&file(&text)).unwrap();
+    assert_eq!(a.geometry.faces, MAX_FACES);
+    assert_eq!(a.geometry.redundant_faces, vec![1, MAX_FACES - 1]);
+    assert!(a.geometry.bounded && a.failure.is_none());
+    let s = api::simulate_general(&file(&text), &steps(100)).unwrap();
+    assert!(s.simulation.objective.unwrap().is_finite());
+}
+
+#[test]
+fn normals_of_extreme_length_are_scaled_and_accepted() {
+    // Item 14: [1e308] and [1e-300] are non-zero and finite; after dividing each row by its
+    // length C is [-1, 1], the one-link problem (J = (T - 2 (b - a)) / 2 = 3 for this input).
+    let scaled = ONE_LINK.replace(
+        "normals = [[1.0], [-1.0]]\noffsets = [1.0, 1.0]",
+        "normals = [[1e308], [-1e-300]]\noffsets = [1e308, 1e-300]",
+    );
+    assert_ne!(scaled, ONE_LINK);
+    let j = j_of(&scaled, 1000);
+    assert!((j - 3.0).abs() < 1e-12, "{j}");
+    // A row whose scaled offset overflows says so, naming the offset.
+    let over = ONE_LINK.replace(
+        "normals = [[1.0], [-1.0]]\noffsets = [1.0, 1.0]",
+        "normals = [[1e-300], [-1.0]]\noffsets = [1e10, 1.0]",
+    );
+    let e = err_of(api::analyze_general(&file(&over)));
+    assert!(
+        e.starts_with("sweeping_process.offsets[1]") && e.contains("overflows"),
+        "{e}"
+    );
+    // A zero normal is refused as zero; one whose length overflows says that.
+    let zero = ONE_LINK.replace("[[1.0], [-1.0]]", "[[0.0], [-1.0]]");
+    let e = err_of(api::analyze_general(&file(&zero)));
+    assert!(
+        e.contains("must be non-zero") && !e.contains("finite"),
+        "{e}"
+    );
+    let two = STIFF.replace(
+        "[1.0, 0.0], [0.0, 1.0], [-1.0, 0.0]",
+        "[1.7e308, 1.7e308], [0.0, 1.0], [-1.0, 0.0]",
+    );
+    let e = err_of(api::analyze_general(&file(&two)));
+    assert!(
+        e.starts_with("sweeping_process.normals[1]") && e.contains("length overflows"),
+        "{e}"
+    );
+}
+
+#[test]
+fn p_m_at_extreme_scales_names_the_field() {
+    // Item 14: "big-M of P_m (slack): HiGHS ended with status unbounded" and "HiGHS refused the
+    // model" named no field; data beyond P_m's solver range are refused up front naming it.
+    let huge = ONE_LINK
+        .replace("offsets = [1.0, 1.0]", "offsets = [1e300, 1e300]")
+        .replace("period = 10.0", "period = 1e301")
+        .replace("times = [0.0, 5.0]", "times = [0.0, 5e300]");
+    let tiny = ONE_LINK
+        .replace("offsets = [1.0, 1.0]", "offsets = [1e-300, 1e-300]")
+        .replace("period = 10.0", "period = 1e-299")
+        .replace("times = [0.0, 5.0]", "times = [0.0, 5e-300]");
+    let fast = ONE_LINK.replace("B = [[1.0]]", "B = [[1e25]]");
+    let heavy = ONE_LINK.replace("[0.5, 0.5]", "[1e30, 1e30]");
+    for (text, field) in [
+        (&huge, "sweeping_process.offsets"),
+        (&tiny, "sweeping_process.offsets"),
+        (&fast, "dynamics.B"),
+        (&heavy, "objective.face_weights"),
+    ] {
+        let f = file(text);
+        let e = err_of(api::optimize_general(&f, &GeneralPmSettings::default()));
+        assert!(e.starts_with(field) && e.contains("P_m's solver"), "{e}");
+        let e = err_of(api::optimize_general_local(
+            &f,
+            &api::GeneralLocalSettings::default(),
+            api::Hooks::default(),
+        ));
+        assert!(e.starts_with(field) && e.contains("P_m's solver"), "{e}");
+    }
+}
