@@ -271,7 +271,7 @@ fn general_answers(s: &Steps, file: &crawlopt::io::GeneralFile) {
     let pm = api::GeneralPmSettings {
         m: 2,
         time_limit: Some(1.0),
-        certify: false,
+        ..api::GeneralPmSettings::default()
     };
     s.step("api::optimize_general (finite answer)", || {
         let r = api::optimize_general(file, &pm)?;
