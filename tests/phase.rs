@@ -122,3 +122,23 @@ fn sequence_search_climbs_from_a_smaller_optimum_to_the_global_one() {
         .to_string();
     assert!(e.contains("not a slip mode of a face of C"), "{e}");
 }
+
+/// Issue 30, item 2: a small positive optimum is not discarded by the growth's gain tolerance
+/// (relative to the length scale, 3e-7 here). One link with T just above 2w/a: the closed form
+/// (aT - 2w)/(2k) is 5e-8, and every K >= 2 finds it; the growth returns it, not the idle gait.
+#[test]
+fn phase_growth_keeps_a_small_positive_optimum() {
+    use crawlopt::optimal::{grow_phases, GrowOptions};
+    let c = Crawler::new(vec![1.0], vec![1.0, 1.0], vec![2.0, 2.0]).unwrap();
+    let p = GaitProblem::new(&c, 4.0000001, &[1.0], Cost::None, None).unwrap();
+    let want = one_link_optimum(&c, &p).unwrap().value;
+    assert!((want - 5e-8).abs() < 1e-15, "closed form {want}");
+    let opts = GrowOptions {
+        max_phases: 4,
+        ..GrowOptions::default()
+    };
+    let g = grow_phases(&c, &p, &opts, &mut |_| {}).unwrap();
+    let j = g.best.objective();
+    assert!((j - want).abs() < 1e-12, "J = {j}, closed form {want}");
+    assert!(g.best.phases >= 2);
+}
