@@ -415,3 +415,26 @@ fn text_output_is_rounded_and_json_keeps_every_digit() {
         "{line}"
     );
 }
+
+/// Issue 30, item 17: no negative zero in JSON output. P_1 of three blocks is idle and HiGHS
+/// bounds it by `-0.0`; the convergence table's row carries `"bound": 0.0`.
+#[test]
+fn json_output_has_no_negative_zero() {
+    let out = crawlopt(&[
+        "optimize",
+        "examples/three_blocks_gait.toml",
+        "--method",
+        "discrete",
+        "--convergence",
+        "--m",
+        "2",
+        "--json",
+    ]);
+    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+    let text = stdout(&out);
+    assert!(!text.contains("-0.0,") && !text.contains("-0.0}"), "{text}");
+    let v: serde_json::Value = serde_json::from_str(&text).unwrap();
+    let bound = v["convergence"][0]["bound"].as_f64().unwrap();
+    assert_eq!(bound, 0.0);
+    assert!(bound.is_sign_positive());
+}
