@@ -750,6 +750,11 @@ fn solve_steps_in(
         .ok_or_else(|| Error::Numerical(format!("{what}: the replay did not converge")))?
     };
     let scale = problem.length_scale(crawler);
+    // What the MILP proved is optimality among gaits of at most `phases` slip phases.
+    let status = match status {
+        MilpStatus::Optimal => MilpStatus::OptimalAmongKPhases,
+        s => s,
+    };
     let certificate = certify(
         &what,
         scale,
@@ -858,7 +863,7 @@ pub struct PhaseStep {
     pub bound: f64,
     /// Its gap.
     pub gap: f64,
-    /// `"optimal"` or `"time_limit"`.
+    /// `"optimal_among_k_phases"`, `"time_limit"` or `"approximation_limit"`.
     pub status: MilpStatus,
     /// Wall time of this `K`, seconds.
     pub seconds: f64,
@@ -893,9 +898,11 @@ pub struct PhaseGrowth {
 /// Raises `K` from `min_phases` until `J_K` has not improved (by more than a relative `1e-7`,
 /// or the outer-approximation tolerance `1e-6` with a quadratic cost, whose values are only
 /// that accurate) for `patience` consecutive `K`, or `max_phases` or the time limit is reached
-/// (module docs). The returned gait is the best found, and its certificate is that of the largest `K` solved to
-/// optimality (the gait has at most that many slip phases, and no gait of that many does better
-/// than the bound). `progress` sees each `K` as it is solved.
+/// (module docs). The returned gait is the best found, and its certificate is that of the largest
+/// `K` solved: `optimal_among_k_phases` when that `K` was solved to optimality (the gait has at
+/// most that many slip phases, and no gait of that many does better than the bound), `time_limit`
+/// with that `K`'s bound and gap when the limit cut its MILP short. `progress` sees each `K` as it
+/// is solved.
 pub fn grow_phases(
     crawler: &Crawler,
     problem: &GaitProblem,
@@ -952,8 +959,19 @@ pub fn grow_phases(
                 - gain_tolerance(problem) * b.objective().abs().max(problem.length_scale(crawler))
         });
         if timed_out {
-            if gain > 0.0 || best.is_none() {
-                best = Some(s);
+            match best.as_mut() {
+                Some(b) if s.objective() <= b.objective() => {
+                    // The best gait stays, but the claim is now this K's: a time limit with
+                    // this K's bound (not "optimal" for the smaller K it was proven for, which
+                    // read as if the growth had finished).
+                    b.phases = s.phases;
+                    b.certificate.bound = s.certificate.bound;
+                    b.certificate.gap =
+                        ((s.certificate.bound - b.objective()) / b.objective().abs().max(1.0))
+                            .max(0.0);
+                    b.certificate.status = MilpStatus::TimeLimit;
+                }
+                _ => best = Some(s),
             }
             stop = GrowthStop::TimeLimit;
             break;
