@@ -265,7 +265,15 @@ fn a_tolerance_beyond_max_tol_is_refused_naming_tol() {
     let m = ModelFile::load("examples/three_blocks_sine.toml".as_ref()).unwrap();
     let crawler = m.crawler().unwrap();
     let act = m.actuation(crawler.links()).unwrap();
-    for tol in [0.5, 1e300, 2.0 * MAX_TOL, 0.0, -1.0, f64::NAN, f64::INFINITY] {
+    for tol in [
+        0.5,
+        1e300,
+        2.0 * MAX_TOL,
+        0.0,
+        -1.0,
+        f64::NAN,
+        f64::INFINITY,
+    ] {
         let opts = SimOptions {
             tol,
             ..SimOptions::DEFAULT

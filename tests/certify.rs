@@ -376,14 +376,18 @@ fn three_block_phase_optimum_satisfies_theorem_2_2_exactly() {
     assert_eq!(cert.nondegeneracy_margin, 0.0, "{}", cert.reason);
     assert!(cert.nondegeneracy_resolution > 0.0 && cert.nondegeneracy_resolution <= 1e-8);
     assert!(
-        cert.reason.contains("p + omega = 0 at the solver's resolution"),
+        cert.reason
+            .contains("p + omega = 0 at the solver's resolution"),
         "{}",
         cert.reason
     );
     assert_eq!(cond(&cert, "2.2", "nondegeneracy").residual, 1.0);
     let text = crawlopt::present::text::certificate(&cert, &r);
     assert!(!text.contains("1.000e-12"), "{text}");
-    assert!(text.contains("min |p + omega| = 0 (at the solver's resolution"), "{text}");
+    assert!(
+        text.contains("min |p + omega| = 0 (at the solver's resolution"),
+        "{text}"
+    );
 }
 
 #[test]

@@ -132,11 +132,21 @@ fn negative_flag_values_name_the_flag() {
         // Issue 30, item 5: a tolerance that takes the first period of a transient for the
         // orbit (J = 1.833 against 1.914) is refused, not answered.
         (
-            &["simulate", "examples/three_blocks_sine.toml", "--tol", "0.5"],
+            &[
+                "simulate",
+                "examples/three_blocks_sine.toml",
+                "--tol",
+                "0.5",
+            ],
             &["tol: must be in (0, 1e-3]", "(got 0.5)"],
         ),
         (
-            &["simulate", "examples/three_blocks_sine.toml", "--tol", "1e300"],
+            &[
+                "simulate",
+                "examples/three_blocks_sine.toml",
+                "--tol",
+                "1e300",
+            ],
             &["tol: must be in (0, 1e-3]"],
         ),
         (

@@ -165,7 +165,9 @@ fn a_growth_cut_short_by_the_time_limit_says_time_limit_with_its_k_and_bound() {
             assert_eq!(g.best.phases, last.phases);
             assert_eq!(cert.bound, last.bound);
             let j = g.best.objective();
-            assert!(cert.bound >= j && (cert.gap - (cert.bound - j) / j.abs().max(1.0)).abs() < 1e-12);
+            assert!(
+                cert.bound >= j && (cert.gap - (cert.bound - j) / j.abs().max(1.0)).abs() < 1e-12
+            );
         }
         // The limit struck between two K: the last K solved is proven, and only it.
         Some(last) => {

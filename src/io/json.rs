@@ -100,7 +100,10 @@ mod tests {
         let mut pretty = Vec::new();
         to_writer_pretty(&mut pretty, &r).unwrap();
         let pretty = String::from_utf8(pretty).unwrap();
-        assert!(pretty.starts_with("{\n  \"bound\": 0.0,\n  \"v\": [\n    0.0,"), "{pretty}");
+        assert!(
+            pretty.starts_with("{\n  \"bound\": 0.0,\n  \"v\": [\n    0.0,"),
+            "{pretty}"
+        );
         assert!(!pretty.contains("-0.0"));
         // What serde_json alone writes, so that this test fails without the formatter.
         assert!(serde_json::to_string(&r).unwrap().contains("-0.0"));

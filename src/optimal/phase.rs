@@ -966,9 +966,9 @@ pub fn grow_phases(
                     // read as if the growth had finished).
                     b.phases = s.phases;
                     b.certificate.bound = s.certificate.bound;
-                    b.certificate.gap =
-                        ((s.certificate.bound - b.objective()) / b.objective().abs().max(1.0))
-                            .max(0.0);
+                    b.certificate.gap = ((s.certificate.bound - b.objective())
+                        / b.objective().abs().max(1.0))
+                    .max(0.0);
                     b.certificate.status = MilpStatus::TimeLimit;
                 }
                 _ => best = Some(s),

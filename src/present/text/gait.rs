@@ -13,7 +13,12 @@ pub fn gait_result(r: &GaitResult) -> String {
     let len = |v: f64| num(v, sc.length);
     match (r.status, c.phases) {
         (MilpStatus::OptimalAmongKPhases | MilpStatus::TimeLimit, Some(k)) => {
-            wln!(out, "method {}: {} (K = {k})", r.method, status_word(r.status))
+            wln!(
+                out,
+                "method {}: {} (K = {k})",
+                r.method,
+                status_word(r.status)
+            )
         }
         _ => wln!(out, "method {}: {}", r.method, status_word(r.status)),
     }
