@@ -371,6 +371,23 @@ fn three_block_phase_optimum_satisfies_theorem_2_2_exactly() {
     // Some link is at rest or inside its rate bound on some phase, where f2 = 0 forces
     // p + omega = 0: degenerate in the sense of §4.
     assert_eq!(cert.verdict, Verdict::Degenerate, "{}", cert.reason);
+    // Issue 30, item 16: that zero is reported at the solver's resolution, not as the margin
+    // LP's slack (`p + omega = 1.000e-12`), and the check's residual is no invented number.
+    assert_eq!(cert.nondegeneracy_margin, 0.0, "{}", cert.reason);
+    assert!(cert.nondegeneracy_resolution > 0.0 && cert.nondegeneracy_resolution <= 1e-8);
+    assert!(
+        cert.reason
+            .contains("p + omega = 0 at the solver's resolution"),
+        "{}",
+        cert.reason
+    );
+    assert_eq!(cond(&cert, "2.2", "nondegeneracy").residual, 1.0);
+    let text = crawlopt::present::text::certificate(&cert, &r);
+    assert!(!text.contains("1.000e-12"), "{text}");
+    assert!(
+        text.contains("min |p + omega| = 0 (at the solver's resolution"),
+        "{text}"
+    );
 }
 
 #[test]

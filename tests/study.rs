@@ -91,7 +91,7 @@ fn one_link_grid_matches_the_closed_form_and_ill_posed_points_are_error_rows() {
             "p = {p}, T = {t}: J = {j}, J* = {want}"
         );
         assert!((r.displacement_per_period.unwrap() - want).abs() <= 1e-9);
-        assert_eq!(r.status, "optimal");
+        assert_eq!(r.status, "optimal_among_k_phases");
         assert!(r.gap.unwrap() <= 1e-9);
         if want == 0.0 {
             zero += 1;

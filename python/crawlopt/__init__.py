@@ -71,14 +71,38 @@ def _input_error(field: str, value: Any, reason: str) -> InputError:
     return e
 
 
+def _array(value: Any, name: str, ndim: int, shape: str) -> np.ndarray:
+    """``value`` as a float array of exactly ``ndim`` dimensions: an array of another shape is
+    refused (InputError, a ValueError, naming ``name`` and the ``shape`` expected), never
+    flattened or broadcast (an amplitude of shape (2, 1) is not two links)."""
+    try:
+        a = np.asarray(value, dtype=float)
+    except (TypeError, ValueError) as e:
+        raise _input_error(name, repr(value), f"must be {shape} of numbers ({e})") from None
+    if a.ndim != ndim:
+        raise _input_error(name, f"an array of shape {a.shape}", f"must be {shape}")
+    return a
+
+
+def _vector(value: Any, name: str, what: str = "entries") -> list[float]:
+    """A one-dimensional list of numbers (``what`` names its entries in the message)."""
+    return [float(v) for v in _array(value, name, 1, f"a list of {what} (shape (n,))")]
+
+
 def _each(value: Numbers, count: int, name: str) -> list[float]:
     """A number for every entry, or a list of them (as the TOML schema allows)."""
     if np.ndim(value) == 0:
-        return [float(value)] * count
-    values = [float(v) for v in np.asarray(value, dtype=float).ravel()]
+        return [float(_array(value, name, 0, "a number"))] * count
+    values = _vector(value, name, "numbers, one per entry, or a single number")
     if len(values) != count:
         raise _input_error(name, len(values), f"must have {count} entries")
     return values
+
+
+def _instance(value: Any, cls: type, name: str) -> None:
+    """TypeError unless ``value`` is a ``cls`` (not an AttributeError from deep inside)."""
+    if not isinstance(value, cls):
+        raise TypeError(f"{name}: must be a crawlopt.{cls.__name__}, got {type(value).__name__}")
 
 
 def _table(rows: list[dict]):
@@ -171,7 +195,7 @@ class Crawler:
 
     def vm(self, rates: Sequence[float]) -> float:
         """v_m(z'): the barycentre velocity for the shape rates z' (one per link)."""
-        return self._inner.vm([float(r) for r in rates])
+        return self._inner.vm(_vector(rates, "rates", "shape rates, one per link"))
 
     def __repr__(self) -> str:
         def short(v):
@@ -193,11 +217,14 @@ class Actuation:
 
     @staticmethod
     def _wave(kind, period, amplitude, phase_deg, mean):
-        amp = np.atleast_1d(np.asarray(amplitude, dtype=float))
-        n = amp.size
+        one = np.ndim(amplitude) == 0
+        amp = _vector(
+            [amplitude] if one else amplitude, "actuation.amplitude", "amplitudes, one per link"
+        )
+        n = len(amp)
         phase = _each(0.0 if phase_deg is None else phase_deg, n, "actuation.phase_deg")
         inner = _rs.Actuation.wave(
-            kind, float(period), _each(mean, n, "actuation.mean"), list(amp), phase
+            kind, float(period), _each(mean, n, "actuation.mean"), amp, phase
         )
         return Actuation(inner)
 
@@ -214,15 +241,19 @@ class Actuation:
     @staticmethod
     def piecewise_linear(period: float, t: Sequence[float], L) -> Actuation:
         """Through the knots (``t`` in [0, period), one row of ``L`` per knot), periodic."""
-        rows = np.atleast_2d(np.asarray(L, dtype=float))
-        inner = _rs.Actuation.piecewise_linear(float(period), [float(x) for x in t], rows.tolist())
+        times = _vector(t, "actuation.times", "knot times")
+        rows = _array(
+            L, "actuation.lengths", 2, "one row of lengths per knot (shape (knots, links))"
+        )
+        inner = _rs.Actuation.piecewise_linear(float(period), times, rows.tolist())
         return Actuation(inner)
 
     period = property(lambda self: self._inner.period, doc="The period T (time).")
 
     def __call__(self, t) -> np.ndarray:
         """L at the times ``t``: an array (times x links)."""
-        return np.array(self._inner.lengths_at([float(x) for x in np.atleast_1d(t)]))
+        times = [float(t)] if np.ndim(t) == 0 else _vector(t, "t", "times")
+        return np.array(self._inner.lengths_at(times))
 
     def __repr__(self) -> str:
         return f"Actuation(period={self.period:g}, links={self._inner.links})"
@@ -458,6 +489,8 @@ def simulate(
     catching-up keeps the period's increments as a table (default 64 MiB); beyond it they are
     formed step by step, memory O(N), the same result. The GIL is released; Ctrl-C stops it
     (KeyboardInterrupt)."""
+    _instance(crawler, Crawler, "crawler")
+    _instance(actuation, Actuation, "actuation")
     summary, arrays = _rs.simulate(
         crawler._inner,
         actuation._inner,
@@ -468,7 +501,7 @@ def simulate(
         tol,
         accelerate,
         accelerate_after,
-        None if initial_state is None else [float(v) for v in initial_state],
+        None if initial_state is None else _vector(initial_state, "initial_state", "link forces"),
         progress_callback(progress),
         newton,
         increment_budget,
@@ -634,6 +667,10 @@ def optimize(
     released; Ctrl-C stops the solve within about a second (KeyboardInterrupt).
     ``progress``: True for a progress bar (tqdm if installed, else a text line), a callable to
     receive each event as a dict."""
+    _instance(crawler, Crawler, "crawler")
+    _instance(problem, GaitProblem, "problem")
+    if start is not None:
+        _instance(start, GaitResult, "start")
     inner, conditions, notes = _rs.optimize(
         crawler._inner,
         problem._for(crawler),

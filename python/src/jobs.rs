@@ -158,6 +158,6 @@ pub fn optimize(
     let conditions = done
         .necessary_conditions
         .as_ref()
-        .map(|n| serde_json::to_string(n).expect("serialisable"));
+        .map(|n| crawlopt::io::json::to_string(n).expect("serialisable"));
     Ok((GaitResult { inner: done.result }, conditions, done.notes))
 }

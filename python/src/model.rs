@@ -47,7 +47,7 @@ impl Crawler {
 
     /// The analysis as JSON text (the document of `crawlopt analyze --json`).
     fn analyze_json(&self) -> String {
-        serde_json::to_string(&self.inner.analyze()).expect("serialisable")
+        crawlopt::io::json::to_string(&self.inner.analyze()).expect("serialisable")
     }
 
     /// v_m(z'): the barycentre velocity produced by the shape rate z' (paper eq. 3.8).
@@ -178,7 +178,7 @@ impl GaitProblem {
 
     /// The problem as JSON text (as results record it).
     fn to_json(&self) -> String {
-        serde_json::to_string(&self.inner).expect("serialisable")
+        crawlopt::io::json::to_string(&self.inner).expect("serialisable")
     }
 }
 

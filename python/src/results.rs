@@ -27,8 +27,7 @@ impl GaitResult {
 
     /// The result document: the JSON `crawlopt optimize --json` writes (keys sorted).
     fn to_json(&self) -> String {
-        let v = serde_json::to_value(&self.inner).expect("serialisable");
-        serde_json::to_string(&v).expect("serialisable")
+        crawlopt::io::json::to_string_sorted(&self.inner).expect("serialisable")
     }
 
     /// The necessary conditions of Theorem 2.2 (discrete form Theorems 6.1–6.2) on the gait,
@@ -36,7 +35,7 @@ impl GaitResult {
     fn certify_json(&self, py: Python<'_>) -> PyResult<String> {
         let r = self.inner.clone();
         let c = run(py, None, |_| certify_result(&r, "result"))?;
-        Ok(serde_json::to_string(&c).expect("serialisable"))
+        Ok(crawlopt::io::json::to_string(&c).expect("serialisable"))
     }
 
     /// The figures of the gait (with the adjoint when `certified`): (name, caption, SVG).

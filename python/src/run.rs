@@ -228,5 +228,5 @@ fn event_json(e: &Event, seconds: f64) -> String {
     };
     let mut v = v;
     v["seconds"] = json!(seconds);
-    v.to_string()
+    crawlopt::io::json::to_string(&v).expect("serialisable")
 }

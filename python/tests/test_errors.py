@@ -63,3 +63,61 @@ def test_inadmissible_initial_state():
     with pytest.raises(co.InadmissibleError) as e:
         co.simulate(m.crawler, m.actuation, initial_state=[100.0, 0.0])
     assert "initial_state" in e.value.field
+
+
+def test_wrong_types_raise_type_error():
+    """Issue 30, item 14: a string for the crawler was an AttributeError from inside."""
+    c = co.Crawler(blocks=3)
+    a = co.Actuation.sine(1.0, [1.0, 1.0])
+    for call, name in [
+        (lambda: co.simulate("x", a), "crawler"),
+        (lambda: co.simulate(c, "x"), "actuation"),
+        (lambda: co.optimize("x", co.GaitProblem(period=10.0)), "crawler"),
+        (lambda: co.optimize(c, "x"), "problem"),
+        (lambda: co.optimize(c, co.GaitProblem(period=10.0), start="x"), "start"),
+    ]:
+        with pytest.raises(TypeError) as e:
+            call()
+        assert str(e.value).startswith(f"{name}: must be a crawlopt.")
+
+
+def test_arrays_of_the_wrong_shape_are_refused_not_flattened():
+    """Issue 30, item 14: an amplitude of shape (2, 1) was silently flattened to two links."""
+    import numpy as np
+
+    c = co.Crawler(blocks=3)
+    a = co.Actuation.sine(1.0, [1.0, 1.0])
+    col = np.ones((2, 1))
+    for call, field in [
+        (lambda: co.Actuation.sine(1.0, col), "actuation.amplitude"),
+        (lambda: co.Actuation.triangle(1.0, [1.0, 1.0], phase_deg=col), "actuation.phase_deg"),
+        (lambda: co.Actuation.sine(1.0, [1.0, 1.0], mean=col), "actuation.mean"),
+        (lambda: co.Actuation.piecewise_linear(1.0, col, [[0, 0], [1, 1]]), "actuation.times"),
+        (lambda: co.Actuation.piecewise_linear(1.0, [0, 0.5], [0, 1]), "actuation.lengths"),
+        (lambda: co.Crawler(blocks=3, mu_forward=np.ones((3, 1))), "crawler.mu_forward"),
+        (lambda: co.Crawler(blocks=3, stiffness=col), "crawler.stiffness"),
+        (lambda: co.simulate(c, a, initial_state=np.zeros((2, 1))), "initial_state"),
+        (
+            lambda: co.optimize(c, co.GaitProblem(period=10.0, max_actuator_speed=col)),
+            "gait.max_actuator_speed",
+        ),
+        (lambda: c.vm(col), "rates"),
+        (lambda: a(col), "t"),
+    ]:
+        with pytest.raises(co.InputError) as e:
+            call()
+        assert isinstance(e.value, ValueError)
+        assert e.value.field == field, str(e.value)
+        assert "shape" in str(e.value), str(e.value)
+    # The shapes that are meant still work: a number, one per link.
+    assert co.Actuation.sine(1.0, 2.0)(0.25).shape == (1, 1)
+    assert co.Actuation.sine(1.0, np.array([1.0, 2.0]))([0.0, 0.25]).shape == (2, 2)
+
+
+def test_a_tolerance_beyond_its_range_is_refused():
+    """Issue 30, item 5: tol = 0.5 took a transient's first period for the orbit."""
+    m = co.load("examples/three_blocks_sine.toml")
+    for tol in [0.5, 1e300]:
+        with pytest.raises(co.InputError) as e:
+            co.simulate(m.crawler, m.actuation, tol=tol)
+        assert e.value.field == "tol" and "(0, 1e-3]" in str(e.value)

@@ -28,7 +28,7 @@ def test_one_link_gait_optimum_is_the_closed_form():
     assert a.one_link["width"] == pytest.approx(2.0)  # w = 2 (the file's comment)
     r = co.optimize(m.crawler, m.gait_problem)
     assert r.objective == pytest.approx(3.0, abs=1e-8)
-    assert r.status == "optimal"
+    assert r.status == "optimal_among_k_phases" and r.certificate["phases"] >= 2
 
 
 def test_three_blocks_optimum_with_its_certificate():

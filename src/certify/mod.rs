@@ -296,8 +296,15 @@ pub struct NecessaryConditions {
     pub lambda: f64,
     /// `J` of the process: displacement per period minus the actuation cost.
     pub objective: f64,
-    /// `min |p_l + omega_l|` over pieces and links.
+    /// `min |p_l + omega_l|` over pieces and links, as measured: `0` when it is within the
+    /// solver's resolution [`NecessaryConditions::nondegeneracy_resolution`] (the multiplier
+    /// LPs carry a slack of `1e-12` that is no measured value).
     pub nondegeneracy_margin: f64,
+    /// The resolution at which `p + omega` is known: the conditions' tolerance times the
+    /// adjoint's scale `max(1, ||p||_inf)`, that of every other residual. (Absent, 0, in files
+    /// of earlier builds.)
+    #[serde(default)]
+    pub nondegeneracy_resolution: f64,
     /// Normalisation constants.
     pub normalisation: Normalisation,
     /// Every condition with its residual.
@@ -631,10 +638,14 @@ fn report(
             }
         }
     }
+    // The multipliers solve LPs to the conditions' tolerance: below it, |p + omega| is zero at
+    // the solver's resolution (the margin LP's slack of 1e-12 showed as `p + omega = 1e-12`).
+    let resolution = tol * pscale;
     let margin = p_plus_omega
         .iter()
         .flatten()
         .fold(f64::INFINITY, |m, v| m.min(v.abs()));
+    let margin = if margin <= resolution { 0.0 } else { margin };
     // Relative to |p + omega|, or to the natural unit of p (|<p, K nu_b>| = lambda/N while block
     // b slips) when p + omega vanishes identically.
     let kmax = st.k.iter().fold(0.0_f64, |m, &k| m.max(k));
@@ -693,9 +704,10 @@ fn report(
         ),
         (
             "nondegeneracy",
-            "p_l(t) + omega_l != 0 for all t and l (§4 (nndg)); residual = max(0, 1e-6 max(sup|p \
-             + omega|, 1/(N k_max)) - min|p + omega|)",
-            (nd_tol - margin).max(0.0),
+            "p_l(t) + omega_l != 0 for all t and l (§4 (nndg)): min |p + omega| above 1e-6 \
+             max(sup|p + omega|, 1/(N k_max)) and the solver's resolution; residual 1 when it is \
+             not (min |p + omega| is reported beside J)",
+            if margin > nd_tol { 0.0 } else { 1.0 },
             0.0,
         ),
         (
@@ -739,9 +751,13 @@ fn report(
         (
             Verdict::Degenerate,
             format!(
-                "the conditions hold with lambda = 1 but only degenerately: p + omega = {:.3e} \
-                 on piece {j} (t = {:.6}), link {} (§4 (nndg) fails)",
-                p_plus_omega[j][l],
+                "the conditions hold with lambda = 1 but only degenerately: p + omega = {} on \
+                 piece {j} (t = {:.6}), link {} (§4 (nndg) fails)",
+                if margin == 0.0 {
+                    format!("0 at the solver's resolution {resolution:.1e}")
+                } else {
+                    format!("{:.3e}", p_plus_omega[j][l])
+                },
                 times[j],
                 l + 1
             ),
@@ -847,6 +863,7 @@ fn report(
         lambda: raw.lambda,
         objective: process_objective(pr),
         nondegeneracy_margin: margin,
+        nondegeneracy_resolution: resolution,
         normalisation: Normalisation {
             scaled_by,
             lambda_plus_sup_p: nontrivial,

@@ -19,7 +19,7 @@ pub fn outln(line: &str) {
 /// Writes `value` as pretty JSON and a newline without building it in memory first.
 pub fn write_json(value: &impl serde::Serialize) {
     let mut w = std::io::BufWriter::new(std::io::stdout().lock());
-    let done = serde_json::to_writer_pretty(&mut w, value)
+    let done = crawlopt::io::json::to_writer_pretty(&mut w, value)
         .map_err(std::io::Error::from)
         .and_then(|()| writeln!(w))
         .and_then(|()| w.flush());
@@ -28,14 +28,13 @@ pub fn write_json(value: &impl serde::Serialize) {
 
 /// Prints `value` as compact JSON on one line, its keys in the order of its type.
 pub fn json_line(value: &impl serde::Serialize) {
-    outln(&serde_json::to_string(value).expect("serialisable"));
+    outln(&crawlopt::io::json::to_string(value).expect("serialisable"));
 }
 
 /// Prints `value` as compact JSON on one line through a `serde_json::Value`, as `optimize`
 /// and `bench` always have: its keys come out sorted.
 pub fn json_line_sorted(value: &impl serde::Serialize) {
-    let v = serde_json::to_value(value).expect("serialisable");
-    outln(&serde_json::to_string(&v).expect("serialisable"));
+    outln(&crawlopt::io::json::to_string_sorted(value).expect("serialisable"));
 }
 
 /// Ends quietly on a closed pipe, with exit 2 and a message on another write error.

@@ -243,14 +243,7 @@ impl GeneralSimOptions {
         if self.max_periods == 0 {
             return Err(Error::invalid("max_periods", 0, "must be at least 1"));
         }
-        if !(self.tol.is_finite() && self.tol > 0.0) {
-            return Err(Error::invalid(
-                "tol",
-                self.tol,
-                "must be positive and finite",
-            ));
-        }
-        Ok(())
+        super::periodic::check_tol(self.tol)
     }
 }
 

@@ -28,7 +28,9 @@ pub use general::{
 pub use general_exact::simulate_general_exact;
 pub use increments::IncrementStorage;
 pub use newton::NewtonOptions;
-pub use periodic::{simulate, Search, SimOptions, Simulation, EARLY_SWITCH_MIN};
+pub use periodic::{
+    check_tol, simulate, Search, SimOptions, Simulation, EARLY_SWITCH_MIN, MAX_TOL,
+};
 
 use crate::error::Result;
 use serde::Serialize;

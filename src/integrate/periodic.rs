@@ -60,7 +60,7 @@ pub struct SimOptions {
     /// Give up the search for the periodic regime after this many period integrations.
     pub max_periods: usize,
     /// The state repeats when `max_l |x_l(kT) - x_l((k-1)T)| <= tol * s`, `s` the size of C
-    /// ([`Crawler::state_scale`]).
+    /// ([`Crawler::state_scale`]); in `(0, MAX_TOL]` (default `1e-12`).
     pub tol: f64,
     /// Switch from plain iteration to the accelerated search (Newton-Krylov or Anderson) after
     /// this many periods, or from period [`EARLY_SWITCH_MIN`] on as soon as the contraction of the
@@ -95,6 +95,41 @@ impl SimOptions {
         initial_state: None,
         increment_budget: IncrementStorage::DEFAULT_BUDGET,
     };
+}
+
+/// The largest [`SimOptions::tol`]: the periodic regime is declared when the state changes by at
+/// most `tol` times the size of C over a period, so `tol` is a relative error of the state on
+/// the orbit. Beyond `1e-3` the test passes before the transient has decayed (`tol = 0.5` on
+/// `three_blocks_sine.toml` accepted the first period, `J = 1.833` against the orbit's 1.914,
+/// with unequal block displacements): it would report a transient as the periodic regime.
+pub const MAX_TOL: f64 = 1e-3;
+
+/// Refuses a periodicity tolerance outside `(0, MAX_TOL]` (shared by the crawler's and the
+/// general problems' simulators, whose convergence tests have the same meaning).
+pub fn check_tol(tol: f64) -> Result<()> {
+    if !(tol > 0.0 && tol <= MAX_TOL) {
+        return Err(Error::invalid(
+            "tol",
+            tol,
+            format!(
+                "must be in (0, {MAX_TOL:e}]: a relative change of the state over a period \
+                 (a larger one would take a transient for the periodic regime)"
+            ),
+        ));
+    }
+    Ok(())
+}
+
+impl SimOptions {
+    /// Refuses options no simulation can run with, whatever the crawler and actuation:
+    /// `max_periods >= 1` and `tol` in `(0, MAX_TOL]` ([`check_tol`]). (`steps_per_period` is
+    /// checked by [`simulate`] where it is used: only catching-up and smooth actuations take it.)
+    pub fn check(&self) -> Result<()> {
+        if self.max_periods == 0 {
+            return Err(Error::invalid("max_periods", 0, "must be at least 1"));
+        }
+        check_tol(self.tol)
+    }
 }
 
 impl Default for SimOptions {
@@ -273,16 +308,7 @@ pub fn simulate(crawler: &Crawler, act: &Actuation, opts: &SimOptions) -> Result
             format!("must be in 1..={MAX_STEPS_PER_PERIOD} (memory)"),
         ));
     }
-    if opts.max_periods == 0 {
-        return Err(Error::invalid("max_periods", 0, "must be at least 1"));
-    }
-    if !(opts.tol.is_finite() && opts.tol > 0.0) {
-        return Err(Error::invalid(
-            "tol",
-            opts.tol,
-            "must be positive and finite",
-        ));
-    }
+    opts.check()?;
     let (n, nb) = (crawler.links(), crawler.blocks());
     // Memory guards: the sampled increments (catching-up, unless streamed), the exact method's
     // knots and the recorded trajectory.

@@ -30,6 +30,7 @@
 mod config;
 mod csv_io;
 pub mod general;
+pub mod json;
 
 pub(crate) use config::escape_controls;
 pub use config::{

@@ -514,6 +514,17 @@ impl GaitResult {
                 format!("a {} result's certificate is one of {kinds:?}", self.method),
             ));
         }
+        if self.status == MilpStatus::OptimalAmongKPhases
+            && !(c.kind == "global_k_phases" && c.phases.is_some())
+        {
+            return Err(bad(
+                what,
+                "status",
+                self.status.as_str(),
+                "is the status of a phase gait's global certificate, with its K in \
+                 certificate.phases",
+            ));
+        }
         match (c.kind.as_str(), c.bound, c.gap) {
             ("local", None, None) => Ok(()),
             ("local", _, _) => Err(bad(
@@ -605,7 +616,7 @@ impl GaitResult {
                     format!("must be finite and at most its bound {bound}"),
                 ));
             }
-            if status == MilpStatus::Optimal {
+            if status.is_optimal() {
                 if let Some(prev) = last_optimal {
                     if j < prev && !close(j, prev) {
                         return Err(bad(

@@ -8,13 +8,19 @@ use crate::optimal::GaitProblem;
 use highs::{Col, RowProblem, Sense};
 use serde::{Deserialize, Serialize};
 
-/// How a solve ended (the MILPs, and the local method's last two variants).
+/// How a solve ended (the MILPs, and the local method's last two variants): what was proven,
+/// the same word in every front end ([`MilpStatus::as_str`], the serde name).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum MilpStatus {
-    /// Proven optimal (gap within HiGHS's tolerance).
+    /// Proven optimal for the problem solved (gap within HiGHS's tolerance): P_m for the
+    /// discrete method.
     Optimal,
-    /// The time limit was reached with a feasible incumbent; see the gap.
+    /// Proven optimal among the gaits of at most `K` slip phases, `K` the certificate's
+    /// `phases` (phase gaits: nothing is claimed about gaits of more phases).
+    OptimalAmongKPhases,
+    /// The time limit was reached with a feasible incumbent; see the gap and the bound (for a
+    /// phase growth, the bound of the `K` the limit cut short, `K` the certificate's `phases`).
     TimeLimit,
     /// The outer approximation of a quadratic cost stopped (round limit) before the incumbent
     /// met the bound; see the gap.
@@ -23,6 +29,27 @@ pub enum MilpStatus {
     Stationary,
     /// The local method stopped improving before its stationarity test held (no global claim).
     Stalled,
+}
+
+impl MilpStatus {
+    /// The status word: the serde name, shown as such by the text, JSON, Python and sweep
+    /// tables.
+    pub fn as_str(self) -> &'static str {
+        match self {
+            MilpStatus::Optimal => "optimal",
+            MilpStatus::OptimalAmongKPhases => "optimal_among_k_phases",
+            MilpStatus::TimeLimit => "time_limit",
+            MilpStatus::ApproximationLimit => "approximation_limit",
+            MilpStatus::Stationary => "stationary",
+            MilpStatus::Stalled => "stalled",
+        }
+    }
+
+    /// Whether the answer is proven optimal for its class (P_m, or gaits of at most `K` slip
+    /// phases).
+    pub fn is_optimal(self) -> bool {
+        matches!(self, MilpStatus::Optimal | MilpStatus::OptimalAmongKPhases)
+    }
 }
 
 /// What a MILP solve proves about the gait it returns.

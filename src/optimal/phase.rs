@@ -750,6 +750,11 @@ fn solve_steps_in(
         .ok_or_else(|| Error::Numerical(format!("{what}: the replay did not converge")))?
     };
     let scale = problem.length_scale(crawler);
+    // What the MILP proved is optimality among gaits of at most `phases` slip phases.
+    let status = match status {
+        MilpStatus::Optimal => MilpStatus::OptimalAmongKPhases,
+        s => s,
+    };
     let certificate = certify(
         &what,
         scale,
@@ -790,6 +795,13 @@ fn gain_tolerance(problem: &GaitProblem) -> f64 {
     }
 }
 
+/// The relative resolution (times the problem's length scale) above which a verified `J_K`
+/// counts as moving the crawler in [`grow_phases`]: the replay reproduces `J` to about `1e-14`
+/// of the length scale, so `1e-9` leaves room for round-off and nothing else. It only decides
+/// whether the growth's patience has started counting; the best verified gait is kept whatever
+/// its size.
+pub const MOVE_RESOLUTION: f64 = 1e-9;
+
 /// How [`grow_phases`] raises `K`.
 #[derive(Debug, Clone, PartialEq)]
 pub struct GrowOptions {
@@ -797,7 +809,8 @@ pub struct GrowOptions {
     pub min_phases: usize,
     /// Last `K` tried.
     pub max_phases: usize,
-    /// Stop after this many consecutive `K` without a gain, counted once `J_K > 0` (before,
+    /// Stop after this many consecutive `K` without a gain, counted once `J_K` moves the crawler
+    /// (above [`MOVE_RESOLUTION`] times the length scale; before,
     /// `K` is too small for any gait to move the crawler, e.g. one link needs 2 slip phases).
     /// The default is 2: plateaus `J_K = J_{K+1} < J_{K+2}` occur (a 4-block crawler with
     /// per-block friction had `J_3 = J_4 = 6.575 < J_5 = 6.600`).
@@ -850,7 +863,7 @@ pub struct PhaseStep {
     pub bound: f64,
     /// Its gap.
     pub gap: f64,
-    /// `"optimal"` or `"time_limit"`.
+    /// `"optimal_among_k_phases"`, `"time_limit"` or `"approximation_limit"`.
     pub status: MilpStatus,
     /// Wall time of this `K`, seconds.
     pub seconds: f64,
@@ -885,9 +898,11 @@ pub struct PhaseGrowth {
 /// Raises `K` from `min_phases` until `J_K` has not improved (by more than a relative `1e-7`,
 /// or the outer-approximation tolerance `1e-6` with a quadratic cost, whose values are only
 /// that accurate) for `patience` consecutive `K`, or `max_phases` or the time limit is reached
-/// (module docs). The returned gait is the best found, and its certificate is that of the largest `K` solved to
-/// optimality (the gait has at most that many slip phases, and no gait of that many does better
-/// than the bound). `progress` sees each `K` as it is solved.
+/// (module docs). The returned gait is the best found, and its certificate is that of the largest
+/// `K` solved: `optimal_among_k_phases` when that `K` was solved to optimality (the gait has at
+/// most that many slip phases, and no gait of that many does better than the bound), `time_limit`
+/// with that `K`'s bound and gap when the limit cut its MILP short. `progress` sees each `K` as it
+/// is solved.
 pub fn grow_phases(
     crawler: &Crawler,
     problem: &GaitProblem,
@@ -902,6 +917,10 @@ pub fn grow_phases(
     let mut stop = GrowthStop::MaxPhases;
     // y' = v_m(z') (SPEC §3): when v_m <= 0 everywhere, J <= 0 for every gait.
     let idle = crawler.analyze().moves_forward == Some(false);
+    // Whether a verified J_K moves the crawler: above the replay's resolution, relative to the
+    // problem's own length scale (not to 1: lengths may be 1e-6 or 1e6).
+    let resolution = MOVE_RESOLUTION * problem.length_scale(crawler);
+    let moves = |j: f64| j > resolution;
     for k in opts.min_phases..=opts.max_phases {
         let left = match opts.time_limit {
             Some(tl) => {
@@ -940,8 +959,19 @@ pub fn grow_phases(
                 - gain_tolerance(problem) * b.objective().abs().max(problem.length_scale(crawler))
         });
         if timed_out {
-            if gain > 0.0 || best.is_none() {
-                best = Some(s);
+            match best.as_mut() {
+                Some(b) if s.objective() <= b.objective() => {
+                    // The best gait stays, but the claim is now this K's: a time limit with
+                    // this K's bound (not "optimal" for the smaller K it was proven for, which
+                    // read as if the growth had finished).
+                    b.phases = s.phases;
+                    b.certificate.bound = s.certificate.bound;
+                    b.certificate.gap = ((s.certificate.bound - b.objective())
+                        / b.objective().abs().max(1.0))
+                    .max(0.0);
+                    b.certificate.status = MilpStatus::TimeLimit;
+                }
+                _ => best = Some(s),
             }
             stop = GrowthStop::TimeLimit;
             break;
@@ -954,10 +984,15 @@ pub fn grow_phases(
         if gain > 0.0 {
             without_gain = 0;
             best = Some(s);
-        } else if best.as_ref().is_some_and(|b| b.objective() <= 0.0) {
-            // Nothing moves yet: K is still too small. The idle gait is now certified for
-            // this larger K.
-            if let Some(b) = best.as_mut() {
+        } else if best.as_ref().is_some_and(|b| !moves(b.objective())) {
+            // Nothing moves yet (at the replay's resolution): K is still too small. A verified
+            // gait better than the best so far is never overruled by the gain tolerance, which
+            // is relative to the length scale and can exceed a small true optimum (one link
+            // with T just above 2w/a: J* = 5e-8 against a tolerance of 3e-7).
+            if best.as_ref().is_some_and(|b| s.objective() > b.objective()) {
+                best = Some(s);
+            } else if let Some(b) = best.as_mut() {
+                // The idle gait, now certified for this larger K.
                 b.phases = s.phases;
                 b.certificate.bound = s.certificate.bound;
                 b.certificate.gap =

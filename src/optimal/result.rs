@@ -147,7 +147,9 @@ pub struct GaitResult {
     pub method: String,
     /// `m` of P_m (discrete only).
     pub m: Option<u32>,
-    /// `"optimal"` or `"time_limit"`.
+    /// What was proven ([`MilpStatus`]): `"optimal"` (for P_m), `"optimal_among_k_phases"`
+    /// (phase gaits; `K` is `certificate.phases`), `"time_limit"` (see the gap and bound),
+    /// `"approximation_limit"`, or the local methods' `"stationary"` / `"stalled"`.
     pub status: MilpStatus,
     /// `J` = displacement per period minus actuation cost, from the verified displacement.
     pub objective: f64,

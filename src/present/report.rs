@@ -233,8 +233,13 @@ fn page(
             .into(),
         (k, _, _) => k.to_string(),
     };
+    let among = match c.phases {
+        Some(k) => format!("solved to optimality among gaits of at most {k} slip phases"),
+        None => "solved to optimality among gaits of at most K slip phases".into(),
+    };
     let status = match result.status {
         MilpStatus::Optimal => "solved to optimality",
+        MilpStatus::OptimalAmongKPhases => among.as_str(),
         MilpStatus::TimeLimit => "stopped at the time limit (see the gap)",
         MilpStatus::ApproximationLimit => {
             "outer approximation of the cost stopped before closing the gap (see the gap)"

@@ -133,6 +133,7 @@ pub const WORDS: &[&str] = &[
     "global",
     "global_k_phases",
     "optimal",
+    "optimal_among_k_phases",
     "time_limit",
     "piecewise_constant",
     "crawlopt-gait-result",

@@ -427,10 +427,60 @@ fn cost_tangents(problem: &GaitProblem, settings: &BoundSettings) -> usize {
     }
 }
 
+/// The grids [`upper_bound`] solves, coarse to fine: `settings`' resolutions halved while both
+/// stay at least 2 (and stay whole), then `settings`' own. Halving keeps the grids nested (a
+/// coarse grid's piecewise-linear functions are piecewise linear on the finer one), so a
+/// finished finer LP is never worse.
+pub fn refinement_ladder(settings: &BoundSettings) -> Vec<(usize, usize)> {
+    let mut ladder = vec![(settings.resolution, settings.box_resolution)];
+    let (mut r, mut b) = (settings.resolution, settings.box_resolution);
+    while r % 2 == 0 && b % 2 == 0 && r / 2 >= 2 && b / 2 >= 2 {
+        r /= 2;
+        b /= 2;
+        ladder.push((r, b));
+    }
+    ladder.reverse();
+    ladder
+}
+
 /// A valid upper bound on `J` over every `T`-periodic gait of `problem` for `crawler` (the
-/// module's argument), from the piecewise-linear storage function the LP finds on the grid of
-/// `settings`.
+/// module's argument): the best of the piecewise-linear storage functions found on the grids of
+/// [`refinement_ladder`], coarse to fine, while `settings.time_limit` lasts. Every grid's bound
+/// is valid, so the smallest is returned, with the grid and LP status that proved it: a fine
+/// grid cut short by the time limit no longer hides a coarser grid's better bound (three blocks,
+/// 8 x 8 cut at 60 s gave 3.548; the 4 x 4 grid proves 3.333 in well under a second of LP).
 pub fn upper_bound(
+    crawler: &Crawler,
+    problem: &GaitProblem,
+    settings: &BoundSettings,
+) -> Result<UpperBound> {
+    let started = Instant::now();
+    // The requested grid is checked (size, crawler) before any coarse LP spends the time.
+    prepare(crawler, problem, settings)?;
+    let mut best: Option<UpperBound> = None;
+    for (resolution, box_resolution) in refinement_ladder(settings) {
+        let left = settings.time_limit - started.elapsed().as_secs_f64();
+        if best.is_some() && left <= 0.0 {
+            break;
+        }
+        let level = BoundSettings {
+            resolution,
+            box_resolution,
+            time_limit: left.max(1e-3),
+            ..*settings
+        };
+        let ub = upper_bound_on_grid(crawler, problem, &level)?;
+        if best.as_ref().is_none_or(|b| ub.value <= b.value) {
+            best = Some(ub);
+        }
+    }
+    let mut best = best.expect("the ladder has at least settings' own grid");
+    best.seconds = started.elapsed().as_secs_f64();
+    Ok(best)
+}
+
+/// The bound from the storage function the LP finds on the one grid of `settings`.
+pub fn upper_bound_on_grid(
     crawler: &Crawler,
     problem: &GaitProblem,
     settings: &BoundSettings,

@@ -73,7 +73,7 @@ pub(crate) fn time_dependent_bound(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::certify::bound::{upper_bound, BoundStatus};
+    use crate::certify::bound::{upper_bound_on_grid as upper_bound, BoundStatus};
     use crate::optimal::Cost;
 
     fn settings(resolution: usize, box_resolution: usize) -> BoundSettings {

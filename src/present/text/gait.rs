@@ -11,7 +11,17 @@ pub fn gait_result(r: &GaitResult) -> String {
     let c = &r.certificate;
     let sc = GaitScales::of(r);
     let len = |v: f64| num(v, sc.length);
-    wln!(out, "method {}: {}", r.method, status_word(r.status));
+    match (r.status, c.phases) {
+        (MilpStatus::OptimalAmongKPhases | MilpStatus::TimeLimit, Some(k)) => {
+            wln!(
+                out,
+                "method {}: {} (K = {k})",
+                r.method,
+                status_word(r.status)
+            )
+        }
+        _ => wln!(out, "method {}: {}", r.method, status_word(r.status)),
+    }
     wln!(
         out,
         "objective J = {} (displacement per period {}, actuation cost {})",
@@ -19,7 +29,7 @@ pub fn gait_result(r: &GaitResult) -> String {
         len(r.displacement_per_period),
         len(r.actuation_cost)
     );
-    let proven = r.status == MilpStatus::Optimal && c.gap.is_some_and(|g| g <= 1e-6);
+    let proven = r.status.is_optimal() && c.gap.is_some_and(|g| g <= 1e-6);
     // Zero as the text shows it (below the snap of the length scale).
     let zero = |v: f64| v.abs() < text::SNAP * sc.length;
     if proven && zero(r.objective) && zero(r.displacement_per_period) {
@@ -35,7 +45,7 @@ pub fn gait_result(r: &GaitResult) -> String {
     };
     let what = match (r.status, c.kind.as_str()) {
         (_, "local") => format!("local ({})", status_word(r.status)),
-        (MilpStatus::Optimal, _) => format!("global among {scope}"),
+        (status, _) if status.is_optimal() => format!("global among {scope}"),
         (status, _) => format!(
             "not proven ({}); the bound is over {scope}",
             status_word(status)
@@ -168,11 +178,19 @@ pub fn certificate(c: &NecessaryConditions, r: &GaitResult) -> String {
     // The adjoint's own scale (lambda + ||p||_inf is normalised, but omega shifts it).
     let adjoint = text::max_abs(m.p_plus_omega.iter().flatten().chain(&m.omega));
     super::conditions_head(&mut out, c.verdict, &c.reason, c.lambda, &c.normalisation);
+    // Only what was measured: a margin within the solver's resolution is 0 at that resolution.
+    let margin = if c.nondegeneracy_margin == 0.0 {
+        format!(
+            "0 (at the solver's resolution {:.1e})",
+            c.nondegeneracy_resolution
+        )
+    } else {
+        format!("{:.3e}", c.nondegeneracy_margin)
+    };
     wln!(
         out,
-        "  J = {}; min |p + omega| = {:.3e}; omega = {}",
+        "  J = {}; min |p + omega| = {margin}; omega = {}",
         num(c.objective, sc.length),
-        c.nondegeneracy_margin,
         list(&m.omega, adjoint)
     );
     if let Some(b) = &c.branch_lp {

@@ -88,13 +88,7 @@ pub fn force_scale(crawler: &Crawler) -> f64 {
 }
 
 pub fn status_word(s: MilpStatus) -> &'static str {
-    match s {
-        MilpStatus::Optimal => "optimal",
-        MilpStatus::TimeLimit => "time_limit",
-        MilpStatus::ApproximationLimit => "approximation_limit",
-        MilpStatus::Stationary => "stationary",
-        MilpStatus::Stalled => "stalled",
-    }
+    s.as_str()
 }
 
 /// Significant digits of a value in text output unless the quantity asks for others: enough for
