@@ -285,7 +285,10 @@ fn optimize_method_phase_finds_the_exact_gait() {
     assert_eq!(v["method"], "phase");
     let j = v["solution"]["objective"].as_f64().unwrap();
     assert!((j - 3.0).abs() < 1e-7, "{j}");
-    assert_eq!(v["solution"]["certificate"]["status"], "optimal");
+    assert_eq!(
+        v["solution"]["certificate"]["status"],
+        "optimal_among_k_phases"
+    );
     let held = v["solution"]["held"].as_array().unwrap();
     assert_eq!(held.len(), 4);
     assert_eq!(

@@ -68,7 +68,7 @@ fn the_one_link_problem_of_section_4() {
         let mut last = f64::NEG_INFINITY;
         for k in 1..=5 {
             let s = solve_general_phase(&p, &g, k, None).unwrap();
-            assert_eq!(s.certificate.status, MilpStatus::Optimal);
+            assert_eq!(s.certificate.status, MilpStatus::OptimalAmongKPhases);
             let expect = if k >= 4 { want } else { 0.0 };
             assert!(
                 (s.objective - expect).abs() < 1e-7,
@@ -122,9 +122,9 @@ fn crawler_instances_give_the_crawler_phase_optima() {
         let g = check_problem(&inst.problem).unwrap();
         for k in steps {
             let want = solve_phase_global(&crawler, &gp, k, Some(60.0)).unwrap();
-            assert_eq!(want.certificate.status, MilpStatus::Optimal);
+            assert_eq!(want.certificate.status, MilpStatus::OptimalAmongKPhases);
             let got = solve_general_phase(&inst.problem, &g, 2 * k, Some(60.0)).unwrap();
-            assert_eq!(got.certificate.status, MilpStatus::Optimal);
+            assert_eq!(got.certificate.status, MilpStatus::OptimalAmongKPhases);
             assert!(
                 (got.objective - want.objective()).abs() < 1e-7,
                 "N = {}, K = {k}: {} vs {}",
@@ -179,7 +179,7 @@ fn random_polygons_no_exact_gait_of_k_segments_beats_the_phase_optimum() {
         }
         let lower = sim.objective.unwrap();
         let s = solve_general_phase(&p, &g, k, Some(60.0)).unwrap();
-        assert_eq!(s.certificate.status, MilpStatus::Optimal);
+        assert_eq!(s.certificate.status, MilpStatus::OptimalAmongKPhases);
         assert!(
             s.objective >= lower - 1e-7,
             "sigma = {sigma}, K = {k}: {} < {lower}",
@@ -208,7 +208,7 @@ fn a_quadratic_cost_by_outer_approximation() {
     p.cost = GeneralCost::Quadratic { weight: 1.0 };
     let g = check_problem(&p).unwrap();
     let s = solve_general_phase(&p, &g, 4, None).unwrap();
-    assert_eq!(s.certificate.status, MilpStatus::Optimal);
+    assert_eq!(s.certificate.status, MilpStatus::OptimalAmongKPhases);
     assert!((s.objective - 3.0).abs() < 1e-5, "{}", s.objective);
     assert!(s.certificate.bound >= s.objective - 1e-9);
     assert!(s.certificate.bound <= 3.0 + 1e-5);
@@ -242,7 +242,7 @@ fn a_quadratic_cost_by_outer_approximation() {
     for k in [1, 2] {
         let want = solve_phase_global(&crawler, &gp, k, Some(60.0)).unwrap();
         let got = solve_general_phase(&inst.problem, &g, 2 * k, Some(60.0)).unwrap();
-        assert_eq!(got.certificate.status, MilpStatus::Optimal);
+        assert_eq!(got.certificate.status, MilpStatus::OptimalAmongKPhases);
         assert!(
             (got.objective - want.objective()).abs() < 1e-5,
             "K = {k}: {} vs {}",
@@ -264,7 +264,7 @@ fn a_polytope_u_gives_the_box_optimum() {
     let g = check_problem(&p).unwrap();
     for (k, want) in [(3, 0.0), (4, 3.0)] {
         let s = solve_general_phase(&p, &g, k, None).unwrap();
-        assert_eq!(s.certificate.status, MilpStatus::Optimal);
+        assert_eq!(s.certificate.status, MilpStatus::OptimalAmongKPhases);
         assert!(
             (s.objective - want).abs() < 1e-7,
             "K = {k}: {}",
@@ -291,7 +291,7 @@ fn a_cauchy_problem_from_a_face() {
     let g = check_problem(&p).unwrap();
     for k in [3, 4] {
         let s = solve_general_phase(&p, &g, k, None).unwrap();
-        assert_eq!(s.certificate.status, MilpStatus::Optimal);
+        assert_eq!(s.certificate.status, MilpStatus::OptimalAmongKPhases);
         assert!((s.objective - 4.0).abs() < 1e-7, "K = {k}: {}", s.objective);
         assert!((s.states[0][0] + 1.0).abs() < 1e-12);
         let (reward, gap, _) = replay(&p, &s);

@@ -381,6 +381,7 @@ class GeneralProblem:
         certify: bool = False,
         progress: Progress = False,
         max_phases: Optional[int] = None,
+        polish: Optional[bool] = None,
     ) -> dict:
         """The paper's P_m on 2^``m`` steps: ``method`` "discrete" (global MILP, with its
         certificate) or "local" (the LPCC active-set method from the file's ``[input]`` or
@@ -392,7 +393,9 @@ class GeneralProblem:
         the exact continuous-time gait of at most ``max_phases`` phases (default 4), globally
         (``crawlopt optimize --method phase``); its ``solution`` holds ``objective`` (J
         re-verified by the exact simulation), ``durations``, ``controls``, ``states``,
-        ``held`` (faces, 1-based) and ``reactions`` per phase."""
+        ``held`` (faces, 1-based) and ``reactions`` per phase. ``polish`` (discrete only;
+        default True): a quadratic cost's answer is polished on its fixed face pattern before it
+        is certified (``--no-polish`` is ``polish=False``); ``solution["polish"]`` records it."""
         d = self._inner.optimize(
             method,
             m,
@@ -401,6 +404,7 @@ class GeneralProblem:
             certify,
             progress_callback(progress),
             max_phases,
+            polish,
         )
         if method == "phase":
             _arrays(d["solution"], ("durations", "controls", "states", "reactions"))
@@ -650,6 +654,7 @@ def optimize(
     certify: bool = False,
     bound: Union[bool, dict, None] = None,
     progress: Progress = False,
+    polish: Optional[bool] = None,
 ) -> GaitResult:
     """An optimal gait of the problem (P) (paper §§5–7), every method and option of
     ``crawlopt optimize``: ``method`` "auto" (phase gaits with K grown; the discrete P_m when
@@ -666,7 +671,9 @@ def optimize(
     C x box, SPEC §12; N <= 4), recorded as ``certificate["upper_bound"]``. The GIL is
     released; Ctrl-C stops the solve within about a second (KeyboardInterrupt).
     ``progress``: True for a progress bar (tqdm if installed, else a text line), a callable to
-    receive each event as a dict."""
+    receive each event as a dict. ``polish`` (method "discrete" only; the library's default is
+    True): P_m's answer of a quadratic cost is polished on its fixed slip pattern before it is
+    certified, recorded as ``polish`` (``--no-polish`` is ``polish=False``)."""
     _instance(crawler, Crawler, "crawler")
     _instance(problem, GaitProblem, "problem")
     if start is not None:
@@ -686,6 +693,7 @@ def optimize(
         certify,
         _bound_settings(bound),
         progress_callback(progress),
+        polish,
     )
     return GaitResult(inner, None if conditions is None else json.loads(conditions), notes)
 

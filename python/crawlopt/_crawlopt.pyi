@@ -94,6 +94,7 @@ class GeneralProblem:
         certify: bool,
         progress: Optional[Callable[[str], None]],
         max_phases: Optional[int],
+        polish: Optional[bool] = None,
     ) -> dict[str, Any]: ...
 
 def load(
@@ -129,6 +130,7 @@ def optimize(
     certify: bool,
     bound: Optional[tuple[Optional[int], Optional[int], Optional[float]]],
     progress: Optional[Callable[[str], None]],
+    polish: Optional[bool] = None,
 ) -> tuple[GaitResult, Optional[str], list[str]]: ...
 def sweep_size(source: str, is_path: bool, base_dir: str) -> tuple[list[str], int]: ...
 def sweep_point(source: str, is_path: bool, base_dir: str, id: int) -> str: ...

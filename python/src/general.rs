@@ -68,7 +68,7 @@ impl GeneralProblem {
     /// "local" (the LPCC active-set method, `shifts` rotations of each start); None takes the
     /// library's default; "phase" (exact gaits of at most `max_phases` phases where `A = 0`,
     /// globally). Cancellable (Ctrl-C); `progress` receives the events.
-    #[pyo3(signature = (method, m, shifts, time_limit, certify, progress, max_phases))]
+    #[pyo3(signature = (method, m, shifts, time_limit, certify, progress, max_phases, polish = None))]
     #[allow(clippy::too_many_arguments)]
     fn optimize<'py>(
         &self,
@@ -80,8 +80,17 @@ impl GeneralProblem {
         certify: bool,
         progress: Option<PyObject>,
         max_phases: Option<usize>,
+        polish: Option<bool>,
     ) -> PyResult<Bound<'py, PyAny>> {
         let f = self.inner.clone();
+        if polish.is_some() && !matches!(method, "discrete" | "auto") {
+            let e = crawlopt::Error::invalid(
+                "polish",
+                "given",
+                "applies to method=\"discrete\" only (the global P_m optimum)",
+            );
+            return Err(to_py(py, e));
+        }
         if max_phases.is_some() && method != "phase" {
             let e =
                 crawlopt::Error::invalid("max_phases", "given", "applies to method=\"phase\" only");
@@ -101,7 +110,7 @@ impl GeneralProblem {
                     m: m.unwrap_or(GeneralPmSettings::default().m),
                     time_limit,
                     certify,
-                    ..GeneralPmSettings::default()
+                    polish: polish.unwrap_or(GeneralPmSettings::default().polish),
                 };
                 let r = run(py, progress, |hooks| {
                     api::optimize_general_with_hooks(&f, &s, hooks)

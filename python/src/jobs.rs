@@ -104,7 +104,7 @@ pub fn simulate<'py>(
 /// An optimal gait of `problem` for `crawler` (`crawlopt::api::optimize`); see
 /// `crawlopt.optimize` for the arguments.
 #[pyfunction]
-#[pyo3(signature = (crawler, problem, method, phases, patience, max_phases, m, convergence, start, shifts, time_limit, certify, bound, progress))]
+#[pyo3(signature = (crawler, problem, method, phases, patience, max_phases, m, convergence, start, shifts, time_limit, certify, bound, progress, polish = None))]
 #[allow(clippy::too_many_arguments)]
 pub fn optimize(
     py: Python<'_>,
@@ -122,6 +122,7 @@ pub fn optimize(
     certify: bool,
     bound: Option<BoundTuple>,
     progress: Option<PyObject>,
+    polish: Option<bool>,
 ) -> PyResult<(GaitResult, Option<String>, Vec<String>)> {
     // The upper bound's settings, each None taking the library's default.
     let bound = bound.map(|(resolution, box_resolution, time_limit, cost_tangents)| {
@@ -147,7 +148,7 @@ pub fn optimize(
         shifts,
         time_limit,
         certify,
-        polish: None,
+        polish,
         naming: Naming::Keywords,
         bound,
     };

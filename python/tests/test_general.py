@@ -61,7 +61,7 @@ def test_simulate_and_optimize_reach_the_closed_form():
     sol = ph["solution"]
     assert ph["method"] == "phase" and sol["max_phases"] == 4
     assert sol["objective"] == pytest.approx(J_STAR, abs=1e-7)
-    assert sol["certificate"]["status"] == "optimal"
+    assert sol["certificate"]["status"] == "optimal_among_k_phases"
     assert sol["durations"].sum() == pytest.approx(10.0, abs=1e-9)
     assert sol["states"].shape == (5, 1) and sol["controls"].shape == (4, 1)
     assert sum(1 for h in sol["held"] if h) == 2
@@ -96,3 +96,38 @@ def test_bad_arguments_raise_input_errors_naming_the_field():
     with pytest.raises(co.InputError) as e:
         co.load(example("general_drift.toml")).optimize(method="local")
     assert e.value.field == "objective.cost"
+
+
+def test_polish_is_on_by_default_and_can_be_turned_off():
+    # examples/general_drift.toml has a quadratic cost: P_3's MILP answer (outer approximation)
+    # fails Theorem 2.2's conditions at about 1e-4; polished on its face pattern, they hold.
+    p = co.load(example("general_drift.toml"))
+    on = p.optimize(m=3, certify=True)
+    assert on["solution"]["polish"]["applied"]
+    assert on["solution"]["polish"]["objective_after"] >= on["solution"]["polish"][
+        "objective_before"
+    ]
+    assert on["necessary_conditions"]["verdict"] == "holds"
+    off = p.optimize(m=3, certify=True, polish=False)
+    assert off["solution"].get("polish") is None
+    assert off["necessary_conditions"]["verdict"] == "fails"
+    assert off["solution"]["objective"] <= on["solution"]["objective"]
+    with pytest.raises(co.InputError) as e:
+        p.optimize(method="local", polish=False)
+    assert e.value.field == "polish"
+
+
+def test_polish_of_a_crawler_p_m_with_an_interior_rate():
+    # One link, k = 1, mu+ = 1, mu- = 2, speed 1, T = 10, f2 = (0.6/2) u^2: the optimal rate
+    # 5/6 is interior and J* = 1/12 (tests/polish.rs); P_3 polished reaches it exactly.
+    c = co.Crawler(blocks=2, stiffness=1.0, mu_forward=1.0, mu_backward=2.0)
+    g = co.GaitProblem(period=10.0, max_actuator_speed=1.0, cost=co.Quadratic(0.6))
+    r = co.optimize(c, g, method="discrete", m=3)
+    assert r.to_dict()["polish"]["applied"]
+    assert r.objective == pytest.approx(1 / 12, abs=1e-12)
+    raw = co.optimize(c, g, method="discrete", m=3, polish=False)
+    assert raw.to_dict().get("polish") is None
+    assert raw.objective < 1 / 12
+    with pytest.raises(co.InputError) as e:
+        co.optimize(c, g, method="phase", polish=False)
+    assert e.value.field == "polish"

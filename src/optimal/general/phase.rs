@@ -315,7 +315,7 @@ pub fn solve_general_phase(
         sol.rounds = round;
         let done = p.cost == GeneralCost::None
             || sol.certificate.gap <= OA_TOL
-            || status != MilpStatus::Optimal;
+            || status != MilpStatus::Optimal; // the MILP's own status
         if done {
             return Ok(sol);
         }
@@ -438,6 +438,11 @@ fn verified(
         what,
         "replayed gait",
     )?;
+    // What the MILP proved is optimality among gaits of at most `k` phases (as for crawlers).
+    let status = match status {
+        MilpStatus::Optimal => MilpStatus::OptimalAmongKPhases,
+        s => s,
+    };
     Ok(GeneralPhaseGait {
         max_phases: k,
         objective,
