@@ -97,6 +97,33 @@ impl SimOptions {
     };
 }
 
+impl SimOptions {
+    /// Refuses, whatever the crawler and the actuation, a value no simulation runs with:
+    /// `steps_per_period` outside `1..=MAX_STEPS_PER_PERIOD`, `max_periods` 0, a `tol` that is
+    /// not positive and finite (the checks of [`simulate`], made before any work: a sweep
+    /// makes them when it reads its file).
+    pub fn check(&self) -> Result<()> {
+        if !(1..=MAX_STEPS_PER_PERIOD).contains(&self.steps_per_period) {
+            return Err(Error::invalid(
+                "steps_per_period",
+                self.steps_per_period,
+                format!("must be in 1..={MAX_STEPS_PER_PERIOD} (memory)"),
+            ));
+        }
+        if self.max_periods == 0 {
+            return Err(Error::invalid("max_periods", 0, "must be at least 1"));
+        }
+        if !(self.tol.is_finite() && self.tol > 0.0) {
+            return Err(Error::invalid(
+                "tol",
+                self.tol,
+                "must be positive and finite",
+            ));
+        }
+        Ok(())
+    }
+}
+
 impl Default for SimOptions {
     fn default() -> Self {
         Self::DEFAULT
@@ -266,23 +293,7 @@ pub fn simulate(crawler: &Crawler, act: &Actuation, opts: &SimOptions) -> Result
         ));
     }
     let uses_m = opts.method == Method::CatchingUp || !act.is_piecewise_linear();
-    if uses_m && !(1..=MAX_STEPS_PER_PERIOD).contains(&opts.steps_per_period) {
-        return Err(Error::invalid(
-            "steps_per_period",
-            opts.steps_per_period,
-            format!("must be in 1..={MAX_STEPS_PER_PERIOD} (memory)"),
-        ));
-    }
-    if opts.max_periods == 0 {
-        return Err(Error::invalid("max_periods", 0, "must be at least 1"));
-    }
-    if !(opts.tol.is_finite() && opts.tol > 0.0) {
-        return Err(Error::invalid(
-            "tol",
-            opts.tol,
-            "must be positive and finite",
-        ));
-    }
+    opts.check()?;
     let (n, nb) = (crawler.links(), crawler.blocks());
     // Memory guards: the sampled increments (catching-up, unless streamed), the exact method's
     // knots and the recorded trajectory.
