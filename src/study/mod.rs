@@ -33,6 +33,7 @@
 
 mod plot;
 mod run;
+mod settings;
 mod spec;
 mod table;
 

@@ -1,7 +1,8 @@
 //! Running the points of a sweep: each through the library (no subprocess), in parallel on a
 //! rayon pool, one point per thread (HiGHS single-threaded inside, `optimal::solver`).
 
-use super::spec::{setting_error, Job, Point, SweepSpec};
+use super::settings::setting_error;
+use super::spec::{Job, Point, SweepSpec};
 use crate::api::{self, Hooks};
 use crate::error::{Error, Result};
 use crate::progress::Cancel;
