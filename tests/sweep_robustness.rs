@@ -229,6 +229,11 @@ fn job_settings_are_refused_up_front() {
         ("optimize", "phases = 3\npatience = 2", "settings.patience"),
         ("optimize", "start = \"x.json\"", "settings.start"),
         (
+            "optimize",
+            "method = \"local\"\nstart = \"missing.json\"",
+            "settings.start",
+        ),
+        (
             "simulate",
             "steps_per_period = 0",
             "settings.steps_per_period",

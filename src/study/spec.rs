@@ -312,6 +312,17 @@ impl SweepSpec {
             Job::Simulate(options) => options.check().map_err(setting_error),
             Job::Optimize(settings) => {
                 settings.check_values().map_err(setting_error)?;
+                // A start gait every point would fail to read.
+                if let Some(crate::api::Start::File(path)) = &settings.start {
+                    if !path.is_file() {
+                        return Err(Error::invalid(
+                            "settings.start",
+                            path.display(),
+                            "is not a file (a result file of optimize --json, relative to the \
+                             sweep file)",
+                        ));
+                    }
+                }
                 // A first point that is not a gait problem is its row's error, as before.
                 let first = self.model_at(&self.point(0)).ok();
                 let problem = first.and_then(|m| crate::api::gait_problem(&m).ok());
