@@ -354,14 +354,13 @@ fn errors_name_the_field() {
         let e = err(&text);
         assert!(e.starts_with(&format!("{field}: ")), "{field}: {e}");
     }
-    // Settings that do not apply to the method are each point's error, named as settings.
-    let s = spec(&ONE_LINK.replace(
+    // Settings that do not apply to the method are refused before any point runs (issue 30:
+    // every row was an error row, exit 0), named as settings.
+    let e = err(&ONE_LINK.replace(
         "job = \"optimize\"",
         "job = \"optimize\"\n[settings]\nmethod = \"phase\"\nm = 3",
     ));
-    let out = study::run_point(&s, &s.point(0), false, None);
-    let e = out.row.error.unwrap();
-    assert!(e.starts_with("settings.m: "), "{e}");
+    assert!(e.starts_with("settings.m: applies to"), "{e}");
 }
 
 #[test]

@@ -49,6 +49,22 @@ def test_a_sweep_file_and_bad_specs():
     assert e.value.field == "axis[1].field"
 
 
+def test_one_field_in_two_spellings_and_absurd_threads_are_refused():
+    # Issue 30: "gait.period " beside "gait.period" was a second axis whose value won.
+    for a, b in [
+        ("gait.period", "gait.period "),
+        ("crawler.mu_forward[1]", "crawler.mu_forward[ 1 ]"),
+        ("crawler.mu_forward", "crawler.mu_forward[2]"),
+    ]:
+        bad = dict(SPEC, axis=[{"field": a, "values": [6.0, 8.0]}, {"field": b, "values": [20.0]}])
+        with pytest.raises(co.InputError) as e:
+            co.sweep(bad)
+        assert e.value.field == "axis[2].field", str(e.value)
+    with pytest.raises(co.InputError) as e:
+        co.sweep(SPEC, threads=100000)
+    assert e.value.field == "threads"
+
+
 def test_dask_local_cluster_gives_the_same_rows():
     import distributed  # pinned in scripts/python-env: a missing one fails, never skips
 

@@ -5,8 +5,8 @@
 use crate::error::{Error, Result};
 use crate::model::Crawler;
 use crate::optimal::{
-    check_local, check_shifts, check_size, Cost, GaitProblem, GaitResult, GrowOptions, MAX_LOCAL_M,
-    MAX_M,
+    check_local, check_shifts, check_size, check_time_limit, Cost, GaitProblem, GaitResult,
+    GrowOptions, MAX_LOCAL_M, MAX_M, MAX_PHASES,
 };
 use serde::{Deserialize, Serialize};
 use std::path::PathBuf;
@@ -204,6 +204,73 @@ impl OptimizeSettings {
     /// after a start gait was computed, or turned into a note by a start policy.
     pub fn plan(&self, crawler: &Crawler, problem: &GaitProblem) -> Result<Plan> {
         use GaitMethod::*;
+        let plan = self.decide(problem)?;
+        // The size of the models (blocks, blocks x grid steps), before any allocation.
+        match plan.method {
+            Local | Discrete => {
+                // An m beyond the grids was refused by `check_values`.
+                check_size(crawler, 1usize << plan.m.min(MAX_M), "m", plan.m)?;
+            }
+            _ => {
+                let k = self.phases.unwrap_or(plan.growth.max_phases);
+                check_size(crawler, k, "phases", k)?;
+            }
+        }
+        Ok(plan)
+    }
+
+    /// Refuses, whatever the problem, a value no method runs with: `m` outside `1..=MAX_M`,
+    /// `phases` or `max_phases` outside `1..=MAX_PHASES`, `patience` 0, `shifts` outside
+    /// `1..=MAX_SHIFTS`, a time limit that is not positive and finite (the checks of the
+    /// optimisers themselves, made before any work: a sweep makes them when it reads its file).
+    /// The fields are the settings' own names (`max_phases`), as the optimisers name them.
+    pub fn check_values(&self) -> Result<()> {
+        check_time_limit(self.time_limit)?;
+        match self.m {
+            Some(0) => {
+                return Err(Error::invalid(
+                    "m",
+                    0,
+                    "must be at least 1 (a periodic gait needs two steps)",
+                ))
+            }
+            Some(m) if m > MAX_M => {
+                return Err(Error::invalid(
+                    "m",
+                    m,
+                    format!("must be in 1..={MAX_M} (grids of at most 2^{MAX_M} steps)"),
+                ))
+            }
+            _ => {}
+        }
+        if let Some(k) = self.phases {
+            if !(1..=MAX_PHASES).contains(&k) {
+                return Err(Error::invalid(
+                    "phases",
+                    k,
+                    format!("must be in 1..={MAX_PHASES}"),
+                ));
+            }
+        }
+        let defaults = GrowOptions::default();
+        GrowOptions {
+            max_phases: self.max_phases.unwrap_or(defaults.max_phases),
+            patience: self.patience.unwrap_or(defaults.patience),
+            ..defaults
+        }
+        .check()?;
+        if let Some(s) = self.shifts {
+            check_shifts(s)?;
+        }
+        Ok(())
+    }
+
+    /// [`OptimizeSettings::plan`] without the size of the crawler: the method, the options that
+    /// apply to it and their values, which depend on the problem only through its kind (a TV
+    /// bound, a quadratic cost), not on its numbers.
+    pub fn decide(&self, problem: &GaitProblem) -> Result<Plan> {
+        use GaitMethod::*;
+        self.check_values()?;
         let n = self.naming;
         let method = match self.method {
             Auto if problem.max_total_variation.is_some() => Discrete,
@@ -312,18 +379,6 @@ impl OptimizeSettings {
         if method == Local {
             check_local(problem, m)?;
         }
-        // The size of the models (blocks, blocks x grid steps), before any allocation.
-        match method {
-            Local | Discrete => {
-                // An m beyond the grids is refused by the solver's own range check.
-                let steps = if m <= MAX_M { 1usize << m } else { 1 };
-                check_size(crawler, steps, "m", m)?;
-            }
-            _ => {
-                let k = self.phases.unwrap_or(growth.max_phases);
-                check_size(crawler, k, "phases", k)?;
-            }
-        }
         self.check_method_options(method, m)?;
         Ok(Plan {
             method,
@@ -339,17 +394,27 @@ impl OptimizeSettings {
         use GaitMethod::*;
         let n = self.naming;
         let set = |name: &str| n.field(name);
+        // The option given is named (a sweep renames it `settings.KEY`).
+        let given = |name: &str, value: Option<String>| -> Result<()> {
+            match value {
+                Some(v) => Err(Error::invalid(
+                    set(name),
+                    v,
+                    format!("does not apply to {}", n.methods(&[method])),
+                )),
+                None => Ok(()),
+            }
+        };
+        let convergence = self.convergence.then(|| "set".to_string());
         match method {
-            Local if self.phases.is_some() || self.convergence => Err(Error::invalid(
-                format!("{}/{}", set("phases"), set("convergence")),
-                "set",
-                format!("do not apply to {}", n.methods(&[Local])),
-            )),
-            Sequence if self.m.is_some() || self.convergence => Err(Error::invalid(
-                format!("{}/{}", set("m"), set("convergence")),
-                "set",
-                format!("do not apply to {}", n.methods(&[Sequence])),
-            )),
+            Local if self.phases.is_some() || self.convergence => {
+                given("phases", self.phases.map(|k| k.to_string()))?;
+                given("convergence", convergence)
+            }
+            Sequence if self.m.is_some() || self.convergence => {
+                given("m", self.m.map(|m| m.to_string()))?;
+                given("convergence", convergence)
+            }
             Phase | Auto => {
                 let only = format!("applies to {} only", n.methods(&[Discrete]));
                 if let Some(m) = self.m {

@@ -40,7 +40,24 @@ enum Command {
     Sweep(commands::sweep::SweepArgs),
 }
 
+/// Exit status after Ctrl-C or SIGTERM (128 + SIGINT, the shell's convention for an
+/// interrupted command).
+const EXIT_INTERRUPTED: i32 = 130;
+
+/// On Ctrl-C or SIGTERM (handled on a thread of its own, not inside the signal handler): the
+/// temporary files of outputs not yet complete are removed
+/// ([`crawlopt::io::remove_staged_files`]), then the process ends with [`EXIT_INTERRUPTED`].
+/// A sweep's table keeps its finished rows (each is written whole and flushed), as after
+/// kill -9, and `--resume` continues it.
+fn on_interrupt() {
+    let _ = ctrlc::set_handler(|| {
+        crawlopt::io::remove_staged_files();
+        std::process::exit(EXIT_INTERRUPTED);
+    });
+}
+
 fn main() -> ExitCode {
+    on_interrupt();
     let result = match Cli::parse().command {
         Command::Analyze(a) => commands::analyze::run(a),
         Command::Simulate(a) => commands::simulate::run(a),

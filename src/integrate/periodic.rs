@@ -121,10 +121,18 @@ pub fn check_tol(tol: f64) -> Result<()> {
 }
 
 impl SimOptions {
-    /// Refuses options no simulation can run with, whatever the crawler and actuation:
-    /// `max_periods >= 1` and `tol` in `(0, MAX_TOL]` ([`check_tol`]). (`steps_per_period` is
-    /// checked by [`simulate`] where it is used: only catching-up and smooth actuations take it.)
+    /// Refuses, whatever the crawler and the actuation, a value no simulation runs with:
+    /// `steps_per_period` outside `1..=MAX_STEPS_PER_PERIOD`, `max_periods` 0, a `tol` outside
+    /// `(0, MAX_TOL]` ([`check_tol`]) (the checks of [`simulate`], made before any work: a sweep
+    /// makes them when it reads its file).
     pub fn check(&self) -> Result<()> {
+        if !(1..=MAX_STEPS_PER_PERIOD).contains(&self.steps_per_period) {
+            return Err(Error::invalid(
+                "steps_per_period",
+                self.steps_per_period,
+                format!("must be in 1..={MAX_STEPS_PER_PERIOD} (memory)"),
+            ));
+        }
         if self.max_periods == 0 {
             return Err(Error::invalid("max_periods", 0, "must be at least 1"));
         }
@@ -301,13 +309,6 @@ pub fn simulate(crawler: &Crawler, act: &Actuation, opts: &SimOptions) -> Result
         ));
     }
     let uses_m = opts.method == Method::CatchingUp || !act.is_piecewise_linear();
-    if uses_m && !(1..=MAX_STEPS_PER_PERIOD).contains(&opts.steps_per_period) {
-        return Err(Error::invalid(
-            "steps_per_period",
-            opts.steps_per_period,
-            format!("must be in 1..={MAX_STEPS_PER_PERIOD} (memory)"),
-        ));
-    }
     opts.check()?;
     let (n, nb) = (crawler.links(), crawler.blocks());
     // Memory guards: the sampled increments (catching-up, unless streamed), the exact method's

@@ -11,6 +11,9 @@ use std::path::{Path, PathBuf};
 /// wrong path (a log, a disk image) makes the reader allocate.
 pub const MAX_MODEL_BYTES: u64 = 16 << 20;
 
+/// Most blocks of a crawler in a model file.
+pub const MAX_BLOCKS: i64 = 10_000_000;
+
 /// Reads an input file of at most `limit` bytes. Only regular files (or links to one) are read:
 /// a directory, a FIFO or a device (`/dev/zero`, `/dev/stdin`) is refused before it is opened,
 /// so that reading can neither block nor go on without end. The error is the reason alone.
@@ -226,11 +229,11 @@ impl ModelFile {
                 "a crawler needs at least 2 blocks",
             ));
         }
-        if c.blocks > 10_000_000 {
+        if c.blocks > MAX_BLOCKS {
             return Err(Error::invalid(
                 "crawler.blocks",
                 c.blocks,
-                "must be at most 10000000",
+                format!("must be at most {MAX_BLOCKS}"),
             ));
         }
         let nb = c.blocks as usize;

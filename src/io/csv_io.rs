@@ -211,6 +211,23 @@ impl AtomicFile {
         target_of(dest).map(|_| ())
     }
 
+    /// The destination opened for writing when, by the rules above, it is written straight
+    /// into (a device, FIFO or socket, or this process's standard output or error); `None`
+    /// for a regular file or a new one (nothing is opened then). For outputs that append to a
+    /// regular file instead of replacing it (a sweep's table).
+    pub fn open_stream(dest: &Path) -> Result<Option<std::fs::File>> {
+        let cannot = |e: std::io::Error| io_err(dest, format!("cannot write: {e}"));
+        match target_of(dest)? {
+            Target::File(_) => Ok(None),
+            Target::Stream => std::fs::OpenOptions::new()
+                .write(true)
+                .open(dest)
+                .map(Some)
+                .map_err(cannot),
+            Target::Std(fd) => std_stream(fd).map(Some).map_err(cannot),
+        }
+    }
+
     /// Opens the destination by the rules above: a temporary file next to a regular file, or
     /// the stream itself.
     pub fn create(dest: &Path) -> Result<Self> {
@@ -256,22 +273,73 @@ impl AtomicFile {
                     }
                 }
                 drop(file);
+                // Under the registry's lock: a signal's clean-up waits for the rename, or has
+                // removed the file (the rename then fails, and the process is ending anyway).
+                let mut reg = staged();
+                if reg.1 {
+                    return Err(std::io::Error::other("the process is ending (interrupted)"));
+                }
                 std::fs::rename(tmp, real)?;
+                reg.0.retain(|p| p != tmp);
             }
             Ok(())
         })();
         result.map_err(|e: std::io::Error| {
             if let Some((tmp, _)) = &self.staged {
                 let _ = std::fs::remove_file(tmp);
+                unstage(tmp);
             }
             io_err(&self.dest, format!("cannot write: {e}"))
         })
     }
 }
 
+/// The temporary files of this process's uncommitted [`AtomicFile`]s, and whether
+/// [`remove_staged_files`] has run (no temporary file is created after it).
+static STAGED: std::sync::Mutex<(Vec<PathBuf>, bool)> = std::sync::Mutex::new((Vec::new(), false));
+
+/// The registry of temporary files, also when a thread panicked holding it (a list of paths
+/// cannot be left inconsistent).
+fn staged() -> std::sync::MutexGuard<'static, (Vec<PathBuf>, bool)> {
+    STAGED
+        .lock()
+        .unwrap_or_else(std::sync::PoisonError::into_inner)
+}
+
+/// Removes the temporary files of every [`AtomicFile`] not yet committed, and makes any later
+/// [`AtomicFile::create`] of a regular file fail: for a process about to end on a signal
+/// (Ctrl-C, SIGTERM), whose destructors will not run. A commit in progress either renames
+/// its whole file into place first, or finds its temporary file gone. Returns how many files
+/// were removed. Call it from a normal thread (e.g. a signal-handling thread), not from inside
+/// a signal handler: it locks and allocates.
+pub fn remove_staged_files() -> usize {
+    let mut reg = staged();
+    reg.1 = true;
+    let files = std::mem::take(&mut reg.0);
+    files
+        .iter()
+        .filter(|tmp| std::fs::remove_file(tmp).is_ok())
+        .count()
+}
+
+/// Takes `tmp` off the registry of temporary files.
+fn unstage(tmp: &Path) {
+    staged().0.retain(|p| p != tmp);
+}
+
 /// A new temporary file `.NAME.tmpPID` (or `.NAME.tmpPID.I`) next to `real`, created
-/// exclusively (never through an existing path).
+/// exclusively (never through an existing path), and registered for [`remove_staged_files`].
 fn create_temporary(real: &Path) -> std::io::Result<(PathBuf, std::fs::File)> {
+    let mut reg = staged();
+    if reg.1 {
+        return Err(std::io::Error::other("the process is ending (interrupted)"));
+    }
+    let (tmp, file) = create_temporary_file(real)?;
+    reg.0.push(tmp.clone());
+    Ok((tmp, file))
+}
+
+fn create_temporary_file(real: &Path) -> std::io::Result<(PathBuf, std::fs::File)> {
     let name = real
         .file_name()
         .map(|n| n.to_string_lossy().into_owned())
@@ -303,6 +371,7 @@ impl Drop for AtomicFile {
         if self.file.take().is_some() {
             if let Some((tmp, _)) = &self.staged {
                 let _ = std::fs::remove_file(tmp);
+                unstage(tmp);
             }
         }
     }

@@ -35,8 +35,9 @@ pub mod json;
 pub(crate) use config::escape_controls;
 pub use config::{
     ActuationSpec, CostSpec, CrawlerSpec, GaitSpec, ModelFile, NumberOrList, SimulationSpec,
+    MAX_BLOCKS,
 };
-pub use csv_io::{read_actuation_csv, write_trajectory_csv, AtomicFile};
+pub use csv_io::{read_actuation_csv, remove_staged_files, write_trajectory_csv, AtomicFile};
 pub use general::{write_general_csv, GeneralFile};
 
 use crate::error::{Error, Result};

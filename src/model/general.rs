@@ -356,7 +356,7 @@ impl GeneralProblem {
         let a = match p.a {
             None => vec![vec![0.0; n]; n],
             Some(a) => {
-                check_matrix("dynamics.A", &a, n, Some(n), "the state's dimension")?;
+                check_matrix("dynamics.A", &a, n, Some(n), "the state's")?;
                 a
             }
         };

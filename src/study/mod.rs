@@ -33,11 +33,14 @@
 
 mod plot;
 mod run;
+mod settings;
 mod spec;
 mod table;
 
 pub use plot::{axes_of_header, figures};
-pub use run::{run, run_point, Outcome, Row, Shard, SweepProgress, SweepSettings, SweepSummary};
+pub use run::{
+    run, run_point, Outcome, Row, Shard, SweepProgress, SweepSettings, SweepSummary, MAX_THREADS,
+};
 pub use spec::{Axis, Combine, Job, Point, SweepSpec, MAX_POINTS};
 pub use table::{
     check_rows, header, line, merge, read_any_table, read_table, write_full, write_table, Format,

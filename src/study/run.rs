@@ -1,7 +1,8 @@
 //! Running the points of a sweep: each through the library (no subprocess), in parallel on a
 //! rayon pool, one point per thread (HiGHS single-threaded inside, `optimal::solver`).
 
-use super::spec::{setting_error, Job, Point, SweepSpec};
+use super::settings::setting_error;
+use super::spec::{Job, Point, SweepSpec};
 use crate::api::{self, Hooks};
 use crate::error::{Error, Result};
 use crate::progress::Cancel;
@@ -214,10 +215,16 @@ impl Shard {
     }
 }
 
+/// Most worker threads a sweep may be asked for ([`SweepSettings::threads`]): more is a
+/// mistake (a sweep never runs more threads than points or cores anyway).
+pub const MAX_THREADS: usize = 4096;
+
 /// How a sweep runs.
 #[derive(Clone, Debug, Default)]
 pub struct SweepSettings {
-    /// Worker threads, one point each (0: one per core, the default).
+    /// Worker threads asked for, one point each (0: one per core, the default). A sweep runs
+    /// at most one thread per point to do and per core ([`SweepSettings::threads_for`]);
+    /// more than [`MAX_THREADS`] is refused.
     pub threads: usize,
     /// Run only this share of the points (default all).
     pub shard: Option<Shard>,
@@ -227,6 +234,41 @@ pub struct SweepSettings {
     pub full_results: bool,
     /// Tripped to stop: no new point starts, and running ones stop at their next check.
     pub cancel: Option<Cancel>,
+}
+
+impl SweepSettings {
+    /// Refuses what no sweep runs with: more than [`MAX_THREADS`] threads (field `threads`),
+    /// a shard outside `1..=count`.
+    pub fn check(&self) -> Result<()> {
+        if self.threads > MAX_THREADS {
+            return Err(Error::invalid(
+                "threads",
+                self.threads,
+                format!(
+                    "must be at most {MAX_THREADS} (0: one per core; a sweep runs at most one \
+                     thread per point and per core)"
+                ),
+            ));
+        }
+        if let Some(s) = self.shard {
+            s.check()?;
+        }
+        Ok(())
+    }
+
+    /// The threads that run `points` points: the number asked for (all cores for 0), but
+    /// never more than the points or the cores (`std::thread::available_parallelism`), and at
+    /// least one. Each point is single-threaded (HiGHS with one thread), so more threads than
+    /// cores only share them, and more than points stay idle.
+    pub fn threads_for(&self, points: usize) -> usize {
+        let cores = std::thread::available_parallelism().map_or(1, usize::from);
+        let asked = if self.threads == 0 {
+            cores
+        } else {
+            self.threads
+        };
+        asked.min(cores).min(points).max(1)
+    }
 }
 
 /// Progress of a running sweep, sent with each finished point.
@@ -270,9 +312,7 @@ pub fn run(
 ) -> Result<SweepSummary> {
     let began = Instant::now();
     let n = spec.len()?;
-    if let Some(s) = settings.shard {
-        s.check()?;
-    }
+    settings.check()?;
     let in_share: Vec<usize> = (0..n)
         .filter(|&id| settings.shard.is_none_or(|s| s.holds(id)))
         .collect();
@@ -283,10 +323,11 @@ pub fn run(
         .collect();
     let total = todo.len();
     let (done, errors) = (AtomicUsize::new(0), AtomicUsize::new(0));
+    let threads = settings.threads_for(total);
     let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(settings.threads)
+        .num_threads(threads)
         .build()
-        .map_err(|e| Error::invalid("threads", settings.threads, e.to_string()))?;
+        .map_err(|e| Error::invalid("threads", threads, e.to_string()))?;
     let cancel = settings.cancel.as_ref();
     pool.install(|| {
         use rayon::prelude::*;

@@ -1,9 +1,10 @@
 //! The sweep file: a base model, a job with its settings, and axes over the model's numeric
 //! fields (see the module docs of [`crate::study`]).
 
-use crate::api::{rename_fields, GaitMethod, Naming, OptimizeSettings, Start};
+use super::settings::{optimize_settings, setting_error, simulate_options};
+use crate::api::OptimizeSettings;
 use crate::error::{Error, Result};
-use crate::integrate::{Method, SimOptions};
+use crate::integrate::SimOptions;
 use crate::io::{read_input_text, ModelFile};
 
 /// Largest sweep file or base model read (bytes).
@@ -69,7 +70,8 @@ pub enum Combine {
 /// One axis: a field of the model and its values.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Axis {
-    /// The field as written (`crawler.mu_backward`, `crawler.mu_backward[2]`): the column name.
+    /// The field as meant, whatever spaces it was written with (`crawler.mu_backward`,
+    /// `crawler.mu_backward[2]` for `" crawler.mu_backward[ 2 ]"`): the column name.
     pub field: String,
     /// Its values, in order.
     pub values: Vec<f64>,
@@ -134,42 +136,8 @@ struct RangeFile {
     scale: Option<String>,
 }
 
-#[derive(Deserialize, Default)]
-#[serde(deny_unknown_fields)]
-struct OptimizeKeys {
-    method: Option<String>,
-    phases: Option<usize>,
-    patience: Option<usize>,
-    #[serde(alias = "max-phases")]
-    max_phases: Option<usize>,
-    m: Option<u32>,
-    #[serde(default)]
-    convergence: bool,
-    start: Option<String>,
-    shifts: Option<usize>,
-    #[serde(alias = "time-limit")]
-    time_limit: Option<f64>,
-    #[serde(default)]
-    certify: bool,
-}
-
-#[derive(Deserialize, Default)]
-#[serde(deny_unknown_fields)]
-struct SimulateKeys {
-    method: Option<String>,
-    #[serde(alias = "steps-per-period")]
-    steps_per_period: Option<usize>,
-    #[serde(alias = "max-periods")]
-    max_periods: Option<usize>,
-    tol: Option<f64>,
-    #[serde(alias = "accelerate-after")]
-    accelerate_after: Option<usize>,
-    #[serde(default, alias = "no-accelerate")]
-    no_accelerate: bool,
-}
-
 /// A TOML error as one line naming `what`.
-fn toml_err(what: &str, e: toml::de::Error) -> Error {
+pub(super) fn toml_err(what: &str, e: toml::de::Error) -> Error {
     let msg = crate::io::escape_controls(&e.message().trim().replace('\n', "; "));
     Error::invalid(what, "the table given", msg)
 }
@@ -190,6 +158,8 @@ impl SweepSpec {
 
     /// Parses the text of a sweep file whose relative paths start at `dir`.
     pub fn parse(text: &str, dir: &Path) -> Result<Self> {
+        // Before the TOML parser holds every number of the file (about 170 bytes each).
+        check_value_counts(text)?;
         let f: SweepFile = toml::from_str(text).map_err(|e| Error::Io {
             path: "<sweep>".into(),
             reason: format!(
@@ -292,14 +262,28 @@ impl SweepSpec {
                 "a sweep needs at least one [[axis]]",
             ));
         }
-        let mut axes = Vec::new();
+        let mut axes: Vec<Axis> = Vec::new();
         for (i, a) in f.axis.into_iter().enumerate() {
+            let written = format!("\"{}\"", crate::io::escape_controls(&a.field));
             let axis = Axis::new(a, &format!("axis[{}]", i + 1))?;
-            if axes.iter().any(|b: &Axis| b.field == axis.field) {
+            // Fields compare by what they set (path and entry), not by how they are written:
+            // `gait.period` and `gait.period ` are one field, and a whole list overlaps each
+            // of its entries (the row would show a value that one entry does not have).
+            if let Some((j, b)) = axes.iter().enumerate().find(|(_, b)| b.overlaps(&axis)) {
+                let reason = if b.index == axis.index {
+                    format!("is already axis[{}] ({})", j + 1, b.field)
+                } else {
+                    format!(
+                        "overlaps axis[{}] ({}): a whole list and one of its entries cannot \
+                         both be axes",
+                        j + 1,
+                        b.field
+                    )
+                };
                 return Err(Error::invalid(
                     format!("axis[{}].field", i + 1),
-                    &axis.field,
-                    "is already an axis",
+                    written,
+                    reason,
                 ));
             }
             axes.push(axis);
@@ -312,7 +296,44 @@ impl SweepSpec {
             axes,
         };
         spec.len()?;
+        spec.check_job()?;
         Ok(spec)
+    }
+
+    /// Refuses, before any point runs, job settings that no point could run with: the
+    /// library's own checks of the options ([`SimOptions::check`],
+    /// [`OptimizeSettings::check_values`]), and for optimize what the settings decide for the
+    /// problem ([`OptimizeSettings::decide`]: which options apply to the method), taken from
+    /// the first point (the axes change numbers, not the kind of problem: a TV bound or a
+    /// quadratic cost is the base model's for every point). Errors name `settings.KEY`.
+    fn check_job(&self) -> Result<()> {
+        match &self.job {
+            Job::Analyze => Ok(()),
+            Job::Simulate(options) => options.check().map_err(setting_error),
+            Job::Optimize(settings) => {
+                settings.check_values().map_err(setting_error)?;
+                // A start gait every point would fail to read.
+                if let Some(crate::api::Start::File(path)) = &settings.start {
+                    if !path.is_file() {
+                        return Err(Error::invalid(
+                            "settings.start",
+                            path.display(),
+                            "is not a file (a result file of optimize --json, relative to the \
+                             sweep file)",
+                        ));
+                    }
+                }
+                // A first point that is not a gait problem is its row's error, as before.
+                let first = self.model_at(&self.point(0)).ok();
+                let problem = first.and_then(|m| crate::api::gait_problem(&m).ok());
+                match problem {
+                    Some((_, problem)) => {
+                        settings.decide(&problem).map(|_| ()).map_err(setting_error)
+                    }
+                    None => Ok(()),
+                }
+            }
+        }
     }
 
     /// The number of points (an error naming `axis` when the axes do not combine, or give
@@ -329,6 +350,13 @@ impl SweepSpec {
                             "combine = \"zip\" needs axes of one length ({} values on axis[1])",
                             lens[0]
                         ),
+                    ));
+                }
+                if lens[0] > MAX_POINTS {
+                    return Err(Error::invalid(
+                        "axis",
+                        format!("{} values", lens[0]),
+                        format!("combine = \"zip\" gives more than {MAX_POINTS} points"),
                     ));
                 }
                 Ok(lens[0])
@@ -403,6 +431,11 @@ impl Axis {
     fn new(a: AxisFile, name: &str) -> Result<Self> {
         let (path, index) = parse_field(&a.field, &format!("{name}.field"))?;
         let key = path.join(".");
+        // The column name: the field as it is meant, whatever the spaces it was written with.
+        let field = match index {
+            Some(i) => format!("{key}[{i}]"),
+            None => key.clone(),
+        };
         let per_link = match FIELDS.iter().find(|(f, _)| *f == key) {
             Some((_, list)) => *list,
             None => {
@@ -446,6 +479,13 @@ impl Axis {
                 "needs at least one value",
             ));
         }
+        if values.len() > MAX_POINTS {
+            return Err(Error::invalid(
+                format!("{name}.values"),
+                format!("{} values", values.len()),
+                format!("at most {MAX_POINTS} (the most points a sweep may have)"),
+            ));
+        }
         if let Some(v) = values.iter().find(|v| !v.is_finite()) {
             return Err(Error::invalid(
                 format!("{name}.values"),
@@ -453,13 +493,26 @@ impl Axis {
                 "must be finite",
             ));
         }
+        if path == ["crawler", "blocks"] {
+            if let Some(v) = values.iter().find(|&&v| block_count(v).is_err()) {
+                let reason = block_count(*v).err().unwrap_or_default();
+                return Err(Error::invalid(format!("{name}.values"), v, reason));
+            }
+        }
         Ok(Axis {
-            field: a.field,
+            field,
             values,
             path,
             index,
             per_link,
         })
+    }
+
+    /// Whether this axis and `other` set the same number: the same field and entry, or a whole
+    /// list and one of its entries.
+    fn overlaps(&self, other: &Axis) -> bool {
+        self.path == other.path
+            && (self.index == other.index || self.index.is_none() || other.index.is_none())
     }
 
     /// Sets this axis's field to `v` in a model table.
@@ -486,10 +539,7 @@ impl Axis {
         }
         let integer = self.path == ["crawler", "blocks"];
         let value = if integer {
-            if v.fract() != 0.0 || v.abs() > 1e15 {
-                return Err(bad("must be an integer".into()));
-            }
-            toml::Value::Integer(v as i64)
+            toml::Value::Integer(block_count(v).map_err(bad)?)
         } else {
             toml::Value::Float(v)
         };
@@ -528,9 +578,77 @@ impl Axis {
     }
 }
 
-/// `a.b.c` or `a.b.c[i]` (1-based i) as its path and index.
+/// Refuses, by a scan of the text before it is parsed, a `values = [...]` list of more than
+/// [`MAX_POINTS`] entries, naming its axis (`axis[i].values`): parsed, a list of 3 million
+/// numbers held over a gigabyte and took 18 s before the limit could refuse it. The count is of
+/// the commas inside the brackets, so it can only count more than the entries (a comment in
+/// the list), never fewer.
+fn check_value_counts(text: &str) -> Result<()> {
+    let bytes = text.as_bytes();
+    let (mut axis, mut pos) = (0usize, 0usize);
+    while pos < bytes.len() {
+        let end = text[pos..].find('\n').map_or(bytes.len(), |i| pos + i + 1);
+        let t = text[pos..end].trim_start();
+        if t.starts_with("[[") && t.trim_start_matches('[').trim_start().starts_with("axis") {
+            axis += 1;
+        }
+        let list = t
+            .strip_prefix("values")
+            .or_else(|| t.strip_prefix("\"values\""))
+            .map(str::trim_start)
+            .and_then(|r| r.strip_prefix('='))
+            .map(str::trim_start)
+            .filter(|r| r.starts_with('['));
+        let mut next = end;
+        if let Some(list) = list {
+            // `list` ends the line: it starts at `end - list.len()` and runs, over lines if
+            // need be, to its closing bracket.
+            let (mut depth, mut commas) = (0usize, 0usize);
+            for (i, b) in bytes[end - list.len()..].iter().enumerate() {
+                match b {
+                    b'[' => depth += 1,
+                    b']' => {
+                        depth = depth.saturating_sub(1);
+                        if depth == 0 {
+                            next = next.max(end - list.len() + i + 1);
+                            break;
+                        }
+                    }
+                    b',' => commas += 1,
+                    _ => {}
+                }
+            }
+            if commas > MAX_POINTS {
+                return Err(Error::invalid(
+                    format!("axis[{}].values", axis.max(1)),
+                    format!("more than {MAX_POINTS} values"),
+                    format!("at most {MAX_POINTS} (the most points a sweep may have)"),
+                ));
+            }
+        }
+        pos = next;
+    }
+    Ok(())
+}
+
+/// A value of a `crawler.blocks` axis as the block count, or why it is none: a whole number
+/// from 2 to [`crate::io::MAX_BLOCKS`] (the model file's own range).
+fn block_count(v: f64) -> std::result::Result<i64, String> {
+    let max = crate::io::MAX_BLOCKS;
+    if v.fract() != 0.0 {
+        return Err("must be a whole number of blocks".into());
+    }
+    if !(2.0..=max as f64).contains(&v) {
+        return Err(format!("must be in 2..={max} (blocks of a crawler)"));
+    }
+    Ok(v as i64)
+}
+
+/// `a.b.c` or `a.b.c[i]` (1-based i) as its path and index; spaces around the parts and the
+/// index are not part of the field (`gait.period ` is `gait.period`).
 fn parse_field(s: &str, name: &str) -> Result<(Vec<String>, Option<usize>)> {
     let bad = |reason: &str| Error::invalid(name, s, reason);
+    let s = s.trim();
     let (path, index) = match s.strip_suffix(']') {
         Some(head) => {
             let (p, i) = head
@@ -611,105 +729,4 @@ fn range_values(r: &RangeFile, name: &str) -> Result<Vec<f64>> {
     v[0] = r.from;
     v[n - 1] = r.to;
     Ok(v)
-}
-
-/// A library error of the settings renamed `settings.KEY`.
-fn in_settings(e: Error, keys: &[&str]) -> Error {
-    let names: Vec<(&str, String)> = keys.iter().map(|k| (*k, format!("settings.{k}"))).collect();
-    rename_fields(e, &names)
-}
-
-/// The settings of `job = "optimize"`, named as `crawlopt optimize`'s flags (`time_limit` or
-/// `time-limit`).
-fn optimize_settings(t: toml::Table, dir: &Path) -> Result<OptimizeSettings> {
-    let k: OptimizeKeys = toml::Value::Table(t)
-        .try_into()
-        .map_err(|e| toml_err("settings", e))?;
-    let method = match &k.method {
-        Some(m) => GaitMethod::from_name(m).map_err(|e| in_settings(e, &["method"]))?,
-        None => GaitMethod::Auto,
-    };
-    if let Some(s) = k.time_limit {
-        if !(s.is_finite() && s > 0.0) {
-            return Err(Error::invalid(
-                "settings.time_limit",
-                s,
-                "must be a positive number of seconds",
-            ));
-        }
-    }
-    Ok(OptimizeSettings {
-        method,
-        phases: k.phases,
-        patience: k.patience,
-        max_phases: k.max_phases,
-        m: k.m,
-        convergence: k.convergence,
-        start: k.start.map(|p| Start::File(dir.join(p))),
-        shifts: k.shifts,
-        time_limit: k.time_limit,
-        certify: k.certify,
-        polish: None,
-        // The upper bound over all gaits is not a sweep setting (yet): its grid and LP are
-        // a study of their own.
-        bound: None,
-        naming: Naming::Keywords,
-    })
-}
-
-/// The options of `job = "simulate"`, named as `crawlopt simulate`'s flags.
-fn simulate_options(t: toml::Table) -> Result<SimOptions> {
-    let k: SimulateKeys = toml::Value::Table(t)
-        .try_into()
-        .map_err(|e| toml_err("settings", e))?;
-    let d = SimOptions::DEFAULT;
-    let method = match k.method.as_deref() {
-        None | Some("exact") => Method::Exact,
-        Some("catching-up" | "catching_up") => Method::CatchingUp,
-        Some(other) => {
-            return Err(Error::invalid(
-                "settings.method",
-                format!("\"{other}\""),
-                "must be exact or catching-up",
-            ))
-        }
-    };
-    Ok(SimOptions {
-        method,
-        steps_per_period: k.steps_per_period.unwrap_or(d.steps_per_period),
-        record_periods: 0,
-        max_periods: k.max_periods.unwrap_or(d.max_periods),
-        tol: k.tol.unwrap_or(d.tol),
-        accelerate_after: if k.no_accelerate {
-            None
-        } else {
-            k.accelerate_after.or(d.accelerate_after)
-        },
-        newton: SimOptions::DEFAULT.newton,
-        initial_state: None,
-        increment_budget: d.increment_budget,
-    })
-}
-
-/// The settings keys of a job, for renaming the library's errors.
-pub(crate) const SETTING_KEYS: &[&str] = &[
-    "method",
-    "phases",
-    "patience",
-    "max_phases",
-    "m",
-    "convergence",
-    "start",
-    "shifts",
-    "time_limit",
-    "certify",
-    "steps_per_period",
-    "max_periods",
-    "tol",
-    "accelerate_after",
-];
-
-/// Renames a job's error on a setting to `settings.KEY`.
-pub(crate) fn setting_error(e: Error) -> Error {
-    in_settings(e, SETTING_KEYS)
 }

@@ -138,11 +138,28 @@ fn header_line(header: &[String]) -> String {
 pub fn read_table(path: &Path, header: &[String]) -> Result<(Vec<Row>, usize)> {
     let text = read_input_text(path, MAX_RESULT_BYTES)?;
     let complete = text.rfind('\n').map_or(0, |i| i + 1);
-    let text = &text[..complete];
     let io = |reason: String| Error::Io {
         path: path.display().to_string(),
         reason,
     };
+    // The torn last line must be the start of a line this sweep writes: what is cut off is
+    // then only what a killed run left half-written, never a file that is not this table.
+    let tail = &text[complete..];
+    if !torn_fits(tail, complete == 0, Format::of(path), header) {
+        let shown: String = tail.chars().take(40).collect();
+        return Err(io(format!(
+            "is not a table of this sweep: its last line \"{}{}\" (without a newline) is not \
+             the beginning of {}; the file is left as it is",
+            crate::io::escape_controls(&shown),
+            if tail.chars().count() > 40 { "..." } else { "" },
+            if complete == 0 && Format::of(path) == Format::Csv {
+                "this sweep's header"
+            } else {
+                "a row"
+            }
+        )));
+    }
+    let text = &text[..complete];
     let axes = header.len() - 1 - RESULT_COLUMNS.len();
     let mut rows = Vec::new();
     match Format::of(path) {
@@ -207,6 +224,27 @@ pub fn read_table(path: &Path, header: &[String]) -> Result<(Vec<Row>, usize)> {
         }
     }
     Ok((rows, complete))
+}
+
+/// Whether `tail`, a last line without its newline, is the beginning of a line of this sweep's
+/// table in `format`: of the CSV header when it is the first line, else of a row (`point` then
+/// a comma in CSV; `{"point":` then a digit in JSON Lines).
+fn torn_fits(tail: &str, first: bool, format: Format, header: &[String]) -> bool {
+    let prefix_of = |s: &str| s.starts_with(tail) || tail.starts_with(s);
+    match format {
+        Format::Csv if first => header_line(header).starts_with(tail),
+        Format::Csv => {
+            let digits = tail.bytes().take_while(u8::is_ascii_digit).count();
+            digits == tail.len() || (digits > 0 && tail.as_bytes()[digits] == b',')
+        }
+        Format::JsonLines => {
+            let start = "{\"point\":";
+            match tail.strip_prefix(start) {
+                Some(rest) => rest.is_empty() || rest.as_bytes()[0].is_ascii_digit(),
+                None => prefix_of(start),
+            }
+        }
+    }
 }
 
 fn row_of(c: &[&str], axes: usize) -> std::result::Result<Row, String> {
@@ -312,6 +350,28 @@ impl TableWriter {
             reason,
         };
         let format = Format::of(path);
+        // A device, FIFO or socket (or this process's standard output) is written straight
+        // into, as every output is (`AtomicFile`); there is no table in it to continue.
+        if let Some(stream) = AtomicFile::open_stream(path)? {
+            if resume {
+                return Err(io(
+                    "is not a regular file: --resume continues a table file (a device, FIFO \
+                     or socket is only written into)"
+                        .into(),
+                ));
+            }
+            let mut out: Box<dyn std::io::Write + Send> = Box::new(stream);
+            if format == Format::Csv {
+                write_flush(&mut out, &header_line(&header), path)?;
+            }
+            let w = TableWriter {
+                out,
+                header,
+                format,
+                path: Some(path.to_path_buf()),
+            };
+            return Ok((w, BTreeSet::new()));
+        }
         let exists = std::fs::metadata(path).is_ok_and(|m| m.is_file() && m.len() > 0);
         let mut done = BTreeSet::new();
         let mut keep = 0;

@@ -34,7 +34,8 @@ pub enum MethodArg {
 pub struct SimulateArgs {
     /// Model file (TOML) with an [actuation] section.
     pub file: PathBuf,
-    /// Periods recorded on the periodic orbit (trajectory output); 0 records none.
+    /// Periods recorded on the periodic orbit (trajectory output); 0 records none (refused
+    /// with -o, which would get nothing).
     #[arg(long, default_value_t = DEFAULTS.record_periods, allow_negative_numbers = true, value_parser = count)]
     pub periods: usize,
     /// Steps per period (catching-up), or knots of the interpolant of a sine/triangle (exact).
@@ -132,6 +133,17 @@ pub fn run(a: SimulateArgs) -> Result<ExitCode, Error> {
     };
     // Output paths are checked before the work: a directory for -o, a file for --plot.
     if let Some(path) = &a.output {
+        if a.periods == 0 {
+            return Err(Error::invalid(
+                "--periods",
+                0,
+                format!(
+                    "records no trajectory, so -o {} would get nothing: record at least one \
+                     period, or leave out -o",
+                    path.display()
+                ),
+            ));
+        }
         AtomicFile::check(path)?;
     }
     if let Some(dir) = &a.plot {

@@ -34,7 +34,8 @@ pub struct RunArgs {
     /// Sweep file (TOML): base model, job, settings, axes (see the README).
     #[arg(required = true)]
     pub file: Option<PathBuf>,
-    /// Worker threads, one point each (default: one per core).
+    /// Worker threads, one point each (default: one per core); at most one per point and per
+    /// core run, more than 4096 is refused.
     #[arg(short = 'j', long = "jobs", default_value_t = 0)]
     pub jobs: usize,
     /// The table: CSV, or JSON Lines for .jsonl; rows appended and flushed as each point
@@ -103,14 +104,19 @@ fn run_sweep(a: RunArgs) -> Result<ExitCode, Error> {
     if let Some(dir) = &a.plot {
         present::check_figure_dir(dir)?;
     }
-    let (writer, skip) = TableWriter::open(&spec, a.output.as_deref(), format, a.resume)?;
-    let settings = SweepSettings {
+    let mut settings = SweepSettings {
         threads: a.jobs,
         shard,
-        skip,
+        skip: Default::default(),
         full_results: a.results.is_some(),
         cancel: Some(Default::default()),
     };
+    // Checked before the output is opened (a resumed table is trimmed when opened).
+    settings
+        .check()
+        .map_err(|e| api::rename_fields(e, &[("threads", "--jobs".to_string())]))?;
+    let (writer, skip) = TableWriter::open(&spec, a.output.as_deref(), format, a.resume)?;
+    settings.skip = skip;
     let writer = Mutex::new(writer);
     let rows = Mutex::new(Vec::new());
     let failed: Mutex<Option<Error>> = Mutex::new(None);

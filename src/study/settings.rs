@@ -1,0 +1,136 @@
+//! The `[settings]` of a sweep file: the job's options, named as the command's flags, read
+//! into the library's settings ([`OptimizeSettings`], [`SimOptions`]); their errors named
+//! `settings.KEY`.
+
+use super::spec::toml_err;
+use crate::api::{rename_fields, GaitMethod, Naming, OptimizeSettings, Start};
+use crate::error::{Error, Result};
+use crate::integrate::{Method, SimOptions};
+use serde::Deserialize;
+use std::path::Path;
+
+#[derive(Deserialize, Default)]
+#[serde(deny_unknown_fields)]
+struct OptimizeKeys {
+    method: Option<String>,
+    phases: Option<usize>,
+    patience: Option<usize>,
+    #[serde(alias = "max-phases")]
+    max_phases: Option<usize>,
+    m: Option<u32>,
+    #[serde(default)]
+    convergence: bool,
+    start: Option<String>,
+    shifts: Option<usize>,
+    #[serde(alias = "time-limit")]
+    time_limit: Option<f64>,
+    #[serde(default)]
+    certify: bool,
+}
+
+#[derive(Deserialize, Default)]
+#[serde(deny_unknown_fields)]
+struct SimulateKeys {
+    method: Option<String>,
+    #[serde(alias = "steps-per-period")]
+    steps_per_period: Option<usize>,
+    #[serde(alias = "max-periods")]
+    max_periods: Option<usize>,
+    tol: Option<f64>,
+    #[serde(alias = "accelerate-after")]
+    accelerate_after: Option<usize>,
+    #[serde(default, alias = "no-accelerate")]
+    no_accelerate: bool,
+}
+
+/// A library error of the settings renamed `settings.KEY`.
+fn in_settings(e: Error, keys: &[&str]) -> Error {
+    let names: Vec<(&str, String)> = keys.iter().map(|k| (*k, format!("settings.{k}"))).collect();
+    rename_fields(e, &names)
+}
+
+/// The settings of `job = "optimize"`, named as `crawlopt optimize`'s flags (`time_limit` or
+/// `time-limit`).
+pub(super) fn optimize_settings(t: toml::Table, dir: &Path) -> Result<OptimizeSettings> {
+    let k: OptimizeKeys = toml::Value::Table(t)
+        .try_into()
+        .map_err(|e| toml_err("settings", e))?;
+    let method = match &k.method {
+        Some(m) => GaitMethod::from_name(m).map_err(|e| in_settings(e, &["method"]))?,
+        None => GaitMethod::Auto,
+    };
+    Ok(OptimizeSettings {
+        method,
+        phases: k.phases,
+        patience: k.patience,
+        max_phases: k.max_phases,
+        m: k.m,
+        convergence: k.convergence,
+        start: k.start.map(|p| Start::File(dir.join(p))),
+        shifts: k.shifts,
+        time_limit: k.time_limit,
+        certify: k.certify,
+        polish: None,
+        // The upper bound over all gaits is not a sweep setting (yet): its grid and LP are
+        // a study of their own.
+        bound: None,
+        naming: Naming::Keywords,
+    })
+}
+
+/// The options of `job = "simulate"`, named as `crawlopt simulate`'s flags.
+pub(super) fn simulate_options(t: toml::Table) -> Result<SimOptions> {
+    let k: SimulateKeys = toml::Value::Table(t)
+        .try_into()
+        .map_err(|e| toml_err("settings", e))?;
+    let d = SimOptions::DEFAULT;
+    let method = match k.method.as_deref() {
+        None | Some("exact") => Method::Exact,
+        Some("catching-up" | "catching_up") => Method::CatchingUp,
+        Some(other) => {
+            return Err(Error::invalid(
+                "settings.method",
+                format!("\"{other}\""),
+                "must be exact or catching-up",
+            ))
+        }
+    };
+    Ok(SimOptions {
+        method,
+        steps_per_period: k.steps_per_period.unwrap_or(d.steps_per_period),
+        record_periods: 0,
+        max_periods: k.max_periods.unwrap_or(d.max_periods),
+        tol: k.tol.unwrap_or(d.tol),
+        accelerate_after: if k.no_accelerate {
+            None
+        } else {
+            k.accelerate_after.or(d.accelerate_after)
+        },
+        newton: SimOptions::DEFAULT.newton,
+        initial_state: None,
+        increment_budget: d.increment_budget,
+    })
+}
+
+/// The settings keys of a job, for renaming the library's errors.
+pub(crate) const SETTING_KEYS: &[&str] = &[
+    "method",
+    "phases",
+    "patience",
+    "max_phases",
+    "m",
+    "convergence",
+    "start",
+    "shifts",
+    "time_limit",
+    "certify",
+    "steps_per_period",
+    "max_periods",
+    "tol",
+    "accelerate_after",
+];
+
+/// Renames a job's error on a setting to `settings.KEY`.
+pub(crate) fn setting_error(e: Error) -> Error {
+    in_settings(e, SETTING_KEYS)
+}
