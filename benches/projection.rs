@@ -1,4 +1,4 @@
-//! The exact projection onto a general polyhedron (`sweep::polyhedron`, SPEC §11) against the
+//! The exact projection onto a general polyhedron (`sweep::polyhedron`, theory §11) against the
 //! dedicated crawler projection (`sweep::Projector`) on the same catching-up steps: a crawler of
 //! n links (N = n + 1 blocks, sigma = 2N faces), k = 1, mu+ = 1, mu- = 3.3, under the travelling
 //! sine `L_l = 2 sin(2 pi t - l pi/2)`, 200 steps a period, from the periodic orbit; the general

@@ -19,7 +19,7 @@ pub enum Error {
         reason: String,
     },
 
-    /// The uniqueness condition (SPEC §2, paper eq. 3.5) fails for the subset `subset`
+    /// The uniqueness condition (theory §2, paper eq. 3.5) fails for the subset `subset`
     /// (1-based block numbers): a group of blocks can slide rigidly against the rest.
     #[error(
         "uniqueness condition (paper eq. 3.5) fails for blocks J = {}: \
@@ -42,7 +42,7 @@ pub enum Error {
     #[error("uniqueness condition (paper eq. 3.5) cannot be decided: {0}")]
     UniquenessUndecided(String),
 
-    /// A state outside the polytope C of admissible spring forces (SPEC §2).
+    /// A state outside the polytope C of admissible spring forces (theory §2).
     #[error("{what}: state is not admissible (outside C): {detail}")]
     Inadmissible {
         /// Which state, e.g. `simulation.initial_state`.

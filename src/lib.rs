@@ -3,7 +3,11 @@
 //! Simulation and optimal gaits of rate-independent soft crawlers: chains of blocks joined by
 //! springs in series with actuators, on a surface with direction-dependent dry friction, moving
 //! quasi-statically. The shape follows a Moreau sweeping process in the polytope C of admissible
-//! spring forces (`SPEC.md`; paper "On the optimal control of rate-independent soft crawlers").
+//! spring forces (paper "On the optimal control of rate-independent soft crawlers").
+//!
+//! Citations "theory §N" throughout the code are to the sections of `docs/theory.md`, the
+//! project's own account of the mathematics (conventions, formulations, reference values), which
+//! in turn cites the paper's sections and equations.
 //!
 //! Layers, each knowing only those before it:
 //! - [`model`]: the crawler, the polytope C, the uniqueness condition, v_m;
@@ -25,7 +29,7 @@
 //! use crawlopt::integrate::{simulate, Actuation, Method, SimOptions, Waveform};
 //! use crawlopt::Crawler;
 //!
-//! // One link, mu+ = 1 and mu- = 2 on both blocks, L = 3 sin(2 pi t): SPEC §10 gives
+//! // One link, mu+ = 1 and mu- = 2 on both blocks, L = 3 sin(2 pi t): theory §10 gives
 //! // max(0, 2A - 2) = 4 per period.
 //! let crawler = Crawler::uniform(2, 1.0, 1.0, 2.0)?;
 //! let act = Actuation::wave(Waveform::Sine, 1.0, vec![0.0], vec![3.0], vec![0.0])?;

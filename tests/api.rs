@@ -193,7 +193,7 @@ fn the_three_block_optimum_with_its_events() {
 
 #[test]
 fn the_one_link_closed_form_through_analyze_and_optimize() {
-    // SPEC §10: J* = (a T - 2 w) / (2 k) = 3.
+    // theory §10: J* = (a T - 2 w) / (2 k) = 3.
     let m = ModelFile::load("examples/one_link_gait.toml".as_ref()).unwrap();
     let a = api::analyze(&m).unwrap();
     let closed = a.gait.unwrap().one_link_optimum.unwrap().value;

@@ -38,7 +38,7 @@ fn discrete_group_holds(c: &NecessaryConditions) -> bool {
 }
 
 fn one_link() -> (Crawler, GaitProblem) {
-    // SPEC §10: k = 1, a = 1, T = 10, mu+ = 1, mu- = 2: C = [-1, 1], J* = 3.
+    // theory §10: k = 1, a = 1, T = 10, mu+ = 1, mu- = 2: C = [-1, 1], J* = 3.
     let c = Crawler::uniform(2, 1.0, 1.0, 2.0).unwrap();
     let p = GaitProblem::new(&c, 10.0, &[1.0], Cost::None, None).unwrap();
     (c, p)
@@ -255,7 +255,7 @@ fn theorem_2_2_residuals_of_the_p_m_multipliers_shrink_like_h() {
     }
 }
 
-/// A phase gait on the one-link crawler of SPEC §10 with an oscillating stretch.
+/// A phase gait on the one-link crawler of theory §10 with an oscillating stretch.
 fn one_link_with(pieces: &[(f64, f64)], cost: Cost) -> Process {
     let (c, _) = one_link();
     let p = GaitProblem::new(&c, 10.0, &[1.0], cost, None).unwrap();

@@ -316,7 +316,7 @@ fn optimize_discrete_returns_a_verified_certified_gait() {
     // K = 1 idles, K = 2 (extension and contraction, each after its transition) gives 3, and
     // K = 3 and 4 bring nothing more (patience 2).
     assert_eq!(v["phase_growth"]["table"].as_array().unwrap().len(), 4);
-    // --convergence: J_m for m = 1..=3, all 3 (SPEC §10).
+    // --convergence: J_m for m = 1..=3, all 3 (theory §10).
     let out = crawlopt(&[
         "optimize",
         "examples/one_link_gait.toml",
@@ -633,7 +633,7 @@ fn optimize_discrete_returns_a_verified_certified_gait() {
         all.extend_from_slice(args);
         let out = crawlopt(&all);
         assert!(out.status.success(), "{args:?}: {}", stderr(&out));
-        // The one-link optimum (SPEC §10): J = 3 on every method and grid here.
+        // The one-link optimum (theory §10): J = 3 on every method and grid here.
         let j = json(&out)["objective"].as_f64().unwrap();
         assert!((j - 3.0).abs() < 1e-8, "{args:?}: {j}");
     }

@@ -1,4 +1,4 @@
-//! The command line on general problem files (`[sweeping_process]`, SPEC §11): `analyze` and
+//! The command line on general problem files (`[sweeping_process]`, theory §11): `analyze` and
 //! `simulate` on the examples, and every refused input with exit 2 and its field named.
 
 use std::process::Output;

@@ -1,4 +1,4 @@
-//! The one-link crawler against the closed forms of SPEC §9–10 (paper §4).
+//! The one-link crawler against the closed forms of theory §9–10 (paper §4).
 
 mod common;
 use common::{disp, sine};
@@ -9,7 +9,7 @@ const TOL: f64 = 1e-11;
 
 #[test]
 fn sine_gait_moves_max_0_2a_minus_2() {
-    // SPEC §10: N = 2, k = 1, mu+ = 1, mu- = 2, L = A sin(2 pi t): max(0, 2A - 2) per period.
+    // theory §10: N = 2, k = 1, mu+ = 1, mu- = 2, L = A sin(2 pi t): max(0, 2A - 2) per period.
     let c = Crawler::uniform(2, 1.0, 1.0, 2.0).unwrap();
     for a in [0.5, 1.0, 1.25, 2.0, 3.0, 7.5] {
         let want = f64::max(0.0, 2.0 * a - 2.0);
@@ -28,7 +28,7 @@ fn sine_gait_moves_max_0_2a_minus_2() {
 
 #[test]
 fn rise_and_fall_moves_delta_l_minus_w_over_k() {
-    // SPEC §9 with asymmetric friction and k != 1: C = [alpha, beta], w = beta - alpha,
+    // theory §9 with asymmetric friction and k != 1: C = [alpha, beta], w = beta - alpha,
     // any monotone rise by dL and fall back moves max(0, dL - w/k) per period.
     let (mp, mm) = (vec![1.0, 0.8], vec![2.5, 1.7]);
     let alpha = f64::max(-mp[0], -mm[1]);
@@ -84,7 +84,7 @@ fn catching_up_is_exact_for_one_link_at_any_m() {
 
 #[test]
 fn one_sided_friction_cannot_move_periodically() {
-    // SPEC §9: if only extension (or only contraction) moves forward, v_m is linear and every
+    // theory §9: if only extension (or only contraction) moves forward, v_m is linear and every
     // periodic gait gives zero net displacement.
     for (mp, mm) in [
         (vec![1.0, 0.5], vec![2.0, 0.8]),
@@ -106,7 +106,7 @@ fn one_sided_friction_cannot_move_periodically() {
 
 #[test]
 fn minimum_at_for_locomotion_is_twice_the_width() {
-    // SPEC §9: J* = max(0, (aT - 2w)/(2k)) for the bang-bang gait u = +a for T/2, -a for T/2;
+    // theory §9: J* = max(0, (aT - 2w)/(2k)) for the bang-bang gait u = +a for T/2, -a for T/2;
     // the analysis reports the threshold 2w.
     let c = Crawler::uniform(2, 1.0, 1.0, 2.0).unwrap();
     let o = c.analyze().one_link.unwrap();
@@ -122,6 +122,6 @@ fn minimum_at_for_locomotion_is_twice_the_width() {
     let got = disp(&c, &act, Method::Exact, 0);
     assert!(
         (got - 3.0).abs() < TOL,
-        "SPEC §10 reference J* = 3, got {got}"
+        "theory §10 reference J* = 3, got {got}"
     );
 }

@@ -1,4 +1,4 @@
-//! The global solver of P_m (SPEC §6) against the one-link closed form and the simulator.
+//! The global solver of P_m (theory §6) against the one-link closed form and the simulator.
 
 use crawlopt::optimal::{
     one_link_optimum, solve_discrete_global, solve_discrete_global_from, solve_discrete_local,
@@ -8,7 +8,7 @@ use crawlopt::Crawler;
 
 #[test]
 fn one_link_p_m_equals_the_closed_form_for_every_m() {
-    // SPEC §10: N = 2, k = 1, a = 1, T = 10, mu+ = 1, mu- = 2: the P_m optimum is 3 for m >= 1.
+    // theory §10: N = 2, k = 1, a = 1, T = 10, mu+ = 1, mu- = 2: the P_m optimum is 3 for m >= 1.
     let c = Crawler::uniform(2, 1.0, 1.0, 2.0).unwrap();
     let p = GaitProblem::new(&c, 10.0, &[1.0], Cost::None, None).unwrap();
     for m in 1..=4 {

@@ -26,7 +26,7 @@ use std::time::Duration;
 /// Deadline of one `crawlopt sweep` run on a seed-sized grid (analyze and short simulations).
 const QUICK: Duration = Duration::from_secs(20);
 
-/// The base model of every seed (an inline [model]: one link, the gait problem of SPEC §10,
+/// The base model of every seed (an inline [model]: one link, the gait problem of theory §10,
 /// and a sine actuation for simulate).
 const MODEL: &str = "[model.crawler]\nblocks = 2\nstiffness = 1.0\nmu_forward = 1.0\n\
     mu_backward = 2.0\n[model.gait]\nperiod = 10.0\nmax_actuator_speed = 1.0\n\

@@ -1,5 +1,5 @@
 //! Quadratic actuation cost, total-variation bounds, the growth of K and the convergence table,
-//! against closed forms (SPEC §9 and the derivation in `optimal::one_link`).
+//! against closed forms (theory §9 and the derivation in `optimal::one_link`).
 
 use crawlopt::optimal::{
     discrete_convergence, grow_phases, one_link_optimum, solve_discrete_global, solve_phase_global,
@@ -92,7 +92,7 @@ fn a_heavy_cost_makes_idling_optimal() {
 
 #[test]
 fn total_variation_bound_in_p_m_matches_the_closed_form() {
-    // SPEC §10 crawler with TV(u) <= 3: rates 3/4, sweep 3.75, J* = 1.75 (optimal::one_link).
+    // theory §10 crawler with TV(u) <= 3: rates 3/4, sweep 3.75, J* = 1.75 (optimal::one_link).
     let c = Crawler::uniform(2, 1.0, 1.0, 2.0).unwrap();
     let p = GaitProblem::new(&c, 10.0, &[1.0], Cost::None, Some(3.0)).unwrap();
     assert_eq!(one_link_optimum(&c, &p).unwrap().value, 1.75);
@@ -146,7 +146,7 @@ fn growing_k_stops_where_the_value_stops_improving() {
     assert_eq!(g.best.phases, 6);
     assert_eq!(g.table.len(), 6);
 
-    // a T < 2 w (SPEC §9): nothing moves for any K; idling is certified for every K tried.
+    // a T < 2 w (theory §9): nothing moves for any K; idling is certified for every K tried.
     let c = Crawler::uniform(2, 1.0, 1.0, 2.0).unwrap();
     let p = GaitProblem::new(&c, 3.0, &[1.0], Cost::None, None).unwrap();
     let opts = GrowOptions {
@@ -173,7 +173,7 @@ fn growing_k_stops_where_the_value_stops_improving() {
 
 #[test]
 fn convergence_table_of_p_m() {
-    // SPEC §10: J_m = 3 for every m.
+    // theory §10: J_m = 3 for every m.
     let c = Crawler::uniform(2, 1.0, 1.0, 2.0).unwrap();
     let p = GaitProblem::new(&c, 10.0, &[1.0], Cost::None, None).unwrap();
     let mut seen = 0;

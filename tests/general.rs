@@ -1,4 +1,4 @@
-//! The general problem (P) (SPEC §11): the exact projection onto a polyhedron against an
+//! The general problem (P) (theory §11): the exact projection onto a polyhedron against an
 //! independent enumeration of active sets and the variational inequality, the catching-up
 //! simulation against closed forms (the paper's §4 one-link problem in general form, a box with
 //! linear drift), and the crawler as an instance (same steps as the dedicated crawler path).

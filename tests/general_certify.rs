@@ -1,5 +1,5 @@
 //! The necessary conditions (Theorem 2.2, Theorems 6.1-6.2) for optima of the general problem's
-//! P_m (SPEC §11, `crawlopt::certify::general`): the §4 one-link problem in general form against
+//! P_m (theory §11, `crawlopt::certify::general`): the §4 one-link problem in general form against
 //! the crawler certificate and §4's structure, crawler instances against the crawler certificate
 //! after the change of variables, a two-dimensional problem with drift whose P_1 optimum and
 //! multipliers are derived by hand, and a feasible process that is not optimal.
@@ -35,7 +35,7 @@ fn max_diff(a: &[Vec<f64>], b: &[Vec<f64>]) -> f64 {
 
 /// (a) examples/general_one_link.toml (C = [-1, 1], g = u, U = [-1, 1], f1 = |eta|/2, T = 10):
 /// the P_3 optimum J* = 3 is certified, and its multipliers are those of the crawler certificate
-/// of the same process on the crawler with this C (N = 2, k = 1, mu^+ = 1, mu^- = 2, SPEC §10;
+/// of the same process on the crawler with this C (N = 2, k = 1, mu^+ = 1, mu^- = 2, theory §10;
 /// k = 1 and unit normals, so no change of variables): the same verdict, adjoint, omega and dxi
 /// masses, with §4's structure (bang-bang, u = -sign(p + omega), switches at the ends of C,
 /// interior arcs (beta - alpha)/a = 2, up to the grid).

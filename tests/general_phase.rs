@@ -1,4 +1,4 @@
-//! Exact continuous-time gaits of the general problem (P) where `A = 0` (SPEC §7 generalised,
+//! Exact continuous-time gaits of the general problem (P) where `A = 0` (theory §7 generalised,
 //! §11): the phase MILP against the paper's §4 one-link closed form, against the dedicated
 //! crawler phase method on crawler instances, re-verified by an independent replay in the
 //! exact simulator, non-decreasing in K, and its refusals.

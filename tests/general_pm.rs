@@ -1,4 +1,4 @@
-//! P_m of the general problem (P) (SPEC §11), globally as a MILP: the paper's §4 one-link
+//! P_m of the general problem (P) (theory §11), globally as a MILP: the paper's §4 one-link
 //! problem in general form against its closed form, crawler instances against the dedicated
 //! crawler P_m, and random small instances against the enumeration of every complementarity
 //! branch (an LP each, no big-M): polygons for m = 1, 2, intervals for m = 3.
@@ -16,7 +16,7 @@ use crawlopt::optimal::{solve_discrete_global, Cost, GaitProblem, MilpStatus};
 #[test]
 fn the_one_link_problem_of_section_4() {
     // J* = (T - 2 (b - a)) / 2 for T > 2 (b - a), 0 below; P_m attains it for every m >= 1
-    // when the half period is a whole number of steps that reaches across C (SPEC §10).
+    // when the half period is a whole number of steps that reaches across C (theory §10).
     for (a, b, t, want) in [
         (-1.0, 1.0, 10.0, 3.0),
         (-0.5, 1.5, 12.0, 4.0),

@@ -1,4 +1,4 @@
-//! The exact projection onto a general polyhedron (`sweep::polyhedron`, SPEC §11) against a
+//! The exact projection onto a general polyhedron (`sweep::polyhedron`, theory §11) against a
 //! generic QP solver, Clarabel (an interior-point method, independent of the active-set
 //! method): `min (1/2)|x - v|^2` s.t. `<x*_j, x> <= c_j` on random polytopes. Clarabel's answer
 //! is accurate to its tolerances; ours is exact (the KKT system of its active set).

@@ -1,7 +1,7 @@
 //! Invariants of the sweeping process, as property tests over random crawlers and gaits:
 //! trajectories stay in C, positions agree with the shape, the recorded orbit is periodic, the
 //! displacement is rate-independent, and the multipliers reproduce the catching-up step and
-//! agree with the weighted median of SPEC §3.
+//! agree with the weighted median of theory §3.
 
 mod common;
 use crawlopt::integrate::{simulate, Actuation, Method, SimOptions};
@@ -130,7 +130,7 @@ proptest! {
             p.step(&mut x, delta, &mut d).unwrap();
             let scale = 1.0 + delta.iter().fold(0.0f64, |m, v| m.max(v.abs())) + c.state_scale();
             prop_assert!(c.violation(&x).0 <= 1e-12 * scale);
-            // K^{-1}(v - x) = sum_b D_b nu_b (SPEC §4).
+            // K^{-1}(v - x) = sum_b D_b nu_b (theory §4).
             for l in 0..n {
                 let lhs = (prev[l] + delta[l] - x[l]) / c.stiffness()[l];
                 prop_assert!((lhs - (d[l + 1] - d[l])).abs() <= 1e-12 * scale);

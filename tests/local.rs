@@ -1,4 +1,4 @@
-//! The local LPCC method for P_m (SPEC §6): never worse than its start, never better than the
+//! The local LPCC method for P_m (theory §6): never worse than its start, never better than the
 //! global optimum, exact on the one-link closed form, re-verified by the simulator.
 
 use crawlopt::optimal::{
@@ -33,7 +33,7 @@ fn sampled_increments_are_admissible() {
 
 #[test]
 fn one_link_local_improves_a_poor_start_and_keeps_the_optimum() {
-    // SPEC §10: J_m = 3 for every m. Start: a small rise and fall (sweep 2.5, J = 0.5).
+    // theory §10: J_m = 3 for every m. Start: a small rise and fall (sweep 2.5, J = 0.5).
     let c = Crawler::uniform(2, 1.0, 1.0, 2.0).unwrap();
     let p = GaitProblem::new(&c, 10.0, &[1.0], Cost::None, None).unwrap();
     let times = [0.0, 2.5, 5.0, 10.0];

@@ -1,4 +1,4 @@
-//! The closed-form optimum of the one-link gait problem (SPEC §9), checked against simulations
+//! The closed-form optimum of the one-link gait problem (theory §9), checked against simulations
 //! of the gaits it returns and of competing gaits.
 
 mod common;
@@ -22,7 +22,7 @@ fn simulated_value(c: &Crawler, t: f64, t1: f64, sweep: f64, cost: Cost) -> f64 
 
 #[test]
 fn spec_reference_value_and_its_gait() {
-    // SPEC §10: N = 2, k = 1, a = 1, T = 10, mu+ = 1, mu- = 2: w = 2, J* = 3.
+    // theory §10: N = 2, k = 1, a = 1, T = 10, mu+ = 1, mu- = 2: w = 2, J* = 3.
     let c = Crawler::uniform(2, 1.0, 1.0, 2.0).unwrap();
     let p = problem(&c, 10.0, 1.0, Cost::None, None);
     let o = one_link_optimum(&c, &p).unwrap();

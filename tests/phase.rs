@@ -1,4 +1,4 @@
-//! Exact continuous-time gaits (SPEC §7): the phase MILP against the one-link closed form, and
+//! Exact continuous-time gaits (theory §7): the phase MILP against the one-link closed form, and
 //! its monotonicity in the number of phases.
 
 use crawlopt::optimal::{

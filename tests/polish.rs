@@ -108,7 +108,7 @@ fn the_drift_example_certifies_after_polishing() {
 #[test]
 fn a_crawler_optimum_with_interior_rates_certifies_after_polishing() {
     // One link (k = 1, mu^+ = 1, mu^- = 2, a = 1, T = 10) with f2 = (0.6/2) u^2: the optimum
-    // sweeps Delta = T / (4 c k) = 25/6 at |u| = 5/6 < a over half periods (SPEC §9, paper §4),
+    // sweeps Delta = T / (4 c k) = 25/6 at |u| = 5/6 < a over half periods (theory §9, paper §4),
     // J* = 1/12; its switches at T/4 and 3T/4 lie on the grid of P_3, so P_3's optimum is it.
     // The MILP's cuts left u = 0.8335 and J short by 8e-8, and the conditions failed at 5e-5.
     let c = Crawler::uniform(2, 1.0, 1.0, 2.0).unwrap();

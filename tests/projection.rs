@@ -1,6 +1,6 @@
 //! The exact dynamic-programming projection onto C ([`ChainDp`]) against the active-set method
 //! ([`ChainQp`]) on random chains (per-link stiffness, per-block friction) and random states:
-//! the same minimiser and the same block displacements (multipliers, SPEC §4) to 1e-12 relative.
+//! the same minimiser and the same block displacements (multipliers, theory §4) to 1e-12 relative.
 
 use crawlopt::sweep::{increment, Bound, ChainDp, ChainQp, ChainWarm};
 use crawlopt::Crawler;

@@ -1,5 +1,5 @@
 //! The numeric range the optimisers support (README, "Supported range"): at its corners every
-//! optimiser agrees with the one-link closed form (SPEC §9), just outside it they refuse with the
+//! optimiser agrees with the one-link closed form (theory §9), just outside it they refuse with the
 //! field named, and the inputs that once panicked inside HiGHS or gave a false certificate are
 //! refused, never answered.
 

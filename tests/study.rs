@@ -1,5 +1,5 @@
 //! Parameter studies (`crawlopt::study`): the sweep file, its points, the runs against the
-//! one-link closed form of SPEC §9, shards, and the table read back.
+//! one-link closed form of theory §9, shards, and the table read back.
 
 use crawlopt::api;
 use crawlopt::study::{
@@ -37,7 +37,7 @@ field = "gait.period"
 range = { from = 2.0, to = 12.0, count = 6 }
 "#;
 
-/// SPEC §9 by hand for mu+ = p on both blocks, mu- = 2, k = a = 1: C = [max(-p, -2),
+/// theory §9 by hand for mu+ = p on both blocks, mu- = 2, k = a = 1: C = [max(-p, -2),
 /// min(2, p)]; locomotion needs mu+ < mu- (both directions), then J* = max(0, (T - 2w)/2).
 fn closed_form(p: f64, t: f64) -> f64 {
     if p < 2.0 {
@@ -117,7 +117,7 @@ fn analyze_job_reports_the_closed_form_and_the_class_of_vm() {
         }
         assert_eq!(r.certificate.as_deref(), Some("closed_form"));
         assert!((r.objective.unwrap() - closed_form(p, t)).abs() <= 1e-12);
-        // mu+ > mu- on both blocks: both strokes move it backward (SPEC §9).
+        // mu+ > mu- on both blocks: both strokes move it backward (theory §9).
         let class = if p < 2.0 { "convex" } else { "concave" };
         assert_eq!(r.status, class, "p = {p}");
     }

@@ -18,7 +18,7 @@ fn stderr(o: &Output) -> String {
     String::from_utf8_lossy(&o.stderr).into_owned()
 }
 
-/// The one-link gait problem of SPEC §10 (k = a = 1, mu+ = 1, mu- = 2: J* = (T - 4) / 2).
+/// The one-link gait problem of theory §10 (k = a = 1, mu+ = 1, mu- = 2: J* = (T - 4) / 2).
 const MODEL: &str = r#"
 [model.crawler]
 blocks = 2
@@ -90,7 +90,7 @@ fn one_field_in_two_spellings_is_refused() {
     .unwrap();
     let names: Vec<&str> = spec.axes.iter().map(|a| a.field.as_str()).collect();
     assert_eq!(names, ["crawler.mu_forward[1]", "crawler.mu_forward[2]"]);
-    // And a spaced field sets its field: J* = (T - 4) / 2 at T = 6 and 8 (SPEC §10).
+    // And a spaced field sets its field: J* = (T - 4) / 2 at T = 6 and 8 (theory §10).
     let spec = parse(&sweep(
         "analyze",
         "[[axis]]\nfield = \"gait.period \"\nvalues = [6, 8]\n",

@@ -1,4 +1,4 @@
-//! The upper bound over all periodic gaits (SPEC §12, `certify::bound`): never below a gait,
+//! The upper bound over all periodic gaits (theory §12, `certify::bound`): never below a gait,
 //! and converging to the closed form for one link.
 
 use crawlopt::certify::bound::{upper_bound, BoundSettings, BoundStatus};
@@ -237,7 +237,7 @@ fn with_a_quadratic_cost_never_below_a_random_gait_or_a_phase_optimum() {
 
 #[test]
 fn one_link_converges_to_the_closed_form() {
-    // SPEC §9: J* = (a T - 2 w) / (2 k). The reference crawler (w = 2, J* = 3) and one with
+    // theory §9: J* = (a T - 2 w) / (2 k). The reference crawler (w = 2, J* = 3) and one with
     // per-block friction and k = 2 whose C = [-1, 0.75] is not tiled by the grid for every r.
     let cases = [
         (Crawler::uniform(2, 1.0, 1.0, 2.0).unwrap(), 1.0),

@@ -7,7 +7,7 @@ NumPy arrays, and renders them (text, SVG figures, HTML in Jupyter, a progress b
 >>> import crawlopt as co
 >>> c = co.Crawler(blocks=2, stiffness=1.0, mu_forward=1.0, mu_backward=2.0)
 >>> act = co.Actuation.sine(period=1.0, amplitude=[3.0])
->>> round(co.simulate(c, act).displacement_per_period, 9)   # max(0, 2A - 2), SPEC §10
+>>> round(co.simulate(c, act).displacement_per_period, 9)   # max(0, 2A - 2), theory §10
 4.0
 """
 
@@ -270,7 +270,7 @@ class Quadratic:
 
 
 class GaitProblem:
-    """The gait problem (P) (SPEC §5): ``period`` T, ``max_actuator_speed`` (|L'| bound, a number
+    """The gait problem (P) (theory §5): ``period`` T, ``max_actuator_speed`` (|L'| bound, a number
     or one per link), ``cost`` (None or ``Quadratic(c)``), ``max_total_variation`` (bound on
     TV(u) over a period). Bound to a crawler when optimised (rate bounds a_l = k_l x speed)."""
 
@@ -340,7 +340,7 @@ def _arrays(d: dict, keys: Sequence[str]) -> dict:
 
 
 class GeneralProblem:
-    """A general problem (P) of the paper's §2 (a ``[sweeping_process]`` file, SPEC §11): a
+    """A general problem (P) of the paper's §2 (a ``[sweeping_process]`` file, theory §11): a
     polyhedron C, affine dynamics g = A x + B u + b, a control set U, f1 and f2. Every check and
     default is the library's (``crawlopt analyze``, ``simulate`` and ``optimize`` on the same
     file); answers are dicts with the fields of their ``--json`` documents, series as NumPy
@@ -483,7 +483,7 @@ def simulate(
     increment_budget: Optional[int] = None,
 ) -> Simulation:
     """Plays ``actuation`` on ``crawler`` until the periodic regime (the sweeping process of
-    SPEC §3, exact event-driven or catching-up) and records ``periods`` periods of the orbit.
+    theory §3, exact event-driven or catching-up) and records ``periods`` periods of the orbit.
     Arguments as ``crawlopt simulate``'s flags; None takes the library's default (1000 steps or
     knots per period, 1 period recorded, at most 5000 periods, tol 1e-12, acceleration after 50
     plain periods or earlier when plain iteration is predicted too slow: Newton-Krylov steps
@@ -668,7 +668,7 @@ def optimize(
     none. ``bound``: True (or a dict with ``resolution``, ``box_resolution``, ``time_limit``,
     ``cost_tangents``; missing keys take the library's defaults 8, 8, 60 s, 4) also proves an
     upper bound on J over all periodic gaits (a piecewise-linear storage function on a grid of
-    C x box, SPEC §12; N <= 4), recorded as ``certificate["upper_bound"]``. The GIL is
+    C x box, theory §12; N <= 4), recorded as ``certificate["upper_bound"]``. The GIL is
     released; Ctrl-C stops the solve within about a second (KeyboardInterrupt).
     ``progress``: True for a progress bar (tqdm if installed, else a text line), a callable to
     receive each event as a dict. ``polish`` (method "discrete" only; the library's default is

@@ -51,7 +51,7 @@ fn simulation_out(
     Ok((summary, arrays))
 }
 
-/// Simulates `actuation` on `crawler` to the periodic regime (SPEC §3–4); see
+/// Simulates `actuation` on `crawler` to the periodic regime (theory §3–4); see
 /// `crawlopt.simulate` for the arguments.
 #[pyfunction]
 #[pyo3(signature = (crawler, actuation, method, steps_per_period, record_periods, max_periods, tol, accelerate, accelerate_after, initial_state, progress, newton = true, increment_budget = None))]

@@ -143,7 +143,7 @@ impl Actuation {
     }
 }
 
-/// The gait problem (P) of a crawler (SPEC §5): period T, rate bounds a_l = k_l x
+/// The gait problem (P) of a crawler (theory §5): period T, rate bounds a_l = k_l x
 /// max_actuator_speed_l, cost f2 (none or (c/2)|u|^2), optional bound on TV(u).
 #[pyclass(module = "crawlopt._crawlopt", frozen)]
 #[derive(Clone)]

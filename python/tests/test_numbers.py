@@ -12,7 +12,7 @@ import pytest
 @pytest.mark.parametrize("method", ["exact", "catching_up"])
 @pytest.mark.parametrize("amplitude", [0.5, 1.0, 3.0, 7.0])
 def test_one_link_sine_displacement_is_the_closed_form(method, amplitude):
-    # SPEC §10: one link, k = 1, mu+ = 1, mu- = 2 on both blocks, L = A sin(2 pi t): the
+    # theory §10: one link, k = 1, mu+ = 1, mu- = 2 on both blocks, L = A sin(2 pi t): the
     # displacement per period is max(0, 2A - 2) (the paper's §4).
     c = co.Crawler(blocks=2, stiffness=1.0, mu_forward=1.0, mu_backward=2.0)
     act = co.Actuation.sine(period=1.0, amplitude=[amplitude])
@@ -22,7 +22,7 @@ def test_one_link_sine_displacement_is_the_closed_form(method, amplitude):
 
 
 def test_one_link_gait_optimum_is_the_closed_form():
-    # SPEC §10: J* = (a T - 2 w) / (2 k) = (10 - 4) / 2 = 3 for examples/one_link_gait.toml.
+    # theory §10: J* = (a T - 2 w) / (2 k) = (10 - 4) / 2 = 3 for examples/one_link_gait.toml.
     m = co.load("examples/one_link_gait.toml")
     a = m.crawler.analyze()
     assert a.one_link["width"] == pytest.approx(2.0)  # w = 2 (the file's comment)
@@ -162,7 +162,7 @@ def test_tables_as_pandas():
 
 
 def test_the_upper_bound_over_all_gaits_for_one_link():
-    # N = 2, mu+ = 1, mu- = 2, k = a = 1, T = 10: J* = 3 (SPEC §10); the storage-function bound
+    # N = 2, mu+ = 1, mu- = 2, k = a = 1, T = 10: J* = 3 (theory §10); the storage-function bound
     # on an R x R grid is J* + 2h with h = w / R = 2 / R (measured exactly: README).
     c = co.Crawler(blocks=2, mu_forward=1.0, mu_backward=2.0)
     p = co.GaitProblem(period=10, max_actuator_speed=1.0)

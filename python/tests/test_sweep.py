@@ -20,7 +20,7 @@ SPEC = {
 
 
 def closed_form(p: float, t: float) -> float:
-    """SPEC §9 for mu+ = p on both blocks, mu- = 2, k = a = 1."""
+    """Theory §9 for mu+ = p on both blocks, mu- = 2, k = a = 1."""
     return max(0.0, (t - 4.0 * p) / 2.0) if p < 2.0 else 0.0
 
 

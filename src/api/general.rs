@@ -1,4 +1,4 @@
-//! The general problem (P) (SPEC §11) as jobs: a problem file analysed (C's geometry and every
+//! The general problem (P) (theory §11) as jobs: a problem file analysed (C's geometry and every
 //! check of the problem) and simulated for a given control.
 
 use crate::error::{Error, Result};

@@ -97,7 +97,7 @@ pub struct ModelAnalysis {
 /// with its keys in alphabetical order, as the command has always written them).
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct GaitAnalysis {
-    /// For one link with a unique motion, J* and an optimal gait in closed form (SPEC §9,
+    /// For one link with a unique motion, J* and an optimal gait in closed form (theory §9,
     /// paper §4); `None` otherwise.
     #[serde(serialize_with = "sorted_keys")]
     pub one_link_optimum: Option<OneLinkOptimum>,
@@ -120,7 +120,7 @@ fn sorted_keys<T: Serialize, S: serde::Serializer>(
 
 /// The analysis of a model file's crawler (the polytope C, the uniqueness condition, v_m and
 /// its directions) and, when the file poses a gait problem, that problem with the one-link
-/// closed form (SPEC §9). A crawler that violates the uniqueness condition is analysed (the
+/// closed form (theory §9). A crawler that violates the uniqueness condition is analysed (the
 /// analysis says so in `uniqueness_ok`), not refused.
 pub fn analyze(model: &ModelFile) -> Result<ModelAnalysis> {
     let crawler = model.crawler()?;
@@ -147,7 +147,7 @@ pub fn analyze(model: &ModelFile) -> Result<ModelAnalysis> {
 }
 
 /// [`crate::integrate::simulate`] under `hooks`: the periodic regime of `act` for `crawler`
-/// (SPEC §3–4), stopped by the hooks' token between periods. `options` are checked by the
+/// (theory §3–4), stopped by the hooks' token between periods. `options` are checked by the
 /// simulator (errors name the field, e.g. `steps_per_period`).
 pub fn simulate(
     crawler: &Crawler,

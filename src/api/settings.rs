@@ -32,7 +32,7 @@ pub enum GaitMethod {
     Discrete,
     /// P_m on 2^m steps by the local LPCC active-set method, from a phase gait or a start.
     Local,
-    /// Exact continuous-time gaits of at most K slip phases (SPEC §7), solved globally (MILP).
+    /// Exact continuous-time gaits of at most K slip phases (theory §7), solved globally (MILP).
     Phase,
     /// Local search over the slip-mode sequences of phase gaits (each optimal for its
     /// sequence; no global claim), from a phase gait or a start.

@@ -1,5 +1,5 @@
 //! The necessary conditions of Theorem 2.2 (discrete form Theorems 6.1–6.2) for an optimum of
-//! the general problem's P_m (SPEC §11): `x' in -N_C(x) + A x + B u + b`, `u in U` (a box or a
+//! the general problem's P_m (theory §11): `x' in -N_C(x) + A x + B u + b`, `u in U` (a box or a
 //! polytope `{G u <= h}`) with zero mean, `f1` linear in the reaction, `f2(u) = (1/2) u^T R u`.
 //! The crawler's certificate ([`crate::certify`], whose module docs explain the method, the
 //! stages and the verdict) is the instance `A = 0, B = K^(-1/2)` after the change of variables

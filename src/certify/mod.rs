@@ -1,11 +1,11 @@
 //! Necessary optimality conditions made checkable: multipliers of a gait and a certificate of
 //! the maximum principle (paper Theorem 2.2; its discrete form Theorems 6.1–6.2 — numbered 8.1–8.2
-//! in the compiled paper, whose §9 passes to the limit; SPEC §8).
+//! in the compiled paper, whose §9 passes to the limit; theory §8).
 //!
 //! # What is certified
 //!
-//! A periodic process on knots `0 = t_0 < ... < t_P = T` ([`Process`]): a P_m process (SPEC §6,
-//! `2^m` catching-up steps) or a phase gait (SPEC §7, exact). Fixing its complementarity branches
+//! A periodic process on knots `0 = t_0 < ... < t_P = T` ([`Process`]): a P_m process (theory §6,
+//! `2^m` catching-up steps) or a phase gait (theory §7, exact). Fixing its complementarity branches
 //! (which blocks slip, which way; which faces of C are active at each knot) turns the gait problem
 //! into a linear program, the *branch LP* in `(x_j, U_j = tau_j u_j, D_{j,b})` with the durations
 //! fixed:
@@ -45,7 +45,7 @@
 //! global optimum of P_m they must hold); they form the group "6.2" of the report. The sign is
 //! reported with Theorem 2.2 (group "2.2"): Theorem 6.1 states it for the paper's own P_m, whose
 //! reactions are frozen to those of the optimal process so that its state constraints are pure
-//! inequalities, whereas the branch LP of the computational P_m (SPEC §6) leaves the multiplier of
+//! inequalities, whereas the branch LP of the computational P_m (theory §6) leaves the multiplier of
 //! a held face free. It is a genuine extra check, and it can fail on an optimum of P_m: the
 //! three-block P_3 optimum needs `xi = -1/2` somewhere (P_2: `-1`; P_4: satisfied), while the
 //! exact three-block phase optimum satisfies it with the durations fixed (tests/certify.rs).
@@ -123,7 +123,7 @@
 //!
 //! For P_m the continuous group is reported with the same tolerance and is expected to fail at
 //! `O(h)`: it is the rate at which the discrete multipliers approach Theorem 2.2's.
-//! For phase gaits the durations are variables of the phase LP (SPEC §7) too; its stationarity in
+//! For phase gaits the durations are variables of the phase LP (theory §7) too; its stationarity in
 //! `tau_k` (with `|U| <= a tau`, `sum tau = T`) reads `H_k = sum_l a_l |psi_{k,l}| + lambda
 //! (Df2(u_k).u_k - f2(u_k))` equal on every phase: the maximised Hamiltonian is constant, as for
 //! an autonomous problem. It is checked (condition `duration_stationarity`, group "6.2") with

@@ -138,7 +138,7 @@ impl Process {
             .trajectory
             .ok_or_else(|| Error::Numerical("the process: no period was recorded".into()))?;
         // Knots: the grid (P_m); for a phase gait also the events inside pieces recorded by the
-        // exact method, so that every piece has one slip mode (SPEC §7).
+        // exact method, so that every piece has one slip mode (theory §7).
         let mut knot_t = vec![0.0];
         for d in durations {
             knot_t.push(knot_t[knot_t.len() - 1] + d);

@@ -1,4 +1,4 @@
-//! Actuations: the prescribed actuator lengths `L_l(t)`, `T`-periodic (SPEC §1, §3).
+//! Actuations: the prescribed actuator lengths `L_l(t)`, `T`-periodic (theory §1, §3).
 //!
 //! The control of the sweeping process is `u_l = k_l L_l'`; integrators only ever use increments
 //! `K (L(t') - L(t))`, so the actuation is rate-independent data plus a clock.

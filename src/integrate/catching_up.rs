@@ -1,4 +1,4 @@
-//! The implicit catching-up scheme (SPEC §4): with `u` constant on each step,
+//! The implicit catching-up scheme (theory §4): with `u` constant on each step,
 //! `x^{i+1} = argmin_{x in C} |x - (x^i + h u^i)|^2_{K^{-1}}`, and the block displacements over the
 //! step are the multipliers `D_b`. Here `h u^i = K (L(t_{i+1}) - L(t_i))`: the exact increment of
 //! the actuation over the step, so the scheme is rate-independent.

@@ -1,4 +1,4 @@
-//! Exact event-driven integration for piecewise-linear actuation (SPEC §4).
+//! Exact event-driven integration for piecewise-linear actuation (theory §4).
 //!
 //! On a phase where the actuation moves linearly, `u` is constant and, between events,
 //! `x' = P_{T_C(x)}(u)` (projection onto the tangent cone in the `K^{-1}` metric) is constant too:

@@ -1,4 +1,4 @@
-//! Simulation of the general problem (P) (SPEC §11) for a given control: the catching-up scheme
+//! Simulation of the general problem (P) (theory §11) for a given control: the catching-up scheme
 //! on `M` uniform steps of a period, with the exact projection of [`crate::sweep::polyhedron`];
 //! the reactions `lambda^i = mu^i / h` per face (the projection's multipliers divided by `h`),
 //! and the functional `J = sum_i h (f1(eta^i) - f2(u^i))` (paper eq. 2.4, discretised as in §6).

@@ -1,4 +1,4 @@
-//! The exact event-driven solution of the general problem (P) where `A = 0` (SPEC §11) under a
+//! The exact event-driven solution of the general problem (P) where `A = 0` (theory §11) under a
 //! piecewise-constant control: between events `g = B u + b` is constant and the solution moves
 //! with the constant velocity `x' = Proj_{T_C(x)}(g)` (the projection onto the tangent cone,
 //! whose multipliers are the reaction `eta = g - x' = sum_j lambda_j x*_j`), so the motion is

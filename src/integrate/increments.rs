@@ -1,5 +1,5 @@
 //! The increments of catching-up, `h u^i = K (L(t_{i+1}) - L(t_i))` at `t_i = i T / m` with
-//! `L(t_m) = L(t_0)` exactly (SPEC §4): held as a table for the whole period, or formed step by
+//! `L(t_m) = L(t_0)` exactly (theory §4): held as a table for the whole period, or formed step by
 //! step from the actuation so that a period needs `O(N)` memory whatever `m`.
 //!
 //! Both give bitwise the same increments (the same samples, the same arithmetic), so the choice

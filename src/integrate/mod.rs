@@ -1,4 +1,4 @@
-//! Time integration of the sweeping process (SPEC §3–4) and the periodic regime.
+//! Time integration of the sweeping process (theory §3–4) and the periodic regime.
 //!
 //! - [`Method::CatchingUp`]: the implicit catching-up scheme `x^{i+1} = Proj_C(x^i + h u^i)` on
 //!   `M` uniform steps per period; exact for `N = 2`, first order at corners of C otherwise.

@@ -1,4 +1,4 @@
-//! The periodic regime (SPEC §4): the limit cycle of the period map and its displacement.
+//! The periodic regime (theory §4): the limit cycle of the period map and its displacement.
 //!
 //! For `T`-periodic actuation the state converges to a periodic orbit (refs [Kre], [CGV]), often
 //! only geometrically: the slowest mode of a long chain contracts by a factor close to 1 per
@@ -298,7 +298,7 @@ fn recording_limit(periods: usize, per_period: usize, nb: usize) -> Error {
     )
 }
 
-/// Simulates the crawler under the actuation until the periodic regime (SPEC §4).
+/// Simulates the crawler under the actuation until the periodic regime (theory §4).
 pub fn simulate(crawler: &Crawler, act: &Actuation, opts: &SimOptions) -> Result<Simulation> {
     crawler.require_unique()?;
     if act.links() != crawler.links() {

@@ -1,4 +1,4 @@
-//! The problem file of the general problem (P) (SPEC §11): a second top-level kind of model
+//! The problem file of the general problem (P) (theory §11): a second top-level kind of model
 //! file, recognised by its `[sweeping_process]` section (the crawler schema stays as it is).
 //!
 //! ```toml

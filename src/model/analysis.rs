@@ -6,7 +6,7 @@ use serde::Serialize;
 /// Largest number of links for which the vertices of C are listed.
 pub const MAX_LINKS_FOR_VERTICES: usize = 3;
 
-/// Closed-form facts of the one-link crawler (SPEC §9, paper §4).
+/// Closed-form facts of the one-link crawler (theory §9, paper §4).
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct OneLink {
     /// `C = [alpha, beta]`, `alpha = max(-mu_1^+, -mu_2^-)`.

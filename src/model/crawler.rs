@@ -1,10 +1,10 @@
-//! Crawler parameters (SPEC §1) with validation.
+//! Crawler parameters (theory §1) with validation.
 
 use crate::error::{Error, Result};
 use crate::model::uniqueness::Uniqueness;
 
 /// A chain of `N >= 2` blocks joined by `n = N - 1` links (spring in series with an actuator),
-/// with direction-dependent dry friction on every block (SPEC §1, paper §3.2).
+/// with direction-dependent dry friction on every block (theory §1, paper §3.2).
 ///
 /// Units: lengths in any unit L, forces in any unit F, so stiffness is F/L and friction
 /// thresholds are F; the state `x` (link compression) is in F.

@@ -1,4 +1,4 @@
-//! The general problem (P) of the paper's §2 (SPEC §11): a sweeping process
+//! The general problem (P) of the paper's §2 (theory §11): a sweeping process
 //! `x' in -N_C(x) + g(x, u)` in a polyhedron `C = {x : <x*_j, x> <= c_j, j = 1..sigma}`, affine
 //! dynamics `g(x, u) = A x + B u + b`, controls in a box or a polytope `U` (with zero mean over a
 //! period when imposed), the reward `f1` of the reaction `eta = g - x'` and the cost `f2(u)`.
@@ -288,7 +288,7 @@ pub enum Boundary {
     Initial(Vec<f64>),
 }
 
-/// The general problem (P) (SPEC §11), checked as far as no linear program is needed.
+/// The general problem (P) (theory §11), checked as far as no linear program is needed.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct GeneralProblem {
     /// `C`.

@@ -1,6 +1,6 @@
-//! The crawler as an instance of the general problem (P) (SPEC §11), exactly.
+//! The crawler as an instance of the general problem (P) (theory §11), exactly.
 //!
-//! The crawler's sweeping process `x' in u - K N_C(x)` (SPEC §3) is Euclidean after the change
+//! The crawler's sweeping process `x' in u - K N_C(x)` (theory §3) is Euclidean after the change
 //! of variables `x = K^(1/2) x~`: `x~' in K^(-1/2) u - N_{C~}(x~)` with
 //! `C~ = K^(-1/2) C = {x~ : <K^(1/2) nu_b, x~> <= mu_b^+, <-K^(1/2) nu_b, x~> <= mu_b^-}`,
 //! since `N_{C~}(x~) = K^(1/2) N_C(K^(1/2) x~)`. So `n = N - 1`, `A = 0`, `B = K^(-1/2)`,
@@ -10,7 +10,7 @@
 //!
 //! Face weights of the barycentre's displacement. The catching-up step of the crawler is
 //! `K^(-1)(v - x+) = sum_b (lambda_b^+ - lambda_b^-) nu_b` with block displacements
-//! `D_b = lambda_b^+ - lambda_b^-` (SPEC §4). In `x~`, `v~ - x~+ = K^(-1/2)(v - x+) =
+//! `D_b = lambda_b^+ - lambda_b^-` (theory §4). In `x~`, `v~ - x~+ = K^(-1/2)(v - x+) =
 //! sum_b (lambda_b^+ - lambda_b^-) K^(1/2) nu_b = sum_b s_b (lambda_b^+ x*_(b+) + lambda_b^- x*_(b-))`
 //! with the unit normals `x*_(b+-) = +-K^(1/2) nu_b / s_b`, so the multipliers of the unit rows
 //! are `mu_(b+-) = s_b lambda_b^+-` and `D_b = (mu_(b+) - mu_(b-)) / s_b`. The displacement

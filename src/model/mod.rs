@@ -1,4 +1,4 @@
-//! The crawler model (SPEC §1–3): parameters, the polytope C of admissible spring forces,
+//! The crawler model (theory §1–3): parameters, the polytope C of admissible spring forces,
 //! the uniqueness condition and the displacement function v_m.
 //!
 //! Conventions. Blocks are indexed `b = 0..N` (0 = rear) and links `l = 0..n`, `n = N - 1`, link

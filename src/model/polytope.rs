@@ -1,4 +1,4 @@
-//! The polytope C of admissible spring forces (SPEC §2, paper eq. 3.16):
+//! The polytope C of admissible spring forces (theory §2, paper eq. 3.16):
 //! `C = { x : -mu_b^- <= F_b(x) <= mu_b^+, b = 1..N }`, `F_b(x) = x_{b-1} - x_b`,
 //! `x_{-1} = x_n = 0` (0-based).
 //!
@@ -225,7 +225,7 @@ mod tests {
 
     #[test]
     fn one_link_interval() {
-        // SPEC §9: C = [alpha, beta], alpha = max(-mu_1^+, -mu_2^-), beta = min(mu_1^-, mu_2^+).
+        // theory §9: C = [alpha, beta], alpha = max(-mu_1^+, -mu_2^-), beta = min(mu_1^-, mu_2^+).
         let c = Crawler::new(vec![1.0], vec![1.0, 0.7], vec![2.0, 0.4]).unwrap();
         assert_eq!(c.link_force_ranges(), vec![[-0.4, 0.7]]);
         let mut v = c.vertices().into_iter().map(|x| x[0]).collect::<Vec<_>>();

@@ -1,4 +1,4 @@
-//! The displacement function v_m (SPEC §3, paper eqs. 3.18–3.20) and its exact classification.
+//! The displacement function v_m (theory §3, paper eqs. 3.18–3.20) and its exact classification.
 //!
 //! For a shape rate `z'`, the block velocities are `X'_b = s + c_b` with `c_0 = 0`,
 //! `c_{b+1} = c_b + z'_b`, where `s` minimises `sum_b R_b(s + c_b)`,
@@ -54,7 +54,7 @@ pub struct VmAnalysis {
     pub backward_witness: Option<Vec<f64>>,
 }
 
-/// Block velocities and `v_m` for the shape rate `z'` (weighted median, SPEC §3).
+/// Block velocities and `v_m` for the shape rate `z'` (weighted median, theory §3).
 ///
 /// Unique under the uniqueness condition. `O(N log N)`.
 pub fn block_velocities(mu_forward: &[f64], mu_backward: &[f64], zdot: &[f64]) -> (Vec<f64>, f64) {
@@ -234,7 +234,7 @@ mod tests {
 
     #[test]
     fn one_link_closed_form() {
-        // SPEC §9: both conditions -> v_m(z') = |z'|/2.
+        // theory §9: both conditions -> v_m(z') = |z'|/2.
         let c = Crawler::uniform(2, 1.0, 1.0, 2.0).unwrap();
         for z in [-3.0, -0.5, 0.0, 0.25, 4.0] {
             assert_eq!(c.vm(&[z]), 0.5 * f64::abs(z));

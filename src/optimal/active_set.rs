@@ -1,4 +1,4 @@
-//! The active-set loop on an LPCC shared by the local methods for P_m (SPEC §6): the crawler's
+//! The active-set loop on an LPCC shared by the local methods for P_m (theory §6): the crawler's
 //! ([`crate::optimal::local`], three modes per block) and the general problem's
 //! ([`crate::optimal::general::local`], two branches per step and face).
 //!

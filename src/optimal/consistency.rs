@@ -18,13 +18,13 @@ pub const INPUT_TOL: f64 = 1e-7;
 /// How the process was discretised, which fixes where a slipping block's face must be active.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum ProcessKind {
-    /// A P_m process (SPEC §6): `2^m` equal catching-up steps; a block slipping on step `i`
+    /// A P_m process (theory §6): `2^m` equal catching-up steps; a block slipping on step `i`
     /// has its face active at the end `x^{i+1}` (implicit Euler).
     Discrete {
         /// `m`.
         m: u32,
     },
-    /// A phase gait (SPEC §7): constant control per phase, exact; a block slipping on a phase
+    /// A phase gait (theory §7): constant control per phase, exact; a block slipping on a phase
     /// has its face active at both ends (held throughout).
     Phase,
 }
@@ -232,7 +232,7 @@ impl ProcessView<'_> {
                         d[b],
                         format!(
                             "block {} moves on piece {j} but its friction threshold is not \
-                             reached{} (flow rule, SPEC §2)",
+                             reached{} (flow rule, theory §2)",
                             b + 1,
                             match self.kind {
                                 ProcessKind::Discrete { .. } => " at the step's end",

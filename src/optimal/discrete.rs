@@ -1,4 +1,4 @@
-//! The paper's discrete problem P_m (SPEC §6), solved globally as a mixed-integer linear program
+//! The paper's discrete problem P_m (theory §6), solved globally as a mixed-integer linear program
 //! in HiGHS.
 //!
 //! On the dyadic grid `h = T / 2^m` (`M = 2^m` steps), with `U^i = h u^i`:
@@ -20,7 +20,7 @@
 //! of its jumps, linear in `U` for a fixed `h`.
 //!
 //! The dynamics with the sign and complementarity conditions are exactly the KKT system of the
-//! catching-up projection (SPEC §4), which has a unique solution, so every feasible point is a
+//! catching-up projection (theory §4), which has a unique solution, so every feasible point is a
 //! catching-up trajectory. Constants, all derived from C and the rate bounds:
 //! - `W_b = mu_b^+ + mu_b^-`: the range of `F_b` over C, the largest slack of either face;
 //! - `Md = h sqrt(sum_l 1/k_l) sqrt(sum_l a_l^2 / k_l)` bounds `|D^i_b|`: some block is free

@@ -1,4 +1,4 @@
-//! The local method for P_m (SPEC §6): an active-set method on the LPCC, for grids far beyond
+//! The local method for P_m (theory §6): an active-set method on the LPCC, for grids far beyond
 //! the reach of the global MILP (`2^m ~ 10^3` steps and more, several blocks).
 //!
 //! Every complementarity condition of P_m is a three-way choice per step `i` and block `b`

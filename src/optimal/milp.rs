@@ -113,7 +113,7 @@ pub(crate) fn check_verified(what: &str, solver: f64, verified: f64, scale: f64)
     Ok(())
 }
 
-/// Outer approximation of the quadratic cost inside a MILP (SPEC §7: the cost of a piece of
+/// Outer approximation of the quadratic cost inside a MILP (theory §7: the cost of a piece of
 /// duration `tau` with increment `U` is the perspective `(c/2) U^2 / tau`, convex).
 ///
 /// An epigraph variable `g >= U^2 / tau` is cut by tangents `g >= 2 r U - r^2 tau` at rates

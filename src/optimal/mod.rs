@@ -1,9 +1,9 @@
-//! Optimal gaits (SPEC §5–7): the gait problem (P) and what is known of its optimum.
+//! Optimal gaits (theory §5–7): the gait problem (P) and what is known of its optimum.
 //!
 //! This layer holds the problem data ([`GaitProblem`]: period, rate bounds, actuation cost,
 //! optional total-variation bound) and the closed-form optimum of the one-link crawler
-//! ([`one_link_optimum`], SPEC §9, paper §4), against which every solver is tested, and the
-//! global solver of the paper's discrete problems P_m ([`solve_discrete_global`], SPEC §6).
+//! ([`one_link_optimum`], theory §9, paper §4), against which every solver is tested, and the
+//! global solver of the paper's discrete problems P_m ([`solve_discrete_global`], theory §6).
 
 mod active_set;
 pub mod consistency;

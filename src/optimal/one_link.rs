@@ -1,4 +1,4 @@
-//! Closed-form optimum of the one-link crawler (SPEC §9, paper §4).
+//! Closed-form optimum of the one-link crawler (theory §9, paper §4).
 //!
 //! With `C = [alpha, beta]`, `w = beta - alpha`, on the limit cycle an actuation that rises by
 //! `Delta` (force units, `Delta = k Delta L`) and falls back moves the crawler by
@@ -14,7 +14,7 @@
 //! largest at `r_1 = r_2`, so `Delta <= (T/2) min(a, V/4)` =: `Delta_max` (reached by `+r`
 //! then `-r`, `r = min(a, V/4)`, whose `TV` is `4 r`).
 //! - `f2 = 0`: `Delta* = Delta_max`, `J* = max(0, (Delta* - w) / k)`; for `V = inf` this is
-//!   SPEC §9's `max(0, (a T - 2 w) / (2 k))`.
+//!   theory §9's `max(0, (a T - 2 w) / (2 k))`.
 //! - `f2 = (c/2) u^2`: for a given `Delta` the cost `(c/2)(Delta^2/t_1 + Delta^2/t_2)`,
 //!   `t_1 + t_2 = T`, is least at `t_1 = t_2 = T/2`, where it is `2 c Delta^2 / T`. So
 //!   `J(Delta) = (Delta - w)/k - 2 c Delta^2 / T`, concave, stationary at `Delta = T / (4 c k)`;

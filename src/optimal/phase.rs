@@ -1,4 +1,4 @@
-//! Exact continuous-time gaits: the phase formulation (SPEC §7), solved globally over gaits of
+//! Exact continuous-time gaits: the phase formulation (theory §7), solved globally over gaits of
 //! at most `K` slip phases as a mixed-integer linear program in HiGHS.
 //!
 //! **What `K` counts.** A phase is a stretch of constant control and constant slip mode. A
@@ -915,7 +915,7 @@ pub fn grow_phases(
     let mut table = Vec::new();
     let mut without_gain = 0;
     let mut stop = GrowthStop::MaxPhases;
-    // y' = v_m(z') (SPEC §3): when v_m <= 0 everywhere, J <= 0 for every gait.
+    // y' = v_m(z') (theory §3): when v_m <= 0 everywhere, J <= 0 for every gait.
     let idle = crawler.analyze().moves_forward == Some(false);
     // Whether a verified J_K moves the crawler: above the replay's resolution, relative to the
     // problem's own length scale (not to 1: lengths may be 1e-6 or 1e6).
@@ -1123,7 +1123,7 @@ pub struct SequenceSearch {
 }
 
 /// Local search over the sequences of slip modes of phase gaits with `phases` steps, for
-/// crawlers or `K` where the MILP is too slow (SPEC §7: "local search over sequences scales
+/// crawlers or `K` where the MILP is too slow (theory §7: "local search over sequences scales
 /// further").
 ///
 /// For a fixed cyclic sequence, the best gait following it is an LP (the MILP of the module

@@ -2,7 +2,7 @@
 //! over slip-mode sequences) and the P_m MILP begin when the user gives no start.
 //!
 //! A start need not be certified, only good and quick:
-//! - [`phase_start`]: the phase optimum (SPEC §7) with `K` grown only to the first `K` without a
+//! - [`phase_start`]: the phase optimum (theory §7) with `K` grown only to the first `K` without a
 //!   gain (patience 1), within half the time limit. It is the default start of the local
 //!   methods: they end where their start leads, and the phase optimum is the best
 //!   continuous-time gait there is to lead them.

@@ -1472,7 +1472,7 @@ pub fn jm_figure(m: &[u32], values: &[f64], continuous: Option<f64>) -> Result<F
 // ---------------------------------------------------------------------------------------------
 // Adjoint of a certificate
 
-/// The adjoint state of the necessary conditions (SPEC §8) with the control it selects.
+/// The adjoint state of the necessary conditions (theory §8) with the control it selects.
 pub struct AdjointSeries<'a> {
     /// Sample times.
     pub t: &'a [f64],

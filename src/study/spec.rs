@@ -37,7 +37,7 @@ const FIELDS: &[(&str, Option<bool>)] = &[
 /// The job each point runs.
 #[derive(Clone, Debug, PartialEq)]
 pub enum Job {
-    /// [`crate::api::analyze`]: for one link, J* in closed form (SPEC §9); the status is the
+    /// [`crate::api::analyze`]: for one link, J* in closed form (theory §9); the status is the
     /// class of v_m.
     Analyze,
     /// [`crate::api::simulate`] with these options: the displacement per period on the orbit.

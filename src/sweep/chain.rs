@@ -15,7 +15,7 @@
 //! So the equality-constrained subproblem costs `O(n)`, and so do the ratio test and the
 //! multipliers. The multipliers are the block displacements:
 //! `K^{-1}(v - x) = sum_b D_b nu_b`, i.e. `D_{b+1} - D_b = (v_b - x_b)/k_b`, `D_b = 0` on free
-//! increments (SPEC §4); a forward face (`x_b - x_{b-1} = lo_b`) needs `D_b >= 0`, a backward
+//! increments (theory §4); a forward face (`x_b - x_{b-1} = lo_b`) needs `D_b >= 0`, a backward
 //! face `D_b <= 0`. Under the uniqueness condition at most `n` increments are active, so at least
 //! one is free and the `D_b` are unique.
 //!
@@ -279,7 +279,7 @@ pub fn rigid_mean(inv_k: &[f64], dv: &mut [f64]) {
 /// The derivative of the projection with respect to `v` on a fixed working set `ws` (one entry per
 /// block), applied in place to `dv`: links glued by active increments into a segment that reaches
 /// an end of the chain are pinned (`dx = 0`), every other segment moves rigidly with the
-/// `1/k`-weighted mean of `dv` over it (SPEC §4: the minimiser of the equality-constrained
+/// `1/k`-weighted mean of `dv` over it (theory §4: the minimiser of the equality-constrained
 /// subproblem is affine in `v`). On a degenerate face any choice is an element of the
 /// generalised Jacobian of the piecewise-affine projection. `O(n)`.
 pub fn tangent(ws: &[Bound], inv_k: &[f64], dv: &mut [f64]) {

@@ -23,7 +23,7 @@
 //! **Backtracking.** `x_{n-1} = clamp(m_{n-1}, -hi_n, -lo_n)` and
 //! `x_{l-1} = clamp(m_{l-1}, x_l - hi_l, x_l - lo_l)`: the side a clamp takes is the face of block
 //! `l` in the solution (free when `m_{l-1}` lies inside). The multipliers (block displacements,
-//! SPEC §4) follow from stationarity `D_{b+1} - D_b = (v_b - x_b) / k_b` and `D_b = 0` on free
+//! theory §4) follow from stationarity `D_{b+1} - D_b = (v_b - x_b) / k_b` and `D_b = 0` on free
 //! blocks, exactly as in the active-set method.
 
 use super::chain::Bound;

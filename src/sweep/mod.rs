@@ -1,10 +1,10 @@
-//! Projections for the sweeping process (SPEC §3–4): onto C and onto its tangent cones, in the
+//! Projections for the sweeping process (theory §3–4): onto C and onto its tangent cones, in the
 //! `K^{-1}` metric, with the block displacements read off the multipliers.
 //!
 //! Both are instances of one structured QP over the chain: a catching-up step is solved by
 //! [`ChainWarm`] (the previous faces guessed, certified by one `O(n)` pass, repaired on windows
 //! by the exact dynamic programme [`ChainDp`]), a tangent-cone projection by the active-set
-//! method [`ChainQp`] in `O(n)` per iteration. [`polyhedron`] projects onto any polyhedron (the general problem (P), SPEC §11)
+//! method [`ChainQp`] in `O(n)` per iteration. [`polyhedron`] projects onto any polyhedron (the general problem (P), theory §11)
 //! by an exact active-set method. This layer knows the crawler's parameters but nothing of time or actuation.
 
 mod chain;
@@ -40,7 +40,7 @@ pub enum ProjectionMethod {
 /// 31 against 24 ns at N = 3 and 57 against 53 ns at N = 10.
 pub const FUSED_MIN_LINKS: usize = 64;
 
-/// The catching-up projection onto C (SPEC §4): `x+ = argmin_{x in C} |x - v|^2_{K^{-1}}`,
+/// The catching-up projection onto C (theory §4): `x+ = argmin_{x in C} |x - v|^2_{K^{-1}}`,
 /// by default guessed from the previous step's faces and certified or repaired ([`ChainWarm`]),
 /// which is `O(n)` whatever the number of faces that change and faster than both other methods
 /// at every length measured (`cargo bench --bench step -- projection`, N = 100 to 10^4).
@@ -77,7 +77,7 @@ impl Projector {
     /// One catching-up step: `x <- Proj_C(x + delta)`, `delta = K (L^{i+1} - L^i)` (= `h u^i`).
     ///
     /// `x` must be in C. `d[b]` receives the displacement of block `b` over the step
-    /// (`D_b = lambda_b^+ - lambda_b^-`, SPEC §4); the barycentre moves by `mean(d)`.
+    /// (`D_b = lambda_b^+ - lambda_b^-`, theory §4); the barycentre moves by `mean(d)`.
     /// Returns the number of active-set iterations (1 for the dynamic programme and for the
     /// warm method: its windows are counted by [`ChainWarm::counters`]).
     pub fn step(&mut self, x: &mut [f64], delta: &[f64], d: &mut [f64]) -> Result<usize> {
@@ -169,7 +169,7 @@ impl Projector {
     }
 }
 
-/// Projection of a control onto the tangent cone of C (SPEC §4, exact method):
+/// Projection of a control onto the tangent cone of C (theory §4, exact method):
 /// `x' = argmin { |w - u|^2_{K^{-1}} : w in T_C(x) }`, where `T_C(x)` only constrains the faces
 /// active at `x`. The multipliers are the block velocities.
 #[derive(Debug, Clone)]

@@ -1,5 +1,5 @@
 //! The exact Euclidean projection onto a general polyhedron `C = {x : <x*_j, x> <= c_j}` with
-//! unit normals (SPEC §11): `Proj_C(v) = argmin_{x in C} (1/2)|x - v|^2`.
+//! unit normals (theory §11): `Proj_C(v) = argmin_{x in C} (1/2)|x - v|^2`.
 //!
 //! A primal active-set method: from a feasible point `x` and a working set `W` of faces active
 //! there (linearly independent), the equality-constrained problem on `W` is solved exactly,

@@ -6,7 +6,7 @@
 //! minimiser is separable per rigid segment (the links between two consecutive free blocks; see
 //! [`super::ChainQp`]): a segment touching an end of the chain is pinned, every other floats at
 //! the `1/k`-weighted mean of `v` minus its offsets. The multipliers follow segment by segment
-//! from stationarity `D_{b+1} - D_b = (v_b - x_b)/k_b` with `D = 0` on the free blocks (SPEC §4).
+//! from stationarity `D_{b+1} - D_b = (v_b - x_b)/k_b` with `D = 0` on the free blocks (theory §4).
 //! One pass (a forward sweep of running sums, a backward one for the rest) computes `x`, `D` and
 //! both checks of the KKT conditions: every free block's increment within its bounds (primal),
 //! every active block's multiplier of the right sign (`D_b >= 0` on a forward face, `<= 0` on a

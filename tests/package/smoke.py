@@ -1,5 +1,5 @@
 """A first use of an installed crawlopt package, run from outside the source tree: the bundled
-three-block example's optimal gait (J* = 2.6, SPEC's reference value, certified globally among
+three-block example's optimal gait (J* = 2.6, theory §10's reference value, certified globally among
 gaits of at most K slip phases) and the periodic regime of the three-block sine actuation
 (1/2 + sqrt(2) per period, as in tests/cli_messages.rs). Prints one line
 `test result: LABEL. N passed; M failed` for the test suite's count; exits 1 on a failure.

@@ -1,4 +1,4 @@
-//! The dynamics of the sweeping process face by face (SPEC §3), as the finitely many motions the
+//! The dynamics of the sweeping process face by face (theory §3), as the finitely many motions the
 //! storage-function LP must dominate.
 //!
 //! On the relative interior of a face `F` of C with active signed normals `n_j = s_j nu_{b_j}`
@@ -282,7 +282,7 @@ mod tests {
 
     #[test]
     fn one_link_faces_and_motions() {
-        // N = 2, mu^+ = 1, mu^- = 2: C = [-1, 1] (SPEC §9: alpha = max(-1, -2), beta = min(2, 1)).
+        // N = 2, mu^+ = 1, mu^- = 2: C = [-1, 1] (theory §9: alpha = max(-1, -2), beta = min(2, 1)).
         let c = Crawler::uniform(2, 2.0, 1.0, 2.0).unwrap();
         let fs = faces(&c, 1e-9);
         assert_eq!(fs.len(), 3, "{fs:?}");
@@ -298,7 +298,7 @@ mod tests {
                 continue;
             }
             // At an end of C the state stays only for the control pushing outward, then
-            // x' = 0, l' = u/k and the crawler moves |z'|/2 = |u|/(2k) forward (SPEC §9).
+            // x' = 0, l' = u/k and the crawler moves |z'|/2 = |u|/(2k) forward (theory §9).
             let moving: Vec<_> = m.controls.iter().filter(|(_, y)| *y != 0.0).collect();
             assert_eq!(moving.len(), 1);
             let (d, y) = moving[0];

@@ -1,4 +1,4 @@
-//! An upper bound on the continuous-time gait problem (P) over *all* `T`-periodic gaits (SPEC
+//! An upper bound on the continuous-time gait problem (P) over *all* `T`-periodic gaits (theory
 //! §12), by a piecewise-linear storage function: no limit on the number of slip phases.
 //!
 //! # The argument
@@ -22,7 +22,7 @@
 //!   `x(t)`, `x'` is along `F(t)` and, by the Moreau decomposition of `u = x' + K eta`,
 //!   `eta in N_C(x)`, `x'` is the projection of `u` and the reaction multipliers `lambda(u)` are
 //!   non-negative: `u` is one of the controls of (R) for `F(t)`, and `y'(t)` is its `y'` (the
-//!   block velocities are the multipliers, SPEC §4);
+//!   block velocities are the multipliers, theory §4);
 //! - `d/dt V(p(t))` is the one-sided directional derivative of `V` at `p(t)` along
 //!   `p'(t)` (Lipschitz `V`: `V(p + h p' + o(h)) = V(p + h p') + o(h)`). The finitely many closed
 //!   simplices cover a neighbourhood of `p(t)` in `C x box`, and `p(t) + e p'(t)` lies in

@@ -1,4 +1,4 @@
-//! The paper's discrete problem P_m (§6, SPEC §11) for the general problem (P), globally: a
+//! The paper's discrete problem P_m (§6, theory §11) for the general problem (P), globally: a
 //! mixed-integer linear program on `M = 2^m` steps of `h = T / M`, re-verified by the general
 //! simulator ([`crate::integrate::general`]).
 //!

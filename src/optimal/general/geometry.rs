@@ -1,7 +1,7 @@
 //! The geometry of a polyhedron `C = {x : <x*_j, x> <= c_j}` (unit normals) by linear programs
 //! and exact enumeration: the Chebyshev centre (the paper's PLICQ is a non-empty interior),
 //! boundedness, redundant faces, vertices with their active faces, and whether face weights
-//! define `f1` uniquely (SPEC §11).
+//! define `f1` uniquely (theory §11).
 //!
 //! The linear programs go through [`crate::optimal::solver`] and are posed in units of C's
 //! scale `s = max_j |c_j|` (the state divided by `s`), so that HiGHS's absolute tolerances

@@ -1,4 +1,4 @@
-//! The paper's P_m (§6, SPEC §11) for the general problem (P), locally: the active-set method on
+//! The paper's P_m (§6, theory §11) for the general problem (P), locally: the active-set method on
 //! its LPCC ([`crate::optimal::active_set`], shared with the crawler's local method), for grids
 //! beyond the reach of the global MILP ([`super::discrete`]).
 //!

@@ -1,4 +1,4 @@
-//! The general problem (P) of the paper's §2 (SPEC §11): the geometry of its polyhedron by
+//! The general problem (P) of the paper's §2 (theory §11): the geometry of its polyhedron by
 //! linear programs (the Chebyshev centre, boundedness, redundant faces, vertices) and the
 //! checks that need them; the paper's P_m globally as a MILP and locally by the active-set
 //! method on its LPCC, both re-verified by the general simulator; where `A = 0`, exact

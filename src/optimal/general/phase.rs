@@ -1,5 +1,5 @@
-//! Exact continuous-time gaits of the general problem (P) where `A = 0` (SPEC §7 generalised,
-//! SPEC §11): a mixed-integer linear program over gaits of at most `K` *phases*, each a
+//! Exact continuous-time gaits of the general problem (P) where `A = 0` (theory §7 generalised,
+//! theory §11): a mixed-integer linear program over gaits of at most `K` *phases*, each a
 //! stretch of constant control `u_j` and of held faces, solved globally in HiGHS and
 //! re-verified by the exact event-driven simulator
 //! ([`simulate_general_exact`]).

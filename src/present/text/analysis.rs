@@ -81,7 +81,7 @@ pub fn analysis(c: &Crawler, a: &Analysis) -> String {
     if let Some(o) = &a.one_link {
         wln!(
             out,
-            "one link (SPEC §9): C = [{}, {}], width w = {}",
+            "one link (theory §9): C = [{}, {}], width w = {}",
             num(o.alpha, force),
             num(o.beta, force),
             num(o.width, force)
