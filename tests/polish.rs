@@ -12,8 +12,8 @@ use crawlopt::api::{
 };
 use crawlopt::certify::{certify_result, ConditionCheck, Verdict};
 use crawlopt::integrate::{
-    simulate, simulate_general, Actuation, ControlInput, GeneralSimOptions, InputKind, Method,
-    SimOptions,
+    simulate, simulate_general, Actuation, ControlInput, DriftStep, GeneralSimOptions, InputKind,
+    Method, SimOptions,
 };
 use crawlopt::io::GeneralFile;
 use crawlopt::model::general::Boundary;
@@ -96,8 +96,10 @@ fn the_drift_example_certifies_after_polishing() {
     .unwrap();
     let mut cauchy = p.clone();
     cauchy.boundary = Boundary::Initial(pm.x[0].clone());
+    // P_m's explicit step (the simulator's default treats the damping implicitly).
     let opts = GeneralSimOptions {
         steps_per_period: steps,
+        drift: DriftStep::Explicit,
         ..GeneralSimOptions::DEFAULT
     };
     let sim = simulate_general(&cauchy, &input, &pm.x[0], &opts).unwrap();

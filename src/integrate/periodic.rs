@@ -122,10 +122,24 @@ pub fn check_tol(tol: f64) -> Result<()> {
 
 impl SimOptions {
     /// Refuses, whatever the crawler and the actuation, a value no simulation runs with:
-    /// `steps_per_period` outside `1..=MAX_STEPS_PER_PERIOD`, `max_periods` 0, a `tol` outside
+    /// `steps_per_period` beyond `MAX_STEPS_PER_PERIOD`, `max_periods` 0, a `tol` outside
     /// `(0, MAX_TOL]` ([`check_tol`]) (the checks of [`simulate`], made before any work: a sweep
-    /// makes them when it reads its file).
+    /// makes them when it reads its file). A `steps_per_period` of 0 is refused where the grid
+    /// is used ([`SimOptions::check_steps`]): the exact method on a piecewise-linear actuation
+    /// takes none.
     pub fn check(&self) -> Result<()> {
+        if self.steps_per_period > MAX_STEPS_PER_PERIOD {
+            return self.check_steps();
+        }
+        if self.max_periods == 0 {
+            return Err(Error::invalid("max_periods", 0, "must be at least 1"));
+        }
+        check_tol(self.tol)
+    }
+
+    /// Refuses a `steps_per_period` outside `1..=MAX_STEPS_PER_PERIOD`, for a simulation that
+    /// steps on the grid (catching-up, or a smooth actuation sampled by the exact method).
+    pub fn check_steps(&self) -> Result<()> {
         if !(1..=MAX_STEPS_PER_PERIOD).contains(&self.steps_per_period) {
             return Err(Error::invalid(
                 "steps_per_period",
@@ -133,10 +147,7 @@ impl SimOptions {
                 format!("must be in 1..={MAX_STEPS_PER_PERIOD} (memory)"),
             ));
         }
-        if self.max_periods == 0 {
-            return Err(Error::invalid("max_periods", 0, "must be at least 1"));
-        }
-        check_tol(self.tol)
+        Ok(())
     }
 }
 
@@ -309,6 +320,9 @@ pub fn simulate(crawler: &Crawler, act: &Actuation, opts: &SimOptions) -> Result
         ));
     }
     let uses_m = opts.method == Method::CatchingUp || !act.is_piecewise_linear();
+    if uses_m {
+        opts.check_steps()?;
+    }
     opts.check()?;
     let (n, nb) = (crawler.links(), crawler.blocks());
     // Memory guards: the sampled increments (catching-up, unless streamed), the exact method's

@@ -309,7 +309,12 @@ impl SweepSpec {
     fn check_job(&self) -> Result<()> {
         match &self.job {
             Job::Analyze => Ok(()),
-            Job::Simulate(options) => options.check().map_err(setting_error),
+            // A sweep's simulate settings always step on the grid's default or the value
+            // written, so 0 is refused here too (not only where a point would use it).
+            Job::Simulate(options) => options
+                .check()
+                .and_then(|()| options.check_steps())
+                .map_err(setting_error),
             Job::Optimize(settings) => {
                 settings.check_values().map_err(setting_error)?;
                 // A start gait every point would fail to read.

@@ -332,26 +332,41 @@ impl TableWriter {
         resume: bool,
     ) -> Result<(Self, BTreeSet<usize>)> {
         let header = header(spec);
-        let Some(path) = path else {
-            let mut out: Box<dyn std::io::Write + Send> = Box::new(std::io::stdout());
-            if format == Format::Csv {
-                write_flush(&mut out, &header_line(&header), Path::new("<stdout>"))?;
-            }
-            let w = TableWriter {
-                out,
-                header,
-                format,
-                path: None,
-            };
-            return Ok((w, BTreeSet::new()));
+        // Where the rows go, the points already done, and whether the table starts here (and
+        // so takes the CSV header line).
+        let (mut out, done, fresh): (Box<dyn std::io::Write + Send>, _, _) = match path {
+            None => (Box::new(std::io::stdout()), BTreeSet::new(), true),
+            Some(path) => Self::open_file(spec, path, &header, resume)?,
         };
+        let format = path.map_or(format, Format::of);
+        if fresh && format == Format::Csv {
+            let shown = path.unwrap_or(Path::new("<stdout>"));
+            write_flush(&mut out, &header_line(&header), shown)?;
+        }
+        let w = TableWriter {
+            out,
+            header,
+            format,
+            path: path.map(Path::to_path_buf),
+        };
+        Ok((w, done))
+    }
+
+    /// The table file `path`: a device, FIFO or socket (or this process's standard output) is
+    /// written straight into, as every output is (`AtomicFile`), and has no table to continue;
+    /// a regular file is created, or continued with `resume` (its rows read back, checked
+    /// against the sweep, a torn last line cut off).
+    #[allow(clippy::type_complexity)]
+    fn open_file(
+        spec: &SweepSpec,
+        path: &Path,
+        header: &[String],
+        resume: bool,
+    ) -> Result<(Box<dyn std::io::Write + Send>, BTreeSet<usize>, bool)> {
         let io = |reason: String| Error::Io {
             path: path.display().to_string(),
             reason,
         };
-        let format = Format::of(path);
-        // A device, FIFO or socket (or this process's standard output) is written straight
-        // into, as every output is (`AtomicFile`); there is no table in it to continue.
         if let Some(stream) = AtomicFile::open_stream(path)? {
             if resume {
                 return Err(io(
@@ -360,17 +375,7 @@ impl TableWriter {
                         .into(),
                 ));
             }
-            let mut out: Box<dyn std::io::Write + Send> = Box::new(stream);
-            if format == Format::Csv {
-                write_flush(&mut out, &header_line(&header), path)?;
-            }
-            let w = TableWriter {
-                out,
-                header,
-                format,
-                path: Some(path.to_path_buf()),
-            };
-            return Ok((w, BTreeSet::new()));
+            return Ok((Box::new(stream), BTreeSet::new(), true));
         }
         let exists = std::fs::metadata(path).is_ok_and(|m| m.is_file() && m.len() > 0);
         let mut done = BTreeSet::new();
@@ -381,7 +386,7 @@ impl TableWriter {
                     "exists: pass --resume to continue it, or remove it to start over".into(),
                 ));
             }
-            let (rows, complete) = read_table(path, &header)?;
+            let (rows, complete) = read_table(path, header)?;
             done = check_rows(spec, &rows, path)?;
             keep = complete;
         }
@@ -394,17 +399,7 @@ impl TableWriter {
         // A torn last line (a run killed while writing it) is cut off.
         file.set_len(keep as u64)
             .map_err(|e| io(format!("cannot write: {e}")))?;
-        let mut out: Box<dyn std::io::Write + Send> = Box::new(file);
-        if keep == 0 && format == Format::Csv {
-            write_flush(&mut out, &header_line(&header), path)?;
-        }
-        let w = TableWriter {
-            out,
-            header,
-            format,
-            path: Some(path.to_path_buf()),
-        };
-        Ok((w, done))
+        Ok((Box::new(file), done, keep == 0))
     }
 
     /// Appends one row and flushes it.
