@@ -49,8 +49,10 @@ pub fn header(spec: &SweepSpec) -> Vec<String> {
         .collect()
 }
 
-/// A number as written: the shortest text that reads back to the same f64.
+/// A number as written: the shortest text that reads back to the same f64 (`-0` as `0`, as
+/// every other output writes it).
 fn num(v: f64) -> String {
+    let v = if v == 0.0 { 0.0 } else { v };
     // Debug: exact, and with an exponent for tiny and huge values (`4e-15`, not 0.000...).
     let s = format!("{v:?}");
     s.strip_suffix(".0").map_or(s.clone(), str::to_string)
@@ -605,4 +607,21 @@ pub fn read_any_table(path: &Path) -> Result<(Vec<String>, Vec<Row>)> {
     let axes = super::plot::axes_of_header(&header, path)?;
     let (rows, _) = read_table(path, &header)?;
     Ok((axes, rows))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::num;
+
+    #[test]
+    fn numbers_read_back_and_negative_zero_is_zero() {
+        assert_eq!(num(-0.0), "0");
+        assert_eq!(num(0.0), "0");
+        assert_eq!(num(2.5), "2.5");
+        assert_eq!(num(-3.0), "-3");
+        assert_eq!(num(4e-15), "4e-15");
+        for v in [0.1, -1.0 / 3.0, 1e300, 5e-324] {
+            assert_eq!(num(v).parse::<f64>().unwrap(), v);
+        }
+    }
 }
