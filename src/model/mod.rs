@@ -11,6 +11,7 @@
 mod analysis;
 mod crawler;
 pub mod general;
+mod general_checks;
 mod general_crawler;
 mod general_drift;
 mod polytope;
