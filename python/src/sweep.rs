@@ -64,8 +64,18 @@ pub fn sweep_run(
     source: &str,
     is_path: bool,
     base_dir: &str,
-    threads: usize,
+    threads: i64,
 ) -> PyResult<Vec<String>> {
+    // A Python int of any sign: a negative one is refused naming `threads` (not an
+    // OverflowError of the conversion).
+    let threads = usize::try_from(threads).map_err(|_| {
+        let e = crawlopt::Error::invalid(
+            "threads",
+            threads,
+            "must be 0 (one per core) or a positive number of threads",
+        );
+        to_py(py, e)
+    })?;
     let spec = spec_of(source, is_path, base_dir).map_err(|e| to_py(py, e))?;
     let header = study::header(&spec);
     run(py, None, |hooks| {

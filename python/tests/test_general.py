@@ -104,9 +104,9 @@ def test_polish_is_on_by_default_and_can_be_turned_off():
     p = co.load(example("general_drift.toml"))
     on = p.optimize(m=3, certify=True)
     assert on["solution"]["polish"]["applied"]
-    assert on["solution"]["polish"]["objective_after"] >= on["solution"]["polish"][
-        "objective_before"
-    ]
+    assert (
+        on["solution"]["polish"]["objective_after"] >= on["solution"]["polish"]["objective_before"]
+    )
     assert on["necessary_conditions"]["verdict"] == "holds"
     off = p.optimize(m=3, certify=True, polish=False)
     assert off["solution"].get("polish") is None

@@ -63,6 +63,9 @@ def test_one_field_in_two_spellings_and_absurd_threads_are_refused():
     with pytest.raises(co.InputError) as e:
         co.sweep(SPEC, threads=100000)
     assert e.value.field == "threads"
+    with pytest.raises(co.InputError) as e:
+        co.sweep(SPEC, threads=-1)
+    assert e.value.field == "threads"
 
 
 def test_dask_local_cluster_gives_the_same_rows():
