@@ -35,6 +35,14 @@ fn sweep(job: &str, rest: &str) -> String {
     format!("job = \"{job}\"\n{MODEL}\n{rest}")
 }
 
+/// A sweep file `s.toml` in `dir` running `analyze` over `gait.period` at `periods`.
+fn period_sweep(dir: &Path, periods: &str) -> std::path::PathBuf {
+    let f = dir.join("s.toml");
+    let axis = format!("[[axis]]\nfield = \"gait.period\"\nvalues = [{periods}]\n");
+    std::fs::write(&f, sweep("analyze", &axis)).unwrap();
+    f
+}
+
 fn parse(text: &str) -> crawlopt::Result<SweepSpec> {
     SweepSpec::parse(text, Path::new("."))
 }
@@ -355,15 +363,7 @@ fn threads_are_bounded_and_absurd_numbers_refused() {
     let e = s(MAX_THREADS + 1).check().unwrap_err().to_string();
     assert!(e.starts_with("threads: must be at most 4096"), "{e}");
     let dir = tempfile::tempdir().unwrap();
-    let f = dir.path().join("s.toml");
-    std::fs::write(
-        &f,
-        sweep(
-            "analyze",
-            "[[axis]]\nfield = \"gait.period\"\nvalues = [6, 8, 10, 12]\n",
-        ),
-    )
-    .unwrap();
+    let f = period_sweep(dir.path(), "6, 8, 10, 12");
     let out = dir.path().join("t.csv");
     std::fs::write(&out, "keep").unwrap();
     for j in ["18446744073709551615", "100000"] {
@@ -395,15 +395,7 @@ fn threads_are_bounded_and_absurd_numbers_refused() {
 #[test]
 fn resume_never_destroys_a_file_that_is_not_this_table() {
     let dir = tempfile::tempdir().unwrap();
-    let f = dir.path().join("s.toml");
-    std::fs::write(
-        &f,
-        sweep(
-            "analyze",
-            "[[axis]]\nfield = \"gait.period\"\nvalues = [6, 8, 10]\n",
-        ),
-    )
-    .unwrap();
+    let f = period_sweep(dir.path(), "6, 8, 10");
     let f = f.to_str().unwrap();
     let junk = "x".repeat(200_000);
     for (name, text) in [
@@ -442,15 +434,7 @@ fn resume_never_destroys_a_file_that_is_not_this_table() {
 #[test]
 fn sweep_writes_into_devices_and_fifos() {
     let dir = tempfile::tempdir().unwrap();
-    let f = dir.path().join("s.toml");
-    std::fs::write(
-        &f,
-        sweep(
-            "analyze",
-            "[[axis]]\nfield = \"gait.period\"\nvalues = [6, 8, 10]\n",
-        ),
-    )
-    .unwrap();
+    let f = period_sweep(dir.path(), "6, 8, 10");
     let f = f.to_str().unwrap();
     let o = crawlopt(&["sweep", f, "-o", "/dev/null"]);
     assert!(o.status.success(), "{}", stderr(&o));
