@@ -19,10 +19,10 @@ pub enum Error {
         reason: String,
     },
 
-    /// The uniqueness condition (theory §2, paper eq. 3.5) fails for the subset `subset`
+    /// The uniqueness condition (theory §2, paper eq. 3.6) fails for the subset `subset`
     /// (1-based block numbers): a group of blocks can slide rigidly against the rest.
     #[error(
-        "uniqueness condition (paper eq. 3.5) fails for blocks J = {}: \
+        "uniqueness condition (paper eq. 3.6) fails for blocks J = {}: \
          sum of mu_forward over J = {} equals sum of mu_backward over the other blocks = {} \
          (within a relative 1e-9); the motion is not unique (change a friction coefficient)",
         subset_text(.subset),
@@ -39,7 +39,7 @@ pub enum Error {
     },
 
     /// The uniqueness condition could not be decided within the enumeration limits.
-    #[error("uniqueness condition (paper eq. 3.5) cannot be decided: {0}")]
+    #[error("uniqueness condition (paper eq. 3.6) cannot be decided: {0}")]
     UniquenessUndecided(String),
 
     /// A state outside the polytope C of admissible spring forces (theory §2).

@@ -207,7 +207,7 @@ fn the_uniqueness_message_is_consistent_at_extreme_friction() {
     assert_refused(
         &out,
         &[
-            "uniqueness condition (paper eq. 3.5) fails for blocks J = [1, 2]",
+            "uniqueness condition (paper eq. 3.6) fails for blocks J = [1, 2]",
             "sum of mu_forward over J = 2e300 equals sum of mu_backward over the other blocks = 2e300",
         ],
     );

@@ -131,7 +131,7 @@ class Figure:
 
 class Analysis:
     """The analysis of a crawler (``crawlopt analyze``): the polytope C (``faces``,
-    ``link_force_ranges``, ``vertices``), the uniqueness condition (paper eq. 3.5), the class of
+    ``link_force_ranges``, ``vertices``), the uniqueness condition (paper eq. 3.6), the class of
     v_m and the directions the crawler can move. Every field of the JSON is an attribute."""
 
     def __init__(self, doc: dict):

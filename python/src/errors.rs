@@ -12,7 +12,7 @@ pyo3::create_exception!(
     PyValueError,
     "Bad input: `.field` names it, `.value` is the value as given."
 );
-pyo3::create_exception!(_crawlopt, NonUniqueError, InputError, "The uniqueness condition (paper eq. 3.5) fails: `.subset` (1-based blocks), `.forward_sum`, `.backward_sum`.");
+pyo3::create_exception!(_crawlopt, NonUniqueError, InputError, "The uniqueness condition (paper eq. 3.6) fails: `.subset` (1-based blocks), `.forward_sum`, `.backward_sum`.");
 pyo3::create_exception!(
     _crawlopt,
     InadmissibleError,

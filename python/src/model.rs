@@ -68,7 +68,7 @@ impl Crawler {
         Ok(self.inner.vm(&rates))
     }
 
-    /// Raises NonUniqueError when the uniqueness condition (paper eq. 3.5) fails.
+    /// Raises NonUniqueError when the uniqueness condition (paper eq. 3.6) fails.
     fn require_unique(&self, py: Python<'_>) -> PyResult<()> {
         self.inner.require_unique().map_err(|e| to_py(py, e))
     }

@@ -68,7 +68,7 @@ use crate::model::{Analysis, Crawler};
 use crate::optimal::{one_link_optimum, GaitProblem, OneLinkOptimum};
 use serde::Serialize;
 
-/// The crawler of a model file, checked for uniqueness (paper eq. 3.5), and its `[gait]`
+/// The crawler of a model file, checked for uniqueness (paper eq. 3.6), and its `[gait]`
 /// problem (an error naming `gait` when the file has none).
 pub fn gait_problem(model: &ModelFile) -> Result<(Crawler, GaitProblem)> {
     let crawler = model.crawler()?;

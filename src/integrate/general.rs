@@ -1,7 +1,7 @@
 //! Simulation of the general problem (P) (theory §11) for a given control: the catching-up scheme
 //! on `M` uniform steps of a period, with the exact projection of [`crate::sweep::polyhedron`];
 //! the reactions `lambda^i = mu^i / h` per face (the projection's multipliers divided by `h`),
-//! and the functional `J = sum_i h (f1(eta^i) - f2(u^i))` (paper eq. 2.4, discretised as in §6).
+//! and the functional `J = sum_i h (f1(eta^i) - f2(u^i))` (paper eq. 2.3, discretised as in §6).
 //!
 //! Two steps ([`DriftStep`]), with `A = S_- + (S_+ + K)` split as in
 //! [`crate::model::general::DriftSplit`]:

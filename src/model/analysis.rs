@@ -35,7 +35,7 @@ pub struct Analysis {
     pub blocks: usize,
     /// `n = N - 1`.
     pub links: usize,
-    /// Whether the uniqueness condition (paper eq. 3.5) holds.
+    /// Whether the uniqueness condition (paper eq. 3.6) holds.
     pub uniqueness_ok: bool,
     /// A violating subset `J` (1-based blocks), or `None`.
     pub violating_subset: Option<Vec<usize>>,

@@ -34,7 +34,7 @@ impl Crawler {
     /// `mu_b^+` (against forward motion) and `mu_b^-` (against backward motion).
     ///
     /// Checks lengths, positivity and finiteness, and decides the uniqueness condition
-    /// (paper eq. 3.5) once; the result is kept in [`Crawler::uniqueness`]. A crawler that fails
+    /// (paper eq. 3.6) once; the result is kept in [`Crawler::uniqueness`]. A crawler that fails
     /// it can still be built and analysed, but [`Crawler::require_unique`] refuses it, and every
     /// simulator calls that.
     pub fn new(stiffness: Vec<f64>, mu_forward: Vec<f64>, mu_backward: Vec<f64>) -> Result<Self> {
@@ -124,7 +124,7 @@ impl Crawler {
             .collect()
     }
 
-    /// The outcome of the uniqueness check (paper eq. 3.5), decided at construction.
+    /// The outcome of the uniqueness check (paper eq. 3.6), decided at construction.
     pub fn uniqueness(&self) -> &Uniqueness {
         &self.uniqueness
     }

@@ -1,4 +1,4 @@
-//! The uniqueness condition (theory §2, paper eq. 3.5):
+//! The uniqueness condition (theory §2, paper eq. 3.6):
 //! `sum_{b in J} mu_b^+ != sum_{b not in J} mu_b^-` for every subset `J` of blocks.
 //!
 //! Writing `w_b = mu_b^+ + mu_b^-` and `theta = sum_b mu_b^-`, the condition reads

@@ -1,4 +1,4 @@
-//! The displacement function v_m (theory §3, paper eqs. 3.18–3.20) and its exact classification.
+//! The displacement function v_m (theory §3, paper eqs. 3.19–3.22) and its exact classification.
 //!
 //! For a shape rate `z'`, the block velocities are `X'_b = s + c_b` with `c_0 = 0`,
 //! `c_{b+1} = c_b + z'_b`, where `s` minimises `sum_b R_b(s + c_b)`,

@@ -1,4 +1,4 @@
-//! The gait problem (P) (theory §5, paper eqs. 2.4–2.5, §3.4): given the period `T`, rate bounds
+//! The gait problem (P) (theory §5, paper eqs. 2.2–2.3, §3.4): given the period `T`, rate bounds
 //! `|u_l| <= a_l` (`a_l = k_l * max_actuator_speed_l`) and an actuation cost `f2`, maximise
 //! `J = y(T) - y(0) - int_0^T f2(u) dt` over `T`-periodic actuations (`int u = 0`) on a limit
 //! cycle (`x(0) = x(T)`).

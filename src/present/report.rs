@@ -365,10 +365,10 @@ fn page(
     h.push_str("<h2 id=\"analysis\">Analysis</h2>\n<ul>\n");
     h.push_str(&match (&a.violating_subset, a.uniqueness_margin) {
         (Some(j), _) => {
-            format!("<li>Uniqueness condition (eq. 3.5) <b>fails</b> for J = {j:?}.</li>\n")
+            format!("<li>Uniqueness condition (eq. 3.6) <b>fails</b> for J = {j:?}.</li>\n")
         }
         (None, Some(m)) => format!(
-            "<li>Uniqueness condition (eq. 3.5) holds, margin {} (closest subset J = {:?}).</li>\n",
+            "<li>Uniqueness condition (eq. 3.6) holds, margin {} (closest subset J = {:?}).</li>\n",
             num(m),
             a.closest_subset.clone().unwrap_or_default()
         ),

@@ -18,7 +18,7 @@ pub fn analysis(c: &Crawler, a: &Analysis) -> String {
     wln!(out, "  stiffness k    = {}", list(c.stiffness(), 0.0));
     wln!(out, "  mu_forward     = {}", list(c.mu_forward(), 0.0));
     wln!(out, "  mu_backward    = {}", list(c.mu_backward(), 0.0));
-    wln!(out, "uniqueness condition (eq. 3.5):");
+    wln!(out, "uniqueness condition (eq. 3.6):");
     match (&a.violating_subset, &a.uniqueness_undecided) {
         (Some(j), _) => wln!(out, "  FAILS for J = {j:?}: the motion is not unique"),
         (None, Some(r)) => wln!(out, "  undecided: {r}"),
