@@ -398,3 +398,55 @@ fn bad_inputs_are_refused_naming_the_column_or_row() {
         "mu_backward[3]"
     );
 }
+
+#[test]
+fn the_command_writes_a_model_file_and_the_json_of_the_issue() {
+    let dir = tempfile::tempdir().unwrap();
+    let model = dir.path().join("fitted.toml");
+    let figs = dir.path().join("figs");
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_crawlopt"))
+        .args([
+            "fit",
+            "examples/fit_recorded.csv",
+            "--blocks",
+            "3",
+            "--fix",
+            "stiffness[1]=1",
+            "--json",
+            "-o",
+        ])
+        .arg(&model)
+        .arg("--plot")
+        .arg(&figs)
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    for f in ["stiffness", "mu_forward", "mu_backward"] {
+        assert!(v["crawler"][f].is_array(), "{v}");
+        assert!(v["intervals"][f][0].is_array(), "{v}");
+    }
+    assert_eq!(v["crawler"]["stiffness"][0], 1.0);
+    // The model file is one that simulate and optimize read.
+    let c = crawlopt::io::ModelFile::load(&model)
+        .unwrap()
+        .crawler()
+        .unwrap();
+    assert_eq!(
+        c.stiffness()[1],
+        v["crawler"]["stiffness"][1].as_f64().unwrap()
+    );
+    assert!(figs.join("fit_trajectories.svg").is_file());
+    assert!(figs.join("fit_force_block_3.png").is_file());
+    // Bad input: exit 2 and a message naming the column.
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_crawlopt"))
+        .args(["fit", "examples/fit_recorded.csv", "--blocks", "4"])
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("column L_3"));
+}
