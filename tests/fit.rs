@@ -318,7 +318,7 @@ fn bad_inputs_are_refused_naming_the_column_or_row() {
     assert!(e.contains("column 5") && e.contains("X_9"), "{e}");
     let dropped: Vec<String> = lines
         .iter()
-        .map(|l| l.rsplitn(2, ',').nth(1).unwrap().to_string())
+        .map(|l| l.rsplit_once(',').unwrap().0.to_string())
         .collect();
     let e = csv_error(&dropped.join("\n"));
     assert!(e.contains("column X_3") && e.contains("missing"), "{e}");

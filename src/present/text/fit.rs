@@ -1,7 +1,7 @@
 //! The human form of a fit ([`crate::fit::FitResult`]).
 
 use super::{num, wln};
-use crate::fit::{FitResult, PerParam};
+use crate::fit::FitResult;
 
 /// What `crawlopt fit` prints: the scale, the noise, each parameter with its estimate and
 /// interval, the slips, the residuals, the prediction error, the warnings; `written` names the
@@ -62,13 +62,16 @@ pub fn fit(r: &FitResult, written: Option<&std::path::Path>) -> String {
         }
         s
     };
-    let pick = |f: fn(&PerParam<[Option<f64>; 2]>) -> &Vec<[Option<f64>; 2]>| iv.map(f);
-    o += &rows("stiffness", &r.crawler.stiffness, pick(|p| &p.stiffness));
-    o += &rows("mu_forward", &r.crawler.mu_forward, pick(|p| &p.mu_forward));
+    o += &rows("stiffness", &r.crawler.stiffness, iv.map(|p| &p.stiffness));
+    o += &rows(
+        "mu_forward",
+        &r.crawler.mu_forward,
+        iv.map(|p| &p.mu_forward),
+    );
     o += &rows(
         "mu_backward",
         &r.crawler.mu_backward,
-        pick(|p| &p.mu_backward),
+        iv.map(|p| &p.mu_backward),
     );
     for (b, eps) in r.slip_episodes.iter().enumerate() {
         let (f, bk) = eps.iter().fold((0, 0), |(f, bk), e| {
