@@ -5,9 +5,9 @@
 //! `cargo run --release --example fit_close_loop` prints the fitted parameters, the optimal
 //! displacement on the fitted model, and its smallest and largest value over the corners.
 //! `cargo run --release --example fit_close_loop -- --record` first writes the recording
-//! again: the crawler below, filmed at 50 frames per period for 2 periods of a travelling wave
-//! run forward then backward, with Gaussian noise of standard deviation 1e-3 on every position
-//! (seed 29).
+//! again: the crawler below, filmed at 100 frames per period for 2 periods (of 2 time units: a
+//! travelling wave run forward then backward), with Gaussian noise of standard deviation 1e-3
+//! on every position (seed 29).
 
 use crawlopt::api::{optimize, GaitMethod, Hooks, OptimizeSettings};
 use crawlopt::fit::{column_names, fit, record, FitData, FitSettings, Param, Recording};
@@ -46,7 +46,7 @@ fn recorded_gait() -> Actuation {
 
 fn write_csv(data: &FitData) {
     let mut s = format!(
-        "# A 3-block crawler filmed at 50 frames per period (2 periods of period 2), noise 1e-3:\n\
+        "# A 3-block crawler filmed at 100 frames per period (2 periods of period 2), noise 1e-3:\n\
          # written by `cargo run --release --example fit_close_loop -- --record`.\n{}\n",
         column_names(3).join(",")
     );
@@ -113,7 +113,7 @@ fn main() -> Result<(), crawlopt::Error> {
         }
     }
     let fitted = r.fitted.clone().expect("fitted crawler");
-    // The gait problem of examples/fit_gait.toml: T = 10, |L'| <= 1.
+    // The gait problem of docs/guide/fit.md: T = 10, |L'| <= 1.
     let problem = GaitProblem::new(&fitted, 10.0, &[1.0, 1.0], Cost::None, None)?;
     let settings = OptimizeSettings {
         method: GaitMethod::Phase,
@@ -143,7 +143,7 @@ fn main() -> Result<(), crawlopt::Error> {
     let free: Vec<usize> = (0..flat.len())
         .filter(|&j| flat[j][1] > flat[j][0])
         .collect();
-    let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
+    let (mut lo, mut hi, mut skipped) = (f64::INFINITY, f64::NEG_INFINITY, 0);
     for mask in 0u32..(1 << free.len()) {
         let mut p: Vec<f64> = flat.iter().map(|v| v[0]).collect();
         for (bit, &j) in free.iter().enumerate() {
@@ -151,6 +151,7 @@ fn main() -> Result<(), crawlopt::Error> {
         }
         let c = Crawler::new(p[..2].to_vec(), p[2..5].to_vec(), p[5..].to_vec())?;
         if c.require_unique().is_err() {
+            skipped += 1;
             continue;
         }
         let sim = simulate(&c, &act, &SimOptions::default())?;
@@ -159,7 +160,8 @@ fn main() -> Result<(), crawlopt::Error> {
         hi = hi.max(d);
     }
     println!(
-        "over the {} corners of the interval box: displacement from {lo:.6} to {hi:.6}",
+        "over the {} corners of the interval box: displacement from {lo:.6} to {hi:.6} \
+         ({skipped} corners skipped: uniqueness fails there)",
         1u32 << free.len()
     );
     let sim = simulate(&t, &act, &SimOptions::default())?;
