@@ -16,6 +16,8 @@
 //! - [`optimal`]: the gait problem (P) and its optimum (closed form for one link so far);
 //! - [`certify`]: necessary optimality conditions (Theorem 2.2, Theorems 6.1–6.2): multipliers
 //!   of a gait and a checkable certificate;
+//! - [`fit`]: identification of a crawler's stiffnesses and friction thresholds from a
+//!   measured trajectory (least absolute deviations and exact parameter intervals, by LPs);
 //! - [`io`]: the TOML model file and CSV files;
 //! - [`present`]: figures (SVG, PNG) and the self-contained HTML report; nothing depends on it;
 //! - [`study`]: parameter studies (`crawlopt sweep`): a job over a grid of model parameters,
@@ -41,6 +43,7 @@
 pub mod api;
 pub mod certify;
 pub mod error;
+pub mod fit;
 pub mod integrate;
 pub mod io;
 pub mod model;

@@ -132,6 +132,16 @@ def optimize(
     progress: Optional[Callable[[str], None]],
     polish: Optional[bool] = None,
 ) -> tuple[GaitResult, Optional[str], list[str]]: ...
+def fit(
+    t: list[float],
+    lengths: list[list[float]],
+    positions: list[list[float]],
+    blocks: int,
+    fixes: list[tuple[str, float]],
+    noise: Optional[float],
+    noise_bound: Optional[float],
+    progress: Optional[Callable[[str], Any]],
+) -> tuple[dict[str, Any], Optional[np.ndarray]]: ...
 def sweep_size(source: str, is_path: bool, base_dir: str) -> tuple[list[str], int]: ...
 def sweep_point(source: str, is_path: bool, base_dir: str, id: int) -> str: ...
 def sweep_run(source: str, is_path: bool, base_dir: str, threads: int) -> list[str]: ...

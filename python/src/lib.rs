@@ -5,6 +5,7 @@
 //! Python classes). No decision is taken here.
 
 mod errors;
+mod fit;
 mod general;
 mod jobs;
 mod model;
@@ -33,6 +34,7 @@ fn _crawlopt(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(general::load_general, m)?)?;
     m.add_function(wrap_pyfunction!(jobs::simulate, m)?)?;
     m.add_function(wrap_pyfunction!(jobs::optimize, m)?)?;
+    m.add_function(wrap_pyfunction!(fit::fit, m)?)?;
     m.add_function(wrap_pyfunction!(sweep::sweep_size, m)?)?;
     m.add_function(wrap_pyfunction!(sweep::sweep_point, m)?)?;
     m.add_function(wrap_pyfunction!(sweep::sweep_run, m)?)?;

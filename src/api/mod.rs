@@ -11,6 +11,8 @@
 //! - [`crate::certify::certify_result`]: the necessary conditions (Theorem 2.2) of a result;
 //! - [`crate::present`]: figures and the report;
 //! - [`bench`]: the simulation cost per step;
+//! - [`fit`] with [`crate::fit::FitSettings`]: a crawler identified from a measured trajectory,
+//!   with the exact interval of every parameter (see [`crate::fit`]);
 //! - [`sweep`] with [`crate::study::SweepSettings`]: a parameter study (a job over a grid of
 //!   model parameters, in parallel), see [`crate::study`].
 //! - [`general`]: the general problem (P) of the paper's §2 (`[sweeping_process]` files):
@@ -35,6 +37,7 @@
 
 mod bench;
 mod events;
+mod fit;
 pub mod general;
 mod general_local;
 mod general_phase;
@@ -44,6 +47,7 @@ mod settings;
 pub use crate::study::run as sweep;
 pub use bench::{bench, rename_fields, BenchCase, BenchSettings};
 pub use events::{Event, Hooks, Observer};
+pub use fit::fit;
 pub use general::{
     analyze_general, general_problem, optimize_general, simulate_general, GeneralAnalysis,
     GeneralOptimized, GeneralPmSettings, GeneralSimulated,

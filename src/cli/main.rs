@@ -38,6 +38,9 @@ enum Command {
     /// Run a job over a grid of model parameters (a sweep file), in parallel, one row per
     /// point; `sweep merge` joins the tables of shards.
     Sweep(commands::sweep::SweepArgs),
+    /// Identify a crawler's stiffnesses and friction thresholds from a measured trajectory:
+    /// estimates, the exact interval of each at the noise level, the fitted model file.
+    Fit(commands::fit::FitArgs),
 }
 
 /// Exit status after Ctrl-C or SIGTERM (128 + SIGINT, the shell's convention for an
@@ -67,6 +70,7 @@ fn main() -> ExitCode {
         Command::Report(a) => commands::report::run(a),
         Command::Bench(a) => commands::bench::run(a),
         Command::Sweep(a) => commands::sweep::run(a),
+        Command::Fit(a) => commands::fit::run(a),
     };
     result.unwrap_or_else(|e| {
         eprintln!("error: {e}");

@@ -17,6 +17,7 @@ pub mod general_exact;
 mod increments;
 mod newton;
 mod periodic;
+mod replay;
 
 pub use actuation::{Actuation, Waveform, MAX_OFFSET_RATIO};
 pub use catching_up::CatchingUp;
@@ -31,6 +32,7 @@ pub use newton::NewtonOptions;
 pub use periodic::{
     check_tol, simulate, Search, SimOptions, Simulation, EARLY_SWITCH_MIN, MAX_TOL,
 };
+pub use replay::replay;
 
 use crate::error::Result;
 use serde::Serialize;

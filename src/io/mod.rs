@@ -1,5 +1,6 @@
-//! Input and output files: the TOML model file (a contract: fields are only ever added) and CSV
-//! actuations and trajectories.
+//! Input and output files: the TOML model file (a contract: fields are only ever added; written
+//! for a fitted crawler by [`crawler_toml`]) and CSV actuations and trajectories (measured ones
+//! read by [`read_fit_csv`]).
 //!
 //! ```toml
 //! [crawler]
@@ -31,6 +32,7 @@ mod config;
 mod csv_io;
 pub mod general;
 pub mod json;
+mod model_toml;
 
 pub(crate) use config::escape_controls;
 pub use config::{
@@ -39,6 +41,7 @@ pub use config::{
 };
 pub use csv_io::{read_actuation_csv, remove_staged_files, write_trajectory_csv, AtomicFile};
 pub use general::{write_general_csv, GeneralFile};
+pub use model_toml::{crawler_toml, read_fit_csv, write_text, MAX_FIT_CSV_BYTES};
 
 use crate::error::{Error, Result};
 

@@ -23,6 +23,7 @@ use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
 use std::sync::Once;
 
+pub mod fit;
 pub mod sweep;
 
 /// Font family written into the SVG files and name under which the embedded font is registered.

@@ -5,6 +5,7 @@ pub mod analyze;
 pub mod bench;
 pub mod bound_flags;
 pub mod certify;
+pub mod fit;
 pub mod general;
 pub mod optimize;
 pub mod plot;

@@ -11,12 +11,14 @@
 //! [`gait_result`], [`certificate`].
 
 mod analysis;
+mod fit;
 mod gait;
 mod general;
 mod general_certify;
 mod simulation;
 
 pub use analysis::{analysis, gait_problem};
+pub use fit::fit;
 use gait::conditions_head;
 pub use gait::{certificate, gait_result, phase_step};
 pub use general::{
