@@ -73,6 +73,21 @@ impl GaitResult {
         })
     }
 
+    fn __eq__(&self, other: &Self) -> bool {
+        self.inner == other.inner
+    }
+
+    /// Pickled as its result document (read back as `from_json` reads it).
+    fn __reduce__<'py>(slf: &Bound<'py, Self>) -> PyResult<Bound<'py, pyo3::types::PyTuple>> {
+        let text = crawlopt::io::json::to_string(&slf.get().inner).expect("serialisable");
+        crate::model::reduce(slf.as_any(), text)
+    }
+
+    #[staticmethod]
+    fn _from_state(py: Python<'_>, text: &str) -> PyResult<Self> {
+        GaitResult::from_json(py, text, "result")
+    }
+
     /// The text `crawlopt optimize` prints.
     fn text(&self) -> String {
         text::gait_result(&self.inner)

@@ -18,7 +18,7 @@ mod increments;
 mod newton;
 mod periodic;
 
-pub use actuation::{Actuation, Waveform, MAX_OFFSET_RATIO};
+pub use actuation::{Actuation, TravellingWave, WaveDirection, Waveform, MAX_OFFSET_RATIO};
 pub use catching_up::CatchingUp;
 pub use exact::ExactPwl;
 pub use general::{
