@@ -596,10 +596,14 @@ class GaitResult:
         return {n: Figure(n, c, s) for n, c, s in self._inner.figures(adjoint)}
 
     def report(self, path: Optional[str] = None, source: str = "crawlopt") -> str:
-        """The self-contained HTML report (written to ``path`` when given); returns the HTML."""
+        """The self-contained HTML report (written to ``path`` when given); returns the HTML.
+        With ``necessary_conditions`` (``optimize(certify=True)``) it has the certificate's
+        section: the verdict, every condition's residual, the adjoint figure."""
+        nc = self.necessary_conditions
+        conditions = None if nc is None else json.dumps(nc.to_dict())
         if path is not None:
-            self._inner.write_report(str(path), source)
-        return self._inner.report_html(source)
+            self._inner.write_report(str(path), source, conditions)
+        return self._inner.report_html(source, conditions)
 
     def phase_growth_table(self):
         """The phase growth (one row per K) as a DataFrame (pandas)."""

@@ -318,3 +318,15 @@ def test_plots_and_their_html_form():
         fig = res.plot()
         assert len(fig.axes) == 2 and _png(fig)[..., :3].std() > 0.05
         assert "<svg" in res._repr_html_() and "<table>" in res._repr_html_()
+
+
+def test_the_report_of_a_certified_gait_has_its_certificate(tmp_path):
+    one = co.load("examples/one_link_gait.toml")
+    r = co.optimize(one.crawler, one.gait_problem, method="phase", phases=2, certify=True)
+    page = r.report(str(tmp_path / "r.html"))
+    assert page == (tmp_path / "r.html").read_text()
+    assert '<h2 id="certificate">' in page and 'id="fig-adjoint"' in page
+    assert f'<b id="verdict">{r.necessary_conditions.verdict}</b>' in page
+    assert "<code>crawlopt.GaitResult.report (Python)</code>" in page
+    plain = co.optimize(one.crawler, one.gait_problem, method="phase", phases=2).report()
+    assert 'id="certificate"' not in plain
