@@ -180,7 +180,12 @@ pub fn simulation_figures(
 ) -> PyResult<Vec<(String, String, String)>> {
     let method = match method {
         "exact" => Method::Exact,
-        _ => Method::CatchingUp,
+        "catching-up" | "catching_up" => Method::CatchingUp,
+        other => {
+            let e =
+                crawlopt::Error::invalid("method", other, "must be \"exact\" or \"catching_up\"");
+            return Err(to_py(py, e));
+        }
     };
     let c = crawler.inner.clone();
     let a = actuation.bound(c.links()).map_err(|e| to_py(py, e))?;
