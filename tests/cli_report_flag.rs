@@ -24,6 +24,25 @@ fn optimize_writes_the_report_of_its_gait() {
         .ends_with(&format!("wrote {}", html.display())));
     let page = std::fs::read_to_string(&html).unwrap();
     assert!(page.contains("2.6") && page.contains("<script"));
+    // Issue 28: the certificate computed by --certify is in the report (verdict, residual
+    // table, adjoint figure); the footer names the command that made it; pieces are numbered
+    // as in the text.
+    assert!(
+        page.contains("<h2 id=\"certificate\">"),
+        "no certificate section"
+    );
+    assert!(page.contains("<b id=\"verdict\">degenerate</b>"));
+    assert!(stdout.contains(
+        "necessary conditions (Theorem 2.2; discrete form Theorems 6.1-6.2): degenerate"
+    ));
+    assert!(page.contains("<table id=\"conditions\">") && page.contains("weak_maximality"));
+    assert!(page.contains("<figure id=\"fig-adjoint\">"));
+    assert!(page.contains(
+        "<code>crawlopt optimize three_blocks_gait.toml --certify --report gait.html</code>"
+    ));
+    assert!(!page.contains("<code>crawlopt report"));
+    assert_eq!(text_pieces(&stdout), html_pieces(&page));
+    assert_eq!(text_pieces(&stdout).first(), Some(&0));
     // With --json, stdout is the one JSON document; the line goes to stderr.
     let out = crawlopt(&[
         "optimize",
@@ -36,6 +55,50 @@ fn optimize_writes_the_report_of_its_gait() {
     let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
     assert!((v["objective"].as_f64().unwrap() - 2.6).abs() < 1e-8);
     assert!(String::from_utf8_lossy(&out.stderr).contains("wrote"));
+    // Without --certify: no certificate section, and the footer says so.
+    let page = std::fs::read_to_string(&html).unwrap();
+    assert!(!page.contains("id=\"certificate\"") && !page.contains("fig-adjoint"));
+    assert!(
+        page.contains("<code>crawlopt optimize three_blocks_gait.toml --report gait.html</code>")
+    );
+    // `crawlopt report` of the result file names itself.
+    let json = dir.path().join("gait.json");
+    std::fs::write(&json, &out.stdout).unwrap();
+    let again = dir.path().join("again.html");
+    let out = crawlopt(&[
+        "report",
+        json.to_str().unwrap(),
+        "-o",
+        again.to_str().unwrap(),
+    ]);
+    assert_eq!(out.status.code(), Some(0));
+    let page = std::fs::read_to_string(&again).unwrap();
+    assert!(page.contains("<code>crawlopt report gait.json</code>"));
+}
+
+/// The piece numbers of the text of `crawlopt optimize` (lines `  j: t = [..]`).
+fn text_pieces(stdout: &str) -> Vec<usize> {
+    stdout
+        .lines()
+        .filter_map(|l| {
+            let (j, rest) = l.trim_start().split_once(": t = [")?;
+            let _ = rest;
+            j.parse().ok()
+        })
+        .collect()
+}
+
+/// The piece numbers of the report's table of pieces (the first cell of each row).
+fn html_pieces(page: &str) -> Vec<usize> {
+    let start = page
+        .find("<table id=\"pieces\">")
+        .expect("a table of pieces");
+    let table = &page[start..start + page[start..].find("</table>").unwrap()];
+    table
+        .split("<tr><td>")
+        .skip(1)
+        .filter_map(|row| row.split("</td>").next()?.parse().ok())
+        .collect()
 }
 
 #[test]

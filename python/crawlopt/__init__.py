@@ -14,12 +14,22 @@ NumPy arrays, and renders them (text, SVG figures, HTML in Jupyter, a progress b
 from __future__ import annotations
 
 import json
+import warnings
 from collections.abc import Sequence
 from typing import Any, Callable, Optional, Union
 
 import numpy as np
 
 from . import _crawlopt as _rs
+from ._convert import (
+    NotConvergedWarning,
+    Numbers,
+    _array,
+    _input_error,
+    _instance,
+    _numbers,
+    _vector,
+)
 from ._crawlopt import (
     CrawloptError,
     FileError,
@@ -30,7 +40,10 @@ from ._crawlopt import (
     NumericalError,
     TimeLimitError,
 )
+from ._documents import GeneralResult, GeneralSimulation, NecessaryConditions, require
+from ._general import GeneralProblem
 from ._progress import progress_callback
+from ._simulation import Figure, Simulation
 
 __version__ = _rs.__version__
 
@@ -45,10 +58,14 @@ __all__ = [
     "GaitProblem",
     "GaitResult",
     "GeneralProblem",
+    "GeneralResult",
+    "GeneralSimulation",
     "InadmissibleError",
     "InfeasibleError",
     "InputError",
     "Model",
+    "NecessaryConditions",
+    "NotConvergedWarning",
     "NonUniqueError",
     "NumericalError",
     "Quadratic",
@@ -61,74 +78,13 @@ __all__ = [
     "sweep",
 ]
 
-Numbers = Union[float, Sequence[float]]
 Progress = Union[bool, Callable[[dict], Any], None]
 
 
-def _input_error(field: str, value: Any, reason: str) -> InputError:
-    """An InputError raised on the Python side, with ``.field`` and ``.value`` as the library's
-    (the value as text)."""
-    e = InputError(f"{field}: {reason} (got {value})")
-    e.field, e.value = field, str(value)
-    return e
-
-
-def _array(value: Any, name: str, ndim: int, shape: str) -> np.ndarray:
-    """``value`` as a float array of exactly ``ndim`` dimensions: an array of another shape is
-    refused (InputError, a ValueError, naming ``name`` and the ``shape`` expected), never
-    flattened or broadcast (an amplitude of shape (2, 1) is not two links)."""
-    try:
-        a = np.asarray(value, dtype=float)
-    except (TypeError, ValueError) as e:
-        raise _input_error(name, repr(value), f"must be {shape} of numbers ({e})") from None
-    if a.ndim != ndim:
-        raise _input_error(name, f"an array of shape {a.shape}", f"must be {shape}")
-    return a
-
-
-def _vector(value: Any, name: str, what: str = "entries") -> list[float]:
-    """A one-dimensional list of numbers (``what`` names its entries in the message)."""
-    return [float(v) for v in _array(value, name, 1, f"a list of {what} (shape (n,))")]
-
-
-def _each(value: Numbers, count: int, name: str) -> list[float]:
-    """A number for every entry, or a list of them (as the TOML schema allows)."""
-    if np.ndim(value) == 0:
-        return [float(_array(value, name, 0, "a number"))] * count
-    values = _vector(value, name, "numbers, one per entry, or a single number")
-    if len(values) != count:
-        raise _input_error(name, len(values), f"must have {count} entries")
-    return values
-
-
-def _instance(value: Any, cls: type, name: str) -> None:
-    """TypeError unless ``value`` is a ``cls`` (not an AttributeError from deep inside)."""
-    if not isinstance(value, cls):
-        raise TypeError(f"{name}: must be a crawlopt.{cls.__name__}, got {type(value).__name__}")
-
-
 def _table(rows: list[dict]):
-    import pandas as pd  # optional dependency
+    pd = require("pandas", "the table")
 
     return pd.DataFrame(rows)
-
-
-class Figure:
-    """A figure: its ``name``, ``caption`` and SVG text; displays itself in Jupyter."""
-
-    def __init__(self, name: str, caption: str, svg: str):
-        self.name, self.caption, self.svg = name, caption, svg
-
-    def _repr_svg_(self) -> str:
-        return self.svg
-
-    def save(self, path: str) -> None:
-        """Writes the SVG to ``path``."""
-        with open(path, "w", encoding="utf-8") as f:
-            f.write(self.svg)
-
-    def __repr__(self) -> str:
-        return f"Figure({self.name!r}: {self.caption})"
 
 
 class Analysis:
@@ -168,14 +124,25 @@ class Crawler:
         _inner: Optional[Any] = None,
     ):
         if _inner is None:
-            if not isinstance(blocks, (int, np.integer)) or blocks < 2:
+            if isinstance(blocks, bool) or not isinstance(blocks, (int, np.integer)):
                 raise _input_error("crawler.blocks", repr(blocks), "must be a whole number >= 2")
+            if not -(2**62) < int(blocks) < 2**62:
+                raise _input_error("crawler.blocks", blocks, "must be a whole number >= 2")
             _inner = _rs.Crawler(
-                _each(stiffness, blocks - 1, "crawler.stiffness"),
-                _each(mu_forward, blocks, "crawler.mu_forward"),
-                _each(mu_backward, blocks, "crawler.mu_backward"),
+                int(blocks),
+                _numbers(stiffness, "crawler.stiffness"),
+                _numbers(mu_forward, "crawler.mu_forward"),
+                _numbers(mu_backward, "crawler.mu_backward"),
             )
         self._inner = _inner
+
+    def __eq__(self, other: object) -> bool:
+        if not isinstance(other, Crawler):
+            return NotImplemented
+        return self._inner == other._inner
+
+    def __hash__(self) -> int:
+        return hash(self._inner)
 
     blocks = property(lambda self: len(self._inner.mu_forward), doc="N, the number of blocks.")
     links = property(lambda self: len(self._inner.stiffness), doc="n = N - 1, the number of links.")
@@ -211,54 +178,154 @@ class Crawler:
 
 
 class Actuation:
-    """Prescribed actuator lengths L(t), periodic: ``sine``, ``triangle`` or
-    ``piecewise_linear``."""
+    """Prescribed actuator lengths L(t), periodic: ``sine``, ``triangle``,
+    ``travelling_wave`` or ``piecewise_linear``, as the model file's ``[actuation]`` section.
+
+    Every value may be a single number, which stands for every link as in the file: an
+    actuation whose values are all single numbers fits a crawler of any size (``links`` is
+    None until it is simulated on one); one with lists has as many links as they have entries
+    (or ``links=``). Actuations pickle, deep-copy, compare by value and write their section
+    (``to_toml``)."""
 
     def __init__(self, inner):
         self._inner = inner
 
     @staticmethod
-    def _wave(kind, period, amplitude, phase_deg, mean):
-        one = np.ndim(amplitude) == 0
-        amp = _vector(
-            [amplitude] if one else amplitude, "actuation.amplitude", "amplitudes, one per link"
+    def _section(kind, period, links=None, **fields) -> Actuation:
+        given = {k: v for k, v in fields.items() if v is not None}
+        for k in ("amplitude", "phase_deg", "mean"):
+            if k in given:
+                given[k] = _numbers(given[k], f"actuation.{k}")
+        if links is not None and (
+            isinstance(links, bool) or not isinstance(links, (int, np.integer)) or links < 1
+        ):
+            raise _input_error("actuation.links", repr(links), "must be a whole number >= 1")
+        period = float(_array(period, "actuation.period", 0, "a number"))
+        return Actuation(
+            _rs.Actuation.section(
+                kind, period, links=None if links is None else int(links), **given
+            )
         )
-        n = len(amp)
-        phase = _each(0.0 if phase_deg is None else phase_deg, n, "actuation.phase_deg")
-        inner = _rs.Actuation.wave(
-            kind, float(period), _each(mean, n, "actuation.mean"), amp, phase
+
+    @staticmethod
+    def sine(
+        period: float,
+        amplitude: Numbers,
+        phase_deg: Optional[Numbers] = None,
+        mean: Optional[Numbers] = None,
+        *,
+        links: Optional[int] = None,
+    ) -> Actuation:
+        """``L_l(t) = mean_l + amplitude_l sin(2 pi t / T - phase_l)``: each of ``amplitude``,
+        ``phase_deg`` (degrees, default 0) and ``mean`` (default 0) a number for every link or a
+        list, one per link (``kind = "sine"`` of the model file)."""
+        return Actuation._section(
+            "sine", period, links, amplitude=amplitude, phase_deg=phase_deg, mean=mean
         )
-        return Actuation(inner)
 
     @staticmethod
-    def sine(period: float, amplitude: Numbers, phase_deg: Numbers = None, mean: Numbers = 0.0):
-        """``L_l(t) = mean_l + amplitude_l sin(2 pi t / T - phase_l)``, one entry per link."""
-        return Actuation._wave("sine", period, amplitude, phase_deg, mean)
+    def triangle(
+        period: float,
+        amplitude: Numbers,
+        phase_deg: Optional[Numbers] = None,
+        mean: Optional[Numbers] = None,
+        *,
+        links: Optional[int] = None,
+    ) -> Actuation:
+        """A triangle wave with the sine's peaks (arguments as ``sine``)."""
+        return Actuation._section(
+            "triangle", period, links, amplitude=amplitude, phase_deg=phase_deg, mean=mean
+        )
 
     @staticmethod
-    def triangle(period: float, amplitude: Numbers, phase_deg: Numbers = None, mean: Numbers = 0.0):
-        """A triangle wave with the sine's peaks."""
-        return Actuation._wave("triangle", period, amplitude, phase_deg, mean)
+    def travelling_wave(
+        links: int,
+        period: Optional[float] = None,
+        amplitude: Optional[float] = None,
+        *,
+        lag_deg: Optional[float] = None,
+        wavelength: Optional[float] = None,
+        direction: Optional[str] = None,
+        waveform: Optional[str] = None,
+        mean: Optional[float] = None,
+    ) -> Actuation:
+        """A wave travelling along the body: every link has the same ``waveform`` ("sine",
+        the default, or "triangle"), ``period`` (default 1), ``amplitude`` (default 1) and
+        ``mean`` (default 0), and each lags its neighbour by the same phase: ``lag_deg``
+        degrees, or ``360 / wavelength`` with ``wavelength`` in links (give one of them; with
+        neither, one wavelength spans the body: ``wavelength = links``). ``direction``
+        "first_to_last" (the default: link l + 1 lags link l, the wave runs from link 1 to link
+        n) or "last_to_first". The library's ``TravellingWave``; the result is the sine (or
+        triangle) actuation with ``phase_deg = [(l - 1) lag]`` (or ``[(n - l) lag]``)."""
+        if isinstance(links, bool) or not isinstance(links, (int, np.integer)) or links < 1:
+            raise _input_error("actuation.links", repr(links), "must be a whole number >= 1")
+
+        def num(v, name):
+            return None if v is None else float(_array(v, f"actuation.{name}", 0, "a number"))
+
+        return Actuation(
+            _rs.Actuation.travelling_wave(
+                int(links),
+                waveform=waveform,
+                period=num(period, "period"),
+                amplitude=num(amplitude, "amplitude"),
+                mean=num(mean, "mean"),
+                lag_deg=num(lag_deg, "lag_deg"),
+                wavelength=num(wavelength, "wavelength"),
+                direction=direction,
+            )
+        )
 
     @staticmethod
-    def piecewise_linear(period: float, t: Sequence[float], L) -> Actuation:
-        """Through the knots (``t`` in [0, period), one row of ``L`` per knot), periodic."""
+    def piecewise_linear(
+        period: float, t: Sequence[float], L, *, links: Optional[int] = None
+    ) -> Actuation:
+        """Through the knots (``t`` in [0, period), one row of ``L`` per knot), periodic; a
+        row may be a single number (the same length for every link), as in the file."""
         times = _vector(t, "actuation.times", "knot times")
-        rows = _array(
-            L, "actuation.lengths", 2, "one row of lengths per knot (shape (knots, links))"
-        )
-        inner = _rs.Actuation.piecewise_linear(float(period), times, rows.tolist())
-        return Actuation(inner)
+        if isinstance(L, np.ndarray) and L.ndim not in (1, 2):
+            raise _input_error(
+                "actuation.lengths", f"an array of shape {L.shape}", "must be one row per knot"
+            )
+        try:
+            rows = list(L)
+        except TypeError:
+            raise _input_error(
+                "actuation.lengths", repr(L), "must be one row of lengths per knot"
+            ) from None
+        rows = [_numbers(r, f"actuation.lengths[{j + 1}]") for j, r in enumerate(rows)]
+        return Actuation._section("piecewise_linear", period, links, times=times, lengths=rows)
 
     period = property(lambda self: self._inner.period, doc="The period T (time).")
+    links = property(
+        lambda self: self._inner.links,
+        doc="The number of links (None: every value is one number, for a crawler of any size).",
+    )
+    kind = property(lambda self: self._inner.kind, doc="sine, triangle or piecewise_linear.")
+
+    def for_links(self, links: int) -> Actuation:
+        """This actuation for a crawler of ``links`` links (a single number expanded to each)."""
+        return Actuation(self._inner.bind(int(links)))
+
+    def to_toml(self) -> str:
+        """The ``[actuation]`` section of a model file, as TOML text."""
+        return self._inner.to_toml()
 
     def __call__(self, t) -> np.ndarray:
-        """L at the times ``t``: an array (times x links)."""
+        """L at the times ``t``: an array (times x links; one column when ``links`` is None)."""
         times = [float(t)] if np.ndim(t) == 0 else _vector(t, "t", "times")
         return np.array(self._inner.lengths_at(times))
 
+    def __eq__(self, other: object) -> bool:
+        if not isinstance(other, Actuation):
+            return NotImplemented
+        return self._inner == other._inner
+
+    __hash__ = None  # type: ignore[assignment]
+
     def __repr__(self) -> str:
-        return f"Actuation(period={self.period:g}, links={self._inner.links})"
+        n = self.links
+        return f"Actuation({self.kind}, period={self.period:g}, links={'any' if n is None else n})"
 
 
 class Quadratic:
@@ -266,6 +333,14 @@ class Quadratic:
 
     def __init__(self, weight: float):
         self.weight = float(weight)
+
+    def __eq__(self, other: object) -> bool:
+        if not isinstance(other, Quadratic):
+            return NotImplemented
+        return self.weight == other.weight
+
+    def __hash__(self) -> int:
+        return hash(("Quadratic", self.weight))
 
     def __repr__(self) -> str:
         return f"Quadratic({self.weight:g})"
@@ -289,9 +364,21 @@ class GaitProblem:
         self.max_total_variation = max_total_variation
 
     def _for(self, crawler: Crawler):
-        speed = _each(self.max_actuator_speed, crawler.links, "gait.max_actuator_speed")
+        speed = _numbers(self.max_actuator_speed, "gait.max_actuator_speed")
         weight = None if self.cost is None else self.cost.weight
         return _rs.GaitProblem(crawler._inner, self.period, speed, weight, self.max_total_variation)
+
+    def _fields(self) -> tuple:
+        speed = self.max_actuator_speed
+        speed = float(speed) if np.ndim(speed) == 0 else [float(v) for v in speed]
+        return (self.period, speed, self.cost, self.max_total_variation)
+
+    def __eq__(self, other: object) -> bool:
+        if not isinstance(other, GaitProblem):
+            return NotImplemented
+        return self._fields() == other._fields()
+
+    __hash__ = None  # type: ignore[assignment]
 
     def __repr__(self) -> str:
         return (
@@ -301,118 +388,80 @@ class GaitProblem:
 
 
 class Model:
-    """A model file: ``crawler``, ``gait_problem`` and ``actuation`` (None where absent), and
-    ``initial_state`` of ``[simulation]``."""
+    """A model: ``crawler``, ``actuation`` and ``gait_problem`` (None where absent), and
+    ``initial_state`` (of ``[simulation]``) — what a model file holds. ``load`` reads one;
+    ``to_toml`` and ``save`` write one that ``load`` and the command line read back."""
 
-    def __init__(self, crawler, problem, actuation, initial_state, gait_problem=None):
+    def __init__(
+        self,
+        crawler: Crawler,
+        actuation: Optional[Actuation] = None,
+        gait_problem: Optional[GaitProblem] = None,
+        initial_state: Optional[Sequence[float]] = None,
+    ):
+        _instance(crawler, Crawler, "crawler")
+        if actuation is not None:
+            _instance(actuation, Actuation, "actuation")
+        if gait_problem is not None:
+            _instance(gait_problem, GaitProblem, "gait_problem")
         self.crawler = crawler
-        self._problem = problem
         self.actuation = actuation
-        self.initial_state = initial_state
         self.gait_problem = gait_problem
+        self.initial_state = initial_state
+
+    def to_toml(self) -> str:
+        """The model file as TOML text, checked first as ``load`` checks a file (each part for
+        this crawler): ``crawlopt.load`` and the command line read it back to an equal model."""
+        x0 = self.initial_state
+        return _rs.model_toml(
+            self.crawler._inner,
+            None if self.actuation is None else self.actuation._inner,
+            None if self.gait_problem is None else self.gait_problem._for(self.crawler),
+            None if x0 is None else _vector(x0, "simulation.initial_state", "link forces"),
+        )
+
+    def save(self, path) -> None:
+        """Writes the model file (``to_toml``) to ``path``."""
+        text = self.to_toml()
+        with open(path, "w", encoding="utf-8") as f:
+            f.write(text)
+
+    def __eq__(self, other: object) -> bool:
+        if not isinstance(other, Model):
+            return NotImplemented
+        x0, y0 = self.initial_state, other.initial_state
+        return (
+            self.crawler == other.crawler
+            and self.actuation == other.actuation
+            and self.gait_problem == other.gait_problem
+            and ((x0 is None) == (y0 is None))
+            and (x0 is None or list(map(float, x0)) == list(map(float, y0)))
+        )
+
+    __hash__ = None  # type: ignore[assignment]
 
     def __repr__(self) -> str:
         return (
-            f"Model({self.crawler!r}, gait_problem={'yes' if self._problem else 'no'}, "
+            f"Model({self.crawler!r}, gait_problem={self.gait_problem!r}, "
             f"actuation={self.actuation!r})"
         )
 
 
 class _BoundProblem(GaitProblem):
-    """A gait problem as a model file poses it (already bound to its crawler)."""
+    """A gait problem as a model file poses it: its ``[gait]`` fields, and the rate bounds
+    ``rate_bound`` a_l = k_l x speed for the file's crawler."""
 
     def __init__(self, inner):
         doc = json.loads(inner.to_json())
-        super().__init__(doc["period"], None, None, doc.get("max_total_variation"))
-        self._inner = inner
-        self.rate_bound = doc["rate_bound"]
-        if isinstance(doc.get("cost"), dict) and doc["cost"].get("kind") == "quadratic":
-            self.cost = Quadratic(doc["cost"]["weight"])
-
-    def _for(self, crawler: Crawler):
-        return self._inner
-
-
-def _arrays(d: dict, keys: Sequence[str]) -> dict:
-    """The series among ``keys`` of ``d`` as float NumPy arrays (in place)."""
-    for k in keys:
-        if d.get(k) is not None:
-            d[k] = np.asarray(d[k], dtype=float)
-    return d
-
-
-class GeneralProblem:
-    """A general problem (P) of the paper's §2 (a ``[sweeping_process]`` file, theory §11): a
-    polyhedron C, affine dynamics g = A x + B u + b, a control set U, f1 and f2. Every check and
-    default is the library's (``crawlopt analyze``, ``simulate`` and ``optimize`` on the same
-    file); answers are dicts with the fields of their ``--json`` documents, series as NumPy
-    arrays (states x, controls u, reactions ``lambda`` per face, one row per step)."""
-
-    def __init__(self, inner):
-        self._inner = inner
-
-    def analyze(self) -> dict:
-        """C's faces, redundant faces, vertices and Chebyshev centre, and the checks;
-        ``failure`` is the first failed check's message (None: well posed)."""
-        analysis, failure = self._inner.analyze()
-        analysis["failure"] = failure
-        return analysis
-
-    def simulate(
-        self,
-        *,
-        method: str = "exact",
-        steps_per_period: Optional[int] = None,
-        max_periods: Optional[int] = None,
-        tol: Optional[float] = None,
-    ) -> dict:
-        """The file's ``[input]`` simulated (exactly where A = 0 and the input is piecewise
-        constant, unless ``method="catching_up"``) to its periodic regime: ``simulation`` holds
-        ``objective`` (J, None without the regime), ``t``, ``x``, ``u``, ``lambda``."""
-        d = self._inner.simulate(method, steps_per_period, max_periods, tol)
-        _arrays(d["simulation"], ("t", "x", "u", "lambda", "mean_control"))
-        return d
-
-    def optimize(
-        self,
-        *,
-        m: Optional[int] = None,
-        method: str = "discrete",
-        shifts: Optional[int] = None,
-        time_limit: Optional[float] = None,
-        certify: bool = False,
-        progress: Progress = False,
-        max_phases: Optional[int] = None,
-        polish: Optional[bool] = None,
-    ) -> dict:
-        """The paper's P_m on 2^``m`` steps: ``method`` "discrete" (global MILP, with its
-        certificate) or "local" (the LPCC active-set method from the file's ``[input]`` or
-        square waves, ``shifts`` rotations of each; no global claim). ``solution`` holds
-        ``objective`` (J re-verified by simulation), ``x``, ``u``, ``lambda``. ``certify``
-        (discrete only) adds ``necessary_conditions``: Theorem 2.2's conditions on the optimum
-        with their residuals and ``verdict`` (``crawlopt optimize --certify``). Ctrl-C stops it
-        (KeyboardInterrupt); ``progress`` as for ``optimize``. ``method`` "phase" (where A = 0):
-        the exact continuous-time gait of at most ``max_phases`` phases (default 4), globally
-        (``crawlopt optimize --method phase``); its ``solution`` holds ``objective`` (J
-        re-verified by the exact simulation), ``durations``, ``controls``, ``states``,
-        ``held`` (faces, 1-based) and ``reactions`` per phase. ``polish`` (discrete only;
-        default True): a quadratic cost's answer is polished on its fixed face pattern before it
-        is certified (``--no-polish`` is ``polish=False``); ``solution["polish"]`` records it."""
-        d = self._inner.optimize(
-            method,
-            m,
-            shifts,
-            time_limit,
-            certify,
-            progress_callback(progress),
-            max_phases,
-            polish,
+        cost = doc.get("cost")
+        weight = cost.get("weight") if isinstance(cost, dict) else None
+        super().__init__(
+            doc["period"],
+            inner.max_actuator_speed,
+            None if weight is None else Quadratic(weight),
+            doc.get("max_total_variation"),
         )
-        if method == "phase":
-            _arrays(d["solution"], ("durations", "controls", "states", "reactions"))
-        else:
-            _arrays(d["solution"], ("x", "u", "lambda"))
-        return d
+        self.rate_bound = doc["rate_bound"]
 
 
 def load(path: str) -> Union[Model, GeneralProblem]:
@@ -421,51 +470,12 @@ def load(path: str) -> Union[Model, GeneralProblem]:
     ``GeneralProblem``."""
     general = _rs.load_general(str(path))
     if general is not None:
-        return GeneralProblem(general)
+        return GeneralProblem(_inner=general)
     crawler, problem, actuation, x0 = _rs.load(str(path))
     c = Crawler(0, _inner=crawler)
     gp = None if problem is None else _BoundProblem(problem)
     act = None if actuation is None else Actuation(actuation)
-    return Model(c, problem, act, x0, gp)
-
-
-class Simulation:
-    """A simulation to the periodic regime: ``displacement_per_period`` (None if the regime was
-    not reached), ``converged``, ``periods_to_converge``, ... (every field of ``crawlopt
-    simulate --json``), and the recorded periods as NumPy arrays: ``t`` (times), ``x`` (link
-    forces, times x links), ``X`` (block positions, times x blocks), ``y`` (barycentre) and
-    ``slip`` (int8, times x blocks: -1 backward, 0 stick, 1 forward)."""
-
-    def __init__(self, summary: dict, arrays: dict):
-        self._summary = summary
-        self.__dict__.update(summary)
-        empty = np.zeros((0,))
-        self.t = arrays.get("t", empty)
-        self.x = arrays.get("x", empty.reshape(0, 0))
-        self.X = arrays.get("X", empty.reshape(0, 0))
-        self.y = arrays.get("y", empty)
-        self.slip = arrays.get("slip", np.zeros((0, 0), dtype=np.int8))
-
-    def to_dict(self) -> dict:
-        """The fields of the JSON document as a dict (as ``--json`` prints them)."""
-        return dict(self._summary)
-
-    def to_pandas(self):
-        """The recorded trajectory as a DataFrame (t, y, x_l, X_b, slip_b)."""
-        import pandas as pd
-
-        cols = {"t": self.t, "y": self.y}
-        for j in range(self.x.shape[1] if self.x.ndim == 2 else 0):
-            cols[f"x_{j + 1}"] = self.x[:, j]
-        for b in range(self.X.shape[1] if self.X.ndim == 2 else 0):
-            cols[f"X_{b + 1}"] = self.X[:, b]
-            cols[f"slip_{b + 1}"] = self.slip[:, b]
-        return pd.DataFrame(cols)
-
-    def __repr__(self) -> str:
-        d = self.displacement_per_period
-        shown = "not reached" if d is None else f"{d:.10g}"
-        return f"Simulation(displacement_per_period={shown}, periods={self.periods_simulated})"
+    return Model(c, act, gp, x0)
 
 
 def simulate(
@@ -512,7 +522,16 @@ def simulate(
         newton,
         increment_budget,
     )
-    return Simulation(summary, arrays)
+    sim = Simulation(summary, arrays, crawler, actuation)
+    if sim.status != "converged":
+        warnings.warn(
+            f"the periodic regime was not reached within {sim.periods_simulated} periods "
+            f"(residual {sim.period_residual:.3e}): displacement_per_period is None "
+            "(raise max_periods or tol)",
+            NotConvergedWarning,
+            stacklevel=2,
+        )
+    return sim
 
 
 class GaitResult:
@@ -530,7 +549,9 @@ class GaitResult:
                 setattr(self, k, v)
         g = self._doc["gait"]
         self.gait = _Gait(g)
-        self.necessary_conditions = conditions
+        self.necessary_conditions = (
+            NecessaryConditions(conditions) if isinstance(conditions, dict) else conditions
+        )
         self.notes = list(notes)
 
     @staticmethod
@@ -547,10 +568,29 @@ class GaitResult:
         """The fields of the JSON document as a dict (as ``--json`` prints them)."""
         return json.loads(self.to_json())
 
-    def certify(self) -> dict:
+    def certify(self) -> NecessaryConditions:
         """The necessary conditions (Theorem 2.2; discrete form Theorems 6.1–6.2): multipliers,
-        every condition with its residual, and a ``verdict``."""
-        return json.loads(self._inner.certify_json())
+        every condition with its residual, and a ``verdict`` (``crawlopt certify``)."""
+        return NecessaryConditions(json.loads(self._inner.certify_json()))
+
+    def plot(self):
+        """The gait: actuator lengths at the knots and the controls per piece (a matplotlib
+        Figure; matplotlib is an optional dependency). ``figures()`` has the library's."""
+        from ._plot import gait_plot
+
+        title = f"J = {self.objective:.6g} ({self.status})"
+        return gait_plot(self.gait.t, self.gait.L, self.gait.u, title)
+
+    def __eq__(self, other: object) -> bool:
+        if not isinstance(other, GaitResult):
+            return NotImplemented
+        return (
+            self._inner == other._inner
+            and self.necessary_conditions == other.necessary_conditions
+            and self.notes == other.notes
+        )
+
+    __hash__ = None  # type: ignore[assignment]
 
     def figures(self, adjoint: bool = False) -> dict[str, Figure]:
         """The gait's figures by name (``spacetime``, ``actuation``, ...; with ``adjoint``,
@@ -558,10 +598,14 @@ class GaitResult:
         return {n: Figure(n, c, s) for n, c, s in self._inner.figures(adjoint)}
 
     def report(self, path: Optional[str] = None, source: str = "crawlopt") -> str:
-        """The self-contained HTML report (written to ``path`` when given); returns the HTML."""
+        """The self-contained HTML report (written to ``path`` when given); returns the HTML.
+        With ``necessary_conditions`` (``optimize(certify=True)``) it has the certificate's
+        section: the verdict, every condition's residual, the adjoint figure."""
+        nc = self.necessary_conditions
+        conditions = None if nc is None else json.dumps(nc.to_dict())
         if path is not None:
-            self._inner.write_report(str(path), source)
-        return self._inner.report_html(source)
+            self._inner.write_report(str(path), source, conditions)
+        return self._inner.report_html(source, conditions)
 
     def phase_growth_table(self):
         """The phase growth (one row per K) as a DataFrame (pandas)."""
@@ -573,8 +617,7 @@ class GaitResult:
 
     def to_pandas(self):
         """The gait's pieces as a DataFrame: start and end times, controls, slip modes."""
-        import pandas as pd
-
+        pd = require("pandas", "to_pandas()")
         g = self.gait
         cols = {"t_start": g.t[:-1], "t_end": g.t[1:]}
         for j in range(g.u.shape[1]):
@@ -598,13 +641,26 @@ class GaitResult:
     def _repr_html_(self) -> str:
         import html
 
+        from ._documents import numbers_table
+
+        c = self.certificate
+        rows = [
+            ("objective J", self.objective),
+            ("displacement per period", self.displacement_per_period),
+            ("status", self.status),
+            ("certificate", c.get("kind")),
+            ("gap", c.get("gap")),
+        ]
+        if self.necessary_conditions is not None:
+            rows.append(("necessary conditions", self.necessary_conditions["verdict"]))
         figs = self.figures()
         shown = [figs[n] for n in ("spacetime", "actuation") if n in figs]
         body = "".join(
             f"<figure>{f.svg}<figcaption>{html.escape(f.caption)}</figcaption></figure>"
             for f in shown
         )
-        return f"<pre>{html.escape(str(self))}</pre>{body}"
+        text = f"<details><summary>text</summary><pre>{html.escape(str(self))}</pre></details>"
+        return numbers_table(rows) + body + text
 
 
 class _Gait:
@@ -732,8 +788,7 @@ def sweep(spec, executor=None, *, threads: int = 0):
         futures = [executor.submit(_rs.sweep_point, source, is_path, base_dir, i) for i in range(n)]
         lines = [f.result() for f in futures]
     rows = sorted((json.loads(line) for line in lines), key=lambda r: r["point"])
-    import pandas as pd  # optional dependency
-
+    pd = require("pandas", "sweep()")
     return pd.DataFrame(rows, columns=header)
 
 

@@ -19,6 +19,52 @@ pub struct GeneralProblem {
 
 #[pymethods]
 impl GeneralProblem {
+    /// A problem from the file's sections as a dict (`sweeping_process`, `dynamics`,
+    /// `control`, `objective`, `problem`, optional `input`, each with the file's keys), checked
+    /// as the file is (the checks that need no linear program; `analyze` does the rest).
+    #[staticmethod]
+    fn from_sections(py: Python<'_>, sections: &Bound<'_, PyAny>) -> PyResult<Self> {
+        let inner: GeneralFile = pythonize::depythonize(sections).map_err(|e| {
+            to_py(
+                py,
+                crawlopt::Error::invalid("problem", "the arrays given", e.to_string()),
+            )
+        })?;
+        inner.problem().map_err(|e| to_py(py, e))?;
+        Ok(GeneralProblem { inner })
+    }
+
+    /// The problem file as TOML text (`crawlopt.load` and the command line read it back).
+    fn to_toml(&self, py: Python<'_>) -> PyResult<String> {
+        self.inner.to_toml().map_err(|e| to_py(py, e))
+    }
+
+    /// Equal sections; and the same folder when the input is read from a CSV file (the
+    /// folder a file was read from matters only for that path).
+    fn __eq__(&self, other: &Self) -> bool {
+        let csv = |f: &GeneralFile| f.input.as_ref().is_some_and(|i| i.kind == "csv");
+        let (mut a, mut b) = (self.inner.clone(), other.inner.clone());
+        if !csv(&a) && !csv(&b) {
+            (a.base_dir, b.base_dir) = Default::default();
+        }
+        a == b
+    }
+
+    /// Pickled as its sections and folder (for a CSV input's relative path).
+    fn __reduce__<'py>(slf: &Bound<'py, Self>) -> PyResult<Bound<'py, pyo3::types::PyTuple>> {
+        let f = &slf.get().inner;
+        let text = serde_json::to_string(&(f, &f.base_dir)).expect("serialisable");
+        crate::model::reduce(slf.as_any(), text)
+    }
+
+    #[staticmethod]
+    fn _from_state(text: &str) -> PyResult<Self> {
+        let (mut inner, dir): (GeneralFile, std::path::PathBuf) = serde_json::from_str(text)
+            .map_err(|e| pyo3::exceptions::PyValueError::new_err(e.to_string()))?;
+        inner.base_dir = dir;
+        Ok(GeneralProblem { inner })
+    }
+
     /// The analysis `crawlopt analyze --json` prints (faces, redundant faces, vertices, the
     /// Chebyshev centre, the checks), and the first failed check's message (or None).
     fn analyze<'py>(&self, py: Python<'py>) -> PyResult<(Bound<'py, PyAny>, Option<String>)> {

@@ -96,7 +96,8 @@ pub fn simulate<'py>(
         initial_state,
         increment_budget: increment_budget.unwrap_or(d.increment_budget),
     };
-    let (c, a) = (crawler.inner.clone(), actuation.inner.clone());
+    let c = crawler.inner.clone();
+    let a = actuation.bound(c.links()).map_err(|e| to_py(py, e))?;
     let s = run(py, progress, |hooks| api::simulate(&c, &a, &opts, hooks))?;
     simulation_out(py, s, c.links(), c.blocks())
 }
@@ -161,4 +162,45 @@ pub fn optimize(
         .as_ref()
         .map(|n| crawlopt::io::json::to_string(n).expect("serialisable"));
     Ok((GaitResult { inner: done.result }, conditions, done.notes))
+}
+
+/// The library's figures of a simulation's periodic regime (`crawlopt simulate --plot`): the
+/// orbit replayed from `orbit_state` (the regime's start, as the simulation found it) with the
+/// simulation's `method` and `steps_per_period`, drawn over `periods` periods; (name, caption,
+/// SVG) each.
+#[pyfunction]
+pub fn simulation_figures(
+    py: Python<'_>,
+    crawler: &Crawler,
+    actuation: &Actuation,
+    method: &str,
+    steps_per_period: usize,
+    orbit_state: Vec<f64>,
+    periods: usize,
+) -> PyResult<Vec<(String, String, String)>> {
+    let method = match method {
+        "exact" => Method::Exact,
+        "catching-up" | "catching_up" => Method::CatchingUp,
+        other => {
+            let e =
+                crawlopt::Error::invalid("method", other, "must be \"exact\" or \"catching_up\"");
+            return Err(to_py(py, e));
+        }
+    };
+    let c = crawler.inner.clone();
+    let a = actuation.bound(c.links()).map_err(|e| to_py(py, e))?;
+    let opts = SimOptions {
+        method,
+        steps_per_period,
+        initial_state: Some(orbit_state),
+        ..SimOptions::DEFAULT
+    };
+    let figs = run(py, None, |hooks| {
+        let sim = api::simulate(&c, &a, &opts, hooks)?;
+        crawlopt::present::simulation_figures(&c, &a, &sim, periods)
+    })?;
+    Ok(figs
+        .into_iter()
+        .map(|f| (f.name, f.caption, f.svg))
+        .collect())
 }

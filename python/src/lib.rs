@@ -31,10 +31,12 @@ fn _crawlopt(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<results::GaitResult>()?;
     m.add_class::<general::GeneralProblem>()?;
     m.add_function(wrap_pyfunction!(model::load, m)?)?;
+    m.add_function(wrap_pyfunction!(model::model_toml, m)?)?;
     m.add_function(wrap_pyfunction!(general::load_general, m)?)?;
     m.add_function(wrap_pyfunction!(jobs::simulate, m)?)?;
     m.add_function(wrap_pyfunction!(jobs::optimize, m)?)?;
     m.add_function(wrap_pyfunction!(fit::fit, m)?)?;
+    m.add_function(wrap_pyfunction!(jobs::simulation_figures, m)?)?;
     m.add_function(wrap_pyfunction!(sweep::sweep_size, m)?)?;
     m.add_function(wrap_pyfunction!(sweep::sweep_point, m)?)?;
     m.add_function(wrap_pyfunction!(sweep::sweep_run, m)?)?;

@@ -3,7 +3,7 @@
 
 use crate::errors::to_py;
 use crate::run::run;
-use crawlopt::certify::certify_result;
+use crawlopt::certify::{certify_result, NecessaryConditions};
 use crawlopt::present::{self, report, text};
 use pyo3::prelude::*;
 
@@ -56,25 +56,82 @@ impl GaitResult {
             .collect())
     }
 
-    /// The self-contained HTML report (`source` names the input in the page).
-    #[pyo3(signature = (source="crawlopt"))]
-    fn report_html(&self, py: Python<'_>, source: &str) -> PyResult<String> {
+    /// The self-contained HTML report (`source` names the input in the page; `conditions`, the
+    /// JSON of the gait's necessary conditions, adds the certificate's section).
+    #[pyo3(signature = (source="crawlopt", conditions=None))]
+    fn report_html(
+        &self,
+        py: Python<'_>,
+        source: &str,
+        conditions: Option<&str>,
+    ) -> PyResult<String> {
         let r = self.inner.clone();
-        run(py, None, |_| report::build_report(&r, source))
+        let c = certificate(py, conditions)?;
+        run(py, None, |_| {
+            report::build_report_with(&r, &context(source, c.as_ref()))
+        })
     }
 
     /// Writes the report to `path` (atomically, as `crawlopt report -o`).
-    #[pyo3(signature = (path, source="crawlopt"))]
-    fn write_report(&self, py: Python<'_>, path: std::path::PathBuf, source: &str) -> PyResult<()> {
+    #[pyo3(signature = (path, source="crawlopt", conditions=None))]
+    fn write_report(
+        &self,
+        py: Python<'_>,
+        path: std::path::PathBuf,
+        source: &str,
+        conditions: Option<&str>,
+    ) -> PyResult<()> {
         let r = self.inner.clone();
+        let c = certificate(py, conditions)?;
         run(py, None, |_| {
             crawlopt::io::AtomicFile::check(&path)?;
-            report::write_report(&path, &report::build_report(&r, source)?)
+            let html = report::build_report_with(&r, &context(source, c.as_ref()))?;
+            report::write_report(&path, &html)
         })
+    }
+
+    fn __eq__(&self, other: &Self) -> bool {
+        self.inner == other.inner
+    }
+
+    /// Pickled as its result document (read back as `from_json` reads it).
+    fn __reduce__<'py>(slf: &Bound<'py, Self>) -> PyResult<Bound<'py, pyo3::types::PyTuple>> {
+        let text = crawlopt::io::json::to_string(&slf.get().inner).expect("serialisable");
+        crate::model::reduce(slf.as_any(), text)
+    }
+
+    #[staticmethod]
+    fn _from_state(py: Python<'_>, text: &str) -> PyResult<Self> {
+        GaitResult::from_json(py, text, "result")
     }
 
     /// The text `crawlopt optimize` prints.
     fn text(&self) -> String {
         text::gait_result(&self.inner)
+    }
+}
+
+/// The necessary conditions from their JSON (as `certify_json` writes them).
+fn certificate(py: Python<'_>, conditions: Option<&str>) -> PyResult<Option<NecessaryConditions>> {
+    conditions
+        .map(|text| {
+            serde_json::from_str(text).map_err(|e| {
+                let e = crawlopt::Error::invalid(
+                    "necessary_conditions",
+                    "the JSON given",
+                    e.to_string(),
+                );
+                to_py(py, e)
+            })
+        })
+        .transpose()
+}
+
+/// A report made from Python: its footer names the method that made it.
+fn context<'a>(source: &'a str, c: Option<&'a NecessaryConditions>) -> report::ReportContext<'a> {
+    report::ReportContext {
+        source,
+        command: "crawlopt.GaitResult.report (Python)".into(),
+        certificate: c,
     }
 }

@@ -93,7 +93,14 @@ def test_arrays_of_the_wrong_shape_are_refused_not_flattened():
         (lambda: co.Actuation.triangle(1.0, [1.0, 1.0], phase_deg=col), "actuation.phase_deg"),
         (lambda: co.Actuation.sine(1.0, [1.0, 1.0], mean=col), "actuation.mean"),
         (lambda: co.Actuation.piecewise_linear(1.0, col, [[0, 0], [1, 1]]), "actuation.times"),
-        (lambda: co.Actuation.piecewise_linear(1.0, [0, 0.5], [0, 1]), "actuation.lengths"),
+        (
+            lambda: co.Actuation.piecewise_linear(1.0, [0, 0.5], np.ones((2, 2, 1))),
+            "actuation.lengths",
+        ),
+        (
+            lambda: co.Actuation.piecewise_linear(1.0, [0, 0.5], [[0.0], [[1.0]]]),
+            "actuation.lengths[2]",
+        ),
         (lambda: co.Crawler(blocks=3, mu_forward=np.ones((3, 1))), "crawler.mu_forward"),
         (lambda: co.Crawler(blocks=3, stiffness=col), "crawler.stiffness"),
         (lambda: co.simulate(c, a, initial_state=np.zeros((2, 1))), "initial_state"),

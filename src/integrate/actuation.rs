@@ -81,6 +81,97 @@ fn offset_error(field: String, offset: f64, stroke: f64) -> Error {
     )
 }
 
+/// Which way a travelling wave runs along the body.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum WaveDirection {
+    /// Link `l + 1` lags link `l`: the wave runs from link 1 to link `n` (the default).
+    #[default]
+    FirstToLast,
+    /// Link `l` lags link `l + 1`: the wave runs from link `n` to link 1.
+    LastToFirst,
+}
+
+/// A travelling wave on `links` links: `L_l(t) = mean + amplitude s(2 pi t / T - phase_l)`
+/// with `phase_l = (l - 1) lag` ([`WaveDirection::FirstToLast`]) or `(n - l) lag`
+/// ([`WaveDirection::LastToFirst`]). The lag is given in degrees (`lag_deg`) or as the
+/// wavelength in links (`lag = 360 / wavelength`), not both; with neither, one wavelength spans
+/// the body (`wavelength = links`). [`TravellingWave::new`] sets the documented defaults.
+#[derive(Debug, Clone, PartialEq)]
+pub struct TravellingWave {
+    /// Number of links `n >= 1`.
+    pub links: usize,
+    /// The shape `s` (default sine).
+    pub wave: Waveform,
+    /// Period `T` (default 1).
+    pub period: f64,
+    /// Amplitude of every link (default 1).
+    pub amplitude: f64,
+    /// Mean length of every link (default 0).
+    pub mean: f64,
+    /// Lag of a link behind its neighbour, degrees (default: from `wavelength`).
+    pub lag_deg: Option<f64>,
+    /// Wavelength in links (default: `links` when `lag_deg` is not given either).
+    pub wavelength: Option<f64>,
+    /// Which way the wave runs (default first to last).
+    pub direction: WaveDirection,
+}
+
+impl TravellingWave {
+    /// The wave on `links` links with the defaults: a sine of period 1, amplitude 1, mean 0,
+    /// one wavelength along the body, running from link 1 to link `n`.
+    pub fn new(links: usize) -> Self {
+        TravellingWave {
+            links,
+            wave: Waveform::Sine,
+            period: 1.0,
+            amplitude: 1.0,
+            mean: 0.0,
+            lag_deg: None,
+            wavelength: None,
+            direction: WaveDirection::FirstToLast,
+        }
+    }
+
+    /// The lag of a link behind its neighbour, degrees.
+    pub fn lag_deg(&self) -> Result<f64> {
+        if self.links == 0 {
+            return Err(Error::invalid(
+                "actuation.links",
+                0,
+                "a travelling wave needs at least one link",
+            ));
+        }
+        match (self.lag_deg, self.wavelength) {
+            (Some(_), Some(_)) => Err(Error::invalid(
+                "actuation.wavelength",
+                "given with lag_deg",
+                "give the lag either in degrees (lag_deg) or as a wavelength, not both",
+            )),
+            (Some(lag), None) => {
+                finite("actuation.lag_deg", &[lag])?;
+                Ok(lag)
+            }
+            (None, w) => {
+                let w = w.unwrap_or(self.links as f64);
+                positive("actuation.wavelength", w)?;
+                Ok(360.0 / w)
+            }
+        }
+    }
+
+    /// The phase lag of each link, degrees (`phase_deg` of the equivalent wave).
+    pub fn phases_deg(&self) -> Result<Vec<f64>> {
+        let lag = self.lag_deg()?;
+        let n = self.links;
+        Ok((0..n)
+            .map(|l| match self.direction {
+                WaveDirection::FirstToLast => l as f64 * lag,
+                WaveDirection::LastToFirst => (n - 1 - l) as f64 * lag,
+            })
+            .collect())
+    }
+}
+
 impl Actuation {
     /// A wave actuation with validated parameters; `phase_deg` in degrees.
     pub fn wave(
@@ -122,6 +213,19 @@ impl Actuation {
             amplitude,
             phase: phase_deg.iter().map(|d| (d % 360.0).to_radians()).collect(),
         })
+    }
+
+    /// The travelling wave `w` (see [`TravellingWave`]): a wave of the same shape, amplitude
+    /// and mean on every link, each link lagging its neighbour by the same phase.
+    pub fn travelling_wave(w: &TravellingWave) -> Result<Self> {
+        let n = w.links;
+        Actuation::wave(
+            w.wave,
+            w.period,
+            vec![w.mean; n],
+            vec![w.amplitude; n],
+            w.phases_deg()?,
+        )
     }
 
     /// A periodic piecewise-linear actuation with validated knots.
@@ -333,6 +437,38 @@ impl Actuation {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_travelling_wave_lags_each_link_behind_its_neighbour() {
+        let mut w = TravellingWave::new(4);
+        w.period = 2.0;
+        w.amplitude = 1.5;
+        w.lag_deg = Some(45.0);
+        let a = Actuation::travelling_wave(&w).unwrap();
+        // L_{l+1}(t + T lag / 360) = L_l(t): the wave runs from link 1 to link n.
+        let (mut now, mut later) = (vec![0.0; 4], vec![0.0; 4]);
+        for t in [0.0, 0.3, 1.1] {
+            a.lengths_at(t, &mut now);
+            a.lengths_at(t + 2.0 * 45.0 / 360.0, &mut later);
+            for l in 0..3 {
+                assert!((later[l + 1] - now[l]).abs() < 1e-12, "{t} {l}");
+            }
+        }
+        w.direction = WaveDirection::LastToFirst;
+        assert_eq!(w.phases_deg().unwrap(), vec![135.0, 90.0, 45.0, 0.0]);
+        // Default: one wavelength along the body.
+        w.lag_deg = None;
+        assert_eq!(w.lag_deg().unwrap(), 90.0);
+        w.wavelength = Some(8.0);
+        assert_eq!(w.lag_deg().unwrap(), 45.0);
+        w.lag_deg = Some(10.0);
+        let e = w.lag_deg().unwrap_err().to_string();
+        assert!(e.starts_with("actuation.wavelength"), "{e}");
+        w.lag_deg = None;
+        w.wavelength = Some(0.0);
+        let e = w.lag_deg().unwrap_err().to_string();
+        assert!(e.starts_with("actuation.wavelength"), "{e}");
+    }
 
     #[test]
     fn piecewise_linear_wraps_periodically() {

@@ -19,7 +19,7 @@ mod newton;
 mod periodic;
 mod replay;
 
-pub use actuation::{Actuation, Waveform, MAX_OFFSET_RATIO};
+pub use actuation::{Actuation, TravellingWave, WaveDirection, Waveform, MAX_OFFSET_RATIO};
 pub use catching_up::CatchingUp;
 pub use exact::ExactPwl;
 pub use general::{

@@ -4,7 +4,7 @@ use crate::error::{Error, Result};
 use crate::integrate::{Actuation, Waveform};
 use crate::model::Crawler;
 use crate::optimal::{Cost, GaitProblem};
-use serde::Deserialize;
+use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
 
 /// Largest model file read (bytes): model files are a few hundred bytes; this bounds what a
@@ -79,7 +79,7 @@ pub(crate) fn escape_controls(s: &str) -> String {
 }
 
 /// A number for every entry, or one per entry.
-#[derive(Debug, Clone, Deserialize, PartialEq)]
+#[derive(Debug, Clone, Deserialize, Serialize, PartialEq)]
 #[serde(untagged)]
 pub enum NumberOrList {
     /// The same value everywhere.
@@ -104,7 +104,7 @@ impl NumberOrList {
 }
 
 /// `[crawler]`.
-#[derive(Debug, Clone, Deserialize, PartialEq)]
+#[derive(Debug, Clone, Deserialize, Serialize, PartialEq)]
 #[serde(deny_unknown_fields)]
 pub struct CrawlerSpec {
     /// Number of blocks `N >= 2`.
@@ -118,7 +118,7 @@ pub struct CrawlerSpec {
 }
 
 /// `[actuation]`.
-#[derive(Debug, Clone, Deserialize, PartialEq)]
+#[derive(Debug, Clone, Deserialize, Serialize, PartialEq)]
 #[serde(deny_unknown_fields)]
 pub struct ActuationSpec {
     /// `sine | triangle | piecewise_linear | csv`.
@@ -126,31 +126,38 @@ pub struct ActuationSpec {
     /// Period `T`.
     pub period: f64,
     /// Wave amplitude (sine, triangle).
+    #[serde(skip_serializing_if = "Option::is_none")]
     pub amplitude: Option<NumberOrList>,
     /// Wave phase lag in degrees (sine, triangle); default 0.
+    #[serde(skip_serializing_if = "Option::is_none")]
     pub phase_deg: Option<NumberOrList>,
     /// Wave mean length (sine, triangle); default 0.
+    #[serde(skip_serializing_if = "Option::is_none")]
     pub mean: Option<NumberOrList>,
     /// Knot times (piecewise_linear).
+    #[serde(skip_serializing_if = "Option::is_none")]
     pub times: Option<Vec<f64>>,
     /// Knot lengths (piecewise_linear): one row per knot.
+    #[serde(skip_serializing_if = "Option::is_none")]
     pub lengths: Option<Vec<NumberOrList>>,
     /// CSV file (csv), relative to the model file.
+    #[serde(skip_serializing_if = "Option::is_none")]
     pub path: Option<String>,
 }
 
 /// `cost = { kind = "none" }` or `{ kind = "quadratic", weight = c }`.
-#[derive(Debug, Clone, Deserialize, PartialEq)]
+#[derive(Debug, Clone, Deserialize, Serialize, PartialEq)]
 #[serde(deny_unknown_fields)]
 pub struct CostSpec {
     /// `none | quadratic`.
     pub kind: String,
     /// `c` of the quadratic cost.
+    #[serde(skip_serializing_if = "Option::is_none")]
     pub weight: Option<f64>,
 }
 
 /// `[gait]`: the gait problem (P).
-#[derive(Debug, Clone, Deserialize, PartialEq)]
+#[derive(Debug, Clone, Deserialize, Serialize, PartialEq)]
 #[serde(deny_unknown_fields)]
 pub struct GaitSpec {
     /// Period `T`.
@@ -158,31 +165,36 @@ pub struct GaitSpec {
     /// Bound on `|L_l'|`, a number or one per link (`a_l = k_l * speed`).
     pub max_actuator_speed: NumberOrList,
     /// Actuation cost (default none).
+    #[serde(skip_serializing_if = "Option::is_none")]
     pub cost: Option<CostSpec>,
     /// Optional bound on the total variation of `u` over a period.
+    #[serde(skip_serializing_if = "Option::is_none")]
     pub max_total_variation: Option<f64>,
 }
 
 /// `[simulation]` (optional).
-#[derive(Debug, Clone, Default, Deserialize, PartialEq)]
+#[derive(Debug, Clone, Default, Deserialize, Serialize, PartialEq)]
 #[serde(deny_unknown_fields)]
 pub struct SimulationSpec {
     /// Initial state `x(0)`.
+    #[serde(skip_serializing_if = "Option::is_none")]
     pub initial_state: Option<Vec<f64>>,
 }
 
 /// The whole model file.
-#[derive(Debug, Clone, Deserialize, PartialEq)]
+#[derive(Debug, Clone, Deserialize, Serialize, PartialEq)]
 #[serde(deny_unknown_fields)]
 pub struct ModelFile {
     /// `[crawler]`.
     pub crawler: CrawlerSpec,
     /// `[actuation]`, needed by `simulate`.
+    #[serde(skip_serializing_if = "Option::is_none")]
     pub actuation: Option<ActuationSpec>,
     /// `[simulation]`.
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "SimulationSpec::is_empty")]
     pub simulation: SimulationSpec,
     /// `[gait]`, the optimal-gait problem.
+    #[serde(skip_serializing_if = "Option::is_none")]
     pub gait: Option<GaitSpec>,
     /// Folder of the file, for relative paths.
     #[serde(skip)]
@@ -221,7 +233,82 @@ impl ModelFile {
 
     /// The crawler of `[crawler]`.
     pub fn crawler(&self) -> Result<Crawler> {
-        let c = &self.crawler;
+        self.crawler.crawler()
+    }
+
+    /// The gait problem of `[gait]`, if the file has one.
+    pub fn gait(&self, crawler: &Crawler) -> Result<Option<GaitProblem>> {
+        self.gait.as_ref().map(|g| g.problem(crawler)).transpose()
+    }
+
+    /// The actuation of `[actuation]` for a crawler with `links` links.
+    pub fn actuation(&self, links: usize) -> Result<Actuation> {
+        let a = self.actuation.as_ref().ok_or_else(|| {
+            Error::invalid(
+                "actuation",
+                "nothing",
+                "the model file has no [actuation] section",
+            )
+        })?;
+        a.actuation(links, &self.base_dir)
+    }
+
+    /// The file as TOML text, which [`ModelFile::parse`] reads back to the same model (numbers
+    /// are written in their shortest form that reads back exactly).
+    pub fn to_toml(&self) -> Result<String> {
+        toml::to_string(self).map_err(|e| Error::Io {
+            path: "<model>".into(),
+            reason: format!("cannot write the model as TOML: {e}"),
+        })
+    }
+}
+
+impl ModelFile {
+    /// Checks every section as the commands would (the crawler, its gait problem and its
+    /// actuation for its links), so that a file written by [`ModelFile::to_toml`] is one that
+    /// reads back and runs.
+    pub fn check(&self) -> Result<()> {
+        let crawler = self.crawler()?;
+        self.gait(&crawler)?;
+        if self.actuation.is_some() {
+            self.actuation(crawler.links())?;
+        }
+        Ok(())
+    }
+}
+
+impl SimulationSpec {
+    /// Whether the section says nothing (it is then left out of the file).
+    pub fn is_empty(&self) -> bool {
+        self.initial_state.is_none()
+    }
+}
+
+impl NumberOrList {
+    /// `values` as a single number when they are all the same (and there is at least one),
+    /// else as the list: the file form that expands back to `values`.
+    pub fn of(values: &[f64]) -> NumberOrList {
+        match values.split_first() {
+            Some((v, rest)) if rest.iter().all(|w| w.to_bits() == v.to_bits()) => {
+                NumberOrList::One(*v)
+            }
+            _ => NumberOrList::Many(values.to_vec()),
+        }
+    }
+
+    /// The number of entries of a list (None for a single number, which fits any count).
+    pub fn list_len(&self) -> Option<usize> {
+        match self {
+            NumberOrList::One(_) => None,
+            NumberOrList::Many(v) => Some(v.len()),
+        }
+    }
+}
+
+impl CrawlerSpec {
+    /// The crawler of `[crawler]`.
+    pub fn crawler(&self) -> Result<Crawler> {
+        let c = self;
         if c.blocks < 2 {
             return Err(Error::invalid(
                 "crawler.blocks",
@@ -244,9 +331,23 @@ impl ModelFile {
         )
     }
 
-    /// The gait problem of `[gait]`, if the file has one.
-    pub fn gait(&self, crawler: &Crawler) -> Result<Option<GaitProblem>> {
-        let Some(g) = &self.gait else { return Ok(None) };
+    /// The section of `crawler` (each quantity a single number where it is the same
+    /// everywhere); [`CrawlerSpec::crawler`] builds it back exactly.
+    pub fn of(crawler: &Crawler) -> CrawlerSpec {
+        CrawlerSpec {
+            blocks: crawler.blocks() as i64,
+            stiffness: NumberOrList::of(crawler.stiffness()),
+            mu_forward: NumberOrList::of(crawler.mu_forward()),
+            mu_backward: NumberOrList::of(crawler.mu_backward()),
+        }
+    }
+}
+
+impl GaitSpec {
+    /// The gait problem this section poses for `crawler` (`max_actuator_speed` expanded to
+    /// its links).
+    pub fn problem(&self, crawler: &Crawler) -> Result<GaitProblem> {
+        let g = self;
         let cost = match &g.cost {
             None => Cost::None,
             Some(c) => match (c.kind.as_str(), c.weight) {
@@ -283,18 +384,15 @@ impl ModelFile {
             cost,
             g.max_total_variation,
         )
-        .map(Some)
     }
+}
 
-    /// The actuation of `[actuation]` for a crawler with `links` links.
-    pub fn actuation(&self, links: usize) -> Result<Actuation> {
-        let a = self.actuation.as_ref().ok_or_else(|| {
-            Error::invalid(
-                "actuation",
-                "nothing",
-                "the model file has no [actuation] section",
-            )
-        })?;
+impl ActuationSpec {
+    /// The actuation this section describes for a crawler with `links` links: a single
+    /// number stands for every link (as everywhere in the file); a CSV path is relative to
+    /// `base_dir`.
+    pub fn actuation(&self, links: usize, base_dir: &Path) -> Result<Actuation> {
+        let a = self;
         let unused = |name: &str, present: bool| -> Result<()> {
             if present {
                 Err(Error::invalid(
@@ -361,7 +459,7 @@ impl ModelFile {
                     "is empty: name the CSV file of the actuation (relative to the model file)",
                 ));
             }
-            super::read_actuation_csv(&self.base_dir.join(p), links)?
+            super::read_actuation_csv(&base_dir.join(p), links)?
         } else {
             unused("path", a.path.is_some())?;
             let times = a.times.clone().ok_or_else(|| {
@@ -386,6 +484,53 @@ impl ModelFile {
             (times, lengths)
         };
         Actuation::piecewise_linear(a.period, times, lengths)
+    }
+
+    /// The section as TOML text (`[actuation]` and its fields).
+    pub fn to_toml(&self) -> Result<String> {
+        #[derive(Serialize)]
+        struct Section<'a> {
+            actuation: &'a ActuationSpec,
+        }
+        toml::to_string(&Section { actuation: self }).map_err(|e| Error::Io {
+            path: "<model>".into(),
+            reason: format!("cannot write the actuation as TOML: {e}"),
+        })
+    }
+
+    /// The number of links the section's lists imply (the length of the first list among
+    /// `amplitude`, `mean`, `phase_deg` and the rows of `lengths`); None when every value is a
+    /// single number, which fits a crawler of any size (the file form binds it to the
+    /// crawler's links). Lists of other lengths are refused by [`ActuationSpec::actuation`].
+    pub fn implied_links(&self) -> Option<usize> {
+        [&self.amplitude, &self.mean, &self.phase_deg]
+            .into_iter()
+            .flatten()
+            .chain(self.lengths.iter().flatten())
+            .find_map(NumberOrList::list_len)
+    }
+
+    /// The section without reference to another file: a `csv` actuation becomes the
+    /// `piecewise_linear` one through the knots it read (`actuation`, built from this
+    /// section); other kinds are returned as they are.
+    pub fn self_contained(&self, actuation: &Actuation) -> ActuationSpec {
+        match actuation {
+            Actuation::PiecewiseLinear {
+                period,
+                times,
+                lengths,
+            } if self.kind == "csv" => ActuationSpec {
+                kind: "piecewise_linear".into(),
+                period: *period,
+                amplitude: None,
+                phase_deg: None,
+                mean: None,
+                times: Some(times.clone()),
+                lengths: Some(lengths.iter().map(|r| NumberOrList::of(r)).collect()),
+                path: None,
+            },
+            _ => self.clone(),
+        }
     }
 }
 
@@ -475,6 +620,35 @@ mod tests {
                 .starts_with("crawler.stiffness[1]: must be positive and finite"),
             "{e}"
         );
+    }
+
+    #[test]
+    fn to_toml_reads_back_to_the_same_model() {
+        let text = "[crawler]\nblocks = 3\nstiffness = [1.5, 0.1]\nmu_forward = 1\n\
+                    mu_backward = [3.0, 0.3, 2]\n[actuation]\nkind = \"sine\"\nperiod = 0.7\n\
+                    amplitude = 0.1\nphase_deg = [0, 33.3]\n[simulation]\n\
+                    initial_state = [0.1, -0.2]\n[gait]\nperiod = 1\n\
+                    max_actuator_speed = [1, 0.3]\n\
+                    cost = { kind = \"quadratic\", weight = 0.1 }\nmax_total_variation = 3\n";
+        let m = ModelFile::parse(text).unwrap();
+        let written = m.to_toml().unwrap();
+        assert_eq!(ModelFile::parse(&written).unwrap(), m, "{written}");
+        assert_eq!(m.actuation.as_ref().unwrap().implied_links(), Some(2));
+        // A crawler's section builds it back bit for bit; a single number where all agree.
+        let c = m.crawler().unwrap();
+        let spec = CrawlerSpec::of(&c);
+        assert_eq!(spec.mu_forward, NumberOrList::One(1.0));
+        assert_eq!(spec.crawler().unwrap(), c);
+        // Without [actuation], [simulation] and [gait]: none written.
+        let bare = ModelFile {
+            actuation: None,
+            simulation: SimulationSpec::default(),
+            gait: None,
+            ..m
+        };
+        let written = bare.to_toml().unwrap();
+        assert!(!written.contains("[simulation]"), "{written}");
+        assert_eq!(ModelFile::parse(&written).unwrap(), bare);
     }
 
     const CSV_MODEL: &str =

@@ -29,11 +29,11 @@ use super::config::{parse_toml, MAX_MODEL_BYTES};
 use crate::error::{Error, Result};
 use crate::integrate::{ControlInput, InputKind};
 use crate::model::general::{GeneralCost, GeneralParts, GeneralProblem};
-use serde::Deserialize;
+use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
 
 /// `[sweeping_process]`.
-#[derive(Debug, Clone, Deserialize, PartialEq)]
+#[derive(Debug, Clone, Deserialize, Serialize, PartialEq)]
 #[serde(deny_unknown_fields)]
 pub struct SweepingSpec {
     /// Rows `x*_j`.
@@ -43,91 +43,106 @@ pub struct SweepingSpec {
 }
 
 /// `[dynamics]`.
-#[derive(Debug, Clone, Deserialize, PartialEq)]
+#[derive(Debug, Clone, Deserialize, Serialize, PartialEq)]
 #[serde(deny_unknown_fields)]
 pub struct DynamicsSpec {
     /// `A` (optional: 0).
-    #[serde(rename = "A")]
+    #[serde(skip_serializing_if = "Option::is_none", rename = "A")]
     pub a: Option<Vec<Vec<f64>>>,
     /// `B`.
     #[serde(rename = "B")]
     pub b: Vec<Vec<f64>>,
     /// `b` (optional: 0).
-    #[serde(rename = "b")]
+    #[serde(skip_serializing_if = "Option::is_none", rename = "b")]
     pub drift: Option<Vec<f64>>,
 }
 
 /// `[control]`.
-#[derive(Debug, Clone, Deserialize, PartialEq)]
+#[derive(Debug, Clone, Deserialize, Serialize, PartialEq)]
 #[serde(deny_unknown_fields)]
 pub struct ControlSpec {
     /// Box lower bounds.
+    #[serde(skip_serializing_if = "Option::is_none")]
     pub lower: Option<Vec<f64>>,
     /// Box upper bounds.
+    #[serde(skip_serializing_if = "Option::is_none")]
     pub upper: Option<Vec<f64>>,
     /// Polytope rows.
-    #[serde(rename = "G")]
+    #[serde(skip_serializing_if = "Option::is_none", rename = "G")]
     pub g: Option<Vec<Vec<f64>>>,
     /// Polytope offsets.
+    #[serde(skip_serializing_if = "Option::is_none")]
     pub h: Option<Vec<f64>>,
     /// The zero-mean constraint (default: the problem is periodic).
+    #[serde(skip_serializing_if = "Option::is_none")]
     pub zero_mean: Option<bool>,
 }
 
 /// `cost = { kind = .., weight = .. }` or `{ kind = "matrix", matrix = [[..]] }`.
-#[derive(Debug, Clone, Deserialize, PartialEq)]
+#[derive(Debug, Clone, Deserialize, Serialize, PartialEq)]
 #[serde(deny_unknown_fields)]
 pub struct GeneralCostSpec {
     /// `none | quadratic | matrix`.
     pub kind: String,
     /// `c` of `quadratic`.
+    #[serde(skip_serializing_if = "Option::is_none")]
     pub weight: Option<f64>,
     /// `R` of `matrix`.
+    #[serde(skip_serializing_if = "Option::is_none")]
     pub matrix: Option<Vec<Vec<f64>>>,
 }
 
 /// `[objective]`.
-#[derive(Debug, Clone, Deserialize, PartialEq)]
+#[derive(Debug, Clone, Deserialize, Serialize, PartialEq)]
 #[serde(deny_unknown_fields)]
 pub struct ObjectiveSpec {
     /// `f1` as face weights.
+    #[serde(skip_serializing_if = "Option::is_none")]
     pub face_weights: Option<Vec<f64>>,
     /// `f1 = <q, eta>`.
+    #[serde(skip_serializing_if = "Option::is_none")]
     pub reaction_weights: Option<Vec<f64>>,
     /// `f2` (default none).
+    #[serde(skip_serializing_if = "Option::is_none")]
     pub cost: Option<GeneralCostSpec>,
 }
 
 /// `[problem]`.
-#[derive(Debug, Clone, Deserialize, PartialEq)]
+#[derive(Debug, Clone, Deserialize, Serialize, PartialEq)]
 #[serde(deny_unknown_fields)]
 pub struct ProblemSpec {
     /// `T`.
     pub period: f64,
     /// `x(0) = x(T)` (default true).
+    #[serde(skip_serializing_if = "Option::is_none")]
     pub periodic: Option<bool>,
     /// `x(0)` of a Cauchy problem.
+    #[serde(skip_serializing_if = "Option::is_none")]
     pub initial_state: Option<Vec<f64>>,
 }
 
 /// `[input]`: the control that `simulate` plays.
-#[derive(Debug, Clone, Deserialize, PartialEq)]
+#[derive(Debug, Clone, Deserialize, Serialize, PartialEq)]
 #[serde(deny_unknown_fields)]
 pub struct InputSpec {
     /// `piecewise_constant | piecewise_linear | csv`.
     pub kind: String,
     /// Knot times.
+    #[serde(skip_serializing_if = "Option::is_none")]
     pub times: Option<Vec<f64>>,
     /// Knot values.
+    #[serde(skip_serializing_if = "Option::is_none")]
     pub values: Option<Vec<Vec<f64>>>,
     /// CSV file (relative to the problem file).
+    #[serde(skip_serializing_if = "Option::is_none")]
     pub path: Option<String>,
     /// Interpolation of a CSV input (default piecewise_constant).
+    #[serde(skip_serializing_if = "Option::is_none")]
     pub interpolation: Option<String>,
 }
 
 /// The whole problem file.
-#[derive(Debug, Clone, Deserialize, PartialEq)]
+#[derive(Debug, Clone, Deserialize, Serialize, PartialEq)]
 #[serde(deny_unknown_fields)]
 pub struct GeneralFile {
     /// `[sweeping_process]`.
@@ -141,6 +156,7 @@ pub struct GeneralFile {
     /// `[problem]`.
     pub problem: ProblemSpec,
     /// `[input]`.
+    #[serde(skip_serializing_if = "Option::is_none")]
     pub input: Option<InputSpec>,
     /// Folder of the file, for relative paths.
     #[serde(skip)]
@@ -175,6 +191,15 @@ impl GeneralFile {
     /// Parses the TOML text.
     pub fn parse(text: &str) -> Result<Self> {
         parse_toml(text)
+    }
+
+    /// The file as TOML text, which [`GeneralFile::parse`] reads back to the same problem
+    /// (numbers in their shortest form that reads back exactly).
+    pub fn to_toml(&self) -> Result<String> {
+        toml::to_string(self).map_err(|e| Error::Io {
+            path: "<model>".into(),
+            reason: format!("cannot write the problem as TOML: {e}"),
+        })
     }
 
     /// The problem, with the checks that need no linear program (see

@@ -9,6 +9,7 @@
 use super::figures::{self, Figure};
 use super::{replay_gait, SHOWN_PERIODS};
 use crate::api::{self, GaitMethod, Hooks, OptimizeSettings};
+use crate::certify::NecessaryConditions;
 use crate::error::{Error, Result};
 use crate::integrate::{Method, Trajectory};
 use crate::io::{AtomicFile, ModelFile};
@@ -141,20 +142,54 @@ fn inline_svg(fig: &Figure) -> String {
     }
 }
 
-/// The report of a gait result as one HTML document. `source` names the input (a file name,
-/// shown in the page; no directories).
+/// What a report says beside the gait: where it came from and, when it was computed, the
+/// certificate of the necessary conditions.
+#[derive(Debug, Clone)]
+pub struct ReportContext<'a> {
+    /// The input's name (a file name, shown in the page; no directories).
+    pub source: &'a str,
+    /// The command that made the report, named in the footer (`crawlopt report gait.json`,
+    /// `crawlopt optimize model.toml --certify --report ...`).
+    pub command: String,
+    /// The necessary conditions of the gait (Theorem 2.2), shown with their verdict, their
+    /// residuals and the adjoint figure; `None` when they were not computed.
+    pub certificate: Option<&'a NecessaryConditions>,
+}
+
+impl<'a> ReportContext<'a> {
+    /// The context of `crawlopt report source`: no certificate.
+    pub fn report_command(source: &'a str) -> Self {
+        ReportContext {
+            source,
+            command: format!("crawlopt report {source}"),
+            certificate: None,
+        }
+    }
+}
+
+/// The report of a gait result as one HTML document, as `crawlopt report` makes it. `source`
+/// names the input (a file name, shown in the page; no directories).
 pub fn build_report(result: &GaitResult, source: &str) -> Result<String> {
+    build_report_with(result, &ReportContext::report_command(source))
+}
+
+/// The report of a gait result as one HTML document, with what `ctx` adds (the command that
+/// made it, the certificate).
+pub fn build_report_with(result: &GaitResult, ctx: &ReportContext<'_>) -> Result<String> {
     let (crawler, sim) = replay_gait(result, SHOWN_PERIODS)?;
     let traj = sim
         .trajectory
         .as_ref()
         .ok_or_else(|| Error::Numerical("no trajectory was recorded".into()))?;
-    let figs = super::gait_figures_from(result, &crawler, traj)?;
+    let mut figs = super::gait_figures_from(result, &crawler, traj)?;
+    if let Some(c) = ctx.certificate {
+        figs.push(super::adjoint_figure_of(&c.multipliers)?);
+    }
     let data = animation_data(result, &crawler, traj)?;
     let json = serde_json::to_string(&data)
         .map_err(|e| Error::Numerical(format!("report data: {e}")))?
         .replace("</", "<\\/");
-    Ok(page(result, &crawler, source, &figs, &json))
+    Ok(page(result, &crawler, ctx, &figs, &json))
 }
 
 fn animation_data<'a>(
@@ -192,10 +227,11 @@ fn animation_data<'a>(
 fn page(
     result: &GaitResult,
     crawler: &Crawler,
-    source: &str,
+    ctx: &ReportContext<'_>,
     figs: &[Figure],
     json: &str,
 ) -> String {
+    let source = ctx.source;
     let a = crawler.analyze();
     let (nb, n) = (crawler.blocks(), crawler.links());
     let mut h = String::with_capacity(200_000);
@@ -424,7 +460,9 @@ fn page(
         num(result.solver_objective),
         num(result.actuation_cost)
     ));
-    h.push_str("<div class=\"scroll\">\n<table>\n<tr><th>piece</th><th>from t</th><th>to t</th>");
+    // Pieces are numbered from 0, as in the text of `crawlopt optimize` and its certificate
+    // ("piece 1" is the second piece there too).
+    h.push_str("<div class=\"scroll\">\n<table id=\"pieces\">\n<tr><th>piece</th><th>from t</th><th>to t</th>");
     for l in 1..=n {
         h.push_str(&format!("<th>u{} [force/time]</th>", figures::sub(l)));
     }
@@ -433,7 +471,7 @@ fn page(
     for (j, u) in g.controls.iter().enumerate() {
         h.push_str(&format!(
             "<tr><td>{}</td><td>{}</td><td>{}</td>",
-            j + 1,
+            j,
             num(g.times[j]),
             num(g.times[j + 1])
         ));
@@ -457,6 +495,10 @@ fn page(
         nums(&g.initial_state)
     ));
 
+    if let Some(c) = ctx.certificate {
+        certificate_section(&mut h, c);
+    }
+
     // Figures.
     h.push_str("<h2 id=\"figures\">Figures</h2>\n");
     for f in figs {
@@ -468,10 +510,10 @@ fn page(
         ));
     }
     h.push_str(&format!(
-        "<footer>Made by crawlopt {} (<code>crawlopt report {}</code>). Figures are also written as SVG and PNG by \
+        "<footer>Made by crawlopt {} (<code>{}</code>). Figures are also written as SVG and PNG by \
          <code>crawlopt plot</code>. Paper: “On the optimal control of rate-independent soft crawlers”.</footer>\n",
         env!("CARGO_PKG_VERSION"),
-        esc(source)
+        esc(&ctx.command)
     ));
     h.push_str("</main>\n<script type=\"application/json\" id=\"crawler-data\">");
     h.push_str(json);
@@ -479,6 +521,41 @@ fn page(
     h.push_str(ANIMATION_JS);
     h.push_str("</script>\n</body>\n</html>\n");
     h
+}
+
+/// The certificate's section: the verdict and its reason, and every condition with its
+/// residual and tolerance (the table `crawlopt optimize --certify` prints).
+fn certificate_section(h: &mut String, c: &NecessaryConditions) {
+    let verdict = serde_json::to_string(&c.verdict).unwrap_or_default();
+    h.push_str(&format!(
+        "<h2 id=\"certificate\">Necessary conditions (Theorem 2.2)</h2>\n\
+         <p>Verdict: <b id=\"verdict\">{}</b>: {}.</p>\n\
+         <p>Multiplier λ = {} (scaled: {}); J = {}; min |p + ω| = {}.</p>\n",
+        esc(verdict.trim_matches('"')),
+        esc(&c.reason),
+        num(c.lambda),
+        esc(&c.normalisation.scaled_by),
+        num(c.objective),
+        num(c.nondegeneracy_margin)
+    ));
+    h.push_str(
+        "<div class=\"scroll\">\n<table id=\"conditions\">\n<tr><th class=\"l\">theorem</th>\
+         <th class=\"l\">condition</th><th>residual</th><th>tolerance</th><th class=\"l\">holds</th>\
+         <th class=\"l\">statement</th></tr>\n",
+    );
+    for k in &c.conditions {
+        h.push_str(&format!(
+            "<tr><td class=\"l\">{}</td><td class=\"l\">{}</td><td>{:.3e}</td><td>{:.1e}</td>\
+             <td class=\"l\">{}</td><td class=\"l\">{}</td></tr>\n",
+            esc(&k.theorem),
+            esc(&k.name),
+            k.residual,
+            k.tolerance,
+            if k.holds { "holds" } else { "<b>FAILS</b>" },
+            esc(&k.statement)
+        ));
+    }
+    h.push_str("</table>\n</div>\n<p>The adjoint p(t) with the controls is the figure <a href=\"#fig-adjoint\">adjoint</a> below.</p>\n");
 }
 
 fn yes(v: Option<bool>) -> &'static str {

@@ -153,7 +153,17 @@ pub fn run(a: OptimizeArgs) -> Result<ExitCode, Error> {
         write_figures(dir, &figs)?;
     }
     if let Some(path) = &a.report {
-        report::write_report(path, &report::build_report(result, &file_name(&a.file))?)?;
+        let source = file_name(&a.file);
+        let ctx = report::ReportContext {
+            source: &source,
+            command: format!(
+                "crawlopt optimize {source}{} --report {}",
+                if a.certify { " --certify" } else { "" },
+                file_name(path)
+            ),
+            certificate: cert,
+        };
+        report::write_report(path, &report::build_report_with(result, &ctx)?)?;
     }
     if a.json {
         json_line_sorted(&answer);

@@ -1,0 +1,59 @@
+"""Conversion of Python arguments into what the extension takes: arrays checked for shape
+(never flattened or broadcast: the library broadcasts a single number as the file does), and
+the InputError raised on the Python side."""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from typing import Any, Union
+
+import numpy as np
+
+from ._crawlopt import InputError
+
+Numbers = Union[float, Sequence[float]]
+
+
+def _input_error(field: str, value: Any, reason: str) -> InputError:
+    """An InputError raised on the Python side, with ``.field`` and ``.value`` as the library's
+    (the value as text)."""
+    e = InputError(f"{field}: {reason} (got {value})")
+    e.field, e.value = field, str(value)
+    return e
+
+
+def _array(value: Any, name: str, ndim: int, shape: str) -> np.ndarray:
+    """``value`` as a float array of exactly ``ndim`` dimensions: an array of another shape is
+    refused (InputError, a ValueError, naming ``name`` and the ``shape`` expected), never
+    flattened or broadcast (an amplitude of shape (2, 1) is not two links)."""
+    try:
+        a = np.asarray(value, dtype=float)
+    except (TypeError, ValueError) as e:
+        raise _input_error(name, repr(value), f"must be {shape} of numbers ({e})") from None
+    if a.ndim != ndim:
+        raise _input_error(name, f"an array of shape {a.shape}", f"must be {shape}")
+    return a
+
+
+def _vector(value: Any, name: str, what: str = "entries") -> list[float]:
+    """A one-dimensional list of numbers (``what`` names its entries in the message)."""
+    return [float(v) for v in _array(value, name, 1, f"a list of {what} (shape (n,))")]
+
+
+def _numbers(value: Numbers, name: str) -> Union[float, list[float]]:
+    """A number (for every entry) or a list of them, as the model file takes it: the library
+    expands a number to every link or block and checks a list's length."""
+    if np.ndim(value) == 0:
+        return float(_array(value, name, 0, "a number"))
+    return _vector(value, name, "numbers, one per entry, or a single number")
+
+
+class NotConvergedWarning(UserWarning):
+    """A simulation that did not reach its periodic regime (its ``status`` is
+    ``"not_converged"`` and ``displacement_per_period`` is None)."""
+
+
+def _instance(value: Any, cls: type, name: str) -> None:
+    """TypeError unless ``value`` is a ``cls`` (not an AttributeError from deep inside)."""
+    if not isinstance(value, cls):
+        raise TypeError(f"{name}: must be a crawlopt.{cls.__name__}, got {type(value).__name__}")

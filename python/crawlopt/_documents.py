@@ -1,0 +1,344 @@
+"""Typed views of the library's JSON documents: results and certificates as classes whose
+attributes are the document's fields, with ``to_dict()``, ``to_pandas()``, ``plot()`` and an
+HTML form for Jupyter. Nothing is computed here: every number is the library's."""
+
+from __future__ import annotations
+
+import html
+from typing import Any, Optional
+
+import numpy as np
+
+
+def require(module: str, purpose: str):
+    """Imports an optional dependency, or raises ImportError saying what needs it and how to
+    install it."""
+    import importlib
+
+    try:
+        return importlib.import_module(module)
+    except ImportError as e:
+        top = module.split(".")[0]
+        raise ImportError(
+            f"{purpose} needs {top}, an optional dependency of crawlopt: pip install {top}"
+        ) from e
+
+
+def same(a: Any, b: Any) -> bool:
+    """Equality by value of documents holding NumPy arrays, dicts and lists."""
+    if isinstance(a, np.ndarray) or isinstance(b, np.ndarray):
+        try:
+            return np.array_equal(np.asarray(a), np.asarray(b))
+        except (TypeError, ValueError):
+            return False
+    if isinstance(a, dict) and isinstance(b, dict):
+        return a.keys() == b.keys() and all(same(a[k], b[k]) for k in a)
+    if isinstance(a, (list, tuple)) and isinstance(b, (list, tuple)):
+        return len(a) == len(b) and all(same(x, y) for x, y in zip(a, b))
+    return bool(a == b)
+
+
+def plain(value: Any) -> Any:
+    """``value`` with NumPy arrays as lists (what ``json.dumps`` takes)."""
+    if isinstance(value, np.ndarray):
+        return value.tolist()
+    if isinstance(value, dict):
+        return {k: plain(v) for k, v in value.items()}
+    if isinstance(value, list):
+        return [plain(v) for v in value]
+    return value
+
+
+def numbers_table(rows: list[tuple[str, Any]]) -> str:
+    """Key numbers as an HTML table (None shown as 'not reached')."""
+
+    def cell(v):
+        if v is None:
+            return "<b>not reached</b>"
+        if isinstance(v, float):
+            return f"{v:.10g}"
+        return html.escape(str(v))
+
+    body = "".join(f"<tr><th>{html.escape(k)}</th><td>{cell(v)}</td></tr>" for k, v in rows)
+    return f"<table>{body}</table>"
+
+
+def figure_svg(fig) -> str:
+    """A matplotlib figure as SVG text (then closed, so that Jupyter does not draw it twice)."""
+    import io
+
+    plt = require("matplotlib.pyplot", "the figure")
+    buf = io.StringIO()
+    fig.savefig(buf, format="svg", bbox_inches="tight")
+    plt.close(fig)
+    return buf.getvalue()
+
+
+class Document:
+    """A JSON document of the library: each field an attribute; ``d["field"]`` reads it too
+    (as the dict it used to be)."""
+
+    def __init__(self, doc: dict):
+        self._doc = doc
+        for k, v in doc.items():
+            if k.isidentifier() and not hasattr(type(self), k):
+                setattr(self, k, v)
+
+    def to_dict(self) -> dict:
+        """The fields of the document as a dict (series as NumPy arrays)."""
+        return dict(self._doc)
+
+    def __getitem__(self, key: str) -> Any:
+        return self._doc[key]
+
+    def __contains__(self, key: str) -> bool:
+        return key in self._doc
+
+    def get(self, key: str, default: Any = None) -> Any:
+        """The field ``key``, or ``default``."""
+        return self._doc.get(key, default)
+
+    def keys(self):
+        """The document's fields."""
+        return self._doc.keys()
+
+    def __eq__(self, other: object) -> bool:
+        if type(other) is not type(self):
+            return NotImplemented
+        return same(self._doc, other._doc)
+
+    __hash__ = None  # type: ignore[assignment]
+
+    def __getstate__(self) -> dict:
+        return {"_doc": self._doc}
+
+    def __setstate__(self, state: dict) -> None:
+        self.__init__(state["_doc"])
+
+
+class NecessaryConditions(Document):
+    """A certificate of the necessary conditions (Theorem 2.2; discrete form Theorems
+    6.1–6.2), for a crawler's gait or a general problem's optimum: ``verdict`` ("holds",
+    "degenerate", "fails", ...), ``reason``, ``conditions`` (each with its name, theorem,
+    statement and residual) and ``multipliers`` (the adjoint p, ...)."""
+
+    verdict: str
+
+    def to_pandas(self):
+        """The conditions as a DataFrame, one row per condition (its residual among the
+        columns)."""
+        pd = require("pandas", "to_pandas()")
+        return pd.DataFrame(self._doc.get("conditions", []))
+
+    def __repr__(self) -> str:
+        n = len(self._doc.get("conditions", []))
+        return f"NecessaryConditions(verdict={self._doc.get('verdict')!r}, {n} conditions)"
+
+    def _repr_html_(self) -> str:
+        rows = [("verdict", self._doc.get("verdict")), ("reason", self._doc.get("reason"))]
+        conds = "".join(
+            "<tr><td>{}</td><td>{}</td><td>{}</td></tr>".format(
+                html.escape(str(c.get("name"))),
+                html.escape(str(c.get("theorem", ""))),
+                html.escape(str(c.get("residual", ""))),
+            )
+            for c in self._doc.get("conditions", [])
+        )
+        return (
+            numbers_table(rows)
+            + "<table><tr><th>condition</th><th>theorem</th><th>residual</th></tr>"
+            + conds
+            + "</table>"
+        )
+
+
+def _series(d: dict, keys) -> dict:
+    for k in keys:
+        if d.get(k) is not None:
+            d[k] = np.asarray(d[k], dtype=float)
+    return d
+
+
+class GeneralSimulation(Document):
+    """A general problem's ``[input]`` played to its periodic regime (``crawlopt simulate
+    --json``): ``converged``, ``status`` ("converged" or "not_converged"), ``objective`` (J;
+    None without the regime), ``reward``, ``cost``, and the period as arrays ``t``, ``x``
+    (states, one row per time), ``u`` and ``reactions`` (lambda per face, one row per step).
+    ``d["simulation"]`` is the document's section as before."""
+
+    def __init__(self, doc: dict):
+        super().__init__(doc)
+        sim = _series(doc["simulation"], ("t", "x", "u", "lambda", "mean_control"))
+        for k, v in sim.items():
+            if k != "lambda":
+                setattr(self, k, v)
+        self.reactions = sim.get("lambda")
+
+    @property
+    def status(self) -> str:
+        """ "converged" when the periodic regime was reached, else "not_converged"."""
+        return "converged" if self._doc["simulation"].get("converged") else "not_converged"
+
+    def to_pandas(self):
+        """The period as a DataFrame: t, x_k, and u_k and lambda_j of the step ending at t."""
+        pd = require("pandas", "to_pandas()")
+        s = self._doc["simulation"]
+        t = np.asarray(s.get("t", []), dtype=float)
+        cols: dict = {"t": t}
+        x = np.asarray(s.get("x", np.zeros((0, 0))), dtype=float).reshape(len(t), -1)
+        for k in range(x.shape[1]):
+            cols[f"x_{k + 1}"] = x[:, k]
+        for name, key in (("u", "u"), ("lambda", "lambda")):
+            a = np.asarray(s.get(key, np.zeros((0, 0))), dtype=float)
+            if a.size:
+                a = a.reshape(len(a), -1)
+                for j in range(a.shape[1]):
+                    cols[f"{name}_{j + 1}"] = np.concatenate([[np.nan], a[:, j]])[: len(t)]
+        return pd.DataFrame(cols)
+
+    def plot(self):
+        """The states x(t) and controls u(t) over the period: a matplotlib Figure."""
+        from ._plot import general_plot
+
+        s = self._doc["simulation"]
+        return general_plot(s.get("t"), s.get("x"), s.get("u"), None, self._title())
+
+    def _title(self) -> str:
+        j = self._doc["simulation"].get("objective")
+        return "periodic regime NOT reached" if j is None else f"J = {j:.6g}"
+
+    def __repr__(self) -> str:
+        s = self._doc["simulation"]
+        j = s.get("objective")
+        return (
+            f"GeneralSimulation(status={self.status!r}, "
+            f"objective={'not reached' if j is None else f'{j:.10g}'}, periods={s.get('periods')})"
+        )
+
+    def _repr_html_(self) -> str:
+        s = self._doc["simulation"]
+        rows = [
+            ("status", self.status),
+            ("objective J", s.get("objective")),
+            ("reward", s.get("reward")),
+            ("cost", s.get("cost")),
+            ("periods", s.get("periods")),
+        ]
+        return numbers_table(rows) + _optional_svg(self)
+
+
+class GeneralResult(Document):
+    """An optimum of a general problem (``crawlopt optimize --json``): ``method``,
+    ``objective`` (J re-verified by simulation), ``certificate`` (status, bound, gap),
+    ``necessary_conditions`` (a NecessaryConditions, with ``certify=True``), and the gait as
+    arrays: ``x``, ``u``, ``reactions`` for P_m (one row per step), or ``durations``,
+    ``controls``, ``states``, ``reactions`` and ``held`` per phase for method "phase".
+    ``d["solution"]`` is the document's section as before."""
+
+    def __init__(self, doc: dict):
+        sol = doc["solution"]
+        if doc.get("method") == "phase":
+            _series(sol, ("durations", "controls", "states", "reactions"))
+        else:
+            _series(sol, ("x", "u", "lambda"))
+        if isinstance(doc.get("necessary_conditions"), dict):
+            doc["necessary_conditions"] = NecessaryConditions(doc["necessary_conditions"])
+        super().__init__(doc)
+        for k, v in sol.items():
+            if k != "lambda" and not hasattr(type(self), k):
+                setattr(self, k, v)
+        if "lambda" in sol:
+            self.reactions = sol["lambda"]
+        self.necessary_conditions = doc.get("necessary_conditions")
+
+    def to_dict(self) -> dict:
+        d = dict(self._doc)
+        if isinstance(d.get("necessary_conditions"), NecessaryConditions):
+            d["necessary_conditions"] = d["necessary_conditions"].to_dict()
+        return d
+
+    @property
+    def status(self) -> Optional[str]:
+        """The certificate's status (what was proven)."""
+        return (self._doc["solution"].get("certificate") or {}).get("status")
+
+    def to_pandas(self):
+        """The gait as a DataFrame: one row per step (P_m: t_start, t_end, u_k, x_k at the
+        step's end, lambda_j) or per phase (method "phase": duration, u_k, x_k at its end)."""
+        pd = require("pandas", "to_pandas()")
+        s = self._doc["solution"]
+        cols: dict = {}
+        if self._doc.get("method") == "phase":
+            d = np.asarray(s["durations"], dtype=float)
+            cols["t_start"] = np.concatenate([[0.0], np.cumsum(d)[:-1]])
+            cols["duration"] = d
+            u = np.asarray(s["controls"], dtype=float).reshape(len(d), -1)
+            x = np.asarray(s["states"], dtype=float).reshape(len(d) + 1, -1)[1:]
+        else:
+            u = np.asarray(s["u"], dtype=float)
+            u = u.reshape(len(u), -1)
+            h = float(self._doc["period"]) / max(len(u), 1)
+            cols["t_start"] = h * np.arange(len(u))
+            cols["t_end"] = h * np.arange(1, len(u) + 1)
+            x = np.asarray(s["x"], dtype=float).reshape(len(u) + 1, -1)[1:]
+        for k in range(u.shape[1]):
+            cols[f"u_{k + 1}"] = u[:, k]
+        for k in range(x.shape[1]):
+            cols[f"x_{k + 1}"] = x[:, k]
+        lam = s.get("lambda") if "lambda" in s else None
+        if lam is not None and np.size(lam):
+            lam = np.asarray(lam, dtype=float).reshape(len(u), -1)
+            for j in range(lam.shape[1]):
+                cols[f"lambda_{j + 1}"] = lam[:, j]
+        return pd.DataFrame(cols)
+
+    def plot(self):
+        """The optimal states x(t) and controls u(t) over a period: a matplotlib Figure."""
+        from ._plot import general_plot
+
+        s = self._doc["solution"]
+        title = f"J = {s.get('objective', float('nan')):.6g} ({self.status})"
+        if self._doc.get("method") == "phase":
+            d = np.asarray(s["durations"], dtype=float)
+            t = np.concatenate([[0.0], np.cumsum(d)])
+            return general_plot(t, s["states"], s["controls"], None, title)
+        u = np.asarray(s["u"], dtype=float)
+        t = np.linspace(0.0, float(self._doc["period"]), len(u) + 1)
+        return general_plot(t, s["x"], u, None, title)
+
+    def __repr__(self) -> str:
+        s = self._doc["solution"]
+        c = s.get("certificate") or {}
+        gap = c.get("gap")
+        gap = "" if gap is None else f", gap={gap:.1e}"
+        nc = self._doc.get("necessary_conditions")
+        verdict = "" if nc is None else f", necessary_conditions={nc['verdict']!r}"
+        return (
+            f"GeneralResult(method={self._doc.get('method')!r}, "
+            f"objective={s.get('objective'):.10g}, status={self.status!r}{gap}{verdict})"
+        )
+
+    def _repr_html_(self) -> str:
+        s = self._doc["solution"]
+        c = s.get("certificate") or {}
+        nc = self._doc.get("necessary_conditions")
+        rows = [
+            ("method", self._doc.get("method")),
+            ("objective J", s.get("objective")),
+            ("status", c.get("status")),
+            ("bound", c.get("bound")),
+            ("gap", c.get("gap")),
+        ]
+        if nc is not None:
+            rows.append(("necessary conditions", nc["verdict"]))
+        return numbers_table(rows) + _optional_svg(self)
+
+
+def _optional_svg(result) -> str:
+    """The result's ``plot()`` as inline SVG when matplotlib is installed (the library draws
+    no figure of a general problem), else nothing."""
+    try:
+        import matplotlib  # noqa: F401
+    except ImportError:
+        return ""
+    return figure_svg(result.plot())

@@ -1,0 +1,216 @@
+"""The general problem (P) of the paper's §2 as a Python class: read from its file or built
+from arrays with the file's fields; answers as typed documents (``GeneralSimulation``,
+``GeneralResult``)."""
+
+from __future__ import annotations
+
+import warnings
+from typing import Any, Callable, Optional, Union
+
+import numpy as np
+
+from . import _crawlopt as _rs
+from ._convert import NotConvergedWarning, _array, _input_error
+from ._documents import GeneralResult, GeneralSimulation
+from ._progress import progress_callback
+
+Progress = Union[bool, Callable[[dict], Any], None]
+
+
+def _matrix_or_vector(value, name: str, ndim: int) -> list:
+    shape = "a matrix (shape (rows, columns))" if ndim == 2 else "a vector (shape (n,))"
+    return _array(value, name, ndim, shape).tolist()
+
+
+class GeneralProblem:
+    """A general problem (P) of the paper's §2 (a ``[sweeping_process]`` file, theory §11): a
+    polyhedron C = {x : <x*_j, x> <= c_j}, affine dynamics g = A x + B u + b, a control set U,
+    f1 and f2. Read from a file (``crawlopt.load``) or built from arrays with the file's fields
+    as keywords (NumPy arrays or lists):
+
+    ``normals`` (x*_j, one row per face), ``offsets`` (c_j), ``B``, ``A`` (default 0), ``b``
+    (default 0); the control set as a box ``lower``/``upper`` or a polytope ``G`` u <= ``h``,
+    ``zero_mean`` (default: the problem is periodic); f1 as ``face_weights`` or
+    ``reaction_weights``; ``cost`` None, a number c ((c/2)|u|^2, or ``Quadratic(c)``) or a
+    matrix R ((1/2) u^T R u); ``period`` T, ``periodic`` (default True) or ``initial_state``;
+    ``input`` the control ``simulate`` plays, a dict like the file's ``[input]`` (``kind``
+    "piecewise_constant" or "piecewise_linear", ``times``, ``values``).
+
+    Every check and default is the library's (``crawlopt analyze``, ``simulate`` and
+    ``optimize`` on the same file); a bad field raises InputError naming it as the file does
+    (``dynamics.B``, ``objective.cost.weight``, ...). Answers are ``GeneralSimulation`` and
+    ``GeneralResult``. Problems pickle, deep-copy, compare by value and write their file
+    (``to_toml``, ``save``)."""
+
+    def __init__(
+        self,
+        normals=None,
+        offsets=None,
+        B=None,
+        *,
+        A=None,
+        b=None,
+        lower=None,
+        upper=None,
+        G=None,
+        h=None,
+        zero_mean: Optional[bool] = None,
+        face_weights=None,
+        reaction_weights=None,
+        cost=None,
+        period: Optional[float] = None,
+        periodic: Optional[bool] = None,
+        initial_state=None,
+        input: Optional[dict] = None,
+        _inner=None,
+    ):
+        if _inner is None:
+            _inner = _rs.GeneralProblem.from_sections(GeneralProblem._sections(locals()))
+        self._inner = _inner
+
+    @staticmethod
+    def _sections(a: dict) -> dict:
+        """The keyword arguments as the file's sections (arrays as lists; absent keys left
+        out, so that the library's defaults apply)."""
+        for name in ("normals", "offsets", "B", "period"):
+            if a[name] is None:
+                raise TypeError(f"GeneralProblem: {name} is required")
+
+        def put(section: dict, key: str, value, field: str, ndim: int):
+            if value is not None:
+                section[key] = _matrix_or_vector(value, field, ndim)
+
+        sp, dyn, ctl, obj, prob = {}, {}, {}, {}, {}
+        put(sp, "normals", a["normals"], "sweeping_process.normals", 2)
+        put(sp, "offsets", a["offsets"], "sweeping_process.offsets", 1)
+        put(dyn, "A", a["A"], "dynamics.A", 2)
+        put(dyn, "B", a["B"], "dynamics.B", 2)
+        put(dyn, "b", a["b"], "dynamics.b", 1)
+        put(ctl, "lower", a["lower"], "control.lower", 1)
+        put(ctl, "upper", a["upper"], "control.upper", 1)
+        put(ctl, "G", a["G"], "control.G", 2)
+        put(ctl, "h", a["h"], "control.h", 1)
+        if a["zero_mean"] is not None:
+            ctl["zero_mean"] = bool(a["zero_mean"])
+        put(obj, "face_weights", a["face_weights"], "objective.face_weights", 1)
+        put(obj, "reaction_weights", a["reaction_weights"], "objective.reaction_weights", 1)
+        cost = a["cost"]
+        if hasattr(cost, "weight"):  # Quadratic(c)
+            obj["cost"] = {"kind": "quadratic", "weight": cost.weight}
+        elif cost is not None and np.ndim(cost) == 0:
+            obj["cost"] = {"kind": "quadratic", "weight": float(cost)}
+        elif cost is not None:
+            obj["cost"] = {
+                "kind": "matrix",
+                "matrix": _matrix_or_vector(cost, "objective.cost.matrix", 2),
+            }
+        prob["period"] = float(_array(a["period"], "problem.period", 0, "a number"))
+        if a["periodic"] is not None:
+            prob["periodic"] = bool(a["periodic"])
+        put(prob, "initial_state", a["initial_state"], "problem.initial_state", 1)
+        d = {
+            "sweeping_process": sp,
+            "dynamics": dyn,
+            "control": ctl,
+            "objective": obj,
+            "problem": prob,
+        }
+        if a["input"] is not None:
+            inp = a["input"]
+            if not isinstance(inp, dict):
+                raise _input_error("input", type(inp).__name__, "must be a dict like [input]")
+            inp = dict(inp)
+            if "times" in inp:
+                inp["times"] = _matrix_or_vector(inp["times"], "input.times", 1)
+            if "values" in inp:
+                inp["values"] = _matrix_or_vector(inp["values"], "input.values", 2)
+            d["input"] = inp
+        return d
+
+    def to_toml(self) -> str:
+        """The problem file as TOML text (``crawlopt.load`` and the command line read it
+        back)."""
+        return self._inner.to_toml()
+
+    def save(self, path) -> None:
+        """Writes the problem file (``to_toml``) to ``path``."""
+        text = self.to_toml()
+        with open(path, "w", encoding="utf-8") as f:
+            f.write(text)
+
+    def __eq__(self, other: object) -> bool:
+        if not isinstance(other, GeneralProblem):
+            return NotImplemented
+        return self._inner == other._inner
+
+    __hash__ = None  # type: ignore[assignment]
+
+    def __repr__(self) -> str:
+        return "GeneralProblem(...)"
+
+    def analyze(self) -> dict:
+        """C's faces, redundant faces, vertices and Chebyshev centre, and the checks;
+        ``failure`` is the first failed check's message (None: well posed)."""
+        analysis, failure = self._inner.analyze()
+        analysis["failure"] = failure
+        return analysis
+
+    def simulate(
+        self,
+        *,
+        method: str = "exact",
+        steps_per_period: Optional[int] = None,
+        max_periods: Optional[int] = None,
+        tol: Optional[float] = None,
+    ) -> GeneralSimulation:
+        """The file's ``[input]`` simulated (exactly where A = 0 and the input is piecewise
+        constant, unless ``method="catching_up"``) to its periodic regime: a
+        ``GeneralSimulation`` (``objective`` J, None without the regime, and ``status``
+        "not_converged" then, with a NotConvergedWarning; ``t``, ``x``, ``u``,
+        ``reactions``)."""
+        r = GeneralSimulation(self._inner.simulate(method, steps_per_period, max_periods, tol))
+        if r.status != "converged":
+            warnings.warn(
+                f"the periodic regime was not reached within {r['simulation'].get('periods')} "
+                "periods: objective is None (raise max_periods or tol)",
+                NotConvergedWarning,
+                stacklevel=2,
+            )
+        return r
+
+    def optimize(
+        self,
+        *,
+        m: Optional[int] = None,
+        method: str = "discrete",
+        shifts: Optional[int] = None,
+        time_limit: Optional[float] = None,
+        certify: bool = False,
+        progress: Progress = False,
+        max_phases: Optional[int] = None,
+        polish: Optional[bool] = None,
+    ) -> GeneralResult:
+        """The paper's P_m on 2^``m`` steps: ``method`` "discrete" (global MILP, with its
+        certificate) or "local" (the LPCC active-set method from the file's ``[input]`` or
+        square waves, ``shifts`` rotations of each; no global claim). ``solution`` holds
+        ``objective`` (J re-verified by simulation), ``x``, ``u``, ``lambda``. ``certify``
+        (discrete only) adds ``necessary_conditions``: Theorem 2.2's conditions on the optimum
+        with their residuals and ``verdict`` (``crawlopt optimize --certify``). Ctrl-C stops it
+        (KeyboardInterrupt); ``progress`` as for ``optimize``. ``method`` "phase" (where A = 0):
+        the exact continuous-time gait of at most ``max_phases`` phases (default 4), globally
+        (``crawlopt optimize --method phase``); its ``solution`` holds ``objective`` (J
+        re-verified by the exact simulation), ``durations``, ``controls``, ``states``,
+        ``held`` (faces, 1-based) and ``reactions`` per phase. ``polish`` (discrete only;
+        default True): a quadratic cost's answer is polished on its fixed face pattern before it
+        is certified (``--no-polish`` is ``polish=False``); ``solution["polish"]`` records it."""
+        d = self._inner.optimize(
+            method,
+            m,
+            shifts,
+            time_limit,
+            certify,
+            progress_callback(progress),
+            max_phases,
+            polish,
+        )
+        return GeneralResult(d)
