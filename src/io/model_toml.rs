@@ -1,34 +1,37 @@
 //! Writing a model file: the `[crawler]` section of a crawler (what `crawlopt fit` writes, and
 //! `simulate`/`optimize` read once an `[actuation]` or a `[gait]` is added).
 
+use super::config::CrawlerSpec;
 use super::csv_io::AtomicFile;
 use crate::error::{Error, Result};
 use crate::fit::FitData;
 use crate::model::Crawler;
+use serde::Serialize;
 use std::io::Write;
 use std::path::Path;
 
-/// The `[crawler]` section of `crawler`, preceded by `comments` (one `# ` line each). Numbers
-/// are written so that they read back to the same doubles.
-pub fn crawler_toml(crawler: &Crawler, comments: &[String]) -> String {
-    let list = |v: &[f64]| {
-        let items: Vec<String> = v.iter().map(|x| format!("{x:?}")).collect();
-        format!("[{}]", items.join(", "))
-    };
+/// The `[crawler]` section of `crawler`, preceded by `comments` (one `# ` line each), written by
+/// the model file's own serialiser ([`CrawlerSpec::of`]), so numbers read back to the same
+/// doubles.
+pub fn crawler_toml(crawler: &Crawler, comments: &[String]) -> Result<String> {
+    #[derive(Serialize)]
+    struct Section {
+        crawler: CrawlerSpec,
+    }
+    let body = toml::to_string(&Section {
+        crawler: CrawlerSpec::of(crawler),
+    })
+    .map_err(|e| Error::Io {
+        path: "<model>".into(),
+        reason: format!("cannot write the crawler as TOML: {e}"),
+    })?;
     let mut s = String::new();
     for c in comments {
         for line in c.lines() {
             s += &format!("# {}\n", super::escape_controls(line));
         }
     }
-    s += &format!(
-        "[crawler]\nblocks = {}\nstiffness = {}\nmu_forward = {}\nmu_backward = {}\n",
-        crawler.blocks(),
-        list(crawler.stiffness()),
-        list(crawler.mu_forward()),
-        list(crawler.mu_backward())
-    );
-    s
+    Ok(s + &body)
 }
 
 /// Writes `text` to `path` atomically (the file appears whole or not at all).
@@ -66,7 +69,7 @@ mod tests {
             vec![1e300, 0.7, 2.0],
         )
         .unwrap();
-        let text = crawler_toml(&c, &["fitted\nby a test".into()]);
+        let text = crawler_toml(&c, &["fitted\nby a test".into()]).unwrap();
         assert!(
             text.starts_with("# fitted\n# by a test\n[crawler]"),
             "{text}"

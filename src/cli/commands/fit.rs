@@ -105,7 +105,7 @@ pub fn run(a: FitArgs) -> Result<ExitCode, Error> {
                 ));
             }
             notes.extend(r.warnings.iter().cloned());
-            write_text(path, &crawler_toml(c, &notes))?;
+            write_text(path, &crawler_toml(c, &notes)?)?;
             Some(path.as_path())
         }
         (Some(path), None) => {
