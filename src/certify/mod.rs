@@ -134,6 +134,7 @@
 
 pub mod bound;
 pub mod general;
+mod general_conditions;
 mod general_kkt;
 mod general_process;
 mod general_report;

@@ -5,7 +5,6 @@ pub mod analyze;
 pub mod bench;
 pub mod bound_flags;
 pub mod certify;
-pub mod general;
 pub mod optimize;
 pub mod plot;
 pub mod report;
