@@ -121,7 +121,7 @@ fn subset_text(subset: &[usize]) -> String {
 }
 
 fn sum_text(v: &f64) -> String {
-    crate::present::text::num(*v, 0.0)
+    crate::number::num(*v, 0.0)
 }
 
 /// A value as given, except a number that `{}` wrote out in tens or hundreds of digits

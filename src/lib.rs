@@ -9,21 +9,27 @@
 //! project's own account of the mathematics (conventions, formulations, reference values), which
 //! in turn cites the paper's sections and equations.
 //!
-//! Layers, each knowing only those before it:
-//! - [`model`]: the crawler, the polytope C, the uniqueness condition, v_m;
+//! Layers, each knowing only those before it (no module imports from a layer above its own,
+//! and no modules import each other in a cycle: `tests/layers.rs` checks both):
+//! - [`error`], [`progress`] and [`number`] at the bottom: the typed errors, cancellation and
+//!   in-solve progress, the one formatter of human-readable numbers;
+//! - [`model`]: the crawler, the polytope C, the uniqueness condition, v_m; the general
+//!   problem (P) of the paper's §2;
 //! - [`sweep`]: projections onto C and onto its tangent cones (the hot kernel);
 //! - [`integrate`]: actuations, catching-up and exact event-driven integration, periodic regime;
-//! - [`optimal`]: the gait problem (P) and its optimum (closed form for one link so far);
+//! - [`optimal`]: the gait problem and its optimum (closed form for one link, the phase and P_m
+//!   MILPs, the local method), and the same for (P);
 //! - [`certify`]: necessary optimality conditions (Theorem 2.2, Theorems 6.1–6.2): multipliers
-//!   of a gait and a checkable certificate;
+//!   of a gait and a checkable certificate; the upper bound over all periodic gaits;
 //! - [`fit`]: identification of a crawler's stiffnesses and friction thresholds from a
 //!   measured trajectory (least absolute deviations and exact parameter intervals, by LPs);
-//! - [`io`]: the TOML model file and CSV files;
-//! - [`present`]: figures (SVG, PNG) and the self-contained HTML report; nothing depends on it;
-//! - [`study`]: parameter studies (`crawlopt sweep`): a job over a grid of model parameters,
-//!   in parallel, one row per point;
-//! - [`api`]: one call per job (analyze, optimize, bench) with settings, events and
-//!   cancellation ([`progress`]); every front end goes through it;
+//! - [`io`] and [`present`], one layer: the TOML model and problem files, CSV files, the
+//!   records of the general jobs; figures (SVG, PNG), text and the self-contained HTML report
+//!   (presentation renders results, it runs no jobs);
+//! - [`api`]: one call per job (analyze, simulate, optimize, bench, and the general problem's)
+//!   with settings, events and cancellation ([`progress`]);
+//! - [`study`]: parameter studies (`crawlopt sweep`): a job of the API over a grid of model
+//!   parameters, in parallel, one row per point;
 //! - the `crawlopt` binary (`src/cli/`) and the Python package (`python/`): thin layers that
 //!   translate arguments and render results.
 //!
@@ -47,6 +53,7 @@ pub mod fit;
 pub mod integrate;
 pub mod io;
 pub mod model;
+pub mod number;
 pub mod optimal;
 pub mod present;
 pub mod progress;

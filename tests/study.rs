@@ -1,7 +1,6 @@
 //! Parameter studies (`crawlopt::study`): the sweep file, its points, the runs against the
 //! one-link closed form of theory §9, shards, and the table read back.
 
-use crawlopt::api;
 use crawlopt::study::{
     self, header, merge, read_table, Format, Job, Row, Shard, SweepSettings, SweepSpec, TableWriter,
 };
@@ -50,7 +49,7 @@ fn closed_form(p: f64, t: f64) -> f64 {
 
 fn run_all(spec: &SweepSpec, settings: &SweepSettings) -> Vec<Row> {
     let rows = Mutex::new(Vec::new());
-    api::sweep(spec, settings, &|o, _| rows.lock().unwrap().push(o.row)).expect("runs");
+    crawlopt::study::run(spec, settings, &|o, _| rows.lock().unwrap().push(o.row)).expect("runs");
     let mut rows = rows.into_inner().unwrap();
     rows.sort_by_key(|r| r.point);
     rows

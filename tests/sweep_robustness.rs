@@ -106,7 +106,7 @@ fn one_field_in_two_spellings_is_refused() {
     .unwrap();
     let settings = SweepSettings::default();
     let rows = std::sync::Mutex::new(Vec::new());
-    crawlopt::api::sweep(&spec, &settings, &|o, _| rows.lock().unwrap().push(o.row)).unwrap();
+    crawlopt::study::run(&spec, &settings, &|o, _| rows.lock().unwrap().push(o.row)).unwrap();
     let mut rows = rows.into_inner().unwrap();
     rows.sort_by_key(|r| r.point);
     let j: Vec<f64> = rows.iter().map(|r| r.objective.unwrap()).collect();

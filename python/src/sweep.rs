@@ -4,7 +4,6 @@
 
 use crate::errors::to_py;
 use crate::run::run;
-use crawlopt::api;
 use crawlopt::study::{self, Format, SweepSettings, SweepSpec};
 use pyo3::prelude::*;
 use std::path::Path;
@@ -85,7 +84,7 @@ pub fn sweep_run(
             ..Default::default()
         };
         let rows = Mutex::new(Vec::new());
-        api::sweep(&spec, &settings, &|o, _| {
+        study::run(&spec, &settings, &|o, _| {
             let line = study::line(&o.row, &header, Format::JsonLines);
             rows.lock().expect("not poisoned").push(line);
         })?;

@@ -2,51 +2,11 @@
 //! check of the problem) and simulated for a given control.
 
 use crate::error::{Error, Result};
-use crate::integrate::GeneralSimulation;
-use crate::integrate::{simulate_general as integrate_general, ControlInput, GeneralSimOptions};
+use crate::integrate::{simulate_general as integrate_general, GeneralSimOptions};
 use crate::io::GeneralFile;
+pub use crate::io::{Check, CheckStatus, GeneralAnalysis, GeneralOptimized, GeneralSimulated};
 use crate::model::general::{ControlSet, GeneralProblem, Reward};
 use crate::optimal::general::{analyze_polyhedron, check_with, Geometry};
-use serde::Serialize;
-
-/// How a check came out.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
-#[serde(rename_all = "snake_case")]
-pub enum CheckStatus {
-    /// Holds.
-    Pass,
-    /// Fails: the problem is refused.
-    Fail,
-    /// A property reported, not required of every method.
-    Info,
-}
-
-/// One check of the problem.
-#[derive(Debug, Clone, PartialEq, Serialize)]
-pub struct Check {
-    /// What is checked.
-    pub name: String,
-    /// The outcome.
-    pub status: CheckStatus,
-    /// Numbers and reasons.
-    pub detail: String,
-}
-
-/// [`analyze_general`]'s answer.
-#[derive(Debug, Clone, PartialEq, Serialize)]
-pub struct GeneralAnalysis {
-    /// `"general"` (a crawler's analysis has no such field).
-    pub kind: &'static str,
-    /// The problem (rows of C scaled to unit normals).
-    pub problem: GeneralProblem,
-    /// C's geometry.
-    pub geometry: Geometry,
-    /// The checks, in order.
-    pub checks: Vec<Check>,
-    /// The first failed check as the error a solver would return (`None`: well posed).
-    #[serde(skip)]
-    pub failure: Option<Error>,
-}
 
 /// The problem of a file with every check: those of [`GeneralFile::problem`] and those that
 /// need C's geometry ([`crate::optimal::general::check_problem`]). Returns C's geometry too.
@@ -177,27 +137,6 @@ pub fn analyze_general(file: &GeneralFile) -> Result<GeneralAnalysis> {
     })
 }
 
-/// [`simulate_general`]'s answer.
-#[derive(Debug, Clone, PartialEq, Serialize)]
-pub struct GeneralSimulated {
-    /// `"general"`.
-    pub kind: &'static str,
-    /// `"exact"` (event-driven, where `A = 0` and the input is piecewise constant, unless
-    /// catching-up is asked) or `"catching-up"`.
-    pub method: &'static str,
-    /// Steps per period.
-    pub steps_per_period: usize,
-    /// Where the integration started: `x(0)` of a Cauchy problem, else the origin when it
-    /// lies in C, else C's Chebyshev centre.
-    pub start: Vec<f64>,
-    /// Which of the three `start` is (`initial_state`, `origin`, `chebyshev_centre`).
-    pub start_from: &'static str,
-    /// The control played.
-    pub input: ControlInput,
-    /// The simulation.
-    pub simulation: GeneralSimulation,
-}
-
 /// Simulates the file's `[input]`: exactly where `A = 0` and the input is piecewise constant
 /// ([`crate::integrate::general_exact`], unless `opts.method` asks for catching-up), else by
 /// catching-up ([`crate::integrate::general`], the damping of `A` stepped implicitly): for a
@@ -264,22 +203,6 @@ impl Default for GeneralPmSettings {
             polish: crate::optimal::polish::POLISH_DEFAULT,
         }
     }
-}
-
-/// [`optimize_general`]'s answer.
-#[derive(Debug, Clone, PartialEq, Serialize)]
-pub struct GeneralOptimized {
-    /// `"general"`.
-    pub kind: &'static str,
-    /// `"discrete"`: the paper's P_m, globally.
-    pub method: &'static str,
-    /// The period.
-    pub period: f64,
-    /// The verified optimum of P_m with its certificate.
-    pub solution: crate::optimal::general::GeneralPm,
-    /// The necessary conditions on it, when asked ([`GeneralPmSettings::certify`]).
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub necessary_conditions: Option<crate::certify::GeneralNecessaryConditions>,
 }
 
 /// The global optimum of P_m for a problem file ([`crate::optimal::general::discrete`]),

@@ -7,10 +7,10 @@ use super::events::{run_with, Hooks};
 use super::settings::{DEFAULT_M_LOCAL, DEFAULT_SHIFTS};
 use crate::error::{Error, Result};
 use crate::io::GeneralFile;
+pub use crate::io::GeneralLocalOptimized;
 use crate::optimal::general::{
     check_general_local, default_starts, grid_controls, solve_general_local, GeneralLocal,
 };
-use serde::Serialize;
 use std::time::Instant;
 
 /// [`super::optimize_general`] with `hooks`: cancellable (within a HiGHS callback) and
@@ -50,25 +50,6 @@ impl Default for GeneralLocalSettings {
             time_limit: None,
         }
     }
-}
-
-/// [`optimize_general_local`]'s answer.
-#[derive(Debug, Clone, PartialEq, Serialize)]
-pub struct GeneralLocalOptimized {
-    /// `"general"`.
-    pub kind: &'static str,
-    /// `"local"`: the paper's P_m by the active-set method on its LPCC (no global claim).
-    pub method: &'static str,
-    /// The period.
-    pub period: f64,
-    /// Where the starts came from: `"input"` (the file's `[input]`) or `"square_waves"`.
-    pub start_from: &'static str,
-    /// Starts solved from (all of them unless the time limit ended the search).
-    pub starts_tried: usize,
-    /// Which of them gave the answer (0-based, the first of equals).
-    pub best_start: usize,
-    /// The best local solution, re-verified by simulation.
-    pub solution: GeneralLocal,
 }
 
 /// P_m of a problem file, locally ([`crate::optimal::general::local`]), from every start of

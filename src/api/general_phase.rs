@@ -3,8 +3,8 @@
 
 use crate::error::Result;
 use crate::io::GeneralFile;
-use crate::optimal::general::{solve_general_phase, GeneralPhaseGait};
-use serde::Serialize;
+pub use crate::io::GeneralPhaseOptimized;
+use crate::optimal::general::solve_general_phase;
 
 /// Default `K` of [`GeneralPhaseSettings`]: 4 phases, what the paper's §4 one-link optimum
 /// needs (free rise, slide on one face, free fall, slide on the other).
@@ -27,19 +27,6 @@ impl Default for GeneralPhaseSettings {
             time_limit: None,
         }
     }
-}
-
-/// [`optimize_general_phase`]'s answer.
-#[derive(Debug, Clone, PartialEq, Serialize)]
-pub struct GeneralPhaseOptimized {
-    /// `"general"`.
-    pub kind: &'static str,
-    /// `"phase"`: exact gaits of at most `K` phases, globally.
-    pub method: &'static str,
-    /// The period.
-    pub period: f64,
-    /// The verified optimum with its certificate.
-    pub solution: GeneralPhaseGait,
 }
 
 /// The globally optimal exact gait of at most `K` phases of a problem file (`A = 0`; a

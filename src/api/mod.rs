@@ -9,16 +9,18 @@
 //! - [`simulate`] with [`SimOptions`]: the periodic regime of an actuation (cancellable);
 //! - [`optimize`] with [`OptimizeSettings`]: an optimal gait, verified, optionally certified;
 //! - [`crate::certify::certify_result`]: the necessary conditions (Theorem 2.2) of a result;
-//! - [`crate::present`]: figures and the report;
+//! - [`crate::present`]: figures and the report ([`optimize_model`]: the gait a report of a
+//!   model file shows);
 //! - [`bench`]: the simulation cost per step;
 //! - [`fit`] with [`crate::fit::FitSettings`]: a crawler identified from a measured trajectory,
 //!   with the exact interval of every parameter (see [`crate::fit`]);
-//! - [`sweep`] with [`crate::study::SweepSettings`]: a parameter study (a job over a grid of
-//!   model parameters, in parallel), see [`crate::study`].
 //! - [`general`]: the general problem (P) of the paper's §2 (`[sweeping_process]` files):
 //!   [`analyze_general`], [`simulate_general`], [`optimize_general`] (P_m, globally),
 //!   [`optimize_general_local`] (P_m, locally), [`optimize_general_phase`] (exact gaits of at
 //!   most `K` phases where `A = 0`, globally).
+//!
+//! A parameter study (a job over a grid of model parameters) is one layer above, in
+//! [`crate::study`]: it runs these jobs per point.
 //!
 //! Progress arrives as [`Event`]s through [`Hooks`], which also carry a
 //! [`crate::progress::Cancel`] token that stops a job within a HiGHS callback.
@@ -44,7 +46,6 @@ mod general_phase;
 mod optimize;
 mod settings;
 
-pub use crate::study::run as sweep;
 pub use bench::{bench, rename_fields, BenchCase, BenchSettings};
 pub use events::{Event, Hooks, Observer};
 pub use fit::fit;
@@ -69,7 +70,7 @@ use crate::error::{Error, Result};
 use crate::integrate::{Actuation, SimOptions, Simulation};
 use crate::io::ModelFile;
 use crate::model::{Analysis, Crawler};
-use crate::optimal::{one_link_optimum, GaitProblem, OneLinkOptimum};
+use crate::optimal::{one_link_optimum, GaitProblem, GaitResult, OneLinkOptimum};
 use serde::Serialize;
 
 /// The crawler of a model file, checked for uniqueness (paper eq. 3.6), and its `[gait]`
@@ -81,6 +82,36 @@ pub fn gait_problem(model: &ModelFile) -> Result<(Crawler, GaitProblem)> {
         .gait(&crawler)?
         .ok_or_else(|| Error::invalid("gait", "nothing", "the model file has no [gait] section"))?;
     Ok((crawler, problem))
+}
+
+/// The gait a report of a model file shows (`crawlopt report MODEL.toml`, Python's
+/// `report`): the optimal gait of a model file's `[gait]` problem, by the phase method with at most
+/// `phases` slip phases, or with `K` grown when `None` (the default of `crawlopt optimize`).
+pub fn optimize_model(
+    model: &ModelFile,
+    phases: Option<usize>,
+    time_limit: Option<f64>,
+    hooks: Hooks<'_>,
+) -> Result<GaitResult> {
+    let (crawler, problem) = gait_problem(model).map_err(|e| match e {
+        Error::InvalidParameter {
+            field,
+            value,
+            reason,
+        } if field == "gait" => Error::InvalidParameter {
+            field,
+            value,
+            reason: format!("{reason} (a report shows an optimal gait)"),
+        },
+        other => other,
+    })?;
+    let settings = OptimizeSettings {
+        method: GaitMethod::Phase,
+        phases,
+        time_limit,
+        ..OptimizeSettings::default()
+    };
+    Ok(optimize(&crawler, &problem, &settings, hooks)?.result)
 }
 
 /// What [`analyze`] finds in a model file.

@@ -71,85 +71,17 @@
 //! whatever `sigma`, so the margin is reported but not required (the crawler's certificate asks
 //! it for quadratic costs too).
 
+use super::general_conditions::residuals;
+pub use super::general_conditions::{
+    residuals_of, GeneralFaceMultiplier, GeneralMultipliers, GeneralNecessaryConditions,
+    GENERAL_CERTIFICATE_FORMAT,
+};
 use super::general_kkt::{solve_general, GeneralRaw, GeneralStructure};
 pub use super::general_process::GeneralProcess;
-use super::stages::sign_residual;
-use super::{BranchLp, CertifyOptions, ConditionCheck, Normalisation, Verdict};
-use crate::error::{Error, Result};
-use crate::model::general::{dot, ControlSet, GeneralCost, GeneralProblem};
+use super::{BranchLp, CertifyOptions};
+use crate::error::Result;
+use crate::model::general::{GeneralCost, GeneralProblem};
 use crate::optimal::general::solve_general_branch;
-use serde::Serialize;
-
-/// Value of [`GeneralNecessaryConditions::format`].
-pub const GENERAL_CERTIFICATE_FORMAT: &str = "crawlopt-general-necessary-conditions";
-
-/// The mass of `dxi` at one knot on one face.
-#[derive(Debug, Clone, PartialEq, Serialize)]
-pub struct GeneralFaceMultiplier {
-    /// Knot `k` (`0..M`).
-    pub knot: usize,
-    /// `t_k`.
-    pub time: f64,
-    /// Face, 1-based.
-    pub face: usize,
-    /// `xi_{k,f}` (Theorem 2.2 sign: `>= 0`).
-    pub value: f64,
-}
-
-/// The multipliers per step.
-#[derive(Debug, Clone, PartialEq, Serialize)]
-pub struct GeneralMultipliers {
-    /// Knot times `t_k = k h`, `k = 0..M`.
-    pub times: Vec<f64>,
-    /// `p_i` (the adjoint on step `i`).
-    pub p: Vec<Vec<f64>>,
-    /// The switching function `sigma_i = B^T p_i + omega`.
-    pub switching: Vec<Vec<f64>>,
-    /// `psi_i = -B^T p_i - omega - lambda R u^i`.
-    pub psi: Vec<Vec<f64>>,
-    /// `u^i`.
-    pub u: Vec<Vec<f64>>,
-    /// `omega` (per unit time).
-    pub omega: Vec<f64>,
-    /// `psi_i`'s weights on the active rows of U, as (row 1-based, weight); a box's rows are
-    /// `u_l <= upper_l` (row `2l - 1`) and `-u_l <= -lower_l` (row `2l`).
-    pub normal_cone: Vec<Vec<(usize, f64)>>,
-    /// The non-zero masses of `dxi` (above `1e-14` times the largest).
-    pub xi: Vec<GeneralFaceMultiplier>,
-}
-
-/// The certificate of a general P_m process (module docs).
-#[derive(Debug, Clone, PartialEq, Serialize)]
-pub struct GeneralNecessaryConditions {
-    /// Always [`GENERAL_CERTIFICATE_FORMAT`].
-    pub format: String,
-    /// [`super::CERTIFICATE_VERSION`].
-    pub version: u32,
-    /// `"discrete"`.
-    pub method: String,
-    /// `m` of P_m.
-    pub m: u32,
-    /// The verdict.
-    pub verdict: Verdict,
-    /// One sentence explaining it.
-    pub reason: String,
-    /// `lambda` of the reported multipliers (1, or 0 in the degenerate case).
-    pub lambda: f64,
-    /// `J` of the process.
-    pub objective: f64,
-    /// The non-degeneracy margin (module docs).
-    pub nondegeneracy_margin: f64,
-    /// Whether the verdict requires that margin (`f2` not strictly convex).
-    pub margin_required: bool,
-    /// Normalisation constants (as for crawlers).
-    pub normalisation: Normalisation,
-    /// Every condition with its residual.
-    pub conditions: Vec<ConditionCheck>,
-    /// The multipliers.
-    pub multipliers: GeneralMultipliers,
-    /// The branch LP solved as such (`f2 = 0` only).
-    pub branch_lp: Option<BranchLp>,
-}
 
 /// Computes multipliers of a general P_m process and checks the necessary conditions.
 pub fn certify_general(
@@ -206,125 +138,6 @@ pub(crate) fn certify_with(
     Ok(rep)
 }
 
-impl super::stages::Multipliers for GeneralRaw {
-    fn p(&self) -> &[Vec<f64>] {
-        &self.p
-    }
-    fn omega(&self) -> &[f64] {
-        &self.omega
-    }
-    fn xi(&self) -> &[Vec<f64>] {
-        &self.xi
-    }
-    fn degenerate(self, by: f64) -> Self {
-        let div = |rows| super::stages::divided(rows, by);
-        GeneralRaw {
-            lambda: 0.0,
-            p: div(self.p),
-            xi: div(self.xi),
-            omega: self.omega.into_iter().map(|v| v / by).collect(),
-            rho: div(self.rho),
-        }
-    }
-}
-
-/// The discrete residuals as (name, statement, residual), recomputed in floating point.
-pub(crate) fn residuals(
-    p: &GeneralProblem,
-    st: &GeneralStructure,
-    raw: &GeneralRaw,
-    drift_term: bool,
-) -> Vec<(&'static str, &'static str, f64)> {
-    let (n, m, steps, h) = (st.n, st.m, st.steps, st.h);
-    let (mut adj, mut comp, mut lp_sign, mut react, mut maxim) =
-        (0.0_f64, 0.0_f64, 0.0_f64, 0.0_f64, 0.0_f64);
-    for k in 0..steps {
-        let prev = (k + steps - 1) % steps;
-        for l in 0..n {
-            let mut v = raw.p[k][l] - raw.p[prev][l];
-            if drift_term {
-                v += h
-                    * (0..n)
-                        .map(|q| p.dynamics.a[q][l] * raw.p[k][q])
-                        .sum::<f64>();
-            }
-            for (fi, &f) in st.active[k].iter().enumerate() {
-                v -= raw.xi[k][fi] * p.c.normals[f][l];
-            }
-            adj = adj.max(v.abs());
-        }
-        let i = prev;
-        for (fi, &f) in st.active[k].iter().enumerate() {
-            let x = raw.xi[k][fi];
-            comp = comp.max(x.abs() * st.slack[k][fi]);
-            let g = raw.lambda * st.w[f] + dot(&raw.p[i], &p.c.normals[f]);
-            if st.held[k][fi] {
-                react = react.max(g.abs());
-            } else {
-                react = react.max(g);
-                lp_sign = lp_sign.max(x);
-            }
-        }
-    }
-    for i in 0..steps {
-        let psi = psi_of(p, st, raw, i);
-        for l in 0..m {
-            let cone: f64 = st.urows_active[i]
-                .iter()
-                .zip(&raw.rho[i])
-                .map(|(&r, w)| w.max(0.0) * st.urows[r].0[l])
-                .sum();
-            maxim = maxim.max((psi[l] - cone).abs());
-        }
-    }
-    vec![
-        (
-            "adjoint",
-            "adjoint equation and transversality: p_k - p_(k-1) = -h A^T p_k + sum_f xi_{k,f} \
-             x*_f, p(T) = p(0) (Thm 6.2 (px), (p2mx))",
-            adj,
-        ),
-        (
-            "complementarity",
-            "xi_{k,f} (c_f - <x*_f, x^k>) = 0: dxi only where its face is active (Thm 6.1 (necd1))",
-            comp,
-        ),
-        (
-            "reaction_stationarity",
-            "lambda w_f + <p_i, x*_f> = 0 for a reaction on face f in step i, <= 0 at a biactive \
-             face (branch LP in mu; Thm 6.2 (pr), eta in df1)",
-            react.max(0.0),
-        ),
-        (
-            "branch_face_sign",
-            "xi_{k,f} <= 0 on a biactive face (a true inequality of the branch LP)",
-            lp_sign.max(0.0),
-        ),
-        (
-            "weak_maximality",
-            "psi_i = -B^T p_i - omega - lambda Df2(u_i) in N_U(u_i): |psi_i - sum_r rho_{i,r} G_r| \
-             with rho >= 0 on the active rows of U (Thm 6.2 (pw))",
-            maxim,
-        ),
-        ("sign", "xi_{k,f} >= 0", sign_residual(raw)),
-    ]
-}
-
-/// `psi_i = -B^T p_i - omega - lambda R u^i`.
-pub(crate) fn psi_of(
-    p: &GeneralProblem,
-    st: &GeneralStructure,
-    raw: &GeneralRaw,
-    i: usize,
-) -> Vec<f64> {
-    (0..st.m)
-        .map(|l| {
-            let btp: f64 = (0..st.n).map(|q| p.dynamics.b[q][l] * raw.p[i][q]).sum();
-            -btp - raw.omega[l] - raw.lambda * st.grad_f2[i][l]
-        })
-        .collect()
-}
-
 /// The largest residual of the branch LP's KKT system (all discrete conditions but the sign).
 fn kkt_residual(p: &GeneralProblem, st: &GeneralStructure, raw: &GeneralRaw, drift: bool) -> f64 {
     residuals(p, st, raw, drift)
@@ -333,96 +146,10 @@ fn kkt_residual(p: &GeneralProblem, st: &GeneralStructure, raw: &GeneralRaw, dri
         .fold(0.0_f64, |m, (_, _, r)| m.max(*r))
 }
 
-/// Whether `f2` is strictly convex (`R` positive definite).
-pub(crate) fn strictly_convex(cost: &GeneralCost, m: usize) -> bool {
-    match cost {
-        GeneralCost::None => false,
-        GeneralCost::Quadratic { weight } => *weight > 0.0,
-        GeneralCost::Matrix { matrix } => {
-            let r = nalgebra::DMatrix::from_fn(m, m, |i, k| matrix[i][k]);
-            let eig = r.symmetric_eigenvalues();
-            let scale = eig.iter().fold(0.0_f64, |s, v| s.max(v.abs()));
-            eig.iter().all(|&v| v > 1e-12 * scale)
-        }
-    }
-}
-
-/// Whether U is a box.
-pub(crate) fn is_box(u: &ControlSet) -> bool {
-    matches!(u, ControlSet::Box { .. })
-}
-
-/// The discrete residuals (name, residual; the group "6.2" and the sign) of given multipliers
-/// at `lambda`: `p`, `omega`, the `dxi` masses and the normal-cone weights of `mult` (the rest
-/// of it is not read). For checking multipliers found elsewhere, e.g. a crawler certificate's
-/// after the change of variables; a mass on a face inactive at its knot, or a weight on a row of
-/// U inactive at its step, is an error naming it.
-pub fn residuals_of(
-    p: &GeneralProblem,
-    pr: &GeneralProcess,
-    lambda: f64,
-    mult: &GeneralMultipliers,
-    opts: &CertifyOptions,
-) -> Result<Vec<(&'static str, f64)>> {
-    pr.check(p, opts.structure_tol)?;
-    let st = GeneralStructure::of(p, pr, opts.structure_tol);
-    let shape_ok = mult.p.len() == st.steps
-        && mult.p.iter().all(|r| r.len() == st.n)
-        && mult.omega.len() == st.m
-        && mult.normal_cone.len() == st.steps;
-    if !shape_ok {
-        return Err(Error::invalid(
-            "multipliers",
-            "their shapes",
-            "need p per step (n values), omega (m values) and normal-cone weights per step",
-        ));
-    }
-    let mut xi: Vec<Vec<f64>> = st.active.iter().map(|a| vec![0.0; a.len()]).collect();
-    for x in &mult.xi {
-        let slot = (x.knot < st.steps)
-            .then(|| st.active[x.knot].iter().position(|&f| f + 1 == x.face))
-            .flatten()
-            .ok_or_else(|| {
-                Error::invalid(
-                    format!("multipliers.xi (knot {}, face {})", x.knot, x.face),
-                    x.value,
-                    "the face is not active at that knot",
-                )
-            })?;
-        xi[x.knot][slot] += x.value;
-    }
-    let mut rho: Vec<Vec<f64>> = st.urows_active.iter().map(|a| vec![0.0; a.len()]).collect();
-    for (i, rows) in mult.normal_cone.iter().enumerate() {
-        for &(r, v) in rows {
-            let slot = st.urows_active[i]
-                .iter()
-                .position(|&q| q + 1 == r)
-                .ok_or_else(|| {
-                    Error::invalid(
-                        format!("multipliers.normal_cone[{i}] (row {r})"),
-                        v,
-                        "the row of U is not active at that step",
-                    )
-                })?;
-            rho[i][slot] += v;
-        }
-    }
-    let raw = GeneralRaw {
-        lambda,
-        p: mult.p.clone(),
-        xi,
-        omega: mult.omega.clone(),
-        rho,
-    };
-    Ok(residuals(p, &st, &raw, true)
-        .into_iter()
-        .map(|(name, _, r)| (name, r))
-        .collect())
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::certify::Verdict;
     use crate::model::general::GeneralParts;
 
     /// The drift problem of tests/general_certify.rs (c) at its hand-derived P_1 optimum: the

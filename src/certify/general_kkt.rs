@@ -4,27 +4,12 @@
 //! HiGHS for multipliers that violate it least, in the stages of the crawler's certificate
 //! ([`crate::certify`]: [`Stage`], [`Norm`], the same generic functional).
 
-use super::general::GeneralProcess;
+use super::general_process::{control_rows, GeneralProcess};
 use super::kkt::{adjoint_columns, functional, norm_box, Norm, Stage};
 use crate::error::{Error, Result};
-use crate::model::general::{dot, ControlSet, GeneralCost, GeneralProblem, Reward};
+use crate::model::general::{dot, GeneralCost, GeneralProblem, Reward};
 use crate::optimal::solver::{Highs, SolveStatus};
 use highs::{Col, RowProblem, Sense};
-
-/// The rows `(G_k, h_k)` of U: a box as `e_l <= upper_l`, `-e_l <= -lower_l` (in this order per
-/// component), a polytope's unit rows as given.
-pub(crate) fn control_rows(u: &ControlSet) -> Vec<(Vec<f64>, f64)> {
-    match u {
-        ControlSet::Box { lower, upper } => {
-            let m = lower.len();
-            let unit = |l: usize, s: f64| (0..m).map(|k| if k == l { s } else { 0.0 }).collect();
-            (0..m)
-                .flat_map(|l| [(unit(l, 1.0), upper[l]), (unit(l, -1.0), -lower[l])])
-                .collect()
-        }
-        ControlSet::Polytope(p) => p.normals.iter().cloned().zip(p.offsets.clone()).collect(),
-    }
-}
 
 /// The cost's Hessian `R` (`f2 = (1/2) u^T R u`; zero for `f2 = 0`).
 pub(crate) fn cost_hessian(cost: &GeneralCost, m: usize) -> Vec<Vec<f64>> {

@@ -5,9 +5,24 @@
 
 use crate::error::{Error, Result};
 use crate::integrate::{simulate_general, ControlInput, GeneralSimOptions, InputKind};
-use crate::model::general::{Boundary, GeneralProblem};
+use crate::model::general::{Boundary, ControlSet, GeneralProblem};
 use crate::optimal::general::GeneralPm;
 use serde::Serialize;
+
+/// The rows `(G_k, h_k)` of U: a box as `e_l <= upper_l`, `-e_l <= -lower_l` (in this order per
+/// component), a polytope's unit rows as given.
+pub(crate) fn control_rows(u: &ControlSet) -> Vec<(Vec<f64>, f64)> {
+    match u {
+        ControlSet::Box { lower, upper } => {
+            let m = lower.len();
+            let unit = |l: usize, s: f64| (0..m).map(|k| if k == l { s } else { 0.0 }).collect();
+            (0..m)
+                .flat_map(|l| [(unit(l, 1.0), upper[l]), (unit(l, -1.0), -lower[l])])
+                .collect()
+        }
+        ControlSet::Polytope(p) => p.normals.iter().cloned().zip(p.offsets.clone()).collect(),
+    }
+}
 
 /// A periodic P_m process of the general problem: `x^0..x^M` (`x^M = x^0`), `u^0..u^(M-1)`
 /// and the reactions `lambda^i = mu^i / h` per face.
@@ -142,7 +157,7 @@ impl GeneralProcess {
                 );
             }
         }
-        let uscale = crate::certify::general_kkt::control_rows(&p.control)
+        let uscale = control_rows(&p.control)
             .iter()
             .fold(0.0_f64, |s, (_, h)| s.max(h.abs()));
         let mut mean = vec![0.0; mc];

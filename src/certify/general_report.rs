@@ -2,11 +2,12 @@
 //! group of Theorem 2.2 and the verdict, in the crawler certificate's form (module docs of
 //! [`crate::certify`] and [`crate::certify::general`]).
 
-use super::general::{
+use super::general_conditions::{
     is_box, psi_of, residuals, strictly_convex, GeneralFaceMultiplier, GeneralMultipliers,
-    GeneralNecessaryConditions, GeneralProcess, GENERAL_CERTIFICATE_FORMAT,
+    GeneralNecessaryConditions, GENERAL_CERTIFICATE_FORMAT,
 };
 use super::general_kkt::{GeneralRaw, GeneralStructure};
+use super::general_process::GeneralProcess;
 use super::stages::sup;
 use super::{int_pos, CertifyOptions, ConditionCheck, Normalisation, Verdict, CERTIFICATE_VERSION};
 use crate::model::general::{ControlSet, GeneralCost, GeneralProblem};

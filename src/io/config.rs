@@ -1,5 +1,6 @@
 //! The TOML model file (see the module docs of [`crate::io`]).
 
+use super::csv_io::read_input_file;
 use crate::error::{Error, Result};
 use crate::integrate::{Actuation, Waveform};
 use crate::model::Crawler;
@@ -13,39 +14,6 @@ pub const MAX_MODEL_BYTES: u64 = 16 << 20;
 
 /// Most blocks of a crawler in a model file.
 pub const MAX_BLOCKS: i64 = 10_000_000;
-
-/// Reads an input file of at most `limit` bytes. Only regular files (or links to one) are read:
-/// a directory, a FIFO or a device (`/dev/zero`, `/dev/stdin`) is refused before it is opened,
-/// so that reading can neither block nor go on without end. The error is the reason alone.
-pub(crate) fn read_input_file(path: &Path, limit: u64) -> std::result::Result<Vec<u8>, String> {
-    use std::io::Read;
-    let meta = std::fs::metadata(path).map_err(|e| e.to_string())?;
-    check_regular(&meta)?;
-    let file = std::fs::File::open(path).map_err(|e| e.to_string())?;
-    // Again on the open file: the path may have been replaced in between.
-    check_regular(&file.metadata().map_err(|e| e.to_string())?)?;
-    let mut bytes = Vec::new();
-    file.take(limit + 1)
-        .read_to_end(&mut bytes)
-        .map_err(|e| e.to_string())?;
-    if bytes.len() as u64 > limit {
-        return Err(format!(
-            "larger than {} MiB: not an input file of crawlopt",
-            limit >> 20
-        ));
-    }
-    Ok(bytes)
-}
-
-fn check_regular(meta: &std::fs::Metadata) -> std::result::Result<(), String> {
-    if meta.is_dir() {
-        Err("is a directory, not a file".into())
-    } else if !meta.is_file() {
-        Err("is not a regular file (a device, a FIFO or a socket)".into())
-    } else {
-        Ok(())
-    }
-}
 
 /// A line of the input quoted in a message: at most 80 characters, control characters escaped.
 fn quote_line(line: &str) -> String {

@@ -12,6 +12,39 @@ fn io_err(path: &Path, e: impl ToString) -> Error {
     }
 }
 
+/// Reads an input file of at most `limit` bytes. Only regular files (or links to one) are read:
+/// a directory, a FIFO or a device (`/dev/zero`, `/dev/stdin`) is refused before it is opened,
+/// so that reading can neither block nor go on without end. The error is the reason alone.
+pub(crate) fn read_input_file(path: &Path, limit: u64) -> std::result::Result<Vec<u8>, String> {
+    use std::io::Read;
+    let meta = std::fs::metadata(path).map_err(|e| e.to_string())?;
+    check_regular(&meta)?;
+    let file = std::fs::File::open(path).map_err(|e| e.to_string())?;
+    // Again on the open file: the path may have been replaced in between.
+    check_regular(&file.metadata().map_err(|e| e.to_string())?)?;
+    let mut bytes = Vec::new();
+    file.take(limit + 1)
+        .read_to_end(&mut bytes)
+        .map_err(|e| e.to_string())?;
+    if bytes.len() as u64 > limit {
+        return Err(format!(
+            "larger than {} MiB: not an input file of crawlopt",
+            limit >> 20
+        ));
+    }
+    Ok(bytes)
+}
+
+fn check_regular(meta: &std::fs::Metadata) -> std::result::Result<(), String> {
+    if meta.is_dir() {
+        Err("is a directory, not a file".into())
+    } else if !meta.is_file() {
+        Err("is not a regular file (a device, a FIFO or a socket)".into())
+    } else {
+        Ok(())
+    }
+}
+
 /// Largest CSV actuation read (bytes): about a million knots.
 pub const MAX_CSV_BYTES: u64 = 64 << 20;
 
@@ -19,7 +52,7 @@ pub const MAX_CSV_BYTES: u64 = 64 << 20;
 /// (a header row is recognised by a non-numeric first field and skipped). Only a regular file
 /// of at most [`MAX_CSV_BYTES`] is read.
 pub fn read_actuation_csv(path: &Path, links: usize) -> Result<(Vec<f64>, Vec<Vec<f64>>)> {
-    let bytes = super::config::read_input_file(path, MAX_CSV_BYTES)
+    let bytes = read_input_file(path, MAX_CSV_BYTES)
         .map_err(|e| io_err(path, format!("cannot read actuation CSV: {e}")))?;
     let mut rdr = csv::ReaderBuilder::new()
         .has_headers(false)

@@ -31,6 +31,7 @@
 mod config;
 mod csv_io;
 pub mod general;
+mod general_results;
 pub mod json;
 mod model_toml;
 
@@ -42,6 +43,10 @@ pub use config::{
 pub use csv_io::{read_actuation_csv, remove_staged_files, write_trajectory_csv, AtomicFile};
 pub use general::{write_general_csv, GeneralFile};
 pub use model_toml::{crawler_toml, read_fit_csv, write_text, MAX_FIT_CSV_BYTES};
+pub use general_results::{
+    Check, CheckStatus, GeneralAnalysis, GeneralLocalOptimized, GeneralOptimized,
+    GeneralPhaseOptimized, GeneralSimulated,
+};
 
 use crate::error::{Error, Result};
 
@@ -58,6 +63,6 @@ pub fn read_input_text(path: &std::path::Path, limit: u64) -> Result<String> {
         reason,
     };
     let bytes =
-        config::read_input_file(path, limit).map_err(|e| io(format!("cannot read: {e}")))?;
+        csv_io::read_input_file(path, limit).map_err(|e| io(format!("cannot read: {e}")))?;
     String::from_utf8(bytes).map_err(|_| io("cannot read: not UTF-8 text".into()))
 }

@@ -14,6 +14,7 @@ pub mod general;
 mod general_checks;
 mod general_crawler;
 mod general_drift;
+mod general_sets;
 mod polytope;
 mod uniqueness;
 mod vm;

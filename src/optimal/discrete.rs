@@ -41,15 +41,14 @@
 use crate::error::{Error, Result};
 use crate::model::Crawler;
 use crate::optimal::milp::{
-    block_speed_bound, certify, check_time_limit, control_knots, force, force_row, replay_grid,
-    solve_max, GridColumns, GridReplay, TangentRates, OA_TOL,
+    block_speed_bound, certify, control_knots, force, force_row, replay_grid, solve_max,
+    GridColumns, GridReplay, TangentRates, OA_TOL,
 };
-use crate::optimal::polish::{PolishRecord, POLISH_DEFAULT};
+use crate::optimal::polish::PolishRecord;
 use crate::optimal::sample_increments;
-use crate::optimal::units::Units;
 use crate::optimal::{Certificate, Cost, GaitProblem, MilpStatus};
 use highs::{Col, RowProblem};
-use serde::{Deserialize, Serialize};
+use serde::Serialize;
 use std::time::Instant;
 
 /// Largest `m` accepted (`2^m` steps).
@@ -276,77 +275,8 @@ fn build(
     )
 }
 
-/// Solves P_m globally (module docs). `time_limit` in seconds.
-pub fn solve_discrete_global(
-    crawler: &Crawler,
-    problem: &GaitProblem,
-    m: u32,
-    time_limit: Option<f64>,
-) -> Result<DiscreteSolution> {
-    solve_discrete_global_from(crawler, problem, m, time_limit, None)
-}
-
-/// [`solve_discrete_global`] from a start gait given by its knots (`times` from 0 to the
-/// period, `lengths` with the last row equal to the first, as in a [`GaitResult`]'s gait).
-///
-/// The start's actuation is sampled on the grid ([`sample_increments`]) and played by
-/// catching-up to its periodic orbit; that trajectory is a feasible point of the MILP and
-/// becomes HiGHS's first incumbent, so a solve cut short by the time limit returns at least
-/// the start (its value is [`DiscreteSolution::start_objective`]). A start whose sampled control
-/// breaks the problem's TV bound is refused (an error naming it), as HiGHS would drop it
-/// unsaid; every other sampled start is a feasible point.
-///
-/// [`GaitResult`]: crate::optimal::GaitResult
-pub fn solve_discrete_global_from(
-    crawler: &Crawler,
-    problem: &GaitProblem,
-    m: u32,
-    time_limit: Option<f64>,
-    start: Option<(&[f64], &[Vec<f64>])>,
-) -> Result<DiscreteSolution> {
-    solve_discrete_global_with(crawler, problem, m, time_limit, start, POLISH_DEFAULT)
-}
-
-/// [`solve_discrete_global_from`], with `polish` saying whether the answer of a quadratic cost
-/// is polished on its fixed slip pattern ([`crate::optimal::polish`]; the default,
-/// [`POLISH_DEFAULT`], is on): the outer approximation leaves a rate off its bounds accurate
-/// only to the cuts' spacing.
-pub fn solve_discrete_global_with(
-    crawler: &Crawler,
-    problem: &GaitProblem,
-    m: u32,
-    time_limit: Option<f64>,
-    start: Option<(&[f64], &[Vec<f64>])>,
-    polish: bool,
-) -> Result<DiscreteSolution> {
-    crawler.require_unique()?;
-    problem.check_scales(crawler)?;
-    if !(1..=MAX_M).contains(&m) {
-        return Err(Error::invalid(
-            "m",
-            m,
-            format!("must be in 1..={MAX_M} (a periodic gait needs two steps)"),
-        ));
-    }
-    crate::optimal::check_size(crawler, 1 << m, "m", m)?;
-    check_time_limit(time_limit)?;
-    // Solved in the optimisers' internal units ([`Units`]), answered in the user's.
-    let units = Units::of(crawler, problem);
-    let (c, p) = (units.crawler(crawler)?, units.problem(problem));
-    let start = start.map(|(t, l)| units.knots_in(t, l));
-    let start = start.as_ref().map(|(t, l)| (t.as_slice(), l.as_slice()));
-    let s = crate::progress::with_objective_scale(units.objective_scale(), || {
-        solve_discrete_in(&c, &p, m, time_limit, start)
-    })?;
-    let s = match p.cost {
-        Cost::Quadratic { .. } if polish => super::discrete_polish::polish(&c, &p, s),
-        _ => s,
-    };
-    Ok(units.discrete(&s))
-}
-
-/// [`solve_discrete_global_from`] in internal units, arguments checked.
-fn solve_discrete_in(
+/// [`super::solve_discrete_global_from`] in internal units, arguments checked.
+pub(super) fn solve_discrete_in(
     crawler: &Crawler,
     problem: &GaitProblem,
     m: u32,
@@ -503,85 +433,6 @@ pub(super) fn grid_cost(problem: &GaitProblem, increments: &[Vec<f64>], h: f64) 
             h * problem.cost.eval(&rate)
         })
         .sum()
-}
-
-/// One row of a convergence table: the optimum `J_m` of P_m.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct ConvergenceRow {
-    /// `m`.
-    pub m: u32,
-    /// `2^m`.
-    pub steps: usize,
-    /// `J_m` (verified).
-    pub objective: f64,
-    /// The MILP's bound on `J_m`.
-    pub bound: f64,
-    /// Its gap.
-    pub gap: f64,
-    /// How the solve ended.
-    pub status: MilpStatus,
-    /// Wall time, seconds.
-    pub seconds: f64,
-}
-
-/// Solves P_m for `m = 1..=max_m` (the paper's discrete approximations, §6), each within what
-/// is left of `time_limit` and each started from the previous optimum (every step of `P_{m-1}`
-/// cut in two: a gait of `P_m`); returns the table and the finest solution. Stops early,
-/// keeping what was solved, when the time runs out.
-pub fn discrete_convergence(
-    crawler: &Crawler,
-    problem: &GaitProblem,
-    max_m: u32,
-    time_limit: Option<f64>,
-    progress: &mut dyn FnMut(&ConvergenceRow),
-) -> Result<(Vec<ConvergenceRow>, DiscreteSolution)> {
-    if !(1..=MAX_M).contains(&max_m) {
-        return Err(Error::invalid(
-            "m",
-            max_m,
-            format!("must be in 1..={MAX_M}"),
-        ));
-    }
-    crate::optimal::check_size(crawler, 1 << max_m, "m", max_m)?;
-    check_time_limit(time_limit)?;
-    let began = Instant::now();
-    let mut table = Vec::new();
-    let mut finest = None;
-    for m in 1..=max_m {
-        let left = time_limit.map(|t| t - began.elapsed().as_secs_f64());
-        if left.is_some_and(|l| l <= 0.0) {
-            break;
-        }
-        let t0 = Instant::now();
-        let knots = finest
-            .as_ref()
-            .map(|s: &DiscreteSolution| s.knots(crawler.stiffness()));
-        let start = knots.as_ref().map(|(t, l)| (&t[..], &l[..]));
-        let s = match solve_discrete_global_from(crawler, problem, m, left, start) {
-            Ok(s) => s,
-            Err(Error::TimeLimit(_)) if finest.is_some() => break,
-            Err(e) => return Err(e),
-        };
-        let row = ConvergenceRow {
-            m,
-            steps: 1 << m,
-            objective: s.objective(),
-            bound: s.certificate.bound,
-            gap: s.certificate.gap,
-            status: s.certificate.status,
-            seconds: t0.elapsed().as_secs_f64(),
-        };
-        progress(&row);
-        table.push(row);
-        let timed_out = s.certificate.status == MilpStatus::TimeLimit;
-        finest = Some(s);
-        if timed_out {
-            break;
-        }
-    }
-    // m runs from 1 (max_m >= 1, checked) and every m either stores its answer or returns its
-    // error, so `finest` is set here.
-    Ok((table, finest.expect("m = 1 solved or an error returned")))
 }
 
 #[cfg(test)]

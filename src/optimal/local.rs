@@ -38,7 +38,7 @@ use crate::model::Crawler;
 use crate::optimal::milp::{
     block_speed_bound, check_time_limit, check_verified, force, replay_grid, GridColumns,
 };
-use crate::optimal::units::Units;
+use crate::optimal::units::{scale_all, scale_rows, Units};
 use crate::optimal::{Cost, GaitProblem};
 use highs::{Col, RowProblem, Sense};
 use serde::Serialize;
@@ -452,4 +452,27 @@ pub fn solve_discrete_local_shifted(
     // The loop runs at least once (shifts >= 1, checked) and either stores its first answer
     // or returns its error, so `best` is set here.
     Ok(best.expect("the first shift solved or an error returned"))
+}
+/// A local P_m solution's conversion between unit systems ([`Units`]): here, beside the
+/// solution, so that the unit system needs not know it.
+impl Units {
+    /// A local P_m solution from internal units to the user's.
+    pub fn local(&self, s: &LocalSolution) -> LocalSolution {
+        let (f, t, l) = (self.force, self.time, self.length);
+        LocalSolution {
+            m: s.m,
+            step: s.step * t,
+            start_objective: s.start_objective * l,
+            lp_objective: s.lp_objective * l,
+            verified_displacement: s.verified_displacement * l,
+            actuation_cost: s.actuation_cost * l,
+            lp_solves: s.lp_solves,
+            switches: s.switches,
+            stop: s.stop,
+            initial_state: scale_all(&s.initial_state, f),
+            states: scale_rows(&s.states, f),
+            controls: scale_rows(&s.controls, f / t),
+            block_displacements: scale_rows(&s.block_displacements, l),
+        }
+    }
 }

@@ -8,6 +8,7 @@
 mod active_set;
 pub mod consistency;
 mod discrete;
+mod discrete_global;
 mod discrete_polish;
 pub mod general;
 mod limits;
@@ -22,9 +23,10 @@ pub(crate) mod solver;
 mod start;
 mod units;
 
-pub use discrete::{
+pub use discrete::{DiscreteSolution, MAX_M};
+pub use discrete_global::{
     discrete_convergence, solve_discrete_global, solve_discrete_global_from,
-    solve_discrete_global_with, ConvergenceRow, DiscreteSolution, MAX_M,
+    solve_discrete_global_with, ConvergenceRow,
 };
 pub use limits::{check_shifts, check_size, MAX_BLOCK_STEPS, MAX_OPT_BLOCKS, MAX_SHIFTS};
 pub use local::{

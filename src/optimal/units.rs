@@ -17,26 +17,23 @@
 
 use crate::error::Result;
 use crate::model::Crawler;
-use crate::optimal::polish::PolishRecord;
-use crate::optimal::{
-    Certificate, Cost, DiscreteSolution, GaitProblem, LocalSolution, PhaseSolution,
-};
+use crate::optimal::{Certificate, Cost, GaitProblem, PhaseSolution};
 
 /// A unit system: the user's force, time and length units expressed in the internal ones.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub(crate) struct Units {
-    force: f64,
-    time: f64,
-    length: f64,
+    pub(crate) force: f64,
+    pub(crate) time: f64,
+    pub(crate) length: f64,
 }
 
-fn scale_rows(rows: &[Vec<f64>], f: f64) -> Vec<Vec<f64>> {
+pub(crate) fn scale_rows(rows: &[Vec<f64>], f: f64) -> Vec<Vec<f64>> {
     rows.iter()
         .map(|r| r.iter().map(|v| v * f).collect())
         .collect()
 }
 
-fn scale_all(v: &[f64], f: f64) -> Vec<f64> {
+pub(crate) fn scale_all(v: &[f64], f: f64) -> Vec<f64> {
     v.iter().map(|x| x * f).collect()
 }
 
@@ -104,52 +101,6 @@ impl Units {
         out
     }
 
-    /// A P_m solution from internal units to the user's.
-    pub fn discrete(&self, s: &DiscreteSolution) -> DiscreteSolution {
-        let (f, t, l) = (self.force, self.time, self.length);
-        let mut out = DiscreteSolution {
-            m: s.m,
-            step: s.step * t,
-            certificate: s.certificate.clone(),
-            verified_displacement: s.verified_displacement * l,
-            actuation_cost: s.actuation_cost * l,
-            initial_state: scale_all(&s.initial_state, f),
-            states: scale_rows(&s.states, f),
-            controls: scale_rows(&s.controls, f / t),
-            block_displacements: scale_rows(&s.block_displacements, l),
-            rounds: s.rounds,
-            start_objective: s.start_objective.map(|j| j * l),
-            polish: s.polish.as_ref().map(|r| PolishRecord {
-                objective_before: r.objective_before * l,
-                objective_after: r.objective_after * l,
-                control_change: r.control_change * f / t,
-                ..r.clone()
-            }),
-        };
-        out.certificate = self.certificate_scaled(&s.certificate, out.objective(), l);
-        out
-    }
-
-    /// A local P_m solution from internal units to the user's.
-    pub fn local(&self, s: &LocalSolution) -> LocalSolution {
-        let (f, t, l) = (self.force, self.time, self.length);
-        LocalSolution {
-            m: s.m,
-            step: s.step * t,
-            start_objective: s.start_objective * l,
-            lp_objective: s.lp_objective * l,
-            verified_displacement: s.verified_displacement * l,
-            actuation_cost: s.actuation_cost * l,
-            lp_solves: s.lp_solves,
-            switches: s.switches,
-            stop: s.stop,
-            initial_state: scale_all(&s.initial_state, f),
-            states: scale_rows(&s.states, f),
-            controls: scale_rows(&s.controls, f / t),
-            block_displacements: scale_rows(&s.block_displacements, l),
-        }
-    }
-
     /// The factor from an objective in internal units to the user's (the length unit): for the
     /// MILP progress reported while a solve runs ([`crate::progress::with_objective_scale`]).
     pub fn objective_scale(&self) -> f64 {
@@ -166,7 +117,12 @@ impl Units {
     }
 
     /// A certificate with its values in length units scaled by `l` (gap recomputed).
-    fn certificate_scaled(&self, c: &Certificate, objective: f64, l: f64) -> Certificate {
+    pub(crate) fn certificate_scaled(
+        &self,
+        c: &Certificate,
+        objective: f64,
+        l: f64,
+    ) -> Certificate {
         let bound = c.bound * l;
         Certificate {
             status: c.status,

@@ -8,11 +8,10 @@
 
 use super::figures::{self, Figure};
 use super::{replay_gait, SHOWN_PERIODS};
-use crate::api::{self, GaitMethod, Hooks, OptimizeSettings};
 use crate::certify::NecessaryConditions;
 use crate::error::{Error, Result};
 use crate::integrate::{Method, Trajectory};
-use crate::io::{AtomicFile, ModelFile};
+use crate::io::AtomicFile;
 use crate::model::{Crawler, FaceSign};
 use crate::optimal::{Cost, GaitResult, MilpStatus};
 use serde::Serialize;
@@ -21,35 +20,6 @@ use std::path::Path;
 
 const CSS: &str = include_str!("report.css");
 const ANIMATION_JS: &str = include_str!("animation.js");
-
-/// The optimal gait of a model file's `[gait]` problem, by the phase method with at most
-/// `phases` slip phases, or with `K` grown when `None` (the default of `crawlopt optimize`).
-pub fn optimize_model(
-    model: &ModelFile,
-    phases: Option<usize>,
-    time_limit: Option<f64>,
-    hooks: Hooks<'_>,
-) -> Result<GaitResult> {
-    let (crawler, problem) = api::gait_problem(model).map_err(|e| match e {
-        Error::InvalidParameter {
-            field,
-            value,
-            reason,
-        } if field == "gait" => Error::InvalidParameter {
-            field,
-            value,
-            reason: format!("{reason} (a report shows an optimal gait)"),
-        },
-        other => other,
-    })?;
-    let settings = OptimizeSettings {
-        method: GaitMethod::Phase,
-        phases,
-        time_limit,
-        ..OptimizeSettings::default()
-    };
-    Ok(api::optimize(&crawler, &problem, &settings, hooks)?.result)
-}
 
 /// What the animation plays (serialised into the page).
 #[derive(Serialize)]

@@ -37,12 +37,12 @@ mod settings;
 mod spec;
 mod table;
 
-pub use plot::{axes_of_header, figures};
+pub use plot::figures;
 pub use run::{
     run, run_point, Outcome, Row, Shard, SweepProgress, SweepSettings, SweepSummary, MAX_THREADS,
 };
 pub use spec::{Axis, Combine, Job, Point, SweepSpec, MAX_POINTS};
 pub use table::{
-    check_rows, header, line, merge, read_any_table, read_table, write_full, write_table, Format,
-    MergeProblems, TableWriter, RESULT_COLUMNS,
+    axes_of_header, check_rows, header, line, merge, read_any_table, read_table, write_full,
+    write_table, Format, MergeProblems, TableWriter, RESULT_COLUMNS,
 };

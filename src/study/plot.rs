@@ -2,7 +2,6 @@
 //! over its first two axes.
 
 use super::run::Row;
-use super::table::RESULT_COLUMNS;
 use crate::error::{Error, Result};
 use crate::present::figures::sweep::{sweep_lines_figure, sweep_map_figure, SweepGrid};
 use crate::present::figures::Figure;
@@ -75,26 +74,4 @@ pub fn figures(axes: &[String], rows: &[Row]) -> Result<Vec<Figure>> {
         figs.push(sweep_map_figure(&grid)?);
     }
     Ok(figs)
-}
-
-/// The axes of a table's header (the columns between `point` and [`RESULT_COLUMNS`]), or an
-/// error naming the file when it is not a sweep's table.
-pub fn axes_of_header(header: &[String], path: &std::path::Path) -> Result<Vec<String>> {
-    let n = header.len();
-    let ok = n > 1 + RESULT_COLUMNS.len()
-        && header[0] == "point"
-        && header[n - RESULT_COLUMNS.len()..]
-            .iter()
-            .zip(RESULT_COLUMNS)
-            .all(|(a, b)| a == b);
-    if !ok {
-        return Err(Error::Io {
-            path: path.display().to_string(),
-            reason: format!(
-                "not a sweep table: its columns must be point, the axes, then {}",
-                RESULT_COLUMNS.join(",")
-            ),
-        });
-    }
-    Ok(header[1..n - RESULT_COLUMNS.len()].to_vec())
 }

@@ -2,7 +2,6 @@
 //! into the library's settings ([`OptimizeSettings`], [`SimOptions`]); their errors named
 //! `settings.KEY`.
 
-use super::spec::toml_err;
 use crate::api::{rename_fields, GaitMethod, Naming, OptimizeSettings, Start};
 use crate::error::{Error, Result};
 use crate::integrate::{Method, SimOptions};
@@ -133,4 +132,10 @@ pub(crate) const SETTING_KEYS: &[&str] = &[
 /// Renames a job's error on a setting to `settings.KEY`.
 pub(crate) fn setting_error(e: Error) -> Error {
     in_settings(e, SETTING_KEYS)
+}
+
+/// A TOML error as one line naming `what`.
+pub(super) fn toml_err(what: &str, e: toml::de::Error) -> Error {
+    let msg = crate::io::escape_controls(&e.message().trim().replace('\n', "; "));
+    Error::invalid(what, "the table given", msg)
 }

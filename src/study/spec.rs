@@ -1,7 +1,7 @@
 //! The sweep file: a base model, a job with its settings, and axes over the model's numeric
 //! fields (see the module docs of [`crate::study`]).
 
-use super::settings::{optimize_settings, setting_error, simulate_options};
+use super::settings::{optimize_settings, setting_error, simulate_options, toml_err};
 use crate::api::OptimizeSettings;
 use crate::error::{Error, Result};
 use crate::integrate::SimOptions;
@@ -134,12 +134,6 @@ struct RangeFile {
     to: f64,
     count: i64,
     scale: Option<String>,
-}
-
-/// A TOML error as one line naming `what`.
-pub(super) fn toml_err(what: &str, e: toml::de::Error) -> Error {
-    let msg = crate::io::escape_controls(&e.message().trim().replace('\n', "; "));
-    Error::invalid(what, "the table given", msg)
 }
 
 impl SweepSpec {

@@ -604,9 +604,31 @@ pub fn read_any_table(path: &Path) -> Result<(Vec<String>, Vec<Row>)> {
             .map(|k| k.0)
             .unwrap_or_default(),
     };
-    let axes = super::plot::axes_of_header(&header, path)?;
+    let axes = axes_of_header(&header, path)?;
     let (rows, _) = read_table(path, &header)?;
     Ok((axes, rows))
+}
+
+/// The axes of a table's header (the columns between `point` and [`RESULT_COLUMNS`]), or an
+/// error naming the file when it is not a sweep's table.
+pub fn axes_of_header(header: &[String], path: &Path) -> Result<Vec<String>> {
+    let n = header.len();
+    let ok = n > 1 + RESULT_COLUMNS.len()
+        && header[0] == "point"
+        && header[n - RESULT_COLUMNS.len()..]
+            .iter()
+            .zip(RESULT_COLUMNS)
+            .all(|(a, b)| a == b);
+    if !ok {
+        return Err(Error::Io {
+            path: path.display().to_string(),
+            reason: format!(
+                "not a sweep table: its columns must be point, the axes, then {}",
+                RESULT_COLUMNS.join(",")
+            ),
+        });
+    }
+    Ok(header[1..n - RESULT_COLUMNS.len()].to_vec())
 }
 
 #[cfg(test)]

@@ -3,7 +3,7 @@
 use crate::output::{out, write_json};
 use clap::Args;
 use crawlopt::api;
-use crawlopt::io::ModelFile;
+use crawlopt::io::{GeneralFile, ModelFile};
 use crawlopt::present::{self, text, write_figures};
 use crawlopt::Error;
 use std::path::PathBuf;
@@ -23,7 +23,7 @@ pub struct AnalyzeArgs {
 
 pub fn run(a: AnalyzeArgs) -> Result<ExitCode, Error> {
     if let Some(general) = crawlopt::io::GeneralFile::load_if_general(&a.file)? {
-        return super::general::analyze(&general, &a);
+        return run_general(&general, &a);
     }
     let model = ModelFile::load(&a.file)?;
     let found = api::analyze(&model)?;
@@ -45,4 +45,29 @@ pub fn run(a: AnalyzeArgs) -> Result<ExitCode, Error> {
         return Ok(ExitCode::from(2));
     }
     Ok(ExitCode::SUCCESS)
+}
+
+/// `crawlopt analyze` of a general problem: the analysis printed, then exit 2 with the first
+/// failed check's message if any.
+fn run_general(file: &GeneralFile, a: &AnalyzeArgs) -> Result<ExitCode, Error> {
+    if a.plot.is_some() {
+        return Err(Error::invalid(
+            "--plot",
+            "a directory",
+            "has no figures for a general problem file yet",
+        ));
+    }
+    let found = api::analyze_general(file)?;
+    if a.json {
+        write_json(&found);
+    } else {
+        out(&text::general_analysis(&found));
+    }
+    match found.failure {
+        Some(e) => {
+            eprintln!("error: {e}");
+            Ok(ExitCode::from(2))
+        }
+        None => Ok(ExitCode::SUCCESS),
+    }
 }

@@ -6,7 +6,6 @@ pub mod bench;
 pub mod bound_flags;
 pub mod certify;
 pub mod fit;
-pub mod general;
 pub mod optimize;
 pub mod plot;
 pub mod report;

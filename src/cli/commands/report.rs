@@ -37,7 +37,7 @@ pub fn run(a: ReportArgs) -> Result<ExitCode, Error> {
         GaitResult::from_json(&read_text(&a.file)?, &name)?
     } else {
         let model = ModelFile::load(&a.file)?;
-        report::optimize_model(&model, a.phases, a.time_limit, Hooks::default())?
+        crawlopt::api::optimize_model(&model, a.phases, a.time_limit, Hooks::default())?
     };
     report::write_report(&a.output, &report::build_report(&result, &name)?)?;
     let length = GaitScales::of(&result).length;

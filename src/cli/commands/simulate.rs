@@ -5,8 +5,8 @@ use crate::output::{json_line, out};
 use crate::parse::count;
 use clap::{Args, ValueEnum};
 use crawlopt::api::{self, rename_fields, Hooks};
-use crawlopt::integrate::{Method, SimOptions};
-use crawlopt::io::{write_trajectory_csv, AtomicFile, ModelFile};
+use crawlopt::integrate::{GeneralMethod, GeneralSimOptions, Method, SimOptions};
+use crawlopt::io::{write_trajectory_csv, AtomicFile, GeneralFile, ModelFile};
 use crawlopt::present::{self, text, write_figures};
 use crawlopt::Error;
 use std::path::PathBuf;
@@ -111,7 +111,7 @@ fn flags(e: Error) -> Error {
 
 pub fn run(a: SimulateArgs) -> Result<ExitCode, Error> {
     if let Some(general) = crawlopt::io::GeneralFile::load_if_general(&a.file)? {
-        return super::general::simulate(&general, &a);
+        return run_general(&general, &a);
     }
     let model = ModelFile::load(&a.file)?;
     let crawler = model.crawler()?;
@@ -196,4 +196,71 @@ pub fn run(a: SimulateArgs) -> Result<ExitCode, Error> {
         unwritten.concat()
     );
     Ok(ExitCode::from(EXIT_NOT_CONVERGED))
+}
+
+/// `crawlopt simulate` of a general problem: exact where it applies (`A = 0`, piecewise-constant
+/// input) unless `--method catching-up`, else catching-up.
+fn run_general(file: &GeneralFile, a: &SimulateArgs) -> Result<ExitCode, Error> {
+    let unsupported = |flag: &str| {
+        Err(Error::invalid(
+            flag,
+            "a value",
+            "is not supported for a general problem file yet",
+        ))
+    };
+    if let Some(path) = &a.output {
+        crawlopt::io::AtomicFile::check(path)?;
+    }
+    if a.plot.is_some() {
+        return unsupported("--plot");
+    }
+    if a.periods != 1 {
+        return unsupported("--periods");
+    }
+    if a.no_newton {
+        return unsupported("--no-newton");
+    }
+    let opts = GeneralSimOptions {
+        method: match a.method {
+            MethodArg::Exact => GeneralMethod::Auto,
+            MethodArg::CatchingUp => GeneralMethod::CatchingUp,
+        },
+        steps_per_period: a.steps_per_period,
+        max_periods: a.max_periods,
+        tol: a.tol,
+        ..GeneralSimOptions::DEFAULT
+    };
+    let names = [
+        ("steps_per_period", "--steps-per-period"),
+        ("max_periods", "--max-periods"),
+        ("tol", "--tol"),
+    ];
+    let r = api::simulate_general(file, &opts)
+        .map_err(|e| rename_fields(e, &names.map(|(f, flag)| (f, flag.to_string()))))?;
+    // The recorded period, only once the periodic regime is reached.
+    let written = match &a.output {
+        Some(path) if r.simulation.converged => {
+            crawlopt::io::write_general_csv(path, &r.simulation)?;
+            true
+        }
+        _ => false,
+    };
+    if a.json {
+        json_line(&r);
+    } else {
+        out(&text::general_simulation(&r));
+        if let (true, Some(path)) = (written, &a.output) {
+            out(&format!("trajectory written to {}\n", path.display()));
+        }
+    }
+    if r.simulation.converged {
+        Ok(ExitCode::SUCCESS)
+    } else {
+        eprintln!(
+            "error: the periodic regime was not reached within {} periods; J is not reported \
+             (raise --max-periods or --tol)",
+            r.simulation.periods
+        );
+        Ok(ExitCode::from(3))
+    }
 }

@@ -1,5 +1,5 @@
 //! `crawlopt sweep`: a parameter study ([`crawlopt::study`]): the sweep file parsed, the
-//! output opened (resumed), one call of [`crawlopt::api::sweep`] writing each row as it
+//! output opened (resumed), one call of [`crawlopt::study::run`] writing each row as it
 //! finishes, a progress bar with ETA; `crawlopt sweep merge` joins the tables of shards.
 
 use crate::output::{json_line, outln};
@@ -151,7 +151,7 @@ fn run_sweep(a: RunArgs) -> Result<ExitCode, Error> {
         bar.set_position(p.done as u64);
         bar.set_message(format!("{:.0} s", p.eta));
     };
-    let done = api::sweep(&spec, &settings, &on_point);
+    let done = study::run(&spec, &settings, &on_point);
     bar.finish_and_clear();
     if let Some(e) = failed.into_inner().expect("not poisoned") {
         return Err(e);

@@ -36,7 +36,6 @@ use crate::model::general::{
     dot, Boundary, ControlSet, GeneralCost, GeneralProblem, Reward, EXPLICIT_STEP_LIMIT,
 };
 use crate::optimal::milp::{solve_max, Certificate, MilpStatus, OA_TOL};
-use crate::optimal::polish::POLISH_DEFAULT;
 use crate::optimal::solver::{Highs, SolveStatus};
 use highs::{Col, RowProblem, Sense};
 use nalgebra::DMatrix;
@@ -573,37 +572,8 @@ pub(super) fn initial_cuts(p: &GeneralProblem) -> Result<Vec<Vec<f64>>> {
     Ok(cuts)
 }
 
-/// Solves P_m globally (module docs); `time_limit` in seconds. A quadratic cost's answer is
-/// polished ([`solve_general_pm_with`], [`POLISH_DEFAULT`]).
-pub fn solve_general_pm(
-    p: &GeneralProblem,
-    g: &Geometry,
-    m: u32,
-    time_limit: Option<f64>,
-) -> Result<GeneralPm> {
-    solve_general_pm_with(p, g, m, time_limit, POLISH_DEFAULT)
-}
-
-/// [`solve_general_pm`], with `polish` saying whether the answer of a quadratic cost is
-/// polished on its fixed face pattern ([`crate::optimal::polish`]): the outer approximation
-/// leaves a control off the bounds of U accurate only to the cuts' spacing.
-pub fn solve_general_pm_with(
-    p: &GeneralProblem,
-    g: &Geometry,
-    m: u32,
-    time_limit: Option<f64>,
-    polish: bool,
-) -> Result<GeneralPm> {
-    let sol = solve_milp(p, g, m, time_limit)?;
-    Ok(if polish && p.cost != GeneralCost::None {
-        super::polish::polish(p, sol)
-    } else {
-        sol
-    })
-}
-
-/// The MILP's answer of [`solve_general_pm`], with its outer approximation, unpolished.
-fn solve_milp(
+/// The MILP's answer of [`super::solve_general_pm`], with its outer approximation, unpolished.
+pub(super) fn solve_milp(
     p: &GeneralProblem,
     g: &Geometry,
     m: u32,

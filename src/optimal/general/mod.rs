@@ -9,12 +9,10 @@ pub mod discrete;
 pub mod geometry;
 pub mod local;
 pub mod phase;
+mod pm;
 mod polish;
 
-pub use discrete::{
-    solve_general_branch, solve_general_pm, solve_general_pm_with, GeneralPm, MAX_GENERAL_M,
-    PM_DATA_RANGE,
-};
+pub use discrete::{solve_general_branch, GeneralPm, MAX_GENERAL_M, PM_DATA_RANGE};
 pub use geometry::{
     analyze_polyhedron, check_problem, check_with, Geometry, Vertex, MAX_VERTEX_SUBSETS,
 };
@@ -23,3 +21,4 @@ pub use local::{
     MAX_GENERAL_LOCAL_M,
 };
 pub use phase::{check_general_phase, solve_general_phase, GeneralPhaseGait, MAX_GENERAL_PHASES};
+pub use pm::{solve_general_pm, solve_general_pm_with};

@@ -177,7 +177,7 @@ pub fn certificate(c: &NecessaryConditions, r: &GaitResult) -> String {
     let m = &c.multipliers;
     // The adjoint's own scale (lambda + ||p||_inf is normalised, but omega shifts it).
     let adjoint = text::max_abs(m.p_plus_omega.iter().flatten().chain(&m.omega));
-    super::conditions_head(&mut out, c.verdict, &c.reason, c.lambda, &c.normalisation);
+    conditions_head(&mut out, c.verdict, &c.reason, c.lambda, &c.normalisation);
     // Only what was measured: a margin within the solver's resolution is 0 at that resolution.
     let margin = if c.nondegeneracy_margin == 0.0 {
         format!(

@@ -3,8 +3,10 @@
 //! scaling; computed states at C's scale (the largest `|c_j|`).
 
 use super::{list, max_abs, num, wln};
-use crate::api::general::{CheckStatus, GeneralAnalysis, GeneralOptimized, GeneralSimulated};
-use crate::api::{GeneralLocalOptimized, GeneralPhaseOptimized};
+use crate::io::{
+    CheckStatus, GeneralAnalysis, GeneralLocalOptimized, GeneralOptimized, GeneralPhaseOptimized,
+    GeneralSimulated,
+};
 use crate::model::general::{Boundary, ControlSet, GeneralCost, GeneralProblem, Reward};
 use crate::optimal::LocalStop;
 

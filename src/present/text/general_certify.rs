@@ -10,7 +10,7 @@ pub fn general_certificate(c: &GeneralNecessaryConditions) -> String {
     let mut out = String::new();
     let m = &c.multipliers;
     let adjoint = max_abs(m.switching.iter().flatten().chain(&m.omega)).max(1e-300);
-    super::conditions_head(&mut out, c.verdict, &c.reason, c.lambda, &c.normalisation);
+    super::gait::conditions_head(&mut out, c.verdict, &c.reason, c.lambda, &c.normalisation);
     wln!(
         out,
         "  J = {}; non-degeneracy margin {:.3e} ({}); omega = {}",

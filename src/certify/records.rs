@@ -1,0 +1,184 @@
+//! The records of a crawler's certificate (module docs of [`crate::certify`]): the options,
+//! the conditions with their residuals, the multipliers and the verdict, as written to JSON.
+
+use super::process::INPUT_TOL;
+use serde::{Deserialize, Serialize};
+
+/// Value of [`NecessaryConditions::format`].
+pub const CERTIFICATE_FORMAT: &str = "crawlopt-necessary-conditions";
+/// Version of the certificate format.
+pub const CERTIFICATE_VERSION: u32 = 1;
+
+/// Options of [`certify`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct CertifyOptions {
+    /// Relative tolerance of every residual (pointwise residuals relative to
+    /// `max(1, ||p||_inf)`, integrals also to `T`).
+    pub tol: f64,
+    /// Relative tolerance for recognising active faces, slips and controls at their bounds
+    /// (relative to the size of C, to it over the stiffest link, and to `a_l`).
+    pub structure_tol: f64,
+}
+
+impl Default for CertifyOptions {
+    fn default() -> Self {
+        CertifyOptions {
+            tol: 1e-9,
+            structure_tol: INPUT_TOL,
+        }
+    }
+}
+
+/// The verdict on a process.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Verdict {
+    /// The conditions hold with `lambda = 1` and `p + omega` vanishes nowhere.
+    Holds,
+    /// No multipliers satisfy the conditions.
+    Fails,
+    /// They hold only degenerately: `lambda = 0`, or `p + omega` vanishing somewhere.
+    Degenerate,
+}
+
+/// One condition with its residual.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct ConditionCheck {
+    /// Short name, e.g. `adjoint`, `weak_maximality`.
+    pub name: String,
+    /// `"6.2"` (discrete, P_m / branch LP) or `"2.2"` (continuous time).
+    pub theorem: String,
+    /// The condition in words with the paper's equation.
+    pub statement: String,
+    /// Its residual (0 when exactly satisfied).
+    pub residual: f64,
+    /// The tolerance it is compared with.
+    pub tolerance: f64,
+    /// `residual <= tolerance`.
+    pub holds: bool,
+}
+
+/// The mass of `dxi` at one knot on one face.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct FaceMultiplier {
+    /// Knot index `j` (`0..P`).
+    pub knot: usize,
+    /// `t_j`.
+    pub time: f64,
+    /// Block, 1-based.
+    pub block: usize,
+    /// `"+"` (`F_b = mu_b^+`, normal `nu_b`) or `"-"` (`F_b = -mu_b^-`, normal `-nu_b`).
+    pub side: String,
+    /// `xi_{j,f}` (Theorem 2.2 sign: `>= 0`).
+    pub value: f64,
+}
+
+/// The multipliers, per piece, for plotting the adjoint.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct MultiplierData {
+    /// `"piecewise_linear"` (P_m: `p` ramps from `p_j` to `p_{j+1}` over piece `j`, paper §9)
+    /// or `"piecewise_constant"` (phase gaits: `p = p_j` on piece `j`, jumps at the knots).
+    pub extension: String,
+    /// Knot times `t_0 = 0, ..., t_P = T`.
+    pub times: Vec<f64>,
+    /// `p_j`, one row per piece (`p(t_j^+)`).
+    pub p: Vec<Vec<f64>>,
+    /// `p_j + omega`, one row per piece (§4: `u = -a sign(p + omega)`).
+    pub p_plus_omega: Vec<Vec<f64>>,
+    /// `psi_j = -p_j - omega - lambda Df2(u_j)`, one row per piece.
+    pub psi: Vec<Vec<f64>>,
+    /// `u_j`, one row per piece.
+    pub u: Vec<Vec<f64>>,
+    /// `omega` (per unit time: the paper's `omega_m / h_m`).
+    pub omega: Vec<f64>,
+    /// The non-zero masses of `dxi` (above `1e-14` times the largest).
+    pub xi: Vec<FaceMultiplier>,
+}
+
+/// The normalisation constants (module docs).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Normalisation {
+    /// How the reported multipliers are scaled: `"lambda = 1"`, or for `lambda = 0` the
+    /// component fixed to `±1`.
+    pub scaled_by: String,
+    /// `lambda + ||p||_inf` (Theorem 2.2 nontriviality before scaling it to 1).
+    pub lambda_plus_sup_p: f64,
+    /// `lambda / (lambda + ||p||_inf)`: `lambda` in Theorem 2.2's normalisation.
+    pub lambda_theorem_2_2: f64,
+    /// The sum of the paper's (norm) (§9).
+    pub paper_norm: f64,
+    /// `lambda` divided by that sum.
+    pub lambda_paper_norm: f64,
+}
+
+/// §4 of the paper for one link: switches, interior arcs and where the switches happen.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct OneLinkStructure {
+    /// `C = [alpha, beta]`.
+    pub alpha: f64,
+    /// `C = [alpha, beta]`.
+    pub beta: f64,
+    /// Times where the control changes sign.
+    pub switch_times: Vec<f64>,
+    /// Whether each switch happens with `x` at an end of C.
+    pub switch_at_end: Vec<bool>,
+    /// Lengths of the maximal intervals with `alpha < x < beta` (the first and the last joined
+    /// across `T`).
+    pub interior_arcs: Vec<f64>,
+    /// `(beta - alpha) / a`, §4's arc length.
+    pub expected_arc: f64,
+    /// Whether the control is bang-bang (`|u| = a` on every piece).
+    pub bang_bang: bool,
+}
+
+/// The certificate of a process (module docs).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct NecessaryConditions {
+    /// Always [`CERTIFICATE_FORMAT`].
+    pub format: String,
+    /// [`CERTIFICATE_VERSION`].
+    pub version: u32,
+    /// `"discrete"` or `"phase"`.
+    pub method: String,
+    /// `m` of P_m.
+    pub m: Option<u32>,
+    /// The verdict.
+    pub verdict: Verdict,
+    /// One sentence explaining it.
+    pub reason: String,
+    /// `lambda` of the reported multipliers (1, or 0 in the degenerate case).
+    pub lambda: f64,
+    /// `J` of the process: displacement per period minus the actuation cost.
+    pub objective: f64,
+    /// `min |p_l + omega_l|` over pieces and links, as measured: `0` when it is within the
+    /// solver's resolution [`NecessaryConditions::nondegeneracy_resolution`] (the multiplier
+    /// LPs carry a slack of `1e-12` that is no measured value).
+    pub nondegeneracy_margin: f64,
+    /// The resolution at which `p + omega` is known: the conditions' tolerance times the
+    /// adjoint's scale `max(1, ||p||_inf)`, that of every other residual. (Absent, 0, in files
+    /// of earlier builds.)
+    #[serde(default)]
+    pub nondegeneracy_resolution: f64,
+    /// Normalisation constants.
+    pub normalisation: Normalisation,
+    /// Every condition with its residual.
+    pub conditions: Vec<ConditionCheck>,
+    /// The multipliers.
+    pub multipliers: MultiplierData,
+    /// §4's structure (one link only).
+    pub one_link: Option<OneLinkStructure>,
+    /// The branch LP solved as such (`f2 = 0` only).
+    pub branch_lp: Option<BranchLp>,
+}
+
+/// The branch LP (fixed active faces and slips) solved by HiGHS: whether the process is optimal
+/// among the processes on its branches.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct BranchLp {
+    /// Its optimum.
+    pub optimum: f64,
+    /// `J` of the process.
+    pub process_objective: f64,
+    /// `optimum - J`: positive when a process on the same branches does better.
+    pub improvement: f64,
+}

@@ -1,0 +1,418 @@
+//! The report of a crawler's certificate: every condition with its residual, the multipliers
+//! in the paper's form, the continuous group of Theorem 2.2, the verdict and its reason; `J` of
+//! a process and the one-link structure (theory §9).
+
+use super::kkt::{normal, FaceId, Raw, Structure};
+use super::process::{Process, ProcessKind};
+use super::records::*;
+use super::residuals::{discrete_residuals, int_pos};
+use super::stages::sup;
+use crate::optimal::Cost;
+
+pub(super) fn report(
+    pr: &Process,
+    st: &Structure,
+    raw: Raw,
+    scaled_by: String,
+    opts: &CertifyOptions,
+) -> NecessaryConditions {
+    let (n, np) = (st.n, st.np);
+    let tol = opts.tol;
+    let t_total = pr.problem.period;
+    let times = pr.times();
+    let discrete = matches!(pr.kind, ProcessKind::Discrete { .. });
+    let sup_p = sup(&raw.p);
+    let pscale = sup_p.max(1.0);
+    let disc = discrete_residuals(pr, st, &raw, false);
+    let cont_adj = disc[0].2;
+    let cont_sign = disc[5].2;
+    let mut conditions: Vec<ConditionCheck> = disc
+        .into_iter()
+        .filter(|(name, _, _)| *name != "sign")
+        .map(|(name, statement, residual)| ConditionCheck {
+            name: name.into(),
+            theorem: "6.2".into(),
+            statement,
+            residual,
+            tolerance: tol * pscale,
+            holds: residual <= tol * pscale,
+        })
+        .collect();
+    let lambda_ok = raw.lambda > 0.0;
+    conditions.push(ConditionCheck {
+        name: "lambda_positive".into(),
+        theorem: "6.2".into(),
+        statement: "lambda > 0 (Thm 6.2 (lambda))".into(),
+        residual: if lambda_ok { 0.0 } else { 1.0 },
+        tolerance: 0.0,
+        holds: lambda_ok,
+    });
+
+    // Continuous time (Theorem 2.2) with the paper's extension.
+    let p_plus_omega: Vec<Vec<f64>> = raw
+        .p
+        .iter()
+        .map(|p| (0..n).map(|l| p[l] + raw.omega[l]).collect())
+        .collect();
+    let psi_at =
+        |p: &[f64], j: usize, l: usize| -p[l] - raw.omega[l] - raw.lambda * st.grad_f2[j][l];
+    let mut l1 = 0.0;
+    for j in 0..np {
+        let next = if discrete { (j + 1) % np } else { j };
+        for l in 0..n {
+            let (a, b) = (psi_at(&raw.p[j], j, l), psi_at(&raw.p[next], j, l));
+            let tau = pr.durations[j];
+            l1 += match st.bound[j][l] {
+                1 => int_pos(-a, -b, tau),
+                -1 => int_pos(a, b, tau),
+                _ => int_pos(a, b, tau) + int_pos(-a, -b, tau),
+            };
+        }
+    }
+    let mut misplaced = 0.0;
+    if discrete {
+        for j in 0..np {
+            let start = (j + np - 1) % np;
+            for (fi, f) in st.active[j].iter().enumerate() {
+                if !st.active[start].contains(f) {
+                    misplaced += raw.xi[j][fi].abs();
+                }
+            }
+        }
+    }
+    // The multipliers solve LPs to the conditions' tolerance: below it, |p + omega| is zero at
+    // the solver's resolution (the margin LP's slack of 1e-12 showed as `p + omega = 1e-12`).
+    let resolution = tol * pscale;
+    let margin = p_plus_omega
+        .iter()
+        .flatten()
+        .fold(f64::INFINITY, |m, v| m.min(v.abs()));
+    let margin = if margin <= resolution { 0.0 } else { margin };
+    // Relative to |p + omega|, or to the natural unit of p (|<p, K nu_b>| = lambda/N while block
+    // b slips) when p + omega vanishes identically.
+    let kmax = st.k.iter().fold(0.0_f64, |m, &k| m.max(k));
+    let nd_tol = 1e-6 * sup(&p_plus_omega).max(1.0 / (st.nb as f64 * kmax));
+    let a = &pr.problem.rate_bound;
+    let mut law = 0.0_f64;
+    for j in 0..np {
+        for l in 0..n {
+            let s = p_plus_omega[j][l];
+            let u = pr.controls[j][l];
+            let want = match pr.problem.cost {
+                Cost::Quadratic { weight } if raw.lambda > 0.0 => {
+                    Some((-s / (raw.lambda * weight)).clamp(-a[l], a[l]))
+                }
+                _ if s.abs() > nd_tol => Some(-a[l] * s.signum()),
+                _ => None,
+            };
+            if let Some(w) = want {
+                law = law.max((u - w).abs() / a[l]);
+            }
+        }
+    }
+    let nontrivial = raw.lambda + sup_p;
+    for (name, statement, residual, tolerance) in [
+        (
+            "adjoint",
+            "dp = sum_j x*_j dxi^j, p(T) = p(0) (Thm 2.2 adjoint, transversality)",
+            cont_adj,
+            tol * pscale,
+        ),
+        (
+            "sign",
+            "dxi^j >= 0 (Thm 2.2; Thm 6.1 for the paper's P_m, whose state constraints are pure \
+             inequalities: the branch LP of the computational P_m leaves it free on held faces)",
+            cont_sign,
+            tol * pscale,
+        ),
+        (
+            "support",
+            "supp dxi^j in {t : face j active at x(t)}: dxi mass on steps where the face is not \
+             active throughout (Thm 2.2 support)",
+            misplaced,
+            tol * pscale,
+        ),
+        (
+            "weak_maximality",
+            "int_0^T dist(psi(t), N_U(u(t))) dt, psi = -p - omega - lambda Df2(u) (Thm 2.2)",
+            l1,
+            tol * pscale * t_total,
+        ),
+        (
+            "nontriviality",
+            "lambda + ||p||_inf > 0, scaled to 1 (Thm 2.2)",
+            if nontrivial > 0.0 { 0.0 } else { 1.0 },
+            0.0,
+        ),
+        (
+            "nondegeneracy",
+            "p_l(t) + omega_l != 0 for all t and l (§4 (nndg)): min |p + omega| above 1e-6 \
+             max(sup|p + omega|, 1/(N k_max)) and the solver's resolution; residual 1 when it is \
+             not (min |p + omega| is reported beside J)",
+            if margin > nd_tol { 0.0 } else { 1.0 },
+            0.0,
+        ),
+        (
+            "control_law",
+            "u = -a sign(p + omega) where p + omega != 0 (f2 = 0, §4), u = proj_U(-(p + \
+             omega)/(lambda c)) (f2 = (c/2)|u|^2): max |u - law| / a",
+            law,
+            tol.max(1e-9) * 10.0,
+        ),
+    ] {
+        conditions.push(ConditionCheck {
+            name: name.into(),
+            theorem: "2.2".into(),
+            statement: statement.into(),
+            residual,
+            tolerance,
+            holds: residual <= tolerance,
+        });
+    }
+
+    // Verdict.
+    let group_ok = |th: &str| {
+        conditions
+            .iter()
+            .filter(|c| c.theorem == th && c.name != "nondegeneracy" && c.name != "control_law")
+            .all(|c| c.holds)
+    };
+    let disc_ok = conditions
+        .iter()
+        .filter(|c| c.theorem == "6.2" && c.name != "lambda_positive")
+        .all(|c| c.holds);
+    let cont_ok = discrete || group_ok("2.2");
+    let nondeg = margin > nd_tol;
+    let (verdict, reason) = if disc_ok && cont_ok && lambda_ok && nondeg {
+        (
+            Verdict::Holds,
+            "the necessary conditions hold with lambda = 1 and p + omega vanishes nowhere".into(),
+        )
+    } else if disc_ok && cont_ok && lambda_ok {
+        let (j, l) = argmin_abs(&p_plus_omega);
+        (
+            Verdict::Degenerate,
+            format!(
+                "the conditions hold with lambda = 1 but only degenerately: p + omega = {} on \
+                 piece {j} (t = {:.6}), link {} (§4 (nndg) fails)",
+                if margin == 0.0 {
+                    format!("0 at the solver's resolution {resolution:.1e}")
+                } else {
+                    format!("{:.3e}", p_plus_omega[j][l])
+                },
+                times[j],
+                l + 1
+            ),
+        )
+    } else if disc_ok && cont_ok {
+        (
+            Verdict::Degenerate,
+            "no multipliers with lambda > 0 exist; the conditions hold only with lambda = 0".into(),
+        )
+    } else {
+        let failing = |th: &str| -> Vec<&ConditionCheck> {
+            conditions
+                .iter()
+                .filter(|c| {
+                    !c.holds
+                        && c.theorem == th
+                        && !matches!(
+                            c.name.as_str(),
+                            "nondegeneracy" | "control_law" | "lambda_positive"
+                        )
+                })
+                .collect()
+        };
+        let mut bad = failing("6.2");
+        if bad.is_empty() {
+            bad = failing("2.2");
+        }
+        let names: Vec<String> = bad
+            .iter()
+            .map(|c| {
+                format!(
+                    "{} (Thm {}, residual {:.3e})",
+                    c.name, c.theorem, c.residual
+                )
+            })
+            .collect();
+        (
+            Verdict::Fails,
+            format!(
+                "no multipliers satisfy the necessary conditions, with lambda = 1 or 0; at the \
+                 least violating ones with lambda = 1: {}",
+                names.join(", ")
+            ),
+        )
+    };
+
+    // Normalisations.
+    let mut paper = raw.lambda + norm2(&raw.p[0]) + norm2(&raw.omega);
+    for j in 0..np {
+        let mut v = vec![0.0; n];
+        for (fi, &f) in st.active[j].iter().enumerate() {
+            for (l, c) in normal(n, f) {
+                v[l] += raw.xi[j][fi] * c;
+            }
+        }
+        paper += norm2(&v);
+        let psi: Vec<f64> = (0..n).map(|l| psi_at(&raw.p[j], j, l)).collect();
+        paper += pr.durations[j] * norm2(&psi);
+    }
+    let xmax = raw.xi.iter().flatten().fold(0.0_f64, |m, v| m.max(v.abs()));
+    let mut xi = Vec::new();
+    for j in 0..np {
+        for (fi, &FaceId { b, s }) in st.active[j].iter().enumerate() {
+            let v = raw.xi[j][fi];
+            if v.abs() > 1e-14 * xmax {
+                xi.push(FaceMultiplier {
+                    knot: j,
+                    time: times[j],
+                    block: b + 1,
+                    side: if s > 0 { "+" } else { "-" }.into(),
+                    value: v,
+                });
+            }
+        }
+    }
+    let multipliers = MultiplierData {
+        extension: if discrete {
+            "piecewise_linear"
+        } else {
+            "piecewise_constant"
+        }
+        .into(),
+        times: times.clone(),
+        psi: (0..np)
+            .map(|j| (0..n).map(|l| psi_at(&raw.p[j], j, l)).collect())
+            .collect(),
+        p: raw.p.clone(),
+        p_plus_omega,
+        u: pr.controls.clone(),
+        omega: raw.omega.clone(),
+        xi,
+    };
+    NecessaryConditions {
+        format: CERTIFICATE_FORMAT.into(),
+        version: CERTIFICATE_VERSION,
+        method: if discrete { "discrete" } else { "phase" }.into(),
+        m: match pr.kind {
+            ProcessKind::Discrete { m } => Some(m),
+            ProcessKind::Phase => None,
+        },
+        verdict,
+        reason,
+        lambda: raw.lambda,
+        objective: process_objective(pr),
+        nondegeneracy_margin: margin,
+        nondegeneracy_resolution: resolution,
+        normalisation: Normalisation {
+            scaled_by,
+            lambda_plus_sup_p: nontrivial,
+            lambda_theorem_2_2: raw.lambda / nontrivial,
+            paper_norm: paper,
+            lambda_paper_norm: raw.lambda / paper,
+        },
+        conditions,
+        multipliers,
+        one_link: one_link_structure(pr, opts.structure_tol),
+        branch_lp: None,
+    }
+}
+
+/// `J` of a process: displacement per period minus `int f2(u) dt`.
+pub fn process_objective(pr: &Process) -> f64 {
+    let nb = pr.crawler.blocks() as f64;
+    let displacement: f64 = pr.block_displacements.iter().flatten().sum::<f64>() / nb;
+    let cost: f64 = pr
+        .controls
+        .iter()
+        .zip(&pr.durations)
+        .map(|(u, d)| d * pr.problem.cost.eval(u))
+        .sum();
+    displacement - cost
+}
+
+fn norm2(v: &[f64]) -> f64 {
+    v.iter().map(|x| x * x).sum::<f64>().sqrt()
+}
+
+fn argmin_abs(rows: &[Vec<f64>]) -> (usize, usize) {
+    let mut best = (0, 0, f64::INFINITY);
+    for (j, r) in rows.iter().enumerate() {
+        for (l, v) in r.iter().enumerate() {
+            if v.abs() < best.2 {
+                best = (j, l, v.abs());
+            }
+        }
+    }
+    (best.0, best.1)
+}
+
+/// §4's structure of a one-link process: switches of the control, where they happen, interior
+/// arcs (`x` linear between knots). `None` for more than one link.
+pub fn one_link_structure(pr: &Process, tol: f64) -> Option<OneLinkStructure> {
+    if pr.crawler.links() != 1 {
+        return None;
+    }
+    let r = pr.crawler.link_force_ranges()[0];
+    let (alpha, beta) = (r[0], r[1]);
+    let a = pr.problem.rate_bound[0];
+    let etol = tol * (beta - alpha);
+    let times = pr.times();
+    let np = pr.durations.len();
+    let x: Vec<f64> = pr.states.iter().map(|s| s[0]).collect();
+    let at_end = |v: f64| v <= alpha + etol || v >= beta - etol;
+    let sgn = |u: f64| {
+        if u > tol * a {
+            1
+        } else if u < -tol * a {
+            -1
+        } else {
+            0
+        }
+    };
+    let mut switch_times = Vec::new();
+    let mut switch_at_end = Vec::new();
+    for j in 0..np {
+        let prev = (j + np - 1) % np;
+        let (s0, s1) = (sgn(pr.controls[prev][0]), sgn(pr.controls[j][0]));
+        if s0 != s1 {
+            switch_times.push(times[j]);
+            switch_at_end.push(at_end(x[j]));
+        }
+    }
+    // Interior arcs, x linear between knots, walking from a knot at an end of C.
+    let mut arcs: Vec<f64> = Vec::new();
+    match (0..np).find(|&j| at_end(x[j])) {
+        None => arcs.push(pr.problem.period),
+        Some(s0) => {
+            let mut cur = 0.0;
+            for step in 0..np {
+                let j = (s0 + step) % np;
+                let (x0, x1, tau) = (x[j], x[j + 1], pr.durations[j]);
+                match (at_end(x0), at_end(x1)) {
+                    (true, true) if (x1 - x0).abs() <= etol => {}
+                    (true, true) => arcs.push(tau),
+                    (_, false) => cur += tau,
+                    (false, true) => {
+                        arcs.push(cur + tau);
+                        cur = 0.0;
+                    }
+                }
+            }
+        }
+    }
+    Some(OneLinkStructure {
+        alpha,
+        beta,
+        switch_times,
+        switch_at_end,
+        interior_arcs: arcs,
+        expected_arc: (beta - alpha) / a,
+        bang_bang: pr
+            .controls
+            .iter()
+            .all(|u| (u[0].abs() - a).abs() <= tol * a),
+    })
+}
