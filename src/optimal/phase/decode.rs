@@ -3,7 +3,11 @@
 use super::layout::Layout;
 use super::sequence::slip_sequence;
 use super::PhaseSolution;
-use crate::optimal::GaitProblem;
+use crate::error::{Error, Result};
+use crate::integrate::Method;
+use crate::model::Crawler;
+use crate::optimal::milp::{check_verified, gait_knots, replay};
+use crate::optimal::{Certificate, GaitProblem, MilpStatus};
 use highs::Col;
 
 /// A gait read off the MILP's columns, empty phases removed.
@@ -236,4 +240,149 @@ impl RawGait {
             modes: s.modes.clone(),
         }
     }
+}
+
+/// The phase gait of a piecewise-linear actuation (pieces of `durations`, increments
+/// `U_j = k (L_{j+1} - L_j)` per link, summing to 0 over the period): played by the exact
+/// simulator to its periodic orbit, each interval between events is a phase of constant control
+/// and slip mode, with its states and block displacements. So any gait written as knots (a
+/// structured gait, a local method's answer) becomes a start of the phase MILP
+/// ([`PhaseOptions::start`](super::PhaseOptions::start), [`GrowOptions::start`](super::GrowOptions::start)).
+///
+/// The result makes no claim: `phases` is its number of slip phases, its certificate has status
+/// `stalled`, a NaN bound and gap; a MILP that takes it as its start certifies its own answer.
+/// Refused (field `start`): pieces that do not match the links, non-positive or non-finite
+/// durations, durations not summing to the period, increments that exceed the rate bounds or
+/// do not sum to 0.
+pub fn phase_gait_of(
+    crawler: &Crawler,
+    problem: &GaitProblem,
+    durations: &[f64],
+    increments: &[Vec<f64>],
+) -> Result<PhaseSolution> {
+    let (n, t) = (crawler.links(), problem.period);
+    let a = &problem.rate_bound;
+    let bad = |why: String| {
+        Err(Error::invalid(
+            "start",
+            format!("{} pieces", durations.len()),
+            why,
+        ))
+    };
+    if durations.is_empty() || increments.len() != durations.len() {
+        return bad("needs one increment row per piece, and some pieces".into());
+    }
+    if increments.iter().any(|u| u.len() != n) {
+        return bad(format!("every increment row needs {n} links"));
+    }
+    if durations.iter().any(|d| !(d.is_finite() && *d > 0.0)) {
+        return bad("durations must be positive and finite".into());
+    }
+    let total: f64 = durations.iter().sum();
+    if (total - t).abs() > 1e-9 * t {
+        return bad(format!("durations sum to {total}, not the period {t}"));
+    }
+    for l in 0..n {
+        let sum: f64 = increments.iter().map(|u| u[l]).sum();
+        let scale: f64 = a[l] * t;
+        if sum.abs() > 1e-9 * scale {
+            return bad(format!("increments of link {} sum to {sum}, not 0", l + 1));
+        }
+        if let Some(j) = (0..durations.len())
+            .find(|&j| increments[j][l].abs() > a[l] * durations[j] * (1.0 + 1e-9))
+        {
+            return bad(format!(
+                "piece {} exceeds the rate bound of link {}",
+                j + 1,
+                l + 1
+            ));
+        }
+    }
+    let what = "start gait";
+    let sim = replay(crawler, t, durations, increments, None, Method::Exact, what)?;
+    let verified = sim
+        .displacement_per_period
+        .ok_or_else(|| Error::Numerical(format!("{what}: the replay did not converge")))?;
+    let traj = sim
+        .trajectory
+        .as_ref()
+        .filter(|tr| tr.t.len() >= 2)
+        .ok_or_else(|| Error::Numerical(format!("{what}: no trajectory was recorded")))?;
+    let (times, lengths) = gait_knots(durations, increments, crawler.stiffness());
+    // L at time s: linear between the knots (s in [0, T]).
+    let length_at = |s: f64| -> Vec<f64> {
+        let j = times.partition_point(|&k| k <= s).clamp(1, times.len() - 1);
+        let (t0, t1) = (times[j - 1], times[j]);
+        let w = if t1 > t0 {
+            ((s - t0) / (t1 - t0)).clamp(0.0, 1.0)
+        } else {
+            0.0
+        };
+        lengths[j - 1]
+            .iter()
+            .zip(&lengths[j])
+            .map(|(p, q)| p + w * (q - p))
+            .collect()
+    };
+    let k = crawler.stiffness();
+    let tiny = 1e-9 * problem.length_scale(crawler);
+    let mut g = RawGait::default();
+    for i in 0..traj.t.len() - 1 {
+        let (s0, s1) = (traj.t[i], traj.t[i + 1]);
+        if s1 - s0 <= 1e-12 * t {
+            continue;
+        }
+        let (l0, l1) = (length_at(s0), length_at(s1));
+        g.durations.push(s1 - s0);
+        g.increments
+            .push((0..n).map(|l| k[l] * (l1[l] - l0[l])).collect());
+        g.states.push(traj.x[i].clone());
+        let d: Vec<f64> = traj.positions[i + 1]
+            .iter()
+            .zip(&traj.positions[i])
+            .map(|(q, p)| if (q - p).abs() > tiny { q - p } else { 0.0 })
+            .collect();
+        g.modes.push(
+            d.iter()
+                .map(|&v| (v > 0.0) as i8 - (v < 0.0) as i8)
+                .collect(),
+        );
+        g.block_displacements.push(d);
+    }
+    let Some(x0) = g.states.first().cloned() else {
+        return Err(Error::Numerical(format!(
+            "{what}: no piece of positive duration"
+        )));
+    };
+    g.states.push(x0);
+    check_verified(
+        what,
+        g.displacement(),
+        verified,
+        problem.length_scale(crawler),
+    )?;
+    let cost = g.cost(problem);
+    let merged = g.merged();
+    Ok(PhaseSolution {
+        phases: merged.slip_phases(),
+        certificate: Certificate {
+            status: MilpStatus::Stalled,
+            milp_objective: verified,
+            bound: f64::NAN,
+            gap: f64::NAN,
+        },
+        verified_displacement: verified,
+        actuation_cost: cost,
+        controls: merged
+            .increments
+            .iter()
+            .zip(&merged.durations)
+            .map(|(u, d)| u.iter().map(|v| v / d).collect())
+            .collect(),
+        durations: merged.durations,
+        states: merged.states,
+        block_displacements: merged.block_displacements,
+        modes: merged.modes,
+        rounds: 0,
+    })
 }

@@ -1,7 +1,7 @@
 //! Raising `K` until the value stops improving ([`grow_phases`]).
 
-use super::solve::{gain_tolerance, solve_phase_from};
-use super::{PhaseSolution, MAX_PHASES};
+use super::solve::{gain_tolerance, solve_phase_with};
+use super::{Formulation, PhaseOptions, PhaseSolution, MAX_PHASES};
 use crate::error::{Error, Result};
 use crate::model::Crawler;
 use crate::optimal::milp::check_time_limit;
@@ -31,6 +31,14 @@ pub struct GrowOptions {
     pub patience: usize,
     /// Wall-clock limit for the whole growth, seconds.
     pub time_limit: Option<f64>,
+    /// A known gait to start from (e.g. the best structured gait, through
+    /// [`phase_gait_of`](super::phase_gait_of)): the best gait before the first `K`, so every
+    /// MILP takes it as its incumbent where it fits and as a cutoff where it has more slip
+    /// phases than `K` ([`PhaseOptions::start`]). A `K` whose MILP proves that nothing of at
+    /// most `K` slip phases beats it does not count towards `patience`. Default: none.
+    pub start: Option<PhaseSolution>,
+    /// Optional valid rows of every MILP.
+    pub formulation: Formulation,
 }
 
 impl Default for GrowOptions {
@@ -40,6 +48,8 @@ impl Default for GrowOptions {
             max_phases: 8,
             patience: 2,
             time_limit: None,
+            start: None,
+            formulation: Formulation::default(),
         }
     }
 }
@@ -125,7 +135,7 @@ pub fn grow_phases(
 ) -> Result<PhaseGrowth> {
     opts.check()?;
     let began = Instant::now();
-    let mut best: Option<PhaseSolution> = None;
+    let mut best: Option<PhaseSolution> = opts.start.clone();
     let mut table = Vec::new();
     let mut without_gain = 0;
     let mut stop = GrowthStop::MaxPhases;
@@ -148,7 +158,12 @@ pub fn grow_phases(
             None => None,
         };
         let t0 = Instant::now();
-        let s = match solve_phase_from(crawler, problem, k, left, best.as_ref()) {
+        let phase_opts = PhaseOptions {
+            start: best.clone(),
+            cutoff: None,
+            formulation: opts.formulation,
+        };
+        let s = match solve_phase_with(crawler, problem, k, left, &phase_opts) {
             Ok(s) => s,
             Err(Error::TimeLimit(_)) if best.is_some() => {
                 stop = GrowthStop::TimeLimit;
@@ -214,7 +229,15 @@ pub fn grow_phases(
                 b.certificate.status = s.certificate.status;
             }
         } else {
-            without_gain += 1;
+            // The given start returned because nothing of at most K slip phases beats it:
+            // the MILPs have not reached it yet, so this K is no plateau.
+            let is_start = opts
+                .start
+                .as_ref()
+                .is_some_and(|st| st.durations == s.durations && st.states == s.states);
+            if !is_start {
+                without_gain += 1;
+            }
             if best.as_ref().is_some_and(|b| s.objective() > b.objective()) {
                 // Better within the tolerance only: keep the better gait, with its own
                 // certificate for this larger K.

@@ -1,9 +1,18 @@
 //! The phase MILP's columns and rows (module docs of [`super`]).
 
+use super::Formulation;
 use crate::model::Crawler;
 use crate::optimal::milp::{block_speed_bound, force_row, TangentRates};
 use crate::optimal::{Cost, GaitProblem};
 use highs::{Col, RowProblem};
+
+/// Rows beyond the model itself: the optional valid rows and a cutoff on `J` (in the units of
+/// the problem built).
+#[derive(Debug, Clone, Copy, Default)]
+pub(super) struct ExtraRows {
+    pub formulation: Formulation,
+    pub cutoff: Option<f64>,
+}
 
 /// Columns of the phase MILP: per phase `j`, a transition (`sigma_j`, `W_j`, from `x_j` to
 /// `y_j`, every block sticking) followed by a slip segment (`tau_j`, `U_j`, from `y_j` to
@@ -28,13 +37,15 @@ pub(super) struct Layout {
 
 /// The MILP of `phases` steps; with `fixed`, the slip modes of the steps are fixed to it (an LP
 /// over the gaits whose slip phases follow that cyclic sequence, some possibly empty), and the
-/// symmetry rows, which would restrict a fixed sequence, are left out.
+/// symmetry rows, which would restrict a fixed sequence, are left out. `rows` adds the optional
+/// valid rows and, with a cutoff, the row `J >= cutoff` on the MILP's objective.
 pub(super) fn build(
     crawler: &Crawler,
     problem: &GaitProblem,
     phases: usize,
     rates: Option<&TangentRates>,
     fixed: Option<&[Vec<i8>]>,
+    rows: &ExtraRows,
 ) -> (RowProblem, Layout) {
     let (n, nb) = (crawler.links(), crawler.blocks());
     let (k, mp, mm) = (
@@ -214,6 +225,31 @@ pub(super) fn build(
                 .map(|u| (u[l], 1.0))
                 .collect::<Vec<_>>(),
         );
+    }
+    if rows.formulation.dissipation_row {
+        // Theory §7: friction dissipates the actuators' work, at most T sum_l a_l r_l / k_l.
+        let work: f64 = (0..n)
+            .map(|l| a[l] * ranges[l][0].abs().max(ranges[l][1].abs()) / k[l])
+            .sum();
+        let mut row = Vec::with_capacity(2 * nb * phases);
+        for j in 0..phases {
+            for b in 0..nb {
+                row.extend([(ps[j][b], mp[b]), (qs[j][b], mm[b])]);
+            }
+        }
+        pb.add_row(..=t * work, row);
+    }
+    if let Some(cut) = rows.cutoff {
+        let mut row = Vec::with_capacity(2 * nb * phases + 2 * n * phases);
+        for j in 0..phases {
+            for b in 0..nb {
+                row.extend([(ps[j][b], inv_n), (qs[j][b], -inv_n)]);
+            }
+        }
+        for e in g.iter().chain(&h) {
+            row.extend(e.iter().map(|&c| (c, -0.5 * weight)));
+        }
+        pb.add_row(cut.., row);
     }
     let layout = Layout {
         sigma,

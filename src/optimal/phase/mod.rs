@@ -88,9 +88,10 @@ mod solve;
 #[cfg(test)]
 mod tests;
 
+pub use decode::phase_gait_of;
 pub use growth::{grow_phases, GrowOptions, GrowthStop, PhaseGrowth, PhaseStep};
 pub use sequence::{search_sequences, slip_mode_is_valid, slip_sequence, SequenceSearch};
-pub use solve::{solve_phase_from, solve_phase_global};
+pub use solve::{solve_phase_from, solve_phase_global, solve_phase_with};
 
 /// Largest `K` (slip phases) accepted.
 pub const MAX_PHASES: usize = 64;
@@ -128,6 +129,35 @@ impl PhaseSolution {
     pub fn objective(&self) -> f64 {
         self.verified_displacement - self.actuation_cost
     }
+}
+
+/// Optional rows of the phase MILP, each valid for every periodic gait (so the optimum is the
+/// same with or without them; only the solver's effort changes). The default is what the
+/// measurements in the benchmarks page chose (none: each row cost more than it saved).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct Formulation {
+    /// The dissipation row (theory §7): over a period the friction dissipates exactly the
+    /// actuators' work, `sum_{j,b} (mu_b^+ P_{j,b} + mu_b^- Q_{j,b}) = int sum_l x_l u_l / k_l dt
+    /// <= T sum_l a_l r_l / k_l`, `r_l = max |x_l|` over C.
+    pub dissipation_row: bool,
+}
+
+/// How one `K` of the phase MILP is seeded and written ([`solve_phase_with`]).
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct PhaseOptions {
+    /// A known gait, e.g. the best structured gait turned into phases by [`phase_gait_of`], or
+    /// an optimum of a smaller `K`. When it has at most `K` slip phases it is the MILP's first
+    /// incumbent; when it has more, its `J` is the [`cutoff`](Self::cutoff) unless one is
+    /// given. If no gait of at most `K` slip phases beats the cutoff, the answer is this gait,
+    /// certified `optimal_among_k_phases` with bound `J` of this gait: no gait of at most `K`
+    /// slip phases does better (whatever this gait's own number of slip phases).
+    pub start: Option<PhaseSolution>,
+    /// Search only the gaits with `J >= cutoff` (less `1e-9` of the length scale), a row on the
+    /// MILP's objective. Without a start and with no such gait, the answer is an
+    /// [`Error::Infeasible`] that says so (a proof that `J_K < cutoff`). Default: none.
+    pub cutoff: Option<f64>,
+    /// Optional valid rows.
+    pub formulation: Formulation,
 }
 
 /// Refuses what no phase problem accepts: a crawler failing the uniqueness condition, a bad

@@ -2,6 +2,7 @@
 //! ([`search_sequences`]).
 
 use super::check_phase_args;
+use super::layout::ExtraRows;
 use super::solve::{gain_tolerance, solve_steps};
 use super::PhaseSolution;
 use crate::error::{Error, Result};
@@ -195,16 +196,23 @@ pub fn search_sequences(
             "sequence search: the time limit was reached before any gait was found".into(),
         ));
     };
-    let mut best = solve_steps(crawler, problem, phases, first_left, None, Some(&seq)).map_err(
-        |e| match e {
-            Error::Infeasible(_) => Error::invalid(
-                "start",
-                format!("{} slip phases", start_modes.len()),
-                "no gait of the period follows this sequence of slip modes",
-            ),
-            e => e,
-        },
-    )?;
+    let mut best = solve_steps(
+        crawler,
+        problem,
+        phases,
+        first_left,
+        None,
+        Some(&seq),
+        &ExtraRows::default(),
+    )
+    .map_err(|e| match e {
+        Error::Infeasible(_) => Error::invalid(
+            "start",
+            format!("{} slip phases", start_modes.len()),
+            "no gait of the period follows this sequence of slip modes",
+        ),
+        e => e,
+    })?;
     let start_objective = best.objective();
     let (mut moves, mut quiet, mut j) = (0, 0, 0);
     let stop = 'search: loop {
@@ -216,7 +224,15 @@ pub fn search_sequences(
             let mut next = seq.clone();
             next[j] = cand;
             lp_solves += 1;
-            match solve_steps(crawler, problem, phases, l, None, Some(&next)) {
+            match solve_steps(
+                crawler,
+                problem,
+                phases,
+                l,
+                None,
+                Some(&next),
+                &ExtraRows::default(),
+            ) {
                 Ok(s)
                     if s.objective()
                         > best.objective()

@@ -1,14 +1,14 @@
 //! One `K`: the phase MILP (or, with fixed modes, its LP) solved, replayed and certified.
 
 use super::decode::RawGait;
-use super::layout::build;
-use super::{check_phase_args, PhaseSolution, MAX_OA_ROUNDS};
+use super::layout::{build, ExtraRows};
+use super::{check_phase_args, PhaseOptions, PhaseSolution, MAX_OA_ROUNDS};
 use crate::error::{Error, Result};
 use crate::integrate::Method;
 use crate::model::Crawler;
 use crate::optimal::milp::{certify, replay, solve_max, TangentRates, OA_TOL};
 use crate::optimal::units::Units;
-use crate::optimal::{Cost, GaitProblem, MilpStatus};
+use crate::optimal::{Certificate, Cost, GaitProblem, MilpStatus};
 use std::time::Instant;
 
 /// Solves (P) globally over gaits of at most `phases` slip phases (module docs).
@@ -30,7 +30,6 @@ pub fn solve_phase_from(
     time_limit: Option<f64>,
     start: Option<&PhaseSolution>,
 ) -> Result<PhaseSolution> {
-    check_phase_args(crawler, problem, phases, time_limit)?;
     if let Some(s) = start {
         let slips = RawGait::of(s).slip_phases();
         if slips > phases {
@@ -41,7 +40,64 @@ pub fn solve_phase_from(
             ));
         }
     }
-    solve_steps(crawler, problem, phases, time_limit, start, None)
+    let opts = PhaseOptions {
+        start: start.cloned(),
+        ..PhaseOptions::default()
+    };
+    solve_phase_with(crawler, problem, phases, time_limit, &opts)
+}
+
+/// [`solve_phase_global`] with the options of [`PhaseOptions`]: a known gait as the first
+/// incumbent (or, when it has more than `phases` slip phases, its `J` as a cutoff), a cutoff,
+/// optional valid rows.
+pub fn solve_phase_with(
+    crawler: &Crawler,
+    problem: &GaitProblem,
+    phases: usize,
+    time_limit: Option<f64>,
+    opts: &PhaseOptions,
+) -> Result<PhaseSolution> {
+    check_phase_args(crawler, problem, phases, time_limit)?;
+    let start = opts.start.as_ref();
+    if let Some(c) = opts.cutoff {
+        if !c.is_finite() {
+            return Err(Error::invalid("cutoff", c, "must be finite"));
+        }
+    }
+    let fits = start.filter(|s| RawGait::of(s).slip_phases() <= phases);
+    let cutoff = opts.cutoff.or_else(|| {
+        start
+            .filter(|_| fits.is_none())
+            .map(PhaseSolution::objective)
+    });
+    let rows = ExtraRows {
+        formulation: opts.formulation,
+        // A hair below, so that the start's own J (and round-off) stays feasible.
+        cutoff: cutoff.map(|c| c - 1e-9 * problem.length_scale(crawler)),
+    };
+    match solve_steps(crawler, problem, phases, time_limit, fits, None, &rows) {
+        // No gait of at most `phases` slip phases reaches the cutoff: the start, if any, is
+        // at least as good as all of them.
+        Err(Error::Infeasible(_)) if cutoff.is_some() => match start {
+            Some(s) if cutoff.is_some_and(|c| s.objective() >= c) => {
+                let j = s.objective();
+                let mut s = s.clone();
+                s.phases = phases;
+                s.certificate = Certificate {
+                    status: MilpStatus::OptimalAmongKPhases,
+                    milp_objective: s.verified_displacement,
+                    bound: j,
+                    gap: 0.0,
+                };
+                Ok(s)
+            }
+            _ => Err(Error::Infeasible(format!(
+                "no gait of at most {phases} slip phases reaches J >= {} (the cutoff)",
+                cutoff.unwrap_or_default()
+            ))),
+        },
+        r => r,
+    }
 }
 
 /// [`solve_steps_in`] in the optimisers' internal units ([`Units`]): the problem and the start
@@ -53,12 +109,17 @@ pub(super) fn solve_steps(
     time_limit: Option<f64>,
     start: Option<&PhaseSolution>,
     fixed: Option<&[Vec<i8>]>,
+    rows: &ExtraRows,
 ) -> Result<PhaseSolution> {
     let units = Units::of(crawler, problem);
     let (c, p) = (units.crawler(crawler)?, units.problem(problem));
     let start = start.map(|s| units.phase(s, false));
+    let rows = ExtraRows {
+        cutoff: rows.cutoff.map(|j| j / units.objective_scale()),
+        ..*rows
+    };
     let s = crate::progress::with_objective_scale(units.objective_scale(), || {
-        solve_steps_in(&c, &p, phases, time_limit, start.as_ref(), fixed)
+        solve_steps_in(&c, &p, phases, time_limit, start.as_ref(), fixed, &rows)
     })?;
     Ok(units.phase(&s, true))
 }
@@ -73,6 +134,7 @@ fn solve_steps_in(
     time_limit: Option<f64>,
     start: Option<&PhaseSolution>,
     fixed: Option<&[Vec<i8>]>,
+    rows: &ExtraRows,
 ) -> Result<PhaseSolution> {
     let t = problem.period;
     let a = &problem.rate_bound;
@@ -87,7 +149,7 @@ fn solve_steps_in(
     let mut last_bound = f64::INFINITY;
     let (raw, bound, status) = loop {
         rounds += 1;
-        let (pb, lay) = build(crawler, problem, phases, rates.as_ref(), fixed);
+        let (pb, lay) = build(crawler, problem, phases, rates.as_ref(), fixed, rows);
         let ncols = pb.num_cols();
         let start_cols = incumbent.as_ref().and_then(|g| g.columns(&lay, ncols));
         let left = match time_limit {

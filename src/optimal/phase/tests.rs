@@ -29,7 +29,7 @@ fn start_is_feasible(c: &Crawler, p: &GaitProblem, phases: usize, gait: &RawGait
         Cost::Quadratic { .. } => Some(TangentRates::new(&p.rate_bound)),
         Cost::None => None,
     };
-    let (mut pb, lay) = build(c, p, phases, rates.as_ref(), None);
+    let (mut pb, lay) = build(c, p, phases, rates.as_ref(), None, &Default::default());
     let Some(x) = gait.columns(&lay, pb.num_cols()) else {
         return false;
     };
