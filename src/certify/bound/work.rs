@@ -23,14 +23,5 @@ use crate::optimal::GaitProblem;
 /// `T sum_l w_l a_l / (2 k_l) / sum_b mu_b^+`, `w_l` the width of link `l`'s force range over
 /// C.
 pub fn work_bound(crawler: &Crawler, problem: &GaitProblem) -> f64 {
-    let k = crawler.stiffness();
-    let work: f64 = crawler
-        .link_force_ranges()
-        .iter()
-        .zip(&problem.rate_bound)
-        .zip(k)
-        .map(|((r, a), k)| (r[1] - r[0]) * a / (2.0 * k))
-        .sum();
-    let friction: f64 = crawler.mu_forward().iter().sum();
-    problem.period * work / friction
+    crate::optimal::work_limit(crawler, problem)
 }

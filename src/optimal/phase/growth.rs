@@ -1,7 +1,7 @@
 //! Raising `K` until the value stops improving ([`grow_phases`]).
 
 use super::solve::{gain_tolerance, solve_phase_with};
-use super::{Formulation, PhaseOptions, PhaseSolution, MAX_PHASES};
+use super::{start_unproven, Formulation, PhaseOptions, PhaseSolution, MAX_PHASES};
 use crate::error::{Error, Result};
 use crate::model::Crawler;
 use crate::optimal::milp::check_time_limit;
@@ -256,10 +256,14 @@ pub fn grow_phases(
             }
         }
     }
-    let best = best.ok_or_else(|| {
+    let mut best = best.ok_or_else(|| {
         Error::TimeLimit(
             "phase growth: the time limit was reached before any feasible gait was found".into(),
         )
     })?;
+    // The given start, never certified (the limit came before any K): say what is known.
+    if best.certificate.bound.is_nan() {
+        best = start_unproven(crawler, problem, &best, opts.min_phases);
+    }
     Ok(PhaseGrowth { best, table, stop })
 }

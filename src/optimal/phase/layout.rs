@@ -1,6 +1,6 @@
 //! The phase MILP's columns and rows (module docs of [`super`]).
 
-use super::Formulation;
+use super::{link_work, Formulation};
 use crate::model::Crawler;
 use crate::optimal::milp::{block_speed_bound, force_row, TangentRates};
 use crate::optimal::{Cost, GaitProblem};
@@ -227,10 +227,9 @@ pub(super) fn build(
         );
     }
     if rows.formulation.dissipation_row {
-        // Theory §7: friction dissipates the actuators' work, at most T sum_l a_l r_l / k_l.
-        let work: f64 = (0..n)
-            .map(|l| a[l] * ranges[l][0].abs().max(ranges[l][1].abs()) / k[l])
-            .sum();
+        // Friction dissipates the actuators' work, at most T sum_l a_l w_l / (2 k_l) (the
+        // work bound).
+        let work = link_work(crawler, problem);
         let mut row = Vec::with_capacity(2 * nb * phases);
         for j in 0..phases {
             for b in 0..nb {

@@ -136,9 +136,10 @@ impl PhaseSolution {
 /// measurements in the benchmarks page chose (none: each row cost more than it saved).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub struct Formulation {
-    /// The dissipation row (theory §7): over a period the friction dissipates exactly the
-    /// actuators' work, `sum_{j,b} (mu_b^+ P_{j,b} + mu_b^- Q_{j,b}) = int sum_l x_l u_l / k_l dt
-    /// <= T sum_l a_l r_l / k_l`, `r_l = max |x_l|` over C.
+    /// The dissipation row: over a period the friction dissipates exactly the actuators' work,
+    /// `sum_{j,b} (mu_b^+ P_{j,b} + mu_b^- Q_{j,b}) = sum_l int x_l dL_l
+    /// <= T sum_l a_l w_l / (2 k_l)`, `w_l` the width of link `l`'s force range over C (the
+    /// argument of the work bound, `certify::bound::work_bound`).
     pub dissipation_row: bool,
 }
 
@@ -158,6 +159,47 @@ pub struct PhaseOptions {
     pub cutoff: Option<f64>,
     /// Optional valid rows.
     pub formulation: Formulation,
+}
+
+/// The work bound on `J` over every periodic gait, `T sum_l w_l a_l / (2 k_l) / sum_b mu_b^+`
+/// (`w_l` the width of link `l`'s force range over C): friction dissipates the actuators' work
+/// (the argument is the module doc of `certify::bound::work`, which reports it). The bound a
+/// known start keeps when no MILP has certified anything about it.
+pub(crate) fn work_limit(crawler: &Crawler, problem: &GaitProblem) -> f64 {
+    problem.period * link_work(crawler, problem) / crawler.mu_forward().iter().sum::<f64>()
+}
+
+/// `sum_l w_l a_l / (2 k_l)`: the actuators' work per unit time at most (times `T`, a bound on
+/// the friction's dissipation per period).
+fn link_work(crawler: &Crawler, problem: &GaitProblem) -> f64 {
+    crawler
+        .link_force_ranges()
+        .iter()
+        .zip(&problem.rate_bound)
+        .zip(crawler.stiffness())
+        .map(|((r, a), k)| (r[1] - r[0]) * a / (2.0 * k))
+        .sum()
+}
+
+/// A known start with the certificate of what is known without a MILP: `time_limit`, `K`
+/// = `phases`, the work bound (valid for every gait) as its bound.
+fn start_unproven(
+    crawler: &Crawler,
+    problem: &GaitProblem,
+    s: &PhaseSolution,
+    phases: usize,
+) -> PhaseSolution {
+    let j = s.objective();
+    let bound = work_limit(crawler, problem).max(j);
+    let mut s = s.clone();
+    s.phases = phases;
+    s.certificate = Certificate {
+        status: crate::optimal::MilpStatus::TimeLimit,
+        milp_objective: s.verified_displacement,
+        bound,
+        gap: Certificate::gap_of(bound, j),
+    };
+    s
 }
 
 /// Refuses what no phase problem accepts: a crawler failing the uniqueness condition, a bad

@@ -2,7 +2,7 @@
 
 use super::decode::RawGait;
 use super::layout::{build, ExtraRows};
-use super::{check_phase_args, PhaseOptions, PhaseSolution, MAX_OA_ROUNDS};
+use super::{check_phase_args, start_unproven, PhaseOptions, PhaseSolution, MAX_OA_ROUNDS};
 use crate::error::{Error, Result};
 use crate::integrate::Method;
 use crate::model::Crawler;
@@ -96,6 +96,14 @@ pub fn solve_phase_with(
                 cutoff.unwrap_or_default()
             ))),
         },
+        // The limit came before the MILP found a gait beating the start: the start, with what
+        // is known without the MILP.
+        Err(Error::TimeLimit(_)) if fits.is_none() && start.is_some() => Ok(start_unproven(
+            crawler,
+            problem,
+            start.expect("a start"),
+            phases,
+        )),
         r => r,
     }
 }

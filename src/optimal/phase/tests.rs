@@ -5,7 +5,7 @@ use super::layout::{build, Layout};
 use super::sequence::neighbours;
 use super::*;
 use crate::optimal::milp::{force_row, solve_max, TangentRates};
-use crate::optimal::Cost;
+use crate::optimal::{Cost, MilpStatus};
 use highs::{Col, RowProblem};
 
 /// Every column of `lay`, in no particular order.
@@ -183,4 +183,24 @@ fn any_rotation_of_a_gait_is_a_feasible_start_for_as_many_steps_or_more() {
         assert_eq!(cut.slip_phases(), slips);
         assert!(start_is_feasible(&c, &p, slips, &cut), "split slip phase");
     }
+}
+
+#[test]
+fn a_start_no_milp_has_certified_keeps_the_work_bound_and_says_time_limit() {
+    let c = Crawler::uniform(10, 1.0, 1.0, 1.3).unwrap();
+    let p = GaitProblem::new(&c, 10.0, &[1.0; 9], Cost::None, None).unwrap();
+    let sign = |l: usize| if l % 2 == 0 { 2.5 } else { -2.5 };
+    let incs: Vec<Vec<f64>> = [1.0, -1.0, -1.0, 1.0]
+        .iter()
+        .map(|s| (0..9).map(|l| s * sign(l)).collect())
+        .collect();
+    let g = phase_gait_of(&c, &p, &[2.5; 4], &incs).unwrap();
+    assert!(g.certificate.bound.is_nan());
+    let s = start_unproven(&c, &p, &g, 1);
+    assert_eq!(s.certificate.status, MilpStatus::TimeLimit);
+    assert_eq!(s.phases, 1);
+    // Uniform chain of 10: the force ranges sum to 56 (widths 2.3, 4.6, ..., 11.5, ..., 2.3):
+    // 10 * 56 / 2 / 10 = 28.
+    assert!((s.certificate.bound - 28.0).abs() < 1e-9, "{}", s.certificate.bound);
+    assert_eq!(s.durations, g.durations);
 }
