@@ -104,6 +104,22 @@ pub fn solve_phase_with(
             start.expect("a start"),
             phases,
         )),
+        // A MILP cut short below the start (HiGHS drops a start it finds infeasible at its
+        // tolerances): the start, which is one of the gaits the MILP's bound covers when it
+        // fits, or beats the cutoff otherwise.
+        Ok(s) => match start {
+            Some(st) if st.objective() > s.objective() => {
+                let mut st = st.clone();
+                st.phases = phases;
+                st.certificate = Certificate {
+                    gap: Certificate::gap_of(s.certificate.bound, st.objective()),
+                    milp_objective: st.verified_displacement,
+                    ..s.certificate
+                };
+                Ok(st)
+            }
+            _ => Ok(s),
+        },
         r => r,
     }
 }

@@ -201,6 +201,10 @@ fn a_start_no_milp_has_certified_keeps_the_work_bound_and_says_time_limit() {
     assert_eq!(s.phases, 1);
     // Uniform chain of 10: the force ranges sum to 56 (widths 2.3, 4.6, ..., 11.5, ..., 2.3):
     // 10 * 56 / 2 / 10 = 28.
-    assert!((s.certificate.bound - 28.0).abs() < 1e-9, "{}", s.certificate.bound);
+    assert!(
+        (s.certificate.bound - 28.0).abs() < 1e-9,
+        "{}",
+        s.certificate.bound
+    );
     assert_eq!(s.durations, g.durations);
 }
