@@ -8,7 +8,8 @@
 //! `plain` (the default formulation, no start), `dissipation` (the dissipation row),
 //! `wave` (the alternating triangle wave as the start: the MILP's incumbent when it fits `K`,
 //! else a cutoff), `wave+dissipation`; `grow` and `grow+wave` raise `K` from 1 to `K` within
-//! the time limit instead (`grow_phases`, without and with the wave as `GrowOptions::start`),
+//! the time limit instead (`grow_phases`, without and with the wave as `GrowOptions::start`;
+//! `+dissipation` adds the row there too),
 //! printing the largest `K` solved. It prints one CSV row per variant: the variant, N, K,
 //! status, J of the answer, the MILP's bound, the gap and the seconds.
 
@@ -55,7 +56,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             start: v.contains("wave").then(|| wave.clone()),
             cutoff: None,
             formulation: Formulation {
-                dissipation_row: v.contains("dissipation"),
+                dissipation_row: Some(v.contains("dissipation")),
             },
         };
         let t0 = Instant::now();
@@ -64,6 +65,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                 max_phases: k,
                 time_limit: Some(limit),
                 start: opts.start,
+                formulation: opts.formulation,
                 ..GrowOptions::default()
             };
             match grow_phases(&crawler, &problem, &opts, &mut |st| {

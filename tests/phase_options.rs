@@ -22,7 +22,7 @@ fn with_rows(start: Option<PhaseSolution>, cutoff: Option<f64>) -> PhaseOptions 
         start,
         cutoff,
         formulation: Formulation {
-            dissipation_row: true,
+            dissipation_row: Some(true),
         },
     }
 }

@@ -226,7 +226,7 @@ pub(super) fn build(
                 .collect::<Vec<_>>(),
         );
     }
-    if rows.formulation.dissipation_row {
+    if rows.formulation.dissipation_row_for(crawler) {
         // Friction dissipates the actuators' work, at most T sum_l a_l w_l / (2 k_l) (the
         // work bound).
         let work = link_work(crawler, problem);

@@ -132,15 +132,29 @@ impl PhaseSolution {
 }
 
 /// Optional rows of the phase MILP, each valid for every periodic gait (so the optimum is the
-/// same with or without them; only the solver's effort changes). The default is what the
-/// measurements in the benchmarks page chose (none: each row cost more than it saved).
+/// same with or without them; only the solver's effort changes). The defaults are what the
+/// measurements in the benchmarks page ("The phase MILP on long chains") chose.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub struct Formulation {
     /// The dissipation row: over a period the friction dissipates exactly the actuators' work,
     /// `sum_{j,b} (mu_b^+ P_{j,b} + mu_b^- Q_{j,b}) = sum_l int x_l dL_l
     /// <= T sum_l a_l w_l / (2 k_l)`, `w_l` the width of link `l`'s force range over C (the
-    /// argument of the work bound, `certify::bound::work_bound`).
-    pub dissipation_row: bool,
+    /// argument of the work bound, `certify::bound::work_bound`). `None` (the default): on from
+    /// [`DISSIPATION_ROW_BLOCKS`] blocks, where it capped the bound at the limit and, with the
+    /// triangle wave as the start, closed `K = 2` at `N = 20`; off below, where it slowed the
+    /// proofs (three blocks at `K = 6`: 4.3 s against 2.4 s).
+    pub dissipation_row: Option<bool>,
+}
+
+/// From this many blocks the dissipation row is on by default ([`Formulation`]).
+pub const DISSIPATION_ROW_BLOCKS: usize = 10;
+
+impl Formulation {
+    /// Whether the dissipation row is written for `crawler`.
+    pub fn dissipation_row_for(&self, crawler: &Crawler) -> bool {
+        self.dissipation_row
+            .unwrap_or(crawler.blocks() >= DISSIPATION_ROW_BLOCKS)
+    }
 }
 
 /// How one `K` of the phase MILP is seeded and written ([`solve_phase_with`]).

@@ -96,9 +96,9 @@ pub fn solve_phase_with(
                 cutoff.unwrap_or_default()
             ))),
         },
-        // The limit came before the MILP found a gait beating the start: the start, with what
-        // is known without the MILP.
-        Err(Error::TimeLimit(_)) if fits.is_none() && start.is_some() => Ok(start_unproven(
+        // The limit came before the MILP found a gait beating the start (or before it took a
+        // start it dropped): the start, with what is known without the MILP.
+        Err(Error::TimeLimit(_)) if start.is_some() => Ok(start_unproven(
             crawler,
             problem,
             start.expect("a start"),
