@@ -36,10 +36,12 @@ pub use local::{
 pub(crate) use milp::replay;
 pub use milp::{check_time_limit, gait_knots, Certificate, MilpStatus};
 pub use one_link::{one_link_optimum, OneLinkOptimum};
+pub(crate) use phase::work_limit;
 pub use phase::{
-    grow_phases, search_sequences, slip_mode_is_valid, slip_sequence, solve_phase_from,
-    solve_phase_global, GrowOptions, GrowthStop, PhaseGrowth, PhaseSolution, PhaseStep,
-    SequenceSearch, MAX_PHASES,
+    grow_phases, phase_gait_of, search_sequences, slip_mode_is_valid, slip_sequence,
+    solve_phase_from, solve_phase_global, solve_phase_with, Formulation, GrowOptions, GrowthStop,
+    PhaseGrowth, PhaseOptions, PhaseSolution, PhaseStep, SequenceSearch, DISSIPATION_ROW_BLOCKS,
+    MAX_PHASES,
 };
 pub use problem::{Cost, GaitProblem, MAX_COST_RATIO, MAX_RATIO, MAX_SWEEP};
 pub use result::{

@@ -93,9 +93,12 @@
 
 mod faces;
 mod grid;
+mod work;
 // Built only to measure it against the time-independent bound (module doc: it never helps).
 #[cfg(test)]
 mod timed;
+
+pub use work::work_bound;
 
 use crate::error::{Error, Result};
 use crate::model::Crawler;

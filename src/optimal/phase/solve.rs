@@ -1,0 +1,283 @@
+//! One `K`: the phase MILP (or, with fixed modes, its LP) solved, replayed and certified.
+
+use super::decode::RawGait;
+use super::layout::{build, ExtraRows};
+use super::{check_phase_args, start_unproven, PhaseOptions, PhaseSolution, MAX_OA_ROUNDS};
+use crate::error::{Error, Result};
+use crate::integrate::Method;
+use crate::model::Crawler;
+use crate::optimal::milp::{certify, replay, solve_max, TangentRates, OA_TOL};
+use crate::optimal::units::Units;
+use crate::optimal::{Certificate, Cost, GaitProblem, MilpStatus};
+use std::time::Instant;
+
+/// Solves (P) globally over gaits of at most `phases` slip phases (module docs).
+pub fn solve_phase_global(
+    crawler: &Crawler,
+    problem: &GaitProblem,
+    phases: usize,
+    time_limit: Option<f64>,
+) -> Result<PhaseSolution> {
+    solve_phase_from(crawler, problem, phases, time_limit, None)
+}
+
+/// [`solve_phase_global`] with a known gait of at most `phases` slip phases as the first
+/// incumbent.
+pub fn solve_phase_from(
+    crawler: &Crawler,
+    problem: &GaitProblem,
+    phases: usize,
+    time_limit: Option<f64>,
+    start: Option<&PhaseSolution>,
+) -> Result<PhaseSolution> {
+    if let Some(s) = start {
+        let slips = RawGait::of(s).slip_phases();
+        if slips > phases {
+            return Err(Error::invalid(
+                "start",
+                slips,
+                format!("has more than {phases} slip phases"),
+            ));
+        }
+    }
+    let opts = PhaseOptions {
+        start: start.cloned(),
+        ..PhaseOptions::default()
+    };
+    solve_phase_with(crawler, problem, phases, time_limit, &opts)
+}
+
+/// [`solve_phase_global`] with the options of [`PhaseOptions`]: a known gait as the first
+/// incumbent (or, when it has more than `phases` slip phases, its `J` as a cutoff), a cutoff,
+/// optional valid rows.
+pub fn solve_phase_with(
+    crawler: &Crawler,
+    problem: &GaitProblem,
+    phases: usize,
+    time_limit: Option<f64>,
+    opts: &PhaseOptions,
+) -> Result<PhaseSolution> {
+    check_phase_args(crawler, problem, phases, time_limit)?;
+    let start = opts.start.as_ref();
+    if let Some(c) = opts.cutoff {
+        if !c.is_finite() {
+            return Err(Error::invalid("cutoff", c, "must be finite"));
+        }
+    }
+    let fits = start.filter(|s| RawGait::of(s).slip_phases() <= phases);
+    let cutoff = opts.cutoff.or_else(|| {
+        start
+            .filter(|_| fits.is_none())
+            .map(PhaseSolution::objective)
+    });
+    let rows = ExtraRows {
+        formulation: opts.formulation,
+        // A hair below, so that the start's own J (and round-off) stays feasible.
+        cutoff: cutoff.map(|c| c - 1e-9 * problem.length_scale(crawler)),
+    };
+    match solve_steps(crawler, problem, phases, time_limit, fits, None, &rows) {
+        // No gait of at most `phases` slip phases reaches the cutoff: the start, if any, is
+        // at least as good as all of them.
+        Err(Error::Infeasible(_)) if cutoff.is_some() => match start {
+            Some(s) if cutoff.is_some_and(|c| s.objective() >= c) => {
+                let j = s.objective();
+                let mut s = s.clone();
+                s.phases = phases;
+                s.certificate = Certificate {
+                    status: MilpStatus::OptimalAmongKPhases,
+                    milp_objective: s.verified_displacement,
+                    bound: j,
+                    gap: 0.0,
+                };
+                Ok(s)
+            }
+            _ => Err(Error::Infeasible(format!(
+                "no gait of at most {phases} slip phases reaches J >= {} (the cutoff)",
+                cutoff.unwrap_or_default()
+            ))),
+        },
+        // The limit came before the MILP found a gait beating the start (or before it took a
+        // start it dropped): the start, with what is known without the MILP.
+        Err(Error::TimeLimit(_)) if start.is_some() => Ok(start_unproven(
+            crawler,
+            problem,
+            start.expect("a start"),
+            phases,
+        )),
+        // A MILP cut short below the start (HiGHS drops a start it finds infeasible at its
+        // tolerances): the start, which is one of the gaits the MILP's bound covers when it
+        // fits, or beats the cutoff otherwise.
+        Ok(s) => match start {
+            Some(st) if st.objective() > s.objective() => {
+                let mut st = st.clone();
+                st.phases = phases;
+                st.certificate = Certificate {
+                    gap: Certificate::gap_of(s.certificate.bound, st.objective()),
+                    milp_objective: st.verified_displacement,
+                    ..s.certificate
+                };
+                Ok(st)
+            }
+            _ => Ok(s),
+        },
+        r => r,
+    }
+}
+
+/// [`solve_steps_in`] in the optimisers' internal units ([`Units`]): the problem and the start
+/// converted in, the answer converted back.
+pub(super) fn solve_steps(
+    crawler: &Crawler,
+    problem: &GaitProblem,
+    phases: usize,
+    time_limit: Option<f64>,
+    start: Option<&PhaseSolution>,
+    fixed: Option<&[Vec<i8>]>,
+    rows: &ExtraRows,
+) -> Result<PhaseSolution> {
+    let units = Units::of(crawler, problem);
+    let (c, p) = (units.crawler(crawler)?, units.problem(problem));
+    let start = start.map(|s| units.phase(s, false));
+    let rows = ExtraRows {
+        cutoff: rows.cutoff.map(|j| j / units.objective_scale()),
+        ..*rows
+    };
+    let s = crate::progress::with_objective_scale(units.objective_scale(), || {
+        solve_steps_in(&c, &p, phases, time_limit, start.as_ref(), fixed, &rows)
+    })?;
+    Ok(units.phase(&s, true))
+}
+
+/// The phase MILP of `phases` steps (or, with `fixed` modes, its LP), solved with outer
+/// approximation of a quadratic cost, the answer replayed by the exact simulator and certified.
+/// Arguments are checked by the callers.
+fn solve_steps_in(
+    crawler: &Crawler,
+    problem: &GaitProblem,
+    phases: usize,
+    time_limit: Option<f64>,
+    start: Option<&PhaseSolution>,
+    fixed: Option<&[Vec<i8>]>,
+    rows: &ExtraRows,
+) -> Result<PhaseSolution> {
+    let t = problem.period;
+    let a = &problem.rate_bound;
+    let what = format!("gait of at most {phases} slip phases");
+    let began = Instant::now();
+    let mut rates = match problem.cost {
+        Cost::Quadratic { .. } => Some(TangentRates::new(a)),
+        Cost::None => None,
+    };
+    let mut incumbent = start.map(RawGait::of);
+    let mut rounds = 0;
+    let mut last_bound = f64::INFINITY;
+    let (raw, bound, status) = loop {
+        rounds += 1;
+        let (pb, lay) = build(crawler, problem, phases, rates.as_ref(), fixed, rows);
+        let ncols = pb.num_cols();
+        let start_cols = incumbent.as_ref().and_then(|g| g.columns(&lay, ncols));
+        let left = match time_limit {
+            Some(tl) => {
+                let left = tl - began.elapsed().as_secs_f64();
+                if left <= 0.0 {
+                    break match incumbent {
+                        Some(g) if rounds > 1 => (g, last_bound, MilpStatus::TimeLimit),
+                        _ => {
+                            return Err(Error::TimeLimit(format!(
+                            "{what}: the time limit was reached before any feasible gait was found"
+                        )))
+                        }
+                    };
+                }
+                Some(left)
+            }
+            None => None,
+        };
+        let gap = problem.length_scale(crawler) * 1e-9;
+        let (cols, _, bound, status) = solve_max(pb, left, &what, start_cols.as_deref(), gap)?;
+        let raw = RawGait::read(&lay, &cols, t);
+        last_bound = bound;
+        let Some(r) = rates.as_mut() else {
+            break (raw, bound, status);
+        };
+        let true_objective = raw.displacement() - raw.cost(problem);
+        let converged = bound - true_objective <= OA_TOL * true_objective.abs().max(1.0);
+        if converged || status == MilpStatus::TimeLimit || rounds >= MAX_OA_ROUNDS {
+            let status = match status {
+                MilpStatus::Optimal if !converged => MilpStatus::ApproximationLimit,
+                s => s,
+            };
+            break (raw, bound, status);
+        }
+        let mut added = false;
+        for (d, u) in raw.durations.iter().zip(&raw.increments) {
+            for (l, &ul) in u.iter().enumerate() {
+                added |= r.add(l, ul / d, a[l]);
+            }
+        }
+        if !added {
+            break (raw, bound, MilpStatus::ApproximationLimit);
+        }
+        incumbent = Some(raw);
+    };
+    let cost = raw.cost(problem);
+    let verified = if raw.durations.len() < 2 {
+        0.0
+    } else {
+        replay(
+            crawler,
+            t,
+            &raw.durations,
+            &raw.increments,
+            Some(&raw.states[0]),
+            Method::Exact,
+            &what,
+        )?
+        .displacement_per_period
+        .ok_or_else(|| Error::Numerical(format!("{what}: the replay did not converge")))?
+    };
+    let scale = problem.length_scale(crawler);
+    // What the MILP proved is optimality among gaits of at most `phases` slip phases.
+    let status = match status {
+        MilpStatus::Optimal => MilpStatus::OptimalAmongKPhases,
+        s => s,
+    };
+    let certificate = certify(
+        &what,
+        scale,
+        status,
+        raw.displacement(),
+        bound,
+        verified,
+        cost,
+    )?;
+    Ok(PhaseSolution {
+        phases,
+        certificate,
+        verified_displacement: verified,
+        actuation_cost: cost,
+        controls: raw
+            .increments
+            .iter()
+            .zip(&raw.durations)
+            .map(|(u, d)| u.iter().map(|v| v / d).collect())
+            .collect(),
+        durations: raw.durations,
+        states: raw.states,
+        block_displacements: raw.block_displacements,
+        modes: raw.modes,
+        rounds,
+    })
+}
+
+/// The relative gain in `J` below which a larger `K` or a move of [`search_sequences`] counts
+/// as no gain: `1e-7` for a linear objective (LP round-off), and the outer-approximation
+/// tolerance [`OA_TOL`] with a quadratic cost, whose values are only that accurate (a gain
+/// within it would be noise: on three blocks with c = 0.2, `J_4 - J_3 = 1.5e-7` kept the
+/// growth going for another 54 s).
+pub(super) fn gain_tolerance(problem: &GaitProblem) -> f64 {
+    match problem.cost {
+        Cost::None => 1e-7,
+        Cost::Quadratic { .. } => OA_TOL,
+    }
+}

@@ -1,0 +1,215 @@
+//! The phase MILP's options (theory §7): a known gait as its start or cutoff, the optional valid
+//! rows (the optimum stays the same), and the phase form of a gait given as knots.
+
+use crawlopt::optimal::{
+    grow_phases, phase_gait_of, phase_start, solve_phase_global, solve_phase_with, Cost,
+    Formulation, GaitProblem, GrowOptions, GrowthStop, MilpStatus, PhaseOptions, PhaseSolution,
+};
+use crawlopt::{Crawler, Error};
+use proptest::prelude::*;
+
+/// The peers' instances: k = a = 1, T = 10, mu+ = 1, mu- = 1.5 (1.6 for five blocks, where 1.5
+/// fails the uniqueness condition).
+fn peers(blocks: usize) -> (Crawler, GaitProblem) {
+    let mm = if blocks == 5 { 1.6 } else { 1.5 };
+    let c = Crawler::uniform(blocks, 1.0, 1.0, mm).unwrap();
+    let p = GaitProblem::new(&c, 10.0, &vec![1.0; blocks - 1], Cost::None, None).unwrap();
+    (c, p)
+}
+
+fn with_rows(start: Option<PhaseSolution>, cutoff: Option<f64>) -> PhaseOptions {
+    PhaseOptions {
+        start,
+        cutoff,
+        formulation: Formulation {
+            dissipation_row: Some(true),
+        },
+    }
+}
+
+#[test]
+fn the_dissipation_row_keeps_the_known_optima() {
+    // (blocks, K, J*): the optima of the peers' instances, certified among K slip phases.
+    for (blocks, k, want) in [(3, 4, 2.6), (4, 3, 3.5), (5, 3, 3.75)] {
+        let (c, p) = peers(blocks);
+        let plain = solve_phase_global(&c, &p, k, Some(120.0)).unwrap();
+        let rows = solve_phase_with(&c, &p, k, Some(120.0), &with_rows(None, None)).unwrap();
+        for s in [&plain, &rows] {
+            assert_eq!(
+                s.certificate.status,
+                MilpStatus::OptimalAmongKPhases,
+                "N = {blocks}"
+            );
+            assert!(
+                (s.objective() - want).abs() < 1e-7,
+                "N = {blocks}: J = {}",
+                s.objective()
+            );
+        }
+    }
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 4, ..ProptestConfig::default() })]
+
+    /// On random chains (per-link stiffness, per-block friction) the valid rows change nothing
+    /// but the effort: the same optimum among two slip phases.
+    #[test]
+    fn the_dissipation_row_keeps_the_optimum_of_random_chains(
+        k in prop::collection::vec(0.5f64..2.0, 3),
+        mp in prop::collection::vec(0.5f64..1.5, 4),
+        mm in prop::collection::vec(1.0f64..3.0, 4),
+    ) {
+        let Ok(c) = Crawler::new(k, mp, mm) else { return Ok(()) };
+        if c.require_unique().is_err() {
+            return Ok(());
+        }
+        let p = GaitProblem::new(&c, 10.0, &[1.0, 0.8, 1.2], Cost::None, None).unwrap();
+        let plain = solve_phase_global(&c, &p, 2, Some(60.0)).unwrap();
+        let rows = solve_phase_with(&c, &p, 2, Some(60.0), &with_rows(None, None)).unwrap();
+        prop_assert_eq!(plain.certificate.status, MilpStatus::OptimalAmongKPhases);
+        prop_assert_eq!(rows.certificate.status, MilpStatus::OptimalAmongKPhases);
+        let scale = plain.objective().abs().max(1.0);
+        prop_assert!((plain.objective() - rows.objective()).abs() <= 1e-7 * scale,
+            "plain {} rows {}", plain.objective(), rows.objective());
+    }
+}
+
+/// The alternating triangle wave (odd links against even links at the full rate, amplitude
+/// aT/4) in four pieces of T/4.
+fn triangle_wave(n: usize) -> (Vec<f64>, Vec<Vec<f64>>) {
+    let sign = |l: usize| if l % 2 == 0 { 1.0 } else { -1.0 };
+    let incs = [1.0, -1.0, -1.0, 1.0]
+        .iter()
+        .map(|s| (0..n).map(|l| s * sign(l) * 2.5).collect())
+        .collect();
+    (vec![2.5; 4], incs)
+}
+
+#[test]
+fn the_phase_form_of_the_triangle_wave_moves_it_4_minus_1_over_n_minus_1() {
+    for blocks in [10, 20] {
+        let c = Crawler::uniform(blocks, 1.0, 1.0, 1.3).unwrap();
+        let p = GaitProblem::new(&c, 10.0, &vec![1.0; blocks - 1], Cost::None, None).unwrap();
+        let (d, u) = triangle_wave(blocks - 1);
+        let g = phase_gait_of(&c, &p, &d, &u).unwrap();
+        let want = 4.0 - 1.0 / (blocks as f64 - 1.0);
+        assert!(
+            (g.objective() - want).abs() < 1e-9,
+            "N = {blocks}: {}",
+            g.objective()
+        );
+        assert_eq!(g.phases, 2, "one slip phase per half period");
+        assert!(g.certificate.bound.is_nan(), "no claim");
+        // Its phase form adds up: displacements and durations.
+        let total: f64 = g.durations.iter().sum();
+        assert!((total - 10.0).abs() < 1e-12);
+        let moved: f64 = g
+            .block_displacements
+            .iter()
+            .map(|d| d.iter().sum::<f64>())
+            .sum();
+        assert!((moved / blocks as f64 - want).abs() < 1e-9);
+    }
+}
+
+#[test]
+fn a_gait_given_as_knots_is_checked() {
+    let (c, p) = peers(3);
+    let field = |r: Result<PhaseSolution, Error>| match r {
+        Err(Error::InvalidParameter { field, .. }) => field,
+        r => panic!("{r:?}"),
+    };
+    let u = vec![vec![1.0, -1.0], vec![-1.0, 1.0]];
+    assert_eq!(field(phase_gait_of(&c, &p, &[5.0, 4.0], &u)), "start");
+    assert_eq!(field(phase_gait_of(&c, &p, &[5.0, 5.0], &u[..1])), "start");
+    assert_eq!(field(phase_gait_of(&c, &p, &[10.0, 0.0], &u)), "start");
+    let fast = vec![vec![6.0, 0.0], vec![-6.0, 0.0]];
+    assert_eq!(field(phase_gait_of(&c, &p, &[5.0, 5.0], &fast)), "start");
+    let unbalanced = vec![vec![1.0, 0.0], vec![-0.5, 0.0]];
+    assert_eq!(
+        field(phase_gait_of(&c, &p, &[5.0, 5.0], &unbalanced)),
+        "start"
+    );
+    let bad = PhaseOptions {
+        cutoff: Some(f64::NAN),
+        ..PhaseOptions::default()
+    };
+    assert_eq!(field(solve_phase_with(&c, &p, 2, None, &bad)), "cutoff");
+}
+
+/// The three-block optimum (J_K = 0, 0, 13/6, 2.6 for K = 1..4), taken from the default start
+/// of the local methods and turned into phases from its knots.
+fn three_block_start() -> (Crawler, GaitProblem, PhaseSolution) {
+    let (c, p) = peers(3);
+    let s = phase_start(&c, &p, &GrowOptions::default(), &mut |_| {}).unwrap();
+    let gait = &s.result.gait;
+    let incs: Vec<Vec<f64>> = gait
+        .controls
+        .iter()
+        .zip(&gait.durations)
+        .map(|(u, d)| u.iter().map(|v| v * d).collect())
+        .collect();
+    let g = phase_gait_of(&c, &p, &gait.durations, &incs).unwrap();
+    assert!((g.objective() - 2.6).abs() < 1e-9, "J = {}", g.objective());
+    assert_eq!(g.phases, 4);
+    (c, p, g)
+}
+
+#[test]
+fn a_start_with_more_slip_phases_than_k_is_a_cutoff_and_the_answer_when_nothing_beats_it() {
+    let (c, p, g) = three_block_start();
+    for k in [2, 3] {
+        let opts = PhaseOptions {
+            start: Some(g.clone()),
+            ..PhaseOptions::default()
+        };
+        let s = solve_phase_with(&c, &p, k, Some(60.0), &opts).unwrap();
+        // Nothing of at most K slip phases reaches 2.6: the start, certified for K.
+        assert_eq!(s.phases, k);
+        assert_eq!(s.certificate.status, MilpStatus::OptimalAmongKPhases);
+        assert_eq!(s.certificate.bound, g.objective());
+        assert_eq!(s.durations, g.durations);
+    }
+    // K = 4: the start fits, and is the MILP's incumbent; the MILP's own certificate.
+    let opts = with_rows(Some(g.clone()), None);
+    let s = solve_phase_with(&c, &p, 4, Some(60.0), &opts).unwrap();
+    assert_eq!(s.certificate.status, MilpStatus::OptimalAmongKPhases);
+    assert!((s.objective() - 2.6).abs() < 1e-7 && s.certificate.bound < 2.6 + 1e-6);
+    // A cutoff alone: J_3 = 13/6 is found above 2, and nothing of 3 reaches 2.5.
+    let s = solve_phase_with(&c, &p, 3, Some(60.0), &with_rows(None, Some(2.0))).unwrap();
+    assert!(
+        (s.objective() - 13.0 / 6.0).abs() < 1e-7,
+        "J_3 = {}",
+        s.objective()
+    );
+    match solve_phase_with(&c, &p, 3, Some(60.0), &with_rows(None, Some(2.5))) {
+        Err(Error::Infeasible(m)) => assert!(m.contains("cutoff"), "{m}"),
+        r => panic!("{r:?}"),
+    }
+}
+
+#[test]
+fn a_growth_from_a_start_keeps_it_and_counts_no_plateau_below_it() {
+    let (c, p, g) = three_block_start();
+    let opts = GrowOptions {
+        max_phases: 6,
+        start: Some(g.clone()),
+        ..GrowOptions::default()
+    };
+    let grown = grow_phases(&c, &p, &opts, &mut |_| {}).unwrap();
+    let ks: Vec<usize> = grown.table.iter().map(|s| s.phases).collect();
+    // K = 1..3 return the start (not plateaus); K = 4 and 5 reach it without a gain.
+    assert_eq!(ks, vec![1, 2, 3, 4, 5]);
+    assert_eq!(grown.stop, GrowthStop::NoGain);
+    assert!((grown.best.objective() - 2.6).abs() < 1e-7);
+    assert_eq!(grown.best.phases, 5);
+    assert_eq!(
+        grown.best.certificate.status,
+        MilpStatus::OptimalAmongKPhases
+    );
+    for st in &grown.table {
+        assert!(st.bound >= 2.6 - 1e-7 || st.phases < 4, "{st:?}");
+        assert!((st.objective - 2.6).abs() < 1e-7, "{st:?}");
+    }
+}
