@@ -206,3 +206,41 @@ proptest! {
         prop_assert!((again - r.objective).abs() < 1e-8, "{again} vs {}", r.objective);
     }
 }
+
+#[test]
+fn the_chain_method_honours_its_time_limit_and_cancellation() {
+    // A heterogeneous chain of 60 blocks (per-link k, two friction pairs): one sweep of the pattern search is about 600 periodic
+    // searches, far more than 0.3 s allow, so the limit ends the search (status time_limit)
+    // with at least the structured start.
+    let nb = 60;
+    let k = (0..nb - 1)
+        .map(|l| 1.0 + 0.5 * (1.7 * l as f64).sin())
+        .collect();
+    let pairs = [
+        (1.0, 1.3),
+        (1.0 + 0.1 * 2f64.sqrt(), 1.3 + 0.2 * 2f64.sqrt()),
+    ];
+    let mp = (0..nb).map(|b| pairs[b % 2].0).collect();
+    let mm = (0..nb).map(|b| pairs[b % 2].1).collect();
+    let c = Crawler::new(k, mp, mm).unwrap();
+    let p = GaitProblem::new(&c, 10.0, &vec![1.0; nb - 1], Cost::None, None).unwrap();
+    let s = best_structured(&c, &p, &StructuredOptions::default())
+        .unwrap()
+        .unwrap();
+    let r = run(&c, &p, chain(s.seconds + 0.3));
+    assert_eq!(r.status.as_str(), "time_limit");
+    assert!(r.objective >= s.objective - 1e-9);
+    let cancel = crawlopt::progress::Cancel::new();
+    cancel.cancel();
+    let e = optimize(
+        &c,
+        &p,
+        &chain(60.0),
+        Hooks {
+            events: None,
+            cancel: Some(&cancel),
+        },
+    )
+    .unwrap_err();
+    assert_eq!(e, crawlopt::Error::Cancelled);
+}

@@ -13,7 +13,7 @@ use crate::optimal::structured::{
 use crate::optimal::{
     discrete_convergence, discrete_start, grow_phases, phase_start, search_sequences,
     shifted_origin, slip_sequence, solve_discrete_global_with, solve_discrete_local_shifted,
-    solve_phase_global, GaitProblem, GaitResult, StartGait, StartRecord, MAX_PHASES,
+    solve_phase_global, GaitProblem, GaitResult, MilpStatus, StartGait, StartRecord, MAX_PHASES,
 };
 use serde::Serialize;
 use std::time::Instant;
@@ -111,6 +111,7 @@ fn solve(
         if left <= 0.0 {
             if let Some(f) = floor {
                 let mut r = f.best.result;
+                r.status = MilpStatus::TimeLimit;
                 if let Some(s) = r.structured.as_mut() {
                     s.replaced = Some("the time limit was spent on the structured gaits".into());
                 }
@@ -131,6 +132,7 @@ fn solve(
         Ok(r) => r,
         Err(Error::TimeLimit(e)) => {
             let mut r = f.best.result;
+            r.status = MilpStatus::TimeLimit;
             if let Some(s) = r.structured.as_mut() {
                 s.replaced = Some(format!("the method found no gait: {e}"));
             }

@@ -58,17 +58,11 @@ pub fn default_lags(links: usize) -> usize {
 }
 
 /// Options of [`best_structured`].
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, Default)]
 pub struct StructuredOptions {
     /// Lags `j / lags`, `j = 0..lags`, of the travelling triangle waves (default
     /// [`default_lags`]).
     pub lags: Option<usize>,
-}
-
-impl Default for StructuredOptions {
-    fn default() -> Self {
-        StructuredOptions { lags: None }
-    }
 }
 
 /// The shape of a structured gait's profile.
@@ -382,9 +376,11 @@ pub fn best_structured(
     }))
 }
 
-/// The hook for a global method's incumbent: the best structured gait's knots (times from 0
-/// and the lengths at them, the closing knot at `T` included) and its re-verified `J`; `None`
-/// as for [`best_structured`].
+/// The hook for a global method's incumbent: the best structured gait (its knots are
+/// [`StartGait::times`] and [`StartGait::lengths`], from 0 to `T`; its pieces, controls, states
+/// and slip modes are in the result's gait) and its `J`, re-verified by the exact simulator;
+/// `None` as for [`best_structured`]. A phase MILP can take the pieces as its first incumbent
+/// when it allows as many phases, or the value alone as a cutoff.
 pub fn structured_incumbent(
     crawler: &Crawler,
     problem: &GaitProblem,
