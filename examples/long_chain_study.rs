@@ -70,7 +70,7 @@ fn lengths_svg(r: &GaitResult, title: &str) -> String {
     let t = r.problem.period;
     let n = g.lengths[0].len();
     let (w, h, left, top) = (640.0, 360.0, 60.0, 40.0);
-    let cols = 200;
+    let cols = 160;
     let cell_w = w / cols as f64;
     let cell_h = h / n as f64;
     let mut s = String::new();
@@ -91,7 +91,8 @@ fn lengths_svg(r: &GaitResult, title: &str) -> String {
                 })
         })
         .collect();
-    for c in 0..cols {
+    // Colours quantised to 24 levels, equal neighbours along a row merged into one rectangle.
+    let level = |l: usize, c: usize| -> usize {
         let tc = (c as f64 + 0.5) / cols as f64 * t;
         let j = g
             .times
@@ -100,9 +101,20 @@ fn lengths_svg(r: &GaitResult, title: &str) -> String {
             .unwrap_or(0)
             .min(g.times.len() - 2);
         let a = (tc - g.times[j]) / (g.times[j + 1] - g.times[j]);
-        for (l, &(lo, hi)) in span.iter().enumerate() {
-            let v = g.lengths[j][l] + a * (g.lengths[j + 1][l] - g.lengths[j][l]);
-            let z = if hi > lo { (v - lo) / (hi - lo) } else { 0.5 };
+        let v = g.lengths[j][l] + a * (g.lengths[j + 1][l] - g.lengths[j][l]);
+        let (lo, hi) = span[l];
+        let z = if hi > lo { (v - lo) / (hi - lo) } else { 0.5 };
+        (z * 23.0).round() as usize
+    };
+    for l in 0..n {
+        let mut c0 = 0;
+        while c0 < cols {
+            let q = level(l, c0);
+            let mut c1 = c0 + 1;
+            while c1 < cols && level(l, c1) == q {
+                c1 += 1;
+            }
+            let z = q as f64 / 23.0;
             let (rr, gg, bb) = (
                 (255.0 * z) as u8,
                 (80.0 + 100.0 * (1.0 - (2.0 * z - 1.0).abs())) as u8,
@@ -110,13 +122,14 @@ fn lengths_svg(r: &GaitResult, title: &str) -> String {
             );
             let _ = write!(
                 s,
-                "<rect x=\"{:.2}\" y=\"{:.2}\" width=\"{:.2}\" height=\"{:.2}\" \
+                "<rect x=\"{:.1}\" y=\"{:.1}\" width=\"{:.1}\" height=\"{:.1}\" \
                  fill=\"rgb({rr},{gg},{bb})\"/>",
-                left + c as f64 * cell_w,
+                left + c0 as f64 * cell_w,
                 top + l as f64 * cell_h,
-                cell_w + 0.05,
-                cell_h + 0.05
+                (c1 - c0) as f64 * cell_w + 0.1,
+                cell_h + 0.1
             );
+            c0 = c1;
         }
     }
     let _ = write!(
