@@ -718,7 +718,11 @@ def optimize(
     ``crawlopt optimize``: ``method`` "auto" (phase gaits with K grown; the discrete P_m when
     TV(u) is bounded), "phase" (global among gaits of at most ``phases`` slip phases), "discrete"
     (the paper's P_m on 2^``m`` steps, §6, global), "local" (P_m by the LPCC active-set method)
-    or "sequence" (local search over slip sequences). Defaults, applicability of each option and
+    "sequence" (local search over slip sequences) or "chain" (long chains: the best
+    structured gait improved by a pattern search over per-link ramp gaits, simulated exactly).
+    Every method but "discrete" first evaluates the structured gaits (travelling, alternating and
+    grouped waves) and never returns less than the best of them (``result.structured`` then
+    says so). Defaults, applicability of each option and
     start gaits are the library's (see the README); a misplaced option raises InputError naming
     it. The answer is verified by simulation; ``certify`` adds the necessary conditions
     (Theorem 2.2) as ``necessary_conditions``. A time limit that ends the search with a gait

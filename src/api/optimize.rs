@@ -6,10 +6,14 @@ use crate::certify::{certify_result, NecessaryConditions};
 use crate::error::{Error, Result};
 use crate::io::{read_input_text, MAX_RESULT_BYTES};
 use crate::model::Crawler;
+use crate::optimal::chain::{chain_starts, search_chain_multi, ChainOptions, DEFAULT_STARTS};
+use crate::optimal::structured::{
+    best_structured, structured_gaits, StructuredOptions, StructuredSearch,
+};
 use crate::optimal::{
     discrete_convergence, discrete_start, grow_phases, phase_start, search_sequences,
     shifted_origin, slip_sequence, solve_discrete_global_with, solve_discrete_local_shifted,
-    solve_phase_global, GaitProblem, GaitResult, StartGait, StartRecord, MAX_PHASES,
+    solve_phase_global, GaitProblem, GaitResult, MilpStatus, StartGait, StartRecord, MAX_PHASES,
 };
 use serde::Serialize;
 use std::time::Instant;
@@ -71,7 +75,12 @@ pub fn optimize(
     })
 }
 
-/// The method of `plan` run.
+/// The method of `plan` run, after the structured gaits (every method but the discrete P_m,
+/// whose answer is the optimum of its grid problem): the best structured gait is the start of
+/// the chain method, a candidate start of the local methods, and the floor of the answer
+/// (the method's answer when it is at least as good, else the structured gait, recording
+/// what the method found in [`GaitResult::structured`]). A method that ends at the time limit
+/// without a gait returns the structured gait.
 fn solve(
     crawler: &Crawler,
     problem: &GaitProblem,
@@ -79,11 +88,145 @@ fn solve(
     plan: &Plan,
     em: &Emitter<'_>,
 ) -> Result<GaitResult> {
+    if plan.method == GaitMethod::Discrete {
+        return solve_method(crawler, problem, settings, plan, None, em);
+    }
+    let began = Instant::now();
+    em.stage("structured gaits (travelling, alternating and grouped waves)");
+    let floor = best_structured(crawler, problem, &StructuredOptions::default())?;
+    if let Some(f) = &floor {
+        em.stage(format!(
+            "best structured gait: J = {:.6} ({}; {} gaits simulated in {:.2} s)",
+            f.objective,
+            f.best.origin,
+            f.rows.len(),
+            f.seconds
+        ));
+    }
+    // What is left of the time limit goes to the method.
+    let mut rest = settings.clone();
+    let mut plan = plan.clone();
+    if let Some(t) = settings.time_limit {
+        let left = t - began.elapsed().as_secs_f64();
+        if left <= 0.0 {
+            if let Some(f) = floor {
+                let mut r = f.best.result;
+                r.status = MilpStatus::TimeLimit;
+                if let Some(s) = r.structured.as_mut() {
+                    s.replaced = Some("the time limit was spent on the structured gaits".into());
+                }
+                return Ok(r);
+            }
+            return Err(Error::TimeLimit(
+                "the time limit was reached while evaluating the structured gaits".into(),
+            ));
+        }
+        rest.time_limit = Some(left);
+        plan.growth.time_limit = Some(left);
+    }
+    let answer = solve_method(crawler, problem, &rest, &plan, floor.as_ref(), em);
+    let Some(f) = floor else {
+        return answer;
+    };
+    let r = match answer {
+        Ok(r) => r,
+        Err(Error::TimeLimit(e)) => {
+            let mut r = f.best.result;
+            r.status = MilpStatus::TimeLimit;
+            if let Some(s) = r.structured.as_mut() {
+                s.replaced = Some(format!("the method found no gait: {e}"));
+            }
+            return Ok(r);
+        }
+        Err(e) => return Err(e),
+    };
+    let tol = 1e-9 * problem.length_scale(crawler).max(f.objective.abs());
+    if r.objective >= f.objective - tol {
+        return Ok(r);
+    }
+    em.send(Event::Note(format!(
+        "the {} method's gait (J = {:.6}) is below the best structured gait (J = {:.6}), \
+         which is returned",
+        plan.method.name(),
+        r.objective,
+        f.objective
+    )));
+    let mut out = f.best.result;
+    let what = match (
+        r.certificate.kind.as_str(),
+        r.certificate.phases,
+        r.certificate.bound,
+    ) {
+        ("global_k_phases", Some(k), Some(b)) => format!(
+            "{}: J = {} among gaits of at most {k} slip phases (status {}, bound {b} on that \
+             class)",
+            r.method,
+            r.objective,
+            r.status.as_str()
+        ),
+        (_, _, Some(b)) => format!(
+            "{}: J = {} (status {}, bound {b} on its problem)",
+            r.method,
+            r.objective,
+            r.status.as_str()
+        ),
+        _ => format!(
+            "{}: J = {} (status {})",
+            r.method,
+            r.objective,
+            r.status.as_str()
+        ),
+    };
+    if let Some(s) = out.structured.as_mut() {
+        s.replaced = Some(format!("{what}, below the structured gait"));
+    }
+    Ok(out)
+}
+
+/// The method of `plan` run, `floor` the best structured gait (none for the discrete method).
+fn solve_method(
+    crawler: &Crawler,
+    problem: &GaitProblem,
+    settings: &OptimizeSettings,
+    plan: &Plan,
+    floor: Option<&StructuredSearch>,
+    em: &Emitter<'_>,
+) -> Result<GaitResult> {
     let (m, time_limit) = (plan.m, settings.time_limit);
     let start = settings.start.as_ref();
     match plan.method {
+        GaitMethod::Chain => {
+            let Some(f) = floor else {
+                return Err(Error::Numerical(
+                    "no structured gait reached a periodic orbit: the chain method has no start"
+                        .into(),
+                ));
+            };
+            let gaits = structured_gaits(crawler, f.lags);
+            let values: Vec<Option<f64>> = f.rows.iter().map(|r| r.objective).collect();
+            let starts = chain_starts(&gaits, &values, DEFAULT_STARTS);
+            em.stage(format!(
+                "chain pattern search over {} ramp parameters, from the {} best structured \
+                 gaits",
+                5 * crawler.links(),
+                starts.len()
+            ));
+            let s = search_chain_multi(
+                crawler,
+                problem,
+                &starts,
+                &ChainOptions { time_limit },
+                &mut |st| {
+                    em.stage(format!(
+                        "chain pattern search: sweep {}, step {}, J = {:.6} ({} simulations)",
+                        st.sweep, st.step, st.objective, st.evaluations
+                    ))
+                },
+            )?;
+            Ok(s.result)
+        }
         GaitMethod::Local => {
-            let (from, left) = start_gait(start, crawler, problem, plan, em)?;
+            let (from, left) = start_gait(start, crawler, problem, plan, floor, em)?;
             em.stage(format!("local LPCC method on P_{m} ({} steps)", 1u64 << m));
             let (s, shift) = solve_discrete_local_shifted(
                 crawler,
@@ -98,7 +241,7 @@ fn solve(
             Ok(GaitResult::from_local(crawler, problem, &s, &origin))
         }
         GaitMethod::Sequence => {
-            let (from, left) = start_gait(start, crawler, problem, plan, em)?;
+            let (from, left) = start_gait(start, crawler, problem, plan, floor, em)?;
             let (seq, origin) = (slip_sequence(&from.result.gait.slip), from.origin);
             let k = settings
                 .phases
@@ -178,18 +321,43 @@ fn time_left(time_limit: Option<f64>, began: Instant, what: &str) -> Result<Opti
 }
 
 /// The start of a local method: the given one (checked to be of this crawler and period), or
-/// [`phase_start`]; with the time left.
+/// the better of [`phase_start`] and the best structured gait `floor` (the structured gait
+/// alone when the phase start fails for want of time); with the time left.
 fn start_gait(
     start: Option<&Start>,
     crawler: &Crawler,
     problem: &GaitProblem,
     plan: &Plan,
+    floor: Option<&StructuredSearch>,
     em: &Emitter<'_>,
 ) -> Result<(StartGait, Option<f64>)> {
     let began = Instant::now();
     let start = match start {
         Some(s) => start_of(s, crawler, problem)?,
-        None => phase_start(crawler, problem, &plan.growth, &mut |e| em.start_event(e))?,
+        None => {
+            match (
+                phase_start(crawler, problem, &plan.growth, &mut |e| em.start_event(e)),
+                floor,
+            ) {
+                (Ok(p), Some(f)) if f.objective > p.result.objective => {
+                    em.send(Event::Note(format!(
+                        "the local method starts from the best structured gait (J = {:.6}), \
+                         better than the phase start (J = {:.6})",
+                        f.objective, p.result.objective
+                    )));
+                    f.best.clone()
+                }
+                (Ok(p), _) => p,
+                (Err(Error::TimeLimit(e)), Some(f)) => {
+                    em.send(Event::Note(format!(
+                        "no phase start ({e}); the local method starts from the best \
+                         structured gait"
+                    )));
+                    f.best.clone()
+                }
+                (Err(e), _) => return Err(e),
+            }
+        }
     };
     Ok((start, time_left(plan.growth.time_limit, began, "")?))
 }

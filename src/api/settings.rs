@@ -37,6 +37,11 @@ pub enum GaitMethod {
     /// Local search over the slip-mode sequences of phase gaits (each optimal for its
     /// sequence; no global claim), from a phase gait or a start.
     Sequence,
+    /// Long chains: the best structured gait ([`crate::optimal::structured`]) improved by a
+    /// pattern search over per-link ramp gaits ([`crate::optimal::chain`]), every trial
+    /// simulated exactly; never below its start, no global claim. Runs without a time limit
+    /// until the smallest step gains nothing.
+    Chain,
 }
 
 impl GaitMethod {
@@ -48,6 +53,7 @@ impl GaitMethod {
             GaitMethod::Local => "local",
             GaitMethod::Phase => "phase",
             GaitMethod::Sequence => "sequence",
+            GaitMethod::Chain => "chain",
         }
     }
 
@@ -59,6 +65,7 @@ impl GaitMethod {
             Self::Local,
             Self::Phase,
             Self::Sequence,
+            Self::Chain,
         ]
         .into_iter()
         .find(|m| m.name() == name)
@@ -66,7 +73,7 @@ impl GaitMethod {
             Error::invalid(
                 "method",
                 name,
-                "must be one of auto, discrete, local, phase, sequence",
+                "must be one of auto, discrete, local, phase, sequence, chain",
             )
         })
     }
@@ -299,11 +306,20 @@ impl OptimizeSettings {
                 format!("applies to {} only", n.methods(&[Discrete])),
             ));
         }
+        if method == Chain && problem.max_total_variation.is_some() {
+            return Err(Error::invalid(
+                n.field("method"),
+                "chain",
+                "the chain method's gaits do not honour a bound on TV(u) (gait.max_total_variation): \
+                 use the discrete method",
+            ));
+        }
         let no_start = self.start.is_none();
         // K grows for a certified answer (phase), or for a default start gait.
         let grows = match method {
             Auto | Phase => self.phases.is_none(),
             Local | Sequence => no_start,
+            Chain => false,
             Discrete => {
                 no_start
                     && !self.convergence
@@ -412,6 +428,11 @@ impl OptimizeSettings {
                 given("convergence", convergence)
             }
             Sequence if self.m.is_some() || self.convergence => {
+                given("m", self.m.map(|m| m.to_string()))?;
+                given("convergence", convergence)
+            }
+            Chain => {
+                given("phases", self.phases.map(|k| k.to_string()))?;
                 given("m", self.m.map(|m| m.to_string()))?;
                 given("convergence", convergence)
             }

@@ -6,6 +6,7 @@
 //! global solver of the paper's discrete problems P_m ([`solve_discrete_global`], theory §6).
 
 mod active_set;
+pub mod chain;
 pub mod consistency;
 mod discrete;
 mod discrete_global;
@@ -21,6 +22,7 @@ mod problem;
 mod result;
 pub(crate) mod solver;
 mod start;
+pub mod structured;
 mod units;
 
 pub use discrete::{DiscreteSolution, MAX_M};
@@ -46,6 +48,6 @@ pub use phase::{
 pub use problem::{Cost, GaitProblem, MAX_COST_RATIO, MAX_RATIO, MAX_SWEEP};
 pub use result::{
     CrawlerParams, GaitData, GaitResult, LocalRecord, PhaseGrowthRecord, ResultCertificate,
-    StartRecord, RESULT_FORMAT, RESULT_VERSION,
+    StartRecord, StructuredPieces, StructuredRecord, RESULT_FORMAT, RESULT_VERSION,
 };
 pub use start::{discrete_start, phase_start, shifted_origin, StartEvent, StartGait};

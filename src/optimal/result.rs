@@ -181,6 +181,40 @@ pub struct GaitResult {
     /// ([`crate::optimal::polish`]).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub polish: Option<crate::optimal::polish::PolishRecord>,
+    /// The best structured gait ([`crate::optimal::structured`]) when it is the answer: the
+    /// method's own gait was below it (the floor of every answer), or it was the start of a
+    /// local method that did not improve on it.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub structured: Option<StructuredRecord>,
+}
+
+/// Why a structured gait is the answer ([`GaitResult::structured`]).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct StructuredRecord {
+    /// The gait, in words (e.g. `structured: alternating triangle wave (odd links against even
+    /// links)`).
+    pub origin: String,
+    /// What the method itself found and why it was not kept (e.g. `phase growth: J = 3.8889
+    /// (K = 2), below the structured gait`).
+    pub replaced: Option<String>,
+}
+
+/// A gait on the exact simulator's pieces (one control and one slip pattern per piece):
+/// the record of a structured gait ([`GaitResult::from_structured`]).
+#[derive(Debug, Clone, PartialEq)]
+pub struct StructuredPieces {
+    /// Piece durations, summing to `T`.
+    pub durations: Vec<f64>,
+    /// Controls `u` per piece.
+    pub controls: Vec<Vec<f64>>,
+    /// States at the piece ends (`P + 1` rows, last = first).
+    pub states: Vec<Vec<f64>>,
+    /// Block displacements per piece.
+    pub block_displacements: Vec<Vec<f64>>,
+    /// Slip modes per piece.
+    pub slip: Vec<Vec<i8>>,
+    /// The displacement per period on the orbit, from the simulator.
+    pub verified_displacement: f64,
 }
 
 /// The start gait of a P_m MILP
@@ -276,7 +310,59 @@ impl GaitResult {
             local: None,
             discrete_start: None,
             polish: None,
+            structured: None,
         }
+    }
+
+    /// The record of a structured gait ([`crate::optimal::structured`]) on the exact
+    /// simulator's pieces: a continuous-time gait of constant controls per piece, replayed
+    /// exactly like a phase gait (method `"phase"`), with no claim of optimality (certificate
+    /// `"local"` without bound or gap, status `"stalled"`: nothing improved on it) and its
+    /// origin in [`GaitResult::structured`].
+    pub fn from_structured(
+        crawler: &Crawler,
+        problem: &GaitProblem,
+        p: StructuredPieces,
+        origin: &str,
+    ) -> Self {
+        let (times, lengths) = knots(crawler, &p.durations, &p.controls);
+        let cost = actuation_cost(problem, &p.durations, &p.controls);
+        let gait = GaitData {
+            times,
+            durations: p.durations,
+            lengths,
+            controls: p.controls,
+            initial_state: p.states.first().cloned().unwrap_or_default(),
+            states: p.states,
+            block_displacements: p.block_displacements,
+            slip: p.slip,
+        };
+        let certificate = ResultCertificate {
+            kind: "local".into(),
+            gap: None,
+            bound: None,
+            phases: None,
+            upper_bound: None,
+        };
+        let mut r = GaitResult::record(
+            crawler,
+            problem,
+            "phase",
+            None,
+            MilpStatus::Stalled,
+            (
+                p.verified_displacement,
+                cost,
+                p.verified_displacement - cost,
+            ),
+            certificate,
+            gait,
+        );
+        r.structured = Some(StructuredRecord {
+            origin: origin.into(),
+            replaced: None,
+        });
+        r
     }
 
     /// The record of a phase-formulation answer.

@@ -234,6 +234,10 @@ fn page(
         ("local", Some(k), None) if result.status == MilpStatus::Stationary => format!(
             "locally optimal: no change of one slip mode in its sequence of {k} improves it"
         ),
+        ("local", _, _) if result.structured.is_some() => {
+            "a structured gait, or the chain method's improvement of one (no optimality claim)"
+                .into()
+        }
         ("local", _, _) => "the best gait the local method found before it stopped (no \
                             optimality claim)"
             .into(),

@@ -28,6 +28,10 @@ pub enum OptimizeMethod {
     /// for its sequence; no global claim), from a phase gait or --start: for crawlers or K
     /// where the MILP is too slow.
     Sequence,
+    /// Long chains: the best structured gait (travelling, alternating, grouped waves)
+    /// improved by a pattern search over per-link ramp gaits, simulated exactly (no global
+    /// claim; never below its start).
+    Chain,
 }
 
 #[derive(Args)]
@@ -107,6 +111,7 @@ impl From<OptimizeMethod> for GaitMethod {
             OptimizeMethod::Local => GaitMethod::Local,
             OptimizeMethod::Phase => GaitMethod::Phase,
             OptimizeMethod::Sequence => GaitMethod::Sequence,
+            OptimizeMethod::Chain => GaitMethod::Chain,
         }
     }
 }

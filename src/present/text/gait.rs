@@ -61,6 +61,12 @@ pub fn gait_result(r: &GaitResult) -> String {
         }
         _ => wln!(out, "certificate: {what}"),
     }
+    if let Some(st) = &r.structured {
+        wln!(out, "gait: {}", st.origin);
+        if let Some(why) = &st.replaced {
+            wln!(out, "kept instead of the method's answer: {why}");
+        }
+    }
     if let Some(ub) = &c.upper_bound {
         let within = format!("{:.1} %", 100.0 * ub.within(r.objective));
         wln!(

@@ -1,0 +1,142 @@
+//! Long chains (issue 27), benchmark rows: today's default method (the phase MILPs with K grown,
+//! `optimize` without options before the structured floor) and the chain method, side by side
+//! in one run, on uniform and heterogeneous chains.
+//!
+//! `cargo run --release --example bench_chains -- [LIMIT] [N,N,...]` (default 40 s, N = 10, 20,
+//! 50, 100) prints one Markdown table: per chain and method, the time to the first gait at least
+//! as good as the best structured gait, the time to the final gait, its J, the K among which it
+//! is certified and the bound of that class (the chain method certifies nothing).
+//!
+//! Chains: k = a = 1, T = 10, mu+ = 1, mu- = 1.3 (uniform), and per-link
+//! `k_l = 1 + 0.5 sin(1.7 l)`, per-block friction pairs cycling over `(1, 1.3)`,
+//! `(1 + 0.1 sqrt 2, 1.3 + 0.2 sqrt 2)`, `(1 - 0.1 sqrt 3, 1.3 - 0.05 sqrt 3)` (block `b` takes
+//! pair `b mod 3`; heterogeneous; `l`, `b` from 0), a = k, T = 10.
+
+use crawlopt::api::{optimize, Event, GaitMethod, Hooks, OptimizeSettings};
+use crawlopt::optimal::structured::{best_structured, StructuredOptions};
+use crawlopt::optimal::{grow_phases, Cost, GaitProblem, GrowOptions, MilpStatus};
+use crawlopt::Crawler;
+use std::time::Instant;
+
+/// The heterogeneous chain of `nb` blocks (module docs).
+pub fn heterogeneous(nb: usize) -> Crawler {
+    // Three friction pairs (the uniqueness condition is decided by enumerating the blocks'
+    // counts per distinct pair: few pairs keep it exact at N = 100).
+    let pairs = [
+        (1.0, 1.3),
+        (1.0 + 0.1 * 2f64.sqrt(), 1.3 + 0.2 * 2f64.sqrt()),
+        (1.0 - 0.1 * 3f64.sqrt(), 1.3 - 0.05 * 3f64.sqrt()),
+    ];
+    let k = (0..nb - 1)
+        .map(|l| 1.0 + 0.5 * (1.7 * l as f64).sin())
+        .collect();
+    let mp = (0..nb).map(|b| pairs[b % 3].0).collect();
+    let mm = (0..nb).map(|b| pairs[b % 3].1).collect();
+    Crawler::new(k, mp, mm).expect("a valid chain")
+}
+
+fn main() -> Result<(), Box<dyn std::error::Error>> {
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    let limit: f64 = args.first().map_or(Ok(40.0), |s| s.parse())?;
+    let ns: Vec<usize> = match args.get(1) {
+        Some(list) => list
+            .split(',')
+            .map(|s| s.trim().parse())
+            .collect::<Result<_, _>>()?,
+        None => vec![10, 20, 50, 100],
+    };
+    println!("time limit {limit} s per method and chain\n");
+    println!(
+        "| chain | N | best structured J (s) | method | time to >= structured (s) | \
+         time to final (s) | final J | certified K | bound |"
+    );
+    println!("|---|---|---|---|---|---|---|---|---|");
+    for kind in ["uniform", "heterogeneous"] {
+        for &nb in &ns {
+            let c = if kind == "uniform" {
+                Crawler::uniform(nb, 1.0, 1.0, 1.3)?
+            } else {
+                heterogeneous(nb)
+            };
+            let p = GaitProblem::new(&c, 10.0, &vec![1.0; nb - 1], Cost::None, None)?;
+            let s = best_structured(&c, &p, &StructuredOptions::default())?
+                .ok_or("no structured gait")?;
+            let js = s.objective;
+            let head = format!("| {kind} | {nb} | {js:.6} ({:.2})", s.seconds);
+
+            // Today's default: the phase MILPs with K grown (patience 2) under the limit.
+            let t0 = Instant::now();
+            let mut first: Option<f64> = None;
+            let g = grow_phases(
+                &c,
+                &p,
+                &GrowOptions {
+                    time_limit: Some(limit),
+                    ..GrowOptions::default()
+                },
+                &mut |st| {
+                    if first.is_none() && st.objective >= js - 1e-9 {
+                        first = Some(t0.elapsed().as_secs_f64());
+                    }
+                },
+            );
+            let wall = t0.elapsed().as_secs_f64();
+            match g {
+                Ok(g) => {
+                    let certified = g
+                        .table
+                        .iter()
+                        .filter(|r| r.status == MilpStatus::OptimalAmongKPhases)
+                        .map(|r| r.phases)
+                        .max();
+                    let bound = g.table.last().map(|r| (r.phases, r.bound));
+                    println!(
+                        "{head} | phase growth (today's default) | {} | {wall:.1} | {:.6} | {} | {} |",
+                        first.map_or("never".into(), |t| format!("{t:.1}")),
+                        g.best.objective(),
+                        certified.map_or("-".into(), |k| k.to_string()),
+                        bound.map_or("-".into(), |(k, b)| format!("{b:.3} (K <= {k})")),
+                    );
+                }
+                Err(e) => println!(
+                    "{head} | phase growth (today's default) | never | {wall:.1} | error: {e} | - | - |"
+                ),
+            }
+
+            // The chain method.
+            let t0 = Instant::now();
+            let mut first: Option<f64> = None;
+            let mut on = |e: &Event, t: f64| {
+                if let Event::Stage(s) = e {
+                    if first.is_none() && s.starts_with("best structured gait") {
+                        first = Some(t);
+                    }
+                }
+            };
+            let r = optimize(
+                &c,
+                &p,
+                &OptimizeSettings {
+                    method: GaitMethod::Chain,
+                    time_limit: Some(limit),
+                    ..Default::default()
+                },
+                Hooks {
+                    events: Some(&mut on),
+                    cancel: None,
+                },
+            );
+            let wall = t0.elapsed().as_secs_f64();
+            match r {
+                Ok(r) => println!(
+                    "{head} | chain | {} | {wall:.1} | {:.6} ({}) | - | - |",
+                    first.map_or("never".into(), |t| format!("{t:.2}")),
+                    r.result.objective,
+                    r.result.status.as_str()
+                ),
+                Err(e) => println!("{head} | chain | - | {wall:.1} | error: {e} | - | - |"),
+            }
+        }
+    }
+    Ok(())
+}
