@@ -185,6 +185,11 @@ def test_a_simulation_that_does_not_converge_cannot_be_missed():
         warnings.simplefilter("error")
         ok = co.simulate(c, a)
     assert ok.status == "converged" and "status='converged'" in repr(ok)
+    g = co.load("examples/general_drift.toml")
+    with pytest.warns(co.NotConvergedWarning, match="not reached within 1 periods"):
+        gs = g.simulate(max_periods=1, method="catching_up")
+    assert gs.status == "not_converged" and gs.objective is None
+    assert "not_converged" in repr(gs) and "not reached" in repr(gs)
 
 
 def _one_link_arrays(**change):
