@@ -34,6 +34,11 @@ impl GeneralProblem {
         Ok(GeneralProblem { inner })
     }
 
+    /// The file's sections as a dict (the keys of the file).
+    fn sections<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        Ok(pythonize::pythonize(py, &self.inner)?)
+    }
+
     /// The problem file as TOML text (`crawlopt.load` and the command line read it back).
     fn to_toml(&self, py: Python<'_>) -> PyResult<String> {
         self.inner.to_toml().map_err(|e| to_py(py, e))
