@@ -27,7 +27,7 @@ impl GeneralProblem {
         let inner: GeneralFile = pythonize::depythonize(sections).map_err(|e| {
             to_py(
                 py,
-                crawlopt::Error::invalid("problem", "the arrays given", e.to_string()),
+                crawlopt::Error::invalid("sections", "the arrays given", e.to_string()),
             )
         })?;
         inner.problem().map_err(|e| to_py(py, e))?;
