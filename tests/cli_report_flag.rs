@@ -32,6 +32,7 @@ fn optimize_writes_the_report_of_its_gait() {
         "no certificate section"
     );
     assert!(page.contains("<b id=\"verdict\">degenerate</b>"));
+    assert!(page.contains("<span>necessary conditions</span><b>degenerate</b>"));
     assert!(stdout.contains(
         "necessary conditions (Theorem 2.2; discrete form Theorems 6.1-6.2): degenerate"
     ));

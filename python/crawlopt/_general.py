@@ -31,8 +31,9 @@ class GeneralProblem:
     ``normals`` (x*_j, one row per face), ``offsets`` (c_j), ``B``, ``A`` (default 0), ``b``
     (default 0); the control set as a box ``lower``/``upper`` or a polytope ``G`` u <= ``h``,
     ``zero_mean`` (default: the problem is periodic); f1 as ``face_weights`` or
-    ``reaction_weights``; ``cost`` None, a number c ((c/2)|u|^2, or ``Quadratic(c)``) or a
-    matrix R ((1/2) u^T R u); ``period`` T, ``periodic`` (default True) or ``initial_state``;
+    ``reaction_weights``; ``cost`` None, a number c ((c/2)|u|^2, or ``Quadratic(c)``), a
+    matrix R ((1/2) u^T R u) or the file's form (a dict with ``kind``); ``period`` T,
+    ``periodic`` (default True) or ``initial_state``;
     ``input`` the control ``simulate`` plays, a dict like the file's ``[input]`` (``kind``
     "piecewise_constant" or "piecewise_linear", ``times``, ``values``).
 
@@ -95,7 +96,9 @@ class GeneralProblem:
         put(obj, "face_weights", a["face_weights"], "objective.face_weights", 1)
         put(obj, "reaction_weights", a["reaction_weights"], "objective.reaction_weights", 1)
         cost = a["cost"]
-        if hasattr(cost, "weight"):  # Quadratic(c)
+        if isinstance(cost, dict):  # the file's form: {"kind": ..., "weight" or "matrix": ...}
+            obj["cost"] = dict(cost)
+        elif hasattr(cost, "weight"):  # Quadratic(c)
             obj["cost"] = {"kind": "quadratic", "weight": cost.weight}
         elif cost is not None and np.ndim(cost) == 0:
             obj["cost"] = {"kind": "quadratic", "weight": float(cost)}
@@ -145,8 +148,18 @@ class GeneralProblem:
 
     __hash__ = None  # type: ignore[assignment]
 
+    def to_dict(self) -> dict:
+        """The problem's sections as a dict with the file's keys (``sweeping_process``,
+        ``dynamics``, ``control``, ``objective``, ``problem``, ``input``)."""
+        return self._inner.sections()
+
     def __repr__(self) -> str:
-        return "GeneralProblem(...)"
+        d = self._inner.sections()
+        normals, B = d["sweeping_process"]["normals"], d["dynamics"]["B"]
+        return (
+            f"GeneralProblem(faces={len(normals)}, states={len(B)}, "
+            f"controls={len(B[0]) if B else 0}, period={d['problem']['period']:g})"
+        )
 
     def analyze(self) -> dict:
         """C's faces, redundant faces, vertices and Chebyshev centre, and the checks;

@@ -27,11 +27,16 @@ impl GeneralProblem {
         let inner: GeneralFile = pythonize::depythonize(sections).map_err(|e| {
             to_py(
                 py,
-                crawlopt::Error::invalid("problem", "the arrays given", e.to_string()),
+                crawlopt::Error::invalid("sections", "the arrays given", e.to_string()),
             )
         })?;
         inner.problem().map_err(|e| to_py(py, e))?;
         Ok(GeneralProblem { inner })
+    }
+
+    /// The file's sections as a dict (the keys of the file).
+    fn sections<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        Ok(pythonize::pythonize(py, &self.inner)?)
     }
 
     /// The problem file as TOML text (`crawlopt.load` and the command line read it back).

@@ -185,6 +185,11 @@ def test_a_simulation_that_does_not_converge_cannot_be_missed():
         warnings.simplefilter("error")
         ok = co.simulate(c, a)
     assert ok.status == "converged" and "status='converged'" in repr(ok)
+    g = co.load("examples/general_drift.toml")
+    with pytest.warns(co.NotConvergedWarning, match="not reached within 1 periods"):
+        gs = g.simulate(max_periods=1, method="catching_up")
+    assert gs.status == "not_converged" and gs.objective is None
+    assert "not_converged" in repr(gs) and "not reached" in repr(gs)
 
 
 def _one_link_arrays(**change):
@@ -204,9 +209,22 @@ def _one_link_arrays(**change):
     return co.GeneralProblem(**kw)
 
 
+def _keywords(sections: dict) -> dict:
+    """A problem's sections as the constructor's keywords (the file's keys)."""
+    kw = {}
+    for name in ("sweeping_process", "dynamics", "control", "objective", "problem"):
+        kw.update(sections.get(name, {}))
+    if "input" in sections:
+        kw["input"] = sections["input"]
+    return kw
+
+
 def test_a_general_problem_from_arrays(tmp_path, cli):
     g = _one_link_arrays()
     assert g == co.load("examples/general_one_link.toml")
+    assert repr(g) == "GeneralProblem(faces=2, states=1, controls=1, period=10)"
+    assert g.to_dict()["objective"] == {"face_weights": [0.5, 0.5]}
+    assert co.GeneralProblem(**_keywords(g.to_dict())) == g
     path = tmp_path / "general.toml"
     g.save(str(path))
     assert co.load(str(path)) == g
@@ -221,6 +239,8 @@ def test_a_general_problem_from_arrays(tmp_path, cli):
     assert r.objective < 3.0
     assert _one_link_arrays(cost=co.Quadratic(0.1)) == _one_link_arrays(cost=0.1)
     assert _one_link_arrays(cost=[[0.1]]) != _one_link_arrays(cost=0.1)
+    priced = _one_link_arrays(cost=[[0.1]])
+    assert co.GeneralProblem(**_keywords(priced.to_dict())) == priced
     # Validation is the library's, naming the file's field.
     for change, field in [
         (dict(B=[[1.0, 2.0]]), "control.lower"),

@@ -298,6 +298,14 @@ fn page(
             100.0 * ub.within(result.objective)
         ));
     }
+    if let Some(nc) = ctx.certificate {
+        let verdict = serde_json::to_string(&nc.verdict).unwrap_or_default();
+        h.push_str(&format!(
+            "<div><span>necessary conditions</span><b>{}</b><span>Theorem 2.2: \
+             <a href=\"#certificate\">the conditions and their residuals</a></span></div>\n",
+            esc(verdict.trim_matches('"'))
+        ));
+    }
     h.push_str("</div>\n");
 
     // Animation.
