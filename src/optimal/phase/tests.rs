@@ -208,3 +208,19 @@ fn a_start_no_milp_has_certified_keeps_the_work_bound_and_says_time_limit() {
     );
     assert_eq!(s.durations, g.durations);
 }
+
+#[test]
+fn the_dissipation_row_is_on_by_default_from_ten_blocks() {
+    let chain = |nb: usize| Crawler::uniform(nb, 1.0, 1.0, 1.3).unwrap();
+    let f = Formulation::default();
+    assert!(!f.dissipation_row_for(&chain(DISSIPATION_ROW_BLOCKS - 1)));
+    assert!(f.dissipation_row_for(&chain(DISSIPATION_ROW_BLOCKS)));
+    let off = Formulation {
+        dissipation_row: Some(false),
+    };
+    assert!(!off.dissipation_row_for(&chain(20)));
+    let on = Formulation {
+        dissipation_row: Some(true),
+    };
+    assert!(on.dissipation_row_for(&chain(3)));
+}
