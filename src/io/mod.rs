@@ -42,11 +42,11 @@ pub use config::{
 };
 pub use csv_io::{read_actuation_csv, remove_staged_files, write_trajectory_csv, AtomicFile};
 pub use general::{write_general_csv, GeneralFile};
-pub use model_toml::{crawler_toml, read_fit_csv, write_text, MAX_FIT_CSV_BYTES};
 pub use general_results::{
     Check, CheckStatus, GeneralAnalysis, GeneralLocalOptimized, GeneralOptimized,
     GeneralPhaseOptimized, GeneralSimulated,
 };
+pub use model_toml::{crawler_toml, read_fit_csv, write_text, MAX_FIT_CSV_BYTES};
 
 use crate::error::{Error, Result};
 

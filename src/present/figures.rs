@@ -16,11 +16,11 @@
 
 mod actuation;
 mod adjoint;
+pub mod fit;
 mod jm;
 mod kit;
 mod polytope;
 mod spacetime;
-pub mod fit;
 pub mod sweep;
 mod vm;
 

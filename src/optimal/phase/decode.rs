@@ -1,7 +1,6 @@
 //! A gait read off the phase MILP's columns, and a known gait written back into them (a start).
 
 use super::layout::Layout;
-use super::sequence::slip_sequence;
 use super::PhaseSolution;
 use crate::error::{Error, Result};
 use crate::integrate::Method;
@@ -385,4 +384,22 @@ pub fn phase_gait_of(
         modes: merged.modes,
         rounds: 0,
     })
+}
+
+/// The slip phases of a gait, in order: the modes of its phases where some block slips, a run
+/// of consecutive phases of one mode merged (it is one slip phase), cyclically.
+pub fn slip_sequence(modes: &[Vec<i8>]) -> Vec<Vec<i8>> {
+    let mut runs: Vec<&Vec<i8>> = Vec::new();
+    for m in modes {
+        if runs.last() != Some(&m) {
+            runs.push(m);
+        }
+    }
+    if runs.len() > 1 && runs.first() == runs.last() {
+        runs.pop();
+    }
+    runs.into_iter()
+        .filter(|m| m.iter().any(|&s| s != 0))
+        .cloned()
+        .collect()
 }

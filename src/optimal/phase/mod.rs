@@ -88,9 +88,9 @@ mod solve;
 #[cfg(test)]
 mod tests;
 
-pub use decode::phase_gait_of;
+pub use decode::{phase_gait_of, slip_sequence};
 pub use growth::{grow_phases, GrowOptions, GrowthStop, PhaseGrowth, PhaseStep};
-pub use sequence::{search_sequences, slip_mode_is_valid, slip_sequence, SequenceSearch};
+pub use sequence::{search_sequences, slip_mode_is_valid, SequenceSearch};
 pub use solve::{solve_phase_from, solve_phase_global, solve_phase_with};
 
 /// Largest `K` (slip phases) accepted.

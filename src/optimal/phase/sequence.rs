@@ -69,24 +69,6 @@ pub(super) fn neighbours(crawler: &Crawler, mode: &[i8]) -> Vec<Vec<i8>> {
     out
 }
 
-/// The slip phases of a gait, in order: the modes of its phases where some block slips, a run
-/// of consecutive phases of one mode merged (it is one slip phase), cyclically.
-pub fn slip_sequence(modes: &[Vec<i8>]) -> Vec<Vec<i8>> {
-    let mut runs: Vec<&Vec<i8>> = Vec::new();
-    for m in modes {
-        if runs.last() != Some(&m) {
-            runs.push(m);
-        }
-    }
-    if runs.len() > 1 && runs.first() == runs.last() {
-        runs.pop();
-    }
-    runs.into_iter()
-        .filter(|m| m.iter().any(|&s| s != 0))
-        .cloned()
-        .collect()
-}
-
 /// The result of [`search_sequences`].
 #[derive(Debug, Clone, PartialEq)]
 pub struct SequenceSearch {
@@ -115,7 +97,7 @@ pub struct SequenceSearch {
 /// mode of one step by a valid mode differing in one or two blocks ([`slip_mode_is_valid`]);
 /// the first improving move is taken, scanning the steps cyclically, until a whole cycle brings
 /// none (a local optimum for these moves) or the time limit. The start sequence is
-/// `start_modes` (e.g. the [`slip_sequence`] of a gait), each mode repeated in turn until there
+/// `start_modes` (e.g. the [`slip_sequence`](super::slip_sequence) of a gait), each mode repeated in turn until there
 /// are `phases` steps: a repeated mode is a slip phase that may stay empty, so the start's
 /// value is kept. An empty start (an idle gait) is seeded with each block slipping forward in
 /// turn, from the front (where that is a face of C; else one block slipping).
