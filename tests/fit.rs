@@ -513,3 +513,29 @@ fn estimate_error_and_cost() {
         );
     }
 }
+
+#[test]
+fn still_data_give_no_crawler_and_say_why() {
+    let data = FitData::new(
+        2,
+        (0..6).map(f64::from).collect(),
+        vec![vec![1.0]; 6],
+        vec![vec![0.0, 1.0]; 6],
+    )
+    .unwrap();
+    let r = fit(&data, &FitSettings::default()).unwrap();
+    assert!(r.fitted.is_none() && r.model.is_none() && r.prediction.is_none());
+    assert!(r.crawler.mu_forward.iter().all(Option::is_none));
+    assert!(
+        r.warnings
+            .iter()
+            .any(|w| w.contains("mu_forward[1]: the data do not bound it")),
+        "{:?}",
+        r.warnings
+    );
+    assert!(
+        r.warnings.iter().any(|w| w.contains("no fitted crawler")),
+        "{:?}",
+        r.warnings
+    );
+}

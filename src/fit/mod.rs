@@ -160,18 +160,26 @@ pub fn fit(data: &FitData, settings: &FitSettings) -> Result<FitResult> {
             None => {
                 let lo = ranges.as_ref().and_then(|r| r[j][0]).unwrap_or(p_hat[j]);
                 let v = settings.unbounded_factor * lo;
-                warnings.push(format!(
-                    "{}: the data bound it only from below (>= {}){}; no estimate, the model \
-                     file takes {}",
-                    names[j],
-                    short(lo),
-                    match names[j].kind {
-                        ParamKind::MuForward => ": the block is never seen sliding forward",
-                        ParamKind::MuBackward => ": the block is never seen sliding backward",
-                        ParamKind::Stiffness => "",
-                    },
-                    short(v)
-                ));
+                let why = match names[j].kind {
+                    ParamKind::MuForward => ": the block is never seen sliding forward",
+                    ParamKind::MuBackward => ": the block is never seen sliding backward",
+                    ParamKind::Stiffness => "",
+                };
+                warnings.push(if v > 0.0 {
+                    format!(
+                        "{}: the data bound it only from below (>= {}){why}; no estimate, the \
+                         model file takes {}",
+                        names[j],
+                        short(lo),
+                        short(v)
+                    )
+                } else {
+                    format!(
+                        "{}: the data do not bound it{why}; no estimate and no value for a \
+                         model file",
+                        names[j]
+                    )
+                });
                 v
             }
         };
@@ -184,8 +192,12 @@ pub fn fit(data: &FitData, settings: &FitSettings) -> Result<FitResult> {
         model_params.mu_backward.clone(),
     ) {
         Ok(c) => Some(c),
-        Err(e) => {
+        Err(e) if model.iter().all(|v| *v > 0.0) => {
             warnings.push(format!("no fitted crawler: {e}"));
+            None
+        }
+        Err(_) => {
+            warnings.push("no fitted crawler: the data leave a parameter without a value".into());
             None
         }
     };
