@@ -316,7 +316,7 @@ pub struct FitResult {
     pub prediction: Option<Prediction>,
     /// Everything a reader must know: contradictions, outliers, unbounded parameters.
     pub warnings: Vec<String>,
-    /// Samples and blocks.
+    /// Number of samples.
     pub samples: usize,
     /// Number of blocks.
     pub blocks: usize,
