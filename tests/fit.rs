@@ -450,3 +450,92 @@ fn the_command_writes_a_model_file_and_the_json_of_the_issue() {
     assert_eq!(out.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&out.stderr).contains("column L_3"));
 }
+
+#[test]
+fn a_cancelled_fit_stops_with_cancelled() {
+    use crawlopt::api::{self, Event, Hooks};
+    let c = Crawler::new(vec![2.0, 0.5], vec![1.0, 1.5, 0.8], vec![2.0, 2.5, 1.7]).unwrap();
+    let data = film(&c, &wave_gait(2, 3.0), 40, 1, 0.0);
+    let cancel = crawlopt::progress::Cancel::new();
+    cancel.cancel();
+    let r = api::fit(
+        &data,
+        &fixed_k1(&c),
+        Hooks {
+            events: None,
+            cancel: Some(&cancel),
+        },
+    );
+    assert_eq!(r.unwrap_err(), crawlopt::Error::Cancelled);
+    // Not cancelled: the stage and the warnings arrive as events.
+    let mut seen = Vec::new();
+    let mut obs = |e: &Event, _: f64| seen.push(e.clone());
+    let r = api::fit(
+        &data,
+        &fixed_k1(&c),
+        Hooks {
+            events: Some(&mut obs),
+            cancel: None,
+        },
+    )
+    .unwrap();
+    assert!(matches!(&seen[0], Event::Stage(s) if s.contains("fitting 3 blocks")));
+    assert_eq!(seen.len(), 1 + r.warnings.len());
+}
+
+/// The estimate's error and the cost on a 10-block chain (docs/guide/fit.md, "Limits"):
+/// `cargo test --release --test fit -- --ignored --nocapture estimate_error_and_cost`.
+#[test]
+#[ignore = "a measurement for the documentation (about 15 s)"]
+fn estimate_error_and_cost() {
+    let nb = 10;
+    let c = Crawler::new(
+        (1..nb).map(|i| 0.5 + 0.1 * i as f64).collect(),
+        (0..nb).map(|i| 0.6 + 0.07 * i as f64).collect(),
+        (0..nb).map(|i| 1.3 - 0.05 * i as f64).collect(),
+    )
+    .unwrap();
+    let amp = 2.0 * c.force_scale() * nb as f64 / 0.5;
+    for (periods, noise) in [(4, 1e-4), (4, 1e-3), (10, 1e-3)] {
+        let data = film(&c, &gait(nb - 1, amp, 0.1), 100, periods, noise * amp);
+        let began = std::time::Instant::now();
+        let r = fit(&data, &fixed_k1(&c)).unwrap();
+        let seconds = began.elapsed().as_secs_f64();
+        assert_truth_inside(&r, &truth(&c));
+        let err = flat(&r.crawler)
+            .iter()
+            .zip(flat(&truth(&c)))
+            .filter_map(|(e, v)| e.map(|e| (e - v).abs() / v))
+            .fold(0.0_f64, f64::max);
+        println!(
+            "{} samples, noise {noise} of the stroke: largest relative error {err:.4}, {seconds:.1} s",
+            data.samples()
+        );
+    }
+}
+
+#[test]
+fn still_data_give_no_crawler_and_say_why() {
+    let data = FitData::new(
+        2,
+        (0..6).map(f64::from).collect(),
+        vec![vec![1.0]; 6],
+        vec![vec![0.0, 1.0]; 6],
+    )
+    .unwrap();
+    let r = fit(&data, &FitSettings::default()).unwrap();
+    assert!(r.fitted.is_none() && r.model.is_none() && r.prediction.is_none());
+    assert!(r.crawler.mu_forward.iter().all(Option::is_none));
+    assert!(
+        r.warnings
+            .iter()
+            .any(|w| w.contains("mu_forward[1]: the data do not bound it")),
+        "{:?}",
+        r.warnings
+    );
+    assert!(
+        r.warnings.iter().any(|w| w.contains("no fitted crawler")),
+        "{:?}",
+        r.warnings
+    );
+}

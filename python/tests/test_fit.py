@@ -77,3 +77,18 @@ def test_bad_inputs_name_the_field():
         co.fit(t, L, X[:, 0], blocks=2)
     with pytest.raises(co.InputError):
         co.fit(t, L, X, blocks=1)
+
+
+def test_noisy_data_lie_inside_the_intervals_and_the_fitted_model_runs():
+    c = co.Crawler(3, [2.0, 0.5], [1.0, 1.5, 0.8], [2.0, 2.5, 1.7])
+    act = _gait()
+    t, L, X = _record(c, act, periods=3, frames=40)
+    rng = np.random.default_rng(29)
+    r = co.fit(t, L, X + 1e-3 * rng.standard_normal(X.shape), blocks=3, fix={"stiffness[1]": 2.0})
+    assert r.noise["estimated"] and r.noise["sigma"] > 0
+    truth = {"stiffness": [2.0, 0.5], "mu_forward": [1.0, 1.5, 0.8], "mu_backward": [2.0, 2.5, 1.7]}
+    for name, values in truth.items():
+        for (lo, hi), v in zip(r.intervals[name], values):
+            assert lo <= v and (hi is None or v <= hi), (name, lo, hi, v)
+    s = co.simulate(r.fitted, act)
+    assert s.converged

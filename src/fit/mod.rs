@@ -12,9 +12,10 @@
 //! reports ratios to `stiffness[1]`.
 //!
 //! The method (docs/guide/fit.md):
-//! 1. the noise `sigma` on positions is given or estimated ([`slip::estimate_noise`]); the
+//! 1. the noise `sigma` on positions is given or estimated ([`estimate_noise`]); the
 //!    bound `e = noise_bound * sigma` on every position error is assumed;
-//! 2. slips are detected against a threshold of `2 e` per interval ([`slip::detect`]);
+//! 2. slips are detected against a threshold of `2 e` per interval (a sample is sliding when it
+//!    moves the same way over both intervals around it);
 //! 3. the estimate minimises the absolute deviations from the flow rule (an LP, robust to
 //!    outliers), and samples whose residual exceeds the bound are outliers;
 //! 4. each parameter's interval is its exact minimum and maximum over the polyhedron of
@@ -105,28 +106,40 @@ pub fn fit(data: &FitData, settings: &FitSettings) -> Result<FitResult> {
         .iter()
         .map(|r| r.iter().fold(0.0_f64, |a, &v| a.max(v)))
         .collect();
+    // Every sample first; only when no parameter vector is consistent with all of them are
+    // the samples whose LAD residual exceeds the bound left out (at most a fraction), and the
+    // intervals computed again.
     let limit = delta * (1.0 + 1e-9);
-    let bad: Vec<usize> = (0..m).filter(|&i| row_res[i] > limit).collect();
     let mut keep = vec![true; m];
     let mut outlier_rows = Vec::new();
-    let contradiction_by_outliers = bad.len() as f64 > settings.max_outlier_fraction * m as f64;
-    if !bad.is_empty() && !contradiction_by_outliers {
+    let mut rows = lp::consistency_rows(data, &slips.sliding, &keep, delta);
+    let mut unbounded = lp::unbounded_above(np, &rows, &fixed)?;
+    let mut ranges = lp::ranges(np, &rows, &fixed, &unbounded)?;
+    let bad: Vec<usize> = (0..m).filter(|&i| row_res[i] > limit).collect();
+    if ranges.is_none()
+        && !bad.is_empty()
+        && bad.len() as f64 <= settings.max_outlier_fraction * m as f64
+    {
         for &i in &bad {
             keep[i] = false;
         }
-        outlier_rows = bad.iter().map(|i| i + 1).collect();
-        warnings.push(format!(
-            "{} sample(s) left out of the intervals as outliers (residual beyond the noise \
-             bound {}): rows {}",
-            bad.len(),
-            short(bound),
-            rows_text(&outlier_rows)
-        ));
+        rows = lp::consistency_rows(data, &slips.sliding, &keep, delta);
+        unbounded = lp::unbounded_above(np, &rows, &fixed)?;
+        ranges = lp::ranges(np, &rows, &fixed, &unbounded)?;
+        if ranges.is_some() {
+            outlier_rows = bad.iter().map(|i| i + 1).collect();
+            warnings.push(format!(
+                "{} sample(s) left out of the intervals as outliers (no parameters are \
+                 consistent with them within the noise bound {}): rows {}",
+                bad.len(),
+                short(bound),
+                rows_text(&outlier_rows)
+            ));
+        } else {
+            keep = vec![true; m];
+        }
     }
-    let rows = lp::consistency_rows(data, &slips.sliding, &keep, delta);
-    let unbounded = lp::unbounded_above(np, &rows, &fixed)?;
-    let ranges = lp::ranges(np, &rows, &fixed, &unbounded)?;
-    if ranges.is_none() || contradiction_by_outliers {
+    if ranges.is_none() {
         warnings.push(contradiction(
             data,
             &slips.sliding,
@@ -147,18 +160,26 @@ pub fn fit(data: &FitData, settings: &FitSettings) -> Result<FitResult> {
             None => {
                 let lo = ranges.as_ref().and_then(|r| r[j][0]).unwrap_or(p_hat[j]);
                 let v = settings.unbounded_factor * lo;
-                warnings.push(format!(
-                    "{}: the data bound it only from below (>= {}){}; no estimate, the model \
-                     file takes {}",
-                    names[j],
-                    short(lo),
-                    match names[j].kind {
-                        ParamKind::MuForward => ": the block is never seen sliding forward",
-                        ParamKind::MuBackward => ": the block is never seen sliding backward",
-                        ParamKind::Stiffness => "",
-                    },
-                    short(v)
-                ));
+                let why = match names[j].kind {
+                    ParamKind::MuForward => ": the block is never seen sliding forward",
+                    ParamKind::MuBackward => ": the block is never seen sliding backward",
+                    ParamKind::Stiffness => "",
+                };
+                warnings.push(if v > 0.0 {
+                    format!(
+                        "{}: the data bound it only from below (>= {}){why}; no estimate, the \
+                         model file takes {}",
+                        names[j],
+                        short(lo),
+                        short(v)
+                    )
+                } else {
+                    format!(
+                        "{}: the data do not bound it{why}; no estimate and no value for a \
+                         model file",
+                        names[j]
+                    )
+                });
                 v
             }
         };
@@ -171,8 +192,12 @@ pub fn fit(data: &FitData, settings: &FitSettings) -> Result<FitResult> {
         model_params.mu_backward.clone(),
     ) {
         Ok(c) => Some(c),
-        Err(e) => {
+        Err(e) if model.iter().all(|v| *v > 0.0) => {
             warnings.push(format!("no fitted crawler: {e}"));
+            None
+        }
+        Err(_) => {
+            warnings.push("no fitted crawler: the data leave a parameter without a value".into());
             None
         }
     };
@@ -306,7 +331,7 @@ fn contradiction(data: &FitData, sliding: &[Vec<i8>], p: &[f64], delta: f64, bad
         }
     }
     let head = format!(
-        "the data contradict the model at the noise bound ({bad} sample(s) beyond it): no \
+        "the data contradict the model at the noise bound ({bad} sample(s) with a least-absolute-deviations residual beyond it): no \
          parameters are consistent with every sample, so there are no intervals"
     );
     if parts.is_empty() {

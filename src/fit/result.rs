@@ -96,9 +96,11 @@ pub struct FitSettings {
     /// The intervals assume every position error is at most `noise_bound * sigma` (default 5:
     /// for Gaussian noise each value exceeds it with probability 5.7e-7).
     pub noise_bound: f64,
-    /// Samples whose least-absolute-deviations residual exceeds the noise bound are outliers
-    /// and left out of the intervals, up to this fraction of the samples (default 0.02); more
-    /// such samples mean the data contradict the model (a warning), and none is left out.
+    /// When no parameter vector is consistent with every sample, the samples whose
+    /// least-absolute-deviations residual exceeds the noise bound are outliers and left out of
+    /// the intervals, up to this fraction of the samples (default 0.02); more such samples, or
+    /// none consistent without them, mean the data contradict the model (a warning, no
+    /// intervals), and none is left out.
     pub max_outlier_fraction: f64,
     /// A parameter the data bound only from below (a threshold never seen sliding that way) has
     /// no estimate; the model file takes this factor times its lower bound (default 2), with a
@@ -314,7 +316,7 @@ pub struct FitResult {
     pub prediction: Option<Prediction>,
     /// Everything a reader must know: contradictions, outliers, unbounded parameters.
     pub warnings: Vec<String>,
-    /// Samples and blocks.
+    /// Number of samples.
     pub samples: usize,
     /// Number of blocks.
     pub blocks: usize,

@@ -86,7 +86,8 @@ pub fn run(a: FitArgs) -> Result<ExitCode, Error> {
     if let Some(dir) = &a.plot {
         present::check_figure_dir(dir)?;
     }
-    let data = read_fit_csv(&a.data, a.blocks)?;
+    let data = read_fit_csv(&a.data, a.blocks)
+        .map_err(|e| api::rename_fields(e, &[("blocks", "--blocks".into())]))?;
     let r = api::fit(&data, &settings, Hooks::default())?;
     let figs = match &a.plot {
         Some(_) => Some(present::figures::fit::fit_figures(&data, &r)?),
