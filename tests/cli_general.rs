@@ -238,6 +238,8 @@ fn optimize_solves_p_m_of_a_general_file() {
             "error: --max-phases",
         ),
         (&["--plot", "figures"][..], "error: --plot"),
+        // The crawler's upper bound: refused (it used to be dropped unsaid).
+        (&["--bound"][..], "error: --bound"),
         (&["--m", "11"][..], "error: --m"),
         (&["--m", "0"][..], "error: --m: must be at least 1"),
     ] {

@@ -5,7 +5,7 @@
 
 use crate::errors::to_py;
 use crate::run::run;
-use crawlopt::api::{self, GeneralLocalSettings, GeneralPhaseSettings, GeneralPmSettings};
+use crawlopt::api::{self, GaitMethod, Naming, OptimizeSettings};
 use crawlopt::integrate::{GeneralMethod, GeneralSimOptions};
 use crawlopt::io::GeneralFile;
 use pyo3::prelude::*;
@@ -134,90 +134,26 @@ impl GeneralProblem {
         polish: Option<bool>,
     ) -> PyResult<Bound<'py, PyAny>> {
         let f = self.inner.clone();
-        if polish.is_some() && !matches!(method, "discrete" | "auto") {
-            let e = crawlopt::Error::invalid(
-                "polish",
-                "given",
-                "applies to method=\"discrete\" only (the global P_m optimum)",
-            );
-            return Err(to_py(py, e));
-        }
-        if max_phases.is_some() && method != "phase" {
-            let e =
-                crawlopt::Error::invalid("max_phases", "given", "applies to method=\"phase\" only");
-            return Err(to_py(py, e));
-        }
-        match method {
-            "discrete" | "auto" => {
-                if shifts.is_some() {
-                    let e = crawlopt::Error::invalid(
-                        "shifts",
-                        "given",
-                        "applies to method=\"local\" only",
-                    );
-                    return Err(to_py(py, e));
-                }
-                let s = GeneralPmSettings {
-                    m: m.unwrap_or(GeneralPmSettings::default().m),
-                    time_limit,
-                    certify,
-                    polish: polish.unwrap_or(GeneralPmSettings::default().polish),
-                };
-                let r = run(py, progress, |hooks| {
-                    api::optimize_general_with_hooks(&f, &s, hooks)
-                })?;
-                Ok(pythonize::pythonize(py, &r)?)
-            }
-            "local" => {
-                if certify {
-                    let e = crawlopt::Error::invalid(
-                        "certify",
-                        true,
-                        "applies to method=\"discrete\" only (the global P_m optimum)",
-                    );
-                    return Err(to_py(py, e));
-                }
-                let d = GeneralLocalSettings::default();
-                let s = GeneralLocalSettings {
-                    m: m.unwrap_or(d.m),
-                    shifts: shifts.unwrap_or(d.shifts),
-                    time_limit,
-                };
-                let r = run(py, progress, |hooks| {
-                    api::optimize_general_local(&f, &s, hooks)
-                })?;
-                Ok(pythonize::pythonize(py, &r)?)
-            }
-            "phase" => {
-                let given = [
-                    ("m", m.is_some()),
-                    ("shifts", shifts.is_some()),
-                    ("certify", certify),
-                ];
-                if let Some((field, _)) = given.iter().find(|(_, g)| *g) {
-                    let e = crawlopt::Error::invalid(
-                        *field,
-                        "given",
-                        "does not apply to method=\"phase\" (max_phases, time_limit)",
-                    );
-                    return Err(to_py(py, e));
-                }
-                let s = GeneralPhaseSettings {
-                    max_phases: max_phases.unwrap_or(GeneralPhaseSettings::default().max_phases),
-                    time_limit,
-                };
-                let r = run(py, progress, |_| api::optimize_general_phase(&f, &s))?;
-                Ok(pythonize::pythonize(py, &r)?)
-            }
-            other => {
-                let e = crawlopt::Error::invalid(
-                    "method",
-                    other,
-                    "must be \"discrete\", \"local\" or \"phase\" for a general problem",
-                );
-                Err(to_py(py, e))
-            }
-        }
+        // The library decides what applies to a general problem, with its defaults.
+        let settings = GaitMethod::from_name(method).and_then(|method| {
+            let s = OptimizeSettings {
+                method,
+                m,
+                shifts,
+                time_limit,
+                certify,
+                polish,
+                max_phases,
+                naming: Naming::Keywords,
+                ..OptimizeSettings::default()
+            };
+            s.plan_general(&[]).map(|plan| (s, plan))
+        });
+        let (settings, plan) = settings.map_err(|e| to_py(py, e))?;
+        let r = run(py, progress, |hooks| {
+            api::optimize_general_plan(&f, &plan, settings.naming, hooks)
+        })?;
+        Ok(pythonize::pythonize(py, &r)?)
     }
 }
 

@@ -43,6 +43,7 @@ mod fit;
 pub mod general;
 mod general_local;
 mod general_phase;
+mod general_plan;
 mod optimize;
 mod settings;
 
@@ -60,6 +61,7 @@ pub use general_local::{
 pub use general_phase::{
     optimize_general_phase, GeneralPhaseOptimized, GeneralPhaseSettings, DEFAULT_GENERAL_PHASES,
 };
+pub use general_plan::{optimize_general_plan, GeneralAnswer, GeneralPlan};
 pub use optimize::{optimize, Optimized};
 pub use settings::{
     GaitMethod, Naming, OptimizeSettings, Plan, Start, DEFAULT_M_DISCRETE, DEFAULT_M_LOCAL,

@@ -115,3 +115,16 @@ pub struct GeneralPhaseOptimized {
     /// The verified optimum with its certificate.
     pub solution: GeneralPhaseGait,
 }
+
+/// The answer of [`crate::api::optimize_general_plan`]: one of the three methods' (serialised as that
+/// answer, whose `method` says which).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+#[serde(untagged)]
+pub enum GeneralAnswer {
+    /// P_m globally, with its necessary conditions when asked.
+    Discrete(Box<GeneralOptimized>),
+    /// P_m locally.
+    Local(Box<GeneralLocalOptimized>),
+    /// Exact gaits of at most `K` phases.
+    Phase(Box<GeneralPhaseOptimized>),
+}

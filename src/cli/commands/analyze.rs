@@ -3,7 +3,7 @@
 use crate::output::{out, write_json};
 use clap::Args;
 use crawlopt::api;
-use crawlopt::io::{GeneralFile, ModelFile};
+use crawlopt::io::{GeneralFile, ProblemFile};
 use crawlopt::present::{self, text, write_figures};
 use crawlopt::Error;
 use std::path::PathBuf;
@@ -22,10 +22,10 @@ pub struct AnalyzeArgs {
 }
 
 pub fn run(a: AnalyzeArgs) -> Result<ExitCode, Error> {
-    if let Some(general) = crawlopt::io::GeneralFile::load_if_general(&a.file)? {
-        return run_general(&general, &a);
-    }
-    let model = ModelFile::load(&a.file)?;
+    let model = match ProblemFile::load(&a.file)? {
+        ProblemFile::General(general) => return run_general(&general, &a),
+        ProblemFile::Crawler(model) => model,
+    };
     let found = api::analyze(&model)?;
     if let Some(dir) = &a.plot {
         write_figures(dir, &present::analysis_figures(&found.crawler)?)?;

@@ -6,8 +6,8 @@ use crate::output::{file_name, json_line, json_line_sorted, out, outln};
 use crate::parse::{count, count_u32};
 use crate::progress::Spinner;
 use clap::{Args, ValueEnum};
-use crawlopt::api::{self, rename_fields, GaitMethod, Hooks, Naming, OptimizeSettings, Start};
-use crawlopt::io::{AtomicFile, GeneralFile, ModelFile};
+use crawlopt::api::{self, GaitMethod, Hooks, Naming, OptimizeSettings, Start};
+use crawlopt::io::{AtomicFile, GeneralFile, ProblemFile};
 use crawlopt::present::text::{self, GaitScales};
 use crawlopt::present::{self, report, write_figures};
 use crawlopt::Error;
@@ -116,30 +116,36 @@ impl From<OptimizeMethod> for GaitMethod {
     }
 }
 
-pub fn run(a: OptimizeArgs) -> Result<ExitCode, Error> {
-    if let Some(general) = crawlopt::io::GeneralFile::load_if_general(&a.file)? {
-        return run_general(&general, &a);
-    }
-    let model = ModelFile::load(&a.file)?;
-    let (crawler, problem) = api::gait_problem(&model)?;
-    if let Some(path) = &a.report {
-        AtomicFile::check(path)?;
-    }
-    let settings = OptimizeSettings {
+/// The library's settings of the flags (both kinds of problem file take the same ones; the
+/// library decides which apply).
+fn settings_of(a: &OptimizeArgs) -> Result<OptimizeSettings, Error> {
+    Ok(OptimizeSettings {
         method: a.method.into(),
         phases: a.phases,
         patience: a.patience,
         max_phases: a.max_phases,
         m: a.m,
         convergence: a.convergence,
-        start: a.start.map(Start::File),
+        start: a.start.clone().map(Start::File),
         shifts: a.shifts,
         time_limit: a.time_limit,
         certify: a.certify,
         polish: a.no_polish.then_some(false),
         naming: Naming::Flags,
         bound: a.bound.settings()?,
+    })
+}
+
+pub fn run(a: OptimizeArgs) -> Result<ExitCode, Error> {
+    let model = match ProblemFile::load(&a.file)? {
+        ProblemFile::General(general) => return run_general(&general, &a),
+        ProblemFile::Crawler(model) => model,
     };
+    let (crawler, problem) = api::gait_problem(&model)?;
+    if let Some(path) = &a.report {
+        AtomicFile::check(path)?;
+    }
+    let settings = settings_of(&a)?;
     let mut spinner = Spinner::new(GaitScales::of_problem(&crawler, &problem).length);
     let mut show = |e: &api::Event, _: f64| spinner.show(e);
     let hooks = Hooks {
@@ -189,118 +195,18 @@ pub fn run(a: OptimizeArgs) -> Result<ExitCode, Error> {
     Ok(ExitCode::SUCCESS)
 }
 
-/// `crawlopt optimize` of a general problem: P_m globally (`--method discrete`, or `auto`),
-/// with `--certify` its necessary conditions, or locally (`--method local`).
+/// `crawlopt optimize` of a general problem: the library's plan of the flags for it
+/// ([`OptimizeSettings::plan_general`]: P_m globally or locally, or exact phase gaits), run and
+/// rendered.
 fn run_general(file: &GeneralFile, a: &OptimizeArgs) -> Result<ExitCode, Error> {
-    let local = a.method == OptimizeMethod::Local;
-    if a.method == OptimizeMethod::Phase {
-        return run_general_phase(file, a);
-    }
-    if !(local || matches!(a.method, OptimizeMethod::Auto | OptimizeMethod::Discrete)) {
-        return Err(Error::invalid(
-            "--method",
-            "sequence",
-            "only discrete (P_m, globally), local (P_m, locally) and phase (exact gaits where \
-             A = 0) apply to a general problem file",
-        ));
-    }
-    let refused = [
-        ("--phases", a.phases.is_some()),
-        ("--patience", a.patience.is_some()),
-        ("--max-phases", a.max_phases.is_some()),
-        ("--convergence", a.convergence),
-        ("--start", a.start.is_some()),
-        ("--shifts", a.shifts.is_some() && !local),
-        ("--certify", a.certify && local),
-        ("--no-polish", a.no_polish && local),
-        ("--plot", a.plot.is_some()),
-        ("--report", a.report.is_some()),
-    ];
-    if let Some((flag, _)) = refused.iter().find(|(_, given)| *given) {
-        return Err(Error::invalid(
-            *flag,
-            "given",
-            "does not apply to a general problem file (P_m only, so far; --certify with the global \
-             method, --shifts with --method local)",
-        ));
-    }
-    let names = [
-        ("m", "--m"),
-        ("time_limit", "--time-limit"),
-        ("shifts", "--shifts"),
-    ];
-    let flags = |e| rename_fields(e, &names.map(|(f, flag)| (f, flag.to_string())));
-    if local {
-        let defaults = api::GeneralLocalSettings::default();
-        let settings = api::GeneralLocalSettings {
-            m: a.m.unwrap_or(defaults.m),
-            shifts: a.shifts.unwrap_or(defaults.shifts),
-            time_limit: a.time_limit,
-        };
-        let r =
-            api::optimize_general_local(file, &settings, api::Hooks::default()).map_err(flags)?;
-        if a.json {
-            json_line(&r);
-        } else {
-            out(&text::general_local(&r));
-        }
-        return Ok(ExitCode::SUCCESS);
-    }
-    let settings = api::GeneralPmSettings {
-        m: a.m.unwrap_or(api::GeneralPmSettings::default().m),
-        time_limit: a.time_limit,
-        certify: a.certify,
-        polish: !a.no_polish,
-    };
-    let r = api::optimize_general(file, &settings).map_err(flags)?;
+    let settings = settings_of(a)?;
+    let plan =
+        settings.plan_general(&[("plot", a.plot.is_some()), ("report", a.report.is_some())])?;
+    let r = api::optimize_general_plan(file, &plan, settings.naming, Hooks::default())?;
     if a.json {
         json_line(&r);
     } else {
-        out(&text::general_optimum(&r));
-        if let Some(c) = &r.necessary_conditions {
-            out(&text::general_certificate(c));
-        }
-    }
-    Ok(ExitCode::SUCCESS)
-}
-
-/// `crawlopt optimize GENERAL.toml --method phase`: the exact gait of at most `--max-phases`
-/// phases, globally ([`crawlopt::api::optimize_general_phase`]).
-fn run_general_phase(file: &GeneralFile, a: &OptimizeArgs) -> Result<ExitCode, Error> {
-    let refused = [
-        ("--phases", a.phases.is_some()),
-        ("--patience", a.patience.is_some()),
-        ("--m", a.m.is_some()),
-        ("--convergence", a.convergence),
-        ("--start", a.start.is_some()),
-        ("--shifts", a.shifts.is_some()),
-        ("--certify", a.certify),
-        ("--no-polish", a.no_polish),
-        ("--plot", a.plot.is_some()),
-        ("--report", a.report.is_some()),
-    ];
-    if let Some((flag, _)) = refused.iter().find(|(_, given)| *given) {
-        return Err(Error::invalid(
-            *flag,
-            "given",
-            "does not apply to --method phase on a general problem file (--max-phases, \
-             --time-limit, --json)",
-        ));
-    }
-    let settings = api::GeneralPhaseSettings {
-        max_phases: a.max_phases.unwrap_or(api::DEFAULT_GENERAL_PHASES),
-        time_limit: a.time_limit,
-    };
-    let names = [
-        ("max_phases", "--max-phases"),
-        ("time_limit", "--time-limit"),
-    ];
-    let r = api::optimize_general_phase(file, &settings)
-        .map_err(|e| rename_fields(e, &names.map(|(f, flag)| (f, flag.to_string()))))?;
-    if a.json {
-        json_line(&r);
-    } else {
-        out(&text::general_phase(&r));
+        out(&text::general_answer(&r));
     }
     Ok(ExitCode::SUCCESS)
 }

@@ -6,7 +6,7 @@ use crate::parse::count;
 use clap::{Args, ValueEnum};
 use crawlopt::api::{self, rename_fields, Hooks};
 use crawlopt::integrate::{GeneralMethod, GeneralSimOptions, Method, SimOptions};
-use crawlopt::io::{write_trajectory_csv, AtomicFile, GeneralFile, ModelFile};
+use crawlopt::io::{write_trajectory_csv, AtomicFile, GeneralFile, ProblemFile};
 use crawlopt::present::{self, text, write_figures};
 use crawlopt::Error;
 use std::path::PathBuf;
@@ -110,10 +110,10 @@ fn flags(e: Error) -> Error {
 }
 
 pub fn run(a: SimulateArgs) -> Result<ExitCode, Error> {
-    if let Some(general) = crawlopt::io::GeneralFile::load_if_general(&a.file)? {
-        return run_general(&general, &a);
-    }
-    let model = ModelFile::load(&a.file)?;
+    let model = match ProblemFile::load(&a.file)? {
+        ProblemFile::General(general) => return run_general(&general, &a),
+        ProblemFile::Crawler(model) => model,
+    };
     let crawler = model.crawler()?;
     crawler.require_unique()?;
     let act = model.actuation(crawler.links())?;

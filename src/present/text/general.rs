@@ -4,8 +4,8 @@
 
 use super::{list, max_abs, num, wln};
 use crate::io::{
-    CheckStatus, GeneralAnalysis, GeneralLocalOptimized, GeneralOptimized, GeneralPhaseOptimized,
-    GeneralSimulated,
+    CheckStatus, GeneralAnalysis, GeneralAnswer, GeneralLocalOptimized, GeneralOptimized,
+    GeneralPhaseOptimized, GeneralSimulated,
 };
 use crate::model::general::{Boundary, ControlSet, GeneralCost, GeneralProblem, Reward};
 use crate::optimal::LocalStop;
@@ -330,5 +330,21 @@ fn steps(out: &mut String, x: &[Vec<f64>], u: &[Vec<f64>]) {
             list(&x[i], xs),
             list(ui, us)
         );
+    }
+}
+
+/// The text of any of the general `optimize` answers ([`GeneralAnswer`]): the optimum and, when
+/// asked, its necessary conditions; the local answer; the phase gait.
+pub fn general_answer(r: &GeneralAnswer) -> String {
+    match r {
+        GeneralAnswer::Discrete(r) => {
+            let mut s = general_optimum(r);
+            if let Some(c) = &r.necessary_conditions {
+                s.push_str(&super::general_certificate(c));
+            }
+            s
+        }
+        GeneralAnswer::Local(r) => general_local(r),
+        GeneralAnswer::Phase(r) => general_phase(r),
     }
 }

@@ -21,7 +21,8 @@ pub use analysis::{analysis, gait_problem};
 pub use fit::fit;
 pub use gait::{certificate, gait_result, phase_step};
 pub use general::{
-    general_analysis, general_local, general_optimum, general_phase, general_simulation,
+    general_analysis, general_answer, general_local, general_optimum, general_phase,
+    general_simulation,
 };
 pub use general_certify::general_certificate;
 pub use simulation::simulation;

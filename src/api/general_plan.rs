@@ -1,0 +1,206 @@
+//! `optimize` on a general problem file, decided here and not in the front ends: which of the
+//! [`OptimizeSettings`] apply to a general problem (P) and with which method, the defaults
+//! filled in ([`OptimizeSettings::plan_general`]), and one call that runs the plan
+//! ([`optimize_general_plan`]). The command line and Python build the same settings struct
+//! for both kinds of problem file and only render the answer; messages name the options as
+//! the caller spelled them ([`Naming`]).
+
+use super::events::Hooks;
+use super::general::{optimize_general, GeneralPmSettings};
+use super::general_local::{optimize_general_local, optimize_general_with_hooks};
+use super::general_phase::{optimize_general_phase, GeneralPhaseSettings};
+use super::settings::{GaitMethod, Naming, OptimizeSettings};
+use super::{rename_fields, GeneralLocalSettings};
+use crate::error::{Error, Result};
+pub use crate::io::GeneralAnswer;
+use crate::io::GeneralFile;
+
+/// What [`OptimizeSettings::plan_general`] decides: the method that runs on a general problem
+/// and its settings, defaults filled in.
+#[derive(Debug, Clone, PartialEq)]
+pub enum GeneralPlan {
+    /// P_m globally (`method` auto or discrete).
+    Discrete(GeneralPmSettings),
+    /// P_m locally.
+    Local(GeneralLocalSettings),
+    /// Exact gaits of at most `K` phases (where `A = 0`), globally.
+    Phase(GeneralPhaseSettings),
+}
+
+impl OptimizeSettings {
+    /// The plan of `optimize` on a general problem file: the method (`auto` is P_m globally)
+    /// and its settings with the defaults filled in, or an error naming the first setting
+    /// that does not apply to it (the crawler's own settings: phases grown, patience,
+    /// convergence, start gaits, bounds; and those of the other methods). `front_end` lists
+    /// a front end's own options that apply to crawler results only (the command line's
+    /// `plot` and `report`), each with whether it was given; they are refused alike.
+    pub fn plan_general(&self, front_end: &[(&str, bool)]) -> Result<GeneralPlan> {
+        let n = self.naming;
+        let method = self.method;
+        if !matches!(
+            method,
+            GaitMethod::Auto | GaitMethod::Discrete | GaitMethod::Local | GaitMethod::Phase
+        ) {
+            let reason = match n {
+                Naming::Flags => {
+                    "only discrete (P_m, globally), local (P_m, locally) and phase (exact gaits \
+                     where A = 0) apply to a general problem file"
+                }
+                Naming::Keywords => {
+                    "must be \"discrete\", \"local\" or \"phase\" for a general problem"
+                }
+            };
+            let field = match n {
+                Naming::Flags => n.setting("method"),
+                Naming::Keywords => n.field("method"),
+            };
+            return Err(Error::invalid(field, method.name(), reason));
+        }
+        let local = method == GaitMethod::Local;
+        let phase = method == GaitMethod::Phase;
+        // Every setting of a crawler's optimisation that a general problem does not take, in
+        // the order the messages check them (the first one given is named).
+        let polish = ("polish", self.polish.is_some());
+        let refused: Vec<(&str, bool, String)> = match n {
+            Naming::Flags => {
+                let reason = if phase {
+                    "does not apply to --method phase on a general problem file (--max-phases, \
+                     --time-limit, --json)"
+                } else {
+                    "does not apply to a general problem file (P_m only, so far; --certify with \
+                     the global method, --shifts with --method local)"
+                };
+                let mut given = vec![
+                    ("phases", self.phases.is_some()),
+                    ("patience", self.patience.is_some()),
+                    if phase {
+                        ("m", self.m.is_some())
+                    } else {
+                        ("max_phases", self.max_phases.is_some())
+                    },
+                    ("convergence", self.convergence),
+                    ("start", self.start.is_some()),
+                    ("shifts", self.shifts.is_some() && !local),
+                    ("certify", self.certify && (local || phase)),
+                    ("no_polish", polish.1 && (local || phase)),
+                    ("bound", self.bound.is_some()),
+                ];
+                given.extend(front_end.iter().copied());
+                given
+                    .into_iter()
+                    .map(|(name, g)| (name, g, reason.to_string()))
+                    .collect()
+            }
+            Naming::Keywords => {
+                let discrete = "applies to method=\"discrete\" only (the global P_m optimum)";
+                let not_general = "does not apply to a general problem";
+                let in_phase = "does not apply to method=\"phase\" (max_phases, time_limit)";
+                let mut given = vec![
+                    ("polish", polish.1 && (local || phase), discrete.to_string()),
+                    (
+                        "max_phases",
+                        self.max_phases.is_some() && !phase,
+                        "applies to method=\"phase\" only".to_string(),
+                    ),
+                    ("phases", self.phases.is_some(), not_general.to_string()),
+                    ("patience", self.patience.is_some(), not_general.to_string()),
+                    ("convergence", self.convergence, not_general.to_string()),
+                    ("start", self.start.is_some(), not_general.to_string()),
+                    ("bound", self.bound.is_some(), not_general.to_string()),
+                ];
+                if phase {
+                    given.extend([
+                        ("m", self.m.is_some(), in_phase.to_string()),
+                        ("shifts", self.shifts.is_some(), in_phase.to_string()),
+                        ("certify", self.certify, in_phase.to_string()),
+                    ]);
+                } else if local {
+                    given.push(("certify", self.certify, discrete.to_string()));
+                } else {
+                    given.push((
+                        "shifts",
+                        self.shifts.is_some(),
+                        "applies to method=\"local\" only".to_string(),
+                    ));
+                }
+                given.extend(
+                    front_end
+                        .iter()
+                        .map(|&(name, g)| (name, g, not_general.to_string())),
+                );
+                given
+            }
+        };
+        if let Some((name, _, reason)) = refused.into_iter().find(|(_, g, _)| *g) {
+            let value = if name == "certify" && n == Naming::Keywords && local {
+                "true"
+            } else {
+                "given"
+            };
+            let field = match n {
+                Naming::Flags => n.setting(name),
+                Naming::Keywords => n.field(name),
+            };
+            return Err(Error::invalid(field, value, reason));
+        }
+        Ok(if phase {
+            GeneralPlan::Phase(GeneralPhaseSettings {
+                max_phases: self
+                    .max_phases
+                    .unwrap_or(GeneralPhaseSettings::default().max_phases),
+                time_limit: self.time_limit,
+            })
+        } else if local {
+            let d = GeneralLocalSettings::default();
+            GeneralPlan::Local(GeneralLocalSettings {
+                m: self.m.unwrap_or(d.m),
+                shifts: self.shifts.unwrap_or(d.shifts),
+                time_limit: self.time_limit,
+            })
+        } else {
+            let d = GeneralPmSettings::default();
+            GeneralPlan::Discrete(GeneralPmSettings {
+                m: self.m.unwrap_or(d.m),
+                time_limit: self.time_limit,
+                certify: self.certify,
+                polish: self.polish.unwrap_or(d.polish),
+            })
+        })
+    }
+}
+
+/// Runs a [`GeneralPlan`] on a problem file: the method's job with `hooks` (progress and
+/// cancellation where the method takes them); errors name the settings as `naming` spells
+/// them.
+pub fn optimize_general_plan(
+    file: &GeneralFile,
+    plan: &GeneralPlan,
+    naming: Naming,
+    hooks: Hooks<'_>,
+) -> Result<GeneralAnswer> {
+    let names: Vec<(&str, String)> = ["m", "time_limit", "shifts", "max_phases"]
+        .into_iter()
+        .map(|f| (f, naming.setting(f)))
+        .collect();
+    let named = |e| match naming {
+        Naming::Flags => rename_fields(e, &names),
+        Naming::Keywords => e,
+    };
+    match plan {
+        GeneralPlan::Discrete(s) => {
+            let r = if hooks.events.is_none() && hooks.cancel.is_none() {
+                optimize_general(file, s)
+            } else {
+                optimize_general_with_hooks(file, s, hooks)
+            };
+            r.map(|r| GeneralAnswer::Discrete(Box::new(r)))
+                .map_err(named)
+        }
+        GeneralPlan::Local(s) => optimize_general_local(file, s, hooks)
+            .map(|r| GeneralAnswer::Local(Box::new(r)))
+            .map_err(named),
+        GeneralPlan::Phase(s) => optimize_general_phase(file, s)
+            .map(|r| GeneralAnswer::Phase(Box::new(r)))
+            .map_err(named),
+    }
+}

@@ -1,0 +1,120 @@
+//! `optimize` on a general problem file is decided by the library
+//! (`OptimizeSettings::plan_general`), not by the front ends: which method runs, with which
+//! defaults, and which settings are refused, each named as the caller spelled it.
+
+use crawlopt::api::{
+    GaitMethod, GeneralLocalSettings, GeneralPhaseSettings, GeneralPlan, GeneralPmSettings, Naming,
+    OptimizeSettings, Start,
+};
+use crawlopt::certify::bound::BoundSettings;
+
+fn field(s: &OptimizeSettings, front_end: &[(&str, bool)]) -> String {
+    match s.plan_general(front_end) {
+        Err(crawlopt::Error::InvalidParameter { field, .. }) => field,
+        other => panic!("expected a refusal, got {other:?}"),
+    }
+}
+
+#[test]
+fn the_plan_fills_in_each_methods_defaults() {
+    let auto = OptimizeSettings::default();
+    assert_eq!(
+        auto.plan_general(&[]).unwrap(),
+        GeneralPlan::Discrete(GeneralPmSettings::default())
+    );
+    let local = OptimizeSettings {
+        method: GaitMethod::Local,
+        m: Some(4),
+        time_limit: Some(5.0),
+        ..Default::default()
+    };
+    assert_eq!(
+        local.plan_general(&[]).unwrap(),
+        GeneralPlan::Local(GeneralLocalSettings {
+            m: 4,
+            time_limit: Some(5.0),
+            ..Default::default()
+        })
+    );
+    let phase = OptimizeSettings {
+        method: GaitMethod::Phase,
+        max_phases: Some(3),
+        ..Default::default()
+    };
+    assert_eq!(
+        phase.plan_general(&[]).unwrap(),
+        GeneralPlan::Phase(GeneralPhaseSettings {
+            max_phases: 3,
+            ..Default::default()
+        })
+    );
+    let discrete = OptimizeSettings {
+        method: GaitMethod::Discrete,
+        certify: true,
+        polish: Some(false),
+        ..Default::default()
+    };
+    assert_eq!(
+        discrete.plan_general(&[]).unwrap(),
+        GeneralPlan::Discrete(GeneralPmSettings {
+            certify: true,
+            polish: false,
+            ..Default::default()
+        })
+    );
+}
+
+/// Each setting that does not apply is refused naming it: as a flag for the command line, as
+/// a keyword for Python; a bound (the crawler's upper bound) too, which the command line
+/// used to drop unsaid for a general file.
+#[test]
+fn settings_that_do_not_apply_are_refused_naming_them() {
+    let with = |method, naming, edit: &dyn Fn(&mut OptimizeSettings)| {
+        let mut s = OptimizeSettings {
+            method,
+            naming,
+            ..Default::default()
+        };
+        edit(&mut s);
+        s
+    };
+    let (f, k) = (Naming::Flags, Naming::Keywords);
+    use GaitMethod::{Auto, Discrete, Local, Phase, Sequence};
+    let cases: Vec<(OptimizeSettings, &str)> = vec![
+        (with(Sequence, f, &|_| {}), "--method"),
+        (with(Sequence, k, &|_| {}), "method"),
+        (with(Auto, f, &|s| s.phases = Some(2)), "--phases"),
+        (with(Auto, f, &|s| s.patience = Some(2)), "--patience"),
+        (with(Auto, f, &|s| s.max_phases = Some(2)), "--max-phases"),
+        (with(Auto, f, &|s| s.convergence = true), "--convergence"),
+        (
+            with(Auto, f, &|s| s.start = Some(Start::File("a.json".into()))),
+            "--start",
+        ),
+        (with(Discrete, f, &|s| s.shifts = Some(2)), "--shifts"),
+        (with(Local, f, &|s| s.certify = true), "--certify"),
+        (with(Local, f, &|s| s.polish = Some(false)), "--no-polish"),
+        (with(Phase, f, &|s| s.m = Some(2)), "--m"),
+        (with(Phase, f, &|s| s.shifts = Some(2)), "--shifts"),
+        (
+            with(Auto, f, &|s| s.bound = Some(BoundSettings::default())),
+            "--bound",
+        ),
+        (with(Local, k, &|s| s.polish = Some(true)), "polish"),
+        (with(Discrete, k, &|s| s.max_phases = Some(2)), "max_phases"),
+        (with(Discrete, k, &|s| s.shifts = Some(2)), "shifts"),
+        (with(Local, k, &|s| s.certify = true), "certify"),
+        (with(Phase, k, &|s| s.m = Some(2)), "m"),
+        (
+            with(Auto, k, &|s| s.bound = Some(BoundSettings::default())),
+            "bound",
+        ),
+    ];
+    for (s, want) in &cases {
+        assert_eq!(field(s, &[]), *want, "{s:?}");
+    }
+    // A front end's own options for crawler results only (the command line's --plot).
+    let s = with(Auto, f, &|_| {});
+    assert_eq!(field(&s, &[("plot", true)]), "--plot");
+    assert!(s.plan_general(&[("plot", false)]).is_ok());
+}
