@@ -482,12 +482,12 @@ impl GaitResult {
         let c = &self.certificate;
         if let Some(ub) = &c.upper_bound {
             // Taken as recorded (its LP is not re-solved), but it must be a bound on this gait.
-            if ub.method != crate::certify::bound::METHOD {
+            if ub.method != crate::optimal::bound_record::METHOD {
                 return Err(bad(
                     what,
                     "certificate.upper_bound.method",
                     &ub.method,
-                    format!("the method is \"{}\"", crate::certify::bound::METHOD),
+                    format!("the method is \"{}\"", crate::optimal::bound_record::METHOD),
                 ));
             }
             if !(ub.value.is_finite()

@@ -6,6 +6,7 @@
 //! global solver of the paper's discrete problems P_m ([`solve_discrete_global`], theory §6).
 
 mod active_set;
+pub mod bound_record;
 pub mod chain;
 pub mod consistency;
 mod discrete;

@@ -80,7 +80,7 @@ pub struct ResultCertificate {
     /// with the method and grid that proved it; read from a file it is taken as recorded
     /// (checked to be finite and at least the objective, not recomputed).
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub upper_bound: Option<crate::certify::bound::UpperBound>,
+    pub upper_bound: Option<crate::optimal::bound_record::UpperBound>,
 }
 
 /// The gait over one period, on its own knots: `times` has one entry more than the pieces.

@@ -17,7 +17,7 @@
 
 use crate::error::Result;
 use crate::model::Crawler;
-use crate::optimal::{Certificate, Cost, GaitProblem, PhaseSolution};
+use crate::optimal::{Certificate, Cost, GaitProblem};
 
 /// A unit system: the user's force, time and length units expressed in the internal ones.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -82,25 +82,6 @@ impl Units {
         )
     }
 
-    /// A phase gait from internal units to the user's (`to_user`) or back.
-    pub fn phase(&self, s: &PhaseSolution, to_user: bool) -> PhaseSolution {
-        let (f, t, l) = self.factors(to_user);
-        let mut out = PhaseSolution {
-            phases: s.phases,
-            certificate: s.certificate.clone(),
-            verified_displacement: s.verified_displacement * l,
-            actuation_cost: s.actuation_cost * l,
-            durations: scale_all(&s.durations, t),
-            controls: scale_rows(&s.controls, f / t),
-            states: scale_rows(&s.states, f),
-            block_displacements: scale_rows(&s.block_displacements, l),
-            modes: s.modes.clone(),
-            rounds: s.rounds,
-        };
-        out.certificate = self.certificate_scaled(&s.certificate, out.objective(), l);
-        out
-    }
-
     /// The factor from an objective in internal units to the user's (the length unit): for the
     /// MILP progress reported while a solve runs ([`crate::progress::with_objective_scale`]).
     pub fn objective_scale(&self) -> f64 {
@@ -108,7 +89,7 @@ impl Units {
     }
 
     /// Conversion factors (force, time, length) towards the user's units or away from them.
-    fn factors(&self, to_user: bool) -> (f64, f64, f64) {
+    pub(crate) fn factors(&self, to_user: bool) -> (f64, f64, f64) {
         if to_user {
             (self.force, self.time, self.length)
         } else {

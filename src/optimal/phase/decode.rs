@@ -6,6 +6,7 @@ use crate::error::{Error, Result};
 use crate::integrate::Method;
 use crate::model::Crawler;
 use crate::optimal::milp::{check_verified, gait_knots, replay};
+use crate::optimal::units::{scale_all, scale_rows, Units};
 use crate::optimal::{Certificate, GaitProblem, MilpStatus};
 use highs::Col;
 
@@ -402,4 +403,25 @@ pub fn slip_sequence(modes: &[Vec<i8>]) -> Vec<Vec<i8>> {
         .filter(|m| m.iter().any(|&s| s != 0))
         .cloned()
         .collect()
+}
+
+impl Units {
+    /// A phase gait from internal units to the user's (`to_user`) or back.
+    pub fn phase(&self, s: &PhaseSolution, to_user: bool) -> PhaseSolution {
+        let (f, t, l) = self.factors(to_user);
+        let mut out = PhaseSolution {
+            phases: s.phases,
+            certificate: s.certificate.clone(),
+            verified_displacement: s.verified_displacement * l,
+            actuation_cost: s.actuation_cost * l,
+            durations: scale_all(&s.durations, t),
+            controls: scale_rows(&s.controls, f / t),
+            states: scale_rows(&s.states, f),
+            block_displacements: scale_rows(&s.block_displacements, l),
+            modes: s.modes.clone(),
+            rounds: s.rounds,
+        };
+        out.certificate = self.certificate_scaled(&s.certificate, out.objective(), l);
+        out
+    }
 }

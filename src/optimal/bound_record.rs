@@ -1,0 +1,68 @@
+//! The record of a proven upper bound on `J` (theory §12): what a gait result carries and the
+//! consistency check reads. The bound itself is computed in `certify::bound`, which re-exports
+//! these names; the record lives here, beside the results that hold it, so that the optimal
+//! layer does not import from the certificates' layer above it.
+
+use serde::{Deserialize, Serialize};
+
+/// Name of the method in results.
+pub const METHOD: &str = "pl-storage";
+
+/// How the LP ended.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum BoundStatus {
+    /// The LP was solved: the bound is the best this grid gives.
+    Optimal,
+    /// The time limit stopped the LP: the bound holds but a finished solve would lower it.
+    TimeLimit,
+}
+
+/// A proven upper bound on `J` over all `T`-periodic gaits.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct UpperBound {
+    /// The method ([`METHOD`]).
+    pub method: String,
+    /// `x` grid steps across C's widest link-force range.
+    pub resolution: usize,
+    /// Grid steps across each actuator-length range.
+    pub box_resolution: usize,
+    /// Tangents per link of the quadratic cost's under-estimator (0: the problem has no cost).
+    #[serde(default)]
+    pub cost_tangents: usize,
+    /// The bound on the displacement per period, `rho T`.
+    pub value: f64,
+    /// How the LP ended.
+    pub status: BoundStatus,
+    /// Whether the grid tiles C exactly (all thresholds multiples of the step).
+    pub aligned: bool,
+    /// LP size: rows (simplex, face, control vertex) of the primal.
+    pub rows: usize,
+    /// LP columns of the primal (node values and `rho`).
+    pub columns: usize,
+    /// Wall-clock seconds (grid, LP and re-evaluation).
+    pub seconds: f64,
+}
+
+impl UpperBound {
+    /// How far a gait of objective `j` can be from the best periodic gait, as a fraction of the
+    /// bound: `(value - j) / value` (0 when the bound is not positive: then `j` = 0 is optimal).
+    pub fn within(&self, j: f64) -> f64 {
+        if self.value > 0.0 {
+            (self.value - j).max(0.0) / self.value
+        } else {
+            0.0
+        }
+    }
+
+    /// The resolution that gave the bound, as the text and the report print it:
+    /// `"R x R'"`, with `", M cost tangents"` when a quadratic cost entered through tangents.
+    pub fn resolution_text(&self) -> String {
+        let mut s = format!("{} x {}", self.resolution, self.box_resolution);
+        if self.cost_tangents > 0 {
+            s.push_str(&format!(", {} cost tangents", self.cost_tangents));
+        }
+        s
+    }
+}
