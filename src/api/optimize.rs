@@ -13,7 +13,8 @@ use crate::optimal::structured::{
 use crate::optimal::{
     discrete_convergence, discrete_start, grow_phases, phase_start, search_sequences,
     shifted_origin, slip_sequence, solve_discrete_global_with, solve_discrete_local_shifted,
-    solve_phase_global, GaitProblem, GaitResult, MilpStatus, StartGait, StartRecord, MAX_PHASES,
+    solve_phase_with, GaitProblem, GaitResult, MilpStatus, PhaseOptions, PhaseSolution, StartGait,
+    StartRecord, MAX_PHASES,
 };
 use serde::Serialize;
 use std::time::Instant;
@@ -253,23 +254,21 @@ fn solve_method(
             let s = search_sequences(crawler, problem, &seq, k, left)?;
             Ok(GaitResult::from_sequence(crawler, problem, &s, &origin))
         }
-        GaitMethod::Phase | GaitMethod::Auto => match settings.phases {
-            Some(k) => {
-                em.stage(format!("solving the {k}-phase MILP"));
-                let s = solve_phase_global(crawler, problem, k, time_limit)?;
-                Ok(GaitResult::from_phase(crawler, problem, &s))
-            }
-            None => {
-                em.stage(format!("K = {}", plan.growth.min_phases));
-                let g = grow_phases(crawler, problem, &plan.growth, &mut |st| {
-                    em.send(Event::PhaseSolved {
-                        step: st.clone(),
-                        start: false,
-                    })
-                })?;
-                Ok(GaitResult::from_growth(crawler, problem, &g))
-            }
-        },
+        GaitMethod::Phase | GaitMethod::Auto => {
+            // The best structured gait in phase form: the MILPs' first incumbent where it fits
+            // K, their cutoff where it has more slip phases (a K no gait of which beats it is
+            // settled at once).
+            let start = floor.and_then(|f| match f.best.phase_form(crawler, problem) {
+                Ok(p) => Some(p),
+                Err(e) => {
+                    em.send(Event::Note(format!(
+                        "the best structured gait is not a start of the phase MILP: {e}"
+                    )));
+                    None
+                }
+            });
+            solve_phase_method(crawler, problem, settings, plan, start, em)
+        }
         GaitMethod::Discrete if settings.convergence => {
             em.stage("m = 1");
             let (table, s) = discrete_convergence(crawler, problem, m, time_limit, &mut |row| {
@@ -305,6 +304,41 @@ fn solve_method(
                 start_objective: j,
             });
             Ok(r)
+        }
+    }
+}
+
+/// The phase method: the `K`-phase MILP when `settings.phases` fixes `K`, else the growth of
+/// `K` (theory §7), each from `start` when there is one.
+fn solve_phase_method(
+    crawler: &Crawler,
+    problem: &GaitProblem,
+    settings: &OptimizeSettings,
+    plan: &Plan,
+    start: Option<PhaseSolution>,
+    em: &Emitter<'_>,
+) -> Result<GaitResult> {
+    match settings.phases {
+        Some(k) => {
+            em.stage(format!("solving the {k}-phase MILP"));
+            let opts = PhaseOptions {
+                start,
+                ..PhaseOptions::default()
+            };
+            let s = solve_phase_with(crawler, problem, k, settings.time_limit, &opts)?;
+            Ok(GaitResult::from_phase(crawler, problem, &s))
+        }
+        None => {
+            let mut growth = plan.growth.clone();
+            growth.start = start;
+            em.stage(format!("K = {}", growth.min_phases));
+            let g = grow_phases(crawler, problem, &growth, &mut |st| {
+                em.send(Event::PhaseSolved {
+                    step: st.clone(),
+                    start: false,
+                })
+            })?;
+            Ok(GaitResult::from_growth(crawler, problem, &g))
         }
     }
 }

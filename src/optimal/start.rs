@@ -19,8 +19,9 @@
 use crate::error::{Error, Result};
 use crate::model::Crawler;
 use crate::optimal::{
-    check_shifts, check_size, grow_phases, solve_discrete_local_shifted, Cost, CrawlerParams,
-    GaitProblem, GaitResult, GrowOptions, PhaseStep, MAX_LOCAL_M, MAX_M,
+    check_shifts, check_size, grow_phases, phase_gait_of, solve_discrete_local_shifted, Cost,
+    CrawlerParams, GaitProblem, GaitResult, GrowOptions, PhaseSolution, PhaseStep, MAX_LOCAL_M,
+    MAX_M,
 };
 use std::time::Instant;
 
@@ -76,6 +77,21 @@ impl StartGait {
     /// The actuator lengths at [`times`](Self::times), one row per knot.
     pub fn lengths(&self) -> &[Vec<f64>] {
         &self.result.gait.lengths
+    }
+
+    /// The gait in phase form ([`phase_gait_of`]): its pieces with the spring-force increments
+    /// `U_j = k (L_(j+1) - L_j)` per link, played by the exact simulator into phases, so that
+    /// the phase MILP can take it as its first incumbent or its cutoff
+    /// ([`GrowOptions::start`](crate::optimal::GrowOptions::start)).
+    pub fn phase_form(&self, crawler: &Crawler, problem: &GaitProblem) -> Result<PhaseSolution> {
+        let g = &self.result.gait;
+        let k = crawler.stiffness();
+        let increments: Vec<Vec<f64>> = g
+            .lengths
+            .windows(2)
+            .map(|w| (0..k.len()).map(|l| k[l] * (w[1][l] - w[0][l])).collect())
+            .collect();
+        phase_gait_of(crawler, problem, &g.durations, &increments)
     }
 }
 
