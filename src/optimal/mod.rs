@@ -22,6 +22,7 @@ mod result;
 pub(crate) mod solver;
 mod start;
 pub mod structured;
+mod structured_record;
 mod units;
 
 pub use discrete::{
