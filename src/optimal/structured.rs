@@ -248,8 +248,9 @@ pub fn structured_gaits(crawler: &Crawler, lags: usize) -> Vec<StructuredGait> {
 pub struct StructuredRow {
     /// What it is.
     pub description: String,
-    /// Its `J` (displacement per period on the orbit, less the actuation cost); `None` when the
-    /// simulator found no periodic orbit.
+    /// Its `J` (displacement per period on the orbit, less the actuation cost) as screened
+    /// (periodic state to a relative 1e-9: `J` to about 1e-8; the best gait's is recorded to
+    /// the default tolerance); `None` when the simulator found no periodic orbit.
     pub objective: Option<f64>,
 }
 
@@ -268,11 +269,15 @@ pub struct StructuredSearch {
     pub lags: usize,
 }
 
-/// The simulator options of the evaluation: exact, no recording.
-pub(crate) fn eval_options() -> SimOptions {
+/// The simulator options of the evaluation: exact, no recording, the periodic state to a
+/// relative 1e-9 (the default 1e-12 took twice the time on the heterogeneous chain of 100
+/// blocks, 7.3 s against 3.6 s for 192 gaits, for differences of J of 1e-8); the best gait is
+/// then recorded with the default tolerance ([`structured_result`]).
+fn eval_options() -> SimOptions {
     SimOptions {
         method: Method::Exact,
         record_periods: 0,
+        tol: 1e-9,
         ..SimOptions::default()
     }
 }

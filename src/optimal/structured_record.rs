@@ -1,9 +1,9 @@
 //! The record of a structured gait ([`super::structured`]) as a gait result: one period on its
 //! periodic orbit recorded by the exact simulator, cut at every knot and event.
 
-use super::structured::{eval_options, StructuredGait};
+use super::structured::StructuredGait;
 use crate::error::{Error, Result};
-use crate::integrate::{simulate, Actuation, SimOptions, Simulation};
+use crate::integrate::{simulate, Actuation, Method, SimOptions, Simulation};
 use crate::model::Crawler;
 use crate::optimal::{GaitProblem, GaitResult};
 
@@ -34,7 +34,8 @@ pub fn knots_result(
         &act,
         &SimOptions {
             record_periods: 1,
-            ..eval_options()
+            method: Method::Exact,
+            ..SimOptions::default()
         },
     )?;
     pieces_result(crawler, problem, &act, &sim, origin)
