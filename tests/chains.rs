@@ -199,7 +199,8 @@ proptest! {
         let s = best_structured(&c, &p, &StructuredOptions::default()).unwrap().unwrap();
         let top = s.rows.iter().filter_map(|r| r.objective).fold(f64::MIN, f64::max);
         let r = run(&c, &p, chain(3.0));
-        prop_assert!(r.objective >= top - 1e-9, "chain {} < structured {top}", r.objective);
+        // (The rows are screened with a periodicity tolerance of 1e-9: their J to about 1e-8.)
+        prop_assert!(r.objective >= top - 1e-7, "chain {} < structured {top}", r.objective);
         // Re-verified: a consistent process whose exact replay gives its value.
         GaitResult::from_json(&serde_json::to_string(&r).unwrap(), "chain").unwrap();
         let again = replayed(&c, &p, &r);

@@ -495,10 +495,17 @@ fn optimize_discrete_returns_a_verified_certified_gait() {
         "0.02",
         "--json",
     ]);
+    // A limit spent before the MILP has a gait returns the best structured gait (the floor of
+    // every answer), with status time_limit and no gap: it proves nothing.
     if out.status.success() {
         let v = json(&out);
         assert_eq!(v["status"], "time_limit");
-        assert!(v["certificate"]["gap"].as_f64().unwrap() > 1e-3);
+        if v["structured"].is_object() {
+            assert!(v["certificate"]["gap"].is_null());
+            assert!(v["structured"]["replaced"].is_string(), "{v}");
+        } else {
+            assert!(v["certificate"]["gap"].as_f64().unwrap() > 1e-3);
+        }
     } else {
         assert_refused(&out, "time limit");
     }

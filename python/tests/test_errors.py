@@ -44,12 +44,22 @@ def test_file_error_names_the_path(tmp_path):
 def test_time_limit_without_a_gait_raises():
     # A limit of a nanosecond has passed before the first solve of the start gait ends (10 ms
     # did not: on a fast machine the start was found within it and returned, status
-    # "time_limit").
+    # "time_limit"). The discrete method has no structured floor (its answer is P_m's).
     c = co.Crawler(blocks=6, mu_backward=1.63)
     with pytest.raises(co.TimeLimitError) as e:
-        co.optimize(c, co.GaitProblem(period=10), method="local", m=4, time_limit=1e-9)
+        co.optimize(c, co.GaitProblem(period=10), method="discrete", m=4, time_limit=1e-9)
     assert e.value.incumbent is None
     assert isinstance(e.value, co.CrawloptError)
+
+
+def test_time_limit_spent_returns_the_structured_floor():
+    # The other methods evaluate the structured gaits first and never return less: a limit
+    # spent before the method has a gait returns the best of them, status "time_limit".
+    c = co.Crawler(blocks=6, mu_backward=1.63)
+    r = co.optimize(c, co.GaitProblem(period=10), method="local", m=4, time_limit=1e-9)
+    assert r.status == "time_limit"
+    assert r.structured["origin"].startswith("structured: ")
+    assert r.certificate["gap"] is None
 
 
 def test_infeasible_and_numerical_errors_are_crawlopt_errors():

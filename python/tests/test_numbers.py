@@ -188,3 +188,12 @@ def test_the_upper_bound_over_all_gaits_for_one_link():
     assert r.objective == pytest.approx(2.0, abs=1e-6)
     assert r.certificate["upper_bound"]["value"] == pytest.approx(2.3125, abs=1e-6)
     assert r.certificate["upper_bound"]["cost_tangents"] == 4
+
+
+def test_chain_method_is_at_least_the_alternating_triangle_wave():
+    # Uniform chain of 10 blocks (k = a = 1, T = 10, mu+ = 1, mu- = 1.3): the alternating
+    # triangle wave moves 4 - 1/(N - 1); the chain method starts from it and never returns less.
+    c = co.Crawler(blocks=10, mu_backward=1.3)
+    r = co.optimize(c, co.GaitProblem(period=10), method="chain", time_limit=5)
+    assert r.objective >= 4 - 1 / 9 - 1e-9
+    assert r.structured["origin"].startswith(("structured: ", "chain pattern search"))

@@ -24,6 +24,7 @@ mod result;
 pub(crate) mod solver;
 mod start;
 pub mod structured;
+mod structured_record;
 mod units;
 
 pub use discrete::{DiscreteSolution, MAX_M};
