@@ -29,6 +29,7 @@ from ._convert import (
     _instance,
     _numbers,
     _vector,
+    require,
 )
 from ._crawlopt import (
     CrawloptError,
@@ -40,7 +41,7 @@ from ._crawlopt import (
     NumericalError,
     TimeLimitError,
 )
-from ._documents import GeneralResult, GeneralSimulation, NecessaryConditions, require
+from ._documents import GeneralResult, GeneralSimulation, NecessaryConditions
 from ._fit import FitResult, fit
 from ._general import GeneralProblem
 from ._progress import progress_callback

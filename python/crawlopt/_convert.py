@@ -57,3 +57,17 @@ def _instance(value: Any, cls: type, name: str) -> None:
     """TypeError unless ``value`` is a ``cls`` (not an AttributeError from deep inside)."""
     if not isinstance(value, cls):
         raise TypeError(f"{name}: must be a crawlopt.{cls.__name__}, got {type(value).__name__}")
+
+
+def require(module: str, purpose: str):
+    """Imports an optional dependency, or raises ImportError saying what needs it and how to
+    install it."""
+    import importlib
+
+    try:
+        return importlib.import_module(module)
+    except ImportError as e:
+        top = module.split(".")[0]
+        raise ImportError(
+            f"{purpose} needs {top}, an optional dependency of crawlopt: pip install {top}"
+        ) from e

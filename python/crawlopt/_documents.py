@@ -9,19 +9,7 @@ from typing import Any, Optional
 
 import numpy as np
 
-
-def require(module: str, purpose: str):
-    """Imports an optional dependency, or raises ImportError saying what needs it and how to
-    install it."""
-    import importlib
-
-    try:
-        return importlib.import_module(module)
-    except ImportError as e:
-        top = module.split(".")[0]
-        raise ImportError(
-            f"{purpose} needs {top}, an optional dependency of crawlopt: pip install {top}"
-        ) from e
+from ._convert import require
 
 
 def same(a: Any, b: Any) -> bool:

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ._documents import require
+from ._convert import require
 
 
 def _pyplot():

@@ -6,8 +6,9 @@ from __future__ import annotations
 import numpy as np
 
 from . import _crawlopt as _rs
+from ._convert import require
 from ._crawlopt import CrawloptError
-from ._documents import require, same
+from ._documents import same
 
 
 class Figure:
