@@ -18,7 +18,7 @@ const LAYERS: &[&[&str]] = &[
     &["sweep"],
     &["integrate"],
     &["optimal"],
-    &["certify"],
+    &["certify", "fit"],
     &["io", "present"],
     &["api"],
     &["study"],
@@ -512,4 +512,24 @@ fn the_checker_reads_use_trees_and_inline_paths() {
     assert_eq!(names(&private), ["a::b", "a::c::D", "f"]);
     let code = strip("fn h() { \"crate::s\"; crate::i::j(); } // crate::k");
     assert_eq!(names(&inline_paths(&m, &code)), ["i::j"]);
+}
+
+/// Every top-level module of `src/` has a layer, so that a new module cannot escape the checks
+/// above by being absent from [`LAYERS`].
+#[test]
+fn every_module_has_a_layer() {
+    let src = Path::new(env!("CARGO_MANIFEST_DIR")).join("src");
+    let mut missing = vec![];
+    for entry in std::fs::read_dir(&src).expect("src/ is readable") {
+        let path = entry.expect("a directory entry").path();
+        let stem = path
+            .file_stem()
+            .and_then(|s| s.to_str())
+            .unwrap_or_default();
+        let is_module = path.is_dir() || path.extension().is_some_and(|e| e == "rs");
+        if is_module && stem != "lib" && layer(&[stem.to_string()]).is_none() {
+            missing.push(stem.to_string());
+        }
+    }
+    assert!(missing.is_empty(), "modules without a layer: {missing:?}");
 }
