@@ -91,17 +91,28 @@ fn optimize_is_never_below_the_best_structured_gait() {
     );
     let want = 4.0 - 1.0 / 19.0;
     assert!(r.objective >= want - 1e-9, "{}", r.objective);
-    let s = r.structured.as_ref().expect("the structured floor");
-    assert!(
-        s.origin.starts_with("structured: alternating triangle"),
-        "{s:?}"
-    );
-    assert!(
-        s.replaced
-            .as_deref()
-            .is_some_and(|t| t.starts_with("phase")),
-        "{s:?}"
-    );
+    // Either the phase MILPs, started from the wave (their incumbent or cutoff), return it as
+    // their own answer, or the floor replaces a lower answer and records what the method found.
+    match r.structured.as_ref() {
+        Some(s) => {
+            assert!(
+                s.origin.starts_with("structured: alternating triangle"),
+                "{s:?}"
+            );
+            assert!(
+                s.replaced
+                    .as_deref()
+                    .is_some_and(|t| t.starts_with("phase")),
+                "{s:?}"
+            );
+        }
+        None => assert!(
+            r.method == "phase" && (r.objective - want).abs() < 1e-9,
+            "{} {}",
+            r.method,
+            r.objective
+        ),
+    }
     GaitResult::from_json(&serde_json::to_string(&r).unwrap(), "floor").unwrap();
     // The hook a global method can take as its incumbent: the same gait and value.
     let (g, j) = structured_incumbent(&c, &p).unwrap().unwrap();
