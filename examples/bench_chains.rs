@@ -18,21 +18,12 @@ use crawlopt::optimal::{grow_phases, Cost, GaitProblem, GrowOptions, MilpStatus}
 use crawlopt::Crawler;
 use std::time::Instant;
 
-/// The heterogeneous chain of `nb` blocks (module docs).
-pub fn heterogeneous(nb: usize) -> Crawler {
-    // Three friction pairs (the uniqueness condition is decided by enumerating the blocks'
-    // counts per distinct pair: few pairs keep it exact at N = 100).
-    let pairs = [
-        (1.0, 1.3),
-        (1.0 + 0.1 * 2f64.sqrt(), 1.3 + 0.2 * 2f64.sqrt()),
-        (1.0 - 0.1 * 3f64.sqrt(), 1.3 - 0.05 * 3f64.sqrt()),
-    ];
-    let k = (0..nb - 1)
-        .map(|l| 1.0 + 0.5 * (1.7 * l as f64).sin())
-        .collect();
-    let mp = (0..nb).map(|b| pairs[b % 3].0).collect();
-    let mm = (0..nb).map(|b| pairs[b % 3].1).collect();
-    Crawler::new(k, mp, mm).expect("a valid chain")
+#[path = "support/cycling_chain.rs"]
+mod cycling_chain;
+
+/// The heterogeneous chain of `nb` blocks (module docs): three friction pairs.
+fn heterogeneous(nb: usize) -> Crawler {
+    cycling_chain::cycling_chain(nb, 3)
 }
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {

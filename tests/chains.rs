@@ -11,6 +11,9 @@ use crawlopt::optimal::{one_link_optimum, Cost, GaitProblem, GaitResult};
 use crawlopt::Crawler;
 use proptest::prelude::*;
 
+#[path = "../examples/support/cycling_chain.rs"]
+mod cycling_chain;
+
 fn uniform(nb: usize, mu_minus: f64) -> (Crawler, GaitProblem) {
     let c = Crawler::uniform(nb, 1.0, 1.0, mu_minus).unwrap();
     let p = GaitProblem::new(&c, 10.0, &vec![1.0; nb - 1], Cost::None, None).unwrap();
@@ -225,16 +228,7 @@ fn the_chain_method_honours_its_time_limit_and_cancellation() {
     // searches, far more than 0.3 s allow, so the limit ends the search (status time_limit)
     // with at least the structured start.
     let nb = 60;
-    let k = (0..nb - 1)
-        .map(|l| 1.0 + 0.5 * (1.7 * l as f64).sin())
-        .collect();
-    let pairs = [
-        (1.0, 1.3),
-        (1.0 + 0.1 * 2f64.sqrt(), 1.3 + 0.2 * 2f64.sqrt()),
-    ];
-    let mp = (0..nb).map(|b| pairs[b % 2].0).collect();
-    let mm = (0..nb).map(|b| pairs[b % 2].1).collect();
-    let c = Crawler::new(k, mp, mm).unwrap();
+    let c = cycling_chain::cycling_chain(nb, 2);
     let p = GaitProblem::new(&c, 10.0, &vec![1.0; nb - 1], Cost::None, None).unwrap();
     let s = best_structured(&c, &p, &StructuredOptions::default())
         .unwrap()

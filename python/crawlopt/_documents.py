@@ -189,7 +189,7 @@ class GeneralSimulation(Document):
         from ._plot import general_plot
 
         s = self._doc["simulation"]
-        return general_plot(s.get("t"), s.get("x"), s.get("u"), None, self._title())
+        return general_plot(s.get("t"), s.get("x"), s.get("u"), self._title())
 
     def _title(self) -> str:
         j = self._doc["simulation"].get("objective")
@@ -289,10 +289,10 @@ class GeneralResult(Document):
         if self._doc.get("method") == "phase":
             d = np.asarray(s["durations"], dtype=float)
             t = np.concatenate([[0.0], np.cumsum(d)])
-            return general_plot(t, s["states"], s["controls"], None, title)
+            return general_plot(t, s["states"], s["controls"], title)
         u = np.asarray(s["u"], dtype=float)
         t = np.linspace(0.0, float(self._doc["period"]), len(u) + 1)
-        return general_plot(t, s["x"], u, None, title)
+        return general_plot(t, s["x"], u, title)
 
     def __repr__(self) -> str:
         s = self._doc["solution"]

@@ -40,36 +40,16 @@ def simulation_plot(t, x, X, y, title: str):
     return fig
 
 
-def gait_plot(t, L, u, title: str):
-    """The gait: actuator lengths L_l at the knots (piecewise linear) above, the controls u_l
-    per piece (piecewise constant) below."""
+def _above_controls(t, top_values, name: str, ylabel: str, u, title: str):
+    """Two panels over one period: the series ``name_k`` at the times ``t`` above (piecewise
+    linear), the controls ``u_k`` per piece (piecewise constant) below."""
     plt = _pyplot()
     fig, (top, bottom) = plt.subplots(2, 1, sharex=True, figsize=(7, 5))
     t = np.asarray(t, dtype=float)
-    L = _columns(L, len(t))
-    for k in range(L.shape[1]):
-        top.plot(t, L[:, k], lw=1.5, label=f"L_{k + 1}")
-    top.set_ylabel("actuator length")
-    top.legend(loc="best", fontsize="small")
-    u = _columns(u, max(len(t) - 1, 0))
-    for k in range(u.shape[1]):
-        bottom.stairs(u[:, k], t, lw=1.5, label=f"u_{k + 1}")
-    bottom.set_xlabel("t")
-    bottom.set_ylabel("control u")
-    bottom.legend(loc="best", fontsize="small")
-    fig.suptitle(title)
-    return fig
-
-
-def general_plot(t, x, u, lam, title: str):
-    """A general problem's period: states x_k(t) above, controls u_k per step below."""
-    plt = _pyplot()
-    fig, (top, bottom) = plt.subplots(2, 1, sharex=True, figsize=(7, 5))
-    t = np.asarray(t, dtype=float)
-    x = _columns(x, len(t))
-    for k in range(x.shape[1]):
-        top.plot(t, x[:, k], lw=1.5, label=f"x_{k + 1}")
-    top.set_ylabel("state x")
+    values = _columns(top_values, len(t))
+    for k in range(values.shape[1]):
+        top.plot(t, values[:, k], lw=1.5, label=f"{name}_{k + 1}")
+    top.set_ylabel(ylabel)
     top.legend(loc="best", fontsize="small")
     u = _columns(u, max(len(t) - 1, 0))
     for k in range(u.shape[1]):
@@ -80,3 +60,14 @@ def general_plot(t, x, u, lam, title: str):
         bottom.legend(loc="best", fontsize="small")
     fig.suptitle(title)
     return fig
+
+
+def gait_plot(t, L, u, title: str):
+    """The gait: actuator lengths L_l at the knots (piecewise linear) above, the controls u_l
+    per piece (piecewise constant) below."""
+    return _above_controls(t, L, "L", "actuator length", u, title)
+
+
+def general_plot(t, x, u, title: str):
+    """A general problem's period: states x_k(t) above, controls u_k per step below."""
+    return _above_controls(t, x, "x", "state x", u, title)

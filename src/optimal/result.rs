@@ -83,6 +83,20 @@ pub struct ResultCertificate {
     pub upper_bound: Option<crate::optimal::bound_record::UpperBound>,
 }
 
+impl ResultCertificate {
+    /// A local answer's certificate: no bound and no gap (no global claim), `phases` for a
+    /// phase gait.
+    pub fn local(phases: Option<usize>) -> Self {
+        ResultCertificate {
+            kind: "local".into(),
+            gap: None,
+            bound: None,
+            phases,
+            upper_bound: None,
+        }
+    }
+}
+
 /// The gait over one period, on its own knots: `times` has one entry more than the pieces.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct GaitData {
@@ -337,13 +351,7 @@ impl GaitResult {
             block_displacements: p.block_displacements,
             slip: p.slip,
         };
-        let certificate = ResultCertificate {
-            kind: "local".into(),
-            gap: None,
-            bound: None,
-            phases: None,
-            upper_bound: None,
-        };
+        let certificate = ResultCertificate::local(None);
         let mut r = GaitResult::record(
             crawler,
             problem,
@@ -419,13 +427,7 @@ impl GaitResult {
     ) -> Self {
         let mut r = GaitResult::from_phase(crawler, problem, &s.best);
         r.status = local_status(s.stop);
-        r.certificate = ResultCertificate {
-            kind: "local".into(),
-            gap: None,
-            bound: None,
-            phases: Some(s.best.phases),
-            upper_bound: None,
-        };
+        r.certificate = ResultCertificate::local(Some(s.best.phases));
         r.local = Some(LocalRecord {
             start_objective: s.start_objective,
             start: start.into(),
@@ -461,13 +463,7 @@ impl GaitResult {
             &s.block_displacements,
             &s.initial_state,
         );
-        let certificate = ResultCertificate {
-            kind: "local".into(),
-            gap: None,
-            bound: None,
-            phases: None,
-            upper_bound: None,
-        };
+        let certificate = ResultCertificate::local(None);
         let mut r = GaitResult::record(
             crawler,
             problem,

@@ -218,16 +218,8 @@ pub fn grow_phases(
             // gait better than the best so far is never overruled by the gain tolerance, which
             // is relative to the length scale and can exceed a small true optimum (one link
             // with T just above 2w/a: J* = 5e-8 against a tolerance of 3e-7).
-            if best.as_ref().is_some_and(|b| s.objective() > b.objective()) {
-                best = Some(s);
-            } else if let Some(b) = best.as_mut() {
-                // The idle gait, now certified for this larger K.
-                b.phases = s.phases;
-                b.certificate.bound = s.certificate.bound;
-                b.certificate.gap =
-                    ((s.certificate.bound - b.objective()) / b.objective().abs().max(1.0)).max(0.0);
-                b.certificate.status = s.certificate.status;
-            }
+            // The idle gait so far: kept, or replaced by a better one.
+            keep_or_recertify(&mut best, s);
         } else {
             // The given start returned because nothing of at most K slip phases beats it:
             // the MILPs have not reached it yet, so this K is no plateau.
@@ -238,18 +230,8 @@ pub fn grow_phases(
             if !is_start {
                 without_gain += 1;
             }
-            if best.as_ref().is_some_and(|b| s.objective() > b.objective()) {
-                // Better within the tolerance only: keep the better gait, with its own
-                // certificate for this larger K.
-                best = Some(s);
-            } else if let Some(b) = best.as_mut() {
-                // Same gait, now certified for this larger K.
-                b.phases = s.phases;
-                b.certificate.bound = s.certificate.bound;
-                b.certificate.gap =
-                    ((s.certificate.bound - b.objective()) / b.objective().abs().max(1.0)).max(0.0);
-                b.certificate.status = s.certificate.status;
-            }
+            // Better within the tolerance only, or the same gait.
+            keep_or_recertify(&mut best, s);
             if without_gain >= opts.patience {
                 stop = GrowthStop::NoGain;
                 break;
@@ -266,4 +248,21 @@ pub fn grow_phases(
         best = start_unproven(crawler, problem, &best, opts.min_phases);
     }
     Ok(PhaseGrowth { best, table, stop })
+}
+
+/// The best gait after solving a larger `K` with no gain beyond the tolerance: `s` when it is
+/// better (with its own certificate), else the best so far, now certified for `s`'s `K` (its
+/// bound, gap and status).
+fn keep_or_recertify(best: &mut Option<PhaseSolution>, s: PhaseSolution) {
+    match best.as_mut() {
+        Some(b) if s.objective() <= b.objective() => {
+            b.phases = s.phases;
+            b.certificate.bound = s.certificate.bound;
+            b.certificate.gap =
+                ((s.certificate.bound - b.objective()) / b.objective().abs().max(1.0)).max(0.0);
+            b.certificate.status = s.certificate.status;
+        }
+        Some(_) => *best = Some(s),
+        None => {}
+    }
 }
