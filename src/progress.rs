@@ -10,6 +10,15 @@
 //!   solve stops within its next callback, not at its time limit;
 //! - [`report_milp`] with the incumbent and the bound of a running MILP.
 //!
+//! The scope also carries the job's [`Deadline`]: the token and the deadline travel together as
+//! one [`Stop`]. A job's time limit (the user's `time_limit` setting, seconds) becomes a
+//! deadline once, where the job starts ([`within`]); a part of the job given a share of what is
+//! left (a start gait, a sub-search) narrows it ([`share`], or [`within`] with its own limit),
+//! never beyond the enclosing deadline. The kernels ask [`expired`] between units of work (a
+//! loop that runs out of time returns its best answer so far with status `time_limit`), and the
+//! HiGHS boundary gives each timed solve [`remaining`] seconds. Cancellation wins over the time:
+//! [`out_of_time`] is `Err(Cancelled)` once the token is tripped, expired or not.
+//!
 //! A scope is per thread and nests (the innermost wins). Its observer is taken out while it
 //! runs, so an observer that calls back into the library sees no scope (and cannot alias it).
 
@@ -18,6 +27,7 @@ use std::cell::Cell;
 use std::ptr::NonNull;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
+use std::time::{Duration, Instant};
 
 /// A cancellation token: cheap to clone, shared between the caller (who trips it, from any
 /// thread or a signal handler's flag) and the job (which stops at its next check and returns
@@ -48,6 +58,94 @@ impl Cancel {
     }
 }
 
+/// When a job's time is up: an instant, or none (no time limit). Copied freely; a sub-budget
+/// ([`Deadline::child`], [`Deadline::share`]) never ends after its parent.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Deadline(Option<Instant>);
+
+impl Deadline {
+    /// No deadline: the job runs until its work is done (or it is cancelled).
+    pub const NONE: Deadline = Deadline(None);
+
+    /// The deadline `seconds` from now (none without a limit). A limit too large for the clock
+    /// is no limit; a negative or NaN one has already expired (the settings refuse both, naming
+    /// the field, before any deadline is made).
+    pub fn after(seconds: Option<f64>) -> Self {
+        Self::NONE.child(seconds)
+    }
+
+    /// The instant, if there is one.
+    pub fn at(self) -> Option<Instant> {
+        self.0
+    }
+
+    /// Seconds left (0 once expired); `None` without a deadline.
+    pub fn remaining(self) -> Option<f64> {
+        self.0
+            .map(|d| d.saturating_duration_since(Instant::now()).as_secs_f64())
+    }
+
+    /// Whether the deadline has passed (never, without one).
+    pub fn expired(self) -> bool {
+        self.0.is_some_and(|d| Instant::now() >= d)
+    }
+
+    /// A sub-budget of `seconds` from now, within this deadline: the earlier of the two
+    /// (`None`: this deadline).
+    pub fn child(self, seconds: Option<f64>) -> Self {
+        let Some(s) = seconds else {
+            return self;
+        };
+        let own = match Duration::try_from_secs_f64(s) {
+            Ok(d) => Instant::now().checked_add(d),
+            // Negative or NaN: already expired.
+            Err(_) if !(s > 0.0) => Some(Instant::now()),
+            // Beyond what a duration holds: no limit of its own.
+            Err(_) => None,
+        };
+        match (self.0, own) {
+            (Some(p), Some(o)) => Deadline(Some(p.min(o))),
+            (p, o) => Deadline(p.or(o)),
+        }
+    }
+
+    /// A share of what is left: `fraction` (in `[0, 1]`) of [`Deadline::remaining`] from now;
+    /// no deadline stays none.
+    pub fn share(self, fraction: f64) -> Self {
+        match self.remaining() {
+            Some(left) => self.child(Some(fraction.clamp(0.0, 1.0) * left)),
+            None => self,
+        }
+    }
+}
+
+/// How a job is stopped: its cancellation token and its deadline, together.
+#[derive(Clone, Debug, Default)]
+pub struct Stop {
+    /// The token the caller trips (none: the job cannot be cancelled).
+    pub cancel: Option<Cancel>,
+    /// When the job's time is up.
+    pub deadline: Deadline,
+}
+
+impl Stop {
+    /// `Err(Error::Cancelled)` once the token is tripped.
+    pub fn check(&self) -> Result<()> {
+        if self.cancel.as_ref().is_some_and(Cancel::is_cancelled) {
+            Err(Error::Cancelled)
+        } else {
+            Ok(())
+        }
+    }
+
+    /// Whether the time is up: `Err(Error::Cancelled)` once the token is tripped (cancellation
+    /// wins over the time), else whether the deadline has passed.
+    pub fn out_of_time(&self) -> Result<bool> {
+        self.check()?;
+        Ok(self.deadline.expired())
+    }
+}
+
 /// The state of a running MILP, as HiGHS reports it through its callback: the best objective
 /// found (the incumbent, if any) and the proven bound, in the problem's own units and sense
 /// (a maximisation: incumbent <= bound).
@@ -61,9 +159,12 @@ pub struct MilpProgress {
     pub seconds: f64,
 }
 
-/// What a scope offers the kernels: the token and the observer of MILP progress.
+/// What a scope offers the kernels: the token and the deadline, and the observer of MILP
+/// progress.
 pub struct Scope<'a> {
-    cancel: Option<&'a Cancel>,
+    stop: Stop,
+    /// Opened by a job ([`scoped`]), not only for a deadline ([`within`] outside any job).
+    job: bool,
     on_milp: Option<&'a mut (dyn FnMut(&MilpProgress) + 'a)>,
     /// The factor from the solver's objective to the user's units (set by the unit wrappers,
     /// `optimal::units`, around a solve in internal units).
@@ -83,21 +184,31 @@ impl Drop for Restore {
     }
 }
 
-/// Runs `f` with a scope of `cancel` and `on_milp` on this thread.
+/// Runs `f` with a scope of `cancel` and `on_milp` on this thread (no deadline: a job's time
+/// limit is set by [`within`] where its work starts).
 pub fn scoped<'a, R>(
     cancel: Option<&'a Cancel>,
     on_milp: Option<&'a mut (dyn FnMut(&MilpProgress) + 'a)>,
     f: impl FnOnce() -> R,
 ) -> R {
     let mut scope = Scope {
-        cancel,
+        stop: Stop {
+            cancel: cancel.cloned(),
+            deadline: Deadline::NONE,
+        },
+        job: true,
         on_milp,
         objective_scale: 1.0,
     };
+    enter(&mut scope, f)
+}
+
+/// Runs `f` with `scope` as this thread's current scope.
+fn enter<'a, R>(scope: &mut Scope<'a>, f: impl FnOnce() -> R) -> R {
     // SAFETY: the pointer is only dereferenced on this thread while `f` runs (the guard puts
     // the previous value back before `scope` is dropped, also on unwinding), so the erased
     // lifetime never outlives the borrow.
-    let ptr = NonNull::from(&mut scope).cast::<Scope<'static>>();
+    let ptr = NonNull::from(scope).cast::<Scope<'static>>();
     let _restore = Restore(CURRENT.with(|c| c.replace(Some(ptr))));
     f()
 }
@@ -114,12 +225,12 @@ fn with_current<R>(g: impl FnOnce(&mut Scope<'_>) -> R) -> Option<R> {
 /// Whether this thread runs inside a [`scoped`] job (the kernels then install their hooks, such
 /// as HiGHS's callback; outside one they run exactly as without this module).
 pub fn in_scope() -> bool {
-    CURRENT.with(|c| c.get().is_some())
+    with_current(|s| s.job).unwrap_or(false)
 }
 
 /// Whether this thread's job was cancelled.
 pub fn cancelled() -> bool {
-    with_current(|s| s.cancel.is_some_and(Cancel::is_cancelled)).unwrap_or(false)
+    with_current(|s| s.stop.check().is_err()).unwrap_or(false)
 }
 
 /// `Err(Error::Cancelled)` once this thread's job was cancelled: called between units of work.
@@ -128,6 +239,86 @@ pub fn check() -> Result<()> {
         Err(Error::Cancelled)
     } else {
         Ok(())
+    }
+}
+
+/// This thread's deadline ([`Deadline::NONE`] outside any).
+pub fn deadline() -> Deadline {
+    with_current(|s| s.stop.deadline).unwrap_or_default()
+}
+
+/// Seconds left of this thread's deadline; `None` without one.
+pub fn remaining() -> Option<f64> {
+    deadline().remaining()
+}
+
+/// Whether this thread's deadline has passed.
+pub fn expired() -> bool {
+    deadline().expired()
+}
+
+/// [`Stop::out_of_time`] of this thread's job: `Err(Cancelled)` once cancelled (cancellation
+/// wins), else whether its deadline has passed. Asked between units of work by the loops that
+/// stop at the time limit with their best answer so far.
+pub fn out_of_time() -> Result<bool> {
+    check()?;
+    Ok(expired())
+}
+
+/// Runs `f` under a time limit of `seconds` from now ([`Deadline::child`] of the current
+/// deadline: never later than it); `None` runs `f` under the current deadline. This is where a
+/// job's `time_limit` setting becomes its deadline (outside any scope, `f` runs in one of its
+/// own that holds only the deadline).
+pub fn within<R>(seconds: Option<f64>, f: impl FnOnce() -> R) -> R {
+    if seconds.is_none() {
+        return f();
+    }
+    narrowed(|d| d.child(seconds), f)
+}
+
+/// Runs `f` within `fraction` of the time left ([`Deadline::share`]; without a deadline, `f`
+/// runs without one): a part of a job given its share of the budget.
+pub fn share<R>(fraction: f64, f: impl FnOnce() -> R) -> R {
+    narrowed(|d| d.share(fraction), f)
+}
+
+/// Puts a deadline back when the closure that narrowed it returns or unwinds.
+struct RestoreDeadline(Deadline);
+
+impl Drop for RestoreDeadline {
+    fn drop(&mut self) {
+        with_current(|s| s.stop.deadline = self.0);
+    }
+}
+
+/// Runs `f` with the current deadline replaced by `to(deadline)`.
+fn narrowed<R>(to: impl FnOnce(Deadline) -> Deadline, f: impl FnOnce() -> R) -> R {
+    let mut to = Some(to);
+    let narrow = |s: &mut Scope<'_>| {
+        let old = s.stop.deadline;
+        if let Some(to) = to.take() {
+            s.stop.deadline = to(old);
+        }
+        old
+    };
+    match with_current(narrow) {
+        Some(old) => {
+            let _restore = RestoreDeadline(old);
+            f()
+        }
+        None => {
+            let deadline = to.map_or(Deadline::NONE, |to| to(Deadline::NONE));
+            let mut scope = Scope {
+                stop: Stop {
+                    cancel: None,
+                    deadline,
+                },
+                job: false,
+                on_milp: None,
+                objective_scale: 1.0,
+            };
+            enter(&mut scope, f)
+        }
     }
 }
 
@@ -200,5 +391,82 @@ mod tests {
             });
         });
         assert_eq!(seen, vec![Some(3.0), Some(1.0)]);
+    }
+
+    #[test]
+    fn a_deadline_expires_and_none_never_does() {
+        assert!(Deadline::after(Some(0.0)).expired());
+        assert_eq!(Deadline::after(Some(0.0)).remaining(), Some(0.0));
+        let hour = Deadline::after(Some(3600.0));
+        assert!(!hour.expired());
+        assert!(hour.remaining().is_some_and(|r| r > 0.0 && r <= 3600.0));
+        for none in [
+            Deadline::NONE,
+            Deadline::after(None),
+            Deadline::after(Some(1e300)),
+        ] {
+            assert!(!none.expired());
+            assert_eq!(none.remaining(), None);
+            assert_eq!(none.share(0.5), Deadline::NONE);
+        }
+        // A refused value (negative, NaN) never means "no limit".
+        assert!(Deadline::after(Some(-1.0)).expired());
+        assert!(Deadline::after(Some(f64::NAN)).expired());
+    }
+
+    #[test]
+    fn a_sub_budget_never_ends_after_its_parent() {
+        let parent = Deadline::after(Some(10.0));
+        let end = parent.at().expect("a deadline");
+        // A longer own limit is cut to the parent's; a shorter one is kept.
+        assert_eq!(parent.child(Some(1e6)).at(), Some(end));
+        assert_eq!(parent.child(None), parent);
+        let short = parent.child(Some(1.0)).at().expect("a deadline");
+        assert!(short < end);
+        for f in [0.0, 0.25, 0.5, 1.0, 2.0] {
+            assert!(parent.share(f).at().expect("a deadline") <= end);
+        }
+        // Nested in a scope: the inner deadline is the earlier one, and the outer comes back.
+        scoped(None, None, || {
+            assert_eq!(deadline(), Deadline::NONE);
+            within(Some(10.0), || {
+                let outer = deadline().at().expect("a deadline");
+                within(Some(1e6), || assert_eq!(deadline().at(), Some(outer)));
+                share(0.5, || {
+                    assert!(deadline().at().expect("a deadline") < outer)
+                });
+                within(Some(0.0), || assert!(expired()));
+                assert_eq!(deadline().at(), Some(outer));
+                assert!(!expired());
+            });
+            assert_eq!(deadline(), Deadline::NONE);
+        });
+        // Outside any job a deadline still holds, in a scope of its own that is no job's.
+        within(Some(0.0), || {
+            assert!(expired());
+            assert!(!in_scope());
+            assert_eq!(out_of_time(), Ok(true));
+        });
+        assert!(!expired());
+    }
+
+    #[test]
+    fn cancellation_wins_over_the_time() {
+        let token = Cancel::new();
+        let stop = Stop {
+            cancel: Some(token.clone()),
+            deadline: Deadline::after(Some(0.0)),
+        };
+        assert_eq!(stop.out_of_time(), Ok(true));
+        token.cancel();
+        assert_eq!(stop.out_of_time(), Err(Error::Cancelled));
+        let fresh = Cancel::new();
+        scoped(Some(&fresh), None, || {
+            within(Some(0.0), || {
+                assert_eq!(out_of_time(), Ok(true));
+                fresh.cancel();
+                assert_eq!(out_of_time(), Err(Error::Cancelled));
+            })
+        });
     }
 }

@@ -210,10 +210,11 @@ class GeneralProblem:
         (discrete only) adds ``necessary_conditions``: Theorem 2.2's conditions on the optimum
         with their residuals and ``verdict`` (``crawlopt optimize --certify``). Ctrl-C stops it
         (KeyboardInterrupt); ``progress`` as for ``optimize``. ``method`` "phase" (where A = 0):
-        the exact continuous-time gait of at most ``max_phases`` phases (default 4), globally
-        (``crawlopt optimize --method phase``); its ``solution`` holds ``objective`` (J
-        re-verified by the exact simulation), ``durations``, ``controls``, ``states``,
-        ``held`` (faces, 1-based) and ``reactions`` per phase. ``polish`` (discrete only;
+        the exact continuous-time gait of at most ``max_phases`` phases (None: the library's
+        default, ``api::DEFAULT_GENERAL_PHASES``), globally (``crawlopt optimize --method
+        phase``); its ``solution`` holds ``objective`` (J re-verified by the exact simulation),
+        ``durations``, ``controls``, ``states``, ``held`` (faces, 1-based) and ``reactions`` per
+        phase. ``polish`` (discrete only;
         default True): a quadratic cost's answer is polished on its fixed face pattern before it
         is certified (``--no-polish`` is ``polish=False``); ``solution["polish"]`` records it."""
         d = self._inner.optimize(

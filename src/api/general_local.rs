@@ -11,7 +11,6 @@ pub use crate::io::GeneralLocalOptimized;
 use crate::optimal::general::{
     check_general_local, default_starts, grid_controls, solve_general_local, GeneralLocal,
 };
-use std::time::Instant;
 
 /// [`super::optimize_general`] with `hooks`: cancellable (within a HiGHS callback) and
 /// reporting its stage and the MILP's incumbent and bound as events.
@@ -91,48 +90,47 @@ pub fn optimize_general_local(
         ));
     }
     run_with(hooks, |em| {
-        let began = Instant::now();
-        let n = starts.len();
-        let mut best: Option<(GeneralLocal, usize)> = None;
-        let mut tried = 0;
-        for (k, start) in starts.iter().enumerate() {
-            let left = s.time_limit.map(|t| t - began.elapsed().as_secs_f64());
-            if left.is_some_and(|l| l <= 0.0) && best.is_some() {
-                break;
+        crate::progress::within(s.time_limit, || {
+            let n = starts.len();
+            let mut best: Option<(GeneralLocal, usize)> = None;
+            let mut tried = 0;
+            for (k, start) in starts.iter().enumerate() {
+                if best.is_some() && crate::progress::expired() {
+                    break;
+                }
+                em.stage(format!(
+                    "local LPCC method on P_{} ({} steps), start {} of {n}",
+                    s.m,
+                    1usize << s.m,
+                    k + 1
+                ));
+                let sol = match solve_general_local(&p, &g, s.m, start, None) {
+                    Ok(sol) => sol,
+                    Err(Error::TimeLimit(_)) if best.is_some() => break,
+                    Err(e) => return Err(e),
+                };
+                tried += 1;
+                let out_of_time = sol.stop == crate::optimal::LocalStop::TimeLimit;
+                if best.as_ref().is_none_or(|(b, _)| {
+                    sol.objective > b.objective + 1e-9 * (1.0 + b.objective.abs())
+                }) {
+                    best = Some((sol, k));
+                }
+                if out_of_time {
+                    break;
+                }
             }
-            em.stage(format!(
-                "local LPCC method on P_{} ({} steps), start {} of {n}",
-                s.m,
-                1usize << s.m,
-                k + 1
-            ));
-            let sol = match solve_general_local(&p, &g, s.m, start, left.map(|l| l.max(1e-3))) {
-                Ok(sol) => sol,
-                Err(Error::TimeLimit(_)) if best.is_some() => break,
-                Err(e) => return Err(e),
-            };
-            tried += 1;
-            let out_of_time = sol.stop == crate::optimal::LocalStop::TimeLimit;
-            if best
-                .as_ref()
-                .is_none_or(|(b, _)| sol.objective > b.objective + 1e-9 * (1.0 + b.objective.abs()))
-            {
-                best = Some((sol, k));
-            }
-            if out_of_time {
-                break;
-            }
-        }
-        // The first start either stores its answer or returns its error.
-        let (solution, best_start) = best.expect("the first start solved or an error returned");
-        Ok(GeneralLocalOptimized {
-            kind: "general",
-            method: "local",
-            period: p.period,
-            start_from,
-            starts_tried: tried,
-            best_start,
-            solution,
+            // The first start either stores its answer or returns its error.
+            let (solution, best_start) = best.expect("the first start solved or an error returned");
+            Ok(GeneralLocalOptimized {
+                kind: "general",
+                method: "local",
+                period: p.period,
+                start_from,
+                starts_tried: tried,
+                best_start,
+                solution,
+            })
         })
     })
 }

@@ -64,8 +64,8 @@ pub use general_phase::{
 pub use general_plan::{optimize_general_plan, GeneralAnswer, GeneralPlan};
 pub use optimize::{optimize, Optimized};
 pub use settings::{
-    GaitMethod, Naming, OptimizeSettings, Plan, Start, DEFAULT_M_DISCRETE, DEFAULT_M_LOCAL,
-    DEFAULT_SHIFTS,
+    GaitMethod, Naming, OptimizeSettings, Plan, Start, DEFAULT_MAX_PHASES, DEFAULT_M_DISCRETE,
+    DEFAULT_M_LOCAL, DEFAULT_PATIENCE, DEFAULT_SHIFTS,
 };
 
 use crate::error::{Error, Result};

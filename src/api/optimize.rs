@@ -17,7 +17,6 @@ use crate::optimal::{
     StartRecord, MAX_PHASES,
 };
 use serde::Serialize;
-use std::time::Instant;
 
 /// The answer of [`optimize`]: the gait result (verified by simulation, with its certificate
 /// and status), the necessary conditions when asked for, and the notes the job sent.
@@ -48,7 +47,11 @@ pub fn optimize(
     let plan = settings.plan(crawler, problem)?;
     run_with(hooks, |em| {
         crate::progress::check()?;
-        let mut result = solve(crawler, problem, settings, &plan, em)?;
+        // The job's deadline: `time_limit` from here, over the method and its start (the
+        // bound has its own, `bound.time_limit`, after it).
+        let mut result = crate::progress::within(settings.time_limit, || {
+            solve(crawler, problem, settings, &plan, em)
+        })?;
         if let Some(b) = &settings.bound {
             em.stage("proving an upper bound over all periodic gaits");
             let ub = crate::certify::bound::upper_bound(crawler, problem, b)?;
@@ -81,7 +84,7 @@ pub fn optimize(
 /// the chain method, a candidate start of the local methods, and the floor of the answer
 /// (the method's answer when it is at least as good, else the structured gait, recording
 /// what the method found in [`GaitResult::structured`]). A method that ends at the time limit
-/// without a gait returns the structured gait.
+/// without a gait returns the structured gait. Runs within the job's deadline.
 fn solve(
     crawler: &Crawler,
     problem: &GaitProblem,
@@ -92,7 +95,6 @@ fn solve(
     if plan.method == GaitMethod::Discrete {
         return solve_method(crawler, problem, settings, plan, None, em);
     }
-    let began = Instant::now();
     em.stage("structured gaits (travelling, alternating and grouped waves)");
     let floor = best_structured(crawler, problem, &StructuredOptions::default())?;
     if let Some(f) = &floor {
@@ -105,27 +107,20 @@ fn solve(
         ));
     }
     // What is left of the time limit goes to the method.
-    let mut rest = settings.clone();
-    let mut plan = plan.clone();
-    if let Some(t) = settings.time_limit {
-        let left = t - began.elapsed().as_secs_f64();
-        if left <= 0.0 {
-            if let Some(f) = floor {
-                let mut r = f.best.result;
-                r.status = MilpStatus::TimeLimit;
-                if let Some(s) = r.structured.as_mut() {
-                    s.replaced = Some("the time limit was spent on the structured gaits".into());
-                }
-                return Ok(r);
+    if crate::progress::expired() {
+        if let Some(f) = floor {
+            let mut r = f.best.result;
+            r.status = MilpStatus::TimeLimit;
+            if let Some(s) = r.structured.as_mut() {
+                s.replaced = Some("the time limit was spent on the structured gaits".into());
             }
-            return Err(Error::TimeLimit(
-                "the time limit was reached while evaluating the structured gaits".into(),
-            ));
+            return Ok(r);
         }
-        rest.time_limit = Some(left);
-        plan.growth.time_limit = Some(left);
+        return Err(Error::TimeLimit(
+            "the time limit was reached while evaluating the structured gaits".into(),
+        ));
     }
-    let answer = solve_method(crawler, problem, &rest, &plan, floor.as_ref(), em);
+    let answer = solve_method(crawler, problem, settings, plan, floor.as_ref(), em);
     let Some(f) = floor else {
         return answer;
     };
@@ -184,7 +179,9 @@ fn solve(
     Ok(out)
 }
 
-/// The method of `plan` run, `floor` the best structured gait (none for the discrete method).
+/// The method of `plan` run, `floor` the best structured gait (none for the discrete method),
+/// within the job's deadline (its steps are given no time limit of their own; a start gait's
+/// share is [`phase_start`]'s and [`discrete_start`]'s).
 fn solve_method(
     crawler: &Crawler,
     problem: &GaitProblem,
@@ -193,7 +190,7 @@ fn solve_method(
     floor: Option<&StructuredSearch>,
     em: &Emitter<'_>,
 ) -> Result<GaitResult> {
-    let (m, time_limit) = (plan.m, settings.time_limit);
+    let m = plan.m;
     let start = settings.start.as_ref();
     match plan.method {
         GaitMethod::Chain => {
@@ -216,7 +213,7 @@ fn solve_method(
                 crawler,
                 problem,
                 &starts,
-                &ChainOptions { time_limit },
+                &ChainOptions::default(),
                 &mut |st| {
                     em.stage(format!(
                         "chain pattern search: sweep {}, step {}, J = {:.6} ({} simulations)",
@@ -227,7 +224,7 @@ fn solve_method(
             Ok(s.result)
         }
         GaitMethod::Local => {
-            let (from, left) = start_gait(start, crawler, problem, plan, floor, em)?;
+            let from = start_gait(start, crawler, problem, plan, floor, em)?;
             em.stage(format!("local LPCC method on P_{m} ({} steps)", 1u64 << m));
             let (s, shift) = solve_discrete_local_shifted(
                 crawler,
@@ -236,13 +233,13 @@ fn solve_method(
                 from.times(),
                 from.lengths(),
                 plan.shifts,
-                left,
+                None,
             )?;
             let origin = shifted_origin(&from.origin, shift);
             Ok(GaitResult::from_local(crawler, problem, &s, &origin))
         }
         GaitMethod::Sequence => {
-            let (from, left) = start_gait(start, crawler, problem, plan, floor, em)?;
+            let from = start_gait(start, crawler, problem, plan, floor, em)?;
             let (seq, origin) = (slip_sequence(&from.result.gait.slip), from.origin);
             let k = settings
                 .phases
@@ -251,7 +248,7 @@ fn solve_method(
                 "local search over sequences of {k} slip modes, from {} of {origin}",
                 seq.len()
             ));
-            let s = search_sequences(crawler, problem, &seq, k, left)?;
+            let s = search_sequences(crawler, problem, &seq, k, None)?;
             Ok(GaitResult::from_sequence(crawler, problem, &s, &origin))
         }
         GaitMethod::Phase | GaitMethod::Auto => {
@@ -271,7 +268,7 @@ fn solve_method(
         }
         GaitMethod::Discrete if settings.convergence => {
             em.stage("m = 1");
-            let (table, s) = discrete_convergence(crawler, problem, m, time_limit, &mut |row| {
+            let (table, s) = discrete_convergence(crawler, problem, m, None, &mut |row| {
                 em.send(Event::DiscreteSolved(row.clone()))
             })?;
             let mut r = GaitResult::from_discrete(crawler, problem, &s);
@@ -279,20 +276,19 @@ fn solve_method(
             Ok(r)
         }
         GaitMethod::Discrete => {
-            let began = Instant::now();
             let from = match start {
                 Some(s) => Some(start_of(s, crawler, problem)?),
                 None => discrete_start(crawler, problem, m, plan.shifts, &plan.growth, &mut |e| {
                     em.start_event(e)
                 })?,
             };
-            let left = time_left(time_limit, began, &format!("P_{m}: "))?;
+            started_in_time(&format!("P_{m}: "))?;
             em.stage(format!("solving P_{m} ({} steps)", 1u64 << m));
             let s = solve_discrete_global_with(
                 crawler,
                 problem,
                 m,
-                left,
+                None,
                 from.as_ref().map(|f| (f.times(), f.lengths())),
                 settings
                     .polish
@@ -325,7 +321,7 @@ fn solve_phase_method(
                 start,
                 ..PhaseOptions::default()
             };
-            let s = solve_phase_with(crawler, problem, k, settings.time_limit, &opts)?;
+            let s = solve_phase_with(crawler, problem, k, None, &opts)?;
             Ok(GaitResult::from_phase(crawler, problem, &s))
         }
         None => {
@@ -343,20 +339,20 @@ fn solve_phase_method(
     }
 }
 
-/// What is left of `time_limit` since `began`; an error (prefixed by `what`) when nothing is.
-fn time_left(time_limit: Option<f64>, began: Instant, what: &str) -> Result<Option<f64>> {
-    let left = time_limit.map(|t| t - began.elapsed().as_secs_f64());
-    if left.is_some_and(|l| l <= 0.0) {
+/// An error (prefixed by `what`) when the job's deadline passed while its start gait was
+/// computed: the method has no time left.
+fn started_in_time(what: &str) -> Result<()> {
+    if crate::progress::expired() {
         return Err(Error::TimeLimit(format!(
             "{what}the time limit was reached while computing the start gait"
         )));
     }
-    Ok(left)
+    Ok(())
 }
 
 /// The start of a local method: the given one (checked to be of this crawler and period), or
 /// the better of [`phase_start`] and the best structured gait `floor` (the structured gait
-/// alone when the phase start fails for want of time); with the time left.
+/// alone when the phase start fails for want of time), with time left of the job's deadline.
 fn start_gait(
     start: Option<&Start>,
     crawler: &Crawler,
@@ -364,8 +360,7 @@ fn start_gait(
     plan: &Plan,
     floor: Option<&StructuredSearch>,
     em: &Emitter<'_>,
-) -> Result<(StartGait, Option<f64>)> {
-    let began = Instant::now();
+) -> Result<StartGait> {
     let start = match start {
         Some(s) => start_of(s, crawler, problem)?,
         None => {
@@ -393,7 +388,8 @@ fn start_gait(
             }
         }
     };
-    Ok((start, time_left(plan.growth.time_limit, began, "")?))
+    started_in_time("")?;
+    Ok(start)
 }
 
 /// A given start gait, read (a file) and checked against the crawler and the period.

@@ -8,6 +8,7 @@ use crate::optimal::{
     check_local, check_shifts, check_size, check_time_limit, Cost, GaitProblem, GaitResult,
     GrowOptions, MAX_LOCAL_M, MAX_M, MAX_PHASES,
 };
+pub use crate::optimal::{DEFAULT_MAX_PHASES, DEFAULT_PATIENCE};
 use serde::{Deserialize, Serialize};
 use std::path::PathBuf;
 
@@ -158,9 +159,11 @@ pub struct OptimizeSettings {
     /// modes (default: the start's plus 2). Without it K grows from 1 until the value has not
     /// improved for `patience` K (or `max_phases`, or the time limit).
     pub phases: Option<usize>,
-    /// Consecutive K without a gain that end a certified growth of K (default 2).
+    /// Consecutive K without a gain that end a certified growth of K (default
+    /// [`DEFAULT_PATIENCE`]).
     pub patience: Option<usize>,
-    /// Largest K tried when K grows (default 8).
+    /// Largest K tried when K grows (default [`DEFAULT_MAX_PHASES`]; checked by
+    /// [`OptimizeSettings::check_values`], in `1..=MAX_PHASES` and not below the first K).
     pub max_phases: Option<usize>,
     /// The grid of P_m has 2^m steps (discrete: default [`DEFAULT_M_DISCRETE`]; local: default
     /// [`DEFAULT_M_LOCAL`]).
@@ -259,17 +262,22 @@ impl OptimizeSettings {
                 ));
             }
         }
-        let defaults = GrowOptions::default();
-        GrowOptions {
-            max_phases: self.max_phases.unwrap_or(defaults.max_phases),
-            patience: self.patience.unwrap_or(defaults.patience),
-            ..defaults
-        }
-        .check()?;
+        self.growth().check()?;
         if let Some(s) = self.shifts {
             check_shifts(s)?;
         }
         Ok(())
+    }
+
+    /// The options of a growth of K under these settings, the library's defaults filled in
+    /// ([`DEFAULT_MAX_PHASES`], [`DEFAULT_PATIENCE`]).
+    fn growth(&self) -> GrowOptions {
+        GrowOptions {
+            max_phases: self.max_phases.unwrap_or(DEFAULT_MAX_PHASES),
+            patience: self.patience.unwrap_or(DEFAULT_PATIENCE),
+            time_limit: self.time_limit,
+            ..GrowOptions::default()
+        }
     }
 
     /// [`OptimizeSettings::plan`] without the size of the crawler: the method, the options that
@@ -381,14 +389,7 @@ impl OptimizeSettings {
                 ));
             }
         }
-        let defaults = GrowOptions::default();
-        let growth = GrowOptions {
-            max_phases: self.max_phases.unwrap_or(defaults.max_phases),
-            patience: self.patience.unwrap_or(defaults.patience),
-            time_limit: self.time_limit,
-            ..defaults
-        };
-        growth.check()?;
+        let growth = self.growth();
         if let Some(s) = self.shifts {
             check_shifts(s)?;
         }

@@ -15,8 +15,8 @@
 
 use super::solver::{Highs, SolveStatus};
 use crate::error::{Error, Result};
+use crate::progress;
 use serde::{Deserialize, Serialize};
-use std::time::Instant;
 
 /// Why the local method stopped.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
@@ -50,15 +50,14 @@ pub(crate) struct Outcome {
 /// `sign` turns the model's objective into the maximised `J` (`-1` for a model that minimises
 /// `-J`, `1` for one that maximises `J`); `pivot(model, columns, reduced_costs, J)` moves the
 /// profitable degenerate pairs and returns how many; `max_stalls` consecutive LPs without a gain
-/// end the loop ([`LocalStop::Stalled`]). `what` names P_m in errors.
+/// end the loop ([`LocalStop::Stalled`]); the job's deadline ([`crate::progress`]) ends it with
+/// the last LP's answer ([`LocalStop::TimeLimit`]). `what` names P_m in errors.
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn run(
     model: &mut Highs,
     sign: f64,
     max_rounds: usize,
     max_stalls: usize,
-    time_limit: Option<f64>,
-    began: Instant,
     what: &str,
     mut pivot: impl FnMut(&mut Highs, &[f64], &[f64], f64) -> Result<usize>,
 ) -> Result<Outcome> {
@@ -76,18 +75,15 @@ pub(crate) fn run(
             switches,
         })
     };
+    model.until_deadline();
     loop {
-        if let Some(tl) = time_limit {
-            let left = tl - began.elapsed().as_secs_f64();
-            if left <= 0.0 {
-                return match last {
-                    Some((cols, j)) => end(cols, j, LocalStop::TimeLimit, lp_solves, switches),
-                    None => Err(Error::TimeLimit(format!(
-                        "{what}: the time limit was reached before the first LP"
-                    ))),
-                };
-            }
-            model.time_limit(left)?;
+        if progress::expired() {
+            return match last {
+                Some((cols, j)) => end(cols, j, LocalStop::TimeLimit, lp_solves, switches),
+                None => Err(Error::TimeLimit(format!(
+                    "{what}: the time limit was reached before the first LP"
+                ))),
+            };
         }
         let solved = model.solve()?;
         lp_solves += 1;
@@ -124,8 +120,7 @@ pub(crate) fn run(
         let changed = pivot(model, &cols, &solved.column_duals, objective)?;
         switches += changed;
         if changed == 0 {
-            let out_of_time = time_limit.is_some_and(|tl| began.elapsed().as_secs_f64() >= tl);
-            let stop = if out_of_time {
+            let stop = if progress::expired() {
                 LocalStop::TimeLimit
             } else {
                 LocalStop::Stationary

@@ -240,11 +240,20 @@ pub fn search_chain(
             format!("needs one per link ({})", crawler.links()),
         ));
     }
+    crate::progress::within(opts.time_limit, || {
+        search(crawler, problem, start, origin, progress)
+    })
+}
+
+/// [`search_chain`], arguments checked, within the current deadline.
+fn search(
+    crawler: &Crawler,
+    problem: &GaitProblem,
+    start: &[Ramp],
+    origin: &str,
+    progress: &mut dyn FnMut(&ChainStep),
+) -> Result<ChainSearch> {
     let began = Instant::now();
-    let out_of_time = || {
-        opts.time_limit
-            .is_some_and(|t| began.elapsed().as_secs_f64() >= t)
-    };
     let zero = vec![0.0; crawler.links()];
     let (mut best, mut x0) = evaluate(crawler, problem, start, &zero).ok_or_else(|| {
         Error::Numerical(format!(
@@ -260,8 +269,7 @@ pub fn search_chain(
         let mut gained = false;
         for l in 0..ramps.len() {
             for i in 0..PARAMS {
-                crate::progress::check()?;
-                if out_of_time() {
+                if crate::progress::out_of_time()? {
                     break 'search LocalStop::TimeLimit;
                 }
                 let trials: Vec<Vec<Ramp>> = [step, -step]
@@ -350,11 +358,22 @@ pub fn search_chain_multi(
     opts: &ChainOptions,
     progress: &mut dyn FnMut(&ChainStep),
 ) -> Result<ChainSearch> {
-    let began = Instant::now();
+    crate::optimal::check_time_limit(opts.time_limit)?;
+    crate::progress::within(opts.time_limit, || {
+        search_each(crawler, problem, starts, progress)
+    })
+}
+
+/// [`search_chain_multi`] within the current deadline.
+fn search_each(
+    crawler: &Crawler,
+    problem: &GaitProblem,
+    starts: &[(Vec<Ramp>, String)],
+    progress: &mut dyn FnMut(&ChainStep),
+) -> Result<ChainSearch> {
     let mut best: Option<ChainSearch> = None;
     for (ramps, origin) in starts {
-        let left = opts.time_limit.map(|t| t - began.elapsed().as_secs_f64());
-        if best.is_some() && left.is_some_and(|l| l <= 0.0) {
+        if best.is_some() && crate::progress::expired() {
             break;
         }
         let s = search_chain(
@@ -362,9 +381,7 @@ pub fn search_chain_multi(
             problem,
             ramps,
             origin,
-            &ChainOptions {
-                time_limit: left.map(|l| l.max(1e-3)),
-            },
+            &ChainOptions::default(),
             progress,
         )?;
         let stop = s.stop == LocalStop::TimeLimit;

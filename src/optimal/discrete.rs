@@ -49,7 +49,6 @@ use crate::optimal::sample_increments;
 use crate::optimal::{Certificate, Cost, GaitProblem, MilpStatus};
 use highs::{Col, RowProblem};
 use serde::Serialize;
-use std::time::Instant;
 
 /// Largest `m` accepted (`2^m` steps).
 pub const MAX_M: u32 = 16;
@@ -280,7 +279,6 @@ pub(super) fn solve_discrete_in(
     crawler: &Crawler,
     problem: &GaitProblem,
     m: u32,
-    time_limit: Option<f64>,
     start: Option<(&[f64], &[Vec<f64>])>,
 ) -> Result<DiscreteSolution> {
     let nb = crawler.blocks();
@@ -288,7 +286,6 @@ pub(super) fn solve_discrete_in(
     let h = problem.period / big_m as f64;
     let a = &problem.rate_bound;
     let what = format!("P_{m}");
-    let began = Instant::now();
     let mut rates = match problem.cost {
         Cost::Quadratic { .. } => Some(TangentRates::new(a)),
         Cost::None => None,
@@ -333,25 +330,16 @@ pub(super) fn solve_discrete_in(
     let (cols, lay, bound, status) = loop {
         rounds += 1;
         let (pb, lay) = build(crawler, problem, m, rates.as_ref());
-        let left = match time_limit {
-            Some(tl) => {
-                let left = tl - began.elapsed().as_secs_f64();
-                if left <= 0.0 {
-                    match last {
-                        Some((cols, bound, lay)) => {
-                            break (cols, lay, bound, MilpStatus::TimeLimit)
-                        }
-                        None => {
-                            return Err(Error::TimeLimit(format!(
-                            "{what}: the time limit was reached before any feasible gait was found"
-                        )))
-                        }
-                    }
+        if crate::progress::expired() {
+            match last {
+                Some((cols, bound, lay)) => break (cols, lay, bound, MilpStatus::TimeLimit),
+                None => {
+                    return Err(Error::TimeLimit(format!(
+                        "{what}: the time limit was reached before any feasible gait was found"
+                    )))
                 }
-                Some(left)
             }
-            None => None,
-        };
+        }
         // The first round starts from the start gait, later ones from the previous round's
         // solution (the same columns), its cost epigraphs raised onto the cost, which the new
         // cuts were placed to exceed.
@@ -370,7 +358,7 @@ pub(super) fn solve_discrete_in(
             (None, None) => None,
         };
         let gap = problem.length_scale(crawler) * 1e-9;
-        let (cols, _, bound, status) = solve_max(pb, left, &what, start_cols.as_deref(), gap)?;
+        let (cols, _, bound, status) = solve_max(pb, &what, start_cols.as_deref(), gap)?;
         let Some(r) = rates.as_mut() else {
             break (cols, lay, bound, status);
         };

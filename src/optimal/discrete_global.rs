@@ -74,8 +74,10 @@ pub fn solve_discrete_global_with(
     let (c, p) = (units.crawler(crawler)?, units.problem(problem));
     let start = start.map(|(t, l)| units.knots_in(t, l));
     let start = start.as_ref().map(|(t, l)| (t.as_slice(), l.as_slice()));
-    let s = crate::progress::with_objective_scale(units.objective_scale(), || {
-        solve_discrete_in(&c, &p, m, time_limit, start)
+    let s = crate::progress::within(time_limit, || {
+        crate::progress::with_objective_scale(units.objective_scale(), || {
+            solve_discrete_in(&c, &p, m, start)
+        })
     })?;
     let s = match p.cost {
         Cost::Quadratic { .. } if polish => super::discrete_polish::polish(&c, &p, s),
@@ -103,10 +105,11 @@ pub struct ConvergenceRow {
     pub seconds: f64,
 }
 
-/// Solves P_m for `m = 1..=max_m` (the paper's discrete approximations, §6), each within what
-/// is left of `time_limit` and each started from the previous optimum (every step of `P_{m-1}`
-/// cut in two: a gait of `P_m`); returns the table and the finest solution. Stops early,
-/// keeping what was solved, when the time runs out.
+/// Solves P_m for `m = 1..=max_m` (the paper's discrete approximations, §6), all within
+/// `time_limit` (each within what is left) and each started from the previous optimum (every
+/// step of `P_{m-1}` cut in two: a gait of `P_m`); returns the table and the finest solution. Stops early,
+/// keeping what was solved, when the time runs out (a time-limit error when it ran out before
+/// `P_1` was solved).
 pub fn discrete_convergence(
     crawler: &Crawler,
     problem: &GaitProblem,
@@ -123,44 +126,45 @@ pub fn discrete_convergence(
     }
     crate::optimal::check_size(crawler, 1 << max_m, "m", max_m)?;
     check_time_limit(time_limit)?;
-    let began = Instant::now();
-    let mut table = Vec::new();
-    let mut finest = None;
-    for m in 1..=max_m {
-        let left = time_limit.map(|t| t - began.elapsed().as_secs_f64());
-        if left.is_some_and(|l| l <= 0.0) {
-            break;
+    crate::progress::within(time_limit, || {
+        let mut table = Vec::new();
+        let mut finest = None;
+        for m in 1..=max_m {
+            // m = 1 always runs: a limit spent before it is its time-limit error.
+            if finest.is_some() && crate::progress::expired() {
+                break;
+            }
+            let t0 = Instant::now();
+            let knots = finest
+                .as_ref()
+                .map(|s: &DiscreteSolution| s.knots(crawler.stiffness()));
+            let start = knots.as_ref().map(|(t, l)| (&t[..], &l[..]));
+            let s = match solve_discrete_global_from(crawler, problem, m, None, start) {
+                Ok(s) => s,
+                Err(Error::TimeLimit(_)) if finest.is_some() => break,
+                Err(e) => return Err(e),
+            };
+            let row = ConvergenceRow {
+                m,
+                steps: 1 << m,
+                objective: s.objective(),
+                bound: s.certificate.bound,
+                gap: s.certificate.gap,
+                status: s.certificate.status,
+                seconds: t0.elapsed().as_secs_f64(),
+            };
+            progress(&row);
+            table.push(row);
+            let timed_out = s.certificate.status == MilpStatus::TimeLimit;
+            finest = Some(s);
+            if timed_out {
+                break;
+            }
         }
-        let t0 = Instant::now();
-        let knots = finest
-            .as_ref()
-            .map(|s: &DiscreteSolution| s.knots(crawler.stiffness()));
-        let start = knots.as_ref().map(|(t, l)| (&t[..], &l[..]));
-        let s = match solve_discrete_global_from(crawler, problem, m, left, start) {
-            Ok(s) => s,
-            Err(Error::TimeLimit(_)) if finest.is_some() => break,
-            Err(e) => return Err(e),
-        };
-        let row = ConvergenceRow {
-            m,
-            steps: 1 << m,
-            objective: s.objective(),
-            bound: s.certificate.bound,
-            gap: s.certificate.gap,
-            status: s.certificate.status,
-            seconds: t0.elapsed().as_secs_f64(),
-        };
-        progress(&row);
-        table.push(row);
-        let timed_out = s.certificate.status == MilpStatus::TimeLimit;
-        finest = Some(s);
-        if timed_out {
-            break;
-        }
-    }
-    // m runs from 1 (max_m >= 1, checked) and every m either stores its answer or returns its
-    // error, so `finest` is set here.
-    Ok((table, finest.expect("m = 1 solved or an error returned")))
+        // m runs from 1 (max_m >= 1, checked) and every m either stores its answer or returns
+        // its error, so `finest` is set here.
+        Ok((table, finest.expect("m = 1 solved or an error returned")))
+    })
 }
 
 /// A P_m solution's conversion between unit systems ([`Units`]): here, beside the job that

@@ -42,7 +42,6 @@ use crate::optimal::units::{scale_all, scale_rows, Units};
 use crate::optimal::{Cost, GaitProblem};
 use highs::{Col, RowProblem, Sense};
 use serde::Serialize;
-use std::time::Instant;
 
 /// Largest `m` of the local method (`2^m` steps).
 pub const MAX_LOCAL_M: u32 = 14;
@@ -190,8 +189,10 @@ pub fn solve_discrete_local(
     let units = Units::of(crawler, problem);
     let (c, p) = (units.crawler(crawler)?, units.problem(problem));
     let (times, lengths) = units.knots_in(start_times, start_lengths);
-    let s = crate::progress::with_objective_scale(units.objective_scale(), || {
-        solve_local_in(&c, &p, m, &times, &lengths, time_limit)
+    let s = crate::progress::within(time_limit, || {
+        crate::progress::with_objective_scale(units.objective_scale(), || {
+            solve_local_in(&c, &p, m, &times, &lengths)
+        })
     })?;
     Ok(units.local(&s))
 }
@@ -203,9 +204,7 @@ fn solve_local_in(
     m: u32,
     start_times: &[f64],
     start_lengths: &[Vec<f64>],
-    time_limit: Option<f64>,
 ) -> Result<LocalSolution> {
-    let began = Instant::now();
     let (n, nb) = (crawler.links(), crawler.blocks());
     let (k, mp, mm) = (
         crawler.stiffness(),
@@ -333,16 +332,7 @@ fn solve_local_in(
         }
         Ok(changed)
     };
-    let run = active_set::run(
-        &mut model,
-        -1.0,
-        20 * big_m * nb,
-        3,
-        time_limit,
-        began,
-        &what,
-        pivot,
-    )?;
+    let run = active_set::run(&mut model, -1.0, 20 * big_m * nb, 3, &what, pivot)?;
     let (cols, lp_objective) = (run.cols, run.objective);
 
     // Re-verification: the LP's increments played by catching-up from its x^0.
@@ -416,42 +406,35 @@ pub fn solve_discrete_local_shifted(
 ) -> Result<(LocalSolution, f64)> {
     crate::optimal::check_shifts(shifts)?;
     check_time_limit(time_limit)?;
-    let began = Instant::now();
-    let t = problem.period;
-    let mut best: Option<(LocalSolution, f64)> = None;
-    for j in 0..shifts {
-        let left = time_limit.map(|tl| tl - began.elapsed().as_secs_f64());
-        if left.is_some_and(|l| l <= 0.0) && best.is_some() {
-            break;
+    crate::progress::within(time_limit, || {
+        let t = problem.period;
+        let mut best: Option<(LocalSolution, f64)> = None;
+        for j in 0..shifts {
+            if best.is_some() && crate::progress::expired() {
+                break;
+            }
+            let shift = t * j as f64 / shifts as f64;
+            let (times, lengths) = shift_knots(start_times, start_lengths, shift, t);
+            let s = match solve_discrete_local(crawler, problem, m, &times, &lengths, None) {
+                Ok(s) => s,
+                Err(Error::TimeLimit(_)) if best.is_some() => break,
+                Err(e) => return Err(e),
+            };
+            let stop = s.stop == LocalStop::TimeLimit;
+            if best
+                .as_ref()
+                .is_none_or(|(b, _)| s.objective() > b.objective() + 1e-9)
+            {
+                best = Some((s, shift));
+            }
+            if stop {
+                break;
+            }
         }
-        let shift = t * j as f64 / shifts as f64;
-        let (times, lengths) = shift_knots(start_times, start_lengths, shift, t);
-        let s = match solve_discrete_local(
-            crawler,
-            problem,
-            m,
-            &times,
-            &lengths,
-            left.map(|l| l.max(1e-3)),
-        ) {
-            Ok(s) => s,
-            Err(Error::TimeLimit(_)) if best.is_some() => break,
-            Err(e) => return Err(e),
-        };
-        let stop = s.stop == LocalStop::TimeLimit;
-        if best
-            .as_ref()
-            .is_none_or(|(b, _)| s.objective() > b.objective() + 1e-9)
-        {
-            best = Some((s, shift));
-        }
-        if stop {
-            break;
-        }
-    }
-    // The loop runs at least once (shifts >= 1, checked) and either stores its first answer
-    // or returns its error, so `best` is set here.
-    Ok(best.expect("the first shift solved or an error returned"))
+        // The loop runs at least once (shifts >= 1, checked) and either stores its first
+        // answer or returns its error, so `best` is set here.
+        Ok(best.expect("the first shift solved or an error returned"))
+    })
 }
 /// A local P_m solution's conversion between unit systems ([`Units`]): here, beside the
 /// solution, so that the unit system needs not know it.

@@ -438,8 +438,9 @@ pub fn check_time_limit(time_limit: Option<f64>) -> Result<()> {
     Ok(())
 }
 
-/// Solves a maximisation MILP with HiGHS (one thread, tight tolerances, optional time limit):
-/// the solution columns, the objective, the dual bound and how it ended.
+/// Solves a maximisation MILP with HiGHS (one thread, tight tolerances, within what is left of
+/// the job's deadline, [`crate::progress::within`]): the solution columns, the objective, the
+/// dual bound and how it ended.
 ///
 /// `start` is a feasible point (all columns) that HiGHS takes as its first incumbent.
 /// `abs_gap` is the absolute gap at which the proof stops, in the objective's units: HiGHS's
@@ -447,7 +448,6 @@ pub fn check_time_limit(time_limit: Option<f64>) -> Result<()> {
 /// pass a fraction of the problem's length scale ([`GaitProblem::length_scale`]).
 pub(crate) fn solve_max(
     pb: RowProblem,
-    time_limit: Option<f64>,
     what: &str,
     start: Option<&[f64]>,
     abs_gap: f64,
@@ -471,9 +471,7 @@ pub(crate) fn solve_max(
     // nothing measurable.
     h.option("mip_heuristic_run_rins", false)?;
     h.option("mip_heuristic_run_rens", false)?;
-    if let Some(t) = time_limit {
-        h.time_limit(t)?;
-    }
+    h.until_deadline();
     let a = h.solve()?;
     let status = match a.status {
         SolveStatus::Optimal => MilpStatus::Optimal,

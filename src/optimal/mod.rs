@@ -44,8 +44,8 @@ pub(crate) use phase::work_limit;
 pub use phase::{
     grow_phases, phase_gait_of, search_sequences, slip_mode_is_valid, slip_sequence,
     solve_phase_from, solve_phase_global, solve_phase_with, Formulation, GrowOptions, GrowthStop,
-    PhaseGrowth, PhaseOptions, PhaseSolution, PhaseStep, SequenceSearch, DISSIPATION_ROW_BLOCKS,
-    MAX_PHASES,
+    PhaseGrowth, PhaseOptions, PhaseSolution, PhaseStep, SequenceSearch, DEFAULT_MAX_PHASES,
+    DEFAULT_PATIENCE, DISSIPATION_ROW_BLOCKS, MAX_PHASES,
 };
 pub use problem::{Cost, GaitProblem, MAX_COST_RATIO, MAX_RATIO, MAX_SWEEP};
 pub use result::{

@@ -55,6 +55,8 @@ pub(crate) struct Answer {
 pub(crate) struct Highs {
     model: Model,
     what: String,
+    /// Whether each solve is limited to the time left of the job ([`Highs::until_deadline`]).
+    timed: bool,
 }
 
 impl Highs {
@@ -72,6 +74,7 @@ impl Highs {
         let mut h = Highs {
             model,
             what: what.to_string(),
+            timed: false,
         };
         let log = std::env::var_os("CRAWLOPT_HIGHS_LOG").is_some();
         h.option("output_flag", log)?;
@@ -87,8 +90,16 @@ impl Highs {
             .map_err(|e| Error::Numerical(format!("{}: HiGHS option {name}: {e:?}", self.what)))
     }
 
-    /// The time limit in seconds (positive and finite, checked by the callers'
-    /// `check_time_limit`; anything else is refused here).
+    /// Limits every later solve to what is left of this thread's deadline
+    /// ([`progress::remaining`], at least 1 ms: HiGHS takes no zero limit, and a solve begun
+    /// at the deadline ends at once with status time limit); without a deadline, no limit. The
+    /// solves of the optimisers' time-limited loops are timed; an auxiliary LP (a geometry, a
+    /// polish, a certificate) is not, as it was never cut short by the time limit.
+    pub fn until_deadline(&mut self) {
+        self.timed = true;
+    }
+
+    /// The time limit in seconds (positive and finite; anything else is refused here).
     pub fn time_limit(&mut self, seconds: f64) -> Result<()> {
         if !(seconds.is_finite() && seconds > 0.0) {
             return Err(Error::invalid(
@@ -141,6 +152,9 @@ impl Highs {
     /// incumbent and bound.
     pub fn solve(&mut self) -> Result<Answer> {
         progress::check()?;
+        if let Some(left) = progress::remaining().filter(|_| self.timed) {
+            self.time_limit(left.max(1e-3))?;
+        }
         let what = &self.what;
         let ptr = self.model.as_mut_ptr();
         let mut watch = Watch::new();

@@ -23,7 +23,6 @@ use crate::optimal::{
     CrawlerParams, GaitProblem, GaitResult, GrowOptions, PhaseSolution, PhaseStep, MAX_LOCAL_M,
     MAX_M,
 };
-use std::time::Instant;
 
 /// What a start policy is doing, for a progress display.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -96,8 +95,9 @@ impl StartGait {
 }
 
 /// The default start of the local methods: the phase optimum with `K` grown as in `growth` but
-/// with patience 1 (a start need not be certified) and within half of `growth.time_limit`
-/// (when that is spent, the best gait found so far; a time-limit error when there is none).
+/// with patience 1 (a start need not be certified) and within half of the time left (of
+/// `growth.time_limit` from now, within the job's deadline: [`crate::progress::share`]; when
+/// that is spent, the best gait found so far; a time-limit error when there is none).
 pub fn phase_start(
     crawler: &Crawler,
     problem: &GaitProblem,
@@ -107,7 +107,7 @@ pub fn phase_start(
     growth.check()?;
     check_size(crawler, growth.max_phases, "max_phases", growth.max_phases)?;
     let opts = GrowOptions {
-        time_limit: growth.time_limit.map(|t| 0.5 * t),
+        time_limit: None,
         patience: 1,
         ..growth.clone()
     };
@@ -115,8 +115,12 @@ pub fn phase_start(
         "start: phase gait, K = {}",
         opts.min_phases
     )));
-    let g = grow_phases(crawler, problem, &opts, &mut |st| {
-        progress(StartEvent::Phase(st))
+    let g = crate::progress::within(growth.time_limit, || {
+        crate::progress::share(0.5, || {
+            grow_phases(crawler, problem, &opts, &mut |st| {
+                progress(StartEvent::Phase(st))
+            })
+        })
     })?;
     Ok(StartGait {
         origin: format!("phase (K = {})", g.best.phases),
@@ -160,19 +164,27 @@ pub fn discrete_start(
         check_size(crawler, 1 << m, "m", m)?;
     }
     check_size(crawler, growth.max_phases, "max_phases", growth.max_phases)?;
-    let Some(limit) = growth.time_limit else {
-        return Ok(None);
-    };
-    if problem.max_total_variation.is_some() {
+    if growth.time_limit.is_none() || problem.max_total_variation.is_some() {
         return Ok(None);
     }
-    let began = Instant::now();
-    // phase_start grows K within half of this: a quarter of the limit.
-    let half = GrowOptions {
-        time_limit: Some(0.5 * limit),
-        ..growth.clone()
-    };
-    let phase = match phase_start(crawler, problem, &half, progress) {
+    // The first half of the limit; phase_start grows K within half of it: a quarter.
+    crate::progress::within(growth.time_limit, || {
+        crate::progress::share(0.5, || {
+            start_in_half(crawler, problem, m, shifts, growth, progress)
+        })
+    })
+}
+
+/// [`discrete_start`], options checked, within its half of the limit.
+fn start_in_half(
+    crawler: &Crawler,
+    problem: &GaitProblem,
+    m: u32,
+    shifts: usize,
+    growth: &GrowOptions,
+    progress: &mut dyn FnMut(StartEvent),
+) -> Result<Option<StartGait>> {
+    let phase = match phase_start(crawler, problem, growth, progress) {
         Ok(s) => s,
         // A cancelled job ends; it does not go on without a start.
         Err(Error::Cancelled) => return Err(Error::Cancelled),
@@ -183,8 +195,7 @@ pub fn discrete_start(
             return Ok(None);
         }
     };
-    let left = 0.5 * limit - began.elapsed().as_secs_f64();
-    if problem.cost != Cost::None || m > MAX_LOCAL_M || left <= 0.0 {
+    if problem.cost != Cost::None || m > MAX_LOCAL_M || crate::progress::expired() {
         return Ok(Some(phase));
     }
     progress(StartEvent::Stage(&format!(
@@ -197,7 +208,7 @@ pub fn discrete_start(
         phase.times(),
         phase.lengths(),
         shifts,
-        Some(left),
+        None,
     ) {
         Ok((s, shift)) => {
             let origin = shifted_origin(&phase.origin, shift);

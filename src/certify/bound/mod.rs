@@ -267,7 +267,8 @@ struct LpOutcome {
 /// Minimises `rho` subject to the rows of `rows` over `columns` storage values (a column may
 /// appear twice in a row: its coefficients are added), then re-evaluates `rho` from the storage
 /// function read off the dual, so the rate returned is valid for whatever the solver returned.
-fn solve_storage_lp(columns: usize, rows: &RowSource, time_limit: f64) -> Result<LpOutcome> {
+/// The LP runs within the current deadline ([`progress::within`]).
+fn solve_storage_lp(columns: usize, rows: &RowSource) -> Result<LpOutcome> {
     // The LP  min rho  s.t.  <g_S, d> + rho >= y  (one row per (S, F, u)) has far more rows
     // than node values, and rho is in every row: HiGHS's interior point method chokes on that
     // dense column (measured: 465 s for 6.4e5 rows), so its dual is solved,
@@ -275,7 +276,6 @@ fn solve_storage_lp(columns: usize, rows: &RowSource, time_limit: f64) -> Result
     //                             sum_r m_r <= 1,  m >= 0,
     // (an occupation measure on (simplex, face, control) that is invariant when tested against
     // the piecewise-linear functions of the grid), and V is read from its node duals.
-    let started = Instant::now();
     let mut used = vec![false; columns];
     rows(&mut |cols, _, _| cols.iter().for_each(|&p| used[p] = true));
     let pinned = used.iter().position(|&u| u);
@@ -322,8 +322,7 @@ fn solve_storage_lp(columns: usize, rows: &RowSource, time_limit: f64) -> Result
     solver.option("run_crossover", "off")?;
     // Presolve off: without a basis HiGHS's postsolve cannot restore the duals V is read from.
     solver.option("presolve", "off")?;
-    let elapsed = started.elapsed().as_secs_f64();
-    solver.time_limit((time_limit - elapsed).max(1e-3))?;
+    solver.until_deadline();
     let answer = solver.solve()?;
     let status = match answer.status {
         SolveStatus::Optimal => BoundStatus::Optimal,
@@ -397,25 +396,26 @@ pub fn upper_bound(
     settings: &BoundSettings,
 ) -> Result<UpperBound> {
     let started = Instant::now();
-    // The requested grid is checked (size, crawler) before any coarse LP spends the time.
-    prepare(crawler, problem, settings)?;
     let mut best: Option<UpperBound> = None;
-    for (resolution, box_resolution) in refinement_ladder(settings) {
-        let left = settings.time_limit - started.elapsed().as_secs_f64();
-        if best.is_some() && left <= 0.0 {
-            break;
+    progress::within(Some(settings.time_limit), || {
+        // The requested grid is checked (size, crawler) before any coarse LP spends the time.
+        prepare(crawler, problem, settings)?;
+        for (resolution, box_resolution) in refinement_ladder(settings) {
+            if best.is_some() && progress::expired() {
+                break;
+            }
+            let level = BoundSettings {
+                resolution,
+                box_resolution,
+                ..*settings
+            };
+            let ub = upper_bound_on_grid(crawler, problem, &level)?;
+            if best.as_ref().is_none_or(|b| ub.value <= b.value) {
+                best = Some(ub);
+            }
         }
-        let level = BoundSettings {
-            resolution,
-            box_resolution,
-            time_limit: left.max(1e-3),
-            ..*settings
-        };
-        let ub = upper_bound_on_grid(crawler, problem, &level)?;
-        if best.as_ref().is_none_or(|b| ub.value <= b.value) {
-            best = Some(ub);
-        }
-    }
+        Ok::<(), crate::Error>(())
+    })?;
     let mut best = best.expect("the ladder has at least settings' own grid");
     best.seconds = started.elapsed().as_secs_f64();
     Ok(best)
@@ -435,7 +435,9 @@ pub fn upper_bound_on_grid(
                 sink(nodes, coefs, y)
             });
     };
-    let lp = solve_storage_lp(pre.grid.nodes(), &rows, settings.time_limit)?;
+    let lp = progress::within(Some(settings.time_limit), || {
+        solve_storage_lp(pre.grid.nodes(), &rows)
+    })?;
     Ok(UpperBound {
         method: METHOD.to_string(),
         resolution: settings.resolution,

@@ -55,7 +55,9 @@ pub(crate) fn time_dependent_bound(
                 }
             });
     };
-    let lp = solve_storage_lp(nt * np, &rows, settings.time_limit)?;
+    let lp = crate::progress::within(Some(settings.time_limit), || {
+        solve_storage_lp(nt * np, &rows)
+    })?;
     Ok(UpperBound {
         method: TIME_METHOD.to_string(),
         resolution: settings.resolution,

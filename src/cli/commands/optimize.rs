@@ -47,14 +47,22 @@ pub struct OptimizeArgs {
     /// --max-phases, or the time limit).
     #[arg(long, allow_negative_numbers = true, value_parser = count)]
     pub phases: Option<usize>,
-    /// Consecutive K without a gain that end the growth of K (default 2; --method phase, or
-    /// auto without a TV bound, without --phases: the start gaits of the other methods stop
-    /// at the first K without a gain).
-    #[arg(long, allow_negative_numbers = true, value_parser = count)]
+    /// Consecutive K without a gain that end the growth of K (the library's default,
+    /// `api::DEFAULT_PATIENCE`; --method phase, or auto without a TV bound, without --phases).
+    #[arg(long, allow_negative_numbers = true, value_parser = count, help = format!(
+        "Consecutive K without a gain that end the growth of K (default {}; --method phase, or \
+         auto without a TV bound, without --phases: the start gaits of the other methods stop \
+         at the first K without a gain)",
+        api::DEFAULT_PATIENCE
+    ))]
     pub patience: Option<usize>,
-    /// Largest K tried when K grows (default 8; for --method phase or auto without
-    /// --phases, and for the default start gaits).
-    #[arg(long = "max-phases", allow_negative_numbers = true, value_parser = count)]
+    /// Largest K tried when K grows (the library's default, `api::DEFAULT_MAX_PHASES`; for
+    /// --method phase or auto without --phases, and for the default start gaits).
+    #[arg(long = "max-phases", allow_negative_numbers = true, value_parser = count, help = format!(
+        "Largest K tried when K grows (default {}; for --method phase or auto without \
+         --phases, and for the default start gaits)",
+        api::DEFAULT_MAX_PHASES
+    ))]
     pub max_phases: Option<usize>,
     /// The grid of P_m has 2^m steps (--method discrete, default 3; --method local, default
     /// 10).

@@ -572,15 +572,10 @@ pub(super) fn initial_cuts(p: &GeneralProblem) -> Result<Vec<Vec<f64>>> {
     Ok(cuts)
 }
 
-/// The MILP's answer of [`super::solve_general_pm`], with its outer approximation, unpolished.
-pub(super) fn solve_milp(
-    p: &GeneralProblem,
-    g: &Geometry,
-    m: u32,
-    time_limit: Option<f64>,
-) -> Result<GeneralPm> {
+/// The MILP's answer of [`super::solve_general_pm`], with its outer approximation, unpolished;
+/// within the current deadline.
+pub(super) fn solve_milp(p: &GeneralProblem, g: &Geometry, m: u32) -> Result<GeneralPm> {
     check(p, g, m)?;
-    crate::optimal::check_time_limit(time_limit)?;
     let mm = 1usize << m;
     let h = p.period / mm as f64;
     check_solver_range(p, h, None)?;
@@ -588,15 +583,13 @@ pub(super) fn solve_milp(
     check_solver_range(p, h, Some(&bm))?;
     let what = format!("P_{m} of the general problem");
     let scale = p.c.scale();
-    let began = std::time::Instant::now();
     let mut cuts = initial_cuts(p)?;
     let mut round = 0;
     loop {
         round += 1;
         let (pb, lay) = build(p, m, Form::Milp(&bm), &cuts);
-        let left = time_limit.map(|t| (t - began.elapsed().as_secs_f64()).max(1e-3));
         let (cols, milp_objective, bound, status) =
-            solve_max(pb, left, &what, None, 1e-9 * scale.max(1e-300))?;
+            solve_max(pb, &what, None, 1e-9 * scale.max(1e-300))?;
         let sol = verified(p, m, &lay, &cols, milp_objective, bound, status, &what)?;
         let gap = Certificate::gap_of(bound, sol.objective);
         let done = p.cost == GeneralCost::None || gap <= OA_TOL || status != MilpStatus::Optimal;

@@ -36,7 +36,6 @@ use crate::optimal::active_set::{self, LocalStop};
 use crate::optimal::solver::{Highs, SolveStatus};
 use highs::Sense;
 use serde::Serialize;
-use std::time::Instant;
 
 /// Largest `m` (`2^m` steps) of the general local method.
 pub const MAX_GENERAL_LOCAL_M: u32 = 14;
@@ -175,7 +174,16 @@ pub fn solve_general_local(
 ) -> Result<GeneralLocal> {
     check_general_local(p, g, m)?;
     crate::optimal::check_time_limit(time_limit)?;
-    let began = Instant::now();
+    crate::progress::within(time_limit, || solve_from(p, g, m, start))
+}
+
+/// [`solve_general_local`], arguments checked, within the current deadline.
+fn solve_from(
+    p: &GeneralProblem,
+    g: &Geometry,
+    m: u32,
+    start: &[Vec<f64>],
+) -> Result<GeneralLocal> {
     let mm = 1usize << m;
     let h = p.period / mm as f64;
     let what = format!("P_{m} of the general problem (local)");
@@ -305,16 +313,7 @@ pub fn solve_general_local(
         }
         Ok(0)
     };
-    let run = active_set::run(
-        &mut model,
-        1.0,
-        20 * mm * sigma,
-        3,
-        time_limit,
-        began,
-        &what,
-        pivot,
-    )?;
+    let run = active_set::run(&mut model, 1.0, 20 * mm * sigma, 3, &what, pivot)?;
     let r = replay(p, m, &lay, &run.cols, &what)?;
     if (r.objective - run.objective).abs() > 1e-6 * (scale + r.objective.abs()) {
         return Err(Error::Numerical(format!(

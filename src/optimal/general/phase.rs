@@ -302,15 +302,13 @@ pub fn solve_general_phase(
     crate::optimal::check_time_limit(time_limit)?;
     let what = format!("the phase MILP of the general problem (K = {k})");
     let scale = p.c.scale();
-    let began = std::time::Instant::now();
     let mut cuts = initial_cuts(p)?;
     let mut round = 0;
-    loop {
+    crate::progress::within(time_limit, || loop {
         round += 1;
         let (pb, lay) = build(p, g, k, &cuts)?;
-        let left = time_limit.map(|t| (t - began.elapsed().as_secs_f64()).max(1e-3));
         let (cols, milp_objective, bound, status) =
-            solve_max(pb, left, &what, None, 1e-9 * scale.max(1e-300))?;
+            solve_max(pb, &what, None, 1e-9 * scale.max(1e-300))?;
         let mut sol = verified(p, &lay, &cols, milp_objective, bound, status, k, &what)?;
         sol.rounds = round;
         let done = p.cost == GeneralCost::None
@@ -324,7 +322,7 @@ pub fn solve_general_phase(
             return Ok(sol);
         }
         cuts.extend(sol.controls.iter().cloned());
-    }
+    })
 }
 
 /// Reads the MILP's gait, replays its controls and durations in the exact simulator from its

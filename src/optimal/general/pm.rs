@@ -29,7 +29,8 @@ pub fn solve_general_pm_with(
     time_limit: Option<f64>,
     polish: bool,
 ) -> Result<GeneralPm> {
-    let sol = solve_milp(p, g, m, time_limit)?;
+    crate::optimal::check_time_limit(time_limit)?;
+    let sol = crate::progress::within(time_limit, || solve_milp(p, g, m))?;
     Ok(if polish && p.cost != GeneralCost::None {
         super::polish::polish(p, sol)
     } else {

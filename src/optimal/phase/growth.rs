@@ -17,6 +17,14 @@ use std::time::Instant;
 pub const MOVE_RESOLUTION: f64 = 1e-9;
 
 /// How [`grow_phases`] raises `K`.
+/// The last `K` a growth tries unless told ([`GrowOptions::max_phases`]; the one definition
+/// of this default: the CLI's `--max-phases`, Python's `max_phases=` and a sweep's
+/// `max_phases` leave it to the library).
+pub const DEFAULT_MAX_PHASES: usize = 8;
+
+/// Consecutive `K` without a gain that end a growth unless told ([`GrowOptions::patience`]).
+pub const DEFAULT_PATIENCE: usize = 2;
+
 #[derive(Debug, Clone, PartialEq)]
 pub struct GrowOptions {
     /// First `K`.
@@ -29,7 +37,8 @@ pub struct GrowOptions {
     /// The default is 2: plateaus `J_K = J_{K+1} < J_{K+2}` occur (a 4-block crawler with
     /// per-block friction had `J_3 = J_4 = 6.575 < J_5 = 6.600`).
     pub patience: usize,
-    /// Wall-clock limit for the whole growth, seconds.
+    /// Wall-clock limit for the whole growth, seconds (from its start, within the job's
+    /// deadline: [`crate::progress::within`]).
     pub time_limit: Option<f64>,
     /// A known gait to start from (e.g. the best structured gait, through
     /// [`phase_gait_of`](super::phase_gait_of)): the best gait before the first `K`, so every
@@ -45,8 +54,8 @@ impl Default for GrowOptions {
     fn default() -> Self {
         GrowOptions {
             min_phases: 1,
-            max_phases: 8,
-            patience: 2,
+            max_phases: DEFAULT_MAX_PHASES,
+            patience: DEFAULT_PATIENCE,
             time_limit: None,
             start: None,
             formulation: Formulation::default(),
@@ -134,7 +143,16 @@ pub fn grow_phases(
     progress: &mut dyn FnMut(&PhaseStep),
 ) -> Result<PhaseGrowth> {
     opts.check()?;
-    let began = Instant::now();
+    crate::progress::within(opts.time_limit, || grow(crawler, problem, opts, progress))
+}
+
+/// [`grow_phases`], options checked, within the current deadline.
+fn grow(
+    crawler: &Crawler,
+    problem: &GaitProblem,
+    opts: &GrowOptions,
+    progress: &mut dyn FnMut(&PhaseStep),
+) -> Result<PhaseGrowth> {
     let mut best: Option<PhaseSolution> = opts.start.clone();
     let mut table = Vec::new();
     let mut without_gain = 0;
@@ -146,24 +164,17 @@ pub fn grow_phases(
     let resolution = MOVE_RESOLUTION * problem.length_scale(crawler);
     let moves = |j: f64| j > resolution;
     for k in opts.min_phases..=opts.max_phases {
-        let left = match opts.time_limit {
-            Some(tl) => {
-                let left = tl - began.elapsed().as_secs_f64();
-                if left <= 0.0 {
-                    stop = GrowthStop::TimeLimit;
-                    break;
-                }
-                Some(left)
-            }
-            None => None,
-        };
+        if crate::progress::expired() {
+            stop = GrowthStop::TimeLimit;
+            break;
+        }
         let t0 = Instant::now();
         let phase_opts = PhaseOptions {
             start: best.clone(),
             cutoff: None,
             formulation: opts.formulation,
         };
-        let s = match solve_phase_with(crawler, problem, k, left, &phase_opts) {
+        let s = match solve_phase_with(crawler, problem, k, None, &phase_opts) {
             Ok(s) => s,
             Err(Error::TimeLimit(_)) if best.is_some() => {
                 stop = GrowthStop::TimeLimit;

@@ -89,7 +89,10 @@ mod solve;
 mod tests;
 
 pub use decode::{phase_gait_of, slip_sequence};
-pub use growth::{grow_phases, GrowOptions, GrowthStop, PhaseGrowth, PhaseStep};
+pub use growth::{
+    grow_phases, GrowOptions, GrowthStop, PhaseGrowth, PhaseStep, DEFAULT_MAX_PHASES,
+    DEFAULT_PATIENCE,
+};
 pub use sequence::{search_sequences, slip_mode_is_valid, SequenceSearch};
 pub use solve::{solve_phase_from, solve_phase_global, solve_phase_with};
 

@@ -8,7 +8,6 @@ use super::PhaseSolution;
 use crate::error::{Error, Result};
 use crate::model::Crawler;
 use crate::optimal::{GaitProblem, LocalStop};
-use std::time::Instant;
 
 /// Whether a slip mode (per block `-1`, `0`, `1`) names a nonempty face of C on which some
 /// block slips.
@@ -160,29 +159,30 @@ pub fn search_sequences(
             + usize::from(i < (phases - start_modes.len()) % start_modes.len());
         seq.extend(std::iter::repeat_n(m.clone(), extra));
     }
-    let began = Instant::now();
-    let left = || match time_limit {
-        Some(tl) => {
-            let l = tl - began.elapsed().as_secs_f64();
-            if l > 0.0 {
-                Ok(Some(l))
-            } else {
-                Err(())
-            }
-        }
-        None => Ok(None),
-    };
+    crate::progress::within(time_limit, || {
+        search_from(crawler, problem, start_modes, seq)
+    })
+}
+
+/// [`search_sequences`] from the sequence `seq` (grown from `start_modes`, checked), within
+/// the current deadline.
+fn search_from(
+    crawler: &Crawler,
+    problem: &GaitProblem,
+    start_modes: &[Vec<i8>],
+    mut seq: Vec<Vec<i8>>,
+) -> Result<SequenceSearch> {
+    let phases = seq.len();
     let mut lp_solves = 1;
-    let Ok(first_left) = left() else {
+    if crate::progress::expired() {
         return Err(Error::TimeLimit(
             "sequence search: the time limit was reached before any gait was found".into(),
         ));
-    };
+    }
     let mut best = solve_steps(
         crawler,
         problem,
         phases,
-        first_left,
         None,
         Some(&seq),
         &ExtraRows::default(),
@@ -200,9 +200,9 @@ pub fn search_sequences(
     let stop = 'search: loop {
         let mut improved = false;
         for cand in neighbours(crawler, &seq[j]) {
-            let Ok(l) = left() else {
+            if crate::progress::expired() {
                 break 'search LocalStop::TimeLimit;
-            };
+            }
             let mut next = seq.clone();
             next[j] = cand;
             lp_solves += 1;
@@ -210,7 +210,6 @@ pub fn search_sequences(
                 crawler,
                 problem,
                 phases,
-                l,
                 None,
                 Some(&next),
                 &ExtraRows::default(),

@@ -9,7 +9,6 @@ use crate::model::Crawler;
 use crate::optimal::milp::{certify, replay, solve_max, TangentRates, OA_TOL};
 use crate::optimal::units::Units;
 use crate::optimal::{Certificate, Cost, GaitProblem, MilpStatus};
-use std::time::Instant;
 
 /// Solves (P) globally over gaits of at most `phases` slip phases (module docs).
 pub fn solve_phase_global(
@@ -75,7 +74,10 @@ pub fn solve_phase_with(
         // A hair below, so that the start's own J (and round-off) stays feasible.
         cutoff: cutoff.map(|c| c - 1e-9 * problem.length_scale(crawler)),
     };
-    match solve_steps(crawler, problem, phases, time_limit, fits, None, &rows) {
+    let solved = crate::progress::within(time_limit, || {
+        solve_steps(crawler, problem, phases, fits, None, &rows)
+    });
+    match solved {
         // No gait of at most `phases` slip phases reaches the cutoff: the start, if any, is
         // at least as good as all of them.
         Err(Error::Infeasible(_)) if cutoff.is_some() => match start {
@@ -125,12 +127,11 @@ pub fn solve_phase_with(
 }
 
 /// [`solve_steps_in`] in the optimisers' internal units ([`Units`]): the problem and the start
-/// converted in, the answer converted back.
+/// converted in, the answer converted back; within the current deadline.
 pub(super) fn solve_steps(
     crawler: &Crawler,
     problem: &GaitProblem,
     phases: usize,
-    time_limit: Option<f64>,
     start: Option<&PhaseSolution>,
     fixed: Option<&[Vec<i8>]>,
     rows: &ExtraRows,
@@ -143,7 +144,7 @@ pub(super) fn solve_steps(
         ..*rows
     };
     let s = crate::progress::with_objective_scale(units.objective_scale(), || {
-        solve_steps_in(&c, &p, phases, time_limit, start.as_ref(), fixed, &rows)
+        solve_steps_in(&c, &p, phases, start.as_ref(), fixed, &rows)
     })?;
     Ok(units.phase(&s, true))
 }
@@ -155,7 +156,6 @@ fn solve_steps_in(
     crawler: &Crawler,
     problem: &GaitProblem,
     phases: usize,
-    time_limit: Option<f64>,
     start: Option<&PhaseSolution>,
     fixed: Option<&[Vec<i8>]>,
     rows: &ExtraRows,
@@ -163,7 +163,6 @@ fn solve_steps_in(
     let t = problem.period;
     let a = &problem.rate_bound;
     let what = format!("gait of at most {phases} slip phases");
-    let began = Instant::now();
     let mut rates = match problem.cost {
         Cost::Quadratic { .. } => Some(TangentRates::new(a)),
         Cost::None => None,
@@ -176,25 +175,18 @@ fn solve_steps_in(
         let (pb, lay) = build(crawler, problem, phases, rates.as_ref(), fixed, rows);
         let ncols = pb.num_cols();
         let start_cols = incumbent.as_ref().and_then(|g| g.columns(&lay, ncols));
-        let left = match time_limit {
-            Some(tl) => {
-                let left = tl - began.elapsed().as_secs_f64();
-                if left <= 0.0 {
-                    break match incumbent {
-                        Some(g) if rounds > 1 => (g, last_bound, MilpStatus::TimeLimit),
-                        _ => {
-                            return Err(Error::TimeLimit(format!(
-                            "{what}: the time limit was reached before any feasible gait was found"
-                        )))
-                        }
-                    };
+        if crate::progress::expired() {
+            break match incumbent {
+                Some(g) if rounds > 1 => (g, last_bound, MilpStatus::TimeLimit),
+                _ => {
+                    return Err(Error::TimeLimit(format!(
+                        "{what}: the time limit was reached before any feasible gait was found"
+                    )))
                 }
-                Some(left)
-            }
-            None => None,
-        };
+            };
+        }
         let gap = problem.length_scale(crawler) * 1e-9;
-        let (cols, _, bound, status) = solve_max(pb, left, &what, start_cols.as_deref(), gap)?;
+        let (cols, _, bound, status) = solve_max(pb, &what, start_cols.as_deref(), gap)?;
         let raw = RawGait::read(&lay, &cols, t);
         last_bound = bound;
         let Some(r) = rates.as_mut() else {

@@ -40,7 +40,9 @@ fn start_is_feasible(c: &Crawler, p: &GaitProblem, phases: usize, gait: &RawGait
         let tol = 1e-9 * v.abs().max(1.0);
         pb.add_row(v - tol..=v + tol, [(col, 1.0)]);
     }
-    solve_max(pb, Some(30.0), "start check", None, 1e-9).is_ok()
+    crate::progress::within(Some(30.0), || {
+        solve_max(pb, "start check", None, 1e-9).is_ok()
+    })
 }
 
 fn rotated(g: &RawGait, r: usize) -> RawGait {
