@@ -510,37 +510,6 @@ fn optimize_discrete_returns_a_verified_certified_gait() {
     } else {
         assert_refused(&out, "time limit");
     }
-    // A limit spent before any method has a gait (1 ns: less than the structured gaits take),
-    // through the job's deadline: every method but discrete returns the best structured gait
-    // with status time_limit; the discrete P_m and its convergence table (no structured floor)
-    // end with a time-limit error, never a panic.
-    for method in [
-        &["auto"][..],
-        &["phase", "--phases", "4"],
-        &["local"],
-        &["sequence"],
-        &["chain"],
-    ] {
-        let mut args = vec!["optimize", "examples/three_blocks_gait.toml", "--method"];
-        args.extend(method);
-        args.extend(["--time-limit", "1e-9", "--json"]);
-        let out = crawlopt(&args);
-        assert!(out.status.success(), "{method:?}: {}", stderr(&out));
-        let v = json(&out);
-        assert_eq!(v["status"], "time_limit", "{method:?}");
-        assert!(v["structured"]["replaced"].is_string(), "{method:?}: {v}");
-    }
-    for extra in [&[][..], &["--convergence"]] {
-        let mut args = vec![
-            "optimize",
-            "examples/three_blocks_gait.toml",
-            "--method",
-            "discrete",
-        ];
-        args.extend(extra);
-        args.extend(["--time-limit", "1e-9"]);
-        assert_refused(&crawlopt(&args), "time limit was reached");
-    }
     let out = crawlopt(&["optimize", "examples/one_link_gait.toml", "--convergence"]);
     assert_refused(&out, "--method discrete only");
     let out = crawlopt(&["optimize", "examples/one_link_gait.toml", "--m", "3"]);
@@ -675,6 +644,41 @@ fn optimize_discrete_returns_a_verified_certified_gait() {
         // The one-link optimum (theory §10): J = 3 on every method and grid here.
         let j = json(&out)["objective"].as_f64().unwrap();
         assert!((j - 3.0).abs() < 1e-8, "{args:?}: {j}");
+    }
+}
+
+/// A limit spent before any method has a gait (1 ns: less than the structured gaits take),
+/// through the job's deadline: every method but discrete returns the best structured gait with
+/// status time_limit; the discrete P_m and its convergence table (no structured floor) end with
+/// a time-limit error, never a panic.
+#[test]
+fn a_time_limit_spent_at_once_says_time_limit_for_every_method() {
+    for method in [
+        &["auto"][..],
+        &["phase", "--phases", "4"],
+        &["local"],
+        &["sequence"],
+        &["chain"],
+    ] {
+        let mut args = vec!["optimize", "examples/three_blocks_gait.toml", "--method"];
+        args.extend(method);
+        args.extend(["--time-limit", "1e-9", "--json"]);
+        let out = crawlopt(&args);
+        assert!(out.status.success(), "{method:?}: {}", stderr(&out));
+        let v = json(&out);
+        assert_eq!(v["status"], "time_limit", "{method:?}");
+        assert!(v["structured"]["replaced"].is_string(), "{method:?}: {v}");
+    }
+    for extra in [&[][..], &["--convergence"]] {
+        let mut args = vec![
+            "optimize",
+            "examples/three_blocks_gait.toml",
+            "--method",
+            "discrete",
+        ];
+        args.extend(extra);
+        args.extend(["--time-limit", "1e-9"]);
+        assert_refused(&crawlopt(&args), "time limit was reached");
     }
 }
 
