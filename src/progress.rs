@@ -99,7 +99,7 @@ impl Deadline {
         let own = match Duration::try_from_secs_f64(s) {
             Ok(d) => Instant::now().checked_add(d),
             // Negative or NaN: already expired.
-            Err(_) if !(s > 0.0) => Some(Instant::now()),
+            Err(_) if s.is_nan() || s < 0.0 => Some(Instant::now()),
             // Beyond what a duration holds: no limit of its own.
             Err(_) => None,
         };
