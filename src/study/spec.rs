@@ -292,10 +292,12 @@ impl SweepSpec {
                          the file has none",
                     ));
                 }
-                // Recorded values a step; a first point that is no problem is its row's error.
-                let per_step = first
-                    .problem()
-                    .map_or(0, |p| p.states() + p.controls() + p.c.faces());
+                // Recorded values a step, n + m + sigma: the same at every point (the axes
+                // change numbers, not dimensions), whether or not the first is well posed.
+                let normals = &first.sweeping_process.normals;
+                let per_step = normals.first().map_or(0, Vec::len)
+                    + first.dynamics.b.first().map_or(0, Vec::len)
+                    + normals.len();
                 options.check(per_step).map_err(setting_error)
             }
             Job::Optimize(settings) if self.kind == Kind::General => {
