@@ -61,8 +61,32 @@ fn seeds() -> Vec<Seed> {
             "job = \"optimize\"\n[settings]\nphases = 2\ntime_limit = 2.0",
             "[[axis]]\nfield = \"gait.period\"\nvalues = [6.0, 10.0]\n",
         ),
+        Seed::new(
+            "general_optimize.toml",
+            format!(
+                "job = \"optimize\"\n[settings]\nm = 2\ntime_limit = 2.0\n{GENERAL}\n\
+                 [[axis]]\nfield = \"problem.period\"\nvalues = [3.0, 10.0]\n\
+                 [[axis]]\nfield = \"sweeping_process.offsets[2]\"\nvalues = [0.5, 2.0]\n"
+            ),
+            Syntax::Toml,
+        ),
+        Seed::new(
+            "general_simulate.toml",
+            format!(
+                "job = \"simulate\"\n[settings]\nsteps_per_period = 40\nmax_periods = 30\n\
+                 {GENERAL}\n[[axis]]\nfield = \"dynamics.B[1][1]\"\nvalues = [0.5, 2.0]\n"
+            ),
+            Syntax::Toml,
+        ),
     ]
 }
+
+/// The base of the general seeds: the paper's §4 one-link problem in general form (theory §11)
+/// with its bang-bang `[input]`.
+const GENERAL: &str = "[model.sweeping_process]\nnormals = [[1.0], [-1.0]]\noffsets = [1.0, 1.0]\n\
+    [model.dynamics]\nB = [[1.0]]\n[model.control]\nlower = [-1.0]\nupper = [1.0]\n\
+    [model.objective]\nface_weights = [0.5, 0.5]\n[model.problem]\nperiod = 10.0\n\
+    [model.input]\nkind = \"piecewise_constant\"\ntimes = [0.0, 5.0]\nvalues = [[1.0], [-1.0]]\n";
 
 /// An edit aimed at a sweep's own mistakes, applied to the text after the mutation.
 #[derive(Debug, Clone)]
@@ -313,7 +337,7 @@ fn fuzz_sweep_files() {
                     None => Ok::<_, String>(()),
                 });
                 for id in 0..spec.len().unwrap_or(0).min(3) {
-                    s.step("SweepSpec::model_at", || spec.model_at(&spec.point(id)));
+                    s.step("SweepSpec::problem_at", || spec.problem_at(&spec.point(id)));
                 }
             });
             let mut failure = judge_steps("in-process", &steps, stats);

@@ -402,9 +402,9 @@ fn resume_never_destroys_a_file_that_is_not_this_table() {
         ("big.csv", junk.clone()),
         ("big.jsonl", junk.clone()),
         ("other.csv", "point,gait.mu\n0,1\n2".to_string()),
-        ("rows.csv", format!("{}\n0,6,1", "point,gait.period,objective,displacement_per_period,certificate,gap,bound,status,seconds,error")),
-        ("tail.csv", "point,gait.period,objective,displacement_per_period,certificate,gap,bound,status,seconds,error\nnot a row".to_string()),
-        ("tail.jsonl", "{\"point\":0,\"gait.period\":6,\"objective\":1,\"displacement_per_period\":1,\"certificate\":\"closed_form\",\"gap\":0,\"bound\":1,\"status\":\"convex\",\"seconds\":0,\"error\":null}\n{\"x\":".to_string()),
+        ("rows.csv", format!("{}\n0,6,1", "point,gait.period,objective,displacement_per_period,method,certificate,gap,bound,status,verdict,seconds,error")),
+        ("tail.csv", "point,gait.period,objective,displacement_per_period,method,certificate,gap,bound,status,verdict,seconds,error\nnot a row".to_string()),
+        ("tail.jsonl", "{\"point\":0,\"gait.period\":6,\"objective\":1,\"displacement_per_period\":1,\"method\":null,\"certificate\":\"closed_form\",\"gap\":0,\"bound\":1,\"status\":\"convex\",\"verdict\":null,\"seconds\":0,\"error\":null}\n{\"x\":".to_string()),
     ] {
         let p = dir.path().join(name);
         std::fs::write(&p, &text).unwrap();

@@ -775,13 +775,16 @@ def _sweep_source(spec) -> tuple[str, bool, str]:
 
 
 def sweep(spec, executor=None, *, threads: int = 0):
-    """A parameter study (``crawlopt sweep``): one job over a grid of model parameters, one row
-    per point, as a pandas DataFrame sorted by point (columns ``point``, one per axis named by
-    its field, ``objective``, ``displacement_per_period``, ``certificate``, ``gap``, ``bound``,
-    ``status``, ``seconds``, ``error``; an ill-posed point is a row with its error).
+    """A parameter study (``crawlopt sweep``): one job over a grid of the numbers of a problem
+    file, one row per point, as a pandas DataFrame sorted by point (columns ``point``, one per
+    axis named by its field, ``objective``, ``displacement_per_period``, ``method``,
+    ``certificate``, ``gap``, ``bound``, ``status``, ``verdict``, ``seconds``, ``error``; an
+    ill-posed point is a row with its error).
 
     ``spec`` is a sweep file's path or a dict with the file's keys (``base`` or ``model``,
-    ``job``, ``combine``, ``settings``, ``axis``: a list of dicts). Without ``executor`` the
+    ``job``, ``combine``, ``settings``, ``axis``: a list of dicts). The base is a crawler's
+    model or a general problem (``[sweeping_process]``), whose axes are over its own fields
+    (``problem.period``, ``sweeping_process.offsets[2]``, ``dynamics.A[1][2]``, ...). Without ``executor`` the
     points run in the library on ``threads`` threads (0: one per core) with the GIL released;
     with any ``concurrent.futures.Executor`` (a process pool, or a Dask cluster's
     ``distributed.Client(...).get_executor()``) each point is one task, run wherever the

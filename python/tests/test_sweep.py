@@ -83,3 +83,37 @@ def test_dask_local_cluster_gives_the_same_rows():
     cols = [c for c in df.columns if c != "seconds"]
     assert df[cols].fillna(-1).equals(serial[cols].fillna(-1))
     check(df)
+
+
+GENERAL = {
+    "job": "optimize",
+    "model": {
+        "sweeping_process": {"normals": [[1.0], [-1.0]], "offsets": [1.0, 1.0]},
+        "dynamics": {"B": [[1.0]]},
+        "control": {"lower": [-1.0], "upper": [1.0]},
+        "objective": {"face_weights": [0.5, 0.5]},
+        "problem": {"period": 10.0},
+    },
+    "axis": [
+        {"field": "sweeping_process.offsets[2]", "values": [0.5, 1.0, 2.0]},
+        {"field": "problem.period", "values": [3.0, 6.0, 10.0]},
+    ],
+}
+
+
+def test_a_general_sweep_gives_the_closed_form_in_the_same_table():
+    """The paper's §4 one-link problem in general form: J* = max(0, (T - 2 (1 + c_2)) / 2)."""
+    df = co.sweep(GENERAL, threads=2)
+    crawler = co.sweep(SPEC, threads=1)
+    assert list(df.columns[3:]) == list(crawler.columns[3:])
+    assert list(df.columns[:3]) == ["point", "sweeping_process.offsets[2]", "problem.period"]
+    assert len(df) == 9
+    for _, r in df.iterrows():
+        c2, t = r["sweeping_process.offsets[2]"], r["problem.period"]
+        assert abs(r["objective"] - max(0.0, (t - 2.0 * (1.0 + c2)) / 2.0)) <= 1e-7, (c2, t)
+        assert (r["method"], r["certificate"], r["status"]) == ("discrete", "global", "optimal")
+    bad = dict(GENERAL, axis=[{"field": "sweeping_process.offsets[3]", "values": [1.0]}])
+    with pytest.raises(co.InputError) as e:
+        co.sweep(bad)
+    assert e.value.field == "axis[1].field"
+    assert "entry 3 does not exist" in str(e.value)

@@ -49,7 +49,8 @@ pub use phase::{
 };
 pub use problem::{Cost, GaitProblem, MAX_COST_RATIO, MAX_RATIO, MAX_SWEEP};
 pub use result::{
-    CrawlerParams, GaitData, GaitResult, LocalRecord, PhaseGrowthRecord, ResultCertificate,
-    StartRecord, StructuredPieces, StructuredRecord, RESULT_FORMAT, RESULT_VERSION,
+    local_status, CrawlerParams, GaitData, GaitResult, LocalRecord, PhaseGrowthRecord,
+    ResultCertificate, StartRecord, StructuredPieces, StructuredRecord, RESULT_FORMAT,
+    RESULT_VERSION,
 };
 pub use start::{discrete_start, phase_start, shifted_origin, StartEvent, StartGait};

@@ -282,7 +282,7 @@ fn actuation_cost(problem: &GaitProblem, durations: &[f64], controls: &[Vec<f64>
 }
 
 /// The result status of a local method's stop.
-fn local_status(stop: LocalStop) -> MilpStatus {
+pub fn local_status(stop: LocalStop) -> MilpStatus {
     match stop {
         LocalStop::Stationary => MilpStatus::Stationary,
         LocalStop::TimeLimit => MilpStatus::TimeLimit,

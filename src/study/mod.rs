@@ -1,5 +1,6 @@
-//! Parameter studies: one job (analyze, simulate or optimize) over a grid of model parameters,
-//! each point through the library, in parallel, one row per point. (The name `sweep` is taken
+//! Parameter studies: one job (analyze, simulate or optimize) over a grid of the numbers of a
+//! problem file, a crawler's model or a general problem (P) (theory §11), each point through
+//! the library, in parallel, one row per point. (The name `sweep` is taken
 //! by the projections of the sweeping process, [`crate::sweep`]; the command is
 //! `crawlopt sweep`.)
 //!
@@ -19,6 +20,14 @@
 //! range = { from = 2.0, to = 20.0, count = 10, scale = "linear" }   # or "log"
 //! ```
 //!
+//! With a general problem file as the base (`[sweeping_process]`, [`Kind::General`]) the axes
+//! are over its own fields: `problem.period`, `sweeping_process.offsets[j]` (`c_j`),
+//! `control.lower[i]`, `objective.face_weights[j]`, `objective.cost.weight`, a matrix entry
+//! `dynamics.A[i][k]`, ... (a list without an index has every entry set); each entry must be
+//! in the base (the axes change numbers, never dimensions). Each point runs the API call of
+//! its kind ([`crate::api::simulate_general`], [`crate::api::optimize_general_plan`] with the
+//! plan the same [`crate::api::OptimizeSettings`] make), into the same table.
+//!
 //! - [`SweepSpec`]: the parsed file; its points ([`Point`]) have deterministic ids (the place
 //!   in the expansion; in a product the first axis varies slowest), the same on every machine.
 //! - [`run`] with [`SweepSettings`] (threads, [`Shard`], points to skip, full results,
@@ -31,17 +40,19 @@
 //! - [`figures`]: the value against one axis (a line per value of a second), and the heat map
 //!   over two axes with the boundary of the no-locomotion region.
 
+mod axis;
 mod plot;
 mod run;
 mod settings;
 mod spec;
 mod table;
 
+pub use axis::{Axis, Kind, MAX_POINTS};
 pub use plot::figures;
 pub use run::{
     run, run_point, Outcome, Row, Shard, SweepProgress, SweepSettings, SweepSummary, MAX_THREADS,
 };
-pub use spec::{Axis, Combine, Job, Point, SweepSpec, MAX_POINTS};
+pub use spec::{Combine, Job, Point, SweepSpec};
 pub use table::{
     axes_of_header, check_rows, header, line, merge, read_any_table, read_table, write_full,
     write_table, Format, MergeProblems, TableWriter, RESULT_COLUMNS,

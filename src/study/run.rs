@@ -3,8 +3,10 @@
 
 use super::settings::setting_error;
 use super::spec::{Job, Point, SweepSpec};
-use crate::api::{self, Hooks};
+use crate::api::{self, GeneralAnswer, Hooks};
 use crate::error::{Error, Result};
+use crate::io::{GeneralFile, ProblemFile};
+use crate::optimal::local_status;
 use crate::progress::Cancel;
 use serde::Serialize;
 use std::collections::BTreeSet;
@@ -24,15 +26,23 @@ pub struct Row {
     /// The displacement per period: of the optimal gait, of the simulated periodic regime, or
     /// of the one-link closed-form optimum.
     pub displacement_per_period: Option<f64>,
-    /// The certificate's kind (optimize; `closed_form` for analyze of one link).
+    /// The method that ran: the optimiser's (`phase`, `discrete`, `local`, ...), the
+    /// simulator's (`exact`, `catching-up`); empty for analyze.
+    pub method: Option<String>,
+    /// The certificate's kind (optimize: `global`, `global_k_phases` or `local`;
+    /// `closed_form` for analyze of one link).
     pub certificate: Option<String>,
     /// The certificate's gap (optimize).
     pub gap: Option<f64>,
     /// The certificate's bound on J (optimize).
     pub bound: Option<f64>,
-    /// The status: the optimiser's (`optimal`, `time_limit`, ...), the simulation's
-    /// (`converged`, `not_converged`), the class of v_m (analyze), or `error`.
+    /// The status: the optimiser's (`optimal`, `time_limit`, ...: what is proven), the
+    /// simulation's (`converged`, `not_converged`), the class of v_m (analyze of a crawler),
+    /// `well_posed` (analyze of a general problem), or `error`.
     pub status: String,
+    /// The verdict of the necessary conditions on the optimum (`holds`, `fails`,
+    /// `degenerate`) when the job certifies (`certify = true`).
+    pub verdict: Option<String>,
     /// Wall time of the point, seconds.
     pub seconds: f64,
     /// The error of an ill-posed point (the message names the field).
@@ -46,10 +56,12 @@ impl Row {
             values: point.values.clone(),
             objective: None,
             displacement_per_period: None,
+            method: None,
             certificate: None,
             gap: None,
             bound: None,
             status: String::new(),
+            verdict: None,
             seconds: 0.0,
             error: None,
         }
@@ -102,6 +114,11 @@ fn to_json(v: &impl Serialize) -> Option<serde_json::Value> {
     serde_json::to_value(v).ok()
 }
 
+/// The serde name of a unit variant (a status, a verdict, a class).
+fn word(v: &impl Serialize) -> Option<String> {
+    to_json(v).and_then(|v| v.as_str().map(str::to_string))
+}
+
 fn compute(
     spec: &SweepSpec,
     point: &Point,
@@ -109,7 +126,10 @@ fn compute(
     full: bool,
     cancel: Option<&Cancel>,
 ) -> Result<Option<serde_json::Value>> {
-    let model = spec.model_at(point)?;
+    let model = match spec.problem_at(point)? {
+        ProblemFile::Crawler(model) => model,
+        ProblemFile::General(file) => return compute_general(spec, &file, row, full, cancel),
+    };
     let hooks = || Hooks {
         events: None,
         cancel,
@@ -118,9 +138,7 @@ fn compute(
         Job::Analyze => {
             let a = api::analyze(&model)?;
             row.status = match a.analysis.vm_class {
-                Some(c) => to_json(&c)
-                    .and_then(|v| v.as_str().map(str::to_string))
-                    .unwrap_or_default(),
+                Some(c) => word(&c).unwrap_or_default(),
                 None => "not_unique".into(),
             };
             if let Some(o) = a.gait.as_ref().and_then(|g| g.one_link_optimum.as_ref()) {
@@ -139,6 +157,7 @@ fn compute(
             options.initial_state = model.simulation.initial_state.clone();
             let sim = api::simulate(&crawler, &act, &options, hooks())?;
             row.displacement_per_period = sim.displacement_per_period;
+            row.method = Some(options.method.to_string());
             row.status = if sim.converged {
                 "converged"
             } else {
@@ -153,13 +172,99 @@ fn compute(
             let r = &o.result;
             row.objective = Some(r.objective);
             row.displacement_per_period = Some(r.displacement_per_period);
+            row.method = Some(r.method.clone());
             row.certificate = Some(r.certificate.kind.clone());
             row.gap = r.certificate.gap;
             row.bound = r.certificate.bound;
-            row.status = to_json(&r.status)
-                .and_then(|v| v.as_str().map(str::to_string))
-                .unwrap_or_default();
+            row.status = r.status.as_str().into();
+            row.verdict = o
+                .necessary_conditions
+                .as_ref()
+                .and_then(|c| word(&c.verdict));
             Ok(full.then(|| to_json(&o)).flatten())
+        }
+        Job::SimulateGeneral(_) => Err(Error::invalid(
+            "job",
+            "simulate",
+            "the options of a general problem's simulation, on a crawler's model",
+        )),
+    }
+}
+
+/// A point of a sweep over a general problem (P): the API call of the job, its row. The
+/// certificate's kind is the crawler's word for the same claim: `global` for P_m's global
+/// optimum, `global_k_phases` for the phase method's, `local` for the local method.
+fn compute_general(
+    spec: &SweepSpec,
+    file: &GeneralFile,
+    row: &mut Row,
+    full: bool,
+    cancel: Option<&Cancel>,
+) -> Result<Option<serde_json::Value>> {
+    let hooks = Hooks {
+        events: None,
+        cancel,
+    };
+    match &spec.job {
+        Job::Analyze => {
+            let a = api::analyze_general(file)?;
+            if let Some(e) = a.failure {
+                return Err(e);
+            }
+            row.status = "well_posed".into();
+            Ok(full.then(|| to_json(&a)).flatten())
+        }
+        Job::SimulateGeneral(options) => {
+            let s = api::simulate_general(file, options)?;
+            row.objective = s.simulation.objective;
+            row.method = Some(s.method.into());
+            row.status = if s.simulation.converged {
+                "converged"
+            } else {
+                "not_converged"
+            }
+            .into();
+            Ok(full.then(|| to_json(&s)).flatten())
+        }
+        Job::Simulate(_) => Err(Error::invalid(
+            "job",
+            "simulate",
+            "the options of a crawler's simulation, on a general problem",
+        )),
+        Job::Optimize(settings) => {
+            let plan = settings.plan_general(&[])?;
+            let answer = api::optimize_general_plan(file, &plan, settings.naming, hooks)?;
+            match &answer {
+                GeneralAnswer::Discrete(r) => {
+                    let c = &r.solution.certificate;
+                    row.objective = Some(r.solution.objective);
+                    row.method = Some(r.method.into());
+                    row.certificate = Some("global".into());
+                    row.gap = Some(c.gap);
+                    row.bound = Some(c.bound);
+                    row.status = c.status.as_str().into();
+                    row.verdict = r
+                        .necessary_conditions
+                        .as_ref()
+                        .and_then(|n| word(&n.verdict));
+                }
+                GeneralAnswer::Phase(r) => {
+                    let c = &r.solution.certificate;
+                    row.objective = Some(r.solution.objective);
+                    row.method = Some(r.method.into());
+                    row.certificate = Some("global_k_phases".into());
+                    row.gap = Some(c.gap);
+                    row.bound = Some(c.bound);
+                    row.status = c.status.as_str().into();
+                }
+                GeneralAnswer::Local(r) => {
+                    row.objective = Some(r.solution.objective);
+                    row.method = Some(r.method.into());
+                    row.certificate = Some("local".into());
+                    row.status = local_status(r.solution.stop).as_str().into();
+                }
+            }
+            Ok(full.then(|| to_json(&answer)).flatten())
         }
     }
 }

@@ -4,7 +4,7 @@
 
 use crate::api::{rename_fields, GaitMethod, Naming, OptimizeSettings, Start};
 use crate::error::{Error, Result};
-use crate::integrate::{Method, SimOptions};
+use crate::integrate::{GeneralMethod, GeneralSimOptions, Method, SimOptions};
 use serde::Deserialize;
 use std::path::Path;
 
@@ -77,12 +77,11 @@ pub(super) fn optimize_settings(t: toml::Table, dir: &Path) -> Result<OptimizeSe
     })
 }
 
-/// The options of `job = "simulate"`, named as `crawlopt simulate`'s flags.
-pub(super) fn simulate_options(t: toml::Table) -> Result<SimOptions> {
+/// The keys of `job = "simulate"` and its method.
+fn simulate_keys(t: toml::Table) -> Result<(SimulateKeys, Method)> {
     let k: SimulateKeys = toml::Value::Table(t)
         .try_into()
         .map_err(|e| toml_err("settings", e))?;
-    let d = SimOptions::DEFAULT;
     let method = match k.method.as_deref() {
         None | Some("exact") => Method::Exact,
         Some("catching-up" | "catching_up") => Method::CatchingUp,
@@ -94,6 +93,45 @@ pub(super) fn simulate_options(t: toml::Table) -> Result<SimOptions> {
             ))
         }
     };
+    Ok((k, method))
+}
+
+/// The options of `job = "simulate"` on a general problem, named as `crawlopt simulate`'s
+/// flags on a general problem file: `exact` where it applies (`A = 0`, a piecewise-constant
+/// input; else catching-up) or `catching-up`, steps per period, periods, tolerance, with
+/// [`GeneralSimOptions::DEFAULT`] for those not given. The crawler's acceleration of the
+/// periodic regime does not apply (refused naming it).
+pub(super) fn general_simulate_options(t: toml::Table) -> Result<GeneralSimOptions> {
+    let (k, method) = simulate_keys(t)?;
+    let given = [
+        ("accelerate_after", k.accelerate_after.is_some()),
+        ("no_accelerate", k.no_accelerate),
+    ];
+    if let Some((key, _)) = given.iter().find(|(_, g)| *g) {
+        return Err(Error::invalid(
+            format!("settings.{key}"),
+            "a value",
+            "does not apply to a general problem (the crawler's acceleration of the periodic \
+             regime)",
+        ));
+    }
+    let d = GeneralSimOptions::DEFAULT;
+    Ok(GeneralSimOptions {
+        method: match method {
+            Method::Exact => GeneralMethod::Auto,
+            Method::CatchingUp => GeneralMethod::CatchingUp,
+        },
+        steps_per_period: k.steps_per_period.unwrap_or(d.steps_per_period),
+        max_periods: k.max_periods.unwrap_or(d.max_periods),
+        tol: k.tol.unwrap_or(d.tol),
+        ..d
+    })
+}
+
+/// The options of `job = "simulate"`, named as `crawlopt simulate`'s flags.
+pub(super) fn simulate_options(t: toml::Table) -> Result<SimOptions> {
+    let (k, method) = simulate_keys(t)?;
+    let d = SimOptions::DEFAULT;
     Ok(SimOptions {
         method,
         steps_per_period: k.steps_per_period.unwrap_or(d.steps_per_period),

@@ -1,48 +1,36 @@
-//! The sweep file: a base model, a job with its settings, and axes over the model's numeric
-//! fields (see the module docs of [`crate::study`]).
+//! The sweep file: a base problem file (a crawler's model, or a general problem (P)), a job
+//! with its settings, and axes over the file's numeric fields (see the module docs of
+//! [`crate::study`]).
 
-use super::settings::{optimize_settings, setting_error, simulate_options, toml_err};
-use crate::api::OptimizeSettings;
+use super::axis::{Axis, AxisFile, Kind, MAX_POINTS};
+use super::settings::{
+    general_simulate_options, optimize_settings, setting_error, simulate_options, toml_err,
+};
+use crate::api::{GeneralPlan, OptimizeSettings};
 use crate::error::{Error, Result};
-use crate::integrate::SimOptions;
-use crate::io::{read_input_text, ModelFile};
+use crate::integrate::{GeneralSimOptions, SimOptions};
+use crate::io::{read_input_text, GeneralFile, ModelFile, ProblemFile};
 
 /// Largest sweep file or base model read (bytes).
 const MAX_MODEL_BYTES: u64 = 16 << 20;
 use serde::Deserialize;
 use std::path::{Path, PathBuf};
 
-/// Most points a sweep may have (each is a row kept in memory while the sweep runs).
-pub const MAX_POINTS: usize = 1_000_000;
-
-/// The numeric fields of a model file an axis may set, and whether each is a per-link
-/// (`Some(true)`) or per-block (`Some(false)`) list that takes an index, or a plain number
-/// (`None`).
-const FIELDS: &[(&str, Option<bool>)] = &[
-    ("crawler.blocks", None),
-    ("crawler.stiffness", Some(true)),
-    ("crawler.mu_forward", Some(false)),
-    ("crawler.mu_backward", Some(false)),
-    ("gait.period", None),
-    ("gait.max_actuator_speed", Some(true)),
-    ("gait.max_total_variation", None),
-    ("gait.cost.weight", None),
-    ("actuation.period", None),
-    ("actuation.amplitude", Some(true)),
-    ("actuation.phase_deg", Some(true)),
-    ("actuation.mean", Some(true)),
-    ("simulation.initial_state", Some(true)),
-];
-
 /// The job each point runs.
 #[derive(Clone, Debug, PartialEq)]
 pub enum Job {
     /// [`crate::api::analyze`]: for one link, J* in closed form (theory §9); the status is the
-    /// class of v_m.
+    /// class of v_m. Of a general problem, [`crate::api::analyze_general`]: the status is
+    /// `well_posed`, an ill-posed point a row with the failed check as its error.
     Analyze,
     /// [`crate::api::simulate`] with these options: the displacement per period on the orbit.
     Simulate(SimOptions),
-    /// [`crate::api::optimize`] with these settings: the verified optimum and its certificate.
+    /// [`crate::api::simulate_general`] of the base's `[input]` with these options (a general
+    /// problem's `job = "simulate"`): J of a period on the orbit.
+    SimulateGeneral(GeneralSimOptions),
+    /// [`crate::api::optimize`] with these settings: the verified optimum and its certificate;
+    /// of a general problem, [`crate::api::optimize_general_plan`] of the plan the same
+    /// settings make ([`OptimizeSettings::plan_general`]).
     Optimize(Box<OptimizeSettings>),
 }
 
@@ -51,7 +39,7 @@ impl Job {
     pub fn name(&self) -> &'static str {
         match self {
             Job::Analyze => "analyze",
-            Job::Simulate(_) => "simulate",
+            Job::Simulate(_) | Job::SimulateGeneral(_) => "simulate",
             Job::Optimize(_) => "optimize",
         }
     }
@@ -67,22 +55,6 @@ pub enum Combine {
     Zip,
 }
 
-/// One axis: a field of the model and its values.
-#[derive(Clone, Debug, PartialEq)]
-pub struct Axis {
-    /// The field as meant, whatever spaces it was written with (`crawler.mu_backward`,
-    /// `crawler.mu_backward[2]` for `" crawler.mu_backward[ 2 ]"`): the column name.
-    pub field: String,
-    /// Its values, in order.
-    pub values: Vec<f64>,
-    /// The path of tables and the key.
-    path: Vec<String>,
-    /// The 1-based list entry, if any.
-    index: Option<usize>,
-    /// Per-link list (else per-block), for a field that takes an index.
-    per_link: Option<bool>,
-}
-
 /// One point of a sweep: its id (its place in the expansion, from 0) and one value per axis.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Point {
@@ -95,8 +67,10 @@ pub struct Point {
 /// A parsed sweep file.
 #[derive(Clone, Debug, PartialEq)]
 pub struct SweepSpec {
-    /// The base model, as a TOML table.
+    /// The base problem file, as a TOML table.
     pub model: toml::Table,
+    /// Its kind: a crawler's model file, or a general problem file (`[sweeping_process]`).
+    pub kind: Kind,
     /// Folder of the base model file (relative paths inside it, e.g. a CSV actuation).
     pub model_dir: PathBuf,
     /// The job.
@@ -117,23 +91,6 @@ struct SweepFile {
     settings: Option<toml::Table>,
     #[serde(default)]
     axis: Vec<AxisFile>,
-}
-
-#[derive(Deserialize)]
-#[serde(deny_unknown_fields)]
-struct AxisFile {
-    field: String,
-    values: Option<Vec<f64>>,
-    range: Option<RangeFile>,
-}
-
-#[derive(Deserialize)]
-#[serde(deny_unknown_fields)]
-struct RangeFile {
-    from: f64,
-    to: f64,
-    count: i64,
-    scale: Option<String>,
 }
 
 impl SweepSpec {
@@ -207,8 +164,9 @@ impl SweepSpec {
                     "a sweep needs a base model file (base = \"model.toml\") or an inline [model]",
                 )),
             };
-        // The base model must be a model file by itself (axes only change numbers).
-        model_of(&model, &model_dir).map_err(|e| match e {
+        // The base must be a problem file by itself (axes only change numbers).
+        let kind = Kind::of(&model);
+        file_of(&model, &model_dir, kind).map_err(|e| match e {
             Error::InvalidParameter {
                 field,
                 value,
@@ -228,7 +186,10 @@ impl SweepSpec {
                 }
                 Job::Analyze
             }
-            "simulate" => Job::Simulate(simulate_options(settings)?),
+            "simulate" => match kind {
+                Kind::Crawler => Job::Simulate(simulate_options(settings)?),
+                Kind::General => Job::SimulateGeneral(general_simulate_options(settings)?),
+            },
             "optimize" => Job::Optimize(Box::new(optimize_settings(settings, dir)?)),
             other => {
                 return Err(Error::invalid(
@@ -259,12 +220,24 @@ impl SweepSpec {
         let mut axes: Vec<Axis> = Vec::new();
         for (i, a) in f.axis.into_iter().enumerate() {
             let written = format!("\"{}\"", crate::io::escape_controls(&a.field));
-            let axis = Axis::new(a, &format!("axis[{}]", i + 1))?;
+            let name = format!("axis[{}]", i + 1);
+            let axis = Axis::new(a, &name, kind)?;
+            if kind == Kind::General {
+                // The entry must be in the base (axes change numbers, not dimensions): set
+                // into a copy, any error is the field's.
+                axis.set(&mut model.clone(), axis.values[0], kind)
+                    .map_err(|e| match e {
+                        Error::InvalidParameter { reason, .. } => {
+                            Error::invalid(format!("{name}.field"), &written, reason)
+                        }
+                        other => other,
+                    })?;
+            }
             // Fields compare by what they set (path and entry), not by how they are written:
             // `gait.period` and `gait.period ` are one field, and a whole list overlaps each
             // of its entries (the row would show a value that one entry does not have).
             if let Some((j, b)) = axes.iter().enumerate().find(|(_, b)| b.overlaps(&axis)) {
-                let reason = if b.index == axis.index {
+                let reason = if b.same_entry(&axis) {
                     format!("is already axis[{}] ({})", j + 1, b.field)
                 } else {
                     format!(
@@ -284,6 +257,7 @@ impl SweepSpec {
         }
         let spec = SweepSpec {
             model,
+            kind,
             model_dir,
             job,
             combine,
@@ -300,9 +274,37 @@ impl SweepSpec {
     /// problem ([`OptimizeSettings::decide`]: which options apply to the method), taken from
     /// the first point (the axes change numbers, not the kind of problem: a TV bound or a
     /// quadratic cost is the base model's for every point). Errors name `settings.KEY`.
+    ///
+    /// Of a general problem: simulate needs the base's `[input]` and options the simulator
+    /// takes for the problem's size ([`GeneralSimOptions::check`]); optimize needs settings
+    /// that apply to a general problem ([`OptimizeSettings::plan_general`]) with numbers in
+    /// the method's range ([`plan_values`]).
     fn check_job(&self) -> Result<()> {
         match &self.job {
             Job::Analyze => Ok(()),
+            Job::SimulateGeneral(options) => {
+                let first = self.general_at(&self.point(0))?;
+                if first.input.is_none() {
+                    return Err(Error::invalid(
+                        "base",
+                        "no [input]",
+                        "job = \"simulate\" plays the base problem's [input] (the control), and \
+                         the file has none",
+                    ));
+                }
+                // Recorded values a step, n + m + sigma: the same at every point (the axes
+                // change numbers, not dimensions), whether or not the first is well posed.
+                let normals = &first.sweeping_process.normals;
+                let per_step = normals.first().map_or(0, Vec::len)
+                    + first.dynamics.b.first().map_or(0, Vec::len)
+                    + normals.len();
+                options.check(per_step).map_err(setting_error)
+            }
+            Job::Optimize(settings) if self.kind == Kind::General => {
+                settings.check_values().map_err(setting_error)?;
+                let plan = settings.plan_general(&[]).map_err(setting_error)?;
+                plan_values(&plan).map_err(setting_error)
+            }
             // A sweep's simulate settings always step on the grid's default or the value
             // written, so 0 is refused here too (not only where a point would use it).
             Job::Simulate(options) => options
@@ -403,177 +405,79 @@ impl SweepSpec {
             .collect()
     }
 
-    /// The model file of a point: the base with each axis's value set. Errors name the axis's
-    /// field (e.g. an index beyond the list, a non-integer block count) or the model's.
-    pub fn model_at(&self, point: &Point) -> Result<ModelFile> {
+    /// The problem file of a point: the base with each axis's value set. Errors name the
+    /// axis's field (e.g. an index beyond the list, a non-integer block count) or the file's.
+    pub fn problem_at(&self, point: &Point) -> Result<ProblemFile> {
         let mut table = self.model.clone();
         // Plain fields first, so that an indexed entry is expanded with the point's N.
         let mut order: Vec<usize> = (0..self.axes.len()).collect();
-        order.sort_by_key(|&j| self.axes[j].index.is_some());
+        order.sort_by_key(|&j| !self.axes[j].is_plain());
         for j in order {
-            self.axes[j].set(&mut table, point.values[j])?;
+            self.axes[j].set(&mut table, point.values[j], self.kind)?;
         }
-        model_of(&table, &self.model_dir)
+        file_of(&table, &self.model_dir, self.kind)
+    }
+
+    /// The crawler's model file of a point ([`SweepSpec::problem_at`]); an error naming `base`
+    /// for a sweep over a general problem.
+    pub fn model_at(&self, point: &Point) -> Result<ModelFile> {
+        match self.problem_at(point)? {
+            ProblemFile::Crawler(m) => Ok(*m),
+            ProblemFile::General(_) => Err(Error::invalid(
+                "base",
+                "a general problem file",
+                "is not a crawler's model file",
+            )),
+        }
+    }
+
+    /// The general problem file of a point ([`SweepSpec::problem_at`]); an error naming
+    /// `base` for a sweep over a crawler.
+    pub fn general_at(&self, point: &Point) -> Result<GeneralFile> {
+        match self.problem_at(point)? {
+            ProblemFile::General(g) => Ok(*g),
+            ProblemFile::Crawler(_) => Err(Error::invalid(
+                "base",
+                "a crawler's model file",
+                "is not a general problem file ([sweeping_process])",
+            )),
+        }
     }
 }
 
-/// A model file from its TOML table.
-fn model_of(table: &toml::Table, dir: &Path) -> Result<ModelFile> {
-    let mut m: ModelFile = toml::Value::Table(table.clone())
-        .try_into()
-        .map_err(|e| toml_err("model", e))?;
-    m.base_dir = dir.to_path_buf();
-    Ok(m)
+/// A problem file of `kind` from its TOML table, relative paths from `dir`.
+fn file_of(table: &toml::Table, dir: &Path, kind: Kind) -> Result<ProblemFile> {
+    let value = toml::Value::Table(table.clone());
+    Ok(match kind {
+        Kind::Crawler => {
+            let mut m: ModelFile = value.try_into().map_err(|e| toml_err("model", e))?;
+            m.base_dir = dir.to_path_buf();
+            ProblemFile::Crawler(Box::new(m))
+        }
+        Kind::General => {
+            let mut g: GeneralFile = value.try_into().map_err(|e| toml_err("model", e))?;
+            g.base_dir = dir.to_path_buf();
+            ProblemFile::General(Box::new(g))
+        }
+    })
 }
 
-impl Axis {
-    fn new(a: AxisFile, name: &str) -> Result<Self> {
-        let (path, index) = parse_field(&a.field, &format!("{name}.field"))?;
-        let key = path.join(".");
-        // The column name: the field as it is meant, whatever the spaces it was written with.
-        let field = match index {
-            Some(i) => format!("{key}[{i}]"),
-            None => key.clone(),
-        };
-        let per_link = match FIELDS.iter().find(|(f, _)| *f == key) {
-            Some((_, list)) => *list,
-            None => {
-                let known: Vec<&str> = FIELDS.iter().map(|(f, _)| *f).collect();
-                return Err(Error::invalid(
-                    format!("{name}.field"),
-                    &a.field,
-                    format!("must be a numeric model field: {}", known.join(", ")),
-                ));
-            }
-        };
-        if index.is_some() && per_link.is_none() {
-            return Err(Error::invalid(
-                format!("{name}.field"),
-                &a.field,
-                "is a number, not a list: it takes no index",
-            ));
-        }
-        if index.is_none() && key == "simulation.initial_state" {
-            return Err(Error::invalid(
-                format!("{name}.field"),
-                &a.field,
-                "is a list: give one entry, e.g. simulation.initial_state[1]",
-            ));
-        }
-        let values = match (a.values, a.range) {
-            (Some(v), None) => v,
-            (None, Some(r)) => range_values(&r, &format!("{name}.range"))?,
-            _ => {
-                return Err(Error::invalid(
-                    name,
-                    &a.field,
-                    "give either values = [...] or range = { from, to, count, scale }",
-                ))
-            }
-        };
-        if values.is_empty() {
-            return Err(Error::invalid(
-                format!("{name}.values"),
-                "[]",
-                "needs at least one value",
-            ));
-        }
-        if values.len() > MAX_POINTS {
-            return Err(Error::invalid(
-                format!("{name}.values"),
-                format!("{} values", values.len()),
-                format!("at most {MAX_POINTS} (the most points a sweep may have)"),
-            ));
-        }
-        if let Some(v) = values.iter().find(|v| !v.is_finite()) {
-            return Err(Error::invalid(
-                format!("{name}.values"),
-                v,
-                "must be finite",
-            ));
-        }
-        if path == ["crawler", "blocks"] {
-            if let Some(v) = values.iter().find(|&&v| block_count(v).is_err()) {
-                let reason = block_count(*v).err().unwrap_or_default();
-                return Err(Error::invalid(format!("{name}.values"), v, reason));
-            }
-        }
-        Ok(Axis {
-            field,
-            values,
-            path,
-            index,
-            per_link,
-        })
-    }
-
-    /// Whether this axis and `other` set the same number: the same field and entry, or a whole
-    /// list and one of its entries.
-    fn overlaps(&self, other: &Axis) -> bool {
-        self.path == other.path
-            && (self.index == other.index || self.index.is_none() || other.index.is_none())
-    }
-
-    /// Sets this axis's field to `v` in a model table.
-    fn set(&self, table: &mut toml::Table, v: f64) -> Result<()> {
-        let bad = |reason: String| Error::invalid(&self.field, v, reason);
-        let (key, parents) = self.path.split_last().expect("a field has a key");
-        let links_blocks = |t: &toml::Table| -> Option<usize> {
-            let n = t.get("crawler")?.get("blocks")?.as_integer()?;
-            let n = usize::try_from(n).ok()?;
-            Some(if self.per_link == Some(true) {
-                n.saturating_sub(1)
-            } else {
-                n
-            })
-        };
-        let len = links_blocks(table);
-        let mut t = &mut *table;
-        for p in parents {
-            t = t
-                .entry(p.clone())
-                .or_insert_with(|| toml::Value::Table(toml::Table::new()))
-                .as_table_mut()
-                .ok_or_else(|| bad(format!("{p} is not a table in the base model")))?;
-        }
-        let integer = self.path == ["crawler", "blocks"];
-        let value = if integer {
-            toml::Value::Integer(block_count(v).map_err(bad)?)
-        } else {
-            toml::Value::Float(v)
-        };
-        let Some(i) = self.index else {
-            t.insert(key.clone(), value);
-            return Ok(());
-        };
-        let entry = t.get(key).cloned();
-        let mut list = match entry {
-            Some(toml::Value::Array(a)) => a,
-            // A number for every entry: expanded to one per link / block.
-            Some(one @ (toml::Value::Float(_) | toml::Value::Integer(_))) => {
-                let n = len.ok_or_else(|| bad("the base model has no crawler.blocks".into()))?;
-                vec![one; n]
-            }
-            None if self.path == ["simulation", "initial_state"] => {
-                let n = len.ok_or_else(|| bad("the base model has no crawler.blocks".into()))?;
-                vec![toml::Value::Float(0.0); n]
-            }
-            _ => {
-                return Err(bad(format!(
-                    "the base model has no number or list {}",
-                    self.path.join(".")
-                )))
-            }
-        };
-        if i == 0 || i > list.len() {
-            return Err(bad(format!(
-                "entry {i} does not exist: the list has {} entries (numbered from 1)",
-                list.len()
-            )));
-        }
-        list[i - 1] = value;
-        t.insert(key.clone(), toml::Value::Array(list));
+/// Refuses the numbers of a general plan outside the method's range whatever the problem (the
+/// optimisers check them again, with the problem): `m` of P_m up to
+/// [`MAX_GENERAL_M`](crate::optimal::general::MAX_GENERAL_M) globally and
+/// [`MAX_GENERAL_LOCAL_M`](crate::optimal::general::MAX_GENERAL_LOCAL_M) locally, `K` of the
+/// phase method up to [`MAX_GENERAL_PHASES`](crate::optimal::general::MAX_GENERAL_PHASES).
+fn plan_values(plan: &GeneralPlan) -> Result<()> {
+    use crate::optimal::general::{MAX_GENERAL_LOCAL_M, MAX_GENERAL_M, MAX_GENERAL_PHASES};
+    let (name, value, max) = match plan {
+        GeneralPlan::Discrete(s) => ("m", s.m as usize, MAX_GENERAL_M as usize),
+        GeneralPlan::Local(s) => ("m", s.m as usize, MAX_GENERAL_LOCAL_M as usize),
+        GeneralPlan::Phase(s) => ("max_phases", s.max_phases, MAX_GENERAL_PHASES),
+    };
+    if (1..=max).contains(&value) {
         Ok(())
+    } else {
+        Err(Error::invalid(name, value, format!("must be in 1..={max}")))
     }
 }
 
@@ -628,104 +532,4 @@ fn check_value_counts(text: &str) -> Result<()> {
         pos = next;
     }
     Ok(())
-}
-
-/// A value of a `crawler.blocks` axis as the block count, or why it is none: a whole number
-/// from 2 to [`crate::io::MAX_BLOCKS`] (the model file's own range).
-fn block_count(v: f64) -> std::result::Result<i64, String> {
-    let max = crate::io::MAX_BLOCKS;
-    if v.fract() != 0.0 {
-        return Err("must be a whole number of blocks".into());
-    }
-    if !(2.0..=max as f64).contains(&v) {
-        return Err(format!("must be in 2..={max} (blocks of a crawler)"));
-    }
-    Ok(v as i64)
-}
-
-/// `a.b.c` or `a.b.c[i]` (1-based i) as its path and index; spaces around the parts and the
-/// index are not part of the field (`gait.period ` is `gait.period`).
-fn parse_field(s: &str, name: &str) -> Result<(Vec<String>, Option<usize>)> {
-    let bad = |reason: &str| Error::invalid(name, s, reason);
-    let s = s.trim();
-    let (path, index) = match s.strip_suffix(']') {
-        Some(head) => {
-            let (p, i) = head
-                .split_once('[')
-                .ok_or_else(|| bad("an index is written field[i]"))?;
-            let i: usize = i
-                .trim()
-                .parse()
-                .map_err(|_| bad("the index must be a whole number from 1"))?;
-            if i == 0 {
-                return Err(bad("entries are numbered from 1"));
-            }
-            (p, Some(i))
-        }
-        None => (s, None),
-    };
-    let parts: Vec<String> = path.split('.').map(|p| p.trim().to_string()).collect();
-    if parts.len() < 2 || parts.iter().any(String::is_empty) {
-        return Err(bad("must be section.key, e.g. crawler.mu_backward"));
-    }
-    Ok((parts, index))
-}
-
-/// The values of a range: `count` points from `from` to `to`, both included, equally spaced
-/// (`linear`) or in ratio (`log`).
-fn range_values(r: &RangeFile, name: &str) -> Result<Vec<f64>> {
-    if !r.from.is_finite() || !r.to.is_finite() {
-        return Err(Error::invalid(
-            name,
-            format!("{} to {}", r.from, r.to),
-            "from and to must be finite",
-        ));
-    }
-    if r.count < 1 || r.count as usize > MAX_POINTS {
-        return Err(Error::invalid(
-            format!("{name}.count"),
-            r.count,
-            format!("must be from 1 to {MAX_POINTS}"),
-        ));
-    }
-    let n = r.count as usize;
-    if n == 1 {
-        if r.from != r.to {
-            return Err(Error::invalid(
-                format!("{name}.count"),
-                1,
-                "one point needs from = to",
-            ));
-        }
-        return Ok(vec![r.from]);
-    }
-    let t = |i: usize| i as f64 / (n - 1) as f64;
-    // Weighted ends, not from + step * i: 2 to 20 in 6 gives 12.8, not 12.799999999999999.
-    let (a, b) = (r.from, r.to);
-    let lin = |i: usize| ((n - 1 - i) as f64 * a + i as f64 * b) / (n - 1) as f64;
-    let mut v: Vec<f64> = match r.scale.as_deref() {
-        None | Some("linear") => (0..n).map(lin).collect(),
-        Some("log") => {
-            if r.from <= 0.0 || r.to <= 0.0 {
-                return Err(Error::invalid(
-                    format!("{name}.from"),
-                    format!("{} to {}", r.from, r.to),
-                    "scale = \"log\" needs positive ends",
-                ));
-            }
-            let (a, b) = (r.from.ln(), r.to.ln());
-            (0..n).map(|i| (a + (b - a) * t(i)).exp()).collect()
-        }
-        Some(other) => {
-            return Err(Error::invalid(
-                format!("{name}.scale"),
-                format!("\"{other}\""),
-                "must be linear or log",
-            ))
-        }
-    };
-    // The ends exactly as written.
-    v[0] = r.from;
-    v[n - 1] = r.to;
-    Ok(v)
 }

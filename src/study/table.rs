@@ -9,14 +9,16 @@ use std::collections::{BTreeMap, BTreeSet};
 use std::io::Write as _;
 use std::path::{Path, PathBuf};
 
-/// The columns after the axes.
-pub const RESULT_COLUMNS: [&str; 8] = [
+/// The columns after the axes (those of [`Row`], the same for both kinds of problem).
+pub const RESULT_COLUMNS: [&str; 10] = [
     "objective",
     "displacement_per_period",
+    "method",
     "certificate",
     "gap",
     "bound",
     "status",
+    "verdict",
     "seconds",
     "error",
 ];
@@ -69,10 +71,12 @@ fn cells(row: &Row) -> Vec<String> {
     c.extend([
         opt(row.objective),
         opt(row.displacement_per_period),
+        row.method.clone().unwrap_or_default(),
         row.certificate.clone().unwrap_or_default(),
         opt(row.gap),
         opt(row.bound),
         row.status.clone(),
+        row.verdict.clone().unwrap_or_default(),
         num(row.seconds),
         row.error.clone().unwrap_or_default(),
     ]);
@@ -115,10 +119,12 @@ pub fn line(row: &Row, header: &[String], format: Format) -> String {
                     "\"displacement_per_period\":{}",
                     json_opt(row.displacement_per_period)
                 ),
+                format!("\"method\":{}", json_str(&row.method)),
                 format!("\"certificate\":{}", json_str(&row.certificate)),
                 format!("\"gap\":{}", json_opt(row.gap)),
                 format!("\"bound\":{}", json_opt(row.bound)),
                 format!("\"status\":{}", json_str(&Some(row.status.clone()))),
+                format!("\"verdict\":{}", json_str(&row.verdict)),
                 format!("\"seconds\":{}", json_num(row.seconds)),
                 format!("\"error\":{}", json_str(&row.error)),
             ]);
@@ -251,7 +257,11 @@ fn torn_fits(tail: &str, first: bool, format: Format, header: &[String]) -> bool
 
 fn row_of(c: &[&str], axes: usize) -> std::result::Result<Row, String> {
     if c.len() != axes + 1 + RESULT_COLUMNS.len() {
-        return Err(format!("{} cells, expected {}", c.len(), axes + 9));
+        return Err(format!(
+            "{} cells, expected {}",
+            c.len(),
+            axes + 1 + RESULT_COLUMNS.len()
+        ));
     }
     let f = |s: &str| -> std::result::Result<f64, String> {
         s.parse().map_err(|_| format!("`{s}` is not a number"))
@@ -275,12 +285,14 @@ fn row_of(c: &[&str], axes: usize) -> std::result::Result<Row, String> {
             .collect::<std::result::Result<_, _>>()?,
         objective: of(r[0])?,
         displacement_per_period: of(r[1])?,
-        certificate: os(r[2]),
-        gap: of(r[3])?,
-        bound: of(r[4])?,
-        status: r[5].to_string(),
-        seconds: f(r[6])?,
-        error: os(r[7]),
+        method: os(r[2]),
+        certificate: os(r[3]),
+        gap: of(r[4])?,
+        bound: of(r[5])?,
+        status: r[6].to_string(),
+        verdict: os(r[7]),
+        seconds: f(r[8])?,
+        error: os(r[9]),
     })
 }
 
