@@ -144,6 +144,30 @@ fn offset_matrix_and_cost_axes_give_the_closed_form() {
         let want = one_link_optimum(10.0, 2.0, r.values[0]);
         assert!((ok(&r).objective.unwrap() - want).abs() < 1e-7, "{r:?}");
     }
+    // U = [-1, beta] with zero mean: up at beta for T/(1 + beta), down at 1 for the rest, so
+    // the travel is 2 beta T/(1 + beta) and J* = beta T/(1 + beta) - w (both switches on
+    // P_3's grid for these beta).
+    let s = spec(&sweep_text(
+        "optimize",
+        "",
+        "[[axis]]\nfield = \"control.upper[1]\"\nvalues = [0.3333333333333333, 1.0, 3.0]\n",
+    ));
+    for r in run_all(&s) {
+        let b = r.values[0];
+        let want = b * 10.0 / (1.0 + b) - 2.0;
+        assert!((ok(&r).objective.unwrap() - want).abs() < 1e-7, "{r:?}");
+    }
+    // f1 = q eta_1 + eta_2 / 2: the reaction on each face is T/2 - w at best (zero mean
+    // balances the travel both ways), so J* = (q + 1/2)(T/2 - w).
+    let s = spec(&sweep_text(
+        "optimize",
+        "",
+        "[[axis]]\nfield = \"objective.face_weights[1]\"\nvalues = [0.0, 0.5, 2.0]\n",
+    ));
+    for r in run_all(&s) {
+        let want = (r.values[0] + 0.5) * 3.0;
+        assert!((ok(&r).objective.unwrap() - want).abs() < 1e-7, "{r:?}");
+    }
     // f2 = (c/2) u^2, T = 40: the speed v* = min(1, 1/(2c)) and J* = v T/2 - w - c v^2 T/2
     // (tests/general_pm.rs: J* = 3 for c = 1).
     let text = sweep_text(
