@@ -546,3 +546,37 @@ fn resumed_and_sharded_runs_give_the_table_of_one_run_and_it_plots() {
     let figures = study::figures(&axes, &rows).unwrap();
     assert_eq!(figures.len(), 2);
 }
+
+#[test]
+fn a_matrix_entry_sets_its_place_and_r_stays_symmetric() {
+    // Two controls, f2 = (1/2) u^T R u: an entry of R sets its mirror too (R is symmetric);
+    // an omitted A is 0 with the entry set.
+    let text = sweep_text(
+        "optimize",
+        "",
+        "[[axis]]\nfield = \"objective.cost.matrix[1][2]\"\nvalues = [0.25]\n\
+         [[axis]]\nfield = \"dynamics.A[1][1]\"\nvalues = [-0.5]\n",
+    )
+    .replace("B = [[1.0]]", "B = [[1.0, 0.5]]")
+    .replace("lower = [-1.0]", "lower = [-1.0, -1.0]")
+    .replace("upper = [1.0]", "upper = [1.0, 1.0]")
+    .replace(
+        "face_weights = [0.5, 0.5]",
+        "face_weights = [0.5, 0.5]\ncost = { kind = \"matrix\", matrix = [[1.0, 0.0], [0.0, 1.0]] }",
+    )
+    .replace("values = [[1.0], [-1.0]]", "values = [[1.0, 0.0], [-1.0, 0.0]]");
+    let s = spec(&text);
+    let f = s.general_at(&s.point(0)).unwrap();
+    let cost = f.objective.cost.as_ref().unwrap();
+    assert_eq!(
+        cost.matrix.as_deref(),
+        Some(&[vec![1.0, 0.25], vec![0.25, 1.0]][..])
+    );
+    assert_eq!(f.dynamics.a, Some(vec![vec![-0.5]]));
+    f.problem().expect("a well-posed problem");
+    let e = refused(&text.replace("dynamics.A[1][1]", "objective.cost.matrix[2][1]"));
+    assert!(
+        e.starts_with("axis[2].field: ") && e.contains("is already axis[1]"),
+        "{e}"
+    );
+}
