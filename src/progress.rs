@@ -14,7 +14,7 @@
 //! one [`Stop`]. A job's time limit (the user's `time_limit` setting, seconds) becomes a
 //! deadline once, where the job starts ([`within`]); a part of the job given a share of what is
 //! left (a start gait, a sub-search) narrows it ([`share`], or [`within`] with its own limit),
-//! never beyond the enclosing deadline. The kernels ask [`expired`] between units of work (a
+//! never beyond the enclosing deadline. The kernels ask [`out_of_time`] between units of work (a
 //! loop that runs out of time returns its best answer so far with status `time_limit`), and the
 //! HiGHS boundary gives each timed solve [`remaining`] seconds. Cancellation wins over the time:
 //! [`out_of_time`] is `Err(Cancelled)` once the token is tripped, expired or not.

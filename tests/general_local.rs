@@ -160,6 +160,39 @@ fn the_local_method_refuses_what_it_cannot_solve() {
     assert!(e.to_string().starts_with("objective.cost:"), "{e}");
 }
 
+/// A time limit spent before the first LP (1 ns) ends the local method with a time-limit error,
+/// through the deadline the limit becomes; a cancelled job says cancelled even with its time
+/// spent (cancellation wins over the time).
+#[test]
+fn a_spent_time_limit_ends_the_local_method_and_a_cancel_wins_over_it() {
+    use crawlopt::api::{optimize_general_local, GeneralLocalSettings, Hooks};
+    let p = one_link_problem(-1.0, 1.0, 10.0);
+    let g = check_problem(&p).unwrap();
+    let e = solve_general_local(&p, &g, 3, &square(3, 1.0, 0), Some(1e-9)).unwrap_err();
+    assert!(matches!(e, crawlopt::Error::TimeLimit(_)), "{e}");
+    let file =
+        crawlopt::io::GeneralFile::load_if_general("examples/general_one_link.toml".as_ref())
+            .unwrap()
+            .unwrap();
+    let s = GeneralLocalSettings {
+        m: 3,
+        time_limit: Some(1e-9),
+        ..GeneralLocalSettings::default()
+    };
+    let e = optimize_general_local(&file, &s, Hooks::default()).unwrap_err();
+    assert!(matches!(e, crawlopt::Error::TimeLimit(_)), "{e}");
+    let cancel = crawlopt::progress::Cancel::new();
+    cancel.cancel();
+    let hooks = Hooks {
+        events: None,
+        cancel: Some(&cancel),
+    };
+    assert_eq!(
+        optimize_general_local(&file, &s, hooks).unwrap_err(),
+        crawlopt::Error::Cancelled
+    );
+}
+
 #[test]
 fn the_api_job_reports_its_starts_and_can_be_cancelled() {
     use crawlopt::api::{optimize_general_local, Event, GeneralLocalSettings, Hooks};

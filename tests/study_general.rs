@@ -144,6 +144,30 @@ fn offset_matrix_and_cost_axes_give_the_closed_form() {
         let want = one_link_optimum(10.0, 2.0, r.values[0]);
         assert!((ok(&r).objective.unwrap() - want).abs() < 1e-7, "{r:?}");
     }
+    // U = [-1, beta] with zero mean: up at beta for T/(1 + beta), down at 1 for the rest, so
+    // the travel is 2 beta T/(1 + beta) and J* = beta T/(1 + beta) - w (both switches on
+    // P_3's grid for these beta).
+    let s = spec(&sweep_text(
+        "optimize",
+        "",
+        "[[axis]]\nfield = \"control.upper[1]\"\nvalues = [0.3333333333333333, 1.0, 3.0]\n",
+    ));
+    for r in run_all(&s) {
+        let b = r.values[0];
+        let want = b * 10.0 / (1.0 + b) - 2.0;
+        assert!((ok(&r).objective.unwrap() - want).abs() < 1e-7, "{r:?}");
+    }
+    // f1 = q eta_1 + eta_2 / 2: the reaction on each face is T/2 - w at best (zero mean
+    // balances the travel both ways), so J* = (q + 1/2)(T/2 - w).
+    let s = spec(&sweep_text(
+        "optimize",
+        "",
+        "[[axis]]\nfield = \"objective.face_weights[1]\"\nvalues = [0.0, 0.5, 2.0]\n",
+    ));
+    for r in run_all(&s) {
+        let want = (r.values[0] + 0.5) * 3.0;
+        assert!((ok(&r).objective.unwrap() - want).abs() < 1e-7, "{r:?}");
+    }
     // f2 = (c/2) u^2, T = 40: the speed v* = min(1, 1/(2c)) and J* = v T/2 - w - c v^2 T/2
     // (tests/general_pm.rs: J* = 3 for c = 1).
     let text = sweep_text(
@@ -521,4 +545,38 @@ fn resumed_and_sharded_runs_give_the_table_of_one_run_and_it_plots() {
     assert_eq!(axes, ["problem.period", "sweeping_process.offsets[2]"]);
     let figures = study::figures(&axes, &rows).unwrap();
     assert_eq!(figures.len(), 2);
+}
+
+#[test]
+fn a_matrix_entry_sets_its_place_and_r_stays_symmetric() {
+    // Two controls, f2 = (1/2) u^T R u: an entry of R sets its mirror too (R is symmetric);
+    // an omitted A is 0 with the entry set.
+    let text = sweep_text(
+        "optimize",
+        "",
+        "[[axis]]\nfield = \"objective.cost.matrix[1][2]\"\nvalues = [0.25]\n\
+         [[axis]]\nfield = \"dynamics.A[1][1]\"\nvalues = [-0.5]\n",
+    )
+    .replace("B = [[1.0]]", "B = [[1.0, 0.5]]")
+    .replace("lower = [-1.0]", "lower = [-1.0, -1.0]")
+    .replace("upper = [1.0]", "upper = [1.0, 1.0]")
+    .replace(
+        "face_weights = [0.5, 0.5]",
+        "face_weights = [0.5, 0.5]\ncost = { kind = \"matrix\", matrix = [[1.0, 0.0], [0.0, 1.0]] }",
+    )
+    .replace("values = [[1.0], [-1.0]]", "values = [[1.0, 0.0], [-1.0, 0.0]]");
+    let s = spec(&text);
+    let f = s.general_at(&s.point(0)).unwrap();
+    let cost = f.objective.cost.as_ref().unwrap();
+    assert_eq!(
+        cost.matrix.as_deref(),
+        Some(&[vec![1.0, 0.25], vec![0.25, 1.0]][..])
+    );
+    assert_eq!(f.dynamics.a, Some(vec![vec![-0.5]]));
+    f.problem().expect("a well-posed problem");
+    let e = refused(&text.replace("dynamics.A[1][1]", "objective.cost.matrix[2][1]"));
+    assert!(
+        e.starts_with("axis[2].field: ") && e.contains("is already axis[1]"),
+        "{e}"
+    );
 }

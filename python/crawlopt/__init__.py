@@ -784,11 +784,11 @@ def sweep(spec, executor=None, *, threads: int = 0):
     ``spec`` is a sweep file's path or a dict with the file's keys (``base`` or ``model``,
     ``job``, ``combine``, ``settings``, ``axis``: a list of dicts). The base is a crawler's
     model or a general problem (``[sweeping_process]``), whose axes are over its own fields
-    (``problem.period``, ``sweeping_process.offsets[2]``, ``dynamics.A[1][2]``, ...). Without ``executor`` the
-    points run in the library on ``threads`` threads (0: one per core) with the GIL released;
-    with any ``concurrent.futures.Executor`` (a process pool, or a Dask cluster's
-    ``distributed.Client(...).get_executor()``) each point is one task, run wherever the
-    executor runs it (the base model file must be readable there)."""
+    (``problem.period``, ``sweeping_process.offsets[2]``, ``dynamics.A[1][2]``, ...). Without
+    ``executor`` the points run in the library on ``threads`` threads (0: one per core) with
+    the GIL released; with any ``concurrent.futures.Executor`` (a process pool, or a Dask
+    cluster's ``distributed.Client(...).get_executor()``) each point is one task, run wherever
+    the executor runs it (the base file must be readable there)."""
     source, is_path, base_dir = _sweep_source(spec)
     header, n = _rs.sweep_size(source, is_path, base_dir)
     if executor is None:

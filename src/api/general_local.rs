@@ -95,7 +95,7 @@ pub fn optimize_general_local(
             let mut best: Option<(GeneralLocal, usize)> = None;
             let mut tried = 0;
             for (k, start) in starts.iter().enumerate() {
-                if best.is_some() && crate::progress::expired() {
+                if best.is_some() && crate::progress::out_of_time()? {
                     break;
                 }
                 em.stage(format!(

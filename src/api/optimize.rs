@@ -107,7 +107,7 @@ fn solve(
         ));
     }
     // What is left of the time limit goes to the method.
-    if crate::progress::expired() {
+    if crate::progress::out_of_time()? {
         if let Some(f) = floor {
             let mut r = f.best.result;
             r.status = MilpStatus::TimeLimit;
@@ -342,7 +342,7 @@ fn solve_phase_method(
 /// An error (prefixed by `what`) when the job's deadline passed while its start gait was
 /// computed: the method has no time left.
 fn started_in_time(what: &str) -> Result<()> {
-    if crate::progress::expired() {
+    if crate::progress::out_of_time()? {
         return Err(Error::TimeLimit(format!(
             "{what}the time limit was reached while computing the start gait"
         )));

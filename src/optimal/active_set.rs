@@ -77,7 +77,7 @@ pub(crate) fn run(
     };
     model.until_deadline();
     loop {
-        if progress::expired() {
+        if progress::out_of_time()? {
             return match last {
                 Some((cols, j)) => end(cols, j, LocalStop::TimeLimit, lp_solves, switches),
                 None => Err(Error::TimeLimit(format!(
@@ -120,7 +120,7 @@ pub(crate) fn run(
         let changed = pivot(model, &cols, &solved.column_duals, objective)?;
         switches += changed;
         if changed == 0 {
-            let stop = if progress::expired() {
+            let stop = if progress::out_of_time()? {
                 LocalStop::TimeLimit
             } else {
                 LocalStop::Stationary

@@ -373,7 +373,7 @@ fn search_each(
 ) -> Result<ChainSearch> {
     let mut best: Option<ChainSearch> = None;
     for (ramps, origin) in starts {
-        if best.is_some() && crate::progress::expired() {
+        if best.is_some() && crate::progress::out_of_time()? {
             break;
         }
         let s = search_chain(

@@ -330,7 +330,7 @@ pub(super) fn solve_discrete_in(
     let (cols, lay, bound, status) = loop {
         rounds += 1;
         let (pb, lay) = build(crawler, problem, m, rates.as_ref());
-        if crate::progress::expired() {
+        if crate::progress::out_of_time()? {
             match last {
                 Some((cols, bound, lay)) => break (cols, lay, bound, MilpStatus::TimeLimit),
                 None => {

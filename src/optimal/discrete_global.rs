@@ -131,7 +131,7 @@ pub fn discrete_convergence(
         let mut finest = None;
         for m in 1..=max_m {
             // m = 1 always runs: a limit spent before it is its time-limit error.
-            if finest.is_some() && crate::progress::expired() {
+            if finest.is_some() && crate::progress::out_of_time()? {
                 break;
             }
             let t0 = Instant::now();

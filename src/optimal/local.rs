@@ -410,7 +410,7 @@ pub fn solve_discrete_local_shifted(
         let t = problem.period;
         let mut best: Option<(LocalSolution, f64)> = None;
         for j in 0..shifts {
-            if best.is_some() && crate::progress::expired() {
+            if best.is_some() && crate::progress::out_of_time()? {
                 break;
             }
             let shift = t * j as f64 / shifts as f64;

@@ -195,7 +195,7 @@ fn start_in_half(
             return Ok(None);
         }
     };
-    if problem.cost != Cost::None || m > MAX_LOCAL_M || crate::progress::expired() {
+    if problem.cost != Cost::None || m > MAX_LOCAL_M || crate::progress::out_of_time()? {
         return Ok(Some(phase));
     }
     progress(StartEvent::Stage(&format!(

@@ -401,7 +401,7 @@ pub fn upper_bound(
         // The requested grid is checked (size, crawler) before any coarse LP spends the time.
         prepare(crawler, problem, settings)?;
         for (resolution, box_resolution) in refinement_ladder(settings) {
-            if best.is_some() && progress::expired() {
+            if best.is_some() && progress::out_of_time()? {
                 break;
             }
             let level = BoundSettings {

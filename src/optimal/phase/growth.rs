@@ -164,7 +164,7 @@ fn grow(
     let resolution = MOVE_RESOLUTION * problem.length_scale(crawler);
     let moves = |j: f64| j > resolution;
     for k in opts.min_phases..=opts.max_phases {
-        if crate::progress::expired() {
+        if crate::progress::out_of_time()? {
             stop = GrowthStop::TimeLimit;
             break;
         }

@@ -174,7 +174,7 @@ fn search_from(
 ) -> Result<SequenceSearch> {
     let phases = seq.len();
     let mut lp_solves = 1;
-    if crate::progress::expired() {
+    if crate::progress::out_of_time()? {
         return Err(Error::TimeLimit(
             "sequence search: the time limit was reached before any gait was found".into(),
         ));
@@ -200,7 +200,7 @@ fn search_from(
     let stop = 'search: loop {
         let mut improved = false;
         for cand in neighbours(crawler, &seq[j]) {
-            if crate::progress::expired() {
+            if crate::progress::out_of_time()? {
                 break 'search LocalStop::TimeLimit;
             }
             let mut next = seq.clone();

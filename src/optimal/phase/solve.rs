@@ -175,7 +175,7 @@ fn solve_steps_in(
         let (pb, lay) = build(crawler, problem, phases, rates.as_ref(), fixed, rows);
         let ncols = pb.num_cols();
         let start_cols = incumbent.as_ref().and_then(|g| g.columns(&lay, ncols));
-        if crate::progress::expired() {
+        if crate::progress::out_of_time()? {
             break match incumbent {
                 Some(g) if rounds > 1 => (g, last_bound, MilpStatus::TimeLimit),
                 _ => {
