@@ -647,41 +647,6 @@ fn optimize_discrete_returns_a_verified_certified_gait() {
     }
 }
 
-/// A limit spent before any method has a gait (1 ns: less than the structured gaits take),
-/// through the job's deadline: every method but discrete returns the best structured gait with
-/// status time_limit; the discrete P_m and its convergence table (no structured floor) end with
-/// a time-limit error, never a panic.
-#[test]
-fn a_time_limit_spent_at_once_says_time_limit_for_every_method() {
-    for method in [
-        &["auto"][..],
-        &["phase", "--phases", "4"],
-        &["local"],
-        &["sequence"],
-        &["chain"],
-    ] {
-        let mut args = vec!["optimize", "examples/three_blocks_gait.toml", "--method"];
-        args.extend(method);
-        args.extend(["--time-limit", "1e-9", "--json"]);
-        let out = crawlopt(&args);
-        assert!(out.status.success(), "{method:?}: {}", stderr(&out));
-        let v = json(&out);
-        assert_eq!(v["status"], "time_limit", "{method:?}");
-        assert!(v["structured"]["replaced"].is_string(), "{method:?}: {v}");
-    }
-    for extra in [&[][..], &["--convergence"]] {
-        let mut args = vec![
-            "optimize",
-            "examples/three_blocks_gait.toml",
-            "--method",
-            "discrete",
-        ];
-        args.extend(extra);
-        args.extend(["--time-limit", "1e-9"]);
-        assert_refused(&crawlopt(&args), "time limit was reached");
-    }
-}
-
 #[test]
 fn an_unwritable_output_leaves_nothing_and_exits_2() {
     let dir = tempfile::tempdir().unwrap();

@@ -1,7 +1,7 @@
 //! What the command line says: messages that name the flag or field and say why (negative flag
 //! values, extreme friction in the uniqueness condition, a result file's version of the wrong
-//! type, no note before an error), and text output at a readable precision while `--json`
-//! keeps every digit.
+//! type, no note before an error, what every method says when its time limit is spent at once),
+//! and text output at a readable precision while `--json` keeps every digit.
 
 use crawlopt::optimal::GaitResult;
 use crawlopt::present::text::num;
@@ -467,4 +467,39 @@ fn json_output_has_no_negative_zero() {
     let bound = v["convergence"][0]["bound"].as_f64().unwrap();
     assert_eq!(bound, 0.0);
     assert!(bound.is_sign_positive());
+}
+
+/// A limit spent before any method has a gait (1 ns: less than the structured gaits take),
+/// through the job's deadline: every method but discrete returns the best structured gait with
+/// status time_limit; the discrete P_m and its convergence table (no structured floor) end with
+/// a time-limit error, never a panic.
+#[test]
+fn a_time_limit_spent_at_once_says_time_limit_for_every_method() {
+    for method in [
+        &["auto"][..],
+        &["phase", "--phases", "4"],
+        &["local"],
+        &["sequence"],
+        &["chain"],
+    ] {
+        let mut args = vec!["optimize", "examples/three_blocks_gait.toml", "--method"];
+        args.extend(method);
+        args.extend(["--time-limit", "1e-9", "--json"]);
+        let out = crawlopt(&args);
+        assert!(out.status.success(), "{method:?}: {}", stderr(&out));
+        let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+        assert_eq!(v["status"], "time_limit", "{method:?}");
+        assert!(v["structured"]["replaced"].is_string(), "{method:?}: {v}");
+    }
+    for extra in [&[][..], &["--convergence"]] {
+        let mut args = vec![
+            "optimize",
+            "examples/three_blocks_gait.toml",
+            "--method",
+            "discrete",
+        ];
+        args.extend(extra);
+        args.extend(["--time-limit", "1e-9"]);
+        assert_refused(&crawlopt(&args), &["time limit was reached"]);
+    }
 }

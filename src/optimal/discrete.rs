@@ -358,7 +358,10 @@ pub(super) fn solve_discrete_in(
             (None, None) => None,
         };
         let gap = problem.length_scale(crawler) * 1e-9;
-        let (cols, _, bound, status) = solve_max(pb, &what, start_cols.as_deref(), gap)?;
+        let (cols, objective, bound, status) = solve_max(pb, &what, start_cols.as_deref(), gap)?;
+        // Cut short before HiGHS had a bound: the work bound, valid for every gait.
+        let bound =
+            bound.unwrap_or_else(|| crate::optimal::work_limit(crawler, problem).max(objective));
         let Some(r) = rates.as_mut() else {
             break (cols, lay, bound, status);
         };

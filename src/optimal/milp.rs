@@ -440,7 +440,9 @@ pub fn check_time_limit(time_limit: Option<f64>) -> Result<()> {
 
 /// Solves a maximisation MILP with HiGHS (one thread, tight tolerances, within what is left of
 /// the job's deadline, [`crate::progress::within`]): the solution columns, the objective, the
-/// dual bound and how it ended.
+/// dual bound and how it ended. The bound is HiGHS's; an optimal solve without one (an LP) is
+/// its own bound, and a solve the time limit cut short before HiGHS had one proves none (`None`:
+/// the caller says what else is known, never the incumbent's own value).
 ///
 /// `start` is a feasible point (all columns) that HiGHS takes as its first incumbent.
 /// `abs_gap` is the absolute gap at which the proof stops, in the objective's units: HiGHS's
@@ -451,7 +453,7 @@ pub(crate) fn solve_max(
     what: &str,
     start: Option<&[f64]>,
     abs_gap: f64,
-) -> Result<(Vec<f64>, f64, f64, MilpStatus)> {
+) -> Result<(Vec<f64>, f64, Option<f64>, MilpStatus)> {
     let mut h = Highs::new(pb, Sense::Maximise, what)?;
     if let Some(x) = start {
         // A start that does not fit is only a lost hint, never a wrong answer.
@@ -485,6 +487,8 @@ pub(crate) fn solve_max(
             return Err(Error::Infeasible(format!("{what}: no feasible point")))
         }
     };
-    let bound = a.dual_bound.unwrap_or(a.objective);
+    let bound = a
+        .dual_bound
+        .or((status == MilpStatus::Optimal).then_some(a.objective));
     Ok((a.columns, a.objective, bound, status))
 }

@@ -590,6 +590,7 @@ pub(super) fn solve_milp(p: &GeneralProblem, g: &Geometry, m: u32) -> Result<Gen
         let (pb, lay) = build(p, m, Form::Milp(&bm), &cuts);
         let (cols, milp_objective, bound, status) =
             solve_max(pb, &what, None, 1e-9 * scale.max(1e-300))?;
+        let bound = bound.unwrap_or(milp_objective);
         let sol = verified(p, m, &lay, &cols, milp_objective, bound, status, &what)?;
         let gap = Certificate::gap_of(bound, sol.objective);
         let done = p.cost == GeneralCost::None || gap <= OA_TOL || status != MilpStatus::Optimal;

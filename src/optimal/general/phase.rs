@@ -309,6 +309,7 @@ pub fn solve_general_phase(
         let (pb, lay) = build(p, g, k, &cuts)?;
         let (cols, milp_objective, bound, status) =
             solve_max(pb, &what, None, 1e-9 * scale.max(1e-300))?;
+        let bound = bound.unwrap_or(milp_objective);
         let mut sol = verified(p, &lay, &cols, milp_objective, bound, status, k, &what)?;
         sol.rounds = round;
         let done = p.cost == GeneralCost::None

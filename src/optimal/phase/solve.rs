@@ -186,7 +186,9 @@ fn solve_steps_in(
             };
         }
         let gap = problem.length_scale(crawler) * 1e-9;
-        let (cols, _, bound, status) = solve_max(pb, &what, start_cols.as_deref(), gap)?;
+        let (cols, objective, bound, status) = solve_max(pb, &what, start_cols.as_deref(), gap)?;
+        // Cut short before HiGHS had a bound: the work bound, valid for every gait.
+        let bound = bound.unwrap_or_else(|| super::work_limit(crawler, problem).max(objective));
         let raw = RawGait::read(&lay, &cols, t);
         last_bound = bound;
         let Some(r) = rates.as_mut() else {
