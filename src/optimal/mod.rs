@@ -12,6 +12,7 @@ pub mod consistency;
 mod discrete;
 mod discrete_global;
 mod discrete_polish;
+pub mod envelope;
 pub mod general;
 mod limits;
 mod local;
@@ -32,6 +33,7 @@ pub use discrete_global::{
     discrete_convergence, solve_discrete_global, solve_discrete_global_from,
     solve_discrete_global_with, ConvergenceRow,
 };
+pub use envelope::{local_status, read_envelope, ResultKind};
 pub use limits::{check_shifts, check_size, MAX_BLOCK_STEPS, MAX_OPT_BLOCKS, MAX_SHIFTS};
 pub use local::{
     check_local, sample_increments, shift_knots, solve_discrete_local,
