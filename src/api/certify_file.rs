@@ -42,12 +42,7 @@ pub fn certify_general_answer(r: &GeneralAnswer, what: &str) -> Result<GeneralNe
     let (p, _) = super::general_problem(r.problem())?;
     let pr = match r {
         GeneralAnswer::Discrete(r) => GeneralProcess::from_pm(&r.solution),
-        GeneralAnswer::Local(r) => GeneralProcess {
-            m: r.solution.m,
-            x: r.solution.x.clone(),
-            u: r.solution.u.clone(),
-            lambda: r.solution.lambda.clone(),
-        },
+        GeneralAnswer::Local(r) => GeneralProcess::from_local(&r.solution),
         GeneralAnswer::Phase(_) => {
             return Err(Error::invalid(
                 format!("{what}: method"),

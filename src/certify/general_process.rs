@@ -49,6 +49,16 @@ impl GeneralProcess {
         }
     }
 
+    /// The process of a local P_m answer.
+    pub fn from_local(s: &crate::optimal::general::GeneralLocal) -> Self {
+        GeneralProcess {
+            m: s.m,
+            x: s.x.clone(),
+            u: s.u.clone(),
+            lambda: s.lambda.clone(),
+        }
+    }
+
     /// The catching-up process of the controls (`2^m` rows) on its periodic orbit, reached from
     /// `x0` by the general simulator. Used to certify processes no optimizer produced.
     pub fn from_controls(

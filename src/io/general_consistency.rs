@@ -74,7 +74,7 @@ impl GeneralAnswer {
         match self {
             GeneralAnswer::Discrete(r) => {
                 let s = &r.solution;
-                let j = check_pm(&p, (s.m, MAX_GENERAL_M), (&s.x, &s.u, &s.lambda), what)?;
+                let j = check_pm(&p, MAX_GENERAL_M, &GeneralProcess::from_pm(s), what)?;
                 objectives(what, j, s.objective, r.objective)?;
                 check_global(what, r.status, &r.certificate, &s.certificate, None, j)
             }
@@ -82,8 +82,8 @@ impl GeneralAnswer {
                 let s = &r.solution;
                 let j = check_pm(
                     &p,
-                    (s.m, MAX_GENERAL_LOCAL_M),
-                    (&s.x, &s.u, &s.lambda),
+                    MAX_GENERAL_LOCAL_M,
+                    &GeneralProcess::from_local(s),
                     what,
                 )?;
                 objectives(what, j, s.objective, r.objective)?;
@@ -145,12 +145,8 @@ fn objectives(what: &str, j: f64, solution: f64, top: f64) -> Result<()> {
 
 /// Checks a P_m process (`m` at most `max_m`) against the problem and its replay; returns `J`
 /// of the replay.
-fn check_pm(
-    p: &GeneralProblem,
-    (m, max_m): (u32, u32),
-    (x, u, lambda): (&[Vec<f64>], &[Vec<f64>], &[Vec<f64>]),
-    what: &str,
-) -> Result<f64> {
+fn check_pm(p: &GeneralProblem, max_m: u32, pr: &GeneralProcess, what: &str) -> Result<f64> {
+    let (m, x, u, lambda) = (pr.m, &pr.x, &pr.u, &pr.lambda);
     if !(1..=max_m).contains(&m) {
         return Err(bad(
             what,
@@ -159,12 +155,6 @@ fn check_pm(
             format!("must be in 1..={max_m}"),
         ));
     }
-    let pr = GeneralProcess {
-        m,
-        x: x.to_vec(),
-        u: u.to_vec(),
-        lambda: lambda.to_vec(),
-    };
     pr.check_as(p, INPUT_TOL, &format!("{what}: solution"))?;
     let sim = simulate_grid(p, m, &x[0], u, "solution.u")?;
     let scale = p.c.scale();
