@@ -227,7 +227,11 @@ impl GeneralProcess {
                 return bad(
                     format!("x[{}]", i + 1),
                     format!("{res:e}"),
-                    "the catching-up step x^(i+1) = x^i + h (g - sum lambda x*) does not hold",
+                    &format!(
+                        "does not follow from {s}.x[{i}], {s}.u[{i}] and {s}.lambda[{i}] by the \
+                         catching-up step x^(i+1) = x^i + h (g - sum lambda x*)",
+                        s = at.rsplit(": ").next().unwrap_or(at)
+                    ),
                 );
             }
             for j in 0..sigma {
