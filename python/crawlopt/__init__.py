@@ -76,6 +76,7 @@ __all__ = [
     "fit",
     "load",
     "optimize",
+    "read_result",
     "simulate",
     "sweep",
 ]
@@ -478,6 +479,15 @@ def load(path: str) -> Union[Model, GeneralProblem]:
     gp = None if problem is None else _BoundProblem(problem)
     act = None if actuation is None else Actuation(actuation)
     return Model(c, act, gp, x0)
+
+
+def read_result(path: str) -> Union[GaitResult, GeneralResult]:
+    """Reads a result file of either kind (what ``crawlopt optimize --json`` writes), checked
+    as ``crawlopt certify`` checks it: a ``GaitResult`` for a crawler's gait, a
+    ``GeneralResult`` for a general problem's; ``certify()`` on either gives its
+    NecessaryConditions."""
+    r = _rs.read_result_file(str(path))
+    return GeneralResult(r) if isinstance(r, dict) else GaitResult(r)
 
 
 def simulate(

@@ -216,12 +216,16 @@ class GeneralSimulation(Document):
 
 
 class GeneralResult(Document):
-    """An optimum of a general problem (``crawlopt optimize --json``): ``method``,
-    ``objective`` (J re-verified by simulation), ``certificate`` (status, bound, gap),
-    ``necessary_conditions`` (a NecessaryConditions, with ``certify=True``), and the gait as
-    arrays: ``x``, ``u``, ``reactions`` for P_m (one row per step), or ``durations``,
-    ``controls``, ``states``, ``reactions`` and ``held`` per phase for method "phase".
-    ``d["solution"]`` is the document's section as before."""
+    """An optimum of a general problem (``crawlopt optimize --json``), in the envelope of every
+    result: ``format``, ``version``, ``kind`` ("general"), ``method``, ``problem`` (the
+    problem's sections, as the file has them), ``objective`` (J re-verified by simulation),
+    ``status`` (what was proven), ``certificate`` (``kind`` global, global_k_phases or local,
+    ``bound``, ``gap``, as a crawler's), ``necessary_conditions`` (a NecessaryConditions, with
+    ``certify=True``), and the gait as arrays: ``x``, ``u``, ``reactions`` for P_m (one row per
+    step), or ``durations``, ``controls``, ``states``, ``reactions`` and ``held`` per phase for
+    method "phase". ``d["solution"]`` is the document's section as before (with the MILP's own
+    certificate). ``from_json``/``to_json`` read and write the document (read back checked as
+    ``crawlopt certify`` checks it); ``certify()`` gives its NecessaryConditions."""
 
     def __init__(self, doc: dict):
         sol = doc["solution"]
@@ -233,7 +237,7 @@ class GeneralResult(Document):
             doc["necessary_conditions"] = NecessaryConditions(doc["necessary_conditions"])
         super().__init__(doc)
         for k, v in sol.items():
-            if k != "lambda" and not hasattr(type(self), k):
+            if k != "lambda" and k not in doc and not hasattr(type(self), k):
                 setattr(self, k, v)
         if "lambda" in sol:
             self.reactions = sol["lambda"]
@@ -247,8 +251,34 @@ class GeneralResult(Document):
 
     @property
     def status(self) -> Optional[str]:
-        """The certificate's status (what was proven)."""
-        return (self._doc["solution"].get("certificate") or {}).get("status")
+        """What was proven: "optimal", "optimal_among_k_phases", "time_limit", ... or a local
+        method's "stationary" / "stalled"."""
+        return self._doc.get("status")
+
+    @staticmethod
+    def from_json(text: str, name: str = "result") -> GeneralResult:
+        """Reads a general problem's result document, checked as ``crawlopt certify`` checks
+        it (the problem rebuilt from the document, the solution replayed by simulation; a
+        number that disagrees raises InputError naming its field)."""
+        from . import _crawlopt as _rs
+
+        return GeneralResult(_rs.read_general_result(text, name))
+
+    def to_json(self) -> str:
+        """The result document (``crawlopt optimize --json``'s form)."""
+        import json
+
+        return json.dumps(plain(self.to_dict()))
+
+    def certify(self) -> NecessaryConditions:
+        """The necessary conditions (Theorem 2.2; discrete form Theorems 6.1–6.2) on the
+        stored P_m process (methods "discrete" and "local"; a phase gait raises InputError):
+        ``crawlopt certify RESULT.json``."""
+        import json
+
+        from . import _crawlopt as _rs
+
+        return NecessaryConditions(json.loads(_rs.certify_general_json(self.to_json())))
 
     def to_pandas(self):
         """The gait as a DataFrame: one row per step (P_m: t_start, t_end, u_k, x_k at the
@@ -313,7 +343,7 @@ class GeneralResult(Document):
         rows = [
             ("method", self._doc.get("method")),
             ("objective J", s.get("objective")),
-            ("status", c.get("status")),
+            ("status", self.status),
             ("bound", c.get("bound")),
             ("gap", c.get("gap")),
         ]

@@ -4,6 +4,7 @@
 use crate::errors::to_py;
 use crate::run::run;
 use crawlopt::certify::{certify_result, NecessaryConditions};
+use crawlopt::io::{GeneralAnswer, ResultFile};
 use crawlopt::present::{self, report, text};
 use pyo3::prelude::*;
 
@@ -134,4 +135,51 @@ fn context<'a>(source: &'a str, c: Option<&'a NecessaryConditions>) -> report::R
         command: "crawlopt.GaitResult.report (Python)".into(),
         certificate: c,
     }
+}
+
+/// Reads a result document of either kind, checked as `crawlopt certify` checks it (`name`
+/// for messages): a `GaitResult` for a crawler's, the document as a dict for a general
+/// problem's (which `crawlopt/_documents.py` wraps in `GeneralResult`).
+#[pyfunction]
+#[pyo3(signature = (text, name="result"))]
+pub fn read_result<'py>(py: Python<'py>, text: &str, name: &str) -> PyResult<Bound<'py, PyAny>> {
+    match ResultFile::from_json(text, name).map_err(|e| to_py(py, e))? {
+        ResultFile::Crawler(r) => Ok(Bound::new(py, GaitResult { inner: *r })?.into_any()),
+        ResultFile::General(r) => Ok(pythonize::pythonize(py, &*r)?),
+    }
+}
+
+/// A general problem's result document read back (checked; a crawler's result is refused
+/// naming `kind`), as a dict.
+#[pyfunction]
+#[pyo3(signature = (text, name="result"))]
+pub fn read_general_result<'py>(
+    py: Python<'py>,
+    text: &str,
+    name: &str,
+) -> PyResult<Bound<'py, PyAny>> {
+    let r = GeneralAnswer::from_json(text, name).map_err(|e| to_py(py, e))?;
+    Ok(pythonize::pythonize(py, &r)?)
+}
+
+/// [`read_result`] of a file (read with the library's bounds; errors name the file).
+#[pyfunction]
+pub fn read_result_file(py: Python<'_>, path: std::path::PathBuf) -> PyResult<Bound<'_, PyAny>> {
+    let text = crawlopt::io::read_input_text(&path, crawlopt::io::MAX_RESULT_BYTES)
+        .map_err(|e| to_py(py, e))?;
+    read_result(py, &text, &path.display().to_string())
+}
+
+/// The necessary conditions (Theorem 2.2; discrete form Theorems 6.1–6.2) of a general
+/// problem's result document, as the JSON `crawlopt certify --json` writes (a phase gait or
+/// a crawler's result is refused naming the field).
+#[pyfunction]
+#[pyo3(signature = (text, name="result"))]
+pub fn certify_general_json(py: Python<'_>, text: &str, name: &str) -> PyResult<String> {
+    let (text, name) = (text.to_string(), name.to_string());
+    let c = run(py, None, |_| {
+        let r = GeneralAnswer::from_json(&text, &name)?;
+        crawlopt::api::certify_general_answer(&r, &name)
+    })?;
+    Ok(crawlopt::io::json::to_string(&c).expect("serialisable"))
 }

@@ -2,6 +2,8 @@
 ``crawlopt.load`` gives a GeneralProblem whose analysis, simulation and P_m (global and local)
 and exact phase gaits are the library's, with the closed form of the §4 one-link problem."""
 
+import json
+
 import crawlopt as co
 import numpy as np
 import pytest
@@ -131,3 +133,56 @@ def test_polish_of_a_crawler_p_m_with_an_interior_rate():
     with pytest.raises(co.InputError) as e:
         co.optimize(c, g, method="phase", polish=False)
     assert e.value.field == "polish"
+
+
+def test_general_results_read_back_and_certify(tmp_path):
+    # The envelope of every result; the document written, read back checked (the problem
+    # rebuilt from it, the solution replayed) and certified: the numbers of optimize(certify=True).
+    g = co.load(ONE_LINK)
+    r = g.optimize(m=3, certify=True)
+    assert r.kind == "general" and r.format == "crawlopt-gait-result" and r.version == 1
+    assert r.status == "optimal" and r.certificate["kind"] == "global"
+    assert r.problem["problem"]["period"] == 10.0 and "input" not in r.problem
+    path = tmp_path / "r.json"
+    path.write_text(r.to_json())
+    back = co.read_result(path)
+    assert isinstance(back, co.GeneralResult)
+    assert back.objective == r.objective == pytest.approx(J_STAR, abs=1e-9)
+    assert np.array_equal(back.u, r.u) and np.array_equal(back.reactions, r.reactions)
+    c = back.certify()
+    nc = r.necessary_conditions
+    assert isinstance(c, co.NecessaryConditions) and c.verdict == "holds"
+    assert c["objective"] == nc["objective"]
+    assert [k["residual"] for k in c.conditions] == pytest.approx(
+        [k["residual"] for k in nc.conditions], abs=1e-12
+    )
+    # A changed number is refused naming its field.
+    for edit, field in [
+        (lambda d: d.update(objective=d["objective"] + 0.5), "bad.json: objective"),
+        (lambda d: d["solution"]["u"][0].__setitem__(0, 3.0), "bad.json: solution.u[0]"),
+        (lambda d: d.update(status="time_limit"), "bad.json: status"),
+    ]:
+        d = json.loads(r.to_json())
+        edit(d)
+        with pytest.raises(co.InputError) as e:
+            co.GeneralResult.from_json(json.dumps(d), "bad.json")
+        assert e.value.field == field, str(e.value)
+    # The local method's process certifies too; its status is its stop.
+    loc = g.optimize(method="local", m=3, shifts=1)
+    assert loc.status == "stationary" and loc.certificate["bound"] is None
+    assert loc.certify().verdict == "holds"
+    # A phase gait is not a P_m process: refused with the reason.
+    with pytest.raises(co.InputError) as e:
+        g.optimize(method="phase").certify()
+    assert e.value.field == "result: method"
+    # A crawler's result reads as a GaitResult, and is not a general one.
+    one = co.load(example("one_link_gait.toml"))
+    cr = co.optimize(one.crawler, one.gait_problem, method="phase", phases=2)
+    assert cr.kind == "crawler"
+    cp = tmp_path / "c.json"
+    cp.write_text(cr.to_json())
+    back = co.read_result(cp)
+    assert isinstance(back, co.GaitResult) and back.to_dict() == cr.to_dict()
+    with pytest.raises(co.InputError) as e:
+        co.GeneralResult.from_json(cr.to_json())
+    assert e.value.field == "result: kind"

@@ -171,6 +171,7 @@ pub fn simulate_general(file: &GeneralFile, opts: &GeneralSimOptions) -> Result<
         steps_per_period: opts.steps_per_period,
         start,
         start_from,
+        objective: simulation.objective,
         input,
         simulation,
     })
@@ -221,11 +222,10 @@ pub fn optimize_general(file: &GeneralFile, s: &GeneralPmSettings) -> Result<Gen
     } else {
         None
     };
-    Ok(GeneralOptimized {
-        kind: "general",
-        method: "discrete",
-        period: p.period,
+    Ok(GeneralOptimized::new(
+        file,
+        p.period,
         solution,
         necessary_conditions,
-    })
+    ))
 }

@@ -122,15 +122,12 @@ pub fn optimize_general_local(
             }
             // The first start either stores its answer or returns its error.
             let (solution, best_start) = best.expect("the first start solved or an error returned");
-            Ok(GeneralLocalOptimized {
-                kind: "general",
-                method: "local",
-                period: p.period,
-                start_from,
-                starts_tried: tried,
-                best_start,
+            Ok(GeneralLocalOptimized::new(
+                file,
+                p.period,
+                (start_from, tried, best_start),
                 solution,
-            })
+            ))
         })
     })
 }

@@ -38,10 +38,5 @@ pub fn optimize_general_phase(
 ) -> Result<GeneralPhaseOptimized> {
     let (p, g) = super::general_problem(file)?;
     let solution = solve_general_phase(&p, &g, s.max_phases, s.time_limit)?;
-    Ok(GeneralPhaseOptimized {
-        kind: "general",
-        method: "phase",
-        period: p.period,
-        solution,
-    })
+    Ok(GeneralPhaseOptimized::new(file, p.period, solution))
 }

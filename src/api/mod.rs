@@ -8,7 +8,8 @@
 //!   closed-form optimum (paper §4);
 //! - [`simulate`] with [`SimOptions`]: the periodic regime of an actuation (cancellable);
 //! - [`optimize`] with [`OptimizeSettings`]: an optimal gait, verified, optionally certified;
-//! - [`crate::certify::certify_result`]: the necessary conditions (Theorem 2.2) of a result;
+//! - [`certify_result_file`]: the necessary conditions (Theorem 2.2) of a result file of either
+//!   kind ([`crate::io::ResultFile`]);
 //! - [`crate::present`]: figures and the report ([`optimize_model`]: the gait a report of a
 //!   model file shows);
 //! - [`bench`]: the simulation cost per step;
@@ -38,6 +39,7 @@
 //! ```
 
 mod bench;
+mod certify_file;
 mod events;
 mod fit;
 pub mod general;
@@ -48,6 +50,7 @@ mod optimize;
 mod settings;
 
 pub use bench::{bench, rename_fields, BenchCase, BenchSettings};
+pub use certify_file::{certify_general_answer, certify_result_file, Certified};
 pub use events::{Event, Hooks, Observer};
 pub use fit::fit;
 pub use general::{

@@ -49,6 +49,16 @@ impl GeneralProcess {
         }
     }
 
+    /// The process of a local P_m answer.
+    pub fn from_local(s: &crate::optimal::general::GeneralLocal) -> Self {
+        GeneralProcess {
+            m: s.m,
+            x: s.x.clone(),
+            u: s.u.clone(),
+            lambda: s.lambda.clone(),
+        }
+    }
+
     /// The catching-up process of the controls (`2^m` rows) on its periodic orbit, reached from
     /// `x0` by the general simulator. Used to certify processes no optimizer produced.
     pub fn from_controls(
@@ -100,9 +110,6 @@ impl GeneralProcess {
     /// shapes, `x^M = x^0`, `x^k in C`, `u^i in U`, zero mean, `lambda >= 0`, the catching-up
     /// step and complementarity. Every message names the field of `process`.
     pub fn check(&self, p: &GeneralProblem, tol: f64) -> Result<()> {
-        let bad = |field: String, got: String, why: &str| {
-            Err(Error::invalid(format!("process.{field}"), got, why))
-        };
         if p.boundary != Boundary::Periodic {
             return Err(Error::invalid(
                 "problem.periodic",
@@ -111,6 +118,23 @@ impl GeneralProcess {
             ));
         }
         if self.m > crate::optimal::general::MAX_GENERAL_M {
+            return Err(Error::invalid(
+                "process.m",
+                self.m,
+                "too many steps to certify",
+            ));
+        }
+        self.check_as(p, tol, "process")
+    }
+
+    /// [`GeneralProcess::check`] for either boundary condition (a Cauchy problem's process
+    /// starts at its `x(0)` instead of ending where it began), every message naming the field
+    /// as `{at}.x[k]`, `{at}.u[i]`, ...: how a result file's P_m process is checked on reading.
+    pub fn check_as(&self, p: &GeneralProblem, tol: f64, at: &str) -> Result<()> {
+        let bad = |field: String, got: String, why: &str| {
+            Err(Error::invalid(format!("{at}.{field}"), got, why))
+        };
+        if self.m > crate::optimal::general::MAX_GENERAL_LOCAL_M {
             return bad("m".into(), self.m.to_string(), "too many steps");
         }
         let (n, mc, sigma, steps) = (p.states(), p.controls(), p.c.faces(), 1usize << self.m);
@@ -140,13 +164,27 @@ impl GeneralProcess {
         }
         let scale = p.c.scale();
         let h = p.period / steps as f64;
-        let gap = max_diff(&self.x[steps], &self.x[0]);
-        if gap > tol * scale {
-            return bad(
-                format!("x[{steps}]"),
-                format!("{gap:e} from x[0]"),
-                "not periodic",
-            );
+        match &p.boundary {
+            Boundary::Periodic => {
+                let gap = max_diff(&self.x[steps], &self.x[0]);
+                if gap > tol * scale {
+                    return bad(
+                        format!("x[{steps}]"),
+                        format!("{gap:e} from x[0]"),
+                        "not periodic",
+                    );
+                }
+            }
+            Boundary::Initial(x0) => {
+                let gap = max_diff(&self.x[0], x0);
+                if gap > tol * scale {
+                    return bad(
+                        "x[0]".into(),
+                        format!("{gap:e} from problem.initial_state"),
+                        "must be the initial state",
+                    );
+                }
+            }
         }
         for (k, x) in self.x.iter().enumerate() {
             if let Some((j, s)) = p.c.violation(x, tol * scale) {
@@ -189,7 +227,11 @@ impl GeneralProcess {
                 return bad(
                     format!("x[{}]", i + 1),
                     format!("{res:e}"),
-                    "the catching-up step x^(i+1) = x^i + h (g - sum lambda x*) does not hold",
+                    &format!(
+                        "does not follow from {s}.x[{i}], {s}.u[{i}] and {s}.lambda[{i}] by the \
+                         catching-up step x^(i+1) = x^i + h (g - sum lambda x*)",
+                        s = at.rsplit(": ").next().unwrap_or(at)
+                    ),
                 );
             }
             for j in 0..sigma {

@@ -1,12 +1,24 @@
 //! What the jobs on a general problem (P) return (theory §11): the records that
 //! [`crate::api`] builds, text output renders ([`crate::present::text`]) and `--json` writes.
 //! They sit here, below presentation and the API, so that both can name them.
+//!
+//! Every optimisation answer carries the envelope of every result, the crawler's included
+//! ([`crate::optimal::envelope`]): `format`, `version`, `kind` (`"general"`), `method`,
+//! `problem` (the problem (P) in the file's form, its `[input]` left out, so that the result
+//! is re-verified from itself alone), `objective`, `status` (what was proven, the crawler's
+//! [`MilpStatus`]), `certificate` (the crawler's [`ResultCertificate`]) and the method's
+//! `solution`. [`super::ResultFile`] reads them back, checked
+//! ([`GeneralAnswer::check_consistent`]).
 
+use super::GeneralFile;
 use crate::error::Error;
 use crate::integrate::{ControlInput, GeneralSimulation};
 use crate::model::general::GeneralProblem;
-use crate::optimal::general::{GeneralLocal, GeneralPhaseGait, Geometry};
-use serde::Serialize;
+use crate::optimal::general::{GeneralLocal, GeneralPhaseGait, GeneralPm, Geometry};
+use crate::optimal::{
+    local_status, MilpStatus, ResultCertificate, ResultKind, RESULT_FORMAT, RESULT_VERSION,
+};
+use serde::{Deserialize, Deserializer, Serialize};
 
 /// How a check came out.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
@@ -62,39 +74,139 @@ pub struct GeneralSimulated {
     pub start: Vec<f64>,
     /// Which of the three `start` is (`initial_state`, `origin`, `chebyshev_centre`).
     pub start_from: &'static str,
+    /// `J` of one period on the periodic orbit (over `[0, T]` for a Cauchy problem), as
+    /// `simulation.objective`; `None` when the periodic regime was not reached.
+    pub objective: Option<f64>,
     /// The control played.
     pub input: ControlInput,
     /// The simulation.
     pub simulation: GeneralSimulation,
 }
 
+/// A word of a fixed set (a result's `method`, `start_from`): read back by [`word`], which
+/// maps the text onto the set's `&'static str` (named through this alias so that serde's
+/// derive does not take the field for a string borrowed from the input).
+pub type Word = &'static str;
+
+/// One of a fixed set of words, as a `&'static str` (the words a result's fields take).
+fn word<'de, D: Deserializer<'de>>(
+    d: D,
+    words: &[&'static str],
+) -> std::result::Result<&'static str, D::Error> {
+    let s = String::deserialize(d)?;
+    words
+        .iter()
+        .copied()
+        .find(|w| *w == s)
+        .ok_or_else(|| serde::de::Error::custom(format!("\"{s}\" is not one of {words:?}")))
+}
+
+fn discrete_word<'de, D: Deserializer<'de>>(d: D) -> std::result::Result<&'static str, D::Error> {
+    word(d, &["discrete"])
+}
+
+fn local_word<'de, D: Deserializer<'de>>(d: D) -> std::result::Result<&'static str, D::Error> {
+    word(d, &["local"])
+}
+
+fn phase_word<'de, D: Deserializer<'de>>(d: D) -> std::result::Result<&'static str, D::Error> {
+    word(d, &["phase"])
+}
+
+fn start_word<'de, D: Deserializer<'de>>(d: D) -> std::result::Result<&'static str, D::Error> {
+    word(d, &["input", "square_waves"])
+}
+
+/// The problem as a result stores it: the file's sections without `[input]` (a control to
+/// simulate, not part of (P), and possibly a path to another file).
+fn stored_problem(file: &GeneralFile) -> GeneralFile {
+    GeneralFile {
+        input: None,
+        base_dir: Default::default(),
+        ..file.clone()
+    }
+}
+
 /// [`crate::api::optimize_general`]'s answer.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct GeneralOptimized {
-    /// `"general"`.
-    pub kind: &'static str,
+    /// Always [`RESULT_FORMAT`].
+    pub format: String,
+    /// [`RESULT_VERSION`] of the writer.
+    pub version: u32,
+    /// [`ResultKind::General`] (`"general"`).
+    pub kind: ResultKind,
     /// `"discrete"`: the paper's P_m, globally.
-    pub method: &'static str,
+    #[serde(deserialize_with = "discrete_word")]
+    pub method: Word,
+    /// The problem (P) in the file's form (module docs).
+    pub problem: GeneralFile,
+    /// `J` re-verified by simulation (as `solution.objective`).
+    pub objective: f64,
+    /// What was proven (as `solution.certificate.status`).
+    pub status: MilpStatus,
+    /// `"global"` with the MILP's bound and gap.
+    pub certificate: ResultCertificate,
     /// The period.
     pub period: f64,
     /// The verified optimum of P_m with its certificate.
-    pub solution: crate::optimal::general::GeneralPm,
-    /// The necessary conditions on it, when asked ([`crate::api::GeneralPmSettings::certify`]).
-    #[serde(skip_serializing_if = "Option::is_none")]
+    pub solution: GeneralPm,
+    /// The necessary conditions on it, when asked ([`crate::api::GeneralPmSettings::certify`]);
+    /// not read back from a file (`crawlopt certify` recomputes them).
+    #[serde(skip_serializing_if = "Option::is_none", skip_deserializing)]
     pub necessary_conditions: Option<crate::certify::GeneralNecessaryConditions>,
 }
 
+impl GeneralOptimized {
+    /// The answer of `solution` for the problem of `file`, with its envelope.
+    pub fn new(
+        file: &GeneralFile,
+        period: f64,
+        solution: GeneralPm,
+        necessary_conditions: Option<crate::certify::GeneralNecessaryConditions>,
+    ) -> Self {
+        GeneralOptimized {
+            format: RESULT_FORMAT.into(),
+            version: RESULT_VERSION,
+            kind: ResultKind::General,
+            method: "discrete",
+            problem: stored_problem(file),
+            objective: solution.objective,
+            status: solution.certificate.status,
+            certificate: ResultCertificate::of_milp(&solution.certificate, None),
+            period,
+            solution,
+            necessary_conditions,
+        }
+    }
+}
+
 /// [`crate::api::optimize_general_local`]'s answer.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct GeneralLocalOptimized {
-    /// `"general"`.
-    pub kind: &'static str,
+    /// Always [`RESULT_FORMAT`].
+    pub format: String,
+    /// [`RESULT_VERSION`] of the writer.
+    pub version: u32,
+    /// [`ResultKind::General`] (`"general"`).
+    pub kind: ResultKind,
     /// `"local"`: the paper's P_m by the active-set method on its LPCC (no global claim).
-    pub method: &'static str,
+    #[serde(deserialize_with = "local_word")]
+    pub method: Word,
+    /// The problem (P) in the file's form (module docs).
+    pub problem: GeneralFile,
+    /// `J` re-verified by simulation (as `solution.objective`).
+    pub objective: f64,
+    /// How the method stopped ([`local_status`] of `solution.stop`): `stationary`,
+    /// `stalled` or `time_limit`.
+    pub status: MilpStatus,
+    /// `"local"`: no bound, no gap.
+    pub certificate: ResultCertificate,
     /// The period.
     pub period: f64,
     /// Where the starts came from: `"input"` (the file's `[input]`) or `"square_waves"`.
-    pub start_from: &'static str,
+    #[serde(deserialize_with = "start_word")]
+    pub start_from: Word,
     /// Starts solved from (all of them unless the time limit ended the search).
     pub starts_tried: usize,
     /// Which of them gave the answer (0-based, the first of equals).
@@ -103,17 +215,78 @@ pub struct GeneralLocalOptimized {
     pub solution: GeneralLocal,
 }
 
+impl GeneralLocalOptimized {
+    /// The answer of `solution` for the problem of `file`, with its envelope; the starts
+    /// as [`GeneralLocalOptimized::start_from`] and the following fields say.
+    pub fn new(
+        file: &GeneralFile,
+        period: f64,
+        (start_from, starts_tried, best_start): (&'static str, usize, usize),
+        solution: GeneralLocal,
+    ) -> Self {
+        GeneralLocalOptimized {
+            format: RESULT_FORMAT.into(),
+            version: RESULT_VERSION,
+            kind: ResultKind::General,
+            method: "local",
+            problem: stored_problem(file),
+            objective: solution.objective,
+            status: local_status(solution.stop),
+            certificate: ResultCertificate::local(None),
+            period,
+            start_from,
+            starts_tried,
+            best_start,
+            solution,
+        }
+    }
+}
+
 /// [`crate::api::optimize_general_phase`]'s answer.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct GeneralPhaseOptimized {
-    /// `"general"`.
-    pub kind: &'static str,
+    /// Always [`RESULT_FORMAT`].
+    pub format: String,
+    /// [`RESULT_VERSION`] of the writer.
+    pub version: u32,
+    /// [`ResultKind::General`] (`"general"`).
+    pub kind: ResultKind,
     /// `"phase"`: exact gaits of at most `K` phases, globally.
-    pub method: &'static str,
+    #[serde(deserialize_with = "phase_word")]
+    pub method: Word,
+    /// The problem (P) in the file's form (module docs).
+    pub problem: GeneralFile,
+    /// `J` re-verified by the exact simulation (as `solution.objective`).
+    pub objective: f64,
+    /// What was proven (as `solution.certificate.status`: `optimal_among_k_phases`, ...).
+    pub status: MilpStatus,
+    /// `"global_k_phases"` with `phases = K`, the MILP's bound and gap.
+    pub certificate: ResultCertificate,
     /// The period.
     pub period: f64,
     /// The verified optimum with its certificate.
     pub solution: GeneralPhaseGait,
+}
+
+impl GeneralPhaseOptimized {
+    /// The answer of `solution` for the problem of `file`, with its envelope.
+    pub fn new(file: &GeneralFile, period: f64, solution: GeneralPhaseGait) -> Self {
+        GeneralPhaseOptimized {
+            format: RESULT_FORMAT.into(),
+            version: RESULT_VERSION,
+            kind: ResultKind::General,
+            method: "phase",
+            problem: stored_problem(file),
+            objective: solution.objective,
+            status: solution.certificate.status,
+            certificate: ResultCertificate::of_milp(
+                &solution.certificate,
+                Some(solution.max_phases),
+            ),
+            period,
+            solution,
+        }
+    }
 }
 
 /// The answer of [`crate::api::optimize_general_plan`]: one of the three methods' (serialised as that
@@ -127,4 +300,51 @@ pub enum GeneralAnswer {
     Local(Box<GeneralLocalOptimized>),
     /// Exact gaits of at most `K` phases.
     Phase(Box<GeneralPhaseOptimized>),
+}
+
+impl GeneralAnswer {
+    /// `"discrete"`, `"local"` or `"phase"`.
+    pub fn method(&self) -> &'static str {
+        match self {
+            GeneralAnswer::Discrete(r) => r.method,
+            GeneralAnswer::Local(r) => r.method,
+            GeneralAnswer::Phase(r) => r.method,
+        }
+    }
+
+    /// The problem (P) in the file's form.
+    pub fn problem(&self) -> &GeneralFile {
+        match self {
+            GeneralAnswer::Discrete(r) => &r.problem,
+            GeneralAnswer::Local(r) => &r.problem,
+            GeneralAnswer::Phase(r) => &r.problem,
+        }
+    }
+
+    /// `J`, re-verified.
+    pub fn objective(&self) -> f64 {
+        match self {
+            GeneralAnswer::Discrete(r) => r.objective,
+            GeneralAnswer::Local(r) => r.objective,
+            GeneralAnswer::Phase(r) => r.objective,
+        }
+    }
+
+    /// What was proven.
+    pub fn status(&self) -> MilpStatus {
+        match self {
+            GeneralAnswer::Discrete(r) => r.status,
+            GeneralAnswer::Local(r) => r.status,
+            GeneralAnswer::Phase(r) => r.status,
+        }
+    }
+
+    /// The certificate (global with bound and gap, or local).
+    pub fn certificate(&self) -> &ResultCertificate {
+        match self {
+            GeneralAnswer::Discrete(r) => &r.certificate,
+            GeneralAnswer::Local(r) => &r.certificate,
+            GeneralAnswer::Phase(r) => &r.certificate,
+        }
+    }
 }

@@ -31,9 +31,11 @@
 mod config;
 mod csv_io;
 pub mod general;
+mod general_consistency;
 mod general_results;
 pub mod json;
 mod model_toml;
+mod result_file;
 
 pub(crate) use config::escape_controls;
 pub use config::{
@@ -47,6 +49,7 @@ pub use general_results::{
     GeneralPhaseOptimized, GeneralSimulated,
 };
 pub use model_toml::{crawler_toml, read_fit_csv, write_text, MAX_FIT_CSV_BYTES};
+pub use result_file::ResultFile;
 
 use crate::error::{Error, Result};
 

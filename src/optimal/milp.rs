@@ -53,7 +53,7 @@ impl MilpStatus {
 }
 
 /// What a MILP solve proves about the gait it returns.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Certificate {
     /// Solver outcome.
     pub status: MilpStatus,

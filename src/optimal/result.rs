@@ -9,15 +9,13 @@ use crate::integrate::{slip_of, Method};
 use crate::model::Crawler;
 use crate::optimal::milp::control_knots;
 use crate::optimal::{
-    ConvergenceRow, DiscreteSolution, GaitProblem, GrowthStop, LocalSolution, LocalStop,
-    MilpStatus, PhaseGrowth, PhaseSolution, PhaseStep, SequenceSearch,
+    Certificate, ConvergenceRow, DiscreteSolution, GaitProblem, GrowthStop, LocalSolution,
+    LocalStop, MilpStatus, PhaseGrowth, PhaseSolution, PhaseStep, SequenceSearch,
 };
 use serde::{Deserialize, Serialize};
 
-/// Value of [`GaitResult::format`].
-pub const RESULT_FORMAT: &str = "crawlopt-gait-result";
-/// Version of the result format written by this build; others are refused on reading.
-pub const RESULT_VERSION: u32 = 1;
+use super::envelope::{local_status, read_envelope, ResultKind};
+pub use super::envelope::{RESULT_FORMAT, RESULT_VERSION};
 
 /// The crawler's parameters, as stored in a result (per link / per block, expanded).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -97,6 +95,25 @@ impl ResultCertificate {
     }
 }
 
+impl ResultCertificate {
+    /// A MILP's certificate: `"global"` (P_m), or `"global_k_phases"` with `phases = K` when
+    /// `phases` is given (gaits of at most `K` phases); its bound and gap.
+    pub fn of_milp(c: &Certificate, phases: Option<usize>) -> Self {
+        ResultCertificate {
+            kind: if phases.is_some() {
+                "global_k_phases"
+            } else {
+                "global"
+            }
+            .into(),
+            gap: Some(c.gap),
+            bound: Some(c.bound),
+            phases,
+            upper_bound: None,
+        }
+    }
+}
+
 /// The gait over one period, on its own knots: `times` has one entry more than the pieces.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct GaitData {
@@ -153,6 +170,9 @@ pub struct GaitResult {
     pub format: String,
     /// [`RESULT_VERSION`] of the writer.
     pub version: u32,
+    /// Always [`ResultKind::Crawler`] (`"crawler"`); a file without the field is a crawler's.
+    #[serde(default)]
+    pub kind: ResultKind,
     /// The crawler.
     pub crawler: CrawlerParams,
     /// The gait problem.
@@ -281,15 +301,6 @@ fn actuation_cost(problem: &GaitProblem, durations: &[f64], controls: &[Vec<f64>
         .sum()
 }
 
-/// The result status of a local method's stop.
-pub fn local_status(stop: LocalStop) -> MilpStatus {
-    match stop {
-        LocalStop::Stationary => MilpStatus::Stationary,
-        LocalStop::TimeLimit => MilpStatus::TimeLimit,
-        LocalStop::Stalled | LocalStop::RoundLimit => MilpStatus::Stalled,
-    }
-}
-
 impl GaitResult {
     /// A record of `method` with its header filled in: format, version, crawler, problem and
     /// the objective from the verified displacement and the cost; no optional records.
@@ -307,6 +318,7 @@ impl GaitResult {
         GaitResult {
             format: RESULT_FORMAT.into(),
             version: RESULT_VERSION,
+            kind: ResultKind::Crawler,
             crawler: CrawlerParams::of(crawler),
             problem: problem.clone(),
             method: method.into(),
@@ -387,13 +399,7 @@ impl GaitResult {
             slip: s.modes.clone(),
             initial_state: s.states.first().cloned().unwrap_or_default(),
         };
-        let certificate = ResultCertificate {
-            kind: "global_k_phases".into(),
-            gap: Some(s.certificate.gap),
-            bound: Some(s.certificate.bound),
-            phases: Some(s.phases),
-            upper_bound: None,
-        };
+        let certificate = ResultCertificate::of_milp(&s.certificate, Some(s.phases));
         GaitResult::record(
             crawler,
             problem,
@@ -495,13 +501,7 @@ impl GaitResult {
             &s.initial_state,
         );
         let cost = actuation_cost(problem, &gait.durations, &s.controls);
-        let certificate = ResultCertificate {
-            kind: "global".into(),
-            gap: Some(s.certificate.gap),
-            bound: Some(s.certificate.bound),
-            phases: None,
-            upper_bound: None,
-        };
+        let certificate = ResultCertificate::of_milp(&s.certificate, None);
         let mut r = GaitResult::record(
             crawler,
             problem,
@@ -516,63 +516,25 @@ impl GaitResult {
         r
     }
 
-    /// Reads a result from JSON text, checking the format name, the version, the shape of every
-    /// array against the crawler, and that the result is what it says
-    /// ([`GaitResult::check_consistent`]); `what` names the source in errors.
+    /// Reads a result from JSON text, checking the envelope (format name, version and kind:
+    /// a general problem's result is refused naming `kind`, see `crate::io::ResultFile` for
+    /// either), the shape of every array against the crawler, and that the result is what it
+    /// says ([`GaitResult::check_consistent`]); `what` names the source in errors.
     pub fn from_json(text: &str, what: &str) -> Result<Self> {
-        let v: serde_json::Value = serde_json::from_str(text).map_err(|e| Error::Io {
-            path: what.into(),
-            reason: format!("not a complete JSON document: {e}"),
-        })?;
-        match v.get("format").and_then(|f| f.as_str()) {
-            Some(RESULT_FORMAT) => {}
-            Some(other) => {
-                return Err(Error::invalid(
-                    format!("{what}: format"),
-                    other,
-                    format!("is not a crawlopt gait result ({RESULT_FORMAT})"),
-                ))
-            }
-            None => {
-                return Err(Error::invalid(
-                    format!("{what}: format"),
-                    "nothing",
-                    format!("is missing: not a crawlopt gait result ({RESULT_FORMAT})"),
-                ))
-            }
+        let (v, kind) = read_envelope(text, what)?;
+        if kind != ResultKind::Crawler {
+            return Err(Error::invalid(
+                format!("{what}: kind"),
+                kind.as_str(),
+                "is a general problem's result, not a crawler's gait (certify reads both)",
+            ));
         }
-        match v.get("version") {
-            Some(x) if x.as_u64() == Some(u64::from(RESULT_VERSION)) => {}
-            found => {
-                // Say what was found: `"1"` is a string, not the number 1.
-                let found = match found {
-                    None => "nothing".to_string(),
-                    Some(x @ (serde_json::Value::Number(_) | serde_json::Value::Null)) => {
-                        x.to_string()
-                    }
-                    Some(x) => {
-                        let kind = match x {
-                            serde_json::Value::String(_) => "a string",
-                            serde_json::Value::Bool(_) => "a boolean",
-                            serde_json::Value::Array(_) => "an array",
-                            _ => "an object",
-                        };
-                        let mut text = x.to_string();
-                        if text.len() > 40 {
-                            let cut = (0..=37).rev().find(|&i| text.is_char_boundary(i));
-                            text.truncate(cut.unwrap_or(0));
-                            text.push_str("...");
-                        }
-                        format!("{text} ({kind})")
-                    }
-                };
-                return Err(Error::invalid(
-                    format!("{what}: version"),
-                    found,
-                    format!("this build reads version {RESULT_VERSION} only"),
-                ));
-            }
-        }
+        Self::from_checked_envelope(v, what)
+    }
+
+    /// [`GaitResult::from_json`] of a document whose envelope [`read_envelope`] has checked
+    /// (kind crawler).
+    pub fn from_checked_envelope(v: serde_json::Value, what: &str) -> Result<Self> {
         let r: GaitResult = serde_json::from_value(v).map_err(|e| Error::Io {
             path: what.into(),
             reason: format!("malformed gait result: {e}"),

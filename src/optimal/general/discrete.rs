@@ -39,13 +39,13 @@ use crate::optimal::milp::{solve_max, Certificate, MilpStatus, OA_TOL};
 use crate::optimal::solver::{Highs, SolveStatus};
 use highs::{Col, RowProblem, Sense};
 use nalgebra::DMatrix;
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 /// Largest `m` (`2^m` steps) of the general P_m.
 pub const MAX_GENERAL_M: u32 = 10;
 
 /// The global optimum of P_m for a general problem, re-verified.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct GeneralPm {
     /// `m`.
     pub m: u32,
@@ -61,7 +61,7 @@ pub struct GeneralPm {
     pub lambda: Vec<Vec<f64>>,
     /// What polishing on the fixed face pattern did ([`crate::optimal::polish`]); `None`
     /// without a quadratic cost (the MILP's answer is then exact) or with polishing off.
-    #[serde(skip_serializing_if = "Option::is_none")]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub polish: Option<crate::optimal::polish::PolishRecord>,
 }
 
@@ -671,8 +671,6 @@ pub(super) fn replay_controls(
     lp_reward: f64,
     what: &str,
 ) -> Result<Replayed> {
-    let mm = 1usize << m;
-    let h = p.period / mm as f64;
     // The controls, clipped into U against the solver's feasibility tolerance.
     let u: Vec<Vec<f64>> = u
         .into_iter()
@@ -685,23 +683,7 @@ pub(super) fn replay_controls(
             ControlSet::Polytope(_) => r,
         })
         .collect();
-    let times: Vec<f64> = (0..mm).map(|i| i as f64 * h).collect();
-    let input = ControlInput::new(
-        InputKind::PiecewiseConstant,
-        p.period,
-        times,
-        u.clone(),
-        &p.control,
-        "P_m controls",
-    )?;
-    let mut cauchy = p.clone();
-    cauchy.boundary = Boundary::Initial(x0.to_vec());
-    let opts = GeneralSimOptions {
-        steps_per_period: mm,
-        drift: crate::integrate::DriftStep::Explicit,
-        ..GeneralSimOptions::DEFAULT
-    };
-    let sim = simulate_general(&cauchy, &input, x0, &opts)?;
+    let sim = simulate_grid(p, m, x0, &u, "P_m controls")?;
     let scale = p.c.scale();
     let reward = sim.reward;
     if (reward - lp_reward).abs() > 1e-6 * (scale + reward.abs()) {
@@ -723,6 +705,38 @@ pub(super) fn replay_controls(
         u,
         lambda: sim.lambda,
     })
+}
+
+/// The catching-up process of P_m's controls `u` (`2^m` rows, one per step of `h = T / 2^m`)
+/// from `x0` over one period, the drift stepped explicitly as in P_m's step: what a P_m answer
+/// is verified by, here and when a result file is read back. `what` names the controls in
+/// errors (a control outside U).
+pub fn simulate_grid(
+    p: &GeneralProblem,
+    m: u32,
+    x0: &[f64],
+    u: &[Vec<f64>],
+    what: &str,
+) -> Result<crate::integrate::GeneralSimulation> {
+    let mm = 1usize << m;
+    let h = p.period / mm as f64;
+    let times: Vec<f64> = (0..mm).map(|i| i as f64 * h).collect();
+    let input = ControlInput::new(
+        InputKind::PiecewiseConstant,
+        p.period,
+        times,
+        u.to_vec(),
+        &p.control,
+        what,
+    )?;
+    let mut cauchy = p.clone();
+    cauchy.boundary = Boundary::Initial(x0.to_vec());
+    let opts = GeneralSimOptions {
+        steps_per_period: mm,
+        drift: crate::integrate::DriftStep::Explicit,
+        ..GeneralSimOptions::DEFAULT
+    };
+    simulate_general(&cauchy, &input, x0, &opts)
 }
 
 /// Replays the MILP's controls in the simulator from its `x^0` ([`replay`]) and certifies the

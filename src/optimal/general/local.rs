@@ -35,13 +35,13 @@ use crate::model::general::{Boundary, ControlSet, GeneralCost, GeneralProblem, R
 use crate::optimal::active_set::{self, LocalStop};
 use crate::optimal::solver::{Highs, SolveStatus};
 use highs::Sense;
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 /// Largest `m` (`2^m` steps) of the general local method.
 pub const MAX_GENERAL_LOCAL_M: u32 = 14;
 
 /// A local solution of the general P_m, re-verified.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct GeneralLocal {
     /// `m`.
     pub m: u32,

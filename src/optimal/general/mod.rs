@@ -12,7 +12,7 @@ pub mod phase;
 mod pm;
 mod polish;
 
-pub use discrete::{solve_general_branch, GeneralPm, MAX_GENERAL_M, PM_DATA_RANGE};
+pub use discrete::{simulate_grid, solve_general_branch, GeneralPm, MAX_GENERAL_M, PM_DATA_RANGE};
 pub use geometry::{
     analyze_polyhedron, check_problem, check_with, Geometry, Vertex, MAX_VERTEX_SUBSETS,
 };
@@ -20,5 +20,7 @@ pub use local::{
     check_general_local, default_starts, grid_controls, solve_general_local, GeneralLocal,
     MAX_GENERAL_LOCAL_M,
 };
-pub use phase::{check_general_phase, solve_general_phase, GeneralPhaseGait, MAX_GENERAL_PHASES};
+pub use phase::{
+    check_general_phase, replay_phases, solve_general_phase, GeneralPhaseGait, MAX_GENERAL_PHASES,
+};
 pub use pm::{solve_general_pm, solve_general_pm_with};

@@ -74,7 +74,7 @@ use crate::integrate::{simulate_general_exact, ControlInput, InputKind};
 use crate::model::general::{dot, Boundary, ControlSet, GeneralCost, GeneralProblem};
 use crate::optimal::milp::{solve_max, Certificate, MilpStatus, OA_TOL};
 use highs::{Col, RowProblem};
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 /// Largest `K` of the general phase method.
 pub const MAX_GENERAL_PHASES: usize = 24;
@@ -83,7 +83,7 @@ pub const MAX_GENERAL_PHASES: usize = 24;
 const EMPTY_PHASE: f64 = 1e-12;
 
 /// A globally optimal gait among those of at most `K` phases, re-verified.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct GeneralPhaseGait {
     /// `K`, the phases allowed.
     pub max_phases: usize,
@@ -326,6 +326,50 @@ pub fn solve_general_phase(
     })
 }
 
+/// The exact process of a phase gait (constant control `controls[j]` for `durations[j]`) from
+/// `x0`, over the durations' sum as a Cauchy problem: the states at the phase boundaries and
+/// the end (`durations.len() + 1` rows) and the simulation (its `reward`, `cost` and
+/// `objective` those of the gait). What a phase answer is verified by, here and when a result
+/// file is read back; `what` names the gait in errors.
+pub fn replay_phases(
+    p: &GeneralProblem,
+    durations: &[f64],
+    controls: &[Vec<f64>],
+    x0: &[f64],
+    what: &str,
+) -> Result<(Vec<Vec<f64>>, crate::integrate::GeneralSimulation)> {
+    let total: f64 = durations.iter().sum();
+    let mut times = Vec::with_capacity(durations.len());
+    let mut at = 0.0;
+    for d in durations {
+        times.push(at);
+        at += d;
+    }
+    let input = ControlInput::new(
+        InputKind::PiecewiseConstant,
+        total,
+        times.clone(),
+        controls.to_vec(),
+        &p.control,
+        "phase controls",
+    )?;
+    let mut cauchy = p.clone();
+    cauchy.period = total;
+    cauchy.boundary = Boundary::Initial(x0.to_vec());
+    let sim = simulate_general_exact(&cauchy, &input, x0, 1, 1e-12)?;
+    // The states at the knots (the simulator records each knot's time exactly) and the end.
+    let mut states = Vec::with_capacity(durations.len() + 1);
+    states.push(sim.x[0].clone());
+    for &tk in times.iter().skip(1) {
+        let i = sim.t.iter().position(|&s| s == tk).ok_or_else(|| {
+            Error::Numerical(format!("{what}: the replay has no state at t = {tk}"))
+        })?;
+        states.push(sim.x[i].clone());
+    }
+    states.push(sim.x.last().expect("events").clone());
+    Ok((states, sim))
+}
+
 /// Reads the MILP's gait, replays its controls and durations in the exact simulator from its
 /// `x_0` (a Cauchy problem over one period) and checks the replay against the MILP: `int f1`
 /// and the states at the phase boundaries (and `x(T) = x(0)` when periodic), within `1e-6`
@@ -380,35 +424,7 @@ fn verified(
             "{what}: no phase of positive duration"
         )));
     }
-    let total: f64 = durations.iter().sum();
-    let mut times = Vec::with_capacity(durations.len());
-    let mut at = 0.0;
-    for d in &durations {
-        times.push(at);
-        at += d;
-    }
-    let input = ControlInput::new(
-        InputKind::PiecewiseConstant,
-        total,
-        times.clone(),
-        controls.clone(),
-        &p.control,
-        "phase controls",
-    )?;
-    let mut cauchy = p.clone();
-    cauchy.period = total;
-    cauchy.boundary = Boundary::Initial(milp_states[0].clone());
-    let sim = simulate_general_exact(&cauchy, &input, &milp_states[0], 1, 1e-12)?;
-    // The states at the knots (the simulator records each knot's time exactly) and the end.
-    let mut states = Vec::with_capacity(durations.len() + 1);
-    for &tk in times.iter().skip(1) {
-        let i = sim.t.iter().position(|&s| s == tk).ok_or_else(|| {
-            Error::Numerical(format!("{what}: the replay has no state at t = {tk}"))
-        })?;
-        states.push(sim.x[i].clone());
-    }
-    states.insert(0, sim.x[0].clone());
-    states.push(sim.x.last().expect("events").clone());
+    let (states, sim) = replay_phases(p, &durations, &controls, &milp_states[0], what)?;
     let state_gap = states
         .iter()
         .zip(&milp_states)

@@ -1,0 +1,56 @@
+//! `certify` of a result file of either kind ([`certify_result_file`]): which conditions apply
+//! to which method is decided here, not in the front ends. A crawler's gait gets the crawler
+//! certificate ([`crate::certify::certify_result`]: P_m gaits, global or local, and phase
+//! gaits); a general problem's P_m process (methods `discrete` and `local`) the general one
+//! ([`crate::certify::certify_general`]), the problem rebuilt from the file itself and checked
+//! in full ([`super::general_problem`]). A general phase gait is refused with the reason: the
+//! general certificate is stated on P_m's grid only.
+
+use crate::certify::{
+    certify_general, certify_result, CertifyOptions, GeneralNecessaryConditions, GeneralProcess,
+    NecessaryConditions,
+};
+use crate::error::{Error, Result};
+use crate::io::{GeneralAnswer, ResultFile};
+use serde::Serialize;
+
+/// The necessary conditions of a result, of its kind.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+#[serde(untagged)]
+pub enum Certified {
+    /// Of a crawler's gait.
+    Crawler(Box<NecessaryConditions>),
+    /// Of a general problem's P_m process.
+    General(Box<GeneralNecessaryConditions>),
+}
+
+/// The necessary conditions of Theorem 2.2 (discrete form Theorems 6.1–6.2) on the process a
+/// result file holds (module docs); `what` names the source in errors.
+pub fn certify_result_file(r: &ResultFile, what: &str) -> Result<Certified> {
+    match r {
+        ResultFile::Crawler(r) => Ok(Certified::Crawler(Box::new(certify_result(r, what)?))),
+        ResultFile::General(r) => Ok(Certified::General(Box::new(certify_general_answer(
+            r, what,
+        )?))),
+    }
+}
+
+/// [`certify_result_file`] of a general answer: P_m processes (global or local) are certified;
+/// a phase gait is refused naming `method`; so is a Cauchy problem (naming
+/// `problem.periodic`: the conditions are stated for periodic problems).
+pub fn certify_general_answer(r: &GeneralAnswer, what: &str) -> Result<GeneralNecessaryConditions> {
+    let (p, _) = super::general_problem(r.problem())?;
+    let pr = match r {
+        GeneralAnswer::Discrete(r) => GeneralProcess::from_pm(&r.solution),
+        GeneralAnswer::Local(r) => GeneralProcess::from_local(&r.solution),
+        GeneralAnswer::Phase(_) => {
+            return Err(Error::invalid(
+                format!("{what}: method"),
+                "phase",
+                "the necessary conditions of a general problem are certified on P_m processes \
+                 (methods discrete and local) only, not on phase gaits",
+            ))
+        }
+    };
+    certify_general(&p, &pr, &CertifyOptions::default())
+}

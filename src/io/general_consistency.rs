@@ -1,0 +1,476 @@
+//! Is a general result what it says? The check [`super::ResultFile`] runs on a general
+//! problem's result read back (the counterpart of the crawler's
+//! [`crate::optimal::consistency`]): the stored problem (P) rebuilt and checked, the stored
+//! process a process of it ([`GeneralProcess::check_as`] for P_m; durations, controls in U,
+//! reactions and faces for a phase gait), the controls replayed by the general simulator that
+//! verified them when they were found ([`simulate_grid`], [`replay_phases`]) and every stored
+//! number compared with the replay, then the envelope's `objective`, `status` and
+//! `certificate` against the solution. A file is data from elsewhere: a number that disagrees
+//! is refused naming its field.
+
+use super::{GeneralAnswer, GeneralFile};
+use crate::certify::GeneralProcess;
+use crate::error::{Error, Result};
+use crate::model::general::{Boundary, GeneralProblem};
+use crate::optimal::consistency::{max_diff, INPUT_TOL};
+use crate::optimal::general::{
+    replay_phases, simulate_grid, MAX_GENERAL_LOCAL_M, MAX_GENERAL_M, MAX_GENERAL_PHASES,
+};
+use crate::optimal::{local_status, Certificate, MilpStatus, ResultCertificate};
+
+fn bad(what: &str, field: &str, got: impl ToString, reason: impl Into<String>) -> Error {
+    Error::invalid(format!("{what}: {field}"), got, reason)
+}
+
+/// The problem of a stored file, its errors naming `{what}: problem.<field>`.
+fn stored_problem(file: &GeneralFile, what: &str) -> Result<GeneralProblem> {
+    file.problem().map_err(|e| match e {
+        Error::InvalidParameter {
+            field,
+            value,
+            reason,
+        } => Error::InvalidParameter {
+            field: format!("{what}: problem.{field}"),
+            value,
+            reason,
+        },
+        other => other,
+    })
+}
+
+/// Closeness of two values of `J`, relative to the size of its two parts.
+struct Close(f64);
+
+impl Close {
+    fn of(reward: f64, cost: f64) -> Self {
+        Close(INPUT_TOL * (reward.abs() + cost.abs()) + 1e-14)
+    }
+    fn check(&self, what: &str, field: &str, got: f64, want: f64, why: &str) -> Result<()> {
+        if got.is_finite() && (got - want).abs() <= self.0 {
+            Ok(())
+        } else {
+            Err(bad(what, field, got, format!("{why} ({want})")))
+        }
+    }
+}
+
+impl GeneralAnswer {
+    /// Checks that a general result is what it says (module docs); `what` names the source.
+    pub fn check_consistent(&self, what: &str) -> Result<()> {
+        let p = stored_problem(self.problem(), what)?;
+        let period = match self {
+            GeneralAnswer::Discrete(r) => r.period,
+            GeneralAnswer::Local(r) => r.period,
+            GeneralAnswer::Phase(r) => r.period,
+        };
+        if period != p.period {
+            return Err(bad(
+                what,
+                "period",
+                period,
+                format!("differs from the problem's period {}", p.period),
+            ));
+        }
+        match self {
+            GeneralAnswer::Discrete(r) => {
+                let s = &r.solution;
+                let j = check_pm(&p, MAX_GENERAL_M, &GeneralProcess::from_pm(s), what)?;
+                objectives(what, j, s.objective, r.objective)?;
+                check_global(what, r.status, &r.certificate, &s.certificate, None, j)
+            }
+            GeneralAnswer::Local(r) => {
+                let s = &r.solution;
+                let j = check_pm(
+                    &p,
+                    MAX_GENERAL_LOCAL_M,
+                    &GeneralProcess::from_local(s),
+                    what,
+                )?;
+                objectives(what, j, s.objective, r.objective)?;
+                if r.status != local_status(s.stop) {
+                    return Err(bad(
+                        what,
+                        "status",
+                        r.status.as_str(),
+                        format!(
+                            "disagrees with solution.stop ({})",
+                            local_status(s.stop).as_str()
+                        ),
+                    ));
+                }
+                if r.certificate != ResultCertificate::local(None) {
+                    return Err(bad(
+                        what,
+                        "certificate",
+                        format!("kind {}", r.certificate.kind),
+                        "a local answer's certificate is \"local\", without bound or gap",
+                    ));
+                }
+                for (field, v) in [
+                    ("solution.lp_objective", s.lp_objective),
+                    ("solution.start_objective", s.start_objective),
+                ] {
+                    if !v.is_finite() {
+                        return Err(bad(what, field, v, "must be finite"));
+                    }
+                }
+                if r.starts_tried == 0 || r.best_start >= r.starts_tried {
+                    return Err(bad(
+                        what,
+                        "best_start",
+                        r.best_start,
+                        format!("must be below starts_tried ({})", r.starts_tried),
+                    ));
+                }
+                Ok(())
+            }
+            GeneralAnswer::Phase(r) => {
+                let s = &r.solution;
+                let j = check_phase(&p, s, what)?;
+                objectives(what, j, s.objective, r.objective)?;
+                let k = Some(s.max_phases);
+                check_global(what, r.status, &r.certificate, &s.certificate, k, j)
+            }
+        }
+    }
+}
+
+/// The solution's and the envelope's `objective` against `J` of the replay.
+fn objectives(what: &str, j: f64, solution: f64, top: f64) -> Result<()> {
+    let close = Close(INPUT_TOL * j.abs().max(1e-300) + 1e-14);
+    let why = "disagrees with the solution replayed by simulation";
+    close.check(what, "solution.objective", solution, j, why)?;
+    close.check(what, "objective", top, j, why)
+}
+
+/// Checks a P_m process (`m` at most `max_m`) against the problem and its replay; returns `J`
+/// of the replay.
+fn check_pm(p: &GeneralProblem, max_m: u32, pr: &GeneralProcess, what: &str) -> Result<f64> {
+    let (m, x, u, lambda) = (pr.m, &pr.x, &pr.u, &pr.lambda);
+    if !(1..=max_m).contains(&m) {
+        return Err(bad(
+            what,
+            "solution.m",
+            m,
+            format!("must be in 1..={max_m}"),
+        ));
+    }
+    pr.check_as(p, INPUT_TOL, &format!("{what}: solution"))?;
+    let sim = simulate_grid(p, m, &x[0], u, "solution.u")?;
+    let scale = p.c.scale();
+    for (k, (got, want)) in x.iter().zip(&sim.x).enumerate() {
+        if max_diff(got, want) > INPUT_TOL * scale {
+            return Err(bad(
+                what,
+                &format!("solution.x[{k}]"),
+                format!("{got:?}"),
+                format!("disagrees with the process the controls give when simulated ({want:?})"),
+            ));
+        }
+    }
+    let h = p.period / (1u64 << m) as f64;
+    for (i, (got, want)) in lambda.iter().zip(&sim.lambda).enumerate() {
+        if max_diff(got, want) * h > INPUT_TOL * scale {
+            return Err(bad(
+                what,
+                &format!("solution.lambda[{i}]"),
+                format!("{got:?}"),
+                format!("disagrees with the reactions of the simulated process ({want:?})"),
+            ));
+        }
+    }
+    let j = sim.reward - sim.cost;
+    let close = Close::of(sim.reward, sim.cost);
+    close.check(
+        what,
+        "solution.lambda",
+        pr.objective(p),
+        j,
+        "J of the stored reactions and controls disagrees with the replay's",
+    )?;
+    Ok(j)
+}
+
+/// Checks a phase gait against the problem and its exact replay; returns `J` of the replay.
+fn check_phase(
+    p: &GeneralProblem,
+    s: &crate::optimal::general::GeneralPhaseGait,
+    what: &str,
+) -> Result<f64> {
+    if !(1..=MAX_GENERAL_PHASES).contains(&s.max_phases) {
+        return Err(bad(
+            what,
+            "solution.max_phases",
+            s.max_phases,
+            format!("must be in 1..={MAX_GENERAL_PHASES}"),
+        ));
+    }
+    if !p.dynamics.is_state_independent() {
+        return Err(bad(
+            what,
+            "problem.dynamics.A",
+            "non-zero",
+            "a phase gait needs A = 0",
+        ));
+    }
+    let (n, mc, sigma) = (p.states(), p.controls(), p.c.faces());
+    let np = s.durations.len();
+    if np == 0 || np > s.max_phases {
+        return Err(bad(
+            what,
+            "solution.durations",
+            format!("{np} phases"),
+            format!("needs 1 to max_phases = {} phases", s.max_phases),
+        ));
+    }
+    for (field, rows, len, width) in [
+        ("solution.controls", &s.controls, np, mc),
+        ("solution.states", &s.states, np + 1, n),
+        ("solution.reactions", &s.reactions, np, sigma),
+    ] {
+        if rows.len() != len || rows.iter().any(|r| r.len() != width) {
+            return Err(bad(
+                what,
+                field,
+                format!("{} rows", rows.len()),
+                format!("needs {len} rows of {width} values"),
+            ));
+        }
+        if rows.iter().flatten().any(|v| !v.is_finite()) {
+            return Err(bad(what, field, "a non-finite value", "must be finite"));
+        }
+    }
+    if s.held.len() != np {
+        return Err(bad(
+            what,
+            "solution.held",
+            format!("{} rows", s.held.len()),
+            format!("needs {np} rows"),
+        ));
+    }
+    let t = p.period;
+    if let Some(j) = s
+        .durations
+        .iter()
+        .position(|d| !(d.is_finite() && *d > 0.0))
+    {
+        return Err(bad(
+            what,
+            &format!("solution.durations[{j}]"),
+            s.durations[j],
+            "must be positive and finite",
+        ));
+    }
+    let total: f64 = s.durations.iter().sum();
+    if (total - t).abs() > 1e-9 * t {
+        return Err(bad(
+            what,
+            "solution.durations",
+            format!("a sum of {total}"),
+            format!("must sum to the period {t}"),
+        ));
+    }
+    let uscale = s
+        .controls
+        .iter()
+        .flatten()
+        .fold(0.0_f64, |m, v| m.max(v.abs()));
+    let mut mean = vec![0.0; mc];
+    for (j, u) in s.controls.iter().enumerate() {
+        if !p.control.contains(u, INPUT_TOL * uscale.max(1e-300)) {
+            return Err(bad(
+                what,
+                &format!("solution.controls[{j}]"),
+                format!("{u:?}"),
+                "outside U",
+            ));
+        }
+        for (m, v) in mean.iter_mut().zip(u) {
+            *m += v * s.durations[j] / t;
+        }
+    }
+    if p.zero_mean && mean.iter().any(|v| v.abs() > INPUT_TOL * uscale) {
+        return Err(bad(
+            what,
+            "solution.controls",
+            format!("mean {mean:?}"),
+            "must have zero mean",
+        ));
+    }
+    let scale = p.c.scale();
+    for (j, (held, r)) in s.held.iter().zip(&s.reactions).enumerate() {
+        if let Some(f) = held.iter().find(|&&f| f == 0 || f > sigma) {
+            return Err(bad(
+                what,
+                &format!("solution.held[{j}]"),
+                f,
+                format!("faces are numbered 1..={sigma}"),
+            ));
+        }
+        let rmax = r.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
+        let tol = INPUT_TOL * rmax.max(scale / s.durations[j]);
+        if let Some(f) =
+            (0..sigma).find(|&f| r[f] < -tol || (r[f] > tol && !held.contains(&(f + 1))))
+        {
+            return Err(bad(
+                what,
+                &format!("solution.reactions[{j}][{f}]"),
+                r[f],
+                "a reaction must be non-negative, and on a held face only",
+            ));
+        }
+    }
+    if let Boundary::Initial(x0) = &p.boundary {
+        if max_diff(&s.states[0], x0) > INPUT_TOL * scale {
+            return Err(bad(
+                what,
+                "solution.states[0]",
+                format!("{:?}", s.states[0]),
+                "must be the initial state",
+            ));
+        }
+    }
+    let (states, sim) = replay_phases(p, &s.durations, &s.controls, &s.states[0], what)?;
+    for (j, (got, want)) in s.states.iter().zip(&states).enumerate() {
+        if max_diff(got, want) > INPUT_TOL * scale {
+            return Err(bad(
+                what,
+                &format!("solution.states[{j}]"),
+                format!("{got:?}"),
+                format!("disagrees with the exact replay of the gait ({want:?})"),
+            ));
+        }
+    }
+    if p.boundary == Boundary::Periodic && max_diff(&states[np], &states[0]) > INPUT_TOL * scale {
+        return Err(bad(
+            what,
+            &format!("solution.states[{np}]"),
+            format!("{:?}", states[np]),
+            "the gait is not periodic: it does not end where it began",
+        ));
+    }
+    let close = Close::of(sim.reward, sim.cost);
+    close.check(
+        what,
+        "solution.actuation_cost",
+        s.actuation_cost,
+        sim.cost,
+        "disagrees with the cost of the controls",
+    )?;
+    let reward: f64 = s
+        .reactions
+        .iter()
+        .zip(&s.durations)
+        .map(|(r, d)| d * p.reward.eval(&p.c.normals, r))
+        .sum();
+    close.check(
+        what,
+        "solution.reactions",
+        reward,
+        sim.reward,
+        "int f1 of the stored reactions disagrees with the exact replay's",
+    )?;
+    if !(s.state_gap.is_finite() && s.state_gap >= 0.0) {
+        return Err(bad(
+            what,
+            "solution.state_gap",
+            s.state_gap,
+            "must be finite and non-negative",
+        ));
+    }
+    Ok(sim.reward - sim.cost)
+}
+
+/// The envelope's status and certificate of a MILP's answer against the solution's
+/// certificate (`phases`: `K` of a phase gait) and its replayed objective `j`.
+fn check_global(
+    what: &str,
+    status: MilpStatus,
+    cert: &ResultCertificate,
+    c: &Certificate,
+    phases: Option<usize>,
+    j: f64,
+) -> Result<()> {
+    let allowed: &[MilpStatus] = match phases {
+        None => &[
+            MilpStatus::Optimal,
+            MilpStatus::TimeLimit,
+            MilpStatus::ApproximationLimit,
+        ],
+        Some(_) => &[
+            MilpStatus::OptimalAmongKPhases,
+            MilpStatus::TimeLimit,
+            MilpStatus::ApproximationLimit,
+        ],
+    };
+    if c.status != status || !allowed.contains(&status) {
+        return Err(bad(
+            what,
+            "status",
+            status.as_str(),
+            format!(
+                "must be solution.certificate.status ({}), one of {:?}",
+                c.status.as_str(),
+                allowed.iter().map(|s| s.as_str()).collect::<Vec<_>>()
+            ),
+        ));
+    }
+    let want = ResultCertificate::of_milp(c, phases);
+    for (field, got, want) in [
+        ("certificate.kind", cert.kind.clone(), want.kind.clone()),
+        (
+            "certificate.phases",
+            format!("{:?}", cert.phases),
+            format!("{:?}", want.phases),
+        ),
+        (
+            "certificate.upper_bound",
+            format!("{:?}", cert.upper_bound.as_ref().map(|b| b.value)),
+            "None".into(),
+        ),
+    ] {
+        if got != want {
+            return Err(bad(what, field, got, format!("must be {want}")));
+        }
+    }
+    if !(c.milp_objective.is_finite()) {
+        return Err(bad(
+            what,
+            "solution.certificate.milp_objective",
+            c.milp_objective,
+            "must be finite",
+        ));
+    }
+    let tol = INPUT_TOL * j.abs().max(1.0);
+    if !(c.bound.is_finite() && c.bound >= j - tol) {
+        return Err(bad(
+            what,
+            "solution.certificate.bound",
+            c.bound,
+            format!("is below the verified objective {j}"),
+        ));
+    }
+    let gap = Certificate::gap_of(c.bound, j);
+    if !(c.gap.is_finite() && (c.gap - gap).abs() <= INPUT_TOL * gap.abs().max(1.0)) {
+        return Err(bad(
+            what,
+            "solution.certificate.gap",
+            c.gap,
+            format!("disagrees with the bound and the objective ({gap})"),
+        ));
+    }
+    for (field, got, want) in [
+        ("certificate.bound", cert.bound, c.bound),
+        ("certificate.gap", cert.gap, c.gap),
+    ] {
+        if got != Some(want) {
+            return Err(bad(
+                what,
+                field,
+                format!("{got:?}"),
+                format!("must be the solution's ({want})"),
+            ));
+        }
+    }
+    Ok(())
+}

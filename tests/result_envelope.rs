@@ -1,0 +1,368 @@
+//! One result envelope for both kinds of problem (`crawlopt::optimal::envelope`,
+//! `crawlopt::io::ResultFile`): a general problem's result written by `optimize --json` carries
+//! `format`, `version`, `kind`, `method`, `problem`, `objective`, `status`, `certificate` and
+//! `solution`, reads back from itself alone, certifies (the same numbers as `optimize --certify`,
+//! which certifies the answer in memory) and is refused, naming the field, when a number in it
+//! was changed; crawler results read as before, with `kind` or without.
+
+use std::process::Output;
+
+mod common;
+use common::{crawlopt, write};
+use crawlopt::io::{GeneralAnswer, ResultFile};
+use crawlopt::optimal::{GaitResult, ResultKind};
+use serde_json::{json, Value};
+
+fn stderr(out: &Output) -> String {
+    String::from_utf8_lossy(&out.stderr).into_owned()
+}
+
+fn json_of(out: &Output) -> Value {
+    assert!(out.status.success(), "{}", stderr(out));
+    serde_json::from_slice(&out.stdout)
+        .unwrap_or_else(|e| panic!("{e}: {}", String::from_utf8_lossy(&out.stdout)))
+}
+
+/// `crawlopt optimize FILE ARGS --json`, as text and as JSON.
+fn optimize(file: &str, args: &[&str]) -> (String, Value) {
+    let mut all = vec!["optimize", file];
+    all.extend_from_slice(args);
+    all.push("--json");
+    let out = crawlopt(&all);
+    let v = json_of(&out);
+    (String::from_utf8(out.stdout).unwrap(), v)
+}
+
+const ONE_LINK: &str = "examples/general_one_link.toml";
+
+/// The one-link problem of the paper's §4 (J* = (T - 2 (b - a)) / 2 = 3) by each method: the
+/// envelope, the problem stored without `[input]`, and the result read back equal to itself.
+#[test]
+fn general_results_carry_the_envelope_and_read_back() {
+    for (args, method, status, cert) in [
+        (&["--m", "3"][..], "discrete", "optimal", "global"),
+        (
+            &["--method", "local", "--m", "4", "--shifts", "1"][..],
+            "local",
+            "stationary",
+            "local",
+        ),
+        (
+            &["--method", "phase"][..],
+            "phase",
+            "optimal_among_k_phases",
+            "global_k_phases",
+        ),
+    ] {
+        let (text, v) = optimize(ONE_LINK, args);
+        assert_eq!(v["format"], "crawlopt-gait-result");
+        assert_eq!(v["version"], 1);
+        assert_eq!(v["kind"], "general");
+        assert_eq!(v["method"], method);
+        assert_eq!(v["status"], status);
+        assert_eq!(v["certificate"]["kind"], cert);
+        assert_eq!(
+            v["problem"]["sweeping_process"]["normals"],
+            json!([[1.0], [-1.0]])
+        );
+        assert_eq!(v["problem"]["problem"]["period"], 10.0);
+        assert!(v["problem"].get("input").is_none(), "{}", v["problem"]);
+        let j = v["objective"].as_f64().unwrap();
+        assert_eq!(v["objective"], v["solution"]["objective"]);
+        assert!((j - 3.0).abs() < 1e-7, "{method}: {j}");
+        if cert == "local" {
+            assert!(v["certificate"]["bound"].is_null() && v["certificate"]["gap"].is_null());
+        } else {
+            assert_eq!(
+                v["certificate"]["bound"],
+                v["solution"]["certificate"]["bound"]
+            );
+            assert_eq!(v["status"], v["solution"]["certificate"]["status"]);
+        }
+        let r = ResultFile::from_json(&text, "r.json").unwrap();
+        assert_eq!(r.kind(), ResultKind::General);
+        assert_eq!((r.method(), r.objective()), (method, j));
+        assert_eq!(r.status().as_str(), status);
+        let ResultFile::General(answer) = r else {
+            panic!("read as a crawler's")
+        };
+        // Written again, it reads back to the same answer.
+        let again = crawlopt::io::json::to_string(&answer).unwrap();
+        assert_eq!(GeneralAnswer::from_json(&again, "again").unwrap(), *answer);
+        // The crawler's own reader names the kind.
+        let e = GaitResult::from_json(&text, "r.json").unwrap_err();
+        assert!(e.to_string().starts_with("r.json: kind"), "{e}");
+    }
+}
+
+/// `crawlopt certify` on a general result: the conditions of the stored P_m optimum (read
+/// back, the problem rebuilt from the file), the same as `optimize --certify` computes on the
+/// answer in memory; the local method's process is certified too; a phase gait and a Cauchy
+/// problem are refused with the reason.
+#[test]
+fn certify_reads_a_general_result_as_optimize_certify_does() {
+    let dir = tempfile::tempdir().unwrap();
+    for (example, m) in [(ONE_LINK, "3"), ("examples/general_drift.toml", "3")] {
+        let (text, with) = optimize(example, &["--m", m, "--certify"]);
+        let file = write(dir.path(), "r.json", &text);
+        let file = file.to_str().unwrap();
+        let c = json_of(&crawlopt(&["certify", file, "--json"]));
+        let d = &with["necessary_conditions"];
+        assert_eq!(c["format"], "crawlopt-general-necessary-conditions");
+        assert_eq!(c["verdict"], "holds", "{example}: {}", c["reason"]);
+        assert_eq!((&c["verdict"], &c["m"]), (&d["verdict"], &d["m"]));
+        assert_eq!(c["objective"], d["objective"]);
+        let j = with["objective"].as_f64().unwrap();
+        assert!((c["objective"].as_f64().unwrap() - j).abs() < 1e-9 * j.abs().max(1.0));
+        let (a, b) = (
+            c["conditions"].as_array().unwrap(),
+            d["conditions"].as_array().unwrap(),
+        );
+        assert_eq!(a.len(), b.len());
+        for (x, y) in a.iter().zip(b) {
+            assert_eq!(x["name"], y["name"]);
+            let (rx, ry) = (
+                x["residual"].as_f64().unwrap(),
+                y["residual"].as_f64().unwrap(),
+            );
+            assert!((rx - ry).abs() <= 1e-12, "{}: {rx} vs {ry}", x["name"]);
+        }
+        assert_eq!(c["multipliers"]["omega"], d["multipliers"]["omega"]);
+        let out = crawlopt(&["certify", file]);
+        assert!(out.status.success(), "{}", stderr(&out));
+        let shown = String::from_utf8(out.stdout).unwrap();
+        assert!(
+            shown.contains(
+                "necessary conditions (Theorem 2.2; discrete form Theorems 6.1-6.2): holds"
+            ),
+            "{shown}"
+        );
+        // --plot draws a crawler's gait only.
+        let out = crawlopt(&["certify", file, "--plot", dir.path().to_str().unwrap()]);
+        assert_eq!(out.status.code(), Some(2));
+        assert!(
+            stderr(&out).starts_with("error: --plot"),
+            "{}",
+            stderr(&out)
+        );
+    }
+    // §4's one-link optimum J* = 3 found by the local method from the square waves: a P_m
+    // process, certified; its conditions hold.
+    let (text, _) = optimize(
+        ONE_LINK,
+        &["--method", "local", "--m", "3", "--shifts", "1"],
+    );
+    let file = write(dir.path(), "local.json", &text);
+    let c = json_of(&crawlopt(&["certify", file.to_str().unwrap(), "--json"]));
+    assert_eq!(c["verdict"], "holds", "{}", c["reason"]);
+    assert!((c["objective"].as_f64().unwrap() - 3.0).abs() < 1e-9);
+    // A phase gait: refused, naming the method.
+    let (text, _) = optimize(ONE_LINK, &["--method", "phase"]);
+    let file = write(dir.path(), "phase.json", &text);
+    let out = crawlopt(&["certify", file.to_str().unwrap()]);
+    assert_eq!(out.status.code(), Some(2));
+    let e = stderr(&out);
+    assert!(
+        e.contains("phase.json: method") && e.contains("P_m processes"),
+        "{e}"
+    );
+    // A Cauchy problem: read back (x(0) is its initial state), refused by certify.
+    let src = std::fs::read_to_string(ONE_LINK).unwrap().replace(
+        "period = 10.0",
+        "period = 10.0\nperiodic = false\ninitial_state = [0.0]",
+    );
+    let cauchy = write(dir.path(), "cauchy.toml", &src);
+    let (text, v) = optimize(cauchy.to_str().unwrap(), &["--m", "2"]);
+    assert_eq!(v["solution"]["x"][0], json!([0.0]));
+    ResultFile::from_json(&text, "cauchy.json").unwrap();
+    let file = write(dir.path(), "cauchy.json", &text);
+    let out = crawlopt(&["certify", file.to_str().unwrap()]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(
+        stderr(&out).starts_with("error: problem.periodic"),
+        "{}",
+        stderr(&out)
+    );
+}
+
+/// Pointer into a JSON document (`/solution/u/0/0`).
+fn set(v: &mut Value, at: &str, to: Value) {
+    *v.pointer_mut(at).unwrap_or_else(|| panic!("no {at}")) = to;
+}
+
+fn refused(v: &Value, want: &str) {
+    let text = v.to_string();
+    let e = ResultFile::from_json(&text, "r.json")
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.starts_with(&format!("r.json: {want}")),
+        "want {want}: {e}"
+    );
+}
+
+/// A general result changed in one number (the objective, a control, a reaction, the bound,
+/// the status, the problem) is refused by `ResultFile::from_json`, and so by `certify`, naming
+/// the field.
+#[test]
+fn tampered_general_results_are_refused_naming_the_field() {
+    let (_, v) = optimize(ONE_LINK, &["--m", "3"]);
+    let j = v["objective"].as_f64().unwrap();
+    let u = |i: usize| v["solution"]["u"][i][0].as_f64().unwrap();
+    // The P_3 optimum: up for half the period, down for the other half (in some rotation);
+    // swapping a step of each keeps the mean but not the process.
+    let up = (0..8).find(|&i| u(i) > 0.5).unwrap();
+    let down = (0..8).find(|&i| u(i) < -0.5).unwrap();
+    let cases: Vec<(&str, Value, &str)> = vec![
+        ("/objective", json!(j + 0.1), "objective"),
+        ("/solution/objective", json!(j - 0.1), "solution.objective"),
+        ("/solution/u/0/0", json!(u(0) / 2.0), "solution.u"),
+        ("/solution/u/0/0", json!(3.0), "solution.u[0]"),
+        ("/certificate/bound", json!(j + 1.0), "certificate.bound"),
+        (
+            "/solution/certificate/bound",
+            json!(j - 1.0),
+            "solution.certificate.bound",
+        ),
+        (
+            "/solution/certificate/gap",
+            json!(0.5),
+            "solution.certificate.gap",
+        ),
+        ("/status", json!("time_limit"), "status"),
+        ("/certificate/kind", json!("local"), "certificate.kind"),
+        ("/period", json!(5.0), "period"),
+        ("/method", json!("sequence"), "method"),
+        ("/kind", json!("robot"), "kind"),
+        ("/version", json!(2), "version"),
+        ("/solution/m", json!(11), "solution.m"),
+        (
+            "/problem/objective/face_weights",
+            json!([0.5, 0.25]),
+            "solution.objective",
+        ),
+        (
+            "/problem/sweeping_process/offsets",
+            json!([1.0]),
+            "problem.sweeping_process.offsets",
+        ),
+    ];
+    for (at, to, want) in cases {
+        let mut w = v.clone();
+        set(&mut w, at, to);
+        refused(&w, want);
+    }
+    let mut w = v.clone();
+    let (a, b) = (
+        v["solution"]["u"][up].clone(),
+        v["solution"]["u"][down].clone(),
+    );
+    set(&mut w, &format!("/solution/u/{up}"), b);
+    set(&mut w, &format!("/solution/u/{down}"), a);
+    refused(&w, "solution.x[");
+    let mut w = v.clone();
+    let lam = v["solution"]["lambda"].as_array().unwrap();
+    let i = lam
+        .iter()
+        .position(|l| l[0].as_f64().unwrap() > 0.0)
+        .unwrap();
+    set(
+        &mut w,
+        &format!("/solution/lambda/{i}/0"),
+        json!(lam[i][0].as_f64().unwrap() * 2.0),
+    );
+    refused(&w, "solution.x[");
+    // The phase gait: a duration, a reaction, the cost, a held face.
+    let (_, v) = optimize(ONE_LINK, &["--method", "phase"]);
+    for (at, to, want) in [
+        ("/solution/durations/0", json!(1.0), "solution.durations"),
+        (
+            "/solution/actuation_cost",
+            json!(1.0),
+            "solution.actuation_cost",
+        ),
+        ("/solution/held/0", json!([7]), "solution.held[0]"),
+        ("/objective", json!(2.0), "objective"),
+        ("/certificate/phases", json!(2), "certificate.phases"),
+    ] {
+        let mut w = v.clone();
+        set(&mut w, at, to);
+        refused(&w, want);
+    }
+    let mut w = v.clone();
+    let held = v["solution"]["held"].as_array().unwrap();
+    let j = held
+        .iter()
+        .position(|h| !h.as_array().unwrap().is_empty())
+        .unwrap();
+    let f = held[j][0].as_u64().unwrap() as usize - 1;
+    let r = v["solution"]["reactions"][j][f].as_f64().unwrap();
+    set(
+        &mut w,
+        &format!("/solution/reactions/{j}/{f}"),
+        json!(r * 1.5),
+    );
+    refused(&w, "solution.reactions");
+    // The local answer: its status follows its stop.
+    let (_, v) = optimize(
+        ONE_LINK,
+        &["--method", "local", "--m", "3", "--shifts", "1"],
+    );
+    let mut w = v.clone();
+    set(&mut w, "/status", json!("optimal"));
+    refused(&w, "status");
+    let mut w = v;
+    set(&mut w, "/best_start", json!(4));
+    refused(&w, "best_start");
+    // Through the command line: exit 2, the field named.
+    let dir = tempfile::tempdir().unwrap();
+    let (_, mut v) = optimize(ONE_LINK, &["--m", "2"]);
+    set(&mut v, "/objective", json!(4.0));
+    let f = write(dir.path(), "bad.json", &v.to_string());
+    let out = crawlopt(&["certify", f.to_str().unwrap()]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(
+        stderr(&out).contains("bad.json: objective"),
+        "{}",
+        stderr(&out)
+    );
+}
+
+/// Crawler results: `kind: "crawler"` is added, a file without it still reads (as the files
+/// the docs ship), and one claiming to be a general result is refused.
+#[test]
+fn crawler_results_read_with_or_without_their_kind() {
+    let (text, v) = optimize("examples/one_link_gait.toml", &["--phases", "4"]);
+    assert_eq!(v["kind"], "crawler");
+    assert_eq!(v["format"], "crawlopt-gait-result");
+    let r = ResultFile::from_json(&text, "r.json").unwrap();
+    assert_eq!(r.kind(), ResultKind::Crawler);
+    assert!((r.objective() - v["objective"].as_f64().unwrap()).abs() == 0.0);
+    assert_eq!(r.certificate().kind, "global_k_phases");
+    let mut old = v.clone();
+    old.as_object_mut().unwrap().remove("kind");
+    let r = ResultFile::from_json(&old.to_string(), "old.json").unwrap();
+    assert_eq!(r.kind(), ResultKind::Crawler);
+    assert_eq!(
+        GaitResult::from_json(&old.to_string(), "old.json").unwrap(),
+        GaitResult::from_json(&text, "r.json").unwrap()
+    );
+    let mut general = v;
+    general["kind"] = json!("general");
+    let e = ResultFile::from_json(&general.to_string(), "g.json").unwrap_err();
+    assert!(e.to_string().contains("malformed general result"), "{e}");
+    // certify of a crawler result as before.
+    let dir = tempfile::tempdir().unwrap();
+    let f = write(dir.path(), "old.json", &old.to_string());
+    let c = json_of(&crawlopt(&["certify", f.to_str().unwrap(), "--json"]));
+    assert_eq!(c["format"], "crawlopt-necessary-conditions");
+    assert_eq!(c["verdict"], "holds");
+}
+
+/// A general simulation's objective at the top level, beside the nested one.
+#[test]
+fn a_general_simulation_has_its_objective_at_the_top() {
+    let v = json_of(&crawlopt(&["simulate", ONE_LINK, "--json"]));
+    assert_eq!(v["objective"], v["simulation"]["objective"]);
+    assert!((v["objective"].as_f64().unwrap() - 3.0).abs() < 1e-12);
+}
