@@ -11,6 +11,7 @@ pub mod local;
 pub mod phase;
 mod pm;
 mod polish;
+pub mod projection;
 
 pub use discrete::{solve_general_branch, GeneralPm, MAX_GENERAL_M, PM_DATA_RANGE};
 pub use geometry::{
@@ -22,3 +23,4 @@ pub use local::{
 };
 pub use phase::{check_general_phase, solve_general_phase, GeneralPhaseGait, MAX_GENERAL_PHASES};
 pub use pm::{solve_general_pm, solve_general_pm_with};
+pub use projection::{project_polyhedron, ProjectedVertex, MAX_PROJECTED_VERTICES};
