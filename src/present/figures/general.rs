@@ -276,7 +276,15 @@ impl Plot for TimeSeries {
             .collect();
         let entries = self.lines.len().min(MAX_LEGEND) + usize::from(!self.levels.is_empty());
         let yr = headroom(range_of(&vals, 0.08), entries.min(6));
-        let mut c = chart(root, s, &self.title, (t0, t1), yr, "time t", &self.ylabel)?;
+        let mut c = chart(
+            root,
+            s,
+            &self.title,
+            (t0, t1),
+            yr,
+            "time t [time]",
+            &self.ylabel,
+        )?;
         if !self.levels.is_empty() {
             for (k, (v, _)) in self.levels.iter().enumerate() {
                 let pts = dashes(t0, t1, *v, 60);
