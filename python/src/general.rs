@@ -116,7 +116,10 @@ impl GeneralProblem {
         let s = run(py, None, |_| api::simulate_general(&f, &opts))?;
         let doc = pythonize::pythonize(py, &s)?;
         let problem = self.inner.problem().map_err(|e| to_py(py, e))?;
-        Ok((doc, GeneralRecord::new(problem, Record::Simulated(s))))
+        Ok((
+            doc,
+            GeneralRecord::new(problem, Record::Simulated(Box::new(s))),
+        ))
     }
 
     /// P_m of the problem (`crawlopt optimize --json`): `method` "discrete" (global MILP) or
@@ -166,7 +169,7 @@ impl GeneralProblem {
 
 /// What a [`GeneralRecord`] holds.
 enum Record {
-    Simulated(crawlopt::io::GeneralSimulated),
+    Simulated(Box<crawlopt::io::GeneralSimulated>),
     Answer(crawlopt::io::GeneralAnswer),
 }
 

@@ -315,9 +315,13 @@ fn problem_section(h: &mut String, p: &GeneralProblem, g: &Geometry) {
 /// [`MAX_LISTED_PIECES`].
 fn process_section(h: &mut String, p: &GeneralProblem, path: &GeneralPath) {
     let k = path.u.len();
+    // Solver noise (1e-12 of the quantity's scale) is shown as the 0 it stands for.
+    let snap = |v: f64, scale: f64| if v.abs() <= 1e-12 * scale { 0.0 } else { v };
+    let cs = p.c.scale();
+    let x0: Vec<f64> = path.x[0].iter().map(|v| snap(*v, cs)).collect();
     h.push_str(&format!(
         "<h2 id=\"process\">The process</h2>\n<p>{k} pieces; x(0) = ({}).</p>\n",
-        nums(&path.x[0])
+        nums(&x0)
     ));
     if k > MAX_LISTED_PIECES {
         h.push_str(&format!(
@@ -332,6 +336,7 @@ fn process_section(h: &mut String, p: &GeneralProblem, path: &GeneralPath) {
     }
     h.push_str("<th class=\"l\">faces holding x (λⱼ &gt; 0)</th></tr>\n");
     let biggest = path.lambda.iter().flatten().fold(0.0_f64, |a, v| a.max(*v));
+    let us = path.u.iter().flatten().fold(0.0_f64, |a, v| a.max(v.abs()));
     for (i, u) in path.u.iter().enumerate() {
         h.push_str(&format!(
             "<tr><td>{}</td><td>{}</td><td>{}</td>",
@@ -340,7 +345,7 @@ fn process_section(h: &mut String, p: &GeneralProblem, path: &GeneralPath) {
             num(path.t[i + 1])
         ));
         for v in u {
-            h.push_str(&format!("<td>{}</td>", num(*v)));
+            h.push_str(&format!("<td>{}</td>", num(snap(*v, us))));
         }
         let held: Vec<String> = path.lambda[i]
             .iter()

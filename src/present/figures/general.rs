@@ -158,7 +158,9 @@ pub fn general_polytope_figure(v: &StateSpace) -> Result<Figure> {
     match (v.dim, &v.interval) {
         (0, _) => return bad("a state needs a component".into()),
         (1, None) => return bad("one component needs the interval C".into()),
-        (1, Some([lo, hi])) if !(lo.value < hi.value) => {
+        (1, Some([lo, hi]))
+            if lo.value.partial_cmp(&hi.value) != Some(std::cmp::Ordering::Less) =>
+        {
             return bad(format!(
                 "the interval [{}, {}] is empty",
                 lo.value, hi.value
