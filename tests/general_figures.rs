@@ -281,3 +281,33 @@ fn the_report_shows_the_optimiser_s_objective_and_the_problem() {
     assert!(build_general_report(&p, GeneralReportInput::Simulation(&sim), "s", "c").is_err());
     assert!(present::general_simulation_figures(&p, &sim).is_err());
 }
+
+#[test]
+fn a_regular_polygon_of_thirty_faces_is_drawn_exactly_without_labels() {
+    // Faces at angles 2 pi k / 30, offsets 1: the vertices lie at radius 1 / cos(pi / 30).
+    let n = 30;
+    let normals: Vec<String> = (0..n)
+        .map(|k| {
+            let a = 2.0 * std::f64::consts::PI * k as f64 / n as f64;
+            format!("[{:?}, {:?}]", a.cos(), a.sin())
+        })
+        .collect();
+    let text = format!(
+        "[sweeping_process]\nnormals = [{}]\noffsets = [{}]\n[dynamics]\n\
+B = [[1.0, 0.0], [0.0, 1.0]]\n[control]\nlower = [-1.0, -1.0]\nupper = [1.0, 1.0]\n\
+[objective]\nreaction_weights = [1.0, 0.0]\n[problem]\nperiod = 4.0\n",
+        normals.join(", "),
+        vec!["1.0"; n].join(", ")
+    );
+    let a = api::analyze_general(&GeneralFile::parse(&text).unwrap()).unwrap();
+    let space = general_state_space(&a.problem, &a.geometry, None).unwrap();
+    let poly = &space.panels[0].projection;
+    assert_eq!(poly.vertices.len(), n);
+    let r = 1.0 / (std::f64::consts::PI / n as f64).cos();
+    for v in &poly.vertices {
+        assert!((v.0.hypot(v.1) - r).abs() < 1e-9, "{v:?}");
+    }
+    // More edges than present::general::MAX_LABELLED_EDGES: none labelled.
+    assert!(poly.edges.is_empty());
+    assert_eq!(space.dots.len(), n);
+}

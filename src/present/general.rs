@@ -151,6 +151,9 @@ fn path_label(p: &GeneralProblem) -> String {
 /// Tolerance of "on a face" for the figures, relative to the scale `s`.
 const ON_FACE: f64 = 1e-7;
 
+/// Most edges of a polygon labelled with their faces (the labels of more would overlap).
+pub const MAX_LABELLED_EDGES: usize = 24;
+
 /// C of `p` (with its geometry `g`) and the path's states, as figure `polytope` draws them: in
 /// 1-D the interval, beyond the projections of C onto the pairs of
 /// [`super::figures::projection_pairs`], exact ([`project_polyhedron`]); an unbounded C is cut
@@ -253,6 +256,9 @@ pub fn general_state_space(
                     normal: (c.normals[f][0], c.normals[f][1]),
                 });
             }
+        }
+        if edges.len() > MAX_LABELLED_EDGES {
+            edges.clear();
         }
         space.panels.push(StatePanel {
             pair: (i, j),

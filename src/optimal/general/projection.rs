@@ -135,6 +135,24 @@ pub fn project_polyhedron(
             k += 1;
         }
     }
+    // An axis direction along an edge has the whole edge as maximisers, and the LP may return
+    // a point inside it: points where the polygon does not turn are not vertices.
+    let mut k = 0;
+    while ring.len() > 3 && k < ring.len() {
+        let nv = ring.len();
+        let (p, q, r) = (
+            ring[(k + nv - 1) % nv].point,
+            ring[k].point,
+            ring[(k + 1) % nv].point,
+        );
+        let (u, v) = ((q.0 - p.0, q.1 - p.1), (r.0 - q.0, r.1 - q.1));
+        let turn = u.0 * v.1 - u.1 * v.0;
+        if turn <= tol * (u.0.hypot(u.1) + v.0.hypot(v.1)) {
+            ring.remove(k);
+        } else {
+            k += 1;
+        }
+    }
     Ok(ring)
 }
 

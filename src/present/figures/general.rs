@@ -217,7 +217,7 @@ pub fn general_polytope_figure(v: &StateSpace) -> Result<Figure> {
          sides are grey."
     };
     let faces = if n == 2 {
-        " An edge is labelled with its face j (1-based)."
+        " An edge is labelled with its face j (1-based; up to 24 edges)."
     } else {
         ""
     };
