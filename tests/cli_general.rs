@@ -237,7 +237,6 @@ fn optimize_solves_p_m_of_a_general_file() {
             &["--method", "phase", "--max-phases", "0"][..],
             "error: --max-phases",
         ),
-        (&["--plot", "figures"][..], "error: --plot"),
         // The crawler's upper bound: refused (it used to be dropped unsaid).
         (&["--bound"][..], "error: --bound"),
         (&["--m", "11"][..], "error: --m"),
@@ -375,4 +374,115 @@ fn optimize_method_local_solves_p_m_locally() {
         assert_eq!(out.status.code(), Some(2), "{args:?}");
         assert!(stderr(&out).starts_with(want), "{}", stderr(&out));
     }
+}
+
+#[test]
+fn plot_and_report_apply_to_general_files() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = |name: &str| dir.path().join(name).to_str().unwrap().to_string();
+    let file = "examples/general_drift.toml";
+    // simulate --plot: C with the orbit, the states, controls, reactions and the integrand.
+    let out = crawlopt(&[
+        "simulate",
+        file,
+        "--steps-per-period",
+        "200",
+        "--plot",
+        &d("sim"),
+    ]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    for name in ["polytope", "states", "controls", "reactions", "integrand"] {
+        assert!(
+            dir.path().join("sim").join(format!("{name}.png")).is_file(),
+            "{name}"
+        );
+    }
+    // analyze --plot: C alone.
+    let out = crawlopt(&[
+        "analyze",
+        "examples/general_one_link.toml",
+        "--plot",
+        &d("c"),
+    ]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    assert!(dir.path().join("c/polytope.svg").is_file());
+    // optimize --plot --report: the report shows the J that --json prints.
+    let report = d("r.html");
+    let out = crawlopt(&[
+        "optimize",
+        file,
+        "--m",
+        "3",
+        "--json",
+        "--plot",
+        &d("opt"),
+        "--report",
+        &report,
+    ]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let j = json(&out)["solution"]["objective"].as_f64().unwrap();
+    let html = std::fs::read_to_string(&report).unwrap();
+    assert!(
+        html.contains(&format!("id=\"objective\" data-value=\"{j}\"")),
+        "{j}"
+    );
+    assert!(html.contains("crawlopt optimize general_drift.toml --report r.html"));
+    assert!(dir.path().join("opt/integrand.svg").is_file());
+    // crawlopt report on a general file: the optimum of optimize's default method.
+    let out = crawlopt(&[
+        "report",
+        "examples/general_one_link.toml",
+        "-o",
+        &d("one.html"),
+    ]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    assert!(String::from_utf8_lossy(&out.stdout).contains("objective J = 3"));
+    let html = std::fs::read_to_string(dir.path().join("one.html")).unwrap();
+    assert!(html.contains("<h1>Optimum of a general problem (P)</h1>"));
+    // Bad paths fail cleanly before the work, and leave nothing behind.
+    let plain = write(dir.path(), "plain.txt", "not a directory");
+    let out = crawlopt(&["simulate", file, "--plot", plain.to_str().unwrap()]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(
+        stderr(&out).contains("exists and is not a directory"),
+        "{}",
+        stderr(&out)
+    );
+    let out = crawlopt(&[
+        "optimize",
+        file,
+        "--m",
+        "3",
+        "--report",
+        dir.path().to_str().unwrap(),
+    ]);
+    assert_eq!(out.status.code(), Some(2), "{}", stderr(&out));
+    let out = crawlopt(&["analyze", file, "--plot", &format!("{}/x", plain.display())]);
+    assert_eq!(out.status.code(), Some(2), "{}", stderr(&out));
+    assert_eq!(std::fs::read_to_string(&plain).unwrap(), "not a directory");
+    // What does not apply is refused by the library, with its reason.
+    for (args, want) in [
+        (
+            &["simulate", file, "--periods", "2"][..],
+            "error: --periods: a general problem's simulation records one period",
+        ),
+        (
+            &["simulate", file, "--no-newton"][..],
+            "error: --no-newton: the general simulator iterates",
+        ),
+        (&["report", file, "--phases", "2"][..], "error: --phases"),
+    ] {
+        let out = crawlopt(args);
+        assert_eq!(out.status.code(), Some(2), "{args:?}");
+        assert!(stderr(&out).starts_with(want), "{}", stderr(&out));
+    }
+    // Without the periodic regime no figure is written (exit 3 says so).
+    let out = crawlopt(&["simulate", file, "--max-periods", "1", "--plot", &d("none")]);
+    assert_eq!(out.status.code(), Some(3), "{}", stderr(&out));
+    assert!(
+        stderr(&out).contains("no figures written to"),
+        "{}",
+        stderr(&out)
+    );
+    assert!(!dir.path().join("none").exists());
 }

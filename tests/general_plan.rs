@@ -113,7 +113,8 @@ fn settings_that_do_not_apply_are_refused_naming_them() {
     for (s, want) in &cases {
         assert_eq!(field(s, &[]), *want, "{s:?}");
     }
-    // A front end's own options for crawler results only (the command line's --plot).
+    // A front end's own options for crawler results only (named as the front end names them;
+    // the command line's --plot and --report now apply to both kinds and are not listed).
     let s = with(Auto, f, &|_| {});
     assert_eq!(field(&s, &[("plot", true)]), "--plot");
     assert!(s.plan_general(&[("plot", false)]).is_ok());

@@ -147,14 +147,51 @@ def _series(d: dict, keys) -> dict:
     return d
 
 
-class GeneralSimulation(Document):
+class _LibraryFigures:
+    """The library's figures and report of a general problem's record (``figures()``,
+    ``report()``), kept by the object ``simulate`` or ``optimize`` returned (a copy read back
+    from its document, e.g. unpickled, has none)."""
+
+    _record: Any = None
+
+    def figures(self) -> dict:
+        """The library's figures by name, as ``--plot`` writes them: ``polytope`` (C with the
+        path of the state: the interval and x(t) in 1-D, the polygon in 2-D, projections
+        beyond), ``states`` (n >= 2), ``controls``, ``reactions``, ``integrand`` (f1 - f2,
+        whose integral is J), and ``adjoint`` with the necessary conditions. CrawloptError
+        without the periodic regime."""
+        from ._simulation import Figure
+
+        return {n: Figure(n, c, svg) for n, c, svg in self._library().figures()}
+
+    def report(self, path: Optional[str] = None, source: str = "crawlopt") -> str:
+        """The self-contained HTML report (written to ``path`` when given, as ``crawlopt
+        optimize --report``); returns the HTML."""
+        if path is not None:
+            self._library().write_report(str(path), source)
+        return self._library().report_html(source)
+
+    def _library(self):
+        if self._record is None:
+            from ._crawlopt import CrawloptError
+
+            raise CrawloptError(
+                "no figures: this document was read back without the library's record "
+                "(figures and reports are made from the object simulate or optimize returned)"
+            )
+        return self._record
+
+
+class GeneralSimulation(_LibraryFigures, Document):
     """A general problem's ``[input]`` played to its periodic regime (``crawlopt simulate
     --json``): ``converged``, ``status`` ("converged" or "not_converged"), ``objective`` (J;
     None without the regime), ``reward``, ``cost``, and the period as arrays ``t``, ``x``
     (states, one row per time), ``u`` and ``reactions`` (lambda per face, one row per step).
-    ``d["simulation"]`` is the document's section as before."""
+    ``d["simulation"]`` is the document's section as before. ``figures()`` and ``report()``
+    are the library's (``crawlopt simulate --plot``)."""
 
-    def __init__(self, doc: dict):
+    def __init__(self, doc: dict, record: Any = None):
+        self._record = record
         super().__init__(doc)
         sim = _series(doc["simulation"], ("t", "x", "u", "lambda", "mean_control"))
         for k, v in sim.items():
@@ -215,7 +252,7 @@ class GeneralSimulation(Document):
         return numbers_table(rows) + _optional_svg(self)
 
 
-class GeneralResult(Document):
+class GeneralResult(_LibraryFigures, Document):
     """An optimum of a general problem (``crawlopt optimize --json``), in the envelope of every
     result: ``format``, ``version``, ``kind`` ("general"), ``method``, ``problem`` (the
     problem's sections, as the file has them), ``objective`` (J re-verified by simulation),
@@ -225,9 +262,11 @@ class GeneralResult(Document):
     step), or ``durations``, ``controls``, ``states``, ``reactions`` and ``held`` per phase for
     method "phase". ``d["solution"]`` is the document's section as before (with the MILP's own
     certificate). ``from_json``/``to_json`` read and write the document (read back checked as
-    ``crawlopt certify`` checks it); ``certify()`` gives its NecessaryConditions."""
+    ``crawlopt certify`` checks it); ``certify()`` gives its NecessaryConditions; ``figures()`` and ``report()`` are the
+    library's (``crawlopt optimize --plot --report``)."""
 
-    def __init__(self, doc: dict):
+    def __init__(self, doc: dict, record: Any = None):
+        self._record = record
         sol = doc["solution"]
         if doc.get("method") == "phase":
             _series(sol, ("durations", "controls", "states", "reactions"))
@@ -353,8 +392,15 @@ class GeneralResult(Document):
 
 
 def _optional_svg(result) -> str:
-    """The result's ``plot()`` as inline SVG when matplotlib is installed (the library draws
-    no figure of a general problem), else nothing."""
+    """The library's figures of C and of the integrand when the result has its record, else
+    its ``plot()`` as inline SVG when matplotlib is installed, else nothing."""
+    if result._record is not None and result.status != "not_converged":
+        figs = result.figures()
+        return "".join(
+            f"<figure>{figs[n].svg}<figcaption>{html.escape(figs[n].caption)}</figcaption></figure>"
+            for n in ("polytope", "integrand")
+            if n in figs
+        )
     try:
         import matplotlib  # noqa: F401
     except ImportError:

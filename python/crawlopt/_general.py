@@ -181,7 +181,8 @@ class GeneralProblem:
         ``GeneralSimulation`` (``objective`` J, None without the regime, and ``status``
         "not_converged" then, with a NotConvergedWarning; ``t``, ``x``, ``u``,
         ``reactions``)."""
-        r = GeneralSimulation(self._inner.simulate(method, steps_per_period, max_periods, tol))
+        doc, record = self._inner.simulate(method, steps_per_period, max_periods, tol)
+        r = GeneralSimulation(doc, record)
         if r.status != "converged":
             warnings.warn(
                 f"the periodic regime was not reached within {r['simulation'].get('periods')} "
@@ -217,7 +218,7 @@ class GeneralProblem:
         phase. ``polish`` (discrete only;
         default True): a quadratic cost's answer is polished on its fixed face pattern before it
         is certified (``--no-polish`` is ``polish=False``); ``solution["polish"]`` records it."""
-        d = self._inner.optimize(
+        d, record = self._inner.optimize(
             method,
             m,
             shifts,
@@ -227,4 +228,4 @@ class GeneralProblem:
             max_phases,
             polish,
         )
-        return GeneralResult(d)
+        return GeneralResult(d, record)

@@ -8,6 +8,7 @@ use crate::run::run;
 use crawlopt::api::{self, GaitMethod, Naming, OptimizeSettings};
 use crawlopt::integrate::{GeneralMethod, GeneralSimOptions};
 use crawlopt::io::GeneralFile;
+use crawlopt::present::{self, GeneralReportInput};
 use pyo3::prelude::*;
 
 /// A general problem read from its file, every check of `crawlopt analyze` passed or reported.
@@ -80,7 +81,8 @@ impl GeneralProblem {
     }
 
     /// The file's `[input]` simulated (`crawlopt simulate --json`); `method` "exact" (where it
-    /// applies, else catching-up) or "catching_up"; None takes the library's default.
+    /// applies, else catching-up) or "catching_up"; None takes the library's default. Returns
+    /// the document and the record the library draws and reports.
     #[pyo3(signature = (method, steps_per_period, max_periods, tol))]
     fn simulate<'py>(
         &self,
@@ -89,7 +91,7 @@ impl GeneralProblem {
         steps_per_period: Option<usize>,
         max_periods: Option<usize>,
         tol: Option<f64>,
-    ) -> PyResult<Bound<'py, PyAny>> {
+    ) -> PyResult<(Bound<'py, PyAny>, GeneralRecord)> {
         let d = GeneralSimOptions::DEFAULT;
         let method = match method {
             "exact" => GeneralMethod::Auto,
@@ -112,13 +114,19 @@ impl GeneralProblem {
         };
         let f = self.inner.clone();
         let s = run(py, None, |_| api::simulate_general(&f, &opts))?;
-        Ok(pythonize::pythonize(py, &s)?)
+        let doc = pythonize::pythonize(py, &s)?;
+        let problem = self.inner.problem().map_err(|e| to_py(py, e))?;
+        Ok((
+            doc,
+            GeneralRecord::new(problem, Record::Simulated(Box::new(s))),
+        ))
     }
 
     /// P_m of the problem (`crawlopt optimize --json`): `method` "discrete" (global MILP) or
     /// "local" (the LPCC active-set method, `shifts` rotations of each start); None takes the
     /// library's default; "phase" (exact gaits of at most `max_phases` phases where `A = 0`,
-    /// globally). Cancellable (Ctrl-C); `progress` receives the events.
+    /// globally). Cancellable (Ctrl-C); `progress` receives the events. Returns the document and
+    /// the record the library draws and reports.
     #[pyo3(signature = (method, m, shifts, time_limit, certify, progress, max_phases, polish = None))]
     #[allow(clippy::too_many_arguments)]
     fn optimize<'py>(
@@ -132,7 +140,7 @@ impl GeneralProblem {
         progress: Option<PyObject>,
         max_phases: Option<usize>,
         polish: Option<bool>,
-    ) -> PyResult<Bound<'py, PyAny>> {
+    ) -> PyResult<(Bound<'py, PyAny>, GeneralRecord)> {
         let f = self.inner.clone();
         // The library decides what applies to a general problem, with its defaults.
         let settings = GaitMethod::from_name(method).and_then(|method| {
@@ -153,7 +161,75 @@ impl GeneralProblem {
         let r = run(py, progress, |hooks| {
             api::optimize_general_plan(&f, &plan, settings.naming, hooks)
         })?;
-        Ok(pythonize::pythonize(py, &r)?)
+        let doc = pythonize::pythonize(py, &r)?;
+        let problem = self.inner.problem().map_err(|e| to_py(py, e))?;
+        Ok((doc, GeneralRecord::new(problem, Record::Answer(r))))
+    }
+}
+
+/// What a [`GeneralRecord`] holds.
+enum Record {
+    Simulated(Box<crawlopt::io::GeneralSimulated>),
+    Answer(crawlopt::io::GeneralAnswer),
+}
+
+/// A simulation or an optimum of a general problem as the library returned it, with its
+/// problem: the library's figures and report of it (`crawlopt simulate --plot`, `crawlopt
+/// optimize --plot --report`).
+#[pyclass(module = "crawlopt._crawlopt", frozen)]
+pub struct GeneralRecord {
+    problem: crawlopt::model::general::GeneralProblem,
+    record: Record,
+}
+
+impl GeneralRecord {
+    fn new(problem: crawlopt::model::general::GeneralProblem, record: Record) -> Self {
+        GeneralRecord { problem, record }
+    }
+
+    fn input(&self) -> GeneralReportInput<'_> {
+        match &self.record {
+            Record::Simulated(s) => GeneralReportInput::Simulation(s),
+            Record::Answer(a) => GeneralReportInput::Answer(a),
+        }
+    }
+
+    fn html(&self, source: &str) -> crawlopt::Result<String> {
+        let command = match self.record {
+            Record::Simulated(_) => "crawlopt.GeneralSimulation.report (Python)",
+            Record::Answer(_) => "crawlopt.GeneralResult.report (Python)",
+        };
+        present::build_general_report(&self.problem, self.input(), source, command)
+    }
+}
+
+#[pymethods]
+impl GeneralRecord {
+    /// The library's figures: (name, caption, SVG) each.
+    fn figures(&self, py: Python<'_>) -> PyResult<Vec<(String, String, String)>> {
+        let figs = run(py, None, |_| match &self.record {
+            Record::Simulated(s) => present::general_simulation_figures(&self.problem, s),
+            Record::Answer(a) => present::general_answer_figures(&self.problem, a),
+        })?;
+        Ok(figs
+            .into_iter()
+            .map(|f| (f.name, f.caption, f.svg))
+            .collect())
+    }
+
+    /// The self-contained HTML report (`source` names the input in the page).
+    #[pyo3(signature = (source="crawlopt"))]
+    fn report_html(&self, py: Python<'_>, source: &str) -> PyResult<String> {
+        run(py, None, |_| self.html(source))
+    }
+
+    /// Writes the report to `path` (atomically, as `crawlopt optimize --report`).
+    #[pyo3(signature = (path, source="crawlopt"))]
+    fn write_report(&self, py: Python<'_>, path: std::path::PathBuf, source: &str) -> PyResult<()> {
+        run(py, None, |_| {
+            crawlopt::io::AtomicFile::check(&path)?;
+            crawlopt::present::report::write_report(&path, &self.html(source)?)
+        })
     }
 }
 

@@ -30,6 +30,7 @@ fn _crawlopt(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<model::GaitProblem>()?;
     m.add_class::<results::GaitResult>()?;
     m.add_class::<general::GeneralProblem>()?;
+    m.add_class::<general::GeneralRecord>()?;
     m.add_function(wrap_pyfunction!(model::load, m)?)?;
     m.add_function(wrap_pyfunction!(model::model_toml, m)?)?;
     m.add_function(wrap_pyfunction!(general::load_general, m)?)?;

@@ -2,7 +2,9 @@
 //! check of the problem) and simulated for a given control.
 
 use crate::error::{Error, Result};
-use crate::integrate::{simulate_general as integrate_general, GeneralSimOptions};
+use crate::integrate::{
+    simulate_general as integrate_general, GeneralMethod, GeneralSimOptions, Method, SimOptions,
+};
 use crate::io::GeneralFile;
 pub use crate::io::{Check, CheckStatus, GeneralAnalysis, GeneralOptimized, GeneralSimulated};
 use crate::model::general::{ControlSet, GeneralProblem, Reward};
@@ -174,6 +176,44 @@ pub fn simulate_general(file: &GeneralFile, opts: &GeneralSimOptions) -> Result<
         objective: simulation.objective,
         input,
         simulation,
+    })
+}
+
+/// The options of a simulation of a general problem from those a front end builds for either
+/// kind of problem file (the crawler's [`SimOptions`]): `method` (exact: the exact method where
+/// it applies, else catching-up), `steps_per_period`, `max_periods` and `tol` carry over, and
+/// the search without acceleration (`accelerate_after: None`) is the general simulator's own.
+/// Refused, naming the field: `record_periods` other than 1 (the simulation of a general
+/// problem records one period of its periodic regime, or a Cauchy problem's horizon `[0, T]`:
+/// its CSV, JSON and figures show that period) and a search without Newton steps (`newton:
+/// None`: the general simulator iterates the period map plainly, with no Newton-Krylov or
+/// Anderson acceleration to choose between).
+pub fn general_sim_options(o: &SimOptions) -> Result<GeneralSimOptions> {
+    if o.record_periods != 1 {
+        return Err(Error::invalid(
+            "periods",
+            o.record_periods,
+            "a general problem's simulation records one period of its periodic regime (a \
+             Cauchy problem's horizon [0, T]); its CSV, JSON and figures show that period",
+        ));
+    }
+    if o.newton.is_none() {
+        return Err(Error::invalid(
+            "newton",
+            "off",
+            "the general simulator iterates the period map plainly (no Newton-Krylov or \
+             Anderson acceleration), so there are no Newton steps to leave out",
+        ));
+    }
+    Ok(GeneralSimOptions {
+        method: match o.method {
+            Method::Exact => GeneralMethod::Auto,
+            Method::CatchingUp => GeneralMethod::CatchingUp,
+        },
+        steps_per_period: o.steps_per_period,
+        max_periods: o.max_periods,
+        tol: o.tol,
+        ..GeneralSimOptions::DEFAULT
     })
 }
 

@@ -32,8 +32,9 @@ impl OptimizeSettings {
     /// and its settings with the defaults filled in, or an error naming the first setting
     /// that does not apply to it (the crawler's own settings: phases grown, patience,
     /// convergence, start gaits, bounds; and those of the other methods). `front_end` lists
-    /// a front end's own options that apply to crawler results only (the command line's
-    /// `plot` and `report`), each with whether it was given; they are refused alike.
+    /// a front end's own options that apply to crawler results only, each with whether it was
+    /// given; they are refused alike (the command line's `--plot` and `--report` apply to both
+    /// kinds of file and are not listed).
     pub fn plan_general(&self, front_end: &[(&str, bool)]) -> Result<GeneralPlan> {
         let n = self.naming;
         let method = self.method;

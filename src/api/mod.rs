@@ -54,8 +54,8 @@ pub use certify_file::{certify_general_answer, certify_result_file, Certified};
 pub use events::{Event, Hooks, Observer};
 pub use fit::fit;
 pub use general::{
-    analyze_general, general_problem, optimize_general, simulate_general, GeneralAnalysis,
-    GeneralOptimized, GeneralPmSettings, GeneralSimulated,
+    analyze_general, general_problem, general_sim_options, optimize_general, simulate_general,
+    GeneralAnalysis, GeneralOptimized, GeneralPmSettings, GeneralSimulated,
 };
 pub use general_local::{
     optimize_general_local, optimize_general_with_hooks, GeneralLocalOptimized,

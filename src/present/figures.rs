@@ -17,8 +17,10 @@
 mod actuation;
 mod adjoint;
 pub mod fit;
+mod general;
 mod jm;
 mod kit;
+mod panel;
 mod polytope;
 mod spacetime;
 pub mod sweep;
@@ -26,11 +28,16 @@ mod vm;
 
 pub use actuation::{actuation_figure, ActuationSeries};
 pub use adjoint::{adjoint_figure, AdjointSeries};
+pub use general::{
+    general_polytope_figure, time_series_figure, IntervalEndData, SeriesLine, StatePanel,
+    StateSpace, TimeSeries,
+};
 pub use jm::{jm_figure, JmSeries};
 pub use kit::{sub, Figure, BACKWARD, FIGURE_SIZE, FONT, FORWARD, PNG_SCALE};
 // The kit for the figures' modules (`super::chart`, ...).
 use kit::*;
-pub use polytope::{polytope_figure, projection, projection_pairs, Edge, InC, Projection};
+pub use panel::{Edge, Projection};
+pub use polytope::{polytope_figure, projection, projection_pairs, InC};
 pub use spacetime::{display_spacing, spacetime_figure, SpaceTime};
 pub use vm::{vm_figure, vm_zero_directions, VmMap};
 

@@ -3,15 +3,25 @@
 //! This layer turns what the others compute into pictures a researcher looks at: the actuation
 //! and its rate, the space-time diagram of the blocks, the state in the polytope C, the heat map
 //! of v_m, the convergence of J_m and the adjoint of a certificate ([`figures`]), and one HTML
-//! file with the numbers, the figures and an animation of the crawler ([`report`]). It depends on
+//! file with the numbers, the figures and an animation of the crawler ([`report`]); for the
+//! general problem (P) the set C with the state's path, the controls, reactions and the
+//! objective's integrand ([`general`]) and their report ([`general_report`]). It depends on
 //! `model`, `integrate`, `optimal` and `io`; nothing depends on it.
 //!
 //! Outputs are all-or-nothing: a set of figures is written under temporary names and renamed into
 //! place only when every file has been written ([`write_figures`]).
 
 pub mod figures;
+pub mod general;
+pub mod general_report;
 pub mod report;
 pub mod text;
+
+pub use general::{
+    general_analysis_figures, general_answer_figures, general_path_figures, general_series,
+    general_simulation_figures, general_state_space, GeneralPath,
+};
+pub use general_report::{build_general_report, GeneralReportInput};
 
 use crate::certify::MultiplierData;
 use crate::error::{Error, Result};

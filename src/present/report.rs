@@ -42,7 +42,7 @@ struct AnimationData<'a> {
 }
 
 /// HTML-escapes text.
-fn esc(s: &str) -> String {
+pub(super) fn esc(s: &str) -> String {
     let mut o = String::with_capacity(s.len());
     for c in s.chars() {
         match c {
@@ -58,7 +58,7 @@ fn esc(s: &str) -> String {
 }
 
 /// A number for people: up to 6 significant digits, no trailing zeros.
-fn num(v: f64) -> String {
+pub(super) fn num(v: f64) -> String {
     if !v.is_finite() {
         return format!("{v}");
     }
@@ -84,12 +84,12 @@ fn num(v: f64) -> String {
     }
 }
 
-fn nums(v: &[f64]) -> String {
+pub(super) fn nums(v: &[f64]) -> String {
     v.iter().map(|x| num(*x)).collect::<Vec<_>>().join(", ")
 }
 
 /// An inline SVG that scales with the page: a `viewBox` is added to the root element.
-fn inline_svg(fig: &Figure) -> String {
+pub(super) fn inline_svg(fig: &Figure) -> String {
     let svg = fig.svg.trim();
     let start = svg.find("<svg").unwrap_or(0);
     let svg = &svg[start..];
@@ -204,16 +204,7 @@ fn page(
     let source = ctx.source;
     let a = crawler.analyze();
     let (nb, n) = (crawler.blocks(), crawler.links());
-    let mut h = String::with_capacity(200_000);
-    let title = format!("crawlopt report: {}", source);
-    h.push_str(&format!(
-        "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n\
-         <meta name=\"viewport\" content=\"width=device-width, initial-scale=1\">\n\
-         <meta name=\"generator\" content=\"crawlopt {}\">\n<title>{}</title>\n<style>\n{}</style>\n</head>\n<body>\n<main>\n",
-        env!("CARGO_PKG_VERSION"),
-        esc(&title),
-        CSS
-    ));
+    let mut h = open_page(&format!("crawlopt report: {}", source));
     h.push_str(&format!(
         "<h1>Optimal gait of a {nb}-block crawler</h1>\n<p class=\"sub\">{} · crawlopt {} · \
          units: any consistent set (lengths, forces, times as in the input)</p>\n",
@@ -481,22 +472,8 @@ fn page(
         certificate_section(&mut h, c);
     }
 
-    // Figures.
-    h.push_str("<h2 id=\"figures\">Figures</h2>\n");
-    for f in figs {
-        h.push_str(&format!(
-            "<figure id=\"fig-{}\">\n{}\n<figcaption>{}</figcaption>\n</figure>\n",
-            esc(&f.name),
-            inline_svg(f),
-            esc(&f.caption)
-        ));
-    }
-    h.push_str(&format!(
-        "<footer>Made by crawlopt {} (<code>{}</code>). Figures are also written as SVG and PNG by \
-         <code>crawlopt plot</code>. Paper: “On the optimal control of rate-independent soft crawlers”.</footer>\n",
-        env!("CARGO_PKG_VERSION"),
-        esc(&ctx.command)
-    ));
+    figures_section(&mut h, figs);
+    footer(&mut h, &ctx.command, "<code>crawlopt plot</code>");
     h.push_str("</main>\n<script type=\"application/json\" id=\"crawler-data\">");
     h.push_str(json);
     h.push_str("</script>\n<script>\n");
@@ -525,7 +502,13 @@ fn certificate_section(h: &mut String, c: &NecessaryConditions) {
          <th class=\"l\">condition</th><th>residual</th><th>tolerance</th><th class=\"l\">holds</th>\
          <th class=\"l\">statement</th></tr>\n",
     );
-    for k in &c.conditions {
+    conditions_rows(h, &c.conditions);
+    h.push_str("</table>\n</div>\n<p>The adjoint p(t) with the controls is the figure <a href=\"#fig-adjoint\">adjoint</a> below.</p>\n");
+}
+
+/// The rows of a table of conditions, each with its residual and tolerance.
+pub(super) fn conditions_rows(h: &mut String, conditions: &[crate::certify::ConditionCheck]) {
+    for k in conditions {
         h.push_str(&format!(
             "<tr><td class=\"l\">{}</td><td class=\"l\">{}</td><td>{:.3e}</td><td>{:.1e}</td>\
              <td class=\"l\">{}</td><td class=\"l\">{}</td></tr>\n",
@@ -537,7 +520,44 @@ fn certificate_section(h: &mut String, c: &NecessaryConditions) {
             esc(&k.statement)
         ));
     }
-    h.push_str("</table>\n</div>\n<p>The adjoint p(t) with the controls is the figure <a href=\"#fig-adjoint\">adjoint</a> below.</p>\n");
+}
+
+/// The start of a report's page: the document's head with the style sheet, up to `<main>`.
+pub(super) fn open_page(title: &str) -> String {
+    let mut h = String::with_capacity(200_000);
+    h.push_str(&format!(
+        "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n\
+         <meta name=\"viewport\" content=\"width=device-width, initial-scale=1\">\n\
+         <meta name=\"generator\" content=\"crawlopt {}\">\n<title>{}</title>\n<style>\n{}</style>\n</head>\n<body>\n<main>\n",
+        env!("CARGO_PKG_VERSION"),
+        esc(title),
+        CSS
+    ));
+    h
+}
+
+/// A report's section of figures, each inline with its caption (anchor `fig-NAME`).
+pub(super) fn figures_section(h: &mut String, figs: &[Figure]) {
+    h.push_str("<h2 id=\"figures\">Figures</h2>\n");
+    for f in figs {
+        h.push_str(&format!(
+            "<figure id=\"fig-{}\">\n{}\n<figcaption>{}</figcaption>\n</figure>\n",
+            esc(&f.name),
+            inline_svg(f),
+            esc(&f.caption)
+        ));
+    }
+}
+
+/// A report's footer: the version, the command that made it (`command`), how the figures are
+/// also written (`figures_by`, HTML) and the paper.
+pub(super) fn footer(h: &mut String, command: &str, figures_by: &str) {
+    h.push_str(&format!(
+        "<footer>Made by crawlopt {} (<code>{}</code>). Figures are also written as SVG and PNG by \
+         {figures_by}. Paper: “On the optimal control of rate-independent soft crawlers”.</footer>\n",
+        env!("CARGO_PKG_VERSION"),
+        esc(command)
+    ));
 }
 
 fn yes(v: Option<bool>) -> &'static str {

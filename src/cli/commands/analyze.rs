@@ -16,7 +16,8 @@ pub struct AnalyzeArgs {
     /// Print one JSON object.
     #[arg(long)]
     pub json: bool,
-    /// Write figures (SVG and PNG) into this directory: C, and v_m for two links.
+    /// Write figures (SVG and PNG) into this directory: C, and v_m for two links (a general
+    /// problem file: C, projected onto pairs of state components beyond two).
     #[arg(long, value_name = "DIR")]
     pub plot: Option<PathBuf>,
 }
@@ -47,17 +48,16 @@ pub fn run(a: AnalyzeArgs) -> Result<ExitCode, Error> {
     Ok(ExitCode::SUCCESS)
 }
 
-/// `crawlopt analyze` of a general problem: the analysis printed, then exit 2 with the first
-/// failed check's message if any.
+/// `crawlopt analyze` of a general problem: the figure of C written, the analysis printed, then
+/// exit 2 with the first failed check's message if any.
 fn run_general(file: &GeneralFile, a: &AnalyzeArgs) -> Result<ExitCode, Error> {
-    if a.plot.is_some() {
-        return Err(Error::invalid(
-            "--plot",
-            "a directory",
-            "has no figures for a general problem file yet",
-        ));
+    if let Some(dir) = &a.plot {
+        present::check_figure_dir(dir)?;
     }
     let found = api::analyze_general(file)?;
+    if let Some(dir) = &a.plot {
+        write_figures(dir, &present::general_analysis_figures(&found)?)?;
+    }
     if a.json {
         write_json(&found);
     } else {

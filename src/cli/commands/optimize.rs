@@ -99,11 +99,12 @@ pub struct OptimizeArgs {
     #[command(flatten)]
     pub bound: super::bound_flags::BoundArgs,
     /// Write the gait's figures (SVG and PNG) into this directory (with --certify, the
-    /// adjoint too; with --convergence, J_m against m).
+    /// adjoint too; with --convergence, J_m against m); for a general problem file, the
+    /// optimum's: C with the orbit, states, controls, reactions, the objective's integrand.
     #[arg(long, value_name = "DIR")]
     pub plot: Option<PathBuf>,
     /// Also write the self-contained HTML report of the gait (as `crawlopt report`) to this
-    /// file.
+    /// file (of either kind of problem file).
     #[arg(long, value_name = "FILE")]
     pub report: Option<PathBuf>,
     /// Print one JSON object.
@@ -208,13 +209,48 @@ pub fn run(a: OptimizeArgs) -> Result<ExitCode, Error> {
 /// rendered.
 fn run_general(file: &GeneralFile, a: &OptimizeArgs) -> Result<ExitCode, Error> {
     let settings = settings_of(a)?;
-    let plan =
-        settings.plan_general(&[("plot", a.plot.is_some()), ("report", a.report.is_some())])?;
+    let plan = settings.plan_general(&[])?;
+    // Output paths are checked before the work.
+    if let Some(path) = &a.report {
+        AtomicFile::check(path)?;
+    }
+    if let Some(dir) = &a.plot {
+        present::check_figure_dir(dir)?;
+    }
     let r = api::optimize_general_plan(file, &plan, settings.naming, Hooks::default())?;
+    if a.plot.is_some() || a.report.is_some() {
+        let problem = file.problem()?;
+        if let Some(dir) = &a.plot {
+            write_figures(dir, &present::general_answer_figures(&problem, &r)?)?;
+        }
+        if let Some(path) = &a.report {
+            let source = file_name(&a.file);
+            let command = format!(
+                "crawlopt optimize {source}{}{} --report {}",
+                match settings.method {
+                    GaitMethod::Auto => String::new(),
+                    m => format!(" --method {}", m.name()),
+                },
+                if a.certify { " --certify" } else { "" },
+                file_name(path)
+            );
+            let input = present::GeneralReportInput::Answer(&r);
+            let html = present::build_general_report(&problem, input, &source, &command)?;
+            report::write_report(path, &html)?;
+        }
+    }
     if a.json {
         json_line(&r);
     } else {
         out(&text::general_answer(&r));
+    }
+    if let Some(path) = &a.report {
+        let line = format!("wrote {}", path.display());
+        if a.json {
+            eprintln!("{line}");
+        } else {
+            outln(&line);
+        }
     }
     Ok(ExitCode::SUCCESS)
 }

@@ -4,10 +4,12 @@ use crate::output::{file_name, outln, read_text};
 use crate::parse::count;
 use clap::Args;
 use crawlopt::api::Hooks;
-use crawlopt::io::{AtomicFile, ModelFile};
+use crawlopt::api::{Naming, OptimizeSettings};
+use crawlopt::io::{AtomicFile, GeneralFile, ProblemFile};
 use crawlopt::optimal::GaitResult;
 use crawlopt::present::report;
 use crawlopt::present::text::{num, GaitScales};
+use crawlopt::present::{build_general_report, GeneralReportInput};
 use crawlopt::Error;
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -15,7 +17,8 @@ use std::process::ExitCode;
 #[derive(Args)]
 pub struct ReportArgs {
     /// A model file (TOML) with a [gait] section (the optimal gait is computed by the phase
-    /// method), or a gait result (.json, from `optimize --json`).
+    /// method), a general problem file (its optimum is computed as `optimize` computes it), or
+    /// a gait result (.json, from `optimize --json`).
     pub file: PathBuf,
     /// The HTML file to write.
     #[arg(long, short = 'o', value_name = "FILE", default_value = "report.html")]
@@ -36,7 +39,10 @@ pub fn run(a: ReportArgs) -> Result<ExitCode, Error> {
     let result = if a.file.extension().is_some_and(|e| e == "json") {
         GaitResult::from_json(&read_text(&a.file)?, &name)?
     } else {
-        let model = ModelFile::load(&a.file)?;
+        let model = match ProblemFile::load(&a.file)? {
+            ProblemFile::General(general) => return run_general(&general, &a, &name),
+            ProblemFile::Crawler(model) => model,
+        };
         crawlopt::api::optimize_model(&model, a.phases, a.time_limit, Hooks::default())?
     };
     report::write_report(&a.output, &report::build_report(&result, &name)?)?;
@@ -46,6 +52,34 @@ pub fn run(a: ReportArgs) -> Result<ExitCode, Error> {
         a.output.display(),
         num(result.objective, length),
         num(result.displacement_per_period, length)
+    ));
+    Ok(ExitCode::SUCCESS)
+}
+
+/// The report of a general problem file: its optimum by the library's plan of the flags
+/// (`optimize`'s default method; `--time-limit` applies, `--phases` is refused), reported.
+fn run_general(file: &GeneralFile, a: &ReportArgs, name: &str) -> Result<ExitCode, Error> {
+    let settings = OptimizeSettings {
+        phases: a.phases,
+        time_limit: a.time_limit,
+        naming: Naming::Flags,
+        ..OptimizeSettings::default()
+    };
+    let plan = settings.plan_general(&[])?;
+    let r = crawlopt::api::optimize_general_plan(file, &plan, settings.naming, Hooks::default())?;
+    let problem = file.problem()?;
+    let html = build_general_report(
+        &problem,
+        GeneralReportInput::Answer(&r),
+        name,
+        &format!("crawlopt report {name}"),
+    )?;
+    report::write_report(&a.output, &html)?;
+    let objective = crawlopt::present::GeneralPath::of_answer(&r)?.objective;
+    outln(&format!(
+        "wrote {} (objective J = {})",
+        a.output.display(),
+        num(objective, objective.abs())
     ));
     Ok(ExitCode::SUCCESS)
 }

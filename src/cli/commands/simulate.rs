@@ -5,7 +5,7 @@ use crate::output::{json_line, out};
 use crate::parse::count;
 use clap::{Args, ValueEnum};
 use crawlopt::api::{self, rename_fields, Hooks};
-use crawlopt::integrate::{GeneralMethod, GeneralSimOptions, Method, SimOptions};
+use crawlopt::integrate::{Method, SimOptions};
 use crawlopt::io::{write_trajectory_csv, AtomicFile, GeneralFile, ProblemFile};
 use crawlopt::present::{self, text, write_figures};
 use crawlopt::Error;
@@ -92,7 +92,8 @@ pub struct SimulateArgs {
     #[arg(long)]
     pub json: bool,
     /// Write figures (SVG and PNG) into this directory: actuation, space-time diagram over
-    /// max(periods, 3) periods, the orbit in C.
+    /// max(periods, 3) periods, the orbit in C; for a general problem file C with the orbit,
+    /// the states, controls, reactions and the objective's integrand.
     #[arg(long, value_name = "DIR")]
     pub plot: Option<PathBuf>,
 }
@@ -117,20 +118,7 @@ pub fn run(a: SimulateArgs) -> Result<ExitCode, Error> {
     let crawler = model.crawler()?;
     crawler.require_unique()?;
     let act = model.actuation(crawler.links())?;
-    let opts = SimOptions {
-        method: match a.method {
-            MethodArg::Exact => Method::Exact,
-            MethodArg::CatchingUp => Method::CatchingUp,
-        },
-        steps_per_period: a.steps_per_period,
-        record_periods: a.periods,
-        max_periods: a.max_periods,
-        tol: a.tol,
-        accelerate_after: (!a.no_accelerate).then_some(a.accelerate_after),
-        newton: SimOptions::DEFAULT.newton.filter(|_| !a.no_newton),
-        initial_state: model.simulation.initial_state.clone(),
-        increment_budget: a.increment_budget,
-    };
+    let opts = sim_options(&a, model.simulation.initial_state.clone());
     // Output paths are checked before the work: a directory for -o, a file for --plot.
     if let Some(path) = &a.output {
         if a.periods == 0 {
@@ -198,46 +186,53 @@ pub fn run(a: SimulateArgs) -> Result<ExitCode, Error> {
     Ok(ExitCode::from(EXIT_NOT_CONVERGED))
 }
 
-/// `crawlopt simulate` of a general problem: exact where it applies (`A = 0`, piecewise-constant
-/// input) unless `--method catching-up`, else catching-up.
-fn run_general(file: &GeneralFile, a: &SimulateArgs) -> Result<ExitCode, Error> {
-    let unsupported = |flag: &str| {
-        Err(Error::invalid(
-            flag,
-            "a value",
-            "is not supported for a general problem file yet",
-        ))
-    };
-    if let Some(path) = &a.output {
-        crawlopt::io::AtomicFile::check(path)?;
-    }
-    if a.plot.is_some() {
-        return unsupported("--plot");
-    }
-    if a.periods != 1 {
-        return unsupported("--periods");
-    }
-    if a.no_newton {
-        return unsupported("--no-newton");
-    }
-    let opts = GeneralSimOptions {
+/// The library's options of the flags (both kinds of problem file take the same ones).
+fn sim_options(a: &SimulateArgs, initial_state: Option<Vec<f64>>) -> SimOptions {
+    SimOptions {
         method: match a.method {
-            MethodArg::Exact => GeneralMethod::Auto,
-            MethodArg::CatchingUp => GeneralMethod::CatchingUp,
+            MethodArg::Exact => Method::Exact,
+            MethodArg::CatchingUp => Method::CatchingUp,
         },
         steps_per_period: a.steps_per_period,
+        record_periods: a.periods,
         max_periods: a.max_periods,
         tol: a.tol,
-        ..GeneralSimOptions::DEFAULT
+        accelerate_after: (!a.no_accelerate).then_some(a.accelerate_after),
+        newton: SimOptions::DEFAULT.newton.filter(|_| !a.no_newton),
+        initial_state,
+        increment_budget: a.increment_budget,
+    }
+}
+
+/// `crawlopt simulate` of a general problem: exact where it applies (`A = 0`, piecewise-constant
+/// input) unless `--method catching-up`, else catching-up; the library decides which of the
+/// flags apply ([`api::general_sim_options`]).
+fn run_general(file: &GeneralFile, a: &SimulateArgs) -> Result<ExitCode, Error> {
+    let named = |e| {
+        let names = [
+            ("steps_per_period", "--steps-per-period"),
+            ("max_periods", "--max-periods"),
+            ("tol", "--tol"),
+            ("periods", "--periods"),
+            ("newton", "--no-newton"),
+        ];
+        rename_fields(e, &names.map(|(f, flag)| (f, flag.to_string())))
     };
-    let names = [
-        ("steps_per_period", "--steps-per-period"),
-        ("max_periods", "--max-periods"),
-        ("tol", "--tol"),
-    ];
-    let r = api::simulate_general(file, &opts)
-        .map_err(|e| rename_fields(e, &names.map(|(f, flag)| (f, flag.to_string()))))?;
-    // The recorded period, only once the periodic regime is reached.
+    let opts = api::general_sim_options(&sim_options(a, None)).map_err(named)?;
+    // Output paths are checked before the work: a directory for -o, a file for --plot.
+    if let Some(path) = &a.output {
+        AtomicFile::check(path)?;
+    }
+    if let Some(dir) = &a.plot {
+        present::check_figure_dir(dir)?;
+    }
+    let r = api::simulate_general(file, &opts).map_err(named)?;
+    // Only once the periodic regime is reached; the figures before anything is written, so
+    // that their failure leaves no CSV.
+    let figs = match (&a.plot, r.simulation.converged) {
+        (Some(_), true) => Some(present::general_simulation_figures(&file.problem()?, &r)?),
+        _ => None,
+    };
     let written = match &a.output {
         Some(path) if r.simulation.converged => {
             crawlopt::io::write_general_csv(path, &r.simulation)?;
@@ -245,6 +240,9 @@ fn run_general(file: &GeneralFile, a: &SimulateArgs) -> Result<ExitCode, Error> 
         }
         _ => false,
     };
+    if let (Some(dir), Some(figs)) = (&a.plot, &figs) {
+        write_figures(dir, figs)?;
+    }
     if a.json {
         json_line(&r);
     } else {
@@ -256,10 +254,22 @@ fn run_general(file: &GeneralFile, a: &SimulateArgs) -> Result<ExitCode, Error> 
     if r.simulation.converged {
         Ok(ExitCode::SUCCESS)
     } else {
+        let unwritten: Vec<String> = [
+            a.output
+                .as_ref()
+                .map(|p| format!(", no trajectory written to {}", p.display())),
+            a.plot
+                .as_ref()
+                .map(|d| format!(", no figures written to {}", d.display())),
+        ]
+        .into_iter()
+        .flatten()
+        .collect();
         eprintln!(
-            "error: the periodic regime was not reached within {} periods; J is not reported \
+            "error: the periodic regime was not reached within {} periods; J is not reported{} \
              (raise --max-periods or --tol)",
-            r.simulation.periods
+            r.simulation.periods,
+            unwritten.concat()
         );
         Ok(ExitCode::from(3))
     }

@@ -11,6 +11,7 @@ pub mod local;
 pub mod phase;
 mod pm;
 mod polish;
+pub mod projection;
 
 pub use discrete::{simulate_grid, solve_general_branch, GeneralPm, MAX_GENERAL_M, PM_DATA_RANGE};
 pub use geometry::{
@@ -24,3 +25,4 @@ pub use phase::{
     check_general_phase, replay_phases, solve_general_phase, GeneralPhaseGait, MAX_GENERAL_PHASES,
 };
 pub use pm::{solve_general_pm, solve_general_pm_with};
+pub use projection::{project_polyhedron, ProjectedVertex, MAX_PROJECTED_VERTICES};

@@ -4,37 +4,12 @@
 use super::kit::*;
 // The kit's alias, not the prelude's.
 use super::kit::DrawResult;
+use super::panel::{Edge, IntervalEnd, IntervalPanel, PairPanel, Projection};
 use crate::error::{Error, Result};
 use crate::integrate::Trajectory;
 use crate::model::Crawler;
 use plotters::coord::Shift;
 use plotters::prelude::*;
-use plotters::style::text_anchor::{HPos, Pos, VPos};
-
-/// Projection of C onto the link forces `(x_i, x_j)`, `i < j` (0-based): the hexagon
-/// `{ a in I_1, b - a in I_2, b in -I_3 }` where `I_1`, `I_2`, `I_3` are the ranges of the summed
-/// increments `-F` of the blocks `1..=i+1`, `i+2..=j+1` and `j+2..=N` (paths view of
-/// `model::polytope`: the three groups move independently).
-#[derive(Debug, Clone, PartialEq)]
-pub struct Projection {
-    /// Vertices of the polygon, counter-clockwise.
-    pub vertices: Vec<(f64, f64)>,
-    /// The edges of positive length among the six bounding lines (redundant faces have none).
-    pub edges: Vec<Edge>,
-}
-
-/// An edge of a projection of C.
-#[derive(Debug, Clone, PartialEq)]
-pub struct Edge {
-    /// The face: `b+` (block `b` slides forward), `b−`, or a group `1–2+`.
-    pub label: String,
-    /// One end.
-    pub from: (f64, f64),
-    /// The other end.
-    pub to: (f64, f64),
-    /// Unit outer normal.
-    pub normal: (f64, f64),
-}
 
 pub(super) fn group_label(lo: usize, hi: usize, sign: char) -> String {
     if lo == hi {
@@ -46,6 +21,9 @@ pub(super) fn group_label(lo: usize, hi: usize, sign: char) -> String {
 
 /// The projection of C onto `(x_i, x_j)` (0-based links, `i < j`), with face labels: `b+` is
 /// block `b` sliding forward (`F_b = mu_b^+`), `b−` backward; a group `1–2+` slides together.
+/// It is the hexagon `{ a in I_1, b - a in I_2, b in -I_3 }` where `I_1`, `I_2`, `I_3` are the
+/// ranges of the summed increments `-F` of the blocks `1..=i+1`, `i+2..=j+1` and `j+2..=N`
+/// (paths view of `model::polytope`: the three groups move independently).
 pub fn projection(crawler: &Crawler, i: usize, j: usize) -> Projection {
     let (mp, mm) = (crawler.mu_forward(), crawler.mu_backward());
     let nb = crawler.blocks();
@@ -95,6 +73,7 @@ pub fn projection(crawler: &Crawler, i: usize, j: usize) -> Projection {
     Projection {
         vertices: poly,
         edges,
+        open_sides: Vec::new(),
     }
 }
 
@@ -143,10 +122,7 @@ pub struct InC<'a> {
 }
 
 impl InC<'_> {
-    fn draw_interval<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>, s: Sty) -> DrawResult
-    where
-        DB::ErrorType: 'static,
-    {
+    fn interval(&self) -> IntervalPanel<'static> {
         let (mp, mm) = (self.crawler.mu_forward(), self.crawler.mu_backward());
         let (lo, hi) = ((-mp[0]).max(-mm[1]), mm[0].min(mp[1]));
         let label_hi = if mm[0] < mp[1] { "1−" } else { "2+" };
@@ -155,41 +131,21 @@ impl InC<'_> {
             Some(o) => (o.t[0], *o.t.last().unwrap_or(&1.0)),
             None => (0.0, 1.0),
         };
-        let w = hi - lo;
-        let mut c = chart(
-            root,
-            s,
-            "The state x(t) in C = [α, β] (one link)",
-            (t0, t1),
-            (lo - 0.25 * w, hi + 0.25 * w),
-            "time t [time]",
-            "link compression x₁ [force]",
-        )?;
-        c.draw_series(std::iter::once(Rectangle::new(
-            [(t0, lo), (t1, hi)],
-            RGBColor(0, 114, 178).mix(0.08).filled(),
-        )))?;
-        for (v, label, what) in [(hi, label_hi, "β"), (lo, label_lo, "α")] {
-            c.draw_series(std::iter::once(PathElement::new(
-                vec![(t0, v), (t1, v)],
-                s.line(BLACK, 1.6),
-            )))?;
-            let dy = if v == hi { 0.09 * w } else { -0.09 * w };
-            c.draw_series(std::iter::once(Text::new(
-                format!("face {label}:  x₁ = {what} = {}", fmt_num(v)),
-                (t0 + 0.01 * (t1 - t0), v + dy),
-                s.text(13.0).pos(Pos::new(HPos::Left, VPos::Center)),
-            )))?;
+        let end = |v: f64, label: &str, what: &str| IntervalEnd {
+            value: v,
+            text: format!("face {label}:  x₁ = {what} = {}", fmt_num(v)),
+            face: true,
+        };
+        IntervalPanel {
+            title: "The state x(t) in C = [α, β] (one link)",
+            ylabel: "link compression x₁ [force]",
+            ends: [end(lo, label_lo, "α"), end(hi, label_hi, "β")],
+            times: (t0, t1),
+            orbit: self
+                .orbit
+                .map(|o| o.t.iter().zip(&o.x).map(|(&t, x)| (t, x[0])).collect()),
+            orbit_label: "x₁(t) on the periodic orbit",
         }
-        if let Some(o) = self.orbit {
-            let pts: Vec<(f64, f64)> = o.t.iter().zip(&o.x).map(|(&t, x)| (t, x[0])).collect();
-            draw_thick(&mut c, &pts, ORBIT, 2.6, s)?;
-            c.draw_series(std::iter::empty::<PathElement<(f64, f64)>>())?
-                .label("x₁(t) on the periodic orbit")
-                .legend(legend_line(ORBIT, s.px(3.0)));
-            legend(&mut c, s, SeriesLabelPosition::LowerRight)?;
-        }
-        Ok(())
     }
 
     fn draw_pair<DB: DrawingBackend>(
@@ -203,131 +159,31 @@ impl InC<'_> {
         DB::ErrorType: 'static,
     {
         let p = projection(self.crawler, i, j);
-        // Room around the polygon for the face labels (group labels such as 1–2+ are wide).
-        let pad = if big { 0.18 } else { 0.3 };
-        let xr = range_of(p.vertices.iter().map(|v| &v.0), pad);
-        let yr = range_of(p.vertices.iter().map(|v| &v.1), pad);
-        // Equal scales on both axes: widen the shorter range to the plot's aspect ratio.
-        let (w, h) = area.dim_in_pixel();
-        let (pw, ph) = (
-            w as f64 - s.px(70.0 + 28.0) as f64,
-            h as f64 - s.px(46.0 + 20.0 + 30.0) as f64,
-        );
-        let (sx, sy) = ((xr.1 - xr.0) / pw.max(1.0), (yr.1 - yr.0) / ph.max(1.0));
-        let k = sx.max(sy);
-        let (cx, cy) = ((xr.0 + xr.1) / 2.0, (yr.0 + yr.1) / 2.0);
-        let xr = (cx - k * pw / 2.0, cx + k * pw / 2.0);
-        let yr = (cy - k * ph / 2.0, cy + k * ph / 2.0);
         let title = if big {
             "The state x(t) in the polytope C (faces: block, sign)".to_string()
         } else {
             format!("C projected on (x{}, x{})", sub(i + 1), sub(j + 1))
         };
-        let mut c = chart(
-            area,
-            s,
-            &title,
-            xr,
-            yr,
-            &format!("x{} [force]", sub(i + 1)),
-            &format!("x{} [force]", sub(j + 1)),
-        )?;
-        let mut closed = p.vertices.clone();
-        closed.push(p.vertices[0]);
-        c.draw_series(std::iter::once(Polygon::new(
-            p.vertices.clone(),
-            RGBColor(0, 114, 178).mix(0.08).filled(),
-        )))?;
-        c.draw_series(std::iter::once(PathElement::new(
-            closed,
-            s.line(BLACK, 1.6),
-        )))?;
-        let gap = 0.035 * (xr.1 - xr.0);
-        for e in &p.edges {
-            let (label, a, b, (na, nbv)) = (&e.label, e.from, e.to, &e.normal);
-            let m = ((a.0 + b.0) / 2.0, (a.1 + b.1) / 2.0);
-            let h = if *na > 0.3 {
-                HPos::Left
-            } else if *na < -0.3 {
-                HPos::Right
-            } else {
-                HPos::Center
-            };
-            let v = if *nbv > 0.3 {
-                VPos::Bottom
-            } else if *nbv < -0.3 {
-                VPos::Top
-            } else {
-                VPos::Center
-            };
-            c.draw_series(std::iter::once(Text::new(
-                label.clone(),
-                (m.0 + gap * na, m.1 + gap * nbv),
-                s.text_c(if big { 15.0 } else { 14.0 }, RGBColor(60, 60, 60))
-                    .pos(Pos::new(h, v)),
-            )))?;
+        PairPanel {
+            proj: &p,
+            title,
+            axes: (
+                format!("x{} [force]", sub(i + 1)),
+                format!("x{} [force]", sub(j + 1)),
+            ),
+            big,
+            transient: self
+                .transient
+                .map(|tr| tr.iter().map(|x| (x[i], x[j])).collect()),
+            orbit: self
+                .orbit
+                .map(|o| o.x.iter().map(|x| (x[i], x[j])).collect()),
+            orbit_label: "periodic orbit",
+            origin: true,
+            equal_scale: true,
+            dots: &[],
         }
-        // The origin (unloaded crawler).
-        c.draw_series(std::iter::once(Cross::new(
-            (0.0, 0.0),
-            s.px(4.0),
-            s.line(RGBColor(120, 120, 120), 1.0),
-        )))?;
-        if let Some(tr) = self.transient.filter(|t| t.len() >= 2) {
-            let pts: Vec<(f64, f64)> = tr.iter().map(|x| (x[i], x[j])).collect();
-            draw_thick(&mut c, &pts, RGBColor(120, 120, 120), 1.2, s)?;
-            c.draw_series(std::iter::empty::<PathElement<(f64, f64)>>())?
-                .label("transient from x = 0")
-                .legend(legend_line(RGBColor(120, 120, 120), s.px(1.5)));
-        }
-        if let Some(o) = self.orbit {
-            let pts: Vec<(f64, f64)> = dedup(o.x.iter().map(|x| (x[i], x[j])).collect());
-            draw_thick(&mut c, &pts, ORBIT, 2.8, s)?;
-            c.draw_series(std::iter::empty::<PathElement<(f64, f64)>>())?
-                .label("periodic orbit")
-                .legend(legend_line(ORBIT, s.px(3.0)));
-            c.draw_series(std::iter::once(Circle::new(
-                pts[0],
-                s.px(4.5),
-                ORBIT.filled(),
-            )))?
-            .label("x(0)")
-            .legend(|(x, y)| Circle::new((x + 11, y), 4, ORBIT.filled()));
-            // Direction of travel: an arrow head in the middle of the longest segment.
-            let longest = pts.windows(2).map(|w| (w[0], w[1])).max_by(|a, b| {
-                let la = (a.1 .0 - a.0 .0).hypot(a.1 .1 - a.0 .1);
-                let lb = (b.1 .0 - b.0 .0).hypot(b.1 .1 - b.0 .1);
-                la.total_cmp(&lb)
-            });
-            if let Some((a, b)) = longest {
-                let (dx, dy) = (b.0 - a.0, b.1 - a.1);
-                let len = dx.hypot(dy);
-                if len > 0.0 {
-                    let size = 0.035 * (xr.1 - xr.0);
-                    let (ux, uy) = (dx / len, dy / len);
-                    let tip = (
-                        (a.0 + b.0) / 2.0 + 0.5 * size * ux,
-                        (a.1 + b.1) / 2.0 + 0.5 * size * uy,
-                    );
-                    let l = (
-                        tip.0 - size * (ux - 0.5 * uy),
-                        tip.1 - size * (uy + 0.5 * ux),
-                    );
-                    let r = (
-                        tip.0 - size * (ux + 0.5 * uy),
-                        tip.1 - size * (uy - 0.5 * ux),
-                    );
-                    c.draw_series(std::iter::once(Polygon::new(
-                        vec![tip, l, r],
-                        ORBIT.filled(),
-                    )))?;
-                }
-            }
-            if big {
-                legend(&mut c, s, SeriesLabelPosition::LowerRight)?;
-            }
-        }
-        Ok(())
+        .draw(area, s)
     }
 }
 
@@ -338,7 +194,7 @@ impl Plot for InC<'_> {
     {
         let n = self.crawler.links();
         if n == 1 {
-            return self.draw_interval(root, s);
+            return self.interval().draw(root, s);
         }
         let pairs = projection_pairs(n);
         if pairs.len() == 1 {
