@@ -3,7 +3,8 @@
 //! `format`, `version`, `kind`, `method`, `problem`, `objective`, `status`, `certificate` and
 //! `solution`, reads back from itself alone, certifies (the same numbers as `optimize --certify`,
 //! which certifies the answer in memory) and is refused, naming the field, when a number in it
-//! was changed; crawler results read as before, with `kind` or without.
+//! was changed; crawler results read as before, with `kind` or without; `plot`, `report` and
+//! `certify --plot` draw a general result read back as `optimize` drew it.
 
 use std::process::Output;
 
@@ -137,14 +138,16 @@ fn certify_reads_a_general_result_as_optimize_certify_does() {
             ),
             "{shown}"
         );
-        // --plot draws a crawler's gait only.
-        let out = crawlopt(&["certify", file, "--plot", dir.path().to_str().unwrap()]);
-        assert_eq!(out.status.code(), Some(2));
-        assert!(
-            stderr(&out).starts_with("error: --plot"),
-            "{}",
-            stderr(&out)
-        );
+        // --plot draws the result's figures and the adjoint of the conditions just computed.
+        let figs = dir.path().join("certify-figures");
+        let out = crawlopt(&["certify", file, "--plot", figs.to_str().unwrap()]);
+        assert!(out.status.success(), "{}", stderr(&out));
+        for name in ["polytope", "controls", "reactions", "integrand", "adjoint"] {
+            assert!(
+                figs.join(format!("{name}.svg")).is_file(),
+                "{example}: {name}"
+            );
+        }
     }
     // §4's one-link optimum J* = 3 found by the local method from the square waves: a P_m
     // process, certified; its conditions hold.
@@ -365,4 +368,74 @@ fn a_general_simulation_has_its_objective_at_the_top() {
     let v = json_of(&crawlopt(&["simulate", ONE_LINK, "--json"]));
     assert_eq!(v["objective"], v["simulation"]["objective"]);
     assert!((v["objective"].as_f64().unwrap() - 3.0).abs() < 1e-12);
+}
+
+/// `plot` and `report` read a general result back (the problem from its envelope) and draw
+/// what `optimize --plot --report` drew from the answer in memory: the same figures, byte for
+/// byte (the numbers round-trip exactly), and a report showing the same objective.
+#[test]
+fn plot_and_report_read_a_general_result_back() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    for (example, args) in [
+        ("examples/general_drift.toml", vec!["--m", "3"]),
+        (ONE_LINK, vec!["--method", "phase"]),
+    ] {
+        let live = d.join("live");
+        let html = d.join("live.html");
+        let mut all = args.clone();
+        all.extend(["--plot", live.to_str().unwrap()]);
+        all.extend(["--report", html.to_str().unwrap()]);
+        let (text, v) = optimize(example, &all);
+        let file = write(d, "r.json", &text);
+        let again = d.join("again");
+        let out = crawlopt(&[
+            "plot",
+            file.to_str().unwrap(),
+            "-o",
+            again.to_str().unwrap(),
+        ]);
+        assert!(out.status.success(), "{}", stderr(&out));
+        let mut names: Vec<_> = std::fs::read_dir(&live)
+            .unwrap()
+            .map(|e| e.unwrap().file_name())
+            .filter(|n| n.to_string_lossy().ends_with(".svg"))
+            .collect();
+        names.sort();
+        assert!(names.len() >= 4, "{example}: {names:?}");
+        for n in &names {
+            let (a, b) = (
+                std::fs::read(live.join(n)).unwrap(),
+                std::fs::read(again.join(n)).unwrap(),
+            );
+            assert!(a == b, "{example}: {n:?} differs when read back");
+        }
+        let page = d.join("again.html");
+        let out = crawlopt(&[
+            "report",
+            file.to_str().unwrap(),
+            "-o",
+            page.to_str().unwrap(),
+        ]);
+        assert!(out.status.success(), "{}", stderr(&out));
+        let value = |p: &std::path::Path| {
+            let h = std::fs::read_to_string(p).unwrap();
+            let key = "id=\"objective\" data-value=\"";
+            let at = h.find(key).unwrap() + key.len();
+            h[at..at + h[at..].find('"').unwrap()]
+                .parse::<f64>()
+                .unwrap()
+        };
+        let j = v["objective"].as_f64().unwrap();
+        assert!(
+            (value(&page) - j).abs() <= 1e-12 * j.abs().max(1.0),
+            "{example}"
+        );
+        assert!(
+            (value(&html) - j).abs() <= 1e-12 * j.abs().max(1.0),
+            "{example}"
+        );
+        std::fs::remove_dir_all(&live).unwrap();
+        std::fs::remove_dir_all(&again).unwrap();
+    }
 }

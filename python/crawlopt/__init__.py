@@ -487,7 +487,7 @@ def read_result(path: str) -> Union[GaitResult, GeneralResult]:
     ``GeneralResult`` for a general problem's; ``certify()`` on either gives its
     NecessaryConditions."""
     r = _rs.read_result_file(str(path))
-    return GeneralResult(r) if isinstance(r, dict) else GaitResult(r)
+    return GeneralResult(*r) if isinstance(r, tuple) else GaitResult(r)
 
 
 def simulate(

@@ -149,8 +149,9 @@ def _series(d: dict, keys) -> dict:
 
 class _LibraryFigures:
     """The library's figures and report of a general problem's record (``figures()``,
-    ``report()``), kept by the object ``simulate`` or ``optimize`` returned (a copy read back
-    from its document, e.g. unpickled, has none)."""
+    ``report()``), kept by the object ``simulate`` or ``optimize`` returned and by a result
+    read back with ``read_result`` or ``GeneralResult.from_json`` (an unpickled copy has
+    none)."""
 
     _record: Any = None
 
@@ -177,7 +178,8 @@ class _LibraryFigures:
 
             raise CrawloptError(
                 "no figures: this document was read back without the library's record "
-                "(figures and reports are made from the object simulate or optimize returned)"
+                "(figures and reports are made from the object simulate or optimize returned, "
+                "or from a result file read with crawlopt.read_result)"
             )
         return self._record
 
@@ -301,7 +303,7 @@ class GeneralResult(_LibraryFigures, Document):
         number that disagrees raises InputError naming its field)."""
         from . import _crawlopt as _rs
 
-        return GeneralResult(_rs.read_general_result(text, name))
+        return GeneralResult(*_rs.read_general_result(text, name))
 
     def to_json(self) -> str:
         """The result document (``crawlopt optimize --json``'s form)."""

@@ -168,7 +168,7 @@ impl GeneralProblem {
 }
 
 /// What a [`GeneralRecord`] holds.
-enum Record {
+pub(crate) enum Record {
     Simulated(Box<crawlopt::io::GeneralSimulated>),
     Answer(crawlopt::io::GeneralAnswer),
 }
@@ -183,7 +183,14 @@ pub struct GeneralRecord {
 }
 
 impl GeneralRecord {
-    fn new(problem: crawlopt::model::general::GeneralProblem, record: Record) -> Self {
+    /// The record of a general result read back from its document (the problem its envelope
+    /// stores), so that a result file draws and reports as the object `optimize` returned.
+    pub(crate) fn of_answer(r: crawlopt::io::GeneralAnswer) -> crawlopt::Result<Self> {
+        let problem = r.problem().problem()?;
+        Ok(GeneralRecord::new(problem, Record::Answer(r)))
+    }
+
+    pub(crate) fn new(problem: crawlopt::model::general::GeneralProblem, record: Record) -> Self {
         GeneralRecord { problem, record }
     }
 

@@ -2,6 +2,7 @@
 //! as the same JSON, certified, drawn and reported by the library.
 
 use crate::errors::to_py;
+use crate::general::GeneralRecord;
 use crate::run::run;
 use crawlopt::certify::{certify_result, NecessaryConditions};
 use crawlopt::io::{GeneralAnswer, ResultFile};
@@ -138,19 +139,27 @@ fn context<'a>(source: &'a str, c: Option<&'a NecessaryConditions>) -> report::R
 }
 
 /// Reads a result document of either kind, checked as `crawlopt certify` checks it (`name`
-/// for messages): a `GaitResult` for a crawler's, the document as a dict for a general
-/// problem's (which `crawlopt/_documents.py` wraps in `GeneralResult`).
+/// for messages): a `GaitResult` for a crawler's; for a general problem's, the document as a
+/// dict and the library's record of it, which `crawlopt/_documents.py` wraps in
+/// `GeneralResult` (its figures and report come from the record).
 #[pyfunction]
 #[pyo3(signature = (text, name="result"))]
 pub fn read_result<'py>(py: Python<'py>, text: &str, name: &str) -> PyResult<Bound<'py, PyAny>> {
     match ResultFile::from_json(text, name).map_err(|e| to_py(py, e))? {
         ResultFile::Crawler(r) => Ok(Bound::new(py, GaitResult { inner: *r })?.into_any()),
-        ResultFile::General(r) => Ok(pythonize::pythonize(py, &*r)?),
+        ResultFile::General(r) => general_pair(py, *r),
     }
 }
 
+/// A general result as (document, record).
+fn general_pair(py: Python<'_>, r: GeneralAnswer) -> PyResult<Bound<'_, PyAny>> {
+    let doc = pythonize::pythonize(py, &r)?;
+    let record = GeneralRecord::of_answer(r).map_err(|e| to_py(py, e))?;
+    Ok((doc, record).into_pyobject(py)?.into_any())
+}
+
 /// A general problem's result document read back (checked; a crawler's result is refused
-/// naming `kind`), as a dict.
+/// naming `kind`), as the document (a dict) and the library's record of it.
 #[pyfunction]
 #[pyo3(signature = (text, name="result"))]
 pub fn read_general_result<'py>(
@@ -159,7 +168,7 @@ pub fn read_general_result<'py>(
     name: &str,
 ) -> PyResult<Bound<'py, PyAny>> {
     let r = GeneralAnswer::from_json(text, name).map_err(|e| to_py(py, e))?;
-    Ok(pythonize::pythonize(py, &r)?)
+    general_pair(py, r)
 }
 
 /// [`read_result`] of a file (read with the library's bounds; errors name the file).

@@ -3,6 +3,7 @@
 and exact phase gaits are the library's, with the closed form of the §4 one-link problem."""
 
 import json
+import re
 
 import crawlopt as co
 import numpy as np
@@ -148,6 +149,10 @@ def test_general_results_read_back_and_certify(tmp_path):
     back = co.read_result(path)
     assert isinstance(back, co.GeneralResult)
     assert back.objective == r.objective == pytest.approx(J_STAR, abs=1e-9)
+    # Read back, it draws and reports as the object optimize returned.
+    assert back.figures()["polytope"].svg == r.figures()["polytope"].svg
+    shown = re.search(r'id="objective" data-value="([^"]+)"', back.report()).group(1)
+    assert float(shown) == r.objective
     assert np.array_equal(back.u, r.u) and np.array_equal(back.reactions, r.reactions)
     c = back.certify()
     nc = r.necessary_conditions

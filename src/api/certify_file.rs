@@ -12,6 +12,7 @@ use crate::certify::{
 };
 use crate::error::{Error, Result};
 use crate::io::{GeneralAnswer, ResultFile};
+use crate::present::{self, figures::Figure};
 use serde::Serialize;
 
 /// The necessary conditions of a result, of its kind.
@@ -53,4 +54,26 @@ pub fn certify_general_answer(r: &GeneralAnswer, what: &str) -> Result<GeneralNe
         }
     };
     certify_general(&p, &pr, &CertifyOptions::default())
+}
+
+/// The figures of a certified result file (`crawlopt certify --plot`): the result's own
+/// figures with the adjoint p(t) of its necessary conditions (a crawler's with p + omega and
+/// u(t) beside it).
+pub fn certified_figures(r: &ResultFile, cert: &Certified) -> Result<Vec<Figure>> {
+    match (r, cert) {
+        (ResultFile::Crawler(result), Certified::Crawler(c)) => {
+            let mut figs = present::gait_figures(result)?;
+            figs.push(present::adjoint_figure_of(&c.multipliers)?);
+            Ok(figs)
+        }
+        (ResultFile::General(a), Certified::General(c)) => {
+            let p = a.problem().problem()?;
+            let mut figs = present::general_answer_figures(&p, a)?;
+            figs.extend(present::general_adjoint_figure(&p, c)?);
+            Ok(figs)
+        }
+        _ => Err(Error::Numerical(
+            "the certificate is not of the result's kind".into(),
+        )),
+    }
 }

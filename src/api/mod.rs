@@ -50,7 +50,7 @@ mod optimize;
 mod settings;
 
 pub use bench::{bench, rename_fields, BenchCase, BenchSettings};
-pub use certify_file::{certify_general_answer, certify_result_file, Certified};
+pub use certify_file::{certified_figures, certify_general_answer, certify_result_file, Certified};
 pub use events::{Event, Hooks, Observer};
 pub use fit::fit;
 pub use general::{

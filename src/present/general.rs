@@ -509,27 +509,37 @@ pub(super) fn answer_figures_with(
     let mut figs = general_path_figures(p, g, path)?;
     if let GeneralAnswer::Discrete(r) = a {
         if let Some(nc) = &r.necessary_conditions {
-            let m = &nc.multipliers;
-            if m.times.len() == m.p.len() + 1 && !m.p.is_empty() {
-                let lines = (0..p.states())
-                    .map(|k| SeriesLine {
-                        label: format!("p{}(t)", sub(k + 1)),
-                        points: steps(&m.times, m.p.iter().map(|r| r[k])),
-                        thick: true,
-                    })
-                    .collect();
-                figs.push(time_series_figure(&TimeSeries {
-                    name: "adjoint".into(),
-                    caption: "The adjoint p(t) of the necessary conditions (Theorem 2.2, \
-                              discrete form), constant on each step of P_m."
-                        .into(),
-                    title: "The adjoint p(t)".into(),
-                    ylabel: "adjoint p".into(),
-                    lines,
-                    levels: Vec::new(),
-                })?);
-            }
+            figs.extend(general_adjoint_figure(p, nc)?);
         }
     }
     Ok(figs)
+}
+
+/// The adjoint p(t) of necessary conditions computed on a P_m process of `p` (Theorem 2.2,
+/// discrete form), constant on each step; `None` when the conditions carry no adjoint.
+pub fn general_adjoint_figure(
+    p: &GeneralProblem,
+    nc: &crate::certify::GeneralNecessaryConditions,
+) -> Result<Option<Figure>> {
+    let m = &nc.multipliers;
+    if m.times.len() != m.p.len() + 1 || m.p.is_empty() {
+        return Ok(None);
+    }
+    let lines = (0..p.states())
+        .map(|k| SeriesLine {
+            label: format!("p{}(t)", sub(k + 1)),
+            points: steps(&m.times, m.p.iter().map(|r| r[k])),
+            thick: true,
+        })
+        .collect();
+    Ok(Some(time_series_figure(&TimeSeries {
+        name: "adjoint".into(),
+        caption: "The adjoint p(t) of the necessary conditions (Theorem 2.2, discrete form), \
+                  constant on each step of P_m."
+            .into(),
+        title: "The adjoint p(t)".into(),
+        ylabel: "adjoint p".into(),
+        lines,
+        levels: Vec::new(),
+    })?))
 }

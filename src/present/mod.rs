@@ -18,10 +18,10 @@ pub mod report;
 pub mod text;
 
 pub use general::{
-    general_analysis_figures, general_answer_figures, general_path_figures, general_series,
-    general_simulation_figures, general_state_space, GeneralPath,
+    general_adjoint_figure, general_analysis_figures, general_answer_figures, general_path_figures,
+    general_series, general_simulation_figures, general_state_space, GeneralPath,
 };
-pub use general_report::{build_general_report, GeneralReportInput};
+pub use general_report::{build_general_report, build_result_report, GeneralReportInput};
 
 use crate::certify::MultiplierData;
 use crate::error::{Error, Result};
@@ -398,8 +398,11 @@ pub struct JmTable {
 /// What `crawlopt plot` can draw.
 #[derive(Debug, Clone)]
 pub enum PlotInput {
-    /// A gait result (`crawlopt optimize --json`).
+    /// A crawler's gait result (`crawlopt optimize --json`).
     Gait(Box<GaitResult>),
+    /// A general problem's result (`crawlopt optimize --json` on a `[sweeping_process]`
+    /// file), drawn with the problem its envelope stores.
+    General(Box<crate::io::GeneralAnswer>),
     /// A J_m table.
     Jm(JmTable),
 }
@@ -425,14 +428,19 @@ impl PlotInput {
             }
             return Ok(PlotInput::Jm(t));
         }
-        // Everything else must be a gait result; its reader explains what is wrong.
-        GaitResult::from_json(text, what).map(|r| PlotInput::Gait(Box::new(r)))
+        // Everything else must be a result of either kind, read back and checked as `certify`
+        // reads it; its reader explains what is wrong.
+        Ok(match crate::io::ResultFile::from_json(text, what)? {
+            crate::io::ResultFile::Crawler(r) => PlotInput::Gait(r),
+            crate::io::ResultFile::General(r) => PlotInput::General(r),
+        })
     }
 
     /// Its figures.
     pub fn figures(&self) -> Result<Vec<Figure>> {
         match self {
             PlotInput::Gait(r) => gait_figures(r),
+            PlotInput::General(a) => general_answer_figures(&a.problem().problem()?, a),
             PlotInput::Jm(t) => Ok(vec![figures::jm_figure(&t.m, &t.values, t.continuous)?]),
         }
     }

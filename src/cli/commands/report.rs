@@ -5,11 +5,11 @@ use crate::parse::count;
 use clap::Args;
 use crawlopt::api::Hooks;
 use crawlopt::api::{Naming, OptimizeSettings};
-use crawlopt::io::{AtomicFile, GeneralFile, ProblemFile};
+use crawlopt::io::{AtomicFile, GeneralFile, ProblemFile, ResultFile};
 use crawlopt::optimal::GaitResult;
 use crawlopt::present::report;
 use crawlopt::present::text::{num, GaitScales};
-use crawlopt::present::{build_general_report, GeneralReportInput};
+use crawlopt::present::{build_general_report, build_result_report, GeneralReportInput};
 use crawlopt::Error;
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -36,24 +36,44 @@ pub fn run(a: ReportArgs) -> Result<ExitCode, Error> {
     // A directory (the default report.html may be one) is refused before the work.
     AtomicFile::check(&a.output)?;
     let name = file_name(&a.file);
-    let result = if a.file.extension().is_some_and(|e| e == "json") {
-        GaitResult::from_json(&read_text(&a.file)?, &name)?
-    } else {
-        let model = match ProblemFile::load(&a.file)? {
-            ProblemFile::General(general) => return run_general(&general, &a, &name),
-            ProblemFile::Crawler(model) => model,
-        };
-        crawlopt::api::optimize_model(&model, a.phases, a.time_limit, Hooks::default())?
+    if a.file.extension().is_some_and(|e| e == "json") {
+        // A result of either kind, read back and checked as `certify` reads it.
+        let r = ResultFile::from_json(&read_text(&a.file)?, &name)?;
+        report::write_report(&a.output, &build_result_report(&r, &name)?)?;
+        return Ok(match r {
+            ResultFile::Crawler(result) => wrote_gait(&a, &result),
+            ResultFile::General(_) => wrote_general(&a, r.objective()),
+        });
+    }
+    let model = match ProblemFile::load(&a.file)? {
+        ProblemFile::General(general) => return run_general(&general, &a, &name),
+        ProblemFile::Crawler(model) => model,
     };
+    let result = crawlopt::api::optimize_model(&model, a.phases, a.time_limit, Hooks::default())?;
     report::write_report(&a.output, &report::build_report(&result, &name)?)?;
-    let length = GaitScales::of(&result).length;
+    Ok(wrote_gait(&a, &result))
+}
+
+/// The line saying a crawler's report was written, with its numbers in the gait's units.
+fn wrote_gait(a: &ReportArgs, result: &GaitResult) -> ExitCode {
+    let length = GaitScales::of(result).length;
     outln(&format!(
         "wrote {} (objective J = {}, displacement per period {})",
         a.output.display(),
         num(result.objective, length),
         num(result.displacement_per_period, length)
     ));
-    Ok(ExitCode::SUCCESS)
+    ExitCode::SUCCESS
+}
+
+/// The line saying a general problem's report was written.
+fn wrote_general(a: &ReportArgs, objective: f64) -> ExitCode {
+    outln(&format!(
+        "wrote {} (objective J = {})",
+        a.output.display(),
+        num(objective, objective.abs())
+    ));
+    ExitCode::SUCCESS
 }
 
 /// The report of a general problem file: its optimum by the library's plan of the flags
@@ -75,11 +95,5 @@ fn run_general(file: &GeneralFile, a: &ReportArgs, name: &str) -> Result<ExitCod
         &format!("crawlopt report {name}"),
     )?;
     report::write_report(&a.output, &html)?;
-    let objective = crawlopt::present::GeneralPath::of_answer(&r)?.objective;
-    outln(&format!(
-        "wrote {} (objective J = {})",
-        a.output.display(),
-        num(objective, objective.abs())
-    ));
-    Ok(ExitCode::SUCCESS)
+    Ok(wrote_general(a, r.objective()))
 }
