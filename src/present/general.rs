@@ -71,26 +71,24 @@ impl GeneralPath {
                 .map(|i| period * i as f64 / steps as f64)
                 .collect()
         };
+        // A P_m process (global or local): its states, controls and reactions on the grid.
+        let pm = |period: f64, x: &[Vec<f64>], u: &[Vec<f64>], lambda: &[Vec<f64>], j: f64| {
+            Self::new(
+                grid(period, u.len()),
+                x.to_vec(),
+                u.to_vec(),
+                lambda.to_vec(),
+                j,
+            )
+        };
         match a {
             GeneralAnswer::Discrete(r) => {
                 let s = &r.solution;
-                Self::new(
-                    grid(r.period, s.u.len()),
-                    s.x.clone(),
-                    s.u.clone(),
-                    s.lambda.clone(),
-                    s.objective,
-                )
+                pm(r.period, &s.x, &s.u, &s.lambda, s.objective)
             }
             GeneralAnswer::Local(r) => {
                 let s = &r.solution;
-                Self::new(
-                    grid(r.period, s.u.len()),
-                    s.x.clone(),
-                    s.u.clone(),
-                    s.lambda.clone(),
-                    s.objective,
-                )
+                pm(r.period, &s.x, &s.u, &s.lambda, s.objective)
             }
             GeneralAnswer::Phase(r) => {
                 let s = &r.solution;

@@ -193,14 +193,7 @@ pub fn run(a: OptimizeArgs) -> Result<ExitCode, Error> {
             out(&text::certificate(c, result));
         }
     }
-    if let Some(path) = &a.report {
-        let line = format!("wrote {}", path.display());
-        if a.json {
-            eprintln!("{line}");
-        } else {
-            outln(&line);
-        }
-    }
+    said_report(&a);
     Ok(ExitCode::SUCCESS)
 }
 
@@ -244,6 +237,12 @@ fn run_general(file: &GeneralFile, a: &OptimizeArgs) -> Result<ExitCode, Error> 
     } else {
         out(&text::general_answer(&r));
     }
+    said_report(a);
+    Ok(ExitCode::SUCCESS)
+}
+
+/// `wrote FILE` once the report is written: on stdout, or on stderr when stdout is JSON.
+fn said_report(a: &OptimizeArgs) {
     if let Some(path) = &a.report {
         let line = format!("wrote {}", path.display());
         if a.json {
@@ -252,5 +251,4 @@ fn run_general(file: &GeneralFile, a: &OptimizeArgs) -> Result<ExitCode, Error> 
             outln(&line);
         }
     }
-    Ok(ExitCode::SUCCESS)
 }

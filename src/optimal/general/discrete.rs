@@ -162,6 +162,16 @@ pub(super) fn reward_weights(p: &GeneralProblem) -> Vec<f64> {
     }
 }
 
+/// A bound on the objective of every point of a MILP whose reaction columns of face `j` add up
+/// to at most `total` over the period (P_m: `2^m` steps of `mu^i_j <= M_mu`; the phase MILP:
+/// `lambda_(k,j) <= M_mu tau_k` with `sum tau_k = T`): `f1`'s integral is at most
+/// `total * sum_j max(w_j, 0)`, and the cost `f2 >= 0` only lowers it. The bound of a MILP that
+/// the time limit cut short before HiGHS had a dual bound: weak, but a bound, where the
+/// incumbent's own value would claim a proof that was never made.
+pub(super) fn column_bound(p: &GeneralProblem, total: f64) -> f64 {
+    total * reward_weights(p).iter().map(|w| w.max(0.0)).sum::<f64>()
+}
+
 /// The range of magnitudes P_m's linear programs are handed (C's scale, the controls' bounds,
 /// `h` times the dynamics, the weights, the big-M constants): HiGHS takes values from 1e20 on
 /// as infinite and solves to absolute tolerances near 1e-9, so data beyond this range are
@@ -590,7 +600,7 @@ pub(super) fn solve_milp(p: &GeneralProblem, g: &Geometry, m: u32) -> Result<Gen
         let (pb, lay) = build(p, m, Form::Milp(&bm), &cuts);
         let (cols, milp_objective, bound, status) =
             solve_max(pb, &what, None, 1e-9 * scale.max(1e-300))?;
-        let bound = bound.unwrap_or(milp_objective);
+        let bound = bound.unwrap_or_else(|| column_bound(p, mm as f64 * bm.multiplier));
         let sol = verified(p, m, &lay, &cols, milp_objective, bound, status, &what)?;
         let gap = Certificate::gap_of(bound, sol.objective);
         let done = p.cost == GeneralCost::None || gap <= OA_TOL || status != MilpStatus::Optimal;

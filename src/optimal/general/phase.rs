@@ -65,8 +65,8 @@
 //! `approximation_limit` after 40 rounds, as for P_m).
 
 use super::discrete::{
-    big_m, check_sets, cost_matrix, initial_cuts, replay_periodic, reward_weights, state_columns,
-    MAX_OA_ROUNDS,
+    big_m, check_sets, column_bound, cost_matrix, initial_cuts, replay_periodic, reward_weights,
+    state_columns, MAX_OA_ROUNDS,
 };
 use super::geometry::Geometry;
 use crate::error::{Error, Result};
@@ -309,7 +309,10 @@ pub fn solve_general_phase(
         let (pb, lay) = build(p, g, k, &cuts)?;
         let (cols, milp_objective, bound, status) =
             solve_max(pb, &what, None, 1e-9 * scale.max(1e-300))?;
-        let bound = bound.unwrap_or(milp_objective);
+        let bound = match bound {
+            Some(b) => b,
+            None => column_bound(p, big_m(p, g, 1.0)?.multiplier * p.period),
+        };
         let mut sol = verified(p, &lay, &cols, milp_objective, bound, status, k, &what)?;
         sol.rounds = round;
         let done = p.cost == GeneralCost::None
