@@ -10,6 +10,7 @@ from typing import Any, Optional
 import numpy as np
 
 from ._convert import require
+from ._figure import Figure
 
 
 def same(a: Any, b: Any) -> bool:
@@ -161,8 +162,6 @@ class _LibraryFigures:
         beyond), ``states`` (n >= 2), ``controls``, ``reactions``, ``integrand`` (f1 - f2,
         whose integral is J), and ``adjoint`` with the necessary conditions. CrawloptError
         without the periodic regime."""
-        from ._simulation import Figure
-
         return {n: Figure(n, c, svg) for n, c, svg in self._library().figures()}
 
     def report(self, path: Optional[str] = None, source: str = "crawlopt") -> str:
@@ -264,8 +263,8 @@ class GeneralResult(_LibraryFigures, Document):
     step), or ``durations``, ``controls``, ``states``, ``reactions`` and ``held`` per phase for
     method "phase". ``d["solution"]`` is the document's section as before (with the MILP's own
     certificate). ``from_json``/``to_json`` read and write the document (read back checked as
-    ``crawlopt certify`` checks it); ``certify()`` gives its NecessaryConditions; ``figures()`` and ``report()`` are the
-    library's (``crawlopt optimize --plot --report``)."""
+    ``crawlopt certify`` checks it); ``certify()`` gives its NecessaryConditions; ``figures()``
+    and ``report()`` are the library's (``crawlopt optimize --plot --report``)."""
 
     def __init__(self, doc: dict, record: Any = None):
         self._record = record

@@ -1,5 +1,4 @@
-"""A crawler's simulation (``crawlopt simulate``) as a Python class, and the library's
-figures (SVG)."""
+"""A crawler's simulation (``crawlopt simulate``) as a Python class."""
 
 from __future__ import annotations
 
@@ -9,24 +8,7 @@ from . import _crawlopt as _rs
 from ._convert import require
 from ._crawlopt import CrawloptError
 from ._documents import same
-
-
-class Figure:
-    """A figure: its ``name``, ``caption`` and SVG text; displays itself in Jupyter."""
-
-    def __init__(self, name: str, caption: str, svg: str):
-        self.name, self.caption, self.svg = name, caption, svg
-
-    def _repr_svg_(self) -> str:
-        return self.svg
-
-    def save(self, path: str) -> None:
-        """Writes the SVG to ``path``."""
-        with open(path, "w", encoding="utf-8") as f:
-            f.write(self.svg)
-
-    def __repr__(self) -> str:
-        return f"Figure({self.name!r}: {self.caption})"
+from ._figure import Figure
 
 
 class Simulation:
