@@ -470,6 +470,18 @@ fn plot_and_report_apply_to_general_files() {
             &["simulate", file, "--no-newton"][..],
             "error: --no-newton: the general simulator iterates",
         ),
+        (
+            &["simulate", file, "--no-accelerate"][..],
+            "error: --no-accelerate: the general simulator iterates the period map plainly",
+        ),
+        (
+            &["simulate", file, "--accelerate-after", "7"][..],
+            "error: --accelerate-after: the general simulator iterates the period map plainly",
+        ),
+        (
+            &["simulate", file, "--increment-budget", "5"][..],
+            "error: --increment-budget: the general simulator keeps no table",
+        ),
         (&["report", file, "--phases", "2"][..], "error: --phases"),
     ] {
         let out = crawlopt(args);

@@ -187,7 +187,9 @@ pub fn simulate_general(file: &GeneralFile, opts: &GeneralSimOptions) -> Result<
 /// problem records one period of its periodic regime, or a Cauchy problem's horizon `[0, T]`:
 /// its CSV, JSON and figures show that period) and a search without Newton steps (`newton:
 /// None`: the general simulator iterates the period map plainly, with no Newton-Krylov or
-/// Anderson acceleration to choose between).
+/// Anderson acceleration to choose between), an acceleration switched off or moved
+/// (`accelerate_after` other than the default: there is none to switch), and an increment
+/// budget other than the default (the general simulator keeps no table of increments).
 pub fn general_sim_options(o: &SimOptions) -> Result<GeneralSimOptions> {
     if o.record_periods != 1 {
         return Err(Error::invalid(
@@ -203,6 +205,23 @@ pub fn general_sim_options(o: &SimOptions) -> Result<GeneralSimOptions> {
             "off",
             "the general simulator iterates the period map plainly (no Newton-Krylov or \
              Anderson acceleration), so there are no Newton steps to leave out",
+        ));
+    }
+    if o.accelerate_after != SimOptions::DEFAULT.accelerate_after {
+        return Err(Error::invalid(
+            "accelerate_after",
+            o.accelerate_after
+                .map_or_else(|| "off".to_string(), |k| k.to_string()),
+            "the general simulator iterates the period map plainly, with no acceleration to \
+             start later or switch off",
+        ));
+    }
+    if o.increment_budget != SimOptions::DEFAULT.increment_budget {
+        return Err(Error::invalid(
+            "increment_budget",
+            o.increment_budget,
+            "the general simulator keeps no table of the period's increments, so there is no \
+             budget to set",
         ));
     }
     Ok(GeneralSimOptions {

@@ -215,6 +215,15 @@ fn run_general(file: &GeneralFile, a: &SimulateArgs) -> Result<ExitCode, Error> 
             ("tol", "--tol"),
             ("periods", "--periods"),
             ("newton", "--no-newton"),
+            (
+                "accelerate_after",
+                if a.no_accelerate {
+                    "--no-accelerate"
+                } else {
+                    "--accelerate-after"
+                },
+            ),
+            ("increment_budget", "--increment-budget"),
         ];
         rename_fields(e, &names.map(|(f, flag)| (f, flag.to_string())))
     };
