@@ -164,26 +164,28 @@ pub fn run(a: SimulateArgs) -> Result<ExitCode, Error> {
     if sim.converged {
         return Ok(ExitCode::SUCCESS);
     }
-    let unwritten: Vec<String> = [
-        a.output
-            .as_ref()
-            .map(|p| format!("no trajectory written to {}", p.display())),
-        a.plot
-            .as_ref()
-            .map(|d| format!("no figures written to {}", d.display())),
-    ]
-    .into_iter()
-    .flatten()
-    .map(|s| format!(", {s}"))
-    .collect();
     eprintln!(
         "error: the periodic regime was not reached within {} periods (residual {:.3e}); \
          displacement_per_period is not reported{} (raise --max-periods or --tol)",
         sim.periods_simulated,
         sim.period_residual,
-        unwritten.concat()
+        unwritten(&a)
     );
     Ok(ExitCode::from(EXIT_NOT_CONVERGED))
+}
+
+/// What a simulation that did not reach its periodic regime left unwritten, for its error line
+/// (`, no trajectory written to F, no figures written to D`; empty when nothing was asked).
+fn unwritten(a: &SimulateArgs) -> String {
+    let trajectory = a
+        .output
+        .as_ref()
+        .map(|p| format!(", no trajectory written to {}", p.display()));
+    let figures = a
+        .plot
+        .as_ref()
+        .map(|d| format!(", no figures written to {}", d.display()));
+    trajectory.into_iter().chain(figures).collect()
 }
 
 /// The library's options of the flags (both kinds of problem file take the same ones).
@@ -263,23 +265,12 @@ fn run_general(file: &GeneralFile, a: &SimulateArgs) -> Result<ExitCode, Error> 
     if r.simulation.converged {
         Ok(ExitCode::SUCCESS)
     } else {
-        let unwritten: Vec<String> = [
-            a.output
-                .as_ref()
-                .map(|p| format!(", no trajectory written to {}", p.display())),
-            a.plot
-                .as_ref()
-                .map(|d| format!(", no figures written to {}", d.display())),
-        ]
-        .into_iter()
-        .flatten()
-        .collect();
         eprintln!(
             "error: the periodic regime was not reached within {} periods; J is not reported{} \
              (raise --max-periods or --tol)",
             r.simulation.periods,
-            unwritten.concat()
+            unwritten(a)
         );
-        Ok(ExitCode::from(3))
+        Ok(ExitCode::from(EXIT_NOT_CONVERGED))
     }
 }
