@@ -5,11 +5,10 @@
 //! ([`crate::certify`]: [`Stage`], [`Norm`], the same generic functional).
 
 use super::general_process::{control_rows, GeneralProcess};
-use super::kkt::{adjoint_columns, functional, norm_box, Norm, Stage};
-use crate::error::{Error, Result};
+use super::kkt::{adjoint_columns, functional, norm_box, solve_multiplier_lp, Norm, Stage};
+use crate::error::Result;
 use crate::model::general::{dot, GeneralCost, GeneralProblem, Reward};
-use crate::optimal::solver::{Highs, SolveStatus};
-use highs::{Col, RowProblem, Sense};
+use highs::{Col, RowProblem};
 
 /// The cost's Hessian `R` (`f2 = (1/2) u^T R u`; zero for `f2 = 0`).
 pub(crate) fn cost_hessian(cost: &GeneralCost, m: usize) -> Vec<Vec<f64>> {
@@ -243,20 +242,9 @@ pub(crate) fn solve_general(
             pb.add_row(0.0.., [(c, 1.0), (s, 1.0)]);
         }
     }
-    let mut model = Highs::new(pb, Sense::Minimise, "certify: the general multiplier LP")?;
-    model.option("primal_feasibility_tolerance", 1e-10)?;
-    model.option("dual_feasibility_tolerance", 1e-10)?;
-    let solved = model.solve()?;
-    match solved.status {
-        SolveStatus::Optimal => {}
-        SolveStatus::Infeasible => return Ok(None),
-        SolveStatus::TimeLimit { .. } => {
-            return Err(Error::Numerical(
-                "certify: the general multiplier LP stopped at a time limit".into(),
-            ))
-        }
-    }
-    let cols = solved.columns;
+    let Some(cols) = solve_multiplier_lp(pb, "certify: the general multiplier LP")? else {
+        return Ok(None);
+    };
     let val = |c: &Col| cols[c.index()];
     let vals = |rows: &Vec<Vec<Col>>| -> Vec<Vec<f64>> {
         rows.iter().map(|r| r.iter().map(val).collect()).collect()

@@ -400,20 +400,9 @@ pub(crate) fn solve(
             pb.add_row(0.0.., [(xi[j][fi], 1.0), (s, 1.0)]);
         }
     }
-    let mut model = Highs::new(pb, Sense::Minimise, "certify: the multiplier LP")?;
-    model.option("primal_feasibility_tolerance", 1e-10)?;
-    model.option("dual_feasibility_tolerance", 1e-10)?;
-    let solved = model.solve()?;
-    match solved.status {
-        SolveStatus::Optimal => {}
-        SolveStatus::Infeasible => return Ok(None),
-        SolveStatus::TimeLimit { .. } => {
-            return Err(Error::Numerical(
-                "certify: the multiplier LP stopped at a time limit".into(),
-            ))
-        }
-    }
-    let cols = solved.columns;
+    let Some(cols) = solve_multiplier_lp(pb, "certify: the multiplier LP")? else {
+        return Ok(None);
+    };
     let val = |c: &Col| cols[c.index()];
     Ok(Some(Raw {
         lambda,
@@ -421,6 +410,23 @@ pub(crate) fn solve(
         xi: xi.iter().map(|r| r.iter().map(val).collect()).collect(),
         omega: omega.iter().map(val).collect(),
     }))
+}
+
+/// Solves a multiplier LP (a minimisation) to tight tolerances, both certificates' (`what`
+/// names it in errors): its columns, or `None` when HiGHS proves it infeasible (no multipliers
+/// of that stage); a time limit is a numerical error (these LPs are small and untimed).
+pub(crate) fn solve_multiplier_lp(pb: RowProblem, what: &str) -> Result<Option<Vec<f64>>> {
+    let mut model = Highs::new(pb, Sense::Minimise, what)?;
+    model.option("primal_feasibility_tolerance", 1e-10)?;
+    model.option("dual_feasibility_tolerance", 1e-10)?;
+    let solved = model.solve()?;
+    match solved.status {
+        SolveStatus::Optimal => Ok(Some(solved.columns)),
+        SolveStatus::Infeasible => Ok(None),
+        SolveStatus::TimeLimit { .. } => {
+            Err(Error::Numerical(format!("{what} stopped at a time limit")))
+        }
+    }
 }
 
 /// The branch LP itself (module docs of [`crate::certify`]), `f2 = 0` only: its optimum and
