@@ -271,6 +271,52 @@ fn optimize_solves_p_m_of_a_general_file() {
 }
 
 #[test]
+fn optimize_convergence_tabulates_p_1_to_p_m_of_a_general_file() {
+    let out = crawlopt(&[
+        "optimize",
+        "examples/general_one_link.toml",
+        "--convergence",
+        "--m",
+        "3",
+        "--json",
+    ]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let v = json(&out);
+    let rows = v["convergence"].as_array().unwrap();
+    assert_eq!(rows.len(), 3);
+    for (i, row) in rows.iter().enumerate() {
+        assert_eq!(row["m"], i + 1);
+        assert!((row["objective"].as_f64().unwrap() - 3.0).abs() < 1e-7);
+    }
+    let out = crawlopt(&[
+        "optimize",
+        "examples/general_one_link.toml",
+        "--convergence",
+        "--m",
+        "2",
+    ]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    assert!(
+        String::from_utf8_lossy(&out.stdout).contains("convergence of the discrete problems P_m:")
+    );
+    for method in ["local", "phase"] {
+        let out = crawlopt(&[
+            "optimize",
+            "examples/general_one_link.toml",
+            "--method",
+            method,
+            "--convergence",
+        ]);
+        assert_eq!(out.status.code(), Some(2), "{method}");
+        assert!(
+            stderr(&out).starts_with("error: --convergence"),
+            "{}",
+            stderr(&out)
+        );
+    }
+}
+
+#[test]
 fn optimize_method_phase_finds_the_exact_gait() {
     // The one-link problem: J* = (T - 2 (b - a)) / 2 = 3 with 4 phases (free rise, slide on
     // b, free fall, slide on a), two of them with a held face.
@@ -308,6 +354,47 @@ fn optimize_method_phase_finds_the_exact_gait() {
     ]);
     assert!(out.status.success(), "{}", stderr(&out));
     assert!(String::from_utf8_lossy(&out.stdout).contains("J = 0"));
+    // K grown (the default): the table of the K solved, J_K = 0 below 4 phases; a fixed
+    // --phases K is one MILP, with no table; --patience and --phases are checked.
+    let table = &v["phase_growth"]["table"];
+    let js: Vec<f64> = table
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|r| r["objective"].as_f64().unwrap())
+        .collect();
+    assert_eq!(js.len(), 4, "{js:?}");
+    assert!(js[..3].iter().all(|j| j.abs() < 1e-9) && (js[3] - 3.0).abs() < 1e-7);
+    assert_eq!(v["phase_growth"]["stop"], "max_phases");
+    let out = crawlopt(&[
+        "optimize",
+        "examples/general_one_link.toml",
+        "--method",
+        "phase",
+        "--phases",
+        "4",
+        "--json",
+    ]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let fixed = json(&out);
+    assert!(fixed.get("phase_growth").is_none());
+    assert!((fixed["objective"].as_f64().unwrap() - 3.0).abs() < 1e-7);
+    for (args, want) in [
+        (&["--patience", "0"][..], "error: --patience"),
+        (&["--phases", "0"][..], "error: --phases"),
+        (&["--phases", "25"][..], "error: --phases"),
+    ] {
+        let mut all = vec![
+            "optimize",
+            "examples/general_one_link.toml",
+            "--method",
+            "phase",
+        ];
+        all.extend_from_slice(args);
+        let out = crawlopt(&all);
+        assert_eq!(out.status.code(), Some(2), "{args:?}");
+        assert!(stderr(&out).starts_with(want), "{}", stderr(&out));
+    }
     // A != 0 is refused naming the field.
     let out = crawlopt(&[
         "optimize",

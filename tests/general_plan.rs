@@ -86,7 +86,8 @@ fn settings_that_do_not_apply_are_refused_naming_them() {
         (with(Auto, f, &|s| s.phases = Some(2)), "--phases"),
         (with(Auto, f, &|s| s.patience = Some(2)), "--patience"),
         (with(Auto, f, &|s| s.max_phases = Some(2)), "--max-phases"),
-        (with(Auto, f, &|s| s.convergence = true), "--convergence"),
+        (with(Local, f, &|s| s.convergence = true), "--convergence"),
+        (with(Phase, k, &|s| s.convergence = true), "convergence"),
         (
             with(Auto, f, &|s| s.start = Some(Start::File("a.json".into()))),
             "--start",

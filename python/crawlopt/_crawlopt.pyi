@@ -152,6 +152,9 @@ class GeneralProblem:
         progress: Optional[Callable[[str], None]],
         max_phases: Optional[int],
         polish: Optional[bool] = None,
+        phases: Optional[int] = None,
+        patience: Optional[int] = None,
+        convergence: bool = False,
     ) -> tuple[dict[str, Any], GeneralRecord]: ...
 
 class GeneralRecord:

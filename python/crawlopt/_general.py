@@ -203,17 +203,24 @@ class GeneralProblem:
         progress: Progress = False,
         max_phases: Optional[int] = None,
         polish: Optional[bool] = None,
+        phases: Optional[int] = None,
+        patience: Optional[int] = None,
+        convergence: bool = False,
     ) -> GeneralResult:
         """The paper's P_m on 2^``m`` steps: ``method`` "discrete" (global MILP, with its
         certificate) or "local" (the LPCC active-set method from the file's ``[input]`` or
         square waves, ``shifts`` rotations of each; no global claim). ``solution`` holds
         ``objective`` (J re-verified by simulation), ``x``, ``u``, ``lambda``. ``certify``
         (discrete only) adds ``necessary_conditions``: Theorem 2.2's conditions on the optimum
-        with their residuals and ``verdict`` (``crawlopt optimize --certify``). Ctrl-C stops it
+        with their residuals and ``verdict`` (``crawlopt optimize --certify``). ``convergence``
+        (discrete only) solves P_1..P_``m`` in turn and adds their table ``convergence``
+        (``crawlopt optimize --convergence``), the answer being the finest. Ctrl-C stops it
         (KeyboardInterrupt); ``progress`` as for ``optimize``. ``method`` "phase" (where A = 0):
-        the exact continuous-time gait of at most ``max_phases`` phases (None: the library's
-        default, ``api::DEFAULT_GENERAL_PHASES``), globally (``crawlopt optimize --method
-        phase``); its ``solution`` holds ``objective`` (J re-verified by the exact simulation),
+        the exact continuous-time gait, globally among those of at most ``phases`` phases, or
+        with K grown from 1 to ``max_phases`` (None: the library's default,
+        ``api::DEFAULT_GENERAL_PHASES``) until ``patience`` consecutive K bring no gain, as for
+        crawlers (``crawlopt optimize --method phase``; ``phase_growth`` holds the table of the
+        K solved); its ``solution`` holds ``objective`` (J re-verified by the exact simulation),
         ``durations``, ``controls``, ``states``, ``held`` (faces, 1-based) and ``reactions`` per
         phase. ``polish`` (discrete only;
         default True): a quadratic cost's answer is polished on its fixed face pattern before it
@@ -227,5 +234,8 @@ class GeneralProblem:
             progress_callback(progress),
             max_phases,
             polish,
+            phases,
+            patience,
+            convergence,
         )
         return GeneralResult(d, record)

@@ -124,10 +124,14 @@ impl GeneralProblem {
 
     /// P_m of the problem (`crawlopt optimize --json`): `method` "discrete" (global MILP) or
     /// "local" (the LPCC active-set method, `shifts` rotations of each start); None takes the
-    /// library's default; "phase" (exact gaits of at most `max_phases` phases where `A = 0`,
-    /// globally). Cancellable (Ctrl-C); `progress` receives the events. Returns the document and
+    /// library's default; "phase" (exact gaits where `A = 0`, globally among those of at most
+    /// `phases` phases, or `K` grown to `max_phases` until `patience` K bring no gain).
+    /// Cancellable (Ctrl-C); `progress` receives the events. Returns the document and
     /// the record the library draws and reports.
-    #[pyo3(signature = (method, m, shifts, time_limit, certify, progress, max_phases, polish = None))]
+    #[pyo3(signature = (
+        method, m, shifts, time_limit, certify, progress, max_phases, polish = None,
+        phases = None, patience = None, convergence = false
+    ))]
     #[allow(clippy::too_many_arguments)]
     fn optimize<'py>(
         &self,
@@ -140,6 +144,9 @@ impl GeneralProblem {
         progress: Option<PyObject>,
         max_phases: Option<usize>,
         polish: Option<bool>,
+        phases: Option<usize>,
+        patience: Option<usize>,
+        convergence: bool,
     ) -> PyResult<(Bound<'py, PyAny>, GeneralRecord)> {
         let f = self.inner.clone();
         // The library decides what applies to a general problem, with its defaults.
@@ -152,6 +159,9 @@ impl GeneralProblem {
                 certify,
                 polish,
                 max_phases,
+                phases,
+                patience,
+                convergence,
                 naming: Naming::Keywords,
                 ..OptimizeSettings::default()
             };

@@ -71,6 +71,23 @@ def test_simulate_and_optimize_reach_the_closed_form():
     assert p.optimize(method="phase", max_phases=3)["solution"]["objective"] == pytest.approx(
         0.0, abs=1e-9
     )
+    # K grown as for crawlers: one row per K, J_K = 0 below 4; a progress event per K; a
+    # plateau ends the growth after `patience` K, claimed for the last K; a fixed K, no table.
+    events = []
+    grown = p.optimize(method="phase", max_phases=8, patience=1, progress=events.append)
+    rows = grown["phase_growth"]["table"]
+    assert [r["phases"] for r in rows] == [1, 2, 3, 4, 5]
+    assert [r["objective"] for r in rows] == pytest.approx([0, 0, 0, J_STAR, J_STAR], abs=1e-7)
+    assert grown["phase_growth"]["stop"] == "no_gain"
+    assert grown["certificate"]["phases"] == 5
+    assert [e["K"] for e in events if e["kind"] == "phase"] == [1, 2, 3, 4, 5]
+    # P_1..P_m tabulated (the crawler's --convergence), J_m = J* on every grid.
+    table = p.optimize(m=3, convergence=True)["convergence"]
+    assert [r["m"] for r in table] == [1, 2, 3]
+    assert [r["objective"] for r in table] == pytest.approx([J_STAR] * 3, abs=1e-7)
+    fixed = p.optimize(method="phase", phases=4)
+    assert "phase_growth" not in fixed.keys()
+    assert fixed["objective"] == pytest.approx(J_STAR, abs=1e-7)
 
 
 def test_bad_arguments_raise_input_errors_naming_the_field():
@@ -82,6 +99,10 @@ def test_bad_arguments_raise_input_errors_naming_the_field():
         (lambda: p.optimize(method="phase", max_phases=0), "max_phases"),
         (lambda: p.optimize(method="phase", m=3), "m"),
         (lambda: p.optimize(max_phases=4), "max_phases"),
+        (lambda: p.optimize(phases=4), "phases"),
+        (lambda: p.optimize(method="local", convergence=True), "convergence"),
+        (lambda: p.optimize(method="phase", phases=0), "phases"),
+        (lambda: p.optimize(method="phase", patience=0), "patience"),
         (lambda: p.optimize(shifts=2), "shifts"),
         (lambda: p.optimize(method="local", shifts=0), "shifts"),
         (lambda: p.optimize(method="local", certify=True), "certify"),

@@ -246,6 +246,10 @@ pub struct GeneralPmSettings {
     /// Also check the necessary conditions on the optimum ([`crate::certify::general`];
     /// default false).
     pub certify: bool,
+    /// Solve P_1, ..., P_m in turn and keep the table of `J_m`
+    /// ([`crate::optimal::general::general_convergence`]; default false): the answer is the
+    /// finest P_m solved, all within `time_limit`.
+    pub convergence: bool,
     /// Polish the answer of a quadratic cost on its fixed face pattern, a QP solved to the
     /// solvers' resolution ([`crate::optimal::polish`]; default
     /// [`crate::optimal::polish::POLISH_DEFAULT`], on): without it a control off the bounds
@@ -260,17 +264,45 @@ impl Default for GeneralPmSettings {
             m: crate::api::DEFAULT_M_DISCRETE,
             time_limit: None,
             certify: false,
+            convergence: false,
             polish: crate::optimal::polish::POLISH_DEFAULT,
         }
     }
 }
 
 /// The global optimum of P_m for a problem file ([`crate::optimal::general::discrete`]),
-/// re-verified by the general simulator, with its necessary conditions when asked.
+/// re-verified by the general simulator, with its necessary conditions when asked; with
+/// `convergence`, the table of P_1..P_m too.
 pub fn optimize_general(file: &GeneralFile, s: &GeneralPmSettings) -> Result<GeneralOptimized> {
+    super::events::run_with(super::Hooks::default(), |em| pm_job(file, s, em))
+}
+
+/// [`optimize_general`] reporting to `em`: a `DiscreteSolved` event per row of a convergence
+/// table.
+pub(super) fn pm_job(
+    file: &GeneralFile,
+    s: &GeneralPmSettings,
+    em: &super::events::Emitter<'_>,
+) -> Result<GeneralOptimized> {
     let (p, g) = general_problem(file)?;
-    let solution =
-        crate::optimal::general::solve_general_pm_with(&p, &g, s.m, s.time_limit, s.polish)?;
+    let (solution, convergence) = if s.convergence {
+        let mut progress = |row: &crate::optimal::ConvergenceRow| {
+            em.send(super::Event::DiscreteSolved(row.clone()))
+        };
+        let (table, finest) = crate::optimal::general::general_convergence(
+            &p,
+            &g,
+            s.m,
+            s.time_limit,
+            s.polish,
+            &mut progress,
+        )?;
+        (finest, Some(table))
+    } else {
+        let sol =
+            crate::optimal::general::solve_general_pm_with(&p, &g, s.m, s.time_limit, s.polish)?;
+        (sol, None)
+    };
     let necessary_conditions = if s.certify {
         let pr = crate::certify::GeneralProcess::from_pm(&solution);
         Some(crate::certify::certify_general(
@@ -281,10 +313,7 @@ pub fn optimize_general(file: &GeneralFile, s: &GeneralPmSettings) -> Result<Gen
     } else {
         None
     };
-    Ok(GeneralOptimized::new(
-        file,
-        p.period,
-        solution,
-        necessary_conditions,
-    ))
+    let mut r = GeneralOptimized::new(file, p.period, solution, necessary_conditions);
+    r.convergence = convergence;
+    Ok(r)
 }

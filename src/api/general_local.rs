@@ -20,12 +20,16 @@ pub fn optimize_general_with_hooks(
     hooks: Hooks<'_>,
 ) -> Result<super::GeneralOptimized> {
     run_with(hooks, |em| {
-        em.stage(format!(
-            "P_{} of the general problem ({} steps), global MILP",
-            s.m,
-            1u64 << s.m.min(63)
-        ));
-        super::optimize_general(file, s)
+        em.stage(if s.convergence {
+            format!("P_1..P_{} of the general problem, global MILPs", s.m)
+        } else {
+            format!(
+                "P_{} of the general problem ({} steps), global MILP",
+                s.m,
+                1u64 << s.m.min(63)
+            )
+        });
+        super::general::pm_job(file, s, em)
     })
 }
 

@@ -65,21 +65,21 @@ impl OptimizeSettings {
         let refused: Vec<(&str, bool, String)> = match n {
             Naming::Flags => {
                 let reason = if phase {
-                    "does not apply to --method phase on a general problem file (--max-phases, \
-                     --time-limit, --json)"
+                    "does not apply to --method phase on a general problem file (--phases, \
+                     --max-phases, --patience, --time-limit, --json)"
                 } else {
-                    "does not apply to a general problem file (P_m only, so far; --certify with \
-                     the global method, --shifts with --method local)"
+                    "does not apply to a general problem file (P_m only, so far; --certify and \
+                     --convergence with the global method, --shifts with --method local)"
                 };
                 let mut given = vec![
-                    ("phases", self.phases.is_some()),
-                    ("patience", self.patience.is_some()),
+                    ("phases", self.phases.is_some() && !phase),
+                    ("patience", self.patience.is_some() && !phase),
                     if phase {
                         ("m", self.m.is_some())
                     } else {
                         ("max_phases", self.max_phases.is_some())
                     },
-                    ("convergence", self.convergence),
+                    ("convergence", self.convergence && (local || phase)),
                     ("start", self.start.is_some()),
                     ("shifts", self.shifts.is_some() && !local),
                     ("certify", self.certify && (local || phase)),
@@ -95,7 +95,9 @@ impl OptimizeSettings {
             Naming::Keywords => {
                 let discrete = "applies to method=\"discrete\" only (the global P_m optimum)";
                 let not_general = "does not apply to a general problem";
-                let in_phase = "does not apply to method=\"phase\" (max_phases, time_limit)";
+                let only_phase = "applies to method=\"phase\" only on a general problem";
+                let in_phase =
+                    "does not apply to method=\"phase\" (phases, max_phases, patience, time_limit)";
                 let mut given = vec![
                     ("polish", polish.1 && (local || phase), discrete.to_string()),
                     (
@@ -103,9 +105,21 @@ impl OptimizeSettings {
                         self.max_phases.is_some() && !phase,
                         "applies to method=\"phase\" only".to_string(),
                     ),
-                    ("phases", self.phases.is_some(), not_general.to_string()),
-                    ("patience", self.patience.is_some(), not_general.to_string()),
-                    ("convergence", self.convergence, not_general.to_string()),
+                    (
+                        "phases",
+                        self.phases.is_some() && !phase,
+                        only_phase.to_string(),
+                    ),
+                    (
+                        "patience",
+                        self.patience.is_some() && !phase,
+                        only_phase.to_string(),
+                    ),
+                    (
+                        "convergence",
+                        self.convergence && (local || phase),
+                        discrete.to_string(),
+                    ),
                     ("start", self.start.is_some(), not_general.to_string()),
                     ("bound", self.bound.is_some(), not_general.to_string()),
                 ];
@@ -145,10 +159,11 @@ impl OptimizeSettings {
             return Err(Error::invalid(field, value, reason));
         }
         Ok(if phase {
+            let d = GeneralPhaseSettings::default();
             GeneralPlan::Phase(GeneralPhaseSettings {
-                max_phases: self
-                    .max_phases
-                    .unwrap_or(GeneralPhaseSettings::default().max_phases),
+                max_phases: self.max_phases.unwrap_or(d.max_phases),
+                phases: self.phases,
+                patience: self.patience.unwrap_or(d.patience),
                 time_limit: self.time_limit,
             })
         } else if local {
@@ -164,6 +179,7 @@ impl OptimizeSettings {
                 m: self.m.unwrap_or(d.m),
                 time_limit: self.time_limit,
                 certify: self.certify,
+                convergence: self.convergence,
                 polish: self.polish.unwrap_or(d.polish),
             })
         })
@@ -179,10 +195,17 @@ pub fn optimize_general_plan(
     naming: Naming,
     hooks: Hooks<'_>,
 ) -> Result<GeneralAnswer> {
-    let names: Vec<(&str, String)> = ["m", "time_limit", "shifts", "max_phases"]
-        .into_iter()
-        .map(|f| (f, naming.setting(f)))
-        .collect();
+    let names: Vec<(&str, String)> = [
+        "m",
+        "time_limit",
+        "shifts",
+        "max_phases",
+        "phases",
+        "patience",
+    ]
+    .into_iter()
+    .map(|f| (f, naming.setting(f)))
+    .collect();
     let named = |e| match naming {
         Naming::Flags => rename_fields(e, &names),
         Naming::Keywords => e,
@@ -200,7 +223,7 @@ pub fn optimize_general_plan(
         GeneralPlan::Local(s) => optimize_general_local(file, s, hooks)
             .map(|r| GeneralAnswer::Local(Box::new(r)))
             .map_err(named),
-        GeneralPlan::Phase(s) => optimize_general_phase(file, s)
+        GeneralPlan::Phase(s) => optimize_general_phase(file, s, hooks)
             .map(|r| GeneralAnswer::Phase(Box::new(r)))
             .map_err(named),
     }

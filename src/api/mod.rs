@@ -18,7 +18,7 @@
 //! - [`general`]: the general problem (P) of the paper's §2 (`[sweeping_process]` files):
 //!   [`analyze_general`], [`simulate_general`], [`optimize_general`] (P_m, globally),
 //!   [`optimize_general_local`] (P_m, locally), [`optimize_general_phase`] (exact gaits of at
-//!   most `K` phases where `A = 0`, globally).
+//!   most `K` phases where `A = 0`, globally, `K` fixed or grown as for crawlers).
 //!
 //! A parameter study (a job over a grid of model parameters) is one layer above, in
 //! [`crate::study`]: it runs these jobs per point.

@@ -76,6 +76,13 @@ impl GeneralAnswer {
                 let s = &r.solution;
                 let j = check_pm(&p, MAX_GENERAL_M, &GeneralProcess::from_pm(s), what)?;
                 objectives(what, j, s.objective, r.objective)?;
+                if let Some(table) = &r.convergence {
+                    let rows: Vec<_> = table
+                        .iter()
+                        .map(|row| (row.m as usize, row.objective, row.bound))
+                        .collect();
+                    check_table(what, "convergence", &rows, s.m as usize, j, false)?;
+                }
                 check_global(what, r.status, &r.certificate, &s.certificate, None, j)
             }
             GeneralAnswer::Local(r) => {
@@ -128,11 +135,79 @@ impl GeneralAnswer {
                 let s = &r.solution;
                 let j = check_phase(&p, s, what)?;
                 objectives(what, j, s.objective, r.objective)?;
+                if let Some(g) = &r.phase_growth {
+                    let rows: Vec<_> = g
+                        .table
+                        .iter()
+                        .map(|row| (row.phases, row.objective, row.bound))
+                        .collect();
+                    check_table(what, "phase_growth.table", &rows, s.max_phases, j, true)?;
+                }
                 let k = Some(s.max_phases);
                 check_global(what, r.status, &r.certificate, &s.certificate, k, j)
             }
         }
     }
+}
+
+/// A table of a growth of `K` or of P_1..P_m (`rows`: the `K` or `m`, its verified `J`, its
+/// bound) against the answer: increasing `K` or `m` ending at the solution's `last`, each
+/// bound at least its `J`, and `j` the last row's `J` (a convergence table: the answer is the
+/// finest P_m) or the largest (`best`: a growth keeps its best gait).
+fn check_table(
+    what: &str,
+    field: &str,
+    rows: &[(usize, f64, f64)],
+    last: usize,
+    j: f64,
+    best: bool,
+) -> Result<()> {
+    let close = |a: f64, b: f64| (a - b).abs() <= INPUT_TOL * a.abs().max(b.abs()).max(1.0);
+    let Some(&(k, jk, _)) = rows.last() else {
+        return Err(bad(what, field, "[]", "has no row"));
+    };
+    if k != last {
+        return Err(bad(
+            what,
+            field,
+            k,
+            format!("its last row must be the solution's {last}"),
+        ));
+    }
+    for (i, w) in rows.windows(2).enumerate() {
+        if w[1].0 <= w[0].0 {
+            return Err(bad(
+                what,
+                &format!("{field}[{}]", i + 1),
+                w[1].0,
+                "must increase",
+            ));
+        }
+    }
+    for (i, &(_, v, b)) in rows.iter().enumerate() {
+        if !v.is_finite() || !(b >= v || close(b, v)) {
+            return Err(bad(
+                what,
+                &format!("{field}[{i}]"),
+                format!("J {v}, bound {b}"),
+                "needs a finite J at most its bound",
+            ));
+        }
+    }
+    let want = if best {
+        rows.iter().fold(f64::NEG_INFINITY, |m, r| m.max(r.1))
+    } else {
+        jk
+    };
+    if !close(want, j) {
+        return Err(bad(
+            what,
+            field,
+            want,
+            format!("disagrees with the solution's verified J {j}"),
+        ));
+    }
+    Ok(())
 }
 
 /// The solution's and the envelope's `objective` against `J` of the replay.

@@ -16,7 +16,8 @@ use crate::integrate::{ControlInput, GeneralSimulation};
 use crate::model::general::GeneralProblem;
 use crate::optimal::general::{GeneralLocal, GeneralPhaseGait, GeneralPm, Geometry};
 use crate::optimal::{
-    local_status, MilpStatus, ResultCertificate, ResultKind, RESULT_FORMAT, RESULT_VERSION,
+    local_status, ConvergenceRow, MilpStatus, PhaseGrowthRecord, ResultCertificate, ResultKind,
+    RESULT_FORMAT, RESULT_VERSION,
 };
 use serde::{Deserialize, Deserializer, Serialize};
 
@@ -155,6 +156,10 @@ pub struct GeneralOptimized {
     /// not read back from a file (`crawlopt certify` recomputes them).
     #[serde(skip_serializing_if = "Option::is_none", skip_deserializing)]
     pub necessary_conditions: Option<crate::certify::GeneralNecessaryConditions>,
+    /// The table of `J_m` for `m` up to the solution's, when asked
+    /// ([`crate::api::GeneralPmSettings::convergence`]), as for crawlers.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub convergence: Option<Vec<ConvergenceRow>>,
 }
 
 impl GeneralOptimized {
@@ -177,6 +182,7 @@ impl GeneralOptimized {
             period,
             solution,
             necessary_conditions,
+            convergence: None,
         }
     }
 }
@@ -266,6 +272,10 @@ pub struct GeneralPhaseOptimized {
     pub period: f64,
     /// The verified optimum with its certificate.
     pub solution: GeneralPhaseGait,
+    /// How `K` was grown (absent for a fixed `K`): one row per `K` solved and why the growth
+    /// stopped, as for crawlers.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub phase_growth: Option<PhaseGrowthRecord>,
 }
 
 impl GeneralPhaseOptimized {
@@ -285,6 +295,7 @@ impl GeneralPhaseOptimized {
             ),
             period,
             solution,
+            phase_growth: None,
         }
     }
 }

@@ -10,10 +10,11 @@ use crate::model::Crawler;
 use crate::optimal::milp::check_time_limit;
 use crate::optimal::polish::PolishRecord;
 use crate::optimal::polish::POLISH_DEFAULT;
+pub use crate::optimal::refinement::ConvergenceRow;
+use crate::optimal::refinement::{converge, PmFamily};
 use crate::optimal::units::{scale_all, scale_rows, Units};
-use crate::optimal::{Cost, GaitProblem, MilpStatus};
-use serde::{Deserialize, Serialize};
-use std::time::Instant;
+use crate::optimal::Certificate;
+use crate::optimal::{Cost, GaitProblem};
 
 /// Solves P_m globally (module docs). `time_limit` in seconds.
 pub fn solve_discrete_global(
@@ -86,25 +87,6 @@ pub fn solve_discrete_global_with(
     Ok(units.discrete(&s))
 }
 
-/// One row of a convergence table: the optimum `J_m` of P_m.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct ConvergenceRow {
-    /// `m`.
-    pub m: u32,
-    /// `2^m`.
-    pub steps: usize,
-    /// `J_m` (verified).
-    pub objective: f64,
-    /// The MILP's bound on `J_m`.
-    pub bound: f64,
-    /// Its gap.
-    pub gap: f64,
-    /// How the solve ended.
-    pub status: MilpStatus,
-    /// Wall time, seconds.
-    pub seconds: f64,
-}
-
 /// Solves P_m for `m = 1..=max_m` (the paper's discrete approximations, §6), all within
 /// `time_limit` (each within what is left) and each started from the previous optimum (every
 /// step of `P_{m-1}` cut in two: a gait of `P_m`); returns the table and the finest solution. Stops early,
@@ -126,45 +108,27 @@ pub fn discrete_convergence(
     }
     crate::optimal::check_size(crawler, 1 << max_m, "m", max_m)?;
     check_time_limit(time_limit)?;
-    crate::progress::within(time_limit, || {
-        let mut table = Vec::new();
-        let mut finest = None;
-        for m in 1..=max_m {
-            // m = 1 always runs: a limit spent before it is its time-limit error.
-            if finest.is_some() && crate::progress::out_of_time()? {
-                break;
-            }
-            let t0 = Instant::now();
-            let knots = finest
-                .as_ref()
-                .map(|s: &DiscreteSolution| s.knots(crawler.stiffness()));
-            let start = knots.as_ref().map(|(t, l)| (&t[..], &l[..]));
-            let s = match solve_discrete_global_from(crawler, problem, m, None, start) {
-                Ok(s) => s,
-                Err(Error::TimeLimit(_)) if finest.is_some() => break,
-                Err(e) => return Err(e),
-            };
-            let row = ConvergenceRow {
-                m,
-                steps: 1 << m,
-                objective: s.objective(),
-                bound: s.certificate.bound,
-                gap: s.certificate.gap,
-                status: s.certificate.status,
-                seconds: t0.elapsed().as_secs_f64(),
-            };
-            progress(&row);
-            table.push(row);
-            let timed_out = s.certificate.status == MilpStatus::TimeLimit;
-            finest = Some(s);
-            if timed_out {
-                break;
-            }
-        }
-        // m runs from 1 (max_m >= 1, checked) and every m either stores its answer or returns
-        // its error, so `finest` is set here.
-        Ok((table, finest.expect("m = 1 solved or an error returned")))
-    })
+    let family = ChainPm { crawler, problem };
+    crate::progress::within(time_limit, || converge(&family, 1..=max_m, progress))
+}
+
+/// The crawler's P_m as a [`PmFamily`]: each `m` started from the previous optimum.
+struct ChainPm<'a> {
+    crawler: &'a Crawler,
+    problem: &'a GaitProblem,
+}
+
+impl PmFamily for ChainPm<'_> {
+    type Solution = DiscreteSolution;
+
+    fn solve(&self, m: u32, previous: Option<&DiscreteSolution>) -> Result<DiscreteSolution> {
+        let knots = previous.map(|s| s.knots(self.crawler.stiffness()));
+        let start = knots.as_ref().map(|(t, l)| (&t[..], &l[..]));
+        solve_discrete_global_from(self.crawler, self.problem, m, None, start)
+    }
+    fn value(s: &DiscreteSolution) -> (f64, &Certificate) {
+        (s.objective(), &s.certificate)
+    }
 }
 
 /// A P_m solution's conversion between unit systems ([`Units`]): here, beside the job that

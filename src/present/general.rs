@@ -509,6 +509,12 @@ pub(super) fn answer_figures_with(
         if let Some(nc) = &r.necessary_conditions {
             figs.extend(general_adjoint_figure(p, nc)?);
         }
+        // J_m against m with a convergence table (`optimize --convergence`), as for crawlers.
+        if let Some(table) = &r.convergence {
+            let m: Vec<u32> = table.iter().map(|r| r.m).collect();
+            let values: Vec<f64> = table.iter().map(|r| r.objective).collect();
+            figs.push(super::figures::jm_figure(&m, &values, None)?);
+        }
     }
     Ok(figs)
 }

@@ -466,19 +466,33 @@ fn file_of(table: &toml::Table, dir: &Path, kind: Kind) -> Result<ProblemFile> {
 /// optimisers check them again, with the problem): `m` of P_m up to
 /// [`MAX_GENERAL_M`](crate::optimal::general::MAX_GENERAL_M) globally and
 /// [`MAX_GENERAL_LOCAL_M`](crate::optimal::general::MAX_GENERAL_LOCAL_M) locally, `K` of the
-/// phase method up to [`MAX_GENERAL_PHASES`](crate::optimal::general::MAX_GENERAL_PHASES).
+/// phase method (`max_phases`, and `phases` when fixed) up to
+/// [`MAX_GENERAL_PHASES`](crate::optimal::general::MAX_GENERAL_PHASES) with a patience of at
+/// least 1.
 fn plan_values(plan: &GeneralPlan) -> Result<()> {
     use crate::optimal::general::{MAX_GENERAL_LOCAL_M, MAX_GENERAL_M, MAX_GENERAL_PHASES};
-    let (name, value, max) = match plan {
-        GeneralPlan::Discrete(s) => ("m", s.m as usize, MAX_GENERAL_M as usize),
-        GeneralPlan::Local(s) => ("m", s.m as usize, MAX_GENERAL_LOCAL_M as usize),
-        GeneralPlan::Phase(s) => ("max_phases", s.max_phases, MAX_GENERAL_PHASES),
+    let mut checks = match plan {
+        GeneralPlan::Discrete(s) => vec![("m", s.m as usize, 1, MAX_GENERAL_M as usize)],
+        GeneralPlan::Local(s) => vec![("m", s.m as usize, 1, MAX_GENERAL_LOCAL_M as usize)],
+        GeneralPlan::Phase(s) => vec![
+            ("max_phases", s.max_phases, 1, MAX_GENERAL_PHASES),
+            ("patience", s.patience, 1, usize::MAX),
+        ],
     };
-    if (1..=max).contains(&value) {
-        Ok(())
-    } else {
-        Err(Error::invalid(name, value, format!("must be in 1..={max}")))
+    if let GeneralPlan::Phase(s) = plan {
+        checks.extend(s.phases.map(|k| ("phases", k, 1, MAX_GENERAL_PHASES)));
     }
+    for (name, value, min, max) in checks {
+        if !(min..=max).contains(&value) {
+            let reason = if max == usize::MAX {
+                format!("must be at least {min}")
+            } else {
+                format!("must be in {min}..={max}")
+            };
+            return Err(Error::invalid(name, value, reason));
+        }
+    }
+    Ok(())
 }
 
 /// Refuses, by a scan of the text before it is parsed, a `values = [...]` list of more than

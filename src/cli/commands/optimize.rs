@@ -210,7 +210,17 @@ fn run_general(file: &GeneralFile, a: &OptimizeArgs) -> Result<ExitCode, Error> 
     if let Some(dir) = &a.plot {
         present::check_figure_dir(dir)?;
     }
-    let r = api::optimize_general_plan(file, &plan, settings.naming, Hooks::default())?;
+    // Progress on stderr as for crawlers; the values shown in the units of C.
+    let length = file.problem()?.c.scale();
+    let mut spinner = Spinner::new(length);
+    let mut show = |e: &api::Event, _: f64| spinner.show(e);
+    let hooks = Hooks {
+        events: Some(&mut show),
+        cancel: None,
+    };
+    let r = api::optimize_general_plan(file, &plan, settings.naming, hooks);
+    spinner.finish(&[]);
+    let r = r?;
     if a.plot.is_some() || a.report.is_some() {
         let problem = file.problem()?;
         if let Some(dir) = &a.plot {

@@ -250,7 +250,7 @@ pub(super) fn check_solver_range(p: &GeneralProblem, h: f64, bm: Option<&BigM>) 
 }
 
 /// Checks that P_m's global method applies to `p`.
-fn check(p: &GeneralProblem, g: &Geometry, m: u32) -> Result<()> {
+pub(super) fn check(p: &GeneralProblem, g: &Geometry, m: u32) -> Result<()> {
     if m == 0 {
         // One step with zero-mean controls is u = 0: no model, only a degenerate one.
         return Err(Error::invalid(

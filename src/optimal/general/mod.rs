@@ -9,6 +9,7 @@ pub mod discrete;
 pub mod geometry;
 pub mod local;
 pub mod phase;
+mod phase_growth;
 mod pm;
 mod polish;
 pub mod projection;
@@ -24,5 +25,6 @@ pub use local::{
 pub use phase::{
     check_general_phase, replay_phases, solve_general_phase, GeneralPhaseGait, MAX_GENERAL_PHASES,
 };
-pub use pm::{solve_general_pm, solve_general_pm_with};
+pub use phase_growth::grow_general_phases;
+pub use pm::{general_convergence, solve_general_pm, solve_general_pm_with};
 pub use projection::{project_polyhedron, ProjectedVertex, MAX_PROJECTED_VERTICES};

@@ -1,22 +1,15 @@
-//! Raising `K` until the value stops improving ([`grow_phases`]).
+//! Raising `K` until the value stops improving ([`grow_phases`]): the crawler's phase gaits as
+//! a [`PhaseFamily`] of the growth written once for every family ([`crate::optimal::growth`]).
 
 use super::solve::{gain_tolerance, solve_phase_with};
 use super::{start_unproven, Formulation, PhaseOptions, PhaseSolution, MAX_PHASES};
 use crate::error::{Error, Result};
 use crate::model::Crawler;
+use crate::optimal::growth::{GrowthRange, PhaseFamily};
+pub use crate::optimal::growth::{GrowthStop, PhaseStep};
 use crate::optimal::milp::check_time_limit;
-use crate::optimal::{GaitProblem, MilpStatus};
-use serde::{Deserialize, Serialize};
-use std::time::Instant;
+use crate::optimal::{Certificate, GaitProblem};
 
-/// The relative resolution (times the problem's length scale) above which a verified `J_K`
-/// counts as moving the crawler in [`grow_phases`]: the replay reproduces `J` to about `1e-14`
-/// of the length scale, so `1e-9` leaves room for round-off and nothing else. It only decides
-/// whether the growth's patience has started counting; the best verified gait is kept whatever
-/// its size.
-pub const MOVE_RESOLUTION: f64 = 1e-9;
-
-/// How [`grow_phases`] raises `K`.
 /// The last `K` a growth tries unless told ([`GrowOptions::max_phases`]; the one definition
 /// of this default: the CLI's `--max-phases`, Python's `max_phases=` and a sweep's
 /// `max_phases` leave it to the library).
@@ -25,6 +18,7 @@ pub const DEFAULT_MAX_PHASES: usize = 8;
 /// Consecutive `K` without a gain that end a growth unless told ([`GrowOptions::patience`]).
 pub const DEFAULT_PATIENCE: usize = 2;
 
+/// How [`grow_phases`] raises `K`.
 #[derive(Debug, Clone, PartialEq)]
 pub struct GrowOptions {
     /// First `K`.
@@ -32,7 +26,7 @@ pub struct GrowOptions {
     /// Last `K` tried.
     pub max_phases: usize,
     /// Stop after this many consecutive `K` without a gain, counted once `J_K` moves the crawler
-    /// (above [`MOVE_RESOLUTION`] times the length scale; before,
+    /// (above [`MOVE_RESOLUTION`](crate::optimal::growth::MOVE_RESOLUTION) times the length scale; before,
     /// `K` is too small for any gait to move the crawler, e.g. one link needs 2 slip phases).
     /// The default is 2: plateaus `J_K = J_{K+1} < J_{K+2}` occur (a 4-block crawler with
     /// per-block friction had `J_3 = J_4 = 6.575 < J_5 = 6.600`).
@@ -85,38 +79,6 @@ impl GrowOptions {
     }
 }
 
-/// One `K` of a growth.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct PhaseStep {
-    /// `K`.
-    pub phases: usize,
-    /// Its optimum `J_K` (verified).
-    pub objective: f64,
-    /// The MILP's bound on `J_K`.
-    pub bound: f64,
-    /// Its gap.
-    pub gap: f64,
-    /// `"optimal_among_k_phases"`, `"time_limit"` or `"approximation_limit"`.
-    pub status: MilpStatus,
-    /// Wall time of this `K`, seconds.
-    pub seconds: f64,
-}
-
-/// Why a growth stopped.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "snake_case")]
-pub enum GrowthStop {
-    /// `patience` consecutive `K` brought no gain.
-    NoGain,
-    /// `max_phases` was reached while the value still improved (or was still 0).
-    MaxPhases,
-    /// v_m <= 0 for every shape rate (model analysis), so no gait moves the crawler forward and
-    /// staying idle is globally optimal, for every `K`.
-    NoForwardMotion,
-    /// The time limit ended it.
-    TimeLimit,
-}
-
 /// The result of [`grow_phases`].
 #[derive(Debug, Clone, PartialEq)]
 pub struct PhaseGrowth {
@@ -146,6 +108,49 @@ pub fn grow_phases(
     crate::progress::within(opts.time_limit, || grow(crawler, problem, opts, progress))
 }
 
+/// The crawler's phase gaits as a [`PhaseFamily`]: one `K` is [`solve_phase_with`], started
+/// from the best gait so far.
+struct ChainPhases<'a> {
+    crawler: &'a Crawler,
+    problem: &'a GaitProblem,
+    formulation: Formulation,
+}
+
+impl PhaseFamily for ChainPhases<'_> {
+    type Gait = PhaseSolution;
+
+    fn solve(&self, k: usize, best: Option<&PhaseSolution>) -> Result<PhaseSolution> {
+        let opts = PhaseOptions {
+            start: best.cloned(),
+            cutoff: None,
+            formulation: self.formulation,
+        };
+        solve_phase_with(self.crawler, self.problem, k, None, &opts)
+    }
+    fn objective(g: &PhaseSolution) -> f64 {
+        g.objective()
+    }
+    fn claim(g: &mut PhaseSolution) -> (&mut usize, &mut Certificate) {
+        (&mut g.phases, &mut g.certificate)
+    }
+    fn length_scale(&self) -> f64 {
+        self.problem.length_scale(self.crawler)
+    }
+    fn gain_tolerance(&self) -> f64 {
+        gain_tolerance(self.problem)
+    }
+    // y' = v_m(z') (theory §3): when v_m <= 0 everywhere, J <= 0 for every gait.
+    fn idle(&self) -> bool {
+        self.crawler.analyze().moves_forward == Some(false)
+    }
+    fn same(a: &PhaseSolution, b: &PhaseSolution) -> bool {
+        a.durations == b.durations && a.states == b.states
+    }
+    fn unproven(&self, g: &PhaseSolution, phases: usize) -> PhaseSolution {
+        start_unproven(self.crawler, self.problem, g, phases)
+    }
+}
+
 /// [`grow_phases`], options checked, within the current deadline.
 fn grow(
     crawler: &Crawler,
@@ -153,127 +158,20 @@ fn grow(
     opts: &GrowOptions,
     progress: &mut dyn FnMut(&PhaseStep),
 ) -> Result<PhaseGrowth> {
-    let mut best: Option<PhaseSolution> = opts.start.clone();
-    let mut table = Vec::new();
-    let mut without_gain = 0;
-    let mut stop = GrowthStop::MaxPhases;
-    // y' = v_m(z') (theory §3): when v_m <= 0 everywhere, J <= 0 for every gait.
-    let idle = crawler.analyze().moves_forward == Some(false);
-    // Whether a verified J_K moves the crawler: above the replay's resolution, relative to the
-    // problem's own length scale (not to 1: lengths may be 1e-6 or 1e6).
-    let resolution = MOVE_RESOLUTION * problem.length_scale(crawler);
-    let moves = |j: f64| j > resolution;
-    for k in opts.min_phases..=opts.max_phases {
-        if crate::progress::out_of_time()? {
-            stop = GrowthStop::TimeLimit;
-            break;
-        }
-        let t0 = Instant::now();
-        let phase_opts = PhaseOptions {
-            start: best.clone(),
-            cutoff: None,
-            formulation: opts.formulation,
-        };
-        let s = match solve_phase_with(crawler, problem, k, None, &phase_opts) {
-            Ok(s) => s,
-            Err(Error::TimeLimit(_)) if best.is_some() => {
-                stop = GrowthStop::TimeLimit;
-                break;
-            }
-            Err(e) => return Err(e),
-        };
-        let step = PhaseStep {
-            phases: k,
-            objective: s.objective(),
-            bound: s.certificate.bound,
-            gap: s.certificate.gap,
-            status: s.certificate.status,
-            seconds: t0.elapsed().as_secs_f64(),
-        };
-        progress(&step);
-        table.push(step);
-        let timed_out = s.certificate.status == MilpStatus::TimeLimit;
-        let gain = best.as_ref().map_or(f64::INFINITY, |b| {
-            s.objective()
-                - b.objective()
-                - gain_tolerance(problem) * b.objective().abs().max(problem.length_scale(crawler))
-        });
-        if timed_out {
-            match best.as_mut() {
-                Some(b) if s.objective() <= b.objective() => {
-                    // The best gait stays, but the claim is now this K's: a time limit with
-                    // this K's bound (not "optimal" for the smaller K it was proven for, which
-                    // read as if the growth had finished).
-                    b.phases = s.phases;
-                    b.certificate.bound = s.certificate.bound;
-                    b.certificate.gap = ((s.certificate.bound - b.objective())
-                        / b.objective().abs().max(1.0))
-                    .max(0.0);
-                    b.certificate.status = MilpStatus::TimeLimit;
-                }
-                _ => best = Some(s),
-            }
-            stop = GrowthStop::TimeLimit;
-            break;
-        }
-        if idle {
-            best = Some(s);
-            stop = GrowthStop::NoForwardMotion;
-            break;
-        }
-        if gain > 0.0 {
-            without_gain = 0;
-            best = Some(s);
-        } else if best.as_ref().is_some_and(|b| !moves(b.objective())) {
-            // Nothing moves yet (at the replay's resolution): K is still too small. A verified
-            // gait better than the best so far is never overruled by the gain tolerance, which
-            // is relative to the length scale and can exceed a small true optimum (one link
-            // with T just above 2w/a: J* = 5e-8 against a tolerance of 3e-7).
-            // The idle gait so far: kept, or replaced by a better one.
-            keep_or_recertify(&mut best, s);
-        } else {
-            // The given start returned because nothing of at most K slip phases beats it:
-            // the MILPs have not reached it yet, so this K is no plateau.
-            let is_start = opts
-                .start
-                .as_ref()
-                .is_some_and(|st| st.durations == s.durations && st.states == s.states);
-            if !is_start {
-                without_gain += 1;
-            }
-            // Better within the tolerance only, or the same gait.
-            keep_or_recertify(&mut best, s);
-            if without_gain >= opts.patience {
-                stop = GrowthStop::NoGain;
-                break;
-            }
-        }
-    }
-    let mut best = best.ok_or_else(|| {
-        Error::TimeLimit(
-            "phase growth: the time limit was reached before any feasible gait was found".into(),
-        )
-    })?;
-    // The given start, never certified (the limit came before any K): say what is known.
-    if best.certificate.bound.is_nan() {
-        best = start_unproven(crawler, problem, &best, opts.min_phases);
-    }
-    Ok(PhaseGrowth { best, table, stop })
-}
-
-/// The best gait after solving a larger `K` with no gain beyond the tolerance: `s` when it is
-/// better (with its own certificate), else the best so far, now certified for `s`'s `K` (its
-/// bound, gap and status).
-fn keep_or_recertify(best: &mut Option<PhaseSolution>, s: PhaseSolution) {
-    match best.as_mut() {
-        Some(b) if s.objective() <= b.objective() => {
-            b.phases = s.phases;
-            b.certificate.bound = s.certificate.bound;
-            b.certificate.gap =
-                ((s.certificate.bound - b.objective()) / b.objective().abs().max(1.0)).max(0.0);
-            b.certificate.status = s.certificate.status;
-        }
-        Some(_) => *best = Some(s),
-        None => {}
-    }
+    let family = ChainPhases {
+        crawler,
+        problem,
+        formulation: opts.formulation,
+    };
+    let range = GrowthRange {
+        min_phases: opts.min_phases,
+        max_phases: opts.max_phases,
+        patience: opts.patience,
+    };
+    let g = crate::optimal::growth::grow(&family, range, opts.start.clone(), progress)?;
+    Ok(PhaseGrowth {
+        best: g.best,
+        table: g.table,
+        stop: g.stop,
+    })
 }

@@ -92,29 +92,7 @@ pub fn gait_result(r: &GaitResult) -> String {
         wln!(out, "{}", super::polish_line(p, "slip pattern", len));
     }
     if let Some(pg) = &r.phase_growth {
-        wln!(
-            out,
-            "phases grown until {}:",
-            match pg.stop {
-                GrowthStop::NoGain => "the value stopped improving",
-                GrowthStop::MaxPhases => "--max-phases (the value was still improving or still 0)",
-                GrowthStop::NoForwardMotion =>
-                    "K = 1: v_m <= 0 for every shape rate, so no gait moves this crawler forward",
-                GrowthStop::TimeLimit => "the time limit",
-            }
-        );
-        wln!(out, "  | K | J_K | bound | status | seconds |");
-        for st in &pg.table {
-            wln!(
-                out,
-                "  | {} | {} | {} | {} | {:.2} |",
-                st.phases,
-                len(st.objective),
-                len(st.bound),
-                status_word(st.status),
-                st.seconds
-            );
-        }
+        growth_table(&mut out, pg, &len);
     }
     if let Some(st) = &r.discrete_start {
         wln!(
@@ -146,20 +124,7 @@ pub fn gait_result(r: &GaitResult) -> String {
         (None, _) => {}
     }
     if let Some(table) = &r.convergence {
-        wln!(out, "convergence of the discrete problems P_m:");
-        wln!(out, "  | m | steps | J_m | gap | status | seconds |");
-        for row in table {
-            wln!(
-                out,
-                "  | {} | {} | {} | {:.1e} | {} | {:.2} |",
-                row.m,
-                row.steps,
-                len(row.objective),
-                row.gap,
-                status_word(row.status),
-                row.seconds
-            );
-        }
+        convergence_table(&mut out, table, &len);
     }
     let g = &r.gait;
     for (j, u) in g.controls.iter().enumerate() {
@@ -273,6 +238,60 @@ pub fn certificate(c: &NecessaryConditions, r: &GaitResult) -> String {
 }
 
 /// One solved K of a phase growth, for the progress line (J and the bound at the problem's
+/// The table of `J_m` over `m`, crawler or general, the values written by `len`.
+pub(super) fn convergence_table(
+    out: &mut String,
+    table: &[crate::optimal::ConvergenceRow],
+    len: &dyn Fn(f64) -> String,
+) {
+    wln!(out, "convergence of the discrete problems P_m:");
+    wln!(out, "  | m | steps | J_m | gap | status | seconds |");
+    for row in table {
+        wln!(
+            out,
+            "  | {} | {} | {} | {:.1e} | {} | {:.2} |",
+            row.m,
+            row.steps,
+            len(row.objective),
+            row.gap,
+            status_word(row.status),
+            row.seconds
+        );
+    }
+}
+
+/// How `K` was grown, crawler or general: why it stopped and one row per `K` solved, the
+/// values written by `len`.
+pub(super) fn growth_table(
+    out: &mut String,
+    pg: &crate::optimal::PhaseGrowthRecord,
+    len: &dyn Fn(f64) -> String,
+) {
+    wln!(
+        out,
+        "phases grown until {}:",
+        match pg.stop {
+            GrowthStop::NoGain => "the value stopped improving",
+            GrowthStop::MaxPhases => "--max-phases (the value was still improving or still 0)",
+            GrowthStop::NoForwardMotion =>
+                "K = 1: v_m <= 0 for every shape rate, so no gait moves this crawler forward",
+            GrowthStop::TimeLimit => "the time limit",
+        }
+    );
+    wln!(out, "  | K | J_K | bound | status | seconds |");
+    for st in &pg.table {
+        wln!(
+            out,
+            "  | {} | {} | {} | {} | {:.2} |",
+            st.phases,
+            len(st.objective),
+            len(st.bound),
+            status_word(st.status),
+            st.seconds
+        );
+    }
+}
+
 /// length scale `length`).
 pub fn phase_step(st: &PhaseStep, length: f64) -> String {
     format!(

@@ -223,12 +223,15 @@ pub fn general_optimum(r: &GeneralOptimized) -> String {
             super::polish_line(p, "face pattern", |v| num(v, scale))
         );
     }
+    if let Some(table) = &r.convergence {
+        super::gait::convergence_table(&mut out, table, &|v| num(v, scale));
+    }
     steps(&mut out, &s.x, &s.u);
     out
 }
 
 /// The exact gait of at most `K` phases ([`crate::api::optimize_general_phase`]): the
-/// certificate, then per phase its duration, start state, control and held faces.
+/// certificate, the table of the `K` solved when `K` was grown, then per phase its duration, start state, control and held faces.
 pub fn general_phase(r: &GeneralPhaseOptimized) -> String {
     let mut out = String::new();
     let s = &r.solution;
@@ -269,6 +272,9 @@ pub fn general_phase(r: &GeneralPhaseOptimized) -> String {
         .flatten()
         .fold(0.0_f64, |m, v| m.max(v.abs()))
         .max(1e-300);
+    if let Some(pg) = &r.phase_growth {
+        super::gait::growth_table(&mut out, pg, &|v| num(v, scale));
+    }
     for (j, u) in s.controls.iter().enumerate() {
         wln!(
             out,

@@ -1,0 +1,95 @@
+//! The general problem's exact phase gaits ([`super::phase`]) with `K` raised until the value
+//! stops improving: the general formulation as a [`PhaseFamily`] of the growth written once
+//! for both families ([`crate::optimal::growth`]; the crawler's is
+//! [`crate::optimal::grow_phases`]).
+
+use super::discrete::{big_m, column_bound, reward_weights};
+use super::geometry::Geometry;
+use super::phase::{check_general_phase, solve_general_phase, GeneralPhaseGait};
+use crate::error::{Error, Result};
+use crate::model::general::{GeneralCost, GeneralProblem};
+use crate::optimal::growth::{grow, Growth, GrowthRange, PhaseFamily, PhaseStep};
+use crate::optimal::milp::{check_time_limit, Certificate, MilpStatus, OA_TOL};
+
+/// The general phase gaits of one problem: one `K` is [`solve_general_phase`].
+struct GeneralPhases<'a> {
+    p: &'a GeneralProblem,
+    g: &'a Geometry,
+}
+
+impl PhaseFamily for GeneralPhases<'_> {
+    type Gait = GeneralPhaseGait;
+
+    // The general MILP takes no start: each K is solved from scratch (its symmetry breaking
+    // keeps small K cheap).
+    fn solve(&self, k: usize, _best: Option<&GeneralPhaseGait>) -> Result<GeneralPhaseGait> {
+        solve_general_phase(self.p, self.g, k, None)
+    }
+    fn objective(g: &GeneralPhaseGait) -> f64 {
+        g.objective
+    }
+    fn claim(g: &mut GeneralPhaseGait) -> (&mut usize, &mut Certificate) {
+        (&mut g.max_phases, &mut g.certificate)
+    }
+    /// `J`'s scale: the largest face weight times C's length scale (`J = int sum_f w_f
+    /// lambda_f dt`, the reactions integrated to lengths of C).
+    fn length_scale(&self) -> f64 {
+        let w = reward_weights(self.p)
+            .iter()
+            .fold(0.0_f64, |m, v| m.max(v.abs()));
+        (w * self.p.c.scale()).max(1e-300)
+    }
+    fn gain_tolerance(&self) -> f64 {
+        match self.p.cost {
+            GeneralCost::None => 1e-7,
+            _ => OA_TOL,
+        }
+    }
+    fn same(a: &GeneralPhaseGait, b: &GeneralPhaseGait) -> bool {
+        a.durations == b.durations && a.states == b.states
+    }
+    /// The bound the reaction columns allow, `T M sum_f max(w_f, 0)`, valid for every gait.
+    fn unproven(&self, g: &GeneralPhaseGait, phases: usize) -> GeneralPhaseGait {
+        let bound = big_m(self.p, self.g, 1.0)
+            .map(|bm| column_bound(self.p, bm.multiplier * self.p.period))
+            .unwrap_or(f64::INFINITY)
+            .max(g.objective);
+        let mut g = g.clone();
+        g.max_phases = phases;
+        g.certificate = Certificate {
+            status: MilpStatus::TimeLimit,
+            milp_objective: g.objective,
+            bound,
+            gap: Certificate::gap_of(bound, g.objective),
+        };
+        g
+    }
+}
+
+/// The best exact gait of a general problem (`A = 0`) with `K` raised over `range` (the
+/// crawler's growth, [`crate::optimal::growth::grow`]): the gait of the largest `J_K` found,
+/// claimed for the last `K` solved; `time_limit` in seconds for the whole growth (within the
+/// job's deadline). `progress` sees each `K`. Errors name `max_phases`, `min_phases`,
+/// `patience`, `time_limit` or what [`check_general_phase`] names.
+pub fn grow_general_phases(
+    p: &GeneralProblem,
+    g: &Geometry,
+    range: GrowthRange,
+    time_limit: Option<f64>,
+    progress: &mut dyn FnMut(&PhaseStep),
+) -> Result<Growth<GeneralPhaseGait>> {
+    check_general_phase(p, g, range.max_phases)?;
+    check_time_limit(time_limit)?;
+    if !(1..=range.max_phases).contains(&range.min_phases) {
+        return Err(Error::invalid(
+            "min_phases",
+            range.min_phases,
+            format!("must be in 1..={}", range.max_phases),
+        ));
+    }
+    if range.patience == 0 {
+        return Err(Error::invalid("patience", 0, "must be at least 1"));
+    }
+    let family = GeneralPhases { p, g };
+    crate::progress::within(time_limit, || grow(&family, range, None, progress))
+}

@@ -1,0 +1,195 @@
+//! `K` grown until the value stops improving, written once (`optimal::growth`) for the
+//! crawler's phase gaits and the general problem's: the general growth against the §4
+//! closed form, against the crawler's growth on crawler instances, its patience, its events
+//! and cancellation, and its refusals naming the field.
+
+use crawlopt::api::{optimize_general_phase, Event, GeneralPhaseSettings, Hooks};
+use crawlopt::io::GeneralFile;
+use crawlopt::model::general::GeneralCost;
+use crawlopt::model::{crawler_as_general, Crawler};
+use crawlopt::optimal::general::{check_problem, grow_general_phases};
+use crawlopt::optimal::growth::{GrowthRange, GrowthStop};
+use crawlopt::optimal::{grow_phases, Cost, GaitProblem, GrowOptions, MilpStatus};
+use crawlopt::progress::Cancel;
+use crawlopt::Error;
+
+/// The paper's §4 one-link problem with `C = [-1, 1]`, `U = [-1, 1]`, `f1 = |eta| / 2`:
+/// `J* = (T - 4) / 2`, reached with 4 phases and no fewer (tests/general_phase.rs).
+fn one_link(period: f64) -> GeneralFile {
+    GeneralFile::parse(&format!(
+        "[sweeping_process]\nnormals = [[1.0], [-1.0]]\noffsets = [1.0, 1.0]\n\
+         [dynamics]\nB = [[1.0]]\n\
+         [control]\nlower = [-1.0]\nupper = [1.0]\nzero_mean = true\n\
+         [objective]\nface_weights = [0.5, 0.5]\n\
+         [problem]\nperiod = {period}\n"
+    ))
+    .unwrap()
+}
+
+fn settings(edit: impl FnOnce(&mut GeneralPhaseSettings)) -> GeneralPhaseSettings {
+    let mut s = GeneralPhaseSettings::default();
+    edit(&mut s);
+    s
+}
+
+#[test]
+fn the_growth_reaches_the_one_link_closed_form_at_four_phases() {
+    let t = 10.0;
+    let want = (t - 4.0) / 2.0;
+    let r = optimize_general_phase(&one_link(t), &settings(|_| {}), Hooks::default()).unwrap();
+    assert!((r.objective - want).abs() < 1e-9, "{}", r.objective);
+    let g = r.phase_growth.as_ref().expect("K was grown");
+    let js: Vec<f64> = g.table.iter().map(|s| s.objective).collect();
+    assert_eq!(g.table.len(), 4, "{js:?}");
+    for (k, j) in js.iter().enumerate() {
+        let closed = if k + 1 < 4 { 0.0 } else { want };
+        assert!((j - closed).abs() < 1e-9, "K = {}: {j}", k + 1);
+    }
+    assert_eq!(g.stop, GrowthStop::MaxPhases);
+    assert_eq!(r.certificate.phases, Some(4));
+    assert_eq!(r.status, MilpStatus::OptimalAmongKPhases);
+    // A fixed K is one MILP, with no table: the same optimum at K = 4, none below.
+    let four = optimize_general_phase(
+        &one_link(t),
+        &settings(|s| s.phases = Some(4)),
+        Hooks::default(),
+    )
+    .unwrap();
+    assert!((four.objective - want).abs() < 1e-9);
+    assert!(four.phase_growth.is_none());
+    let three = optimize_general_phase(
+        &one_link(t),
+        &settings(|s| s.phases = Some(3)),
+        Hooks::default(),
+    )
+    .unwrap();
+    assert!(three.objective.abs() < 1e-9, "{}", three.objective);
+    assert_eq!(three.certificate.phases, Some(3));
+}
+
+#[test]
+fn patience_ends_the_growth_on_a_plateau_and_the_claim_is_the_last_k() {
+    // J_4 = J_5 = J_6 = 3: with patience 2 the growth stops at K = 6, and the best gait (found
+    // at K = 4) is claimed for K = 6, the largest K proven.
+    let s = settings(|s| {
+        s.max_phases = 10;
+        s.patience = 2;
+    });
+    let r = optimize_general_phase(&one_link(10.0), &s, Hooks::default()).unwrap();
+    let g = r.phase_growth.as_ref().unwrap();
+    assert_eq!(g.stop, GrowthStop::NoGain);
+    assert_eq!(g.table.len(), 6);
+    assert_eq!(r.certificate.phases, Some(6));
+    assert_eq!(r.solution.max_phases, 6);
+    assert!((r.objective - 3.0).abs() < 1e-9);
+    assert!(r.solution.certificate.bound >= r.objective - 1e-9);
+}
+
+#[test]
+fn each_k_is_an_event_and_a_cancelled_job_stops() {
+    let mut solved = Vec::new();
+    let mut stages = 0;
+    let mut on = |e: &Event, _: f64| match e {
+        Event::PhaseSolved { step, start } => {
+            assert!(!start);
+            solved.push(step.phases)
+        }
+        Event::Stage(_) => stages += 1,
+        _ => {}
+    };
+    let hooks = Hooks {
+        events: Some(&mut on),
+        cancel: None,
+    };
+    let r = optimize_general_phase(&one_link(10.0), &settings(|_| {}), hooks).unwrap();
+    assert_eq!(solved, vec![1, 2, 3, 4]);
+    assert_eq!(stages, 1);
+    assert_eq!(r.phase_growth.unwrap().table.len(), solved.len());
+    let cancel = Cancel::new();
+    cancel.cancel();
+    let hooks = Hooks {
+        events: None,
+        cancel: Some(&cancel),
+    };
+    match optimize_general_phase(&one_link(10.0), &settings(|_| {}), hooks) {
+        Err(Error::Cancelled) => {}
+        other => panic!("not cancelled: {other:?}"),
+    }
+}
+
+#[test]
+fn bad_settings_are_refused_naming_the_field() {
+    let cases: Vec<(GeneralPhaseSettings, &str)> = vec![
+        (settings(|s| s.phases = Some(0)), "phases"),
+        (settings(|s| s.phases = Some(1000)), "phases"),
+        (settings(|s| s.max_phases = 0), "max_phases"),
+        (settings(|s| s.max_phases = 1000), "max_phases"),
+        (settings(|s| s.patience = 0), "patience"),
+        (settings(|s| s.time_limit = Some(-1.0)), "time_limit"),
+    ];
+    for (s, want) in cases {
+        match optimize_general_phase(&one_link(10.0), &s, Hooks::default()) {
+            Err(Error::InvalidParameter { field, .. }) => assert_eq!(field, want, "{s:?}"),
+            other => panic!("{s:?} not refused: {other:?}"),
+        }
+    }
+}
+
+/// On crawler instances the general growth (K phases) and the crawler's (K slip phases, a
+/// transition free before each) run the same loop over their own MILPs: crawler(K) =
+/// general(2K) on these instances (tests/general_phase.rs), the general table never
+/// decreases, and both stop for the same reason at the matching K.
+#[test]
+fn on_crawler_instances_both_growths_agree() {
+    let cases = [
+        Crawler::new(vec![1.0], vec![1.0, 1.0], vec![2.0, 2.0]).unwrap(),
+        Crawler::new(vec![1.0, 2.0], vec![1.0, 1.2, 0.9], vec![2.5, 3.1, 2.7]).unwrap(),
+    ];
+    for crawler in cases {
+        let t = 6.0;
+        let speed = vec![1.0; crawler.links()];
+        let gp = GaitProblem::new(&crawler, t, &speed, Cost::None, None).unwrap();
+        let chain = grow_phases(
+            &crawler,
+            &gp,
+            &GrowOptions {
+                max_phases: 3,
+                patience: 3,
+                ..GrowOptions::default()
+            },
+            &mut |_| {},
+        )
+        .unwrap();
+        let inst = crawler_as_general(&crawler, t, &gp.rate_bound, GeneralCost::None).unwrap();
+        let g = check_problem(&inst.problem).unwrap();
+        let range = GrowthRange {
+            min_phases: 1,
+            max_phases: 6,
+            patience: 6,
+        };
+        let general = grow_general_phases(&inst.problem, &g, range, None, &mut |_| {}).unwrap();
+        assert_eq!(chain.table.len(), 3);
+        assert_eq!(general.table.len(), 6);
+        for w in general.table.windows(2) {
+            assert!(
+                w[1].objective >= w[0].objective - 1e-9,
+                "{:?}",
+                general.table
+            );
+        }
+        for (k, step) in chain.table.iter().enumerate() {
+            let twice = &general.table[2 * k + 1];
+            assert_eq!(twice.phases, 2 * (k + 1));
+            assert!(
+                (twice.objective - step.objective).abs() < 1e-7,
+                "N = {}, K = {}: general {} vs crawler {}",
+                crawler.blocks(),
+                k + 1,
+                twice.objective,
+                step.objective
+            );
+        }
+        assert_eq!(chain.stop, general.stop);
+        assert!((general.best.objective - chain.best.objective()).abs() < 1e-7);
+    }
+}
