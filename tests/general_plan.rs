@@ -65,8 +65,8 @@ fn the_plan_fills_in_each_methods_defaults() {
 }
 
 /// Each setting that does not apply is refused naming it: as a flag for the command line, as
-/// a keyword for Python; a bound (the crawler's upper bound) too, which the command line
-/// used to drop unsaid for a general file.
+/// a keyword for Python; a bound (the crawler's upper bound) with the local method too (with
+/// a global method it applies where the problem is a crawler's: tests/general_structure.rs).
 #[test]
 fn settings_that_do_not_apply_are_refused_naming_them() {
     let with = |method, naming, edit: &dyn Fn(&mut OptimizeSettings)| {
@@ -98,7 +98,7 @@ fn settings_that_do_not_apply_are_refused_naming_them() {
         (with(Phase, f, &|s| s.m = Some(2)), "--m"),
         (with(Phase, f, &|s| s.shifts = Some(2)), "--shifts"),
         (
-            with(Auto, f, &|s| s.bound = Some(BoundSettings::default())),
+            with(Local, f, &|s| s.bound = Some(BoundSettings::default())),
             "--bound",
         ),
         (with(Local, k, &|s| s.polish = Some(true)), "polish"),
@@ -107,7 +107,7 @@ fn settings_that_do_not_apply_are_refused_naming_them() {
         (with(Local, k, &|s| s.certify = true), "certify"),
         (with(Phase, k, &|s| s.m = Some(2)), "m"),
         (
-            with(Auto, k, &|s| s.bound = Some(BoundSettings::default())),
+            with(Local, k, &|s| s.bound = Some(BoundSettings::default())),
             "bound",
         ),
     ];

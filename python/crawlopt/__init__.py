@@ -25,6 +25,7 @@ from ._convert import (
     NotConvergedWarning,
     Numbers,
     _array,
+    _bound_settings,
     _input_error,
     _instance,
     _numbers,
@@ -689,23 +690,6 @@ class _Gait:
 
     def __repr__(self) -> str:
         return f"Gait({len(self.u)} pieces, {self.u.shape[1] if self.u.ndim == 2 else 0} links)"
-
-
-def _bound_settings(bound) -> Optional[tuple]:
-    """``optimize``'s ``bound`` as the extension takes it (None: no bound)."""
-    if bound is None or bound is False:
-        return None
-    if bound is True:
-        return (None, None, None, None)
-    if not isinstance(bound, dict):
-        raise _input_error("bound", repr(bound), "must be True, False, None or a dict")
-    keys = ("resolution", "box_resolution", "time_limit", "cost_tangents")
-    for k in bound:
-        if k not in keys:
-            raise _input_error(
-                f"bound.{k}", repr(bound[k]), f"unknown setting (known: {', '.join(keys)})"
-            )
-    return tuple(bound.get(k) for k in keys)
 
 
 def optimize(

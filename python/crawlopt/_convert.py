@@ -71,3 +71,20 @@ def require(module: str, purpose: str):
         raise ImportError(
             f"{purpose} needs {top}, an optional dependency of crawlopt: pip install {top}"
         ) from e
+
+
+def _bound_settings(bound) -> Union[tuple, None]:
+    """``optimize``'s ``bound`` as the extension takes it (None: no bound)."""
+    if bound is None or bound is False:
+        return None
+    if bound is True:
+        return (None, None, None, None)
+    if not isinstance(bound, dict):
+        raise _input_error("bound", repr(bound), "must be True, False, None or a dict")
+    keys = ("resolution", "box_resolution", "time_limit", "cost_tangents")
+    for k in bound:
+        if k not in keys:
+            raise _input_error(
+                f"bound.{k}", repr(bound[k]), f"unknown setting (known: {', '.join(keys)})"
+            )
+    return tuple(bound.get(k) for k in keys)

@@ -155,6 +155,7 @@ class GeneralProblem:
         phases: Optional[int] = None,
         patience: Optional[int] = None,
         convergence: bool = False,
+        bound: Optional[tuple] = None,
     ) -> tuple[dict[str, Any], GeneralRecord]: ...
 
 class GeneralRecord:

@@ -10,7 +10,7 @@ from typing import Any, Callable, Optional, Union
 import numpy as np
 
 from . import _crawlopt as _rs
-from ._convert import NotConvergedWarning, _array, _input_error
+from ._convert import NotConvergedWarning, _array, _bound_settings, _input_error
 from ._documents import GeneralResult, GeneralSimulation
 from ._progress import progress_callback
 
@@ -206,6 +206,7 @@ class GeneralProblem:
         phases: Optional[int] = None,
         patience: Optional[int] = None,
         convergence: bool = False,
+        bound: Union[bool, dict, None] = None,
     ) -> GeneralResult:
         """The paper's P_m on 2^``m`` steps: ``method`` "discrete" (global MILP, with its
         certificate) or "local" (the LPCC active-set method from the file's ``[input]`` or
@@ -214,7 +215,11 @@ class GeneralProblem:
         (discrete only) adds ``necessary_conditions``: Theorem 2.2's conditions on the optimum
         with their residuals and ``verdict`` (``crawlopt optimize --certify``). ``convergence``
         (discrete only) solves P_1..P_``m`` in turn and adds their table ``convergence``
-        (``crawlopt optimize --convergence``), the answer being the finest. Ctrl-C stops it
+        (``crawlopt optimize --convergence``), the answer being the finest. ``bound`` (as for
+        ``optimize``; "discrete" and "phase"): the crawler's upper bound over all periodic gaits,
+        where the problem is a crawler's gait problem (``analyze()`` says so under
+        "structure"), as ``certificate["upper_bound"]``; else an ``InputError`` naming
+        ``bound``. Ctrl-C stops it
         (KeyboardInterrupt); ``progress`` as for ``optimize``. ``method`` "phase" (where A = 0):
         the exact continuous-time gait, globally among those of at most ``phases`` phases, or
         with K grown from 1 to ``max_phases`` (None: the library's default,
@@ -237,5 +242,6 @@ class GeneralProblem:
             phases,
             patience,
             convergence,
+            _bound_settings(bound),
         )
         return GeneralResult(d, record)

@@ -130,7 +130,7 @@ impl GeneralProblem {
     /// the record the library draws and reports.
     #[pyo3(signature = (
         method, m, shifts, time_limit, certify, progress, max_phases, polish = None,
-        phases = None, patience = None, convergence = false
+        phases = None, patience = None, convergence = false, bound = None
     ))]
     #[allow(clippy::too_many_arguments)]
     fn optimize<'py>(
@@ -147,6 +147,7 @@ impl GeneralProblem {
         phases: Option<usize>,
         patience: Option<usize>,
         convergence: bool,
+        bound: Option<crate::bound::BoundTuple>,
     ) -> PyResult<(Bound<'py, PyAny>, GeneralRecord)> {
         let f = self.inner.clone();
         // The library decides what applies to a general problem, with its defaults.
@@ -162,6 +163,7 @@ impl GeneralProblem {
                 phases,
                 patience,
                 convergence,
+                bound: crate::bound::bound_settings(bound),
                 naming: Naming::Keywords,
                 ..OptimizeSettings::default()
             };

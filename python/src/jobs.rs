@@ -1,20 +1,16 @@
 //! The jobs: `simulate` and `optimize`, their keyword arguments turned into the library's
 //! settings, run through [`crate::run::run`].
 
+use crate::bound::{bound_settings, BoundTuple};
 use crate::errors::to_py;
 use crate::model::{Actuation, Crawler, GaitProblem};
 use crate::results::GaitResult;
 use crate::run::run;
 use crawlopt::api::{self, GaitMethod, Naming, OptimizeSettings, Start};
-use crawlopt::certify::bound::BoundSettings;
 use crawlopt::integrate::{Method, SimOptions, Simulation};
 use numpy::{PyArray1, PyArray2, PyArrayMethods};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
-
-/// `optimize`'s bound settings as Python passes them: resolution, box resolution, time limit,
-/// cost tangents (each `None` takes the library's default).
-type BoundTuple = (Option<usize>, Option<usize>, Option<f64>, Option<usize>);
 
 /// Rows of equal length as a 2-D array (`cols` columns when there are no rows).
 fn matrix<'py, T: numpy::Element + Copy>(
@@ -125,16 +121,7 @@ pub fn optimize(
     progress: Option<PyObject>,
     polish: Option<bool>,
 ) -> PyResult<(GaitResult, Option<String>, Vec<String>)> {
-    // The upper bound's settings, each None taking the library's default.
-    let bound = bound.map(|(resolution, box_resolution, time_limit, cost_tangents)| {
-        let d = BoundSettings::default();
-        BoundSettings {
-            resolution: resolution.unwrap_or(d.resolution),
-            box_resolution: box_resolution.unwrap_or(d.box_resolution),
-            time_limit: time_limit.unwrap_or(d.time_limit),
-            cost_tangents: cost_tangents.unwrap_or(d.cost_tangents),
-        }
-    });
+    let bound = bound_settings(bound);
     let settings = OptimizeSettings {
         method: GaitMethod::from_name(method).map_err(|e| to_py(py, e))?,
         phases,

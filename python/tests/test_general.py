@@ -212,3 +212,21 @@ def test_general_results_read_back_and_certify(tmp_path):
     with pytest.raises(co.InputError) as e:
         co.GeneralResult.from_json(cr.to_json())
     assert e.value.field == "result: kind"
+
+
+def test_a_crawlers_problem_in_general_form_is_recognised_and_takes_the_chains_bound():
+    three = co.load(ONE_LINK.replace("general_one_link", "general_three_blocks"))
+    structure = [c for c in three.analyze()["checks"] if c["name"] == "structure"][0]
+    assert structure["detail"].startswith("a chain: the gait problem of a crawler of 3 blocks")
+    r = three.optimize(m=2, bound={"resolution": 4, "box_resolution": 4})
+    ub = r["certificate"]["upper_bound"]["value"]
+    crawler = co.Crawler(blocks=3, stiffness=1.0, mu_forward=1.0, mu_backward=1.5)
+    gait = co.GaitProblem(period=10.0, max_actuator_speed=1.0)
+    want = co.optimize(
+        crawler, gait, method="discrete", m=2, bound={"resolution": 4, "box_resolution": 4}
+    )
+    assert ub == pytest.approx(want.certificate["upper_bound"]["value"], rel=1e-12)
+    assert r["objective"] == pytest.approx(want.objective, abs=1e-9)
+    with pytest.raises(co.InputError) as e:
+        co.load(ONE_LINK).optimize(bound=True)
+    assert e.value.field == "bound"

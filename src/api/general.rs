@@ -1,6 +1,7 @@
 //! The general problem (P) (theory §11) as jobs: a problem file analysed (C's geometry and every
 //! check of the problem) and simulated for a given control.
 
+use crate::certify::bound::BoundSettings;
 use crate::error::{Error, Result};
 use crate::integrate::{
     simulate_general as integrate_general, GeneralMethod, GeneralSimOptions, Method, SimOptions,
@@ -8,6 +9,7 @@ use crate::integrate::{
 use crate::io::GeneralFile;
 pub use crate::io::{Check, CheckStatus, GeneralAnalysis, GeneralOptimized, GeneralSimulated};
 use crate::model::general::{ControlSet, GeneralProblem, Reward};
+use crate::model::ChainView;
 use crate::optimal::general::{analyze_polyhedron, check_with, Geometry};
 
 /// The problem of a file with every check: those of [`GeneralFile::problem`] and those that
@@ -130,6 +132,26 @@ pub fn analyze_general(file: &GeneralFile) -> Result<GeneralAnalysis> {
             "A != 0: state-dependent drift".into()
         },
     );
+    add(
+        "structure",
+        CheckStatus::Info,
+        match p.as_chain() {
+            Some(v) => format!(
+                "a chain: the gait problem of a crawler of {} blocks (stiffness {:?}, mu+ {:?}, \
+                 mu- {:?}, rate bounds {:?}; J = {} times its displacement{}): the chain's \
+                 upper bound applies (--bound)",
+                v.crawler.blocks(),
+                v.crawler.stiffness(),
+                v.crawler.mu_forward(),
+                v.crawler.mu_backward(),
+                v.rate_bounds,
+                v.objective_scale,
+                v.cost_weight
+                    .map_or(String::new(), |c| format!(" less (c/2)|u|^2, c = {c}"))
+            ),
+            None => "no chain recognised (not a crawler's gait problem)".into(),
+        },
+    );
     Ok(GeneralAnalysis {
         kind: "general",
         problem: p,
@@ -250,6 +272,9 @@ pub struct GeneralPmSettings {
     /// ([`crate::optimal::general::general_convergence`]; default false): the answer is the
     /// finest P_m solved, all within `time_limit`.
     pub convergence: bool,
+    /// Also prove the crawler's upper bound over all periodic gaits ([`chain_upper_bound`];
+    /// default none): only for a problem that is a crawler's gait problem.
+    pub bound: Option<BoundSettings>,
     /// Polish the answer of a quadratic cost on its fixed face pattern, a QP solved to the
     /// solvers' resolution ([`crate::optimal::polish`]; default
     /// [`crate::optimal::polish::POLISH_DEFAULT`], on): without it a control off the bounds
@@ -265,6 +290,7 @@ impl Default for GeneralPmSettings {
             time_limit: None,
             certify: false,
             convergence: false,
+            bound: None,
             polish: crate::optimal::polish::POLISH_DEFAULT,
         }
     }
@@ -285,6 +311,7 @@ pub(super) fn pm_job(
     em: &super::events::Emitter<'_>,
 ) -> Result<GeneralOptimized> {
     let (p, g) = general_problem(file)?;
+    let chain = chain_for_bound(&p, s.bound.as_ref())?;
     let (solution, convergence) = if s.convergence {
         let mut progress = |row: &crate::optimal::ConvergenceRow| {
             em.send(super::Event::DiscreteSolved(row.clone()))
@@ -315,5 +342,57 @@ pub(super) fn pm_job(
     };
     let mut r = GeneralOptimized::new(file, p.period, solution, necessary_conditions);
     r.convergence = convergence;
+    if let (Some(view), Some(b)) = (&chain, &s.bound) {
+        em.stage("proving an upper bound over all periodic gaits (the chain's)");
+        r.certificate.upper_bound = Some(chain_upper_bound(&p, view, b, r.objective)?);
+    }
     Ok(r)
+}
+
+/// The problem's chain when a bound is asked ([`GeneralProblem::as_chain`]), checked before
+/// any work: a bound asked of a problem that is not a crawler's gait problem is refused naming
+/// `bound`.
+pub(super) fn chain_for_bound(
+    p: &GeneralProblem,
+    bound: Option<&BoundSettings>,
+) -> Result<Option<ChainView>> {
+    if bound.is_none() {
+        return Ok(None);
+    }
+    p.as_chain().map(Some).ok_or_else(|| {
+        Error::invalid(
+            "bound",
+            "given",
+            "the upper bound is the crawler's (a storage function over C): it applies to a \
+             general problem only when it is a crawler's gait problem (a chain: A = 0, b = 0, \
+             B diagonal, a symmetric box U with zero mean, two faces per block, the \
+             barycentre's displacement as f1; see `analyze`)",
+        )
+    })
+}
+
+/// The crawler's upper bound over all periodic gaits ([`crate::certify::bound`]) for a
+/// general problem recognised as that crawler's gait problem, in the problem's units (`lambda`
+/// times the crawler's); an error if it is below the verified `j` (a defect of the bound).
+pub(super) fn chain_upper_bound(
+    p: &GeneralProblem,
+    view: &ChainView,
+    b: &BoundSettings,
+    j: f64,
+) -> Result<crate::optimal::bound_record::UpperBound> {
+    let cost = match view.cost_weight {
+        None => crate::optimal::Cost::None,
+        Some(weight) => crate::optimal::Cost::Quadratic { weight },
+    };
+    let gp =
+        crate::optimal::GaitProblem::new(&view.crawler, p.period, &view.rate_bounds, cost, None)?;
+    let mut ub = crate::certify::bound::upper_bound(&view.crawler, &gp, b)?;
+    ub.value *= view.objective_scale;
+    if ub.value.is_nan() || ub.value < j - 1e-9 * j.abs().max(1.0) {
+        return Err(Error::Numerical(format!(
+            "upper bound {} below the verified optimum {j}: a defect of the bound",
+            ub.value
+        )));
+    }
+    Ok(ub)
 }

@@ -7,13 +7,24 @@ use super::events::{run_with, Event, Hooks};
 use crate::error::Result;
 use crate::io::GeneralFile;
 pub use crate::io::GeneralPhaseOptimized;
-use crate::optimal::general::grow_general_phases;
+use crate::optimal::general::{grow_chain_phases, grow_general_phases};
 use crate::optimal::growth::GrowthRange;
 use crate::optimal::PhaseGrowthRecord;
 
 /// Default `K` of [`GeneralPhaseSettings`]: 4 phases, what the paper's §4 one-link optimum
 /// needs (free rise, slide on one face, free fall, slide on the other).
 pub const DEFAULT_GENERAL_PHASES: usize = 4;
+
+/// A formulation of the phase MILP ([`GeneralPhaseSettings::formulation`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum PhaseFormulation {
+    /// `K` phases of constant control and held faces (`optimal::general::phase`): any (P)
+    /// with `A = 0`.
+    General,
+    /// `K` slip phases with transitions free (`optimal::general::chain_phase`): a crawler's
+    /// gait problem only; every general gait of at most `K` phases is among its gaits.
+    Chain,
+}
 
 /// Settings of [`optimize_general_phase`].
 #[derive(Debug, Clone, PartialEq)]
@@ -30,6 +41,13 @@ pub struct GeneralPhaseSettings {
     /// Seconds for all the MILPs (`None`, the default: no limit): the best gait so far, claimed
     /// with the bound of the `K` the limit cut short.
     pub time_limit: Option<f64>,
+    /// The formulation: `None` (the default) takes the chain's where the problem is a
+    /// crawler's gait problem and the general one elsewhere; `Some(General)` forces the
+    /// general one (to compare them).
+    pub formulation: Option<PhaseFormulation>,
+    /// Also prove the crawler's upper bound over all periodic gaits (default none): only for
+    /// a problem that is a crawler's gait problem ([`super::general::chain_upper_bound`]).
+    pub bound: Option<crate::certify::bound::BoundSettings>,
 }
 
 impl Default for GeneralPhaseSettings {
@@ -39,6 +57,8 @@ impl Default for GeneralPhaseSettings {
             phases: None,
             patience: super::DEFAULT_PATIENCE,
             time_limit: None,
+            formulation: None,
+            bound: None,
         }
     }
 }
@@ -53,6 +73,7 @@ pub fn optimize_general_phase(
     hooks: Hooks<'_>,
 ) -> Result<GeneralPhaseOptimized> {
     let (p, g) = super::general_problem(file)?;
+    let bound_chain = super::general::chain_for_bound(&p, s.bound.as_ref())?;
     let range = match s.phases {
         Some(k) => GrowthRange {
             min_phases: k,
@@ -94,14 +115,43 @@ pub fn optimize_general_phase(
                 start: false,
             })
         };
-        let grown =
-            grow_general_phases(&p, &g, range, s.time_limit, &mut progress).map_err(named)?;
+        // A chain (a crawler's gait problem) takes the chain's stronger formulation: K slip
+        // phases, transitions free (`optimal::general::chain_phase`).
+        let chain = p.as_chain().filter(|v| {
+            v.crawler.require_unique().is_ok() && s.formulation != Some(PhaseFormulation::General)
+        });
+        let grown = match &chain {
+            Some(view) => crate::optimal::general::check_general_phase(&p, &g, range.max_phases)
+                .and_then(|()| crate::optimal::check_time_limit(s.time_limit))
+                .and_then(|()| {
+                    crate::progress::within(s.time_limit, || {
+                        grow_chain_phases(
+                            &p,
+                            view,
+                            range.min_phases,
+                            range.max_phases,
+                            range.patience,
+                            &mut progress,
+                        )
+                    })
+                }),
+            None => grow_general_phases(&p, &g, range, s.time_limit, &mut progress),
+        }
+        .map_err(named)?;
         let mut r = GeneralPhaseOptimized::new(file, p.period, grown.best);
+        if chain.is_some() {
+            r.formulation = Some("chain".into());
+        }
         if s.phases.is_none() {
             r.phase_growth = Some(PhaseGrowthRecord {
                 table: grown.table,
                 stop: grown.stop,
             });
+        }
+        if let (Some(view), Some(b)) = (&bound_chain, &s.bound) {
+            em.stage("proving an upper bound over all periodic gaits (the chain's)");
+            let ub = super::general::chain_upper_bound(&p, view, b, r.objective)?;
+            r.certificate.upper_bound = Some(ub);
         }
         Ok(r)
     })

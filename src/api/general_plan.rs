@@ -84,7 +84,7 @@ impl OptimizeSettings {
                     ("shifts", self.shifts.is_some() && !local),
                     ("certify", self.certify && (local || phase)),
                     ("no_polish", polish.1 && (local || phase)),
-                    ("bound", self.bound.is_some()),
+                    ("bound", self.bound.is_some() && local),
                 ];
                 given.extend(front_end.iter().copied());
                 given
@@ -121,7 +121,11 @@ impl OptimizeSettings {
                         discrete.to_string(),
                     ),
                     ("start", self.start.is_some(), not_general.to_string()),
-                    ("bound", self.bound.is_some(), not_general.to_string()),
+                    (
+                        "bound",
+                        self.bound.is_some() && local,
+                        "applies to the global methods on a general problem".to_string(),
+                    ),
                 ];
                 if phase {
                     given.extend([
@@ -165,6 +169,8 @@ impl OptimizeSettings {
                 phases: self.phases,
                 patience: self.patience.unwrap_or(d.patience),
                 time_limit: self.time_limit,
+                formulation: None,
+                bound: self.bound,
             })
         } else if local {
             let d = GeneralLocalSettings::default();
@@ -180,6 +186,7 @@ impl OptimizeSettings {
                 time_limit: self.time_limit,
                 certify: self.certify,
                 convergence: self.convergence,
+                bound: self.bound,
                 polish: self.polish.unwrap_or(d.polish),
             })
         })
@@ -202,6 +209,7 @@ pub fn optimize_general_plan(
         "max_phases",
         "phases",
         "patience",
+        "bound",
     ]
     .into_iter()
     .map(|f| (f, naming.setting(f)))

@@ -62,7 +62,8 @@ pub use general_local::{
     GeneralLocalSettings,
 };
 pub use general_phase::{
-    optimize_general_phase, GeneralPhaseOptimized, GeneralPhaseSettings, DEFAULT_GENERAL_PHASES,
+    optimize_general_phase, GeneralPhaseOptimized, GeneralPhaseSettings, PhaseFormulation,
+    DEFAULT_GENERAL_PHASES,
 };
 pub use general_plan::{optimize_general_plan, GeneralAnswer, GeneralPlan};
 pub use optimize::{optimize, Optimized};

@@ -276,6 +276,11 @@ pub struct GeneralPhaseOptimized {
     /// stopped, as for crawlers.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub phase_growth: Option<PhaseGrowthRecord>,
+    /// `"chain"` when the problem is a crawler's gait problem and the chain's formulation ran
+    /// (`K` slip phases, transitions free: the gait may have up to `2K` phases); absent for
+    /// the general formulation.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub formulation: Option<String>,
 }
 
 impl GeneralPhaseOptimized {
@@ -296,6 +301,7 @@ impl GeneralPhaseOptimized {
             period,
             solution,
             phase_growth: None,
+            formulation: None,
         }
     }
 }

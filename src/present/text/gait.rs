@@ -68,19 +68,7 @@ pub fn gait_result(r: &GaitResult) -> String {
         }
     }
     if let Some(ub) = &c.upper_bound {
-        let within = format!("{:.1} %", 100.0 * ub.within(r.objective));
-        wln!(
-            out,
-            "upper bound over all periodic gaits: {} ({}, grid {}{}): optimal within {within}",
-            len(ub.value),
-            ub.method,
-            ub.resolution_text(),
-            if ub.status == crate::certify::bound::BoundStatus::TimeLimit {
-                ", LP cut short by the time limit"
-            } else {
-                ""
-            }
-        );
+        upper_bound_line(&mut out, ub, r.objective, &len);
     }
     wln!(
         out,
@@ -238,6 +226,29 @@ pub fn certificate(c: &NecessaryConditions, r: &GaitResult) -> String {
 }
 
 /// One solved K of a phase growth, for the progress line (J and the bound at the problem's
+/// The upper bound over all periodic gaits and how far `j` can be from it, crawler or general
+/// (a chain's), the values written by `len`.
+pub(super) fn upper_bound_line(
+    out: &mut String,
+    ub: &crate::optimal::bound_record::UpperBound,
+    j: f64,
+    len: &dyn Fn(f64) -> String,
+) {
+    let within = format!("{:.1} %", 100.0 * ub.within(j));
+    wln!(
+        out,
+        "upper bound over all periodic gaits: {} ({}, grid {}{}): optimal within {within}",
+        len(ub.value),
+        ub.method,
+        ub.resolution_text(),
+        if ub.status == crate::certify::bound::BoundStatus::TimeLimit {
+            ", LP cut short by the time limit"
+        } else {
+            ""
+        }
+    );
+}
+
 /// The table of `J_m` over `m`, crawler or general, the values written by `len`.
 pub(super) fn convergence_table(
     out: &mut String,

@@ -223,6 +223,9 @@ pub fn general_optimum(r: &GeneralOptimized) -> String {
             super::polish_line(p, "face pattern", |v| num(v, scale))
         );
     }
+    if let Some(ub) = &r.certificate.upper_bound {
+        super::gait::upper_bound_line(&mut out, ub, s.objective, &|v| num(v, scale));
+    }
     if let Some(table) = &r.convergence {
         super::gait::convergence_table(&mut out, table, &|v| num(v, scale));
     }
@@ -237,13 +240,24 @@ pub fn general_phase(r: &GeneralPhaseOptimized) -> String {
     let s = &r.solution;
     let c = &s.certificate;
     let scale = s.objective.abs().max(c.bound.abs()).max(1e-300);
-    wln!(
-        out,
-        "exact gait of at most {} phases (T = {}), global MILP: {}",
-        s.max_phases,
-        num(r.period, 0.0),
-        super::status_word(c.status)
-    );
+    match r.formulation.as_deref() {
+        Some("chain") => wln!(
+            out,
+            "exact gait, global among those of at most {k} phases by the chain's formulation \
+             ({k} slip phases, transitions free; the problem is a crawler's) (T = {}), global \
+             MILP: {}",
+            num(r.period, 0.0),
+            super::status_word(c.status),
+            k = s.max_phases,
+        ),
+        _ => wln!(
+            out,
+            "exact gait of at most {} phases (T = {}), global MILP: {}",
+            s.max_phases,
+            num(r.period, 0.0),
+            super::status_word(c.status)
+        ),
+    }
     wln!(
         out,
         "J = {}   (verified by the exact simulation; MILP {}, bound {}, gap {:.3e})",
@@ -272,6 +286,9 @@ pub fn general_phase(r: &GeneralPhaseOptimized) -> String {
         .flatten()
         .fold(0.0_f64, |m, v| m.max(v.abs()))
         .max(1e-300);
+    if let Some(ub) = &r.certificate.upper_bound {
+        super::gait::upper_bound_line(&mut out, ub, s.objective, &|v| num(v, scale));
+    }
     if let Some(pg) = &r.phase_growth {
         super::gait::growth_table(&mut out, pg, &|v| num(v, scale));
     }

@@ -1,0 +1,148 @@
+//! The chain's phase formulation for a general problem that is a crawler's gait problem
+//! ([`GeneralProblem::as_chain`]): the crawler's growth over `K` *slip* phases (transitions
+//! free, [`crate::optimal::grow_phases`]) in place of the general `K`-phase MILP, its gait
+//! written back in the problem's own terms and re-verified by the general exact simulator.
+//!
+//! **What the answer claims.** Every general gait of at most `K` phases has at most `K` slip
+//! phases, so the chain MILP's bound at `K` bounds every general gait of at most `K` phases;
+//! the gait it returns may have up to `2K` phases (a transition before each slip phase) and is
+//! then better than any general gait of at most `K` phases could be. So the certificate
+//! `optimal_among_k_phases` with `K` says what it says for the general formulation — no gait of
+//! at most `K` phases does better — and the value is at least the general MILP's at the same
+//! `K` (the three-block crawler: 2.6 with `K = 4`, which the general formulation needs 8
+//! phases for). Durations, controls, the held faces and the reaction rates per phase are the
+//! crawler gait's through the map of [`crate::model::crawler_as_general`]: `x~ = K^(-1/2) x`
+//! (`x~_l = beta_l x_l`), the same controls, the block `b` slipping forward (backward) holds its
+//! forward (backward) face with the reaction rate `s_b D_b / tau` (`D_b` the block's
+//! displacement over the phase, `s_b` the norm of its row), and `J = lambda J_crawler`.
+
+use super::phase::{replay_phases, GeneralPhaseGait};
+use crate::error::{Error, Result};
+use crate::model::general::GeneralProblem;
+use crate::model::ChainView;
+use crate::optimal::growth::{Growth, PhaseStep};
+use crate::optimal::milp::Certificate;
+use crate::optimal::{grow_phases, Cost, GaitProblem, GrowOptions, PhaseSolution};
+
+/// The crawler's gait problem of a chain view (period and cost from `p`).
+fn gait_problem(p: &GeneralProblem, view: &ChainView) -> Result<GaitProblem> {
+    let cost = match view.cost_weight {
+        None => Cost::None,
+        Some(weight) => Cost::Quadratic { weight },
+    };
+    GaitProblem::new(&view.crawler, p.period, &view.rate_bounds, cost, None)
+}
+
+/// `K` grown over `min..=max` slip phases by the crawler's growth on the chain of `p`
+/// (module docs), each `K` reported to `progress` in the problem's units; the best gait
+/// written back as a general phase gait. Within the job's deadline.
+pub fn grow_chain_phases(
+    p: &GeneralProblem,
+    view: &ChainView,
+    min_phases: usize,
+    max_phases: usize,
+    patience: usize,
+    progress: &mut dyn FnMut(&PhaseStep),
+) -> Result<Growth<GeneralPhaseGait>> {
+    let gp = gait_problem(p, view)?;
+    let lambda = view.objective_scale;
+    let opts = GrowOptions {
+        min_phases,
+        max_phases,
+        patience,
+        ..GrowOptions::default()
+    };
+    let scaled = |st: &PhaseStep| PhaseStep {
+        objective: lambda * st.objective,
+        bound: lambda * st.bound,
+        ..st.clone()
+    };
+    let g = grow_phases(&view.crawler, &gp, &opts, &mut |st| progress(&scaled(st)))?;
+    Ok(Growth {
+        best: chain_phase_gait(p, view, &g.best)?,
+        table: g.table.iter().map(scaled).collect(),
+        stop: g.stop,
+    })
+}
+
+/// A crawler's phase gait on the chain of `p` as a general phase gait (module docs), replayed
+/// by the general exact simulator; an error if the replay's `J` is not `lambda` times the
+/// crawler's or its states are not the crawler's mapped.
+pub fn chain_phase_gait(
+    p: &GeneralProblem,
+    view: &ChainView,
+    s: &PhaseSolution,
+) -> Result<GeneralPhaseGait> {
+    let beta: Vec<f64> = (0..p.states()).map(|l| p.dynamics.b[l][l]).collect();
+    let to_general = |x: &[f64]| -> Vec<f64> { x.iter().zip(&beta).map(|(x, b)| x * b).collect() };
+    let what = "the chain's phase gait";
+    let x0 = to_general(&s.states[0]);
+    let (states, sim) = replay_phases(p, &s.durations, &s.controls, &x0, what)?;
+    let objective = sim.objective.unwrap_or(sim.reward - sim.cost);
+    let lambda = view.objective_scale;
+    let want = lambda * s.objective();
+    let scale = p.c.scale();
+    let state_gap = states
+        .iter()
+        .zip(&s.states)
+        .flat_map(|(a, b)| {
+            let b = to_general(b);
+            a.iter()
+                .zip(b)
+                .map(|(a, b)| (a - b).abs())
+                .collect::<Vec<_>>()
+        })
+        .fold(0.0_f64, f64::max);
+    if (objective - want).abs() > 1e-9 * want.abs().max(1.0) || state_gap > 1e-9 * scale {
+        return Err(Error::Numerical(format!(
+            "{what}: the general replay gives J = {objective} for the crawler's {want} and \
+             states off by {state_gap:e}"
+        )));
+    }
+    // Each block's row norm s_b (the bracket e_(b-1) / beta_(b-1) - e_b / beta_b).
+    let n = p.states();
+    let s_b: Vec<f64> = (0..=n)
+        .map(|b| {
+            let back = if b >= 1 { beta[b - 1].powi(-2) } else { 0.0 };
+            let front = if b < n { beta[b].powi(-2) } else { 0.0 };
+            (back + front).sqrt()
+        })
+        .collect();
+    let sigma = p.c.faces();
+    let mut held = Vec::with_capacity(s.durations.len());
+    let mut reactions = Vec::with_capacity(s.durations.len());
+    for (j, tau) in s.durations.iter().enumerate() {
+        let mut h = Vec::new();
+        let mut r = vec![0.0; sigma];
+        for (b, &mode) in s.modes[j].iter().enumerate() {
+            let d = s.block_displacements[j][b];
+            if mode != 0 {
+                let f = view.faces[b][usize::from(mode < 0)];
+                h.push(f + 1);
+                r[f] = s_b[b] * d.abs() / tau;
+            }
+        }
+        h.sort_unstable();
+        held.push(h);
+        reactions.push(r);
+    }
+    let bound = lambda * s.certificate.bound;
+    Ok(GeneralPhaseGait {
+        max_phases: s.phases,
+        objective,
+        certificate: Certificate {
+            status: s.certificate.status,
+            milp_objective: lambda * s.certificate.milp_objective,
+            bound,
+            gap: Certificate::gap_of(bound, objective),
+        },
+        durations: s.durations.clone(),
+        controls: s.controls.clone(),
+        states,
+        held,
+        reactions,
+        state_gap,
+        actuation_cost: sim.cost,
+        rounds: s.rounds,
+    })
+}
