@@ -246,23 +246,8 @@ fn check_upper_bound(
              gait problem",
         ));
     }
-    if ub.method != crate::optimal::bound_record::METHOD {
-        return Err(bad(
-            what,
-            "certificate.upper_bound.method",
-            &ub.method,
-            format!("the method is \"{}\"", crate::optimal::bound_record::METHOD),
-        ));
-    }
     let tol = INPUT_TOL * j.abs().max(1.0);
-    if !(ub.value.is_finite() && ub.value >= j - tol) {
-        return Err(bad(
-            what,
-            "certificate.upper_bound.value",
-            ub.value,
-            format!("is below the verified objective {j}"),
-        ));
-    }
+    ub.check_recorded(what, j, |a, b| (a - b).abs() <= tol)?;
     Ok(())
 }
 

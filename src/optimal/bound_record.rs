@@ -56,6 +56,39 @@ impl UpperBound {
         }
     }
 
+    /// Checks a recorded bound against the verified `j` it bounds, as a result file is read
+    /// back (`what` names the file in errors): taken as recorded (its LP is not re-solved), but
+    /// it must be by [`METHOD`] and a finite value at least `j` (or `close` to it).
+    pub fn check_recorded(
+        &self,
+        what: &str,
+        j: f64,
+        close: impl Fn(f64, f64) -> bool,
+    ) -> crate::error::Result<()> {
+        let bad = |field: &str, got: String, reason: String| {
+            crate::Error::invalid(
+                format!("{what}: certificate.upper_bound.{field}"),
+                got,
+                reason,
+            )
+        };
+        if self.method != METHOD {
+            return Err(bad(
+                "method",
+                self.method.clone(),
+                format!("the method is \"{METHOD}\""),
+            ));
+        }
+        if !(self.value.is_finite() && (self.value >= j || close(self.value, j))) {
+            return Err(bad(
+                "value",
+                self.value.to_string(),
+                format!("is below the verified objective {j}"),
+            ));
+        }
+        Ok(())
+    }
+
     /// The resolution that gave the bound, as the text and the report print it:
     /// `"R x R'"`, with `", M cost tangents"` when a quadratic cost entered through tangents.
     pub fn resolution_text(&self) -> String {

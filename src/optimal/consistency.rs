@@ -481,25 +481,7 @@ impl GaitResult {
     fn check_certificate(&self, what: &str, close: impl Fn(f64, f64) -> bool) -> Result<()> {
         let c = &self.certificate;
         if let Some(ub) = &c.upper_bound {
-            // Taken as recorded (its LP is not re-solved), but it must be a bound on this gait.
-            if ub.method != crate::optimal::bound_record::METHOD {
-                return Err(bad(
-                    what,
-                    "certificate.upper_bound.method",
-                    &ub.method,
-                    format!("the method is \"{}\"", crate::optimal::bound_record::METHOD),
-                ));
-            }
-            if !(ub.value.is_finite()
-                && (ub.value >= self.objective || close(ub.value, self.objective)))
-            {
-                return Err(bad(
-                    what,
-                    "certificate.upper_bound.value",
-                    ub.value,
-                    format!("is below the verified objective {}", self.objective),
-                ));
-            }
+            ub.check_recorded(what, self.objective, &close)?;
         }
         let kinds: &[&str] = match self.method.as_str() {
             "phase" => &["global_k_phases", "local"],
