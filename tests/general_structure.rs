@@ -349,3 +349,87 @@ fn a_chain_takes_the_chains_phase_formulation() {
         other => panic!("not refused: {other:?}"),
     }
 }
+
+/// A problem file of a general problem (its unit rows, as the library stores them).
+fn file_of(p: &GeneralProblem) -> crawlopt::io::GeneralFile {
+    let parts = parts_of(p);
+    let cost = match p.cost {
+        GeneralCost::Quadratic { weight } => {
+            format!("cost = {{ kind = \"quadratic\", weight = {weight:?} }}\n")
+        }
+        _ => String::new(),
+    };
+    let text = format!(
+        "[sweeping_process]\nnormals = {:?}\noffsets = {:?}\n[dynamics]\nB = {:?}\n\
+         [control]\nlower = {:?}\nupper = {:?}\nzero_mean = true\n\
+         [objective]\nface_weights = {:?}\n{cost}[problem]\nperiod = {:?}\n",
+        parts.normals,
+        parts.offsets,
+        parts.b,
+        parts.lower.unwrap(),
+        parts.upper.unwrap(),
+        parts.face_weights.unwrap(),
+        p.period
+    );
+    crawlopt::io::GeneralFile::parse(&text).unwrap()
+}
+
+/// With stiffness other than 1 the chain's problem is the crawler's (its rate bounds are the
+/// crawler's k_l times the actuator speeds): the chain phase answer equals the crawler's phase
+/// optimum, its bound at K bounds the general formulation at K, and the chain's upper bound
+/// is the crawler's.
+#[test]
+fn with_any_stiffness_the_chain_is_the_crawlers_problem() {
+    use crawlopt::api::{
+        optimize_general, optimize_general_phase, GeneralPhaseSettings, GeneralPmSettings, Hooks,
+        PhaseFormulation,
+    };
+    use crawlopt::certify::bound::{upper_bound, BoundSettings};
+    use crawlopt::optimal::{solve_phase_global, Cost, GaitProblem};
+    for k in [[0.5, 2.0], [0.25, 4.0]] {
+        let c = Crawler::new(k.to_vec(), vec![1.0, 1.2, 0.9], vec![2.5, 3.1, 2.7]).unwrap();
+        c.require_unique().unwrap();
+        let gp = GaitProblem::new(&c, 8.0, &[1.0, 1.0], Cost::None, None).unwrap();
+        let inst = crawler_as_general(&c, 8.0, &gp.rate_bound, GeneralCost::None).unwrap();
+        let file = file_of(&inst.problem);
+        let phases = |k, formulation| GeneralPhaseSettings {
+            phases: Some(k),
+            formulation,
+            ..GeneralPhaseSettings::default()
+        };
+        let want = solve_phase_global(&c, &gp, 2, Some(60.0)).unwrap();
+        let chain = optimize_general_phase(&file, &phases(2, None), Hooks::default()).unwrap();
+        assert_eq!(chain.formulation.as_deref(), Some("chain"));
+        assert!(
+            (chain.objective - want.objective()).abs() < 1e-7,
+            "k = {k:?}: chain {} vs crawler {}",
+            chain.objective,
+            want.objective()
+        );
+        let general = optimize_general_phase(
+            &file,
+            &phases(2, Some(PhaseFormulation::General)),
+            Hooks::default(),
+        )
+        .unwrap();
+        assert!(general.objective <= chain.solution.certificate.bound + 1e-7);
+        let b = BoundSettings {
+            resolution: 4,
+            box_resolution: 4,
+            ..BoundSettings::default()
+        };
+        let s = GeneralPmSettings {
+            m: 2,
+            bound: Some(b),
+            ..GeneralPmSettings::default()
+        };
+        let r = optimize_general(&file, &s).unwrap();
+        let got = r.certificate.upper_bound.unwrap().value;
+        let crawler = upper_bound(&c, &gp, &b).unwrap().value;
+        // The same LP up to the last bit of its data (a_l / k_l * k_l): equal to its tolerance.
+        assert!(
+            (got - crawler).abs() < 1e-7 * crawler,
+            "k = {k:?}: {got} vs {crawler}"
+        );
+    }
+}

@@ -380,12 +380,7 @@ pub(super) fn chain_upper_bound(
     b: &BoundSettings,
     j: f64,
 ) -> Result<crate::optimal::bound_record::UpperBound> {
-    let cost = match view.cost_weight {
-        None => crate::optimal::Cost::None,
-        Some(weight) => crate::optimal::Cost::Quadratic { weight },
-    };
-    let gp =
-        crate::optimal::GaitProblem::new(&view.crawler, p.period, &view.rate_bounds, cost, None)?;
+    let gp = crate::optimal::general::chain_gait_problem(p, view)?;
     let mut ub = crate::certify::bound::upper_bound(&view.crawler, &gp, b)?;
     ub.value *= view.objective_scale;
     if ub.value.is_nan() || ub.value < j - 1e-9 * j.abs().max(1.0) {

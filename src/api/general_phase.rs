@@ -35,8 +35,9 @@ pub struct GeneralPhaseSettings {
     /// A fixed `K`: one MILP over gaits of at most `K` phases (default `None`: `K` grows from
     /// 1 to `max_phases`).
     pub phases: Option<usize>,
-    /// Consecutive `K` without a gain that end the growth, counted once a `J_K` is positive
-    /// (default [`crate::api::DEFAULT_PATIENCE`], as for crawlers).
+    /// Consecutive `K` without a gain that end the growth, counted once a `J_K` moves the
+    /// system (above `1e-9` of its length scale; default [`crate::api::DEFAULT_PATIENCE`], as
+    /// for crawlers). At least 1, also with a fixed `phases`.
     pub patience: usize,
     /// Seconds for all the MILPs (`None`, the default: no limit): the best gait so far, claimed
     /// with the bound of the `K` the limit cut short.
@@ -72,6 +73,9 @@ pub fn optimize_general_phase(
     s: &GeneralPhaseSettings,
     hooks: Hooks<'_>,
 ) -> Result<GeneralPhaseOptimized> {
+    if s.patience == 0 {
+        return Err(crate::Error::invalid("patience", 0, "must be at least 1"));
+    }
     let (p, g) = super::general_problem(file)?;
     let bound_chain = super::general::chain_for_bound(&p, s.bound.as_ref())?;
     let range = match s.phases {

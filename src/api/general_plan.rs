@@ -66,10 +66,12 @@ impl OptimizeSettings {
             Naming::Flags => {
                 let reason = if phase {
                     "does not apply to --method phase on a general problem file (--phases, \
-                     --max-phases, --patience, --time-limit, --json)"
+                     --max-phases, --patience, --time-limit, --bound on a crawler's problem, \
+                     --json)"
                 } else {
-                    "does not apply to a general problem file (P_m only, so far; --certify and \
-                     --convergence with the global method, --shifts with --method local)"
+                    "does not apply to a general problem file with this method (--certify and \
+                     --convergence with the global P_m, --shifts with --method local, --bound \
+                     with --method discrete or phase on a crawler's problem)"
                 };
                 let mut given = vec![
                     ("phases", self.phases.is_some() && !phase),

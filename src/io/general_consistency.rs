@@ -137,13 +137,22 @@ impl GeneralAnswer {
                 let chain = match r.formulation.as_deref() {
                     None => false,
                     Some("chain") if p.as_chain().is_some() => true,
+                    Some("chain") => {
+                        return Err(bad(
+                            what,
+                            "formulation",
+                            "chain",
+                            "the problem is not a crawler's gait problem (a chain), so the \
+                             chain's formulation cannot have run",
+                        ))
+                    }
                     Some(other) => {
                         return Err(bad(
                             what,
                             "formulation",
                             other,
-                            "the only other formulation is \"chain\", for a crawler's gait \
-                             problem",
+                            "the only formulation recorded is \"chain\" (absent: the general \
+                             one)",
                         ))
                     }
                 };

@@ -42,9 +42,10 @@ pub struct OptimizeArgs {
     /// discrete P_m when the problem bounds TV(u), which phase gaits cannot express).
     #[arg(long, value_enum, default_value = "auto")]
     pub method: OptimizeMethod,
-    /// Slip phases allowed in a phase gait (all-stick transitions between them are free);
-    /// without it K grows from 1 until the value has not improved for --patience K (or
-    /// --max-phases, or the time limit).
+    /// Slip phases allowed in a phase gait (all-stick transitions between them are free; for
+    /// a general problem file, phases of constant control, or slip phases where it is a
+    /// crawler's); without it K grows from 1 until the value has not improved for --patience K
+    /// (or --max-phases, or the time limit).
     #[arg(long, allow_negative_numbers = true, value_parser = count)]
     pub phases: Option<usize>,
     /// Consecutive K without a gain that end the growth of K (the library's default,
@@ -59,9 +60,10 @@ pub struct OptimizeArgs {
     /// Largest K tried when K grows (the library's default, `api::DEFAULT_MAX_PHASES`; for
     /// --method phase or auto without --phases, and for the default start gaits).
     #[arg(long = "max-phases", allow_negative_numbers = true, value_parser = count, help = format!(
-        "Largest K tried when K grows (default {}; for --method phase or auto without \
-         --phases, and for the default start gaits)",
-        api::DEFAULT_MAX_PHASES
+        "Largest K tried when K grows (default {}, {} for a general problem file; for --method \
+         phase or auto without --phases, and for the default start gaits)",
+        api::DEFAULT_MAX_PHASES,
+        api::DEFAULT_GENERAL_PHASES
     ))]
     pub max_phases: Option<usize>,
     /// The grid of P_m has 2^m steps (--method discrete, default 3; --method local, default

@@ -24,13 +24,47 @@ use crate::optimal::growth::{Growth, PhaseStep};
 use crate::optimal::milp::Certificate;
 use crate::optimal::{grow_phases, Cost, GaitProblem, GrowOptions, PhaseSolution};
 
-/// The crawler's gait problem of a chain view (period and cost from `p`).
-fn gait_problem(p: &GeneralProblem, view: &ChainView) -> Result<GaitProblem> {
+/// The crawler's gait problem of a chain view: period from `p`, the rate bounds `a_l` of the
+/// box U (the crawler's `k_l` times its actuator speeds, so the speeds are `a_l / k_l`), the
+/// cost `c / lambda`. The crawler's checks of its scales name the problem's own fields
+/// (`control.upper[l]`, `objective.cost.weight`, `problem.period`).
+pub fn chain_gait_problem(p: &GeneralProblem, view: &ChainView) -> Result<GaitProblem> {
     let cost = match view.cost_weight {
         None => Cost::None,
         Some(weight) => Cost::Quadratic { weight },
     };
-    GaitProblem::new(&view.crawler, p.period, &view.rate_bounds, cost, None)
+    let speeds: Vec<f64> = view
+        .rate_bounds
+        .iter()
+        .zip(view.crawler.stiffness())
+        .map(|(a, k)| a / k)
+        .collect();
+    let renamed = |e: Error| match e {
+        Error::InvalidParameter {
+            field,
+            value,
+            reason,
+        } => {
+            let field = if let Some(rest) = field.strip_prefix("gait.max_actuator_speed") {
+                format!("control.upper{rest}")
+            } else if let Some(rest) = field.strip_prefix("gait.cost") {
+                format!("objective.cost{rest}")
+            } else if let Some(rest) = field.strip_prefix("gait.") {
+                format!("problem.{rest}")
+            } else {
+                field
+            };
+            Error::InvalidParameter {
+                field,
+                value,
+                reason,
+            }
+        }
+        other => other,
+    };
+    let gp = GaitProblem::new(&view.crawler, p.period, &speeds, cost, None).map_err(renamed)?;
+    gp.check_scales(&view.crawler).map_err(renamed)?;
+    Ok(gp)
 }
 
 /// `K` grown over `min..=max` slip phases by the crawler's growth on the chain of `p`
@@ -44,7 +78,7 @@ pub fn grow_chain_phases(
     patience: usize,
     progress: &mut dyn FnMut(&PhaseStep),
 ) -> Result<Growth<GeneralPhaseGait>> {
-    let gp = gait_problem(p, view)?;
+    let gp = chain_gait_problem(p, view)?;
     let lambda = view.objective_scale;
     let opts = GrowOptions {
         min_phases,
@@ -55,6 +89,7 @@ pub fn grow_chain_phases(
     let scaled = |st: &PhaseStep| PhaseStep {
         objective: lambda * st.objective,
         bound: lambda * st.bound,
+        gap: Certificate::gap_of(lambda * st.bound, lambda * st.objective),
         ..st.clone()
     };
     let g = grow_phases(&view.crawler, &gp, &opts, &mut |st| progress(&scaled(st)))?;

@@ -225,7 +225,6 @@ pub fn certificate(c: &NecessaryConditions, r: &GaitResult) -> String {
     out
 }
 
-/// One solved K of a phase growth, for the progress line (J and the bound at the problem's
 /// The upper bound over all periodic gaits and how far `j` can be from it, crawler or general
 /// (a chain's), the values written by `len`.
 pub(super) fn upper_bound_line(
@@ -303,6 +302,7 @@ pub(super) fn growth_table(
     }
 }
 
+/// One solved K of a phase growth, for the progress line (J and the bound at the problem's
 /// length scale `length`).
 pub fn phase_step(st: &PhaseStep, length: f64) -> String {
     format!(
