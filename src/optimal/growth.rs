@@ -68,6 +68,27 @@ pub struct GrowthRange {
     pub patience: usize,
 }
 
+impl GrowthRange {
+    /// Refuses a range no growth can run: `1 <= min_phases <= max_phases <= most` (the
+    /// family's largest `K`), `patience >= 1`; errors name the field.
+    pub fn check(&self, most: usize) -> Result<()> {
+        if self.min_phases < 1 {
+            return Err(Error::invalid("min_phases", 0, "must be at least 1"));
+        }
+        if self.max_phases < self.min_phases || self.max_phases > most {
+            return Err(Error::invalid(
+                "max_phases",
+                self.max_phases,
+                format!("must be in {}..={most}", self.min_phases),
+            ));
+        }
+        if self.patience == 0 {
+            return Err(Error::invalid("patience", 0, "must be at least 1"));
+        }
+        Ok(())
+    }
+}
+
 /// A family of exact phase gaits, each `K` solved globally by a MILP: what [`grow`] is written
 /// against. The crawler's chain formulation (`K` slip phases, transitions free) and the general
 /// one (`K` phases of constant control) implement it.

@@ -6,7 +6,7 @@
 use super::discrete::{big_m, column_bound, reward_weights};
 use super::geometry::Geometry;
 use super::phase::{check_general_phase, solve_general_phase, GeneralPhaseGait};
-use crate::error::{Error, Result};
+use crate::error::Result;
 use crate::model::general::{GeneralCost, GeneralProblem};
 use crate::optimal::growth::{grow, Growth, GrowthRange, PhaseFamily, PhaseStep};
 use crate::optimal::milp::{check_time_limit, Certificate, MilpStatus, OA_TOL};
@@ -80,16 +80,7 @@ pub fn grow_general_phases(
 ) -> Result<Growth<GeneralPhaseGait>> {
     check_general_phase(p, g, range.max_phases)?;
     check_time_limit(time_limit)?;
-    if !(1..=range.max_phases).contains(&range.min_phases) {
-        return Err(Error::invalid(
-            "min_phases",
-            range.min_phases,
-            format!("must be in 1..={}", range.max_phases),
-        ));
-    }
-    if range.patience == 0 {
-        return Err(Error::invalid("patience", 0, "must be at least 1"));
-    }
+    range.check(super::phase::MAX_GENERAL_PHASES)?;
     let family = GeneralPhases { p, g };
     crate::progress::within(time_limit, || grow(&family, range, None, progress))
 }

@@ -3,7 +3,7 @@
 
 use super::solve::{gain_tolerance, solve_phase_with};
 use super::{start_unproven, Formulation, PhaseOptions, PhaseSolution, MAX_PHASES};
-use crate::error::{Error, Result};
+use crate::error::Result;
 use crate::model::Crawler;
 use crate::optimal::growth::{GrowthRange, PhaseFamily};
 pub use crate::optimal::growth::{GrowthStop, PhaseStep};
@@ -62,20 +62,16 @@ impl GrowOptions {
     /// `patience >= 1`, a positive finite time limit.
     pub fn check(&self) -> Result<()> {
         check_time_limit(self.time_limit)?;
-        if self.min_phases < 1 {
-            return Err(Error::invalid("min_phases", 0, "must be at least 1"));
+        self.range().check(MAX_PHASES)
+    }
+
+    /// The range of `K` and the patience.
+    fn range(&self) -> GrowthRange {
+        GrowthRange {
+            min_phases: self.min_phases,
+            max_phases: self.max_phases,
+            patience: self.patience,
         }
-        if self.max_phases < self.min_phases || self.max_phases > MAX_PHASES {
-            return Err(Error::invalid(
-                "max_phases",
-                self.max_phases,
-                format!("must be in {}..={MAX_PHASES}", self.min_phases),
-            ));
-        }
-        if self.patience == 0 {
-            return Err(Error::invalid("patience", 0, "must be at least 1"));
-        }
-        Ok(())
     }
 }
 
@@ -163,12 +159,7 @@ fn grow(
         problem,
         formulation: opts.formulation,
     };
-    let range = GrowthRange {
-        min_phases: opts.min_phases,
-        max_phases: opts.max_phases,
-        patience: opts.patience,
-    };
-    let g = crate::optimal::growth::grow(&family, range, opts.start.clone(), progress)?;
+    let g = crate::optimal::growth::grow(&family, opts.range(), opts.start.clone(), progress)?;
     Ok(PhaseGrowth {
         best: g.best,
         table: g.table,
