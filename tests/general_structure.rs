@@ -342,6 +342,14 @@ fn a_chain_takes_the_chains_phase_formulation() {
     let one = crawlopt::io::GeneralFile::parse(&one).unwrap();
     let r = optimize_general_phase(&one, &settings(None), Hooks::default()).unwrap();
     assert!(r.formulation.is_none());
+    match optimize_general_phase(
+        &one,
+        &settings(Some(PhaseFormulation::Chain)),
+        Hooks::default(),
+    ) {
+        Err(crawlopt::Error::InvalidParameter { field, .. }) => assert_eq!(field, "formulation"),
+        other => panic!("not refused: {other:?}"),
+    }
     let mut v: serde_json::Value = serde_json::to_value(&r).unwrap();
     v["formulation"] = "chain".into();
     match crawlopt::io::ResultFile::from_json(&v.to_string(), "r") {

@@ -44,7 +44,8 @@ pub struct GeneralPhaseSettings {
     pub time_limit: Option<f64>,
     /// The formulation: `None` (the default) takes the chain's where the problem is a
     /// crawler's gait problem and the general one elsewhere; `Some(General)` forces the
-    /// general one (to compare them).
+    /// general one (to compare them); `Some(Chain)` asks for the chain's and is refused,
+    /// naming `formulation`, where the problem is not a chain.
     pub formulation: Option<PhaseFormulation>,
     /// Also prove the crawler's upper bound over all periodic gaits (default none): only for
     /// a problem that is a crawler's gait problem ([`super::general::chain_upper_bound`]).
@@ -124,6 +125,14 @@ pub fn optimize_general_phase(
         let chain = p.as_chain().filter(|v| {
             v.crawler.require_unique().is_ok() && s.formulation != Some(PhaseFormulation::General)
         });
+        if chain.is_none() && s.formulation == Some(PhaseFormulation::Chain) {
+            return Err(crate::Error::invalid(
+                "formulation",
+                "chain",
+                "the chain's formulation needs a crawler's gait problem (a chain whose crawler \
+                 meets the uniqueness condition; see `analyze`)",
+            ));
+        }
         let grown = match &chain {
             Some(view) => crate::optimal::general::check_general_phase(&p, &g, range.max_phases)
                 .and_then(|()| crate::optimal::check_time_limit(s.time_limit))
