@@ -134,20 +134,7 @@ pub fn optimize_general_phase(
             ));
         }
         let grown = match &chain {
-            Some(view) => crate::optimal::general::check_general_phase(&p, &g, range.max_phases)
-                .and_then(|()| crate::optimal::check_time_limit(s.time_limit))
-                .and_then(|()| {
-                    crate::progress::within(s.time_limit, || {
-                        grow_chain_phases(
-                            &p,
-                            view,
-                            range.min_phases,
-                            range.max_phases,
-                            range.patience,
-                            &mut progress,
-                        )
-                    })
-                }),
+            Some(view) => grow_chain_phases(&p, &g, view, range, s.time_limit, &mut progress),
             None => grow_general_phases(&p, &g, range, s.time_limit, &mut progress),
         }
         .map_err(named)?;

@@ -6,7 +6,7 @@
 //! the caller spelled them ([`Naming`]).
 
 use super::events::Hooks;
-use super::general::{optimize_general, GeneralPmSettings};
+use super::general::GeneralPmSettings;
 use super::general_local::{optimize_general_local, optimize_general_with_hooks};
 use super::general_phase::{optimize_general_phase, GeneralPhaseSettings};
 use super::settings::{GaitMethod, Naming, OptimizeSettings};
@@ -221,15 +221,9 @@ pub fn optimize_general_plan(
         Naming::Keywords => e,
     };
     match plan {
-        GeneralPlan::Discrete(s) => {
-            let r = if hooks.events.is_none() && hooks.cancel.is_none() {
-                optimize_general(file, s)
-            } else {
-                optimize_general_with_hooks(file, s, hooks)
-            };
-            r.map(|r| GeneralAnswer::Discrete(Box::new(r)))
-                .map_err(named)
-        }
+        GeneralPlan::Discrete(s) => optimize_general_with_hooks(file, s, hooks)
+            .map(|r| GeneralAnswer::Discrete(Box::new(r)))
+            .map_err(named),
         GeneralPlan::Local(s) => optimize_general_local(file, s, hooks)
             .map(|r| GeneralAnswer::Local(Box::new(r)))
             .map_err(named),

@@ -381,27 +381,7 @@ fn check_phase(
         ));
     }
     let t = p.period;
-    if let Some(j) = s
-        .durations
-        .iter()
-        .position(|d| !(d.is_finite() && *d > 0.0))
-    {
-        return Err(bad(
-            what,
-            &format!("solution.durations[{j}]"),
-            s.durations[j],
-            "must be positive and finite",
-        ));
-    }
-    let total: f64 = s.durations.iter().sum();
-    if (total - t).abs() > 1e-9 * t {
-        return Err(bad(
-            what,
-            "solution.durations",
-            format!("a sum of {total}"),
-            format!("must sum to the period {t}"),
-        ));
-    }
+    crate::optimal::consistency::check_durations(what, "solution.durations", &s.durations, t)?;
     let uscale = s
         .controls
         .iter()

@@ -89,27 +89,7 @@ impl ProcessView<'_> {
                 return Err(bad(what, field, "a non-finite value", "must be finite"));
             }
         }
-        if let Some(j) = self
-            .durations
-            .iter()
-            .position(|d| !(d.is_finite() && *d > 0.0))
-        {
-            return Err(bad(
-                what,
-                &format!("gait.durations[{j}]"),
-                self.durations[j],
-                "must be positive and finite",
-            ));
-        }
-        let total: f64 = self.durations.iter().sum();
-        if (total - t).abs() > 1e-9 * t {
-            return Err(bad(
-                what,
-                "gait.durations",
-                format!("a sum of {total}"),
-                format!("must sum to the period {t}"),
-            ));
-        }
+        check_durations(what, "gait.durations", self.durations, t)?;
         if let ProcessKind::Discrete { m } = self.kind {
             if m == 0 || m > super::MAX_M {
                 return Err(bad(
@@ -251,6 +231,29 @@ impl ProcessView<'_> {
 }
 
 /// `max_l |a_l - b_l|` (infinite when the lengths differ).
+/// Phase durations read back (`field` names them): each positive and finite, summing to the
+/// period `t` within `1e-9` relative; crawler and general results alike.
+pub(crate) fn check_durations(what: &str, field: &str, durations: &[f64], t: f64) -> Result<()> {
+    if let Some(j) = durations.iter().position(|d| !(d.is_finite() && *d > 0.0)) {
+        return Err(bad(
+            what,
+            &format!("{field}[{j}]"),
+            durations[j],
+            "must be positive and finite",
+        ));
+    }
+    let total: f64 = durations.iter().sum();
+    if (total - t).abs() > 1e-9 * t {
+        return Err(bad(
+            what,
+            field,
+            format!("a sum of {total}"),
+            format!("must sum to the period {t}"),
+        ));
+    }
+    Ok(())
+}
+
 pub(crate) fn max_diff(a: &[f64], b: &[f64]) -> f64 {
     if a.len() != b.len() {
         return f64::INFINITY;

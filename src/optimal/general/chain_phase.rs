@@ -16,12 +16,13 @@
 //! forward (backward) face with the reaction rate `s_b D_b / tau` (`D_b` the block's
 //! displacement over the phase, `s_b` the norm of its row), and `J = lambda J_crawler`.
 
-use super::phase::{replay_phases, GeneralPhaseGait};
+use super::geometry::Geometry;
+use super::phase::{check_general_phase, replay_phases, GeneralPhaseGait};
 use crate::error::{Error, Result};
 use crate::model::general::GeneralProblem;
 use crate::model::ChainView;
-use crate::optimal::growth::{Growth, PhaseStep};
-use crate::optimal::milp::Certificate;
+use crate::optimal::growth::{Growth, GrowthRange, PhaseStep};
+use crate::optimal::milp::{check_time_limit, Certificate};
 use crate::optimal::{grow_phases, Cost, GaitProblem, GrowOptions, PhaseSolution};
 
 /// The crawler's gait problem of a chain view: period from `p`, the rate bounds `a_l` of the
@@ -67,23 +68,38 @@ pub fn chain_gait_problem(p: &GeneralProblem, view: &ChainView) -> Result<GaitPr
     Ok(gp)
 }
 
-/// `K` grown over `min..=max` slip phases by the crawler's growth on the chain of `p`
-/// (module docs), each `K` reported to `progress` in the problem's units; the best gait
-/// written back as a general phase gait. Within the job's deadline.
+/// `K` grown over `range` (slip phases) by the crawler's growth on the chain of `p` (module
+/// docs), each `K` reported to `progress` in the problem's units; the best gait written back
+/// as a general phase gait. Checked as [`super::grow_general_phases`] is (errors name
+/// `max_phases`, `patience`, `time_limit`); `time_limit` in seconds, within the job's
+/// deadline.
 pub fn grow_chain_phases(
     p: &GeneralProblem,
+    g: &Geometry,
     view: &ChainView,
-    min_phases: usize,
-    max_phases: usize,
-    patience: usize,
+    range: GrowthRange,
+    time_limit: Option<f64>,
+    progress: &mut dyn FnMut(&PhaseStep),
+) -> Result<Growth<GeneralPhaseGait>> {
+    check_general_phase(p, g, range.max_phases)?;
+    check_time_limit(time_limit)?;
+    range.check(super::phase::MAX_GENERAL_PHASES)?;
+    crate::progress::within(time_limit, || grow_chain(p, view, range, progress))
+}
+
+/// [`grow_chain_phases`], checked, within the deadline.
+fn grow_chain(
+    p: &GeneralProblem,
+    view: &ChainView,
+    range: GrowthRange,
     progress: &mut dyn FnMut(&PhaseStep),
 ) -> Result<Growth<GeneralPhaseGait>> {
     let gp = chain_gait_problem(p, view)?;
     let lambda = view.objective_scale;
     let opts = GrowOptions {
-        min_phases,
-        max_phases,
-        patience,
+        min_phases: range.min_phases,
+        max_phases: range.max_phases,
+        patience: range.patience,
         ..GrowOptions::default()
     };
     let scaled = |st: &PhaseStep| PhaseStep {
