@@ -11,13 +11,15 @@ use crawlopt::api::general_problem;
 use crawlopt::certify::general::{GeneralFaceMultiplier, GeneralMultipliers};
 use crawlopt::certify::{
     self, certify_general, one_link_structure, residuals_of, CertifyOptions, ConditionCheck,
-    GeneralProcess, Process, Verdict,
+    GeneralProcess, Process, ProcessKind, Verdict,
 };
 use crawlopt::io::GeneralFile;
 use crawlopt::model::general::{GeneralCost, GeneralParts, GeneralProblem, EXPLICIT_STEP_LIMIT};
 use crawlopt::model::{crawler_as_general, Crawler};
 use crawlopt::optimal::general::{check_problem, solve_general_pm};
-use crawlopt::optimal::{solve_discrete_global, Cost, GaitProblem, GaitResult, MilpStatus};
+use crawlopt::optimal::{
+    solve_discrete_global, solve_phase_global, Cost, GaitProblem, GaitResult, MilpStatus,
+};
 
 fn condition(c: &[ConditionCheck], name: &str, theorem: &str) -> f64 {
     c.iter()
@@ -46,7 +48,7 @@ fn the_one_link_problem_matches_the_crawler_certificate() {
     let m = 3;
     let s = solve_general_pm(&p, &g, m, None).unwrap();
     assert!((s.objective - 3.0).abs() < 1e-9, "{}", s.objective);
-    let pr = GeneralProcess::from_pm(&s);
+    let pr = GeneralProcess::from_pm(&p, &s);
     let c = certify_general(&p, &pr, &CertifyOptions::default()).unwrap();
     assert_eq!(c.verdict, Verdict::Holds, "{}", c.reason);
     assert!((c.objective - 3.0).abs() < 1e-9);
@@ -85,11 +87,11 @@ fn the_one_link_problem_matches_the_crawler_certificate() {
     assert!(one.interior_arcs.iter().all(|a| (a - 2.5).abs() < 1e-9));
 }
 
-/// The crawler's P_m process in the general variables (`crate::model::general_crawler`):
-/// `x~ = K^(-1/2) x`, the reactions of the unit rows `lambda_(b+-) = s_b max(+-D_b, 0) / h`.
-fn general_process(c: &Crawler, r: &GaitResult, m: u32) -> GeneralProcess {
+/// The crawler's P_m process or phase gait in the general variables
+/// (`crate::model::general_crawler`): `x~ = K^(-1/2) x`, the reactions of the unit rows
+/// `lambda_(b+-) = s_b max(+-D_b, 0) / tau_j` (`tau_j = h` on P_m).
+fn general_process_of(c: &Crawler, r: &GaitResult, kind: ProcessKind) -> GeneralProcess {
     let sk: Vec<f64> = c.stiffness().iter().map(|k| k.sqrt()).collect();
-    let h = r.problem.period / (1usize << m) as f64;
     let s = |b: usize| {
         let (l, r) = (
             if b > 0 { c.stiffness()[b - 1] } else { 0.0 },
@@ -98,7 +100,8 @@ fn general_process(c: &Crawler, r: &GaitResult, m: u32) -> GeneralProcess {
         (l + r.copied().unwrap_or(0.0)).sqrt()
     };
     GeneralProcess {
-        m,
+        kind,
+        durations: r.gait.durations.clone(),
         x: r.gait
             .states
             .iter()
@@ -109,7 +112,8 @@ fn general_process(c: &Crawler, r: &GaitResult, m: u32) -> GeneralProcess {
             .gait
             .block_displacements
             .iter()
-            .map(|d| {
+            .zip(&r.gait.durations)
+            .map(|(d, &h)| {
                 d.iter()
                     .enumerate()
                     .flat_map(|(b, &v)| [s(b) * v.max(0.0) / h, s(b) * (-v).max(0.0) / h])
@@ -141,15 +145,60 @@ fn crawler_instances_match_the_crawler_certificate() {
         (Crawler::uniform(3, 1.0, 1.0, 1.5).unwrap(), 10.0, 3),
     ];
     for (crawler, period, m) in cases {
-        let nb = crawler.blocks();
         let speed = vec![1.0; crawler.links()];
         let gp = GaitProblem::new(&crawler, period, &speed, Cost::None, None).unwrap();
-        let a = gp.rate_bound.clone();
         let sol = solve_discrete_global(&crawler, &gp, m, None).unwrap();
         let r = GaitResult::from_discrete(&crawler, &gp, &sol);
-        let cc = certify::certify_result(&r, "test").unwrap();
-        let inst = crawler_as_general(&crawler, period, &a, GeneralCost::None).unwrap();
-        let pr = general_process(&crawler, &r, m);
+        assert_matches_crawler(&crawler, &r, ProcessKind::Discrete { m });
+    }
+}
+
+/// (b) for exact phase gaits: the crawler's phase optimum (K slip phases) in the general
+/// variables, certified on its own phases with the durations free, gives the crawler
+/// certificate's verdict, with the crawler's multipliers mapped as for P_m; both hold the
+/// stationarity in the durations (the maximised Hamiltonian constant).
+#[test]
+fn crawler_phase_gaits_match_the_crawler_certificate() {
+    let cases = [
+        (Crawler::uniform(2, 1.0, 1.0, 2.0).unwrap(), 10.0, 2),
+        (
+            Crawler::new(vec![0.5, 2.0], vec![1.0, 1.2, 0.9], vec![2.5, 3.1, 2.7]).unwrap(),
+            8.0,
+            3,
+        ),
+        (Crawler::uniform(3, 1.0, 1.0, 1.5).unwrap(), 10.0, 3),
+    ];
+    for (crawler, period, k) in cases {
+        let speed = vec![1.0; crawler.links()];
+        let gp = GaitProblem::new(&crawler, period, &speed, Cost::None, None).unwrap();
+        let sol = solve_phase_global(&crawler, &gp, k, None).unwrap();
+        let r = GaitResult::from_phase(&crawler, &gp, &sol);
+        let (cc, c) = assert_matches_crawler(&crawler, &r, ProcessKind::Phase);
+        assert_eq!((c.method.as_str(), c.m), ("phase", None));
+        for cert in [&cc.conditions, &c.conditions] {
+            assert!(condition(cert, "duration_stationarity", "6.2") <= 1e-9);
+        }
+    }
+}
+
+/// The crawler certificate of `r` and the general one of the same process in the general
+/// variables: the same verdict and `J`, and the crawler's multipliers, mapped, satisfy the
+/// general system (equal to the general ones where they are unique).
+fn assert_matches_crawler(
+    crawler: &Crawler,
+    r: &GaitResult,
+    kind: ProcessKind,
+) -> (
+    certify::NecessaryConditions,
+    certify::general::GeneralNecessaryConditions,
+) {
+    {
+        let nb = crawler.blocks();
+        let period = r.problem.period;
+        let a = r.problem.rate_bound.clone();
+        let cc = certify::certify_result(r, "test").unwrap();
+        let inst = crawler_as_general(crawler, period, &a, GeneralCost::None).unwrap();
+        let pr = general_process_of(crawler, r, kind);
         let opts = CertifyOptions::default();
         let c = certify_general(&inst.problem, &pr, &opts).unwrap();
         println!(
@@ -217,6 +266,7 @@ fn crawler_instances_match_the_crawler_certificate() {
             assert!(max_diff(&mapped.p, &c.multipliers.p) < 1e-9, "N = {nb}: p");
             assert!(max_diff(&cm.p_plus_omega, &c.multipliers.switching) < 1e-9);
         }
+        (cc, c)
     }
 }
 
@@ -290,7 +340,12 @@ fn a_two_dimensional_problem_with_drift_derived_by_hand() {
     for l in 0..2 {
         assert!((s.u[0][l].abs() - 1.0).abs() < 1e-9 && (s.u[0][l] + s.u[1][l]).abs() < 1e-12);
     }
-    let c0 = certify_general(&p, &GeneralProcess::from_pm(&s), &CertifyOptions::default()).unwrap();
+    let c0 = certify_general(
+        &p,
+        &GeneralProcess::from_pm(&p, &s),
+        &CertifyOptions::default(),
+    )
+    .unwrap();
     assert_eq!(c0.verdict, Verdict::Holds, "{}", c0.reason);
 
     // The optimum with s = +1 in both components, and its multipliers by hand.
@@ -444,7 +499,7 @@ fn a_polytope_u_gives_the_box_certificate() {
     assert_ne!(poly, text);
     let (q, _) = general_problem(&GeneralFile::parse(&poly).unwrap()).unwrap();
     let s = solve_general_pm(&p, &g, 2, None).unwrap();
-    let pr = GeneralProcess::from_pm(&s);
+    let pr = GeneralProcess::from_pm(&p, &s);
     let opts = CertifyOptions::default();
     let (a, b) = (
         certify_general(&p, &pr, &opts).unwrap(),
@@ -521,8 +576,12 @@ fn random_optima_satisfy_the_conditions() {
         }
         let g = check_problem(&p).unwrap();
         let s = solve_general_pm(&p, &g, 1, None).unwrap();
-        let c =
-            certify_general(&p, &GeneralProcess::from_pm(&s), &CertifyOptions::default()).unwrap();
+        let c = certify_general(
+            &p,
+            &GeneralProcess::from_pm(&p, &s),
+            &CertifyOptions::default(),
+        )
+        .unwrap();
         println!(
             "instance {k}: J = {:.6}, {:?}: {}",
             s.objective, c.verdict, c.reason

@@ -312,8 +312,8 @@ class GeneralResult(_LibraryFigures, Document):
 
     def certify(self) -> NecessaryConditions:
         """The necessary conditions (Theorem 2.2; discrete form Theorems 6.1–6.2) on the
-        stored P_m process (methods "discrete" and "local"; a phase gait raises InputError):
-        ``crawlopt certify RESULT.json``."""
+        stored P_m process (methods "discrete" and "local") or phase gait (method "phase", on
+        its own phases with the durations free): ``crawlopt certify RESULT.json``."""
         import json
 
         from . import _crawlopt as _rs

@@ -212,8 +212,9 @@ class GeneralProblem:
         certificate) or "local" (the LPCC active-set method from the file's ``[input]`` or
         square waves, ``shifts`` rotations of each; no global claim). ``solution`` holds
         ``objective`` (J re-verified by simulation), ``x``, ``u``, ``lambda``. ``certify``
-        (discrete only) adds ``necessary_conditions``: Theorem 2.2's conditions on the optimum
-        with their residuals and ``verdict`` (``crawlopt optimize --certify``). ``convergence``
+        ("discrete" and "phase") adds ``necessary_conditions``: Theorem 2.2's conditions on the
+        optimum with their residuals and ``verdict`` (``crawlopt optimize --certify``; a phase
+        gait's on its own phases, the durations free). ``convergence``
         (discrete only) solves P_1..P_``m`` in turn and adds their table ``convergence``
         (``crawlopt optimize --convergence``), the answer being the finest. ``bound`` (as for
         ``optimize``; "discrete" and "phase"): the crawler's upper bound over all periodic gaits,

@@ -197,10 +197,13 @@ def test_general_results_read_back_and_certify(tmp_path):
     loc = g.optimize(method="local", m=3, shifts=1)
     assert loc.status == "stationary" and loc.certificate["bound"] is None
     assert loc.certify().verdict == "holds"
-    # A phase gait is not a P_m process: refused with the reason.
-    with pytest.raises(co.InputError) as e:
-        g.optimize(method="phase").certify()
-    assert e.value.field == "result: method"
+    # A phase gait certifies on its own phases (the §4 optimum, J = 3): read back or with
+    # the optimum, the same certificate.
+    ph = g.optimize(method="phase", certify=True)
+    assert ph.necessary_conditions.verdict == "holds"
+    assert ph.certify().verdict == "holds" and ph.certify().method == "phase"
+    same = [json.loads(json.dumps(c.to_dict())) for c in (ph.certify(), ph.necessary_conditions)]
+    assert same[0] == same[1]
     # A crawler's result reads as a GaitResult, and is not a general one.
     one = co.load(example("one_link_gait.toml"))
     cr = co.optimize(one.crawler, one.gait_problem, method="phase", phases=2)

@@ -3,8 +3,8 @@
 //! certificate ([`crate::certify::certify_result`]: P_m gaits, global or local, and phase
 //! gaits); a general problem's P_m process (methods `discrete` and `local`) the general one
 //! ([`crate::certify::certify_general`]), the problem rebuilt from the file itself and checked
-//! in full ([`super::general_problem`]). A general phase gait is refused with the reason: the
-//! general certificate is stated on P_m's grid only.
+//! in full ([`super::general_problem`]); so does a general phase gait (`A = 0`; the general or
+//! the chain formulation's), on its own phases.
 
 use crate::certify::{
     certify_general, certify_result, CertifyOptions, GeneralNecessaryConditions, GeneralProcess,
@@ -21,7 +21,7 @@ use serde::Serialize;
 pub enum Certified {
     /// Of a crawler's gait.
     Crawler(Box<NecessaryConditions>),
-    /// Of a general problem's P_m process.
+    /// Of a general problem's P_m process or phase gait.
     General(Box<GeneralNecessaryConditions>),
 }
 
@@ -36,23 +36,22 @@ pub fn certify_result_file(r: &ResultFile, what: &str) -> Result<Certified> {
     }
 }
 
-/// [`certify_result_file`] of a general answer: P_m processes (global or local) are certified;
-/// a phase gait is refused naming `method`; so is a Cauchy problem (naming
-/// `problem.periodic`: the conditions are stated for periodic problems).
+/// [`certify_result_file`] of a general answer: P_m processes (global or local) and phase gaits
+/// are certified; a Cauchy problem is refused naming `problem.periodic` (the conditions are
+/// stated for periodic problems).
 pub fn certify_general_answer(r: &GeneralAnswer, what: &str) -> Result<GeneralNecessaryConditions> {
     let (p, _) = super::general_problem(r.problem())?;
     let pr = match r {
-        GeneralAnswer::Discrete(r) => GeneralProcess::from_pm(&r.solution),
-        GeneralAnswer::Local(r) => GeneralProcess::from_local(&r.solution),
-        GeneralAnswer::Phase(_) => {
-            return Err(Error::invalid(
-                format!("{what}: method"),
-                "phase",
-                "the necessary conditions of a general problem are certified on P_m processes \
-                 (methods discrete and local) only, not on phase gaits",
-            ))
-        }
+        GeneralAnswer::Discrete(r) => GeneralProcess::from_pm(&p, &r.solution),
+        GeneralAnswer::Local(r) => GeneralProcess::from_local(&p, &r.solution),
+        GeneralAnswer::Phase(r) => GeneralProcess::from_phase(&r.solution),
     };
+    // Checked first as the file's solution, so that a message names the file and its field.
+    pr.check_as(
+        &p,
+        crate::optimal::consistency::INPUT_TOL,
+        &format!("{what}: solution"),
+    )?;
     certify_general(&p, &pr, &CertifyOptions::default())
 }
 

@@ -331,7 +331,7 @@ pub(super) fn pm_job(
         (sol, None)
     };
     let necessary_conditions = if s.certify {
-        let pr = crate::certify::GeneralProcess::from_pm(&solution);
+        let pr = crate::certify::GeneralProcess::from_pm(&p, &solution);
         Some(crate::certify::certify_general(
             &p,
             &pr,

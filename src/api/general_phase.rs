@@ -50,6 +50,9 @@ pub struct GeneralPhaseSettings {
     /// Also prove the crawler's upper bound over all periodic gaits (default none): only for
     /// a problem that is a crawler's gait problem ([`super::general::chain_upper_bound`]).
     pub bound: Option<crate::certify::bound::BoundSettings>,
+    /// Also check the necessary conditions of Theorem 2.2 on the gait, on its own phases with
+    /// the durations free (default false; [`crate::certify::general`]).
+    pub certify: bool,
 }
 
 impl Default for GeneralPhaseSettings {
@@ -61,6 +64,7 @@ impl Default for GeneralPhaseSettings {
             time_limit: None,
             formulation: None,
             bound: None,
+            certify: false,
         }
     }
 }
@@ -152,6 +156,15 @@ pub fn optimize_general_phase(
             em.stage("proving an upper bound over all periodic gaits (the chain's)");
             let ub = super::general::chain_upper_bound(&p, view, b, r.objective)?;
             r.certificate.upper_bound = Some(ub);
+        }
+        if s.certify {
+            em.stage("checking the necessary conditions (Theorem 2.2) on the gait");
+            let pr = crate::certify::GeneralProcess::from_phase(&r.solution);
+            r.necessary_conditions = Some(crate::certify::certify_general(
+                &p,
+                &pr,
+                &crate::certify::CertifyOptions::default(),
+            )?);
         }
         Ok(r)
     })

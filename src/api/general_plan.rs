@@ -66,12 +66,13 @@ impl OptimizeSettings {
             Naming::Flags => {
                 let reason = if phase {
                     "does not apply to --method phase on a general problem file (--phases, \
-                     --max-phases, --patience, --time-limit, --bound on a crawler's problem, \
-                     --json)"
+                     --max-phases, --patience, --time-limit, --certify, --bound on a crawler's \
+                     problem, --json)"
                 } else {
-                    "does not apply to a general problem file with this method (--certify and \
-                     --convergence with the global P_m, --shifts with --method local, --bound \
-                     with --method discrete or phase on a crawler's problem)"
+                    "does not apply to a general problem file with this method (--certify with \
+                     the global P_m or phase, --convergence with the global P_m, --shifts with \
+                     --method local, --bound with --method discrete or phase on a crawler's \
+                     problem)"
                 };
                 let mut given = vec![
                     ("phases", self.phases.is_some() && !phase),
@@ -84,7 +85,7 @@ impl OptimizeSettings {
                     ("convergence", self.convergence && (local || phase)),
                     ("start", self.start.is_some()),
                     ("shifts", self.shifts.is_some() && !local),
-                    ("certify", self.certify && (local || phase)),
+                    ("certify", self.certify && local),
                     ("no_polish", polish.1 && (local || phase)),
                     ("bound", self.bound.is_some() && local),
                 ];
@@ -96,10 +97,11 @@ impl OptimizeSettings {
             }
             Naming::Keywords => {
                 let discrete = "applies to method=\"discrete\" only (the global P_m optimum)";
+                let global = "applies to the global methods (\"discrete\", \"phase\") only";
                 let not_general = "does not apply to a general problem";
                 let only_phase = "applies to method=\"phase\" only on a general problem";
-                let in_phase =
-                    "does not apply to method=\"phase\" (phases, max_phases, patience, time_limit)";
+                let in_phase = "does not apply to method=\"phase\" (phases, max_phases, patience, \
+                                time_limit, certify)";
                 let mut given = vec![
                     ("polish", polish.1 && (local || phase), discrete.to_string()),
                     (
@@ -133,10 +135,9 @@ impl OptimizeSettings {
                     given.extend([
                         ("m", self.m.is_some(), in_phase.to_string()),
                         ("shifts", self.shifts.is_some(), in_phase.to_string()),
-                        ("certify", self.certify, in_phase.to_string()),
                     ]);
                 } else if local {
-                    given.push(("certify", self.certify, discrete.to_string()));
+                    given.push(("certify", self.certify, global.to_string()));
                 } else {
                     given.push((
                         "shifts",
@@ -173,6 +174,7 @@ impl OptimizeSettings {
                 time_limit: self.time_limit,
                 formulation: None,
                 bound: self.bound,
+                certify: self.certify,
             })
         } else if local {
             let d = GeneralLocalSettings::default();

@@ -1,5 +1,5 @@
 //! The necessary conditions of Theorem 2.2 (discrete form Theorems 6.1–6.2) for an optimum of
-//! the general problem's P_m (theory §11): `x' in -N_C(x) + A x + B u + b`, `u in U` (a box or a
+//! the general problem's P_m or an exact phase gait (theory §11): `x' in -N_C(x) + A x + B u + b`, `u in U` (a box or a
 //! polytope `{G u <= h}`) with zero mean, `f1` linear in the reaction, `f2(u) = (1/2) u^T R u`.
 //! The crawler's certificate ([`crate::certify`], whose module docs explain the method, the
 //! stages and the verdict) is the instance `A = 0, B = K^(-1/2)` after the change of variables
@@ -52,6 +52,30 @@
 //! delta` where `u^i` is a vertex of U), or with `lambda = 0` by the same generic functional;
 //! every residual is then recomputed in floating point. Only periodic problems are certified.
 //!
+//! # Phase gaits
+//!
+//! An exact phase gait (`A = 0`, [`crate::optimal::general::phase`]) is certified on its own
+//! phases: piece `i` lasts `tau_i` (in place of `h`), `U_i = tau_i u^i`, and the phase LP is
+//!
+//! ```text
+//! maximise   sum_i [ sum_f w_f L_{i,f} - tau_i f2(U_i / tau_i) ]
+//! subject to x^(i+1) - x^i - B U_i - b tau_i + sum_f L_{i,f} x*_f = 0       (dual q_i = -p_i)
+//!            <x*_f, x^i> <= c_f, held as "=" at both ends of a phase with L_{i,f} > 0
+//!            G U_i <= h tau_i (rho_i),  sum_i U_i = 0 (omega),  sum_i tau_i = T (H)
+//! ```
+//!
+//! With the durations fixed its KKT system is the one above with `tau_i` for `h` and no drift
+//! term; a face may react on phase `i` only if active at both of its ends (the segment lies on
+//! it), so a face is *held* at a knot when the phase ending or the phase starting there reacts
+//! on it, and a face active at both ends of a phase without a reaction is biactive. The
+//! durations are variables too: stationarity in `tau_i` reads
+//! `H_i = sum_r rho_{i,r} h_r - <p_i, b> + lambda (Df2(u^i).u^i - f2(u^i)) = H` on every phase
+//! (the maximised Hamiltonian is constant; for a box `|u_l| <= a_l` the first term is the
+//! crawler's `sum_l a_l |psi_{i,l}|`). As for crawlers it is checked with multipliers of its
+//! own (`duration_stationarity`, group "6.2"; a violation makes the verdict `fails`), since
+//! imposing it on the reported ones can conflict with `dxi >= 0`. `p` is constant on a phase,
+//! so the support condition is void and the `L^1` maximality is exact.
+//!
 //! # Changes of variables
 //!
 //! For a crawler ([`crate::model::crawler_as_general`]: `x~ = K^(-1/2) x`, unit normals
@@ -78,6 +102,8 @@ pub use super::general_conditions::{
 };
 use super::general_kkt::{solve_general, GeneralRaw, GeneralStructure};
 pub use super::general_process::GeneralProcess;
+use super::general_process::ProcessKind;
+use super::kkt::Stage;
 use super::{BranchLp, CertifyOptions};
 use crate::error::Result;
 use crate::model::general::{GeneralCost, GeneralProblem};
@@ -104,14 +130,31 @@ pub(crate) fn certify_with(
     let st = GeneralStructure::of(p, pr, opts.structure_tol);
     let wmax = st.w.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
     let chosen = super::stages::search(
-        |lambda, stage, norm| solve_general(p, &st, lambda, stage, norm, drift_term),
-        |raw| kkt_residual(p, &st, raw, drift_term),
+        |lambda, stage, norm| solve_general(p, &st, lambda, stage, norm, drift_term, false),
+        |raw| kkt_residual(p, &st, raw, drift_term, false),
         opts.tol,
         10.0 * wmax.max(1.0),
-        false,
+        st.phase,
     )?;
     let mut rep = super::general_report::report(p, pr, &st, &chosen.0, chosen.1, opts, drift_term);
-    if p.cost == GeneralCost::None {
+    if st.phase && chosen.0.lambda > 0.0 {
+        // The phase LP is stationary in the durations too, with multipliers of their own
+        // (imposing it on the reported ones could conflict with dxi >= 0, as for crawlers).
+        let raw =
+            solve_general(p, &st, 1.0, Stage::Kkt, None, drift_term, true)?.ok_or_else(|| {
+                crate::Error::Numerical("certify: HiGHS found the multiplier LP infeasible".into())
+            })?;
+        let r = kkt_residual(p, &st, &raw, drift_term, true) / super::stages::sup(&raw.p).max(1.0);
+        super::records::duration_condition(
+            &mut rep.conditions,
+            &mut rep.verdict,
+            &mut rep.reason,
+            "H_i = sum_r rho_{i,r} h_r - <p_i, b> + lambda (Df2(u_i).u_i - f2(u_i))",
+            r,
+            opts.tol,
+        );
+    }
+    if let (ProcessKind::Discrete { m }, GeneralCost::None) = (pr.kind, &p.cost) {
         let active: Vec<Vec<bool>> = (0..st.steps)
             .map(|i| {
                 let k = (i + 1) % st.steps;
@@ -126,7 +169,7 @@ pub(crate) fn certify_with(
             })
             .collect();
         // A cross-check: a branch LP HiGHS does not solve gives none, never an error.
-        if let Ok(Some(optimum)) = solve_general_branch(p, pr.m, &active) {
+        if let Ok(Some(optimum)) = solve_general_branch(p, m, &active) {
             let j = pr.objective(p);
             rep.branch_lp = Some(BranchLp {
                 optimum,
@@ -138,9 +181,16 @@ pub(crate) fn certify_with(
     Ok(rep)
 }
 
-/// The largest residual of the branch LP's KKT system (all discrete conditions but the sign).
-fn kkt_residual(p: &GeneralProblem, st: &GeneralStructure, raw: &GeneralRaw, drift: bool) -> f64 {
-    residuals(p, st, raw, drift)
+/// The largest residual of the branch LP's KKT system (all discrete conditions but the sign;
+/// with `durations_free`, the stationarity in the durations too).
+fn kkt_residual(
+    p: &GeneralProblem,
+    st: &GeneralStructure,
+    raw: &GeneralRaw,
+    drift: bool,
+    durations_free: bool,
+) -> f64 {
+    residuals(p, st, raw, drift, durations_free)
         .iter()
         .filter(|(name, _, _)| *name != "sign")
         .fold(0.0_f64, |m, (_, _, r)| m.max(*r))

@@ -27,10 +27,10 @@ pub struct GeneralFaceMultiplier {
     pub value: f64,
 }
 
-/// The multipliers per step.
+/// The multipliers per piece (a step of P_m or a phase).
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct GeneralMultipliers {
-    /// Knot times `t_k = k h`, `k = 0..M`.
+    /// Knot times `t_0 = 0, ..., t_P = T` (`t_k = k h` on P_m).
     pub times: Vec<f64>,
     /// `p_i` (the adjoint on step `i`).
     pub p: Vec<Vec<f64>>,
@@ -49,17 +49,17 @@ pub struct GeneralMultipliers {
     pub xi: Vec<GeneralFaceMultiplier>,
 }
 
-/// The certificate of a general P_m process (module docs).
+/// The certificate of a general P_m process or phase gait (module docs).
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct GeneralNecessaryConditions {
     /// Always [`GENERAL_CERTIFICATE_FORMAT`].
     pub format: String,
     /// [`super::CERTIFICATE_VERSION`].
     pub version: u32,
-    /// `"discrete"`.
+    /// `"discrete"` (a P_m process) or `"phase"` (an exact phase gait).
     pub method: String,
-    /// `m` of P_m.
-    pub m: u32,
+    /// `m` of P_m (absent for a phase gait).
+    pub m: Option<u32>,
     /// The verdict.
     pub verdict: Verdict,
     /// One sentence explaining it.
@@ -104,14 +104,16 @@ impl super::stages::Multipliers for GeneralRaw {
     }
 }
 
-/// The discrete residuals as (name, statement, residual), recomputed in floating point.
+/// The discrete residuals as (name, statement, residual), recomputed in floating point; with
+/// `durations_free` (phase gaits) also the stationarity in the durations.
 pub(crate) fn residuals(
     p: &GeneralProblem,
     st: &GeneralStructure,
     raw: &GeneralRaw,
     drift_term: bool,
+    durations_free: bool,
 ) -> Vec<(&'static str, &'static str, f64)> {
-    let (n, m, steps, h) = (st.n, st.m, st.steps, st.h);
+    let (n, m, steps) = (st.n, st.m, st.steps);
     let (mut adj, mut comp, mut lp_sign, mut react, mut maxim) =
         (0.0_f64, 0.0_f64, 0.0_f64, 0.0_f64, 0.0_f64);
     for k in 0..steps {
@@ -119,7 +121,7 @@ pub(crate) fn residuals(
         for l in 0..n {
             let mut v = raw.p[k][l] - raw.p[prev][l];
             if drift_term {
-                v += h
+                v += st.tau[k]
                     * (0..n)
                         .map(|q| p.dynamics.a[q][l] * raw.p[k][q])
                         .sum::<f64>();
@@ -129,19 +131,22 @@ pub(crate) fn residuals(
             }
             adj = adj.max(v.abs());
         }
-        let i = prev;
-        for (fi, &f) in st.active[k].iter().enumerate() {
-            let x = raw.xi[k][fi];
+        for (fi, &x) in raw.xi[k].iter().enumerate() {
             comp = comp.max(x.abs() * st.slack[k][fi]);
-            let g = raw.lambda * st.w[f] + dot(&raw.p[i], &p.c.normals[f]);
-            if st.held[k][fi] {
-                react = react.max(g.abs());
-            } else {
-                react = react.max(g);
+            if !st.held[k][fi] {
                 lp_sign = lp_sign.max(x);
             }
         }
     }
+    for i in 0..steps {
+        let k = (i + 1) % steps;
+        for &(fi, reacts) in &st.reacting[i] {
+            let f = st.active[k][fi];
+            let g = raw.lambda * st.w[f] + dot(&raw.p[i], &p.c.normals[f]);
+            react = react.max(if reacts { g.abs() } else { g });
+        }
+    }
+    let (mut ham_lo, mut ham_hi) = (f64::INFINITY, f64::NEG_INFINITY);
     for i in 0..steps {
         let psi = psi_of(p, st, raw, i);
         for l in 0..m {
@@ -152,12 +157,21 @@ pub(crate) fn residuals(
                 .sum();
             maxim = maxim.max((psi[l] - cone).abs());
         }
+        let ham = st.urows_active[i]
+            .iter()
+            .zip(&raw.rho[i])
+            .map(|(&r, w)| w.max(0.0) * st.urows[r].1)
+            .sum::<f64>()
+            - dot(&raw.p[i], &p.dynamics.drift)
+            + raw.lambda * st.cost_h[i];
+        ham_lo = ham_lo.min(ham);
+        ham_hi = ham_hi.max(ham);
     }
-    vec![
+    let mut out = vec![
         (
             "adjoint",
-            "adjoint equation and transversality: p_k - p_(k-1) = -h A^T p_k + sum_f xi_{k,f} \
-             x*_f, p(T) = p(0) (Thm 6.2 (px), (p2mx))",
+            "adjoint equation and transversality: p_k - p_(k-1) = -tau_k A^T p_k + sum_f \
+             xi_{k,f} x*_f, p(T) = p(0) (Thm 6.2 (px), (p2mx))",
             adj,
         ),
         (
@@ -167,13 +181,14 @@ pub(crate) fn residuals(
         ),
         (
             "reaction_stationarity",
-            "lambda w_f + <p_i, x*_f> = 0 for a reaction on face f in step i, <= 0 at a biactive \
-             face (branch LP in mu; Thm 6.2 (pr), eta in df1)",
+            "lambda w_f + <p_i, x*_f> = 0 for a reaction on face f in piece i, <= 0 at a \
+             biactive face (branch LP in mu; Thm 6.2 (pr), eta in df1)",
             react.max(0.0),
         ),
         (
             "branch_face_sign",
-            "xi_{k,f} <= 0 on a biactive face (a true inequality of the branch LP)",
+            "xi_{k,f} <= 0 on an active face no reaction holds (a true inequality of the branch \
+             LP)",
             lp_sign.max(0.0),
         ),
         (
@@ -183,7 +198,17 @@ pub(crate) fn residuals(
             maxim,
         ),
         ("sign", "xi_{k,f} >= 0", sign_residual(raw)),
-    ]
+    ];
+    if durations_free && st.phase {
+        out.push((
+            "duration_stationarity",
+            "H_i = sum_r rho_{i,r} h_r - <p_i, b> + lambda (Df2(u_i).u_i - f2(u_i)) is the same \
+             on every phase (phase LP stationary in the durations: the maximised Hamiltonian is \
+             constant); residual (max H - min H)/2",
+            0.5 * (ham_hi - ham_lo),
+        ));
+    }
+    out
 }
 
 /// `psi_i = -B^T p_i - omega - lambda R u^i`.
@@ -282,7 +307,7 @@ pub fn residuals_of(
         omega: mult.omega.clone(),
         rho,
     };
-    Ok(residuals(p, &st, &raw, true)
+    Ok(residuals(p, &st, &raw, true, false)
         .into_iter()
         .map(|(name, _, r)| (name, r))
         .collect())

@@ -4,7 +4,7 @@
 //! HiGHS for multipliers that violate it least, in the stages of the crawler's certificate
 //! ([`crate::certify`]: [`Stage`], [`Norm`], the same generic functional).
 
-use super::general_process::{control_rows, GeneralProcess};
+use super::general_process::{control_rows, GeneralProcess, ProcessKind};
 use super::kkt::{adjoint_columns, functional, norm_box, solve_multiplier_lp, Norm, Stage};
 use crate::error::Result;
 use crate::model::general::{dot, GeneralCost, GeneralProblem, Reward};
@@ -34,25 +34,35 @@ pub(crate) fn face_weights(p: &GeneralProblem) -> Vec<f64> {
 
 /// What the KKT system needs besides the numbers.
 pub(crate) struct GeneralStructure {
-    /// States `n`, controls `m`, steps `M`.
+    /// States `n`, controls `m`, pieces `P` (`2^m` steps of P_m, or a gait's phases).
     pub n: usize,
     pub m: usize,
     pub steps: usize,
-    /// `h = T / M`.
-    pub h: f64,
-    /// Faces active at knot `k = 0..M-1` (knot `M` is knot 0), 0-based.
+    /// Piece durations `tau_i` (`h = T / 2^m` on P_m).
+    pub tau: Vec<f64>,
+    /// Whether the process is a phase gait (held faces active at both ends of their phase;
+    /// the durations free in the phase LP).
+    pub phase: bool,
+    /// Faces active at knot `k = 0..P-1` (knot `P` is knot 0), 0-based.
     pub active: Vec<Vec<usize>>,
-    /// Whether the face is held (the step ending at knot `k` has a reaction on it): its
-    /// multiplier is then free in the branch LP; otherwise the pair is biactive.
+    /// Whether the face is held at the knot (a reaction on it on the piece ending there, or, for
+    /// a phase gait, starting there): its multiplier is then free in the branch LP; otherwise
+    /// the face is a true inequality there.
     pub held: Vec<Vec<bool>>,
     /// `c_j - <x*_j, x^k>` of each active face.
     pub slack: Vec<Vec<f64>>,
-    /// Rows of U active at `u^i`, per step.
+    /// The faces that may carry a reaction on piece `i` in its branch (P_m: active at
+    /// `x^(i+1)`; a phase: active at both ends), as an index into `active[(i + 1) % P]` and
+    /// whether the piece has a reaction on it (else the pair is biactive).
+    pub reacting: Vec<Vec<(usize, bool)>>,
+    /// Rows of U active at `u^i`, per piece.
     pub urows_active: Vec<Vec<usize>>,
     /// Whether those rows span `R^m` (`u^i` a vertex of U).
     pub at_vertex: Vec<bool>,
-    /// `R u^i` per step.
+    /// `R u^i` per piece.
     pub grad_f2: Vec<Vec<f64>>,
+    /// `Df2(u^i).u^i - f2(u^i)` per piece (the cost's part of the maximised Hamiltonian).
+    pub cost_h: Vec<f64>,
     /// `w_j`.
     pub w: Vec<f64>,
     /// The rows of U.
@@ -61,11 +71,12 @@ pub(crate) struct GeneralStructure {
 
 impl GeneralStructure {
     /// The structure of `pr` at relative tolerance `tol` (faces relative to C's scale, rows of
-    /// U to U's, reactions `h lambda` to C's scale).
+    /// U to U's, integrated reactions `tau lambda` to C's scale).
     pub fn of(p: &GeneralProblem, pr: &GeneralProcess, tol: f64) -> Self {
         let (n, m, steps) = (p.states(), p.controls(), pr.u.len());
-        let h = p.period / steps as f64;
+        let phase = pr.kind == ProcessKind::Phase;
         let scale = p.c.scale();
+        let reacts = |i: usize, j: usize| pr.durations[i] * pr.lambda[i][j] > tol * scale;
         let (mut active, mut held, mut slack) = (Vec::new(), Vec::new(), Vec::new());
         for k in 0..steps {
             let prev = (k + steps - 1) % steps;
@@ -74,7 +85,7 @@ impl GeneralStructure {
                 let s = -p.c.slack(j, &pr.x[k]);
                 if s <= tol * scale {
                     a.push(j);
-                    hd.push(h * pr.lambda[prev][j] > tol * scale);
+                    hd.push(reacts(prev, j) || (phase && reacts(k, j)));
                     sl.push(s.max(0.0));
                 }
             }
@@ -82,6 +93,17 @@ impl GeneralStructure {
             held.push(hd);
             slack.push(sl);
         }
+        let reacting = (0..steps)
+            .map(|i| {
+                let end = (i + 1) % steps;
+                active[end]
+                    .iter()
+                    .enumerate()
+                    .filter(|(_, f)| !phase || active[i].contains(f))
+                    .map(|(fi, &f)| (fi, reacts(i, f)))
+                    .collect()
+            })
+            .collect();
         let urows = control_rows(&p.control);
         let uscale = urows
             .iter()
@@ -97,21 +119,29 @@ impl GeneralStructure {
             urows_active.push(act);
         }
         let r = cost_hessian(&p.cost, m);
-        let grad_f2 =
+        let grad_f2: Vec<Vec<f64>> =
             pr.u.iter()
                 .map(|u| r.iter().map(|row| dot(row, u)).collect())
+                .collect();
+        let cost_h =
+            pr.u.iter()
+                .zip(&grad_f2)
+                .map(|(u, g)| dot(g, u) - p.cost.eval(u))
                 .collect();
         GeneralStructure {
             n,
             m,
             steps,
-            h,
+            tau: pr.durations.clone(),
+            phase,
             active,
             held,
             slack,
+            reacting,
             urows_active,
             at_vertex,
             grad_f2,
+            cost_h,
             w: face_weights(p),
             urows,
         }
@@ -132,6 +162,9 @@ pub(crate) struct GeneralRaw {
 
 /// Solves one multiplier LP (`None` when HiGHS reports no optimum). `drift_term = false` drops
 /// `h A^T p_k` from the adjoint equation: only for showing, in tests, that the term matters.
+/// `durations_free` (phase gaits) adds the phase LP's stationarity in the durations: the
+/// maximised Hamiltonian `H_i = sum_r rho_{i,r} h_r - <p_i, b> + lambda (Df2(u^i).u^i -
+/// f2(u^i))` equal on every phase.
 pub(crate) fn solve_general(
     p: &GeneralProblem,
     st: &GeneralStructure,
@@ -139,8 +172,9 @@ pub(crate) fn solve_general(
     stage: Stage,
     norm: Option<Norm>,
     drift_term: bool,
+    durations_free: bool,
 ) -> Result<Option<GeneralRaw>> {
-    let (n, m, steps, h) = (st.n, st.m, st.steps, st.h);
+    let (n, m, steps) = (st.n, st.m, st.steps);
     const INF: f64 = f64::INFINITY;
     let mut pb = RowProblem::default();
     let (pc, xi) = adjoint_columns(&mut pb, norm, steps, n, &st.active);
@@ -165,7 +199,7 @@ pub(crate) fn solve_general(
             coef[l] = 1.0;
             if drift_term {
                 for (q, arow) in a.iter().enumerate() {
-                    coef[q] += h * arow[l];
+                    coef[q] += st.tau[k] * arow[l];
                 }
             }
             let mut row: Vec<(Col, f64)> = Vec::new();
@@ -188,10 +222,19 @@ pub(crate) fn solve_general(
             pb.add_row(0.0..=0.0, row);
         }
     }
+    for k in 0..steps {
+        for (fi, &h) in st.held[k].iter().enumerate() {
+            if !h {
+                // A face held by no reaction: an inequality of the branch LP, xi <= 0 (up to r).
+                pb.add_row(..=0.0, [(xi[k][fi], 1.0), (r, -1.0)]);
+            }
+        }
+    }
     for i in 0..steps {
-        // Reaction stationarity on the faces active at x^(i+1): lambda w_f + <p_i, x*_f>.
+        // Reaction stationarity on the faces that may react on piece i: lambda w_f + <p_i, x*_f>.
         let k = (i + 1) % steps;
-        for (fi, &f) in st.active[k].iter().enumerate() {
+        for &(fi, reacts) in &st.reacting[i] {
+            let f = st.active[k][fi];
             let lw = lambda * st.w[f];
             let dot_row = |extra: (Col, f64)| {
                 let mut row: Vec<(Col, f64)> = (0..n)
@@ -202,11 +245,8 @@ pub(crate) fn solve_general(
                 row
             };
             pb.add_row(..=-lw, dot_row((r, -1.0)));
-            if st.held[k][fi] {
+            if reacts {
                 pb.add_row(-lw.., dot_row((r, 1.0)));
-            } else {
-                // A biactive face: an inequality of the relaxed branch, xi <= 0 (up to r).
-                pb.add_row(..=0.0, [(xi[k][fi], 1.0), (r, -1.0)]);
             }
         }
         // Weak maximality: psi = -B^T p_i - omega - lambda R u_i = sum rho G (up to r).
@@ -234,6 +274,28 @@ pub(crate) fn solve_general(
             for &c in &rho[i] {
                 pb.add_row(0.0.., [(c, 1.0), (delta, -1.0)]);
             }
+        }
+    }
+    if st.phase && durations_free {
+        // Stationarity in the durations: H_i = sum_r rho_{i,r} h_r - <p_i, b> + lambda cost_h_i
+        // equal on every phase (up to r).
+        let ham = pb.add_column(0.0, -INF..=INF);
+        for i in 0..steps {
+            let mut row: Vec<(Col, f64)> = vec![(ham, -1.0)];
+            for (ri, &rr) in st.urows_active[i].iter().enumerate() {
+                row.push((rho[i][ri], st.urows[rr].1));
+            }
+            row.extend(
+                (0..n)
+                    .filter(|&q| p.dynamics.drift[q] != 0.0)
+                    .map(|q| (pc[i][q], -p.dynamics.drift[q])),
+            );
+            let cst = lambda * st.cost_h[i];
+            let mut lo = row.clone();
+            lo.push((r, 1.0));
+            row.push((r, -1.0));
+            pb.add_row(..=-cst, row);
+            pb.add_row(-cst.., lo);
         }
     }
     // Theorem 2.2 / 6.1 sign: xi >= -s.

@@ -1,13 +1,14 @@
 //! The process a general certificate is about ([`crate::certify::general`]): a periodic P_m
-//! process of the general problem, from an optimum or from controls by simulation, checked for
-//! consistency before any multiplier is computed (a certificate of something that is not a
-//! process would be a silent wrong number), every message naming the field.
+//! process of the general problem, from an optimum or from controls by simulation, or an exact
+//! phase gait (`A = 0`, theory §7 generalised), checked for consistency before any multiplier
+//! is computed (a certificate of something that is not a process would be a silent wrong
+//! number), every message naming the field.
 
 use crate::error::{Error, Result};
 use crate::integrate::{simulate_general, ControlInput, GeneralSimOptions, InputKind};
 use crate::model::general::{Boundary, ControlSet, GeneralProblem};
-use crate::optimal::general::GeneralPm;
-use serde::Serialize;
+pub use crate::optimal::consistency::ProcessKind;
+use crate::optimal::general::{GeneralPhaseGait, GeneralPm};
 
 /// The rows `(G_k, h_k)` of U: a box as `e_l <= upper_l`, `-e_l <= -lower_l` (in this order per
 /// component), a polytope's unit rows as given.
@@ -24,39 +25,81 @@ pub(crate) fn control_rows(u: &ControlSet) -> Vec<(Vec<f64>, f64)> {
     }
 }
 
-/// A periodic P_m process of the general problem: `x^0..x^M` (`x^M = x^0`), `u^0..u^(M-1)`
-/// and the reactions `lambda^i = mu^i / h` per face.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+/// A periodic process of the general problem on `P` pieces: `x^0..x^P` (`x^P = x^0`),
+/// `u^0..u^(P-1)` and the reaction rates `lambda^i` per face. A P_m process has `P = 2^m`
+/// steps of `h = T / 2^m` (`lambda^i = mu^i / h`, the projection's multipliers); a phase gait
+/// has pieces of their own durations, each a straight segment with its held faces active at
+/// both ends (theory §7).
+#[derive(Debug, Clone, PartialEq)]
 pub struct GeneralProcess {
-    /// `m` (`M = 2^m` steps).
-    pub m: u32,
-    /// States at the knots (`M + 1` rows).
+    /// P_m or phase gait.
+    pub kind: ProcessKind,
+    /// Piece durations `tau_i` (`h` for every step of P_m).
+    pub durations: Vec<f64>,
+    /// States at the knots (`P + 1` rows).
     pub x: Vec<Vec<f64>>,
-    /// Controls per step.
+    /// Controls per piece.
     pub u: Vec<Vec<f64>>,
-    /// Reactions per step and face.
+    /// Reaction rates per piece and face.
     pub lambda: Vec<Vec<f64>>,
 }
 
 impl GeneralProcess {
-    /// The process of a P_m optimum.
-    pub fn from_pm(s: &GeneralPm) -> Self {
+    /// A P_m process on `2^m` steps of a problem of period `period`.
+    pub fn pm(
+        m: u32,
+        period: f64,
+        x: Vec<Vec<f64>>,
+        u: Vec<Vec<f64>>,
+        lambda: Vec<Vec<f64>>,
+    ) -> Self {
+        let steps = 1usize << m.min(crate::optimal::general::MAX_GENERAL_LOCAL_M + 1);
         GeneralProcess {
-            m: s.m,
-            x: s.x.clone(),
-            u: s.u.clone(),
-            lambda: s.lambda.clone(),
+            kind: ProcessKind::Discrete { m },
+            durations: vec![period / steps as f64; steps],
+            x,
+            u,
+            lambda,
         }
     }
 
-    /// The process of a local P_m answer.
-    pub fn from_local(s: &crate::optimal::general::GeneralLocal) -> Self {
+    /// The process of a P_m optimum of `p`.
+    pub fn from_pm(p: &GeneralProblem, s: &GeneralPm) -> Self {
+        Self::pm(s.m, p.period, s.x.clone(), s.u.clone(), s.lambda.clone())
+    }
+
+    /// The process of a local P_m answer of `p`.
+    pub fn from_local(p: &GeneralProblem, s: &crate::optimal::general::GeneralLocal) -> Self {
+        Self::pm(s.m, p.period, s.x.clone(), s.u.clone(), s.lambda.clone())
+    }
+
+    /// The process of an exact phase gait (general or chain formulation): its phases as
+    /// pieces, with the states the exact simulator replayed and the reaction rates.
+    pub fn from_phase(s: &GeneralPhaseGait) -> Self {
         GeneralProcess {
-            m: s.m,
-            x: s.x.clone(),
-            u: s.u.clone(),
-            lambda: s.lambda.clone(),
+            kind: ProcessKind::Phase,
+            durations: s.durations.clone(),
+            x: s.states.clone(),
+            u: s.controls.clone(),
+            lambda: s.reactions.clone(),
         }
+    }
+
+    /// `m` of a P_m process (`None` for a phase gait).
+    pub fn m(&self) -> Option<u32> {
+        match self.kind {
+            ProcessKind::Discrete { m } => Some(m),
+            ProcessKind::Phase => None,
+        }
+    }
+
+    /// Knot times `t_0 = 0, ..., t_P = T`.
+    pub fn times(&self) -> Vec<f64> {
+        let mut t = vec![0.0];
+        for d in &self.durations {
+            t.push(t[t.len() - 1] + d);
+        }
+        t
     }
 
     /// The catching-up process of the controls (`2^m` rows) on its periodic orbit, reached from
@@ -98,17 +141,14 @@ impl GeneralProcess {
                 "its catching-up process reached no periodic regime",
             ));
         }
-        Ok(GeneralProcess {
-            m,
-            x: sim.x,
-            u: sim.u,
-            lambda: sim.lambda,
-        })
+        Ok(Self::pm(m, p.period, sim.x, sim.u, sim.lambda))
     }
 
-    /// Checks that this is a periodic P_m process of `p` within the relative tolerance `tol`:
-    /// shapes, `x^M = x^0`, `x^k in C`, `u^i in U`, zero mean, `lambda >= 0`, the catching-up
-    /// step and complementarity. Every message names the field of `process`.
+    /// Checks that this is a periodic process of `p` within the relative tolerance `tol`:
+    /// shapes, the pieces (P_m's grid, or positive durations summing to `T`), `x^P = x^0`,
+    /// `x^k in C`, `u^i in U`, zero mean, `lambda >= 0`, the step (catching-up for P_m, the
+    /// exact segment for a phase, which needs `A = 0`) and complementarity. Every message names
+    /// the field of `process`.
     pub fn check(&self, p: &GeneralProblem, tol: f64) -> Result<()> {
         if p.boundary != Boundary::Periodic {
             return Err(Error::invalid(
@@ -117,12 +157,18 @@ impl GeneralProcess {
                 "the necessary conditions are certified for periodic problems only",
             ));
         }
-        if self.m > crate::optimal::general::MAX_GENERAL_M {
-            return Err(Error::invalid(
-                "process.m",
-                self.m,
-                "too many steps to certify",
-            ));
+        match self.kind {
+            ProcessKind::Discrete { m } if m > crate::optimal::general::MAX_GENERAL_M => {
+                return Err(Error::invalid("process.m", m, "too many steps to certify"));
+            }
+            ProcessKind::Phase if !p.dynamics.is_state_independent() => {
+                return Err(Error::invalid(
+                    "dynamics.A",
+                    "non-zero",
+                    "a phase gait is a chain of straight segments only where A = 0",
+                ));
+            }
+            _ => {}
         }
         self.check_as(p, tol, "process")
     }
@@ -134,10 +180,35 @@ impl GeneralProcess {
         let bad = |field: String, got: String, why: &str| {
             Err(Error::invalid(format!("{at}.{field}"), got, why))
         };
-        if self.m > crate::optimal::general::MAX_GENERAL_LOCAL_M {
-            return bad("m".into(), self.m.to_string(), "too many steps");
+        let steps = self.durations.len();
+        match self.kind {
+            ProcessKind::Discrete { m } => {
+                if m > crate::optimal::general::MAX_GENERAL_LOCAL_M {
+                    return bad("m".into(), m.to_string(), "too many steps");
+                }
+                let h = p.period / (1usize << m) as f64;
+                let off_grid = self.durations.iter().any(|&d| (d - h).abs() > 1e-12 * h);
+                if steps != 1usize << m || off_grid {
+                    return bad(
+                        "durations".into(),
+                        format!("{steps} pieces"),
+                        &format!("P_m has 2^m = {} steps of T / 2^m", 1usize << m),
+                    );
+                }
+            }
+            ProcessKind::Phase => {
+                let total: f64 = self.durations.iter().sum();
+                let bad_tau = self.durations.iter().any(|&d| !(d > 0.0 && d.is_finite()));
+                if steps == 0 || bad_tau || (total - p.period).abs() > tol * p.period {
+                    return bad(
+                        "durations".into(),
+                        format!("{steps} pieces summing to {total}"),
+                        "needs positive durations summing to the period",
+                    );
+                }
+            }
         }
-        let (n, mc, sigma, steps) = (p.states(), p.controls(), p.c.faces(), 1usize << self.m);
+        let (n, mc, sigma) = (p.states(), p.controls(), p.c.faces());
         let shape = |rows: &[Vec<f64>], len: usize, width: usize| {
             rows.len() == len && rows.iter().all(|r| r.len() == width)
         };
@@ -163,7 +234,6 @@ impl GeneralProcess {
             );
         }
         let scale = p.c.scale();
-        let h = p.period / steps as f64;
         match &p.boundary {
             Boundary::Periodic => {
                 let gap = max_diff(&self.x[steps], &self.x[0]);
@@ -204,15 +274,25 @@ impl GeneralProcess {
                 return bad(format!("u[{i}]"), format!("{u:?}"), "outside U");
             }
             for (m, v) in mean.iter_mut().zip(u) {
-                *m += v / steps as f64;
+                *m += v * self.durations[i] / p.period;
             }
         }
         if p.zero_mean && mean.iter().any(|v| v.abs() > tol * uscale) {
             return bad("u".into(), format!("mean {mean:?}"), "must have zero mean");
         }
+        let (step, ends) = match self.kind {
+            ProcessKind::Discrete { .. } => (
+                "the catching-up step x^(i+1) = x^i + h (g - sum lambda x*)",
+                "an inactive face",
+            ),
+            ProcessKind::Phase => (
+                "the phase's segment x^(i+1) = x^i + tau_i (g - sum lambda x*)",
+                "a face not active at both ends of the phase",
+            ),
+        };
         let mut g = vec![0.0; n];
         for i in 0..steps {
-            let lam = &self.lambda[i];
+            let (lam, h) = (&self.lambda[i], self.durations[i]);
             if let Some(j) = lam.iter().position(|&l| h * l < -tol * scale) {
                 return bad(format!("lambda[{i}][{j}]"), lam[j].to_string(), "negative");
             }
@@ -228,19 +308,21 @@ impl GeneralProcess {
                     format!("x[{}]", i + 1),
                     format!("{res:e}"),
                     &format!(
-                        "does not follow from {s}.x[{i}], {s}.u[{i}] and {s}.lambda[{i}] by the \
-                         catching-up step x^(i+1) = x^i + h (g - sum lambda x*)",
+                        "does not follow from {s}.x[{i}], {s}.u[{i}] and {s}.lambda[{i}] by {step}",
                         s = at.rsplit(": ").next().unwrap_or(at)
                     ),
                 );
             }
             for j in 0..sigma {
-                let c = h * lam[j] * (-p.c.slack(j, &self.x[i + 1]));
-                if c > tol * scale * scale {
+                let mut off = -p.c.slack(j, &self.x[i + 1]);
+                if self.kind == ProcessKind::Phase {
+                    off = off.max(-p.c.slack(j, &self.x[i]));
+                }
+                if h * lam[j] * off > tol * scale * scale {
                     return bad(
                         format!("lambda[{i}][{}]", j + 1),
                         lam[j].to_string(),
-                        "reaction on an inactive face",
+                        &format!("reaction on {ends}"),
                     );
                 }
             }
@@ -248,13 +330,13 @@ impl GeneralProcess {
         Ok(())
     }
 
-    /// `J = sum_i h (f1(lambda^i) - f2(u^i))`.
+    /// `J = sum_i tau_i (f1(lambda^i) - f2(u^i))`.
     pub fn objective(&self, p: &GeneralProblem) -> f64 {
-        let h = p.period / self.u.len() as f64;
         self.u
             .iter()
             .zip(&self.lambda)
-            .map(|(u, l)| h * (p.reward.eval(&p.c.normals, l) - p.cost.eval(u)))
+            .zip(&self.durations)
+            .map(|((u, l), h)| h * (p.reward.eval(&p.c.normals, l) - p.cost.eval(u)))
             .sum()
     }
 }

@@ -1,4 +1,4 @@
-//! The report of a general P_m certificate: every condition with its residual, the continuous
+//! The report of a general certificate (a P_m process or a phase gait): every condition with its residual, the continuous
 //! group of Theorem 2.2 and the verdict, in the crawler certificate's form (module docs of
 //! [`crate::certify`] and [`crate::certify::general`]).
 
@@ -37,11 +37,13 @@ pub(crate) fn report(
     opts: &CertifyOptions,
     drift_term: bool,
 ) -> GeneralNecessaryConditions {
-    let (n, m, steps, h) = (st.n, st.m, st.steps, st.h);
+    let (n, m, steps) = (st.n, st.m, st.steps);
+    let discrete = !st.phase;
+    let times = pr.times();
     let tol = opts.tol;
     let sup_p = sup(&raw.p);
     let ptol = tol * sup_p.max(1.0);
-    let disc = residuals(p, st, raw, drift_term);
+    let disc = residuals(p, st, raw, drift_term, false);
     let (adj, sign) = (disc[0].2, disc[5].2);
     let mut conditions: Vec<ConditionCheck> = disc
         .iter()
@@ -65,9 +67,10 @@ pub(crate) fn report(
                 .collect()
         })
         .collect();
-    // Support: dxi at knot k lies on step k-1 once p is extended piecewise linearly (§9).
+    // Support: dxi at knot k lies on step k-1 once p is extended piecewise linearly (§9; P_m
+    // only: a phase gait's p jumps at its knots).
     let mut misplaced = 0.0;
-    for k in 0..steps {
+    for k in (0..steps).filter(|_| discrete) {
         let start = (k + steps - 1) % steps;
         for (fi, f) in st.active[k].iter().enumerate() {
             if !st.active[start].contains(f) {
@@ -121,11 +124,13 @@ pub(crate) fn report(
         _ => None,
     };
     // Weak maximality in L^1(0, T) with p extended piecewise linearly (§9; a box U): on step
-    // i, psi ramps from its value at p_i to that at p_(i+1), u^i fixed.
+    // i, psi ramps from its value at p_i to that at p_(i+1), u^i fixed. On a phase p is
+    // constant (A = 0).
     let l1 = if let ControlSet::Box { .. } = &p.control {
         let mut l1 = 0.0;
         for i in 0..steps {
-            let next = &raw.p[(i + 1) % steps];
+            let h = st.tau[i];
+            let next = &raw.p[if discrete { (i + 1) % steps } else { i }];
             let end: Vec<f64> = (0..m)
                 .map(|l| {
                     let btp: f64 = (0..n).map(|q| p.dynamics.b[q][l] * next[q]).sum();
@@ -267,7 +272,7 @@ pub(crate) fn report(
                 *vl += raw.xi[k][fi] * p.c.normals[f][l];
             }
         }
-        paper += norm2(&v) + h * norm2(&psi[k]);
+        paper += norm2(&v) + st.tau[k] * norm2(&psi[k]);
     }
     let xmax = raw.xi.iter().flatten().fold(0.0_f64, |a, v| a.max(v.abs()));
     let mut xi = Vec::new();
@@ -277,7 +282,7 @@ pub(crate) fn report(
             if v.abs() > 1e-14 * xmax {
                 xi.push(GeneralFaceMultiplier {
                     knot: k,
-                    time: k as f64 * h,
+                    time: times[k],
                     face: f + 1,
                     value: v,
                 });
@@ -293,8 +298,8 @@ pub(crate) fn report(
     GeneralNecessaryConditions {
         format: GENERAL_CERTIFICATE_FORMAT.into(),
         version: CERTIFICATE_VERSION,
-        method: "discrete".into(),
-        m: pr.m,
+        method: if discrete { "discrete" } else { "phase" }.into(),
+        m: pr.m(),
         verdict,
         reason,
         lambda: raw.lambda,
@@ -310,7 +315,7 @@ pub(crate) fn report(
         },
         conditions,
         multipliers: GeneralMultipliers {
-            times: (0..=steps).map(|k| k as f64 * h).collect(),
+            times,
             p: raw.p.clone(),
             switching,
             psi,

@@ -202,30 +202,11 @@ pub fn certify(pr: &Process, opts: &CertifyOptions) -> Result<NecessaryCondition
     };
     let mut rep = report::report(pr, &st, chosen.0, chosen.1, opts);
     if let Some(r) = duration {
-        let tol = opts.tol;
-        rep.conditions.insert(
-            5,
-            ConditionCheck {
-                name: "duration_stationarity".into(),
-                theorem: "6.2".into(),
-                statement: "the phase LP is stationary in the durations too: multipliers (of \
-                            their own) satisfying the conditions above with H_k = sum_l a_l \
-                            |psi_{k,l}| + lambda (Df2(u_k).u_k - f2(u_k)) equal on every phase \
-                            (the maximised Hamiltonian is constant); residual of the KKT system \
-                            with it, relative to max(1, ||p||_inf)"
-                    .into(),
-                residual: r,
-                tolerance: tol,
-                holds: r <= tol,
-            },
+        rep.add_duration_condition(
+            "H_k = sum_l a_l |psi_{k,l}| + lambda (Df2(u_k).u_k - f2(u_k))",
+            r,
+            opts.tol,
         );
-        if r > tol && rep.verdict != Verdict::Fails {
-            rep.verdict = Verdict::Fails;
-            rep.reason = format!(
-                "the conditions with the durations fixed hold, but the phase LP is not stationary \
-                 in the durations: duration_stationarity (Thm 6.2, residual {r:.3e})"
-            );
-        }
     }
     rep.branch_lp = branch;
     Ok(rep)

@@ -182,3 +182,55 @@ pub struct BranchLp {
     /// `optimum - J`: positive when a process on the same branches does better.
     pub improvement: f64,
 }
+
+/// The phase LP's stationarity in the durations (a phase gait's condition
+/// `duration_stationarity`, group "6.2"), with its residual `r` (relative to `max(1, ||p||)`)
+/// from multipliers of its own: inserted after the five conditions with the durations fixed,
+/// and a verdict that held turned into `fails` when it does not hold. `hamiltonian` states the
+/// phase's maximised Hamiltonian `H_k` in the problem's terms.
+pub(crate) fn duration_condition(
+    conditions: &mut Vec<ConditionCheck>,
+    verdict: &mut Verdict,
+    reason: &mut String,
+    hamiltonian: &str,
+    r: f64,
+    tol: f64,
+) {
+    conditions.insert(
+        5.min(conditions.len()),
+        ConditionCheck {
+            name: "duration_stationarity".into(),
+            theorem: "6.2".into(),
+            statement: format!(
+                "the phase LP is stationary in the durations too: multipliers (of their own) \
+                 satisfying the conditions above with {hamiltonian} equal on every phase (the \
+                 maximised Hamiltonian is constant); residual of the KKT system with it, \
+                 relative to max(1, ||p||_inf)"
+            ),
+            residual: r,
+            tolerance: tol,
+            holds: r <= tol,
+        },
+    );
+    if r > tol && *verdict != Verdict::Fails {
+        *verdict = Verdict::Fails;
+        *reason = format!(
+            "the conditions with the durations fixed hold, but the phase LP is not stationary in \
+             the durations: duration_stationarity (Thm 6.2, residual {r:.3e})"
+        );
+    }
+}
+
+impl NecessaryConditions {
+    /// [`duration_condition`] on this certificate.
+    pub(crate) fn add_duration_condition(&mut self, hamiltonian: &str, r: f64, tol: f64) {
+        duration_condition(
+            &mut self.conditions,
+            &mut self.verdict,
+            &mut self.reason,
+            hamiltonian,
+            r,
+            tol,
+        );
+    }
+}

@@ -74,7 +74,7 @@ impl GeneralAnswer {
         match self {
             GeneralAnswer::Discrete(r) => {
                 let s = &r.solution;
-                let j = check_pm(&p, MAX_GENERAL_M, &GeneralProcess::from_pm(s), what)?;
+                let j = check_pm(&p, MAX_GENERAL_M, &GeneralProcess::from_pm(&p, s), what)?;
                 objectives(what, j, s.objective, r.objective)?;
                 if let Some(table) = &r.convergence {
                     let rows: Vec<_> = table
@@ -91,7 +91,7 @@ impl GeneralAnswer {
                 let j = check_pm(
                     &p,
                     MAX_GENERAL_LOCAL_M,
-                    &GeneralProcess::from_local(s),
+                    &GeneralProcess::from_local(&p, s),
                     what,
                 )?;
                 objectives(what, j, s.objective, r.objective)?;
@@ -271,7 +271,7 @@ fn objectives(what: &str, j: f64, solution: f64, top: f64) -> Result<()> {
 /// Checks a P_m process (`m` at most `max_m`) against the problem and its replay; returns `J`
 /// of the replay.
 fn check_pm(p: &GeneralProblem, max_m: u32, pr: &GeneralProcess, what: &str) -> Result<f64> {
-    let (m, x, u, lambda) = (pr.m, &pr.x, &pr.u, &pr.lambda);
+    let (m, x, u, lambda) = (pr.m().unwrap_or(0), &pr.x, &pr.u, &pr.lambda);
     if !(1..=max_m).contains(&m) {
         return Err(bad(
             what,

@@ -281,6 +281,11 @@ pub struct GeneralPhaseOptimized {
     /// the general formulation.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub formulation: Option<String>,
+    /// The necessary conditions on the gait, when asked
+    /// ([`crate::api::GeneralPhaseSettings::certify`]); not read back from a file (`crawlopt
+    /// certify` recomputes them).
+    #[serde(skip_serializing_if = "Option::is_none", skip_deserializing)]
+    pub necessary_conditions: Option<crate::certify::GeneralNecessaryConditions>,
 }
 
 impl GeneralPhaseOptimized {
@@ -302,6 +307,7 @@ impl GeneralPhaseOptimized {
             solution,
             phase_growth: None,
             formulation: None,
+            necessary_conditions: None,
         }
     }
 }
@@ -320,6 +326,16 @@ pub enum GeneralAnswer {
 }
 
 impl GeneralAnswer {
+    /// The necessary conditions computed with the answer (`certify`), if any: a global P_m
+    /// optimum's or a phase gait's.
+    pub fn necessary_conditions(&self) -> Option<&crate::certify::GeneralNecessaryConditions> {
+        match self {
+            GeneralAnswer::Discrete(r) => r.necessary_conditions.as_ref(),
+            GeneralAnswer::Local(_) => None,
+            GeneralAnswer::Phase(r) => r.necessary_conditions.as_ref(),
+        }
+    }
+
     /// `"discrete"`, `"local"` or `"phase"`.
     pub fn method(&self) -> &'static str {
         match self {

@@ -219,9 +219,15 @@ pub fn grow<F: PhaseFamily>(
         }
     }
     let mut best = best.ok_or_else(|| {
-        Error::TimeLimit(
-            "phase growth: the time limit was reached before any feasible gait was found".into(),
-        )
+        // One fixed K is one MILP, not a growth: say which.
+        let what = if range.min_phases == range.max_phases {
+            format!("the phase MILP (K = {})", range.max_phases)
+        } else {
+            "phase growth".to_string()
+        };
+        Error::TimeLimit(format!(
+            "{what}: the time limit was reached before any feasible gait was found"
+        ))
     })?;
     // The given start, never certified (the limit came before any K): say what is known.
     if F::claim(&mut best).1.bound.is_nan() {

@@ -505,10 +505,10 @@ pub(super) fn answer_figures_with(
     a: &GeneralAnswer,
 ) -> Result<Vec<Figure>> {
     let mut figs = general_path_figures(p, g, path)?;
+    if let Some(nc) = a.necessary_conditions() {
+        figs.extend(general_adjoint_figure(p, nc)?);
+    }
     if let GeneralAnswer::Discrete(r) = a {
-        if let Some(nc) = &r.necessary_conditions {
-            figs.extend(general_adjoint_figure(p, nc)?);
-        }
         // J_m against m with a convergence table (`optimize --convergence`), as for crawlers.
         if let Some(table) = &r.convergence {
             let m: Vec<u32> = table.iter().map(|r| r.m).collect();

@@ -81,7 +81,7 @@ pub fn build_general_report(
         }
     ));
     let nc = match input {
-        GeneralReportInput::Answer(GeneralAnswer::Discrete(r)) => r.necessary_conditions.as_ref(),
+        GeneralReportInput::Answer(a) => a.necessary_conditions(),
         _ => None,
     };
     if let Some(nc) = nc {

@@ -359,15 +359,13 @@ fn steps(out: &mut String, x: &[Vec<f64>], u: &[Vec<f64>]) {
 /// The text of any of the general `optimize` answers ([`GeneralAnswer`]): the optimum and, when
 /// asked, its necessary conditions; the local answer; the phase gait.
 pub fn general_answer(r: &GeneralAnswer) -> String {
-    match r {
-        GeneralAnswer::Discrete(r) => {
-            let mut s = general_optimum(r);
-            if let Some(c) = &r.necessary_conditions {
-                s.push_str(&super::general_certificate(c));
-            }
-            s
-        }
+    let mut s = match r {
+        GeneralAnswer::Discrete(r) => general_optimum(r),
         GeneralAnswer::Local(r) => general_local(r),
         GeneralAnswer::Phase(r) => general_phase(r),
+    };
+    if let Some(c) = r.necessary_conditions() {
+        s.push_str(&super::general_certificate(c));
     }
+    s
 }

@@ -1,0 +1,222 @@
+//! The necessary conditions on exact phase gaits of the general problem (`A = 0`; theory §7
+//! generalised, `crawlopt::certify::general`): the branch LP of a phase gait has its durations
+//! as variables too, so besides the conditions with the durations fixed the maximised
+//! Hamiltonian must be the same on every phase. The §4 one-link optimum holds; a gait that is
+//! optimal for its durations but not in them fails on that condition alone; processes that are
+//! not phase gaits are refused naming the field; `optimize --method phase --certify` and
+//! `certify` of its result give the same certificate. (Crawler phase optima against the
+//! crawler's certificate: tests/general_certify.rs.)
+
+mod common;
+
+use common::crawlopt;
+use crawlopt::api::{general_problem, optimize_general_phase, GeneralPhaseSettings, Hooks};
+use crawlopt::certify::{certify_general, CertifyOptions, GeneralProcess, ProcessKind, Verdict};
+use crawlopt::io::GeneralFile;
+use crawlopt::model::general::GeneralProblem;
+
+fn one_link() -> (GeneralFile, GeneralProblem) {
+    let text = std::fs::read_to_string("examples/general_one_link.toml").unwrap();
+    let file = GeneralFile::parse(&text).unwrap();
+    let (p, _) = general_problem(&file).unwrap();
+    (file, p)
+}
+
+fn residual(c: &crawlopt::certify::GeneralNecessaryConditions, name: &str) -> f64 {
+    c.conditions
+        .iter()
+        .find(|k| k.name == name && k.theorem == "6.2")
+        .unwrap_or_else(|| panic!("no condition {name}"))
+        .residual
+}
+
+/// The one-link gait at half rate on its rises and falls: `u = 1/2` for 4 (from `x = -1` to
+/// `1`), `u = 1` for 1 on the upper face (reaction 1), `u = -1/2` for 4, `u = -1` for 1 on the
+/// lower face. `J = 1/2 (1 + 1) = 1`.
+fn slow_gait() -> GeneralProcess {
+    GeneralProcess {
+        kind: ProcessKind::Phase,
+        durations: vec![4.0, 1.0, 4.0, 1.0],
+        x: vec![vec![-1.0], vec![1.0], vec![1.0], vec![-1.0], vec![-1.0]],
+        u: vec![vec![0.5], vec![1.0], vec![-0.5], vec![-1.0]],
+        lambda: vec![
+            vec![0.0, 0.0],
+            vec![1.0, 0.0],
+            vec![0.0, 0.0],
+            vec![0.0, 1.0],
+        ],
+    }
+}
+
+/// §4: the phase optimum (J = 3: free rise, slide on the upper face, free fall, slide on the
+/// lower one) satisfies every condition, the duration stationarity included, with lambda = 1
+/// and `p = -1/2` on the rise and its slide, `+1/2` on the fall and its slide (`p` jumps by the
+/// `dxi` mass 1 where a slide ends), as the crawler's phase certificate has it.
+#[test]
+fn the_one_link_phase_optimum_holds() {
+    let (file, p) = one_link();
+    let s = GeneralPhaseSettings {
+        certify: true,
+        ..Default::default()
+    };
+    let r = optimize_general_phase(&file, &s, Hooks::default()).unwrap();
+    assert!((r.objective - 3.0).abs() < 1e-9, "{}", r.objective);
+    let c = r.necessary_conditions.as_ref().unwrap();
+    assert_eq!(c.verdict, Verdict::Holds, "{}", c.reason);
+    assert_eq!((c.method.as_str(), c.m, c.lambda), ("phase", None, 1.0));
+    for k in &c.conditions {
+        assert!(k.holds && k.residual <= 1e-9, "{} {}", k.name, k.residual);
+    }
+    assert!(residual(c, "duration_stationarity") <= 1e-9);
+    let switching = &c.multipliers.switching;
+    for (u, s) in r.solution.controls.iter().zip(switching) {
+        assert!(
+            (s[0].abs() - 0.5).abs() < 1e-9 && s[0] * u[0] < 0.0,
+            "{s:?} {u:?}"
+        );
+    }
+    assert!(c
+        .multipliers
+        .xi
+        .iter()
+        .all(|x| (x.value - 1.0).abs() < 1e-9));
+    // The times of the multipliers are the gait's knots.
+    let mut t = vec![0.0];
+    for d in &r.solution.durations {
+        t.push(t[t.len() - 1] + d);
+    }
+    assert_eq!(c.multipliers.times, t);
+    // Certified afresh from the process: the same certificate.
+    let again = certify_general(
+        &p,
+        &GeneralProcess::from_phase(&r.solution),
+        &CertifyOptions::default(),
+    )
+    .unwrap();
+    assert_eq!(&again, c);
+}
+
+/// The slow gait is optimal for its durations (the rises must cover C, the slides are at full
+/// rate; the rises' interior control asks `B^T p + omega = 0` there, which multipliers meet), so
+/// every condition with the durations fixed holds; but shortening a rise to 2 and lengthening a
+/// slide gains (J = 3 is the optimum): the phase LP is not stationary in the durations, and the
+/// verdict is `fails` on that condition alone.
+#[test]
+fn a_gait_optimal_only_for_its_durations_fails_on_them() {
+    let (_, p) = one_link();
+    let pr = slow_gait();
+    let c = certify_general(&p, &pr, &CertifyOptions::default()).unwrap();
+    assert!((c.objective - 1.0).abs() < 1e-12, "{}", c.objective);
+    assert_eq!(c.verdict, Verdict::Fails, "{}", c.reason);
+    assert!(residual(&c, "duration_stationarity") > 1e-3);
+    let failing: Vec<&str> = c
+        .conditions
+        .iter()
+        .filter(|k| k.theorem == "6.2" && !k.holds)
+        .map(|k| k.name.as_str())
+        .collect();
+    assert_eq!(failing, ["duration_stationarity"], "{}", c.reason);
+    assert!(
+        c.reason.contains("not stationary in the durations"),
+        "{}",
+        c.reason
+    );
+}
+
+/// Processes that are not phase gaits of the problem are refused, naming the field: durations
+/// that do not sum to the period, a piece that does not follow from its start, a reaction on a
+/// face the segment leaves, a control outside U, controls without zero mean; and a phase gait of
+/// a problem with `A != 0` (naming `dynamics.A`).
+#[test]
+fn inconsistent_phase_gaits_are_refused() {
+    let (_, p) = one_link();
+    type Edit = Box<dyn Fn(&mut GeneralProcess)>;
+    let cases: Vec<(Edit, &str)> = vec![
+        (Box::new(|q| q.durations[0] = 3.0), "process.durations"),
+        (Box::new(|q| q.durations[1] = 0.0), "process.durations"),
+        (Box::new(|q| q.x[1][0] = 0.5), "process.x[1]"),
+        (Box::new(|q| q.u[1][0] = 1.5), "process.u[1]"),
+        (
+            Box::new(|q| {
+                // The rise pushed by the lower face (active at its start only) at rate 1/4, the
+                // fall by the upper one: the dynamics and the mean still hold.
+                q.u[0][0] = 0.25;
+                q.lambda[0][1] = 0.25;
+                q.u[2][0] = -0.25;
+                q.lambda[2][0] = 0.25;
+            }),
+            "process.lambda[0][2]",
+        ),
+        (
+            Box::new(|q| {
+                q.u[1][0] = 0.5;
+                q.lambda[1][0] = 0.5;
+            }),
+            "process.u",
+        ),
+    ];
+    for (edit, field) in cases {
+        let mut q = slow_gait();
+        edit(&mut q);
+        let e = certify_general(&p, &q, &CertifyOptions::default())
+            .unwrap_err()
+            .to_string();
+        assert!(e.starts_with(field), "{field}: {e}");
+    }
+    let text = std::fs::read_to_string("examples/general_one_link.toml")
+        .unwrap()
+        .replace("B = [[1.0]]", "A = [[-0.1]]\nB = [[1.0]]");
+    let (drift, _) = general_problem(&GeneralFile::parse(&text).unwrap()).unwrap();
+    let e = certify_general(&drift, &slow_gait(), &CertifyOptions::default()).unwrap_err();
+    assert!(e.to_string().starts_with("dynamics.A"), "{e}");
+}
+
+/// `crawlopt optimize GENERAL.toml --method phase --certify`: the certificate in the text and,
+/// with `--json`, as `necessary_conditions`; `crawlopt certify` of that result gives the same
+/// verdict (the three-block crawler in general form: `degenerate`, as the crawler's own
+/// certificate of its phase optimum).
+#[test]
+fn optimize_phase_certify_and_certify_agree() {
+    for (file, verdict) in [
+        ("examples/general_one_link.toml", "holds"),
+        ("examples/general_three_blocks.toml", "degenerate"),
+    ] {
+        let args = ["optimize", file, "--method", "phase", "--certify"];
+        let out = crawlopt(&args);
+        let text = String::from_utf8_lossy(&out.stdout);
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        assert!(
+            text.contains(&format!(
+                "necessary conditions (Theorem 2.2; discrete form Theorems 6.1-6.2): {verdict}"
+            )),
+            "{text}"
+        );
+        assert!(text.contains("duration_stationarity"), "{text}");
+        let mut json = args.to_vec();
+        json.push("--json");
+        let out = crawlopt(&json);
+        assert!(out.status.success());
+        let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+        let c = &v["necessary_conditions"];
+        assert_eq!(
+            (c["verdict"].as_str(), c["method"].as_str()),
+            (Some(verdict), Some("phase"))
+        );
+        assert!(c["m"].is_null());
+        let dir = tempfile::tempdir().unwrap();
+        let f = dir.path().join("r.json");
+        std::fs::write(&f, &out.stdout).unwrap();
+        let out = crawlopt(&["certify", f.to_str().unwrap(), "--json"]);
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let back: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+        assert_eq!(&back, c, "{file}");
+    }
+}
