@@ -220,3 +220,41 @@ fn optimize_phase_certify_and_certify_agree() {
         assert_eq!(&back, c, "{file}");
     }
 }
+
+/// A phase of the solver's resolution (here `1e-10 T` with an interior control, as the MILP can
+/// leave one) is dropped before certifying: its duration is 0 for the phase LP, at the bound
+/// `tau >= 0`, where neither its control's maximality nor its Hamiltonian is asked. The §4
+/// optimum with such a phase after its rise holds, on its four phases.
+#[test]
+fn an_empty_phase_is_dropped() {
+    let (_, p) = one_link();
+    let tiny = 1e-9;
+    let pr = GeneralProcess {
+        kind: ProcessKind::Phase,
+        durations: vec![2.0, tiny, 3.0, 2.0, 3.0],
+        x: vec![
+            vec![-1.0],
+            vec![1.0],
+            vec![1.0 - 0.3 * tiny],
+            vec![1.0],
+            vec![-1.0],
+            vec![-1.0],
+        ],
+        u: vec![vec![1.0], vec![-0.3], vec![1.0], vec![-1.0], vec![-1.0]],
+        lambda: vec![
+            vec![0.0, 0.0],
+            vec![0.0, 0.0],
+            vec![1.0, 0.0],
+            vec![0.0, 0.0],
+            vec![0.0, 1.0],
+        ],
+    };
+    let c = certify_general(&p, &pr, &CertifyOptions::default()).unwrap();
+    assert_eq!(c.verdict, Verdict::Holds, "{}", c.reason);
+    assert!((c.objective - 3.0).abs() < 1e-9, "{}", c.objective);
+    assert_eq!(c.multipliers.times, [0.0, 2.0, 5.0, 7.0, 10.0]);
+    assert_eq!(
+        pr.without_empty_phases(p.period).durations,
+        [2.0, 3.0, 2.0, 3.0]
+    );
+}

@@ -74,7 +74,11 @@
 //! crawler's `sum_l a_l |psi_{i,l}|`). As for crawlers it is checked with multipliers of its
 //! own (`duration_stationarity`, group "6.2"; a violation makes the verdict `fails`), since
 //! imposing it on the reported ones can conflict with `dxi >= 0`. `p` is constant on a phase,
-//! so the support condition is void and the `L^1` maximality is exact.
+//! so the support condition is void and the `L^1` maximality is exact. A phase at most
+//! [`EMPTY_PHASE`] `T` long (a MILP's
+//! rounding) is dropped first: its duration is 0 for the phase LP, at the bound `tau >= 0`, where
+//! its control is not asked to maximise anything (`U = 0`) nor its Hamiltonian to equal the
+//! others'.
 //!
 //! # Changes of variables
 //!
@@ -101,8 +105,8 @@ pub use super::general_conditions::{
     GENERAL_CERTIFICATE_FORMAT,
 };
 use super::general_kkt::{solve_general, GeneralRaw, GeneralStructure};
-pub use super::general_process::GeneralProcess;
 use super::general_process::ProcessKind;
+pub use super::general_process::{GeneralProcess, EMPTY_PHASE};
 use super::kkt::Stage;
 use super::{BranchLp, CertifyOptions};
 use crate::error::Result;
@@ -126,6 +130,7 @@ pub(crate) fn certify_with(
     opts: &CertifyOptions,
     drift_term: bool,
 ) -> Result<GeneralNecessaryConditions> {
+    let pr = &pr.without_empty_phases(p.period);
     pr.check(p, opts.structure_tol)?;
     let st = GeneralStructure::of(p, pr, opts.structure_tol);
     let wmax = st.w.iter().fold(0.0_f64, |m, v| m.max(v.abs()));

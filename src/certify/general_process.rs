@@ -25,6 +25,12 @@ pub(crate) fn control_rows(u: &ControlSet) -> Vec<(Vec<f64>, f64)> {
     }
 }
 
+/// Phases of a phase gait at most this fraction of the period long are dropped before the gait
+/// is certified ([`GeneralProcess::without_empty_phases`]): at the MILP's resolution such a phase
+/// has duration 0, where the phase LP's bound `tau >= 0` is active and neither the weak
+/// maximality of its control (`U = tau u = 0`) nor the equality of its Hamiltonian is asked.
+pub const EMPTY_PHASE: f64 = 1e-9;
+
 /// A periodic process of the general problem on `P` pieces: `x^0..x^P` (`x^P = x^0`),
 /// `u^0..u^(P-1)` and the reaction rates `lambda^i` per face. A P_m process has `P = 2^m`
 /// steps of `h = T / 2^m` (`lambda^i = mu^i / h`, the projection's multipliers); a phase gait
@@ -82,6 +88,35 @@ impl GeneralProcess {
             x: s.states.clone(),
             u: s.controls.clone(),
             lambda: s.reactions.clone(),
+        }
+    }
+
+    /// The process without the phases of a phase gait at most [`EMPTY_PHASE`] `T` long (a
+    /// P_m process, or a gait without such phases, as it is): each dropped phase's end knot
+    /// goes with it, so the next phase starts where the dropped one did (they differ by at most
+    /// its duration times the speed, within the checks' tolerance).
+    pub fn without_empty_phases(&self, period: f64) -> GeneralProcess {
+        let keep: Vec<usize> = (0..self.durations.len())
+            .filter(|&i| self.durations[i] > EMPTY_PHASE * period)
+            .collect();
+        if self.kind != ProcessKind::Phase
+            || keep.len() == self.durations.len()
+            || keep.is_empty()
+            || self.x.len() != self.durations.len() + 1
+            || self.u.len() != self.durations.len()
+            || self.lambda.len() != self.durations.len()
+        {
+            return self.clone();
+        }
+        let pick = |rows: &[Vec<f64>]| keep.iter().map(|&i| rows[i].clone()).collect::<Vec<_>>();
+        let mut x = pick(&self.x);
+        x.push(self.x[self.durations.len()].clone());
+        GeneralProcess {
+            kind: ProcessKind::Phase,
+            durations: keep.iter().map(|&i| self.durations[i]).collect(),
+            x,
+            u: pick(&self.u),
+            lambda: pick(&self.lambda),
         }
     }
 
