@@ -7,7 +7,7 @@
 mod common;
 
 use common::{crawlopt, Rng};
-use crawlopt::api::general_problem;
+use crawlopt::api::{general_problem, optimize, GaitMethod, Hooks, OptimizeSettings};
 use crawlopt::certify::general::{GeneralFaceMultiplier, GeneralMultipliers};
 use crawlopt::certify::{
     self, certify_general, one_link_structure, residuals_of, CertifyOptions, ConditionCheck,
@@ -179,6 +179,24 @@ fn crawler_phase_gaits_match_the_crawler_certificate() {
             assert!(condition(cert, "duration_stationarity", "6.2") <= 1e-9);
         }
     }
+    // A gait that is not optimal: the chain method's on three blocks (J = 2.11 < 2.6). Both
+    // certificates fail, on Theorem 2.2's sign (an exact gait must meet it), with the same
+    // residual.
+    let crawler = Crawler::uniform(3, 1.0, 1.0, 1.5).unwrap();
+    let gp = GaitProblem::new(&crawler, 10.0, &[1.0, 1.0], Cost::None, None).unwrap();
+    let s = OptimizeSettings {
+        method: GaitMethod::Chain,
+        ..Default::default()
+    };
+    let r = optimize(&crawler, &gp, &s, Hooks::default())
+        .unwrap()
+        .result;
+    assert!(r.objective < 2.6 - 1e-3, "{}", r.objective);
+    let (cc, c) = assert_matches_crawler(&crawler, &r, ProcessKind::Phase);
+    assert_eq!(c.verdict, Verdict::Fails, "{}", c.reason);
+    let sign = |k: &[ConditionCheck]| condition(k, "sign", "2.2");
+    assert!((sign(&cc.conditions) - sign(&c.conditions)).abs() < 1e-9);
+    assert!(sign(&c.conditions) > 1e-3);
 }
 
 /// The crawler certificate of `r` and the general one of the same process in the general

@@ -90,8 +90,10 @@
 //!
 //! # Verdict and non-degeneracy
 //!
-//! As for crawlers: `holds` when the discrete conditions hold with `lambda = 1` and the
-//! switching function `sigma_i = B^T p_i + omega` leaves the control unique; `degenerate` when
+//! As for crawlers: `holds` when the discrete conditions hold with `lambda = 1` (for a phase
+//! gait, an exact process of (P), also Theorem 2.2's own: the sign `dxi >= 0`, the support, the
+//! `L^1` maximality, the adjoint and nontriviality) and the switching function
+//! `sigma_i = B^T p_i + omega` leaves the control unique; `degenerate` when
 //! they hold only with `sigma` vanishing or only with `lambda = 0`; `fails` otherwise. The
 //! margin is, for a box U, `min_{i,l} |sigma_{i,l}|` (the crawler's `min |p + omega|`), for a
 //! polytope the least `rho` over the steps at vertices of U (0 if a step is not at a vertex).

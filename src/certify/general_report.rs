@@ -218,12 +218,27 @@ pub(crate) fn report(
         ));
     }
 
+    // The verdict reads the discrete group; a phase gait, an exact process of (P), must also
+    // meet Theorem 2.2 itself (sign, support, L^1 maximality, ...; not the non-degeneracy nor
+    // the control law, which make a verdict degenerate), as the crawler's phase certificate.
+    let counted = |c: &&ConditionCheck, th: &str| {
+        c.theorem == th
+            && !matches!(
+                c.name.as_str(),
+                "lambda_positive" | "nondegeneracy" | "control_law"
+            )
+    };
     let disc_ok = conditions
         .iter()
-        .filter(|c| c.theorem == "6.2" && c.name != "lambda_positive")
+        .filter(|c| counted(c, "6.2"))
         .all(|c| c.holds);
+    let cont_ok = discrete
+        || conditions
+            .iter()
+            .filter(|c| counted(c, "2.2"))
+            .all(|c| c.holds);
     let nondeg = !margin_required || margin > nd_tol;
-    let (verdict, reason) = if disc_ok && lambda_ok && nondeg {
+    let (verdict, reason) = if disc_ok && cont_ok && lambda_ok && nondeg {
         (
             Verdict::Holds,
             if margin_required {
@@ -235,7 +250,7 @@ pub(crate) fn report(
             }
             .into(),
         )
-    } else if disc_ok && lambda_ok {
+    } else if disc_ok && cont_ok && lambda_ok {
         (
             Verdict::Degenerate,
             format!(
@@ -243,17 +258,23 @@ pub(crate) fn report(
                  margin {margin:.3e} (§4 (nndg) fails)"
             ),
         )
-    } else if disc_ok {
+    } else if disc_ok && cont_ok {
         (
             Verdict::Degenerate,
             "no multipliers with lambda > 0 exist; the conditions hold only with lambda = 0".into(),
         )
     } else {
-        let names: Vec<String> = conditions
-            .iter()
-            .filter(|c| !c.holds && c.theorem == "6.2" && c.name != "lambda_positive")
-            .map(|c| format!("{} (Thm 6.2, residual {:.3e})", c.name, c.residual))
-            .collect();
+        let failing = |th: &str| -> Vec<String> {
+            conditions
+                .iter()
+                .filter(|c| !c.holds && counted(c, th))
+                .map(|c| format!("{} (Thm {th}, residual {:.3e})", c.name, c.residual))
+                .collect()
+        };
+        let mut names = failing("6.2");
+        if names.is_empty() {
+            names = failing("2.2");
+        }
         (
             Verdict::Fails,
             format!(
