@@ -79,10 +79,12 @@ fn settings_that_do_not_apply_are_refused_naming_them() {
         s
     };
     let (f, k) = (Naming::Flags, Naming::Keywords);
-    use GaitMethod::{Auto, Discrete, Local, Phase, Sequence};
+    use GaitMethod::{Auto, Chain, Discrete, Local, Phase, Sequence};
     let cases: Vec<(OptimizeSettings, &str)> = vec![
-        (with(Sequence, f, &|_| {}), "--method"),
-        (with(Sequence, k, &|_| {}), "method"),
+        // The crawler's sequence and chain methods apply where the problem is a chain (checked
+        // when they run: tests/general_on_chain.rs); their refusals are their settings'.
+        (with(Sequence, f, &|s| s.m = Some(2)), "--m"),
+        (with(Chain, k, &|s| s.polish = Some(true)), "polish"),
         (with(Auto, f, &|s| s.phases = Some(2)), "--phases"),
         (with(Auto, f, &|s| s.patience = Some(2)), "--patience"),
         (with(Auto, f, &|s| s.max_phases = Some(2)), "--max-phases"),

@@ -5,6 +5,7 @@ HTML form for Jupyter. Nothing is computed here: every number is the library's."
 from __future__ import annotations
 
 import html
+import math
 from typing import Any, Optional
 
 import numpy as np
@@ -28,9 +29,12 @@ def same(a: Any, b: Any) -> bool:
 
 
 def plain(value: Any) -> Any:
-    """``value`` with NumPy arrays as lists (what ``json.dumps`` takes)."""
+    """``value`` with NumPy arrays as lists (what ``json.dumps`` takes), and a number that is
+    not finite as None: JSON has no NaN, and the library writes a missing bound as null."""
     if isinstance(value, np.ndarray):
-        return value.tolist()
+        return plain(value.tolist())
+    if isinstance(value, float) and not math.isfinite(value):
+        return None
     if isinstance(value, dict):
         return {k: plain(v) for k, v in value.items()}
     if isinstance(value, list):
@@ -253,6 +257,11 @@ class GeneralSimulation(_LibraryFigures, Document):
         return numbers_table(rows) + _optional_svg(self)
 
 
+# The methods whose answer is an exact gait of phases (durations, controls, states): the phase
+# MILPs, and the crawler's local methods on a problem that is a chain.
+_EXACT_GAITS = ("phase", "sequence", "chain")
+
+
 class GeneralResult(_LibraryFigures, Document):
     """An optimum of a general problem (``crawlopt optimize --json``), in the envelope of every
     result: ``format``, ``version``, ``kind`` ("general"), ``method``, ``problem`` (the
@@ -261,15 +270,16 @@ class GeneralResult(_LibraryFigures, Document):
     ``bound``, ``gap``, as a crawler's), ``necessary_conditions`` (a NecessaryConditions, with
     ``certify=True``), and the gait as arrays: ``x``, ``u``, ``reactions`` for P_m (one row per
     step), or ``durations``, ``controls``, ``states``, ``reactions`` and ``held`` per phase for
-    method "phase". ``d["solution"]`` is the document's section as before (with the MILP's own
-    certificate). ``from_json``/``to_json`` read and write the document (read back checked as
-    ``crawlopt certify`` checks it); ``certify()`` gives its NecessaryConditions; ``figures()``
-    and ``report()`` are the library's (``crawlopt optimize --plot --report``)."""
+    methods "phase", "sequence" and "chain". ``d["solution"]`` is the document's section as
+    before (with the MILP's own certificate). ``from_json``/``to_json`` read and write the
+    document (read back checked as ``crawlopt certify`` checks it); ``certify()`` gives its
+    NecessaryConditions; ``figures()`` and ``report()`` are the library's (``crawlopt optimize
+    --plot --report``)."""
 
     def __init__(self, doc: dict, record: Any = None):
         self._record = record
         sol = doc["solution"]
-        if doc.get("method") == "phase":
+        if doc.get("method") in _EXACT_GAITS:
             _series(sol, ("durations", "controls", "states", "reactions"))
         else:
             _series(sol, ("x", "u", "lambda"))
@@ -312,8 +322,9 @@ class GeneralResult(_LibraryFigures, Document):
 
     def certify(self) -> NecessaryConditions:
         """The necessary conditions (Theorem 2.2; discrete form Theorems 6.1–6.2) on the
-        stored P_m process (methods "discrete" and "local") or phase gait (method "phase", on
-        its own phases with the durations free): ``crawlopt certify RESULT.json``."""
+        stored P_m process (methods "discrete" and "local") or phase gait (methods "phase",
+        "sequence" and "chain", on its own phases with the durations free): ``crawlopt
+        certify RESULT.json``."""
         import json
 
         from . import _crawlopt as _rs
@@ -322,11 +333,12 @@ class GeneralResult(_LibraryFigures, Document):
 
     def to_pandas(self):
         """The gait as a DataFrame: one row per step (P_m: t_start, t_end, u_k, x_k at the
-        step's end, lambda_j) or per phase (method "phase": duration, u_k, x_k at its end)."""
+        step's end, lambda_j) or per phase (methods "phase", "sequence", "chain": duration, u_k,
+        x_k at its end)."""
         pd = require("pandas", "to_pandas()")
         s = self._doc["solution"]
         cols: dict = {}
-        if self._doc.get("method") == "phase":
+        if self._doc.get("method") in _EXACT_GAITS:
             d = np.asarray(s["durations"], dtype=float)
             cols["t_start"] = np.concatenate([[0.0], np.cumsum(d)[:-1]])
             cols["duration"] = d
@@ -356,7 +368,7 @@ class GeneralResult(_LibraryFigures, Document):
 
         s = self._doc["solution"]
         title = f"J = {s.get('objective', float('nan')):.6g} ({self.status})"
-        if self._doc.get("method") == "phase":
+        if self._doc.get("method") in _EXACT_GAITS:
             d = np.asarray(s["durations"], dtype=float)
             t = np.concatenate([[0.0], np.cumsum(d)])
             return general_plot(t, s["states"], s["controls"], title)

@@ -212,9 +212,9 @@ class GeneralProblem:
         certificate) or "local" (the LPCC active-set method from the file's ``[input]`` or
         square waves, ``shifts`` rotations of each; no global claim). ``solution`` holds
         ``objective`` (J re-verified by simulation), ``x``, ``u``, ``lambda``. ``certify``
-        ("discrete" and "phase") adds ``necessary_conditions``: Theorem 2.2's conditions on the
-        optimum with their residuals and ``verdict`` (``crawlopt optimize --certify``; a phase
-        gait's on its own phases, the durations free). ``convergence``
+        ("discrete", "phase", "sequence", "chain") adds ``necessary_conditions``: Theorem 2.2's
+        conditions on the optimum with their residuals and ``verdict`` (``crawlopt optimize
+        --certify``; a phase gait's on its own phases, the durations free). ``convergence``
         (discrete only) solves P_1..P_``m`` in turn and adds their table ``convergence``
         (``crawlopt optimize --convergence``), the answer being the finest. ``bound`` (as for
         ``optimize``; "discrete" and "phase"): the crawler's upper bound over all periodic gaits,
@@ -228,7 +228,12 @@ class GeneralProblem:
         crawlers (``crawlopt optimize --method phase``; ``phase_growth`` holds the table of the
         K solved); its ``solution`` holds ``objective`` (J re-verified by the exact simulation),
         ``durations``, ``controls``, ``states``, ``held`` (faces, 1-based) and ``reactions`` per
-        phase. ``polish`` (discrete only;
+        phase. ``method`` "sequence" or "chain" (where the problem is a crawler's gait problem,
+        as ``analyze()["structure"]`` says; else an ``InputError`` naming ``method``): the
+        crawler's local method on that crawler (``phases``, ``max_phases``, ``patience``,
+        ``time_limit`` as for ``optimize``), its gait written back as a phase gait of the
+        problem and re-verified by the exact simulation; no global claim (``status``
+        "stationary" or "stalled", ``certificate["kind"]`` "local"). ``polish`` (discrete only;
         default True): a quadratic cost's answer is polished on its fixed face pattern before it
         is certified (``--no-polish`` is ``polish=False``); ``solution["polish"]`` records it."""
         d, record = self._inner.optimize(

@@ -233,3 +233,28 @@ def test_a_crawlers_problem_in_general_form_is_recognised_and_takes_the_chains_b
     with pytest.raises(co.InputError) as e:
         co.load(ONE_LINK).optimize(bound=True)
     assert e.value.field == "bound"
+
+
+def test_the_crawlers_local_methods_on_a_chain():
+    # The three-block crawler in general form: the crawler's sequence and chain methods run on
+    # the crawler it is, the gait written back (J as the crawler's), a local claim; a problem
+    # that is not a crawler's refuses them naming the method.
+    g = co.load(example("general_three_blocks.toml"))
+    crawler = co.load(example("three_blocks_gait.toml"))
+    for method in ("sequence", "chain"):
+        r = g.optimize(method=method, certify=True)
+        want = co.optimize(crawler.crawler, crawler.gait_problem, method=method)
+        assert r.objective == pytest.approx(want.objective, rel=1e-9)
+        assert r.method == method and r.status == want.status
+        assert r.certificate["kind"] == "local" and r.certificate["bound"] is None
+        assert len(r.durations) == r.to_dict()["solution"]["max_phases"]
+        assert r.to_pandas().shape[0] == len(r.durations)
+        back = co.GeneralResult.from_json(r.to_json())
+        assert back.objective == r.objective
+        assert r.necessary_conditions.verdict == back.certify().verdict
+    with pytest.raises(co.InputError) as e:
+        co.load(ONE_LINK).optimize(method="chain")
+    assert e.value.field == "method"
+    with pytest.raises(co.InputError) as e:
+        g.optimize(method="sequence", m=3)
+    assert e.value.field == "m"

@@ -7,6 +7,7 @@
 
 use super::events::Hooks;
 use super::general::GeneralPmSettings;
+use super::general_chain::{optimize_general_on_chain, GeneralChainSettings};
 use super::general_local::{optimize_general_local, optimize_general_with_hooks};
 use super::general_phase::{optimize_general_phase, GeneralPhaseSettings};
 use super::settings::{GaitMethod, Naming, OptimizeSettings};
@@ -25,6 +26,9 @@ pub enum GeneralPlan {
     Local(GeneralLocalSettings),
     /// Exact gaits of at most `K` phases (where `A = 0`), globally.
     Phase(GeneralPhaseSettings),
+    /// The crawler's sequence or chain method, where the problem is a crawler's gait problem
+    /// (checked when it runs).
+    OnChain(GeneralChainSettings),
 }
 
 impl OptimizeSettings {
@@ -38,24 +42,8 @@ impl OptimizeSettings {
     pub fn plan_general(&self, front_end: &[(&str, bool)]) -> Result<GeneralPlan> {
         let n = self.naming;
         let method = self.method;
-        if !matches!(
-            method,
-            GaitMethod::Auto | GaitMethod::Discrete | GaitMethod::Local | GaitMethod::Phase
-        ) {
-            let reason = match n {
-                Naming::Flags => {
-                    "only discrete (P_m, globally), local (P_m, locally) and phase (exact gaits \
-                     where A = 0) apply to a general problem file"
-                }
-                Naming::Keywords => {
-                    "must be \"discrete\", \"local\" or \"phase\" for a general problem"
-                }
-            };
-            let field = match n {
-                Naming::Flags => n.setting("method"),
-                Naming::Keywords => n.field("method"),
-            };
-            return Err(Error::invalid(field, method.name(), reason));
+        if method == GaitMethod::Sequence || method == GaitMethod::Chain {
+            return self.plan_on_chain(front_end);
         }
         let local = method == GaitMethod::Local;
         let phase = method == GaitMethod::Phase;
@@ -197,6 +185,52 @@ impl OptimizeSettings {
     }
 }
 
+impl OptimizeSettings {
+    /// [`OptimizeSettings::plan_general`] for the crawler's sequence and chain methods: the
+    /// crawler's settings they take pass through (checked by the crawler's job), the others
+    /// are refused naming the first one given.
+    fn plan_on_chain(&self, front_end: &[(&str, bool)]) -> Result<GeneralPlan> {
+        let n = self.naming;
+        let polish = match n {
+            Naming::Flags => "no_polish",
+            Naming::Keywords => "polish",
+        };
+        let reason = match n {
+            Naming::Flags => {
+                "does not apply to --method sequence or chain on a general problem file \
+                 (--phases, --max-phases, --patience, --time-limit, --certify, --json)"
+            }
+            Naming::Keywords => {
+                "does not apply to method=\"sequence\" or \"chain\" on a general problem \
+                 (phases, max_phases, patience, time_limit, certify)"
+            }
+        };
+        let given = [
+            ("m", self.m.is_some()),
+            ("convergence", self.convergence),
+            ("start", self.start.is_some()),
+            ("shifts", self.shifts.is_some()),
+            (polish, self.polish.is_some()),
+            ("bound", self.bound.is_some()),
+        ];
+        if let Some((name, _)) = given.iter().chain(front_end).find(|(_, g)| *g) {
+            return Err(Error::invalid(n.setting(name), "given", reason));
+        }
+        Ok(GeneralPlan::OnChain(GeneralChainSettings {
+            crawler: OptimizeSettings {
+                method: self.method,
+                phases: self.phases,
+                max_phases: self.max_phases,
+                patience: self.patience,
+                time_limit: self.time_limit,
+                naming: n,
+                ..Default::default()
+            },
+            certify: self.certify,
+        }))
+    }
+}
+
 /// Runs a [`GeneralPlan`] on a problem file: the method's job with `hooks` (progress and
 /// cancellation where the method takes them); errors name the settings as `naming` spells
 /// them.
@@ -207,6 +241,7 @@ pub fn optimize_general_plan(
     hooks: Hooks<'_>,
 ) -> Result<GeneralAnswer> {
     let names: Vec<(&str, String)> = [
+        "method",
         "m",
         "time_limit",
         "shifts",
@@ -230,6 +265,9 @@ pub fn optimize_general_plan(
             .map(|r| GeneralAnswer::Local(Box::new(r)))
             .map_err(named),
         GeneralPlan::Phase(s) => optimize_general_phase(file, s, hooks)
+            .map(|r| GeneralAnswer::Phase(Box::new(r)))
+            .map_err(named),
+        GeneralPlan::OnChain(s) => optimize_general_on_chain(file, s, hooks)
             .map(|r| GeneralAnswer::Phase(Box::new(r)))
             .map_err(named),
     }

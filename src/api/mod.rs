@@ -18,7 +18,9 @@
 //! - [`general`]: the general problem (P) of the paper's §2 (`[sweeping_process]` files):
 //!   [`analyze_general`], [`simulate_general`], [`optimize_general`] (P_m, globally),
 //!   [`optimize_general_local`] (P_m, locally), [`optimize_general_phase`] (exact gaits of at
-//!   most `K` phases where `A = 0`, globally, `K` fixed or grown as for crawlers).
+//!   most `K` phases where `A = 0`, globally, `K` fixed or grown as for crawlers),
+//!   [`optimize_general_on_chain`] (the crawler's sequence and chain methods where the
+//!   problem is a crawler's).
 //!
 //! A parameter study (a job over a grid of model parameters) is one layer above, in
 //! [`crate::study`]: it runs these jobs per point.
@@ -43,6 +45,7 @@ mod certify_file;
 mod events;
 mod fit;
 pub mod general;
+mod general_chain;
 mod general_local;
 mod general_phase;
 mod general_plan;
@@ -57,6 +60,7 @@ pub use general::{
     analyze_general, general_problem, general_sim_options, optimize_general, simulate_general,
     GeneralAnalysis, GeneralOptimized, GeneralPmSettings, GeneralSimulated,
 };
+pub use general_chain::{optimize_general_on_chain, GeneralChainSettings};
 pub use general_local::{
     optimize_general_local, optimize_general_with_hooks, GeneralLocalOptimized,
     GeneralLocalSettings,

@@ -110,6 +110,7 @@ use super::general_kkt::{solve_general, GeneralRaw, GeneralStructure};
 use super::general_process::ProcessKind;
 pub use super::general_process::{GeneralProcess, EMPTY_PHASE};
 use super::kkt::Stage;
+use super::Verdict;
 use super::{BranchLp, CertifyOptions};
 use crate::error::Result;
 use crate::model::general::{GeneralCost, GeneralProblem};
@@ -144,13 +145,24 @@ pub(crate) fn certify_with(
         st.phase,
     )?;
     let mut rep = super::general_report::report(p, pr, &st, &chosen.0, chosen.1, opts, drift_term);
-    if st.phase && chosen.0.lambda > 0.0 {
+    if st.phase {
         // The phase LP is stationary in the durations too, with multipliers of their own
-        // (imposing it on the reported ones could conflict with dxi >= 0, as for crawlers).
-        let raw =
+        // (imposing it on the reported ones could conflict with dxi >= 0, as for crawlers): with
+        // lambda = 1 where the conditions hold with it, else by the same search (lambda = 0).
+        let raw = if chosen.0.lambda > 0.0 {
             solve_general(p, &st, 1.0, Stage::Kkt, None, drift_term, true)?.ok_or_else(|| {
                 crate::Error::Numerical("certify: HiGHS found the multiplier LP infeasible".into())
-            })?;
+            })?
+        } else {
+            super::stages::search(
+                |lambda, stage, norm| solve_general(p, &st, lambda, stage, norm, drift_term, true),
+                |raw| kkt_residual(p, &st, raw, drift_term, true),
+                opts.tol,
+                10.0 * wmax.max(1.0),
+                true,
+            )?
+            .0
+        };
         let r = kkt_residual(p, &st, &raw, drift_term, true) / super::stages::sup(&raw.p).max(1.0);
         super::records::duration_condition(
             &mut rep.conditions,
@@ -160,6 +172,9 @@ pub(crate) fn certify_with(
             r,
             opts.tol,
         );
+        if rep.verdict == Verdict::Fails && p.cost != GeneralCost::None {
+            rep.reason.push_str(APPROXIMATE_COST);
+        }
     }
     if let (ProcessKind::Discrete { m }, GeneralCost::None) = (pr.kind, &p.cost) {
         let active: Vec<Vec<bool>> = (0..st.steps)
@@ -187,6 +202,13 @@ pub(crate) fn certify_with(
     }
     Ok(rep)
 }
+
+/// Added to the reason of a phase gait of a quadratic cost that fails: its controls are the
+/// MILP's outer approximation's, not polished as P_m's are.
+pub(crate) const APPROXIMATE_COST: &str = " (f2 is quadratic: a phase gait's controls are only as \
+     accurate as the MILP's outer approximation of f2, about 1e-6 in J, and are not polished, so \
+     residuals of about 1e-4 are expected of an optimum; compare P_m's polished answer, \
+     --method discrete)";
 
 /// The largest residual of the branch LP's KKT system (all discrete conditions but the sign;
 /// with `durations_free`, the stationarity in the durations too).

@@ -92,9 +92,9 @@ impl GeneralProcess {
     }
 
     /// The process without the phases of a phase gait at most [`EMPTY_PHASE`] `T` long (a
-    /// P_m process, or a gait without such phases, as it is): each dropped phase's end knot
-    /// goes with it, so the next phase starts where the dropped one did (they differ by at most
-    /// its duration times the speed, within the checks' tolerance).
+    /// P_m process, or a gait without such phases, as it is): each dropped phase's start knot
+    /// goes with it, so the phase before it now ends where the dropped one ended (the two knots
+    /// differ by at most its duration times the speed, within the checks' tolerance).
     pub fn without_empty_phases(&self, period: f64) -> GeneralProcess {
         let keep: Vec<usize> = (0..self.durations.len())
             .filter(|&i| self.durations[i] > EMPTY_PHASE * period)

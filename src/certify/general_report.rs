@@ -92,7 +92,9 @@ pub(crate) fn report(
                 }
             })
             .fold(f64::INFINITY, f64::min),
-    };
+    }
+    // A weight the LP left at -1e-12 is 0 at its resolution.
+    .max(0.0);
     let wmax = st.w.iter().fold(0.0_f64, |a, v| a.max(v.abs()));
     let nd_tol = 1e-6 * sup(&switching).max(wmax).max(1e-300);
     let margin_required = !strictly_convex(&p.cost, m);

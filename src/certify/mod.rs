@@ -208,6 +208,12 @@ pub fn certify(pr: &Process, opts: &CertifyOptions) -> Result<NecessaryCondition
             opts.tol,
         );
     }
+    if pr.kind == ProcessKind::Phase
+        && pr.problem.cost != crate::optimal::Cost::None
+        && rep.verdict == Verdict::Fails
+    {
+        rep.reason.push_str(general::APPROXIMATE_COST);
+    }
     rep.branch_lp = branch;
     Ok(rep)
 }

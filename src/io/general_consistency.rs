@@ -134,6 +134,8 @@ impl GeneralAnswer {
             }
             GeneralAnswer::Phase(r) => {
                 let s = &r.solution;
+                // The crawler's local methods on the chain (`sequence`, `chain`).
+                let local = r.method != "phase";
                 let chain = match r.formulation.as_deref() {
                     None => false,
                     Some("chain") if p.as_chain().is_some() => true,
@@ -156,8 +158,22 @@ impl GeneralAnswer {
                         ))
                     }
                 };
-                let j = check_phase(&p, s, chain, what)?;
+                if local && !chain {
+                    return Err(bad(
+                        what,
+                        "formulation",
+                        format!("{:?}", r.formulation),
+                        format!(
+                            "the {} method runs on the chain: must be \"chain\"",
+                            r.method
+                        ),
+                    ));
+                }
+                let j = check_phase(&p, s, chain, local, what)?;
                 objectives(what, j, s.objective, r.objective)?;
+                if local {
+                    return check_local_phase(what, r);
+                }
                 if let Some(g) = &r.phase_growth {
                     let rows: Vec<_> = g
                         .table
@@ -172,6 +188,58 @@ impl GeneralAnswer {
             }
         }
     }
+}
+
+/// The most phases a gait of the crawler's local methods on a chain may have in a result file.
+const MAX_LOCAL_PHASES: usize = 1 << 20;
+
+/// The claims of a local method's phase gait on a chain (`sequence`, `chain`): a local status
+/// (`stationary`, `stalled`, `time_limit`) that is the solution's, the certificate `local`
+/// without bound or gap, no bound in the solution, no growth table and no upper bound.
+fn check_local_phase(what: &str, r: &crate::io::GeneralPhaseOptimized) -> Result<()> {
+    let s = &r.solution;
+    let allowed = [
+        MilpStatus::Stationary,
+        MilpStatus::Stalled,
+        MilpStatus::TimeLimit,
+    ];
+    if r.status != s.certificate.status || !allowed.contains(&r.status) {
+        return Err(bad(
+            what,
+            "status",
+            r.status.as_str(),
+            format!(
+                "must be solution.certificate.status ({}), one of stationary, stalled, \
+                 time_limit (a local method)",
+                s.certificate.status.as_str()
+            ),
+        ));
+    }
+    if r.certificate != ResultCertificate::local(None) {
+        return Err(bad(
+            what,
+            "certificate",
+            format!("kind {}", r.certificate.kind),
+            "a local answer's certificate is \"local\", without bound or gap",
+        ));
+    }
+    if !(s.certificate.bound.is_nan() && s.certificate.gap.is_nan()) {
+        return Err(bad(
+            what,
+            "solution.certificate.bound",
+            s.certificate.bound,
+            "a local method proves no bound (null)",
+        ));
+    }
+    if r.phase_growth.is_some() {
+        return Err(bad(
+            what,
+            "phase_growth",
+            "a table",
+            "a local method grows no K",
+        ));
+    }
+    Ok(())
 }
 
 /// A table of a growth of `K` or of P_1..P_m (`rows`: the `K` or `m`, its verified `J`, its
@@ -321,14 +389,31 @@ fn check_phase(
     p: &GeneralProblem,
     s: &crate::optimal::general::GeneralPhaseGait,
     chain: bool,
+    local: bool,
     what: &str,
 ) -> Result<f64> {
-    if !(1..=MAX_GENERAL_PHASES).contains(&s.max_phases) {
+    let cap = if local {
+        MAX_LOCAL_PHASES
+    } else {
+        MAX_GENERAL_PHASES
+    };
+    if !(1..=cap).contains(&s.max_phases) {
         return Err(bad(
             what,
             "solution.max_phases",
             s.max_phases,
-            format!("must be in 1..={MAX_GENERAL_PHASES}"),
+            format!("must be in 1..={cap}"),
+        ));
+    }
+    if local && s.durations.len() != s.max_phases {
+        return Err(bad(
+            what,
+            "solution.max_phases",
+            s.max_phases,
+            format!(
+                "a local method's gait has as many phases as it says ({})",
+                s.durations.len()
+            ),
         ));
     }
     if !p.dynamics.is_state_independent() {
@@ -451,6 +536,24 @@ fn check_phase(
                 format!("{got:?}"),
                 format!("disagrees with the exact replay of the gait ({want:?})"),
             ));
+        }
+    }
+    // A held face lies under the whole phase: active at both of its ends (to 1e-6 of C's
+    // scale, looser than the states' check: a MILP holds its faces to its own tolerance).
+    for (j, held) in s.held.iter().enumerate() {
+        for &f in held {
+            let off = [j, j + 1]
+                .iter()
+                .map(|&k| p.c.slack(f - 1, &states[k]).abs())
+                .fold(0.0_f64, f64::max);
+            if off > 1e-6 * scale {
+                return Err(bad(
+                    what,
+                    &format!("solution.held[{j}]"),
+                    f,
+                    format!("face {f} is not active at both ends of the phase (off by {off:e})"),
+                ));
+            }
         }
     }
     if p.boundary == Boundary::Periodic && max_diff(&states[np], &states[0]) > INPUT_TOL * scale {

@@ -111,7 +111,7 @@ fn local_word<'de, D: Deserializer<'de>>(d: D) -> std::result::Result<&'static s
 }
 
 fn phase_word<'de, D: Deserializer<'de>>(d: D) -> std::result::Result<&'static str, D::Error> {
-    word(d, &["phase"])
+    word(d, &["phase", "sequence", "chain"])
 }
 
 fn start_word<'de, D: Deserializer<'de>>(d: D) -> std::result::Result<&'static str, D::Error> {
@@ -257,7 +257,9 @@ pub struct GeneralPhaseOptimized {
     pub version: u32,
     /// [`ResultKind::General`] (`"general"`).
     pub kind: ResultKind,
-    /// `"phase"`: exact gaits of at most `K` phases, globally.
+    /// `"phase"`: exact gaits of at most `K` phases, globally; `"sequence"` or `"chain"`: the
+    /// crawler's local method on the problem's chain ([`crate::api::optimize_general_on_chain`]),
+    /// an exact gait without a global claim.
     #[serde(deserialize_with = "phase_word")]
     pub method: Word,
     /// The problem (P) in the file's form (module docs).

@@ -106,14 +106,16 @@ impl GeneralAnswer {
             Some("local") => {
                 GeneralAnswer::Local(Box::new(parse::<GeneralLocalOptimized>(v, what)?))
             }
-            Some("phase") => {
+            // Exact gaits: of the phase MILPs, or of the crawler's local methods on a chain.
+            Some("phase" | "sequence" | "chain") => {
                 GeneralAnswer::Phase(Box::new(parse::<GeneralPhaseOptimized>(v, what)?))
             }
             other => {
                 return Err(Error::invalid(
                     format!("{what}: method"),
                     other.unwrap_or("nothing"),
-                    "a general result's method is \"discrete\", \"local\" or \"phase\"",
+                    "a general result's method is \"discrete\", \"local\", \"phase\", \
+                     \"sequence\" or \"chain\"",
                 ))
             }
         })

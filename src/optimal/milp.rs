@@ -59,10 +59,19 @@ pub struct Certificate {
     pub status: MilpStatus,
     /// The MILP's objective.
     pub milp_objective: f64,
-    /// The MILP's upper bound on the optimum of its problem.
+    /// The MILP's upper bound on the optimum of its problem (NaN, written `null`, for a local
+    /// method's answer, which proves no bound).
+    #[serde(deserialize_with = "nan_if_null")]
     pub bound: f64,
-    /// Gap `(bound - verified) / max(|verified|, 1)`: relative above 1, absolute below.
+    /// Gap `(bound - verified) / max(|verified|, 1)`: relative above 1, absolute below (NaN,
+    /// written `null`, without a bound).
+    #[serde(deserialize_with = "nan_if_null")]
     pub gap: f64,
+}
+
+/// A number written by `serde_json`, which writes NaN as `null`: `null` reads back as NaN.
+fn nan_if_null<'de, D: serde::Deserializer<'de>>(d: D) -> std::result::Result<f64, D::Error> {
+    Ok(Option::<f64>::deserialize(d)?.unwrap_or(f64::NAN))
 }
 
 /// The certificate of a MILP answer: the MILP moved the crawler `milp_displacement` per

@@ -190,6 +190,22 @@ fn describe(
                 ),
             )
         }
+        GeneralReportInput::Answer(GeneralAnswer::Phase(r)) if r.method != "phase" => (
+            "Gait",
+            r.method,
+            format!(
+                "the crawler's {} method on the problem's chain: {}",
+                r.method,
+                r.status.as_str()
+            ),
+            (
+                "local".to_string(),
+                format!(
+                    "no global claim; an exact gait of {} phases",
+                    r.solution.durations.len()
+                ),
+            ),
+        ),
         GeneralReportInput::Answer(GeneralAnswer::Phase(r)) => {
             let c = &r.solution.certificate;
             (

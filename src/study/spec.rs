@@ -468,7 +468,7 @@ fn file_of(table: &toml::Table, dir: &Path, kind: Kind) -> Result<ProblemFile> {
 /// [`MAX_GENERAL_LOCAL_M`](crate::optimal::general::MAX_GENERAL_LOCAL_M) locally, `K` of the
 /// phase method (`max_phases`, and `phases` when fixed) up to
 /// [`MAX_GENERAL_PHASES`](crate::optimal::general::MAX_GENERAL_PHASES) with a patience of at
-/// least 1.
+/// least 1; the crawler's ranges for its sequence and chain methods.
 fn plan_values(plan: &GeneralPlan) -> Result<()> {
     use crate::optimal::general::{MAX_GENERAL_LOCAL_M, MAX_GENERAL_M, MAX_GENERAL_PHASES};
     let mut checks = match plan {
@@ -478,6 +478,8 @@ fn plan_values(plan: &GeneralPlan) -> Result<()> {
             ("max_phases", s.max_phases, 1, MAX_GENERAL_PHASES),
             ("patience", s.patience, 1, usize::MAX),
         ],
+        // The crawler's methods: the crawler's ranges.
+        GeneralPlan::OnChain(s) => return s.crawler.check_values(),
     };
     if let GeneralPlan::Phase(s) = plan {
         checks.extend(s.phases.map(|k| ("phases", k, 1, MAX_GENERAL_PHASES)));

@@ -26,11 +26,13 @@ pub enum OptimizeMethod {
     Phase,
     /// Local search over the slip-mode sequences of phase gaits (exact gaits, each optimal
     /// for its sequence; no global claim), from a phase gait or --start: for crawlers or K
-    /// where the MILP is too slow.
+    /// where the MILP is too slow; on a general problem file that is a crawler's, the
+    /// crawler's.
     Sequence,
     /// Long chains: the best structured gait (travelling, alternating, grouped waves)
     /// improved by a pattern search over per-link ramp gaits, simulated exactly (no global
-    /// claim; never below its start).
+    /// claim; never below its start); on a general problem file that is a crawler's, the
+    /// crawler's.
     Chain,
 }
 

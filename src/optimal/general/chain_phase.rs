@@ -116,6 +116,38 @@ fn grow_chain(
     })
 }
 
+/// A crawler's exact gait on its own pieces (a phase MILP's, or a local method's): durations,
+/// controls, states at the knots, block displacements and slip modes per piece, and its `J`.
+#[derive(Debug, Clone, Copy)]
+pub struct ChainPieces<'a> {
+    /// Piece durations.
+    pub durations: &'a [f64],
+    /// Controls per piece (the crawler's `u = k L'`).
+    pub controls: &'a [Vec<f64>],
+    /// The crawler's states at the knots.
+    pub states: &'a [Vec<f64>],
+    /// Block displacements per piece.
+    pub block_displacements: &'a [Vec<f64>],
+    /// Slip modes per piece and block (-1, 0, 1).
+    pub modes: &'a [Vec<i8>],
+    /// The crawler's `J`.
+    pub objective: f64,
+}
+
+impl<'a> ChainPieces<'a> {
+    /// The pieces of a phase MILP's solution.
+    pub fn of_phase(s: &'a PhaseSolution) -> Self {
+        ChainPieces {
+            durations: &s.durations,
+            controls: &s.controls,
+            states: &s.states,
+            block_displacements: &s.block_displacements,
+            modes: &s.modes,
+            objective: s.objective(),
+        }
+    }
+}
+
 /// A crawler's phase gait on the chain of `p` as a general phase gait (module docs), replayed
 /// by the general exact simulator; an error if the replay's `J` is not `lambda` times the
 /// crawler's or its states are not the crawler's mapped.
@@ -124,18 +156,42 @@ pub fn chain_phase_gait(
     view: &ChainView,
     s: &PhaseSolution,
 ) -> Result<GeneralPhaseGait> {
+    let lambda = view.objective_scale;
+    let bound = lambda * s.certificate.bound;
+    let mut g = chain_gait(p, view, ChainPieces::of_phase(s))?;
+    g.max_phases = s.phases;
+    g.certificate = Certificate {
+        status: s.certificate.status,
+        milp_objective: lambda * s.certificate.milp_objective,
+        bound,
+        gap: Certificate::gap_of(bound, g.objective),
+    };
+    g.rounds = s.rounds;
+    Ok(g)
+}
+
+/// A crawler's exact gait on the chain of `p` as a general phase gait of as many phases as it
+/// has pieces, replayed by the general exact simulator (module docs; an error if the replay's
+/// `J` is not `lambda` times the crawler's or its states are not the crawler's mapped), with no
+/// claim: its certificate has no bound (NaN) and the status `stalled` until the caller says
+/// what its method proved.
+pub fn chain_gait(
+    p: &GeneralProblem,
+    view: &ChainView,
+    s: ChainPieces<'_>,
+) -> Result<GeneralPhaseGait> {
     let beta: Vec<f64> = (0..p.states()).map(|l| p.dynamics.b[l][l]).collect();
     let to_general = |x: &[f64]| -> Vec<f64> { x.iter().zip(&beta).map(|(x, b)| x * b).collect() };
-    let what = "the chain's phase gait";
+    let what = "the chain's gait";
     let x0 = to_general(&s.states[0]);
-    let (states, sim) = replay_phases(p, &s.durations, &s.controls, &x0, what)?;
+    let (states, sim) = replay_phases(p, s.durations, s.controls, &x0, what)?;
     let objective = sim.objective.unwrap_or(sim.reward - sim.cost);
     let lambda = view.objective_scale;
-    let want = lambda * s.objective();
+    let want = lambda * s.objective;
     let scale = p.c.scale();
     let state_gap = states
         .iter()
-        .zip(&s.states)
+        .zip(s.states)
         .flat_map(|(a, b)| {
             let b = to_general(b);
             a.iter()
@@ -177,23 +233,22 @@ pub fn chain_phase_gait(
         held.push(h);
         reactions.push(r);
     }
-    let bound = lambda * s.certificate.bound;
     Ok(GeneralPhaseGait {
-        max_phases: s.phases,
+        max_phases: s.durations.len(),
         objective,
         certificate: Certificate {
-            status: s.certificate.status,
-            milp_objective: lambda * s.certificate.milp_objective,
-            bound,
-            gap: Certificate::gap_of(bound, objective),
+            status: crate::optimal::MilpStatus::Stalled,
+            milp_objective: objective,
+            bound: f64::NAN,
+            gap: f64::NAN,
         },
-        durations: s.durations.clone(),
-        controls: s.controls.clone(),
+        durations: s.durations.to_vec(),
+        controls: s.controls.to_vec(),
         states,
         held,
         reactions,
         state_gap,
         actuation_cost: sim.cost,
-        rounds: s.rounds,
+        rounds: 0,
     })
 }

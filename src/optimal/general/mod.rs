@@ -15,7 +15,9 @@ mod pm;
 mod polish;
 pub mod projection;
 
-pub use chain_phase::{chain_gait_problem, chain_phase_gait, grow_chain_phases};
+pub use chain_phase::{
+    chain_gait, chain_gait_problem, chain_phase_gait, grow_chain_phases, ChainPieces,
+};
 pub use discrete::{simulate_grid, solve_general_branch, GeneralPm, MAX_GENERAL_M, PM_DATA_RANGE};
 pub use geometry::{
     analyze_polyhedron, check_problem, check_with, Geometry, Vertex, MAX_VERTEX_SUBSETS,

@@ -239,8 +239,22 @@ pub fn general_phase(r: &GeneralPhaseOptimized) -> String {
     let mut out = String::new();
     let s = &r.solution;
     let c = &s.certificate;
-    let scale = s.objective.abs().max(c.bound.abs()).max(1e-300);
+    let local = r.method != "phase";
+    let scale = if local {
+        s.objective.abs().max(1e-300)
+    } else {
+        s.objective.abs().max(c.bound.abs()).max(1e-300)
+    };
     match r.formulation.as_deref() {
+        _ if local => wln!(
+            out,
+            "exact gait of {} phases by the crawler's {} method on the problem's chain (the \
+             problem is a crawler's) (T = {}), no global claim: {}",
+            s.durations.len(),
+            r.method,
+            num(r.period, 0.0),
+            super::status_word(c.status),
+        ),
         Some("chain") => wln!(
             out,
             "exact gait, global among those of at most {k} phases by the chain's formulation \
@@ -258,14 +272,23 @@ pub fn general_phase(r: &GeneralPhaseOptimized) -> String {
             super::status_word(c.status)
         ),
     }
-    wln!(
-        out,
-        "J = {}   (verified by the exact simulation; MILP {}, bound {}, gap {:.3e})",
-        num(s.objective, scale),
-        num(c.milp_objective, scale),
-        num(c.bound, scale),
-        c.gap
-    );
+    if local {
+        wln!(
+            out,
+            "J = {}   (verified by the exact simulation; the crawler's J times the objective's \
+             scale)",
+            num(s.objective, scale)
+        );
+    } else {
+        wln!(
+            out,
+            "J = {}   (verified by the exact simulation; MILP {}, bound {}, gap {:.3e})",
+            num(s.objective, scale),
+            num(c.milp_objective, scale),
+            num(c.bound, scale),
+            c.gap
+        );
+    }
     if s.actuation_cost != 0.0 {
         wln!(
             out,

@@ -50,7 +50,7 @@ pub fn general_certificate(c: &GeneralNecessaryConditions) -> String {
     let ps = max_abs(m.p.iter().flatten()).max(1e-300);
     wln!(
         out,
-        "  multipliers per step{}:",
+        "  multipliers per piece (a step of P_m or a phase){}:",
         if show < rows {
             format!(" (first {show} of {rows})")
         } else {

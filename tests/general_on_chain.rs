@@ -1,0 +1,260 @@
+//! The crawler's local methods (`sequence`, `chain`) on a general problem that is a crawler's
+//! gait problem (`crawlopt::api::optimize_general_on_chain`): the same gait as on the crawler,
+//! written back in the problem's terms and re-verified by the general exact simulator (`J`
+//! times the objective's scale), with a local claim; read back checked, certified, refused
+//! where the problem is not a chain or a setting does not apply.
+
+mod common;
+
+use common::crawlopt;
+use crawlopt::api::{
+    gait_problem, optimize, optimize_general_plan, GaitMethod, GeneralAnswer, Hooks, Naming,
+    OptimizeSettings,
+};
+use crawlopt::io::{GeneralFile, ModelFile, ResultFile};
+use crawlopt::optimal::MilpStatus;
+
+const GENERAL: &str = "examples/general_three_blocks.toml";
+const CRAWLER: &str = "examples/three_blocks_gait.toml";
+
+/// The three-block problem in general form with its objective scaled by `lambda`.
+fn general_file(lambda: f64) -> GeneralFile {
+    let text = std::fs::read_to_string(GENERAL).unwrap();
+    let line = text
+        .lines()
+        .find(|l| l.starts_with("face_weights"))
+        .unwrap()
+        .to_string();
+    let inner = line.split('[').nth(1).unwrap().trim_end_matches(']');
+    let scaled: Vec<String> = inner
+        .split(',')
+        .map(|v| format!("{:e}", lambda * v.trim().parse::<f64>().unwrap()))
+        .collect();
+    let text = text.replace(&line, &format!("face_weights = [{}]", scaled.join(", ")));
+    GeneralFile::parse(&text).unwrap()
+}
+
+fn run(file: &GeneralFile, s: &OptimizeSettings) -> crawlopt::Result<GeneralAnswer> {
+    let plan = s.plan_general(&[])?;
+    optimize_general_plan(file, &plan, s.naming, Hooks::default())
+}
+
+/// Both methods give the crawler's gait: `J` is the crawler's times the objective's scale (1
+/// and 2.5), the status the crawler's stop, the certificate `local`, the solution's bound
+/// absent; the gait has as many phases as it says.
+#[test]
+fn the_crawlers_local_methods_run_on_its_general_form() {
+    let model = ModelFile::load(CRAWLER.as_ref()).unwrap();
+    let (crawler, gp) = gait_problem(&model).unwrap();
+    for method in [GaitMethod::Sequence, GaitMethod::Chain] {
+        let s = OptimizeSettings {
+            method,
+            ..Default::default()
+        };
+        let want = optimize(&crawler, &gp, &s, Hooks::default())
+            .unwrap()
+            .result;
+        for lambda in [1.0, 2.5] {
+            let GeneralAnswer::Phase(r) = run(&general_file(lambda), &s).unwrap() else {
+                panic!("not a phase answer");
+            };
+            let j = lambda * want.objective;
+            assert!(
+                (r.objective - j).abs() < 1e-9 * j,
+                "{method:?}: {} vs {j}",
+                r.objective
+            );
+            assert_eq!(r.method, method.name());
+            assert_eq!(r.status, want.status);
+            assert!(matches!(
+                r.status,
+                MilpStatus::Stationary | MilpStatus::Stalled
+            ));
+            assert_eq!(r.certificate.kind, "local");
+            assert!(r.certificate.bound.is_none() && r.certificate.gap.is_none());
+            assert!(r.solution.certificate.bound.is_nan());
+            assert_eq!(r.solution.max_phases, r.solution.durations.len());
+            assert_eq!(r.solution.durations, want.gait.durations);
+            assert_eq!(r.formulation.as_deref(), Some("chain"));
+        }
+    }
+}
+
+/// Written and read back, the answer is checked as any general result: the same answer, and a
+/// tampered claim refused naming its field.
+#[test]
+fn a_local_answer_reads_back_and_tampering_is_refused() {
+    let s = OptimizeSettings {
+        method: GaitMethod::Sequence,
+        ..Default::default()
+    };
+    let r = run(&general_file(1.0), &s).unwrap();
+    let text = serde_json::to_string(&r).unwrap();
+    let ResultFile::General(back) = ResultFile::from_json(&text, "r.json").unwrap() else {
+        panic!("not a general result");
+    };
+    assert_eq!(serde_json::to_string(&back).unwrap(), text);
+    let v: serde_json::Value = serde_json::from_str(&text).unwrap();
+    type Edit = Box<dyn Fn(&mut serde_json::Value)>;
+    let cases: Vec<(Edit, &str)> = vec![
+        (
+            Box::new(|v| v["status"] = "optimal".into()),
+            "r.json: status",
+        ),
+        (
+            Box::new(|v| v["certificate"]["kind"] = "global_k_phases".into()),
+            "r.json: certificate",
+        ),
+        (
+            Box::new(|v| v["solution"]["certificate"]["bound"] = 9.0.into()),
+            "r.json: solution.certificate.bound",
+        ),
+        (
+            Box::new(|v| {
+                v.as_object_mut()
+                    .unwrap()
+                    .remove("formulation")
+                    .map(|_| ())
+                    .unwrap()
+            }),
+            "r.json: formulation",
+        ),
+        (
+            Box::new(|v| v["solution"]["max_phases"] = 3.into()),
+            "r.json: solution.max_phases",
+        ),
+        (
+            Box::new(|v| v["objective"] = 3.0.into()),
+            "r.json: objective",
+        ),
+        // A face held on a transition, which the segment does not touch.
+        (
+            Box::new(|v| v["solution"]["held"][0] = serde_json::json!([1])),
+            "r.json: solution.held[0]",
+        ),
+        (
+            Box::new(|v| v["method"] = "simplex".into()),
+            "r.json: method",
+        ),
+    ];
+    for (edit, field) in cases {
+        let mut w = v.clone();
+        edit(&mut w);
+        let e = ResultFile::from_json(&w.to_string(), "r.json")
+            .unwrap_err()
+            .to_string();
+        assert!(e.starts_with(field), "{field}: {e}");
+    }
+}
+
+/// On a problem that is not a crawler's (the §4 one-link problem: two faces, not four) the
+/// methods are refused naming `method`; a setting they do not take is refused naming it as the
+/// caller spelled it.
+#[test]
+fn what_does_not_apply_is_refused() {
+    let text = std::fs::read_to_string("examples/general_one_link.toml").unwrap();
+    let one_link = GeneralFile::parse(&text).unwrap();
+    for method in [GaitMethod::Sequence, GaitMethod::Chain] {
+        let s = OptimizeSettings {
+            method,
+            ..Default::default()
+        };
+        let e = run(&one_link, &s).unwrap_err().to_string();
+        assert!(
+            e.starts_with("method:") && e.contains("crawler's gait problem"),
+            "{e}"
+        );
+        for (naming, edit, want) in [
+            (
+                Naming::Flags,
+                OptimizeSettings {
+                    m: Some(3),
+                    ..s.clone()
+                },
+                "--m",
+            ),
+            (
+                Naming::Flags,
+                OptimizeSettings {
+                    polish: Some(false),
+                    ..s.clone()
+                },
+                "--no-polish",
+            ),
+            (
+                Naming::Keywords,
+                OptimizeSettings {
+                    shifts: Some(2),
+                    ..s.clone()
+                },
+                "shifts",
+            ),
+            (
+                Naming::Keywords,
+                OptimizeSettings {
+                    convergence: true,
+                    ..s.clone()
+                },
+                "convergence",
+            ),
+        ] {
+            let s = OptimizeSettings { naming, ..edit };
+            let e = s.plan_general(&[]).unwrap_err().to_string();
+            assert!(e.starts_with(&format!("{want}:")), "{want}: {e}");
+        }
+    }
+}
+
+/// `crawlopt optimize GENERAL.toml --method sequence --certify --json`: the general certificate
+/// of the gait on its phases gives the crawler certificate's verdict on the crawler's gait
+/// (`degenerate` for the three-block optimum J = 2.6), and `crawlopt certify` of the written
+/// answer the same certificate.
+#[test]
+fn the_command_line_certifies_the_gait_as_the_crawlers() {
+    let out = crawlopt(&[
+        "optimize",
+        GENERAL,
+        "--method",
+        "sequence",
+        "--certify",
+        "--json",
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(v["method"], "sequence");
+    assert!((v["objective"].as_f64().unwrap() - 2.6).abs() < 1e-9);
+    let out_c = crawlopt(&[
+        "optimize",
+        CRAWLER,
+        "--method",
+        "sequence",
+        "--certify",
+        "--json",
+    ]);
+    let c: serde_json::Value = serde_json::from_slice(&out_c.stdout).unwrap();
+    assert_eq!(
+        v["necessary_conditions"]["verdict"],
+        c["necessary_conditions"]["verdict"]
+    );
+    let dir = tempfile::tempdir().unwrap();
+    let f = dir.path().join("r.json");
+    std::fs::write(&f, &out.stdout).unwrap();
+    let out = crawlopt(&["certify", f.to_str().unwrap(), "--json"]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let back: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(back, v["necessary_conditions"]);
+    let text =
+        String::from_utf8(crawlopt(&["optimize", GENERAL, "--method", "chain"]).stdout).unwrap();
+    assert!(
+        text.contains("by the crawler's chain method on the problem's chain"),
+        "{text}"
+    );
+}
