@@ -258,3 +258,76 @@ fn the_command_line_certifies_the_gait_as_the_crawlers() {
         "{text}"
     );
 }
+
+/// A sweep over the chain's period with the chain method: each row says what the answer
+/// claims, `local` without bound or gap, with the method's stop as its status (it said
+/// `global_k_phases` with NaN for bound and gap).
+#[test]
+fn a_sweep_row_claims_what_the_answer_claims() {
+    let dir = tempfile::tempdir().unwrap();
+    let spec = dir.path().join("sweep.toml");
+    let base = std::fs::canonicalize(GENERAL).unwrap();
+    std::fs::write(
+        &spec,
+        format!(
+            "base = {:?}\njob = \"optimize\"\n[settings]\nmethod = \"chain\"\n\n[[axis]]\nfield = \
+             \"problem.period\"\nvalues = [6.0, 10.0]\n",
+            base.to_str().unwrap()
+        ),
+    )
+    .unwrap();
+    let table = dir.path().join("table.csv");
+    let out = crawlopt(&[
+        "sweep",
+        spec.to_str().unwrap(),
+        "-j",
+        "1",
+        "--output",
+        table.to_str().unwrap(),
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let text = std::fs::read_to_string(&table).unwrap();
+    let mut lines = text.lines();
+    let head: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let col = |name: &str| head.iter().position(|h| *h == name).unwrap();
+    let rows: Vec<Vec<&str>> = lines.map(|l| l.split(',').collect()).collect();
+    assert_eq!(rows.len(), 2, "{text}");
+    for r in rows {
+        assert_eq!(r[col("method")], "chain", "{text}");
+        assert_eq!(r[col("certificate")], "local", "{text}");
+        assert_eq!((r[col("bound")], r[col("gap")]), ("", ""), "{text}");
+        assert!(
+            matches!(r[col("status")], "stalled" | "stationary"),
+            "{text}"
+        );
+    }
+}
+
+/// The certificate's verdict does not depend on the objective's scale: the sequence method's
+/// optimum (J = 2.6) is `degenerate` at scale 1 and at 1e-7, where the switching function's
+/// zeros are below the LP's resolution (it said `holds` there: a margin of 1e-12 passed
+/// against 1e-6 of multipliers of size 1e-7).
+#[test]
+fn the_verdict_does_not_depend_on_the_objectives_scale() {
+    for lambda in [1.0, 1e-7] {
+        let s = OptimizeSettings {
+            method: GaitMethod::Sequence,
+            certify: true,
+            ..Default::default()
+        };
+        let GeneralAnswer::Phase(r) = run(&general_file(lambda), &s).unwrap() else {
+            panic!("not a phase answer");
+        };
+        let c = r.necessary_conditions.as_ref().unwrap();
+        assert_eq!(
+            c.verdict,
+            crawlopt::certify::Verdict::Degenerate,
+            "{lambda}: {}",
+            c.reason
+        );
+    }
+}

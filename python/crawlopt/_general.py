@@ -230,9 +230,9 @@ class GeneralProblem:
         ``durations``, ``controls``, ``states``, ``held`` (faces, 1-based) and ``reactions`` per
         phase. ``method`` "sequence" or "chain" (where the problem is a crawler's gait problem,
         as ``analyze()["structure"]`` says; else an ``InputError`` naming ``method``): the
-        crawler's local method on that crawler (``phases``, ``max_phases``, ``patience``,
-        ``time_limit`` as for ``optimize``), its gait written back as a phase gait of the
-        problem and re-verified by the exact simulation; no global claim (``status``
+        crawler's local method on that crawler (``time_limit``, and ``phases`` and
+        ``max_phases`` with "sequence", as for ``optimize``), its gait written back as a phase
+        gait of the problem and re-verified by the exact simulation; no global claim (``status``
         "stationary" or "stalled", ``certificate["kind"]`` "local"). ``polish`` (discrete only;
         default True): a quadratic cost's answer is polished on its fixed face pattern before it
         is certified (``--no-polish`` is ``polish=False``); ``solution["polish"]`` records it."""

@@ -19,9 +19,10 @@ use crate::optimal::ResultCertificate;
 #[derive(Debug, Clone, PartialEq)]
 pub struct GeneralChainSettings {
     /// The crawler's settings the method runs with: `method` is [`GaitMethod::Sequence`] or
-    /// [`GaitMethod::Chain`]; `phases`, `max_phases`, `patience` (sequence: its slip modes and
-    /// the growth of its start) and `time_limit` as for a crawler, with the crawler's defaults
-    /// and checks. Its `certify` is not read (see `certify` below).
+    /// [`GaitMethod::Chain`]; `time_limit`, and for sequence `phases` and `max_phases` (its
+    /// slip modes and the growth of its start), as for a crawler, with the crawler's defaults
+    /// and checks (which refuse what the method does not take, e.g. `patience`). Its
+    /// `certify` is not read (see `certify` below).
     pub crawler: OptimizeSettings,
     /// Also check the necessary conditions of Theorem 2.2 on the gait in the problem's terms
     /// (the general certificate on its phases, durations free; default false).

@@ -198,11 +198,12 @@ impl OptimizeSettings {
         let reason = match n {
             Naming::Flags => {
                 "does not apply to --method sequence or chain on a general problem file \
-                 (--phases, --max-phases, --patience, --time-limit, --certify, --json)"
+                 (--time-limit, --certify, --json; --phases and --max-phases with sequence, as \
+                 for crawlers)"
             }
             Naming::Keywords => {
                 "does not apply to method=\"sequence\" or \"chain\" on a general problem \
-                 (phases, max_phases, patience, time_limit, certify)"
+                 (time_limit, certify; phases and max_phases with sequence, as for crawlers)"
             }
         };
         let given = [

@@ -173,7 +173,7 @@ pub(crate) fn certify_with(
             opts.tol,
         );
         if rep.verdict == Verdict::Fails && p.cost != GeneralCost::None {
-            rep.reason.push_str(APPROXIMATE_COST);
+            super::records::note_approximate_cost(&rep.conditions, &mut rep.reason);
         }
     }
     if let (ProcessKind::Discrete { m }, GeneralCost::None) = (pr.kind, &p.cost) {
@@ -202,13 +202,6 @@ pub(crate) fn certify_with(
     }
     Ok(rep)
 }
-
-/// Added to the reason of a phase gait of a quadratic cost that fails: its controls are the
-/// MILP's outer approximation's, not polished as P_m's are.
-pub(crate) const APPROXIMATE_COST: &str = " (f2 is quadratic: a phase gait's controls are only as \
-     accurate as the MILP's outer approximation of f2, about 1e-6 in J, and are not polished, so \
-     residuals of about 1e-4 are expected of an optimum; compare P_m's polished answer, \
-     --method discrete)";
 
 /// The largest residual of the branch LP's KKT system (all discrete conditions but the sign;
 /// with `durations_free`, the stationarity in the durations too).

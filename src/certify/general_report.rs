@@ -95,6 +95,10 @@ pub(crate) fn report(
     }
     // A weight the LP left at -1e-12 is 0 at its resolution.
     .max(0.0);
+    // The multipliers solve LPs to the conditions' tolerance: below it, a margin is zero at the
+    // solver's resolution (as for crawlers; a tiny objective scale made 1e-12 pass as a margin).
+    let resolution = tol * sup_p.max(1.0);
+    let margin = if margin <= resolution { 0.0 } else { margin };
     let wmax = st.w.iter().fold(0.0_f64, |a, v| a.max(v.abs()));
     let nd_tol = 1e-6 * sup(&switching).max(wmax).max(1e-300);
     let margin_required = !strictly_convex(&p.cost, m);

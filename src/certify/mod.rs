@@ -212,7 +212,7 @@ pub fn certify(pr: &Process, opts: &CertifyOptions) -> Result<NecessaryCondition
         && pr.problem.cost != crate::optimal::Cost::None
         && rep.verdict == Verdict::Fails
     {
-        rep.reason.push_str(general::APPROXIMATE_COST);
+        records::note_approximate_cost(&rep.conditions, &mut rep.reason);
     }
     rep.branch_lp = branch;
     Ok(rep)

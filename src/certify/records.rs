@@ -234,3 +234,30 @@ impl NecessaryConditions {
         );
     }
 }
+
+/// Appended to the reason of a phase gait of a quadratic cost that fails by little
+/// ([`note_approximate_cost`]).
+const APPROXIMATE_COST: &str = " (f2 is quadratic and every violation is within 1e6 times its \
+     tolerance: if the gait is a phase MILP's, its controls are only as accurate as the MILP's \
+     outer approximation of f2, about 1e-6 in J, and are not polished as P_m's are, so \
+     violations of this size are expected of an optimum)";
+
+/// Says in `reason` why a failing phase gait of a quadratic cost may still be an optimum: when
+/// every failing condition of the verdict is within `1e6` times its tolerance (the size the
+/// phase MILP's outer approximation leaves); a larger violation gets no note.
+pub(crate) fn note_approximate_cost(conditions: &[ConditionCheck], reason: &mut String) {
+    let counted = |c: &&ConditionCheck| {
+        !c.holds
+            && !matches!(
+                c.name.as_str(),
+                "nondegeneracy" | "control_law" | "lambda_positive"
+            )
+    };
+    let small = conditions
+        .iter()
+        .filter(counted)
+        .all(|c| c.residual <= 1e6 * c.tolerance.max(1e-15));
+    if small {
+        reason.push_str(APPROXIMATE_COST);
+    }
+}

@@ -11,7 +11,7 @@
 use super::{GeneralAnswer, GeneralFile};
 use crate::certify::GeneralProcess;
 use crate::error::{Error, Result};
-use crate::model::general::{Boundary, GeneralProblem};
+use crate::model::general::{Boundary, ControlSet, GeneralProblem};
 use crate::optimal::consistency::{max_diff, INPUT_TOL};
 use crate::optimal::general::{
     replay_phases, simulate_grid, MAX_GENERAL_LOCAL_M, MAX_GENERAL_M, MAX_GENERAL_PHASES,
@@ -44,6 +44,20 @@ struct Close(f64);
 impl Close {
     fn of(reward: f64, cost: f64) -> Self {
         Close(INPUT_TOL * (reward.abs() + cost.abs()) + 1e-14)
+    }
+    /// [`Close::of`] at least relative to the problem's scale of `J` (the largest face weight
+    /// times C's length scale): a gait that barely moves (`J` near 0) is stored to the
+    /// solver's tolerance of that scale, not of its own tiny `J`.
+    fn scaled(p: &GeneralProblem, reward: f64, cost: f64) -> Self {
+        let sigma = p.c.faces();
+        let wmax = (0..sigma)
+            .map(|f| {
+                let mut e = vec![0.0; sigma];
+                e[f] = 1.0;
+                p.reward.eval(&p.c.normals, &e).abs()
+            })
+            .fold(0.0_f64, f64::max);
+        Close(INPUT_TOL * (reward.abs() + cost.abs() + wmax * p.c.scale()) + 1e-14)
     }
     fn check(&self, what: &str, field: &str, got: f64, want: f64, why: &str) -> Result<()> {
         if got.is_finite() && (got - want).abs() <= self.0 {
@@ -106,14 +120,7 @@ impl GeneralAnswer {
                         ),
                     ));
                 }
-                if r.certificate != ResultCertificate::local(None) {
-                    return Err(bad(
-                        what,
-                        "certificate",
-                        format!("kind {}", r.certificate.kind),
-                        "a local answer's certificate is \"local\", without bound or gap",
-                    ));
-                }
+                check_local_certificate(what, &r.certificate)?;
                 for (field, v) in [
                     ("solution.lp_objective", s.lp_objective),
                     ("solution.start_objective", s.start_objective),
@@ -190,6 +197,20 @@ impl GeneralAnswer {
     }
 }
 
+/// A local answer's certificate (P_m's local method, the crawler's on a chain): `local`,
+/// without bound, gap or upper bound.
+fn check_local_certificate(what: &str, cert: &ResultCertificate) -> Result<()> {
+    if *cert != ResultCertificate::local(None) {
+        return Err(bad(
+            what,
+            "certificate",
+            format!("kind {}", cert.kind),
+            "a local answer's certificate is \"local\", without bound or gap",
+        ));
+    }
+    Ok(())
+}
+
 /// The most phases a gait of the crawler's local methods on a chain may have in a result file.
 const MAX_LOCAL_PHASES: usize = 1 << 20;
 
@@ -215,14 +236,7 @@ fn check_local_phase(what: &str, r: &crate::io::GeneralPhaseOptimized) -> Result
             ),
         ));
     }
-    if r.certificate != ResultCertificate::local(None) {
-        return Err(bad(
-            what,
-            "certificate",
-            format!("kind {}", r.certificate.kind),
-            "a local answer's certificate is \"local\", without bound or gap",
-        ));
-    }
+    check_local_certificate(what, &r.certificate)?;
     if !(s.certificate.bound.is_nan() && s.certificate.gap.is_nan()) {
         return Err(bad(
             what,
@@ -467,11 +481,18 @@ fn check_phase(
     }
     let t = p.period;
     crate::optimal::consistency::check_durations(what, "solution.durations", &s.durations, t)?;
+    // Relative to U's scale as well as the controls': tiny controls are stored to the solver's
+    // tolerance of U, not of their own size.
+    let u_set = match &p.control {
+        ControlSet::Box { lower, upper } => lower.iter().chain(upper),
+        ControlSet::Polytope(q) => q.offsets.iter().chain(&[]),
+    }
+    .fold(0.0_f64, |m, v| m.max(v.abs()));
     let uscale = s
         .controls
         .iter()
         .flatten()
-        .fold(0.0_f64, |m, v| m.max(v.abs()));
+        .fold(u_set, |m, v| m.max(v.abs()));
     let mut mean = vec![0.0; mc];
     for (j, u) in s.controls.iter().enumerate() {
         if !p.control.contains(u, INPUT_TOL * uscale.max(1e-300)) {
@@ -564,7 +585,7 @@ fn check_phase(
             "the gait is not periodic: it does not end where it began",
         ));
     }
-    let close = Close::of(sim.reward, sim.cost);
+    let close = Close::scaled(p, sim.reward, sim.cost);
     close.check(
         what,
         "solution.actuation_cost",

@@ -193,7 +193,8 @@ fn compute(
 
 /// A point of a sweep over a general problem (P): the API call of the job, its row. The
 /// certificate's kind is the crawler's word for the same claim: `global` for P_m's global
-/// optimum, `global_k_phases` for the phase method's, `local` for the local method.
+/// optimum, `global_k_phases` for the phase method's, `local` for the local methods (P_m's, and
+/// the crawler's on a chain).
 fn compute_general(
     spec: &SweepSpec,
     file: &GeneralFile,
@@ -249,13 +250,18 @@ fn compute_general(
                         .and_then(|n| word(&n.verdict));
                 }
                 GeneralAnswer::Phase(r) => {
-                    let c = &r.solution.certificate;
+                    // The envelope's claim: `global_k_phases` for the phase MILPs, `local`
+                    // (no bound, no gap) for the crawler's methods on a chain.
                     row.objective = Some(r.solution.objective);
                     row.method = Some(r.method.into());
-                    row.certificate = Some("global_k_phases".into());
-                    row.gap = Some(c.gap);
-                    row.bound = Some(c.bound);
-                    row.status = c.status.as_str().into();
+                    row.certificate = Some(r.certificate.kind.clone());
+                    row.gap = r.certificate.gap;
+                    row.bound = r.certificate.bound;
+                    row.status = r.status.as_str().into();
+                    row.verdict = r
+                        .necessary_conditions
+                        .as_ref()
+                        .and_then(|n| word(&n.verdict));
                 }
                 GeneralAnswer::Local(r) => {
                     row.objective = Some(r.solution.objective);

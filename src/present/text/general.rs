@@ -8,7 +8,7 @@ use crate::io::{
     GeneralPhaseOptimized, GeneralSimulated,
 };
 use crate::model::general::{Boundary, ControlSet, GeneralCost, GeneralProblem, Reward};
-use crate::optimal::LocalStop;
+use crate::optimal::{Certificate, LocalStop};
 
 /// The human form of [`crate::api::analyze_general`].
 pub fn general_analysis(a: &GeneralAnalysis) -> String {
@@ -208,14 +208,7 @@ pub fn general_optimum(r: &GeneralOptimized) -> String {
         num(r.period / s.u.len() as f64, 0.0),
         super::status_word(c.status)
     );
-    wln!(
-        out,
-        "J = {}   (verified by simulation; MILP {}, bound {}, gap {:.3e})",
-        num(s.objective, scale),
-        num(c.milp_objective, scale),
-        num(c.bound, scale),
-        c.gap
-    );
+    milp_line(&mut out, s.objective, c, "simulation", scale);
     if let Some(p) = &s.polish {
         wln!(
             out,
@@ -231,6 +224,19 @@ pub fn general_optimum(r: &GeneralOptimized) -> String {
     }
     steps(&mut out, &s.x, &s.u);
     out
+}
+
+/// The line of a MILP's answer: `J` as `verified_by` measured it, the MILP's own value, its
+/// bound and gap.
+fn milp_line(out: &mut String, j: f64, c: &Certificate, verified_by: &str, scale: f64) {
+    wln!(
+        out,
+        "J = {}   (verified by {verified_by}; MILP {}, bound {}, gap {:.3e})",
+        num(j, scale),
+        num(c.milp_objective, scale),
+        num(c.bound, scale),
+        c.gap
+    );
 }
 
 /// The exact gait of at most `K` phases ([`crate::api::optimize_general_phase`]): the
@@ -280,14 +286,7 @@ pub fn general_phase(r: &GeneralPhaseOptimized) -> String {
             num(s.objective, scale)
         );
     } else {
-        wln!(
-            out,
-            "J = {}   (verified by the exact simulation; MILP {}, bound {}, gap {:.3e})",
-            num(s.objective, scale),
-            num(c.milp_objective, scale),
-            num(c.bound, scale),
-            c.gap
-        );
+        milp_line(&mut out, s.objective, c, "the exact simulation", scale);
     }
     if s.actuation_cost != 0.0 {
         wln!(
