@@ -3,10 +3,9 @@
 
 use super::settings::setting_error;
 use super::spec::{Job, Point, SweepSpec};
-use crate::api::{self, GeneralAnswer, Hooks};
+use crate::api::{self, Hooks};
 use crate::error::{Error, Result};
 use crate::io::{GeneralFile, ProblemFile};
-use crate::optimal::local_status;
 use crate::progress::Cancel;
 use serde::Serialize;
 use std::collections::BTreeSet;
@@ -235,41 +234,16 @@ fn compute_general(
         Job::Optimize(settings) => {
             let plan = settings.plan_general(&[])?;
             let answer = api::optimize_general_plan(file, &plan, settings.naming, hooks)?;
-            match &answer {
-                GeneralAnswer::Discrete(r) => {
-                    let c = &r.solution.certificate;
-                    row.objective = Some(r.solution.objective);
-                    row.method = Some(r.method.into());
-                    row.certificate = Some("global".into());
-                    row.gap = Some(c.gap);
-                    row.bound = Some(c.bound);
-                    row.status = c.status.as_str().into();
-                    row.verdict = r
-                        .necessary_conditions
-                        .as_ref()
-                        .and_then(|n| word(&n.verdict));
-                }
-                GeneralAnswer::Phase(r) => {
-                    // The envelope's claim: `global_k_phases` for the phase MILPs, `local`
-                    // (no bound, no gap) for the crawler's methods on a chain.
-                    row.objective = Some(r.solution.objective);
-                    row.method = Some(r.method.into());
-                    row.certificate = Some(r.certificate.kind.clone());
-                    row.gap = r.certificate.gap;
-                    row.bound = r.certificate.bound;
-                    row.status = r.status.as_str().into();
-                    row.verdict = r
-                        .necessary_conditions
-                        .as_ref()
-                        .and_then(|n| word(&n.verdict));
-                }
-                GeneralAnswer::Local(r) => {
-                    row.objective = Some(r.solution.objective);
-                    row.method = Some(r.method.into());
-                    row.certificate = Some("local".into());
-                    row.status = local_status(r.solution.stop).as_str().into();
-                }
-            }
+            // The envelope's claim, the same for every method: `global`, `global_k_phases` or
+            // `local` (no bound, no gap), what was proven, and the verdict when certified.
+            let c = answer.certificate();
+            row.objective = Some(answer.objective());
+            row.method = Some(answer.method().into());
+            row.certificate = Some(c.kind.clone());
+            row.gap = c.gap;
+            row.bound = c.bound;
+            row.status = answer.status().as_str().into();
+            row.verdict = answer.necessary_conditions().and_then(|n| word(&n.verdict));
             Ok(full.then(|| to_json(&answer)).flatten())
         }
     }
