@@ -17,12 +17,12 @@
 //! displacement over the phase, `s_b` the norm of its row), and `J = lambda J_crawler`.
 
 use super::geometry::Geometry;
-use super::phase::{check_general_phase, replay_phases, GeneralPhaseGait};
+use super::phase::{check_phase_growth, replay_phases, GeneralPhaseGait};
 use crate::error::{Error, Result};
 use crate::model::general::GeneralProblem;
 use crate::model::ChainView;
 use crate::optimal::growth::{Growth, GrowthRange, PhaseStep};
-use crate::optimal::milp::{check_time_limit, Certificate};
+use crate::optimal::milp::Certificate;
 use crate::optimal::{grow_phases, Cost, GaitProblem, GrowOptions, PhaseSolution};
 
 /// The crawler's gait problem of a chain view: period from `p`, the rate bounds `a_l` of the
@@ -81,9 +81,7 @@ pub fn grow_chain_phases(
     time_limit: Option<f64>,
     progress: &mut dyn FnMut(&PhaseStep),
 ) -> Result<Growth<GeneralPhaseGait>> {
-    check_general_phase(p, g, range.max_phases)?;
-    check_time_limit(time_limit)?;
-    range.check(super::phase::MAX_GENERAL_PHASES)?;
+    check_phase_growth(p, g, range, time_limit)?;
     crate::progress::within(time_limit, || grow_chain(p, view, range, progress))
 }
 

@@ -128,6 +128,19 @@ pub fn check_general_phase(p: &GeneralProblem, g: &Geometry, k: usize) -> Result
     check_sets(p, g, "the phase method")
 }
 
+/// Checks a growth of the phase method over `range` within `time_limit` (seconds): what
+/// [`check_general_phase`] asks at the largest `K`, the time limit and the range itself.
+pub(crate) fn check_phase_growth(
+    p: &GeneralProblem,
+    g: &Geometry,
+    range: crate::optimal::growth::GrowthRange,
+    time_limit: Option<f64>,
+) -> Result<()> {
+    check_general_phase(p, g, range.max_phases)?;
+    crate::optimal::milp::check_time_limit(time_limit)?;
+    range.check(MAX_GENERAL_PHASES)
+}
+
 /// The columns of the phase MILP.
 struct Layout {
     x: Vec<Vec<Col>>,

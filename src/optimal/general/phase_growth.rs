@@ -5,11 +5,11 @@
 
 use super::discrete::{big_m, column_bound, reward_weights};
 use super::geometry::Geometry;
-use super::phase::{check_general_phase, solve_general_phase, GeneralPhaseGait};
+use super::phase::{check_phase_growth, solve_general_phase, GeneralPhaseGait};
 use crate::error::Result;
 use crate::model::general::{GeneralCost, GeneralProblem};
 use crate::optimal::growth::{grow, Growth, GrowthRange, PhaseFamily, PhaseStep};
-use crate::optimal::milp::{check_time_limit, Certificate, MilpStatus, OA_TOL};
+use crate::optimal::milp::{Certificate, MilpStatus, OA_TOL};
 
 /// The general phase gaits of one problem: one `K` is [`solve_general_phase`].
 struct GeneralPhases<'a> {
@@ -70,7 +70,7 @@ impl PhaseFamily for GeneralPhases<'_> {
 /// crawler's growth, [`crate::optimal::growth::grow`]): the gait of the largest `J_K` found,
 /// claimed for the last `K` solved; `time_limit` in seconds for the whole growth (within the
 /// job's deadline). `progress` sees each `K`. Errors name `max_phases`, `min_phases`,
-/// `patience`, `time_limit` or what [`check_general_phase`] names.
+/// `patience`, `time_limit` or what [`check_phase_growth`] names.
 pub fn grow_general_phases(
     p: &GeneralProblem,
     g: &Geometry,
@@ -78,9 +78,7 @@ pub fn grow_general_phases(
     time_limit: Option<f64>,
     progress: &mut dyn FnMut(&PhaseStep),
 ) -> Result<Growth<GeneralPhaseGait>> {
-    check_general_phase(p, g, range.max_phases)?;
-    check_time_limit(time_limit)?;
-    range.check(super::phase::MAX_GENERAL_PHASES)?;
+    check_phase_growth(p, g, range, time_limit)?;
     let family = GeneralPhases { p, g };
     crate::progress::within(time_limit, || grow(&family, range, None, progress))
 }
