@@ -97,9 +97,21 @@ pub fn analyze_general(file: &GeneralFile) -> Result<GeneralAnalysis> {
             "not needed: f1 = <q, eta>".into(),
         ),
         Reward::FaceWeights(_) => {
-            let (status, detail) = match (&g.vertices, g.degenerate_vertex) {
-                (None, _) => (CheckStatus::Fail, "vertices not enumerated".to_string()),
-                (Some(vs), Some(k)) => (
+            let (status, detail) = match (&g.vertices, g.degenerate_vertex, p.as_chain()) {
+                (None, _, Some(view)) => match view.check_face_weights() {
+                    Ok(()) => (
+                        CheckStatus::Pass,
+                        format!(
+                            "a chain of {} blocks whose uniqueness condition holds (paper eq. \
+                             3.5): at most N - 1 blocks at a threshold at once, their normals \
+                             independent (vertices not enumerated)",
+                            view.crawler.blocks()
+                        ),
+                    ),
+                    Err(e) => (CheckStatus::Fail, e.to_string()),
+                },
+                (None, _, None) => (CheckStatus::Fail, "vertices not enumerated".to_string()),
+                (Some(vs), Some(k), _) => (
                     CheckStatus::Fail,
                     format!(
                         "vertex {k} = {:?}: active faces {:?} have dependent normals",
@@ -107,7 +119,7 @@ pub fn analyze_general(file: &GeneralFile) -> Result<GeneralAnalysis> {
                         vs[k - 1].active
                     ),
                 ),
-                (Some(vs), None) => (
+                (Some(vs), None, _) => (
                     CheckStatus::Pass,
                     format!(
                         "active normals independent at all {} {}",

@@ -16,8 +16,10 @@
 //! that is not a block's, a weight off the pattern, a matrix cost) is not a chain.
 
 use super::general::{Boundary, GeneralCost, GeneralProblem};
+use super::general_sets::Polyhedron;
 use super::general_sets::{ControlSet, Reward};
 use super::Crawler;
+use crate::error::{Error, Result};
 
 /// Relative tolerance of the recognition (the map's own round-off is about `1e-16`).
 const MATCH_TOL: f64 = 1e-12;
@@ -164,5 +166,51 @@ impl GeneralProblem {
             cost_weight,
             faces,
         })
+    }
+}
+
+impl ChainView {
+    /// Whether face weights define `f1` uniquely on this chain, decided by its structure in
+    /// place of C's vertex enumeration (exponential in `N`): the active faces at a state are
+    /// the thresholds reached, at most one per block (both would need `mu_b^+ = -mu_b^-`), and
+    /// their normals `+-K^(1/2) nu_b / s_b` are dependent only when all `N` blocks are at a
+    /// threshold (`sum_b nu_b = 0`), i.e. when `sum_(b in J) mu_b^+ = sum_(b not in J) mu_b^-`
+    /// for some subset `J`: exactly what the crawler's uniqueness condition (paper eq. 3.5)
+    /// excludes. The error names `objective.face_weights` with the violating subset.
+    pub fn check_face_weights(&self) -> Result<()> {
+        self.crawler.require_unique().map_err(|e| {
+            Error::invalid(
+                "objective.face_weights",
+                format!("a chain of {} blocks", self.crawler.blocks()),
+                format!(
+                    "are not well defined: every block can be at a threshold at once, where the \
+                     active normals are dependent ({e}); use reaction_weights or change a \
+                     threshold"
+                ),
+            )
+        })
+    }
+
+    /// The least singular value of the active normals over every state of C (the big-M of a
+    /// reaction's multipliers divides by it), without enumerating C's vertices: under the
+    /// uniqueness condition ([`Self::check_face_weights`]) every active set is a subset of the
+    /// faces of `N - 1` blocks, one face each; a face's sign and dropping rows do not lower a
+    /// least singular value, so the minimum over the `N` sets "every block but `b`" (forward
+    /// faces) bounds it from below. `O(N^4)`: for the MILPs, whose own size limits `N`.
+    pub fn least_active_singular_value(&self, c: &Polyhedron) -> f64 {
+        let blocks = self.faces.len();
+        (0..blocks)
+            .map(|omit| {
+                let rows: Vec<&Vec<f64>> = (0..blocks)
+                    .filter(|&b| b != omit)
+                    .map(|b| &c.normals[self.faces[b][0]])
+                    .collect();
+                let a = nalgebra::DMatrix::from_fn(rows.len(), c.dim(), |i, k| rows[i][k]);
+                a.singular_values()
+                    .iter()
+                    .copied()
+                    .fold(f64::INFINITY, f64::min)
+            })
+            .fold(f64::INFINITY, f64::min)
     }
 }

@@ -130,24 +130,34 @@ pub(super) fn big_m(p: &GeneralProblem, g: &Geometry, h: f64) -> Result<BigM> {
         let m = ext[0].abs().max(ext[1].abs());
         g2 += m * m;
     }
-    let vertices = g.vertices.as_ref().ok_or_else(|| {
-        Error::invalid(
-            "sweeping_process",
-            format!("{} faces in dimension {}", c.faces(), c.dim()),
-            "P_m needs the vertices of C, which are too many to enumerate",
-        )
-    })?;
-    let mut sigma_min = f64::INFINITY;
-    for v in vertices {
-        let rows: Vec<&Vec<f64>> = v.active.iter().map(|&j| &c.normals[j - 1]).collect();
-        let a = DMatrix::from_fn(rows.len(), c.dim(), |i, k| rows[i][k]);
-        let s = a
-            .singular_values()
-            .iter()
-            .copied()
-            .fold(f64::INFINITY, f64::min);
-        sigma_min = sigma_min.min(s);
-    }
+    let sigma_min = match (&g.vertices, p.as_chain()) {
+        (Some(vertices), _) => {
+            let mut sigma_min = f64::INFINITY;
+            for v in vertices {
+                let rows: Vec<&Vec<f64>> = v.active.iter().map(|&j| &c.normals[j - 1]).collect();
+                let a = DMatrix::from_fn(rows.len(), c.dim(), |i, k| rows[i][k]);
+                let s = a
+                    .singular_values()
+                    .iter()
+                    .copied()
+                    .fold(f64::INFINITY, f64::min);
+                sigma_min = sigma_min.min(s);
+            }
+            sigma_min
+        }
+        // A chain too long to enumerate: its structure bounds every active set.
+        (None, Some(view)) => {
+            view.check_face_weights()?;
+            view.least_active_singular_value(c)
+        }
+        (None, None) => {
+            return Err(Error::invalid(
+                "sweeping_process",
+                format!("{} faces in dimension {}", c.faces(), c.dim()),
+                "P_m needs the vertices of C, which are too many to enumerate",
+            ))
+        }
+    };
     Ok(BigM {
         slack,
         multiplier: h * g2.sqrt() / sigma_min * (1.0 + 1e-6) + 1e-12,

@@ -15,7 +15,10 @@
 //! without interior). The vertex enumeration is the one exponential part: it tries the
 //! `C(sigma, rank)` subsets of faces (exponential in the dimension), and is skipped beyond
 //! [`MAX_VERTEX_SUBSETS`] of them (face weights are then refused, `reaction_weights`
-//! accepted).
+//! accepted), except on a crawler's chain ([`GeneralProblem::as_chain`]), whose structure
+//! decides what the vertices would
+//! ([`ChainView::check_face_weights`](crate::model::ChainView::check_face_weights)), so a
+//! chain of any length is accepted.
 
 use crate::error::{Error, Result};
 use crate::model::general::{dot, GeneralProblem, Polyhedron, Reward};
@@ -137,6 +140,10 @@ pub fn check_with(p: &GeneralProblem, g: &Geometry) -> Result<()> {
     }
     if let Reward::FaceWeights(_) = p.reward {
         match (&g.vertices, g.degenerate_vertex) {
+            // A crawler's chain: decided by its uniqueness condition, whatever N.
+            (None, _) if p.as_chain().is_some() => {
+                p.as_chain().map_or(Ok(()), |v| v.check_face_weights())?
+            }
             (None, _) => {
                 return Err(Error::invalid(
                     "objective.face_weights",

@@ -1,0 +1,202 @@
+//! A general problem (P) that is a long crawler's chain (11 blocks and more: beyond C's vertex
+//! enumeration, which tries `C(2N, N - 1)` subsets of faces): its face weights are decided by
+//! the chain's uniqueness condition (paper eq. 3.5) and the MILPs' multiplier bound by the
+//! chain's structure, so every command runs on it; the numbers are the crawler's closed forms.
+
+mod common;
+
+use common::{crawlopt, write};
+use crawlopt::api::{analyze_general, simulate_general};
+use crawlopt::integrate::GeneralSimOptions;
+use crawlopt::io::{CheckStatus, GeneralFile};
+use crawlopt::optimal::general::analyze_polyhedron;
+
+/// A chain of `blocks` blocks with per-link stiffness `k`, per-block thresholds `mu+`, `mu-`
+/// (unit normals `+-K^(1/2) nu_b / s_b`, weights `+-1 / (N s_b)`), `|u| <= 1` with zero mean,
+/// `T = 10`, playing the alternating square wave of the rates (odd links against even links,
+/// `+-1` on quarters: the alternating triangle wave of the lengths `L' = u / k`).
+fn chain_text(k: &[f64], mu_plus: &[f64], mu_minus: &[f64]) -> String {
+    let (blocks, n) = (mu_plus.len(), k.len());
+    let (mut normals, mut offsets, mut weights) = (Vec::new(), Vec::new(), Vec::new());
+    for b in 0..blocks {
+        let mut v = vec![0.0; n];
+        if b > 0 {
+            v[b - 1] = k[b - 1].sqrt();
+        }
+        if b < n {
+            v[b] = -k[b].sqrt();
+        }
+        let s = v.iter().map(|x: &f64| x * x).sum::<f64>().sqrt();
+        let unit: Vec<f64> = v.iter().map(|x| x / s).collect();
+        normals.push(format!("{unit:?}"));
+        normals.push(format!("{:?}", unit.iter().map(|x| -x).collect::<Vec<_>>()));
+        offsets.extend([mu_plus[b] / s, mu_minus[b] / s]);
+        weights.extend([1.0 / (blocks as f64 * s), -1.0 / (blocks as f64 * s)]);
+    }
+    let b: Vec<String> = (0..n)
+        .map(|l| {
+            let row: Vec<f64> = (0..n)
+                .map(|j| if j == l { 1.0 / k[l].sqrt() } else { 0.0 })
+                .collect();
+            format!("{row:?}")
+        })
+        .collect();
+    let sign = |l: usize| if l % 2 == 0 { 1.0 } else { -1.0 };
+    let values: Vec<String> = [1.0, -1.0, -1.0, 1.0]
+        .iter()
+        .map(|s| format!("{:?}", (0..n).map(|l| s * sign(l)).collect::<Vec<f64>>()))
+        .collect();
+    format!(
+        "[sweeping_process]\nnormals = [{}]\noffsets = {offsets:?}\n\n[dynamics]\nB = [{}]\n\n\
+         [control]\nlower = {:?}\nupper = {:?}\nzero_mean = true\n\n[objective]\n\
+         face_weights = {weights:?}\n\n[problem]\nperiod = 10.0\n\n[input]\n\
+         kind = \"piecewise_constant\"\ntimes = [0.0, 2.5, 5.0, 7.5]\nvalues = [{}]\n",
+        normals.join(", "),
+        b.join(", "),
+        vec![-1.0; n],
+        vec![1.0; n],
+        values.join(", ")
+    )
+}
+
+fn uniform(blocks: usize, mu_minus: f64) -> GeneralFile {
+    GeneralFile::parse(&chain_text(
+        &vec![1.0; blocks - 1],
+        &vec![1.0; blocks],
+        &vec![mu_minus; blocks],
+    ))
+    .unwrap()
+}
+
+/// Twenty blocks: well posed by the chain's own check (C's vertices are not enumerated), and
+/// the alternating triangle wave moves it by the closed form `4 - 1/(N - 1)` (the crawler's,
+/// `tests/chains.rs`).
+#[test]
+fn a_twenty_block_chain_is_accepted_and_moves_by_the_closed_form() {
+    let file = uniform(20, 1.3);
+    let a = analyze_general(&file).unwrap();
+    assert!(a.failure.is_none(), "{:?}", a.failure);
+    assert!(a.geometry.vertices.is_none());
+    let check = a
+        .checks
+        .iter()
+        .find(|c| c.name == "face weights well defined")
+        .unwrap();
+    assert_eq!(check.status, CheckStatus::Pass, "{}", check.detail);
+    assert!(
+        check.detail.contains("a chain of 20 blocks"),
+        "{}",
+        check.detail
+    );
+    let s = simulate_general(&file, &GeneralSimOptions::DEFAULT).unwrap();
+    let j = s.objective.unwrap();
+    assert!((j - (4.0 - 1.0 / 19.0)).abs() < 1e-9, "J = {j}");
+}
+
+/// With `mu+ = mu- = 1` and an even number of blocks, half of them forward and half backward
+/// balance (paper eq. 3.5 fails): every block can be at a threshold at once, the active
+/// normals are dependent there, and the face weights are refused naming the field, by the
+/// library and by the CLI (exit 2), at any length.
+#[test]
+fn a_chain_whose_thresholds_balance_is_refused_naming_the_weights() {
+    for blocks in [4, 14] {
+        let file = uniform(blocks, 1.0);
+        let e = simulate_general(&file, &GeneralSimOptions::DEFAULT).unwrap_err();
+        let text = e.to_string();
+        assert!(text.contains("objective.face_weights"), "{text}");
+        assert!(text.contains("not well defined"), "{text}");
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let path = write(
+        dir.path(),
+        "balanced.toml",
+        &chain_text(&[1.0; 13], &[1.0; 14], &[1.0; 14]),
+    );
+    let out = crawlopt(&["simulate", path.to_str().unwrap()]);
+    assert_eq!(out.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("objective.face_weights"), "{err}");
+    assert!(
+        err.contains("every block can be at a threshold at once"),
+        "{err}"
+    );
+    let a = analyze_general(&uniform(14, 1.0)).unwrap();
+    let check = a
+        .checks
+        .iter()
+        .find(|c| c.name == "face weights well defined")
+        .unwrap();
+    assert_eq!(check.status, CheckStatus::Fail, "{}", check.detail);
+}
+
+/// The multiplier bound the chain's structure gives is a lower bound of the least singular
+/// value of the active normals over C's vertices (what the MILPs' big-M divides by), checked
+/// against the enumeration where it runs (3 to 6 blocks, uneven stiffness and thresholds),
+/// which it equals.
+#[test]
+fn the_chains_singular_value_bound_is_below_every_vertex() {
+    for blocks in 3..=6 {
+        let k: Vec<f64> = (0..blocks - 1)
+            .map(|l| 1.0 + 0.5 * (1.7 * l as f64).sin())
+            .collect();
+        let mp: Vec<f64> = (0..blocks).map(|b| 1.0 + 0.1 * b as f64).collect();
+        let mm: Vec<f64> = (0..blocks).map(|b| 1.37 + 0.05 * b as f64).collect();
+        let file = GeneralFile::parse(&chain_text(&k, &mp, &mm)).unwrap();
+        let (p, _) = crawlopt::api::general_problem(&file).unwrap();
+        let view = p.as_chain().expect("a chain");
+        let g = analyze_polyhedron(&p.c).unwrap();
+        let vertices = g.vertices.unwrap();
+        let enumerated = vertices
+            .iter()
+            .map(|v| {
+                let a = nalgebra::DMatrix::from_fn(v.active.len(), p.c.dim(), |i, j| {
+                    p.c.normals[v.active[i] - 1][j]
+                });
+                a.singular_values().min()
+            })
+            .fold(f64::INFINITY, f64::min);
+        let chain = view.least_active_singular_value(&p.c);
+        // A lower bound, and here the value itself: some vertex has N - 1 blocks held.
+        assert!(
+            (chain - enumerated).abs() <= 1e-9 * enumerated,
+            "N = {blocks}: {chain} vs {enumerated}"
+        );
+        println!("N = {blocks}: chain {chain:.6}, vertices {enumerated:.6}");
+    }
+}
+
+/// Twelve blocks: the methods that need C's vertices without the chain (P_m's big-M) and
+/// those that run the crawler's job all answer; P_1's global optimum is the alternating wave's
+/// `4 - 1/11`, and the local method from the file's input keeps it.
+#[test]
+fn the_methods_run_on_a_twelve_block_chain() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = write(
+        dir.path(),
+        "chain12.toml",
+        &chain_text(&[1.0; 11], &[1.0; 12], &[1.3; 12]),
+    );
+    let path = path.to_str().unwrap();
+    let want = 4.0 - 1.0 / 11.0;
+    for args in [
+        vec!["--method", "discrete", "--m", "1"],
+        vec!["--method", "local", "--m", "3"],
+        vec!["--method", "chain", "--time-limit", "5"],
+    ] {
+        let mut all = vec!["optimize", path, "--json"];
+        all.extend(&args);
+        let out = crawlopt(&all);
+        assert!(
+            out.status.success(),
+            "{args:?}: {}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+        let j = v["objective"].as_f64().unwrap();
+        assert!(j >= want - 1e-9, "{args:?}: J = {j}");
+        if args[1] == "discrete" {
+            assert!((j - want).abs() < 1e-9, "P_1: J = {j}");
+            assert_eq!(v["status"], "optimal");
+        }
+    }
+}
