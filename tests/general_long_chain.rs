@@ -7,7 +7,7 @@ mod common;
 
 use common::{crawlopt, write};
 use crawlopt::api::{analyze_general, simulate_general};
-use crawlopt::integrate::GeneralSimOptions;
+use crawlopt::integrate::{simulate_general_exact, GeneralMethod, GeneralSimOptions};
 use crawlopt::io::{CheckStatus, GeneralFile};
 use crawlopt::optimal::general::analyze_polyhedron;
 
@@ -199,4 +199,77 @@ fn the_methods_run_on_a_twelve_block_chain() {
             assert_eq!(v["status"], "optimal");
         }
     }
+}
+
+/// The file's input replaced by `times` and `values` (piecewise constant).
+fn with_input(text: &str, times: &str, values: &[Vec<f64>]) -> GeneralFile {
+    let head = text.split("[input]").next().unwrap();
+    let rows: Vec<String> = values.iter().map(|v| format!("{v:?}")).collect();
+    GeneralFile::parse(&format!(
+        "{head}[input]\nkind = \"piecewise_constant\"\ntimes = {times}\nvalues = [{}]\n",
+        rows.join(", ")
+    ))
+    .unwrap()
+}
+
+/// On a chain the periodic regime is searched by the crawler's simulator and the period played
+/// from it by the general one: the same `J` as the general simulator's own plain iteration from
+/// the origin (an independent method), on a heterogeneous chain under an uneven input and on
+/// the uniform 20-block chain, there in a few periods where the plain iteration takes hundreds.
+#[test]
+fn a_chains_regime_is_searched_by_the_crawlers_simulator() {
+    let k = [1.0, 2.0, 0.7, 1.5, 1.2];
+    let mp = [1.0, 1.1, 0.9, 1.2, 1.0, 1.05];
+    let mm = [1.5, 1.3, 1.7, 1.4, 1.6, 1.35];
+    // Rates with zero mean over T = 10 (4 u0 + 3 u1 + 3 u2 = 0 per link), not a wave: each
+    // link its own pattern.
+    let (u0, u1) = ([0.6, -0.3, 0.5, 0.2, -0.9], [-0.4, 1.0, -1.0, -0.9, 0.4]);
+    let u2: Vec<f64> = (0..5).map(|l| -(4.0 * u0[l] + 3.0 * u1[l]) / 3.0).collect();
+    assert!(u2.iter().all(|v| v.abs() <= 1.0), "{u2:?}");
+    let values = vec![u0.to_vec(), u1.to_vec(), u2];
+    let times = "[0.0, 4.0, 7.0]";
+    let uneven = with_input(&chain_text(&k, &mp, &mm), times, &values);
+    for (file, long) in [(uneven, false), (uniform(20, 1.3), true)] {
+        let s = simulate_general(&file, &GeneralSimOptions::DEFAULT).unwrap();
+        assert_eq!(s.regime_search, "chain");
+        let (p, _) = crawlopt::api::general_problem(&file).unwrap();
+        let input = file.input(&p).unwrap();
+        let origin = vec![0.0; p.states()];
+        let plain = simulate_general_exact(&p, &input, &origin, 5000, 1e-12).unwrap();
+        let (a, b) = (s.objective.unwrap(), plain.objective.unwrap());
+        assert!((a - b).abs() <= 1e-9 * b.abs().max(1.0), "{a} vs {b}");
+        // The crawler's search counts its periods too; on a short chain the transient is short
+        // (the 6 blocks: 45 against 44), on a long one the Newton steps shorten it.
+        assert!(
+            !long || 10 * s.simulation.periods < plain.periods,
+            "{} vs {}",
+            s.simulation.periods,
+            plain.periods
+        );
+        println!(
+            "J = {a:.12} in {} periods (plain: {b:.12} in {})",
+            s.simulation.periods, plain.periods
+        );
+    }
+}
+
+/// Where the crawler's simulator does not apply the general one iterates plainly: catching-up
+/// asked, and a problem that is not a chain (the one-link example with a drift).
+#[test]
+fn the_plain_search_where_the_chain_does_not_apply() {
+    let file = uniform(12, 1.3);
+    let s = simulate_general(
+        &file,
+        &GeneralSimOptions {
+            method: GeneralMethod::CatchingUp,
+            ..GeneralSimOptions::DEFAULT
+        },
+    )
+    .unwrap();
+    assert_eq!(s.regime_search, "plain");
+    let drift = GeneralFile::load_if_general("examples/general_drift.toml".as_ref())
+        .unwrap()
+        .unwrap();
+    let s = simulate_general(&drift, &GeneralSimOptions::DEFAULT).unwrap();
+    assert_eq!(s.regime_search, "plain");
 }

@@ -177,7 +177,12 @@ pub fn analyze_general(file: &GeneralFile) -> Result<GeneralAnalysis> {
 /// ([`crate::integrate::general_exact`], unless `opts.method` asks for catching-up), else by
 /// catching-up ([`crate::integrate::general`], the damping of `A` stepped implicitly): for a
 /// periodic problem until the periodic regime, with `J` of one period on the orbit; for a
-/// Cauchy problem over `[0, T]` from `x(0)`.
+/// Cauchy problem over `[0, T]` from `x(0)`. On a crawler's chain
+/// ([`GeneralProblem::as_chain`](crate::model::general::GeneralProblem::as_chain)) simulated
+/// exactly with a zero-mean input, the periodic regime is searched by the crawler's simulator
+/// ([`crate::integrate::chain_regime`]: the chain's O(N) kernels and Newton steps, where the
+/// general period map is iterated plainly) and the general exact simulator plays the period from
+/// the state it found, checking that it repeats (`regime_search = "chain"`).
 pub fn simulate_general(file: &GeneralFile, opts: &GeneralSimOptions) -> Result<GeneralSimulated> {
     let (p, g) = general_problem(file)?;
     let input = file.input(&p)?;
@@ -196,10 +201,34 @@ pub fn simulate_general(file: &GeneralFile, opts: &GeneralSimOptions) -> Result<
     let exact = opts.method == crate::integrate::GeneralMethod::Auto
         && p.dynamics.is_state_independent()
         && input.kind == crate::integrate::InputKind::PiecewiseConstant;
-    let simulation = if exact {
-        crate::integrate::simulate_general_exact(&p, &input, &start, opts.max_periods, opts.tol)?
-    } else {
-        integrate_general(&p, &input, &start, opts)?
+    // A chain's periodic regime is searched by the crawler's simulator (its O(N) kernels and
+    // Newton steps); the general simulator then plays the period from the state found.
+    let regime = match p.as_chain() {
+        Some(view) if exact && start_from == "origin" => {
+            crate::integrate::chain_regime(&p, &view, &input, opts.max_periods, opts.tol)?
+        }
+        _ => None,
+    };
+    let simulation = match (&regime, exact) {
+        (Some(r), _) => {
+            let mut s = crate::integrate::simulate_general_exact(
+                &p,
+                &input,
+                &r.state,
+                opts.max_periods,
+                opts.tol,
+            )?;
+            s.periods += r.periods;
+            s
+        }
+        (None, true) => crate::integrate::simulate_general_exact(
+            &p,
+            &input,
+            &start,
+            opts.max_periods,
+            opts.tol,
+        )?,
+        (None, false) => integrate_general(&p, &input, &start, opts)?,
     };
     Ok(GeneralSimulated {
         kind: "general",
@@ -207,6 +236,7 @@ pub fn simulate_general(file: &GeneralFile, opts: &GeneralSimOptions) -> Result<
         steps_per_period: opts.steps_per_period,
         start,
         start_from,
+        regime_search: if regime.is_some() { "chain" } else { "plain" },
         objective: simulation.objective,
         input,
         simulation,

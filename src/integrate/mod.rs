@@ -11,6 +11,7 @@
 
 mod actuation;
 mod catching_up;
+pub mod chain_regime;
 mod exact;
 pub mod general;
 pub mod general_exact;
@@ -21,6 +22,7 @@ mod replay;
 
 pub use actuation::{Actuation, TravellingWave, WaveDirection, Waveform, MAX_OFFSET_RATIO};
 pub use catching_up::CatchingUp;
+pub use chain_regime::{chain_regime, ChainRegime};
 pub use exact::ExactPwl;
 pub use general::{
     simulate_general, ControlInput, DriftStep, GeneralMethod, GeneralSimOptions, GeneralSimulation,

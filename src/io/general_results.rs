@@ -75,6 +75,11 @@ pub struct GeneralSimulated {
     pub start: Vec<f64>,
     /// Which of the three `start` is (`initial_state`, `origin`, `chebyshev_centre`).
     pub start_from: &'static str,
+    /// How the periodic regime was searched: `"chain"` by the crawler's simulator on the chain
+    /// the problem is (its Newton steps; `crate::integrate::chain_regime`), the period then
+    /// played from the state found by the general simulator; `"plain"` by iterating the
+    /// general period map from `start` (also for a Cauchy problem, which has no regime).
+    pub regime_search: &'static str,
     /// `J` of one period on the periodic orbit (over `[0, T]` for a Cauchy problem), as
     /// `simulation.objective`; `None` when the periodic regime was not reached.
     pub objective: Option<f64>,

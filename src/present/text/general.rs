@@ -167,7 +167,16 @@ pub fn general_simulation(r: &GeneralSimulated) -> String {
         );
         return out;
     }
-    wln!(out, "periods integrated: {}", sim.periods);
+    wln!(
+        out,
+        "periods integrated: {}{}",
+        sim.periods,
+        if r.regime_search == "chain" {
+            " (the periodic regime searched by the crawler's simulator on the problem's chain)"
+        } else {
+            ""
+        }
+    );
     let j_scale = sim.reward.abs().max(sim.cost.abs()).max(1e-300);
     wln!(
         out,

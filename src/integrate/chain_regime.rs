@@ -1,0 +1,86 @@
+//! The periodic regime of a general problem that is a crawler's chain
+//! ([`GeneralProblem::as_chain`]), searched by the crawler's own simulator: its exact method on
+//! the O(N) chain kernels with the Newton-Krylov search ([`super::periodic`]), where the general
+//! exact simulator ([`super::general_exact`]) iterates the period map plainly through `O(N^2)`
+//! transient periods of a long chain (50 blocks: 3782 periods).
+//!
+//! The control `u` of (P) is the crawler's `K L'` (`model::general_crawler`: `x' in u - K
+//! N_C(x)`), so a piecewise-constant `u` is the piecewise-linear actuation with
+//! `L_l(t_(k+1)) = L_l(t_k) + u_(k,l) (t_(k+1) - t_k) / k_l`, periodic when `u` has zero mean;
+//! the crawler's state `x` is `K^(1/2) x~`. The state found is only a start: the caller plays
+//! the period from it with the general simulator, which checks that it repeats and records the
+//! period in the problem's own terms, so no number of the answer comes from the crawler's
+//! kernels.
+
+use super::general::{ControlInput, InputKind};
+use super::periodic::{simulate, SimOptions};
+use super::Actuation;
+use crate::error::Result;
+use crate::model::general::{Boundary, GeneralProblem};
+use crate::model::ChainView;
+
+/// What the crawler's search found.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ChainRegime {
+    /// A state of the periodic orbit at `t = 0`, in the problem's variables `x~`.
+    pub state: Vec<f64>,
+    /// Periods the crawler's simulator integrated (its transient and Newton steps' periods).
+    pub periods: usize,
+}
+
+/// The periodic regime of `p` under `input` from the origin, by the crawler's simulator
+/// (module docs), to the periodicity tolerance `tol` within `max_periods`; `None` where it does
+/// not apply (not a periodic chain, a piecewise-linear input, an input without zero mean) or
+/// the search did not converge: the caller then iterates the general period map itself.
+pub fn chain_regime(
+    p: &GeneralProblem,
+    view: &ChainView,
+    input: &ControlInput,
+    max_periods: usize,
+    tol: f64,
+) -> Result<Option<ChainRegime>> {
+    if p.boundary != Boundary::Periodic || input.kind != InputKind::PiecewiseConstant {
+        return Ok(None);
+    }
+    let k = view.crawler.stiffness();
+    let n = k.len();
+    let mut lengths = Vec::with_capacity(input.times.len());
+    let mut l = vec![0.0; n];
+    for (i, u) in input.values.iter().enumerate() {
+        lengths.push(l.clone());
+        let end = input.times.get(i + 1).copied().unwrap_or(input.period);
+        let dt = end - input.times[i];
+        for ((l, u), k) in l.iter_mut().zip(u).zip(k) {
+            *l += u * dt / k;
+        }
+    }
+    // Zero mean: the lengths close up over the period (to the rounding of the sums).
+    let size = lengths
+        .iter()
+        .flatten()
+        .fold(0.0_f64, |m, v| m.max(v.abs()))
+        .max(1e-300);
+    if l.iter().any(|v| v.abs() > 1e-12 * size) {
+        return Ok(None);
+    }
+    let act = Actuation::piecewise_linear(input.period, input.times.clone(), lengths)?;
+    let opts = SimOptions {
+        record_periods: 0,
+        max_periods,
+        tol,
+        ..SimOptions::DEFAULT
+    };
+    let sim = simulate(&view.crawler, &act, &opts)?;
+    if !sim.converged {
+        return Ok(None);
+    }
+    Ok(Some(ChainRegime {
+        state: sim
+            .orbit_state
+            .iter()
+            .zip(k)
+            .map(|(x, k)| x / k.sqrt())
+            .collect(),
+        periods: sim.periods_simulated,
+    }))
+}
