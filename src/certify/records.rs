@@ -238,9 +238,9 @@ impl NecessaryConditions {
 /// Appended to the reason of a phase gait of a quadratic cost that fails by little
 /// ([`note_approximate_cost`]).
 const APPROXIMATE_COST: &str = " (f2 is quadratic and every violation is within 1e6 times its \
-     tolerance: if the gait is a phase MILP's, its controls are only as accurate as the MILP's \
-     outer approximation of f2, about 1e-6 in J, and are not polished as P_m's are, so \
-     violations of this size are expected of an optimum)";
+     tolerance: if the gait is a phase MILP's whose polish on its slip modes did not apply, its \
+     controls are only as accurate as the MILP's outer approximation of f2, about 1e-6 in J, \
+     so violations of this size are expected of an optimum)";
 
 /// Says in `reason` why a failing phase gait of a quadratic cost may still be an optimum: when
 /// every failing condition of the verdict is within `1e6` times its tolerance (the size the

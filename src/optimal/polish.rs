@@ -24,8 +24,8 @@
 use crate::error::{Error, Result};
 use clarabel::algebra::CscMatrix;
 use clarabel::solver::{
-    DefaultSettings, DefaultSolver, IPSolver, NonnegativeConeT, SolverStatus, SupportedConeT,
-    ZeroConeT,
+    DefaultSettings, DefaultSolver, IPSolver, NonnegativeConeT, SecondOrderConeT, SolverStatus,
+    SupportedConeT, ZeroConeT,
 };
 use nalgebra::{DMatrix, DVector};
 use serde::{Deserialize, Serialize};
@@ -94,6 +94,8 @@ pub(crate) struct Qp {
     /// Entries of `P`, `(i, j)` with `i <= j`, summed.
     p: BTreeMap<(usize, usize), f64>,
     rows: Vec<Row>,
+    /// Perspective cones `(u, g, tau)`: `u^2 <= g tau` with `g, tau >= 0`.
+    cones: Vec<(usize, usize, usize)>,
 }
 
 /// The solution of a [`Qp`].
@@ -130,6 +132,14 @@ impl Qp {
         if value != 0.0 {
             *self.p.entry((i.min(j), i.max(j))).or_insert(0.0) += value;
         }
+    }
+
+    /// Adds the perspective cone `v_u^2 <= v_g v_tau` (`v_g, v_tau >= 0`), the epigraph of a
+    /// perspective `u^2 / tau` (a rotated second-order cone: Clarabel's second-order cone on
+    /// `(v_g + v_tau, v_g - v_tau, 2 v_u)`). With cones the exact step on the active set is
+    /// Newton's method on its KKT system ([`Self::newton_on`]).
+    pub fn add_perspective(&mut self, u: usize, g: usize, tau: usize) {
+        self.cones.push((u, g, tau));
     }
 
     /// Number of columns.
@@ -188,7 +198,20 @@ impl Qp {
     pub fn solve(&self, what: &str) -> Result<QpSolution> {
         let n = self.columns();
         let (eq, le) = self.conic();
-        let all: Vec<&Conic> = eq.iter().chain(&le).collect();
+        // Each cone as `s = -A v` in Clarabel's second-order cone of dimension 3.
+        let cone_rows: Vec<Conic> = self
+            .cones
+            .iter()
+            .flat_map(|&(u, g, tau)| {
+                [
+                    vec![(g, -1.0), (tau, -1.0)],
+                    vec![(g, -1.0), (tau, 1.0)],
+                    vec![(u, -2.0)],
+                ]
+            })
+            .map(|entries| Conic { entries, b: 0.0 })
+            .collect();
+        let all: Vec<&Conic> = eq.iter().chain(&le).chain(&cone_rows).collect();
         let a = csc(&all, n);
         let b: Vec<f64> = all.iter().map(|c| c.b).collect();
         let (pi, pj, pv): (Vec<usize>, Vec<usize>, Vec<f64>) = {
@@ -202,7 +225,9 @@ impl Qp {
             )
         };
         let p = CscMatrix::new_from_triplets(n, n, pi, pj, pv);
-        let cones: Vec<SupportedConeT<f64>> = vec![ZeroConeT(eq.len()), NonnegativeConeT(le.len())];
+        let mut cones: Vec<SupportedConeT<f64>> =
+            vec![ZeroConeT(eq.len()), NonnegativeConeT(le.len())];
+        cones.extend(self.cones.iter().map(|_| SecondOrderConeT(3)));
         let settings = DefaultSettings {
             verbose: false,
             tol_gap_abs: 1e-10,
@@ -232,7 +257,12 @@ impl Qp {
             .filter(|&(k, _)| sol.s[eq.len() + k] <= sol.z[eq.len() + k])
             .map(|(_, c)| c)
             .collect();
-        let exact = self.exact_on(&eq, &active, n).filter(|v| {
+        let exact = if self.cones.is_empty() {
+            self.exact_on(&eq, &active, n)
+        } else {
+            self.newton_on(&eq, &active, &interior)
+        };
+        let exact = exact.filter(|v| {
             self.feasible(v)
                 && self.objective(v)
                     <= self.objective(&interior) + 1e-9 * self.objective(&interior).abs().max(1.0)
@@ -283,6 +313,118 @@ impl Qp {
         }
         let x = k.clone().svd(true, true).solve(&rhs, 1e-12 * norm).ok()?;
         close(&x).then(|| x.rows(0, n).iter().copied().collect())
+    }
+
+    /// The minimiser on `{eq, active}` as equalities with the cones as equalities `u^2 = g tau`
+    /// (each held at the interior-point answer `v0` wherever `tau > 0`; a cone whose `tau`
+    /// vanishes is `u = g = tau = 0`): Newton's method on that KKT system from `v0`, the
+    /// multipliers started by least squares, dense; `None` when too large, singular or not
+    /// converged to the rounding of its data. The interior-point answer of a flat objective
+    /// (a perspective's minimum) is only accurate to about the square root of its tolerance;
+    /// this step makes it exact, as [`Self::exact_on`] does for a QP.
+    fn newton_on(&self, eq: &[Conic], active: &[&Conic], v0: &[f64]) -> Option<Vec<f64>> {
+        let n = self.columns();
+        let scale = v0.iter().fold(1.0_f64, |m, x| m.max(x.abs()));
+        let (live, flat): (Vec<_>, Vec<_>) = self
+            .cones
+            .iter()
+            .partition(|&&(_, _, tau)| v0[tau] > 1e-9 * scale);
+        let mut rows: Vec<(Vec<(usize, f64)>, f64)> = eq
+            .iter()
+            .chain(active.iter().copied())
+            .map(|c| (c.entries.clone(), c.b))
+            .collect();
+        for &(u, g, tau) in &flat {
+            rows.extend([u, g, tau].map(|c| (vec![(c, 1.0)], 0.0)));
+        }
+        let (m, nc) = (rows.len(), live.len());
+        let dim = n + m + nc;
+        if dim > MAX_EXACT_KKT {
+            return None;
+        }
+        let grad = |v: &[f64]| -> DVector<f64> {
+            let mut g = DVector::from_column_slice(&self.q);
+            for (&(i, j), &a) in &self.p {
+                g[i] += a * v[j];
+                if i != j {
+                    g[j] += a * v[i];
+                }
+            }
+            g
+        };
+        // The constraints' Jacobian (rows, then cones: d(u^2 - g tau) = (2u, -tau, -g)).
+        let jacobian = |v: &[f64]| -> DMatrix<f64> {
+            let mut j = DMatrix::<f64>::zeros(m + nc, n);
+            for (r, (entries, _)) in rows.iter().enumerate() {
+                for &(c, a) in entries {
+                    j[(r, c)] += a;
+                }
+            }
+            for (k, &(u, g, tau)) in live.iter().enumerate() {
+                j[(m + k, u)] += 2.0 * v[u];
+                j[(m + k, g)] -= v[tau];
+                j[(m + k, tau)] -= v[g];
+            }
+            j
+        };
+        let mut v = v0.to_vec();
+        // Multipliers: least squares of grad + J^T w = 0 at v0.
+        let jt = jacobian(&v).transpose();
+        let mut w = jt
+            .clone()
+            .svd(true, true)
+            .solve(&(-grad(&v)), 1e-12 * jt.amax().max(1e-300))
+            .ok()?;
+        for _ in 0..30 {
+            let jac = jacobian(&v);
+            let mut k = DMatrix::<f64>::zeros(dim, dim);
+            for (&(i, j), &a) in &self.p {
+                k[(i, j)] += a;
+                if i != j {
+                    k[(j, i)] += a;
+                }
+            }
+            for (c, &(u, g, tau)) in live.iter().enumerate() {
+                // The cone's Hessian times its multiplier: 2 on (u, u), -1 on (g, tau).
+                let z = w[m + c];
+                k[(u, u)] += 2.0 * z;
+                k[(g, tau)] -= z;
+                k[(tau, g)] -= z;
+            }
+            k.view_mut((n, 0), (m + nc, n)).copy_from(&jac);
+            k.view_mut((0, n), (n, m + nc)).copy_from(&jac.transpose());
+            let mut f = DVector::<f64>::zeros(dim);
+            let stat = grad(&v) + jac.transpose() * &w;
+            f.rows_mut(0, n).copy_from(&stat);
+            for (r, (entries, b)) in rows.iter().enumerate() {
+                f[n + r] = entries.iter().map(|&(c, a)| a * v[c]).sum::<f64>() - b;
+            }
+            for (c, &(u, g, tau)) in live.iter().enumerate() {
+                f[n + m + c] = v[u] * v[u] - v[g] * v[tau];
+            }
+            let norm = k.amax().max(1e-300);
+            let step = k
+                .clone()
+                .lu()
+                .solve(&(-&f))
+                .or_else(|| k.svd(true, true).solve(&(-&f), 1e-13 * norm).ok())?;
+            for (x, d) in v.iter_mut().zip(step.rows(0, n).iter()) {
+                *x += d;
+            }
+            for (x, d) in w.iter_mut().zip(step.rows(n, m + nc).iter()) {
+                *x += d;
+            }
+            if step.rows(0, n).amax() <= 1e-15 * scale {
+                break;
+            }
+        }
+        let cones_hold = self
+            .cones
+            .iter()
+            .all(|&(u, g, tau)| v[u] * v[u] <= v[g] * v[tau] + 1e-12 * scale * scale);
+        let stationary =
+            (grad(&v) + jacobian(&v).transpose() * &w).amax() <= 1e-9 * grad(v0).amax().max(1.0);
+        (cones_hold && stationary && v.iter().all(|x| x.is_finite())).then_some(v)
     }
 
     /// Whether `v` satisfies every bound and row to `1e-10` of the row's size.
@@ -346,6 +488,21 @@ mod tests {
         assert!(s.exact);
         assert!((s.v[0] - 0.75).abs() <= 1e-14, "{:?}", s.v);
         assert!((s.v[1] - 0.25).abs() <= 1e-14, "{:?}", s.v);
+    }
+
+    #[test]
+    fn a_perspective_cone_is_its_epigraph() {
+        // min g - u s.t. u^2 <= g tau with tau = 0.5: g = 2 u^2 at the optimum, and 2 u^2 - u
+        // is least at u = 1/4 (g = 1/8).
+        let mut qp = Qp::default();
+        let u = qp.add_column(-1.0, f64::NEG_INFINITY, f64::INFINITY);
+        let g = qp.add_column(1.0, 0.0, f64::INFINITY);
+        let tau = qp.add_column(0.0, 0.5, 0.5);
+        qp.add_perspective(u, g, tau);
+        let s = qp.solve("test").unwrap();
+        assert!(s.exact);
+        assert!((s.v[u] - 0.25).abs() <= 1e-15, "{:?}", s.v);
+        assert!((s.v[g] - 0.125).abs() <= 1e-15, "{:?}", s.v);
     }
 
     #[test]

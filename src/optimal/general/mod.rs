@@ -11,6 +11,7 @@ pub mod geometry;
 pub mod local;
 pub mod phase;
 mod phase_growth;
+mod phase_polish;
 mod pm;
 mod polish;
 pub mod projection;

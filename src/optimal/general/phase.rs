@@ -62,13 +62,16 @@
 //! `Df2(u0) u0 = 2 f2(u0)`), and `-sum_j e_j` in the objective. Fewer cuts under-estimate the
 //! cost, so the MILP's bound stays a bound; the rates `u_j` of each solution become cut points
 //! until the true (replayed) `J` of the incumbent meets the bound within 1e-6 (`OA_TOL`; status
-//! `approximation_limit` after 40 rounds, as for P_m).
+//! `approximation_limit` after 40 rounds, as for P_m). The answer is then polished on its held
+//! faces ([`super::phase_polish`], exact to rounding) and kept when its replay agrees and `J` is
+//! no worse.
 
 use super::discrete::{
     big_m, check_sets, column_bound, cost_matrix, initial_cuts, replay_periodic, reward_weights,
     state_columns, MAX_OA_ROUNDS,
 };
 use super::geometry::Geometry;
+use super::phase_polish::{polish_general_phases, MilpPhases};
 use crate::error::{Error, Result};
 use crate::integrate::{simulate_general_exact, ControlInput, InputKind};
 use crate::model::general::{dot, Boundary, ControlSet, GeneralCost, GeneralProblem};
@@ -80,7 +83,7 @@ use serde::{Deserialize, Serialize};
 pub const MAX_GENERAL_PHASES: usize = 24;
 
 /// Phases shorter than this times `T` are dropped from the answer (the MILP's zero durations).
-const EMPTY_PHASE: f64 = 1e-12;
+pub(super) const EMPTY_PHASE: f64 = 1e-12;
 
 /// A globally optimal gait among those of at most `K` phases, re-verified.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -332,14 +335,56 @@ pub fn solve_general_phase(
             || sol.certificate.gap <= OA_TOL
             || status != MilpStatus::Optimal; // the MILP's own status
         if done {
-            return Ok(sol);
+            return Ok(polished(p, g, sol, &what));
         }
         if round >= MAX_OA_ROUNDS {
             sol.certificate.status = MilpStatus::ApproximationLimit;
-            return Ok(sol);
+            return Ok(polished(p, g, sol, &what));
         }
         cuts.extend(sol.controls.iter().cloned());
     })
+}
+
+/// `sol` polished on its held faces when it has a cost ([`super::phase_polish`]): the polished
+/// gait, verified as the MILP's is, with the MILP's status, bound and rounds, when the replay
+/// agrees and `J` is no worse; else `sol`.
+fn polished(
+    p: &GeneralProblem,
+    g: &Geometry,
+    sol: GeneralPhaseGait,
+    what: &str,
+) -> GeneralPhaseGait {
+    let Some(phases) = polish_general_phases(p, g, &sol.durations, &sol.held, EMPTY_PHASE) else {
+        return sol;
+    };
+    // The polish's own objective: int f1 less the exact cost of its phases.
+    let w = reward_weights(p);
+    let objective: f64 = phases
+        .integrated
+        .iter()
+        .zip(phases.increments.iter().zip(&phases.durations))
+        .map(|(r, (u, tau))| {
+            let rate: Vec<f64> = u.iter().map(|v| v / tau).collect();
+            r.iter().zip(&w).map(|(l, w)| w * l).sum::<f64>() - tau * p.cost.eval(&rate)
+        })
+        .sum();
+    let c = &sol.certificate;
+    match verified_gait(
+        p,
+        &phases,
+        objective,
+        c.bound,
+        c.status,
+        sol.max_phases,
+        what,
+    ) {
+        Ok(mut better) if better.objective >= sol.objective - 1e-9 * p.c.scale().max(1.0) => {
+            better.certificate.status = c.status;
+            better.rounds = sol.rounds;
+            better
+        }
+        _ => sol,
+    }
 }
 
 /// The exact process of a phase gait (constant control `controls[j]` for `durations[j]`) from
@@ -386,10 +431,7 @@ pub fn replay_phases(
     Ok((states, sim))
 }
 
-/// Reads the MILP's gait, replays its controls and durations in the exact simulator from its
-/// `x_0` (a Cauchy problem over one period) and checks the replay against the MILP: `int f1`
-/// and the states at the phase boundaries (and `x(T) = x(0)` when periodic), within `1e-6`
-/// relative; a disagreement is an error naming `what`.
+/// Reads the MILP's gait and verifies it ([`verified_gait`]).
 #[allow(clippy::too_many_arguments)]
 fn verified(
     p: &GeneralProblem,
@@ -403,38 +445,68 @@ fn verified(
 ) -> Result<GeneralPhaseGait> {
     let val = |c: &Col| cols[c.index()];
     let t = p.period;
-    let scale = p.c.scale();
-    let mut durations = Vec::new();
-    let mut controls = Vec::new();
-    let mut held = Vec::new();
-    let mut reactions = Vec::new();
-    let mut milp_states = vec![lay.x[0].iter().map(val).collect::<Vec<f64>>()];
+    let mut phases = MilpPhases {
+        states: vec![lay.x[0].iter().map(val).collect::<Vec<f64>>()],
+        ..MilpPhases::default()
+    };
     for j in 0..lay.tau.len() {
         let tau = val(&lay.tau[j]);
         if tau <= EMPTY_PHASE * t {
             continue;
         }
-        let u: Vec<f64> = lay.u[j].iter().map(|c| val(c) / tau).collect();
-        // Clipped into a box U against the solver's feasibility tolerance.
-        let u = match &p.control {
-            ControlSet::Box { lower, upper } => u
-                .iter()
-                .zip(lower.iter().zip(upper))
-                .map(|(v, (lo, hi))| v.clamp(*lo, *hi))
-                .collect(),
-            ControlSet::Polytope(_) => u,
-        };
-        durations.push(tau);
-        controls.push(u);
-        held.push(
+        phases.durations.push(tau);
+        phases.increments.push(lay.u[j].iter().map(val).collect());
+        phases.held.push(
             (0..lay.s[j].len())
                 .filter(|&f| val(&lay.s[j][f]) > 0.5)
                 .map(|f| f + 1)
                 .collect(),
         );
-        reactions.push(lay.lam[j].iter().map(|c| val(c) / tau).collect());
-        milp_states.push(lay.x[j + 1].iter().map(val).collect());
+        phases.integrated.push(lay.lam[j].iter().map(val).collect());
+        phases.states.push(lay.x[j + 1].iter().map(val).collect());
     }
+    verified_gait(p, &phases, milp_objective, bound, status, k, what)
+}
+
+/// Replays a solver's gait in the exact simulator from its `x_0` (a Cauchy problem over one
+/// period) and checks the replay against the solver: `int f1` and the states at the phase
+/// boundaries (and `x(T) = x(0)` when periodic), within `1e-6` relative; a disagreement is an
+/// error naming `what`. The controls `U_j / tau_j` are clipped into a box U against the
+/// solver's feasibility tolerance.
+pub(super) fn verified_gait(
+    p: &GeneralProblem,
+    phases: &MilpPhases,
+    milp_objective: f64,
+    bound: f64,
+    status: MilpStatus,
+    k: usize,
+    what: &str,
+) -> Result<GeneralPhaseGait> {
+    let scale = p.c.scale();
+    let durations = phases.durations.clone();
+    let held = phases.held.clone();
+    let milp_states = &phases.states;
+    let controls: Vec<Vec<f64>> = phases
+        .increments
+        .iter()
+        .zip(&durations)
+        .map(|(u, tau)| {
+            let u = u.iter().map(|v| v / tau);
+            match &p.control {
+                ControlSet::Box { lower, upper } => u
+                    .zip(lower.iter().zip(upper))
+                    .map(|(v, (lo, hi))| v.clamp(*lo, *hi))
+                    .collect(),
+                ControlSet::Polytope(_) => u.collect(),
+            }
+        })
+        .collect();
+    let reactions: Vec<Vec<f64>> = phases
+        .integrated
+        .iter()
+        .zip(&durations)
+        .map(|(l, tau)| l.iter().map(|v| v / tau).collect())
+        .collect();
     if durations.is_empty() {
         return Err(Error::Numerical(format!(
             "{what}: no phase of positive duration"
@@ -443,15 +515,15 @@ fn verified(
     let (states, sim) = replay_phases(p, &durations, &controls, &milp_states[0], what)?;
     let state_gap = states
         .iter()
-        .zip(&milp_states)
+        .zip(milp_states)
         .flat_map(|(a, b)| a.iter().zip(b).map(|(a, b)| (a - b).abs()))
         .fold(0.0_f64, f64::max);
     let objective = sim.objective.unwrap_or(sim.reward - sim.cost);
     let w = reward_weights(p);
-    let lp_reward: f64 = lay
-        .lam
+    let lp_reward: f64 = phases
+        .integrated
         .iter()
-        .map(|r| r.iter().zip(&w).map(|(c, w)| w * val(c)).sum::<f64>())
+        .map(|r| r.iter().zip(&w).map(|(l, w)| w * l).sum::<f64>())
         .sum();
     if (sim.reward - lp_reward).abs() > 1e-6 * (scale + lp_reward.abs()) || state_gap > 1e-6 * scale
     {

@@ -56,7 +56,9 @@
 //! The quadratic cost is the perspective `(c/2) |U_j|^2 / tau_j` (likewise for `W_j`), handled
 //! by outer approximation ([`TangentRates`](crate::optimal::milp::TangentRates)): tangent cuts under-estimate it, so the MILP's
 //! bound stays valid; cuts at the rates of each solution are added and the MILP re-solved (from
-//! the previous gait) until the true objective of the incumbent meets the bound. A
+//! the previous gait) until the true objective of the incumbent meets the bound; the answer is
+//! then polished on its slip modes ([`polish`]: a convex problem, exact to rounding) and kept
+//! when the replay agrees and `J` is no worse. A
 //! total-variation bound on `u = U / tau` is not linear in these variables and is refused (the
 //! discrete method has it).
 //!
@@ -83,6 +85,7 @@ use serde::Serialize;
 mod decode;
 mod growth;
 mod layout;
+mod polish;
 mod sequence;
 mod solve;
 #[cfg(test)]

@@ -2,11 +2,12 @@
 
 use super::decode::RawGait;
 use super::layout::{build, ExtraRows};
+use super::polish::polish_phases;
 use super::{check_phase_args, start_unproven, PhaseOptions, PhaseSolution, MAX_OA_ROUNDS};
 use crate::error::{Error, Result};
 use crate::integrate::Method;
 use crate::model::Crawler;
-use crate::optimal::milp::{certify, replay, solve_max, TangentRates, OA_TOL};
+use crate::optimal::milp::{certify, check_verified, replay, solve_max, TangentRates, OA_TOL};
 use crate::optimal::units::Units;
 use crate::optimal::{Certificate, Cost, GaitProblem, MilpStatus};
 
@@ -214,10 +215,11 @@ fn solve_steps_in(
         }
         incumbent = Some(raw);
     };
-    let cost = raw.cost(problem);
-    let verified = if raw.durations.len() < 2 {
-        0.0
-    } else {
+    let scale = problem.length_scale(crawler);
+    let verify = |raw: &RawGait| -> Result<f64> {
+        if raw.durations.len() < 2 {
+            return Ok(0.0);
+        }
         replay(
             crawler,
             t,
@@ -228,9 +230,24 @@ fn solve_steps_in(
             &what,
         )?
         .displacement_per_period
-        .ok_or_else(|| Error::Numerical(format!("{what}: the replay did not converge")))?
+        .ok_or_else(|| Error::Numerical(format!("{what}: the replay did not converge")))
     };
-    let scale = problem.length_scale(crawler);
+    // A quadratic cost's gait polished on its sequence of slip modes (`super::polish`): kept
+    // when its replay agrees and J is no worse.
+    let polished = polish_phases(crawler, problem, &raw).and_then(|p| {
+        let v = verify(&p).ok()?;
+        check_verified(&what, p.displacement(), v, scale).ok()?;
+        let better = v - p.cost(problem) >= raw.displacement() - raw.cost(problem) - 1e-9 * scale;
+        better.then_some((p, v))
+    });
+    let (raw, verified) = match polished {
+        Some(pv) => pv,
+        None => {
+            let v = verify(&raw)?;
+            (raw, v)
+        }
+    };
+    let cost = raw.cost(problem);
     // What the MILP proved is optimality among gaits of at most `phases` slip phases.
     let status = match status {
         MilpStatus::Optimal => MilpStatus::OptimalAmongKPhases,

@@ -1,0 +1,175 @@
+//! Polishing a general phase gait of a quadratic cost on its own pattern of held faces (the
+//! crawler's is `optimal::phase::polish`, whose module docs give the reason: the outer
+//! approximation leaves a rate off the bounds of U only as accurate as its cuts, and the
+//! necessary conditions fail at that size).
+//!
+//! With the faces held on each phase fixed, the phase problem ([`super::phase`]) is convex in
+//! the durations `tau_j`, the increments `U_j`, the states and the integrated reactions
+//! `L_{j,f}`: the dynamics `x_{j+1} - x_j - B U_j - b tau_j + sum_f L_{j,f} x*_f = 0`, C at every
+//! knot, a held face at both ends of its phase, `U_j in tau_j U`, zero mean and `sum tau = T`
+//! are linear, and the cost `tau f2(U / tau) = (1/2) |S U|^2 / tau` (`R = S^T S`) is a sum of
+//! perspectives, one rotated second-order cone per row of `S` (Clarabel, then Newton's method on
+//! the active set, [`crate::optimal::polish`]). Every feasible point is an exact gait of (P)
+//! (the phase formulation's argument), and the MILP's is one of them, so the optimum is no
+//! worse; the caller replays it and keeps it when the replay agrees and `J` is no worse.
+
+use super::discrete::{big_m, cost_matrix, reward_weights};
+use super::geometry::Geometry;
+use crate::model::general::{Boundary, ControlSet, GeneralProblem};
+use crate::optimal::polish::Qp;
+
+/// A solver's phase gait: the phases of positive duration, in time order.
+#[derive(Debug, Clone, Default)]
+pub(super) struct MilpPhases {
+    pub durations: Vec<f64>,
+    /// `U_j = tau_j u_j`.
+    pub increments: Vec<Vec<f64>>,
+    /// States at the phase starts and the end.
+    pub states: Vec<Vec<f64>>,
+    /// Faces held per phase (1-based).
+    pub held: Vec<Vec<usize>>,
+    /// Integrated reactions `L_{j,f}` per phase and face.
+    pub integrated: Vec<Vec<f64>>,
+}
+
+/// The best gait on the held faces `held` (1-based, per phase) of a gait of phases `durations`
+/// (module docs), as a solver's phases without those of at most `empty` times `T`; `None`
+/// without a cost or when the convex problem finds no solution.
+pub(super) fn polish_general_phases(
+    p: &GeneralProblem,
+    g: &Geometry,
+    durations: &[f64],
+    held: &[Vec<usize>],
+    empty: f64,
+) -> Option<MilpPhases> {
+    let r = cost_matrix(&p.cost, p.controls())?;
+    let (n, m, sigma, pieces) = (p.states(), p.controls(), p.c.faces(), durations.len());
+    let t = p.period;
+    let inf = f64::INFINITY;
+    let multiplier = big_m(p, g, 1.0).ok()?.multiplier;
+    let w = reward_weights(p);
+    // S with R = S^T S: the eigenvectors scaled by the square roots of R's eigenvalues.
+    let eig = nalgebra::DMatrix::from_fn(m, m, |i, k| r[i][k]).symmetric_eigen();
+    let rows_s: Vec<Vec<f64>> = (0..m)
+        .filter(|&k| eig.eigenvalues[k] > 1e-14 * eig.eigenvalues.amax())
+        .map(|k| {
+            let s = eig.eigenvalues[k].sqrt();
+            (0..m).map(|i| s * eig.eigenvectors[(i, k)]).collect()
+        })
+        .collect();
+    let mut qp = Qp::default();
+    let tau: Vec<usize> = (0..pieces).map(|_| qp.add_column(0.0, 0.0, t)).collect();
+    let knots = match p.boundary {
+        Boundary::Periodic => pieces,
+        Boundary::Initial(_) => pieces + 1,
+    };
+    let x: Vec<Vec<usize>> = (0..knots)
+        .map(|i| match &p.boundary {
+            Boundary::Initial(x0) if i == 0 => {
+                x0.iter().map(|&v| qp.add_column(0.0, v, v)).collect()
+            }
+            _ => (0..n).map(|_| qp.add_column(0.0, -inf, inf)).collect(),
+        })
+        .collect();
+    let u: Vec<Vec<usize>> = (0..pieces)
+        .map(|_| (0..m).map(|_| qp.add_column(0.0, -inf, inf)).collect())
+        .collect();
+    // Integrated reactions on the held faces only.
+    let lam: Vec<Vec<(usize, usize)>> = held
+        .iter()
+        .map(|h| {
+            h.iter()
+                .map(|&f| (f - 1, qp.add_column(-w[f - 1], 0.0, multiplier * t)))
+                .collect()
+        })
+        .collect();
+    let face_row = |x: &[usize], f: usize| -> Vec<(usize, f64)> {
+        x.iter()
+            .zip(&p.c.normals[f])
+            .map(|(&c, &a)| (c, a))
+            .collect()
+    };
+    for j in 0..pieces {
+        let (xj, xn) = (&x[j], &x[(j + 1) % knots]);
+        for row in 0..n {
+            let mut entries = vec![(xn[row], 1.0), (xj[row], -1.0)];
+            for c in 0..m {
+                entries.push((u[j][c], -p.dynamics.b[row][c]));
+            }
+            entries.push((tau[j], -p.dynamics.drift[row]));
+            for &(f, l) in &lam[j] {
+                entries.push((l, p.c.normals[f][row]));
+            }
+            qp.add_row(0.0, 0.0, entries);
+        }
+        for &(f, l) in &lam[j] {
+            let c = p.c.offsets[f];
+            qp.add_row(c, c, face_row(xj, f));
+            qp.add_row(c, c, face_row(xn, f));
+            qp.add_row(-inf, 0.0, vec![(l, 1.0), (tau[j], -multiplier)]);
+        }
+        match &p.control {
+            ControlSet::Box { lower, upper } => {
+                for c in 0..m {
+                    qp.add_row(-inf, 0.0, vec![(u[j][c], 1.0), (tau[j], -upper[c])]);
+                    qp.add_row(0.0, inf, vec![(u[j][c], 1.0), (tau[j], -lower[c])]);
+                }
+            }
+            ControlSet::Polytope(set) => {
+                for f in 0..set.faces() {
+                    let mut row: Vec<(usize, f64)> = u[j]
+                        .iter()
+                        .zip(&set.normals[f])
+                        .map(|(&c, &a)| (c, a))
+                        .collect();
+                    row.push((tau[j], -set.offsets[f]));
+                    qp.add_row(-inf, 0.0, row);
+                }
+            }
+        }
+        // (1/2) |S U|^2 / tau: v_k = (S U)_k, v_k^2 <= e_k tau, cost e_k / 2.
+        for srow in &rows_s {
+            let v = qp.add_column(0.0, -inf, inf);
+            let e = qp.add_column(0.5, 0.0, inf);
+            let mut entries: Vec<(usize, f64)> =
+                u[j].iter().zip(srow).map(|(&c, &a)| (c, a)).collect();
+            entries.push((v, -1.0));
+            qp.add_row(0.0, 0.0, entries);
+            qp.add_perspective(v, e, tau[j]);
+        }
+    }
+    for xk in &x {
+        for f in 0..sigma {
+            qp.add_row(-inf, p.c.offsets[f], face_row(xk, f));
+        }
+    }
+    qp.add_row(t, t, tau.iter().map(|&c| (c, 1.0)).collect());
+    if p.zero_mean {
+        for c in 0..m {
+            qp.add_row(0.0, 0.0, u.iter().map(|r| (r[c], 1.0)).collect());
+        }
+    }
+    let sol = qp.solve("the general phase gait's polish").ok()?;
+    let val = |c: usize| sol.v[c];
+    let mut out = MilpPhases {
+        states: vec![x[0].iter().map(|&c| val(c)).collect()],
+        ..MilpPhases::default()
+    };
+    for j in 0..pieces {
+        let d = val(tau[j]);
+        if d <= empty * t {
+            continue;
+        }
+        out.durations.push(d);
+        out.increments.push(u[j].iter().map(|&c| val(c)).collect());
+        out.held.push(held[j].clone());
+        let mut integrated = vec![0.0; sigma];
+        for &(f, l) in &lam[j] {
+            integrated[f] = val(l);
+        }
+        out.integrated.push(integrated);
+        out.states
+            .push(x[(j + 1) % knots].iter().map(|&c| val(c)).collect());
+    }
+    Some(out)
+}

@@ -1,0 +1,149 @@
+//! Polishing a phase gait of a quadratic cost on its own sequence of slip modes.
+//!
+//! The phase MILP carries `f2` by an outer approximation (tangent cuts of the perspective
+//! `tau f2(U / tau) = (c/2) |U|^2 / tau`, refined until the incumbent's true objective meets the
+//! bound to [`OA_TOL`](crate::optimal::milp::OA_TOL)), so a rate off the bounds is only as
+//! accurate as the cuts (about 1e-4 on the one-link example with `c = 0.6`), and the necessary
+//! conditions fail at that size although the gait is the MILP's optimum to its gap (the same
+//! defect P_m's polish, [`crate::optimal::polish`], removes).
+//!
+//! With the slip mode of every piece fixed, the phase problem is convex in the durations, the
+//! increments, the states and the block displacements: the dynamics, the faces and the rate
+//! bounds are linear (`|U_l| <= a_l tau`), and the cost is the perspective, a rotated
+//! second-order cone `U_l^2 <= g_l tau` under the linear `(c/2) sum g`. Every feasible point is
+//! an exact gait (the argument of the phase formulation, [`super`]: a slipping block's face is
+//! held at both ends of its piece, a sticking block's forces stay in their range at both ends,
+//! and the reaction `K sum_b D_b nu_b` has the mode's signs), and the MILP's answer is one of
+//! them, so the optimum is no worse. It is solved by Clarabel to `1e-10`; pieces that shrink to
+//! nothing are dropped, and the caller replays the result with the exact simulator and keeps it
+//! only when the replay agrees and `J` is no worse.
+
+use super::decode::RawGait;
+use crate::model::Crawler;
+use crate::optimal::milp::block_speed_bound;
+use crate::optimal::polish::Qp;
+use crate::optimal::{Cost, GaitProblem};
+
+/// The gait of the best durations, increments and states on `raw`'s sequence of slip modes
+/// (module docs); `None` without a quadratic cost or when Clarabel finds no solution.
+pub(super) fn polish_phases(
+    crawler: &Crawler,
+    problem: &GaitProblem,
+    raw: &RawGait,
+) -> Option<RawGait> {
+    let Cost::Quadratic { weight } = problem.cost else {
+        return None;
+    };
+    let (n, nb, pieces) = (crawler.links(), crawler.blocks(), raw.durations.len());
+    if pieces == 0 {
+        return None;
+    }
+    let (k, mp, mm) = (
+        crawler.stiffness(),
+        crawler.mu_forward(),
+        crawler.mu_backward(),
+    );
+    let (a, t) = (&problem.rate_bound, problem.period);
+    let v = block_speed_bound(crawler, problem);
+    let ranges = crawler.link_force_ranges();
+    let inf = f64::INFINITY;
+    let mut qp = Qp::default();
+    let tau: Vec<usize> = (0..pieces).map(|_| qp.add_column(0.0, 0.0, t)).collect();
+    let x: Vec<Vec<usize>> = (0..pieces)
+        .map(|_| {
+            ranges
+                .iter()
+                .map(|r| qp.add_column(0.0, r[0], r[1]))
+                .collect()
+        })
+        .collect();
+    let u: Vec<Vec<usize>> = (0..pieces)
+        .map(|_| {
+            a.iter()
+                .map(|&al| qp.add_column(0.0, -al * t, al * t))
+                .collect()
+        })
+        .collect();
+    // Block displacements of the slipping blocks, with the mode's sign (none where a block
+    // sticks).
+    let d: Vec<Vec<Option<usize>>> = raw
+        .modes
+        .iter()
+        .map(|m| {
+            m.iter()
+                .map(|&s| match s {
+                    1 => Some(qp.add_column(-1.0 / nb as f64, 0.0, v * t)),
+                    -1 => Some(qp.add_column(-1.0 / nb as f64, -v * t, 0.0)),
+                    _ => None,
+                })
+                .collect()
+        })
+        .collect();
+    let g: Vec<Vec<usize>> = (0..pieces)
+        .map(|_| {
+            (0..n)
+                .map(|_| qp.add_column(0.5 * weight, 0.0, inf))
+                .collect()
+        })
+        .collect();
+    let force = |x: &[usize], b: usize| -> Vec<(usize, f64)> {
+        let mut f = Vec::with_capacity(2);
+        if b > 0 {
+            f.push((x[b - 1], 1.0));
+        }
+        if b < n {
+            f.push((x[b], -1.0));
+        }
+        f
+    };
+    for i in 0..pieces {
+        let next = &x[(i + 1) % pieces];
+        for l in 0..n {
+            // x_(i+1) = x_i + U_i - K sum_b D_b nu_b.
+            let mut row = vec![(next[l], 1.0), (x[i][l], -1.0), (u[i][l], -1.0)];
+            if let Some(c) = d[i][l + 1] {
+                row.push((c, k[l]));
+            }
+            if let Some(c) = d[i][l] {
+                row.push((c, -k[l]));
+            }
+            qp.add_row(0.0, 0.0, row);
+            qp.add_row(-inf, 0.0, vec![(u[i][l], 1.0), (tau[i], -a[l])]);
+            qp.add_row(-inf, 0.0, vec![(u[i][l], -1.0), (tau[i], -a[l])]);
+            qp.add_perspective(u[i][l], g[i][l], tau[i]);
+        }
+        for b in 0..nb {
+            qp.add_row(-mm[b], mp[b], force(&x[i], b));
+            if let Some(c) = d[i][b] {
+                // The face held at both ends; no motion in zero time.
+                let held = if raw.modes[i][b] > 0 { mp[b] } else { -mm[b] };
+                qp.add_row(held, held, force(&x[i], b));
+                qp.add_row(held, held, force(next, b));
+                let s = f64::from(raw.modes[i][b]);
+                qp.add_row(-inf, 0.0, vec![(c, s), (tau[i], -v)]);
+            }
+        }
+    }
+    qp.add_row(t, t, tau.iter().map(|&c| (c, 1.0)).collect());
+    for l in 0..n {
+        qp.add_row(0.0, 0.0, u.iter().map(|r| (r[l], 1.0)).collect());
+    }
+    let sol = qp.solve("the phase gait's polish").ok()?;
+    let val = |c: usize| sol.v[c];
+    let mut out = RawGait::default();
+    for i in 0..pieces {
+        let d_i = val(tau[i]);
+        if d_i <= 1e-12 * t {
+            continue;
+        }
+        out.durations.push(d_i);
+        out.increments.push(u[i].iter().map(|&c| val(c)).collect());
+        out.states.push(x[i].iter().map(|&c| val(c)).collect());
+        out.block_displacements
+            .push(d[i].iter().map(|c| c.map_or(0.0, val)).collect());
+        out.modes.push(raw.modes[i].clone());
+    }
+    let x0 = out.states.first()?.clone();
+    out.states.push(x0);
+    Some(out)
+}
