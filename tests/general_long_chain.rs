@@ -167,7 +167,8 @@ fn the_chains_singular_value_bound_is_below_every_vertex() {
 
 /// Twelve blocks: the methods that need C's vertices without the chain (P_m's big-M) and
 /// those that run the crawler's job all answer; P_1's global optimum is the alternating wave's
-/// `4 - 1/11`, and the local method from the file's input keeps it.
+/// `4 - 1/11`, the local method from the file's input keeps it, and the chain method says that
+/// its answer is that structured gait (the crawler job's record, passed on).
 #[test]
 fn the_methods_run_on_a_twelve_block_chain() {
     let dir = tempfile::tempdir().unwrap();
@@ -197,6 +198,19 @@ fn the_methods_run_on_a_twelve_block_chain() {
         if args[1] == "discrete" {
             assert!((j - want).abs() < 1e-9, "P_1: J = {j}");
             assert_eq!(v["status"], "optimal");
+        }
+        if args[1] == "chain" {
+            // The crawler job's record passes on: its start, the alternating wave, is the
+            // answer (the search does not improve on it), and the file reads back.
+            let origin = v["structured"]["origin"].as_str().unwrap_or_default();
+            assert!(origin.contains("alternating triangle wave"), "{v}");
+            let written = write(dir.path(), "chain12.json", &v.to_string());
+            let out = crawlopt(&["certify", written.to_str().unwrap()]);
+            assert!(
+                out.status.success(),
+                "{}",
+                String::from_utf8_lossy(&out.stderr)
+            );
         }
     }
 }

@@ -5,8 +5,9 @@
 //! gait comes back in the problem's terms ([`crate::optimal::general::chain_gait`]): replayed
 //! by the general exact simulator, which must give `lambda` times the crawler's `J`. Neither
 //! method makes a global claim: the answer's certificate is `local`, its status the method's
-//! stop (`stationary`, `stalled`, or `time_limit`). On a problem that is not a chain both are
-//! refused, naming `method`.
+//! stop (`stationary`, `stalled`, or `time_limit`), and the crawler job's record of a structured
+//! gait kept as the answer is passed on (`structured`). On a problem that is not a chain both
+//! are refused, naming `method`.
 
 use super::events::Hooks;
 use super::settings::{GaitMethod, OptimizeSettings};
@@ -101,6 +102,7 @@ pub fn optimize_general_on_chain(
     answer.status = r.status;
     answer.certificate = ResultCertificate::local(None);
     answer.formulation = Some("chain".into());
+    answer.structured = r.structured.clone();
     if s.certify {
         let pr = crate::certify::GeneralProcess::from_phase(&answer.solution);
         answer.necessary_conditions = Some(crate::certify::certify_general(

@@ -288,6 +288,12 @@ pub struct GeneralPhaseOptimized {
     /// the general formulation.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub formulation: Option<String>,
+    /// The crawler job's record of a best structured gait that is the answer (methods
+    /// `sequence` and `chain`: the method's own gait was below it, or it was the start of a
+    /// search the time limit cut short; [`crate::optimal::GaitResult::structured`]), its `J`
+    /// in the crawler's units.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub structured: Option<crate::optimal::StructuredRecord>,
     /// The necessary conditions on the gait, when asked
     /// ([`crate::api::GeneralPhaseSettings::certify`]); not read back from a file (`crawlopt
     /// certify` recomputes them).
@@ -314,6 +320,7 @@ impl GeneralPhaseOptimized {
             solution,
             phase_growth: None,
             formulation: None,
+            structured: None,
             necessary_conditions: None,
         }
     }

@@ -287,6 +287,15 @@ pub fn general_phase(r: &GeneralPhaseOptimized) -> String {
             super::status_word(c.status)
         ),
     }
+    if let Some(st) = &r.structured {
+        wln!(out, "gait: {}", st.origin);
+        if let Some(why) = &st.replaced {
+            wln!(
+                out,
+                "kept instead of the method's answer: {why} (the crawler's J)"
+            );
+        }
+    }
     if local {
         wln!(
             out,
