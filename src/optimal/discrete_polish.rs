@@ -55,6 +55,37 @@ fn pattern(s: &DiscreteSolution) -> Vec<Vec<i8>> {
 }
 
 /// P_m on the slip pattern `slip` as a QP (minimising `-J`).
+/// A crawler's state and increment columns of `pieces` pieces of a polish: per piece the link
+/// forces `x_l` in their ranges over C and the increments `U_l` in `[-a_l span, a_l span]`
+/// (`span` the longest a piece may last).
+pub(crate) fn link_columns(
+    qp: &mut Qp,
+    crawler: &Crawler,
+    problem: &GaitProblem,
+    pieces: usize,
+    span: f64,
+) -> (Vec<Vec<usize>>, Vec<Vec<usize>>) {
+    let ranges = crawler.link_force_ranges();
+    let x = (0..pieces)
+        .map(|_| {
+            ranges
+                .iter()
+                .map(|r| qp.add_column(0.0, r[0], r[1]))
+                .collect()
+        })
+        .collect();
+    let u = (0..pieces)
+        .map(|_| {
+            problem
+                .rate_bound
+                .iter()
+                .map(|&al| qp.add_column(0.0, -al * span, al * span))
+                .collect()
+        })
+        .collect();
+    (x, u)
+}
+
 fn build(crawler: &Crawler, problem: &GaitProblem, slip: &[Vec<i8>]) -> (Qp, Columns) {
     let steps = slip.len();
     let (n, nb) = (crawler.links(), crawler.blocks());
@@ -65,24 +96,8 @@ fn build(crawler: &Crawler, problem: &GaitProblem, slip: &[Vec<i8>]) -> (Qp, Col
         crawler.mu_backward(),
     );
     let inf = f64::INFINITY;
-    let a = &problem.rate_bound;
     let mut qp = Qp::default();
-    let ranges = crawler.link_force_ranges();
-    let x: Vec<Vec<usize>> = (0..steps)
-        .map(|_| {
-            ranges
-                .iter()
-                .map(|r| qp.add_column(0.0, r[0], r[1]))
-                .collect()
-        })
-        .collect();
-    let u: Vec<Vec<usize>> = (0..steps)
-        .map(|_| {
-            a.iter()
-                .map(|&al| qp.add_column(0.0, -al * h, al * h))
-                .collect()
-        })
-        .collect();
+    let (x, u) = link_columns(&mut qp, crawler, problem, steps, h);
     if let Cost::Quadratic { weight } = problem.cost {
         // (c/2) U^2 / h per step and link.
         for c in u.iter().flatten() {

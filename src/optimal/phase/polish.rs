@@ -20,6 +20,7 @@
 
 use super::decode::RawGait;
 use crate::model::Crawler;
+use crate::optimal::discrete_polish::link_columns;
 use crate::optimal::milp::block_speed_bound;
 use crate::optimal::polish::Qp;
 use crate::optimal::{Cost, GaitProblem};
@@ -45,25 +46,10 @@ pub(super) fn polish_phases(
     );
     let (a, t) = (&problem.rate_bound, problem.period);
     let v = block_speed_bound(crawler, problem);
-    let ranges = crawler.link_force_ranges();
     let inf = f64::INFINITY;
     let mut qp = Qp::default();
     let tau: Vec<usize> = (0..pieces).map(|_| qp.add_column(0.0, 0.0, t)).collect();
-    let x: Vec<Vec<usize>> = (0..pieces)
-        .map(|_| {
-            ranges
-                .iter()
-                .map(|r| qp.add_column(0.0, r[0], r[1]))
-                .collect()
-        })
-        .collect();
-    let u: Vec<Vec<usize>> = (0..pieces)
-        .map(|_| {
-            a.iter()
-                .map(|&al| qp.add_column(0.0, -al * t, al * t))
-                .collect()
-        })
-        .collect();
+    let (x, u) = link_columns(&mut qp, crawler, problem, pieces, t);
     // Block displacements of the slipping blocks, with the mode's sign (none where a block
     // sticks).
     let d: Vec<Vec<Option<usize>>> = raw
