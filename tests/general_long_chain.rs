@@ -1,6 +1,6 @@
 //! A general problem (P) that is a long crawler's chain (11 blocks and more: beyond C's vertex
 //! enumeration, which tries `C(2N, N - 1)` subsets of faces): its face weights are decided by
-//! the chain's uniqueness condition (paper eq. 3.5) and the MILPs' multiplier bound by the
+//! the chain's uniqueness condition (paper eq. 3.6) and the MILPs' multiplier bound by the
 //! chain's structure, so every command runs on it; the numbers are the crawler's closed forms.
 
 mod common;
@@ -94,7 +94,7 @@ fn a_twenty_block_chain_is_accepted_and_moves_by_the_closed_form() {
 }
 
 /// With `mu+ = mu- = 1` and an even number of blocks, half of them forward and half backward
-/// balance (paper eq. 3.5 fails): every block can be at a threshold at once, the active
+/// balance (paper eq. 3.6 fails): every block can be at a threshold at once, the active
 /// normals are dependent there, and the face weights are refused naming the field, by the
 /// library and by the CLI (exit 2), at any length.
 #[test]
@@ -286,4 +286,50 @@ fn the_plain_search_where_the_chain_does_not_apply() {
         .unwrap();
     let s = simulate_general(&drift, &GeneralSimOptions::DEFAULT).unwrap();
     assert_eq!(s.regime_search, "plain");
+}
+
+/// Where the crawler's simulator refuses the input (a single knot: a constant control) or its
+/// state is not confirmed by the general simulator within its few periods (a tolerance of
+/// 1e-16, below what the crawler's search reaches), the general simulator searches plainly, as
+/// before: the same answer as its own iteration, never an error the plain search would not
+/// give.
+#[test]
+fn the_plain_search_takes_over_where_the_chains_does_not_hold() {
+    let text = chain_text(&[1.0; 2], &[1.0; 3], &[1.3; 3]);
+    let one = with_input(&text, "[0.0]", &[vec![0.0, 0.0]]);
+    let s = simulate_general(&one, &GeneralSimOptions::DEFAULT).unwrap();
+    assert_eq!(s.regime_search, "plain");
+    assert_eq!(s.objective, Some(0.0));
+    let k = [1.0, 2.0, 0.7, 1.5, 1.2];
+    let (u0, u1) = ([0.6, -0.3, 0.5, 0.2, -0.9], [-0.4, 1.0, -1.0, -0.9, 0.4]);
+    let u2: Vec<f64> = (0..5).map(|l| -(4.0 * u0[l] + 3.0 * u1[l]) / 3.0).collect();
+    let file = with_input(
+        &chain_text(
+            &k,
+            &[1.0, 1.1, 0.9, 1.2, 1.0, 1.05],
+            &[1.5, 1.3, 1.7, 1.4, 1.6, 1.35],
+        ),
+        "[0.0, 4.0, 7.0]",
+        &[u0.to_vec(), u1.to_vec(), u2],
+    );
+    let opts = GeneralSimOptions {
+        tol: 1e-16,
+        ..GeneralSimOptions::DEFAULT
+    };
+    let s = simulate_general(&file, &opts).unwrap();
+    let (p, _) = crawlopt::api::general_problem(&file).unwrap();
+    let input = file.input(&p).unwrap();
+    let plain = simulate_general_exact(&p, &input, &vec![0.0; p.states()], 5000, 1e-16).unwrap();
+    assert!(plain.converged);
+    let (a, b) = (s.objective.unwrap(), plain.objective.unwrap());
+    assert!(
+        (a - b).abs() <= 1e-12 * b.abs().max(1.0),
+        "{a} vs {b} ({})",
+        s.regime_search
+    );
+    assert!(
+        s.simulation.periods <= opts.max_periods + 20,
+        "{}",
+        s.simulation.periods
+    );
 }

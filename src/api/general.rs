@@ -103,7 +103,7 @@ pub fn analyze_general(file: &GeneralFile) -> Result<GeneralAnalysis> {
                         CheckStatus::Pass,
                         format!(
                             "a chain of {} blocks whose uniqueness condition holds (paper eq. \
-                             3.5): at most N - 1 blocks at a threshold at once, their normals \
+                             3.6): at most N - 1 blocks at a threshold at once, their normals \
                              independent (vertices not enumerated)",
                             view.crawler.blocks()
                         ),
@@ -209,18 +209,23 @@ pub fn simulate_general(file: &GeneralFile, opts: &GeneralSimOptions) -> Result<
         }
         _ => None,
     };
-    let simulation = match (&regime, exact) {
-        (Some(r), _) => {
-            let mut s = crate::integrate::simulate_general_exact(
-                &p,
-                &input,
-                &r.state,
-                opts.max_periods,
-                opts.tol,
-            )?;
-            s.periods += r.periods;
-            s
+    // The crawler's state is taken when the general simulator confirms it within a few
+    // periods (a tolerance below the crawler's reach is not); else the plain search.
+    let confirmed = match &regime {
+        Some(r) => {
+            let budget = crate::integrate::chain_regime::REPLAY_PERIODS.min(opts.max_periods);
+            let s =
+                crate::integrate::simulate_general_exact(&p, &input, &r.state, budget, opts.tol)?;
+            s.converged.then(|| crate::integrate::GeneralSimulation {
+                periods: s.periods + r.periods,
+                ..s
+            })
         }
+        None => None,
+    };
+    let chain = confirmed.is_some();
+    let simulation = match (confirmed, exact) {
+        (Some(s), _) => s,
         (None, true) => crate::integrate::simulate_general_exact(
             &p,
             &input,
@@ -236,7 +241,7 @@ pub fn simulate_general(file: &GeneralFile, opts: &GeneralSimOptions) -> Result<
         steps_per_period: opts.steps_per_period,
         start,
         start_from,
-        regime_search: if regime.is_some() { "chain" } else { "plain" },
+        regime_search: if chain { "chain" } else { "plain" },
         objective: simulation.objective,
         input,
         simulation,

@@ -15,9 +15,13 @@
 use super::general::{ControlInput, InputKind};
 use super::periodic::{simulate, SimOptions};
 use super::Actuation;
-use crate::error::Result;
+use crate::error::{Error, Result};
 use crate::model::general::{Boundary, GeneralProblem};
 use crate::model::ChainView;
+
+/// Periods the general simulator is given to confirm, from the crawler's state, that the regime
+/// repeats (one or two suffice at the default tolerance); beyond them the state is not taken.
+pub const REPLAY_PERIODS: usize = 20;
 
 /// What the crawler's search found.
 #[derive(Debug, Clone, PartialEq)]
@@ -30,8 +34,9 @@ pub struct ChainRegime {
 
 /// The periodic regime of `p` under `input` from the origin, by the crawler's simulator
 /// (module docs), to the periodicity tolerance `tol` within `max_periods`; `None` where it does
-/// not apply (not a periodic chain, a piecewise-linear input, an input without zero mean) or
-/// the search did not converge: the caller then iterates the general period map itself.
+/// not apply (not a periodic chain, a piecewise-linear input, an input without zero mean, an
+/// input or option the crawler's simulator refuses) or the search did not converge: the caller
+/// then iterates the general period map itself. Errors: a cancellation or the deadline only.
 pub fn chain_regime(
     p: &GeneralProblem,
     view: &ChainView,
@@ -63,17 +68,22 @@ pub fn chain_regime(
     if l.iter().any(|v| v.abs() > 1e-12 * size) {
         return Ok(None);
     }
-    let act = Actuation::piecewise_linear(input.period, input.times.clone(), lengths)?;
+    // Whatever the crawler's actuation or simulator refuses (a single knot, an option out of
+    // its range) leaves the search to the general simulator; only a stop is passed on.
+    let Ok(act) = Actuation::piecewise_linear(input.period, input.times.clone(), lengths) else {
+        return Ok(None);
+    };
     let opts = SimOptions {
         record_periods: 0,
         max_periods,
         tol,
         ..SimOptions::DEFAULT
     };
-    let sim = simulate(&view.crawler, &act, &opts)?;
-    if !sim.converged {
-        return Ok(None);
-    }
+    let sim = match simulate(&view.crawler, &act, &opts) {
+        Ok(sim) if sim.converged => sim,
+        Err(e @ (Error::Cancelled | Error::TimeLimit(_))) => return Err(e),
+        _ => return Ok(None),
+    };
     Ok(Some(ChainRegime {
         state: sim
             .orbit_state

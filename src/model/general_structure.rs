@@ -175,7 +175,7 @@ impl ChainView {
     /// the thresholds reached, at most one per block (both would need `mu_b^+ = -mu_b^-`), and
     /// their normals `+-K^(1/2) nu_b / s_b` are dependent only when all `N` blocks are at a
     /// threshold (`sum_b nu_b = 0`), i.e. when `sum_(b in J) mu_b^+ = sum_(b not in J) mu_b^-`
-    /// for some subset `J`: exactly what the crawler's uniqueness condition (paper eq. 3.5)
+    /// for some subset `J`: exactly what the crawler's uniqueness condition (paper eq. 3.6)
     /// excludes. The error names `objective.face_weights` with the violating subset.
     pub fn check_face_weights(&self) -> Result<()> {
         self.crawler.require_unique().map_err(|e| {

@@ -337,11 +337,20 @@ impl Qp {
         for &(u, g, tau) in &flat {
             rows.extend([u, g, tau].map(|c| (vec![(c, 1.0)], 0.0)));
         }
-        let (m, nc) = (rows.len(), live.len());
-        let dim = n + m + nc;
-        if dim > MAX_EXACT_KKT {
+        if n + rows.len() > 2 * MAX_EXACT_KKT {
             return None;
         }
+        // Redundant rows (a held face's equality beside its active range, the rate rows and
+        // `tau = 0` of an empty piece) would make the KKT system singular.
+        let rows = independent_rows(rows, n);
+        let (m, nc) = (rows.len(), live.len());
+        let dim = n + m + nc;
+        // Dense LU up to MAX_EXACT_KKT; the SVD a rank-deficient system needs (redundant
+        // active rows) only up to a quarter of it, as in `exact_on` (it costs seconds beyond).
+        if dim > MAX_EXACT_KKT || crate::progress::out_of_time().unwrap_or(true) {
+            return None;
+        }
+        let svd_ok = dim <= MAX_EXACT_KKT / 4;
         let grad = |v: &[f64]| -> DVector<f64> {
             let mut g = DVector::from_column_slice(&self.q);
             for (&(i, j), &a) in &self.p {
@@ -370,12 +379,19 @@ impl Qp {
         let mut v = v0.to_vec();
         // Multipliers: least squares of grad + J^T w = 0 at v0.
         let jt = jacobian(&v).transpose();
+        if !svd_ok {
+            return None;
+        }
         let mut w = jt
             .clone()
             .svd(true, true)
             .solve(&(-grad(&v)), 1e-12 * jt.amax().max(1e-300))
             .ok()?;
         for _ in 0..30 {
+            // Within the job's deadline and cancellation: the answer then stays Clarabel's.
+            if crate::progress::out_of_time().unwrap_or(true) {
+                return None;
+            }
             let jac = jacobian(&v);
             let mut k = DMatrix::<f64>::zeros(dim, dim);
             for (&(i, j), &a) in &self.p {
@@ -403,11 +419,11 @@ impl Qp {
                 f[n + m + c] = v[u] * v[u] - v[g] * v[tau];
             }
             let norm = k.amax().max(1e-300);
-            let step = k
-                .clone()
-                .lu()
-                .solve(&(-&f))
-                .or_else(|| k.svd(true, true).solve(&(-&f), 1e-13 * norm).ok())?;
+            let step = k.clone().lu().solve(&(-&f)).or_else(|| {
+                svd_ok
+                    .then(|| k.svd(true, true).solve(&(-&f), 1e-13 * norm).ok())
+                    .flatten()
+            })?;
             for (x, d) in v.iter_mut().zip(step.rows(0, n).iter()) {
                 *x += d;
             }
@@ -443,6 +459,37 @@ impl Qp {
             ok(value, size, r.lo, r.hi)
         })
     }
+}
+
+/// A maximal linearly independent subset of `rows` (in order, by Gram-Schmidt on the dense
+/// rows of `n` columns, a row dropped when its residual is below `1e-10` of its norm); the
+/// rows come from a feasible point, so those dropped are implied by those kept.
+fn independent_rows(
+    rows: Vec<(Vec<(usize, f64)>, f64)>,
+    n: usize,
+) -> Vec<(Vec<(usize, f64)>, f64)> {
+    let mut basis: Vec<DVector<f64>> = Vec::new();
+    let mut kept = Vec::with_capacity(rows.len());
+    for (entries, b) in rows {
+        let mut r = DVector::<f64>::zeros(n);
+        for &(c, a) in &entries {
+            r[c] += a;
+        }
+        let size = r.norm();
+        if size == 0.0 {
+            continue;
+        }
+        for q in &basis {
+            let d = q.dot(&r);
+            r.axpy(-d, q, 1.0);
+        }
+        let rest = r.norm();
+        if rest > 1e-10 * size {
+            basis.push(r / rest);
+            kept.push((entries, b));
+        }
+    }
+    kept
 }
 
 /// The constraint rows as a compressed-column matrix.

@@ -43,6 +43,10 @@ pub(super) fn polish_general_phases(
     empty: f64,
 ) -> Option<MilpPhases> {
     let r = cost_matrix(&p.cost, p.controls())?;
+    // After the deadline the MILP's answer stands (the polish is not part of the limit).
+    if crate::progress::out_of_time().unwrap_or(true) {
+        return None;
+    }
     let (n, m, sigma, pieces) = (p.states(), p.controls(), p.c.faces(), durations.len());
     let t = p.period;
     let inf = f64::INFINITY;

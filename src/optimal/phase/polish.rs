@@ -35,6 +35,10 @@ pub(super) fn polish_phases(
     let Cost::Quadratic { weight } = problem.cost else {
         return None;
     };
+    // After the deadline the MILP's answer stands (the polish is not part of the limit).
+    if crate::progress::out_of_time().unwrap_or(true) {
+        return None;
+    }
     let (n, nb, pieces) = (crawler.links(), crawler.blocks(), raw.durations.len());
     if pieces == 0 {
         return None;
