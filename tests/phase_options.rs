@@ -213,3 +213,55 @@ fn a_growth_from_a_start_keeps_it_and_counts_no_plateau_below_it() {
         assert!((st.objective - 2.6).abs() < 1e-7, "{st:?}");
     }
 }
+
+/// A start of more slip phases than K (on this crawler with a quadratic cost, the best
+/// structured gait's phase form; no gait of at most 2 slip phases moves it) is the answer with
+/// the bound at its J. The phase form merges runs of one slip mode into constant rates, which
+/// lowers a quadratic cost, but reported the cost of the unmerged pieces: its J (0.2915) was
+/// the bound, below the J of the gait itself (0.3253), a false claim printed with exit 0 whose
+/// file then failed to read back.
+#[test]
+fn a_start_above_the_milps_bound_keeps_a_bound_at_its_j() {
+    let dir = tempfile::tempdir().unwrap();
+    let model = dir.path().join("three.toml");
+    std::fs::write(
+        &model,
+        "[crawler]\nblocks = 3\nstiffness = [0.603, 0.699]\nmu_forward = [0.546, 0.557, 0.284]\n\
+         mu_backward = [0.51, 0.306, 0.97]\n[gait]\nperiod = 10.72\n\
+         max_actuator_speed = [0.954, 0.705]\ncost = { kind = \"quadratic\", weight = 0.2 }\n",
+    )
+    .unwrap();
+    let bin = env!("CARGO_BIN_EXE_crawlopt");
+    let out = std::process::Command::new(bin)
+        .args([
+            "optimize",
+            model.to_str().unwrap(),
+            "--method",
+            "phase",
+            "--phases",
+            "2",
+        ])
+        .arg("--json")
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let j = v["objective"].as_f64().unwrap();
+    let bound = v["certificate"]["bound"].as_f64().unwrap();
+    assert!(bound >= j, "bound {bound} below J = {j}");
+    let file = dir.path().join("r.json");
+    std::fs::write(&file, &out.stdout).unwrap();
+    let back = std::process::Command::new(bin)
+        .args(["certify", file.to_str().unwrap()])
+        .output()
+        .unwrap();
+    assert!(
+        back.status.success(),
+        "{}",
+        String::from_utf8_lossy(&back.stderr)
+    );
+}

@@ -361,8 +361,11 @@ pub fn phase_gait_of(
         verified,
         problem.length_scale(crawler),
     )?;
-    let cost = g.cost(problem);
+    // The gait returned is the merged one: its cost, which merging lowers where a run's rates
+    // differ (the same motion at constant rates; a quadratic cost's start had reported the
+    // cost of the unmerged pieces, so its J was below what it is).
     let merged = g.merged();
+    let cost = merged.cost(problem);
     Ok(PhaseSolution {
         phases: merged.slip_phases(),
         certificate: Certificate {

@@ -107,15 +107,20 @@ pub fn solve_phase_with(
             start.expect("a start"),
             phases,
         )),
-        // A MILP cut short below the start (HiGHS drops a start it finds infeasible at its
-        // tolerances): the start, which is one of the gaits the MILP's bound covers when it
-        // fits, or beats the cutoff otherwise.
+        // A MILP answer below the start (cut short, or HiGHS dropped a start it found
+        // infeasible at its tolerances, or the start has more slip phases than `phases` and
+        // the cutoff row on the outer approximation let a gait through whose true J is lower):
+        // the start. The MILP's bound covers every gait of at most `phases` slip phases; a
+        // bound below the start's J says that none of them reaches it, so the claim is the
+        // cutoff's: bound J of the start (a bound below a verified J would be false).
         Ok(s) => match start {
             Some(st) if st.objective() > s.objective() => {
                 let mut st = st.clone();
+                let bound = s.certificate.bound.max(st.objective());
                 st.phases = phases;
                 st.certificate = Certificate {
-                    gap: Certificate::gap_of(s.certificate.bound, st.objective()),
+                    bound,
+                    gap: Certificate::gap_of(bound, st.objective()),
                     milp_objective: st.verified_displacement,
                     ..s.certificate
                 };
