@@ -8,6 +8,8 @@ use crawlopt::optimal::{
 use crawlopt::{Crawler, Error};
 use proptest::prelude::*;
 
+mod common;
+
 /// The peers' instances: k = a = 1, T = 10, mu+ = 1, mu- = 1.5 (1.6 for five blocks, where 1.5
 /// fails the uniqueness condition).
 fn peers(blocks: usize) -> (Crawler, GaitProblem) {
@@ -231,19 +233,15 @@ fn a_start_above_the_milps_bound_keeps_a_bound_at_its_j() {
          max_actuator_speed = [0.954, 0.705]\ncost = { kind = \"quadratic\", weight = 0.2 }\n",
     )
     .unwrap();
-    let bin = env!("CARGO_BIN_EXE_crawlopt");
-    let out = std::process::Command::new(bin)
-        .args([
-            "optimize",
-            model.to_str().unwrap(),
-            "--method",
-            "phase",
-            "--phases",
-            "2",
-        ])
-        .arg("--json")
-        .output()
-        .unwrap();
+    let out = common::crawlopt(&[
+        "optimize",
+        model.to_str().unwrap(),
+        "--method",
+        "phase",
+        "--phases",
+        "2",
+        "--json",
+    ]);
     assert!(
         out.status.success(),
         "{}",
@@ -253,12 +251,12 @@ fn a_start_above_the_milps_bound_keeps_a_bound_at_its_j() {
     let j = v["objective"].as_f64().unwrap();
     let bound = v["certificate"]["bound"].as_f64().unwrap();
     assert!(bound >= j, "bound {bound} below J = {j}");
-    let file = dir.path().join("r.json");
-    std::fs::write(&file, &out.stdout).unwrap();
-    let back = std::process::Command::new(bin)
-        .args(["certify", file.to_str().unwrap()])
-        .output()
-        .unwrap();
+    let file = common::write(
+        dir.path(),
+        "r.json",
+        std::str::from_utf8(&out.stdout).unwrap(),
+    );
+    let back = common::crawlopt(&["certify", file.to_str().unwrap()]);
     assert!(
         back.status.success(),
         "{}",

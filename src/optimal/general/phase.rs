@@ -329,7 +329,8 @@ pub fn solve_general_phase(
             Some(b) => b,
             None => column_bound(p, big_m(p, g, 1.0)?.multiplier * p.period),
         };
-        let mut sol = verified(p, &lay, &cols, milp_objective, bound, status, k, &what)?;
+        let phases = read_phases(&lay, &cols, p.period);
+        let mut sol = verified_gait(p, &phases, milp_objective, bound, status, k, &what)?;
         sol.rounds = round;
         let done = p.cost == GeneralCost::None
             || sol.certificate.gap <= OA_TOL
@@ -431,20 +432,9 @@ pub fn replay_phases(
     Ok((states, sim))
 }
 
-/// Reads the MILP's gait and verifies it ([`verified_gait`]).
-#[allow(clippy::too_many_arguments)]
-fn verified(
-    p: &GeneralProblem,
-    lay: &Layout,
-    cols: &[f64],
-    milp_objective: f64,
-    bound: f64,
-    status: MilpStatus,
-    k: usize,
-    what: &str,
-) -> Result<GeneralPhaseGait> {
+/// The MILP's gait read off its columns: the phases longer than [`EMPTY_PHASE`] `T`.
+fn read_phases(lay: &Layout, cols: &[f64], t: f64) -> MilpPhases {
     let val = |c: &Col| cols[c.index()];
-    let t = p.period;
     let mut phases = MilpPhases {
         states: vec![lay.x[0].iter().map(val).collect::<Vec<f64>>()],
         ..MilpPhases::default()
@@ -465,7 +455,7 @@ fn verified(
         phases.integrated.push(lay.lam[j].iter().map(val).collect());
         phases.states.push(lay.x[j + 1].iter().map(val).collect());
     }
-    verified_gait(p, &phases, milp_objective, bound, status, k, what)
+    phases
 }
 
 /// Replays a solver's gait in the exact simulator from its `x_0` (a Cauchy problem over one
