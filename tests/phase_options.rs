@@ -263,3 +263,39 @@ fn a_start_above_the_milps_bound_keeps_a_bound_at_its_j() {
         String::from_utf8_lossy(&back.stderr)
     );
 }
+
+/// An idle phase optimum (no gait of at most 2 slip phases moves this crawler with its cost:
+/// one piece, u = 0) is certified as its two halves: `degenerate` (the interior control leaves
+/// `p + omega = 0`), where the certificate used to refuse it with exit 2 ("gait.durations:
+/// needs at least two pieces").
+#[test]
+fn an_idle_phase_optimum_is_certified() {
+    let dir = tempfile::tempdir().unwrap();
+    let model = common::write(
+        dir.path(),
+        "idle.toml",
+        "[crawler]\nblocks = 3\nstiffness = [2.567, 1.154]\nmu_forward = [0.574, 0.162, 0.438]\n\
+         mu_backward = [0.445, 0.454, 0.374]\n[gait]\nperiod = 8.61\n\
+         max_actuator_speed = [0.79, 1.367]\ncost = { kind = \"quadratic\", weight = 0.2 }\n",
+    );
+    let out = common::crawlopt(&[
+        "optimize",
+        model.to_str().unwrap(),
+        "--method",
+        "phase",
+        "--phases",
+        "2",
+        "--certify",
+        "--json",
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let j = v["objective"].as_f64().unwrap();
+    assert!(j.abs() <= 1e-12, "J = {j}");
+    assert_eq!(v["gait"]["durations"].as_array().map(Vec::len), Some(1));
+    assert_eq!(v["necessary_conditions"]["verdict"], "degenerate", "{v}");
+}

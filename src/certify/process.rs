@@ -45,10 +45,12 @@ impl Process {
     }
 
     /// The process recorded in an optimizer result, checked (see [`Process::check`]); `what`
-    /// names the source in errors.
+    /// names the source in errors. A phase gait of one piece (an idle optimum: with zero mean
+    /// its control is 0) is certified as its two halves, the same process on knots the
+    /// conditions can be stated on.
     pub fn from_result(r: &GaitResult, what: &str) -> Result<Self> {
         r.check_consistent(what)?;
-        let p = Process {
+        let mut p = Process {
             crawler: r.crawler.crawler()?,
             problem: r.problem.clone(),
             kind: r.process_kind(what)?,
@@ -57,8 +59,32 @@ impl Process {
             states: r.gait.states.clone(),
             block_displacements: r.gait.block_displacements.clone(),
         };
+        if p.kind == ProcessKind::Phase && p.durations.len() == 1 && p.states.len() == 2 {
+            p = p.halved();
+        }
         p.check(what, INPUT_TOL)?;
         Ok(p)
+    }
+
+    /// A one-piece phase gait as two halves: the piece's motion is linear, so its midpoint
+    /// state is the mean of its ends and each half carries half its block displacements.
+    fn halved(self) -> Self {
+        let mid: Vec<f64> = self.states[0]
+            .iter()
+            .zip(&self.states[1])
+            .map(|(a, b)| 0.5 * (a + b))
+            .collect();
+        let half: Vec<f64> = self.block_displacements[0]
+            .iter()
+            .map(|d| 0.5 * d)
+            .collect();
+        Process {
+            durations: vec![0.5 * self.durations[0]; 2],
+            controls: vec![self.controls[0].clone(); 2],
+            states: vec![self.states[0].clone(), mid, self.states[1].clone()],
+            block_displacements: vec![half.clone(), half],
+            ..self
+        }
     }
 
     /// A P_m process from its controls (`2^m` rows): the catching-up trajectory on its periodic
