@@ -50,11 +50,16 @@ def test_same_problem_built_in_python_and_read_from_the_file():
     prob = co.GaitProblem(period=10, max_actuator_speed=1.0)
     r = co.optimize(c, prob, method="phase", phases=3)
     assert r.objective == pytest.approx(13 / 6, abs=1e-8)
+    # The cost is charged: with c = 0.05 the optimum among 4 slip phases still moves (at
+    # c = 0.5 it stays idle, the MILP's bound being 0, and charges nothing).
     quad = co.optimize(
-        c, co.GaitProblem(period=10, cost=co.Quadratic(0.5)), method="phase", phases=4
+        c, co.GaitProblem(period=10, cost=co.Quadratic(0.05)), method="phase", phases=4
     )
     assert quad.objective < 2.6
     assert quad.actuation_cost > 0
+    assert quad.objective == pytest.approx(
+        quad.displacement_per_period - quad.actuation_cost, abs=1e-12
+    )
 
 
 def test_arrays_have_their_shapes_and_dtypes():
