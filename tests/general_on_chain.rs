@@ -211,7 +211,7 @@ fn what_does_not_apply_is_refused() {
 /// answer the same certificate.
 #[test]
 fn the_command_line_certifies_the_gait_as_the_crawlers() {
-    let out = crawlopt(&[
+    let v = common::crawlopt_json(&[
         "optimize",
         GENERAL,
         "--method",
@@ -219,15 +219,9 @@ fn the_command_line_certifies_the_gait_as_the_crawlers() {
         "--certify",
         "--json",
     ]);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
     assert_eq!(v["method"], "sequence");
     assert!((v["objective"].as_f64().unwrap() - 2.6).abs() < 1e-9);
-    let out_c = crawlopt(&[
+    let c = common::crawlopt_json(&[
         "optimize",
         CRAWLER,
         "--method",
@@ -235,21 +229,12 @@ fn the_command_line_certifies_the_gait_as_the_crawlers() {
         "--certify",
         "--json",
     ]);
-    let c: serde_json::Value = serde_json::from_slice(&out_c.stdout).unwrap();
     assert_eq!(
         v["necessary_conditions"]["verdict"],
         c["necessary_conditions"]["verdict"]
     );
     let dir = tempfile::tempdir().unwrap();
-    let f = dir.path().join("r.json");
-    std::fs::write(&f, &out.stdout).unwrap();
-    let out = crawlopt(&["certify", f.to_str().unwrap(), "--json"]);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let back: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let back = common::certify_written(dir.path(), &v);
     assert_eq!(back, v["necessary_conditions"]);
     let text =
         String::from_utf8(crawlopt(&["optimize", GENERAL, "--method", "chain"]).stdout).unwrap();

@@ -225,15 +225,14 @@ fn a_growth_from_a_start_keeps_it_and_counts_no_plateau_below_it() {
 #[test]
 fn a_start_above_the_milps_bound_keeps_a_bound_at_its_j() {
     let dir = tempfile::tempdir().unwrap();
-    let model = dir.path().join("three.toml");
-    std::fs::write(
-        &model,
+    let model = common::write(
+        dir.path(),
+        "three.toml",
         "[crawler]\nblocks = 3\nstiffness = [0.603, 0.699]\nmu_forward = [0.546, 0.557, 0.284]\n\
          mu_backward = [0.51, 0.306, 0.97]\n[gait]\nperiod = 10.72\n\
          max_actuator_speed = [0.954, 0.705]\ncost = { kind = \"quadratic\", weight = 0.2 }\n",
-    )
-    .unwrap();
-    let out = common::crawlopt(&[
+    );
+    let v = common::crawlopt_json(&[
         "optimize",
         model.to_str().unwrap(),
         "--method",
@@ -242,26 +241,10 @@ fn a_start_above_the_milps_bound_keeps_a_bound_at_its_j() {
         "2",
         "--json",
     ]);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
     let j = v["objective"].as_f64().unwrap();
     let bound = v["certificate"]["bound"].as_f64().unwrap();
     assert!(bound >= j, "bound {bound} below J = {j}");
-    let file = common::write(
-        dir.path(),
-        "r.json",
-        std::str::from_utf8(&out.stdout).unwrap(),
-    );
-    let back = common::crawlopt(&["certify", file.to_str().unwrap()]);
-    assert!(
-        back.status.success(),
-        "{}",
-        String::from_utf8_lossy(&back.stderr)
-    );
+    common::certify_written(dir.path(), &v);
 }
 
 /// An idle phase optimum (no gait of at most 2 slip phases moves this crawler with its cost:
@@ -278,7 +261,7 @@ fn an_idle_phase_optimum_is_certified() {
          mu_backward = [0.445, 0.454, 0.374]\n[gait]\nperiod = 8.61\n\
          max_actuator_speed = [0.79, 1.367]\ncost = { kind = \"quadratic\", weight = 0.2 }\n",
     );
-    let out = common::crawlopt(&[
+    let v = common::crawlopt_json(&[
         "optimize",
         model.to_str().unwrap(),
         "--method",
@@ -288,14 +271,10 @@ fn an_idle_phase_optimum_is_certified() {
         "--certify",
         "--json",
     ]);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
     let j = v["objective"].as_f64().unwrap();
     assert!(j.abs() <= 1e-12, "J = {j}");
     assert_eq!(v["gait"]["durations"].as_array().map(Vec::len), Some(1));
     assert_eq!(v["necessary_conditions"]["verdict"], "degenerate", "{v}");
+    let back = common::certify_written(dir.path(), &v);
+    assert_eq!(back, v["necessary_conditions"]);
 }

@@ -142,6 +142,18 @@ impl Polyhedron {
             .fold(0.0_f64, |m, c| m.max(c.abs()))
             .max(1e-300)
     }
+
+    /// The least singular value of the normals of `faces` (0-based), stacked as rows: how far
+    /// those faces are from linear dependence. A reaction's multipliers on them are bounded by
+    /// `|eta| / sigma_min` (the MILPs' big-M).
+    pub fn least_singular_value(&self, faces: &[usize]) -> f64 {
+        let a =
+            nalgebra::DMatrix::from_fn(faces.len(), self.dim(), |i, k| self.normals[faces[i]][k]);
+        a.singular_values()
+            .iter()
+            .copied()
+            .fold(f64::INFINITY, f64::min)
+    }
 }
 
 /// The control set `U`.

@@ -201,15 +201,11 @@ impl ChainView {
         let blocks = self.faces.len();
         (0..blocks)
             .map(|omit| {
-                let rows: Vec<&Vec<f64>> = (0..blocks)
+                let rows: Vec<usize> = (0..blocks)
                     .filter(|&b| b != omit)
-                    .map(|b| &c.normals[self.faces[b][0]])
+                    .map(|b| self.faces[b][0])
                     .collect();
-                let a = nalgebra::DMatrix::from_fn(rows.len(), c.dim(), |i, k| rows[i][k]);
-                a.singular_values()
-                    .iter()
-                    .copied()
-                    .fold(f64::INFINITY, f64::min)
+                c.least_singular_value(&rows)
             })
             .fold(f64::INFINITY, f64::min)
     }

@@ -51,6 +51,25 @@ pub fn crawlopt(args: &[&str]) -> Output {
         .unwrap()
 }
 
+/// Runs `crawlopt` with `args`, asserts that it succeeded (showing its stderr if not) and
+/// parses its standard output as JSON.
+pub fn crawlopt_json(args: &[&str]) -> serde_json::Value {
+    let out = crawlopt(args);
+    assert!(
+        out.status.success(),
+        "{args:?}: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    serde_json::from_slice(&out.stdout).unwrap()
+}
+
+/// Writes an answer (a result file's JSON) into `dir` and certifies it back with
+/// `crawlopt certify FILE --json`, which must succeed: the certificate it prints.
+pub fn certify_written(dir: &Path, answer: &serde_json::Value) -> serde_json::Value {
+    let file = write(dir, "answer.json", &answer.to_string());
+    crawlopt_json(&["certify", file.to_str().unwrap(), "--json"])
+}
+
 /// Writes `text` to `dir/name` and returns the path.
 pub fn write(dir: &Path, name: &str, text: &str) -> PathBuf {
     let p = dir.join(name);

@@ -38,7 +38,6 @@ use crate::model::general::{
 use crate::optimal::milp::{solve_max, Certificate, MilpStatus, OA_TOL};
 use crate::optimal::solver::{Highs, SolveStatus};
 use highs::{Col, RowProblem, Sense};
-use nalgebra::DMatrix;
 use serde::{Deserialize, Serialize};
 
 /// Largest `m` (`2^m` steps) of the general P_m.
@@ -131,20 +130,13 @@ pub(super) fn big_m(p: &GeneralProblem, g: &Geometry, h: f64) -> Result<BigM> {
         g2 += m * m;
     }
     let sigma_min = match (&g.vertices, p.as_chain()) {
-        (Some(vertices), _) => {
-            let mut sigma_min = f64::INFINITY;
-            for v in vertices {
-                let rows: Vec<&Vec<f64>> = v.active.iter().map(|&j| &c.normals[j - 1]).collect();
-                let a = DMatrix::from_fn(rows.len(), c.dim(), |i, k| rows[i][k]);
-                let s = a
-                    .singular_values()
-                    .iter()
-                    .copied()
-                    .fold(f64::INFINITY, f64::min);
-                sigma_min = sigma_min.min(s);
-            }
-            sigma_min
-        }
+        (Some(vertices), _) => vertices
+            .iter()
+            .map(|v| {
+                let rows: Vec<usize> = v.active.iter().map(|&j| j - 1).collect();
+                c.least_singular_value(&rows)
+            })
+            .fold(f64::INFINITY, f64::min),
         // A chain too long to enumerate: its structure bounds every active set.
         (None, Some(view)) => {
             view.check_face_weights()?;

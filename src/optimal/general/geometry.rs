@@ -141,19 +141,19 @@ pub fn check_with(p: &GeneralProblem, g: &Geometry) -> Result<()> {
     if let Reward::FaceWeights(_) = p.reward {
         match (&g.vertices, g.degenerate_vertex) {
             // A crawler's chain: decided by its uniqueness condition, whatever N.
-            (None, _) if p.as_chain().is_some() => {
-                p.as_chain().map_or(Ok(()), |v| v.check_face_weights())?
-            }
-            (None, _) => {
-                return Err(Error::invalid(
-                    "objective.face_weights",
-                    format!("{} faces in dimension {}", g.faces, g.dim),
-                    format!(
-                        "cannot check that the weights are well defined (more than \
-                         {MAX_VERTEX_SUBSETS} vertex candidates); use reaction_weights"
-                    ),
-                ))
-            }
+            (None, _) => match p.as_chain() {
+                Some(chain) => chain.check_face_weights()?,
+                None => {
+                    return Err(Error::invalid(
+                        "objective.face_weights",
+                        format!("{} faces in dimension {}", g.faces, g.dim),
+                        format!(
+                            "cannot check that the weights are well defined (more than \
+                             {MAX_VERTEX_SUBSETS} vertex candidates); use reaction_weights"
+                        ),
+                    ))
+                }
+            },
             (Some(vs), Some(k)) => {
                 let v = &vs[k - 1];
                 return Err(Error::invalid(
