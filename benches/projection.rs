@@ -3,7 +3,9 @@
 //! n links (N = n + 1 blocks, sigma = 2N faces), k = 1, mu+ = 1, mu- = 3.3, under the travelling
 //! sine `L_l = 2 sin(2 pi t - l pi/2)`, 200 steps a period, from the periodic orbit; the general
 //! projector works on the crawler's general form (`model::crawler_as_general`), warm-started
-//! like the crawler's; and a generic QP solver, Clarabel (interior point, a fresh solve per
+//! like the crawler's; the general form's projector chosen by its structure (`sweep::OntoC`:
+//! the crawler's projection behind the general interface, the price of the change of variables
+//! and of the general answer); and a generic QP solver, Clarabel (interior point, a fresh solve per
 //! step from the same matrices: it has no warm start), on the same general form.
 //! `cargo bench --bench projection`; throughput in steps per second.
 
@@ -12,7 +14,7 @@ use clarabel::solver::{DefaultSettings, DefaultSolver, IPSolver, NonnegativeCone
 use crawlopt::integrate::{Actuation, Waveform};
 use crawlopt::model::crawler_as_general;
 use crawlopt::model::general::GeneralCost;
-use crawlopt::sweep::{PolyProjector, Projector};
+use crawlopt::sweep::{OntoC, PolyProjector, Projector};
 use crawlopt::Crawler;
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
 use std::hint::black_box;
@@ -94,6 +96,26 @@ fn bench_projection(c: &mut Criterion) {
         }
         g.bench_with_input(BenchmarkId::new("general", n), &n, |b, _| {
             b.iter(|| period_g(black_box(&mut xt)))
+        });
+        // The general problem's projector chosen by its structure (`sweep::OntoC`): the chain's
+        // O(N) method through the change of variables, with the general answer's multipliers
+        // and its KKT residual on the problem's own rows.
+        let view = inst.problem.as_chain().unwrap();
+        let mut sp = OntoC::new(&inst.problem.c, Some(&view)).unwrap();
+        let mut xs = vec![0.0; n];
+        let mut period_s = |xs: &mut Vec<f64>| {
+            for delta in &incs_t {
+                for k in 0..n {
+                    v[k] = xs[k] + delta[k];
+                }
+                *xs = sp.project(xs, &v).unwrap().x;
+            }
+        };
+        for _ in 0..50 {
+            period_s(&mut xs);
+        }
+        g.bench_with_input(BenchmarkId::new("general_by_structure", n), &n, |b, _| {
+            b.iter(|| period_s(black_box(&mut xs)))
         });
         // Clarabel: min (1/2)|x|^2 - <v, x> s.t. N x <= c, its default tolerances (1e-8).
         let cpoly = &inst.problem.c;

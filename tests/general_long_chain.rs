@@ -9,6 +9,7 @@ use common::{crawlopt, write};
 use crawlopt::api::{analyze_general, simulate_general};
 use crawlopt::integrate::{simulate_general_exact, GeneralMethod, GeneralSimOptions};
 use crawlopt::io::{CheckStatus, GeneralFile};
+use crawlopt::model::general::GeneralProblem;
 use crawlopt::optimal::general::analyze_polyhedron;
 
 /// A chain of `blocks` blocks with per-link stiffness `k`, per-block thresholds `mu+`, `mu-`
@@ -60,12 +61,15 @@ fn chain_text(k: &[f64], mu_plus: &[f64], mu_minus: &[f64]) -> String {
 }
 
 fn uniform(blocks: usize, mu_minus: f64) -> GeneralFile {
-    GeneralFile::parse(&chain_text(
+    GeneralFile::parse(&uniform_text(blocks, mu_minus)).unwrap()
+}
+
+fn uniform_text(blocks: usize, mu_minus: f64) -> String {
+    chain_text(
         &vec![1.0; blocks - 1],
         &vec![1.0; blocks],
         &vec![mu_minus; blocks],
-    ))
-    .unwrap()
+    )
 }
 
 /// Twenty blocks: well posed by the chain's own check (C's vertices are not enumerated), and
@@ -267,25 +271,104 @@ fn a_chains_regime_is_searched_by_the_crawlers_simulator() {
     }
 }
 
-/// Where the crawler's simulator does not apply the general one iterates plainly: catching-up
-/// asked, and a problem that is not a chain (the one-link example with a drift).
+/// Where the crawler's simulator does not apply the general one iterates plainly: a
+/// piecewise-linear input (catching-up, its steps still projected by the chain's method), and a
+/// problem that is not a chain (the one-link example with a drift).
 #[test]
 fn the_plain_search_where_the_chain_does_not_apply() {
-    let file = uniform(12, 1.3);
+    let text = uniform_text(12, 1.3).replace("piecewise_constant", "piecewise_linear");
     let s = simulate_general(
-        &file,
-        &GeneralSimOptions {
-            method: GeneralMethod::CatchingUp,
-            ..GeneralSimOptions::DEFAULT
-        },
+        &GeneralFile::parse(&text).unwrap(),
+        &GeneralSimOptions::DEFAULT,
     )
     .unwrap();
-    assert_eq!(s.regime_search, "plain");
+    assert_eq!((s.method, s.regime_search), ("catching-up", "plain"));
+    assert_eq!(s.simulation.projection, "chain");
     let drift = GeneralFile::load_if_general("examples/general_drift.toml".as_ref())
         .unwrap()
         .unwrap();
     let s = simulate_general(&drift, &GeneralSimOptions::DEFAULT).unwrap();
     assert_eq!(s.regime_search, "plain");
+    let s = simulate_general(&drift, &catching_up()).unwrap();
+    assert_eq!(
+        (s.regime_search, s.simulation.projection),
+        ("plain", "dense")
+    );
+}
+
+fn catching_up() -> GeneralSimOptions {
+    GeneralSimOptions {
+        method: GeneralMethod::CatchingUp,
+        ..GeneralSimOptions::DEFAULT
+    }
+}
+
+/// `p` with its first two states swapped: the same problem (the same `J` for the same input),
+/// but no longer recognised as a chain (block 2's normal then has entries on states 1 and 3),
+/// so simulated by the dense projection and the plain iteration alone.
+fn disguised(p: &GeneralProblem) -> GeneralProblem {
+    let mut q = p.clone();
+    for row in q.c.normals.iter_mut() {
+        row.swap(0, 1);
+    }
+    q.dynamics.b.swap(0, 1);
+    assert!(q.as_chain().is_none());
+    q
+}
+
+/// Catching-up on a chain: the regime searched by the crawler's catching-up scheme and every
+/// step projected by the chain's O(N) method give the `J` of the same problem in disguise
+/// ([`disguised`]: dense projections, plain iteration from the origin, an independent path),
+/// on the heterogeneous 6-block chain under an uneven input and on the uniform 20-block chain,
+/// where the wave's catching-up value is the closed form `4 - 1/19` (its knots are on the
+/// steps); the chain's search in a few periods where the plain one takes hundreds.
+#[test]
+fn catching_up_on_a_chain_projects_and_searches_with_the_chains_kernels() {
+    let k = [1.0, 2.0, 0.7, 1.5, 1.2];
+    let (u0, u1) = ([0.6, -0.3, 0.5, 0.2, -0.9], [-0.4, 1.0, -1.0, -0.9, 0.4]);
+    let u2: Vec<f64> = (0..5).map(|l| -(4.0 * u0[l] + 3.0 * u1[l]) / 3.0).collect();
+    let uneven = with_input(
+        &chain_text(
+            &k,
+            &[1.0, 1.1, 0.9, 1.2, 1.0, 1.05],
+            &[1.5, 1.3, 1.7, 1.4, 1.6, 1.35],
+        ),
+        "[0.0, 4.0, 7.0]",
+        &[u0.to_vec(), u1.to_vec(), u2],
+    );
+    for (file, long) in [(uneven, false), (uniform(20, 1.3), true)] {
+        let s = simulate_general(&file, &catching_up()).unwrap();
+        assert_eq!(
+            (s.method, s.regime_search, s.simulation.projection),
+            ("catching-up", "chain", "chain")
+        );
+        let (p, _) = crawlopt::api::general_problem(&file).unwrap();
+        let input = file.input(&p).unwrap();
+        let q = disguised(&p);
+        let dense = crawlopt::integrate::simulate_general(
+            &q,
+            &input,
+            &vec![0.0; q.states()],
+            &catching_up(),
+        )
+        .unwrap();
+        assert_eq!(dense.projection, "dense");
+        let (a, b) = (s.objective.unwrap(), dense.objective.unwrap());
+        assert!((a - b).abs() <= 1e-9 * b.abs().max(1.0), "{a} vs {b}");
+        if long {
+            assert!((a - (4.0 - 1.0 / 19.0)).abs() <= 1e-9, "{a}");
+            assert!(
+                10 * s.simulation.periods < dense.periods,
+                "{} vs {}",
+                s.simulation.periods,
+                dense.periods
+            );
+        }
+        println!(
+            "J = {a:.12} in {} periods (dense, plain: {b:.12} in {})",
+            s.simulation.periods, dense.periods
+        );
+    }
 }
 
 /// Where the crawler's simulator refuses the input (a single knot: a constant control) or its

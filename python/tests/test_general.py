@@ -258,3 +258,17 @@ def test_the_crawlers_local_methods_on_a_chain():
     with pytest.raises(co.InputError) as e:
         g.optimize(method="sequence", m=3)
     assert e.value.field == "m"
+
+
+def test_a_chain_file_is_simulated_with_the_chains_kernels():
+    # The 20-block crawler written as (P) under the alternating wave: both methods give the
+    # closed form 4 - 1/19, the regime searched by the crawler's simulator on the chain, the
+    # catching-up steps projected by the chain's O(N) method (the exact method's tangent cones
+    # by the dense one).
+    p = co.load(example("general_chain20.toml"))
+    for method, projection in (("exact", "dense"), ("catching_up", "chain")):
+        s = p.simulate(method=method)
+        assert s["regime_search"] == "chain"
+        assert s["simulation"]["projection"] == projection
+        assert s.objective == pytest.approx(4 - 1 / 19, abs=1e-9)
+        assert s["simulation"]["periods"] < 50

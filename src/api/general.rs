@@ -178,11 +178,14 @@ pub fn analyze_general(file: &GeneralFile) -> Result<GeneralAnalysis> {
 /// catching-up ([`crate::integrate::general`], the damping of `A` stepped implicitly): for a
 /// periodic problem until the periodic regime, with `J` of one period on the orbit; for a
 /// Cauchy problem over `[0, T]` from `x(0)`. On a crawler's chain
-/// ([`GeneralProblem::as_chain`](crate::model::general::GeneralProblem::as_chain)) simulated
-/// exactly with a zero-mean input, the periodic regime is searched by the crawler's simulator
-/// ([`crate::integrate::chain_regime`]: the chain's O(N) kernels and Newton steps, where the
-/// general period map is iterated plainly) and the general exact simulator plays the period from
-/// the state it found, checking that it repeats (`regime_search = "chain"`).
+/// ([`GeneralProblem::as_chain`](crate::model::general::GeneralProblem::as_chain)) under a
+/// zero-mean piecewise-constant input, the periodic regime is searched by the crawler's
+/// simulator with the same scheme ([`crate::integrate::chain_regime`]: the chain's O(N) kernels
+/// and Newton steps, where the general period map is iterated plainly) and the general simulator
+/// plays the period from the state it found, checking that it repeats (`regime_search =
+/// "chain"`); its catching-up steps project with the chain's O(N) method too
+/// (`simulation.projection = "chain"`, [`crate::sweep::OntoC`]), the exact method's tangent
+/// cones with the dense one.
 pub fn simulate_general(file: &GeneralFile, opts: &GeneralSimOptions) -> Result<GeneralSimulated> {
     let (p, g) = general_problem(file)?;
     let input = file.input(&p)?;
@@ -202,11 +205,18 @@ pub fn simulate_general(file: &GeneralFile, opts: &GeneralSimOptions) -> Result<
         && p.dynamics.is_state_independent()
         && input.kind == crate::integrate::InputKind::PiecewiseConstant;
     // A chain's periodic regime is searched by the crawler's simulator (its O(N) kernels and
-    // Newton steps); the general simulator then plays the period from the state found.
+    // Newton steps, with the same scheme); the general simulator then plays the period from the
+    // state found.
+    let catching_up = (!exact).then_some(opts.steps_per_period);
     let regime = match p.as_chain() {
-        Some(view) if exact && start_from == "origin" => {
-            crate::integrate::chain_regime(&p, &view, &input, opts.max_periods, opts.tol)?
-        }
+        Some(view) if start_from == "origin" => crate::integrate::chain_regime(
+            &p,
+            &view,
+            &input,
+            catching_up,
+            opts.max_periods,
+            opts.tol,
+        )?,
         _ => None,
     };
     // The crawler's state is taken when the general simulator confirms it within a few
@@ -214,8 +224,15 @@ pub fn simulate_general(file: &GeneralFile, opts: &GeneralSimOptions) -> Result<
     let confirmed = match &regime {
         Some(r) => {
             let budget = crate::integrate::chain_regime::REPLAY_PERIODS.min(opts.max_periods);
-            let s =
-                crate::integrate::simulate_general_exact(&p, &input, &r.state, budget, opts.tol)?;
+            let s = if exact {
+                crate::integrate::simulate_general_exact(&p, &input, &r.state, budget, opts.tol)?
+            } else {
+                let replay = GeneralSimOptions {
+                    max_periods: budget,
+                    ..opts.clone()
+                };
+                integrate_general(&p, &input, &r.state, &replay)?
+            };
             s.converged.then(|| crate::integrate::GeneralSimulation {
                 periods: s.periods + r.periods,
                 ..s

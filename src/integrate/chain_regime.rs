@@ -4,6 +4,11 @@
 //! exact simulator ([`super::general_exact`]) iterates the period map plainly through `O(N^2)`
 //! transient periods of a long chain (50 blocks: 3782 periods).
 //!
+//! The same holds for the catching-up scheme: the crawler's step increment `K (L(t_(i+1)) -
+//! L(t_i))` is `int u dt` over the step, the general scheme's `h B u^i` in the crawler's
+//! variables, so both iterate the same period map (to rounding) and the crawler's Newton
+//! steps replace the general scheme's plain iteration.
+//!
 //! The control `u` of (P) is the crawler's `K L'` (`model::general_crawler`: `x' in u - K
 //! N_C(x)`), so a piecewise-constant `u` is the piecewise-linear actuation with
 //! `L_l(t_(k+1)) = L_l(t_k) + u_(k,l) (t_(k+1) - t_k) / k_l`, periodic when `u` has zero mean;
@@ -33,7 +38,8 @@ pub struct ChainRegime {
 }
 
 /// The periodic regime of `p` under `input` from the origin, by the crawler's simulator
-/// (module docs), to the periodicity tolerance `tol` within `max_periods`; `None` where it does
+/// (module docs) with the exact method, or with `catching_up = Some(M)` the catching-up scheme
+/// of `M` steps a period, to the periodicity tolerance `tol` within `max_periods`; `None` where it does
 /// not apply (not a periodic chain, a piecewise-linear input, an input without zero mean, an
 /// input or option the crawler's simulator refuses) or the search did not converge: the caller
 /// then iterates the general period map itself. Errors: a cancellation or the deadline only.
@@ -41,6 +47,7 @@ pub fn chain_regime(
     p: &GeneralProblem,
     view: &ChainView,
     input: &ControlInput,
+    catching_up: Option<usize>,
     max_periods: usize,
     tol: f64,
 ) -> Result<Option<ChainRegime>> {
@@ -74,6 +81,8 @@ pub fn chain_regime(
         return Ok(None);
     };
     let opts = SimOptions {
+        method: catching_up.map_or(super::Method::Exact, |_| super::Method::CatchingUp),
+        steps_per_period: catching_up.unwrap_or(SimOptions::DEFAULT.steps_per_period),
         record_periods: 0,
         max_periods,
         tol,

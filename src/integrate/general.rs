@@ -34,7 +34,7 @@ use crate::model::general::{
     min_steps, Boundary, ControlSet, GeneralProblem, Polyhedron, EXPLICIT_STEP_LIMIT,
     GROWTH_STEP_LIMIT,
 };
-use crate::sweep::PolyProjector;
+use crate::sweep::{OntoC, PolyProjector};
 use serde::Serialize;
 
 /// How the given control is interpolated between its knots.
@@ -277,6 +277,10 @@ pub struct GeneralSimulation {
     pub u: Vec<Vec<f64>>,
     /// Reactions per face `lambda^i = mu^i / h` (`M` rows of `sigma`).
     pub lambda: Vec<Vec<f64>>,
+    /// The projection of the catching-up steps ([`crate::sweep::OntoC`]): `"chain"` (the
+    /// crawler's O(N) projection, where (P) is a crawler's chain) or `"dense"` (the general
+    /// active-set method; also the exact method's tangent cones).
+    pub projection: &'static str,
     /// The largest KKT residual of a projection of the recorded period (for the semi-implicit
     /// step with a damping, of the Euclidean projection in `z = L^T x`).
     pub max_kkt_residual: f64,
@@ -320,21 +324,35 @@ pub fn simulate_general(
         };
         input.mean(i as f64 * h, t1, u);
     }
-    let mut proj = PolyProjector::new(match &metric {
-        Some(mt) => mt.c.clone(),
-        None => p.c.clone(),
-    });
+    // The projection by structure: a chain's O(N) one where (P) is a crawler's chain (the
+    // metric step is for a damped drift, which a chain has not).
+    let mut proj = match &metric {
+        Some(mt) => OntoC::Dense(PolyProjector::new(mt.c.clone())),
+        None => OntoC::new(&p.c, p.as_chain().as_ref())?,
+    };
+    let projection = proj.kind();
     let x = x0.to_vec();
+    // `B u^i + b` of each step, the same every period; `A x` only where `A` has entries.
+    let forcing: Vec<Vec<f64>> = us
+        .iter()
+        .map(|u| {
+            (0..n)
+                .map(|k| crate::model::general::dot(&p.dynamics.b[k], u) + p.dynamics.drift[k])
+                .collect()
+        })
+        .collect();
+    let drift_rows: Vec<usize> = (0..n)
+        .filter(|&k| a_exp[k].iter().any(|v| *v != 0.0))
+        .collect();
     let mut g = vec![0.0; n];
     let mut v = vec![0.0; n];
     // One period from `x`; with `record`, the trajectory.
     let period = |x: &mut Vec<f64>, record: Option<&mut GeneralSimulation>| -> Result<()> {
         let mut rec = record;
         for (i, u) in us.iter().enumerate() {
-            for k in 0..n {
-                g[k] = crate::model::general::dot(&a_exp[k], x)
-                    + crate::model::general::dot(&p.dynamics.b[k], u)
-                    + p.dynamics.drift[k];
+            g.copy_from_slice(&forcing[i]);
+            for &k in &drift_rows {
+                g[k] += crate::model::general::dot(&a_exp[k], x);
             }
             for k in 0..n {
                 v[k] = x[k] + h * g[k];
@@ -357,7 +375,9 @@ pub fn simulate_general(
         }
         Ok(())
     };
-    periodic_regime(p, input, x, opts.max_periods, opts.tol, period)
+    let mut sim = periodic_regime(p, input, x, opts.max_periods, opts.tol, period)?;
+    sim.projection = projection;
+    Ok(sim)
 }
 
 /// Refuses `steps_per_period = mm` where the drift's explicit part is beyond its limit (module
@@ -493,12 +513,7 @@ impl Metric {
 
     /// The projection of `M^-1 r` (`r` given) onto C in the metric `M`, from `x`; its
     /// multipliers are those of the unit normals of C (`M (v - x^+) = sum_j mu_j x*_j`).
-    fn project(
-        &self,
-        proj: &mut PolyProjector,
-        x: &[f64],
-        r: &[f64],
-    ) -> Result<crate::sweep::Projection> {
+    fn project(&self, proj: &mut OntoC, x: &[f64], r: &[f64]) -> Result<crate::sweep::Projection> {
         let z0 = &self.l_t * nalgebra::DVector::from_column_slice(x);
         let zv = &self.l_inv * nalgebra::DVector::from_column_slice(r);
         let mut a = proj.project(z0.as_slice(), zv.as_slice())?;
@@ -559,6 +574,7 @@ pub(super) fn periodic_regime(
         x: vec![x.clone()],
         u: vec![],
         lambda: vec![],
+        projection: "dense",
         max_kkt_residual: 0.0,
     };
     if converged {

@@ -9,11 +9,13 @@
 
 mod chain;
 mod dp;
+mod onto_c;
 pub mod polyhedron;
 mod warm;
 
 pub use chain::{increment, rigid_mean, tangent, Bound, ChainQp};
 pub use dp::ChainDp;
+pub use onto_c::{ChainOntoC, OntoC};
 pub use polyhedron::{PolyProjector, Projection};
 pub use warm::ChainWarm;
 

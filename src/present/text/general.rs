@@ -144,10 +144,14 @@ pub fn general_simulation(r: &GeneralSimulated) -> String {
         out,
         "method: {}{}, started at {} ({})",
         r.method,
-        if r.method == "exact" {
-            String::new()
-        } else {
-            format!(", {} steps per period", r.steps_per_period)
+        match (r.method, sim.projection) {
+            ("exact", _) => String::new(),
+            (_, "chain") => format!(
+                ", {} steps per period (projections by the chain's O(N) method: the problem is \
+                 a crawler's chain)",
+                r.steps_per_period
+            ),
+            _ => format!(", {} steps per period", r.steps_per_period),
         },
         list(&r.start, 0.0),
         r.start_from
