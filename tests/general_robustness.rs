@@ -3,6 +3,8 @@
 //! refinement, against closed forms) or refused naming the grid, a documented limit on the
 //! faces with an analysis that scales with them, and normals of extreme length accepted.
 
+mod common;
+
 use crawlopt::api::{self, GeneralPmSettings};
 use crawlopt::integrate::{DriftStep, GeneralMethod, GeneralSimOptions};
 use crawlopt::io::GeneralFile;
@@ -329,4 +331,63 @@ fn p_m_at_extreme_scales_names_the_field() {
         ));
         assert!(e.starts_with(field) && e.contains("P_m's solver"), "{e}");
     }
+}
+
+/// A polytope U and a phase gait with a short phase: the MILP holds `G U_j <= h tau_j` to its
+/// feasibility tolerance only, so the control `U_j / tau_j` of a phase of `tau` near `1e-8`
+/// lay 2.3 outside a row of U and the answer was refused with exit 2 ("phase controls.values[2]:
+/// lies outside U"). The control is now projected into U before the replay: the answer is
+/// given (the idle gait is feasible, so `J >= 0` up to rounding), within its bound, every
+/// control in U, and the written file reads back and certifies.
+#[test]
+fn a_short_phases_control_is_moved_into_a_polytope_u() {
+    let dir = tempfile::tempdir().unwrap();
+    let model = common::write(
+        dir.path(),
+        "polytope_u.toml",
+        "[sweeping_process]\n\
+         normals = [[0.9997372281088599, 0.02292323566195161], [0.1387449886130504, \
+         0.9903281416453662], [-0.9949380672463262, 0.10049001116601047], \
+         [0.0035330825904135534, -0.9999937586442273]]\n\
+         offsets = [0.7552912262686192, 0.838851581068972, 0.6139129123927302, \
+         0.7351895113842175]\n\
+         [dynamics]\nB = [[0.8879897982475538, 0.5590796910868205], [0.43021727930404396, \
+         -0.02241435445329598]]\n\
+         [control]\nG = [[1.9753671107542528, -0.07740368977463759], [-0.30987330566396687, \
+         0.5999056494386116], [-0.7746520746929578, -1.5640900825725343]]\n\
+         h = [0.3919819644461409, 0.9603297044966883, 0.9791598208106451]\nzero_mean = true\n\
+         [objective]\nface_weights = [0.45224622835758055, -0.13510819605910684, \
+         -0.20444739189411087, 0.03429418746432067]\n\
+         cost = { kind = \"quadratic\", weight = 0.0984788 }\n\
+         [problem]\nperiod = 4.028844916223908\n",
+    );
+    let v = common::crawlopt_json(&[
+        "optimize",
+        model.to_str().unwrap(),
+        "--method",
+        "phase",
+        "--phases",
+        "3",
+        "--json",
+    ]);
+    let j = v["objective"].as_f64().unwrap();
+    let bound = v["certificate"]["bound"].as_f64().unwrap();
+    assert!(j >= -1e-9 && bound >= j - 1e-9, "J = {j}, bound {bound}");
+    let g = [
+        [1.9753671107542528, -0.07740368977463759, 0.3919819644461409],
+        [-0.30987330566396687, 0.5999056494386116, 0.9603297044966883],
+        [-0.7746520746929578, -1.5640900825725343, 0.9791598208106451],
+    ];
+    for u in v["solution"]["controls"].as_array().unwrap() {
+        let u: Vec<f64> = u
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|x| x.as_f64().unwrap())
+            .collect();
+        for r in &g {
+            assert!(r[0] * u[0] + r[1] * u[1] <= r[2] + 1e-9, "{u:?} outside U");
+        }
+    }
+    common::certify_written(dir.path(), &v);
 }

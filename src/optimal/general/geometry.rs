@@ -176,7 +176,7 @@ pub fn check_with(p: &GeneralProblem, g: &Geometry) -> Result<()> {
 /// A Chebyshev centre: `max r` s.t. `<x*_j, x> + r <= c_j`, `0 <= r <= 2 s` (the cap bounds the
 /// LP when C is unbounded; a bounded C has `r <= max_j c_j`: sum the rows with the weights of a
 /// positive dependence). Solved for `x / s`. Errors: C empty ([`Error::Infeasible`]).
-fn chebyshev(c: &Polyhedron, s: f64) -> Result<(Vec<f64>, f64, bool)> {
+pub(super) fn chebyshev(c: &Polyhedron, s: f64) -> Result<(Vec<f64>, f64, bool)> {
     let n = c.dim();
     let mut pb = RowProblem::default();
     let x: Vec<_> = (0..n)
