@@ -58,11 +58,41 @@ fn optimize_reports_the_upper_bound_and_the_file_reads_back() {
         "{}",
         String::from_utf8_lossy(&err.stderr)
     );
-    // Grid flags need --bound.
-    for flag in ["--bound-resolution", "--bound-cost-tangents"] {
+    // Every --bound-* flag needs --bound, and the message names the flag given.
+    for flag in [
+        "--bound-resolution",
+        "--bound-box-resolution",
+        "--bound-time-limit",
+        "--bound-cost-tangents",
+    ] {
         let out = crawlopt(&["optimize", "examples/one_link_gait.toml", flag, "4"]);
         assert_eq!(out.status.code(), Some(2), "{flag}");
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(err.contains(&format!("error: {flag}: ")), "{err}");
     }
+}
+
+/// `--bound-time-limit` is the bound's own: it shared an argument id with `optimize`'s
+/// `--time-limit`, so `--bound-time-limit 0.5` alone stopped the three-block MILP at 0.5 s
+/// (status `time_limit`, exit 0). With `--bound` and that limit (the bound's LP on a 2 x 2 grid
+/// takes about 0.04 s), the MILP still proves its optimum.
+#[test]
+fn the_bounds_time_limit_is_not_the_optimisers() {
+    let v = common::crawlopt_json(&[
+        "optimize",
+        "examples/three_blocks_gait.toml",
+        "--bound",
+        "--bound-resolution",
+        "2",
+        "--bound-box-resolution",
+        "2",
+        "--bound-time-limit",
+        "0.5",
+        "--json",
+    ]);
+    assert_eq!(v["status"], "optimal_among_k_phases", "{}", v["status"]);
+    assert!((v["objective"].as_f64().unwrap() - 2.6).abs() < 1e-9);
+    assert!(v["certificate"]["upper_bound"]["value"].as_f64().unwrap() >= 2.6 - 1e-9);
 }
 
 #[test]
