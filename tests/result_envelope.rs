@@ -204,6 +204,29 @@ fn refused(v: &Value, want: &str) {
     );
 }
 
+/// A phase gait's record of its replay (`state_gap`, beyond the 1e-6 of C's scale that the
+/// optimiser keeps) and of its MILP (`milp_objective` above the bound) are checked on reading
+/// back, naming the field; they were printed as read.
+#[test]
+fn a_phase_gaits_replay_gap_and_milp_value_are_checked_on_reading() {
+    let (_, v) = optimize(ONE_LINK, &["--method", "phase", "--phases", "4"]);
+    ResultFile::from_json(&v.to_string(), "r.json").unwrap();
+    let bound = v["solution"]["certificate"]["bound"].as_f64().unwrap();
+    for (at, to, want) in [
+        ("/solution/state_gap", json!(0.5), "solution.state_gap"),
+        ("/solution/state_gap", json!(-1e-9), "solution.state_gap"),
+        (
+            "/solution/certificate/milp_objective",
+            json!(bound + 0.5),
+            "solution.certificate.milp_objective",
+        ),
+    ] {
+        let mut w = v.clone();
+        set(&mut w, at, to);
+        refused(&w, want);
+    }
+}
+
 /// A general result changed in one number (the objective, a control, a reaction, the bound,
 /// the status, the problem) is refused by `ResultFile::from_json`, and so by `certify`, naming
 /// the field.
@@ -240,6 +263,12 @@ fn tampered_general_results_are_refused_naming_the_field() {
         ("/kind", json!("robot"), "kind"),
         ("/version", json!(2), "version"),
         ("/solution/m", json!(11), "solution.m"),
+        // The MILP's incumbent above its own bound.
+        (
+            "/solution/certificate/milp_objective",
+            json!(j + 1.0),
+            "solution.certificate.milp_objective",
+        ),
         (
             "/problem/objective/face_weights",
             json!([0.5, 0.25]),

@@ -606,12 +606,18 @@ fn check_phase(
         sim.reward,
         "int f1 of the stored reactions disagrees with the exact replay's",
     )?;
-    if !(s.state_gap.is_finite() && s.state_gap >= 0.0) {
+    // The optimiser keeps a gait only when its replay meets the solver's states within 1e-6 of
+    // C's scale.
+    if !(s.state_gap.is_finite() && s.state_gap >= 0.0 && s.state_gap <= 1e-6 * scale) {
         return Err(bad(
             what,
             "solution.state_gap",
             s.state_gap,
-            "must be finite and non-negative",
+            format!(
+                "must be finite, non-negative and at most 1e-6 of C's scale ({:e}): the \
+                 optimiser keeps no gait whose replay is farther from the solver's states",
+                1e-6 * scale
+            ),
         ));
     }
     Ok(sim.reward - sim.cost)
@@ -664,14 +670,6 @@ fn check_global(
             return Err(bad(what, field, got, format!("must be {want}")));
         }
     }
-    if !(c.milp_objective.is_finite()) {
-        return Err(bad(
-            what,
-            "solution.certificate.milp_objective",
-            c.milp_objective,
-            "must be finite",
-        ));
-    }
     let tol = INPUT_TOL * j.abs().max(1.0);
     if !(c.bound.is_finite() && c.bound >= j - tol) {
         return Err(bad(
@@ -679,6 +677,17 @@ fn check_global(
             "solution.certificate.bound",
             c.bound,
             format!("is below the verified objective {j}"),
+        ));
+    }
+    // The MILP's incumbent lies under its own bound.
+    if !(c.milp_objective.is_finite()
+        && c.milp_objective <= c.bound + INPUT_TOL * c.bound.abs().max(1.0))
+    {
+        return Err(bad(
+            what,
+            "solution.certificate.milp_objective",
+            c.milp_objective,
+            format!("must be finite and at most the bound ({})", c.bound),
         ));
     }
     let gap = Certificate::gap_of(c.bound, j);
