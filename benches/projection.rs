@@ -101,7 +101,8 @@ fn bench_projection(c: &mut Criterion) {
         // O(N) method through the change of variables, with the general answer's multipliers
         // and its KKT residual on the problem's own rows.
         let view = inst.problem.as_chain().unwrap();
-        let mut sp = OntoC::new(&inst.problem.c, Some(&view)).unwrap();
+        let mut sp = OntoC::new(&inst.problem.c, Some(&view));
+        assert_eq!(sp.kind(), "chain");
         let mut xs = vec![0.0; n];
         let mut period_s = |xs: &mut Vec<f64>| {
             for delta in &incs_t {

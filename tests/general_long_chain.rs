@@ -416,3 +416,91 @@ fn the_plain_search_takes_over_where_the_chains_does_not_hold() {
         s.simulation.periods
     );
 }
+
+/// The crawler's search is held to the general simulator's criterion of repetition (`x~`
+/// within `tol` times C's scale, up to N times tighter than the crawler's own on its state
+/// `K^(1/2) x~`): on 30 blocks of alternating stiffness 0.3 and 2.7 under the wave, its state
+/// was not confirmed within the replay's 20 periods and the plain search took 2652 (exact) and
+/// 2662 (catching-up) periods; both now take the chain's, with the exact method's `J` that of
+/// the plain iteration.
+#[test]
+fn the_chains_search_meets_the_general_criterion_on_uneven_stiffness() {
+    let k: Vec<f64> = (0..29)
+        .map(|l| if l % 2 == 0 { 0.3 } else { 2.7 })
+        .collect();
+    let file = GeneralFile::parse(&chain_text(&k, &[1.0; 30], &[1.3; 30])).unwrap();
+    for opts in [GeneralSimOptions::DEFAULT, catching_up()] {
+        let s = simulate_general(&file, &opts).unwrap();
+        assert_eq!(s.regime_search, "chain", "{}", s.method);
+        assert!(s.simulation.periods < 100, "{}", s.simulation.periods);
+    }
+    let s = simulate_general(&file, &GeneralSimOptions::DEFAULT).unwrap();
+    let (p, _) = crawlopt::api::general_problem(&file).unwrap();
+    let input = file.input(&p).unwrap();
+    let plain = simulate_general_exact(&p, &input, &vec![0.0; p.states()], 5000, 1e-12).unwrap();
+    let (a, b) = (s.objective.unwrap(), plain.objective.unwrap());
+    assert!((a - b).abs() <= 1e-9 * b.abs(), "{a} vs {b}");
+}
+
+/// A chain whose thresholds nearly balance (one link, `mu_1^+ - mu_2^-` of 1.5e-9 relative):
+/// C's vertex enumeration accepts it, the crawler's projection (relative `1e-9`) does not, so
+/// catching-up projects densely where it was refused with exit 2 naming the uniqueness
+/// condition; the same `J` as the exact method.
+#[test]
+fn a_nearly_balanced_chain_is_projected_densely() {
+    let file = GeneralFile::parse(
+        "[sweeping_process]\nnormals = [[-1.0], [1.0], [1.0], [-1.0]]\n\
+         offsets = [0.50000000075, 0.7, 0.55, 0.5]\n[dynamics]\nB = [[1.0]]\n\
+         [control]\nlower = [-1.5]\nupper = [1.5]\n\
+         [objective]\nface_weights = [0.5, -0.5, 0.5, -0.5]\n[problem]\nperiod = 10.0\n\
+         [input]\nkind = \"piecewise_constant\"\ntimes = [0.0, 3.3, 6.1]\n\
+         values = [[1.0], [-1.2], [0.0153846153846154]]\n",
+    )
+    .unwrap();
+    let s = simulate_general(&file, &catching_up()).unwrap();
+    assert_eq!(s.simulation.projection, "dense");
+    let exact = simulate_general(&file, &GeneralSimOptions::DEFAULT).unwrap();
+    let (a, b) = (s.objective.unwrap(), exact.objective.unwrap());
+    assert!((a - b).abs() <= 1e-9, "{a} vs {b}");
+}
+
+/// `optimize --method local` on a chain (4 blocks, uneven stiffness, thresholds and scale):
+/// the chain's projection gave a free block's rounding (1e-16) as a reaction on a face far from
+/// the state, which the local method took for a held face in its start branch, and its LP
+/// had no feasible point (exit 2). Reactions now come from the projection's working set only.
+#[test]
+fn the_local_method_starts_from_a_chains_simulation() {
+    let dir = tempfile::tempdir().unwrap();
+    let file = write(dir.path(), "chain4.toml", CHAIN4);
+    for m in ["4", "6"] {
+        let v = common::crawlopt_json(&[
+            "optimize",
+            file.to_str().unwrap(),
+            "--method",
+            "local",
+            "--m",
+            m,
+            "--json",
+        ]);
+        assert_eq!(v["solution"]["stop"], "stationary", "{v}");
+    }
+}
+
+const CHAIN4: &str = r#"[sweeping_process]
+normals = [[-1.0, 0.0, 0.0], [1.0, -0.0, -0.0], [0.19008136006754056, -0.981768341593308, 0.0], [-0.19008136006754056, 0.981768341593308, -0.0], [0.0, 0.7714546003353933, -0.6362843700904169], [-0.0, -0.7714546003353933, 0.6362843700904169], [0.0, 0.0, 1.0], [-0.0, -0.0, -1.0]]
+offsets = [0.7648443238049135, 1.8794937560862293, 0.24081397200121657, 0.08137848039912611, 0.1748936029857683, 0.043507527988652914, 0.3739589763055117, 0.46425981919633824]
+[dynamics]
+B = [[2.3207895265951737, 0.0, 0.0], [0.0, 0.44933087670131194, 0.0], [0.0, 0.0, 0.5447853007212871]]
+[control]
+lower = [-1.8655341358101067, -2.5245601649158838, -1.0042121067022214]
+upper = [1.8655341358101067, 2.5245601649158838, 1.0042121067022214]
+zero_mean = true
+[objective]
+face_weights = [0.5801973816487934, -0.5801973816487934, 0.11028470741142854, -0.11028470741142854, 0.08665959297599063, -0.08665959297599063, 0.13619632518032176, -0.13619632518032176]
+[problem]
+period = 8.11771035838361
+[input]
+kind = "piecewise_constant"
+times = [0.0, 0.8298504602980575, 4.798812362704137]
+values = [[-0.38265913742484614, -2.3983321566700893, 0.06383858989939628], [-1.401976613657762, 0.5129345141315917, 0.13802519843117017], [1.7722574290196014, -0.013727599015234453, -0.18102190490345188]]
+"#;

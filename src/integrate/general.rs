@@ -328,7 +328,7 @@ pub fn simulate_general(
     // metric step is for a damped drift, which a chain has not).
     let mut proj = match &metric {
         Some(mt) => OntoC::Dense(PolyProjector::new(mt.c.clone())),
-        None => OntoC::new(&p.c, p.as_chain().as_ref())?,
+        None => OntoC::new(&p.c, p.as_chain().as_ref()),
     };
     let projection = proj.kind();
     let x = x0.to_vec();

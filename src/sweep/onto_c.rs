@@ -33,13 +33,15 @@ pub enum OntoC {
 }
 
 impl OntoC {
-    /// The projector for `c`: the chain's where `chain` (the problem's [`ChainView`]) is given,
-    /// else the dense one.
-    pub fn new(c: &Polyhedron, chain: Option<&ChainView>) -> Result<Self> {
-        Ok(match chain {
-            Some(view) => OntoC::Chain(Box::new(ChainOntoC::new(c, view)?)),
-            None => OntoC::Dense(PolyProjector::new(c.clone())),
-        })
+    /// The projector for `c`: the chain's where `chain` (the problem's [`ChainView`]) is given
+    /// and the crawler's projection accepts it, else the dense one (the crawler's own check of
+    /// the uniqueness condition, relative `1e-9`, is stricter than the vertex enumeration
+    /// that accepted the problem: a nearly balanced chain is projected densely).
+    pub fn new(c: &Polyhedron, chain: Option<&ChainView>) -> Self {
+        match chain.map(|view| ChainOntoC::new(c, view)) {
+            Some(Ok(p)) => OntoC::Chain(Box::new(p)),
+            _ => OntoC::Dense(PolyProjector::new(c.clone())),
+        }
     }
 
     /// `Proj_C(v)` from `start`, a point of C (within rounding), warm-started from the previous
@@ -128,25 +130,19 @@ impl ChainOntoC {
             .zip(&self.sqrt_k)
             .map(|(xi, r)| xi / r)
             .collect();
+        // Only the faces of the working set carry a multiplier: a free block's displacement is
+        // rounding (1e-16 to 1e-12), not a reaction on a face far from the state.
         let mut mu = vec![0.0; self.rows.len()];
-        for (b, &db) in self.d.iter().enumerate() {
-            if db > 0.0 {
-                mu[self.faces[b][0]] = self.s[b] * db;
-            } else if db < 0.0 {
-                mu[self.faces[b][1]] = -self.s[b] * db;
-            }
+        let mut active = Vec::new();
+        for (b, (a, &db)) in self.proj.active().iter().zip(&self.d).enumerate() {
+            let (face, push) = match a {
+                Bound::Free => continue,
+                Bound::Lower => (self.faces[b][0], db),
+                Bound::Upper => (self.faces[b][1], -db),
+            };
+            mu[face] = self.s[b] * push.max(0.0);
+            active.push(face);
         }
-        let active = self
-            .proj
-            .active()
-            .iter()
-            .zip(&self.faces)
-            .filter_map(|(a, f)| match a {
-                Bound::Free => None,
-                Bound::Lower => Some(f[0]),
-                Bound::Upper => Some(f[1]),
-            })
-            .collect();
         let residual = self.kkt_residual(v, &x, &mu);
         Ok(Projection {
             x,
@@ -216,8 +212,8 @@ mod tests {
             let p = &inst.problem;
             chains += 1;
             let view = p.as_chain().expect("recognised");
-            let mut chain = OntoC::new(&p.c, Some(&view)).unwrap();
-            let mut dense = OntoC::new(&p.c, None).unwrap();
+            let mut chain = OntoC::new(&p.c, Some(&view));
+            let mut dense = OntoC::new(&p.c, None);
             assert_eq!((chain.kind(), dense.kind()), ("chain", "dense"));
             let scale = p.c.scale();
             let mut x = vec![0.0; n];
@@ -234,6 +230,10 @@ mod tests {
                 }
                 for (j, (ai, bi)) in a.mu.iter().zip(&b.mu).enumerate() {
                     assert!((ai - bi).abs() <= 1e-10 * scale, "N = {nb}, mu[{j}]");
+                    // A face off the state carries no reaction, not even a rounding.
+                    if p.c.slack(j, &a.x) < -1e-9 * scale {
+                        assert_eq!(*ai, 0.0, "N = {nb}, mu[{j}] off its face");
+                    }
                 }
                 for &j in &a.active {
                     assert!(p.c.slack(j, &a.x).abs() <= 1e-10 * scale, "face {j} held");
