@@ -11,8 +11,9 @@
 //!
 //! Layers, each knowing only those before it (no module imports from a layer above its own,
 //! and no modules import each other in a cycle: `tests/layers.rs` checks both):
-//! - [`error`], [`progress`] and [`number`] at the bottom: the typed errors, cancellation and
-//!   in-solve progress, the one formatter of human-readable numbers;
+//! - [`error`], [`progress`], [`number`] and [`linalg`] at the bottom: the typed errors,
+//!   cancellation and in-solve progress, the one formatter of human-readable numbers, dense
+//!   decompositions with bounded effort;
 //! - [`model`]: the crawler, the polytope C, the uniqueness condition, v_m; the general
 //!   problem (P) of the paper's §2;
 //! - [`sweep`]: projections onto C and onto its tangent cones (the hot kernel);
@@ -52,6 +53,7 @@ pub mod error;
 pub mod fit;
 pub mod integrate;
 pub mod io;
+pub mod linalg;
 pub mod model;
 pub mod number;
 pub mod optimal;

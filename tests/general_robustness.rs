@@ -391,3 +391,49 @@ fn a_short_phases_control_is_moved_into_a_polytope_u() {
     }
     common::certify_written(dir.path(), &v);
 }
+
+/// A phase polish whose KKT matrix spans many orders of magnitude (a quadratic cost of 1e-6
+/// beside controls up to 800): nalgebra's SVD iterated without limit there, and `optimize
+/// --method phase --phases 2 --time-limit 5` ran on past 120 s, beyond any deadline. Every
+/// decomposition now has a cap on its iterations (`crawlopt::linalg`): the answer comes in
+/// well under the limit (0.06 s measured), killed and failed here after 60 s.
+#[test]
+fn a_badly_scaled_polish_ends_within_the_time_limit() {
+    let dir = tempfile::tempdir().unwrap();
+    let file = common::write(
+        dir.path(),
+        "scales.toml",
+        "[sweeping_process]\nnormals = [[2.5, 0.0], [-1.0, 0.0], [0.0, 1.0], [0.0, -1.0]]\n\
+         offsets = [1.28, 0.33, 0.87, 0.81]\n[dynamics]\nB = [[-0.56], [-0.37]]\n\
+         [control]\nlower = [-400.0]\nupper = [800.0]\nzero_mean = false\n\
+         [objective]\nface_weights = [0.98, 0.0, 0.22, 0.41]\n\
+         cost = { kind = \"quadratic\", weight = 1e-06 }\n\
+         [problem]\nperiod = 10.0\nperiodic = false\ninitial_state = [0.27, -0.027]\n",
+    );
+    let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_crawlopt"))
+        .args(["optimize", file.to_str().unwrap(), "--method", "phase"])
+        .args(["--phases", "2", "--time-limit", "5", "--json"])
+        .stdout(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    let start = std::time::Instant::now();
+    let status = loop {
+        if let Some(s) = child.try_wait().unwrap() {
+            break s;
+        }
+        if start.elapsed().as_secs() > 60 {
+            child.kill().unwrap();
+            panic!("still running after 60 s with --time-limit 5");
+        }
+        std::thread::sleep(std::time::Duration::from_millis(50));
+    };
+    assert!(status.success());
+    let mut text = String::new();
+    std::io::Read::read_to_string(&mut child.stdout.take().unwrap(), &mut text).unwrap();
+    let v: serde_json::Value = serde_json::from_str(&text).unwrap();
+    let (j, bound) = (
+        v["objective"].as_f64().unwrap(),
+        v["certificate"]["bound"].as_f64().unwrap(),
+    );
+    assert!(j <= bound + 1e-9 && j > 1.0, "J = {j}, bound {bound}");
+}

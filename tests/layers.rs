@@ -13,7 +13,7 @@ use std::path::Path;
 
 /// Layers, lowest first; a module of the library is in the layer of its top-level module.
 const LAYERS: &[&[&str]] = &[
-    &["error", "progress", "number"],
+    &["error", "progress", "number", "linalg"],
     &["model"],
     &["sweep"],
     &["integrate"],

@@ -261,7 +261,9 @@ impl Anderson {
         }
         let n = f.len();
         let a = DMatrix::from_fn(n, self.df.len(), |i, j| self.df[j][i]);
-        let svd = a.svd(true, true);
+        let Some(svd) = crate::linalg::svd(a, true, true) else {
+            return g.to_vec();
+        };
         let smax = svd.singular_values.max();
         let Ok(gamma) = svd.solve(&DVector::from_column_slice(&f), 1e-10 * smax) else {
             return g.to_vec();

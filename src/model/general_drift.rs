@@ -90,7 +90,8 @@ impl Dynamics {
             if m.iter().all(|v| *v == 0.0) {
                 0.0
             } else {
-                m.singular_values().max()
+                // The Frobenius norm bounds the spectral norm where the decomposition fails.
+                crate::linalg::singular_values(m).map_or_else(|| m.norm(), |s| s.max())
             }
         };
         let rows = |m: &nalgebra::DMatrix<f64>| -> Vec<Vec<f64>> {

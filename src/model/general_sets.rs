@@ -145,14 +145,13 @@ impl Polyhedron {
 
     /// The least singular value of the normals of `faces` (0-based), stacked as rows: how far
     /// those faces are from linear dependence. A reaction's multipliers on them are bounded by
-    /// `|eta| / sigma_min` (the MILPs' big-M).
+    /// `|eta| / sigma_min` (the MILPs' big-M); 0 when the decomposition fails.
     pub fn least_singular_value(&self, faces: &[usize]) -> f64 {
         let a =
             nalgebra::DMatrix::from_fn(faces.len(), self.dim(), |i, k| self.normals[faces[i]][k]);
-        a.singular_values()
-            .iter()
-            .copied()
-            .fold(f64::INFINITY, f64::min)
+        // A decomposition that fails counts as dependent rows (0).
+        crate::linalg::singular_values(&a)
+            .map_or(0.0, |s| s.iter().copied().fold(f64::INFINITY, f64::min))
     }
 }
 

@@ -311,7 +311,9 @@ impl Qp {
         if dim > MAX_EXACT_KKT / 4 {
             return None;
         }
-        let x = k.clone().svd(true, true).solve(&rhs, 1e-12 * norm).ok()?;
+        let x = crate::linalg::svd(k.clone(), true, true)?
+            .solve(&rhs, 1e-12 * norm)
+            .ok()?;
         close(&x).then(|| x.rows(0, n).iter().copied().collect())
     }
 
@@ -382,9 +384,7 @@ impl Qp {
         if !svd_ok {
             return None;
         }
-        let mut w = jt
-            .clone()
-            .svd(true, true)
+        let mut w = crate::linalg::svd(jt.clone(), true, true)?
             .solve(&(-grad(&v)), 1e-12 * jt.amax().max(1e-300))
             .ok()?;
         for _ in 0..30 {
@@ -421,7 +421,11 @@ impl Qp {
             let norm = k.amax().max(1e-300);
             let step = k.clone().lu().solve(&(-&f)).or_else(|| {
                 svd_ok
-                    .then(|| k.svd(true, true).solve(&(-&f), 1e-13 * norm).ok())
+                    .then(|| {
+                        crate::linalg::svd(k, true, true)?
+                            .solve(&(-&f), 1e-13 * norm)
+                            .ok()
+                    })
                     .flatten()
             })?;
             for (x, d) in v.iter_mut().zip(step.rows(0, n).iter()) {

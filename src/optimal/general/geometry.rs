@@ -275,7 +275,11 @@ fn redundant(c: &Polyhedron, s: f64, centre: &[f64], radius: f64) -> Result<Vec<
 pub(crate) fn rank(rows: &[Vec<f64>]) -> usize {
     let (m, n) = (rows.len(), rows[0].len());
     let a = DMatrix::from_fn(m, n, |i, k| rows[i][k]);
-    let sv = a.singular_values();
+    // A decomposition that fails counts every row (the vertices are then enumerated over
+    // more subsets, each checked).
+    let Some(sv) = crate::linalg::singular_values(&a) else {
+        return m.min(n);
+    };
     let top = sv.iter().fold(0.0_f64, |t, v| t.max(*v));
     sv.iter().filter(|v| **v > REL_TOL * top.max(1.0)).count()
 }
@@ -306,7 +310,7 @@ fn vertices(c: &Polyhedron, s: f64, rank: usize) -> Option<Vec<Vertex>> {
         DMatrix::identity(n, n)
     } else {
         let a = DMatrix::from_fn(sigma, n, |i, k| c.normals[i][k]);
-        let svd = a.svd(false, true);
+        let svd = crate::linalg::svd(a, false, true)?;
         let vt = svd.v_t?;
         // Singular values are sorted in decreasing order by nalgebra.
         vt.rows(0, rank).transpose()
