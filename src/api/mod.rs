@@ -4,6 +4,9 @@
 //! (defaults, which options apply, start policies, growth of K, re-verification) lives here or
 //! below.
 //!
+//! - [`analyze_file`] and [`simulate_file`]: either job on a problem file of either kind, one
+//!   answer type each (text, figures, trajectory file, verdict), so that no front end forks on
+//!   the kind of file;
 //! - [`analyze`]: a model file's crawler analysed, its gait problem and, for one link, the
 //!   closed-form optimum (paper §4);
 //! - [`simulate`] with [`SimOptions`]: the periodic regime of an actuation (cancellable);
@@ -50,6 +53,7 @@ mod general_local;
 mod general_phase;
 mod general_plan;
 mod optimize;
+mod problem_file;
 mod settings;
 
 pub use bench::{bench, rename_fields, BenchCase, BenchSettings};
@@ -71,6 +75,7 @@ pub use general_phase::{
 };
 pub use general_plan::{optimize_general_plan, GeneralAnswer, GeneralPlan};
 pub use optimize::{optimize, Optimized};
+pub use problem_file::{analyze_file, simulate_file, Analyzed, Simulated};
 pub use settings::{
     GaitMethod, Naming, OptimizeSettings, Plan, Start, DEFAULT_MAX_PHASES, DEFAULT_M_DISCRETE,
     DEFAULT_M_LOCAL, DEFAULT_PATIENCE, DEFAULT_SHIFTS,

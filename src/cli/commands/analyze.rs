@@ -1,10 +1,11 @@
-//! `crawlopt analyze`: [`crawlopt::api::analyze`] rendered.
+//! `crawlopt analyze`: [`crawlopt::api::analyze_file`] rendered, for either kind of problem
+//! file.
 
 use crate::output::{out, write_json};
 use clap::Args;
 use crawlopt::api;
-use crawlopt::io::{GeneralFile, ProblemFile};
-use crawlopt::present::{self, text, write_figures};
+use crawlopt::io::ProblemFile;
+use crawlopt::present::{self, write_figures};
 use crawlopt::Error;
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -23,51 +24,26 @@ pub struct AnalyzeArgs {
 }
 
 pub fn run(a: AnalyzeArgs) -> Result<ExitCode, Error> {
-    let model = match ProblemFile::load(&a.file)? {
-        ProblemFile::General(general) => return run_general(&general, &a),
-        ProblemFile::Crawler(model) => model,
-    };
-    let found = api::analyze(&model)?;
+    let file = ProblemFile::load(&a.file)?;
+    // The output directory is checked before the work.
     if let Some(dir) = &a.plot {
-        write_figures(dir, &present::analysis_figures(&found.crawler)?)?;
+        present::check_figure_dir(dir)?;
+    }
+    let found = api::analyze_file(&file)?;
+    if let Some(dir) = &a.plot {
+        write_figures(dir, &found.figures()?)?;
     }
     if a.json {
         // Streamed: a document of 10^7 blocks is gigabytes as a serde_json::Value tree.
         write_json(&found);
     } else {
-        out(&text::analysis(&found.crawler, &found.analysis));
-        if let Some(g) = &found.gait {
-            let optimum = g.one_link_optimum.as_ref();
-            out(&text::gait_problem(&found.crawler, &g.problem, optimum));
-        }
+        out(&found.text());
     }
-    if let Err(e) = found.crawler.require_unique() {
+    // The figures and the analysis are written first, then the verdict: exit 2 when the
+    // crawler fails the uniqueness condition or the general problem a check.
+    if let Err(e) = found.verdict() {
         eprintln!("error: {e}");
         return Ok(ExitCode::from(2));
     }
     Ok(ExitCode::SUCCESS)
-}
-
-/// `crawlopt analyze` of a general problem: the figure of C written, the analysis printed, then
-/// exit 2 with the first failed check's message if any.
-fn run_general(file: &GeneralFile, a: &AnalyzeArgs) -> Result<ExitCode, Error> {
-    if let Some(dir) = &a.plot {
-        present::check_figure_dir(dir)?;
-    }
-    let found = api::analyze_general(file)?;
-    if let Some(dir) = &a.plot {
-        write_figures(dir, &present::general_analysis_figures(&found)?)?;
-    }
-    if a.json {
-        write_json(&found);
-    } else {
-        out(&text::general_analysis(&found));
-    }
-    match found.failure {
-        Some(e) => {
-            eprintln!("error: {e}");
-            Ok(ExitCode::from(2))
-        }
-        None => Ok(ExitCode::SUCCESS),
-    }
 }

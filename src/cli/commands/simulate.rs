@@ -6,8 +6,8 @@ use crate::parse::count;
 use clap::{Args, ValueEnum};
 use crawlopt::api::{self, rename_fields, Hooks};
 use crawlopt::integrate::{Method, SimOptions};
-use crawlopt::io::{write_trajectory_csv, AtomicFile, GeneralFile, ProblemFile};
-use crawlopt::present::{self, text, write_figures};
+use crawlopt::io::{AtomicFile, ProblemFile};
+use crawlopt::present::{self, write_figures};
 use crawlopt::Error;
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -98,27 +98,32 @@ pub struct SimulateArgs {
     pub plot: Option<PathBuf>,
 }
 
-/// A library error renamed after the flag that set the value.
-fn flags(e: Error) -> Error {
+/// A library error renamed after the flag that set the value (both kinds of problem file).
+fn flags(e: Error, a: &SimulateArgs) -> Error {
     let names = [
         ("steps_per_period", "--steps-per-period"),
         ("periods", "--periods"),
         ("max_periods", "--max-periods"),
         ("tol", "--tol"),
         ("increment_budget", "--increment-budget"),
+        ("newton", "--no-newton"),
+        (
+            "accelerate_after",
+            if a.no_accelerate {
+                "--no-accelerate"
+            } else {
+                "--accelerate-after"
+            },
+        ),
     ];
     rename_fields(e, &names.map(|(f, flag)| (f, flag.to_string())))
 }
 
+/// `crawlopt simulate` of either kind of problem file ([`api::simulate_file`]): a crawler's
+/// actuation, or a general problem's `[input]` (exactly where `A = 0` and the input is
+/// piecewise constant unless `--method catching-up`, the library deciding which flags apply).
 pub fn run(a: SimulateArgs) -> Result<ExitCode, Error> {
-    let model = match ProblemFile::load(&a.file)? {
-        ProblemFile::General(general) => return run_general(&general, &a),
-        ProblemFile::Crawler(model) => model,
-    };
-    let crawler = model.crawler()?;
-    crawler.require_unique()?;
-    let act = model.actuation(crawler.links())?;
-    let opts = sim_options(&a, model.simulation.initial_state.clone());
+    let file = ProblemFile::load(&a.file)?;
     // Output paths are checked before the work: a directory for -o, a file for --plot.
     if let Some(path) = &a.output {
         if a.periods == 0 {
@@ -137,20 +142,16 @@ pub fn run(a: SimulateArgs) -> Result<ExitCode, Error> {
     if let Some(dir) = &a.plot {
         present::check_figure_dir(dir)?;
     }
-    let sim = api::simulate(&crawler, &act, &opts, Hooks::default()).map_err(flags)?;
+    let sim =
+        api::simulate_file(&file, &sim_options(&a), Hooks::default()).map_err(|e| flags(e, &a))?;
     // Without a periodic regime nothing is written (exit 3 below says so). The figures are
     // computed before anything is written, so that their failure leaves no CSV.
-    let figs = match (&a.plot, sim.converged) {
-        (Some(_), true) => Some(
-            present::simulation_figures(&crawler, &act, &sim, a.periods.max(3)).map_err(flags)?,
-        ),
+    let figs = match (&a.plot, sim.converged()) {
+        (Some(_), true) => Some(sim.figures(a.periods).map_err(|e| flags(e, &a))?),
         _ => None,
     };
-    let written = match (&a.output, &sim.trajectory, sim.converged) {
-        (Some(path), Some(traj), true) => {
-            write_trajectory_csv(path, traj)?;
-            Some(path.as_path())
-        }
+    let written = match &a.output {
+        Some(path) if sim.write_csv(path)? => Some(path.as_path()),
         _ => None,
     };
     if let (Some(dir), Some(figs)) = (&a.plot, &figs) {
@@ -159,19 +160,18 @@ pub fn run(a: SimulateArgs) -> Result<ExitCode, Error> {
     if a.json {
         json_line(&sim);
     } else {
-        out(&text::simulation(&sim, &crawler, &act, written));
+        out(&sim.text(written));
     }
-    if sim.converged {
-        return Ok(ExitCode::SUCCESS);
+    match sim.not_converged() {
+        None => Ok(ExitCode::SUCCESS),
+        Some(what) => {
+            eprintln!(
+                "error: {what}{} (raise --max-periods or --tol)",
+                unwritten(&a)
+            );
+            Ok(ExitCode::from(EXIT_NOT_CONVERGED))
+        }
     }
-    eprintln!(
-        "error: the periodic regime was not reached within {} periods (residual {:.3e}); \
-         displacement_per_period is not reported{} (raise --max-periods or --tol)",
-        sim.periods_simulated,
-        sim.period_residual,
-        unwritten(&a)
-    );
-    Ok(ExitCode::from(EXIT_NOT_CONVERGED))
 }
 
 /// What a simulation that did not reach its periodic regime left unwritten, for its error line
@@ -188,8 +188,9 @@ fn unwritten(a: &SimulateArgs) -> String {
     trajectory.into_iter().chain(figures).collect()
 }
 
-/// The library's options of the flags (both kinds of problem file take the same ones).
-fn sim_options(a: &SimulateArgs, initial_state: Option<Vec<f64>>) -> SimOptions {
+/// The library's options of the flags (both kinds of problem file take the same ones; a
+/// crawler's initial state comes from its file, [`api::simulate_file`]).
+fn sim_options(a: &SimulateArgs) -> SimOptions {
     SimOptions {
         method: match a.method {
             MethodArg::Exact => Method::Exact,
@@ -201,76 +202,7 @@ fn sim_options(a: &SimulateArgs, initial_state: Option<Vec<f64>>) -> SimOptions 
         tol: a.tol,
         accelerate_after: (!a.no_accelerate).then_some(a.accelerate_after),
         newton: SimOptions::DEFAULT.newton.filter(|_| !a.no_newton),
-        initial_state,
+        initial_state: None,
         increment_budget: a.increment_budget,
-    }
-}
-
-/// `crawlopt simulate` of a general problem: exact where it applies (`A = 0`, piecewise-constant
-/// input) unless `--method catching-up`, else catching-up; the library decides which of the
-/// flags apply ([`api::general_sim_options`]).
-fn run_general(file: &GeneralFile, a: &SimulateArgs) -> Result<ExitCode, Error> {
-    let named = |e| {
-        let names = [
-            ("steps_per_period", "--steps-per-period"),
-            ("max_periods", "--max-periods"),
-            ("tol", "--tol"),
-            ("periods", "--periods"),
-            ("newton", "--no-newton"),
-            (
-                "accelerate_after",
-                if a.no_accelerate {
-                    "--no-accelerate"
-                } else {
-                    "--accelerate-after"
-                },
-            ),
-            ("increment_budget", "--increment-budget"),
-        ];
-        rename_fields(e, &names.map(|(f, flag)| (f, flag.to_string())))
-    };
-    let opts = api::general_sim_options(&sim_options(a, None)).map_err(named)?;
-    // Output paths are checked before the work: a directory for -o, a file for --plot.
-    if let Some(path) = &a.output {
-        AtomicFile::check(path)?;
-    }
-    if let Some(dir) = &a.plot {
-        present::check_figure_dir(dir)?;
-    }
-    let r = api::simulate_general(file, &opts).map_err(named)?;
-    // Only once the periodic regime is reached; the figures before anything is written, so
-    // that their failure leaves no CSV.
-    let figs = match (&a.plot, r.simulation.converged) {
-        (Some(_), true) => Some(present::general_simulation_figures(&file.problem()?, &r)?),
-        _ => None,
-    };
-    let written = match &a.output {
-        Some(path) if r.simulation.converged => {
-            crawlopt::io::write_general_csv(path, &r.simulation)?;
-            true
-        }
-        _ => false,
-    };
-    if let (Some(dir), Some(figs)) = (&a.plot, &figs) {
-        write_figures(dir, figs)?;
-    }
-    if a.json {
-        json_line(&r);
-    } else {
-        out(&text::general_simulation(&r));
-        if let (true, Some(path)) = (written, &a.output) {
-            out(&format!("trajectory written to {}\n", path.display()));
-        }
-    }
-    if r.simulation.converged {
-        Ok(ExitCode::SUCCESS)
-    } else {
-        eprintln!(
-            "error: the periodic regime was not reached within {} periods; J is not reported{} \
-             (raise --max-periods or --tol)",
-            r.simulation.periods,
-            unwritten(a)
-        );
-        Ok(ExitCode::from(EXIT_NOT_CONVERGED))
     }
 }
