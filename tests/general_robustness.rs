@@ -437,3 +437,41 @@ fn a_badly_scaled_polish_ends_within_the_time_limit() {
     );
     assert!(j <= bound + 1e-9 && j > 1.0, "J = {j}, bound {bound}");
 }
+
+/// Controls of 1000 over a period of 300 in a triangle C of size 1 (and of 1e-4): states are
+/// sums of increments of 3e5 and carry their rounding (2e-10 seen), far above a tolerance
+/// relative to C alone. The phase gait and P_2's process were written and then refused by
+/// `certify` ("reaction on a face not active at both ends of the phase", "reaction on an
+/// inactive face"), and at the scale 1e-4 `optimize` refused its own phase gait ("states off
+/// by 2.05e-10") and `certify` the P_2 process ("not periodic"). States are now checked
+/// relative to the larger of C's scale and the largest increment of a piece
+/// (`GeneralProblem::motion`): every answer is given, reads back and certifies.
+#[test]
+fn states_are_checked_at_the_scale_of_their_increments() {
+    let dir = tempfile::tempdir().unwrap();
+    for offsets in ["[1.0, 0.7, 1.2]", "[1.0e-4, 0.7e-4, 1.2e-4]"] {
+        let file = common::write(
+            dir.path(),
+            "wide.toml",
+            &format!(
+                "[sweeping_process]\nnormals = [[1.0, 0.2], [-0.3, 1.0], [-0.6, -0.9]]\n\
+                 offsets = {offsets}\n[dynamics]\nB = [[1.0, 0.0], [0.0, 1.0]]\n\
+                 [control]\nlower = [-1000.0, -1000.0]\nupper = [1000.0, 1000.0]\n\
+                 zero_mean = false\n[objective]\nface_weights = [0.5, 0.3, 0.4]\n\
+                 [problem]\nperiod = 300.0\n"
+            ),
+        );
+        for args in [
+            ["--method", "phase", "--phases", "1"],
+            ["--method", "discrete", "--m", "2"],
+        ] {
+            let mut all = vec!["optimize", file.to_str().unwrap()];
+            all.extend(args);
+            all.push("--json");
+            let v = common::crawlopt_json(&all);
+            let j = v["objective"].as_f64().unwrap();
+            assert!(j > 4.9e5 && j <= v["certificate"]["bound"].as_f64().unwrap() + 1.0);
+            common::certify_written(dir.path(), &v);
+        }
+    }
+}

@@ -269,10 +269,13 @@ impl GeneralProcess {
             );
         }
         let scale = p.c.scale();
+        // Computed states carry the rounding of the increments that made them
+        // ([`GeneralProblem::motion`]).
+        let len = scale.max(p.motion(&self.durations, &self.x, &self.u));
         match &p.boundary {
             Boundary::Periodic => {
                 let gap = max_diff(&self.x[steps], &self.x[0]);
-                if gap > tol * scale {
+                if gap > tol * len {
                     return bad(
                         format!("x[{steps}]"),
                         format!("{gap:e} from x[0]"),
@@ -292,7 +295,7 @@ impl GeneralProcess {
             }
         }
         for (k, x) in self.x.iter().enumerate() {
-            if let Some((j, s)) = p.c.violation(x, tol * scale) {
+            if let Some((j, s)) = p.c.violation(x, tol * len) {
                 return bad(
                     format!("x[{k}]"),
                     format!("{s:e}"),
@@ -338,7 +341,7 @@ impl GeneralProcess {
                 let v = self.x[i][l] + h * (g[l] - react) - self.x[i + 1][l];
                 res = res.max(v.abs());
             }
-            if res > tol * scale {
+            if res > tol * len {
                 return bad(
                     format!("x[{}]", i + 1),
                     format!("{res:e}"),
@@ -353,7 +356,9 @@ impl GeneralProcess {
                 if self.kind == ProcessKind::Phase {
                     off = off.max(-p.c.slack(j, &self.x[i]));
                 }
-                if h * lam[j] * off > tol * scale * scale {
+                // A reaction's face is active to `tol` of the states' scale (the product with
+                // the reaction for a reaction below C's scale).
+                if h * lam[j] * off > tol * len * (h * lam[j]).max(scale) {
                     return bad(
                         format!("lambda[{i}][{}]", j + 1),
                         lam[j].to_string(),

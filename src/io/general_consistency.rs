@@ -549,8 +549,10 @@ fn check_phase(
         }
     }
     let (states, sim) = replay_phases(p, &s.durations, &s.controls, &s.states[0], what)?;
+    // Replayed states carry the rounding of the phases' increments.
+    let len = scale.max(p.motion(&s.durations, &states, &s.controls));
     for (j, (got, want)) in s.states.iter().zip(&states).enumerate() {
-        if max_diff(got, want) > INPUT_TOL * scale {
+        if max_diff(got, want) > INPUT_TOL * len {
             return Err(bad(
                 what,
                 &format!("solution.states[{j}]"),
@@ -567,7 +569,7 @@ fn check_phase(
                 .iter()
                 .map(|&k| p.c.slack(f - 1, &states[k]).abs())
                 .fold(0.0_f64, f64::max);
-            if off > 1e-6 * scale {
+            if off > 1e-6 * len {
                 return Err(bad(
                     what,
                     &format!("solution.held[{j}]"),
@@ -577,7 +579,7 @@ fn check_phase(
             }
         }
     }
-    if p.boundary == Boundary::Periodic && max_diff(&states[np], &states[0]) > INPUT_TOL * scale {
+    if p.boundary == Boundary::Periodic && max_diff(&states[np], &states[0]) > INPUT_TOL * len {
         return Err(bad(
             what,
             &format!("solution.states[{np}]"),
@@ -608,15 +610,15 @@ fn check_phase(
     )?;
     // The optimiser keeps a gait only when its replay meets the solver's states within 1e-6 of
     // C's scale.
-    if !(s.state_gap.is_finite() && s.state_gap >= 0.0 && s.state_gap <= 1e-6 * scale) {
+    if !(s.state_gap.is_finite() && s.state_gap >= 0.0 && s.state_gap <= 1e-6 * len) {
         return Err(bad(
             what,
             "solution.state_gap",
             s.state_gap,
             format!(
-                "must be finite, non-negative and at most 1e-6 of C's scale ({:e}): the \
-                 optimiser keeps no gait whose replay is farther from the solver's states",
-                1e-6 * scale
+                "must be finite, non-negative and at most 1e-6 of the states' scale ({:e}): \
+                 the optimiser keeps no gait whose replay is farther from the solver's states",
+                1e-6 * len
             ),
         ));
     }

@@ -116,6 +116,24 @@ pub struct GeneralParts {
 }
 
 impl GeneralProblem {
+    /// The largest change a piece of a process can make to the state, `max_i tau_i |g(x_i,
+    /// u_i)|_inf` over pieces of durations `tau_i` from states `x_i` under controls `u_i`: the
+    /// scale of the rounding in states computed by adding such increments and subtracting the
+    /// reactions, which can be orders of magnitude above C's own scale (controls of 1000 over a
+    /// period of 300 in a C of size 1). Checks of computed states take the larger of the two.
+    pub fn motion(&self, durations: &[f64], x: &[Vec<f64>], u: &[Vec<f64>]) -> f64 {
+        let mut g = vec![0.0; self.states()];
+        durations
+            .iter()
+            .zip(x)
+            .zip(u)
+            .map(|((tau, x), u)| {
+                self.dynamics.eval(x, u, &mut g);
+                tau * g.iter().fold(0.0_f64, |m, v| m.max(v.abs()))
+            })
+            .fold(0.0_f64, f64::max)
+    }
+
     /// Checks the parts (every message names the file's field) and scales the rows of C and of
     /// a polytope U to unit normals.
     pub fn new(p: GeneralParts) -> Result<Self> {
