@@ -230,23 +230,29 @@ fn with_input(text: &str, times: &str, values: &[Vec<f64>]) -> GeneralFile {
     .unwrap()
 }
 
+/// A 6-block chain of uneven stiffness and thresholds under an uneven input: rates with zero
+/// mean over T = 10 (4 u0 + 3 u1 + 3 u2 = 0 per link), not a wave: each link its own pattern.
+fn uneven_chain() -> GeneralFile {
+    let k = [1.0, 2.0, 0.7, 1.5, 1.2];
+    let mp = [1.0, 1.1, 0.9, 1.2, 1.0, 1.05];
+    let mm = [1.5, 1.3, 1.7, 1.4, 1.6, 1.35];
+    let (u0, u1) = ([0.6, -0.3, 0.5, 0.2, -0.9], [-0.4, 1.0, -1.0, -0.9, 0.4]);
+    let u2: Vec<f64> = (0..5).map(|l| -(4.0 * u0[l] + 3.0 * u1[l]) / 3.0).collect();
+    assert!(u2.iter().all(|v| v.abs() <= 1.0), "{u2:?}");
+    with_input(
+        &chain_text(&k, &mp, &mm),
+        "[0.0, 4.0, 7.0]",
+        &[u0.to_vec(), u1.to_vec(), u2],
+    )
+}
+
 /// On a chain the periodic regime is searched by the crawler's simulator and the period played
 /// from it by the general one: the same `J` as the general simulator's own plain iteration from
 /// the origin (an independent method), on a heterogeneous chain under an uneven input and on
 /// the uniform 20-block chain, there in a few periods where the plain iteration takes hundreds.
 #[test]
 fn a_chains_regime_is_searched_by_the_crawlers_simulator() {
-    let k = [1.0, 2.0, 0.7, 1.5, 1.2];
-    let mp = [1.0, 1.1, 0.9, 1.2, 1.0, 1.05];
-    let mm = [1.5, 1.3, 1.7, 1.4, 1.6, 1.35];
-    // Rates with zero mean over T = 10 (4 u0 + 3 u1 + 3 u2 = 0 per link), not a wave: each
-    // link its own pattern.
-    let (u0, u1) = ([0.6, -0.3, 0.5, 0.2, -0.9], [-0.4, 1.0, -1.0, -0.9, 0.4]);
-    let u2: Vec<f64> = (0..5).map(|l| -(4.0 * u0[l] + 3.0 * u1[l]) / 3.0).collect();
-    assert!(u2.iter().all(|v| v.abs() <= 1.0), "{u2:?}");
-    let values = vec![u0.to_vec(), u1.to_vec(), u2];
-    let times = "[0.0, 4.0, 7.0]";
-    let uneven = with_input(&chain_text(&k, &mp, &mm), times, &values);
+    let uneven = uneven_chain();
     for (file, long) in [(uneven, false), (uniform(20, 1.3), true)] {
         let s = simulate_general(&file, &GeneralSimOptions::DEFAULT).unwrap();
         assert_eq!(s.regime_search, "chain");
@@ -324,18 +330,7 @@ fn disguised(p: &GeneralProblem) -> GeneralProblem {
 /// steps); the chain's search in a few periods where the plain one takes hundreds.
 #[test]
 fn catching_up_on_a_chain_projects_and_searches_with_the_chains_kernels() {
-    let k = [1.0, 2.0, 0.7, 1.5, 1.2];
-    let (u0, u1) = ([0.6, -0.3, 0.5, 0.2, -0.9], [-0.4, 1.0, -1.0, -0.9, 0.4]);
-    let u2: Vec<f64> = (0..5).map(|l| -(4.0 * u0[l] + 3.0 * u1[l]) / 3.0).collect();
-    let uneven = with_input(
-        &chain_text(
-            &k,
-            &[1.0, 1.1, 0.9, 1.2, 1.0, 1.05],
-            &[1.5, 1.3, 1.7, 1.4, 1.6, 1.35],
-        ),
-        "[0.0, 4.0, 7.0]",
-        &[u0.to_vec(), u1.to_vec(), u2],
-    );
+    let uneven = uneven_chain();
     for (file, long) in [(uneven, false), (uniform(20, 1.3), true)] {
         let s = simulate_general(&file, &catching_up()).unwrap();
         assert_eq!(
@@ -383,18 +378,7 @@ fn the_plain_search_takes_over_where_the_chains_does_not_hold() {
     let s = simulate_general(&one, &GeneralSimOptions::DEFAULT).unwrap();
     assert_eq!(s.regime_search, "plain");
     assert_eq!(s.objective, Some(0.0));
-    let k = [1.0, 2.0, 0.7, 1.5, 1.2];
-    let (u0, u1) = ([0.6, -0.3, 0.5, 0.2, -0.9], [-0.4, 1.0, -1.0, -0.9, 0.4]);
-    let u2: Vec<f64> = (0..5).map(|l| -(4.0 * u0[l] + 3.0 * u1[l]) / 3.0).collect();
-    let file = with_input(
-        &chain_text(
-            &k,
-            &[1.0, 1.1, 0.9, 1.2, 1.0, 1.05],
-            &[1.5, 1.3, 1.7, 1.4, 1.6, 1.35],
-        ),
-        "[0.0, 4.0, 7.0]",
-        &[u0.to_vec(), u1.to_vec(), u2],
-    );
+    let file = uneven_chain();
     let opts = GeneralSimOptions {
         tol: 1e-16,
         ..GeneralSimOptions::DEFAULT
