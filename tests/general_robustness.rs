@@ -443,9 +443,11 @@ fn a_badly_scaled_polish_ends_within_the_time_limit() {
 /// relative to C alone. The phase gait and P_2's process were written and then refused by
 /// `certify` ("reaction on a face not active at both ends of the phase", "reaction on an
 /// inactive face"), and at the scale 1e-4 `optimize` refused its own phase gait ("states off
-/// by 2.05e-10") and `certify` the P_2 process ("not periodic"). States are now checked
-/// relative to the larger of C's scale and the largest increment of a piece
-/// (`GeneralProblem::motion`): every answer is given, reads back and certifies.
+/// by 2.05e-10") and `certify` the P_2 process ("not periodic"). States are now checked to
+/// their tolerance relative to C plus 1e3 units in the last place of the largest increment of
+/// a piece (`GeneralProblem::rounding`): every answer is given, reads back and certifies; and
+/// the phase gait's states moved by 1e-3 of C's scale (off the faces that react) are still
+/// refused, naming the states.
 #[test]
 fn states_are_checked_at_the_scale_of_their_increments() {
     let dir = tempfile::tempdir().unwrap();
@@ -472,6 +474,19 @@ fn states_are_checked_at_the_scale_of_their_increments() {
             let j = v["objective"].as_f64().unwrap();
             assert!(j > 4.9e5 && j <= v["certificate"]["bound"].as_f64().unwrap() + 1.0);
             common::certify_written(dir.path(), &v);
+            if v["method"] == "phase" {
+                let mut w = v.clone();
+                let scale = if offsets.contains("e-4") { 1.2e-4 } else { 1.2 };
+                for x in w["solution"]["states"].as_array_mut().unwrap() {
+                    let x0 = x[0].as_f64().unwrap();
+                    x[0] = serde_json::json!(x0 - 1e-3 * scale);
+                }
+                let moved = common::write(dir.path(), "moved.json", &w.to_string());
+                let out = common::crawlopt(&["certify", moved.to_str().unwrap()]);
+                assert_eq!(out.status.code(), Some(2));
+                let err = String::from_utf8_lossy(&out.stderr);
+                assert!(err.contains("solution.states["), "{err}");
+            }
         }
     }
 }

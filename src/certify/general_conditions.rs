@@ -233,9 +233,11 @@ pub(crate) fn strictly_convex(cost: &GeneralCost, m: usize) -> bool {
         GeneralCost::Quadratic { weight } => *weight > 0.0,
         GeneralCost::Matrix { matrix } => {
             let r = nalgebra::DMatrix::from_fn(m, m, |i, k| matrix[i][k]);
-            let eig = r.symmetric_eigenvalues();
-            let scale = eig.iter().fold(0.0_f64, |s, v| s.max(v.abs()));
-            eig.iter().all(|&v| v > 1e-12 * scale)
+            // A decomposition that fails counts as not strictly convex.
+            crate::linalg::symmetric_eigen(r).is_some_and(|e| {
+                let scale = e.eigenvalues.iter().fold(0.0_f64, |s, v| s.max(v.abs()));
+                e.eigenvalues.iter().all(|&v| v > 1e-12 * scale)
+            })
         }
     }
 }

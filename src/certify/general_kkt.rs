@@ -115,7 +115,7 @@ impl GeneralStructure {
                 .filter(|&r| dot(&urows[r].0, u) >= urows[r].1 - tol * uscale)
                 .collect();
             let mat = nalgebra::DMatrix::from_fn(act.len(), m, |i, k| urows[act[i]].0[k]);
-            at_vertex.push(act.len() >= m && mat.rank(1e-9) == m);
+            at_vertex.push(act.len() >= m && crate::linalg::rank(&mat, 1e-9) == Some(m));
             urows_active.push(act);
         }
         let r = cost_hessian(&p.cost, m);

@@ -270,12 +270,12 @@ impl GeneralProcess {
         }
         let scale = p.c.scale();
         // Computed states carry the rounding of the increments that made them
-        // ([`GeneralProblem::motion`]).
-        let len = scale.max(p.motion(&self.durations, &self.x, &self.u));
+        // ([`GeneralProblem::rounding`]).
+        let allowed = tol * scale + p.rounding(&self.durations, &self.x, &self.u);
         match &p.boundary {
             Boundary::Periodic => {
                 let gap = max_diff(&self.x[steps], &self.x[0]);
-                if gap > tol * len {
+                if gap > allowed {
                     return bad(
                         format!("x[{steps}]"),
                         format!("{gap:e} from x[0]"),
@@ -295,7 +295,7 @@ impl GeneralProcess {
             }
         }
         for (k, x) in self.x.iter().enumerate() {
-            if let Some((j, s)) = p.c.violation(x, tol * len) {
+            if let Some((j, s)) = p.c.violation(x, allowed) {
                 return bad(
                     format!("x[{k}]"),
                     format!("{s:e}"),
@@ -341,7 +341,7 @@ impl GeneralProcess {
                 let v = self.x[i][l] + h * (g[l] - react) - self.x[i + 1][l];
                 res = res.max(v.abs());
             }
-            if res > tol * len {
+            if res > allowed {
                 return bad(
                     format!("x[{}]", i + 1),
                     format!("{res:e}"),
@@ -356,9 +356,9 @@ impl GeneralProcess {
                 if self.kind == ProcessKind::Phase {
                     off = off.max(-p.c.slack(j, &self.x[i]));
                 }
-                // A reaction's face is active to `tol` of the states' scale (the product with
-                // the reaction for a reaction below C's scale).
-                if h * lam[j] * off > tol * len * (h * lam[j]).max(scale) {
+                // A reaction's face is active to the states' tolerance (the product with the
+                // reaction for a reaction below C's scale).
+                if h * lam[j] * off > allowed * (h * lam[j]).max(scale) {
                     return bad(
                         format!("lambda[{i}][{}]", j + 1),
                         lam[j].to_string(),

@@ -550,9 +550,9 @@ fn check_phase(
     }
     let (states, sim) = replay_phases(p, &s.durations, &s.controls, &s.states[0], what)?;
     // Replayed states carry the rounding of the phases' increments.
-    let len = scale.max(p.motion(&s.durations, &states, &s.controls));
+    let rounding = p.rounding(&s.durations, &states, &s.controls);
     for (j, (got, want)) in s.states.iter().zip(&states).enumerate() {
-        if max_diff(got, want) > INPUT_TOL * len {
+        if max_diff(got, want) > INPUT_TOL * scale + rounding {
             return Err(bad(
                 what,
                 &format!("solution.states[{j}]"),
@@ -569,7 +569,7 @@ fn check_phase(
                 .iter()
                 .map(|&k| p.c.slack(f - 1, &states[k]).abs())
                 .fold(0.0_f64, f64::max);
-            if off > 1e-6 * len {
+            if off > 1e-6 * scale + rounding {
                 return Err(bad(
                     what,
                     &format!("solution.held[{j}]"),
@@ -579,7 +579,9 @@ fn check_phase(
             }
         }
     }
-    if p.boundary == Boundary::Periodic && max_diff(&states[np], &states[0]) > INPUT_TOL * len {
+    if p.boundary == Boundary::Periodic
+        && max_diff(&states[np], &states[0]) > INPUT_TOL * scale + rounding
+    {
         return Err(bad(
             what,
             &format!("solution.states[{np}]"),
@@ -610,15 +612,16 @@ fn check_phase(
     )?;
     // The optimiser keeps a gait only when its replay meets the solver's states within 1e-6 of
     // C's scale.
-    if !(s.state_gap.is_finite() && s.state_gap >= 0.0 && s.state_gap <= 1e-6 * len) {
+    if !(s.state_gap.is_finite() && s.state_gap >= 0.0 && s.state_gap <= 1e-6 * scale + rounding) {
         return Err(bad(
             what,
             "solution.state_gap",
             s.state_gap,
             format!(
-                "must be finite, non-negative and at most 1e-6 of the states' scale ({:e}): \
-                 the optimiser keeps no gait whose replay is farther from the solver's states",
-                1e-6 * len
+                "must be finite, non-negative and at most 1e-6 of C's scale and the states' \
+                 rounding ({:e}): the optimiser keeps no gait whose replay is farther from the \
+                 solver's states",
+                1e-6 * scale + rounding
             ),
         ));
     }

@@ -116,12 +116,15 @@ pub struct GeneralParts {
 }
 
 impl GeneralProblem {
-    /// The largest change a piece of a process can make to the state, `max_i tau_i |g(x_i,
-    /// u_i)|_inf` over pieces of durations `tau_i` from states `x_i` under controls `u_i`: the
-    /// scale of the rounding in states computed by adding such increments and subtracting the
-    /// reactions, which can be orders of magnitude above C's own scale (controls of 1000 over a
-    /// period of 300 in a C of size 1). Checks of computed states take the larger of the two.
-    pub fn motion(&self, durations: &[f64], x: &[Vec<f64>], u: &[Vec<f64>]) -> f64 {
+    /// The rounding a computed state of a process can carry: `1e3` units in the last place of
+    /// the largest change a piece makes to the state, `max_i tau_i |g(x_i, u_i)|_inf` over
+    /// pieces of durations `tau_i` from states `x_i` under controls `u_i` (a state is a sum of
+    /// such increments less the reactions). It can be far above a tolerance relative to C
+    /// (controls of 1000 over a period of 300 in a C of size 1: states off by 2e-10, where
+    /// `1e-7` of a C of size `1e-4` is `1e-11`), so checks of computed states allow their
+    /// tolerance relative to C plus this, and nothing more (a state moved by a fraction of C is
+    /// still refused).
+    pub fn rounding(&self, durations: &[f64], x: &[Vec<f64>], u: &[Vec<f64>]) -> f64 {
         let mut g = vec![0.0; self.states()];
         durations
             .iter()
@@ -132,6 +135,8 @@ impl GeneralProblem {
                 tau * g.iter().fold(0.0_f64, |m, v| m.max(v.abs()))
             })
             .fold(0.0_f64, f64::max)
+            * 1e3
+            * f64::EPSILON
     }
 
     /// Checks the parts (every message names the file's field) and scales the rows of C and of

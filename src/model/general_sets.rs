@@ -336,7 +336,16 @@ pub(super) fn check_cost(cost: &GeneralCost, m: usize) -> Result<()> {
                 }
             }
             let r = nalgebra::DMatrix::from_fn(m, m, |i, k| matrix[i][k]);
-            let eig = r.symmetric_eigenvalues();
+            let eig = crate::linalg::symmetric_eigen(r)
+                .ok_or_else(|| {
+                    Error::invalid(
+                        "objective.cost.matrix",
+                        "R",
+                        "its eigenvalues could not be computed (the decomposition did not \
+                         converge)",
+                    )
+                })?
+                .eigenvalues;
             let scale = eig.iter().fold(0.0_f64, |s, v| s.max(v.abs()));
             let min = eig.iter().copied().fold(f64::INFINITY, f64::min);
             if min < -1e-12 * scale {

@@ -543,13 +543,14 @@ pub(super) fn state_columns(
         .collect()
 }
 
-/// A replayed answer of a periodic problem must end where it began (to `1e-6` of C's scale):
-/// else the solver's process and the simulated one differ, and the answer is refused.
+/// A replayed answer of a periodic problem must end where it began (to `allowed`: `1e-6` of
+/// C's scale, plus a phase gait's rounding): else the solver's process and the simulated one
+/// differ, and the answer is refused.
 pub(super) fn replay_periodic(
     p: &GeneralProblem,
     end: &[f64],
     start: &[f64],
-    scale: f64,
+    allowed: f64,
     what: &str,
     replayed: &str,
 ) -> Result<()> {
@@ -560,7 +561,7 @@ pub(super) fn replay_periodic(
         .iter()
         .zip(start)
         .fold(0.0_f64, |d, (a, b)| d.max((a - b).abs()));
-    if gap > 1e-6 * scale {
+    if gap > allowed {
         return Err(Error::Numerical(format!(
             "{what}: the {replayed} is not periodic (x(T) - x(0) = {gap:e})"
         )));
@@ -707,7 +708,7 @@ pub(super) fn replay_controls(
         p,
         sim.x.last().expect("steps"),
         x0,
-        scale,
+        1e-6 * scale,
         what,
         "simulated process",
     )?;

@@ -536,14 +536,16 @@ pub(super) fn verified_gait(
         .fold(0.0_f64, f64::max);
     let objective = sim.objective.unwrap_or(sim.reward - sim.cost);
     // The replay's states carry the rounding of the phases' increments.
-    let len = scale.max(p.motion(&durations, &states, &controls));
+    let rounding = p.rounding(&durations, &states, &controls);
     let w = reward_weights(p);
     let lp_reward: f64 = phases
         .integrated
         .iter()
         .map(|r| r.iter().zip(&w).map(|(l, w)| w * l).sum::<f64>())
         .sum();
-    if (sim.reward - lp_reward).abs() > 1e-6 * (scale + lp_reward.abs()) || state_gap > 1e-6 * len {
+    if (sim.reward - lp_reward).abs() > 1e-6 * (scale + lp_reward.abs())
+        || state_gap > 1e-6 * scale + rounding
+    {
         return Err(Error::Numerical(format!(
             "{what}: the gait replayed gives int f1 = {} (MILP {lp_reward}) and states off by \
              {state_gap:e}",
@@ -554,7 +556,7 @@ pub(super) fn verified_gait(
         p,
         states.last().expect("states"),
         &states[0],
-        len,
+        1e-6 * scale + rounding,
         what,
         "replayed gait",
     )?;

@@ -53,7 +53,7 @@ pub(super) fn polish_general_phases(
     let multiplier = big_m(p, g, 1.0).ok()?.multiplier;
     let w = reward_weights(p);
     // S with R = S^T S: the eigenvectors scaled by the square roots of R's eigenvalues.
-    let eig = nalgebra::DMatrix::from_fn(m, m, |i, k| r[i][k]).symmetric_eigen();
+    let eig = crate::linalg::symmetric_eigen(nalgebra::DMatrix::from_fn(m, m, |i, k| r[i][k]))?;
     let rows_s: Vec<Vec<f64>> = (0..m)
         .filter(|&k| eig.eigenvalues[k] > 1e-14 * eig.eigenvalues.amax())
         .map(|k| {
