@@ -151,27 +151,24 @@ impl GeneralProblem {
     ) -> PyResult<(Bound<'py, PyAny>, GeneralRecord)> {
         let f = self.inner.clone();
         // The library decides what applies to a general problem, with its defaults.
-        let settings = GaitMethod::from_name(method).and_then(|method| {
-            let s = OptimizeSettings {
-                method,
-                m,
-                shifts,
-                time_limit,
-                certify,
-                polish,
-                max_phases,
-                phases,
-                patience,
-                convergence,
-                bound: crate::bound::bound_settings(bound),
-                naming: Naming::Keywords,
-                ..OptimizeSettings::default()
-            };
-            s.plan_general(&[]).map(|plan| (s, plan))
-        });
-        let (settings, plan) = settings.map_err(|e| to_py(py, e))?;
+        let method = GaitMethod::from_name(method).map_err(|e| to_py(py, e))?;
+        let settings = OptimizeSettings {
+            method,
+            m,
+            shifts,
+            time_limit,
+            certify,
+            polish,
+            max_phases,
+            phases,
+            patience,
+            convergence,
+            bound: crate::bound::bound_settings(bound),
+            naming: Naming::Keywords,
+            ..OptimizeSettings::default()
+        };
         let r = run(py, progress, |hooks| {
-            api::optimize_general_plan(&f, &plan, settings.naming, hooks)
+            api::optimize_general_file(&f, &settings, hooks)
         })?;
         let doc = pythonize::pythonize(py, &r)?;
         let problem = self.inner.problem().map_err(|e| to_py(py, e))?;

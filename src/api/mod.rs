@@ -53,6 +53,7 @@ mod general_local;
 mod general_phase;
 mod general_plan;
 mod optimize;
+mod optimize_file;
 mod problem_file;
 mod settings;
 
@@ -75,6 +76,9 @@ pub use general_phase::{
 };
 pub use general_plan::{optimize_general_plan, GeneralAnswer, GeneralPlan};
 pub use optimize::{optimize, Optimized};
+pub use optimize_file::{
+    optimize_file, optimize_general_file, progress_length, report_file, OptimizedFile,
+};
 pub use problem_file::{analyze_file, simulate_file, Analyzed, Simulated};
 pub use settings::{
     GaitMethod, Naming, OptimizeSettings, Plan, Start, DEFAULT_MAX_PHASES, DEFAULT_M_DISCRETE,
@@ -85,7 +89,7 @@ use crate::error::{Error, Result};
 use crate::integrate::{Actuation, SimOptions, Simulation};
 use crate::io::ModelFile;
 use crate::model::{Analysis, Crawler};
-use crate::optimal::{one_link_optimum, GaitProblem, GaitResult, OneLinkOptimum};
+use crate::optimal::{one_link_optimum, GaitProblem, OneLinkOptimum};
 use serde::Serialize;
 
 /// The crawler of a model file, checked for uniqueness (paper eq. 3.6), and its `[gait]`
@@ -97,36 +101,6 @@ pub fn gait_problem(model: &ModelFile) -> Result<(Crawler, GaitProblem)> {
         .gait(&crawler)?
         .ok_or_else(|| Error::invalid("gait", "nothing", "the model file has no [gait] section"))?;
     Ok((crawler, problem))
-}
-
-/// The gait a report of a model file shows (`crawlopt report MODEL.toml`, Python's
-/// `report`): the optimal gait of a model file's `[gait]` problem, by the phase method with at most
-/// `phases` slip phases, or with `K` grown when `None` (the default of `crawlopt optimize`).
-pub fn optimize_model(
-    model: &ModelFile,
-    phases: Option<usize>,
-    time_limit: Option<f64>,
-    hooks: Hooks<'_>,
-) -> Result<GaitResult> {
-    let (crawler, problem) = gait_problem(model).map_err(|e| match e {
-        Error::InvalidParameter {
-            field,
-            value,
-            reason,
-        } if field == "gait" => Error::InvalidParameter {
-            field,
-            value,
-            reason: format!("{reason} (a report shows an optimal gait)"),
-        },
-        other => other,
-    })?;
-    let settings = OptimizeSettings {
-        method: GaitMethod::Phase,
-        phases,
-        time_limit,
-        ..OptimizeSettings::default()
-    };
-    Ok(optimize(&crawler, &problem, &settings, hooks)?.result)
 }
 
 /// What [`analyze`] finds in a model file.

@@ -2,13 +2,12 @@
 //! [`crawlopt::api::optimize`] (which holds every policy: method, defaults, starts, growth,
 //! time budget), rendered; figures and the report written from the result.
 
-use crate::output::{file_name, json_line, json_line_sorted, out, outln};
+use crate::output::{file_name, json_line, out, outln};
 use crate::parse::{count, count_u32};
 use crate::progress::Spinner;
 use clap::{Args, ValueEnum};
 use crawlopt::api::{self, GaitMethod, Hooks, Naming, OptimizeSettings, Start};
-use crawlopt::io::{AtomicFile, GeneralFile, ProblemFile};
-use crawlopt::present::text::{self, GaitScales};
+use crawlopt::io::{AtomicFile, ProblemFile};
 use crawlopt::present::{self, report, write_figures};
 use crawlopt::Error;
 use std::path::PathBuf;
@@ -150,63 +149,8 @@ fn settings_of(a: &OptimizeArgs) -> Result<OptimizeSettings, Error> {
 }
 
 pub fn run(a: OptimizeArgs) -> Result<ExitCode, Error> {
-    let model = match ProblemFile::load(&a.file)? {
-        ProblemFile::General(general) => return run_general(&general, &a),
-        ProblemFile::Crawler(model) => model,
-    };
-    let (crawler, problem) = api::gait_problem(&model)?;
-    if let Some(path) = &a.report {
-        AtomicFile::check(path)?;
-    }
     let settings = settings_of(&a)?;
-    let mut spinner = Spinner::new(GaitScales::of_problem(&crawler, &problem).length);
-    let mut show = |e: &api::Event, _: f64| spinner.show(e);
-    let hooks = Hooks {
-        events: Some(&mut show),
-        cancel: None,
-    };
-    let answer = api::optimize(&crawler, &problem, &settings, hooks);
-    spinner.finish(answer.as_ref().map_or(&[][..], |r| &r.notes));
-    let answer = answer?;
-    let (result, cert) = (&answer.result, answer.necessary_conditions.as_ref());
-    if let Some(dir) = &a.plot {
-        let mut figs = present::gait_figures(result)?;
-        if let Some(c) = cert {
-            figs.push(present::adjoint_figure_of(&c.multipliers)?);
-        }
-        write_figures(dir, &figs)?;
-    }
-    if let Some(path) = &a.report {
-        let source = file_name(&a.file);
-        let ctx = report::ReportContext {
-            source: &source,
-            command: format!(
-                "crawlopt optimize {source}{} --report {}",
-                if a.certify { " --certify" } else { "" },
-                file_name(path)
-            ),
-            certificate: cert,
-        };
-        report::write_report(path, &report::build_report_with(result, &ctx)?)?;
-    }
-    if a.json {
-        json_line_sorted(&answer);
-    } else {
-        out(&text::gait_result(result));
-        if let Some(c) = cert {
-            out(&text::certificate(c, result));
-        }
-    }
-    said_report(&a);
-    Ok(ExitCode::SUCCESS)
-}
-
-/// `crawlopt optimize` of a general problem: the library's plan of the flags for it
-/// ([`OptimizeSettings::plan_general`]: P_m globally or locally, or exact phase gaits), run and
-/// rendered.
-fn run_general(file: &GeneralFile, a: &OptimizeArgs) -> Result<ExitCode, Error> {
-    let settings = settings_of(a)?;
-    let plan = settings.plan_general(&[])?;
+    let file = ProblemFile::load(&a.file)?;
     // Output paths are checked before the work.
     if let Some(path) = &a.report {
         AtomicFile::check(path)?;
@@ -214,44 +158,38 @@ fn run_general(file: &GeneralFile, a: &OptimizeArgs) -> Result<ExitCode, Error> 
     if let Some(dir) = &a.plot {
         present::check_figure_dir(dir)?;
     }
-    // Progress on stderr as for crawlers; the values shown in the units of C.
-    let length = file.problem()?.c.scale();
-    let mut spinner = Spinner::new(length);
+    // Progress on stderr, the values shown in the problem's own length.
+    let mut spinner = Spinner::new(api::progress_length(&file)?);
     let mut show = |e: &api::Event, _: f64| spinner.show(e);
     let hooks = Hooks {
         events: Some(&mut show),
         cancel: None,
     };
-    let r = api::optimize_general_plan(file, &plan, settings.naming, hooks);
-    spinner.finish(&[]);
-    let r = r?;
-    if a.plot.is_some() || a.report.is_some() {
-        let problem = file.problem()?;
-        if let Some(dir) = &a.plot {
-            write_figures(dir, &present::general_answer_figures(&problem, &r)?)?;
-        }
-        if let Some(path) = &a.report {
-            let source = file_name(&a.file);
-            let command = format!(
-                "crawlopt optimize {source}{}{} --report {}",
-                match settings.method {
-                    GaitMethod::Auto => String::new(),
-                    m => format!(" --method {}", m.name()),
-                },
-                if a.certify { " --certify" } else { "" },
-                file_name(path)
-            );
-            let input = present::GeneralReportInput::Answer(&r);
-            let html = present::build_general_report(&problem, input, &source, &command)?;
-            report::write_report(path, &html)?;
-        }
+    let answer = api::optimize_file(&file, &settings, hooks);
+    spinner.finish(answer.as_ref().map_or(&[][..], |r| r.notes()));
+    let answer = answer?;
+    if let Some(dir) = &a.plot {
+        write_figures(dir, &answer.figures()?)?;
+    }
+    if let Some(path) = &a.report {
+        let source = file_name(&a.file);
+        let command = format!(
+            "crawlopt optimize {source}{}{} --report {}",
+            match settings.method {
+                GaitMethod::Auto => String::new(),
+                m => format!(" --method {}", m.name()),
+            },
+            if a.certify { " --certify" } else { "" },
+            file_name(path)
+        );
+        report::write_report(path, &answer.report_html(&source, &command)?)?;
     }
     if a.json {
-        json_line(&r);
+        json_line(&answer);
     } else {
-        out(&text::general_answer(&r));
+        out(&answer.text());
     }
-    said_report(a);
+    said_report(&a);
     Ok(ExitCode::SUCCESS)
 }
 

@@ -3,13 +3,12 @@
 use crate::output::{file_name, outln, read_text};
 use crate::parse::count;
 use clap::Args;
-use crawlopt::api::Hooks;
-use crawlopt::api::{Naming, OptimizeSettings};
-use crawlopt::io::{AtomicFile, GeneralFile, ProblemFile, ResultFile};
+use crawlopt::api::{Hooks, Naming, OptimizedFile};
+use crawlopt::io::{AtomicFile, ProblemFile, ResultFile};
 use crawlopt::optimal::GaitResult;
+use crawlopt::present::build_result_report;
 use crawlopt::present::report;
 use crawlopt::present::text::{num, GaitScales};
-use crawlopt::present::{build_general_report, build_result_report, GeneralReportInput};
 use crawlopt::Error;
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -45,13 +44,20 @@ pub fn run(a: ReportArgs) -> Result<ExitCode, Error> {
             ResultFile::General(_) => wrote_general(&a, r.objective()),
         });
     }
-    let model = match ProblemFile::load(&a.file)? {
-        ProblemFile::General(general) => return run_general(&general, &a, &name),
-        ProblemFile::Crawler(model) => model,
-    };
-    let result = crawlopt::api::optimize_model(&model, a.phases, a.time_limit, Hooks::default())?;
-    report::write_report(&a.output, &report::build_report(&result, &name)?)?;
-    Ok(wrote_gait(&a, &result))
+    let file = ProblemFile::load(&a.file)?;
+    let answer = crawlopt::api::report_file(
+        &file,
+        a.phases,
+        a.time_limit,
+        Naming::Flags,
+        Hooks::default(),
+    )?;
+    let command = format!("crawlopt report {name}");
+    report::write_report(&a.output, &answer.report_html(&name, &command)?)?;
+    Ok(match &answer {
+        OptimizedFile::Crawler(o) => wrote_gait(&a, &o.result),
+        OptimizedFile::General { .. } => wrote_general(&a, answer.objective()),
+    })
 }
 
 /// The line saying a crawler's report was written, with its numbers in the gait's units.
@@ -74,26 +80,4 @@ fn wrote_general(a: &ReportArgs, objective: f64) -> ExitCode {
         num(objective, objective.abs())
     ));
     ExitCode::SUCCESS
-}
-
-/// The report of a general problem file: its optimum by the library's plan of the flags
-/// (`optimize`'s default method; `--time-limit` applies, `--phases` is refused), reported.
-fn run_general(file: &GeneralFile, a: &ReportArgs, name: &str) -> Result<ExitCode, Error> {
-    let settings = OptimizeSettings {
-        phases: a.phases,
-        time_limit: a.time_limit,
-        naming: Naming::Flags,
-        ..OptimizeSettings::default()
-    };
-    let plan = settings.plan_general(&[])?;
-    let r = crawlopt::api::optimize_general_plan(file, &plan, settings.naming, Hooks::default())?;
-    let problem = file.problem()?;
-    let html = build_general_report(
-        &problem,
-        GeneralReportInput::Answer(&r),
-        name,
-        &format!("crawlopt report {name}"),
-    )?;
-    report::write_report(&a.output, &html)?;
-    Ok(wrote_general(a, r.objective()))
 }

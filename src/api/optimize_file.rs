@@ -1,0 +1,202 @@
+//! `optimize` and `report` of a problem file of either kind, a crawler's model file or a
+//! general problem (P) (`[sweeping_process]`), dispatched here once so that no front end forks
+//! on the kind of file: [`optimize_file`] takes the one [`OptimizeSettings`] of both kinds
+//! (the library decides which settings apply to which kind and refuses the others, naming
+//! them) and returns one answer type, [`OptimizedFile`], whose methods give its text, its
+//! figures, its report and its JSON (the kind's own), rendered by [`crate::present`].
+
+use super::events::Hooks;
+use super::gait_problem;
+use super::general_plan::{optimize_general_plan, GeneralAnswer};
+use super::optimize::{optimize, Optimized};
+use super::settings::{GaitMethod, Naming, OptimizeSettings};
+use crate::error::{Error, Result};
+use crate::io::{GeneralFile, ProblemFile};
+use crate::model::general::GeneralProblem;
+use crate::present::{self, figures::Figure, report, text};
+use serde::Serialize;
+
+/// The optimum of a general problem file under `settings`: the library's plan of them
+/// ([`OptimizeSettings::plan_general`]: P_m globally or locally, exact phase gaits, or the
+/// crawler's methods on a crawler's chain), run with `hooks`.
+pub fn optimize_general_file(
+    file: &GeneralFile,
+    settings: &OptimizeSettings,
+    hooks: Hooks<'_>,
+) -> Result<GeneralAnswer> {
+    let plan = settings.plan_general(&[])?;
+    optimize_general_plan(file, &plan, settings.naming, hooks)
+}
+
+/// What [`optimize_file`] found, of the file's kind.
+#[derive(Debug, Clone, PartialEq)]
+pub enum OptimizedFile {
+    /// A crawler's gait ([`optimize`]).
+    Crawler(Box<Optimized>),
+    /// A general problem's optimum ([`optimize_general_file`]), with the problem it solves.
+    General {
+        /// The problem.
+        problem: Box<GeneralProblem>,
+        /// The answer.
+        answer: Box<GeneralAnswer>,
+    },
+}
+
+/// The optimum of a problem file of either kind under `settings` (module docs). A crawler's
+/// file must pose a `[gait]` problem; every answer is re-verified by simulation before it is
+/// returned, as each kind's job does.
+pub fn optimize_file(
+    file: &ProblemFile,
+    settings: &OptimizeSettings,
+    hooks: Hooks<'_>,
+) -> Result<OptimizedFile> {
+    match file {
+        ProblemFile::Crawler(model) => {
+            let (crawler, problem) = gait_problem(model)?;
+            let done = optimize(&crawler, &problem, settings, hooks)?;
+            Ok(OptimizedFile::Crawler(Box::new(done)))
+        }
+        ProblemFile::General(general) => {
+            // The problem is built (and checked) before the work: an ill-posed file is refused
+            // at once, and the answer's figures need it.
+            let problem = general.problem()?;
+            let answer = optimize_general_file(general, settings, hooks)?;
+            Ok(OptimizedFile::General {
+                problem: Box::new(problem),
+                answer: Box::new(answer),
+            })
+        }
+    }
+}
+
+/// The optimum a report of a problem file shows (`crawlopt report FILE.toml`): a crawler's by
+/// the phase method with at most `phases` slip phases (K grown when `None`), a general
+/// problem's by `optimize`'s default method; `time_limit` applies to both. Errors name the
+/// settings as `naming` spells them.
+pub fn report_file(
+    file: &ProblemFile,
+    phases: Option<usize>,
+    time_limit: Option<f64>,
+    naming: Naming,
+    hooks: Hooks<'_>,
+) -> Result<OptimizedFile> {
+    let method = match file {
+        ProblemFile::Crawler(_) => GaitMethod::Phase,
+        ProblemFile::General(_) => GaitMethod::Auto,
+    };
+    let settings = OptimizeSettings {
+        method,
+        phases,
+        time_limit,
+        naming,
+        ..OptimizeSettings::default()
+    };
+    optimize_file(file, &settings, hooks).map_err(|e| match e {
+        Error::InvalidParameter {
+            field,
+            value,
+            reason,
+        } if field == "gait" => Error::InvalidParameter {
+            field,
+            value,
+            reason: format!("{reason} (a report shows an optimal gait)"),
+        },
+        other => other,
+    })
+}
+
+/// The length in which a problem file's progress is shown (a crawler's gait scales, a general
+/// problem's size of C), before the work.
+pub fn progress_length(file: &ProblemFile) -> Result<f64> {
+    Ok(match file {
+        ProblemFile::Crawler(model) => {
+            let (crawler, problem) = gait_problem(model)?;
+            text::GaitScales::of_problem(&crawler, &problem).length
+        }
+        ProblemFile::General(general) => general.problem()?.c.scale(),
+    })
+}
+
+impl OptimizedFile {
+    /// The objective J of the answer (verified by simulation).
+    pub fn objective(&self) -> f64 {
+        match self {
+            OptimizedFile::Crawler(o) => o.result.objective,
+            OptimizedFile::General { answer, .. } => answer.objective(),
+        }
+    }
+
+    /// Notes on how the job went.
+    pub fn notes(&self) -> &[String] {
+        match self {
+            OptimizedFile::Crawler(o) => &o.notes,
+            OptimizedFile::General { .. } => &[],
+        }
+    }
+
+    /// The human form: the answer, and its necessary conditions when computed.
+    pub fn text(&self) -> String {
+        match self {
+            OptimizedFile::Crawler(o) => {
+                let mut out = text::gait_result(&o.result);
+                if let Some(c) = &o.necessary_conditions {
+                    out.push_str(&text::certificate(c, &o.result));
+                }
+                out
+            }
+            OptimizedFile::General { answer, .. } => text::general_answer(answer),
+        }
+    }
+
+    /// The figures (`--plot`): a crawler's gait (and the adjoint when certified); a general
+    /// optimum's C with the orbit, states, controls, reactions and the objective's integrand.
+    pub fn figures(&self) -> Result<Vec<Figure>> {
+        match self {
+            OptimizedFile::Crawler(o) => {
+                let mut figs = present::gait_figures(&o.result)?;
+                if let Some(c) = &o.necessary_conditions {
+                    figs.push(present::adjoint_figure_of(&c.multipliers)?);
+                }
+                Ok(figs)
+            }
+            OptimizedFile::General { problem, answer } => {
+                present::general_answer_figures(problem, answer)
+            }
+        }
+    }
+
+    /// The self-contained HTML report; `source` names the input in the page and `command` the
+    /// command that made it.
+    pub fn report_html(&self, source: &str, command: &str) -> Result<String> {
+        match self {
+            OptimizedFile::Crawler(o) => {
+                let ctx = report::ReportContext {
+                    source,
+                    command: command.to_string(),
+                    certificate: o.necessary_conditions.as_ref(),
+                };
+                report::build_report_with(&o.result, &ctx)
+            }
+            OptimizedFile::General { problem, answer } => present::build_general_report(
+                problem,
+                present::GeneralReportInput::Answer(answer),
+                source,
+                command,
+            ),
+        }
+    }
+}
+
+/// The kind's own JSON: a crawler's result with its keys in alphabetical order (as
+/// `optimize --json` has always printed it), a general answer as its envelope.
+impl Serialize for OptimizedFile {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> std::result::Result<S::Ok, S::Error> {
+        use serde::ser::Error as _;
+        match self {
+            OptimizedFile::Crawler(o) => serde_json::to_value(o)
+                .map_err(S::Error::custom)?
+                .serialize(s),
+            OptimizedFile::General { answer, .. } => answer.serialize(s),
+        }
+    }
+}
