@@ -104,12 +104,14 @@ fn bench_projection(c: &mut Criterion) {
         let mut sp = OntoC::new(&inst.problem.c, Some(&view));
         assert_eq!(sp.kind(), "chain");
         let mut xs = vec![0.0; n];
+        let mut out = crawlopt::sweep::Projection::default();
         let mut period_s = |xs: &mut Vec<f64>| {
             for delta in &incs_t {
                 for k in 0..n {
                     v[k] = xs[k] + delta[k];
                 }
-                *xs = sp.project(xs, &v).unwrap().x;
+                sp.project_into(xs, &v, &mut out).unwrap();
+                xs.copy_from_slice(&out.x);
             }
         };
         for _ in 0..50 {

@@ -49,7 +49,23 @@ impl OntoC {
     pub fn project(&mut self, start: &[f64], v: &[f64]) -> Result<Projection> {
         match self {
             OntoC::Dense(p) => p.project(start, v),
-            OntoC::Chain(p) => p.project(start, v),
+            OntoC::Chain(p) => {
+                let mut out = Projection::default();
+                p.project_into(start, v, &mut out)?;
+                Ok(out)
+            }
+        }
+    }
+
+    /// [`OntoC::project`] into `out`, whose vectors the chain's projection reuses (no
+    /// allocation per step once they have their sizes; the dense one replaces them).
+    pub fn project_into(&mut self, start: &[f64], v: &[f64], out: &mut Projection) -> Result<()> {
+        match self {
+            OntoC::Dense(p) => {
+                *out = p.project(start, v)?;
+                Ok(())
+            }
+            OntoC::Chain(p) => p.project_into(start, v, out),
         }
     }
 
@@ -79,6 +95,8 @@ pub struct ChainOntoC {
     x: Vec<f64>,
     delta: Vec<f64>,
     d: Vec<f64>,
+    /// The stationarity residual's buffer.
+    stat: Vec<f64>,
 }
 
 impl ChainOntoC {
@@ -114,48 +132,45 @@ impl ChainOntoC {
             x: vec![0.0; n],
             delta: vec![0.0; n],
             d: vec![0.0; nb],
+            stat: vec![0.0; n],
         })
     }
 
-    /// `Proj_C(v)` from `start` (module docs); one warm catching-up step of the crawler.
-    pub fn project(&mut self, start: &[f64], v: &[f64]) -> Result<Projection> {
+    /// `Proj_C(v)` from `start` (module docs) into `out`; one warm catching-up step of the
+    /// crawler.
+    pub fn project_into(&mut self, start: &[f64], v: &[f64], out: &mut Projection) -> Result<()> {
         for l in 0..self.sqrt_k.len() {
             self.x[l] = self.sqrt_k[l] * start[l];
             self.delta[l] = self.sqrt_k[l] * (v[l] - start[l]);
         }
-        let iterations = self.proj.step(&mut self.x, &self.delta, &mut self.d)?;
-        let x: Vec<f64> = self
-            .x
-            .iter()
-            .zip(&self.sqrt_k)
-            .map(|(xi, r)| xi / r)
-            .collect();
+        out.iterations = self.proj.step(&mut self.x, &self.delta, &mut self.d)?;
+        out.x.clear();
+        out.x
+            .extend(self.x.iter().zip(&self.sqrt_k).map(|(xi, r)| xi / r));
         // Only the faces of the working set carry a multiplier: a free block's displacement is
         // rounding (1e-16 to 1e-12), not a reaction on a face far from the state.
-        let mut mu = vec![0.0; self.rows.len()];
-        let mut active = Vec::new();
+        out.mu.clear();
+        out.mu.resize(self.rows.len(), 0.0);
+        out.active.clear();
         for (b, (a, &db)) in self.proj.active().iter().zip(&self.d).enumerate() {
             let (face, push) = match a {
                 Bound::Free => continue,
                 Bound::Lower => (self.faces[b][0], db),
                 Bound::Upper => (self.faces[b][1], -db),
             };
-            mu[face] = self.s[b] * push.max(0.0);
-            active.push(face);
+            out.mu[face] = self.s[b] * push.max(0.0);
+            out.active.push(face);
         }
-        let residual = self.kkt_residual(v, &x, &mu);
-        Ok(Projection {
-            x,
-            mu,
-            active,
-            residual,
-            iterations,
-        })
+        out.residual = self.kkt_residual(v, &out.x, &out.mu);
+        Ok(())
     }
 
-    /// [`super::polyhedron::kkt_residual`] on the sparse rows: `O(N)`.
-    fn kkt_residual(&self, v: &[f64], x: &[f64], mu: &[f64]) -> f64 {
-        let mut stat: Vec<f64> = v.iter().zip(x).map(|(a, b)| a - b).collect();
+    /// [`super::polyhedron::kkt_residual`] on the sparse rows: `O(N)`, stationarity
+    /// accumulated in a buffer of the projector.
+    fn kkt_residual(&mut self, v: &[f64], x: &[f64], mu: &[f64]) -> f64 {
+        let stat = &mut self.stat;
+        stat.clear();
+        stat.extend(v.iter().zip(x).map(|(a, b)| a - b));
         let mut r = 0.0_f64;
         for ((row, &c), &m) in self.rows.iter().zip(&self.offsets).zip(mu) {
             let mut dot = 0.0;

@@ -20,7 +20,7 @@ use crate::model::general::{dot, Polyhedron};
 use nalgebra::{DMatrix, DVector};
 
 /// A projection onto C and its certificate.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, Default)]
 pub struct Projection {
     /// `Proj_C(v)`.
     pub x: Vec<f64>,
