@@ -4,7 +4,7 @@
 use crate::certify::bound::BoundSettings;
 use crate::error::{Error, Result};
 use crate::integrate::{
-    simulate_general as integrate_general, GeneralMethod, GeneralSimOptions, Method, SimOptions,
+    simulate_general_on as integrate_general, GeneralMethod, GeneralSimOptions, Method, SimOptions,
 };
 use crate::io::GeneralFile;
 pub use crate::io::{Check, CheckStatus, GeneralAnalysis, GeneralOptimized, GeneralSimulated};
@@ -187,6 +187,14 @@ pub fn analyze_general(file: &GeneralFile) -> Result<GeneralAnalysis> {
 /// (`simulation.projection = "chain"`, [`crate::sweep::OntoC`]), the exact method's tangent
 /// cones with the dense one.
 pub fn simulate_general(file: &GeneralFile, opts: &GeneralSimOptions) -> Result<GeneralSimulated> {
+    simulate_general_problem(file, opts).map(|(_, s)| s)
+}
+
+/// [`simulate_general`] with the problem it built (for the figures of the simulation).
+pub(super) fn simulate_general_problem(
+    file: &GeneralFile,
+    opts: &GeneralSimOptions,
+) -> Result<(GeneralProblem, GeneralSimulated)> {
     let (p, g) = general_problem(file)?;
     let input = file.input(&p)?;
     opts.check(p.states() + p.controls() + p.c.faces())?;
@@ -208,10 +216,11 @@ pub fn simulate_general(file: &GeneralFile, opts: &GeneralSimOptions) -> Result<
     // Newton steps, with the same scheme); the general simulator then plays the period from the
     // state found.
     let catching_up = (!exact).then_some(opts.steps_per_period);
-    let regime = match p.as_chain() {
+    let chain = p.as_chain();
+    let regime = match &chain {
         Some(view) if start_from == "origin" => crate::integrate::chain_regime(
             &p,
-            &view,
+            view,
             &input,
             catching_up,
             opts.max_periods,
@@ -231,7 +240,7 @@ pub fn simulate_general(file: &GeneralFile, opts: &GeneralSimOptions) -> Result<
                     max_periods: budget,
                     ..opts.clone()
                 };
-                integrate_general(&p, &input, &r.state, &replay)?
+                integrate_general(&p, chain.as_ref(), &input, &r.state, &replay)?
             };
             s.converged.then(|| crate::integrate::GeneralSimulation {
                 periods: s.periods + r.periods,
@@ -240,7 +249,7 @@ pub fn simulate_general(file: &GeneralFile, opts: &GeneralSimOptions) -> Result<
         }
         None => None,
     };
-    let chain = confirmed.is_some();
+    let searched_on_chain = confirmed.is_some();
     let simulation = match (confirmed, exact) {
         (Some(s), _) => s,
         (None, true) => crate::integrate::simulate_general_exact(
@@ -250,19 +259,20 @@ pub fn simulate_general(file: &GeneralFile, opts: &GeneralSimOptions) -> Result<
             opts.max_periods,
             opts.tol,
         )?,
-        (None, false) => integrate_general(&p, &input, &start, opts)?,
+        (None, false) => integrate_general(&p, chain.as_ref(), &input, &start, opts)?,
     };
-    Ok(GeneralSimulated {
+    let simulated = GeneralSimulated {
         kind: "general",
         method: if exact { "exact" } else { "catching-up" },
         steps_per_period: opts.steps_per_period,
         start,
         start_from,
-        regime_search: if chain { "chain" } else { "plain" },
+        regime_search: if searched_on_chain { "chain" } else { "plain" },
         objective: simulation.objective,
         input,
         simulation,
-    })
+    };
+    Ok((p, simulated))
 }
 
 /// The options of a simulation of a general problem from those a front end builds for either

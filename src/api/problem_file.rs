@@ -4,7 +4,7 @@
 //! whose methods give its text, its figures, its trajectory file and its verdict, rendered by
 //! [`crate::present`] for its kind.
 
-use super::{analyze, analyze_general, general_sim_options, simulate, simulate_general, Hooks};
+use super::{analyze, analyze_general, general_sim_options, simulate, Hooks};
 use super::{GeneralAnalysis, GeneralSimulated, ModelAnalysis};
 use crate::error::Result;
 use crate::integrate::{Actuation, SimOptions, Simulation};
@@ -83,7 +83,7 @@ pub enum Simulated {
         /// The simulation.
         simulation: Box<Simulation>,
     },
-    /// A general problem's `[input]` ([`simulate_general`]).
+    /// A general problem's `[input]` ([`simulate_general`](super::simulate_general)).
     General {
         /// The problem.
         problem: Box<GeneralProblem>,
@@ -124,9 +124,10 @@ pub fn simulate_file(file: &ProblemFile, opts: &SimOptions, hooks: Hooks<'_>) ->
             })
         }
         ProblemFile::General(general) => {
-            let answer = simulate_general(general, &general_sim_options(opts)?)?;
+            let (problem, answer) =
+                super::general::simulate_general_problem(general, &general_sim_options(opts)?)?;
             Ok(Simulated::General {
-                problem: Box::new(general.problem()?),
+                problem: Box::new(problem),
                 answer: Box::new(answer),
             })
         }

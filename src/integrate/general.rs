@@ -34,6 +34,7 @@ use crate::model::general::{
     min_steps, Boundary, ControlSet, GeneralProblem, Polyhedron, EXPLICIT_STEP_LIMIT,
     GROWTH_STEP_LIMIT,
 };
+use crate::model::ChainView;
 use crate::sweep::{OntoC, PolyProjector};
 use serde::Serialize;
 
@@ -294,6 +295,18 @@ pub fn simulate_general(
     x0: &[f64],
     opts: &GeneralSimOptions,
 ) -> Result<GeneralSimulation> {
+    simulate_general_on(p, p.as_chain().as_ref(), input, x0, opts)
+}
+
+/// [`simulate_general`] with the problem's structure already recognised: `chain` is
+/// `p.as_chain()` (a caller that simulates one problem several times recognises it once).
+pub fn simulate_general_on(
+    p: &GeneralProblem,
+    chain: Option<&ChainView>,
+    input: &ControlInput,
+    x0: &[f64],
+    opts: &GeneralSimOptions,
+) -> Result<GeneralSimulation> {
     opts.check(p.states() + p.controls() + p.c.faces())?;
     if (input.period - p.period).abs() > 1e-12 * p.period {
         return Err(Error::invalid(
@@ -328,7 +341,7 @@ pub fn simulate_general(
     // metric step is for a damped drift, which a chain has not).
     let mut proj = match &metric {
         Some(mt) => OntoC::Dense(PolyProjector::new(mt.c.clone())),
-        None => OntoC::new(&p.c, p.as_chain().as_ref()),
+        None => OntoC::new(&p.c, chain),
     };
     let projection = proj.kind();
     let x = x0.to_vec();
@@ -346,6 +359,8 @@ pub fn simulate_general(
         .collect();
     let mut g = vec![0.0; n];
     let mut v = vec![0.0; n];
+    // Each step's projection, its vectors reused from step to step.
+    let mut a = crate::sweep::Projection::default();
     // One period from `x`; with `record`, the trajectory.
     let period = |x: &mut Vec<f64>, record: Option<&mut GeneralSimulation>| -> Result<()> {
         let mut rec = record;
@@ -357,11 +372,11 @@ pub fn simulate_general(
             for k in 0..n {
                 v[k] = x[k] + h * g[k];
             }
-            let a = match &metric {
-                None => proj.project(x, &v)?,
-                Some(mt) => mt.project(&mut proj, x, &v)?,
+            match &metric {
+                None => proj.project_into(x, &v, &mut a)?,
+                Some(mt) => a = mt.project(&mut proj, x, &v)?,
             };
-            *x = a.x;
+            x.copy_from_slice(&a.x);
             if let Some(r) = rec.as_deref_mut() {
                 let lambda: Vec<f64> = a.mu.iter().map(|mu| mu / h).collect();
                 r.reward += h * p.reward.eval(&p.c.normals, &lambda);

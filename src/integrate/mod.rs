@@ -25,8 +25,8 @@ pub use catching_up::CatchingUp;
 pub use chain_regime::{chain_regime, ChainRegime};
 pub use exact::ExactPwl;
 pub use general::{
-    simulate_general, ControlInput, DriftStep, GeneralMethod, GeneralSimOptions, GeneralSimulation,
-    InputKind,
+    simulate_general, simulate_general_on, ControlInput, DriftStep, GeneralMethod,
+    GeneralSimOptions, GeneralSimulation, InputKind,
 };
 pub use general_exact::simulate_general_exact;
 pub use increments::IncrementStorage;
