@@ -9,23 +9,11 @@ use super::general_conditions::{
 use super::general_kkt::{GeneralRaw, GeneralStructure};
 use super::general_process::GeneralProcess;
 use super::stages::sup;
-use super::{int_pos, CertifyOptions, ConditionCheck, Normalisation, Verdict, CERTIFICATE_VERSION};
+use super::verdict::{
+    check, discrete_group, misplaced_mass, norm2, normalisation, step_distance, verdict,
+};
+use super::{CertifyOptions, CERTIFICATE_VERSION};
 use crate::model::general::{ControlSet, GeneralCost, GeneralProblem};
-
-fn check(name: &str, theorem: &str, statement: &str, residual: f64, tol: f64) -> ConditionCheck {
-    ConditionCheck {
-        name: name.into(),
-        theorem: theorem.into(),
-        statement: statement.into(),
-        residual,
-        tolerance: tol,
-        holds: residual <= tol,
-    }
-}
-
-fn norm2(v: &[f64]) -> f64 {
-    v.iter().map(|x| x * x).sum::<f64>().sqrt()
-}
 
 /// The certificate of `pr` with the multipliers `raw` (scaled as `scaled_by` says).
 pub(crate) fn report(
@@ -45,19 +33,7 @@ pub(crate) fn report(
     let ptol = tol * sup_p.max(1.0);
     let disc = residuals(p, st, raw, drift_term, false);
     let (adj, sign) = (disc[0].2, disc[5].2);
-    let mut conditions: Vec<ConditionCheck> = disc
-        .iter()
-        .filter(|(name, _, _)| *name != "sign")
-        .map(|(name, statement, r)| check(name, "6.2", statement, *r, ptol))
-        .collect();
-    let lambda_ok = raw.lambda > 0.0;
-    conditions.push(check(
-        "lambda_positive",
-        "6.2",
-        "lambda > 0 (Thm 6.2 (lambda))",
-        if lambda_ok { 0.0 } else { 1.0 },
-        0.0,
-    ));
+    let mut conditions = discrete_group(&disc, ptol, raw.lambda);
 
     let psi: Vec<Vec<f64>> = (0..steps).map(|i| psi_of(p, st, raw, i)).collect();
     let switching: Vec<Vec<f64>> = (0..steps)
@@ -69,15 +45,7 @@ pub(crate) fn report(
         .collect();
     // Support: dxi at knot k lies on step k-1 once p is extended piecewise linearly (§9; P_m
     // only: a phase gait's p jumps at its knots).
-    let mut misplaced = 0.0;
-    for k in (0..steps).filter(|_| discrete) {
-        let start = (k + steps - 1) % steps;
-        for (fi, f) in st.active[k].iter().enumerate() {
-            if !st.active[start].contains(f) {
-                misplaced += raw.xi[k][fi].abs();
-            }
-        }
-    }
+    let misplaced = misplaced_mass(&st.active, &raw.xi, discrete);
     let margin = match &p.control {
         ControlSet::Box { .. } => switching
             .iter()
@@ -147,12 +115,7 @@ pub(crate) fn report(
                 let (a, b) = (psi[i][l], end[l]);
                 let up = st.urows_active[i].contains(&(2 * l));
                 let down = st.urows_active[i].contains(&(2 * l + 1));
-                l1 += match (up, down) {
-                    (true, true) => 0.0,
-                    (true, false) => int_pos(-a, -b, h),
-                    (false, true) => int_pos(a, b, h),
-                    (false, false) => int_pos(a, b, h) + int_pos(-a, -b, h),
-                };
+                l1 += step_distance(a, b, h, up, down);
             }
         }
         Some(l1)
@@ -227,69 +190,26 @@ pub(crate) fn report(
     // The verdict reads the discrete group; a phase gait, an exact process of (P), must also
     // meet Theorem 2.2 itself (sign, support, L^1 maximality, ...; not the non-degeneracy nor
     // the control law, which make a verdict degenerate), as the crawler's phase certificate.
-    let counted = |c: &&ConditionCheck, th: &str| {
-        c.theorem == th
-            && !matches!(
-                c.name.as_str(),
-                "lambda_positive" | "nondegeneracy" | "control_law"
-            )
-    };
-    let disc_ok = conditions
-        .iter()
-        .filter(|c| counted(c, "6.2"))
-        .all(|c| c.holds);
-    let cont_ok = discrete
-        || conditions
-            .iter()
-            .filter(|c| counted(c, "2.2"))
-            .all(|c| c.holds);
     let nondeg = !margin_required || margin > nd_tol;
-    let (verdict, reason) = if disc_ok && cont_ok && lambda_ok && nondeg {
-        (
-            Verdict::Holds,
-            if margin_required {
-                "the necessary conditions hold with lambda = 1 and B^T p + omega leaves the \
-                 control unique"
-            } else {
-                "the necessary conditions hold with lambda = 1 (f2 strictly convex: the control \
-                 is unique)"
-            }
-            .into(),
-        )
-    } else if disc_ok && cont_ok && lambda_ok {
-        (
-            Verdict::Degenerate,
+    let (verdict, reason) = verdict(
+        &conditions,
+        discrete,
+        raw.lambda,
+        nondeg,
+        if margin_required {
+            "the necessary conditions hold with lambda = 1 and B^T p + omega leaves the \
+             control unique"
+        } else {
+            "the necessary conditions hold with lambda = 1 (f2 strictly convex: the control \
+             is unique)"
+        },
+        || {
             format!(
                 "the conditions hold with lambda = 1 but only degenerately: non-degeneracy \
                  margin {margin:.3e} (§4 (nndg) fails)"
-            ),
-        )
-    } else if disc_ok && cont_ok {
-        (
-            Verdict::Degenerate,
-            "no multipliers with lambda > 0 exist; the conditions hold only with lambda = 0".into(),
-        )
-    } else {
-        let failing = |th: &str| -> Vec<String> {
-            conditions
-                .iter()
-                .filter(|c| !c.holds && counted(c, th))
-                .map(|c| format!("{} (Thm {th}, residual {:.3e})", c.name, c.residual))
-                .collect()
-        };
-        let mut names = failing("6.2");
-        if names.is_empty() {
-            names = failing("2.2");
-        }
-        (
-            Verdict::Fails,
-            format!(
-                "no multipliers satisfy the necessary conditions, with lambda = 1 or 0; at the \
-                 least violating ones with lambda = 1: {}",
-                names.join(", ")
-            ),
-        )
-    };
+            )
+        },
+    );
 
     let mut paper = raw.lambda + norm2(&raw.p[0]) + norm2(&raw.omega);
     for k in 0..steps {
@@ -333,13 +253,7 @@ pub(crate) fn report(
         objective: pr.objective(p),
         nondegeneracy_margin: margin,
         margin_required,
-        normalisation: Normalisation {
-            scaled_by,
-            lambda_plus_sup_p: nontrivial,
-            lambda_theorem_2_2: raw.lambda / nontrivial,
-            paper_norm: paper,
-            lambda_paper_norm: raw.lambda / paper,
-        },
+        normalisation: normalisation(scaled_by, raw.lambda, sup_p, paper),
         conditions,
         multipliers: GeneralMultipliers {
             times,

@@ -121,6 +121,11 @@
 //!   residuals at the least violating multipliers (a min-max solution spreads the violation over
 //!   several conditions, so all of them are named).
 //!
+//! The verdict, the two groups' bookkeeping, the support of `dxi`, the L^1 weak maximality of a
+//! step and the normalisations are one piece (`verdict.rs`) for a crawler's certificate and for
+//! a general one; each report adds its own terms (a crawler's blocks and rate bounds, a general
+//! problem's faces of C and its set U).
+//!
 //! For P_m the continuous group is reported with the same tolerance and is expected to fail at
 //! `O(h)`: it is the rate at which the discrete multipliers approach Theorem 2.2's.
 //! For phase gaits the durations are variables of the phase LP (theory §7) too; its stationarity in
@@ -144,6 +149,7 @@ mod records;
 mod report;
 mod residuals;
 mod stages;
+mod verdict;
 
 pub use general::{certify_general, residuals_of, GeneralNecessaryConditions, GeneralProcess};
 pub use process::{Process, ProcessKind, INPUT_TOL};
@@ -153,7 +159,6 @@ pub use records::{
     Normalisation, OneLinkStructure, Verdict, CERTIFICATE_FORMAT, CERTIFICATE_VERSION,
 };
 pub use report::{one_link_structure, process_objective};
-pub(crate) use residuals::int_pos;
 
 use crate::error::Result;
 use crate::optimal::GaitResult;

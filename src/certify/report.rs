@@ -5,8 +5,11 @@
 use super::kkt::{normal, FaceId, Raw, Structure};
 use super::process::{Process, ProcessKind};
 use super::records::*;
-use super::residuals::{discrete_residuals, int_pos};
+use super::residuals::discrete_residuals;
 use super::stages::sup;
+use super::verdict::{
+    check, discrete_group, misplaced_mass, norm2, normalisation, step_distance, verdict,
+};
 use crate::optimal::Cost;
 
 pub(super) fn report(
@@ -26,27 +29,7 @@ pub(super) fn report(
     let disc = discrete_residuals(pr, st, &raw, false);
     let cont_adj = disc[0].2;
     let cont_sign = disc[5].2;
-    let mut conditions: Vec<ConditionCheck> = disc
-        .into_iter()
-        .filter(|(name, _, _)| *name != "sign")
-        .map(|(name, statement, residual)| ConditionCheck {
-            name: name.into(),
-            theorem: "6.2".into(),
-            statement,
-            residual,
-            tolerance: tol * pscale,
-            holds: residual <= tol * pscale,
-        })
-        .collect();
-    let lambda_ok = raw.lambda > 0.0;
-    conditions.push(ConditionCheck {
-        name: "lambda_positive".into(),
-        theorem: "6.2".into(),
-        statement: "lambda > 0 (Thm 6.2 (lambda))".into(),
-        residual: if lambda_ok { 0.0 } else { 1.0 },
-        tolerance: 0.0,
-        holds: lambda_ok,
-    });
+    let mut conditions = discrete_group(&disc, tol * pscale, raw.lambda);
 
     // Continuous time (Theorem 2.2) with the paper's extension.
     let p_plus_omega: Vec<Vec<f64>> = raw
@@ -61,25 +44,11 @@ pub(super) fn report(
         let next = if discrete { (j + 1) % np } else { j };
         for l in 0..n {
             let (a, b) = (psi_at(&raw.p[j], j, l), psi_at(&raw.p[next], j, l));
-            let tau = pr.durations[j];
-            l1 += match st.bound[j][l] {
-                1 => int_pos(-a, -b, tau),
-                -1 => int_pos(a, b, tau),
-                _ => int_pos(a, b, tau) + int_pos(-a, -b, tau),
-            };
+            let bound = st.bound[j][l];
+            l1 += step_distance(a, b, pr.durations[j], bound == 1, bound == -1);
         }
     }
-    let mut misplaced = 0.0;
-    if discrete {
-        for j in 0..np {
-            let start = (j + np - 1) % np;
-            for (fi, f) in st.active[j].iter().enumerate() {
-                if !st.active[start].contains(f) {
-                    misplaced += raw.xi[j][fi].abs();
-                }
-            }
-        }
-    }
+    let misplaced = misplaced_mass(&st.active, &raw.xi, discrete);
     // The multipliers solve LPs to the conditions' tolerance: below it, |p + omega| is zero at
     // the solver's resolution (the margin LP's slack of 1e-12 showed as `p + omega = 1e-12`).
     let resolution = tol * pscale;
@@ -160,38 +129,19 @@ pub(super) fn report(
             tol.max(1e-9) * 10.0,
         ),
     ] {
-        conditions.push(ConditionCheck {
-            name: name.into(),
-            theorem: "2.2".into(),
-            statement: statement.into(),
-            residual,
-            tolerance,
-            holds: residual <= tolerance,
-        });
+        conditions.push(check(name, "2.2", statement, residual, tolerance));
     }
 
     // Verdict.
-    let group_ok = |th: &str| {
-        conditions
-            .iter()
-            .filter(|c| c.theorem == th && c.name != "nondegeneracy" && c.name != "control_law")
-            .all(|c| c.holds)
-    };
-    let disc_ok = conditions
-        .iter()
-        .filter(|c| c.theorem == "6.2" && c.name != "lambda_positive")
-        .all(|c| c.holds);
-    let cont_ok = discrete || group_ok("2.2");
     let nondeg = margin > nd_tol;
-    let (verdict, reason) = if disc_ok && cont_ok && lambda_ok && nondeg {
-        (
-            Verdict::Holds,
-            "the necessary conditions hold with lambda = 1 and p + omega vanishes nowhere".into(),
-        )
-    } else if disc_ok && cont_ok && lambda_ok {
-        let (j, l) = argmin_abs(&p_plus_omega);
-        (
-            Verdict::Degenerate,
+    let (verdict, reason) = verdict(
+        &conditions,
+        discrete,
+        raw.lambda,
+        nondeg,
+        "the necessary conditions hold with lambda = 1 and p + omega vanishes nowhere",
+        || {
+            let (j, l) = argmin_abs(&p_plus_omega);
             format!(
                 "the conditions hold with lambda = 1 but only degenerately: p + omega = {} on \
                  piece {j} (t = {:.6}), link {} (§4 (nndg) fails)",
@@ -202,49 +152,9 @@ pub(super) fn report(
                 },
                 times[j],
                 l + 1
-            ),
-        )
-    } else if disc_ok && cont_ok {
-        (
-            Verdict::Degenerate,
-            "no multipliers with lambda > 0 exist; the conditions hold only with lambda = 0".into(),
-        )
-    } else {
-        let failing = |th: &str| -> Vec<&ConditionCheck> {
-            conditions
-                .iter()
-                .filter(|c| {
-                    !c.holds
-                        && c.theorem == th
-                        && !matches!(
-                            c.name.as_str(),
-                            "nondegeneracy" | "control_law" | "lambda_positive"
-                        )
-                })
-                .collect()
-        };
-        let mut bad = failing("6.2");
-        if bad.is_empty() {
-            bad = failing("2.2");
-        }
-        let names: Vec<String> = bad
-            .iter()
-            .map(|c| {
-                format!(
-                    "{} (Thm {}, residual {:.3e})",
-                    c.name, c.theorem, c.residual
-                )
-            })
-            .collect();
-        (
-            Verdict::Fails,
-            format!(
-                "no multipliers satisfy the necessary conditions, with lambda = 1 or 0; at the \
-                 least violating ones with lambda = 1: {}",
-                names.join(", ")
-            ),
-        )
-    };
+            )
+        },
+    );
 
     // Normalisations.
     let mut paper = raw.lambda + norm2(&raw.p[0]) + norm2(&raw.omega);
@@ -306,13 +216,7 @@ pub(super) fn report(
         objective: process_objective(pr),
         nondegeneracy_margin: margin,
         nondegeneracy_resolution: resolution,
-        normalisation: Normalisation {
-            scaled_by,
-            lambda_plus_sup_p: nontrivial,
-            lambda_theorem_2_2: raw.lambda / nontrivial,
-            paper_norm: paper,
-            lambda_paper_norm: raw.lambda / paper,
-        },
+        normalisation: normalisation(scaled_by, raw.lambda, sup_p, paper),
         conditions,
         multipliers,
         one_link: one_link_structure(pr, opts.structure_tol),
@@ -331,10 +235,6 @@ pub fn process_objective(pr: &Process) -> f64 {
         .map(|(u, d)| d * pr.problem.cost.eval(u))
         .sum();
     displacement - cost
-}
-
-fn norm2(v: &[f64]) -> f64 {
-    v.iter().map(|x| x * x).sum::<f64>().sqrt()
 }
 
 fn argmin_abs(rows: &[Vec<f64>]) -> (usize, usize) {
