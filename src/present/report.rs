@@ -12,6 +12,7 @@ use crate::certify::NecessaryConditions;
 use crate::error::{Error, Result};
 use crate::integrate::{Method, Trajectory};
 use crate::io::AtomicFile;
+use crate::model::Analysis;
 use crate::model::{Crawler, FaceSign};
 use crate::optimal::{Cost, GaitResult, MilpStatus};
 use serde::Serialize;
@@ -203,7 +204,7 @@ fn page(
 ) -> String {
     let source = ctx.source;
     let a = crawler.analyze();
-    let (nb, n) = (crawler.blocks(), crawler.links());
+    let nb = crawler.blocks();
     let mut h = open_page(&format!("crawlopt report: {}", source));
     h.push_str(&format!(
         "<h1>Optimal gait of a {nb}-block crawler</h1>\n<p class=\"sub\">{} · crawlopt {} · \
@@ -211,8 +212,28 @@ fn page(
         esc(source),
         env!("CARGO_PKG_VERSION")
     ));
+    let (cert, status) = claims(result);
+    key_numbers(&mut h, result, ctx, &cert);
+    animation_section(&mut h, result);
+    crawler_section(&mut h, result, crawler, &a);
+    analysis_section(&mut h, &a);
+    gait_section(&mut h, result, crawler.links(), &cert, &status);
+    if let Some(c) = ctx.certificate {
+        certificate_section(&mut h, c);
+    }
 
-    // Key numbers.
+    figures_section(&mut h, figs);
+    footer(&mut h, &ctx.command, "<code>crawlopt plot</code>");
+    h.push_str("</main>\n<script type=\"application/json\" id=\"crawler-data\">");
+    h.push_str(json);
+    h.push_str("</script>\n<script>\n");
+    h.push_str(ANIMATION_JS);
+    h.push_str("</script>\n</body>\n</html>\n");
+    h
+}
+
+/// What the certificate claims (its kind in words) and the solver's status in words.
+fn claims(result: &GaitResult) -> (String, String) {
     let c = &result.certificate;
     let cert = match (c.kind.as_str(), c.phases, result.m) {
         ("global_k_phases", Some(k), _) => {
@@ -248,6 +269,14 @@ fn page(
         MilpStatus::Stationary => "a stationary point of the local method (no global claim)",
         MilpStatus::Stalled => "the local method stopped improving (no global claim)",
     };
+    (cert, status.to_string())
+}
+
+/// The key numbers: J, the verified displacement, the certificate and its bound, the upper
+/// bound and the necessary conditions' verdict when there are.
+fn key_numbers(h: &mut String, result: &GaitResult, ctx: &ReportContext<'_>, cert: &str) {
+    let source = ctx.source;
+    let c = &result.certificate;
     h.push_str("<div class=\"kpi\">\n");
     h.push_str(&format!(
         "<div><span>objective J</span><b id=\"objective\">{}</b><span>displacement − cost per period [length]</span></div>\n",
@@ -270,7 +299,7 @@ fn page(
     h.push_str(&format!(
         "<div><span>certificate</span><b>{}</b><span>{}; bound {}{recorded}</span></div>\n",
         c.gap.map_or("local".into(), |g| format!("gap {g:.1e}")),
-        esc(&cert),
+        esc(cert),
         c.bound.map_or("none".into(), num)
     ));
     if let Some(ub) = &c.upper_bound {
@@ -298,8 +327,10 @@ fn page(
         ));
     }
     h.push_str("</div>\n");
+}
 
-    // Animation.
+/// The animation's section (its data are the page's JSON).
+fn animation_section(h: &mut String, result: &GaitResult) {
     let replayer = match result.verified_with() {
         Method::CatchingUp => "catching-up on the gait's grid (as it was verified)",
         Method::Exact => "the exact simulator",
@@ -319,8 +350,11 @@ fn page(
          <div id=\"anim-state\" aria-live=\"off\"></div>\n\
          <p class=\"sub\">At speed 1× a period lasts 4 seconds.</p>\n"
     ));
+}
 
-    // Parameters.
+/// The crawler's parameters per block and per link, and the gait problem.
+fn crawler_section(h: &mut String, result: &GaitResult, crawler: &Crawler, a: &Analysis) {
+    let (nb, n) = (crawler.blocks(), crawler.links());
     h.push_str(
         "<h2 id=\"crawler\">The crawler</h2>\n<div class=\"scroll\">\n<table>\n<tr><th class=\"l\">block b</th>",
     );
@@ -369,8 +403,10 @@ fn page(
                 num(v)
             ))
     ));
+}
 
-    // Analysis.
+/// The analysis: the uniqueness condition, v_m, the one-link structure and the faces of C.
+fn analysis_section(h: &mut String, a: &Analysis) {
     h.push_str("<h2 id=\"analysis\">Analysis</h2>\n<ul>\n");
     h.push_str(&match (&a.violating_subset, a.uniqueness_margin) {
         (Some(j), _) => {
@@ -422,13 +458,15 @@ fn page(
         ));
     }
     h.push_str("</table>\n");
+}
 
-    // The gait.
+/// The gait: method, claim and values, and its pieces with their controls and slips.
+fn gait_section(h: &mut String, result: &GaitResult, n: usize, cert: &str, status: &str) {
     h.push_str(&format!(
         "<h2 id=\"gait\">The optimal gait</h2>\n<p>Method <code>{}</code>, {status}; {}. \
          Displacement per period {} (simulator) against {} (solver); actuation cost {}.</p>\n",
         esc(&result.method),
-        esc(&cert),
+        esc(cert),
         num(result.verified_displacement),
         num(result.solver_objective),
         num(result.actuation_cost)
@@ -467,19 +505,6 @@ fn page(
         "</table>\n</div>\n<p>Initial state on the orbit x(0) = ({}).</p>\n",
         nums(&g.initial_state)
     ));
-
-    if let Some(c) = ctx.certificate {
-        certificate_section(&mut h, c);
-    }
-
-    figures_section(&mut h, figs);
-    footer(&mut h, &ctx.command, "<code>crawlopt plot</code>");
-    h.push_str("</main>\n<script type=\"application/json\" id=\"crawler-data\">");
-    h.push_str(json);
-    h.push_str("</script>\n<script>\n");
-    h.push_str(ANIMATION_JS);
-    h.push_str("</script>\n</body>\n</html>\n");
-    h
 }
 
 /// The certificate's section: the verdict and its reason, and every condition with its
