@@ -4,22 +4,24 @@
 //! (defaults, which options apply, start policies, growth of K, re-verification) lives here or
 //! below.
 //!
-//! - [`analyze_file`] and [`simulate_file`]: either job on a problem file of either kind, one
-//!   answer type each (text, figures, trajectory file, verdict), so that no front end forks on
-//!   the kind of file;
+//! - [`analyze_file`], [`simulate_file`], [`optimize_file`] (or [`OptimizeJob`], checked before
+//!   its work) and [`report_file`]: each job on a problem file of either kind, one answer type
+//!   each (text, figures, trajectory file or report, verdict or summary), so that no front end
+//!   forks on the kind of file;
 //! - [`analyze`]: a model file's crawler analysed, its gait problem and, for one link, the
 //!   closed-form optimum (paper §4);
 //! - [`simulate`] with [`SimOptions`]: the periodic regime of an actuation (cancellable);
 //! - [`optimize`] with [`OptimizeSettings`]: an optimal gait, verified, optionally certified;
 //! - [`certify_result_file`]: the necessary conditions (Theorem 2.2) of a result file of either
 //!   kind ([`crate::io::ResultFile`]);
-//! - [`crate::present`]: figures and the report ([`optimize_model`]: the gait a report of a
-//!   model file shows);
+//! - [`crate::present`]: figures and the report ([`report_file`]: the optimum a report of a
+//!   problem file shows);
 //! - [`bench`]: the simulation cost per step;
 //! - [`fit`] with [`crate::fit::FitSettings`]: a crawler identified from a measured trajectory,
 //!   with the exact interval of every parameter (see [`crate::fit`]);
 //! - [`general`]: the general problem (P) of the paper's §2 (`[sweeping_process]` files):
-//!   [`analyze_general`], [`simulate_general`], [`optimize_general`] (P_m, globally),
+//!   [`analyze_general`], [`simulate_general`], [`optimize_general_file`] (the plan of
+//!   [`OptimizeSettings`] for it, run), [`optimize_general`] (P_m, globally),
 //!   [`optimize_general_local`] (P_m, locally), [`optimize_general_phase`] (exact gaits of at
 //!   most `K` phases where `A = 0`, globally, `K` fixed or grown as for crawlers),
 //!   [`optimize_general_on_chain`] (the crawler's sequence and chain methods where the
@@ -77,7 +79,7 @@ pub use general_phase::{
 pub use general_plan::{optimize_general_plan, GeneralAnswer, GeneralPlan};
 pub use optimize::{optimize, Optimized};
 pub use optimize_file::{
-    optimize_file, optimize_general_file, progress_length, report_file, OptimizedFile,
+    optimize_file, optimize_general_file, report_file, OptimizeJob, OptimizedFile,
 };
 pub use problem_file::{analyze_file, simulate_file, Analyzed, Simulated};
 pub use settings::{

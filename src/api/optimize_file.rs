@@ -3,16 +3,20 @@
 //! on the kind of file: [`optimize_file`] takes the one [`OptimizeSettings`] of both kinds
 //! (the library decides which settings apply to which kind and refuses the others, naming
 //! them) and returns one answer type, [`OptimizedFile`], whose methods give its text, its
-//! figures, its report and its JSON (the kind's own), rendered by [`crate::present`].
+//! figures, its report, its summary line and its JSON (the kind's own), rendered by
+//! [`crate::present`]. [`OptimizeJob`] is the same call in two steps, for a front end that
+//! checks its own output paths after the input and before the work.
 
 use super::events::Hooks;
 use super::gait_problem;
-use super::general_plan::{optimize_general_plan, GeneralAnswer};
+use super::general_plan::{optimize_general_plan, GeneralAnswer, GeneralPlan};
 use super::optimize::{optimize, Optimized};
 use super::settings::{GaitMethod, Naming, OptimizeSettings};
 use crate::error::{Error, Result};
 use crate::io::{GeneralFile, ProblemFile};
 use crate::model::general::GeneralProblem;
+use crate::model::Crawler;
+use crate::optimal::GaitProblem;
 use crate::present::{self, figures::Figure, report, text};
 use serde::Serialize;
 
@@ -42,31 +46,99 @@ pub enum OptimizedFile {
     },
 }
 
-/// The optimum of a problem file of either kind under `settings` (module docs). A crawler's
-/// file must pose a `[gait]` problem; every answer is re-verified by simulation before it is
-/// returned, as each kind's job does.
+/// An optimisation of a problem file checked before its work ([`OptimizeJob::new`]): a front
+/// end checks its output paths between [`OptimizeJob::new`] and [`OptimizeJob::run`], so that
+/// every refusal of the input comes first and no work is done for an output it cannot write.
+#[derive(Debug)]
+pub struct OptimizeJob<'a> {
+    file: &'a ProblemFile,
+    settings: &'a OptimizeSettings,
+    checked: Checked,
+}
+
+/// What [`OptimizeJob::new`] checked and built.
+#[derive(Debug)]
+enum Checked {
+    Crawler {
+        crawler: Box<Crawler>,
+        problem: Box<GaitProblem>,
+    },
+    General {
+        problem: Box<GeneralProblem>,
+        plan: Box<GeneralPlan>,
+    },
+}
+
+impl<'a> OptimizeJob<'a> {
+    /// Checks the problem file and the settings for it, in this order: a crawler's file must
+    /// pose a `[gait]` problem whose crawler meets the uniqueness condition (paper eq. 3.6); a
+    /// general file's settings must apply to it ([`OptimizeSettings::plan_general`], the first
+    /// one that does not is named) and its problem must be well posed.
+    pub fn new(file: &'a ProblemFile, settings: &'a OptimizeSettings) -> Result<Self> {
+        let checked = match file {
+            ProblemFile::Crawler(model) => {
+                let (crawler, problem) = gait_problem(model)?;
+                Checked::Crawler {
+                    crawler: Box::new(crawler),
+                    problem: Box::new(problem),
+                }
+            }
+            ProblemFile::General(general) => {
+                let plan = settings.plan_general(&[])?;
+                Checked::General {
+                    problem: Box::new(general.problem()?),
+                    plan: Box::new(plan),
+                }
+            }
+        };
+        Ok(OptimizeJob {
+            file,
+            settings,
+            checked,
+        })
+    }
+
+    /// The length in which the job's progress is shown: a crawler's gait scales, the size of a
+    /// general problem's C.
+    pub fn progress_length(&self) -> f64 {
+        match &self.checked {
+            Checked::Crawler { crawler, problem } => {
+                text::GaitScales::of_problem(crawler, problem).length
+            }
+            Checked::General { problem, .. } => problem.c.scale(),
+        }
+    }
+
+    /// Runs the job with `hooks`: every answer is re-verified by simulation before it is
+    /// returned, as each kind's job does.
+    pub fn run(self, hooks: Hooks<'_>) -> Result<OptimizedFile> {
+        match (self.checked, self.file) {
+            (Checked::Crawler { crawler, problem }, _) => {
+                let done = optimize(&crawler, &problem, self.settings, hooks)?;
+                Ok(OptimizedFile::Crawler(Box::new(done)))
+            }
+            (Checked::General { problem, plan }, ProblemFile::General(general)) => {
+                let answer = optimize_general_plan(general, &plan, self.settings.naming, hooks)?;
+                Ok(OptimizedFile::General {
+                    problem,
+                    answer: Box::new(answer),
+                })
+            }
+            (Checked::General { .. }, ProblemFile::Crawler(_)) => {
+                unreachable!("a general plan is made of a general file only")
+            }
+        }
+    }
+}
+
+/// The optimum of a problem file of either kind under `settings` (module docs):
+/// [`OptimizeJob::new`] then [`OptimizeJob::run`].
 pub fn optimize_file(
     file: &ProblemFile,
     settings: &OptimizeSettings,
     hooks: Hooks<'_>,
 ) -> Result<OptimizedFile> {
-    match file {
-        ProblemFile::Crawler(model) => {
-            let (crawler, problem) = gait_problem(model)?;
-            let done = optimize(&crawler, &problem, settings, hooks)?;
-            Ok(OptimizedFile::Crawler(Box::new(done)))
-        }
-        ProblemFile::General(general) => {
-            // The problem is built (and checked) before the work: an ill-posed file is refused
-            // at once, and the answer's figures need it.
-            let problem = general.problem()?;
-            let answer = optimize_general_file(general, settings, hooks)?;
-            Ok(OptimizedFile::General {
-                problem: Box::new(problem),
-                answer: Box::new(answer),
-            })
-        }
-    }
+    OptimizeJob::new(file, settings)?.run(hooks)
 }
 
 /// The optimum a report of a problem file shows (`crawlopt report FILE.toml`): a crawler's by
@@ -105,19 +177,15 @@ pub fn report_file(
     })
 }
 
-/// The length in which a problem file's progress is shown (a crawler's gait scales, a general
-/// problem's size of C), before the work.
-pub fn progress_length(file: &ProblemFile) -> Result<f64> {
-    Ok(match file {
-        ProblemFile::Crawler(model) => {
-            let (crawler, problem) = gait_problem(model)?;
-            text::GaitScales::of_problem(&crawler, &problem).length
-        }
-        ProblemFile::General(general) => general.problem()?.c.scale(),
-    })
-}
-
 impl OptimizedFile {
+    /// The answer's key numbers in one line: J (and a crawler's displacement per period).
+    pub fn summary(&self) -> String {
+        match self {
+            OptimizedFile::Crawler(o) => text::gait_summary(&o.result),
+            OptimizedFile::General { answer, .. } => text::general_summary(answer.objective()),
+        }
+    }
+
     /// The objective J of the answer (verified by simulation).
     pub fn objective(&self) -> f64 {
         match self {

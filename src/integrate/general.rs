@@ -299,8 +299,9 @@ pub fn simulate_general(
 }
 
 /// [`simulate_general`] with the problem's structure already recognised: `chain` is
-/// `p.as_chain()` (a caller that simulates one problem several times recognises it once).
-pub fn simulate_general_on(
+/// `p.as_chain()` (a caller that simulates one problem several times recognises it once; crate
+/// only, since a view of another problem would project onto the wrong set).
+pub(crate) fn simulate_general_on(
     p: &GeneralProblem,
     chain: Option<&ChainView>,
     input: &ControlInput,

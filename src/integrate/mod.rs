@@ -24,9 +24,10 @@ pub use actuation::{Actuation, TravellingWave, WaveDirection, Waveform, MAX_OFFS
 pub use catching_up::CatchingUp;
 pub use chain_regime::{chain_regime, ChainRegime};
 pub use exact::ExactPwl;
+pub(crate) use general::simulate_general_on;
 pub use general::{
-    simulate_general, simulate_general_on, ControlInput, DriftStep, GeneralMethod,
-    GeneralSimOptions, GeneralSimulation, InputKind,
+    simulate_general, ControlInput, DriftStep, GeneralMethod, GeneralSimOptions, GeneralSimulation,
+    InputKind,
 };
 pub use general_exact::simulate_general_exact;
 pub use increments::IncrementStorage;

@@ -1,6 +1,7 @@
-//! `crawlopt optimize`: the flags as [`OptimizeSettings`], one call of
-//! [`crawlopt::api::optimize`] (which holds every policy: method, defaults, starts, growth,
-//! time budget), rendered; figures and the report written from the result.
+//! `crawlopt optimize`: the flags as [`OptimizeSettings`], one job of the library for a problem
+//! file of either kind ([`crawlopt::api::OptimizeJob`], which holds every policy: method,
+//! defaults, starts, growth, time budget), rendered; figures and the report written from the
+//! answer.
 
 use crate::output::{file_name, json_line, out, outln};
 use crate::parse::{count, count_u32};
@@ -149,9 +150,11 @@ fn settings_of(a: &OptimizeArgs) -> Result<OptimizeSettings, Error> {
 }
 
 pub fn run(a: OptimizeArgs) -> Result<ExitCode, Error> {
-    let settings = settings_of(&a)?;
     let file = ProblemFile::load(&a.file)?;
-    // Output paths are checked before the work.
+    let settings = settings_of(&a)?;
+    // The input refused first (the library's checks of the file and of the settings for it),
+    // then the output paths, both before the work.
+    let job = api::OptimizeJob::new(&file, &settings)?;
     if let Some(path) = &a.report {
         AtomicFile::check(path)?;
     }
@@ -159,13 +162,13 @@ pub fn run(a: OptimizeArgs) -> Result<ExitCode, Error> {
         present::check_figure_dir(dir)?;
     }
     // Progress on stderr, the values shown in the problem's own length.
-    let mut spinner = Spinner::new(api::progress_length(&file)?);
+    let mut spinner = Spinner::new(job.progress_length());
     let mut show = |e: &api::Event, _: f64| spinner.show(e);
     let hooks = Hooks {
         events: Some(&mut show),
         cancel: None,
     };
-    let answer = api::optimize_file(&file, &settings, hooks);
+    let answer = job.run(hooks);
     spinner.finish(answer.as_ref().map_or(&[][..], |r| r.notes()));
     let answer = answer?;
     if let Some(dir) = &a.plot {

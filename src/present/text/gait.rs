@@ -5,6 +5,17 @@ use crate::certify::NecessaryConditions;
 use crate::optimal::{GaitResult, GrowthStop, MilpStatus, PhaseStep};
 use crate::present::text;
 
+/// An optimal-gait result's key numbers in one line (as `crawlopt report` says it wrote the
+/// page): J and the displacement per period, in the gait's units.
+pub fn gait_summary(r: &GaitResult) -> String {
+    let length = GaitScales::of(r).length;
+    format!(
+        "objective J = {}, displacement per period {}",
+        num(r.objective, length),
+        num(r.displacement_per_period, length)
+    )
+}
+
 /// The human form of an optimal-gait result: the same content as the JSON.
 pub fn gait_result(r: &GaitResult) -> String {
     let mut out = String::new();

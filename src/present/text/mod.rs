@@ -19,13 +19,27 @@ mod simulation;
 
 pub use analysis::{analysis, gait_problem};
 pub use fit::fit;
-pub use gait::{certificate, gait_result, phase_step};
+pub use gait::{certificate, gait_result, gait_summary, phase_step};
 pub use general::{
     general_analysis, general_answer, general_local, general_optimum, general_phase,
     general_simulation,
 };
 pub use general_certify::general_certificate;
 pub use simulation::simulation;
+
+/// A general answer's key number in one line: its J.
+pub fn general_summary(objective: f64) -> String {
+    format!("objective J = {}", num(objective, objective.abs()))
+}
+
+/// A result file's key numbers in one line, of either kind ([`gait_summary`],
+/// [`general_summary`]).
+pub fn result_file_summary(r: &crate::io::ResultFile) -> String {
+    match r {
+        crate::io::ResultFile::Crawler(g) => gait_summary(g),
+        crate::io::ResultFile::General(_) => general_summary(r.objective()),
+    }
+}
 
 pub use crate::number::{num, number, DIGITS, SNAP};
 
