@@ -321,43 +321,8 @@ pub fn simulate(crawler: &Crawler, act: &Actuation, opts: &SimOptions) -> Result
             format!("the crawler has {} links", crawler.links()),
         ));
     }
-    let uses_m = opts.method == Method::CatchingUp || !act.is_piecewise_linear();
-    if uses_m {
-        opts.check_steps()?;
-    }
-    opts.check()?;
+    let storage = check_sizes(crawler, act, opts)?;
     let (n, nb) = (crawler.links(), crawler.blocks());
-    // Memory guards: the sampled increments (catching-up, unless streamed), the exact method's
-    // knots and the recorded trajectory.
-    let per_period = if opts.method == Method::CatchingUp || !act.is_piecewise_linear() {
-        opts.steps_per_period
-    } else {
-        act.knots(0).0.len()
-    };
-    let storage = IncrementStorage::within(opts.increment_budget, n, opts.steps_per_period);
-    let streamed = opts.method == Method::CatchingUp && storage == IncrementStorage::Streamed;
-    if uses_m && !streamed && (per_period as f64) * (n as f64) > MAX_SAMPLES {
-        let (field, value, also) = match opts.method {
-            Method::CatchingUp => (
-                "increment_budget",
-                opts.increment_budget,
-                ": a smaller budget streams them",
-            ),
-            Method::Exact => ("steps_per_period", per_period, ""),
-        };
-        return Err(Error::invalid(
-            field,
-            value,
-            format!(
-                "holds {per_period} steps per period times {n} links, at most {MAX_SAMPLES:e} are \
-                 held (memory){also}"
-            ),
-        ));
-    }
-    let recorded = opts.record_periods as f64 * per_period as f64 * (3 * nb) as f64;
-    if recorded > MAX_RECORDED {
-        return Err(recording_limit(opts.record_periods, per_period, nb));
-    }
     let mut proj = Projector::new(crawler)?;
     let mut scratch_d = vec![0.0; nb];
     let mut x = vec![0.0; n];
@@ -546,41 +511,13 @@ pub fn simulate(crawler: &Crawler, act: &Actuation, opts: &SimOptions) -> Result
     map.record_tangent(false);
     let last = acc.iter().sum::<f64>() / nb as f64;
     let trajectory = if opts.record_periods > 0 {
-        // Positions at the start of the recording: y = 0 and X_{b+1} - X_b = L_b(0) - x_b / k_b.
-        let mut l0 = vec![0.0; n];
-        act.lengths_at(0.0, &mut l0);
-        let mut base = vec![0.0; nb];
-        for l in 0..n {
-            base[l + 1] = base[l] + l0[l] - x_start[l] / crawler.stiffness()[l];
-        }
-        let y0 = base.iter().sum::<f64>() / nb as f64;
-        base.iter_mut().for_each(|b| *b -= y0);
-        let mut traj = Trajectory::default();
-        let mut xr = x_start.clone();
-        let mut accr = vec![0.0; nb];
-        let max_rows = (MAX_RECORDED / (3 * nb) as f64) as usize;
-        for p in 0..opts.record_periods {
-            let mut rec = Recorder {
-                traj: &mut traj,
-                base: base.clone(),
-                t0: p as f64 * act.period(),
-                max_rows,
-                overflow: false,
-            };
-            if p == 0 {
-                rec.push(0.0, &xr, &accr, std::iter::repeat_n(0, nb));
-            }
-            map.run_period(&mut xr, &mut accr, Some(&mut rec))?;
-            if rec.overflow {
-                // The exact method records its events too: more samples than knots.
-                return Err(recording_limit(
-                    opts.record_periods,
-                    traj.t.len() / (p + 1),
-                    nb,
-                ));
-            }
-        }
-        Some(traj)
+        Some(record_periods(
+            crawler,
+            act,
+            map.as_mut(),
+            &x_start,
+            opts.record_periods,
+        )?)
     } else {
         None
     };
@@ -604,4 +541,91 @@ pub fn simulate(crawler: &Crawler, act: &Actuation, opts: &SimOptions) -> Result
         orbit_state: x_start,
         trajectory,
     })
+}
+
+/// The checks of [`simulate`]'s options against the actuation and the memory guards: the
+/// sampled increments (catching-up, unless streamed), the exact method's knots and the
+/// recorded trajectory. Returns how the increments are stored.
+fn check_sizes(crawler: &Crawler, act: &Actuation, opts: &SimOptions) -> Result<IncrementStorage> {
+    let uses_m = opts.method == Method::CatchingUp || !act.is_piecewise_linear();
+    if uses_m {
+        opts.check_steps()?;
+    }
+    opts.check()?;
+    let (n, nb) = (crawler.links(), crawler.blocks());
+    // Memory guards: the sampled increments (catching-up, unless streamed), the exact method's
+    // knots and the recorded trajectory.
+    let per_period = if opts.method == Method::CatchingUp || !act.is_piecewise_linear() {
+        opts.steps_per_period
+    } else {
+        act.knots(0).0.len()
+    };
+    let storage = IncrementStorage::within(opts.increment_budget, n, opts.steps_per_period);
+    let streamed = opts.method == Method::CatchingUp && storage == IncrementStorage::Streamed;
+    if uses_m && !streamed && (per_period as f64) * (n as f64) > MAX_SAMPLES {
+        let (field, value, also) = match opts.method {
+            Method::CatchingUp => (
+                "increment_budget",
+                opts.increment_budget,
+                ": a smaller budget streams them",
+            ),
+            Method::Exact => ("steps_per_period", per_period, ""),
+        };
+        return Err(Error::invalid(
+            field,
+            value,
+            format!(
+                "holds {per_period} steps per period times {n} links, at most {MAX_SAMPLES:e} are \
+                 held (memory){also}"
+            ),
+        ));
+    }
+    let recorded = opts.record_periods as f64 * per_period as f64 * (3 * nb) as f64;
+    if recorded > MAX_RECORDED {
+        return Err(recording_limit(opts.record_periods, per_period, nb));
+    }
+    Ok(storage)
+}
+
+/// Records `periods` periods of the orbit from its state `x_start` (the trajectory of
+/// [`Simulation::trajectory`]), positions starting at `y = 0`.
+fn record_periods(
+    crawler: &Crawler,
+    act: &Actuation,
+    map: &mut dyn PeriodMap,
+    x_start: &[f64],
+    periods: usize,
+) -> Result<Trajectory> {
+    let (n, nb) = (crawler.links(), crawler.blocks());
+    // Positions at the start of the recording: y = 0 and X_{b+1} - X_b = L_b(0) - x_b / k_b.
+    let mut l0 = vec![0.0; n];
+    act.lengths_at(0.0, &mut l0);
+    let mut base = vec![0.0; nb];
+    for l in 0..n {
+        base[l + 1] = base[l] + l0[l] - x_start[l] / crawler.stiffness()[l];
+    }
+    let y0 = base.iter().sum::<f64>() / nb as f64;
+    base.iter_mut().for_each(|b| *b -= y0);
+    let mut traj = Trajectory::default();
+    let mut xr = x_start.to_vec();
+    let mut accr = vec![0.0; nb];
+    let max_rows = (MAX_RECORDED / (3 * nb) as f64) as usize;
+    for p in 0..periods {
+        let mut rec = Recorder {
+            traj: &mut traj,
+            base: base.clone(),
+            t0: p as f64 * act.period(),
+            max_rows,
+            overflow: false,
+        };
+        if p == 0 {
+            rec.push(0.0, &xr, &accr, std::iter::repeat_n(0, nb));
+        }
+        map.run_period(&mut xr, &mut accr, Some(&mut rec))?;
+        if rec.overflow {
+            // The exact method records its events too: more samples than knots.
+            return Err(recording_limit(periods, traj.t.len() / (p + 1), nb));
+        }
+    }
+    Ok(traj)
 }
