@@ -10,7 +10,7 @@ use super::general_kkt::{GeneralRaw, GeneralStructure};
 use super::general_process::GeneralProcess;
 use super::stages::sup;
 use super::verdict::{
-    check, discrete_group, misplaced_mass, norm2, normalisation, step_distance, verdict,
+    check, discrete_group, law_target, misplaced_mass, norm2, normalisation, step_distance, verdict,
 };
 use super::{CertifyOptions, CERTIFICATE_VERSION};
 use crate::model::general::{ControlSet, GeneralCost, GeneralProblem};
@@ -81,14 +81,8 @@ pub(crate) fn report(
             for i in 0..steps {
                 for l in 0..m {
                     let s = switching[i][l];
-                    let want = if c > 0.0 && raw.lambda > 0.0 {
-                        Some((-s / (raw.lambda * c)).clamp(lower[l], upper[l]))
-                    } else if s.abs() > nd_tol {
-                        Some(if s < 0.0 { upper[l] } else { lower[l] })
-                    } else {
-                        None
-                    };
-                    if let Some(w) = want {
+                    let quadratic = (c > 0.0 && raw.lambda > 0.0).then_some(raw.lambda * c);
+                    if let Some(w) = law_target(s, quadratic, lower[l], upper[l], nd_tol) {
                         worst = worst.max((pr.u[i][l] - w).abs() / (upper[l] - lower[l]));
                     }
                 }

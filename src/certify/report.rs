@@ -8,7 +8,7 @@ use super::records::*;
 use super::residuals::discrete_residuals;
 use super::stages::sup;
 use super::verdict::{
-    check, discrete_group, misplaced_mass, norm2, normalisation, step_distance, verdict,
+    check, discrete_group, law_target, misplaced_mass, norm2, normalisation, step_distance, verdict,
 };
 use crate::optimal::Cost;
 
@@ -67,14 +67,11 @@ pub(super) fn report(
         for l in 0..n {
             let s = p_plus_omega[j][l];
             let u = pr.controls[j][l];
-            let want = match pr.problem.cost {
-                Cost::Quadratic { weight } if raw.lambda > 0.0 => {
-                    Some((-s / (raw.lambda * weight)).clamp(-a[l], a[l]))
-                }
-                _ if s.abs() > nd_tol => Some(-a[l] * s.signum()),
+            let quadratic = match pr.problem.cost {
+                Cost::Quadratic { weight } if raw.lambda > 0.0 => Some(raw.lambda * weight),
                 _ => None,
             };
-            if let Some(w) = want {
+            if let Some(w) = law_target(s, quadratic, -a[l], a[l], nd_tol) {
                 law = law.max((u - w).abs() / a[l]);
             }
         }

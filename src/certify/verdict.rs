@@ -85,6 +85,25 @@ pub(super) fn step_distance(a: f64, b: f64, tau: f64, up: bool, down: bool) -> f
     }
 }
 
+/// The control weak maximality implies for one component of a box `[lo, hi]`, from its switching
+/// value `s` (`p + omega` for a crawler, `B^T p + omega` for (P)): with `f2 = (c/2)|u|^2` and
+/// `lambda > 0` (`quadratic = Some(lambda c)`) the projection of `-s / (lambda c)`; else the
+/// bang-bang control, `hi` where `s < 0` and `lo` where `s > 0`, once `|s|` is above the
+/// non-degeneracy `threshold`; `None` where it decides nothing.
+pub(super) fn law_target(
+    s: f64,
+    quadratic: Option<f64>,
+    lo: f64,
+    hi: f64,
+    threshold: f64,
+) -> Option<f64> {
+    match quadratic {
+        Some(lc) => Some((-s / lc).clamp(lo, hi)),
+        None if s.abs() > threshold => Some(if s < 0.0 { hi } else { lo }),
+        None => None,
+    }
+}
+
 /// Whether a condition counts for the verdict of its group: all but `lambda > 0` (which
 /// decides between the verdicts) and the non-degeneracy and the control law (which make a
 /// verdict degenerate, not failed).
