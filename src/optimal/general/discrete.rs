@@ -29,7 +29,7 @@
 //! become cut points until the true objective of the incumbent meets the bound within
 //! [`OA_TOL`] (relative above 1, absolute below), as for the crawler's P_m. C and U bounded.
 
-use super::geometry::Geometry;
+use super::geometry::{into_u, Geometry};
 use crate::error::{Error, Result};
 use crate::integrate::{simulate_general, ControlInput, GeneralSimOptions, InputKind};
 use crate::model::general::{
@@ -649,7 +649,7 @@ pub(super) struct Replayed {
     pub objective: f64,
     /// States `x^0..x^M`, simulated.
     pub x: Vec<Vec<f64>>,
-    /// Controls (clipped into a box U against the solver's feasibility tolerance).
+    /// Controls (moved into U against the solver's feasibility tolerance, [`into_u`]).
     pub u: Vec<Vec<f64>>,
     /// Reactions `lambda^i`, simulated.
     pub lambda: Vec<Vec<f64>>,
@@ -684,18 +684,13 @@ pub(super) fn replay_controls(
     lp_reward: f64,
     what: &str,
 ) -> Result<Replayed> {
-    // The controls, clipped into U against the solver's feasibility tolerance.
+    // The controls moved into U against the solver's feasibility tolerance (a box clipped, a
+    // polytope by projection).
+    let mut centre = None;
     let u: Vec<Vec<f64>> = u
         .into_iter()
-        .map(|r| match &p.control {
-            ControlSet::Box { lower, upper } => r
-                .iter()
-                .zip(lower.iter().zip(upper))
-                .map(|(v, (lo, hi))| v.clamp(*lo, *hi))
-                .collect(),
-            ControlSet::Polytope(_) => r,
-        })
-        .collect();
+        .map(|r| into_u(&p.control, &mut centre, r))
+        .collect::<Result<_>>()?;
     let sim = simulate_grid(p, m, x0, &u, "P_m controls")?;
     let scale = p.c.scale();
     let reward = sim.reward;

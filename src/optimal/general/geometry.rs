@@ -21,7 +21,7 @@
 //! chain of any length is accepted.
 
 use crate::error::{Error, Result};
-use crate::model::general::{dot, GeneralProblem, Polyhedron, Reward};
+use crate::model::general::{dot, ControlSet, GeneralProblem, Polyhedron, Reward};
 use crate::optimal::solver::{Highs, SolveStatus};
 use highs::{RowProblem, Sense};
 use nalgebra::{DMatrix, DVector};
@@ -366,12 +366,86 @@ pub(crate) fn next_subset(s: &mut [usize], n: usize) -> bool {
     false
 }
 
+/// A solver's control moved into U (unchanged when it lies in U): a MILP or LP holds `u in U`
+/// only to its feasibility tolerance, and a phase's control `U_j / tau_j` divides that error by
+/// its duration (measured: 2.3 outside a row of U at `tau` near `1e-8`), which the replay
+/// refused ("lies outside U"). A box U clips each component; a polytope U takes the Euclidean
+/// projection (the exact active-set method from U's Chebyshev centre, computed once into
+/// `centre`), which moves the control, and so the replayed increment, by as little: the
+/// replay's check of the states still measures the solver's answer.
+pub(crate) fn into_u(
+    control: &ControlSet,
+    centre: &mut Option<Vec<f64>>,
+    u: Vec<f64>,
+) -> Result<Vec<f64>> {
+    let poly = match control {
+        ControlSet::Box { lower, upper } => {
+            return Ok(u
+                .iter()
+                .zip(lower.iter().zip(upper))
+                .map(|(v, (lo, hi))| v.clamp(*lo, *hi))
+                .collect())
+        }
+        ControlSet::Polytope(poly) => poly,
+    };
+    if poly.violation(&u, 0.0).is_none() {
+        return Ok(u);
+    }
+    if centre.is_none() {
+        *centre = Some(chebyshev(poly, poly.scale())?.0);
+    }
+    let start = centre.as_deref().expect("set above");
+    Ok(crate::sweep::PolyProjector::new(poly.clone())
+        .project(start, &u)?
+        .x)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
 
     fn poly(rows: &[[f64; 2]], c: &[f64]) -> Polyhedron {
         Polyhedron::new(rows.iter().map(|r| r.to_vec()).collect(), c.to_vec(), "C").unwrap()
+    }
+
+    /// A solver's control outside U by its tolerance is moved into U: a box clips each
+    /// component, a polytope takes the nearest point (here a triangle's edge and vertex), and
+    /// a control inside U is kept as it is.
+    #[test]
+    fn a_control_outside_u_is_moved_to_the_nearest_point_of_u() {
+        let boxed = ControlSet::Box {
+            lower: vec![-1.0, 0.0],
+            upper: vec![1.0, 2.0],
+        };
+        let mut centre = None;
+        let u = into_u(&boxed, &mut centre, vec![1.0 + 1e-9, -3.0]).unwrap();
+        assert_eq!(u, vec![1.0, 0.0]);
+        // U: x <= 1, y <= 1, -x - y <= 1.
+        let tri = ControlSet::Polytope(poly(
+            &[[1.0, 0.0], [0.0, 1.0], [-1.0, -1.0]],
+            &[1.0, 1.0, 1.0],
+        ));
+        let inside = vec![0.25, -0.5];
+        assert_eq!(into_u(&tri, &mut centre, inside.clone()).unwrap(), inside);
+        assert!(centre.is_none(), "a control inside U needs no centre");
+        // Beyond the edge x = 1 by 1e-7: its foot on the edge.
+        let u = into_u(&tri, &mut centre, vec![1.0 + 1e-7, 0.3]).unwrap();
+        assert!(
+            (u[0] - 1.0).abs() <= 1e-15 && (u[1] - 0.3).abs() <= 1e-15,
+            "{u:?}"
+        );
+        // Beyond the vertex (1, 1) in its normal cone: the vertex.
+        let u = into_u(&tri, &mut centre, vec![1.5, 2.0]).unwrap();
+        assert!(
+            (u[0] - 1.0).abs() <= 1e-15 && (u[1] - 1.0).abs() <= 1e-15,
+            "{u:?}"
+        );
+        // Beyond the slanted edge -x - y = 1: the foot of the perpendicular.
+        let u = into_u(&tri, &mut centre, vec![-1.0, -1.0]).unwrap();
+        assert!(
+            (u[0] + 0.5).abs() <= 1e-14 && (u[1] + 0.5).abs() <= 1e-14,
+            "{u:?}"
+        );
     }
 
     #[test]

@@ -70,7 +70,7 @@ use super::discrete::{
     big_m, check_sets, column_bound, cost_matrix, initial_cuts, replay_periodic, reward_weights,
     state_columns, MAX_OA_ROUNDS,
 };
-use super::geometry::Geometry;
+use super::geometry::{into_u, Geometry};
 use super::phase_polish::{polish_general_phases, MilpPhases};
 use crate::error::{Error, Result};
 use crate::integrate::{simulate_general_exact, ControlInput, InputKind};
@@ -432,30 +432,6 @@ pub fn replay_phases(
     Ok((states, sim))
 }
 
-/// A phase's control `U_j / tau_j` moved into a polytope U (unchanged when it lies in U): the
-/// MILP holds `G U_j <= h tau_j` only to its feasibility tolerance, so the control of a short
-/// phase can lie far outside U (by `1e-7 / tau_j`; measured: 2.3 outside a row of U at `tau`
-/// near `1e-8`), which the replay refused, naming `phase controls`. Its Euclidean projection
-/// onto U (the exact active-set method, from U's Chebyshev centre, computed once into
-/// `centre`) moves the phase's increment by as little, so the replay's check of the states
-/// still measures the MILP's gait.
-fn into_polytope(
-    poly: &crate::model::general::Polyhedron,
-    centre: &mut Option<Vec<f64>>,
-    u: Vec<f64>,
-) -> Result<Vec<f64>> {
-    if poly.violation(&u, 0.0).is_none() {
-        return Ok(u);
-    }
-    if centre.is_none() {
-        *centre = Some(super::geometry::chebyshev(poly, poly.scale())?.0);
-    }
-    let start = centre.as_deref().expect("set above");
-    Ok(crate::sweep::PolyProjector::new(poly.clone())
-        .project(start, &u)?
-        .x)
-}
-
 /// The MILP's gait read off its columns: the phases longer than [`EMPTY_PHASE`] `T`.
 fn read_phases(lay: &Layout, cols: &[f64], t: f64) -> MilpPhases {
     let val = |c: &Col| cols[c.index()];
@@ -487,7 +463,7 @@ fn read_phases(lay: &Layout, cols: &[f64], t: f64) -> MilpPhases {
 /// boundaries (and `x(T) = x(0)` when periodic), within `1e-6` relative; a disagreement is an
 /// error naming `what`. The controls `U_j / tau_j` are clipped into a box U against the
 /// solver's feasibility tolerance, and into a polytope U by the Euclidean projection
-/// ([`into_polytope`]).
+/// ([`into_u`]).
 pub(super) fn verified_gait(
     p: &GeneralProblem,
     phases: &MilpPhases,
@@ -506,16 +482,7 @@ pub(super) fn verified_gait(
         .increments
         .iter()
         .zip(&durations)
-        .map(|(u, tau)| {
-            let u = u.iter().map(|v| v / tau);
-            Ok(match &p.control {
-                ControlSet::Box { lower, upper } => u
-                    .zip(lower.iter().zip(upper))
-                    .map(|(v, (lo, hi))| v.clamp(*lo, *hi))
-                    .collect(),
-                ControlSet::Polytope(poly) => into_polytope(poly, &mut centre, u.collect())?,
-            })
-        })
+        .map(|(u, tau)| into_u(&p.control, &mut centre, u.iter().map(|v| v / tau).collect()))
         .collect::<Result<_>>()?;
     let reactions: Vec<Vec<f64>> = phases
         .integrated
