@@ -152,6 +152,45 @@ fn the_one_link_closed_form_is_reached() {
     assert!((replayed(&c, &pc, &r) - r.objective).abs() < 1e-9);
 }
 
+/// With a cost that outweighs every motion, the idle gait (u = 0, J = 0) is the answer: the
+/// chain method used to return its best ramp gait at J < 0 with exit 0 (found by fuzzing: three
+/// blocks, f2 = (1.944/2) u^2, J = -0.0096). On one link with a heavy cost the closed form is
+/// J* = 0 too.
+#[test]
+fn the_chain_method_is_never_below_the_idle_gait() {
+    let (c, _) = uniform(2, 2.0);
+    let heavy =
+        GaitProblem::new(&c, 10.0, &[1.0], Cost::Quadratic { weight: 100.0 }, None).unwrap();
+    let star = one_link_optimum(&c, &heavy).unwrap().value;
+    assert!(star.abs() < 1e-12, "J* = {star}");
+    let r = run(&c, &heavy, chain(30.0));
+    assert_eq!(r.objective, 0.0);
+    assert!(replayed(&c, &heavy, &r).abs() < 1e-12);
+    let fuzzed = Crawler::new(vec![3.824; 2], vec![0.176; 3], vec![0.631; 3]).unwrap();
+    let p = GaitProblem::new(
+        &fuzzed,
+        38.421,
+        &[4.01, 1.514],
+        Cost::Quadratic { weight: 1.944 },
+        None,
+    )
+    .unwrap();
+    let r = run(&fuzzed, &p, chain(30.0));
+    assert!(r.objective >= 0.0, "J = {}", r.objective);
+    // The answer reads back (as `certify` and `plot` read it).
+    GaitResult::from_json(&serde_json::to_string(&r).unwrap(), "chain").unwrap();
+}
+
+/// The chain method builds no model, but its answer must read back: it refuses the scales every
+/// optimiser refuses (it answered a stiffness ratio of 6e299 that `certify` then refused).
+#[test]
+fn the_chain_method_refuses_what_the_readers_refuse() {
+    let c = Crawler::new(vec![1.0, 1e7], vec![1.0; 3], vec![1.5; 3]).unwrap();
+    let p = GaitProblem::new(&c, 10.0, &[1.0, 1e-7], Cost::None, None).unwrap();
+    let e = optimize(&c, &p, &chain(30.0), Hooks::default()).unwrap_err();
+    assert!(e.to_string().contains("crawler.stiffness"), "{e}");
+}
+
 #[test]
 fn the_peers_instances_keep_their_known_optima() {
     // k = a = 1, T = 10, mu+ = 1: N = 3, 4 with mu- = 1.5, N = 5 with mu- = 1.6; J* = 2.6, 3.5,

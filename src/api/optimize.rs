@@ -44,6 +44,9 @@ pub fn optimize(
     hooks: Hooks<'_>,
 ) -> Result<Optimized> {
     crawler.require_unique()?;
+    // The scales every optimiser honours (and every reader of a result checks), whatever the
+    // method: the chain method builds no model but its answer must read back.
+    problem.check_scales(crawler)?;
     let plan = settings.plan(crawler, problem)?;
     run_with(hooks, |em| {
         crate::progress::check()?;
@@ -221,7 +224,24 @@ fn solve_method(
                     ))
                 },
             )?;
-            Ok(s.result)
+            if s.result.objective >= 0.0 {
+                return Ok(s.result);
+            }
+            // The idle gait (u = 0, J = 0) is a gait too: with a cost, every ramp the search
+            // tried may pay more than it moves the crawler.
+            em.send(Event::Note(format!(
+                "the chain method's best ramp gait has J = {:.6e} < 0: the idle gait (u = 0, \
+                 J = 0) is returned",
+                s.result.objective
+            )));
+            let n = crawler.links();
+            crate::optimal::structured::knots_result(
+                crawler,
+                problem,
+                vec![0.0, 0.5 * problem.period],
+                vec![vec![0.0; n]; 2],
+                "the idle gait (u = 0)",
+            )
         }
         GaitMethod::Local => {
             let from = start_gait(start, crawler, problem, plan, floor, em)?;
