@@ -128,6 +128,16 @@ fn outside_the_range_every_optimiser_refuses_naming_the_field() {
     let c = Crawler::new(vec![1e-200, 1e200], vec![1.0; 3], vec![1.5; 3]).unwrap();
     let p = GaitProblem::new(&c, 10.0, &[1.0, 1.0], Cost::None, None).unwrap();
     refused(&c, &p, "crawler.stiffness");
+    // Rate bounds 1.6e-300 beside 1.6 (found by fuzzing: P_3 wrote a gait whose states its own
+    // read-back refused, residual 1.8); at a ratio of 1e5 the same crawler is solved and read
+    // back.
+    let c = Crawler::new(vec![1.6, 1.86, 1.64], vec![1.0; 4], vec![2.0; 4]).unwrap();
+    let p = GaitProblem::new(&c, 11.7, &[1e-300, 0.85, 1.48], Cost::None, None).unwrap();
+    refused(&c, &p, "gait.max_actuator_speed");
+    let p = GaitProblem::new(&c, 11.7, &[1e-5, 0.85, 1.48], Cost::None, None).unwrap();
+    let r = solve_discrete_global(&c, &p, 2, Some(20.0)).unwrap();
+    let g = crawlopt::optimal::GaitResult::from_discrete(&c, &p, &r);
+    crawlopt::optimal::GaitResult::from_json(&serde_json::to_string(&g).unwrap(), "P_2").unwrap();
     // A cost that outweighs any motion by 1e300 (P_2 once answered J = -5.8e290).
     let (c, p) = one_link(1.0, 1.0, 10.0, 1.0, Cost::Quadratic { weight: 1e300 });
     let e = solve_discrete_global(&c, &p, 2, None).unwrap_err();

@@ -117,8 +117,9 @@ impl GaitProblem {
     }
 
     /// Refuses, naming the field and the supported range, an instance whose scale the LP/MILP
-    /// solvers cannot honour with their tolerances (README, "Supported range"): stiffness or
-    /// friction ratios above [`MAX_RATIO`], a sweep ratio `a_l T / w_l` above [`MAX_SWEEP`], a
+    /// solvers cannot honour with their tolerances (README, "Supported range"): stiffness,
+    /// friction or rate-bound (`a_l = k_l` times the actuator's speed) ratios above
+    /// [`MAX_RATIO`], a sweep ratio `a_l T / w_l` above [`MAX_SWEEP`], a
     /// cost ratio `c a_l k_l` above [`MAX_COST_RATIO`]. These are the dimensionless numbers of
     /// the problem: the units themselves (how large the forces, the period or the displacements
     /// are) are no limit, since the optimisers solve in internal units (`optimal::units`). The
@@ -137,6 +138,7 @@ impl GaitProblem {
         for (field, r) in [
             ("crawler.stiffness", ratio(crawler.stiffness())),
             ("crawler.mu_forward, crawler.mu_backward", ratio(&mus)),
+            ("gait.max_actuator_speed", ratio(&self.rate_bound)),
         ] {
             if r > MAX_RATIO {
                 return out(
