@@ -322,3 +322,63 @@ proptest! {
         prop_assert_eq!(wrong.working_set().len(), nb);
     }
 }
+
+/// An exact tie: a step whose start and end lie on vertices of C (an optimal gait's orbit; found
+/// by fuzzing on a six-block P_4 answer). Blocks 1 and 2 slide together by 7.358 while the
+/// minimiser of the chain's first link falls on block 2's face to within rounding; the dynamic
+/// programme and the warm method took block 2 as free and reported D = 0 for both (the state
+/// right), so a replay of the gait moved the crawler 41.48 a period instead of 43.94. Every
+/// method must give the active-set method's displacements, from the exact state and from one
+/// moved by 1e-12.
+#[test]
+fn a_step_between_vertices_of_c_keeps_its_block_displacements() {
+    use crawlopt::sweep::{ProjectionMethod, Projector};
+    let c = Crawler::new(
+        vec![9.931; 5],
+        vec![2.542, 1.974, 1.244, 2.727, 1.465, 2.81],
+        vec![2.739, 1.484, 1.338, 1.807, 1.02, 0.533],
+    )
+    .unwrap();
+    // The answer's own numbers, to the last digit (the tie is in their rounding).
+    let start = [
+        0.8369999999999999,
+        2.3209999999999997,
+        3.659,
+        0.9320000000000002,
+        -0.533,
+    ];
+    let h = 1.8545;
+    let u = [
+        -1.8220544621191692,
+        -43.09060900000001,
+        -3.784847667834997,
+        -1.3399838231329197,
+        3.923632846849055e-16,
+    ];
+    let delta: Vec<f64> = u.iter().map(|u| u * h).collect();
+    for moved in [0.0, -1e-12, 1e-12] {
+        let x0: Vec<f64> = start.iter().map(|v| v + moved).collect();
+        let step = |method| {
+            let mut p = Projector::new(&c).unwrap();
+            p.set_method(method);
+            let (mut x, mut d) = (vec![0.0; 5], vec![0.0; 6]);
+            p.project_from_origin(&x0, &mut x, &mut d).unwrap();
+            p.step(&mut x, &delta, &mut d).unwrap();
+            (x, d)
+        };
+        let (x_ref, d_ref) = step(ProjectionMethod::ActiveSet);
+        assert!(
+            (d_ref[0] - 7.358).abs() < 1e-3 && (d_ref[1] - 7.358).abs() < 1e-3,
+            "{d_ref:?}"
+        );
+        for method in [ProjectionMethod::Warm, ProjectionMethod::Dp] {
+            let (x, d) = step(method);
+            for (a, b) in x.iter().zip(&x_ref).chain(d.iter().zip(&d_ref)) {
+                assert!(
+                    (a - b).abs() <= 1e-9,
+                    "{method:?}, moved {moved}: {d:?} vs {d_ref:?}"
+                );
+            }
+        }
+    }
+}

@@ -211,11 +211,13 @@ impl ChainDp {
                 (a, Bound::Upper)
             } else if m > c {
                 (c, Bound::Lower)
-            } else if self.kinks[b - 1]
-                && (m - a).min(c - m) <= 1e-12 * m.abs().max(a.abs()).max(c.abs())
-            {
-                // A kink on (within rounding of) a bound: the face, whose multiplier is not 0 in
-                // general, is set by stationarity.
+            } else if (m - a).min(c - m) <= 1e-12 * m.abs().max(a.abs()).max(c.abs()) {
+                // A zero on (within rounding of) a bound: the face, whose multiplier is not 0 in
+                // general, is set by stationarity. At a kink the zero says nothing about it; at a
+                // smooth zero on the bound (an exact tie: the state and the step on vertices of
+                // C, as in an optimal gait's orbit) rounding decides which side the zero falls,
+                // and taking the block as free anchored D = 0 where the rest of the chain needs
+                // it slipping (a six-block step: D = 7.36 reported as 0, the state right).
                 (
                     m,
                     if m - a <= c - m {
