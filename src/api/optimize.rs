@@ -245,13 +245,16 @@ fn solve_method(
                 s.result.objective
             )));
             let n = crawler.links();
-            crate::optimal::structured::knots_result(
+            let mut idle = crate::optimal::structured::knots_result(
                 crawler,
                 problem,
                 vec![0.0, 0.5 * problem.period],
                 vec![vec![0.0; n]; 2],
                 "the idle gait (u = 0)",
-            )
+            )?;
+            // A search cut short says so, whatever it returns.
+            idle.status = s.result.status;
+            Ok(idle)
         }
         GaitMethod::Local => {
             let from = start_gait(start, crawler, problem, plan, floor, em)?;

@@ -135,17 +135,25 @@ impl GaitProblem {
             hi / lo
         };
         let mus = crawler.friction_thresholds();
-        for (field, r) in [
-            ("crawler.stiffness", ratio(crawler.stiffness())),
-            ("crawler.mu_forward, crawler.mu_backward", ratio(&mus)),
-            ("gait.max_actuator_speed", ratio(&self.rate_bound)),
+        for (field, of, r) in [
+            ("crawler.stiffness", "value", ratio(crawler.stiffness())),
+            (
+                "crawler.mu_forward, crawler.mu_backward",
+                "value",
+                ratio(&mus),
+            ),
+            (
+                "gait.max_actuator_speed",
+                "rate bound a_l = k_l x speed_l",
+                ratio(&self.rate_bound),
+            ),
         ] {
             if r > MAX_RATIO {
                 return out(
                     field.into(),
                     r,
                     format!(
-                        "the ratio of the largest to the smallest value exceeds {MAX_RATIO:e}, \
+                        "the ratio of the largest to the smallest {of} exceeds {MAX_RATIO:e}, \
                          beyond which the optimisers' tolerances lose the weakest"
                     ),
                 );
