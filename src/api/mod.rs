@@ -59,7 +59,7 @@ mod optimize_file;
 mod problem_file;
 mod settings;
 
-pub use bench::{bench, BenchCase, BenchSettings};
+pub use bench::{bench, rename_fields, BenchCase, BenchSettings};
 pub use certify_file::{certified_figures, certify_general_answer, certify_result_file, Certified};
 pub use events::{Event, Hooks, Observer};
 pub use fit::fit;
@@ -83,8 +83,8 @@ pub use optimize_file::{
 };
 pub use problem_file::{analyze_file, simulate_file, Analyzed, Simulated};
 pub use settings::{
-    rename_fields, GaitMethod, Naming, OptimizeSettings, Plan, Start, DEFAULT_MAX_PHASES,
-    DEFAULT_M_DISCRETE, DEFAULT_M_LOCAL, DEFAULT_PATIENCE, DEFAULT_SHIFTS,
+    GaitMethod, Naming, OptimizeSettings, Plan, Start, DEFAULT_MAX_PHASES, DEFAULT_M_DISCRETE,
+    DEFAULT_M_LOCAL, DEFAULT_PATIENCE, DEFAULT_SHIFTS,
 };
 
 use crate::error::{Error, Result};

@@ -107,28 +107,6 @@ impl Naming {
         }
     }
 
-    /// An error of an optimisation run with these settings, its field named as the caller
-    /// spelled the setting (`time_limit` is `--time-limit` for flags); other fields unchanged.
-    pub fn name_settings(self, e: crate::Error) -> crate::Error {
-        if self == Naming::Keywords {
-            return e;
-        }
-        let names: Vec<(&str, String)> = [
-            "method",
-            "m",
-            "time_limit",
-            "shifts",
-            "max_phases",
-            "phases",
-            "patience",
-            "bound",
-        ]
-        .into_iter()
-        .map(|f| (f, self.setting(f)))
-        .collect();
-        rename_fields(e, &names)
-    }
-
     /// Methods inside a sentence: `--method local, sequence and discrete` for flags,
     /// `method="local", "sequence" and "discrete"` for keywords.
     pub fn methods(self, methods: &[GaitMethod]) -> String {
@@ -498,29 +476,5 @@ impl OptimizeSettings {
             }
             _ => Ok(()),
         }
-    }
-}
-
-/// `e` with the field of an [`Error::InvalidParameter`] renamed by `names` (`(field, name)`; a
-/// field matches itself and its indexed entries `field[i]`).
-pub fn rename_fields(e: Error, names: &[(&str, String)]) -> Error {
-    match e {
-        Error::InvalidParameter {
-            field,
-            value,
-            reason,
-        } => {
-            let to = names.iter().find(|(name, _)| {
-                field
-                    .strip_prefix(name)
-                    .is_some_and(|rest| rest.is_empty() || rest.starts_with('['))
-            });
-            Error::InvalidParameter {
-                field: to.map_or(field, |(_, f)| f.clone()),
-                value,
-                reason,
-            }
-        }
-        other => other,
     }
 }
