@@ -104,7 +104,7 @@ fn options_that_do_not_apply_are_refused_in_the_caller_s_naming() {
         ..s
     };
     let (field, reason) = refused(flags, &p);
-    assert_eq!(field, "max-phases");
+    assert_eq!(field, "--max-phases");
     assert!(reason.contains("without --phases"), "{reason}");
     // shifts: the local method only; with a quadratic cost discrete's start is no local one.
     let quadratic = GaitProblem {

@@ -526,7 +526,7 @@ fn optimize_discrete_returns_a_verified_certified_gait() {
             m,
         ]);
         assert_eq!(out.status.code(), Some(2), "m = {m}");
-        assert!(stderr(&out).starts_with("error: m:"), "{}", stderr(&out));
+        assert!(stderr(&out).starts_with("error: --m:"), "{}", stderr(&out));
     }
     // Options of a part that does not run are refused, not silently ignored.
     for (args, flag) in [
@@ -542,7 +542,7 @@ fn optimize_discrete_returns_a_verified_certified_gait() {
         let out = crawlopt(&all);
         assert_eq!(out.status.code(), Some(2), "{args:?}");
         assert!(
-            stderr(&out).starts_with(&format!("error: {flag}:"))
+            stderr(&out).starts_with(&format!("error: --{flag}:"))
                 && stderr(&out).contains("applies only to"),
             "{args:?}: {}",
             stderr(&out)
@@ -568,7 +568,7 @@ fn optimize_discrete_returns_a_verified_certified_gait() {
     for (args, want) in [
         (
             &["--method", "discrete", "--time-limit", "4", "--shifts", "0"][..],
-            "error: shifts:",
+            "error: --shifts:",
         ),
         (
             &[
@@ -579,18 +579,18 @@ fn optimize_discrete_returns_a_verified_certified_gait() {
                 "--max-phases",
                 "0",
             ],
-            "error: max_phases:",
+            "error: --max-phases:",
         ),
         (
             &["--method", "local", "--max-phases", "100"],
-            "error: max_phases:",
+            "error: --max-phases:",
         ),
-        (&["--patience", "0"], "error: patience:"),
+        (&["--patience", "0"], "error: --patience:"),
         (
             &["--method", "discrete", "--time-limit=-1"],
-            "error: time_limit:",
+            "error: --time-limit:",
         ),
-        (&["--method", "local", "--m", "15"], "error: m:"),
+        (&["--method", "local", "--m", "15"], "error: --m:"),
     ] {
         let mut all = vec!["optimize", "examples/one_link_gait.toml"];
         all.extend_from_slice(args);
@@ -603,7 +603,7 @@ fn optimize_discrete_returns_a_verified_certified_gait() {
         (&["--method", "local"][..], "error: gait.cost:"),
         (
             &["--method", "discrete", "--time-limit", "4", "--shifts", "2"],
-            "error: shifts:",
+            "error: --shifts:",
         ),
     ] {
         let mut all = vec!["optimize", quadratic];

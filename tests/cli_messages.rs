@@ -91,7 +91,7 @@ fn negative_flag_values_name_the_flag() {
         ),
         (
             &["optimize", gait, "--time-limit", "-1"],
-            &["time_limit: must be positive and finite (got -1)"],
+            &["--time-limit: must be positive and finite (got -1)"],
         ),
         (
             &[
@@ -102,15 +102,15 @@ fn negative_flag_values_name_the_flag() {
                 "--time-limit",
                 "-1e-3",
             ],
-            &["time_limit: must be positive and finite (got -0.001)"],
+            &["--time-limit: must be positive and finite (got -0.001)"],
         ),
         (
             &["optimize", gait, "--time-limit", "-inf"],
-            &["time_limit: must be positive and finite (got -inf)"],
+            &["--time-limit: must be positive and finite (got -inf)"],
         ),
         (
             &["report", gait, "--time-limit", "-1", "-o", "never.html"],
-            &["time_limit: must be positive and finite"],
+            &["--time-limit: must be positive and finite"],
         ),
         (
             &["report", gait, "--phases", "-1", "-o", "never.html"],

@@ -317,7 +317,7 @@ fn optimize_refuses_grids_too_large_for_the_blocks() {
         "--m",
         "16",
     ]);
-    assert_refused(&out, &["m: ", "262144 block-steps"]);
+    assert_refused(&out, &["--m: ", "262144 block-steps"]);
 }
 
 #[test]

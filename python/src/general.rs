@@ -7,7 +7,7 @@ use crate::errors::to_py;
 use crate::run::run;
 use crawlopt::api::{self, GaitMethod, Naming, OptimizeSettings};
 use crawlopt::integrate::{GeneralMethod, GeneralSimOptions};
-use crawlopt::io::GeneralFile;
+use crawlopt::io::{GeneralFile, ProblemFile};
 use crawlopt::present::{self, GeneralReportInput};
 use pyo3::prelude::*;
 
@@ -167,12 +167,18 @@ impl GeneralProblem {
             naming: Naming::Keywords,
             ..OptimizeSettings::default()
         };
-        let r = run(py, progress, |hooks| {
-            api::optimize_general_file(&f, &settings, hooks)
+        // The one optimisation of a problem file, as the command line runs it.
+        let file = ProblemFile::General(Box::new(f));
+        let done = run(py, progress, |hooks| {
+            api::optimize_file(&file, &settings, hooks)
         })?;
-        let doc = pythonize::pythonize(py, &r)?;
-        let problem = self.inner.problem().map_err(|e| to_py(py, e))?;
-        Ok((doc, GeneralRecord::new(problem, Record::Answer(r))))
+        let api::OptimizedFile::General { problem, answer } = done else {
+            return Err(pyo3::exceptions::PyRuntimeError::new_err(
+                "a general problem file gave a crawler's answer",
+            ));
+        };
+        let doc = pythonize::pythonize(py, &answer)?;
+        Ok((doc, GeneralRecord::new(*problem, Record::Answer(*answer))))
     }
 }
 

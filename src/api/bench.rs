@@ -1,7 +1,7 @@
 //! `bench`: the simulation cost per time step on a travelling sine gait
 //! `L_l = A sin(2 pi t - l phi)`, k = 1, uniform friction, for several numbers of blocks.
 
-use super::settings::Naming;
+use super::settings::{rename_fields, Naming};
 use crate::error::{Error, Result};
 use crate::integrate::{
     simulate, Actuation, CatchingUp, ExactPwl, Method, PeriodMap, SimOptions, Waveform,
@@ -236,30 +236,6 @@ impl BenchSettings {
             ("periods", n("periods")),
         ];
         rename_fields(e, &names)
-    }
-}
-
-/// `e` with the field of an [`Error::InvalidParameter`] renamed by `names` (`(field, name)`; a
-/// field matches itself and its indexed entries `field[i]`).
-pub fn rename_fields(e: Error, names: &[(&str, String)]) -> Error {
-    match e {
-        Error::InvalidParameter {
-            field,
-            value,
-            reason,
-        } => {
-            let to = names.iter().find(|(name, _)| {
-                field
-                    .strip_prefix(name)
-                    .is_some_and(|rest| rest.is_empty() || rest.starts_with('['))
-            });
-            Error::InvalidParameter {
-                field: to.map_or(field, |(_, f)| f.clone()),
-                value,
-                reason,
-            }
-        }
-        other => other,
     }
 }
 

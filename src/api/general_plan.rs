@@ -11,7 +11,7 @@ use super::general_chain::{optimize_general_on_chain, GeneralChainSettings};
 use super::general_local::{optimize_general_local, optimize_general_with_hooks};
 use super::general_phase::{optimize_general_phase, GeneralPhaseSettings};
 use super::settings::{GaitMethod, Naming, OptimizeSettings};
-use super::{rename_fields, GeneralLocalSettings};
+use super::GeneralLocalSettings;
 use crate::error::{Error, Result};
 pub use crate::io::GeneralAnswer;
 use crate::io::GeneralFile;
@@ -147,11 +147,7 @@ impl OptimizeSettings {
             } else {
                 "given"
             };
-            let field = match n {
-                Naming::Flags => n.setting(name),
-                Naming::Keywords => n.field(name),
-            };
-            return Err(Error::invalid(field, value, reason));
+            return Err(Error::invalid(n.setting(name), value, reason));
         }
         Ok(if phase {
             let d = GeneralPhaseSettings::default();
@@ -241,23 +237,7 @@ pub fn optimize_general_plan(
     naming: Naming,
     hooks: Hooks<'_>,
 ) -> Result<GeneralAnswer> {
-    let names: Vec<(&str, String)> = [
-        "method",
-        "m",
-        "time_limit",
-        "shifts",
-        "max_phases",
-        "phases",
-        "patience",
-        "bound",
-    ]
-    .into_iter()
-    .map(|f| (f, naming.setting(f)))
-    .collect();
-    let named = |e| match naming {
-        Naming::Flags => rename_fields(e, &names),
-        Naming::Keywords => e,
-    };
+    let named = |e| naming.name_settings(e);
     match plan {
         GeneralPlan::Discrete(s) => optimize_general_with_hooks(file, s, hooks)
             .map(|r| GeneralAnswer::Discrete(Box::new(r)))

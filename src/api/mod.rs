@@ -20,9 +20,9 @@
 //! - [`fit`] with [`crate::fit::FitSettings`]: a crawler identified from a measured trajectory,
 //!   with the exact interval of every parameter (see [`crate::fit`]);
 //! - [`general`]: the general problem (P) of the paper's §2 (`[sweeping_process]` files):
-//!   [`analyze_general`], [`simulate_general`], [`optimize_general_file`] (the plan of
-//!   [`OptimizeSettings`] for it, run), [`optimize_general`] (P_m, globally),
-//!   [`optimize_general_local`] (P_m, locally), [`optimize_general_phase`] (exact gaits of at
+//!   [`analyze_general`], [`simulate_general`], [`optimize_general_plan`] (the plan of
+//!   [`OptimizeSettings`] for it, run; [`optimize_file`] plans and runs),
+//!   [`optimize_general`] (P_m, globally), [`optimize_general_local`] (P_m, locally), [`optimize_general_phase`] (exact gaits of at
 //!   most `K` phases where `A = 0`, globally, `K` fixed or grown as for crawlers),
 //!   [`optimize_general_on_chain`] (the crawler's sequence and chain methods where the
 //!   problem is a crawler's).
@@ -59,7 +59,7 @@ mod optimize_file;
 mod problem_file;
 mod settings;
 
-pub use bench::{bench, rename_fields, BenchCase, BenchSettings};
+pub use bench::{bench, BenchCase, BenchSettings};
 pub use certify_file::{certified_figures, certify_general_answer, certify_result_file, Certified};
 pub use events::{Event, Hooks, Observer};
 pub use fit::fit;
@@ -78,13 +78,11 @@ pub use general_phase::{
 };
 pub use general_plan::{optimize_general_plan, GeneralAnswer, GeneralPlan};
 pub use optimize::{optimize, Optimized};
-pub use optimize_file::{
-    optimize_file, optimize_general_file, report_file, OptimizeJob, OptimizedFile,
-};
+pub use optimize_file::{optimize_file, report_file, OptimizeJob, OptimizedFile};
 pub use problem_file::{analyze_file, simulate_file, Analyzed, Simulated};
 pub use settings::{
-    GaitMethod, Naming, OptimizeSettings, Plan, Start, DEFAULT_MAX_PHASES, DEFAULT_M_DISCRETE,
-    DEFAULT_M_LOCAL, DEFAULT_PATIENCE, DEFAULT_SHIFTS,
+    rename_fields, GaitMethod, Naming, OptimizeSettings, Plan, Start, DEFAULT_MAX_PHASES,
+    DEFAULT_M_DISCRETE, DEFAULT_M_LOCAL, DEFAULT_PATIENCE, DEFAULT_SHIFTS,
 };
 
 use crate::error::{Error, Result};

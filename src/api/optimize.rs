@@ -43,6 +43,16 @@ pub fn optimize(
     settings: &OptimizeSettings,
     hooks: Hooks<'_>,
 ) -> Result<Optimized> {
+    optimize_named(crawler, problem, settings, hooks).map_err(|e| settings.naming.name_settings(e))
+}
+
+/// [`optimize`], its errors naming the fields as the library does.
+fn optimize_named(
+    crawler: &Crawler,
+    problem: &GaitProblem,
+    settings: &OptimizeSettings,
+    hooks: Hooks<'_>,
+) -> Result<Optimized> {
     crawler.require_unique()?;
     // The scales every optimiser honours (and every reader of a result checks), whatever the
     // method: the chain method builds no model but its answer must read back.

@@ -13,31 +13,20 @@ use super::general_plan::{optimize_general_plan, GeneralAnswer, GeneralPlan};
 use super::optimize::{optimize, Optimized};
 use super::settings::{GaitMethod, Naming, OptimizeSettings};
 use crate::error::{Error, Result};
-use crate::io::{GeneralFile, ProblemFile};
+use crate::io::ProblemFile;
 use crate::model::general::GeneralProblem;
 use crate::model::Crawler;
 use crate::optimal::GaitProblem;
 use crate::present::{self, figures::Figure, report, text};
 use serde::Serialize;
 
-/// The optimum of a general problem file under `settings`: the library's plan of them
-/// ([`OptimizeSettings::plan_general`]: P_m globally or locally, exact phase gaits, or the
-/// crawler's methods on a crawler's chain), run with `hooks`.
-pub fn optimize_general_file(
-    file: &GeneralFile,
-    settings: &OptimizeSettings,
-    hooks: Hooks<'_>,
-) -> Result<GeneralAnswer> {
-    let plan = settings.plan_general(&[])?;
-    optimize_general_plan(file, &plan, settings.naming, hooks)
-}
-
 /// What [`optimize_file`] found, of the file's kind.
 #[derive(Debug, Clone, PartialEq)]
 pub enum OptimizedFile {
     /// A crawler's gait ([`optimize`]).
     Crawler(Box<Optimized>),
-    /// A general problem's optimum ([`optimize_general_file`]), with the problem it solves.
+    /// A general problem's optimum ([`OptimizeSettings::plan_general`], run), with the problem it
+    /// solves.
     General {
         /// The problem.
         problem: Box<GeneralProblem>,

@@ -91,20 +91,40 @@ pub enum Naming {
 }
 
 impl Naming {
-    /// A setting as the field of an error (`max_phases`, or `max-phases` for flags).
-    pub fn field(self, name: &str) -> String {
-        match self {
-            Naming::Keywords => name.to_string(),
-            Naming::Flags => name.replace('_', "-"),
+    /// A setting as the caller spelled it, in a sentence and as the field of an error alike:
+    /// `max_phases` for keywords, `--max-phases` for flags (the one scheme of every refusal
+    /// of both kinds of problem file). `polish` is the flag `--no-polish`.
+    pub fn setting(self, name: &str) -> String {
+        match (self, name) {
+            (Naming::Keywords, _) => name.to_string(),
+            (Naming::Flags, "polish" | "no_polish") => "--no-polish".to_string(),
+            (Naming::Flags, _) => format!("--{}", name.replace('_', "-")),
         }
     }
 
-    /// A setting inside a sentence (`max_phases`, or `--max-phases`).
-    pub fn setting(self, name: &str) -> String {
-        match self {
-            Naming::Keywords => name.to_string(),
-            Naming::Flags => format!("--{}", name.replace('_', "-")),
+    /// An error of an optimisation run with these settings, its field named as the caller
+    /// spelled the setting (`time_limit` is `--time-limit` for flags); other fields unchanged.
+    pub fn name_settings(self, e: crate::Error) -> crate::Error {
+        if self == Naming::Keywords {
+            return e;
         }
+        let names: Vec<(&str, String)> = [
+            "method",
+            "m",
+            "time_limit",
+            "shifts",
+            "max_phases",
+            "phases",
+            "patience",
+            "bound",
+            "start",
+            "convergence",
+            "polish",
+        ]
+        .into_iter()
+        .map(|f| (f, self.setting(f)))
+        .collect();
+        rename_fields(e, &names)
     }
 
     /// Methods inside a sentence: `--method local, sequence and discrete` for flags,
@@ -294,7 +314,7 @@ impl OptimizeSettings {
         };
         if self.start.is_some() && !matches!(method, Local | Sequence | Discrete) {
             return Err(Error::invalid(
-                n.field("start"),
+                n.setting("start"),
                 "a file",
                 format!(
                     "applies to {} only",
@@ -304,19 +324,15 @@ impl OptimizeSettings {
         }
         if let (Some(v), false) = (self.polish, method == Discrete) {
             // Only P_m's MILP answers are polished; the CLI's flag is --no-polish.
-            let name = match n {
-                Naming::Keywords => "polish".to_string(),
-                Naming::Flags => "no-polish".to_string(),
-            };
             return Err(Error::invalid(
-                name,
+                n.setting("polish"),
                 v,
                 format!("applies to {} only", n.methods(&[Discrete])),
             ));
         }
         if method == Chain && problem.max_total_variation.is_some() {
             return Err(Error::invalid(
-                n.field("method"),
+                n.setting("method"),
                 "chain",
                 "the chain method's gaits do not honour a bound on TV(u) (gait.max_total_variation): \
                  use the discrete method",
@@ -383,7 +399,7 @@ impl OptimizeSettings {
         ] {
             if let (Some(v), false) = (given, applies) {
                 return Err(Error::invalid(
-                    n.field(name),
+                    n.setting(name),
                     v,
                     format!("applies only to {scope}"),
                 ));
@@ -410,7 +426,7 @@ impl OptimizeSettings {
     fn check_method_options(&self, method: GaitMethod, m: u32) -> Result<()> {
         use GaitMethod::*;
         let n = self.naming;
-        let set = |name: &str| n.field(name);
+        let set = |name: &str| n.setting(name);
         // The option given is named (a sweep renames it `settings.KEY`).
         let given = |name: &str, value: Option<String>| -> Result<()> {
             match value {
@@ -476,5 +492,29 @@ impl OptimizeSettings {
             }
             _ => Ok(()),
         }
+    }
+}
+
+/// `e` with the field of an [`Error::InvalidParameter`] renamed by `names` (`(field, name)`; a
+/// field matches itself and its indexed entries `field[i]`).
+pub fn rename_fields(e: Error, names: &[(&str, String)]) -> Error {
+    match e {
+        Error::InvalidParameter {
+            field,
+            value,
+            reason,
+        } => {
+            let to = names.iter().find(|(name, _)| {
+                field
+                    .strip_prefix(name)
+                    .is_some_and(|rest| rest.is_empty() || rest.starts_with('['))
+            });
+            Error::InvalidParameter {
+                field: to.map_or(field, |(_, f)| f.clone()),
+                value,
+                reason,
+            }
+        }
+        other => other,
     }
 }
