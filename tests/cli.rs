@@ -287,8 +287,8 @@ fn optimize_discrete_returns_a_verified_certified_gait() {
     assert_eq!(v["verified_displacement"], v["displacement_per_period"]);
     assert_eq!(v["certificate"]["kind"], "global");
     assert!(v["certificate"]["gap"].as_f64().unwrap() < 1e-6);
-    assert_eq!(v["gait"]["controls"].as_array().unwrap().len(), 8);
-    assert_eq!(v["gait"]["times"].as_array().unwrap().len(), 9);
+    assert_eq!(v["solution"]["controls"].as_array().unwrap().len(), 8);
+    assert_eq!(v["solution"]["times"].as_array().unwrap().len(), 9);
     // Bad input: no [gait] section, m out of range.
     // The phase method: exact continuous-time gait, certified among K-phase gaits.
     let out = crawlopt(&[
@@ -358,7 +358,7 @@ fn optimize_discrete_returns_a_verified_certified_gait() {
     assert_eq!(v["certificate"]["kind"], "local");
     assert_eq!(v["certificate"]["gap"], serde_json::Value::Null);
     assert!((v["objective"].as_f64().unwrap() - 3.0).abs() < 1e-8);
-    assert_eq!(v["gait"]["controls"].as_array().unwrap().len(), 64);
+    assert_eq!(v["solution"]["controls"].as_array().unwrap().len(), 64);
     let out = crawlopt(&[
         "optimize",
         "examples/three_blocks_gait.toml",
@@ -778,7 +778,7 @@ fn plot_and_report_refuse_bad_input_with_nothing_written() {
     let other = write(
         dir.path(),
         "v.json",
-        &text.replace("\"version\":1", "\"version\":9"),
+        &text.replace("\"version\":2", "\"version\":9"),
     );
     let good = write(dir.path(), "r.json", &text);
     // Absurd but finite rate bounds: refused by the reader (the sweep ratio a T / w is beyond

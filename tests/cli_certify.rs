@@ -113,44 +113,44 @@ fn inconsistent_result_files_are_refused_with_one_line() {
         (
             "outside",
             Box::new(|v| {
-                v["gait"]["states"][3][0] = serde_json::json!(5.0);
+                v["solution"]["states"][3][0] = serde_json::json!(5.0);
             }),
             "outside C",
         ),
         (
             "periodic",
             Box::new(|v| {
-                let last = v["gait"]["states"].as_array().unwrap().len() - 1;
-                let x = v["gait"]["states"][last][0].as_f64().unwrap();
+                let last = v["solution"]["states"].as_array().unwrap().len() - 1;
+                let x = v["solution"]["states"][last][0].as_f64().unwrap();
                 // Towards the inside of C = [-1, 1], so that only periodicity breaks.
-                v["gait"]["states"][last][0] = serde_json::json!(x - 0.5 * x.signum());
+                v["solution"]["states"][last][0] = serde_json::json!(x - 0.5 * x.signum());
             }),
             "not periodic",
         ),
         (
             "mean",
-            Box::new(|v| v["gait"]["controls"][0][0] = serde_json::json!(0.5)),
+            Box::new(|v| v["solution"]["controls"][0][0] = serde_json::json!(0.5)),
             "zero mean",
         ),
         (
             "rate",
-            Box::new(|v| v["gait"]["controls"][0][0] = serde_json::json!(1.5)),
+            Box::new(|v| v["solution"]["controls"][0][0] = serde_json::json!(1.5)),
             "rate bound",
         ),
         (
             "dynamics",
             Box::new(|v| {
-                let d = v["gait"]["block_displacements"][1][1].as_f64().unwrap();
-                v["gait"]["block_displacements"][1][1] = serde_json::json!(d + 0.25);
+                let d = v["solution"]["block_displacements"][1][1].as_f64().unwrap();
+                v["solution"]["block_displacements"][1][1] = serde_json::json!(d + 0.25);
             }),
             "does not follow",
         ),
         (
             "steps",
             Box::new(|v| {
-                v["gait"]["durations"][0] = serde_json::json!(1.0);
-                v["gait"]["durations"][1] = serde_json::json!(1.5);
-                v["gait"]["times"][1] = serde_json::json!(1.0);
+                v["solution"]["durations"][0] = serde_json::json!(1.0);
+                v["solution"]["durations"][1] = serde_json::json!(1.5);
+                v["solution"]["times"][1] = serde_json::json!(1.0);
             }),
             "h = T / 2^3",
         ),

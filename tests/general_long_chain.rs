@@ -457,15 +457,7 @@ fn the_local_method_starts_from_a_chains_simulation() {
     let dir = tempfile::tempdir().unwrap();
     let file = write(dir.path(), "chain4.toml", CHAIN4);
     for m in ["4", "6"] {
-        let v = common::crawlopt_json(&[
-            "optimize",
-            file.to_str().unwrap(),
-            "--method",
-            "local",
-            "--m",
-            m,
-            "--json",
-        ]);
+        let v = common::optimize_json(&file, &["--method", "local", "--m", m]);
         assert_eq!(v["solution"]["stop"], "stationary", "{v}");
     }
 }

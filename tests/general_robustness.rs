@@ -361,15 +361,7 @@ fn a_short_phases_control_is_moved_into_a_polytope_u() {
          cost = { kind = \"quadratic\", weight = 0.0984788 }\n\
          [problem]\nperiod = 4.028844916223908\n",
     );
-    let v = common::crawlopt_json(&[
-        "optimize",
-        model.to_str().unwrap(),
-        "--method",
-        "phase",
-        "--phases",
-        "3",
-        "--json",
-    ]);
+    let v = common::optimize_json(&model, &["--method", "phase", "--phases", "3"]);
     let j = v["objective"].as_f64().unwrap();
     let bound = v["certificate"]["bound"].as_f64().unwrap();
     assert!(j >= -1e-9 && bound >= j - 1e-9, "J = {j}, bound {bound}");

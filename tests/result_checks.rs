@@ -64,12 +64,12 @@ fn optimiser_results_pass_and_mutations_are_refused_by_field() {
     for (kind, v) in results() {
         let r = read(&v).unwrap_or_else(|e| panic!("{kind}: {e}"));
         assert_eq!(serde_json::to_value(&r).unwrap(), v);
-        let g = "gait";
+        let g = "solution";
         // Redundant fields: lengths, slip modes, the objective and its parts.
-        refused(&v, "gait.lengths[1]", |w| {
+        refused(&v, "solution.lengths[1]", |w| {
             w[g]["lengths"][1][0] = json!(3.5)
         });
-        refused(&v, "gait.lengths[1]", |w| {
+        refused(&v, "solution.lengths[1]", |w| {
             w[g]["lengths"][1][0] = json!(1e300)
         });
         let moving = r
@@ -79,7 +79,7 @@ fn optimiser_results_pass_and_mutations_are_refused_by_field() {
             .enumerate()
             .find_map(|(j, d)| d.iter().position(|x| x.abs() > 1e-3).map(|b| (j, b)))
             .unwrap();
-        refused(&v, "gait.slip", |w| {
+        refused(&v, "solution.slip", |w| {
             let s = &mut w[g]["slip"][moving.0][moving.1];
             *s = json!(-s.as_i64().unwrap());
         });
@@ -96,7 +96,7 @@ fn optimiser_results_pass_and_mutations_are_refused_by_field() {
                 .unwrap()
                 .block_forces(&r.gait.states[j + 1])[b];
             if (f + 1.5).abs() > 1e-3 {
-                refused(&v, "gait.slip", |w| w[g]["slip"][j][b] = json!(-1));
+                refused(&v, "solution.slip", |w| w[g]["slip"][j][b] = json!(-1));
             }
         }
         refused(&v, "objective", |w| w["objective"] = json!(7.5));
@@ -106,19 +106,23 @@ fn optimiser_results_pass_and_mutations_are_refused_by_field() {
         refused(&v, "actuation_cost", |w| w["actuation_cost"] = json!(1.0));
         // The gait itself: a displacement, a state outside C, a control beyond a = 1, a
         // non-zero mean, a negative duration, another crawler's friction.
-        refused(&v, "gait.", |w| {
+        refused(&v, "solution.", |w| {
             w[g]["block_displacements"][0][0] = json!(0.7)
         });
-        refused(&v, "gait.states[1]", |w| w[g]["states"][1][0] = json!(9.0));
-        refused(&v, "gait.controls", |w| {
+        refused(&v, "solution.states[1]", |w| {
+            w[g]["states"][1][0] = json!(9.0)
+        });
+        refused(&v, "solution.controls", |w| {
             w[g]["controls"][0][0] = json!(-5.0)
         });
-        refused(&v, "gait.", |w| {
+        refused(&v, "solution.", |w| {
             let u = w[g]["controls"][0][1].as_f64().unwrap();
             w[g]["controls"][0][1] = json!(u + 0.01);
         });
-        refused(&v, "gait.durations", |w| w[g]["durations"][0] = json!(-1.0));
-        refused(&v, "gait.", |w| {
+        refused(&v, "solution.durations", |w| {
+            w[g]["durations"][0] = json!(-1.0)
+        });
+        refused(&v, "solution.", |w| {
             w["crawler"]["mu_forward"] = json!([0.5, 0.5, 0.5])
         });
         // Method, grid, certificate.
@@ -137,7 +141,7 @@ fn optimiser_results_pass_and_mutations_are_refused_by_field() {
         }
         if kind == "discrete" {
             // An uneven grid: two steps of 2 and 3 where P_2 has 2.5 each.
-            refused(&v, "gait.durations[0]", |w| {
+            refused(&v, "solution.durations[0]", |w| {
                 w[g]["durations"][0] = json!(2.0);
                 w[g]["durations"][1] = json!(3.0);
             });

@@ -3,7 +3,8 @@
 //! `format`, `version`, `kind`, `method`, `problem`, `objective`, `status`, `certificate` and
 //! `solution`, reads back from itself alone, certifies (the same numbers as `optimize --certify`,
 //! which certifies the answer in memory) and is refused, naming the field, when a number in it
-//! was changed; crawler results read as before, with `kind` or without; `plot`, `report` and
+//! was changed; crawler results carry the same envelope (the gait as `solution`), and files of
+//! version 1 (the gait as `gait`, `kind` possibly absent) still read; `plot`, `report` and
 //! `certify --plot` draw a general result read back as `optimize` drew it.
 
 use std::process::Output;
@@ -57,7 +58,7 @@ fn general_results_carry_the_envelope_and_read_back() {
     ] {
         let (text, v) = optimize(ONE_LINK, args);
         assert_eq!(v["format"], "crawlopt-gait-result");
-        assert_eq!(v["version"], 1);
+        assert_eq!(v["version"], 2);
         assert_eq!(v["kind"], "general");
         assert_eq!(v["method"], method);
         assert_eq!(v["status"], status);
@@ -261,7 +262,7 @@ fn tampered_general_results_are_refused_naming_the_field() {
         // Not a general result's method ("sequence" is one since it runs on a chain).
         ("/method", json!("simplex"), "method"),
         ("/kind", json!("robot"), "kind"),
-        ("/version", json!(2), "version"),
+        ("/version", json!(3), "version"),
         ("/solution/m", json!(11), "solution.m"),
         // The MILP's incumbent above its own bound.
         (
@@ -361,25 +362,47 @@ fn tampered_general_results_are_refused_naming_the_field() {
     );
 }
 
-/// Crawler results: `kind: "crawler"` is added, a file without it still reads (as the files
-/// the docs ship), and one claiming to be a general result is refused.
+/// Crawler results: the envelope of version 2 (`kind`, the gait under `solution`), and a file
+/// of version 1 (the gait under `gait`, `kind` possibly absent, as the files the docs shipped)
+/// still reads, to the same result; a version 2 file without `kind`, or with its gait under
+/// `gait`, is refused naming the field, and one claiming to be a general result is refused.
 #[test]
-fn crawler_results_read_with_or_without_their_kind() {
+fn crawler_results_read_in_version_2_and_in_version_1() {
     let (text, v) = optimize("examples/one_link_gait.toml", &["--phases", "4"]);
     assert_eq!(v["kind"], "crawler");
     assert_eq!(v["format"], "crawlopt-gait-result");
+    assert_eq!(v["version"], 2);
+    assert!(
+        v["solution"]["durations"].is_array() && v.get("gait").is_none(),
+        "{v}"
+    );
     let r = ResultFile::from_json(&text, "r.json").unwrap();
     assert_eq!(r.kind(), ResultKind::Crawler);
     assert!((r.objective() - v["objective"].as_f64().unwrap()).abs() == 0.0);
     assert_eq!(r.certificate().kind, "global_k_phases");
+    // Version 1: the gait under `gait`, no `kind`.
     let mut old = v.clone();
-    old.as_object_mut().unwrap().remove("kind");
+    let o = old.as_object_mut().unwrap();
+    o.remove("kind");
+    let gait = o.remove("solution").unwrap();
+    o.insert("gait".into(), gait);
+    o.insert("version".into(), json!(1));
     let r = ResultFile::from_json(&old.to_string(), "old.json").unwrap();
     assert_eq!(r.kind(), ResultKind::Crawler);
     assert_eq!(
         GaitResult::from_json(&old.to_string(), "old.json").unwrap(),
         GaitResult::from_json(&text, "r.json").unwrap()
     );
+    // Version 2 needs its kind and its solution.
+    let mut no_kind = v.clone();
+    no_kind.as_object_mut().unwrap().remove("kind");
+    let e = ResultFile::from_json(&no_kind.to_string(), "r.json").unwrap_err();
+    assert!(e.to_string().starts_with("r.json: kind"), "{e}");
+    let mut old_key = old.clone();
+    old_key["version"] = json!(2);
+    old_key["kind"] = json!("crawler");
+    let e = ResultFile::from_json(&old_key.to_string(), "r.json").unwrap_err();
+    assert!(e.to_string().contains("solution"), "{e}");
     let mut general = v;
     general["kind"] = json!("general");
     let e = ResultFile::from_json(&general.to_string(), "g.json").unwrap_err();

@@ -550,18 +550,18 @@ def simulate(
 class GaitResult:
     """An optimal gait with its certificate (what ``crawlopt optimize --json`` writes): every
     field of that document is an attribute (``objective``, ``displacement_per_period``,
-    ``status``, ``certificate``, ``phase_growth``, ``convergence``, ...); ``gait`` has the
-    arrays ``t`` (knot times), ``L`` (actuator lengths at the knots), ``u`` (controls per piece),
-    ``x`` (states), ``slip``."""
+    ``status``, ``certificate``, ``phase_growth``, ``convergence``, ...); ``gait`` (also
+    ``solution``, the document's name for it) has the arrays ``t`` (knot times), ``L``
+    (actuator lengths at the knots), ``u`` (controls per piece), ``x`` (states), ``slip``."""
 
     def __init__(self, inner, conditions: Optional[dict] = None, notes=()):
         self._inner = inner
         self._doc = json.loads(inner.to_json())
         for k, v in self._doc.items():
-            if k != "gait":
+            if k != "solution":
                 setattr(self, k, v)
-        g = self._doc["gait"]
-        self.gait = _Gait(g)
+        self.gait = _Gait(self._doc["solution"])
+        self.solution = self.gait
         self.necessary_conditions = (
             NecessaryConditions(conditions) if isinstance(conditions, dict) else conditions
         )

@@ -162,7 +162,7 @@ def test_general_results_read_back_and_certify(tmp_path):
     # rebuilt from it, the solution replayed) and certified: the numbers of optimize(certify=True).
     g = co.load(ONE_LINK)
     r = g.optimize(m=3, certify=True)
-    assert r.kind == "general" and r.format == "crawlopt-gait-result" and r.version == 1
+    assert r.kind == "general" and r.format == "crawlopt-gait-result" and r.version == 2
     assert r.status == "optimal" and r.certificate["kind"] == "global"
     assert r.problem["problem"]["period"] == 10.0 and "input" not in r.problem
     path = tmp_path / "r.json"

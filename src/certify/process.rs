@@ -235,7 +235,7 @@ impl Process {
         if np < 2 {
             return Err(bad(
                 what,
-                "gait.durations",
+                "solution.durations",
                 format!("{np} pieces"),
                 "needs at least two pieces",
             ));

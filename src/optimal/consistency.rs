@@ -65,9 +65,14 @@ impl ProcessView<'_> {
         let a = &self.problem.rate_bound;
         let np = self.durations.len();
         for (field, rows, want, width) in [
-            ("gait.controls", self.controls, np, n),
-            ("gait.states", self.states, np + 1, n),
-            ("gait.block_displacements", self.block_displacements, np, nb),
+            ("solution.controls", self.controls, np, n),
+            ("solution.states", self.states, np + 1, n),
+            (
+                "solution.block_displacements",
+                self.block_displacements,
+                np,
+                nb,
+            ),
         ] {
             if rows.len() != want {
                 return Err(bad(
@@ -89,7 +94,7 @@ impl ProcessView<'_> {
                 return Err(bad(what, field, "a non-finite value", "must be finite"));
             }
         }
-        check_durations(what, "gait.durations", self.durations, t)?;
+        check_durations(what, "solution.durations", self.durations, t)?;
         if let ProcessKind::Discrete { m } = self.kind {
             if m == 0 || m > super::MAX_M {
                 return Err(bad(
@@ -103,7 +108,7 @@ impl ProcessView<'_> {
             if np != steps {
                 return Err(bad(
                     what,
-                    "gait.durations",
+                    "solution.durations",
                     format!("{np} steps"),
                     format!("a P_{m} gait lives on the dyadic grid of 2^{m} = {steps} steps"),
                 ));
@@ -112,7 +117,7 @@ impl ProcessView<'_> {
             if let Some(j) = self.durations.iter().position(|d| (d - h).abs() > 1e-9 * h) {
                 return Err(bad(
                     what,
-                    &format!("gait.durations[{j}]"),
+                    &format!("solution.durations[{j}]"),
                     self.durations[j],
                     format!("a P_{m} step must be h = T / 2^{m} = {h}"),
                 ));
@@ -120,13 +125,13 @@ impl ProcessView<'_> {
         }
         let scale = c.state_scale();
         for (j, x) in self.states.iter().enumerate() {
-            c.check_admissible(&format!("{what}: gait.states[{j}]"), x, tol)?;
+            c.check_admissible(&format!("{what}: solution.states[{j}]"), x, tol)?;
         }
         let per = max_diff(&self.states[0], &self.states[np]);
         if per > tol * scale {
             return Err(bad(
                 what,
-                &format!("gait.states[{np}]"),
+                &format!("solution.states[{np}]"),
                 format!("{:?}", self.states[np]),
                 format!(
                     "the process is not periodic: x(T) differs from x(0) = {:?} by {per:.3e}",
@@ -139,7 +144,7 @@ impl ProcessView<'_> {
                 if u[l].abs() > a[l] * (1.0 + tol) {
                     return Err(bad(
                         what,
-                        &format!("gait.controls[{j}][{l}]"),
+                        &format!("solution.controls[{j}][{l}]"),
                         u[l],
                         format!("exceeds the rate bound a = {}", a[l]),
                     ));
@@ -156,7 +161,7 @@ impl ProcessView<'_> {
             if mean.abs() > tol * a[l] * t {
                 return Err(bad(
                     what,
-                    "gait.controls",
+                    "solution.controls",
                     format!("int u_{} dt = {mean:.6e}", l + 1),
                     "the control must have zero mean (a periodic actuation)",
                 ));
@@ -177,10 +182,10 @@ impl ProcessView<'_> {
                 if r.abs() > tol * scale.max(a[l] * self.durations[j]) {
                     return Err(bad(
                         what,
-                        &format!("gait.states[{}]", j + 1),
+                        &format!("solution.states[{}]", j + 1),
                         format!("{:?}", x1),
                         format!(
-                            "does not follow from gait.states[{j}], the control and the block \
+                            "does not follow from solution.states[{j}], the control and the block \
                              displacements of piece {j} (link {}: residual {r:.3e})",
                             l + 1
                         ),
@@ -208,7 +213,7 @@ impl ProcessView<'_> {
                 if !ends_ok {
                     return Err(bad(
                         what,
-                        &format!("gait.block_displacements[{j}][{b}]"),
+                        &format!("solution.block_displacements[{j}][{b}]"),
                         d[b],
                         format!(
                             "block {} moves on piece {j} but its friction threshold is not \
@@ -314,7 +319,7 @@ impl GaitResult {
             if (tj - knot).abs() > 1e-9 * t {
                 return Err(bad(
                     what,
-                    &format!("gait.times[{j}]"),
+                    &format!("solution.times[{j}]"),
                     tj,
                     format!("disagrees with the sum of the durations before it ({knot})"),
                 ));
@@ -326,9 +331,9 @@ impl GaitResult {
         if d0 > INPUT_TOL * scale {
             return Err(bad(
                 what,
-                "gait.initial_state",
+                "solution.initial_state",
                 format!("{:?}", g.initial_state),
-                format!("differs from gait.states[0] by {d0:.3e}"),
+                format!("differs from solution.states[0] by {d0:.3e}"),
             ));
         }
         // Actuator lengths: L(0) = 0 and L' = u / k on each piece.
@@ -342,7 +347,7 @@ impl GaitResult {
             if d > INPUT_TOL * sweep {
                 return Err(bad(
                     what,
-                    &format!("gait.lengths[{j}]"),
+                    &format!("solution.lengths[{j}]"),
                     format!("{got:?}"),
                     format!("disagrees with the lengths the controls give ({want:?})"),
                 ));
@@ -370,7 +375,7 @@ impl GaitResult {
                 if !(-1..=1).contains(&s) || (moved != 0 && moved != s) || !on_face {
                     return Err(bad(
                         what,
-                        &format!("gait.slip[{j}][{b}]"),
+                        &format!("solution.slip[{j}][{b}]"),
                         s,
                         format!(
                             "disagrees with the gait: block {} moves by {:.3e} on piece {j} \

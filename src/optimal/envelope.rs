@@ -11,8 +11,15 @@ use serde::{Deserialize, Serialize};
 
 /// Value of the `format` field of every result (both kinds).
 pub const RESULT_FORMAT: &str = "crawlopt-gait-result";
-/// Version of the result format written by this build; others are refused on reading.
-pub const RESULT_VERSION: u32 = 1;
+/// Version of the result format written by this build. Version 2 is one envelope for both
+/// kinds: `format`, `version`, `kind`, `method`, `problem`, `objective`, `status`,
+/// `certificate` and `solution` (a crawler's gait was under `gait` in version 1, and `kind`
+/// could be absent). Versions 1 and 2 are read ([`read_envelope`] upgrades a version 1
+/// document); others are refused.
+pub const RESULT_VERSION: u32 = 2;
+
+/// The oldest result version this build reads.
+pub const RESULT_VERSION_READ_FROM: u32 = 1;
 
 /// Which kind of problem a result is of (its `kind` field; a crawler result written before the
 /// field existed has none and is read as a crawler's).
@@ -47,8 +54,9 @@ pub fn local_status(stop: LocalStop) -> MilpStatus {
 }
 
 /// Parses a result document and checks its envelope: `format` ([`RESULT_FORMAT`]), `version`
-/// ([`RESULT_VERSION`]) and `kind` (absent: a crawler's). Returns the document and its kind;
-/// errors name `what` and the field.
+/// (1 or [`RESULT_VERSION`]) and `kind` (absent in version 1 only: a crawler's). Returns the
+/// document in the shape of [`RESULT_VERSION`] (a version 1 crawler's `gait` becomes its
+/// `solution`) and its kind; errors name `what` and the field.
 pub fn read_envelope(text: &str, what: &str) -> Result<(serde_json::Value, ResultKind)> {
     let v: serde_json::Value = serde_json::from_str(text).map_err(|e| Error::Io {
         path: what.into(),
@@ -71,18 +79,22 @@ pub fn read_envelope(text: &str, what: &str) -> Result<(serde_json::Value, Resul
             ))
         }
     }
-    match v.get("version") {
-        Some(x) if x.as_u64() == Some(u64::from(RESULT_VERSION)) => {}
-        found => {
+    let version = match v.get("version").and_then(|x| x.as_u64()) {
+        Some(x)
+            if (u64::from(RESULT_VERSION_READ_FROM)..=u64::from(RESULT_VERSION)).contains(&x) =>
+        {
+            x
+        }
+        _ => {
             return Err(Error::invalid(
                 format!("{what}: version"),
-                described(found),
-                format!("this build reads version {RESULT_VERSION} only"),
+                described(v.get("version")),
+                format!("this build reads versions {} only", versions_read()),
             ));
         }
-    }
+    };
     let kind = match v.get("kind") {
-        None => ResultKind::Crawler,
+        None if version == 1 => ResultKind::Crawler,
         Some(serde_json::Value::String(s)) if s == "crawler" => ResultKind::Crawler,
         Some(serde_json::Value::String(s)) if s == "general" => ResultKind::General,
         found => {
@@ -93,7 +105,37 @@ pub fn read_envelope(text: &str, what: &str) -> Result<(serde_json::Value, Resul
             ))
         }
     };
-    Ok((v, kind))
+    Ok((upgraded(v, version, kind), kind))
+}
+
+/// A document of `version` in the shape of [`RESULT_VERSION`]: version 1 wrote a crawler's
+/// solution under `gait`; the version becomes the current one. A version 1 document that has
+/// no `gait` keeps its fields, and its reader names what is missing (`solution`).
+fn upgraded(mut v: serde_json::Value, version: u64, kind: ResultKind) -> serde_json::Value {
+    if version == u64::from(RESULT_VERSION) {
+        return v;
+    }
+    if let Some(o) = v.as_object_mut() {
+        if kind == ResultKind::Crawler && !o.contains_key("solution") {
+            if let Some(g) = o.remove("gait") {
+                o.insert("solution".to_string(), g);
+            }
+        }
+        o.insert("kind".to_string(), kind.as_str().into());
+        o.insert("version".to_string(), RESULT_VERSION.into());
+    }
+    v
+}
+
+/// The versions read, in words: `1 and 2`.
+fn versions_read() -> String {
+    let all: Vec<String> = (RESULT_VERSION_READ_FROM..=RESULT_VERSION)
+        .map(|v| v.to_string())
+        .collect();
+    match all.split_last() {
+        Some((last, rest)) if !rest.is_empty() => format!("{} and {last}", rest.join(", ")),
+        _ => all.join(""),
+    }
 }
 
 /// What was found in a field, for a message: `"1"` is a string, not the number 1.
@@ -134,5 +176,19 @@ mod tests {
         assert!(e.to_string().starts_with("r.json: kind"), "{e}");
         let e = read_envelope(&format!("{head}, \"kind\": 3}}"), "r.json").unwrap_err();
         assert!(e.to_string().contains("must be \"crawler\""), "{e}");
+        // Version 2 names its kind; a version 1 crawler's gait becomes its solution.
+        let v2 = r#"{"format": "crawlopt-gait-result", "version": 2"#;
+        let e = read_envelope(&format!("{v2}}}"), "r.json").unwrap_err();
+        assert!(e.to_string().starts_with("r.json: kind"), "{e}");
+        let (v, _) = read_envelope(&format!("{head}, \"gait\": [7]}}"), "r").unwrap();
+        assert_eq!(v["solution"], serde_json::json!([7]));
+        assert_eq!(
+            (v["version"].as_u64(), v["kind"].as_str()),
+            (Some(2), Some("crawler"))
+        );
+        assert!(v.get("gait").is_none());
+        let v3 = r#"{"format": "crawlopt-gait-result", "version": 3, "kind": "crawler"}"#;
+        let e = read_envelope(v3, "r").unwrap_err();
+        assert!(e.to_string().contains("reads versions 1 and 2 only"), "{e}");
     }
 }

@@ -197,7 +197,8 @@ pub struct GaitResult {
     pub solver_objective: f64,
     /// What is proven.
     pub certificate: ResultCertificate,
-    /// The gait.
+    /// The gait: the envelope's `solution` (`gait` in version 1 files, read as well).
+    #[serde(rename = "solution")]
     pub gait: GaitData,
     /// The growth of `K` that led to a phase gait, when `K` was grown.
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -553,7 +554,7 @@ impl GaitResult {
         let p = g.durations.len();
         let bad = |field: &str, got: String, want: String| {
             Err(Error::invalid(
-                format!("{what}: gait.{field}"),
+                format!("{what}: solution.{field}"),
                 got,
                 format!("needs {want}"),
             ))
@@ -634,7 +635,7 @@ mod tests {
             e.to_string().contains("not a complete JSON document"),
             "{e}"
         );
-        let other = text.replace("\"version\":1", "\"version\":2");
+        let other = text.replace("\"version\":2", "\"version\":3");
         let e = GaitResult::from_json(&other, "r.json").unwrap_err();
         assert!(e.to_string().contains("version"), "{e}");
         let e = GaitResult::from_json("{\"objective\": 1}", "r.json").unwrap_err();
@@ -643,7 +644,7 @@ mod tests {
         short.gait.states.pop();
         let e =
             GaitResult::from_json(&serde_json::to_string(&short).unwrap(), "r.json").unwrap_err();
-        assert!(e.to_string().contains("gait.states"), "{e}");
+        assert!(e.to_string().contains("solution.states"), "{e}");
         let mut bad = r;
         bad.problem.period = -1.0;
         let e = GaitResult::from_json(&serde_json::to_string(&bad).unwrap(), "r.json").unwrap_err();

@@ -63,6 +63,14 @@ pub fn crawlopt_json(args: &[&str]) -> serde_json::Value {
     serde_json::from_slice(&out.stdout).unwrap()
 }
 
+/// `crawlopt optimize FILE ARGS --json`, which must succeed: the answer it prints.
+pub fn optimize_json(file: &Path, args: &[&str]) -> serde_json::Value {
+    let mut all = vec!["optimize", file.to_str().unwrap()];
+    all.extend_from_slice(args);
+    all.push("--json");
+    crawlopt_json(&all)
+}
+
 /// Writes an answer (a result file's JSON) into `dir` and certifies it back with
 /// `crawlopt certify FILE --json`, which must succeed: the certificate it prints.
 pub fn certify_written(dir: &Path, answer: &serde_json::Value) -> serde_json::Value {

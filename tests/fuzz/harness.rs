@@ -257,6 +257,7 @@ pub const TOKENS: &[&str] = &[
     "\"format\"",
     "\"version\"",
     "\"gait\"",
+    "\"solution\"",
     "\"durations\"",
     "\"m\"",
     "\"values\"",
