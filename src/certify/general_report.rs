@@ -8,6 +8,7 @@ use super::general_conditions::{
 };
 use super::general_kkt::{GeneralRaw, GeneralStructure};
 use super::general_process::GeneralProcess;
+use super::records::ConditionCheck;
 use super::stages::sup;
 use super::verdict::{
     check, discrete_group, law_target, misplaced_mass, norm2, normalisation, step_distance, verdict,
@@ -25,9 +26,8 @@ pub(crate) fn report(
     opts: &CertifyOptions,
     drift_term: bool,
 ) -> GeneralNecessaryConditions {
-    let (n, m, steps) = (st.n, st.m, st.steps);
+    let m = st.m;
     let discrete = !st.phase;
-    let times = pr.times();
     let tol = opts.tol;
     let sup_p = sup(&raw.p);
     let ptol = tol * sup_p.max(1.0);
@@ -35,151 +35,29 @@ pub(crate) fn report(
     let (adj, sign) = (disc[0].2, disc[5].2);
     let mut conditions = discrete_group(&disc, ptol, raw.lambda);
 
-    let psi: Vec<Vec<f64>> = (0..steps).map(|i| psi_of(p, st, raw, i)).collect();
-    let switching: Vec<Vec<f64>> = (0..steps)
-        .map(|i| {
-            (0..m)
-                .map(|l| -psi[i][l] - raw.lambda * st.grad_f2[i][l])
-                .collect()
-        })
-        .collect();
+    let (psi, switching) = psi_and_switching(p, st, raw);
     // Support: dxi at knot k lies on step k-1 once p is extended piecewise linearly (§9; P_m
     // only: a phase gait's p jumps at its knots).
     let misplaced = misplaced_mass(&st.active, &raw.xi, discrete);
-    let margin = match &p.control {
-        ControlSet::Box { .. } => switching
-            .iter()
-            .flatten()
-            .fold(f64::INFINITY, |a, v| a.min(v.abs())),
-        ControlSet::Polytope(_) => (0..steps)
-            .map(|i| {
-                if st.at_vertex[i] {
-                    raw.rho[i].iter().fold(f64::INFINITY, |a, &v| a.min(v))
-                } else {
-                    0.0
-                }
-            })
-            .fold(f64::INFINITY, f64::min),
-    }
-    // A weight the LP left at -1e-12 is 0 at its resolution.
-    .max(0.0);
     // The multipliers solve LPs to the conditions' tolerance: below it, a margin is zero at the
     // solver's resolution (as for crawlers; a tiny objective scale made 1e-12 pass as a margin).
-    let resolution = tol * sup_p.max(1.0);
-    let margin = if margin <= resolution { 0.0 } else { margin };
+    let margin = nondegeneracy_margin(p, st, raw, &switching);
+    let margin = if margin <= ptol { 0.0 } else { margin };
     let wmax = st.w.iter().fold(0.0_f64, |a, v| a.max(v.abs()));
     let nd_tol = 1e-6 * sup(&switching).max(wmax).max(1e-300);
     let margin_required = !strictly_convex(&p.cost, m);
-    // The control law weak maximality implies (a box U, f2 = 0 or (c/2)|u|^2).
-    let law = match (&p.control, &p.cost) {
-        (ControlSet::Box { lower, upper }, GeneralCost::None | GeneralCost::Quadratic { .. }) => {
-            let c = match p.cost {
-                GeneralCost::Quadratic { weight } => weight,
-                _ => 0.0,
-            };
-            let mut worst = 0.0_f64;
-            for i in 0..steps {
-                for l in 0..m {
-                    let s = switching[i][l];
-                    let quadratic = (c > 0.0 && raw.lambda > 0.0).then_some(raw.lambda * c);
-                    if let Some(w) = law_target(s, quadratic, lower[l], upper[l], nd_tol) {
-                        worst = worst.max((pr.u[i][l] - w).abs() / (upper[l] - lower[l]));
-                    }
-                }
-            }
-            Some(worst)
-        }
-        _ => None,
-    };
-    // Weak maximality in L^1(0, T) with p extended piecewise linearly (§9; a box U): on step
-    // i, psi ramps from its value at p_i to that at p_(i+1), u^i fixed. On a phase p is
-    // constant (A = 0).
-    let l1 = if let ControlSet::Box { .. } = &p.control {
-        let mut l1 = 0.0;
-        for i in 0..steps {
-            let h = st.tau[i];
-            let next = &raw.p[if discrete { (i + 1) % steps } else { i }];
-            let end: Vec<f64> = (0..m)
-                .map(|l| {
-                    let btp: f64 = (0..n).map(|q| p.dynamics.b[q][l] * next[q]).sum();
-                    -btp - raw.omega[l] - raw.lambda * st.grad_f2[i][l]
-                })
-                .collect();
-            for l in 0..m {
-                let (a, b) = (psi[i][l], end[l]);
-                let up = st.urows_active[i].contains(&(2 * l));
-                let down = st.urows_active[i].contains(&(2 * l + 1));
-                l1 += step_distance(a, b, h, up, down);
-            }
-        }
-        Some(l1)
-    } else {
-        None
-    };
-    let nontrivial = raw.lambda + sup_p;
-    conditions.push(check(
-        "adjoint",
-        "2.2",
-        "dp = -A^T p dt + sum_j x*_j dxi^j, p(T) = p(0) (Thm 2.2 adjoint, transversality)",
+    let law = control_law_residual(p, pr, raw, &switching, nd_tol);
+    let l1 = l1_maximality(p, st, raw, &psi);
+    let continuous = ContinuousGroup {
         adj,
-        ptol,
-    ));
-    conditions.push(check(
-        "sign",
-        "2.2",
-        "dxi^j >= 0 (Thm 2.2; Thm 6.1 for the paper's P_m: the branch LP of the computational \
-         P_m leaves it free on held faces)",
         sign,
-        ptol,
-    ));
-    conditions.push(check(
-        "support",
-        "2.2",
-        "supp dxi^j in {t : face j active at x(t)}: dxi mass on steps where the face is not \
-         active throughout (Thm 2.2 support)",
         misplaced,
-        ptol,
-    ));
-    if let Some(l1) = l1 {
-        conditions.push(check(
-            "weak_maximality",
-            "2.2",
-            "int_0^T dist(psi(t), N_U(u(t))) dt, psi = -B^T p - omega - lambda Df2(u), p \
-             piecewise linear (Thm 2.2; O(h) on P_m grids)",
-            l1,
-            ptol * p.period,
-        ));
-    }
-    conditions.push(check(
-        "nontriviality",
-        "2.2",
-        "lambda + ||p||_inf > 0 (Thm 2.2)",
-        if nontrivial > 0.0 { 0.0 } else { 1.0 },
-        0.0,
-    ));
-    conditions.push(check(
-        "nondegeneracy",
-        "2.2",
-        if is_box(&p.control) {
-            "sigma = B^T p + omega != 0 componentwise (§4 (nndg)); residual = max(0, 1e-6 \
-             max(sup|sigma|, max|w|) - min|sigma|)"
-        } else {
-            "psi in the interior of N_U(u) at a vertex of U on every step; residual = max(0, \
-             1e-6 max(sup|sigma|, max|w|) - min rho)"
-        },
-        (nd_tol - margin).max(0.0),
-        0.0,
-    ));
-    if let Some(law) = law {
-        conditions.push(check(
-            "control_law",
-            "2.2",
-            "u_l = upper_l where sigma_l < 0, lower_l where sigma_l > 0 (f2 = 0), u = \
-             proj_U(-sigma/(lambda c)) (f2 = (c/2)|u|^2): max |u - law| / (upper - lower)",
-            law,
-            tol.max(1e-9) * 10.0,
-        ));
-    }
+        l1,
+        nontrivial: raw.lambda + sup_p,
+        nondegeneracy: (nd_tol - margin).max(0.0),
+        law,
+    };
+    conditions.extend(continuous.checks(p, ptol, tol));
 
     // The verdict reads the discrete group; a phase gait, an exact process of (P), must also
     // meet Theorem 2.2 itself (sign, support, L^1 maximality, ...; not the non-degeneracy nor
@@ -204,9 +82,248 @@ pub(crate) fn report(
             )
         },
     );
+    let paper = paper_norm(p, st, raw, &psi);
+    let times = pr.times();
+    GeneralNecessaryConditions {
+        format: GENERAL_CERTIFICATE_FORMAT.into(),
+        version: CERTIFICATE_VERSION,
+        method: if discrete { "discrete" } else { "phase" }.into(),
+        m: pr.m(),
+        verdict,
+        reason,
+        lambda: raw.lambda,
+        objective: pr.objective(p),
+        nondegeneracy_margin: margin,
+        margin_required,
+        normalisation: normalisation(scaled_by, raw.lambda, sup_p, paper),
+        conditions,
+        multipliers: GeneralMultipliers {
+            xi: face_multipliers(st, raw, &times),
+            times,
+            p: raw.p.clone(),
+            switching,
+            psi,
+            u: pr.u.clone(),
+            omega: raw.omega.clone(),
+            // The weights of U's active rows, numbered from 1.
+            normal_cone: st
+                .urows_active
+                .iter()
+                .zip(&raw.rho)
+                .map(|(rows, w)| rows.iter().zip(w).map(|(&r, &v)| (r + 1, v)).collect())
+                .collect(),
+        },
+        branch_lp: None,
+    }
+}
 
+/// `psi_i = -B^T p - omega` per step and the switching function `sigma_i = -psi_i - lambda
+/// Df2(u_i)`.
+fn psi_and_switching(
+    p: &GeneralProblem,
+    st: &GeneralStructure,
+    raw: &GeneralRaw,
+) -> (Vec<Vec<f64>>, Vec<Vec<f64>>) {
+    let psi: Vec<Vec<f64>> = (0..st.steps).map(|i| psi_of(p, st, raw, i)).collect();
+    let switching = psi
+        .iter()
+        .zip(&st.grad_f2)
+        .map(|(psi, g)| {
+            psi.iter()
+                .zip(g)
+                .map(|(s, g)| -s - raw.lambda * g)
+                .collect()
+        })
+        .collect();
+    (psi, switching)
+}
+
+/// The non-degeneracy margin (§4 (nndg)): for a box U the least `|sigma_l|` over the steps,
+/// for a polytope U the least weight `rho` of the normal cone at a vertex of U (0 off a
+/// vertex); a weight the LP left at -1e-12 is 0 at its resolution.
+fn nondegeneracy_margin(
+    p: &GeneralProblem,
+    st: &GeneralStructure,
+    raw: &GeneralRaw,
+    switching: &[Vec<f64>],
+) -> f64 {
+    match &p.control {
+        ControlSet::Box { .. } => switching
+            .iter()
+            .flatten()
+            .fold(f64::INFINITY, |a, v| a.min(v.abs())),
+        ControlSet::Polytope(_) => (0..st.steps)
+            .map(|i| {
+                if st.at_vertex[i] {
+                    raw.rho[i].iter().fold(f64::INFINITY, |a, &v| a.min(v))
+                } else {
+                    0.0
+                }
+            })
+            .fold(f64::INFINITY, f64::min),
+    }
+    .max(0.0)
+}
+
+/// The control law weak maximality implies (a box U, f2 = 0 or (c/2)|u|^2): the largest
+/// `|u - law| / (upper - lower)` over the steps; `None` where no law is closed-form.
+fn control_law_residual(
+    p: &GeneralProblem,
+    pr: &GeneralProcess,
+    raw: &GeneralRaw,
+    switching: &[Vec<f64>],
+    nd_tol: f64,
+) -> Option<f64> {
+    let (ControlSet::Box { lower, upper }, GeneralCost::None | GeneralCost::Quadratic { .. }) =
+        (&p.control, &p.cost)
+    else {
+        return None;
+    };
+    let c = match p.cost {
+        GeneralCost::Quadratic { weight } => weight,
+        _ => 0.0,
+    };
+    let quadratic = (c > 0.0 && raw.lambda > 0.0).then_some(raw.lambda * c);
+    let mut worst = 0.0_f64;
+    for (s, u) in switching.iter().zip(&pr.u) {
+        for l in 0..s.len() {
+            if let Some(w) = law_target(s[l], quadratic, lower[l], upper[l], nd_tol) {
+                worst = worst.max((u[l] - w).abs() / (upper[l] - lower[l]));
+            }
+        }
+    }
+    Some(worst)
+}
+
+/// Weak maximality in L^1(0, T) with p extended piecewise linearly (§9; a box U): on step i,
+/// psi ramps from its value at p_i to that at p_(i+1), u^i fixed. On a phase p is constant
+/// (A = 0). `None` for a polytope U.
+fn l1_maximality(
+    p: &GeneralProblem,
+    st: &GeneralStructure,
+    raw: &GeneralRaw,
+    psi: &[Vec<f64>],
+) -> Option<f64> {
+    let ControlSet::Box { .. } = &p.control else {
+        return None;
+    };
+    let (n, m, steps) = (st.n, st.m, st.steps);
+    let discrete = !st.phase;
+    let mut l1 = 0.0;
+    for i in 0..steps {
+        let h = st.tau[i];
+        let next = &raw.p[if discrete { (i + 1) % steps } else { i }];
+        let end: Vec<f64> = (0..m)
+            .map(|l| {
+                let btp: f64 = (0..n).map(|q| p.dynamics.b[q][l] * next[q]).sum();
+                -btp - raw.omega[l] - raw.lambda * st.grad_f2[i][l]
+            })
+            .collect();
+        for l in 0..m {
+            let (a, b) = (psi[i][l], end[l]);
+            let up = st.urows_active[i].contains(&(2 * l));
+            let down = st.urows_active[i].contains(&(2 * l + 1));
+            l1 += step_distance(a, b, h, up, down);
+        }
+    }
+    Some(l1)
+}
+
+/// The residuals of Theorem 2.2's continuous group, before they are checked.
+struct ContinuousGroup {
+    adj: f64,
+    sign: f64,
+    misplaced: f64,
+    l1: Option<f64>,
+    nontrivial: f64,
+    nondegeneracy: f64,
+    law: Option<f64>,
+}
+
+impl ContinuousGroup {
+    /// The checks, in the report's order, at the tolerance `ptol` of p's scale (the control
+    /// law at the conditions' `tol`).
+    fn checks(&self, p: &GeneralProblem, ptol: f64, tol: f64) -> Vec<ConditionCheck> {
+        let mut conditions = vec![
+            check(
+                "adjoint",
+                "2.2",
+                "dp = -A^T p dt + sum_j x*_j dxi^j, p(T) = p(0) (Thm 2.2 adjoint, transversality)",
+                self.adj,
+                ptol,
+            ),
+            check(
+                "sign",
+                "2.2",
+                "dxi^j >= 0 (Thm 2.2; Thm 6.1 for the paper's P_m: the branch LP of the \
+                 computational P_m leaves it free on held faces)",
+                self.sign,
+                ptol,
+            ),
+            check(
+                "support",
+                "2.2",
+                "supp dxi^j in {t : face j active at x(t)}: dxi mass on steps where the face is \
+                 not active throughout (Thm 2.2 support)",
+                self.misplaced,
+                ptol,
+            ),
+        ];
+        if let Some(l1) = self.l1 {
+            conditions.push(check(
+                "weak_maximality",
+                "2.2",
+                "int_0^T dist(psi(t), N_U(u(t))) dt, psi = -B^T p - omega - lambda Df2(u), p \
+                 piecewise linear (Thm 2.2; O(h) on P_m grids)",
+                l1,
+                ptol * p.period,
+            ));
+        }
+        conditions.push(check(
+            "nontriviality",
+            "2.2",
+            "lambda + ||p||_inf > 0 (Thm 2.2)",
+            if self.nontrivial > 0.0 { 0.0 } else { 1.0 },
+            0.0,
+        ));
+        conditions.push(check(
+            "nondegeneracy",
+            "2.2",
+            if is_box(&p.control) {
+                "sigma = B^T p + omega != 0 componentwise (§4 (nndg)); residual = max(0, 1e-6 \
+                 max(sup|sigma|, max|w|) - min|sigma|)"
+            } else {
+                "psi in the interior of N_U(u) at a vertex of U on every step; residual = max(0, \
+                 1e-6 max(sup|sigma|, max|w|) - min rho)"
+            },
+            self.nondegeneracy,
+            0.0,
+        ));
+        if let Some(law) = self.law {
+            conditions.push(check(
+                "control_law",
+                "2.2",
+                "u_l = upper_l where sigma_l < 0, lower_l where sigma_l > 0 (f2 = 0), u = \
+                 proj_U(-sigma/(lambda c)) (f2 = (c/2)|u|^2): max |u - law| / (upper - lower)",
+                law,
+                tol.max(1e-9) * 10.0,
+            ));
+        }
+        conditions
+    }
+}
+
+/// The paper's normalisation of the multipliers: `lambda + |p(0)| + |omega| + sum_k
+/// (|sum_j xi_k^j x*_j| + tau_k |psi_k|)`.
+fn paper_norm(
+    p: &GeneralProblem,
+    st: &GeneralStructure,
+    raw: &GeneralRaw,
+    psi: &[Vec<f64>],
+) -> f64 {
+    let n = st.n;
     let mut paper = raw.lambda + norm2(&raw.p[0]) + norm2(&raw.omega);
-    for k in 0..steps {
+    for k in 0..st.steps {
         let mut v = vec![0.0; n];
         for (fi, &f) in st.active[k].iter().enumerate() {
             for (l, vl) in v.iter_mut().enumerate() {
@@ -215,6 +332,16 @@ pub(crate) fn report(
         }
         paper += norm2(&v) + st.tau[k] * norm2(&psi[k]);
     }
+    paper
+}
+
+/// The face multipliers `dxi` as (knot, time, face, value), those below 1e-14 of the largest
+/// left out.
+fn face_multipliers(
+    st: &GeneralStructure,
+    raw: &GeneralRaw,
+    times: &[f64],
+) -> Vec<GeneralFaceMultiplier> {
     let xmax = raw.xi.iter().flatten().fold(0.0_f64, |a, v| a.max(v.abs()));
     let mut xi = Vec::new();
     for (k, faces) in st.active.iter().enumerate() {
@@ -230,35 +357,5 @@ pub(crate) fn report(
             }
         }
     }
-    let normal_cone = st
-        .urows_active
-        .iter()
-        .zip(&raw.rho)
-        .map(|(rows, w)| rows.iter().zip(w).map(|(&r, &v)| (r + 1, v)).collect())
-        .collect();
-    GeneralNecessaryConditions {
-        format: GENERAL_CERTIFICATE_FORMAT.into(),
-        version: CERTIFICATE_VERSION,
-        method: if discrete { "discrete" } else { "phase" }.into(),
-        m: pr.m(),
-        verdict,
-        reason,
-        lambda: raw.lambda,
-        objective: pr.objective(p),
-        nondegeneracy_margin: margin,
-        margin_required,
-        normalisation: normalisation(scaled_by, raw.lambda, sup_p, paper),
-        conditions,
-        multipliers: GeneralMultipliers {
-            times,
-            p: raw.p.clone(),
-            switching,
-            psi,
-            u: pr.u.clone(),
-            omega: raw.omega.clone(),
-            normal_cone,
-            xi,
-        },
-        branch_lp: None,
-    }
+    xi
 }

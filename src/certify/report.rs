@@ -21,14 +21,11 @@ pub(super) fn report(
 ) -> NecessaryConditions {
     let (n, np) = (st.n, st.np);
     let tol = opts.tol;
-    let t_total = pr.problem.period;
     let times = pr.times();
     let discrete = matches!(pr.kind, ProcessKind::Discrete { .. });
     let sup_p = sup(&raw.p);
     let pscale = sup_p.max(1.0);
     let disc = discrete_residuals(pr, st, &raw, false);
-    let cont_adj = disc[0].2;
-    let cont_sign = disc[5].2;
     let mut conditions = discrete_group(&disc, tol * pscale, raw.lambda);
 
     // Continuous time (Theorem 2.2) with the paper's extension.
@@ -37,18 +34,6 @@ pub(super) fn report(
         .iter()
         .map(|p| (0..n).map(|l| p[l] + raw.omega[l]).collect())
         .collect();
-    let psi_at =
-        |p: &[f64], j: usize, l: usize| -p[l] - raw.omega[l] - raw.lambda * st.grad_f2[j][l];
-    let mut l1 = 0.0;
-    for j in 0..np {
-        let next = if discrete { (j + 1) % np } else { j };
-        for l in 0..n {
-            let (a, b) = (psi_at(&raw.p[j], j, l), psi_at(&raw.p[next], j, l));
-            let bound = st.bound[j][l];
-            l1 += step_distance(a, b, pr.durations[j], bound == 1, bound == -1);
-        }
-    }
-    let misplaced = misplaced_mass(&st.active, &raw.xi, discrete);
     // The multipliers solve LPs to the conditions' tolerance: below it, |p + omega| is zero at
     // the solver's resolution (the margin LP's slack of 1e-12 showed as `p + omega = 1e-12`).
     let resolution = tol * pscale;
@@ -61,127 +46,29 @@ pub(super) fn report(
     // b slips) when p + omega vanishes identically.
     let kmax = st.k.iter().fold(0.0_f64, |m, &k| m.max(k));
     let nd_tol = 1e-6 * sup(&p_plus_omega).max(1.0 / (st.nb as f64 * kmax));
-    let a = &pr.problem.rate_bound;
-    let mut law = 0.0_f64;
-    for j in 0..np {
-        for l in 0..n {
-            let s = p_plus_omega[j][l];
-            let u = pr.controls[j][l];
-            let quadratic = match pr.problem.cost {
-                Cost::Quadratic { weight } if raw.lambda > 0.0 => Some(raw.lambda * weight),
-                _ => None,
-            };
-            if let Some(w) = law_target(s, quadratic, -a[l], a[l], nd_tol) {
-                law = law.max((u - w).abs() / a[l]);
-            }
-        }
-    }
-    let nontrivial = raw.lambda + sup_p;
-    for (name, statement, residual, tolerance) in [
-        (
-            "adjoint",
-            "dp = sum_j x*_j dxi^j, p(T) = p(0) (Thm 2.2 adjoint, transversality)",
-            cont_adj,
-            tol * pscale,
-        ),
-        (
-            "sign",
-            "dxi^j >= 0 (Thm 2.2; Thm 6.1 for the paper's P_m, whose state constraints are pure \
-             inequalities: the branch LP of the computational P_m leaves it free on held faces)",
-            cont_sign,
-            tol * pscale,
-        ),
-        (
-            "support",
-            "supp dxi^j in {t : face j active at x(t)}: dxi mass on steps where the face is not \
-             active throughout (Thm 2.2 support)",
-            misplaced,
-            tol * pscale,
-        ),
-        (
-            "weak_maximality",
-            "int_0^T dist(psi(t), N_U(u(t))) dt, psi = -p - omega - lambda Df2(u) (Thm 2.2)",
-            l1,
-            tol * pscale * t_total,
-        ),
-        (
-            "nontriviality",
-            "lambda + ||p||_inf > 0, scaled to 1 (Thm 2.2)",
-            if nontrivial > 0.0 { 0.0 } else { 1.0 },
-            0.0,
-        ),
-        (
-            "nondegeneracy",
-            "p_l(t) + omega_l != 0 for all t and l (§4 (nndg)): min |p + omega| above 1e-6 \
-             max(sup|p + omega|, 1/(N k_max)) and the solver's resolution; residual 1 when it is \
-             not (min |p + omega| is reported beside J)",
-            if margin > nd_tol { 0.0 } else { 1.0 },
-            0.0,
-        ),
-        (
-            "control_law",
-            "u = -a sign(p + omega) where p + omega != 0 (f2 = 0, §4), u = proj_U(-(p + \
-             omega)/(lambda c)) (f2 = (c/2)|u|^2): max |u - law| / a",
-            law,
-            tol.max(1e-9) * 10.0,
-        ),
-    ] {
-        conditions.push(check(name, "2.2", statement, residual, tolerance));
-    }
+    let residuals = ContinuousResiduals {
+        adjoint: disc[0].2,
+        sign: disc[5].2,
+        support: misplaced_mass(&st.active, &raw.xi, discrete),
+        l1: l1_maximality(pr, st, &raw, discrete),
+        nontrivial: raw.lambda + sup_p,
+        nondegenerate: margin > nd_tol,
+        law: control_law_residual(pr, &raw, &p_plus_omega, nd_tol),
+    };
+    conditions.extend(residuals.checks(tol * pscale, pr.problem.period, tol));
 
-    // Verdict.
-    let nondeg = margin > nd_tol;
     let (verdict, reason) = verdict(
         &conditions,
         discrete,
         raw.lambda,
-        nondeg,
+        residuals.nondegenerate,
         "the necessary conditions hold with lambda = 1 and p + omega vanishes nowhere",
-        || {
-            let (j, l) = argmin_abs(&p_plus_omega);
-            format!(
-                "the conditions hold with lambda = 1 but only degenerately: p + omega = {} on \
-                 piece {j} (t = {:.6}), link {} (§4 (nndg) fails)",
-                if margin == 0.0 {
-                    format!("0 at the solver's resolution {resolution:.1e}")
-                } else {
-                    format!("{:.3e}", p_plus_omega[j][l])
-                },
-                times[j],
-                l + 1
-            )
-        },
+        || degenerate_reason(&p_plus_omega, margin, resolution, &times),
     );
-
-    // Normalisations.
-    let mut paper = raw.lambda + norm2(&raw.p[0]) + norm2(&raw.omega);
-    for j in 0..np {
-        let mut v = vec![0.0; n];
-        for (fi, &f) in st.active[j].iter().enumerate() {
-            for (l, c) in normal(n, f) {
-                v[l] += raw.xi[j][fi] * c;
-            }
-        }
-        paper += norm2(&v);
-        let psi: Vec<f64> = (0..n).map(|l| psi_at(&raw.p[j], j, l)).collect();
-        paper += pr.durations[j] * norm2(&psi);
-    }
-    let xmax = raw.xi.iter().flatten().fold(0.0_f64, |m, v| m.max(v.abs()));
-    let mut xi = Vec::new();
-    for j in 0..np {
-        for (fi, &FaceId { b, s }) in st.active[j].iter().enumerate() {
-            let v = raw.xi[j][fi];
-            if v.abs() > 1e-14 * xmax {
-                xi.push(FaceMultiplier {
-                    knot: j,
-                    time: times[j],
-                    block: b + 1,
-                    side: if s > 0 { "+" } else { "-" }.into(),
-                    value: v,
-                });
-            }
-        }
-    }
+    let psi: Vec<Vec<f64>> = (0..np)
+        .map(|j| (0..n).map(|l| psi_at(st, &raw, &raw.p[j], j, l)).collect())
+        .collect();
+    let paper = paper_norm(pr, st, &raw, &psi);
     let multipliers = MultiplierData {
         extension: if discrete {
             "piecewise_linear"
@@ -189,15 +76,13 @@ pub(super) fn report(
             "piecewise_constant"
         }
         .into(),
-        times: times.clone(),
-        psi: (0..np)
-            .map(|j| (0..n).map(|l| psi_at(&raw.p[j], j, l)).collect())
-            .collect(),
+        xi: face_multipliers(st, &raw, &times),
+        times,
+        psi,
         p: raw.p.clone(),
         p_plus_omega,
         u: pr.controls.clone(),
         omega: raw.omega.clone(),
-        xi,
     };
     NecessaryConditions {
         format: CERTIFICATE_FORMAT.into(),
@@ -219,6 +104,182 @@ pub(super) fn report(
         one_link: one_link_structure(pr, opts.structure_tol),
         branch_lp: None,
     }
+}
+
+/// Why the conditions hold only degenerately: where `p + omega` is least (§4 (nndg)).
+fn degenerate_reason(
+    p_plus_omega: &[Vec<f64>],
+    margin: f64,
+    resolution: f64,
+    times: &[f64],
+) -> String {
+    let (j, l) = argmin_abs(p_plus_omega);
+    format!(
+        "the conditions hold with lambda = 1 but only degenerately: p + omega = {} on piece {j} \
+         (t = {:.6}), link {} (§4 (nndg) fails)",
+        if margin == 0.0 {
+            format!("0 at the solver's resolution {resolution:.1e}")
+        } else {
+            format!("{:.3e}", p_plus_omega[j][l])
+        },
+        times[j],
+        l + 1
+    )
+}
+
+/// `psi_l = -p_l - omega_l - lambda Df2(u_j)_l` at the adjoint value `p` on piece `j`.
+fn psi_at(st: &Structure, raw: &Raw, p: &[f64], j: usize, l: usize) -> f64 {
+    -p[l] - raw.omega[l] - raw.lambda * st.grad_f2[j][l]
+}
+
+/// Weak maximality in L^1(0, T) (Theorem 2.2): on piece j, psi ramps from its value at p_j to
+/// that at p_(j+1) for P_m (p extended piecewise linearly, §9), constant on a phase.
+fn l1_maximality(pr: &Process, st: &Structure, raw: &Raw, discrete: bool) -> f64 {
+    let (n, np) = (st.n, st.np);
+    let mut l1 = 0.0;
+    for j in 0..np {
+        let next = if discrete { (j + 1) % np } else { j };
+        for l in 0..n {
+            let (a, b) = (
+                psi_at(st, raw, &raw.p[j], j, l),
+                psi_at(st, raw, &raw.p[next], j, l),
+            );
+            let bound = st.bound[j][l];
+            l1 += step_distance(a, b, pr.durations[j], bound == 1, bound == -1);
+        }
+    }
+    l1
+}
+
+/// The control law weak maximality implies (§4): the largest `|u - law| / a` over the pieces.
+fn control_law_residual(pr: &Process, raw: &Raw, p_plus_omega: &[Vec<f64>], nd_tol: f64) -> f64 {
+    let a = &pr.problem.rate_bound;
+    let quadratic = match pr.problem.cost {
+        Cost::Quadratic { weight } if raw.lambda > 0.0 => Some(raw.lambda * weight),
+        _ => None,
+    };
+    let mut law = 0.0_f64;
+    for (s, u) in p_plus_omega.iter().zip(&pr.controls) {
+        for l in 0..s.len() {
+            if let Some(w) = law_target(s[l], quadratic, -a[l], a[l], nd_tol) {
+                law = law.max((u[l] - w).abs() / a[l]);
+            }
+        }
+    }
+    law
+}
+
+/// The residuals of Theorem 2.2's continuous group, before they are checked.
+struct ContinuousResiduals {
+    adjoint: f64,
+    sign: f64,
+    support: f64,
+    l1: f64,
+    nontrivial: f64,
+    nondegenerate: bool,
+    law: f64,
+}
+
+impl ContinuousResiduals {
+    /// The checks, in the report's order, at the tolerance `ptol` of p's scale (the L^1
+    /// maximality over the period `t_total`, the control law at the conditions' `tol`).
+    fn checks(&self, ptol: f64, t_total: f64, tol: f64) -> Vec<ConditionCheck> {
+        [
+            (
+                "adjoint",
+                "dp = sum_j x*_j dxi^j, p(T) = p(0) (Thm 2.2 adjoint, transversality)",
+                self.adjoint,
+                ptol,
+            ),
+            (
+                "sign",
+                "dxi^j >= 0 (Thm 2.2; Thm 6.1 for the paper's P_m, whose state constraints are \
+                 pure inequalities: the branch LP of the computational P_m leaves it free on held \
+                 faces)",
+                self.sign,
+                ptol,
+            ),
+            (
+                "support",
+                "supp dxi^j in {t : face j active at x(t)}: dxi mass on steps where the face is \
+                 not active throughout (Thm 2.2 support)",
+                self.support,
+                ptol,
+            ),
+            (
+                "weak_maximality",
+                "int_0^T dist(psi(t), N_U(u(t))) dt, psi = -p - omega - lambda Df2(u) (Thm 2.2)",
+                self.l1,
+                ptol * t_total,
+            ),
+            (
+                "nontriviality",
+                "lambda + ||p||_inf > 0, scaled to 1 (Thm 2.2)",
+                if self.nontrivial > 0.0 { 0.0 } else { 1.0 },
+                0.0,
+            ),
+            (
+                "nondegeneracy",
+                "p_l(t) + omega_l != 0 for all t and l (§4 (nndg)): min |p + omega| above 1e-6 \
+                 max(sup|p + omega|, 1/(N k_max)) and the solver's resolution; residual 1 when \
+                 it is not (min |p + omega| is reported beside J)",
+                if self.nondegenerate { 0.0 } else { 1.0 },
+                0.0,
+            ),
+            (
+                "control_law",
+                "u = -a sign(p + omega) where p + omega != 0 (f2 = 0, §4), u = proj_U(-(p + \
+                 omega)/(lambda c)) (f2 = (c/2)|u|^2): max |u - law| / a",
+                self.law,
+                tol.max(1e-9) * 10.0,
+            ),
+        ]
+        .into_iter()
+        .map(|(name, statement, residual, tolerance)| {
+            check(name, "2.2", statement, residual, tolerance)
+        })
+        .collect()
+    }
+}
+
+/// The paper's normalisation of the multipliers: `lambda + |p(0)| + |omega| + sum_j (|sum_b
+/// xi_j^b K nu_b| + tau_j |psi_j|)`.
+fn paper_norm(pr: &Process, st: &Structure, raw: &Raw, psi: &[Vec<f64>]) -> f64 {
+    let n = st.n;
+    let mut paper = raw.lambda + norm2(&raw.p[0]) + norm2(&raw.omega);
+    for j in 0..st.np {
+        let mut v = vec![0.0; n];
+        for (fi, &f) in st.active[j].iter().enumerate() {
+            for (l, c) in normal(n, f) {
+                v[l] += raw.xi[j][fi] * c;
+            }
+        }
+        paper += norm2(&v);
+        paper += pr.durations[j] * norm2(&psi[j]);
+    }
+    paper
+}
+
+/// The face multipliers `dxi` per knot, block and side, those below 1e-14 of the largest left
+/// out.
+fn face_multipliers(st: &Structure, raw: &Raw, times: &[f64]) -> Vec<FaceMultiplier> {
+    let xmax = raw.xi.iter().flatten().fold(0.0_f64, |m, v| m.max(v.abs()));
+    let mut xi = Vec::new();
+    for j in 0..st.np {
+        for (fi, &FaceId { b, s }) in st.active[j].iter().enumerate() {
+            let v = raw.xi[j][fi];
+            if v.abs() > 1e-14 * xmax {
+                xi.push(FaceMultiplier {
+                    knot: j,
+                    time: times[j],
+                    block: b + 1,
+                    side: if s > 0 { "+" } else { "-" }.into(),
+                    value: v,
+                });
+            }
+        }
+    }
+    xi
 }
 
 /// `J` of a process: displacement per period minus `int f2(u) dt`.
