@@ -506,3 +506,66 @@ fn a_time_limit_spent_at_once_says_time_limit_for_every_method() {
         assert_refused(&crawlopt(&args), &["time limit was reached"]);
     }
 }
+
+/// Every refusal names the flag the user gave, or would give: the bound's own settings, the
+/// phases below a default start of the sequence method (where the start was not given), a
+/// fixed K of a general phase MILP with a growth setting, and the computation's flags of
+/// `report` on a result file, whose gait is computed already (nothing written).
+#[test]
+fn refusals_name_the_flag_to_change() {
+    let dir = tempfile::tempdir().unwrap();
+    let three = "examples/three_blocks_gait.toml";
+    let general = "examples/general_three_blocks.toml";
+    for (args, want) in [
+        (
+            &["optimize", three, "--bound", "--bound-time-limit", "-1"][..],
+            "error: --bound-time-limit:",
+        ),
+        (
+            &["optimize", general, "--bound", "--bound-resolution", "0"],
+            "error: --bound-resolution:",
+        ),
+        (
+            &["optimize", three, "--method", "sequence", "--phases", "3"],
+            "error: --phases: is below the 4 slip phases of the default start gait",
+        ),
+        (
+            &["optimize", general, "--method", "sequence", "--phases", "3"],
+            "error: --phases: is below",
+        ),
+        (
+            &[
+                "optimize",
+                "examples/general_one_link.toml",
+                "--method",
+                "phase",
+                "--phases",
+                "3",
+                "--max-phases",
+                "0",
+            ],
+            "error: --max-phases: applies only to a growth of K, without --phases",
+        ),
+    ] {
+        assert_refused(&crawlopt(args), &[want]);
+    }
+    let out = crawlopt(&["optimize", "examples/one_link_gait.toml", "--json"]);
+    assert!(out.status.success());
+    let result = write(dir.path(), "r.json", &String::from_utf8_lossy(&out.stdout));
+    let html = dir.path().join("r.html");
+    for flag in ["--phases", "--time-limit"] {
+        let out = crawlopt(&[
+            "report",
+            result.to_str().unwrap(),
+            flag,
+            "3",
+            "-o",
+            html.to_str().unwrap(),
+        ]);
+        assert_refused(
+            &out,
+            &[&format!("error: {flag}: applies to a problem file only")],
+        );
+        assert!(!html.exists());
+    }
+}

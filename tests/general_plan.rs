@@ -98,6 +98,21 @@ fn settings_that_do_not_apply_are_refused_naming_them() {
         (with(Local, f, &|s| s.certify = true), "--certify"),
         (with(Local, f, &|s| s.polish = Some(false)), "--no-polish"),
         (with(Phase, f, &|s| s.m = Some(2)), "--m"),
+        // One MILP at a fixed K takes no growth settings (as for a crawler's problem).
+        (
+            with(Phase, f, &|s| {
+                s.phases = Some(3);
+                s.max_phases = Some(4)
+            }),
+            "--max-phases",
+        ),
+        (
+            with(Phase, k, &|s| {
+                s.phases = Some(3);
+                s.patience = Some(1)
+            }),
+            "patience",
+        ),
         (with(Phase, f, &|s| s.shifts = Some(2)), "--shifts"),
         (
             with(Local, f, &|s| s.bound = Some(BoundSettings::default())),

@@ -91,6 +91,14 @@ fn general_results_carry_the_envelope_and_read_back() {
         // Written again, it reads back to the same answer.
         let again = crawlopt::io::json::to_string(&answer).unwrap();
         assert_eq!(GeneralAnswer::from_json(&again, "again").unwrap(), *answer);
+        // Version 1 of a general result had the same shape: it reads to the same answer.
+        let mut v1 = v.clone();
+        v1["version"] = json!(1);
+        let ResultFile::General(old) = ResultFile::from_json(&v1.to_string(), "v1.json").unwrap()
+        else {
+            panic!("read as a crawler's")
+        };
+        assert_eq!(old, answer);
         // The crawler's own reader names the kind.
         let e = GaitResult::from_json(&text, "r.json").unwrap_err();
         assert!(e.to_string().starts_with("r.json: kind"), "{e}");
@@ -392,6 +400,15 @@ fn crawler_results_read_in_version_2_and_in_version_1() {
     assert_eq!(
         GaitResult::from_json(&old.to_string(), "old.json").unwrap(),
         GaitResult::from_json(&text, "r.json").unwrap()
+    );
+    // A reader's errors on a version 1 file say that its gait was read as the solution.
+    let mut short = old.clone();
+    short["gait"]["states"].as_array_mut().unwrap().pop();
+    let e = ResultFile::from_json(&short.to_string(), "old.json").unwrap_err();
+    assert!(
+        e.to_string()
+            .starts_with("old.json (version 1, its gait read as solution): solution.states"),
+        "{e}"
     );
     // Version 2 needs its kind and its solution.
     let mut no_kind = v.clone();

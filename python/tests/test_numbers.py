@@ -111,6 +111,30 @@ def test_results_round_trip_with_the_command_line(cli, tmp_path):
     assert "2.6" in html.read_text()
 
 
+def test_version_1_results_read_as_version_2(cli, tmp_path):
+    # A result of version 1 (the gait under "gait", no "kind") reads to the same result, with
+    # the same certificate; errors on it say that its gait was read as the solution.
+    out = subprocess.run(
+        [cli, "optimize", "examples/three_blocks_gait.toml", "--json"],
+        check=True,
+        capture_output=True,
+        text=True,
+    ).stdout
+    doc = json.loads(out)
+    assert doc["version"] == 2 and "solution" in doc and "gait" not in doc
+    old = dict(doc, version=1, gait=doc["solution"])
+    del old["solution"], old["kind"]
+    path = tmp_path / "old.json"
+    path.write_text(json.dumps(old))
+    r1, r2 = co.read_result(path), co.GaitResult.from_json(out)
+    assert r1.to_json() == r2.to_json()
+    assert r1.gait.durations == pytest.approx(r2.gait.durations, abs=0)
+    assert r1.certify()["verdict"] == r2.certify()["verdict"]
+    old["gait"] = dict(old["gait"], states=old["gait"]["states"][:-1])
+    with pytest.raises(ValueError, match=r"version 1, its gait read as solution\): solution"):
+        co.GaitResult.from_json(json.dumps(old))
+
+
 def test_figures_and_report(tmp_path):
     m = co.load("examples/three_blocks_gait.toml")
     r = co.optimize(m.crawler, m.gait_problem, method="phase", phases=4)

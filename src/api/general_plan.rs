@@ -47,6 +47,22 @@ impl OptimizeSettings {
         }
         let local = method == GaitMethod::Local;
         let phase = method == GaitMethod::Phase;
+        if phase && self.phases.is_some() {
+            // One MILP at a fixed K: the growth's settings have nothing to act on (as for a
+            // crawler's problem).
+            for (name, value) in [("patience", self.patience), ("max_phases", self.max_phases)] {
+                if let Some(v) = value {
+                    return Err(Error::invalid(
+                        n.setting(name),
+                        v,
+                        format!(
+                            "applies only to a growth of K, without {}",
+                            n.setting("phases")
+                        ),
+                    ));
+                }
+            }
+        }
         // Every setting of a crawler's optimisation that a general problem does not take, in
         // the order the messages check them (the first one given is named).
         let polish = ("polish", self.polish.is_some());

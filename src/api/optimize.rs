@@ -277,6 +277,29 @@ fn solve_method(
             let k = settings
                 .phases
                 .unwrap_or((seq.len().max(1) + 2).min(MAX_PHASES));
+            if seq.len() > k {
+                // The search moves within sequences of k slip modes: a longer start does not
+                // fit, and the setting to change is the one the user gave.
+                let n = settings.naming;
+                let got = format!("{} slip phases", seq.len());
+                return Err(match start {
+                    Some(_) => Error::invalid(
+                        n.setting("start"),
+                        got,
+                        format!("has more slip phases than {} = {k}", n.setting("phases")),
+                    ),
+                    None => Error::invalid(
+                        n.setting("phases"),
+                        k,
+                        format!(
+                            "is below the {got} of the default start gait: give at least {} \
+                             phases, or {} with at most {k} slip phases",
+                            seq.len(),
+                            n.setting("start")
+                        ),
+                    ),
+                });
+            }
             em.stage(format!(
                 "local search over sequences of {k} slip modes, from {} of {origin}",
                 seq.len()

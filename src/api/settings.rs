@@ -86,7 +86,7 @@ pub enum Naming {
     /// Keyword arguments and struct fields: `max_phases`, `method="local"` (Python, Rust).
     #[default]
     Keywords,
-    /// Command-line flags: `max-phases`, `--method local`.
+    /// Command-line flags: `--max-phases`, `--method local`.
     Flags,
 }
 
@@ -108,7 +108,8 @@ impl Naming {
         if self == Naming::Keywords {
             return e;
         }
-        let names: Vec<(&str, String)> = [
+        // `start` is not renamed: the library names its default start gait so too.
+        let mut names: Vec<(&str, String)> = [
             "method",
             "m",
             "time_limit",
@@ -117,13 +118,21 @@ impl Naming {
             "phases",
             "patience",
             "bound",
-            "start",
             "convergence",
             "polish",
         ]
         .into_iter()
         .map(|f| (f, self.setting(f)))
         .collect();
+        // The bound's own settings, flags of their own.
+        for (field, flag) in [
+            ("bound.time_limit", "--bound-time-limit"),
+            ("bound.resolution", "--bound-resolution"),
+            ("bound.box_resolution", "--bound-box-resolution"),
+            ("bound.cost_tangents", "--bound-cost-tangents"),
+        ] {
+            names.push((field, flag.to_string()));
+        }
         rename_fields(e, &names)
     }
 

@@ -21,7 +21,8 @@ impl ResultFile {
     /// Reads a result of either kind from JSON text (`what` names the source in errors): the
     /// envelope, then the kind's shape and consistency (module docs).
     pub fn from_json(text: &str, what: &str) -> Result<Self> {
-        let (v, kind) = read_envelope(text, what)?;
+        let (v, kind, label) = read_envelope(text, what)?;
+        let what = label.as_str();
         match kind {
             ResultKind::Crawler => {
                 GaitResult::from_checked_envelope(v, what).map(|r| ResultFile::Crawler(Box::new(r)))

@@ -54,10 +54,13 @@ pub fn local_status(stop: LocalStop) -> MilpStatus {
 }
 
 /// Parses a result document and checks its envelope: `format` ([`RESULT_FORMAT`]), `version`
-/// (1 or [`RESULT_VERSION`]) and `kind` (absent in version 1 only: a crawler's). Returns the
-/// document in the shape of [`RESULT_VERSION`] (a version 1 crawler's `gait` becomes its
-/// `solution`) and its kind; errors name `what` and the field.
-pub fn read_envelope(text: &str, what: &str) -> Result<(serde_json::Value, ResultKind)> {
+/// (1 or [`RESULT_VERSION`]), `kind` (absent in version 1 only: a crawler's), and the key of
+/// the solution (`solution`; a version 1 crawler's `gait`, neither under the other's name).
+/// Returns the document in the shape of [`RESULT_VERSION`] (a version 1 crawler's `gait`
+/// becomes its `solution`), its kind, and the name its reader's errors give the source:
+/// `what`, or for a version 1 crawler's file `what (version 1, its gait read as solution)`,
+/// since they name the fields of version 2. Errors name `what` and the field.
+pub fn read_envelope(text: &str, what: &str) -> Result<(serde_json::Value, ResultKind, String)> {
     let v: serde_json::Value = serde_json::from_str(text).map_err(|e| Error::Io {
         path: what.into(),
         reason: format!("not a complete JSON document: {e}"),
@@ -105,7 +108,29 @@ pub fn read_envelope(text: &str, what: &str) -> Result<(serde_json::Value, Resul
             ))
         }
     };
-    Ok((upgraded(v, version, kind), kind))
+    // The solution under the key of its version (a stray key of the other is refused: the
+    // reader would silently ignore it).
+    let (key, other) = if version == 1 && kind == ResultKind::Crawler {
+        ("gait", "solution")
+    } else {
+        ("solution", "gait")
+    };
+    if v.get(other).is_some() {
+        return Err(Error::invalid(
+            format!("{what}: {other}"),
+            "given",
+            format!(
+                "is not a field of a version {version} {} result (its solution is `{key}`)",
+                kind.as_str()
+            ),
+        ));
+    }
+    let label = if key == "solution" {
+        what.to_string()
+    } else {
+        format!("{what} (version {version}, its {key} read as solution)")
+    };
+    Ok((upgraded(v, version, kind), kind, label))
 }
 
 /// A document of `version` in the shape of [`RESULT_VERSION`]: version 1 wrote a crawler's
@@ -116,7 +141,7 @@ fn upgraded(mut v: serde_json::Value, version: u64, kind: ResultKind) -> serde_j
         return v;
     }
     if let Some(o) = v.as_object_mut() {
-        if kind == ResultKind::Crawler && !o.contains_key("solution") {
+        if kind == ResultKind::Crawler {
             if let Some(g) = o.remove("gait") {
                 o.insert("solution".to_string(), g);
             }
@@ -168,9 +193,9 @@ mod tests {
     #[test]
     fn the_kind_is_read_and_checked() {
         let head = r#"{"format": "crawlopt-gait-result", "version": 1"#;
-        let (_, k) = read_envelope(&format!("{head}}}"), "r.json").unwrap();
+        let (_, k, _) = read_envelope(&format!("{head}}}"), "r.json").unwrap();
         assert_eq!(k, ResultKind::Crawler);
-        let (_, k) = read_envelope(&format!("{head}, \"kind\": \"general\"}}"), "r").unwrap();
+        let (_, k, _) = read_envelope(&format!("{head}, \"kind\": \"general\"}}"), "r").unwrap();
         assert_eq!(k, ResultKind::General);
         let e = read_envelope(&format!("{head}, \"kind\": \"robot\"}}"), "r.json").unwrap_err();
         assert!(e.to_string().starts_with("r.json: kind"), "{e}");
@@ -180,13 +205,23 @@ mod tests {
         let v2 = r#"{"format": "crawlopt-gait-result", "version": 2"#;
         let e = read_envelope(&format!("{v2}}}"), "r.json").unwrap_err();
         assert!(e.to_string().starts_with("r.json: kind"), "{e}");
-        let (v, _) = read_envelope(&format!("{head}, \"gait\": [7]}}"), "r").unwrap();
+        let (v, _, label) = read_envelope(&format!("{head}, \"gait\": [7]}}"), "r").unwrap();
+        assert_eq!(label, "r (version 1, its gait read as solution)");
         assert_eq!(v["solution"], serde_json::json!([7]));
         assert_eq!(
             (v["version"].as_u64(), v["kind"].as_str()),
             (Some(2), Some("crawler"))
         );
         assert!(v.get("gait").is_none());
+        // A key of the other version is refused, not ignored.
+        for doc in [
+            format!("{head}, \"gait\": [7], \"solution\": [8]}}"),
+            format!("{v2}, \"kind\": \"crawler\", \"solution\": [7], \"gait\": 1}}"),
+            format!("{v2}, \"kind\": \"general\", \"solution\": [7], \"gait\": 1}}"),
+        ] {
+            let e = read_envelope(&doc, "r").unwrap_err();
+            assert!(e.to_string().contains("is not a field of a version"), "{e}");
+        }
         let v3 = r#"{"format": "crawlopt-gait-result", "version": 3, "kind": "crawler"}"#;
         let e = read_envelope(v3, "r").unwrap_err();
         assert!(e.to_string().contains("reads versions 1 and 2 only"), "{e}");

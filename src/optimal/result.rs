@@ -168,9 +168,10 @@ impl GaitData {
 pub struct GaitResult {
     /// Always [`RESULT_FORMAT`].
     pub format: String,
-    /// [`RESULT_VERSION`] of the writer.
+    /// [`RESULT_VERSION`] (a version 1 file is upgraded on reading).
     pub version: u32,
-    /// Always [`ResultKind::Crawler`] (`"crawler"`); a file without the field is a crawler's.
+    /// Always [`ResultKind::Crawler`] (`"crawler"`; a version 1 file without it is read as a
+    /// crawler's).
     #[serde(default)]
     pub kind: ResultKind,
     /// The crawler.
@@ -522,7 +523,7 @@ impl GaitResult {
     /// either), the shape of every array against the crawler, and that the result is what it
     /// says ([`GaitResult::check_consistent`]); `what` names the source in errors.
     pub fn from_json(text: &str, what: &str) -> Result<Self> {
-        let (v, kind) = read_envelope(text, what)?;
+        let (v, kind, label) = read_envelope(text, what)?;
         if kind != ResultKind::Crawler {
             return Err(Error::invalid(
                 format!("{what}: kind"),
@@ -530,7 +531,7 @@ impl GaitResult {
                 "is a general problem's result, not a crawler's gait (certify reads both)",
             ));
         }
-        Self::from_checked_envelope(v, what)
+        Self::from_checked_envelope(v, &label)
     }
 
     /// [`GaitResult::from_json`] of a document whose envelope [`read_envelope`] has checked

@@ -35,6 +35,19 @@ pub fn run(a: ReportArgs) -> Result<ExitCode, Error> {
     AtomicFile::check(&a.output)?;
     let name = file_name(&a.file);
     let summary = if a.file.extension().is_some_and(|e| e == "json") {
+        // A result's gait is computed already: the flags of its computation are refused, not
+        // ignored.
+        let given = [
+            ("--phases", a.phases.map(|k| k.to_string())),
+            ("--time-limit", a.time_limit.map(|t| t.to_string())),
+        ];
+        if let Some((flag, Some(v))) = given.into_iter().find(|(_, v)| v.is_some()) {
+            return Err(Error::invalid(
+                flag,
+                v,
+                "applies to a problem file only (a result file's gait is computed already)",
+            ));
+        }
         // A result of either kind, read back and checked as `certify` reads it.
         let r = ResultFile::from_json(&read_text(&a.file)?, &name)?;
         report::write_report(&a.output, &build_result_report(&r, &name)?)?;

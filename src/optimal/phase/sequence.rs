@@ -142,7 +142,7 @@ pub fn search_sequences(
         return Err(Error::invalid(
             "start",
             format!("{} slip phases", start_modes.len()),
-            format!("needs 1 to {phases} slip phases (--phases)"),
+            format!("needs 1 to {phases} slip phases, the length of the sequences searched"),
         ));
     }
     if let Some(m) = start_modes.iter().find(|m| !slip_mode_is_valid(crawler, m)) {
