@@ -469,7 +469,7 @@ fn optimize_discrete_returns_a_verified_certified_gait() {
     ]);
     assert!(out.status.success(), "{}", stderr(&out));
     let v = json(&out);
-    assert_eq!(v["method"], "phase");
+    assert_eq!(v["method"], "sequence");
     assert_eq!(v["certificate"]["kind"], "local");
     assert_eq!(v["certificate"]["phases"], 4);
     assert_eq!(v["status"], "stationary");

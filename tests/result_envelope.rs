@@ -410,6 +410,24 @@ fn crawler_results_read_in_version_2_and_in_version_1() {
             .starts_with("old.json (version 1, its gait read as solution): solution.states"),
         "{e}"
     );
+    // The envelope names the method that ran: the sequence and chain methods' exact phase
+    // gaits read back under their own names (version 1 wrote "phase" for them).
+    for method in ["sequence", "chain"] {
+        let (text, v) = optimize(
+            "examples/three_blocks_gait.toml",
+            &["--method", method, "--time-limit", "20"],
+        );
+        assert_eq!(v["method"], method);
+        let r = ResultFile::from_json(&text, "r.json").unwrap();
+        assert_eq!(r.method(), method);
+        let mut as_v1 = v.clone();
+        as_v1["method"] = json!("phase");
+        let ResultFile::Crawler(old) = ResultFile::from_json(&as_v1.to_string(), "o").unwrap()
+        else {
+            panic!("read as a general result")
+        };
+        assert_eq!(old.objective, v["objective"].as_f64().unwrap());
+    }
     // Version 2 needs its kind and its solution.
     let mut no_kind = v.clone();
     no_kind.as_object_mut().unwrap().remove("kind");

@@ -79,7 +79,7 @@ pub fn optimize_general_on_chain(
     };
     let o = super::optimize(&view.crawler, &gp, &settings, hooks)?;
     let r = &o.result;
-    if r.method != "phase" {
+    if !r.is_phase_gait() {
         // The map back reads the gait as exact phases (a P_m process would be misread).
         return Err(Error::Numerical(format!(
             "the crawler's {} method answered with a {} gait, not an exact one",

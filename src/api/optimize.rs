@@ -65,6 +65,12 @@ fn optimize_named(
         let mut result = crate::progress::within(settings.time_limit, || {
             solve(crawler, problem, settings, &plan, em)
         })?;
+        // The envelope names the method that ran; the sequence and chain methods answer with
+        // exact phase gaits, read back as such (`GaitResult::is_phase_gait`).
+        if matches!(plan.method, GaitMethod::Sequence | GaitMethod::Chain) && result.is_phase_gait()
+        {
+            result.method = plan.method.name().to_string();
+        }
         if let Some(b) = &settings.bound {
             em.stage("proving an upper bound over all periodic gaits");
             let ub = crate::certify::bound::upper_bound(crawler, problem, b)?;

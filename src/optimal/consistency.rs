@@ -473,13 +473,15 @@ impl GaitResult {
             ("discrete" | "local", None) => {
                 Err(bad(what, "m", "nothing", "a discrete (P_m) result needs m"))
             }
-            ("phase", None) => Ok(ProcessKind::Phase),
-            ("phase", Some(m)) => Err(bad(what, "m", m, "a phase gait has no grid m")),
+            ("phase" | "sequence" | "chain", None) => Ok(ProcessKind::Phase),
+            ("phase" | "sequence" | "chain", Some(m)) => {
+                Err(bad(what, "m", m, "a phase gait has no grid m"))
+            }
             (other, _) => Err(bad(
                 what,
                 "method",
                 other,
-                "must be \"discrete\", \"local\" or \"phase\"",
+                "must be \"discrete\", \"local\", \"phase\", \"sequence\" or \"chain\"",
             )),
         }
     }

@@ -178,7 +178,9 @@ pub struct GaitResult {
     pub crawler: CrawlerParams,
     /// The gait problem.
     pub problem: GaitProblem,
-    /// `"phase"` or `"discrete"`.
+    /// The method that ran: `"phase"`, `"sequence"` or `"chain"` (an exact phase gait;
+    /// version 1 files wrote `"phase"` for all three), `"discrete"` or `"local"` (a P_m
+    /// process on the grid of `m`).
     pub method: String,
     /// `m` of P_m (discrete only).
     pub m: Option<u32>,
@@ -223,6 +225,9 @@ pub struct GaitResult {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub structured: Option<StructuredRecord>,
 }
+
+/// The methods whose answer is an exact phase gait.
+pub const PHASE_GAIT_METHODS: [&str; 3] = ["phase", "sequence", "chain"];
 
 /// Why a structured gait is the answer ([`GaitResult::structured`]).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -412,6 +417,12 @@ impl GaitResult {
             certificate,
             gait,
         )
+    }
+
+    /// Whether the gait is an exact phase gait (methods phase, sequence and chain), not a P_m
+    /// process.
+    pub fn is_phase_gait(&self) -> bool {
+        PHASE_GAIT_METHODS.contains(&self.method.as_str())
     }
 
     /// The simulator that verified this result's gait, and so replays it: catching-up on the grid
