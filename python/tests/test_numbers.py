@@ -84,13 +84,15 @@ def test_arrays_have_their_shapes_and_dtypes():
     assert g.slip.dtype == np.int8 and g.L.dtype == np.float64
 
 
-def test_results_round_trip_with_the_command_line(cli, tmp_path):
-    out = subprocess.run(
-        [cli, "optimize", "examples/three_blocks_gait.toml", "--json"],
-        check=True,
-        capture_output=True,
-        text=True,
+def _optimize_json(cli, path):
+    """``crawlopt optimize PATH --json``: the result document's text."""
+    return subprocess.run(
+        [cli, "optimize", path, "--json"], check=True, capture_output=True, text=True
     ).stdout
+
+
+def test_results_round_trip_with_the_command_line(cli, tmp_path):
+    out = _optimize_json(cli, "examples/three_blocks_gait.toml")
     r = co.GaitResult.from_json(out)
     assert r.objective == pytest.approx(2.6, abs=1e-8)
     # Python writes the same document, byte for byte.
@@ -114,12 +116,7 @@ def test_results_round_trip_with_the_command_line(cli, tmp_path):
 def test_version_1_results_read_as_version_2(cli, tmp_path):
     # A result of version 1 (the gait under "gait", no "kind") reads to the same result, with
     # the same certificate; errors on it say that its gait was read as the solution.
-    out = subprocess.run(
-        [cli, "optimize", "examples/three_blocks_gait.toml", "--json"],
-        check=True,
-        capture_output=True,
-        text=True,
-    ).stdout
+    out = _optimize_json(cli, "examples/three_blocks_gait.toml")
     doc = json.loads(out)
     assert doc["version"] == 2 and "solution" in doc and "gait" not in doc
     old = dict(doc, version=1, gait=doc["solution"])

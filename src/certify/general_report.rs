@@ -11,7 +11,8 @@ use super::general_process::GeneralProcess;
 use super::records::ConditionCheck;
 use super::stages::sup;
 use super::verdict::{
-    check, discrete_group, law_target, misplaced_mass, norm2, normalisation, step_distance, verdict,
+    check, discrete_group, law_target, misplaced_mass, norm2, normalisation,
+    significant_multipliers, step_distance, verdict,
 };
 use super::{CertifyOptions, CERTIFICATE_VERSION};
 use crate::model::general::{ControlSet, GeneralCost, GeneralProblem};
@@ -98,7 +99,12 @@ pub(crate) fn report(
         normalisation: normalisation(scaled_by, raw.lambda, sup_p, paper),
         conditions,
         multipliers: GeneralMultipliers {
-            xi: face_multipliers(st, raw, &times),
+            xi: significant_multipliers(&st.active, &raw.xi, |k, f, value| GeneralFaceMultiplier {
+                knot: k,
+                time: times[k],
+                face: f + 1,
+                value,
+            }),
             times,
             p: raw.p.clone(),
             switching,
@@ -333,29 +339,4 @@ fn paper_norm(
         paper += norm2(&v) + st.tau[k] * norm2(&psi[k]);
     }
     paper
-}
-
-/// The face multipliers `dxi` as (knot, time, face, value), those below 1e-14 of the largest
-/// left out.
-fn face_multipliers(
-    st: &GeneralStructure,
-    raw: &GeneralRaw,
-    times: &[f64],
-) -> Vec<GeneralFaceMultiplier> {
-    let xmax = raw.xi.iter().flatten().fold(0.0_f64, |a, v| a.max(v.abs()));
-    let mut xi = Vec::new();
-    for (k, faces) in st.active.iter().enumerate() {
-        for (fi, &f) in faces.iter().enumerate() {
-            let v = raw.xi[k][fi];
-            if v.abs() > 1e-14 * xmax {
-                xi.push(GeneralFaceMultiplier {
-                    knot: k,
-                    time: times[k],
-                    face: f + 1,
-                    value: v,
-                });
-            }
-        }
-    }
-    xi
 }

@@ -8,7 +8,8 @@ use super::records::*;
 use super::residuals::discrete_residuals;
 use super::stages::sup;
 use super::verdict::{
-    check, discrete_group, law_target, misplaced_mass, norm2, normalisation, step_distance, verdict,
+    check, discrete_group, law_target, misplaced_mass, norm2, normalisation,
+    significant_multipliers, step_distance, verdict,
 };
 use crate::optimal::Cost;
 
@@ -76,7 +77,15 @@ pub(super) fn report(
             "piecewise_constant"
         }
         .into(),
-        xi: face_multipliers(st, &raw, &times),
+        xi: significant_multipliers(&st.active, &raw.xi, |j, FaceId { b, s }, value| {
+            FaceMultiplier {
+                knot: j,
+                time: times[j],
+                block: b + 1,
+                side: if s > 0 { "+" } else { "-" }.into(),
+                value,
+            }
+        }),
         times,
         psi,
         p: raw.p.clone(),
@@ -258,28 +267,6 @@ fn paper_norm(pr: &Process, st: &Structure, raw: &Raw, psi: &[Vec<f64>]) -> f64 
         paper += pr.durations[j] * norm2(&psi[j]);
     }
     paper
-}
-
-/// The face multipliers `dxi` per knot, block and side, those below 1e-14 of the largest left
-/// out.
-fn face_multipliers(st: &Structure, raw: &Raw, times: &[f64]) -> Vec<FaceMultiplier> {
-    let xmax = raw.xi.iter().flatten().fold(0.0_f64, |m, v| m.max(v.abs()));
-    let mut xi = Vec::new();
-    for j in 0..st.np {
-        for (fi, &FaceId { b, s }) in st.active[j].iter().enumerate() {
-            let v = raw.xi[j][fi];
-            if v.abs() > 1e-14 * xmax {
-                xi.push(FaceMultiplier {
-                    knot: j,
-                    time: times[j],
-                    block: b + 1,
-                    side: if s > 0 { "+" } else { "-" }.into(),
-                    value: v,
-                });
-            }
-        }
-    }
-    xi
 }
 
 /// `J` of a process: displacement per period minus `int f2(u) dt`.

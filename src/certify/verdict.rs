@@ -50,6 +50,25 @@ pub(super) fn discrete_group<S: AsRef<str>>(
     group
 }
 
+/// The face multipliers `dxi` worth reporting, each made by `entry(knot, face, value)`: those
+/// of the faces `active` at each knot, leaving out values below 1e-14 of the largest.
+pub(super) fn significant_multipliers<F: Copy, T>(
+    active: &[Vec<F>],
+    xi: &[Vec<f64>],
+    entry: impl Fn(usize, F, f64) -> T,
+) -> Vec<T> {
+    let xmax = xi.iter().flatten().fold(0.0_f64, |m, v| m.max(v.abs()));
+    let mut out = Vec::new();
+    for (k, faces) in active.iter().enumerate() {
+        for (&f, &v) in faces.iter().zip(&xi[k]) {
+            if v.abs() > 1e-14 * xmax {
+                out.push(entry(k, f, v));
+            }
+        }
+    }
+    out
+}
+
 /// The mass of `dxi` outside its support (Theorem 2.2: `supp dxi^j` in the times where face
 /// `j` is active): with `p` extended piecewise linearly (a P_m process), the multiplier at knot
 /// `k` acts on step `k - 1`, so a face held at knot `k` but not on the step before carries
