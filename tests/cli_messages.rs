@@ -549,10 +549,23 @@ fn refusals_name_the_flag_to_change() {
     ] {
         assert_refused(&crawlopt(args), &[want]);
     }
+    let html = dir.path().join("r.html");
+    let out = crawlopt(&[
+        "report",
+        "examples/general_one_link.toml",
+        "--phases",
+        "3",
+        "-o",
+        html.to_str().unwrap(),
+    ]);
+    assert_refused(
+        &out,
+        &["error: --phases: applies to a crawler's model file only"],
+    );
+    assert!(!html.exists());
     let out = crawlopt(&["optimize", "examples/one_link_gait.toml", "--json"]);
     assert!(out.status.success());
     let result = write(dir.path(), "r.json", &String::from_utf8_lossy(&out.stdout));
-    let html = dir.path().join("r.html");
     for flag in ["--phases", "--time-limit"] {
         let out = crawlopt(&[
             "report",

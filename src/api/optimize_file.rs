@@ -145,6 +145,14 @@ pub fn report_file(
         ProblemFile::Crawler(_) => GaitMethod::Phase,
         ProblemFile::General(_) => GaitMethod::Auto,
     };
+    if let (ProblemFile::General(_), Some(k)) = (file, phases) {
+        return Err(Error::invalid(
+            naming.setting("phases"),
+            k,
+            "applies to a crawler's model file only: the report of a general problem shows \
+             the optimum of optimize's default method (P_m)",
+        ));
+    }
     let settings = OptimizeSettings {
         method,
         phases,

@@ -21,8 +21,8 @@ pub struct ReportArgs {
     /// The HTML file to write.
     #[arg(long, short = 'o', value_name = "FILE", default_value = "report.html")]
     pub output: PathBuf,
-    /// Slip phases allowed when computing the gait from a model file (default: K grown until
-    /// the value stops improving, as `optimize`).
+    /// Slip phases allowed when computing the gait from a crawler's model file (default: K
+    /// grown until the value stops improving, as `optimize`).
     #[arg(long, allow_negative_numbers = true, value_parser = count)]
     pub phases: Option<usize>,
     /// Time limit in seconds when computing the gait from a model file.
