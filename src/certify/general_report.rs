@@ -99,12 +99,7 @@ pub(crate) fn report(
         normalisation: normalisation(scaled_by, raw.lambda, sup_p, paper),
         conditions,
         multipliers: GeneralMultipliers {
-            xi: significant_multipliers(&st.active, &raw.xi, |k, f, value| GeneralFaceMultiplier {
-                knot: k,
-                time: times[k],
-                face: f + 1,
-                value,
-            }),
+            xi: face_multipliers(st, raw, &times),
             times,
             p: raw.p.clone(),
             switching,
@@ -339,4 +334,18 @@ fn paper_norm(
         paper += norm2(&v) + st.tau[k] * norm2(&psi[k]);
     }
     paper
+}
+
+/// The face multipliers `dxi` per knot and face ([`significant_multipliers`]).
+fn face_multipliers(
+    st: &GeneralStructure,
+    raw: &GeneralRaw,
+    times: &[f64],
+) -> Vec<GeneralFaceMultiplier> {
+    significant_multipliers(&st.active, &raw.xi, |k, f, value| GeneralFaceMultiplier {
+        knot: k,
+        time: times[k],
+        face: f + 1,
+        value,
+    })
 }

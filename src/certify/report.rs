@@ -77,15 +77,7 @@ pub(super) fn report(
             "piecewise_constant"
         }
         .into(),
-        xi: significant_multipliers(&st.active, &raw.xi, |j, FaceId { b, s }, value| {
-            FaceMultiplier {
-                knot: j,
-                time: times[j],
-                block: b + 1,
-                side: if s > 0 { "+" } else { "-" }.into(),
-                value,
-            }
-        }),
+        xi: face_multipliers(st, &raw, &times),
         times,
         psi,
         p: raw.p.clone(),
@@ -267,6 +259,19 @@ fn paper_norm(pr: &Process, st: &Structure, raw: &Raw, psi: &[Vec<f64>]) -> f64 
         paper += pr.durations[j] * norm2(&psi[j]);
     }
     paper
+}
+
+/// The face multipliers `dxi` per knot, block and side ([`significant_multipliers`]).
+fn face_multipliers(st: &Structure, raw: &Raw, times: &[f64]) -> Vec<FaceMultiplier> {
+    significant_multipliers(&st.active, &raw.xi, |j, FaceId { b, s }, value| {
+        FaceMultiplier {
+            knot: j,
+            time: times[j],
+            block: b + 1,
+            side: if s > 0 { "+" } else { "-" }.into(),
+            value,
+        }
+    })
 }
 
 /// `J` of a process: displacement per period minus `int f2(u) dt`.
