@@ -15,7 +15,8 @@
 //! - [`certify_result_file`]: the necessary conditions (Theorem 2.2) of a result file of either
 //!   kind ([`crate::io::ResultFile`]);
 //! - [`crate::present`]: figures and the report ([`report_file`]: the optimum a report of a
-//!   problem file shows);
+//!   problem file shows; [`report_result`]: the report of a result file, the settings that
+//!   compute a gait refused);
 //! - [`bench`]: the simulation cost per step;
 //! - [`fit`] with [`crate::fit::FitSettings`]: a crawler identified from a measured trajectory,
 //!   with the exact interval of every parameter (see [`crate::fit`]);
@@ -78,7 +79,7 @@ pub use general_phase::{
 };
 pub use general_plan::{optimize_general_plan, GeneralAnswer, GeneralPlan};
 pub use optimize::{optimize, Optimized};
-pub use optimize_file::{optimize_file, report_file, OptimizeJob, OptimizedFile};
+pub use optimize_file::{optimize_file, report_file, report_result, OptimizeJob, OptimizedFile};
 pub use problem_file::{analyze_file, simulate_file, Analyzed, Simulated};
 pub use settings::{
     rename_fields, GaitMethod, Naming, OptimizeSettings, Plan, Start, DEFAULT_MAX_PHASES,

@@ -65,12 +65,6 @@ fn optimize_named(
         let mut result = crate::progress::within(settings.time_limit, || {
             solve(crawler, problem, settings, &plan, em)
         })?;
-        // The envelope names the method that ran; the sequence and chain methods answer with
-        // exact phase gaits, read back as such (`GaitResult::is_phase_gait`).
-        if matches!(plan.method, GaitMethod::Sequence | GaitMethod::Chain) && result.is_phase_gait()
-        {
-            result.method = plan.method.name().to_string();
-        }
         if let Some(b) = &settings.bound {
             em.stage("proving an upper bound over all periodic gaits");
             let ub = crate::certify::bound::upper_bound(crawler, problem, b)?;
@@ -128,7 +122,7 @@ fn solve(
     // What is left of the time limit goes to the method.
     if crate::progress::out_of_time()? {
         if let Some(f) = floor {
-            let mut r = f.best.result;
+            let mut r = floor_answer(f, plan);
             r.status = MilpStatus::TimeLimit;
             if let Some(s) = r.structured.as_mut() {
                 s.replaced = Some("the time limit was spent on the structured gaits".into());
@@ -146,7 +140,7 @@ fn solve(
     let r = match answer {
         Ok(r) => r,
         Err(Error::TimeLimit(e)) => {
-            let mut r = f.best.result;
+            let mut r = floor_answer(f, plan);
             r.status = MilpStatus::TimeLimit;
             if let Some(s) = r.structured.as_mut() {
                 s.replaced = Some(format!("the method found no gait: {e}"));
@@ -166,7 +160,7 @@ fn solve(
         r.objective,
         f.objective
     )));
-    let mut out = f.best.result;
+    let mut out = floor_answer(f, plan);
     let what = match (
         r.certificate.kind.as_str(),
         r.certificate.phases,
@@ -196,6 +190,18 @@ fn solve(
         s.replaced = Some(format!("{what}, below the structured gait"));
     }
     Ok(out)
+}
+
+/// The best structured gait `f` as the job's answer, when the method found none or a worse
+/// one. Its envelope names the method that ran where that method answers with exact phase
+/// gaits (sequence, chain; [`GaitResult::is_phase_gait`]); the local and discrete methods
+/// answer with P_m processes, so a structured gait in their place is written as `phase`.
+fn floor_answer(f: StructuredSearch, plan: &Plan) -> GaitResult {
+    let mut r = f.best.result;
+    if matches!(plan.method, GaitMethod::Sequence | GaitMethod::Chain) {
+        r.method = plan.method.name().into();
+    }
+    r
 }
 
 /// The method of `plan` run, `floor` the best structured gait (none for the discrete method),
@@ -241,7 +247,9 @@ fn solve_method(
                 },
             )?;
             if s.result.objective >= 0.0 {
-                return Ok(s.result);
+                let mut r = s.result;
+                r.method = GaitMethod::Chain.name().into();
+                return Ok(r);
             }
             // The idle gait (u = 0, J = 0) is a gait too: with a cost, every ramp the search
             // tried may pay more than it moves the crawler.
@@ -260,6 +268,7 @@ fn solve_method(
             )?;
             // A search cut short says so, whatever it returns.
             idle.status = s.result.status;
+            idle.method = GaitMethod::Chain.name().into();
             Ok(idle)
         }
         GaitMethod::Local => {

@@ -130,6 +130,33 @@ pub fn optimize_file(
     OptimizeJob::new(file, settings)?.run(hooks)
 }
 
+/// The report of a result file of either kind (`crawlopt report RESULT.json`): `text` read back
+/// and checked as `certify` reads it (`name` labels its errors), then its HTML page. The
+/// settings that compute a gait (`phases`, `time_limit`) are refused when given, not ignored:
+/// a result's gait is computed already. Errors name them as `naming` spells them.
+pub fn report_result(
+    text: &str,
+    name: &str,
+    phases: Option<usize>,
+    time_limit: Option<f64>,
+    naming: Naming,
+) -> Result<(crate::io::ResultFile, String)> {
+    let given = [
+        ("phases", phases.map(|k| k.to_string())),
+        ("time_limit", time_limit.map(|t| t.to_string())),
+    ];
+    if let Some((setting, Some(v))) = given.into_iter().find(|(_, v)| v.is_some()) {
+        return Err(Error::invalid(
+            naming.setting(setting),
+            v,
+            "applies to a problem file only (a result file's gait is computed already)",
+        ));
+    }
+    let r = crate::io::ResultFile::from_json(text, name)?;
+    let html = present::build_result_report(&r, name)?;
+    Ok((r, html))
+}
+
 /// The optimum a report of a problem file shows (`crawlopt report FILE.toml`): a crawler's by
 /// the phase method with at most `phases` slip phases (K grown when `None`), a general
 /// problem's by `optimize`'s default method; `time_limit` applies to both. Errors name the

@@ -435,7 +435,7 @@ impl GaitResult {
     }
 
     /// The record of a phase gait found by [`search_sequences`](crate::optimal::search_sequences):
-    /// an exact continuous-time gait (method `"phase"`, replayed exactly), optimal for its
+    /// an exact continuous-time gait (method `"sequence"`, replayed exactly as a phase gait), optimal for its
     /// sequence of slip modes only, so its certificate is `"local"` (no gap, no bound); `start`
     /// says where the start sequence came from.
     pub fn from_sequence(
@@ -445,6 +445,7 @@ impl GaitResult {
         start: &str,
     ) -> Self {
         let mut r = GaitResult::from_phase(crawler, problem, &s.best);
+        r.method = "sequence".into();
         r.status = local_status(s.stop);
         r.certificate = ResultCertificate::local(Some(s.best.phases));
         r.local = Some(LocalRecord {

@@ -4,8 +4,7 @@ use crate::output::{file_name, outln, read_text};
 use crate::parse::count;
 use clap::Args;
 use crawlopt::api::{self, Hooks, Naming};
-use crawlopt::io::{AtomicFile, ProblemFile, ResultFile};
-use crawlopt::present::build_result_report;
+use crawlopt::io::{AtomicFile, ProblemFile};
 use crawlopt::present::report;
 use crawlopt::present::text;
 use crawlopt::Error;
@@ -35,22 +34,14 @@ pub fn run(a: ReportArgs) -> Result<ExitCode, Error> {
     AtomicFile::check(&a.output)?;
     let name = file_name(&a.file);
     let summary = if a.file.extension().is_some_and(|e| e == "json") {
-        // A result's gait is computed already: the flags of its computation are refused, not
-        // ignored.
-        let given = [
-            ("--phases", a.phases.map(|k| k.to_string())),
-            ("--time-limit", a.time_limit.map(|t| t.to_string())),
-        ];
-        if let Some((flag, Some(v))) = given.into_iter().find(|(_, v)| v.is_some()) {
-            return Err(Error::invalid(
-                flag,
-                v,
-                "applies to a problem file only (a result file's gait is computed already)",
-            ));
-        }
-        // A result of either kind, read back and checked as `certify` reads it.
-        let r = ResultFile::from_json(&read_text(&a.file)?, &name)?;
-        report::write_report(&a.output, &build_result_report(&r, &name)?)?;
+        let (r, html) = api::report_result(
+            &read_text(&a.file)?,
+            &name,
+            a.phases,
+            a.time_limit,
+            Naming::Flags,
+        )?;
+        report::write_report(&a.output, &html)?;
         text::result_file_summary(&r)
     } else {
         let file = ProblemFile::load(&a.file)?;
