@@ -313,79 +313,23 @@ fn recording_limit(periods: usize, per_period: usize, nb: usize) -> Error {
 
 /// Simulates the crawler under the actuation until the periodic regime (theory §4).
 pub fn simulate(crawler: &Crawler, act: &Actuation, opts: &SimOptions) -> Result<Simulation> {
-    crawler.require_unique()?;
-    if act.links() != crawler.links() {
-        return Err(Error::invalid(
-            "actuation",
-            format!("{} links", act.links()),
-            format!("the crawler has {} links", crawler.links()),
-        ));
-    }
     let storage = check_sizes(crawler, act, opts)?;
-    let (n, nb) = (crawler.links(), crawler.blocks());
+    let nb = crawler.blocks();
     let mut proj = Projector::new(crawler)?;
     let mut scratch_d = vec![0.0; nb];
-    let mut x = vec![0.0; n];
-    if let Some(x0) = &opts.initial_state {
-        crawler.check_admissible("simulation.initial_state", x0, 1e-9)?;
-        proj.project_from_origin(x0, &mut x, &mut scratch_d)?;
-    }
+    let mut x = start_state(crawler, opts, &mut proj, &mut scratch_d)?;
     let initial_state = x.clone();
-    let mut map: Box<dyn PeriodMap> = match opts.method {
-        Method::CatchingUp => Box::new(CatchingUp::with_storage(
-            crawler,
-            act,
-            opts.steps_per_period,
-            storage,
-        )?),
-        Method::Exact => Box::new(ExactPwl::new(crawler, act, opts.steps_per_period)?),
-    };
-    let (steps_per_period, actuation_model) = match opts.method {
-        Method::Exact => (
-            act.knots(opts.steps_per_period).0.len(),
-            act.exact_description(opts.steps_per_period),
-        ),
-        Method::CatchingUp => (
-            opts.steps_per_period,
-            format!(
-                "the actuation sampled at {} uniform steps per period",
-                opts.steps_per_period
-            ),
-        ),
-    };
+    let (mut map, steps_per_period, actuation_model) = period_map(crawler, act, opts, storage)?;
     let tol_abs = opts.tol * crawler.state_scale();
     let mut plain = opts.accelerate_after.unwrap_or(usize::MAX).max(1);
-    let mut anderson = Anderson::new(ANDERSON_MEMORY);
-    // The exact method has no tangent map: its Newton steps take the Jacobian of catching-up on
-    // the same knots (a surrogate; the safeguard catches a step it spoils), one catching-up
-    // period from the current state per step.
-    let mut surrogate: Option<CatchingUp> = None;
-    let newton = match opts.newton {
-        Some(o) if opts.accelerate_after.is_some() => {
-            if map.record_tangent(true) {
-                Some(o)
-            } else if opts.method == Method::Exact
-                && opts.steps_per_period >= 1
-                && (opts.steps_per_period as f64) * (n as f64) <= MAX_SAMPLES
-            {
-                // Increments that overflow leave the exact method to Anderson alone.
-                surrogate =
-                    CatchingUp::with_storage(crawler, act, opts.steps_per_period, storage).ok();
-                surrogate.as_mut().map(|cu| {
-                    cu.record_tangent(true);
-                    o
-                })
-            } else {
-                None
-            }
-        }
-        _ => None,
+    let (newton, mut surrogate) = newton_setup(map.as_mut(), crawler, act, opts, storage);
+    let mut mixing = Mixing {
+        anderson: Anderson::new(ANDERSON_MEMORY),
+        preconditioner: None,
+        precondition: newton.is_some_and(|o| o.precondition_anderson),
     };
-    // The preconditioner of Anderson's mixing (NewtonOptions::precondition_anderson), measured
-    // once at the first Anderson period.
-    let mut mixing: Option<Diffusion> = None;
-    let (mut products, mut newton_steps, mut failures) = (0, 0, 0);
-    let mut newton_from = 0;
+    // Tangent products, Newton steps, failed ones, and the period Newton may resume from.
+    let (mut products, mut newton_steps, mut failures, mut newton_from) = (0, 0, 0, 0);
     // The residual before the last Newton step and the state a plain period gave there.
     let mut pending_newton: Option<(f64, Vec<f64>)> = None;
     let mut search = Search::Iteration;
@@ -398,21 +342,7 @@ pub fn simulate(crawler: &Crawler, act: &Actuation, opts: &SimOptions) -> Result
         // A cancelled job stops between periods (crate::progress).
         crate::progress::check()?;
         k += 1;
-        x_start.copy_from_slice(&x);
-        acc.iter_mut().for_each(|a| *a = 0.0);
-        map.run_period(&mut x, &mut acc, None)?;
-        if x.iter().chain(&acc).any(|v| !v.is_finite()) {
-            return Err(Error::Numerical(format!(
-                "the state or the displacement is no longer finite after period {k}: \
-                 the parameters or the actuation exceed double precision"
-            )));
-        }
-        let residual = x
-            .iter()
-            .zip(&x_start)
-            .map(|(a, b)| (a - b).abs())
-            .fold(0.0, f64::max);
-        history.push(residual);
+        let residual = one_period(map.as_mut(), (&mut x, &mut x_start), &mut acc, &mut history)?;
         if residual <= tol_abs {
             converged_at = Some(k);
             break;
@@ -432,77 +362,25 @@ pub fn simulate(crawler: &Crawler, act: &Actuation, opts: &SimOptions) -> Result
         // Plain iteration predicted (from the last contraction) not to converge within
         // `accelerate_after` periods: accelerate now.
         if k < plain && k >= EARLY_SWITCH_MIN && opts.accelerate_after.is_some() {
-            let rho = residual / history[k - 2];
-            let needed = (tol_abs / residual).ln() / rho.ln();
-            if rho >= 1.0 || k as f64 + needed > plain as f64 {
-                plain = k;
-            }
+            plain = switch_at(k, plain, &history, tol_abs);
         }
         if k >= plain {
             let proposal = match newton {
                 Some(o) if failures < o.max_failures && k >= newton_from => {
                     search = Search::Newton;
-                    let r: Vec<f64> = x.iter().zip(&x_start).map(|(a, b)| a - b).collect();
-                    let r2 = r.iter().map(|v| v * v).sum::<f64>().sqrt();
-                    let rel_tol = (0.1 * tol_abs / r2).clamp(1e-13, 1e-2);
-                    let tangents =
-                        tangent_source(map.as_ref(), surrogate.as_mut(), &x_start, &mut products)?;
-                    let (step, used, _) = newton_step(
-                        &mut |v: &mut [f64]| tangents.apply_tangent(v),
-                        &r,
-                        rel_tol,
-                        &o,
-                    );
-                    products += used;
+                    let tangents = (map.as_ref(), surrogate.as_mut());
+                    let proposal =
+                        newton_proposal(tangents, &x_start, &x, tol_abs, &o, &mut products)?;
                     newton_steps += 1;
                     pending_newton = Some((residual, x.clone()));
-                    x_start.iter().zip(&step).map(|(a, b)| a + b).collect()
+                    proposal
                 }
                 _ => {
                     if search == Search::Iteration {
                         search = Search::Anderson;
                     }
-                    // Safeguard: a residual that grew restarts the acceleration from a plain step.
-                    let best = history[..history.len() - 1]
-                        .iter()
-                        .copied()
-                        .fold(f64::INFINITY, f64::min);
-                    let grew = residual > 2.0 * best;
-                    if grew {
-                        anderson.reset();
-                    }
-                    match newton.filter(|o| o.precondition_anderson) {
-                        Some(_) => {
-                            // Mix x + P^{-1} (G(x) - x), P the chain's diffusion (newton.rs):
-                            // the mixed map contracts by about a half per period whatever N.
-                            let pre = match mixing.as_mut() {
-                                Some(pre) => pre,
-                                None => {
-                                    let tangents = tangent_source(
-                                        map.as_ref(),
-                                        surrogate.as_mut(),
-                                        &x_start,
-                                        &mut products,
-                                    )?;
-                                    products += 1;
-                                    mixing.insert(Diffusion::measured(n, &mut |v: &mut [f64]| {
-                                        tangents.apply_tangent(v)
-                                    }))
-                                }
-                            };
-                            // A residual that grew: the model overshoots (far from the orbit
-                            // the chain's slow modes contract less than measured), damp it.
-                            if grew {
-                                pre.weight *= 0.5;
-                            }
-                            let r: Vec<f64> = x.iter().zip(&x_start).map(|(a, b)| a - b).collect();
-                            let mut z = vec![0.0; n];
-                            pre.apply(&r, &mut z);
-                            let h: Vec<f64> = x_start.iter().zip(&z).map(|(a, b)| a + b).collect();
-                            anderson.next(&x_start, &h)
-                        }
-                        None => anderson.next(&x_start, &x),
-                    }
+                    let tangents = (map.as_ref(), surrogate.as_mut());
+                    mixing.proposal(tangents, &history, &x_start, &x, &mut products)?
                 }
             };
             proj.project_from_origin(&proposal, &mut x, &mut scratch_d)?;
@@ -510,17 +388,9 @@ pub fn simulate(crawler: &Crawler, act: &Actuation, opts: &SimOptions) -> Result
     }
     map.record_tangent(false);
     let last = acc.iter().sum::<f64>() / nb as f64;
-    let trajectory = if opts.record_periods > 0 {
-        Some(record_periods(
-            crawler,
-            act,
-            map.as_mut(),
-            &x_start,
-            opts.record_periods,
-        )?)
-    } else {
-        None
-    };
+    let trajectory = (opts.record_periods > 0)
+        .then(|| record_periods(crawler, act, map.as_mut(), &x_start, opts.record_periods))
+        .transpose()?;
     Ok(Simulation {
         method: opts.method,
         steps_per_period,
@@ -543,10 +413,226 @@ pub fn simulate(crawler: &Crawler, act: &Actuation, opts: &SimOptions) -> Result
     })
 }
 
-/// The checks of [`simulate`]'s options against the actuation and the memory guards: the
+/// The state the simulation starts from: `opts.initial_state` (checked admissible) projected
+/// onto C from the origin, else the origin.
+fn start_state(
+    crawler: &Crawler,
+    opts: &SimOptions,
+    proj: &mut Projector,
+    scratch_d: &mut [f64],
+) -> Result<Vec<f64>> {
+    let mut x = vec![0.0; crawler.links()];
+    if let Some(x0) = &opts.initial_state {
+        crawler.check_admissible("simulation.initial_state", x0, 1e-9)?;
+        proj.project_from_origin(x0, &mut x, scratch_d)?;
+    }
+    Ok(x)
+}
+
+/// The period from which the search accelerates, `plain` unless plain iteration is predicted
+/// (from the last contraction, `history` the residuals up to period `k`) not to converge
+/// within it: then now.
+fn switch_at(k: usize, plain: usize, history: &[f64], tol_abs: f64) -> usize {
+    let residual = history[k - 1];
+    let rho = residual / history[k - 2];
+    let needed = (tol_abs / residual).ln() / rho.ln();
+    if rho >= 1.0 || k as f64 + needed > plain as f64 {
+        k
+    } else {
+        plain
+    }
+}
+
+/// One more period of `map` from `x` (kept in `x_start`), the blocks' displacements summed in
+/// `acc`; returns the period's residual `max |x_k - x_(k-1)|`, recorded in `history`. An error
+/// when the state or the displacement stops being finite.
+fn one_period(
+    map: &mut dyn PeriodMap,
+    (x, x_start): (&mut [f64], &mut [f64]),
+    acc: &mut [f64],
+    history: &mut Vec<f64>,
+) -> Result<f64> {
+    let k = history.len() + 1;
+    x_start.copy_from_slice(x);
+    acc.iter_mut().for_each(|a| *a = 0.0);
+    map.run_period(x, acc, None)?;
+    if x.iter().chain(acc.iter()).any(|v| !v.is_finite()) {
+        return Err(Error::Numerical(format!(
+            "the state or the displacement is no longer finite after period {k}: \
+             the parameters or the actuation exceed double precision"
+        )));
+    }
+    let residual = x
+        .iter()
+        .zip(x_start.iter())
+        .map(|(a, b)| (a - b).abs())
+        .fold(0.0, f64::max);
+    history.push(residual);
+    Ok(residual)
+}
+
+/// A Newton step on the fixed point of the period map from the period `x_start -> x`
+/// (tangents from the map or its surrogate, [`tangent_source`]), solved to a tolerance
+/// relative to the residual that aims a tenth below `tol_abs`; the tangent products it uses
+/// are counted in `products`.
+fn newton_proposal(
+    (map, surrogate): (&dyn PeriodMap, Option<&mut CatchingUp>),
+    x_start: &[f64],
+    x: &[f64],
+    tol_abs: f64,
+    o: &NewtonOptions,
+    products: &mut usize,
+) -> Result<Vec<f64>> {
+    let tangents = tangent_source(map, surrogate, x_start, products)?;
+    let r: Vec<f64> = x.iter().zip(x_start).map(|(a, b)| a - b).collect();
+    let r2 = r.iter().map(|v| v * v).sum::<f64>().sqrt();
+    let rel_tol = (0.1 * tol_abs / r2).clamp(1e-13, 1e-2);
+    let (step, used, _) = newton_step(
+        &mut |v: &mut [f64]| tangents.apply_tangent(v),
+        &r,
+        rel_tol,
+        o,
+    );
+    *products += used;
+    Ok(x_start.iter().zip(&step).map(|(a, b)| a + b).collect())
+}
+
+/// The period map of `opts.method` with the step count and the description of the actuation
+/// its results report: catching-up on `opts.steps_per_period` uniform steps, or the exact
+/// method on the actuation's knots.
+fn period_map(
+    crawler: &Crawler,
+    act: &Actuation,
+    opts: &SimOptions,
+    storage: IncrementStorage,
+) -> Result<(Box<dyn PeriodMap>, usize, String)> {
+    Ok(match opts.method {
+        Method::CatchingUp => (
+            Box::new(CatchingUp::with_storage(
+                crawler,
+                act,
+                opts.steps_per_period,
+                storage,
+            )?),
+            opts.steps_per_period,
+            format!(
+                "the actuation sampled at {} uniform steps per period",
+                opts.steps_per_period
+            ),
+        ),
+        Method::Exact => (
+            Box::new(ExactPwl::new(crawler, act, opts.steps_per_period)?),
+            act.knots(opts.steps_per_period).0.len(),
+            act.exact_description(opts.steps_per_period),
+        ),
+    })
+}
+
+/// The Newton options that apply to `map` (none without acceleration), and the surrogate whose
+/// tangents the Newton steps take when `map` records none. The exact method has no tangent
+/// map: its Newton steps take the Jacobian of catching-up on the same knots (a surrogate; the
+/// safeguard catches a step it spoils), one catching-up period from the current state per
+/// step; increments that overflow leave it to Anderson alone.
+fn newton_setup(
+    map: &mut dyn PeriodMap,
+    crawler: &Crawler,
+    act: &Actuation,
+    opts: &SimOptions,
+    storage: IncrementStorage,
+) -> (Option<NewtonOptions>, Option<CatchingUp>) {
+    let Some(o) = opts.newton.filter(|_| opts.accelerate_after.is_some()) else {
+        return (None, None);
+    };
+    if map.record_tangent(true) {
+        return (Some(o), None);
+    }
+    if opts.method == Method::Exact
+        && opts.steps_per_period >= 1
+        && (opts.steps_per_period as f64) * (crawler.links() as f64) <= MAX_SAMPLES
+    {
+        let mut surrogate =
+            CatchingUp::with_storage(crawler, act, opts.steps_per_period, storage).ok();
+        let newton = surrogate.as_mut().map(|cu| {
+            cu.record_tangent(true);
+            o
+        });
+        return (newton, surrogate);
+    }
+    (None, None)
+}
+
+/// Anderson's mixing of the period map, with its optional preconditioner
+/// (`NewtonOptions::precondition_anderson`), measured once at the first Anderson period.
+struct Mixing {
+    anderson: Anderson,
+    preconditioner: Option<Diffusion>,
+    precondition: bool,
+}
+
+impl Mixing {
+    /// The next proposal from the period `x_start -> x` (`history` the residuals so far, the
+    /// last this period's); tangents from the map or its surrogate ([`tangent_source`]).
+    fn proposal(
+        &mut self,
+        (map, surrogate): (&dyn PeriodMap, Option<&mut CatchingUp>),
+        history: &[f64],
+        x_start: &[f64],
+        x: &[f64],
+        products: &mut usize,
+    ) -> Result<Vec<f64>> {
+        // Safeguard: a residual that grew restarts the acceleration from a plain step.
+        let residual = history[history.len() - 1];
+        let best = history[..history.len() - 1]
+            .iter()
+            .copied()
+            .fold(f64::INFINITY, f64::min);
+        let grew = residual > 2.0 * best;
+        if grew {
+            self.anderson.reset();
+        }
+        if !self.precondition {
+            return Ok(self.anderson.next(x_start, x));
+        }
+        // Mix x + P^{-1} (G(x) - x), P the chain's diffusion (newton.rs): the mixed map
+        // contracts by about a half per period whatever N.
+        let n = x.len();
+        let pre = match self.preconditioner.as_mut() {
+            Some(pre) => pre,
+            None => {
+                let tangents = tangent_source(map, surrogate, x_start, products)?;
+                *products += 1;
+                self.preconditioner
+                    .insert(Diffusion::measured(n, &mut |v: &mut [f64]| {
+                        tangents.apply_tangent(v)
+                    }))
+            }
+        };
+        // A residual that grew: the model overshoots (far from the orbit the chain's slow
+        // modes contract less than measured), damp it.
+        if grew {
+            pre.weight *= 0.5;
+        }
+        let r: Vec<f64> = x.iter().zip(x_start).map(|(a, b)| a - b).collect();
+        let mut z = vec![0.0; n];
+        pre.apply(&r, &mut z);
+        let h: Vec<f64> = x_start.iter().zip(&z).map(|(a, b)| a + b).collect();
+        Ok(self.anderson.next(x_start, &h))
+    }
+}
+
+/// The checks of [`simulate`]'s crawler (a unique periodic regime), its options against the
+/// actuation and the memory guards: the
 /// sampled increments (catching-up, unless streamed), the exact method's knots and the
 /// recorded trajectory. Returns how the increments are stored.
 fn check_sizes(crawler: &Crawler, act: &Actuation, opts: &SimOptions) -> Result<IncrementStorage> {
+    crawler.require_unique()?;
+    if act.links() != crawler.links() {
+        return Err(Error::invalid(
+            "actuation",
+            format!("{} links", act.links()),
+            format!("the crawler has {} links", crawler.links()),
+        ));
+    }
     let uses_m = opts.method == Method::CatchingUp || !act.is_piecewise_linear();
     if uses_m {
         opts.check_steps()?;
