@@ -207,7 +207,8 @@ fn three_block_optimum_satisfies_the_discrete_conditions_and_a_perturbed_gait_do
     assert!(c_bad.objective < c_opt.objective - 0.5);
     // No multipliers exist, with lambda = 1 or lambda = 0: the weak maximality condition
     // (Theorem 6.2 (pw)) and the slip stationarity are violated by 0.2 at the least violating
-    // multipliers, and the branch LP finds a better process on the same branches.
+    // multipliers, and a branch LP through it (a biactive block slipping on its face) finds a
+    // better process.
     assert_eq!(c_bad.verdict, Verdict::Fails, "{}", c_bad.reason);
     for name in ["weak_maximality", "slip_stationarity"] {
         let k = cond(&c_bad, "6.2", name);
@@ -215,6 +216,51 @@ fn three_block_optimum_satisfies_the_discrete_conditions_and_a_perturbed_gait_do
     }
     assert!(c_bad.reason.contains("weak_maximality"), "{}", c_bad.reason);
     assert!(c_bad.branch_lp.as_ref().unwrap().improvement > 0.1);
+    assert!(!c_bad.reason.contains("does not show"), "{}", c_bad.reason);
+}
+
+/// Controls of another global optimum of the three-block P_3 (J = 2, as the MILP's): the one
+/// the general formulation of the same problem returns (`examples/general_three_blocks.toml`).
+const OTHER_P3_OPTIMUM: [[f64; 2]; 8] = [
+    [0.6, 0.6],
+    [-1.0, 1.0],
+    [0.4, 1.0],
+    [0.0, 1.0],
+    [-1.0, -1.0],
+    [-1.0, -1.0],
+    [1.0, -0.6],
+    [1.0, -1.0],
+];
+
+/// At a global optimum with biactive pairs (a face active with no slip on it) strong
+/// stationarity, the discrete conditions checked, need not hold: this one fails them. None of
+/// the branch LPs through it (each biactive block sticking or slipping on its face, every point
+/// of each a process) finds a better process (the one LP with the pairs relaxed claimed 0.5
+/// more, which no process reaches), and the reason says the failure does not show the process
+/// suboptimal.
+#[test]
+fn a_global_optimum_failing_strong_stationarity_is_not_called_suboptimal() {
+    let (c, p) = three_blocks();
+    let u: Vec<Vec<f64>> = OTHER_P3_OPTIMUM.iter().map(|r| r.to_vec()).collect();
+    let pr = Process::discrete_from_controls(&c, &p, 3, &u).unwrap();
+    let best = solve_discrete_global(&c, &p, 3, Some(60.0)).unwrap();
+    let cert = certify(&pr, &CertifyOptions::default()).unwrap();
+    show(&cert);
+    assert!(
+        (cert.objective - best.objective()).abs() < 1e-9,
+        "{}",
+        cert.objective
+    );
+    assert_eq!(cert.verdict, Verdict::Fails, "{}", cert.reason);
+    let b = cert.branch_lp.as_ref().unwrap();
+    assert!(b.improvement.abs() < 1e-9, "{b:?}");
+    assert!(b.biactive > 0 && b.branches == 1 << b.biactive, "{b:?}");
+    assert!(
+        cert.reason
+            .contains("this failure does not show it suboptimal"),
+        "{}",
+        cert.reason
+    );
 }
 
 #[test]

@@ -433,6 +433,42 @@ fn feasible_processes_that_are_not_optimal_fail() {
     assert!(c.objective < 3.0 - 1e-3, "{}", c.objective);
     assert_eq!(c.verdict, Verdict::Fails, "{}", c.reason);
     assert!(c.branch_lp.as_ref().unwrap().improvement > 1e-3);
+    assert!(!c.reason.contains("does not show"), "{}", c.reason);
+}
+
+/// Another global optimum of the three-block P_3 (J = 2; the controls the general formulation
+/// returns, `tests/certify.rs`): strong stationarity fails at its biactive faces, none of the
+/// branch LPs through it (each biactive face with a reaction or without) finds a better
+/// process, and the reason says the failure does not show it suboptimal, as the crawler's
+/// certificate of the same process does.
+#[test]
+fn a_global_optimum_failing_strong_stationarity_is_not_called_suboptimal() {
+    let text = std::fs::read_to_string("examples/general_three_blocks.toml").unwrap();
+    let (p, _) = general_problem(&GeneralFile::parse(&text).unwrap()).unwrap();
+    let u = [
+        [0.6, 0.6],
+        [-1.0, 1.0],
+        [0.4, 1.0],
+        [0.0, 1.0],
+        [-1.0, -1.0],
+        [-1.0, -1.0],
+        [1.0, -0.6],
+        [1.0, -1.0],
+    ]
+    .map(|r| r.to_vec());
+    let pr = GeneralProcess::from_controls(&p, 3, &u, &[-0.5, -1.5]).unwrap();
+    let c = certify_general(&p, &pr, &CertifyOptions::default()).unwrap();
+    assert!((c.objective - 2.0).abs() < 1e-9, "{}", c.objective);
+    assert_eq!(c.verdict, Verdict::Fails, "{}", c.reason);
+    let b = c.branch_lp.as_ref().unwrap();
+    assert!(b.improvement.abs() < 1e-9, "{b:?}");
+    assert!(b.biactive > 0 && b.branches == 1 << b.biactive, "{b:?}");
+    assert!(
+        c.reason
+            .contains("this failure does not show it suboptimal"),
+        "{}",
+        c.reason
+    );
 }
 
 /// Processes that are not P_m processes of the problem are refused, naming the field.

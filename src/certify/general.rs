@@ -110,8 +110,8 @@ use super::general_kkt::{solve_general, GeneralRaw, GeneralStructure};
 use super::general_process::ProcessKind;
 pub use super::general_process::{GeneralProcess, EMPTY_PHASE};
 use super::kkt::Stage;
+use super::CertifyOptions;
 use super::Verdict;
-use super::{BranchLp, CertifyOptions};
 use crate::error::Result;
 use crate::model::general::{GeneralCost, GeneralProblem};
 use crate::optimal::general::solve_general_branch;
@@ -177,7 +177,7 @@ pub(crate) fn certify_with(
         }
     }
     if let (ProcessKind::Discrete { m }, GeneralCost::None) = (pr.kind, &p.cost) {
-        let active: Vec<Vec<bool>> = (0..st.steps)
+        let own: Vec<Vec<bool>> = (0..st.steps)
             .map(|i| {
                 let k = (i + 1) % st.steps;
                 (0..p.c.faces())
@@ -190,15 +190,26 @@ pub(crate) fn certify_with(
                     .collect()
             })
             .collect();
+        // The biactive pairs (step, face): active at the step's end with no reaction on it.
+        let (active_at, reacting) = (&st.active, &st.reacting);
+        let pairs: Vec<(usize, usize)> = (0..st.steps)
+            .flat_map(|i| {
+                let k = (i + 1) % st.steps;
+                reacting[i]
+                    .iter()
+                    .filter(|&&(_, reacts)| !reacts)
+                    .map(move |&(fi, _)| (i, active_at[k][fi]))
+            })
+            .collect();
         // A cross-check: a branch LP HiGHS does not solve gives none, never an error.
-        if let Ok(Some(optimum)) = solve_general_branch(p, m, &active) {
-            let j = pr.objective(p);
-            rep.branch_lp = Some(BranchLp {
-                optimum,
-                process_objective: j,
-                improvement: optimum - j,
-            });
-        }
+        rep.branch_lp = super::records::best_branch(pairs.len(), pr.objective(p), |choice| {
+            let mut active = own.clone();
+            for (&(i, f), _) in pairs.iter().zip(choice).filter(|(_, &c)| c) {
+                active[i][f] = true;
+            }
+            Ok(solve_general_branch(p, m, &active).ok().flatten())
+        })?;
+        super::records::note_biactive(rep.verdict, rep.branch_lp.as_ref(), &mut rep.reason);
     }
     Ok(rep)
 }

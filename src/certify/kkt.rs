@@ -429,14 +429,41 @@ pub(crate) fn solve_multiplier_lp(pb: RowProblem, what: &str) -> Result<Option<V
     }
 }
 
-/// The branch LP itself (module docs of [`crate::certify`]), `f2 = 0` only: its optimum and
-/// HiGHS's dual solution mapped to Theorem 2.2's signs (`lambda = 1`). `None` for a quadratic
-/// cost (then the branch problem is not an LP) or when HiGHS reports no optimum.
-pub(crate) fn branch_lp(pr: &Process, st: &Structure) -> Result<Option<(f64, Raw)>> {
+/// The slip directions of one branch through the process: its own slips, and at the biactive
+/// pairs (flattened piece by piece, in `st.biactive`'s order) the pair's direction where
+/// `choice` says the block slips on its face, sticking elsewhere.
+pub(crate) fn branch_dirs(st: &Structure, choice: &[bool]) -> Vec<Vec<i8>> {
+    let mut dirs = st.slips.clone();
+    let pairs = st
+        .biactive
+        .iter()
+        .enumerate()
+        .flat_map(|(j, v)| v.iter().map(move |&(b, d)| (j, b, d)));
+    for ((j, b, d), &slips) in pairs.zip(choice) {
+        if slips {
+            dirs[j][b] = d;
+        }
+    }
+    dirs
+}
+
+/// A branch LP (module docs of [`crate::certify`]), `f2 = 0` only: each block's slip fixed to
+/// `dirs` (a direction or sticking; [`branch_dirs`]), a face held as an equality at a knot where
+/// a slip on it ends (or, for a phase gait, starts), so that every point of it is a process
+/// (relaxing a biactive pair to both branches would admit slips off their face, and an optimum
+/// above every process). Its optimum and HiGHS's dual solution mapped to Theorem 2.2's signs
+/// (`lambda = 1`). `None` for a quadratic cost (then the branch problem is not an LP) or when
+/// HiGHS reports no optimum.
+pub(crate) fn branch_lp(
+    pr: &Process,
+    st: &Structure,
+    dirs: &[Vec<i8>],
+) -> Result<Option<(f64, Raw)>> {
     if pr.problem.cost != Cost::None {
         return Ok(None);
     }
     let (n, nb, np) = (st.n, st.nb, st.np);
+    let phase = pr.kind == ProcessKind::Phase;
     let c = &pr.crawler;
     let a = &pr.problem.rate_bound;
     const INF: f64 = f64::INFINITY;
@@ -458,19 +485,10 @@ pub(crate) fn branch_lp(pr: &Process, st: &Structure) -> Result<Option<(f64, Raw
     let ds: Vec<Vec<Col>> = (0..np)
         .map(|j| {
             (0..nb)
-                .map(|b| {
-                    let dir = match st.slips[j][b] {
-                        0 => st.biactive[j]
-                            .iter()
-                            .find(|&&(bb, _)| bb == b)
-                            .map_or(0, |&(_, d)| d),
-                        s => s,
-                    };
-                    match dir {
-                        1 => pb.add_column(inv_n, 0.0..=INF),
-                        -1 => pb.add_column(inv_n, -INF..=0.0),
-                        _ => pb.add_column(inv_n, 0.0..=0.0),
-                    }
+                .map(|b| match dirs[j][b] {
+                    1 => pb.add_column(inv_n, 0.0..=INF),
+                    -1 => pb.add_column(inv_n, -INF..=0.0),
+                    _ => pb.add_column(inv_n, 0.0..=0.0),
                 })
                 .collect()
         })
@@ -505,10 +523,11 @@ pub(crate) fn branch_lp(pr: &Process, st: &Structure) -> Result<Option<(f64, Raw
                 };
                 let coeffs: Vec<(Col, f64)> =
                     normal(n, f).iter().map(|&(l, v)| (xs[j][l], v)).collect();
-                let held = st.active[j]
-                    .iter()
-                    .position(|&g| g == f)
-                    .is_some_and(|fi| st.held[j][fi]);
+                // Held by the piece ending here (both kinds) or starting here (phase), as in
+                // `Structure::of`, with this branch's slips.
+                let prev = (j + np - 1) % np;
+                let held =
+                    st.active[j].contains(&f) && (dirs[prev][b] == s || (phase && dirs[j][b] == s));
                 if held {
                     pb.add_row(cf..=cf, coeffs);
                 } else {

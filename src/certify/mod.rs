@@ -40,9 +40,13 @@
 //!   N_U(u_j)`, `U = prod [-a_l, a_l]`;
 //! - **sign** (Thm 6.1: `xi in R^sigma_+`; Thm 2.2: `dxi^j >= 0`): `xi_{j,f} >= 0`.
 //!
-//! The first five are exactly the optimality conditions of the branch LP (LP duality: they hold
-//! with `lambda = 1` iff the process is optimal among the processes on its branches, so for a
-//! global optimum of P_m they must hold); they form the group "6.2" of the report. The sign is
+//! The first five are exactly the optimality conditions of the branch LP with its biactive pairs
+//! relaxed (LP duality: they hold with `lambda = 1` iff the process is optimal for that relaxed
+//! LP): strong stationarity. Where no pair is biactive, that LP is the branch LP itself and a
+//! global optimum of P_m must satisfy them; at a biactive pair the relaxed LP admits slips off
+//! their face, which no process makes, so a global optimum may fail them (the three-block P_3
+//! optimum the general formulation returns does, tests/certify.rs). They form the group "6.2"
+//! of the report. The sign is
 //! reported with Theorem 2.2 (group "2.2"): Theorem 6.1 states it for the paper's own P_m, whose
 //! reactions are frozen to those of the optimal process so that its state constraints are pure
 //! inequalities, whereas the branch LP of the computational P_m (theory §6) leaves the multiplier of
@@ -74,9 +78,15 @@
 //! opposite are maximised over them in the box `|p|, |omega| <= 1`; a non-zero maximiser, scaled
 //! to `max(|p|, |omega|) = 1`, is a degenerate multiplier.
 //! Every residual is then recomputed in plain floating point from the multipliers found, not taken
-//! from the LP. The branch LP itself is solved too (`f2 = 0`): its optimum minus `J` is reported
-//! (`branch_lp.improvement`, positive for a gait beaten on its own branches), and a unit test
-//! checks that HiGHS's duals of it, mapped as above, satisfy this KKT system.
+//! from the LP. The branch LPs themselves are solved too (`f2 = 0`), each with its slips fixed
+//! so that every point of it is a process: the gait's own branch (biactive blocks sticking)
+//! and, up to [`records::MAX_BRANCH_PAIRS`] biactive pairs, every branch through it (each
+//! biactive block sticking or slipping on its face). The best optimum minus `J` is reported
+//! (`branch_lp.improvement`, positive when a process on one of them does better; `biactive`,
+//! `branches`), and a unit test checks that HiGHS's duals of the own branch, mapped as above,
+//! satisfy this KKT system at the P_m optima it runs on. Optimal on every branch through it, a
+//! P_m process is a local optimum of P_m: a `fails` verdict there says in its reason that the
+//! failure does not show it suboptimal.
 //!
 //! # Normalisation
 //!
@@ -184,17 +194,11 @@ pub fn certify(pr: &Process, opts: &CertifyOptions) -> Result<NecessaryCondition
         cap,
         pr.kind == ProcessKind::Phase,
     )?;
-    let branch = match kkt::branch_lp(pr, &st)? {
-        Some((optimum, _)) => {
-            let j = process_objective(pr);
-            Some(BranchLp {
-                optimum,
-                process_objective: j,
-                improvement: optimum - j,
-            })
-        }
-        None => None,
-    };
+    let biactive = st.biactive.iter().map(Vec::len).sum();
+    let branch = records::best_branch(biactive, process_objective(pr), |choice| {
+        let dirs = kkt::branch_dirs(&st, choice);
+        Ok(kkt::branch_lp(pr, &st, &dirs)?.map(|(optimum, _)| optimum))
+    })?;
     // Phase gaits: the phase LP is stationary in the durations too, with multipliers of their own
     // (imposing it on the reported ones can conflict with dxi >= 0: three-block phase optimum).
     let duration = if pr.kind == ProcessKind::Phase && chosen.0.lambda > 0.0 {
@@ -220,6 +224,11 @@ pub fn certify(pr: &Process, opts: &CertifyOptions) -> Result<NecessaryCondition
         records::note_approximate_cost(&rep.conditions, &mut rep.reason);
     }
     rep.branch_lp = branch;
+    // A phase gait's branch LPs fix its durations: optimal on them, it may still gain by
+    // moving a switch (its duration stationarity says so), so only P_m processes get the note.
+    if pr.kind != ProcessKind::Phase {
+        records::note_biactive(rep.verdict, rep.branch_lp.as_ref(), &mut rep.reason);
+    }
     Ok(rep)
 }
 
@@ -263,7 +272,7 @@ mod tests {
             let r = GaitResult::from_discrete(&c, &pb, &s);
             let pr = Process::from_result(&r, "test").unwrap();
             let st = Structure::of(&pr, INPUT_TOL);
-            let (opt, raw) = kkt::branch_lp(&pr, &st).unwrap().unwrap();
+            let (opt, raw) = kkt::branch_lp(&pr, &st, &st.slips).unwrap().unwrap();
             assert!((opt - r.objective).abs() < 1e-9, "{opt} vs {}", r.objective);
             let res = discrete_residuals(&pr, &st, &raw, false);
             for (name, _, v) in &res {

@@ -171,16 +171,84 @@ pub struct NecessaryConditions {
     pub branch_lp: Option<BranchLp>,
 }
 
-/// The branch LP (fixed active faces and slips) solved by HiGHS: whether the process is optimal
-/// among the processes on its branches.
+/// The branch LP (fixed active faces and slips, so every point of it a process) solved by
+/// HiGHS: whether the process is optimal among the processes on its branch.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct BranchLp {
     /// Its optimum.
     pub optimum: f64,
     /// `J` of the process.
     pub process_objective: f64,
-    /// `optimum - J`: positive when a process on the same branches does better.
+    /// `optimum - J`: positive when a process on one of the branches solved does better.
     pub improvement: f64,
+    /// The biactive pairs of the process (a face active with no slip or reaction on it): each
+    /// is two branches through it, sticking and slipping on the face.
+    #[serde(default)]
+    pub biactive: usize,
+    /// The branch LPs solved: its own (biactive pairs sticking), and all `2^biactive` branches
+    /// through it up to [`MAX_BRANCH_PAIRS`] biactive pairs. `optimum` is the best of them.
+    #[serde(default = "one")]
+    pub branches: usize,
+}
+
+fn one() -> usize {
+    1
+}
+
+impl BranchLp {
+    /// What was solved, for text output: "branch LP (slips fixed)" for a process without
+    /// biactive pairs, else how many of the branches through it.
+    pub fn describe(&self, fixed: &str) -> String {
+        match self.biactive {
+            0 => format!("branch LP ({fixed} fixed)"),
+            b if self.branches > 1 => format!(
+                "branch LPs ({fixed} fixed; {} of the 2^{b} branches through its {b} biactive \
+                 pairs)",
+                self.branches
+            ),
+            b => format!(
+                "branch LP ({fixed} fixed, its {b} biactive pairs sticking; more than \
+                 {MAX_BRANCH_PAIRS} pairs: the other branches are not solved)"
+            ),
+        }
+    }
+}
+
+/// The most biactive pairs whose `2^b` branches a certificate enumerates (256 small LPs).
+pub const MAX_BRANCH_PAIRS: usize = 8;
+
+/// The branch LPs of a process of objective `j` with `biactive` biactive pairs: its own branch
+/// (every pair sticking) and, up to [`MAX_BRANCH_PAIRS`] pairs, every branch through it (each
+/// pair sticking or slipping on its face), each an LP whose points are all processes;
+/// `solve(choice)` is one branch's optimum (`None` when HiGHS gives none). The best of them,
+/// `None` when the own branch gives none. Optimal on every branch through it, a P_m process is
+/// a local optimum of P_m, whatever its multipliers. Cancellable between LPs.
+pub(crate) fn best_branch(
+    biactive: usize,
+    j: f64,
+    mut solve: impl FnMut(&[bool]) -> crate::error::Result<Option<f64>>,
+) -> crate::error::Result<Option<BranchLp>> {
+    let Some(mut optimum) = solve(&vec![false; biactive])? else {
+        return Ok(None);
+    };
+    let mut branches = 1;
+    if biactive <= MAX_BRANCH_PAIRS {
+        for mask in 1..1usize << biactive {
+            crate::progress::check()?;
+            let choice: Vec<bool> = (0..biactive).map(|i| mask >> i & 1 == 1).collect();
+            if let Some(v) = solve(&choice)? {
+                optimum = optimum.max(v);
+                branches += 1;
+            }
+        }
+    }
+    Ok(Some(BranchLp {
+        optimum,
+        process_objective: j,
+        improvement: optimum - j,
+        biactive,
+        branches,
+    }))
 }
 
 /// The phase LP's stationarity in the durations (a phase gait's condition
@@ -241,6 +309,37 @@ const APPROXIMATE_COST: &str = " (f2 is quadratic and every violation is within 
      tolerance: if the gait is a phase MILP's whose polish on its slip modes did not apply, its \
      controls are only as accurate as the MILP's outer approximation of f2, about 1e-6 in J, \
      so violations of this size are expected of an optimum)";
+
+/// The reason of a failed certificate, completed when the failure does not show the process
+/// suboptimal: the discrete conditions checked are strong stationarity, necessary at an optimum
+/// of P_m only where no pair is biactive. When every branch through a P_m process was solved
+/// ([`best_branch`]) and none does better, it is a local optimum of P_m, and the reason says
+/// so. Shared by a crawler's certificate and a general one (P_m processes only: a phase gait's
+/// branch LPs fix its durations).
+pub(crate) fn note_biactive(verdict: Verdict, branch: Option<&BranchLp>, reason: &mut String) {
+    let Some(b) = branch else { return };
+    if verdict != Verdict::Fails
+        || b.biactive == 0
+        || b.branches < 1 << b.biactive.min(usize::BITS as usize - 1)
+        || b.improvement > BRANCH_TOL * (1.0 + b.optimum.abs())
+    {
+        return;
+    }
+    reason.push_str(&format!(
+        "; the process has {} biactive pair{} (a face active with no slip or reaction on it), \
+         where these conditions (strong stationarity) need not hold at an optimum, and it is \
+         optimal on each of the {} branches through it (branch LPs, improvement {:.3e}): this \
+         failure does not show it suboptimal",
+        b.biactive,
+        if b.biactive == 1 { "" } else { "s" },
+        b.branches,
+        b.improvement
+    ));
+}
+
+/// The tolerance of a branch LP's improvement, relative to `1 + |optimum|`: below it the
+/// branch LPs find no better process.
+pub(crate) const BRANCH_TOL: f64 = 1e-7;
 
 /// Says in `reason` why a failing phase gait of a quadratic cost may still be an optimum: when
 /// every failing condition of the verdict is within `1e6` times its tolerance (the size the

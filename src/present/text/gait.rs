@@ -165,8 +165,9 @@ pub fn certificate(c: &NecessaryConditions, r: &GaitResult) -> String {
     );
     if let Some(b) = &c.branch_lp {
         wln!(
-        out,
-            "  branch LP (active faces and slips fixed): optimum {}, improvement over the gait {:.3e}",
+            out,
+            "  {}: optimum {}, improvement over the gait {:.3e}",
+            b.describe("active faces and slips"),
             num(b.optimum, sc.length),
             b.improvement
         );

@@ -27,7 +27,8 @@ pub fn general_certificate(c: &GeneralNecessaryConditions) -> String {
         let scale = b.optimum.abs().max(b.process_objective.abs()).max(1e-300);
         wln!(
             out,
-            "  branch LP (reactions fixed): optimum {}, improvement over the process {:.3e}",
+            "  {}: optimum {}, improvement over the process {:.3e}",
+            b.describe("reactions"),
             num(b.optimum, scale),
             b.improvement
         );
