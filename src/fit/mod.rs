@@ -66,78 +66,28 @@ pub fn fit(data: &FitData, settings: &FitSettings) -> Result<FitResult> {
     let delta = 2.0 * bound;
     let slips = slip::detect(data, 2.0 * bound);
 
-    let flat = |p: Param| match p.kind {
-        ParamKind::Stiffness => lp::k_index(p.index),
-        ParamKind::MuForward => lp::forward_index(nb, p.index),
-        ParamKind::MuBackward => lp::backward_index(nb, p.index),
-    };
-    let reference = Param {
-        kind: ParamKind::Stiffness,
-        index: 0,
-    };
-    let (fixed, scale) = if settings.fixes.is_empty() {
-        (
-            vec![(flat(reference), 1.0)],
-            Scale {
-                fixed: Vec::new(),
-                ratios_to: Some(reference.to_string()),
-            },
-        )
-    } else {
-        (
-            settings.fixes.iter().map(|&(p, v)| (flat(p), v)).collect(),
-            Scale {
-                fixed: settings
-                    .fixes
-                    .iter()
-                    .map(|(p, v)| Fixed {
-                        parameter: p.to_string(),
-                        value: *v,
-                    })
-                    .collect(),
-                ratios_to: None,
-            },
-        )
-    };
+    let (fixed, scale) = normalisation(settings, nb);
 
     let (p_hat, lad_objective) = lp::lad(data, &slips.sliding, &fixed)?;
     let res = lp::residuals(data, &slips.sliding, &p_hat);
-    let row_res: Vec<f64> = res
-        .iter()
-        .map(|r| r.iter().fold(0.0_f64, |a, &v| a.max(v)))
-        .collect();
-    // Every sample first; only when no parameter vector is consistent with all of them are
-    // the samples whose LAD residual exceeds the bound left out (at most a fraction), and the
-    // intervals computed again.
-    let limit = delta * (1.0 + 1e-9);
-    let mut keep = vec![true; m];
+    let iv = intervals(
+        data,
+        (&slips.sliding, &res),
+        &fixed,
+        delta,
+        settings.max_outlier_fraction,
+    )?;
+    let (keep, unbounded, ranges, bad) = (iv.keep, iv.unbounded, iv.ranges, iv.bad);
     let mut outlier_rows = Vec::new();
-    let mut rows = lp::consistency_rows(data, &slips.sliding, &keep, delta);
-    let mut unbounded = lp::unbounded_above(np, &rows, &fixed)?;
-    let mut ranges = lp::ranges(np, &rows, &fixed, &unbounded)?;
-    let bad: Vec<usize> = (0..m).filter(|&i| row_res[i] > limit).collect();
-    if ranges.is_none()
-        && !bad.is_empty()
-        && bad.len() as f64 <= settings.max_outlier_fraction * m as f64
-    {
-        for &i in &bad {
-            keep[i] = false;
-        }
-        rows = lp::consistency_rows(data, &slips.sliding, &keep, delta);
-        unbounded = lp::unbounded_above(np, &rows, &fixed)?;
-        ranges = lp::ranges(np, &rows, &fixed, &unbounded)?;
-        if ranges.is_some() {
-            outlier_rows = bad.iter().map(|i| i + 1).collect();
-            warnings.push(format!(
-                "{} sample(s) left out of the intervals as outliers (no parameters are \
-                 consistent with them within the noise bound {}): rows {}",
-                bad.len(),
-                short(bound),
-                rows_text(&outlier_rows)
-            ));
-        } else {
-            keep = vec![true; m];
-        }
+    if iv.outliers_left_out {
+        outlier_rows = bad.iter().map(|i| i + 1).collect();
+        warnings.push(format!(
+            "{} sample(s) left out of the intervals as outliers (no parameters are \
+             consistent with them within the noise bound {}): rows {}",
+            bad.len(),
+            short(bound),
+            rows_text(&outlier_rows)
+        ));
     }
     if ranges.is_none() {
         warnings.push(contradiction(
@@ -153,82 +103,25 @@ pub fn fit(data: &FitData, settings: &FitSettings) -> Result<FitResult> {
     let estimates: Vec<Option<f64>> = (0..np)
         .map(|j| (!unbounded[j]).then_some(p_hat[j]))
         .collect();
-    let mut model = Vec::with_capacity(np);
-    for j in 0..np {
-        let v = match estimates[j] {
-            Some(v) => v,
-            None => {
-                let lo = ranges.as_ref().and_then(|r| r[j][0]).unwrap_or(p_hat[j]);
-                let v = settings.unbounded_factor * lo;
-                let why = match names[j].kind {
-                    ParamKind::MuForward => ": the block is never seen sliding forward",
-                    ParamKind::MuBackward => ": the block is never seen sliding backward",
-                    ParamKind::Stiffness => "",
-                };
-                warnings.push(if v > 0.0 {
-                    format!(
-                        "{}: the data bound it only from below (>= {}){why}; no estimate, the \
-                         model file takes {}",
-                        names[j],
-                        short(lo),
-                        short(v)
-                    )
-                } else {
-                    format!(
-                        "{}: the data do not bound it{why}; no estimate and no value for a \
-                         model file",
-                        names[j]
-                    )
-                });
-                v
-            }
-        };
-        model.push(v);
-    }
+    let model = model_values(
+        &estimates,
+        ranges.as_deref(),
+        &p_hat,
+        &names,
+        settings.unbounded_factor,
+        &mut warnings,
+    );
     let model_params = PerParam::from_flat(&model, nb);
-    let fitted = match Crawler::new(
-        model_params.stiffness.clone(),
-        model_params.mu_forward.clone(),
-        model_params.mu_backward.clone(),
-    ) {
-        Ok(c) => Some(c),
-        Err(e) if model.iter().all(|v| *v > 0.0) => {
-            warnings.push(format!("no fitted crawler: {e}"));
-            None
-        }
-        Err(_) => {
-            warnings.push("no fitted crawler: the data leave a parameter without a value".into());
-            None
-        }
-    };
+    let fitted = fitted_crawler(&model_params, &model, &mut warnings);
     let prediction = match (&fitted, settings.predict) {
-        (Some(c), true) => match predict(data, c) {
-            Ok(p) => Some(p),
-            Err(e) => {
-                warnings.push(format!("the fitted crawler could not be re-simulated: {e}"));
-                None
-            }
-        },
+        (Some(c), true) => predict(data, c)
+            .map_err(|e| {
+                warnings.push(format!("the fitted crawler could not be re-simulated: {e}"))
+            })
+            .ok(),
         _ => None,
     };
-
-    let max_per_block = (0..nb)
-        .map(|b| {
-            (0..m)
-                .filter(|&i| keep[i])
-                .fold(0.0_f64, |a, i| a.max(res[i][b]))
-        })
-        .collect();
-    let sliding_res: Vec<f64> = (0..m)
-        .flat_map(|i| (0..nb).map(move |b| (i, b)))
-        .filter(|&(i, b)| keep[i] && slips.sliding[i][b] != 0)
-        .map(|(i, b)| res[i][b])
-        .collect();
-    let rms_sliding = if sliding_res.is_empty() {
-        0.0
-    } else {
-        (sliding_res.iter().map(|r| r * r).sum::<f64>() / sliding_res.len() as f64).sqrt()
-    };
+    let (max_per_block, rms_sliding) = residual_summary(&res, &keep, &slips.sliding);
     Ok(FitResult {
         crawler: PerParam::from_flat(&estimates, nb),
         intervals: ranges.map(|r| PerParam::from_flat(&r, nb)),
@@ -254,6 +147,204 @@ pub fn fit(data: &FitData, settings: &FitSettings) -> Result<FitResult> {
         blocks: nb,
         sliding: slips.sliding,
     })
+}
+
+/// Each parameter's exact interval `[lower, upper]` (`None`: unbounded), none when no
+/// parameter vector is consistent with the samples kept.
+type Ranges = Option<Vec<[Option<f64>; 2]>>;
+
+/// The parameters' exact intervals at the noise bound (`delta` on every kept sample's
+/// residual), which parameters the data leave unbounded above, and the samples kept.
+struct Intervals {
+    keep: Vec<bool>,
+    unbounded: Vec<bool>,
+    ranges: Ranges,
+    /// The samples whose LAD residual exceeds the bound.
+    bad: Vec<usize>,
+    /// Whether the `bad` samples were left out as outliers.
+    outliers_left_out: bool,
+}
+
+/// [`Intervals`] over every sample first; only when no parameter vector is consistent with all
+/// of them are the `bad` samples (LAD residual `res` above the bound `delta`) left out, if they
+/// are at most `max_fraction` of them, and the intervals computed again (still none: every
+/// sample is kept).
+fn intervals(
+    data: &FitData,
+    (sliding, res): (&[Vec<i8>], &[Vec<f64>]),
+    fixed: &[(usize, f64)],
+    delta: f64,
+    max_fraction: f64,
+) -> Result<Intervals> {
+    let (m, np) = (data.samples(), 3 * data.blocks() - 1);
+    let limit = delta * (1.0 + 1e-9);
+    let bad: Vec<usize> = (0..m)
+        .filter(|&i| res[i].iter().fold(0.0_f64, |a, &v| a.max(v)) > limit)
+        .collect();
+    let solve = |keep: &[bool]| -> Result<(Vec<bool>, Ranges)> {
+        let rows = lp::consistency_rows(data, sliding, keep, delta);
+        let unbounded = lp::unbounded_above(np, &rows, fixed)?;
+        let ranges = lp::ranges(np, &rows, fixed, &unbounded)?;
+        Ok((unbounded, ranges))
+    };
+    let keep = vec![true; m];
+    let (unbounded, ranges) = solve(&keep)?;
+    if ranges.is_some() || bad.is_empty() || bad.len() as f64 > max_fraction * m as f64 {
+        return Ok(Intervals {
+            keep,
+            unbounded,
+            ranges,
+            bad,
+            outliers_left_out: false,
+        });
+    }
+    let mut without = keep.clone();
+    for &i in &bad {
+        without[i] = false;
+    }
+    let (unbounded, ranges) = solve(&without)?;
+    let outliers_left_out = ranges.is_some();
+    Ok(Intervals {
+        keep: if outliers_left_out { without } else { keep },
+        unbounded,
+        ranges,
+        bad,
+        outliers_left_out,
+    })
+}
+
+/// The crawler of the model file's values, `None` with a warning where they make none (a
+/// parameter the data leave without a value, or values that are no crawler).
+fn fitted_crawler(
+    params: &PerParam<f64>,
+    model: &[f64],
+    warnings: &mut Vec<String>,
+) -> Option<Crawler> {
+    match Crawler::new(
+        params.stiffness.clone(),
+        params.mu_forward.clone(),
+        params.mu_backward.clone(),
+    ) {
+        Ok(c) => Some(c),
+        Err(e) if model.iter().all(|v| *v > 0.0) => {
+            warnings.push(format!("no fitted crawler: {e}"));
+            None
+        }
+        Err(_) => {
+            warnings.push("no fitted crawler: the data leave a parameter without a value".into());
+            None
+        }
+    }
+}
+
+/// How the fit's scale is set: the fixed parameters (flat index, value) and their record; with
+/// none given, the first link's stiffness is fixed to 1 and the rest are ratios to it (friction
+/// and stiffness are identified from positions only up to one common factor).
+fn normalisation(settings: &FitSettings, nb: usize) -> (Vec<(usize, f64)>, Scale) {
+    let flat = |p: Param| match p.kind {
+        ParamKind::Stiffness => lp::k_index(p.index),
+        ParamKind::MuForward => lp::forward_index(nb, p.index),
+        ParamKind::MuBackward => lp::backward_index(nb, p.index),
+    };
+    let reference = Param {
+        kind: ParamKind::Stiffness,
+        index: 0,
+    };
+    if settings.fixes.is_empty() {
+        (
+            vec![(flat(reference), 1.0)],
+            Scale {
+                fixed: Vec::new(),
+                ratios_to: Some(reference.to_string()),
+            },
+        )
+    } else {
+        (
+            settings.fixes.iter().map(|&(p, v)| (flat(p), v)).collect(),
+            Scale {
+                fixed: settings
+                    .fixes
+                    .iter()
+                    .map(|(p, v)| Fixed {
+                        parameter: p.to_string(),
+                        value: *v,
+                    })
+                    .collect(),
+                ratios_to: None,
+            },
+        )
+    }
+}
+
+/// The values a model file takes: the estimates where the data bound a parameter, else
+/// `unbounded_factor` times its lower end (`p_hat` where there is none), each such value with a
+/// warning that says why (e.g. a block never seen sliding forward).
+fn model_values(
+    estimates: &[Option<f64>],
+    ranges: Option<&[[Option<f64>; 2]]>,
+    p_hat: &[f64],
+    names: &[Param],
+    unbounded_factor: f64,
+    warnings: &mut Vec<String>,
+) -> Vec<f64> {
+    let np = estimates.len();
+    let mut model = Vec::with_capacity(np);
+    for j in 0..np {
+        let v = match estimates[j] {
+            Some(v) => v,
+            None => {
+                let lo = ranges.and_then(|r| r[j][0]).unwrap_or(p_hat[j]);
+                let v = unbounded_factor * lo;
+                let why = match names[j].kind {
+                    ParamKind::MuForward => ": the block is never seen sliding forward",
+                    ParamKind::MuBackward => ": the block is never seen sliding backward",
+                    ParamKind::Stiffness => "",
+                };
+                warnings.push(if v > 0.0 {
+                    format!(
+                        "{}: the data bound it only from below (>= {}){why}; no estimate, the \
+                         model file takes {}",
+                        names[j],
+                        short(lo),
+                        short(v)
+                    )
+                } else {
+                    format!(
+                        "{}: the data do not bound it{why}; no estimate and no value for a \
+                         model file",
+                        names[j]
+                    )
+                });
+                v
+            }
+        };
+        model.push(v);
+    }
+    model
+}
+
+/// The residuals' summary over the samples kept: the largest per block, and the RMS over the
+/// sliding blocks' samples (0 with none).
+fn residual_summary(res: &[Vec<f64>], keep: &[bool], sliding: &[Vec<i8>]) -> (Vec<f64>, f64) {
+    let (m, nb) = (res.len(), res.first().map_or(0, Vec::len));
+    let max_per_block = (0..nb)
+        .map(|b| {
+            (0..m)
+                .filter(|&i| keep[i])
+                .fold(0.0_f64, |a, i| a.max(res[i][b]))
+        })
+        .collect();
+    let sliding_res: Vec<f64> = (0..m)
+        .flat_map(|i| (0..nb).map(move |b| (i, b)))
+        .filter(|&(i, b)| keep[i] && sliding[i][b] != 0)
+        .map(|(i, b)| res[i][b])
+        .collect();
+    let rms_sliding = if sliding_res.is_empty() {
+        0.0
+    } else {
+        (sliding_res.iter().map(|r| r * r).sum::<f64>() / sliding_res.len() as f64).sqrt()
+    };
+    (max_per_block, rms_sliding)
 }
 
 /// The parameter at flat index `j`.

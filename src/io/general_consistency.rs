@@ -398,14 +398,16 @@ fn check_pm(p: &GeneralProblem, max_m: u32, pr: &GeneralProcess, what: &str) -> 
     Ok(j)
 }
 
-/// Checks a phase gait against the problem and its exact replay; returns `J` of the replay.
-fn check_phase(
+/// The shapes of a phase gait's records against the problem and its method (`chain`: the
+/// chain's formulation, a transition before each slip phase; `local`: as many phases as it
+/// says), and `A = 0`; returns the number of phases.
+fn check_phase_shape(
     p: &GeneralProblem,
     s: &crate::optimal::general::GeneralPhaseGait,
     chain: bool,
     local: bool,
     what: &str,
-) -> Result<f64> {
+) -> Result<usize> {
     let cap = if local {
         MAX_LOCAL_PHASES
     } else {
@@ -481,6 +483,17 @@ fn check_phase(
     }
     let t = p.period;
     crate::optimal::consistency::check_durations(what, "solution.durations", &s.durations, t)?;
+    Ok(np)
+}
+
+/// A phase gait's controls: in U and, where the problem asks it, of zero mean over the period
+/// (relative to U's scale as well as the controls').
+fn check_phase_controls(
+    p: &GeneralProblem,
+    s: &crate::optimal::general::GeneralPhaseGait,
+    what: &str,
+) -> Result<()> {
+    let (mc, t) = (p.controls(), p.period);
     // Relative to U's scale as well as the controls': tiny controls are stored to the solver's
     // tolerance of U, not of their own size.
     let u_set = match &p.control {
@@ -515,6 +528,16 @@ fn check_phase(
             "must have zero mean",
         ));
     }
+    Ok(())
+}
+
+/// A phase gait's reactions: non-negative, on its held faces only (numbered `1..=sigma`).
+fn check_phase_reactions(
+    p: &GeneralProblem,
+    s: &crate::optimal::general::GeneralPhaseGait,
+    what: &str,
+) -> Result<()> {
+    let sigma = p.c.faces();
     let scale = p.c.scale();
     for (j, (held, r)) in s.held.iter().zip(&s.reactions).enumerate() {
         if let Some(f) = held.iter().find(|&&f| f == 0 || f > sigma) {
@@ -538,6 +561,21 @@ fn check_phase(
             ));
         }
     }
+    Ok(())
+}
+
+/// Checks a phase gait against the problem and its exact replay; returns `J` of the replay.
+fn check_phase(
+    p: &GeneralProblem,
+    s: &crate::optimal::general::GeneralPhaseGait,
+    chain: bool,
+    local: bool,
+    what: &str,
+) -> Result<f64> {
+    let np = check_phase_shape(p, s, chain, local, what)?;
+    check_phase_controls(p, s, what)?;
+    check_phase_reactions(p, s, what)?;
+    let scale = p.c.scale();
     if let Boundary::Initial(x0) = &p.boundary {
         if max_diff(&s.states[0], x0) > INPUT_TOL * scale {
             return Err(bad(
