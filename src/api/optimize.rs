@@ -218,59 +218,7 @@ fn solve_method(
     let m = plan.m;
     let start = settings.start.as_ref();
     match plan.method {
-        GaitMethod::Chain => {
-            let Some(f) = floor else {
-                return Err(Error::Numerical(
-                    "no structured gait reached a periodic orbit: the chain method has no start"
-                        .into(),
-                ));
-            };
-            let gaits = structured_gaits(crawler, f.lags);
-            let values: Vec<Option<f64>> = f.rows.iter().map(|r| r.objective).collect();
-            let starts = chain_starts(&gaits, &values, DEFAULT_STARTS);
-            em.stage(format!(
-                "chain pattern search over {} ramp parameters, from the {} best structured \
-                 gaits",
-                5 * crawler.links(),
-                starts.len()
-            ));
-            let s = search_chain_multi(
-                crawler,
-                problem,
-                &starts,
-                &ChainOptions::default(),
-                &mut |st| {
-                    em.stage(format!(
-                        "chain pattern search: sweep {}, step {}, J = {:.6} ({} simulations)",
-                        st.sweep, st.step, st.objective, st.evaluations
-                    ))
-                },
-            )?;
-            if s.result.objective >= 0.0 {
-                let mut r = s.result;
-                r.method = GaitMethod::Chain.name().into();
-                return Ok(r);
-            }
-            // The idle gait (u = 0, J = 0) is a gait too: with a cost, every ramp the search
-            // tried may pay more than it moves the crawler.
-            em.send(Event::Note(format!(
-                "the chain method's best ramp gait has J = {:.6e} < 0: the idle gait (u = 0, \
-                 J = 0) is returned",
-                s.result.objective
-            )));
-            let n = crawler.links();
-            let mut idle = crate::optimal::structured::knots_result(
-                crawler,
-                problem,
-                vec![0.0, 0.5 * problem.period],
-                vec![vec![0.0; n]; 2],
-                "the idle gait (u = 0)",
-            )?;
-            // A search cut short says so, whatever it returns.
-            idle.status = s.result.status;
-            idle.method = GaitMethod::Chain.name().into();
-            Ok(idle)
-        }
+        GaitMethod::Chain => solve_chain(crawler, problem, floor, em),
         GaitMethod::Local => {
             let from = start_gait(start, crawler, problem, plan, floor, em)?;
             em.stage(format!("local LPCC method on P_{m} ({} steps)", 1u64 << m));
@@ -286,42 +234,7 @@ fn solve_method(
             let origin = shifted_origin(&from.origin, shift);
             Ok(GaitResult::from_local(crawler, problem, &s, &origin))
         }
-        GaitMethod::Sequence => {
-            let from = start_gait(start, crawler, problem, plan, floor, em)?;
-            let (seq, origin) = (slip_sequence(&from.result.gait.slip), from.origin);
-            let k = settings
-                .phases
-                .unwrap_or((seq.len().max(1) + 2).min(MAX_PHASES));
-            if seq.len() > k {
-                // The search moves within sequences of k slip modes: a longer start does not
-                // fit, and the setting to change is the one the user gave.
-                let n = settings.naming;
-                let got = format!("{} slip phases", seq.len());
-                return Err(match start {
-                    Some(_) => Error::invalid(
-                        n.setting("start"),
-                        got,
-                        format!("has more slip phases than {} = {k}", n.setting("phases")),
-                    ),
-                    None => Error::invalid(
-                        n.setting("phases"),
-                        k,
-                        format!(
-                            "is below the {got} of the default start gait: give at least {} \
-                             phases, or {} with at most {k} slip phases",
-                            seq.len(),
-                            n.setting("start")
-                        ),
-                    ),
-                });
-            }
-            em.stage(format!(
-                "local search over sequences of {k} slip modes, from {} of {origin}",
-                seq.len()
-            ));
-            let s = search_sequences(crawler, problem, &seq, k, None)?;
-            Ok(GaitResult::from_sequence(crawler, problem, &s, &origin))
-        }
+        GaitMethod::Sequence => solve_sequence(crawler, problem, settings, plan, floor, em),
         GaitMethod::Phase | GaitMethod::Auto => {
             // The best structured gait in phase form: the MILPs' first incumbent where it fits
             // K, their cutoff where it has more slip phases (a K no gait of which beats it is
@@ -373,6 +286,116 @@ fn solve_method(
             Ok(r)
         }
     }
+}
+
+/// The chain method: a pattern search over the chain's ramp gaits from the best structured
+/// gaits (`floor`; none is an error: the method has no start), or the idle gait when every ramp
+/// pays more than it moves the crawler. Written as method `chain`.
+fn solve_chain(
+    crawler: &Crawler,
+    problem: &GaitProblem,
+    floor: Option<&StructuredSearch>,
+    em: &Emitter<'_>,
+) -> Result<GaitResult> {
+    let Some(f) = floor else {
+        return Err(Error::Numerical(
+            "no structured gait reached a periodic orbit: the chain method has no start".into(),
+        ));
+    };
+    let gaits = structured_gaits(crawler, f.lags);
+    let values: Vec<Option<f64>> = f.rows.iter().map(|r| r.objective).collect();
+    let starts = chain_starts(&gaits, &values, DEFAULT_STARTS);
+    em.stage(format!(
+        "chain pattern search over {} ramp parameters, from the {} best structured \
+         gaits",
+        5 * crawler.links(),
+        starts.len()
+    ));
+    let s = search_chain_multi(
+        crawler,
+        problem,
+        &starts,
+        &ChainOptions::default(),
+        &mut |st| {
+            em.stage(format!(
+                "chain pattern search: sweep {}, step {}, J = {:.6} ({} simulations)",
+                st.sweep, st.step, st.objective, st.evaluations
+            ))
+        },
+    )?;
+    if s.result.objective >= 0.0 {
+        let mut r = s.result;
+        r.method = GaitMethod::Chain.name().into();
+        return Ok(r);
+    }
+    // The idle gait (u = 0, J = 0) is a gait too: with a cost, every ramp the search
+    // tried may pay more than it moves the crawler.
+    em.send(Event::Note(format!(
+        "the chain method's best ramp gait has J = {:.6e} < 0: the idle gait (u = 0, \
+         J = 0) is returned",
+        s.result.objective
+    )));
+    let n = crawler.links();
+    let mut idle = crate::optimal::structured::knots_result(
+        crawler,
+        problem,
+        vec![0.0, 0.5 * problem.period],
+        vec![vec![0.0; n]; 2],
+        "the idle gait (u = 0)",
+    )?;
+    // A search cut short says so, whatever it returns.
+    idle.status = s.result.status;
+    idle.method = GaitMethod::Chain.name().into();
+    Ok(idle)
+}
+
+/// The sequence method: a local search over cyclic sequences of `settings.phases` slip modes
+/// (default: the start's slip phases plus two, at most [`MAX_PHASES`]) from the start gait
+/// ([`start_gait`]), refused when the start has more slip phases than that, naming the setting
+/// the user gave.
+fn solve_sequence(
+    crawler: &Crawler,
+    problem: &GaitProblem,
+    settings: &OptimizeSettings,
+    plan: &Plan,
+    floor: Option<&StructuredSearch>,
+    em: &Emitter<'_>,
+) -> Result<GaitResult> {
+    let start = settings.start.as_ref();
+    let from = start_gait(start, crawler, problem, plan, floor, em)?;
+    let (seq, origin) = (slip_sequence(&from.result.gait.slip), from.origin);
+    let k = settings
+        .phases
+        .unwrap_or((seq.len().max(1) + 2).min(MAX_PHASES));
+    if seq.len() > k {
+        // The search moves within sequences of k slip modes: a longer start does not
+        // fit, and the setting to change is the one the user gave.
+        let n = settings.naming;
+        let got = format!("{} slip phases", seq.len());
+        return Err(match start {
+            Some(_) => Error::invalid(
+                n.setting("start"),
+                got,
+                format!("has more slip phases than {} = {k}", n.setting("phases")),
+            ),
+            None => Error::invalid(
+                n.setting("phases"),
+                k,
+                format!(
+                    "is below the {got} of the default start gait: give at least {} \
+                     phases, or {} with at most {k} slip phases",
+                    seq.len(),
+                    n.setting("start")
+                ),
+            ),
+        });
+    }
+    em.stage(format!(
+        "local search over sequences of {k} slip modes, from {} of {origin}",
+        seq.len()
+    ));
+    let s = search_sequences(crawler, problem, &seq, k, None)?;
+    Ok(GaitResult::from_sequence(crawler, problem, &s, &origin))
 }
 
 /// The phase method: the `K`-phase MILP when `settings.phases` fixes `K`, else the growth of
