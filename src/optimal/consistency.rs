@@ -60,9 +60,36 @@ impl ProcessView<'_> {
     /// against an active face: at the step's end for P_m, at both ends for a phase).
     pub fn check(&self, what: &str, tol: f64) -> Result<()> {
         let c = self.crawler;
-        let (n, nb) = (c.links(), c.blocks());
+        let np = self.durations.len();
+        self.check_shapes(what)?;
+        let scale = c.state_scale();
+        for (j, x) in self.states.iter().enumerate() {
+            c.check_admissible(&format!("{what}: solution.states[{j}]"), x, tol)?;
+        }
+        let per = max_diff(&self.states[0], &self.states[np]);
+        if per > tol * scale {
+            return Err(bad(
+                what,
+                &format!("solution.states[{np}]"),
+                format!("{:?}", self.states[np]),
+                format!(
+                    "the process is not periodic: x(T) differs from x(0) = {:?} by {per:.3e}",
+                    self.states[0]
+                ),
+            ));
+        }
+        self.check_controls(what, tol)?;
+        for j in 0..np {
+            self.check_piece(what, tol, j)?;
+        }
+        Ok(())
+    }
+
+    /// The shapes of the process's rows, finite values, and its grid: positive durations
+    /// summing to `T`, for P_m `2^m` equal steps `T / 2^m` (`m` in `1..=MAX_M`).
+    fn check_shapes(&self, what: &str) -> Result<()> {
+        let (n, nb) = (self.crawler.links(), self.crawler.blocks());
         let t = self.problem.period;
-        let a = &self.problem.rate_bound;
         let np = self.durations.len();
         for (field, rows, want, width) in [
             ("solution.controls", self.controls, np, n),
@@ -123,22 +150,13 @@ impl ProcessView<'_> {
                 ));
             }
         }
-        let scale = c.state_scale();
-        for (j, x) in self.states.iter().enumerate() {
-            c.check_admissible(&format!("{what}: solution.states[{j}]"), x, tol)?;
-        }
-        let per = max_diff(&self.states[0], &self.states[np]);
-        if per > tol * scale {
-            return Err(bad(
-                what,
-                &format!("solution.states[{np}]"),
-                format!("{:?}", self.states[np]),
-                format!(
-                    "the process is not periodic: x(T) differs from x(0) = {:?} by {per:.3e}",
-                    self.states[0]
-                ),
-            ));
-        }
+        Ok(())
+    }
+
+    /// The controls within the rate bounds `|u_l| <= a_l` and of zero mean over the period.
+    fn check_controls(&self, what: &str, tol: f64) -> Result<()> {
+        let n = self.crawler.links();
+        let (a, t) = (&self.problem.rate_bound, self.problem.period);
         for (j, u) in self.controls.iter().enumerate() {
             for l in 0..n {
                 if u[l].abs() > a[l] * (1.0 + tol) {
@@ -167,68 +185,77 @@ impl ProcessView<'_> {
                 ));
             }
         }
+        Ok(())
+    }
+
+    /// Piece `j`: the dynamics `x_{j+1} = x_j + tau_j u_j - K sum_b D_{j,b} nu_b`, and the flow
+    /// rule (a block moves only against an active face: at the step's end for P_m, at both ends
+    /// for a phase).
+    fn check_piece(&self, what: &str, tol: f64, j: usize) -> Result<()> {
+        let c = self.crawler;
+        let (n, nb) = (c.links(), c.blocks());
+        let a = &self.problem.rate_bound;
+        let scale = c.state_scale();
         let k = c.stiffness();
         let dtol = d_tol(c, tol);
-        for j in 0..np {
-            let (x0, x1, u, d) = (
-                &self.states[j],
-                &self.states[j + 1],
-                &self.controls[j],
-                &self.block_displacements[j],
-            );
-            // x1 - x0 - tau u + k_l (D_{l+1} - D_l) = 0 (K sum_b D_b nu_b, nu_b = e_{b-1} - e_b).
-            for l in 0..n {
-                let r = x1[l] - x0[l] - self.durations[j] * u[l] + k[l] * (d[l + 1] - d[l]);
-                if r.abs() > tol * scale.max(a[l] * self.durations[j]) {
-                    return Err(bad(
-                        what,
-                        &format!("solution.states[{}]", j + 1),
-                        format!("{:?}", x1),
-                        format!(
-                            "does not follow from solution.states[{j}], the control and the block \
-                             displacements of piece {j} (link {}: residual {r:.3e})",
-                            l + 1
-                        ),
-                    ));
-                }
+        let (x0, x1, u, d) = (
+            &self.states[j],
+            &self.states[j + 1],
+            &self.controls[j],
+            &self.block_displacements[j],
+        );
+        // x1 - x0 - tau u + k_l (D_{l+1} - D_l) = 0 (K sum_b D_b nu_b, nu_b = e_{b-1} - e_b).
+        for l in 0..n {
+            let r = x1[l] - x0[l] - self.durations[j] * u[l] + k[l] * (d[l + 1] - d[l]);
+            if r.abs() > tol * scale.max(a[l] * self.durations[j]) {
+                return Err(bad(
+                    what,
+                    &format!("solution.states[{}]", j + 1),
+                    format!("{:?}", x1),
+                    format!(
+                        "does not follow from solution.states[{j}], the control and the block \
+                         displacements of piece {j} (link {}: residual {r:.3e})",
+                        l + 1
+                    ),
+                ));
             }
-            let f1 = c.block_forces(x1);
-            let f0 = c.block_forces(x0);
-            for b in 0..nb {
-                let s = slip(d[b], dtol);
-                if s == 0 {
-                    continue;
+        }
+        let f1 = c.block_forces(x1);
+        let f0 = c.block_forces(x0);
+        for b in 0..nb {
+            let s = slip(d[b], dtol);
+            if s == 0 {
+                continue;
+            }
+            let on = |f: f64| {
+                if s > 0 {
+                    (f - c.mu_forward()[b]).abs() <= tol * scale
+                } else {
+                    (f + c.mu_backward()[b]).abs() <= tol * scale
                 }
-                let on = |f: f64| {
-                    if s > 0 {
-                        (f - c.mu_forward()[b]).abs() <= tol * scale
-                    } else {
-                        (f + c.mu_backward()[b]).abs() <= tol * scale
-                    }
-                };
-                let ends_ok = match self.kind {
-                    ProcessKind::Discrete { .. } => on(f1[b]),
-                    ProcessKind::Phase => on(f0[b]) && on(f1[b]),
-                };
-                if !ends_ok {
-                    return Err(bad(
-                        what,
-                        &format!("solution.block_displacements[{j}][{b}]"),
-                        d[b],
-                        format!(
-                            "block {} moves on piece {j} but its friction threshold is not \
-                             reached{} (flow rule, theory §2)",
-                            b + 1,
-                            match self.kind {
-                                ProcessKind::Discrete { .. } => " at the step's end",
-                                ProcessKind::Phase => {
-                                    " at both ends of the phase (split phases where a face is \
-                                     reached or left)"
-                                }
+            };
+            let ends_ok = match self.kind {
+                ProcessKind::Discrete { .. } => on(f1[b]),
+                ProcessKind::Phase => on(f0[b]) && on(f1[b]),
+            };
+            if !ends_ok {
+                return Err(bad(
+                    what,
+                    &format!("solution.block_displacements[{j}][{b}]"),
+                    d[b],
+                    format!(
+                        "block {} moves on piece {j} but its friction threshold is not \
+                         reached{} (flow rule, theory §2)",
+                        b + 1,
+                        match self.kind {
+                            ProcessKind::Discrete { .. } => " at the step's end",
+                            ProcessKind::Phase => {
+                                " at both ends of the phase (split phases where a face is \
+                                 reached or left)"
                             }
-                        ),
-                    ));
-                }
+                        }
+                    ),
+                ));
             }
         }
         Ok(())
