@@ -202,14 +202,22 @@ pub(crate) fn certify_with(
             })
             .collect();
         // A cross-check: a branch LP HiGHS does not solve gives none, never an error.
-        rep.branch_lp = super::records::best_branch(pairs.len(), pr.objective(p), |choice| {
-            let mut active = own.clone();
-            for (&(i, f), _) in pairs.iter().zip(choice).filter(|(_, &c)| c) {
-                active[i][f] = true;
-            }
-            Ok(solve_general_branch(p, m, &active).ok().flatten())
-        })?;
-        super::records::note_biactive(rep.verdict, rep.branch_lp.as_ref(), &mut rep.reason);
+        // The branch LP's columns: states, controls and reactions per step.
+        let columns = st.steps * (p.states() + p.controls() + p.c.faces());
+        rep.branch_lp =
+            super::records::best_branch(pairs.len(), columns, pr.objective(p), |choice| {
+                let mut active = own.clone();
+                for (&(i, f), _) in pairs.iter().zip(choice).filter(|(_, &c)| c) {
+                    active[i][f] = true;
+                }
+                Ok(solve_general_branch(p, m, &active).ok().flatten())
+            })?;
+        super::records::note_biactive(
+            rep.verdict,
+            rep.branch_lp.as_ref(),
+            opts.tol,
+            &mut rep.reason,
+        );
     }
     Ok(rep)
 }

@@ -80,7 +80,7 @@
 //! Every residual is then recomputed in plain floating point from the multipliers found, not taken
 //! from the LP. The branch LPs themselves are solved too (`f2 = 0`), each with its slips fixed
 //! so that every point of it is a process: the gait's own branch (biactive blocks sticking)
-//! and, up to [`records::MAX_BRANCH_PAIRS`] biactive pairs, every branch through it (each
+//! and, within a budget ([`branches_enumerated`]), every branch through it (each
 //! biactive block sticking or slipping on its face). The best optimum minus `J` is reported
 //! (`branch_lp.improvement`, positive when a process on one of them does better; `biactive`,
 //! `branches`), and a unit test checks that HiGHS's duals of the own branch, mapped as above,
@@ -165,8 +165,9 @@ pub use general::{certify_general, residuals_of, GeneralNecessaryConditions, Gen
 pub use process::{Process, ProcessKind, INPUT_TOL};
 
 pub use records::{
-    BranchLp, CertifyOptions, ConditionCheck, FaceMultiplier, MultiplierData, NecessaryConditions,
-    Normalisation, OneLinkStructure, Verdict, CERTIFICATE_FORMAT, CERTIFICATE_VERSION,
+    branches_enumerated, BranchLp, CertifyOptions, ConditionCheck, FaceMultiplier, MultiplierData,
+    NecessaryConditions, Normalisation, OneLinkStructure, Verdict, CERTIFICATE_FORMAT,
+    CERTIFICATE_VERSION, MAX_BRANCH_COLUMNS, MAX_BRANCH_PAIRS,
 };
 pub use report::{one_link_structure, process_objective};
 
@@ -195,7 +196,9 @@ pub fn certify(pr: &Process, opts: &CertifyOptions) -> Result<NecessaryCondition
         pr.kind == ProcessKind::Phase,
     )?;
     let biactive = st.biactive.iter().map(Vec::len).sum();
-    let branch = records::best_branch(biactive, process_objective(pr), |choice| {
+    // The branch LP's columns: states, controls and block displacements per piece.
+    let columns = st.np * (2 * st.n + st.nb);
+    let branch = records::best_branch(biactive, columns, process_objective(pr), |choice| {
         let dirs = kkt::branch_dirs(&st, choice);
         Ok(kkt::branch_lp(pr, &st, &dirs)?.map(|(optimum, _)| optimum))
     })?;
@@ -227,7 +230,12 @@ pub fn certify(pr: &Process, opts: &CertifyOptions) -> Result<NecessaryCondition
     // A phase gait's branch LPs fix its durations: optimal on them, it may still gain by
     // moving a switch (its duration stationarity says so), so only P_m processes get the note.
     if pr.kind != ProcessKind::Phase {
-        records::note_biactive(rep.verdict, rep.branch_lp.as_ref(), &mut rep.reason);
+        records::note_biactive(
+            rep.verdict,
+            rep.branch_lp.as_ref(),
+            opts.tol,
+            &mut rep.reason,
+        );
     }
     Ok(rep)
 }

@@ -186,7 +186,7 @@ pub struct BranchLp {
     #[serde(default)]
     pub biactive: usize,
     /// The branch LPs solved: its own (biactive pairs sticking), and all `2^biactive` branches
-    /// through it up to [`MAX_BRANCH_PAIRS`] biactive pairs. `optimum` is the best of them.
+    /// through it within [`branches_enumerated`]'s budget. `optimum` is the best of them.
     #[serde(default = "one")]
     pub branches: usize,
 }
@@ -199,32 +199,51 @@ impl BranchLp {
     /// What was solved, for text output: "branch LP (slips fixed)" for a process without
     /// biactive pairs, else how many of the branches through it.
     pub fn describe(&self, fixed: &str) -> String {
-        match self.biactive {
-            0 => format!("branch LP ({fixed} fixed)"),
-            b if self.branches > 1 => format!(
-                "branch LPs ({fixed} fixed; {} of the 2^{b} branches through its {b} biactive \
-                 pairs)",
+        let b = self.biactive;
+        if b == 0 {
+            format!("branch LP ({fixed} fixed)")
+        } else if self.branches == 1 << b.min(usize::BITS as usize - 1) {
+            format!(
+                "branch LPs ({fixed} fixed; all {} branches through its {b} biactive pairs)",
                 self.branches
-            ),
-            b => format!(
-                "branch LP ({fixed} fixed, its {b} biactive pairs sticking; more than \
-                 {MAX_BRANCH_PAIRS} pairs: the other branches are not solved)"
-            ),
+            )
+        } else {
+            format!(
+                "branch LPs ({fixed} fixed; {} of the 2^{b} branches through its {b} biactive \
+                 pairs: the others beyond the budget or without an optimum)",
+                self.branches
+            )
         }
     }
 }
 
-/// The most biactive pairs whose `2^b` branches a certificate enumerates (256 small LPs).
+/// The most biactive pairs whose `2^b` branches a certificate enumerates (256 LPs).
 pub const MAX_BRANCH_PAIRS: usize = 8;
 
-/// The branch LPs of a process of objective `j` with `biactive` biactive pairs: its own branch
-/// (every pair sticking) and, up to [`MAX_BRANCH_PAIRS`] pairs, every branch through it (each
-/// pair sticking or slipping on its face), each an LP whose points are all processes;
-/// `solve(choice)` is one branch's optimum (`None` when HiGHS gives none). The best of them,
-/// `None` when the own branch gives none. Optimal on every branch through it, a P_m process is
-/// a local optimum of P_m, whatever its multipliers. Cancellable between LPs.
+/// The budget of the enumeration: `2^b` times the columns of one branch LP at most this, so
+/// that a long process enumerates fewer pairs (the three-block P_3 all 8 of its pairs, in 0.2
+/// s; P_8 up to 4 pairs; P_10 of four blocks one).
+pub const MAX_BRANCH_COLUMNS: usize = 1 << 15;
+
+/// Whether all `2^biactive` branches through a process are solved, each LP of about `columns`
+/// columns: at most [`MAX_BRANCH_PAIRS`] pairs, within [`MAX_BRANCH_COLUMNS`] (without a
+/// biactive pair, the one branch is the process's own).
+pub fn branches_enumerated(biactive: usize, columns: usize) -> bool {
+    biactive == 0
+        || (biactive <= MAX_BRANCH_PAIRS
+            && (1usize << biactive).saturating_mul(columns) <= MAX_BRANCH_COLUMNS)
+}
+
+/// The branch LPs of a process of objective `j` with `biactive` biactive pairs, each LP of
+/// about `columns` columns: its own branch (every pair sticking) and, where
+/// [`branches_enumerated`], every branch through it (each pair sticking or slipping on its
+/// face), each an LP whose points are all processes; `solve(choice)` is one branch's optimum
+/// (`None` when HiGHS gives none). The best of them, `None` when the own branch gives none.
+/// Optimal on every branch through it, a P_m process is a local optimum of P_m, whatever its
+/// multipliers. Cancellable between LPs.
 pub(crate) fn best_branch(
     biactive: usize,
+    columns: usize,
     j: f64,
     mut solve: impl FnMut(&[bool]) -> crate::error::Result<Option<f64>>,
 ) -> crate::error::Result<Option<BranchLp>> {
@@ -232,7 +251,7 @@ pub(crate) fn best_branch(
         return Ok(None);
     };
     let mut branches = 1;
-    if biactive <= MAX_BRANCH_PAIRS {
+    if branches_enumerated(biactive, columns) {
         for mask in 1..1usize << biactive {
             crate::progress::check()?;
             let choice: Vec<bool> = (0..biactive).map(|i| mask >> i & 1 == 1).collect();
@@ -314,14 +333,20 @@ const APPROXIMATE_COST: &str = " (f2 is quadratic and every violation is within 
 /// suboptimal: the discrete conditions checked are strong stationarity, necessary at an optimum
 /// of P_m only where no pair is biactive. When every branch through a P_m process was solved
 /// ([`best_branch`]) and none does better, it is a local optimum of P_m, and the reason says
-/// so. Shared by a crawler's certificate and a general one (P_m processes only: a phase gait's
-/// branch LPs fix its durations).
-pub(crate) fn note_biactive(verdict: Verdict, branch: Option<&BranchLp>, reason: &mut String) {
+/// so: improvements up to `tol` (the certificate's tolerance) relative to `max(1, |optimum|)`
+/// count as none. Shared by a crawler's certificate and a general one (P_m processes only: a
+/// phase gait's branch LPs fix its durations).
+pub(crate) fn note_biactive(
+    verdict: Verdict,
+    branch: Option<&BranchLp>,
+    tol: f64,
+    reason: &mut String,
+) {
     let Some(b) = branch else { return };
     if verdict != Verdict::Fails
         || b.biactive == 0
         || b.branches < 1 << b.biactive.min(usize::BITS as usize - 1)
-        || b.improvement > BRANCH_TOL * (1.0 + b.optimum.abs())
+        || b.improvement > tol * b.optimum.abs().max(1.0)
     {
         return;
     }
@@ -336,10 +361,6 @@ pub(crate) fn note_biactive(verdict: Verdict, branch: Option<&BranchLp>, reason:
         b.improvement
     ));
 }
-
-/// The tolerance of a branch LP's improvement, relative to `1 + |optimum|`: below it the
-/// branch LPs find no better process.
-pub(crate) const BRANCH_TOL: f64 = 1e-7;
 
 /// Says in `reason` why a failing phase gait of a quadratic cost may still be an optimum: when
 /// every failing condition of the verdict is within `1e6` times its tolerance (the size the
@@ -358,5 +379,46 @@ pub(crate) fn note_approximate_cost(conditions: &[ConditionCheck], reason: &mut 
         .all(|c| c.residual <= 1e6 * c.tolerance.max(1e-15));
     if small {
         reason.push_str(APPROXIMATE_COST);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn branch(improvement: f64, biactive: usize, branches: usize) -> BranchLp {
+        BranchLp {
+            optimum: 2.0,
+            process_objective: 2.0 - improvement,
+            improvement,
+            biactive,
+            branches,
+        }
+    }
+
+    /// The enumeration's budget: all 8 pairs of the three-block P_3 (8 pieces of 7 columns),
+    /// at most 4 on its P_8 (256 pieces), none past 8 pairs however small the LPs.
+    #[test]
+    fn the_budget_shrinks_with_the_process() {
+        assert!(branches_enumerated(8, 8 * 7));
+        assert!(branches_enumerated(4, 256 * 7) && !branches_enumerated(5, 256 * 7));
+        assert!(!branches_enumerated(9, 1));
+        assert!(branches_enumerated(0, usize::MAX));
+    }
+
+    /// The note needs a failure, biactive pairs, every branch solved and no gain beyond the
+    /// certificate's tolerance (a gain of 1.8e-7, a branch that beats the process, is one).
+    #[test]
+    fn the_note_is_added_only_when_every_branch_is_no_better() {
+        let note = |v: Verdict, b: BranchLp| {
+            let mut reason = String::from("no multipliers");
+            note_biactive(v, Some(&b), 1e-9, &mut reason);
+            reason.contains("does not show it suboptimal")
+        };
+        assert!(note(Verdict::Fails, branch(-5e-15, 8, 256)));
+        assert!(!note(Verdict::Fails, branch(1.76e-7, 5, 32)));
+        assert!(!note(Verdict::Fails, branch(0.0, 8, 1)));
+        assert!(!note(Verdict::Fails, branch(0.0, 0, 1)));
+        assert!(!note(Verdict::Degenerate, branch(0.0, 3, 8)));
     }
 }
