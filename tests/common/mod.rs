@@ -145,3 +145,35 @@ pub fn one_link_problem(a: f64, b: f64, period: f64) -> GeneralProblem {
     })
     .unwrap()
 }
+
+/// Controls of another global optimum of the three-block P_3 (J = 2, as the MILP's): the one
+/// the general formulation of the same problem returns (`examples/general_three_blocks.toml`),
+/// with strong stationarity failing at its biactive pairs.
+pub const OTHER_P3_OPTIMUM: [[f64; 2]; 8] = [
+    [0.6, 0.6],
+    [-1.0, 1.0],
+    [0.4, 1.0],
+    [0.0, 1.0],
+    [-1.0, -1.0],
+    [-1.0, -1.0],
+    [1.0, -0.6],
+    [1.0, -1.0],
+];
+
+/// A certificate (its verdict, branch LPs and reason) of a process at which strong
+/// stationarity fails but which no branch LP through it beats, every one solved: `fails`, with
+/// the reason saying the failure does not show it suboptimal.
+pub fn assert_fails_but_locally_optimal(
+    verdict: crawlopt::certify::Verdict,
+    branch: Option<&crawlopt::certify::BranchLp>,
+    reason: &str,
+) {
+    assert_eq!(verdict, crawlopt::certify::Verdict::Fails, "{reason}");
+    let b = branch.expect("f2 = 0: the branch LPs");
+    assert!(b.improvement.abs() < 1e-9, "{b:?}");
+    assert!(b.biactive > 0 && b.branches == 1 << b.biactive, "{b:?}");
+    assert!(
+        reason.contains("this failure does not show it suboptimal"),
+        "{reason}"
+    );
+}
