@@ -338,87 +338,10 @@ impl GaitResult {
             block_displacements: &g.block_displacements,
         };
         view.check(what, INPUT_TOL)?;
+        self.check_repeated(&crawler, what)?;
+        self.check_slip_modes(&crawler, kind, what)?;
         let t = self.problem.period;
-        let np = g.durations.len();
-        // Knot times and the initial state repeat the durations and the states.
-        let mut knot = 0.0;
-        for (j, &tj) in g.times.iter().enumerate() {
-            if (tj - knot).abs() > 1e-9 * t {
-                return Err(bad(
-                    what,
-                    &format!("solution.times[{j}]"),
-                    tj,
-                    format!("disagrees with the sum of the durations before it ({knot})"),
-                ));
-            }
-            knot += g.durations.get(j).copied().unwrap_or(0.0);
-        }
-        let scale = crawler.state_scale();
-        let d0 = max_diff(&g.states[0], &g.initial_state);
-        if d0 > INPUT_TOL * scale {
-            return Err(bad(
-                what,
-                "solution.initial_state",
-                format!("{:?}", g.initial_state),
-                format!("differs from solution.states[0] by {d0:.3e}"),
-            ));
-        }
-        // Actuator lengths: L(0) = 0 and L' = u / k on each piece.
-        let (_, lengths) = control_knots(&g.durations, &g.controls, crawler.stiffness());
         let len_scale = self.problem.length_scale(&crawler);
-        for (j, (got, want)) in g.lengths.iter().zip(&lengths).enumerate() {
-            let d = max_diff(got, want);
-            let sweep = (0..crawler.links())
-                .map(|l| self.problem.rate_bound[l] * t / crawler.stiffness()[l])
-                .fold(len_scale, f64::max);
-            if d > INPUT_TOL * sweep {
-                return Err(bad(
-                    what,
-                    &format!("solution.lengths[{j}]"),
-                    format!("{got:?}"),
-                    format!("disagrees with the lengths the controls give ({want:?})"),
-                ));
-            }
-        }
-        // Slip modes: the sign of a displacement, and a slipping block on its face.
-        let dtol = d_tol(&crawler, INPUT_TOL);
-        for j in 0..np {
-            let (f0, f1) = (
-                crawler.block_forces(&g.states[j]),
-                crawler.block_forces(&g.states[j + 1]),
-            );
-            for b in 0..crawler.blocks() {
-                let s = g.slip[j][b];
-                let moved = slip(g.block_displacements[j][b], dtol);
-                let face = |f: f64| match s {
-                    1 => (f - crawler.mu_forward()[b]).abs() <= INPUT_TOL * scale,
-                    -1 => (f + crawler.mu_backward()[b]).abs() <= INPUT_TOL * scale,
-                    _ => true,
-                };
-                let on_face = match kind {
-                    ProcessKind::Discrete { .. } => face(f1[b]),
-                    ProcessKind::Phase => face(f0[b]) && face(f1[b]),
-                };
-                if !(-1..=1).contains(&s) || (moved != 0 && moved != s) || !on_face {
-                    return Err(bad(
-                        what,
-                        &format!("solution.slip[{j}][{b}]"),
-                        s,
-                        format!(
-                            "disagrees with the gait: block {} moves by {:.3e} on piece {j} \
-                             {}",
-                            b + 1,
-                            g.block_displacements[j][b],
-                            if on_face {
-                                "in the other direction"
-                            } else {
-                                "and its friction threshold of that direction is not reached"
-                            }
-                        ),
-                    ));
-                }
-            }
-        }
         // Displacement, cost and objective: recomputed, and replayed.
         let nb = crawler.blocks() as f64;
         let moved: f64 = g
@@ -483,6 +406,102 @@ impl GaitResult {
         }
         self.check_certificate(what, close)?;
         self.check_tables(what, close)
+    }
+
+    /// The records that repeat the gait: knot times (the durations summed), the initial state
+    /// (the first state) and the actuator lengths (`L(0) = 0`, `L' = u / k` on each piece).
+    fn check_repeated(&self, crawler: &Crawler, what: &str) -> Result<()> {
+        let g = &self.gait;
+        let t = self.problem.period;
+        // Knot times and the initial state repeat the durations and the states.
+        let mut knot = 0.0;
+        for (j, &tj) in g.times.iter().enumerate() {
+            if (tj - knot).abs() > 1e-9 * t {
+                return Err(bad(
+                    what,
+                    &format!("solution.times[{j}]"),
+                    tj,
+                    format!("disagrees with the sum of the durations before it ({knot})"),
+                ));
+            }
+            knot += g.durations.get(j).copied().unwrap_or(0.0);
+        }
+        let scale = crawler.state_scale();
+        let d0 = max_diff(&g.states[0], &g.initial_state);
+        if d0 > INPUT_TOL * scale {
+            return Err(bad(
+                what,
+                "solution.initial_state",
+                format!("{:?}", g.initial_state),
+                format!("differs from solution.states[0] by {d0:.3e}"),
+            ));
+        }
+        // Actuator lengths: L(0) = 0 and L' = u / k on each piece.
+        let (_, lengths) = control_knots(&g.durations, &g.controls, crawler.stiffness());
+        let len_scale = self.problem.length_scale(crawler);
+        for (j, (got, want)) in g.lengths.iter().zip(&lengths).enumerate() {
+            let d = max_diff(got, want);
+            let sweep = (0..crawler.links())
+                .map(|l| self.problem.rate_bound[l] * t / crawler.stiffness()[l])
+                .fold(len_scale, f64::max);
+            if d > INPUT_TOL * sweep {
+                return Err(bad(
+                    what,
+                    &format!("solution.lengths[{j}]"),
+                    format!("{got:?}"),
+                    format!("disagrees with the lengths the controls give ({want:?})"),
+                ));
+            }
+        }
+        Ok(())
+    }
+
+    /// The slip modes: each the sign of its block's displacement, a slipping block on the face
+    /// of its direction (at the step's end for P_m, at both ends for a phase).
+    fn check_slip_modes(&self, crawler: &Crawler, kind: ProcessKind, what: &str) -> Result<()> {
+        let g = &self.gait;
+        let np = g.durations.len();
+        let scale = crawler.state_scale();
+        // Slip modes: the sign of a displacement, and a slipping block on its face.
+        let dtol = d_tol(crawler, INPUT_TOL);
+        for j in 0..np {
+            let (f0, f1) = (
+                crawler.block_forces(&g.states[j]),
+                crawler.block_forces(&g.states[j + 1]),
+            );
+            for b in 0..crawler.blocks() {
+                let s = g.slip[j][b];
+                let moved = slip(g.block_displacements[j][b], dtol);
+                let face = |f: f64| match s {
+                    1 => (f - crawler.mu_forward()[b]).abs() <= INPUT_TOL * scale,
+                    -1 => (f + crawler.mu_backward()[b]).abs() <= INPUT_TOL * scale,
+                    _ => true,
+                };
+                let on_face = match kind {
+                    ProcessKind::Discrete { .. } => face(f1[b]),
+                    ProcessKind::Phase => face(f0[b]) && face(f1[b]),
+                };
+                if !(-1..=1).contains(&s) || (moved != 0 && moved != s) || !on_face {
+                    return Err(bad(
+                        what,
+                        &format!("solution.slip[{j}][{b}]"),
+                        s,
+                        format!(
+                            "disagrees with the gait: block {} moves by {:.3e} on piece {j} \
+                             {}",
+                            b + 1,
+                            g.block_displacements[j][b],
+                            if on_face {
+                                "in the other direction"
+                            } else {
+                                "and its friction threshold of that direction is not reached"
+                            }
+                        ),
+                    ));
+                }
+            }
+        }
+        Ok(())
     }
 
     /// The process kind of the method (and `m`) a result names.
