@@ -175,93 +175,8 @@ impl GeneralProblem {
                 d
             }
         };
-        let control =
-            match (p.lower, p.upper, p.g, p.h) {
-                (Some(lower), Some(upper), None, None) => {
-                    check_len("control.lower", &lower, m, "control (columns of B)")?;
-                    check_len("control.upper", &upper, m, "control (columns of B)")?;
-                    check_finite("control.lower", &lower)?;
-                    check_finite("control.upper", &upper)?;
-                    for i in 0..m {
-                        let field = format!("control.upper[{}]", i + 1);
-                        if upper[i] < lower[i] {
-                            return Err(Error::invalid(
-                                field,
-                                upper[i],
-                                format!("must be at least control.lower[{}]", i + 1),
-                            ));
-                        }
-                        if p.zero_mean && !(lower[i] < 0.0 && 0.0 < upper[i]) {
-                            return Err(Error::invalid(
-                                format!("control.lower[{}], control.upper[{}]", i + 1, i + 1),
-                                format!("[{}, {}]", lower[i], upper[i]),
-                                "zero_mean needs 0 in the interior of U (lower < 0 < upper)",
-                            ));
-                        }
-                    }
-                    ControlSet::Box { lower, upper }
-                }
-                (None, None, Some(g), Some(h)) => {
-                    let u = Polyhedron::new(g, h, "control")
-                        .map_err(|e| rename(e, "control.normals", "control.G"))
-                        .map_err(|e| rename(e, "control.offsets", "control.h"))?;
-                    if u.dim() != m {
-                        return Err(Error::invalid(
-                            "control.G",
-                            format!("{} columns", u.dim()),
-                            format!("needs one column per control (columns of B: {m})"),
-                        ));
-                    }
-                    if p.zero_mean {
-                        if let Some(k) = (0..u.faces()).find(|&k| u.offsets[k] <= 0.0) {
-                            return Err(Error::invalid(
-                                format!("control.h[{}]", k + 1),
-                                u.offsets[k] * u.row_norms[k],
-                                "zero_mean needs 0 in the interior of U (every h_k > 0)",
-                            ));
-                        }
-                    }
-                    ControlSet::Polytope(u)
-                }
-                (None, None, None, None) => {
-                    return Err(Error::invalid(
-                        "control",
-                        "nothing",
-                        "needs a box (lower, upper) or a polytope (G, h)",
-                    ))
-                }
-                _ => return Err(Error::invalid(
-                    "control",
-                    "a mixture",
-                    "give either lower and upper (a box) or G and h (a polytope), both of a pair",
-                )),
-            };
-        let reward = match (p.face_weights, p.reaction_weights) {
-            (Some(w), None) => {
-                check_len("objective.face_weights", &w, c.faces(), "face")?;
-                check_finite("objective.face_weights", &w)?;
-                Reward::FaceWeights(w)
-            }
-            (None, Some(q)) => {
-                check_len("objective.reaction_weights", &q, n, "state component")?;
-                check_finite("objective.reaction_weights", &q)?;
-                Reward::ReactionWeights(q)
-            }
-            (None, None) => {
-                return Err(Error::invalid(
-                    "objective",
-                    "nothing",
-                    "needs face_weights or reaction_weights (f1)",
-                ))
-            }
-            (Some(_), Some(_)) => {
-                return Err(Error::invalid(
-                    "objective",
-                    "face_weights and reaction_weights",
-                    "give one form of f1, not both",
-                ))
-            }
-        };
+        let control = control_set([p.lower, p.upper], (p.g, p.h), m, p.zero_mean)?;
+        let reward = reward_of(p.face_weights, p.reaction_weights, c.faces(), n)?;
         let cost = p.cost.unwrap_or(GeneralCost::None);
         check_cost(&cost, m)?;
         if !(p.period.is_finite() && p.period > 0.0) {
@@ -272,34 +187,7 @@ impl GeneralProblem {
             ));
         }
         check_scales(&reward, &cost, &control, p.period)?;
-        let boundary = match (p.periodic, p.initial_state) {
-            (true, None) => Boundary::Periodic,
-            (false, Some(x0)) => {
-                check_len("problem.initial_state", &x0, n, "state component")?;
-                check_finite("problem.initial_state", &x0)?;
-                if let Some((j, s)) = c.violation(&x0, 1e-9 * c.scale()) {
-                    return Err(Error::Inadmissible {
-                        what: "problem.initial_state".into(),
-                        detail: format!("face {} is exceeded by {s:e}", j + 1),
-                    });
-                }
-                Boundary::Initial(x0)
-            }
-            (true, Some(_)) => {
-                return Err(Error::invalid(
-                    "problem.initial_state",
-                    "a state",
-                    "a periodic problem has no initial state (set periodic = false)",
-                ))
-            }
-            (false, None) => {
-                return Err(Error::invalid(
-                    "problem.initial_state",
-                    "nothing",
-                    "a problem that is not periodic needs x(0)",
-                ))
-            }
-        };
+        let boundary = boundary_of(p.periodic, p.initial_state, &c)?;
         Ok(GeneralProblem {
             c,
             dynamics: Dynamics { a, b: p.b, drift },
@@ -320,6 +208,139 @@ impl GeneralProblem {
     /// The control dimension `m`.
     pub fn controls(&self) -> usize {
         self.control.dim()
+    }
+}
+
+/// The control set U of `p` (`m` controls): a box (`lower`, `upper`) or a polytope (`G`, `h`),
+/// each with 0 in its interior where the controls have zero mean.
+fn control_set(
+    [lower, upper]: [Option<Vec<f64>>; 2],
+    (g, h): (Option<Vec<Vec<f64>>>, Option<Vec<f64>>),
+    m: usize,
+    zero_mean: bool,
+) -> Result<ControlSet> {
+    match (lower, upper, g, h) {
+        (Some(lower), Some(upper), None, None) => {
+            check_len("control.lower", &lower, m, "control (columns of B)")?;
+            check_len("control.upper", &upper, m, "control (columns of B)")?;
+            check_finite("control.lower", &lower)?;
+            check_finite("control.upper", &upper)?;
+            for i in 0..m {
+                let field = format!("control.upper[{}]", i + 1);
+                if upper[i] < lower[i] {
+                    return Err(Error::invalid(
+                        field,
+                        upper[i],
+                        format!("must be at least control.lower[{}]", i + 1),
+                    ));
+                }
+                if zero_mean && !(lower[i] < 0.0 && 0.0 < upper[i]) {
+                    return Err(Error::invalid(
+                        format!("control.lower[{}], control.upper[{}]", i + 1, i + 1),
+                        format!("[{}, {}]", lower[i], upper[i]),
+                        "zero_mean needs 0 in the interior of U (lower < 0 < upper)",
+                    ));
+                }
+            }
+            Ok(ControlSet::Box { lower, upper })
+        }
+        (None, None, Some(g), Some(h)) => {
+            let u = Polyhedron::new(g, h, "control")
+                .map_err(|e| rename(e, "control.normals", "control.G"))
+                .map_err(|e| rename(e, "control.offsets", "control.h"))?;
+            if u.dim() != m {
+                return Err(Error::invalid(
+                    "control.G",
+                    format!("{} columns", u.dim()),
+                    format!("needs one column per control (columns of B: {m})"),
+                ));
+            }
+            if zero_mean {
+                if let Some(k) = (0..u.faces()).find(|&k| u.offsets[k] <= 0.0) {
+                    return Err(Error::invalid(
+                        format!("control.h[{}]", k + 1),
+                        u.offsets[k] * u.row_norms[k],
+                        "zero_mean needs 0 in the interior of U (every h_k > 0)",
+                    ));
+                }
+            }
+            Ok(ControlSet::Polytope(u))
+        }
+        (None, None, None, None) => Err(Error::invalid(
+            "control",
+            "nothing",
+            "needs a box (lower, upper) or a polytope (G, h)",
+        )),
+        _ => Err(Error::invalid(
+            "control",
+            "a mixture",
+            "give either lower and upper (a box) or G and h (a polytope), both of a pair",
+        )),
+    }
+}
+
+/// The reward f1 of `p`: face weights (one per face of C, `faces`) or reaction weights (one per
+/// state component, `n`), exactly one of them.
+fn reward_of(
+    face_weights: Option<Vec<f64>>,
+    reaction_weights: Option<Vec<f64>>,
+    faces: usize,
+    n: usize,
+) -> Result<Reward> {
+    match (face_weights, reaction_weights) {
+        (Some(w), None) => {
+            check_len("objective.face_weights", &w, faces, "face")?;
+            check_finite("objective.face_weights", &w)?;
+            Ok(Reward::FaceWeights(w))
+        }
+        (None, Some(q)) => {
+            check_len("objective.reaction_weights", &q, n, "state component")?;
+            check_finite("objective.reaction_weights", &q)?;
+            Ok(Reward::ReactionWeights(q))
+        }
+        (None, None) => Err(Error::invalid(
+            "objective",
+            "nothing",
+            "needs face_weights or reaction_weights (f1)",
+        )),
+        (Some(_), Some(_)) => Err(Error::invalid(
+            "objective",
+            "face_weights and reaction_weights",
+            "give one form of f1, not both",
+        )),
+    }
+}
+
+/// The boundary condition of `p`: periodic, or an initial state in `c`, exactly one of them.
+fn boundary_of(
+    periodic: bool,
+    initial_state: Option<Vec<f64>>,
+    c: &Polyhedron,
+) -> Result<Boundary> {
+    let n = c.dim();
+    match (periodic, initial_state) {
+        (true, None) => Ok(Boundary::Periodic),
+        (false, Some(x0)) => {
+            check_len("problem.initial_state", &x0, n, "state component")?;
+            check_finite("problem.initial_state", &x0)?;
+            if let Some((j, s)) = c.violation(&x0, 1e-9 * c.scale()) {
+                return Err(Error::Inadmissible {
+                    what: "problem.initial_state".into(),
+                    detail: format!("face {} is exceeded by {s:e}", j + 1),
+                });
+            }
+            Ok(Boundary::Initial(x0))
+        }
+        (true, Some(_)) => Err(Error::invalid(
+            "problem.initial_state",
+            "a state",
+            "a periodic problem has no initial state (set periodic = false)",
+        )),
+        (false, None) => Err(Error::invalid(
+            "problem.initial_state",
+            "nothing",
+            "a problem that is not periodic needs x(0)",
+        )),
     }
 }
 
