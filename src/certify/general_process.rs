@@ -215,6 +215,53 @@ impl GeneralProcess {
         let bad = |field: String, got: String, why: &str| {
             Err(Error::invalid(format!("{at}.{field}"), got, why))
         };
+        self.check_rows(p, tol, at)?;
+        let steps = self.durations.len();
+        let scale = p.c.scale();
+        // Computed states carry the rounding of the increments that made them
+        // ([`GeneralProblem::rounding`]).
+        let allowed = tol * scale + p.rounding(&self.durations, &self.x, &self.u);
+        match &p.boundary {
+            Boundary::Periodic => {
+                let gap = max_diff(&self.x[steps], &self.x[0]);
+                if gap > allowed {
+                    return bad(
+                        format!("x[{steps}]"),
+                        format!("{gap:e} from x[0]"),
+                        "not periodic",
+                    );
+                }
+            }
+            Boundary::Initial(x0) => {
+                let gap = max_diff(&self.x[0], x0);
+                if gap > tol * scale {
+                    return bad(
+                        "x[0]".into(),
+                        format!("{gap:e} from problem.initial_state"),
+                        "must be the initial state",
+                    );
+                }
+            }
+        }
+        for (k, x) in self.x.iter().enumerate() {
+            if let Some((j, s)) = p.c.violation(x, allowed) {
+                return bad(
+                    format!("x[{k}]"),
+                    format!("{s:e}"),
+                    &format!("outside face {}", j + 1),
+                );
+            }
+        }
+        self.check_controls(p, tol, at)?;
+        self.check_steps(p, tol, allowed, at)
+    }
+
+    /// The grid (P_m: `2^m` steps of `T / 2^m`; a phase gait: positive durations summing to
+    /// `T`), the rows' shapes and finite values.
+    fn check_rows(&self, p: &GeneralProblem, tol: f64, at: &str) -> Result<()> {
+        let bad = |field: String, got: String, why: &str| {
+            Err(Error::invalid(format!("{at}.{field}"), got, why))
+        };
         let steps = self.durations.len();
         match self.kind {
             ProcessKind::Discrete { m } => {
@@ -268,41 +315,15 @@ impl GeneralProcess {
                 "must be finite",
             );
         }
-        let scale = p.c.scale();
-        // Computed states carry the rounding of the increments that made them
-        // ([`GeneralProblem::rounding`]).
-        let allowed = tol * scale + p.rounding(&self.durations, &self.x, &self.u);
-        match &p.boundary {
-            Boundary::Periodic => {
-                let gap = max_diff(&self.x[steps], &self.x[0]);
-                if gap > allowed {
-                    return bad(
-                        format!("x[{steps}]"),
-                        format!("{gap:e} from x[0]"),
-                        "not periodic",
-                    );
-                }
-            }
-            Boundary::Initial(x0) => {
-                let gap = max_diff(&self.x[0], x0);
-                if gap > tol * scale {
-                    return bad(
-                        "x[0]".into(),
-                        format!("{gap:e} from problem.initial_state"),
-                        "must be the initial state",
-                    );
-                }
-            }
-        }
-        for (k, x) in self.x.iter().enumerate() {
-            if let Some((j, s)) = p.c.violation(x, allowed) {
-                return bad(
-                    format!("x[{k}]"),
-                    format!("{s:e}"),
-                    &format!("outside face {}", j + 1),
-                );
-            }
-        }
+        Ok(())
+    }
+
+    /// The controls: in U, and of zero mean where the problem asks it.
+    fn check_controls(&self, p: &GeneralProblem, tol: f64, at: &str) -> Result<()> {
+        let bad = |field: String, got: String, why: &str| {
+            Err(Error::invalid(format!("{at}.{field}"), got, why))
+        };
+        let mc = p.controls();
         let uscale = control_rows(&p.control)
             .iter()
             .fold(0.0_f64, |s, (_, h)| s.max(h.abs()));
@@ -318,6 +339,18 @@ impl GeneralProcess {
         if p.zero_mean && mean.iter().any(|v| v.abs() > tol * uscale) {
             return bad("u".into(), format!("mean {mean:?}"), "must have zero mean");
         }
+        Ok(())
+    }
+
+    /// Each step: reactions non-negative, the state following from the previous one, the
+    /// control and the reactions by the scheme, and a reaction only on an active face (states
+    /// to `allowed`).
+    fn check_steps(&self, p: &GeneralProblem, tol: f64, allowed: f64, at: &str) -> Result<()> {
+        let bad = |field: String, got: String, why: &str| {
+            Err(Error::invalid(format!("{at}.{field}"), got, why))
+        };
+        let (n, sigma, steps) = (p.states(), p.c.faces(), self.durations.len());
+        let scale = p.c.scale();
         let (step, ends) = match self.kind {
             ProcessKind::Discrete { .. } => (
                 "the catching-up step x^(i+1) = x^i + h (g - sum lambda x*)",
