@@ -196,13 +196,18 @@ fn one() -> usize {
 }
 
 impl BranchLp {
+    /// Whether every branch through the process was solved (`2^biactive` of them).
+    pub fn all_solved(&self) -> bool {
+        self.biactive < usize::BITS as usize && self.branches == 1 << self.biactive
+    }
+
     /// What was solved, for text output: "branch LP (slips fixed)" for a process without
     /// biactive pairs, else how many of the branches through it.
     pub fn describe(&self, fixed: &str) -> String {
         let b = self.biactive;
         if b == 0 {
             format!("branch LP ({fixed} fixed)")
-        } else if self.branches == 1 << b.min(usize::BITS as usize - 1) {
+        } else if self.all_solved() {
             format!(
                 "branch LPs ({fixed} fixed; all {} branches through its {b} biactive pairs)",
                 self.branches
@@ -345,7 +350,7 @@ pub(crate) fn note_biactive(
     let Some(b) = branch else { return };
     if verdict != Verdict::Fails
         || b.biactive == 0
-        || b.branches < 1 << b.biactive.min(usize::BITS as usize - 1)
+        || !b.all_solved()
         || b.improvement > tol * b.optimum.abs().max(1.0)
     {
         return;
