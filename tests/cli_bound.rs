@@ -151,3 +151,63 @@ fn the_quadratic_cost_enters_the_bound_by_its_tangents() {
         "{text}"
     );
 }
+
+/// The default grid fits the crawler: a four-block crawler's 8 x 8 grid has 1e8 simplices and
+/// was refused ("--bound-resolution: the grid has 106168320 simplices"), so `--bound` without
+/// grid flags failed on every four-block crawler. It now takes the 2 x 2 grid, whose bound is
+/// valid (above the certified J) even when the LP is cut short; a grid asked for explicitly is
+/// still refused when too large.
+#[test]
+fn the_default_grid_fits_a_four_block_crawler() {
+    let dir = tempfile::tempdir().unwrap();
+    let file = dir.path().join("four.toml");
+    std::fs::write(
+        &file,
+        "[crawler]\nblocks = 4\nstiffness = 1\nmu_forward = 1\nmu_backward = 1.6\n\n\
+         [gait]\nperiod = 10\nmax_actuator_speed = 1\ncost = { kind = \"none\" }\n",
+    )
+    .unwrap();
+    let f = file.to_str().unwrap();
+    let out = crawlopt(&[
+        "optimize",
+        f,
+        "--phases",
+        "2",
+        "--bound",
+        "--bound-time-limit",
+        "3",
+        "--json",
+    ]);
+    assert_eq!(
+        out.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let ub = &v["certificate"]["upper_bound"];
+    assert_eq!(
+        (ub["resolution"].as_u64(), ub["box_resolution"].as_u64()),
+        (Some(2), Some(2))
+    );
+    let j = v["objective"].as_f64().unwrap();
+    assert!((j - 3.6).abs() < 1e-6, "{j}");
+    assert!(ub["value"].as_f64().unwrap() >= j, "{ub}");
+    let err = crawlopt(&[
+        "optimize",
+        f,
+        "--phases",
+        "2",
+        "--bound",
+        "--bound-resolution",
+        "8",
+        "--bound-box-resolution",
+        "8",
+    ]);
+    assert_eq!(err.status.code(), Some(2));
+    let stderr = String::from_utf8_lossy(&err.stderr);
+    assert!(
+        stderr.contains("--bound-resolution") && stderr.contains("simplices"),
+        "{stderr}"
+    );
+}

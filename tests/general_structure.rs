@@ -215,8 +215,8 @@ fn the_chain_bound_of_a_general_problem_is_the_crawlers() {
     use crawlopt::certify::bound::{upper_bound, BoundSettings};
     use crawlopt::optimal::{Cost, GaitProblem};
     let b = BoundSettings {
-        resolution: 4,
-        box_resolution: 4,
+        resolution: Some(4),
+        box_resolution: Some(4),
         ..BoundSettings::default()
     };
     let crawler = Crawler::uniform(3, 1.0, 1.0, 1.5).unwrap();
@@ -422,8 +422,8 @@ fn with_any_stiffness_the_chain_is_the_crawlers_problem() {
         .unwrap();
         assert!(general.objective <= chain.solution.certificate.bound + 1e-7);
         let b = BoundSettings {
-            resolution: 4,
-            box_resolution: 4,
+            resolution: Some(4),
+            box_resolution: Some(4),
             ..BoundSettings::default()
         };
         let s = GeneralPmSettings {

@@ -8,9 +8,9 @@ use crawlopt::Crawler;
 
 fn settings(resolution: usize, box_resolution: usize) -> BoundSettings {
     BoundSettings {
-        resolution,
-        box_resolution,
-        time_limit: 600.0,
+        resolution: Some(resolution),
+        box_resolution: Some(box_resolution),
+        time_limit: Some(600.0),
         ..BoundSettings::default()
     }
 }
@@ -184,7 +184,7 @@ fn with_a_quadratic_cost_never_below_a_random_gait_or_a_phase_optimum() {
     for (c, speed, r, rb) in crawlers().into_iter().take(3) {
         let p = GaitProblem::new(&c, period, &speed, Cost::Quadratic { weight }, None).unwrap();
         let s = BoundSettings {
-            cost_tangents: 3,
+            cost_tangents: Some(3),
             ..settings(r, rb)
         };
         let bound = upper_bound(&c, &p, &s).unwrap();
@@ -278,7 +278,7 @@ fn quadratic_bound(period: f64, weight: f64, r: usize, rb: usize, m: usize) -> (
     let p = GaitProblem::new(&c, period, &[1.0], Cost::Quadratic { weight }, None).unwrap();
     let exact = one_link_optimum(&c, &p).unwrap().value;
     let s = BoundSettings {
-        cost_tangents: m,
+        cost_tangents: Some(m),
         ..settings(r, rb)
     };
     let b = upper_bound(&c, &p, &s).unwrap();
@@ -345,7 +345,7 @@ fn settings_are_checked_by_field() {
     bad(settings(4, 0), "bound.box_resolution");
     bad(
         BoundSettings {
-            time_limit: f64::NAN,
+            time_limit: Some(f64::NAN),
             ..BoundSettings::default()
         },
         "bound.time_limit",
@@ -353,7 +353,7 @@ fn settings_are_checked_by_field() {
     bad(settings(400, 400), "bound.resolution");
     bad(
         BoundSettings {
-            cost_tangents: 0,
+            cost_tangents: Some(0),
             ..BoundSettings::default()
         },
         "bound.cost_tangents",
@@ -371,16 +371,30 @@ fn settings_are_checked_by_field() {
 #[test]
 fn a_fine_grid_cut_short_does_not_hide_a_coarse_grid_s_better_bound() {
     use crawlopt::certify::bound::refinement_ladder;
-    assert_eq!(
-        refinement_ladder(&BoundSettings::default()),
-        vec![(2, 2), (4, 4), (8, 8)]
-    );
-    assert_eq!(refinement_ladder(&settings(5, 8)), vec![(5, 8)]);
-    assert_eq!(refinement_ladder(&settings(12, 4)), vec![(6, 2), (12, 4)]);
     let c = Crawler::uniform(3, 1.0, 1.0, 1.5).unwrap();
     let p = GaitProblem::new(&c, 10.0, &[1.0, 1.0], Cost::None, None).unwrap();
+    let (r, b) = BoundSettings::default().grid(&c, &p).unwrap();
+    assert_eq!(refinement_ladder(r, b), vec![(2, 2), (4, 4), (8, 8)]);
+    assert_eq!(refinement_ladder(5, 8), vec![(5, 8)]);
+    // The default grid by crawler: 8 x 8 up to three blocks, 2 x 2 on four (whose 4 x 4 grid
+    // has 2.9e6 simplices); a setting given is kept, the other chosen beside it.
+    let d = BoundSettings::default();
+    for (nb, want) in [(2, (8, 8)), (3, (8, 8)), (4, (2, 2))] {
+        let c = Crawler::uniform(nb, 1.0, 1.0, 1.6).unwrap();
+        let p = GaitProblem::new(&c, 10.0, &vec![1.0; nb - 1], Cost::None, None).unwrap();
+        assert_eq!(d.grid(&c, &p).unwrap(), want, "N = {nb}");
+    }
+    let c4 = Crawler::uniform(4, 1.0, 1.0, 1.6).unwrap();
+    let p4 = GaitProblem::new(&c4, 10.0, &[1.0; 3], Cost::None, None).unwrap();
+    let half = |r| BoundSettings {
+        resolution: Some(r),
+        ..BoundSettings::default()
+    };
+    assert_eq!(half(3).grid(&c4, &p4).unwrap(), (3, 2));
+    assert_eq!(half(8).grid(&c4, &p4).unwrap(), (8, 2));
+    assert_eq!(refinement_ladder(12, 4), vec![(6, 2), (12, 4)]);
     let s = BoundSettings {
-        time_limit: 2.0,
+        time_limit: Some(2.0),
         ..BoundSettings::default()
     };
     let b = upper_bound(&c, &p, &s).unwrap();

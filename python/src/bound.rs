@@ -8,13 +8,12 @@ pub(crate) type BoundTuple = (Option<usize>, Option<usize>, Option<f64>, Option<
 
 /// The library's bound settings of Python's tuple, each `None` taking the library's default.
 pub(crate) fn bound_settings(bound: Option<BoundTuple>) -> Option<BoundSettings> {
-    bound.map(|(resolution, box_resolution, time_limit, cost_tangents)| {
-        let d = BoundSettings::default();
-        BoundSettings {
-            resolution: resolution.unwrap_or(d.resolution),
-            box_resolution: box_resolution.unwrap_or(d.box_resolution),
-            time_limit: time_limit.unwrap_or(d.time_limit),
-            cost_tangents: cost_tangents.unwrap_or(d.cost_tangents),
-        }
-    })
+    bound.map(
+        |(resolution, box_resolution, time_limit, cost_tangents)| BoundSettings {
+            resolution,
+            box_resolution,
+            time_limit,
+            cost_tangents,
+        },
+    )
 }

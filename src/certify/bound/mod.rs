@@ -116,66 +116,168 @@ pub const MAX_BOUND_LINKS: usize = 3;
 /// Largest number of grid simplices (an LP with a few rows each).
 pub const MAX_SIMPLICES: usize = 4_000_000;
 
+/// The resolutions an unset grid setting of [`BoundSettings`] may take, finest first: halving
+/// keeps the grids nested ([`refinement_ladder`]).
+pub const DEFAULT_RESOLUTIONS: [usize; 3] = [8, 4, 2];
+
+/// Largest number of simplices of a grid chosen by default: every three-block crawler's 8 x 8
+/// grid fits (at most 9 x 9 x 8 x 8 cells of 24 simplices, 124,416), and a four-block crawler
+/// gets 2 x 2. Its 8 x 8 grid (1e8 simplices) is beyond [`MAX_SIMPLICES`], and its 4 x 4 grid
+/// (2.9e6) an LP that the default minute does not finish: measured on a uniform four-block
+/// crawler (mu = 1 / 1.6, k = a = 1, T = 10), the 2 x 2 grid alone, cut at 60 s, bounds J = 3.6 by
+/// 8.32, while the ladder 2 x 2 then 4 x 4 bounds it by 10.09 in the same minute.
+pub const DEFAULT_SIMPLICES: usize = 1 << 17;
+
 /// Settings of [`upper_bound`].
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct BoundSettings {
     /// Grid steps across the widest link-force range of C (the `x` step `h` is that range over
-    /// this; C is tiled exactly when every friction threshold is a multiple of `h`).
-    pub resolution: usize,
-    /// Grid steps across each actuator-length range `[0, a_l T / (2 k_l)]`.
-    pub box_resolution: usize,
+    /// this; C is tiled exactly when every friction threshold is a multiple of `h`). Unset (the
+    /// default): see [`BoundSettings::grid`].
+    pub resolution: Option<usize>,
+    /// Grid steps across each actuator-length range `[0, a_l T / (2 k_l)]`. Unset (the
+    /// default): see [`BoundSettings::grid`].
+    pub box_resolution: Option<usize>,
     /// Time limit of the LP in seconds (a solve cut short still gives a valid, weaker bound).
-    pub time_limit: f64,
+    /// Unset (the default): [`DEFAULT_BOUND_TIME_LIMIT`].
+    pub time_limit: Option<f64>,
     /// With a quadratic cost: tangents per link of its piecewise-linear under-estimator (taken
     /// at the centres of equal cells of `[-a_l, a_l]`; it is below the cost by at most
     /// `c a_l^2 / (2 m^2)`). More tangents tighten the bound and multiply the control vertices,
-    /// hence the rows, by up to about `m^n`. Ignored without a cost.
-    pub cost_tangents: usize,
+    /// hence the rows, by up to about `m^n`. Ignored without a cost. Unset (the default):
+    /// [`DEFAULT_COST_TANGENTS`].
+    pub cost_tangents: Option<usize>,
 }
 
-impl Default for BoundSettings {
-    /// Resolution 8 in `x` and in `l`, one minute, 4 tangents of the cost per link.
-    fn default() -> Self {
-        BoundSettings {
-            resolution: 8,
-            box_resolution: 8,
-            time_limit: 60.0,
-            cost_tangents: 4,
+/// The bound's time limit when [`BoundSettings::time_limit`] is unset: one minute.
+pub const DEFAULT_BOUND_TIME_LIMIT: f64 = 60.0;
+
+/// The cost's tangents per link when [`BoundSettings::cost_tangents`] is unset.
+pub const DEFAULT_COST_TANGENTS: usize = 4;
+
+/// [`BoundSettings`] with every default applied for one crawler: the grid and LP that
+/// [`upper_bound`] runs.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Resolved {
+    resolution: usize,
+    box_resolution: usize,
+    time_limit: f64,
+    cost_tangents: usize,
+}
+
+impl BoundSettings {
+    /// The grid `(resolution, box_resolution)` for `crawler` and `problem`: a setting given is
+    /// kept; an unset one is the finest of [`DEFAULT_RESOLUTIONS`] (the same for both when both
+    /// are unset) whose grid has at most [`DEFAULT_SIMPLICES`] simplices, else the coarsest.
+    /// So the default is 8 x 8 up to three blocks and 2 x 2 on four.
+    pub fn grid(&self, crawler: &Crawler, problem: &GaitProblem) -> Result<(usize, usize)> {
+        check_settings(self)?;
+        let fits = |r: usize, b: usize| {
+            grid_of(crawler, problem, r, b).is_ok_and(|(g, _)| {
+                let fact: usize = (1..=2 * crawler.links()).product();
+                g.cells().saturating_mul(fact) <= DEFAULT_SIMPLICES
+            })
+        };
+        let pick = |fixed: Option<usize>, other: &dyn Fn(usize) -> (usize, usize)| {
+            fixed.unwrap_or_else(|| {
+                let last = DEFAULT_RESOLUTIONS[DEFAULT_RESOLUTIONS.len() - 1];
+                DEFAULT_RESOLUTIONS
+                    .into_iter()
+                    .find(|&r| {
+                        let (a, b) = other(r);
+                        fits(a, b)
+                    })
+                    .unwrap_or(last)
+            })
+        };
+        Ok(match (self.resolution, self.box_resolution) {
+            (None, None) => {
+                let r = pick(None, &|r| (r, r));
+                (r, r)
+            }
+            (Some(r), b) => (r, pick(b, &|b| (r, b))),
+            (None, Some(b)) => (pick(None, &|r| (r, b)), b),
+        })
+    }
+
+    /// Every default applied: the grid of [`BoundSettings::grid`], the time limit and tangents.
+    fn resolve(&self, crawler: &Crawler, problem: &GaitProblem) -> Result<Resolved> {
+        let (resolution, box_resolution) = self.grid(crawler, problem)?;
+        Ok(Resolved {
+            resolution,
+            box_resolution,
+            time_limit: self.time_limit.unwrap_or(DEFAULT_BOUND_TIME_LIMIT),
+            cost_tangents: self.cost_tangents.unwrap_or(DEFAULT_COST_TANGENTS),
+        })
+    }
+}
+
+/// Checks the settings given (unset ones take their defaults, which are valid).
+fn check_settings(s: &BoundSettings) -> Result<()> {
+    let counts = [
+        ("bound.resolution", s.resolution),
+        ("bound.box_resolution", s.box_resolution),
+        ("bound.cost_tangents", s.cost_tangents),
+    ];
+    for (field, value) in counts {
+        if let Some(v) = value.filter(|&v| v == 0 || v > 1000) {
+            return Err(Error::invalid(field, v, "must be between 1 and 1000"));
         }
     }
-}
-
-fn check_settings(s: &BoundSettings) -> Result<()> {
-    if s.resolution == 0 || s.resolution > 1000 {
-        return Err(Error::invalid(
-            "bound.resolution",
-            s.resolution,
-            "must be between 1 and 1000",
-        ));
-    }
-    if s.box_resolution == 0 || s.box_resolution > 1000 {
-        return Err(Error::invalid(
-            "bound.box_resolution",
-            s.box_resolution,
-            "must be between 1 and 1000",
-        ));
-    }
-    if s.cost_tangents == 0 || s.cost_tangents > 1000 {
-        return Err(Error::invalid(
-            "bound.cost_tangents",
-            s.cost_tangents,
-            "must be between 1 and 1000",
-        ));
-    }
-    if !(s.time_limit.is_finite() && s.time_limit > 0.0) {
+    if let Some(t) = s.time_limit.filter(|t| !(t.is_finite() && *t > 0.0)) {
         return Err(Error::invalid(
             "bound.time_limit",
-            s.time_limit,
+            t,
             "must be positive and finite",
         ));
     }
     Ok(())
+}
+
+/// Checks that the bound applies to `crawler`: a unique process, at most
+/// [`MAX_BOUND_LINKS`] links.
+fn check_crawler(crawler: &Crawler) -> Result<()> {
+    crawler.require_unique()?;
+    if crawler.links() > MAX_BOUND_LINKS {
+        return Err(Error::invalid(
+            "crawler.blocks",
+            crawler.blocks(),
+            format!(
+                "the upper bound's grid has 2(N-1) dimensions: at most {} blocks",
+                MAX_BOUND_LINKS + 1
+            ),
+        ));
+    }
+    Ok(())
+}
+
+/// The Kuhn grid of `C x box` at `resolution` steps across C's widest link-force range and
+/// `box_resolution` across each actuator range, and whether it is aligned with every friction
+/// threshold.
+fn grid_of(
+    crawler: &Crawler,
+    problem: &GaitProblem,
+    resolution: usize,
+    box_resolution: usize,
+) -> Result<(grid::Grid, bool)> {
+    check_crawler(crawler)?;
+    let a = &problem.rate_bound;
+    let k = crawler.stiffness();
+    let lmax: Vec<f64> = (0..crawler.links())
+        .map(|l| a[l] * problem.period / (2.0 * k[l]))
+        .collect();
+    let ranges = crawler.link_force_ranges();
+    let width = ranges.iter().fold(0.0_f64, |w, r| w.max(r[1] - r[0]));
+    let h = width / resolution as f64;
+    let tol = 1e-9 * crawler.force_scale();
+    let aligned = crawler
+        .mu_forward()
+        .iter()
+        .chain(crawler.mu_backward())
+        .all(|m| ((m / h).round() * h - m).abs() <= tol);
+    let grid = grid::Grid::new(crawler, h, &lmax, box_resolution, aligned);
+    Ok((grid, aligned))
 }
 
 /// The grid and the face motions of one bound computation.
@@ -186,43 +288,15 @@ struct Prepared {
     aligned: bool,
 }
 
-/// Checks the settings and the crawler, and builds the grid of `C x box` and the face motions.
-fn prepare(crawler: &Crawler, problem: &GaitProblem, settings: &BoundSettings) -> Result<Prepared> {
-    check_settings(settings)?;
-    crawler.require_unique()?;
-    let n = crawler.links();
-    if n > MAX_BOUND_LINKS {
-        return Err(Error::invalid(
-            "crawler.blocks",
-            crawler.blocks(),
-            format!(
-                "the upper bound's grid has 2(N-1) dimensions: at most {} blocks",
-                MAX_BOUND_LINKS + 1
-            ),
-        ));
-    }
-    let a = &problem.rate_bound;
-    let k = crawler.stiffness();
-    let lmax: Vec<f64> = (0..n)
-        .map(|l| a[l] * problem.period / (2.0 * k[l]))
-        .collect();
-    let ranges = crawler.link_force_ranges();
-    let width = ranges.iter().fold(0.0_f64, |w, r| w.max(r[1] - r[0]));
-    let h = width / settings.resolution as f64;
-    let scale = crawler.force_scale();
-    let tol = 1e-9 * scale;
-    let aligned = crawler
-        .mu_forward()
-        .iter()
-        .chain(crawler.mu_backward())
-        .all(|m| ((m / h).round() * h - m).abs() <= tol);
-    let grid = grid::Grid::new(crawler, h, &lmax, settings.box_resolution, aligned);
-    let fact: usize = (1..=2 * n).product();
+/// Checks the crawler and builds the grid of `C x box` of `level` and the face motions.
+fn prepare(crawler: &Crawler, problem: &GaitProblem, level: &Resolved) -> Result<Prepared> {
+    let (grid, aligned) = grid_of(crawler, problem, level.resolution, level.box_resolution)?;
+    let fact: usize = (1..=2 * crawler.links()).product();
     let simplices = grid.cells().saturating_mul(fact);
     if simplices > MAX_SIMPLICES {
         return Err(Error::invalid(
             "bound.resolution",
-            format!("{} x {}", settings.resolution, settings.box_resolution),
+            format!("{} x {}", level.resolution, level.box_resolution),
             format!("the grid has {simplices} simplices (at most {MAX_SIMPLICES})"),
         ));
     }
@@ -231,12 +305,13 @@ fn prepare(crawler: &Crawler, problem: &GaitProblem, settings: &BoundSettings) -
             Cost::None => 0.0,
             Cost::Quadratic { weight } => weight,
         },
-        tangents: settings.cost_tangents,
+        tangents: level.cost_tangents,
     };
+    let tol = 1e-9 * crawler.force_scale();
     let motions: Vec<_> = faces::faces(crawler, tol)
         .into_iter()
         .map(|f| {
-            let m = faces::face_motion(crawler, a, &f, cost);
+            let m = faces::face_motion(crawler, &problem.rate_bound, &f, cost);
             (f, m)
         })
         .collect();
@@ -361,20 +436,20 @@ fn solve_storage_lp(columns: usize, rows: &RowSource) -> Result<LpOutcome> {
 }
 
 /// The tangents of the cost used (0 without a cost), as recorded in results.
-fn cost_tangents(problem: &GaitProblem, settings: &BoundSettings) -> usize {
+fn cost_tangents(problem: &GaitProblem, level: &Resolved) -> usize {
     match problem.cost {
         Cost::None => 0,
-        Cost::Quadratic { .. } => settings.cost_tangents,
+        Cost::Quadratic { .. } => level.cost_tangents,
     }
 }
 
-/// The grids [`upper_bound`] solves, coarse to fine: `settings`' resolutions halved while both
-/// stay at least 2 (and stay whole), then `settings`' own. Halving keeps the grids nested (a
-/// coarse grid's piecewise-linear functions are piecewise linear on the finer one), so a
-/// finished finer LP is never worse.
-pub fn refinement_ladder(settings: &BoundSettings) -> Vec<(usize, usize)> {
-    let mut ladder = vec![(settings.resolution, settings.box_resolution)];
-    let (mut r, mut b) = (settings.resolution, settings.box_resolution);
+/// The grids [`upper_bound`] solves, coarse to fine, for the finest grid `(resolution,
+/// box_resolution)`: both halved while both stay at least 2 (and stay whole), then the grid
+/// itself. Halving keeps the grids nested (a coarse grid's piecewise-linear functions are
+/// piecewise linear on the finer one), so a finished finer LP is never worse.
+pub fn refinement_ladder(resolution: usize, box_resolution: usize) -> Vec<(usize, usize)> {
+    let mut ladder = vec![(resolution, box_resolution)];
+    let (mut r, mut b) = (resolution, box_resolution);
     while r % 2 == 0 && b % 2 == 0 && r / 2 >= 2 && b / 2 >= 2 {
         r /= 2;
         b /= 2;
@@ -386,63 +461,73 @@ pub fn refinement_ladder(settings: &BoundSettings) -> Vec<(usize, usize)> {
 
 /// A valid upper bound on `J` over every `T`-periodic gait of `problem` for `crawler` (the
 /// module's argument): the best of the piecewise-linear storage functions found on the grids of
-/// [`refinement_ladder`], coarse to fine, while `settings.time_limit` lasts. Every grid's bound
-/// is valid, so the smallest is returned, with the grid and LP status that proved it: a fine
-/// grid cut short by the time limit no longer hides a coarser grid's better bound (three blocks,
-/// 8 x 8 cut at 60 s gave 3.548; the 4 x 4 grid proves 3.333 in well under a second of LP).
+/// [`refinement_ladder`] up to the grid of [`BoundSettings::grid`], coarse to fine, while the
+/// time limit lasts. Every grid's bound is valid, so the smallest is returned, with the grid and
+/// LP status that proved it: a fine grid cut short by the time limit no longer hides a coarser
+/// grid's better bound (three blocks, 8 x 8 cut at 60 s gave 3.548; the 4 x 4 grid proves 3.333
+/// in well under a second of LP).
 pub fn upper_bound(
     crawler: &Crawler,
     problem: &GaitProblem,
     settings: &BoundSettings,
 ) -> Result<UpperBound> {
     let started = Instant::now();
+    let finest = settings.resolve(crawler, problem)?;
     let mut best: Option<UpperBound> = None;
-    progress::within(Some(settings.time_limit), || {
-        // The requested grid is checked (size, crawler) before any coarse LP spends the time.
-        prepare(crawler, problem, settings)?;
-        for (resolution, box_resolution) in refinement_ladder(settings) {
+    progress::within(Some(finest.time_limit), || {
+        // The finest grid is checked (size, crawler) before any coarse LP spends the time.
+        prepare(crawler, problem, &finest)?;
+        for (resolution, box_resolution) in
+            refinement_ladder(finest.resolution, finest.box_resolution)
+        {
             if best.is_some() && progress::out_of_time()? {
                 break;
             }
-            let level = BoundSettings {
+            let level = Resolved {
                 resolution,
                 box_resolution,
-                ..*settings
+                ..finest
             };
-            let ub = upper_bound_on_grid(crawler, problem, &level)?;
+            let ub = bound_on(crawler, problem, &level)?;
             if best.as_ref().is_none_or(|b| ub.value <= b.value) {
                 best = Some(ub);
             }
         }
         Ok::<(), crate::Error>(())
     })?;
-    let mut best = best.expect("the ladder has at least settings' own grid");
+    let mut best = best.expect("the ladder has at least the finest grid");
     best.seconds = started.elapsed().as_secs_f64();
     Ok(best)
 }
 
-/// The bound from the storage function the LP finds on the one grid of `settings`.
+/// The bound from the storage function the LP finds on the one grid of
+/// [`BoundSettings::grid`].
 pub fn upper_bound_on_grid(
     crawler: &Crawler,
     problem: &GaitProblem,
     settings: &BoundSettings,
 ) -> Result<UpperBound> {
+    bound_on(crawler, problem, &settings.resolve(crawler, problem)?)
+}
+
+/// The bound on the one grid of `level`.
+fn bound_on(crawler: &Crawler, problem: &GaitProblem, level: &Resolved) -> Result<UpperBound> {
     let started = Instant::now();
-    let pre = prepare(crawler, problem, settings)?;
+    let pre = prepare(crawler, problem, level)?;
     let rows = |sink: &mut RowSink| {
         pre.grid
             .for_each_row(crawler, &pre.motions, pre.tol, |nodes, coefs, y| {
                 sink(nodes, coefs, y)
             });
     };
-    let lp = progress::within(Some(settings.time_limit), || {
+    let lp = progress::within(Some(level.time_limit), || {
         solve_storage_lp(pre.grid.nodes(), &rows)
     })?;
     Ok(UpperBound {
         method: METHOD.to_string(),
-        resolution: settings.resolution,
-        box_resolution: settings.box_resolution,
-        cost_tangents: cost_tangents(problem, settings),
+        resolution: level.resolution,
+        box_resolution: level.box_resolution,
+        cost_tangents: cost_tangents(problem, level),
         value: lp.rate * problem.period,
         status: lp.status,
         aligned: pre.aligned,

@@ -30,7 +30,8 @@ pub(crate) fn time_dependent_bound(
     nt: usize,
 ) -> Result<UpperBound> {
     let started = Instant::now();
-    let pre = prepare(crawler, problem, settings)?;
+    let level = settings.resolve(crawler, problem)?;
+    let pre = prepare(crawler, problem, &level)?;
     let np = pre.grid.nodes();
     let nt = nt.max(1);
     let inv_dt = nt as f64 / problem.period;
@@ -55,14 +56,12 @@ pub(crate) fn time_dependent_bound(
                 }
             });
     };
-    let lp = crate::progress::within(Some(settings.time_limit), || {
-        solve_storage_lp(nt * np, &rows)
-    })?;
+    let lp = crate::progress::within(Some(level.time_limit), || solve_storage_lp(nt * np, &rows))?;
     Ok(UpperBound {
         method: TIME_METHOD.to_string(),
-        resolution: settings.resolution,
-        box_resolution: settings.box_resolution,
-        cost_tangents: super::cost_tangents(problem, settings),
+        resolution: level.resolution,
+        box_resolution: level.box_resolution,
+        cost_tangents: super::cost_tangents(problem, &level),
         value: lp.rate * problem.period,
         status: lp.status,
         aligned: pre.aligned,
@@ -80,9 +79,9 @@ mod tests {
 
     fn settings(resolution: usize, box_resolution: usize) -> BoundSettings {
         BoundSettings {
-            resolution,
-            box_resolution,
-            time_limit: 600.0,
+            resolution: Some(resolution),
+            box_resolution: Some(box_resolution),
+            time_limit: Some(600.0),
             ..BoundSettings::default()
         }
     }

@@ -15,10 +15,12 @@ pub struct BoundArgs {
     /// N <= 4), recorded as "certificate.upper_bound" with the method and grid.
     #[arg(long)]
     pub bound: bool,
-    /// Grid steps across C's widest link-force range [default: 8].
+    /// Grid steps across C's widest link-force range [default: 8 up to three
+    /// blocks, 2 on four].
     #[arg(id = "bound_resolution", long = "bound-resolution", value_name = "R", allow_negative_numbers = true, value_parser = count)]
     pub resolution: Option<usize>,
-    /// Grid steps across each actuator-length range [default: 8].
+    /// Grid steps across each actuator-length range [default: as
+    /// --bound-resolution].
     #[arg(id = "bound_box_resolution", long = "bound-box-resolution", value_name = "R", allow_negative_numbers = true, value_parser = count)]
     pub box_resolution: Option<usize>,
     /// Time limit of the bound's LP, seconds [default: 60].
@@ -61,12 +63,11 @@ impl BoundArgs {
             }
             return Ok(None);
         }
-        let d = BoundSettings::default();
         Ok(Some(BoundSettings {
-            resolution: self.resolution.unwrap_or(d.resolution),
-            box_resolution: self.box_resolution.unwrap_or(d.box_resolution),
-            time_limit: self.time_limit.unwrap_or(d.time_limit),
-            cost_tangents: self.cost_tangents.unwrap_or(d.cost_tangents),
+            resolution: self.resolution,
+            box_resolution: self.box_resolution,
+            time_limit: self.time_limit,
+            cost_tangents: self.cost_tangents,
         }))
     }
 }
