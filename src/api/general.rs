@@ -41,6 +41,21 @@ pub fn analyze_general(file: &GeneralFile) -> Result<GeneralAnalysis> {
     let g = geometry_of(&p)?;
     let failure = check_with(&p, &g).err();
     let mut checks = Vec::new();
+    sets_checks(&p, &g, failure.as_ref(), &mut checks);
+    face_weights_check(&p, &g, &mut checks);
+    structure_checks(&p, &mut checks);
+    Ok(GeneralAnalysis {
+        kind: "general",
+        problem: p,
+        geometry: g,
+        checks,
+        failure,
+    })
+}
+
+/// The checks of C (interior, boundedness) and of U (convex, with an interior), given the
+/// failure of the problem's own check, if any.
+fn sets_checks(p: &GeneralProblem, g: &Geometry, failure: Option<&Error>, checks: &mut Vec<Check>) {
     let mut add = |name: &str, status, detail: String| {
         checks.push(Check {
             name: name.into(),
@@ -76,7 +91,7 @@ pub fn analyze_general(file: &GeneralFile) -> Result<GeneralAnalysis> {
         ControlSet::Polytope(u) => format!("a polytope of {} faces", u.faces()),
     };
     let u_failed =
-        matches!(&failure, Some(Error::InvalidParameter { field, .. }) if field == "control");
+        matches!(failure, Some(Error::InvalidParameter { field, .. }) if field == "control");
     add(
         "U is convex with a non-empty interior",
         if u_failed {
@@ -90,12 +105,20 @@ pub fn analyze_general(file: &GeneralFile) -> Result<GeneralAnalysis> {
             u
         },
     );
-    match &p.reward {
-        Reward::ReactionWeights(_) => add(
-            "face weights well defined",
-            CheckStatus::Info,
-            "not needed: f1 = <q, eta>".into(),
-        ),
+}
+
+/// Whether the face weights of `f1` are well defined: at every vertex of C (or, on a chain
+/// too long to enumerate them, by the chain's uniqueness condition, paper eq. 3.6).
+fn face_weights_check(p: &GeneralProblem, g: &Geometry, checks: &mut Vec<Check>) {
+    let mut add = |name: &str, status, detail: String| {
+        checks.push(Check {
+            name: name.into(),
+            status,
+            detail,
+        })
+    };
+    let (status, detail) = match &p.reward {
+        Reward::ReactionWeights(_) => (CheckStatus::Info, "not needed: f1 = <q, eta>".into()),
         Reward::FaceWeights(_) => {
             let (status, detail) = match (&g.vertices, g.degenerate_vertex, p.as_chain()) {
                 (None, _, Some(view)) => match view.check_face_weights() {
@@ -132,9 +155,21 @@ pub fn analyze_general(file: &GeneralFile) -> Result<GeneralAnalysis> {
                     ),
                 ),
             };
-            add("face weights well defined", status, detail);
+            (status, detail)
         }
-    }
+    };
+    add("face weights well defined", status, detail);
+}
+
+/// The dynamics (`A = 0` or a drift) and the structure recognised (a crawler's chain).
+fn structure_checks(p: &GeneralProblem, checks: &mut Vec<Check>) {
+    let mut add = |name: &str, status, detail: String| {
+        checks.push(Check {
+            name: name.into(),
+            status,
+            detail,
+        })
+    };
     add(
         "dynamics",
         CheckStatus::Info,
@@ -164,13 +199,6 @@ pub fn analyze_general(file: &GeneralFile) -> Result<GeneralAnalysis> {
             None => "no chain recognised (not a crawler's gait problem)".into(),
         },
     );
-    Ok(GeneralAnalysis {
-        kind: "general",
-        problem: p,
-        geometry: g,
-        checks,
-        failure,
-    })
 }
 
 /// Simulates the file's `[input]`: exactly where `A = 0` and the input is piecewise constant

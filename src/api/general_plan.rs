@@ -47,9 +47,29 @@ impl OptimizeSettings {
         }
         let local = method == GaitMethod::Local;
         let phase = method == GaitMethod::Phase;
+        self.check_fixed_k(phase)?;
+        // Every setting of a crawler's optimisation that a general problem does not take, in
+        // the order the messages check them (the first one given is named).
+        let refused = match n {
+            Naming::Flags => self.refused_flags(phase, local, front_end),
+            Naming::Keywords => self.refused_keywords(phase, local, front_end),
+        };
+        if let Some((name, _, reason)) = refused.into_iter().find(|(_, g, _)| *g) {
+            let value = if name == "certify" && n == Naming::Keywords && local {
+                "true"
+            } else {
+                "given"
+            };
+            return Err(Error::invalid(n.setting(name), value, reason));
+        }
+        Ok(self.general_settings(phase, local))
+    }
+
+    /// With `phases` given, the phase method solves one MILP at a fixed K: the growth's
+    /// settings have nothing to act on (as for a crawler's problem).
+    fn check_fixed_k(&self, phase: bool) -> Result<()> {
+        let n = self.naming;
         if phase && self.phases.is_some() {
-            // One MILP at a fixed K: the growth's settings have nothing to act on (as for a
-            // crawler's problem).
             for (name, value) in [("patience", self.patience), ("max_phases", self.max_phases)] {
                 if let Some(v) = value {
                     return Err(Error::invalid(
@@ -63,109 +83,119 @@ impl OptimizeSettings {
                 }
             }
         }
-        // Every setting of a crawler's optimisation that a general problem does not take, in
-        // the order the messages check them (the first one given is named).
+        Ok(())
+    }
+
+    /// The CLI's refusals on a general problem file: `(setting, given, reason)` in the order
+    /// they are checked.
+    fn refused_flags<'a>(
+        &self,
+        phase: bool,
+        local: bool,
+        front_end: &[(&'a str, bool)],
+    ) -> Vec<(&'a str, bool, String)> {
         let polish = ("polish", self.polish.is_some());
-        let refused: Vec<(&str, bool, String)> = match n {
-            Naming::Flags => {
-                let reason = if phase {
-                    "does not apply to --method phase on a general problem file (--phases, \
-                     --max-phases, --patience, --time-limit, --certify, --bound on a crawler's \
-                     problem, --json)"
-                } else {
-                    "does not apply to a general problem file with this method (--certify with \
-                     the global P_m or phase, --convergence with the global P_m, --shifts with \
-                     --method local, --bound with --method discrete or phase on a crawler's \
-                     problem)"
-                };
-                let mut given = vec![
-                    ("phases", self.phases.is_some() && !phase),
-                    ("patience", self.patience.is_some() && !phase),
-                    if phase {
-                        ("m", self.m.is_some())
-                    } else {
-                        ("max_phases", self.max_phases.is_some())
-                    },
-                    ("convergence", self.convergence && (local || phase)),
-                    ("start", self.start.is_some()),
-                    ("shifts", self.shifts.is_some() && !local),
-                    ("certify", self.certify && local),
-                    ("no_polish", polish.1 && (local || phase)),
-                    ("bound", self.bound.is_some() && local),
-                ];
-                given.extend(front_end.iter().copied());
-                given
-                    .into_iter()
-                    .map(|(name, g)| (name, g, reason.to_string()))
-                    .collect()
-            }
-            Naming::Keywords => {
-                let discrete = "applies to method=\"discrete\" only (the global P_m optimum)";
-                let global = "applies to the global methods (\"discrete\", \"phase\") only";
-                let not_general = "does not apply to a general problem";
-                let only_phase = "applies to method=\"phase\" only on a general problem";
-                let in_phase = "does not apply to method=\"phase\" (phases, max_phases, patience, \
-                                time_limit, certify)";
-                let mut given = vec![
-                    ("polish", polish.1 && (local || phase), discrete.to_string()),
-                    (
-                        "max_phases",
-                        self.max_phases.is_some() && !phase,
-                        "applies to method=\"phase\" only".to_string(),
-                    ),
-                    (
-                        "phases",
-                        self.phases.is_some() && !phase,
-                        only_phase.to_string(),
-                    ),
-                    (
-                        "patience",
-                        self.patience.is_some() && !phase,
-                        only_phase.to_string(),
-                    ),
-                    (
-                        "convergence",
-                        self.convergence && (local || phase),
-                        discrete.to_string(),
-                    ),
-                    ("start", self.start.is_some(), not_general.to_string()),
-                    (
-                        "bound",
-                        self.bound.is_some() && local,
-                        "applies to the global methods on a general problem".to_string(),
-                    ),
-                ];
-                if phase {
-                    given.extend([
-                        ("m", self.m.is_some(), in_phase.to_string()),
-                        ("shifts", self.shifts.is_some(), in_phase.to_string()),
-                    ]);
-                } else if local {
-                    given.push(("certify", self.certify, global.to_string()));
-                } else {
-                    given.push((
-                        "shifts",
-                        self.shifts.is_some(),
-                        "applies to method=\"local\" only".to_string(),
-                    ));
-                }
-                given.extend(
-                    front_end
-                        .iter()
-                        .map(|&(name, g)| (name, g, not_general.to_string())),
-                );
-                given
-            }
+        let reason = if phase {
+            "does not apply to --method phase on a general problem file (--phases, \
+             --max-phases, --patience, --time-limit, --certify, --bound on a crawler's \
+             problem, --json)"
+        } else {
+            "does not apply to a general problem file with this method (--certify with \
+             the global P_m or phase, --convergence with the global P_m, --shifts with \
+             --method local, --bound with --method discrete or phase on a crawler's \
+             problem)"
         };
-        if let Some((name, _, reason)) = refused.into_iter().find(|(_, g, _)| *g) {
-            let value = if name == "certify" && n == Naming::Keywords && local {
-                "true"
+        let mut given = vec![
+            ("phases", self.phases.is_some() && !phase),
+            ("patience", self.patience.is_some() && !phase),
+            if phase {
+                ("m", self.m.is_some())
             } else {
-                "given"
-            };
-            return Err(Error::invalid(n.setting(name), value, reason));
+                ("max_phases", self.max_phases.is_some())
+            },
+            ("convergence", self.convergence && (local || phase)),
+            ("start", self.start.is_some()),
+            ("shifts", self.shifts.is_some() && !local),
+            ("certify", self.certify && local),
+            ("no_polish", polish.1 && (local || phase)),
+            ("bound", self.bound.is_some() && local),
+        ];
+        given.extend(front_end.iter().copied());
+        given
+            .into_iter()
+            .map(|(name, g)| (name, g, reason.to_string()))
+            .collect()
+    }
+
+    /// Python's refusals on a general problem: `(setting, given, reason)` in the order they
+    /// are checked.
+    fn refused_keywords<'a>(
+        &self,
+        phase: bool,
+        local: bool,
+        front_end: &[(&'a str, bool)],
+    ) -> Vec<(&'a str, bool, String)> {
+        let polish = ("polish", self.polish.is_some());
+        let discrete = "applies to method=\"discrete\" only (the global P_m optimum)";
+        let global = "applies to the global methods (\"discrete\", \"phase\") only";
+        let not_general = "does not apply to a general problem";
+        let only_phase = "applies to method=\"phase\" only on a general problem";
+        let in_phase = "does not apply to method=\"phase\" (phases, max_phases, patience, \
+                        time_limit, certify)";
+        let mut given = vec![
+            ("polish", polish.1 && (local || phase), discrete.to_string()),
+            (
+                "max_phases",
+                self.max_phases.is_some() && !phase,
+                "applies to method=\"phase\" only".to_string(),
+            ),
+            (
+                "phases",
+                self.phases.is_some() && !phase,
+                only_phase.to_string(),
+            ),
+            (
+                "patience",
+                self.patience.is_some() && !phase,
+                only_phase.to_string(),
+            ),
+            (
+                "convergence",
+                self.convergence && (local || phase),
+                discrete.to_string(),
+            ),
+            ("start", self.start.is_some(), not_general.to_string()),
+            (
+                "bound",
+                self.bound.is_some() && local,
+                "applies to the global methods on a general problem".to_string(),
+            ),
+        ];
+        if phase {
+            given.extend([
+                ("m", self.m.is_some(), in_phase.to_string()),
+                ("shifts", self.shifts.is_some(), in_phase.to_string()),
+            ]);
+        } else if local {
+            given.push(("certify", self.certify, global.to_string()));
+        } else {
+            given.push((
+                "shifts",
+                self.shifts.is_some(),
+                "applies to method=\"local\" only".to_string(),
+            ));
         }
-        Ok(if phase {
+        given.extend(
+            front_end
+                .iter()
+                .map(|&(name, g)| (name, g, not_general.to_string())),
+        );
+        given
+    }
+
+    /// The settings of the general method planned, each unset one the method's default.
+    fn general_settings(&self, phase: bool, local: bool) -> GeneralPlan {
+        if phase {
             let d = GeneralPhaseSettings::default();
             GeneralPlan::Phase(GeneralPhaseSettings {
                 max_phases: self.max_phases.unwrap_or(d.max_phases),
@@ -193,7 +223,7 @@ impl OptimizeSettings {
                 bound: self.bound,
                 polish: self.polish.unwrap_or(d.polish),
             })
-        })
+        }
     }
 }
 
