@@ -138,32 +138,7 @@ impl SweepSpec {
     }
 
     fn from_file(f: SweepFile, dir: &Path) -> Result<Self> {
-        let (model, model_dir) =
-            match (&f.base, f.model) {
-                (Some(base), None) => {
-                    let path = dir.join(base);
-                    let text = read_input_text(&path, MAX_MODEL_BYTES)?;
-                    let table: toml::Table = toml::from_str(&text).map_err(|e| Error::Io {
-                        path: path.display().to_string(),
-                        reason: format!("invalid model file: {}", e.message().trim()),
-                    })?;
-                    let model_dir = path.parent().map(Path::to_path_buf).unwrap_or_default();
-                    (table, model_dir)
-                }
-                (None, Some(table)) => (table, dir.to_path_buf()),
-                (Some(_), Some(_)) => {
-                    return Err(Error::invalid(
-                        "base",
-                        "a file and a [model]",
-                        "give either a base model file or an inline [model], not both",
-                    ))
-                }
-                (None, None) => return Err(Error::invalid(
-                    "base",
-                    "nothing",
-                    "a sweep needs a base model file (base = \"model.toml\") or an inline [model]",
-                )),
-            };
+        let (model, model_dir) = base_model(f.base.as_deref(), f.model, dir)?;
         // The base must be a problem file by itself (axes only change numbers).
         let kind = Kind::of(&model);
         file_of(&model, &model_dir, kind).map_err(|e| match e {
@@ -174,87 +149,9 @@ impl SweepSpec {
             } if field == "model" => Error::invalid("base", value, reason),
             other => other,
         })?;
-        let settings = f.settings.unwrap_or_default();
-        let job = match f.job.as_str() {
-            "analyze" => {
-                if let Some(key) = settings.keys().next() {
-                    return Err(Error::invalid(
-                        format!("settings.{key}"),
-                        "a value",
-                        "job = \"analyze\" takes no settings",
-                    ));
-                }
-                Job::Analyze
-            }
-            "simulate" => match kind {
-                Kind::Crawler => Job::Simulate(simulate_options(settings)?),
-                Kind::General => Job::SimulateGeneral(general_simulate_options(settings)?),
-            },
-            "optimize" => Job::Optimize(Box::new(optimize_settings(settings, dir)?)),
-            other => {
-                return Err(Error::invalid(
-                    "job",
-                    format!("\"{other}\""),
-                    "must be analyze, simulate or optimize",
-                ))
-            }
-        };
-        let combine = match f.combine.as_deref() {
-            None | Some("product") => Combine::Product,
-            Some("zip") => Combine::Zip,
-            Some(other) => {
-                return Err(Error::invalid(
-                    "combine",
-                    format!("\"{other}\""),
-                    "must be product or zip",
-                ))
-            }
-        };
-        if f.axis.is_empty() {
-            return Err(Error::invalid(
-                "axis",
-                "nothing",
-                "a sweep needs at least one [[axis]]",
-            ));
-        }
-        let mut axes: Vec<Axis> = Vec::new();
-        for (i, a) in f.axis.into_iter().enumerate() {
-            let written = format!("\"{}\"", crate::io::escape_controls(&a.field));
-            let name = format!("axis[{}]", i + 1);
-            let axis = Axis::new(a, &name, kind)?;
-            if kind == Kind::General {
-                // The entry must be in the base (axes change numbers, not dimensions): set
-                // into a copy, any error is the field's.
-                axis.set(&mut model.clone(), axis.values[0], kind)
-                    .map_err(|e| match e {
-                        Error::InvalidParameter { reason, .. } => {
-                            Error::invalid(format!("{name}.field"), &written, reason)
-                        }
-                        other => other,
-                    })?;
-            }
-            // Fields compare by what they set (path and entry), not by how they are written:
-            // `gait.period` and `gait.period ` are one field, and a whole list overlaps each
-            // of its entries (the row would show a value that one entry does not have).
-            if let Some((j, b)) = axes.iter().enumerate().find(|(_, b)| b.overlaps(&axis)) {
-                let reason = if b.same_entry(&axis) {
-                    format!("is already axis[{}] ({})", j + 1, b.field)
-                } else {
-                    format!(
-                        "overlaps axis[{}] ({}): a whole list and one of its entries cannot \
-                         both be axes",
-                        j + 1,
-                        b.field
-                    )
-                };
-                return Err(Error::invalid(
-                    format!("axis[{}].field", i + 1),
-                    written,
-                    reason,
-                ));
-            }
-            axes.push(axis);
-        }
+        let job = job_of(&f.job, f.settings.unwrap_or_default(), kind, dir)?;
+        let combine = combine_of(f.combine.as_deref())?;
+        let axes = axes_of(f.axis, &model, kind)?;
         let spec = SweepSpec {
             model,
             kind,
@@ -548,4 +445,134 @@ fn check_value_counts(text: &str) -> Result<()> {
         pos = next;
     }
     Ok(())
+}
+
+/// The sweep's base model and the directory its relative paths are read from: the file
+/// `base` (relative to `dir`) or the inline `[model]`, exactly one of them.
+fn base_model(
+    base: Option<&str>,
+    model: Option<toml::Table>,
+    dir: &Path,
+) -> Result<(toml::Table, PathBuf)> {
+    Ok(match (base, model) {
+        (Some(base), None) => {
+            let path = dir.join(base);
+            let text = read_input_text(&path, MAX_MODEL_BYTES)?;
+            let table: toml::Table = toml::from_str(&text).map_err(|e| Error::Io {
+                path: path.display().to_string(),
+                reason: format!("invalid model file: {}", e.message().trim()),
+            })?;
+            let model_dir = path.parent().map(Path::to_path_buf).unwrap_or_default();
+            (table, model_dir)
+        }
+        (None, Some(table)) => (table, dir.to_path_buf()),
+        (Some(_), Some(_)) => {
+            return Err(Error::invalid(
+                "base",
+                "a file and a [model]",
+                "give either a base model file or an inline [model], not both",
+            ))
+        }
+        (None, None) => {
+            return Err(Error::invalid(
+                "base",
+                "nothing",
+                "a sweep needs a base model file (base = \"model.toml\") or an inline [model]",
+            ))
+        }
+    })
+}
+
+/// The job of a sweep file, with its settings (`job = "analyze"` takes none).
+fn job_of(job: &str, settings: toml::Table, kind: Kind, dir: &Path) -> Result<Job> {
+    Ok(match job {
+        "analyze" => {
+            if let Some(key) = settings.keys().next() {
+                return Err(Error::invalid(
+                    format!("settings.{key}"),
+                    "a value",
+                    "job = \"analyze\" takes no settings",
+                ));
+            }
+            Job::Analyze
+        }
+        "simulate" => match kind {
+            Kind::Crawler => Job::Simulate(simulate_options(settings)?),
+            Kind::General => Job::SimulateGeneral(general_simulate_options(settings)?),
+        },
+        "optimize" => Job::Optimize(Box::new(optimize_settings(settings, dir)?)),
+        other => {
+            return Err(Error::invalid(
+                "job",
+                format!("\"{other}\""),
+                "must be analyze, simulate or optimize",
+            ))
+        }
+    })
+}
+
+/// How the axes combine: `product` (the default) or `zip`.
+fn combine_of(combine: Option<&str>) -> Result<Combine> {
+    Ok(match combine {
+        None | Some("product") => Combine::Product,
+        Some("zip") => Combine::Zip,
+        Some(other) => {
+            return Err(Error::invalid(
+                "combine",
+                format!("\"{other}\""),
+                "must be product or zip",
+            ))
+        }
+    })
+}
+
+/// The sweep's axes, each checked against the base `model` (a general problem's entry must
+/// exist in it) and against the axes before it (no field twice, no list beside its entry).
+fn axes_of(files: Vec<AxisFile>, model: &toml::Table, kind: Kind) -> Result<Vec<Axis>> {
+    if files.is_empty() {
+        return Err(Error::invalid(
+            "axis",
+            "nothing",
+            "a sweep needs at least one [[axis]]",
+        ));
+    }
+    let mut axes: Vec<Axis> = Vec::new();
+    for (i, a) in files.into_iter().enumerate() {
+        let written = format!("\"{}\"", crate::io::escape_controls(&a.field));
+        let name = format!("axis[{}]", i + 1);
+        let axis = Axis::new(a, &name, kind)?;
+        if kind == Kind::General {
+            // The entry must be in the base (axes change numbers, not dimensions): set
+            // into a copy, any error is the field's.
+            axis.set(&mut model.clone(), axis.values[0], kind)
+                .map_err(|e| match e {
+                    Error::InvalidParameter { reason, .. } => {
+                        Error::invalid(format!("{name}.field"), &written, reason)
+                    }
+                    other => other,
+                })?;
+        }
+        // Fields compare by what they set (path and entry), not by how they are written:
+        // `gait.period` and `gait.period ` are one field, and a whole list overlaps each
+        // of its entries (the row would show a value that one entry does not have).
+        if let Some((j, b)) = axes.iter().enumerate().find(|(_, b)| b.overlaps(&axis)) {
+            let reason = if b.same_entry(&axis) {
+                format!("is already axis[{}] ({})", j + 1, b.field)
+            } else {
+                format!(
+                    "overlaps axis[{}] ({}): a whole list and one of its entries cannot \
+                     both be axes",
+                    j + 1,
+                    b.field
+                )
+            };
+            return Err(Error::invalid(
+                format!("axis[{}].field", i + 1),
+                written,
+                reason,
+            ));
+        }
+        axes.push(axis);
+    }
+    Ok(axes)
 }
