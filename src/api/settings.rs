@@ -315,12 +315,46 @@ impl OptimizeSettings {
     pub fn decide(&self, problem: &GaitProblem) -> Result<Plan> {
         use GaitMethod::*;
         self.check_values()?;
-        let n = self.naming;
         let method = match self.method {
             Auto if problem.max_total_variation.is_some() => Discrete,
             Auto => Phase,
             other => other,
         };
+        self.check_applies(method, problem)?;
+        let grows = self.grows(method, problem);
+        let certified_growth = method == Phase && grows;
+        let m = self.m.unwrap_or(if method == Local {
+            DEFAULT_M_LOCAL
+        } else {
+            DEFAULT_M_DISCRETE
+        });
+        // The local method runs for local, and in discrete's default start unless the start is
+        // the phase gait itself (a quadratic cost, grids beyond the method).
+        let local_search = method == Local
+            || (method == Discrete && grows && problem.cost == Cost::None && m <= MAX_LOCAL_M);
+        self.check_growth_settings(grows, certified_growth, local_search)?;
+        let growth = self.growth();
+        if let Some(s) = self.shifts {
+            check_shifts(s)?;
+        }
+        if method == Local {
+            check_local(problem, m)?;
+        }
+        self.check_method_options(method, m)?;
+        Ok(Plan {
+            method,
+            growth,
+            certified_growth,
+            m,
+            shifts: self.shifts.unwrap_or(DEFAULT_SHIFTS),
+        })
+    }
+
+    /// The start gait, polishing and the chain method are refused where `method` cannot take
+    /// them.
+    fn check_applies(&self, method: GaitMethod, problem: &GaitProblem) -> Result<()> {
+        use GaitMethod::*;
+        let n = self.naming;
         if self.start.is_some() && !matches!(method, Local | Sequence | Discrete) {
             return Err(Error::invalid(
                 n.setting("start"),
@@ -347,9 +381,14 @@ impl OptimizeSettings {
                  use the discrete method",
             ));
         }
+        Ok(())
+    }
+
+    /// Whether `method` grows K: for a certified answer (phase), or for a default start gait.
+    fn grows(&self, method: GaitMethod, problem: &GaitProblem) -> bool {
+        use GaitMethod::*;
         let no_start = self.start.is_none();
-        // K grows for a certified answer (phase), or for a default start gait.
-        let grows = match method {
+        match method {
             Auto | Phase => self.phases.is_none(),
             Local | Sequence => no_start,
             Chain => false,
@@ -359,17 +398,19 @@ impl OptimizeSettings {
                     && self.time_limit.is_some()
                     && problem.max_total_variation.is_none()
             }
-        };
-        let certified_growth = method == Phase && grows;
-        let m = self.m.unwrap_or(if method == Local {
-            DEFAULT_M_LOCAL
-        } else {
-            DEFAULT_M_DISCRETE
-        });
-        // The local method runs for local, and in discrete's default start unless the start is
-        // the phase gait itself (a quadratic cost, grids beyond the method).
-        let local_search = method == Local
-            || (method == Discrete && grows && problem.cost == Cost::None && m <= MAX_LOCAL_M);
+        }
+    }
+
+    /// The growth's settings (`patience`, `max_phases`) and `shifts` are refused where nothing
+    /// they set runs.
+    fn check_growth_settings(
+        &self,
+        grows: bool,
+        certified_growth: bool,
+        local_search: bool,
+    ) -> Result<()> {
+        use GaitMethod::*;
+        let n = self.naming;
         let (phase, auto, phases) = (n.methods(&[Phase]), "auto without a TV bound", "phases");
         let without_phases = format!("without {}", n.setting(phases));
         for (given, applies, name, scope) in [
@@ -414,21 +455,7 @@ impl OptimizeSettings {
                 ));
             }
         }
-        let growth = self.growth();
-        if let Some(s) = self.shifts {
-            check_shifts(s)?;
-        }
-        if method == Local {
-            check_local(problem, m)?;
-        }
-        self.check_method_options(method, m)?;
-        Ok(Plan {
-            method,
-            growth,
-            certified_growth,
-            m,
-            shifts: self.shifts.unwrap_or(DEFAULT_SHIFTS),
-        })
+        Ok(())
     }
 
     /// The options that belong to one method only.

@@ -104,78 +104,11 @@ impl FitData {
         };
         let header: Vec<String> = header.iter().map(str::to_string).collect();
         let wanted = column_names(blocks);
-        if header
-            .first()
-            .is_some_and(|h| h.parse::<f64>().is_ok() || h.is_empty())
-        {
-            return Err(Error::invalid(
-                at("header".into()),
-                header.join(","),
-                format!(
-                    "the first line must be the header {} (got numbers)",
-                    wanted.join(",")
-                ),
-            ));
-        }
-        // Where each wanted column is.
-        let mut index = vec![usize::MAX; wanted.len()];
-        for (c, h) in header.iter().enumerate() {
-            match wanted.iter().position(|w| w == h) {
-                Some(j) if index[j] != usize::MAX => {
-                    return Err(Error::invalid(
-                        at(format!("column {h}")),
-                        h,
-                        "appears twice in the header",
-                    ))
-                }
-                Some(j) => index[j] = c,
-                None => {
-                    return Err(Error::invalid(
-                        at(format!("column {}", c + 1)),
-                        h,
-                        format!(
-                            "not a column of a {blocks}-block trajectory (expected {})",
-                            wanted.join(",")
-                        ),
-                    ))
-                }
-            }
-        }
-        if let Some(j) = index.iter().position(|&c| c == usize::MAX) {
-            return Err(Error::invalid(
-                at(format!("column {}", wanted[j])),
-                "missing",
-                format!(
-                    "the header has no {} (a {blocks}-block trajectory needs {})",
-                    wanted[j],
-                    wanted.join(",")
-                ),
-            ));
-        }
+        let index = column_index(&header, &wanted, blocks, &at)?;
         let (mut t, mut lengths, mut positions) = (Vec::new(), Vec::new(), Vec::new());
         for (i, rec) in records.enumerate() {
             let row = i + 1;
-            let rec =
-                rec.map_err(|e| Error::invalid(at(format!("row {row}")), "CSV", e.to_string()))?;
-            if rec.len() != header.len() {
-                return Err(Error::invalid(
-                    at(format!("row {row}")),
-                    format!("{} fields", rec.len()),
-                    format!("the header has {} columns", header.len()),
-                ));
-            }
-            let mut vals = Vec::with_capacity(wanted.len());
-            for (j, &c) in index.iter().enumerate() {
-                let f = &rec[c];
-                let v = f.parse::<f64>().map_err(|_| {
-                    Error::invalid(
-                        at(format!("row {row}, column {}", wanted[j])),
-                        format!("{f:?}"),
-                        "not a number",
-                    )
-                })?;
-                vals.push(v);
-            }
+            let vals = row_values(rec, row, &header, &index, &wanted, &at)?;
             t.push(vals[0]);
             lengths.push(vals[1..blocks].to_vec());
             positions.push(vals[blocks..].to_vec());
@@ -269,4 +202,95 @@ impl FitData {
             .fold(0.0_f64, |m, v| m.max(v.abs()))
             .max(f64::MIN_POSITIVE)
     }
+}
+
+/// Where each wanted column is in `header`: a header of numbers, a column twice, one not of a
+/// `blocks`-block trajectory or one missing is refused naming it (`at` prefixes the file).
+fn column_index(
+    header: &[String],
+    wanted: &[String],
+    blocks: usize,
+    at: &dyn Fn(String) -> String,
+) -> Result<Vec<usize>> {
+    if header
+        .first()
+        .is_some_and(|h| h.parse::<f64>().is_ok() || h.is_empty())
+    {
+        return Err(Error::invalid(
+            at("header".into()),
+            header.join(","),
+            format!(
+                "the first line must be the header {} (got numbers)",
+                wanted.join(",")
+            ),
+        ));
+    }
+    // Where each wanted column is.
+    let mut index = vec![usize::MAX; wanted.len()];
+    for (c, h) in header.iter().enumerate() {
+        match wanted.iter().position(|w| w == h) {
+            Some(j) if index[j] != usize::MAX => {
+                return Err(Error::invalid(
+                    at(format!("column {h}")),
+                    h,
+                    "appears twice in the header",
+                ))
+            }
+            Some(j) => index[j] = c,
+            None => {
+                return Err(Error::invalid(
+                    at(format!("column {}", c + 1)),
+                    h,
+                    format!(
+                        "not a column of a {blocks}-block trajectory (expected {})",
+                        wanted.join(",")
+                    ),
+                ))
+            }
+        }
+    }
+    if let Some(j) = index.iter().position(|&c| c == usize::MAX) {
+        return Err(Error::invalid(
+            at(format!("column {}", wanted[j])),
+            "missing",
+            format!(
+                "the header has no {} (a {blocks}-block trajectory needs {})",
+                wanted[j],
+                wanted.join(",")
+            ),
+        ));
+    }
+    Ok(index)
+}
+
+/// The wanted values of data row `row` (numbered from 1), in the order of `wanted`.
+fn row_values(
+    rec: std::result::Result<csv::StringRecord, csv::Error>,
+    row: usize,
+    header: &[String],
+    index: &[usize],
+    wanted: &[String],
+    at: &dyn Fn(String) -> String,
+) -> Result<Vec<f64>> {
+    let rec = rec.map_err(|e| Error::invalid(at(format!("row {row}")), "CSV", e.to_string()))?;
+    if rec.len() != header.len() {
+        return Err(Error::invalid(
+            at(format!("row {row}")),
+            format!("{} fields", rec.len()),
+            format!("the header has {} columns", header.len()),
+        ));
+    }
+    let mut vals = Vec::with_capacity(wanted.len());
+    for (j, &c) in index.iter().enumerate() {
+        let f = &rec[c];
+        let v = f.parse::<f64>().map_err(|_| {
+            Error::invalid(
+                at(format!("row {row}, column {}", wanted[j])),
+                format!("{f:?}"),
+                "not a number",
+            )
+        })?;
+        vals.push(v);
+    }
+    Ok(vals)
 }
