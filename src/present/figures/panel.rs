@@ -69,6 +69,8 @@ pub(super) struct PairPanel<'a> {
 }
 
 impl PairPanel<'_> {
+    /// The panel in `area`: the polygon, its face labels, its dots, the origin, the transient
+    /// and the path.
     pub(super) fn draw<DB: DrawingBackend>(
         &self,
         area: &DrawingArea<DB, Shift>,
@@ -77,10 +79,47 @@ impl PairPanel<'_> {
     where
         DB::ErrorType: 'static,
     {
+        let (xr, yr, plot) = self.ranges(area, s);
+        let mut c = chart(area, s, &self.title, xr, yr, &self.axes.0, &self.axes.1)?;
+        self.draw_polygon(&mut c, s)?;
+        self.draw_face_labels(&mut c, s, xr, yr)?;
+        if !self.dots.is_empty() {
+            c.draw_series(
+                self.dots
+                    .iter()
+                    .map(|&d| Circle::new(d, s.px(3.0), BLACK.filled())),
+            )?;
+        }
+        if self.origin {
+            // The origin (unloaded crawler).
+            c.draw_series(std::iter::once(Cross::new(
+                (0.0, 0.0),
+                s.px(4.0),
+                s.line(RGBColor(120, 120, 120), 1.0),
+            )))?;
+        }
+        if let Some(tr) = self.transient.as_ref().filter(|t| t.len() >= 2) {
+            draw_thick(&mut c, tr, RGBColor(120, 120, 120), 1.2, s)?;
+            c.draw_series(std::iter::empty::<PathElement<(f64, f64)>>())?
+                .label("transient from x = 0")
+                .legend(legend_line(RGBColor(120, 120, 120), s.px(1.5)));
+        }
+        if let Some(o) = &self.orbit {
+            self.draw_orbit(&mut c, s, o, xr, yr, plot)?;
+        }
+        Ok(())
+    }
+
+    /// The axis ranges around the polygon (with room for the face labels; widened to equal
+    /// scales when asked) and the plotting area's size in pixels, which equal scales need.
+    fn ranges<DB: DrawingBackend>(
+        &self,
+        area: &DrawingArea<DB, Shift>,
+        s: Sty,
+    ) -> ((f64, f64), (f64, f64), (f64, f64)) {
         let p = self.proj;
-        let big = self.big;
         // Room around the polygon for the face labels (group labels such as 1–2+ are wide).
-        let pad = if big { 0.18 } else { 0.3 };
+        let pad = if self.big { 0.18 } else { 0.3 };
         let xr = range_of(p.vertices.iter().map(|v| &v.0), pad);
         let yr = range_of(p.vertices.iter().map(|v| &v.1), pad);
         // The plotting area in pixels.
@@ -101,7 +140,20 @@ impl PairPanel<'_> {
         } else {
             (xr, yr)
         };
-        let mut c = chart(area, s, &self.title, xr, yr, &self.axes.0, &self.axes.1)?;
+        (xr, yr, (pw, ph))
+    }
+
+    /// The polygon, shaded, and its sides: black where they are faces of C, grey where they
+    /// are the window's cut of an unbounded C.
+    fn draw_polygon<'a, DB: DrawingBackend + 'a>(
+        &self,
+        c: &mut Chart2d<'a, DB>,
+        s: Sty,
+    ) -> DrawResult
+    where
+        DB::ErrorType: 'static,
+    {
+        let p = self.proj;
         c.draw_series(std::iter::once(Polygon::new(
             p.vertices.clone(),
             RGBColor(0, 114, 178).mix(0.08).filled(),
@@ -125,8 +177,23 @@ impl PairPanel<'_> {
                 c.draw_series(std::iter::once(PathElement::new(vec![a, b], style)))?;
             }
         }
+        Ok(())
+    }
+
+    /// The labels of the faces, each beside the middle of its edge, off it along the outer
+    /// normal (in the axis ranges `xr`, `yr`).
+    fn draw_face_labels<'a, DB: DrawingBackend + 'a>(
+        &self,
+        c: &mut Chart2d<'a, DB>,
+        s: Sty,
+        xr: (f64, f64),
+        yr: (f64, f64),
+    ) -> DrawResult
+    where
+        DB::ErrorType: 'static,
+    {
         let gap = 0.035 * (xr.1 - xr.0);
-        for e in &p.edges {
+        for e in &self.proj.edges {
             let (label, a, b, (na, nbv)) = (&e.label, e.from, e.to, &e.normal);
             let m = ((a.0 + b.0) / 2.0, (a.1 + b.1) / 2.0);
             let h = if *na > 0.3 {
@@ -153,88 +220,86 @@ impl PairPanel<'_> {
             c.draw_series(std::iter::once(Text::new(
                 label.clone(),
                 (m.0 + off.0, m.1 + off.1),
-                s.text_c(if big { 15.0 } else { 14.0 }, RGBColor(60, 60, 60))
+                s.text_c(if self.big { 15.0 } else { 14.0 }, RGBColor(60, 60, 60))
                     .pos(Pos::new(h, v)),
             )))?;
         }
-        if !self.dots.is_empty() {
-            c.draw_series(
-                self.dots
-                    .iter()
-                    .map(|&d| Circle::new(d, s.px(3.0), BLACK.filled())),
-            )?;
+        Ok(())
+    }
+
+    /// The path `o`: thick, a dot at its start, an arrow head in its direction, and the legend
+    /// of a single panel (axis ranges `xr`, `yr`; plotting area `(pw, ph)` in pixels).
+    fn draw_orbit<'a, DB: DrawingBackend + 'a>(
+        &self,
+        c: &mut Chart2d<'a, DB>,
+        s: Sty,
+        o: &[(f64, f64)],
+        xr: (f64, f64),
+        yr: (f64, f64),
+        (pw, ph): (f64, f64),
+    ) -> DrawResult
+    where
+        DB::ErrorType: 'static,
+    {
+        let pts: Vec<(f64, f64)> = dedup(o.to_vec());
+        draw_thick(c, &pts, ORBIT, 2.8, s)?;
+        c.draw_series(std::iter::empty::<PathElement<(f64, f64)>>())?
+            .label(self.orbit_label)
+            .legend(legend_line(ORBIT, s.px(3.0)));
+        c.draw_series(std::iter::once(Circle::new(
+            pts[0],
+            s.px(4.5),
+            ORBIT.filled(),
+        )))?
+        .label("x(0)")
+        .legend(|(x, y)| Circle::new((x + 11, y), 4, ORBIT.filled()));
+        // Without equal scales the arrow is drawn where they are (y stretched by `fy`).
+        let fy = if self.equal_scale {
+            1.0
+        } else {
+            (xr.1 - xr.0) / (yr.1 - yr.0) * ph.max(1.0) / pw.max(1.0)
+        };
+        if let Some(head) = arrow_head(&pts, fy, 0.035 * (xr.1 - xr.0)) {
+            c.draw_series(std::iter::once(Polygon::new(head, ORBIT.filled())))?;
         }
-        if self.origin {
-            // The origin (unloaded crawler).
-            c.draw_series(std::iter::once(Cross::new(
-                (0.0, 0.0),
-                s.px(4.0),
-                s.line(RGBColor(120, 120, 120), 1.0),
-            )))?;
-        }
-        if let Some(tr) = self.transient.as_ref().filter(|t| t.len() >= 2) {
-            draw_thick(&mut c, tr, RGBColor(120, 120, 120), 1.2, s)?;
-            c.draw_series(std::iter::empty::<PathElement<(f64, f64)>>())?
-                .label("transient from x = 0")
-                .legend(legend_line(RGBColor(120, 120, 120), s.px(1.5)));
-        }
-        if let Some(o) = &self.orbit {
-            let pts: Vec<(f64, f64)> = dedup(o.clone());
-            draw_thick(&mut c, &pts, ORBIT, 2.8, s)?;
-            c.draw_series(std::iter::empty::<PathElement<(f64, f64)>>())?
-                .label(self.orbit_label)
-                .legend(legend_line(ORBIT, s.px(3.0)));
-            c.draw_series(std::iter::once(Circle::new(
-                pts[0],
-                s.px(4.5),
-                ORBIT.filled(),
-            )))?
-            .label("x(0)")
-            .legend(|(x, y)| Circle::new((x + 11, y), 4, ORBIT.filled()));
-            // Direction of travel: an arrow head in the middle of the longest segment.
-            let longest = pts.windows(2).map(|w| (w[0], w[1])).max_by(|a, b| {
-                let la = (a.1 .0 - a.0 .0).hypot(a.1 .1 - a.0 .1);
-                let lb = (b.1 .0 - b.0 .0).hypot(b.1 .1 - b.0 .1);
-                la.total_cmp(&lb)
-            });
-            // Without equal scales the arrow is drawn where they are (y stretched by `fy`).
-            let fy = if self.equal_scale {
-                1.0
-            } else {
-                (xr.1 - xr.0) / (yr.1 - yr.0) * ph.max(1.0) / pw.max(1.0)
-            };
-            if let Some((a, b)) = longest {
-                let (a, b) = ((a.0, a.1 * fy), (b.0, b.1 * fy));
-                let (dx, dy) = (b.0 - a.0, b.1 - a.1);
-                let len = dx.hypot(dy);
-                if len > 0.0 {
-                    let size = 0.035 * (xr.1 - xr.0);
-                    let (ux, uy) = (dx / len, dy / len);
-                    let tip = (
-                        (a.0 + b.0) / 2.0 + 0.5 * size * ux,
-                        (a.1 + b.1) / 2.0 + 0.5 * size * uy,
-                    );
-                    let l = (
-                        tip.0 - size * (ux - 0.5 * uy),
-                        tip.1 - size * (uy + 0.5 * ux),
-                    );
-                    let r = (
-                        tip.0 - size * (ux + 0.5 * uy),
-                        tip.1 - size * (uy - 0.5 * ux),
-                    );
-                    let back = |p: (f64, f64)| (p.0, p.1 / fy);
-                    c.draw_series(std::iter::once(Polygon::new(
-                        vec![back(tip), back(l), back(r)],
-                        ORBIT.filled(),
-                    )))?;
-                }
-            }
-            if big {
-                legend(&mut c, s, SeriesLabelPosition::LowerRight)?;
-            }
+        if self.big {
+            legend(c, s, SeriesLabelPosition::LowerRight)?;
         }
         Ok(())
     }
+}
+
+/// Direction of travel of the path `pts`: the triangle of an arrow head of `size` in the middle
+/// of its longest segment, measured and shaped with y stretched by `fy` (as on screen without
+/// equal scales); none when the path does not move.
+fn arrow_head(pts: &[(f64, f64)], fy: f64, size: f64) -> Option<Vec<(f64, f64)>> {
+    let longest = pts.windows(2).map(|w| (w[0], w[1])).max_by(|a, b| {
+        let la = (a.1 .0 - a.0 .0).hypot(a.1 .1 - a.0 .1);
+        let lb = (b.1 .0 - b.0 .0).hypot(b.1 .1 - b.0 .1);
+        la.total_cmp(&lb)
+    });
+    let (a, b) = longest?;
+    let (a, b) = ((a.0, a.1 * fy), (b.0, b.1 * fy));
+    let (dx, dy) = (b.0 - a.0, b.1 - a.1);
+    let len = dx.hypot(dy);
+    // A path that does not move has no direction (nor a NaN one).
+    (len > 0.0).then(|| {
+        let (ux, uy) = (dx / len, dy / len);
+        let tip = (
+            (a.0 + b.0) / 2.0 + 0.5 * size * ux,
+            (a.1 + b.1) / 2.0 + 0.5 * size * uy,
+        );
+        let l = (
+            tip.0 - size * (ux - 0.5 * uy),
+            tip.1 - size * (uy + 0.5 * ux),
+        );
+        let r = (
+            tip.0 - size * (ux + 0.5 * uy),
+            tip.1 - size * (uy - 0.5 * ux),
+        );
+        let back = |p: (f64, f64)| (p.0, p.1 / fy);
+        vec![back(tip), back(l), back(r)]
+    })
 }
 
 /// One end of an interval: its value, the text beside it, and whether it is a face of C (a

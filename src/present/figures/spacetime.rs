@@ -93,48 +93,7 @@ impl Plot for SpaceTime<'_> {
             ))?;
         }
         for b in 0..nb {
-            let pts: Vec<(f64, f64)> =
-                tr.t.iter()
-                    .zip(&tr.positions)
-                    .map(|(&t, p)| (t, p[b] + off(b)))
-                    .collect();
-            draw_thick(&mut c, &pts, STICK, 1.2, s)?;
-            if b == 0 {
-                c.draw_series(std::iter::empty::<PathElement<(f64, f64)>>())?
-                    .label("block sticks")
-                    .legend(legend_line(STICK, s.px(1.5)));
-            }
-            // Slipping intervals: slip[i] is the state over (t[i-1], t[i]).
-            for (sign, colour) in [(1i8, FORWARD), (-1i8, BACKWARD)] {
-                // Maximal runs of consecutive intervals with this slip state, one polyline each.
-                let mut runs: Vec<Vec<(f64, f64)>> = Vec::new();
-                let mut open = false;
-                for i in 1..pts.len() {
-                    if tr.slip[i][b] == sign {
-                        if !open {
-                            runs.push(vec![pts[i - 1]]);
-                            open = true;
-                        }
-                        if let Some(r) = runs.last_mut() {
-                            r.push(pts[i]);
-                        }
-                    } else {
-                        open = false;
-                    }
-                }
-                for r in runs {
-                    draw_thick(&mut c, &r, colour, 3.2, s)?;
-                }
-            }
-            // At most about 20 block labels (long chains: every k-th block and the front one).
-            let every = nb.div_ceil(20);
-            if b % every == 0 || b == nb - 1 {
-                c.draw_series(std::iter::once(Text::new(
-                    format!("block {}", b + 1),
-                    (t0 + 0.005 * (t_end - t0), pts[0].1 - 0.012 * (yr.1 - yr.0)),
-                    s.text(12.0).pos(Pos::new(HPos::Left, VPos::Top)),
-                )))?;
-            }
+            self.draw_block(&mut c, s, b, d, (t0, t_end), yr)?;
         }
         c.draw_series(std::iter::empty::<PathElement<(f64, f64)>>())?
             .label("slides forward")
@@ -159,6 +118,79 @@ impl Plot for SpaceTime<'_> {
         legend(&mut c, s, SeriesLabelPosition::UpperLeft)?;
         Ok(())
     }
+}
+
+impl SpaceTime<'_> {
+    /// Block `b` drawn `b d` up: grey where it sticks, coloured where it slips, and its label
+    /// (of about 20 blocks at most); `(t0, t_end)` and `yr` are the axes' ranges.
+    fn draw_block<'a, DB: DrawingBackend + 'a>(
+        &self,
+        c: &mut Chart2d<'a, DB>,
+        s: Sty,
+        b: usize,
+        d: f64,
+        (t0, t_end): (f64, f64),
+        yr: (f64, f64),
+    ) -> DrawResult
+    where
+        DB::ErrorType: 'static,
+    {
+        let tr = self.trajectory;
+        let nb = tr.positions[0].len();
+        let pts: Vec<(f64, f64)> =
+            tr.t.iter()
+                .zip(&tr.positions)
+                .map(|(&t, p)| (t, p[b] + b as f64 * d))
+                .collect();
+        draw_thick(c, &pts, STICK, 1.2, s)?;
+        if b == 0 {
+            c.draw_series(std::iter::empty::<PathElement<(f64, f64)>>())?
+                .label("block sticks")
+                .legend(legend_line(STICK, s.px(1.5)));
+        }
+        for (sign, colour) in [(1i8, FORWARD), (-1i8, BACKWARD)] {
+            for r in slip_runs(&tr.slip, b, &pts, sign) {
+                draw_thick(c, &r, colour, 3.2, s)?;
+            }
+        }
+        // At most about 20 block labels (long chains: every k-th block and the front one).
+        let every = nb.div_ceil(20);
+        if b % every == 0 || b == nb - 1 {
+            c.draw_series(std::iter::once(Text::new(
+                format!("block {}", b + 1),
+                (t0 + 0.005 * (t_end - t0), pts[0].1 - 0.012 * (yr.1 - yr.0)),
+                s.text(12.0).pos(Pos::new(HPos::Left, VPos::Top)),
+            )))?;
+        }
+        Ok(())
+    }
+}
+
+/// The slipping intervals of block `b` in the slip state `sign`, as the maximal runs of
+/// consecutive intervals in it, one polyline of `pts` each (`slip[i]` is the state over
+/// `(t[i-1], t[i])`).
+fn slip_runs(
+    slip: &[Vec<crate::integrate::Slip>],
+    b: usize,
+    pts: &[(f64, f64)],
+    sign: crate::integrate::Slip,
+) -> Vec<Vec<(f64, f64)>> {
+    let mut runs: Vec<Vec<(f64, f64)>> = Vec::new();
+    let mut open = false;
+    for i in 1..pts.len() {
+        if slip[i][b] == sign {
+            if !open {
+                runs.push(vec![pts[i - 1]]);
+                open = true;
+            }
+            if let Some(r) = runs.last_mut() {
+                r.push(pts[i]);
+            }
+        } else {
+            open = false;
+        }
+    }
+    runs
 }
 
 /// Figure `spacetime`: `X_b(t)` over the recorded periods, slipping intervals coloured by
