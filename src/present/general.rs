@@ -22,7 +22,7 @@ use super::figures::{
 };
 use crate::error::{Error, Result};
 use crate::io::{GeneralAnalysis, GeneralAnswer, GeneralSimulated};
-use crate::model::general::{Boundary, ControlSet, GeneralCost, GeneralProblem};
+use crate::model::general::{Boundary, ControlSet, GeneralCost, GeneralProblem, Polyhedron};
 use crate::optimal::general::{analyze_polyhedron, project_polyhedron, Geometry};
 
 /// A process of the general problem as the figures read it: `K + 1` times and states, and on
@@ -184,88 +184,13 @@ pub fn general_state_space(
         path_label: path_label(p),
     };
     if n == 1 {
-        let (mut lo, mut hi) = (
-            IntervalEndData {
-                value: f64::NEG_INFINITY,
-                face: None,
-            },
-            IntervalEndData {
-                value: f64::INFINITY,
-                face: None,
-            },
-        );
-        for j in 0..c.faces() {
-            let (a, b) = (c.normals[j][0], c.offsets[j]);
-            if a > 0.0 && b / a < hi.value {
-                hi = IntervalEndData {
-                    value: b / a,
-                    face: Some(j + 1),
-                };
-            } else if a < 0.0 && b / a > lo.value {
-                lo = IntervalEndData {
-                    value: b / a,
-                    face: Some(j + 1),
-                };
-            }
-        }
-        if let Some(w) = &window {
-            if lo.face.is_none() {
-                lo.value = w[0].0;
-            }
-            if hi.face.is_none() {
-                hi.value = w[0].1;
-            }
-        }
-        space.interval = Some([lo, hi]);
+        space.interval = Some(interval_ends(c, window.as_deref()));
         return Ok(space);
     }
-    let tol = ON_FACE * c.scale();
     for (i, j) in super::figures::projection_pairs(n) {
-        let ring = project_polyhedron(c, window.as_deref(), i, j)?;
-        let vertices: Vec<(f64, f64)> = ring.iter().map(|v| v.point).collect();
-        let mut edges = Vec::new();
-        let mut open_sides = Vec::new();
-        for k in 0..ring.len() {
-            let (a, b) = (&ring[k], &ring[(k + 1) % ring.len()]);
-            if let Some(w) = &window {
-                let on_window = (0..n).any(|d| {
-                    let at = |v: f64, e: f64| (v - e).abs() <= tol.max(1e-9 * e.abs());
-                    (at(a.lifted[d], w[d].0) && at(b.lifted[d], w[d].0))
-                        || (at(a.lifted[d], w[d].1) && at(b.lifted[d], w[d].1))
-                });
-                if on_window {
-                    open_sides.push(k);
-                    continue;
-                }
-            }
-            if n != 2 {
-                continue;
-            }
-            // In the plane the side is a face: the first (not redundant) face both ends hold.
-            let holds = |f: usize| c.slack(f, &a.lifted) >= -tol && c.slack(f, &b.lifted) >= -tol;
-            let face = (0..c.faces())
-                .filter(|f| holds(*f))
-                .min_by_key(|f| g.redundant_faces.contains(&(f + 1)));
-            if let Some(f) = face {
-                edges.push(Edge {
-                    label: format!("{}", f + 1),
-                    from: a.point,
-                    to: b.point,
-                    normal: (c.normals[f][0], c.normals[f][1]),
-                });
-            }
-        }
-        if edges.len() > MAX_LABELLED_EDGES {
-            edges.clear();
-        }
-        space.panels.push(StatePanel {
-            pair: (i, j),
-            projection: Projection {
-                vertices,
-                edges,
-                open_sides,
-            },
-        });
+        space
+            .panels
+            .push(pair_panel(c, g, window.as_deref(), (i, j))?);
     }
     if n == 2 && g.rank == 2 {
         space.dots = g
@@ -276,6 +201,102 @@ pub fn general_state_space(
             .collect();
     }
     Ok(space)
+}
+
+/// The ends of a 1-D C, each with the face that makes it (the tightest), or the window's end
+/// where an unbounded C has none.
+fn interval_ends(c: &Polyhedron, window: Option<&[(f64, f64)]>) -> [IntervalEndData; 2] {
+    let (mut lo, mut hi) = (
+        IntervalEndData {
+            value: f64::NEG_INFINITY,
+            face: None,
+        },
+        IntervalEndData {
+            value: f64::INFINITY,
+            face: None,
+        },
+    );
+    for j in 0..c.faces() {
+        let (a, b) = (c.normals[j][0], c.offsets[j]);
+        if a > 0.0 && b / a < hi.value {
+            hi = IntervalEndData {
+                value: b / a,
+                face: Some(j + 1),
+            };
+        } else if a < 0.0 && b / a > lo.value {
+            lo = IntervalEndData {
+                value: b / a,
+                face: Some(j + 1),
+            };
+        }
+    }
+    if let Some(w) = window {
+        if lo.face.is_none() {
+            lo.value = w[0].0;
+        }
+        if hi.face.is_none() {
+            hi.value = w[0].1;
+        }
+    }
+    [lo, hi]
+}
+
+/// The projection of C (within `window` when unbounded) onto the components `(i, j)`: its
+/// polygon, the sides that are the window's, and in the plane (`n = 2`) its sides labelled
+/// with their faces (none beyond [`MAX_LABELLED_EDGES`]).
+fn pair_panel(
+    c: &Polyhedron,
+    g: &Geometry,
+    window: Option<&[(f64, f64)]>,
+    (i, j): (usize, usize),
+) -> Result<StatePanel> {
+    let n = c.dim();
+    let tol = ON_FACE * c.scale();
+    let ring = project_polyhedron(c, window, i, j)?;
+    let vertices: Vec<(f64, f64)> = ring.iter().map(|v| v.point).collect();
+    let mut edges = Vec::new();
+    let mut open_sides = Vec::new();
+    for k in 0..ring.len() {
+        let (a, b) = (&ring[k], &ring[(k + 1) % ring.len()]);
+        if let Some(w) = window {
+            let on_window = (0..n).any(|d| {
+                let at = |v: f64, e: f64| (v - e).abs() <= tol.max(1e-9 * e.abs());
+                (at(a.lifted[d], w[d].0) && at(b.lifted[d], w[d].0))
+                    || (at(a.lifted[d], w[d].1) && at(b.lifted[d], w[d].1))
+            });
+            if on_window {
+                open_sides.push(k);
+                continue;
+            }
+        }
+        if n != 2 {
+            continue;
+        }
+        // In the plane the side is a face: the first (not redundant) face both ends hold.
+        let holds = |f: usize| c.slack(f, &a.lifted) >= -tol && c.slack(f, &b.lifted) >= -tol;
+        let face = (0..c.faces())
+            .filter(|f| holds(*f))
+            .min_by_key(|f| g.redundant_faces.contains(&(f + 1)));
+        if let Some(f) = face {
+            edges.push(Edge {
+                label: format!("{}", f + 1),
+                from: a.point,
+                to: b.point,
+                normal: (c.normals[f][0], c.normals[f][1]),
+            });
+        }
+    }
+    if edges.len() > MAX_LABELLED_EDGES {
+        edges.clear();
+    }
+    Ok(StatePanel {
+        pair: (i, j),
+        projection: Projection {
+            vertices,
+            edges,
+            open_sides,
+        },
+    })
 }
 
 /// The window of an unbounded C: the box around its vertices, its centre and `states`, widened
@@ -316,29 +337,43 @@ fn steps(t: &[f64], v: impl Iterator<Item = f64>) -> Vec<(f64, f64)> {
 /// The curves of a path over time: `states` (`n >= 2`), `controls`, `reactions`, `integrand`
 /// (module docs). The integral of the `integrand` curve is the objective `J` of the path.
 pub fn general_series(p: &GeneralProblem, path: &GeneralPath) -> Vec<TimeSeries> {
-    let (n, m) = (p.states(), p.controls());
-    let t = &path.t;
     let mut out = Vec::new();
-    let label = path_label(p);
-    if n >= 2 {
-        out.push(TimeSeries {
-            name: "states".into(),
-            caption: format!(
-                "The state x(t) of the sweeping process over time ({label}; linear between the \
-                 recorded times)."
-            ),
-            title: "The state x(t)".into(),
-            ylabel: "state x".into(),
-            lines: (0..n)
-                .map(|k| SeriesLine {
-                    label: format!("x{}(t)", sub(k + 1)),
-                    points: t.iter().zip(&path.x).map(|(&t, x)| (t, x[k])).collect(),
-                    thick: true,
-                })
-                .collect(),
-            levels: Vec::new(),
-        });
+    if p.states() >= 2 {
+        out.push(states_series(p, path));
     }
+    out.push(controls_series(p, path));
+    out.push(reactions_series(p, path));
+    out.push(integrand_series(p, path));
+    out
+}
+
+/// Curve `states`: each component `x_k(t)`, linear between the recorded times.
+fn states_series(p: &GeneralProblem, path: &GeneralPath) -> TimeSeries {
+    let t = &path.t;
+    let label = path_label(p);
+    TimeSeries {
+        name: "states".into(),
+        caption: format!(
+            "The state x(t) of the sweeping process over time ({label}; linear between the \
+             recorded times)."
+        ),
+        title: "The state x(t)".into(),
+        ylabel: "state x".into(),
+        lines: (0..p.states())
+            .map(|k| SeriesLine {
+                label: format!("x{}(t)", sub(k + 1)),
+                points: t.iter().zip(&path.x).map(|(&t, x)| (t, x[k])).collect(),
+                thick: true,
+            })
+            .collect(),
+        levels: Vec::new(),
+    }
+}
+
+/// Curve `controls`: each `u_k(t)`, constant on each piece, with the bounds of a box U of at
+/// most three controls as levels.
+fn controls_series(p: &GeneralProblem, path: &GeneralPath) -> TimeSeries {
+    let m = p.controls();
     let levels = match &p.control {
         ControlSet::Box { lower, upper } if m <= 3 => {
             let mut l: Vec<(f64, String)> = Vec::new();
@@ -351,7 +386,7 @@ pub fn general_series(p: &GeneralProblem, path: &GeneralPath) -> Vec<TimeSeries>
         }
         _ => Vec::new(),
     };
-    out.push(TimeSeries {
+    TimeSeries {
         name: "controls".into(),
         caption: format!(
             "The control u(t), constant on each piece{}.",
@@ -366,12 +401,18 @@ pub fn general_series(p: &GeneralProblem, path: &GeneralPath) -> Vec<TimeSeries>
         lines: (0..m)
             .map(|k| SeriesLine {
                 label: format!("u{}(t)", sub(k + 1)),
-                points: steps(t, path.u.iter().map(|u| u[k])),
+                points: steps(&path.t, path.u.iter().map(|u| u[k])),
                 thick: true,
             })
             .collect(),
         levels,
-    });
+    }
+}
+
+/// Curve `reactions`: the rates `lambda_j(t)` of the faces that are active at some time (a
+/// flat line at 0 when none is).
+fn reactions_series(p: &GeneralProblem, path: &GeneralPath) -> TimeSeries {
+    let t = &path.t;
     let sigma = p.c.faces();
     let biggest = path
         .lambda
@@ -401,7 +442,7 @@ pub fn general_series(p: &GeneralProblem, path: &GeneralPath) -> Vec<TimeSeries>
             })
             .collect()
     };
-    out.push(TimeSeries {
+    TimeSeries {
         name: "reactions".into(),
         caption: format!(
             "The reactions: the rates λ_j(t) of the faces that hold the state at some time \
@@ -413,7 +454,13 @@ pub fn general_series(p: &GeneralProblem, path: &GeneralPath) -> Vec<TimeSeries>
         ylabel: "reaction rate λ".into(),
         lines,
         levels: Vec::new(),
-    });
+    }
+}
+
+/// Curve `integrand`: `f1(eta(t)) - f2(u(t))`, with `f1` and `f2` apart when there is a cost;
+/// its integral is the path's `J`.
+fn integrand_series(p: &GeneralProblem, path: &GeneralPath) -> TimeSeries {
+    let t = &path.t;
     let f1: Vec<f64> = path
         .lambda
         .iter()
@@ -437,7 +484,7 @@ pub fn general_series(p: &GeneralProblem, path: &GeneralPath) -> Vec<TimeSeries>
             thick: false,
         });
     }
-    out.push(TimeSeries {
+    TimeSeries {
         name: "integrand".into(),
         caption: format!(
             "The objective's integrand f₁(η(t)) − f₂(u(t)) (paper eq. 2.3), constant on each \
@@ -448,8 +495,7 @@ pub fn general_series(p: &GeneralProblem, path: &GeneralPath) -> Vec<TimeSeries>
         ylabel: "integrand of J".into(),
         lines,
         levels: Vec::new(),
-    });
-    out
+    }
 }
 
 /// The figures of a path of `p` (module docs).
