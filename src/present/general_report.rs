@@ -8,7 +8,9 @@
 use super::general::{answer_figures_with, general_path_figures, GeneralPath};
 use super::report::{conditions_rows, esc, figures_section, footer, num, nums, open_page};
 use crate::error::Result;
-use crate::io::{GeneralAnswer, GeneralSimulated};
+use crate::io::{
+    GeneralAnswer, GeneralLocalOptimized, GeneralOptimized, GeneralPhaseOptimized, GeneralSimulated,
+};
 use crate::model::general::{Boundary, ControlSet, GeneralCost, GeneralProblem, Reward};
 use crate::optimal::general::{analyze_polyhedron, Geometry};
 use crate::optimal::LocalStop;
@@ -118,79 +120,99 @@ pub fn build_general_report(
     Ok(h)
 }
 
+/// The head of a report of a record: what it is, its method, its status, its certificate.
+type Description = (&'static str, &'static str, String, (String, String));
+
 /// What the record is, its method, its status, and its certificate (headline, detail).
-fn describe(
-    input: GeneralReportInput<'_>,
-) -> (&'static str, &'static str, String, (String, String)) {
+fn describe(input: GeneralReportInput<'_>) -> Description {
     match input {
-        GeneralReportInput::Simulation(r) => (
-            "Simulation",
-            r.method,
+        GeneralReportInput::Simulation(r) => describe_simulation(r),
+        GeneralReportInput::Answer(GeneralAnswer::Discrete(r)) => describe_discrete(r),
+        GeneralReportInput::Answer(GeneralAnswer::Local(r)) => describe_local(r),
+        GeneralReportInput::Answer(GeneralAnswer::Phase(r)) => describe_phase(r),
+    }
+}
+
+/// [`describe`] of a simulation: a given control played, no certificate.
+fn describe_simulation(r: &GeneralSimulated) -> Description {
+    (
+        "Simulation",
+        r.method,
+        format!(
+            "the file's [input] played to the periodic regime ({} periods{})",
+            r.simulation.periods,
+            if r.method == "exact" {
+                String::new()
+            } else {
+                format!(", {} steps per period", r.steps_per_period)
+            }
+        ),
+        (
+            "none".into(),
+            "a given control simulated, not optimised".into(),
+        ),
+    )
+}
+
+/// [`describe`] of a global P_m optimum: the MILP's status, gap and bound.
+fn describe_discrete(r: &GeneralOptimized) -> Description {
+    let c = &r.solution.certificate;
+    (
+        "Optimum",
+        "discrete",
+        format!(
+            "P_{} on {} steps, global MILP: {}",
+            r.solution.m,
+            r.solution.u.len(),
+            c.status.as_str()
+        ),
+        (
+            format!("gap {:.1e}", c.gap),
             format!(
-                "the file's [input] played to the periodic regime ({} periods{})",
-                r.simulation.periods,
-                if r.method == "exact" {
-                    String::new()
-                } else {
-                    format!(", {} steps per period", r.steps_per_period)
-                }
-            ),
-            (
-                "none".into(),
-                "a given control simulated, not optimised".into(),
+                "MILP bound {} on J over P_{} (MILP objective {})",
+                num(c.bound),
+                r.solution.m,
+                num(c.milp_objective)
             ),
         ),
-        GeneralReportInput::Answer(GeneralAnswer::Discrete(r)) => {
-            let c = &r.solution.certificate;
-            (
-                "Optimum",
-                "discrete",
-                format!(
-                    "P_{} on {} steps, global MILP: {}",
-                    r.solution.m,
-                    r.solution.u.len(),
-                    c.status.as_str()
-                ),
-                (
-                    format!("gap {:.1e}", c.gap),
-                    format!(
-                        "MILP bound {} on J over P_{} (MILP objective {})",
-                        num(c.bound),
-                        r.solution.m,
-                        num(c.milp_objective)
-                    ),
-                ),
-            )
-        }
-        GeneralReportInput::Answer(GeneralAnswer::Local(r)) => {
-            let s = &r.solution;
-            let stop = match s.stop {
-                LocalStop::Stationary => "stationary",
-                LocalStop::Stalled => "stalled",
-                LocalStop::RoundLimit => "round limit",
-                LocalStop::TimeLimit => "time limit",
-            };
-            (
-                "Local optimum",
-                "local",
-                format!(
-                    "P_{} on {} steps, active-set method on its LPCC: {stop} after {} LPs",
-                    s.m,
-                    s.u.len(),
-                    s.lp_solves
-                ),
-                (
-                    "local".into(),
-                    format!(
-                        "no global claim; best of {} starts ({}), from J = {}",
-                        r.starts_tried,
-                        r.start_from.replace('_', " "),
-                        num(s.start_objective)
-                    ),
-                ),
-            )
-        }
-        GeneralReportInput::Answer(GeneralAnswer::Phase(r)) if r.method != "phase" => (
+    )
+}
+
+/// [`describe`] of a local P_m optimum: why the active-set method stopped, and its starts.
+fn describe_local(r: &GeneralLocalOptimized) -> Description {
+    let s = &r.solution;
+    let stop = match s.stop {
+        LocalStop::Stationary => "stationary",
+        LocalStop::Stalled => "stalled",
+        LocalStop::RoundLimit => "round limit",
+        LocalStop::TimeLimit => "time limit",
+    };
+    (
+        "Local optimum",
+        "local",
+        format!(
+            "P_{} on {} steps, active-set method on its LPCC: {stop} after {} LPs",
+            s.m,
+            s.u.len(),
+            s.lp_solves
+        ),
+        (
+            "local".into(),
+            format!(
+                "no global claim; best of {} starts ({}), from J = {}",
+                r.starts_tried,
+                r.start_from.replace('_', " "),
+                num(s.start_objective)
+            ),
+        ),
+    )
+}
+
+/// [`describe`] of a gait of phases: the phase MILP's optimum (status, gap, bound), or the
+/// gait of a crawler's method on the problem's chain (no global claim).
+fn describe_phase(r: &GeneralPhaseOptimized) -> Description {
+    if r.method != "phase" {
+        return (
             "Gait",
             r.method,
             format!(
@@ -205,28 +227,26 @@ fn describe(
                     r.solution.durations.len()
                 ),
             ),
-        ),
-        GeneralReportInput::Answer(GeneralAnswer::Phase(r)) => {
-            let c = &r.solution.certificate;
-            (
-                "Optimum",
-                "phase",
-                format!(
-                    "exact gaits of at most {} phases, global MILP: {}",
-                    r.solution.max_phases,
-                    c.status.as_str()
-                ),
-                (
-                    format!("gap {:.1e}", c.gap),
-                    format!(
-                        "MILP bound {} on J over gaits of at most {} phases",
-                        num(c.bound),
-                        r.solution.max_phases
-                    ),
-                ),
-            )
-        }
+        );
     }
+    let c = &r.solution.certificate;
+    (
+        "Optimum",
+        "phase",
+        format!(
+            "exact gaits of at most {} phases, global MILP: {}",
+            r.solution.max_phases,
+            c.status.as_str()
+        ),
+        (
+            format!("gap {:.1e}", c.gap),
+            format!(
+                "MILP bound {} on J over gaits of at most {} phases",
+                num(c.bound),
+                r.solution.max_phases
+            ),
+        ),
+    )
 }
 
 /// The problem's data: C's faces (with redundancy), its geometry, g, U, f1, f2, T.
