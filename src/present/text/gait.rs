@@ -19,8 +19,61 @@ pub fn gait_summary(r: &GaitResult) -> String {
 /// The human form of an optimal-gait result: the same content as the JSON.
 pub fn gait_result(r: &GaitResult) -> String {
     let mut out = String::new();
-    let c = &r.certificate;
     let sc = GaitScales::of(r);
+    let len = |v: f64| num(v, sc.length);
+    head(&mut out, r, &sc);
+    certificate_line(&mut out, r, &len);
+    if let Some(st) = &r.structured {
+        wln!(out, "gait: {}", st.origin);
+        if let Some(why) = &st.replaced {
+            wln!(out, "kept instead of the method's answer: {why}");
+        }
+    }
+    if let Some(ub) = &r.certificate.upper_bound {
+        upper_bound_line(&mut out, ub, r.objective, &len);
+    }
+    wln!(
+        out,
+        "verified by simulation: {} (solver: {})",
+        len(r.verified_displacement),
+        len(r.solver_objective)
+    );
+    if let Some(p) = &r.polish {
+        wln!(out, "{}", super::polish_line(p, "slip pattern", len));
+    }
+    if let Some(pg) = &r.phase_growth {
+        growth_table(&mut out, pg, &len);
+    }
+    if let Some(st) = &r.discrete_start {
+        wln!(
+            out,
+            "the MILP started from {} (J = {} on this grid)",
+            st.start,
+            len(st.start_objective)
+        );
+    }
+    search_line(&mut out, r, &len);
+    if let Some(table) = &r.convergence {
+        convergence_table(&mut out, table, &len);
+    }
+    let g = &r.gait;
+    for (j, u) in g.controls.iter().enumerate() {
+        wln!(
+            out,
+            "  {j:>4}: t = [{}, {}]  u = {}  slip = {:?}",
+            num(g.times[j], sc.time),
+            num(g.times[j + 1], sc.time),
+            text::list_each(u, &r.problem.rate_bound),
+            g.slip[j]
+        );
+    }
+    out
+}
+
+/// The first lines of [`gait_result`]: the method and its status, the objective, and that
+/// the crawler stays idle when the proven optimum is 0.
+fn head(out: &mut String, r: &GaitResult, sc: &GaitScales) {
+    let c = &r.certificate;
     let len = |v: f64| num(v, sc.length);
     match (r.status, c.phases) {
         (MilpStatus::OptimalAmongKPhases | MilpStatus::TimeLimit, Some(k)) => {
@@ -49,6 +102,12 @@ pub fn gait_result(r: &GaitResult) -> String {
             "no gait of this class moves the crawler forward: the optimum is 0 (stay idle)"
         );
     }
+}
+
+/// The certificate's line: global (over which class of gaits), local or not proven, with the
+/// gap and the bound when there are, the values written by `len`.
+fn certificate_line(out: &mut String, r: &GaitResult, len: &dyn Fn(f64) -> String) {
+    let c = &r.certificate;
     let scope = match (c.kind.as_str(), c.phases, r.m) {
         ("global_k_phases", Some(k), _) => format!("gaits of at most {k} slip phases"),
         ("global", _, Some(m)) => format!("P_{m} ({} steps)", 1u64 << m),
@@ -72,35 +131,11 @@ pub fn gait_result(r: &GaitResult) -> String {
         }
         _ => wln!(out, "certificate: {what}"),
     }
-    if let Some(st) = &r.structured {
-        wln!(out, "gait: {}", st.origin);
-        if let Some(why) = &st.replaced {
-            wln!(out, "kept instead of the method's answer: {why}");
-        }
-    }
-    if let Some(ub) = &c.upper_bound {
-        upper_bound_line(&mut out, ub, r.objective, &len);
-    }
-    wln!(
-        out,
-        "verified by simulation: {} (solver: {})",
-        len(r.verified_displacement),
-        len(r.solver_objective)
-    );
-    if let Some(p) = &r.polish {
-        wln!(out, "{}", super::polish_line(p, "slip pattern", len));
-    }
-    if let Some(pg) = &r.phase_growth {
-        growth_table(&mut out, pg, &len);
-    }
-    if let Some(st) = &r.discrete_start {
-        wln!(
-            out,
-            "the MILP started from {} (J = {} on this grid)",
-            st.start,
-            len(st.start_objective)
-        );
-    }
+}
+
+/// The line of a local search, if the gait came from one: the local method on P_m's grid, or
+/// the search over sequences of slip modes, the values written by `len`.
+fn search_line(out: &mut String, r: &GaitResult, len: &dyn Fn(f64) -> String) {
     match (&r.local, r.m) {
         (Some(l), Some(_)) => wln!(
         out,
@@ -122,21 +157,6 @@ pub fn gait_result(r: &GaitResult) -> String {
         ),
         (None, _) => {}
     }
-    if let Some(table) = &r.convergence {
-        convergence_table(&mut out, table, &len);
-    }
-    let g = &r.gait;
-    for (j, u) in g.controls.iter().enumerate() {
-        wln!(
-            out,
-            "  {j:>4}: t = [{}, {}]  u = {}  slip = {:?}",
-            num(g.times[j], sc.time),
-            num(g.times[j + 1], sc.time),
-            text::list_each(u, &r.problem.rate_bound),
-            g.slip[j]
-        );
-    }
-    out
 }
 
 /// The human form of a certificate of the gait of `r`: the same content as its JSON,
