@@ -1,7 +1,7 @@
 //! The text of an analysis (`crawlopt analyze`).
 
 use super::{force_scale, list, num, wln, GaitScales};
-use crate::model::{Analysis, Crawler, FaceSign};
+use crate::model::{Analysis, Crawler, FaceSign, OneLink};
 use crate::optimal::{Cost, GaitProblem, OneLinkOptimum};
 
 /// The human form of an analysis. Parameters and the faces of C (sums of them) are shown
@@ -29,6 +29,32 @@ pub fn analysis(c: &Crawler, a: &Analysis) -> String {
             a.closest_subset.clone().unwrap_or_default()
         ),
     }
+    polytope_lines(&mut out, a, force);
+    if let Some(class) = a.vm_class {
+        wln!(out, "displacement function v_m (exact):");
+        wln!(
+            out,
+            "  class: {}",
+            serde_json::to_string(&class)
+                .expect("enum")
+                .trim_matches('"')
+        );
+        wln!(
+            out,
+            "  moves forward: {}   moves backward: {}",
+            a.moves_forward.unwrap_or(false),
+            a.moves_backward.unwrap_or(false)
+        );
+    }
+    if let Some(o) = &a.one_link {
+        one_link_lines(&mut out, o, force);
+    }
+    out
+}
+
+/// The polytope C of an analysis: its faces (facets marked), the range of each link's force
+/// and the vertices, the computed forces at the scale `force`.
+fn polytope_lines(out: &mut String, a: &Analysis, force: f64) {
     wln!(out, "polytope C (F_b = x_(b-1) - x_b; facets marked *):");
     for f in &a.faces {
         let (rel, bound) = match f.sign {
@@ -62,51 +88,37 @@ pub fn analysis(c: &Crawler, a: &Analysis) -> String {
             wln!(out, "    {}", list(x, force));
         }
     }
-    if let Some(class) = a.vm_class {
-        wln!(out, "displacement function v_m (exact):");
-        wln!(
+}
+
+/// The closed forms of a one-link crawler (theory §9): C, which strokes move it forward, and
+/// the least stroke that does, the forces at the scale `force`.
+fn one_link_lines(out: &mut String, o: &OneLink, force: f64) {
+    wln!(
+        out,
+        "one link (theory §9): C = [{}, {}], width w = {}",
+        num(o.alpha, force),
+        num(o.beta, force),
+        num(o.width, force)
+    );
+    wln!(
+        out,
+        "  extension moves forward: {}   contraction moves forward: {}",
+        o.extension_moves_forward,
+        o.contraction_moves_forward
+    );
+    match (o.min_at_forward, o.min_at_backward) {
+        (Some(m), _) => wln!(
             out,
-            "  class: {}",
-            serde_json::to_string(&class)
-                .expect("enum")
-                .trim_matches('"')
-        );
-        wln!(
+            "  forward locomotion needs a*T > {} (rate bound x period)",
+            num(m, force)
+        ),
+        (None, Some(m)) => wln!(
             out,
-            "  moves forward: {}   moves backward: {}",
-            a.moves_forward.unwrap_or(false),
-            a.moves_backward.unwrap_or(false)
-        );
+            "  no periodic gait moves it forward; backward locomotion needs a*T > {}",
+            num(m, force)
+        ),
+        _ => wln!(out, "  v_m is linear: no periodic gait moves it"),
     }
-    if let Some(o) = &a.one_link {
-        wln!(
-            out,
-            "one link (theory §9): C = [{}, {}], width w = {}",
-            num(o.alpha, force),
-            num(o.beta, force),
-            num(o.width, force)
-        );
-        wln!(
-            out,
-            "  extension moves forward: {}   contraction moves forward: {}",
-            o.extension_moves_forward,
-            o.contraction_moves_forward
-        );
-        match (o.min_at_forward, o.min_at_backward) {
-            (Some(m), _) => wln!(
-                out,
-                "  forward locomotion needs a*T > {} (rate bound x period)",
-                num(m, force)
-            ),
-            (None, Some(m)) => wln!(
-                out,
-                "  no periodic gait moves it forward; backward locomotion needs a*T > {}",
-                num(m, force)
-            ),
-            _ => wln!(out, "  v_m is linear: no periodic gait moves it"),
-        }
-    }
-    out
 }
 
 /// The line of a gait problem (and the one-link closed form) under an analysis.
