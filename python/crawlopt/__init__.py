@@ -725,9 +725,9 @@ def optimize(
     returns it (``status == "time_limit"``, with its gap); TimeLimitError only when there is
     none. ``bound``: True (or a dict with ``resolution``, ``box_resolution``, ``time_limit``,
     ``cost_tangents``; missing keys take the library's defaults: the grid 8 x 8 up to three
-    blocks and 2 x 2 on four, 60 s, 4 tangents) also proves an upper bound on J over all
-    periodic gaits (a piecewise-linear storage function on a grid of C x box, theory §12;
-    N <= 4), recorded as ``certificate["upper_bound"]``. The GIL is
+    blocks and 2 x 1 on four, 60 s, 4 tangents (2 on four blocks)) also proves an upper
+    bound on J over all periodic gaits (a piecewise-linear storage function on a grid of
+    C x box, theory §12; N <= 4), recorded as ``certificate["upper_bound"]``. The GIL is
     released; Ctrl-C stops the solve within about a second (KeyboardInterrupt).
     ``progress``: True for a progress bar (tqdm if installed, else a text line), a callable to
     receive each event as a dict. ``polish`` (method "discrete" only; the library's default is

@@ -116,17 +116,18 @@ pub const MAX_BOUND_LINKS: usize = 3;
 /// Largest number of grid simplices (an LP with a few rows each).
 pub const MAX_SIMPLICES: usize = 4_000_000;
 
-/// The resolutions an unset grid setting of [`BoundSettings`] may take, finest first: halving
-/// keeps the grids nested ([`refinement_ladder`]).
-pub const DEFAULT_RESOLUTIONS: [usize; 3] = [8, 4, 2];
+/// The default grid `(resolution, box_resolution)` up to three blocks.
+pub const DEFAULT_GRID: (usize, usize) = (8, 8);
 
-/// Largest number of simplices of a grid chosen by default: every three-block crawler's 8 x 8
-/// grid fits (at most 9 x 9 x 8 x 8 cells of 24 simplices, 124,416), and a four-block crawler
-/// gets 2 x 2. Its 8 x 8 grid (1e8 simplices) is beyond [`MAX_SIMPLICES`], and its 4 x 4 grid
-/// (2.9e6) an LP that the default minute does not finish: measured on a uniform four-block
-/// crawler (mu = 1 / 1.6, k = a = 1, T = 10), the 2 x 2 grid alone, cut at 60 s, bounds J = 3.6 by
-/// 8.32, while the ladder 2 x 2 then 4 x 4 bounds it by 10.09 in the same minute.
-pub const DEFAULT_SIMPLICES: usize = 1 << 17;
+/// The default grid on four blocks. Their 8 x 8 grid has about 1e8 simplices (beyond
+/// [`MAX_SIMPLICES`]), and their 2 x 2 grid is an LP of 2.1e6 rows that ten minutes do not
+/// finish (8.93 cut at 600 s); 2 x 1 proves 6.667 in 15 s (docs/guide/bound.md, "How tight it
+/// is": four blocks, mu = 1 / 1.5, k = a = 1, T = 10).
+pub const DEFAULT_GRID_FOUR_BLOCKS: (usize, usize) = (2, 1);
+
+/// Largest number of rows of a bound's LP (about 600 bytes each as HiGHS holds them): a
+/// four-block grid within [`MAX_SIMPLICES`] can still need 1e7 rows and more, over 10 GB.
+pub const MAX_ROWS: usize = 4_000_000;
 
 /// Settings of [`upper_bound`].
 #[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
@@ -146,15 +147,21 @@ pub struct BoundSettings {
     /// at the centres of equal cells of `[-a_l, a_l]`; it is below the cost by at most
     /// `c a_l^2 / (2 m^2)`). More tangents tighten the bound and multiply the control vertices,
     /// hence the rows, by up to about `m^n`. Ignored without a cost. Unset (the default):
-    /// [`DEFAULT_COST_TANGENTS`].
+    /// [`DEFAULT_COST_TANGENTS`], on four blocks [`DEFAULT_COST_TANGENTS_FOUR_BLOCKS`].
     pub cost_tangents: Option<usize>,
 }
 
 /// The bound's time limit when [`BoundSettings::time_limit`] is unset: one minute.
 pub const DEFAULT_BOUND_TIME_LIMIT: f64 = 60.0;
 
-/// The cost's tangents per link when [`BoundSettings::cost_tangents`] is unset.
+/// The cost's tangents per link when [`BoundSettings::cost_tangents`] is unset, up to three
+/// blocks.
 pub const DEFAULT_COST_TANGENTS: usize = 4;
+
+/// The cost's tangents per link when unset, on four blocks: with 4, HiGHS's interior point
+/// method ends the 2 x 1 grid's LP in a solve error after about 55 s (uniform crawler, mu = 1 /
+/// 1.6, k = a = 1, T = 10, c = 0.1); with 2 it proves 6.042 in 34 s (1: 6.667 in 17 s).
+pub const DEFAULT_COST_TANGENTS_FOUR_BLOCKS: usize = 2;
 
 /// [`BoundSettings`] with every default applied for one crawler: the grid and LP that
 /// [`upper_bound`] runs.
@@ -164,52 +171,59 @@ struct Resolved {
     box_resolution: usize,
     time_limit: f64,
     cost_tangents: usize,
+    /// The setting a grid too large is refused by.
+    field: &'static str,
 }
 
 impl BoundSettings {
-    /// The grid `(resolution, box_resolution)` for `crawler` and `problem`: a setting given is
-    /// kept; an unset one is the finest of [`DEFAULT_RESOLUTIONS`] (the same for both when both
-    /// are unset) whose grid has at most [`DEFAULT_SIMPLICES`] simplices, else the coarsest.
-    /// So the default is 8 x 8 up to three blocks and 2 x 2 on four.
-    pub fn grid(&self, crawler: &Crawler, problem: &GaitProblem) -> Result<(usize, usize)> {
+    /// The grid `(resolution, box_resolution)` for `crawler`: each setting given is kept, each
+    /// unset one is its entry of [`DEFAULT_GRID`] (up to three blocks) or
+    /// [`DEFAULT_GRID_FOUR_BLOCKS`].
+    pub fn grid(&self, crawler: &Crawler) -> Result<(usize, usize)> {
         check_settings(self)?;
-        let fits = |r: usize, b: usize| {
-            grid_of(crawler, problem, r, b).is_ok_and(|(g, _)| {
-                let fact: usize = (1..=2 * crawler.links()).product();
-                g.cells().saturating_mul(fact) <= DEFAULT_SIMPLICES
-            })
+        check_crawler(crawler)?;
+        let d = if crawler.links() <= 2 {
+            DEFAULT_GRID
+        } else {
+            DEFAULT_GRID_FOUR_BLOCKS
         };
-        let pick = |fixed: Option<usize>, other: &dyn Fn(usize) -> (usize, usize)| {
-            fixed.unwrap_or_else(|| {
-                let last = DEFAULT_RESOLUTIONS[DEFAULT_RESOLUTIONS.len() - 1];
-                DEFAULT_RESOLUTIONS
-                    .into_iter()
-                    .find(|&r| {
-                        let (a, b) = other(r);
-                        fits(a, b)
-                    })
-                    .unwrap_or(last)
-            })
-        };
-        Ok(match (self.resolution, self.box_resolution) {
-            (None, None) => {
-                let r = pick(None, &|r| (r, r));
-                (r, r)
-            }
-            (Some(r), b) => (r, pick(b, &|b| (r, b))),
-            (None, Some(b)) => (pick(None, &|r| (r, b)), b),
-        })
+        Ok((
+            self.resolution.unwrap_or(d.0),
+            self.box_resolution.unwrap_or(d.1),
+        ))
     }
 
     /// Every default applied: the grid of [`BoundSettings::grid`], the time limit and tangents.
-    fn resolve(&self, crawler: &Crawler, problem: &GaitProblem) -> Result<Resolved> {
-        let (resolution, box_resolution) = self.grid(crawler, problem)?;
+    fn resolve(&self, crawler: &Crawler) -> Result<Resolved> {
+        let (resolution, box_resolution) = self.grid(crawler)?;
+        // A grid too large is refused naming a resolution given (the box's when only it is).
+        let field = if self.resolution.is_none() && self.box_resolution.is_some() {
+            "bound.box_resolution"
+        } else {
+            "bound.resolution"
+        };
         Ok(Resolved {
             resolution,
             box_resolution,
             time_limit: self.time_limit.unwrap_or(DEFAULT_BOUND_TIME_LIMIT),
-            cost_tangents: self.cost_tangents.unwrap_or(DEFAULT_COST_TANGENTS),
+            cost_tangents: self.cost_tangents.unwrap_or(if crawler.links() <= 2 {
+                DEFAULT_COST_TANGENTS
+            } else {
+                DEFAULT_COST_TANGENTS_FOUR_BLOCKS
+            }),
+            field,
         })
+    }
+}
+
+impl Resolved {
+    /// The refusal of a grid whose LP has `rows` rows, beyond [`MAX_ROWS`].
+    fn too_many_rows(&self, rows: usize) -> Error {
+        Error::invalid(
+            self.field,
+            format!("{} x {}", self.resolution, self.box_resolution),
+            format!("the bound's LP has {rows} rows (at most {MAX_ROWS}); take a coarser grid"),
+        )
     }
 }
 
@@ -295,7 +309,7 @@ fn prepare(crawler: &Crawler, problem: &GaitProblem, level: &Resolved) -> Result
     let simplices = grid.cells().saturating_mul(fact);
     if simplices > MAX_SIMPLICES {
         return Err(Error::invalid(
-            "bound.resolution",
+            level.field,
             format!("{} x {}", level.resolution, level.box_resolution),
             format!("the grid has {simplices} simplices (at most {MAX_SIMPLICES})"),
         ));
@@ -343,7 +357,11 @@ struct LpOutcome {
 /// appear twice in a row: its coefficients are added), then re-evaluates `rho` from the storage
 /// function read off the dual, so the rate returned is valid for whatever the solver returned.
 /// The LP runs within the current deadline ([`progress::within`]).
-fn solve_storage_lp(columns: usize, rows: &RowSource) -> Result<LpOutcome> {
+fn solve_storage_lp(
+    columns: usize,
+    rows: &RowSource,
+    refuse: &dyn Fn(usize) -> Error,
+) -> Result<LpOutcome> {
     // The LP  min rho  s.t.  <g_S, d> + rho >= y  (one row per (S, F, u)) has far more rows
     // than node values, and rho is in every row: HiGHS's interior point method chokes on that
     // dense column (measured: 465 s for 6.4e5 rows), so its dual is solved,
@@ -352,7 +370,16 @@ fn solve_storage_lp(columns: usize, rows: &RowSource) -> Result<LpOutcome> {
     // (an occupation measure on (simplex, face, control) that is invariant when tested against
     // the piecewise-linear functions of the grid), and V is read from its node duals.
     let mut used = vec![false; columns];
-    rows(&mut |cols, _, _| cols.iter().for_each(|&p| used[p] = true));
+    let mut total = 0usize;
+    rows(&mut |cols, _, _| {
+        total += 1;
+        if total <= MAX_ROWS {
+            cols.iter().for_each(|&p| used[p] = true)
+        }
+    });
+    if total > MAX_ROWS {
+        return Err(refuse(total));
+    }
     let pinned = used.iter().position(|&u| u);
     let mut pb = ColProblem::default();
     // Each constrained node's row handle and its index (HiGHS numbers rows as they are added).
@@ -414,14 +441,16 @@ fn solve_storage_lp(columns: usize, rows: &RowSource) -> Result<LpOutcome> {
         .map(|r| r.map_or(0.0, |(_, i)| answer.row_duals[i]))
         .collect();
     // Re-evaluation: the smallest rho the storage function satisfies every row with. The sign
-    // of HiGHS's duals is a convention; both signs give valid bounds, the smaller is reported.
-    let mut rate = [f64::NEG_INFINITY; 2];
+    // of HiGHS's duals is a convention; both signs give valid bounds, and so does V = 0 (an
+    // LP cut short early can return a V worse than it): the smallest is reported.
+    let mut rate = [f64::NEG_INFINITY; 3];
     rows(&mut |cols, coefs, y| {
         let g: f64 = cols.iter().zip(coefs).map(|(&p, c)| c * dual[p]).sum();
         rate[0] = rate[0].max(y - g);
         rate[1] = rate[1].max(y + g);
+        rate[2] = rate[2].max(y);
     });
-    let rate = rate[0].min(rate[1]);
+    let rate = rate[0].min(rate[1]).min(rate[2]);
     if !rate.is_finite() {
         return Err(Error::Numerical(
             "upper bound LP: the storage function is not finite".into(),
@@ -472,7 +501,7 @@ pub fn upper_bound(
     settings: &BoundSettings,
 ) -> Result<UpperBound> {
     let started = Instant::now();
-    let finest = settings.resolve(crawler, problem)?;
+    let finest = settings.resolve(crawler)?;
     let mut best: Option<UpperBound> = None;
     progress::within(Some(finest.time_limit), || {
         // The finest grid is checked (size, crawler) before any coarse LP spends the time.
@@ -507,7 +536,7 @@ pub fn upper_bound_on_grid(
     problem: &GaitProblem,
     settings: &BoundSettings,
 ) -> Result<UpperBound> {
-    bound_on(crawler, problem, &settings.resolve(crawler, problem)?)
+    bound_on(crawler, problem, &settings.resolve(crawler)?)
 }
 
 /// The bound on the one grid of `level`.
@@ -521,7 +550,7 @@ fn bound_on(crawler: &Crawler, problem: &GaitProblem, level: &Resolved) -> Resul
             });
     };
     let lp = progress::within(Some(level.time_limit), || {
-        solve_storage_lp(pre.grid.nodes(), &rows)
+        solve_storage_lp(pre.grid.nodes(), &rows, &|n| level.too_many_rows(n))
     })?;
     Ok(UpperBound {
         method: METHOD.to_string(),

@@ -30,7 +30,7 @@ pub(crate) fn time_dependent_bound(
     nt: usize,
 ) -> Result<UpperBound> {
     let started = Instant::now();
-    let level = settings.resolve(crawler, problem)?;
+    let level = settings.resolve(crawler)?;
     let pre = prepare(crawler, problem, &level)?;
     let np = pre.grid.nodes();
     let nt = nt.max(1);
@@ -56,7 +56,9 @@ pub(crate) fn time_dependent_bound(
                 }
             });
     };
-    let lp = crate::progress::within(Some(level.time_limit), || solve_storage_lp(nt * np, &rows))?;
+    let lp = crate::progress::within(Some(level.time_limit), || {
+        solve_storage_lp(nt * np, &rows, &|n| level.too_many_rows(n))
+    })?;
     Ok(UpperBound {
         method: TIME_METHOD.to_string(),
         resolution: level.resolution,

@@ -19,8 +19,8 @@ pub struct BoundArgs {
     /// blocks, 2 on four].
     #[arg(id = "bound_resolution", long = "bound-resolution", value_name = "R", allow_negative_numbers = true, value_parser = count)]
     pub resolution: Option<usize>,
-    /// Grid steps across each actuator-length range [default: as
-    /// --bound-resolution].
+    /// Grid steps across each actuator-length range [default: 8 up to three
+    /// blocks, 1 on four].
     #[arg(id = "bound_box_resolution", long = "bound-box-resolution", value_name = "R", allow_negative_numbers = true, value_parser = count)]
     pub box_resolution: Option<usize>,
     /// Time limit of the bound's LP, seconds [default: 60].
@@ -32,7 +32,7 @@ pub struct BoundArgs {
     )]
     pub time_limit: Option<f64>,
     /// With a quadratic cost: tangents per link of its piecewise-linear under-estimator
-    /// [default: 4].
+    /// [default: 4 up to three blocks, 2 on four].
     #[arg(id = "bound_cost_tangents", long = "bound-cost-tangents", value_name = "M", allow_negative_numbers = true, value_parser = count)]
     pub cost_tangents: Option<usize>,
 }
