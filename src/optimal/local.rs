@@ -37,6 +37,7 @@ use crate::error::{Error, Result};
 use crate::model::Crawler;
 use crate::optimal::milp::{
     block_speed_bound, check_time_limit, check_verified, force, replay_grid, GridColumns,
+    GridReplay,
 };
 use crate::optimal::units::{scale_all, scale_rows, Units};
 use crate::optimal::{Cost, GaitProblem};
@@ -224,67 +225,10 @@ fn solve_local_in(
     let start_objective = start.verified;
     let tol_f = 1e-9 * mp.iter().chain(mm).fold(0.0f64, |s, v| s.max(*v));
     let tol_d = 1e-12 * md.max(1e-300);
-    let mut modes: Vec<Vec<Mode>> = (0..big_m)
-        .map(|i| {
-            let x = &start.states[i + 1];
-            (0..nb)
-                .map(|b| {
-                    let f = force(x, b);
-                    let d = start.block_displacements[i][b];
-                    if (f - mp[b]).abs() <= tol_f && d >= -tol_d {
-                        Mode::Plus
-                    } else if (f + mm[b]).abs() <= tol_f && d <= tol_d {
-                        Mode::Minus
-                    } else {
-                        Mode::Stick
-                    }
-                })
-                .collect()
-        })
-        .collect();
+    let mut modes = start_modes(crawler, &start, big_m, tol_f, tol_d);
 
     // One LP for every choice of modes; modes are column bounds.
-    let mut pb = RowProblem::default();
-    let grid = GridColumns::new(&mut pb, crawler, problem, big_m);
-    let (xs, us) = (&grid.xs, &grid.us);
-    let inv_n = 1.0 / nb as f64;
-    let ds: Vec<Vec<Col>> = (0..big_m)
-        .map(|_| (0..nb).map(|_| pb.add_column(-inv_n, -md..=md)).collect())
-        .collect();
-    let fs: Vec<Vec<Col>> = (0..big_m)
-        .map(|_| {
-            (0..nb)
-                .map(|b| pb.add_column(0.0, -mm[b]..=mp[b]))
-                .collect()
-        })
-        .collect();
-    for i in 0..big_m {
-        let next = &xs[(i + 1) % big_m];
-        for l in 0..n {
-            pb.add_row(
-                0.0..=0.0,
-                [
-                    (next[l], 1.0),
-                    (xs[i][l], -1.0),
-                    (us[i][l], -1.0),
-                    (ds[i][l + 1], k[l]),
-                    (ds[i][l], -k[l]),
-                ],
-            );
-        }
-        for b in 0..nb {
-            // f = F_b(x^{i+1}) = x_{b-1} - x_b.
-            let mut row = vec![(fs[i][b], -1.0)];
-            if b > 0 {
-                row.push((next[b - 1], 1.0));
-            }
-            if b < n {
-                row.push((next[b], -1.0));
-            }
-            pb.add_row(0.0..=0.0, row);
-        }
-    }
-    grid.add_control_rows(&mut pb, problem);
+    let (pb, grid, ds, fs) = mode_lp(crawler, problem, big_m, md);
     let mut model = Highs::new(pb, Sense::Minimise, &what)?;
     model.option("primal_feasibility_tolerance", 1e-10)?;
     model.option("dual_feasibility_tolerance", 1e-10)?;
@@ -333,14 +277,121 @@ fn solve_local_in(
         Ok(changed)
     };
     let run = active_set::run(&mut model, -1.0, 20 * big_m * nb, 3, &what, pivot)?;
-    let (cols, lp_objective) = (run.cols, run.objective);
+    reverified(crawler, problem, m, &grid, run, start_objective, &what)
+}
 
-    // Re-verification: the LP's increments played by catching-up from its x^0.
+/// The modes of the start's steps: a block slipping forward (`Plus`) or backward (`Minus`)
+/// where its force is on the friction bound, to `tol_f`, and it does not move against it, to
+/// `tol_d`; else `Stick`. The active set the local method starts from.
+fn start_modes(
+    crawler: &Crawler,
+    start: &GridReplay,
+    big_m: usize,
+    tol_f: f64,
+    tol_d: f64,
+) -> Vec<Vec<Mode>> {
+    let nb = crawler.blocks();
+    let (mp, mm) = (crawler.mu_forward(), crawler.mu_backward());
+    (0..big_m)
+        .map(|i| {
+            let x = &start.states[i + 1];
+            (0..nb)
+                .map(|b| {
+                    let f = force(x, b);
+                    let d = start.block_displacements[i][b];
+                    if (f - mp[b]).abs() <= tol_f && d >= -tol_d {
+                        Mode::Plus
+                    } else if (f + mm[b]).abs() <= tol_f && d <= tol_d {
+                        Mode::Minus
+                    } else {
+                        Mode::Stick
+                    }
+                })
+                .collect()
+        })
+        .collect()
+}
+
+/// The LP of P_m with the modes left to column bounds (module docs): the grid's columns, block
+/// displacements `d^i_b` (objective `-1/N` each, `|d| <= md`) and forces `f^i_b` in
+/// `[-mu-_b, mu+_b]`, the dynamics `x^{i+1} - x^i - U^i + k (d_{l+1} - d_l) = 0`, the forces
+/// `f = F_b(x^{i+1})` and the rows on the control alone. Returns the problem, the grid
+/// columns and the `d` and `f` columns per step and block.
+fn mode_lp(
+    crawler: &Crawler,
+    problem: &GaitProblem,
+    big_m: usize,
+    md: f64,
+) -> (RowProblem, GridColumns, Vec<Vec<Col>>, Vec<Vec<Col>>) {
+    let (n, nb) = (crawler.links(), crawler.blocks());
+    let (k, mp, mm) = (
+        crawler.stiffness(),
+        crawler.mu_forward(),
+        crawler.mu_backward(),
+    );
+    let mut pb = RowProblem::default();
+    let grid = GridColumns::new(&mut pb, crawler, problem, big_m);
+    let (xs, us) = (&grid.xs, &grid.us);
+    let inv_n = 1.0 / nb as f64;
+    let ds: Vec<Vec<Col>> = (0..big_m)
+        .map(|_| (0..nb).map(|_| pb.add_column(-inv_n, -md..=md)).collect())
+        .collect();
+    let fs: Vec<Vec<Col>> = (0..big_m)
+        .map(|_| {
+            (0..nb)
+                .map(|b| pb.add_column(0.0, -mm[b]..=mp[b]))
+                .collect()
+        })
+        .collect();
+    for i in 0..big_m {
+        let next = &xs[(i + 1) % big_m];
+        for l in 0..n {
+            pb.add_row(
+                0.0..=0.0,
+                [
+                    (next[l], 1.0),
+                    (xs[i][l], -1.0),
+                    (us[i][l], -1.0),
+                    (ds[i][l + 1], k[l]),
+                    (ds[i][l], -k[l]),
+                ],
+            );
+        }
+        for b in 0..nb {
+            // f = F_b(x^{i+1}) = x_{b-1} - x_b.
+            let mut row = vec![(fs[i][b], -1.0)];
+            if b > 0 {
+                row.push((next[b - 1], 1.0));
+            }
+            if b < n {
+                row.push((next[b], -1.0));
+            }
+            pb.add_row(0.0..=0.0, row);
+        }
+    }
+    grid.add_control_rows(&mut pb, problem);
+    (pb, grid, ds, fs)
+}
+
+/// Re-verification: the LP's increments played by catching-up from its x^0, checked against
+/// the LP's objective; the verified displacement is the one reported (module docs).
+fn reverified(
+    crawler: &Crawler,
+    problem: &GaitProblem,
+    m: u32,
+    grid: &GridColumns,
+    run: active_set::Outcome,
+    start_objective: f64,
+    what: &str,
+) -> Result<LocalSolution> {
+    let t = problem.period;
+    let h = t / (1usize << m) as f64;
+    let (cols, lp_objective) = (run.cols, run.objective);
     let rows = grid.increments(&cols);
-    let x0: Vec<f64> = xs[0].iter().map(|c| cols[c.index()]).collect();
-    let g = replay_grid(crawler, t, &rows, &x0, &what)?;
+    let x0: Vec<f64> = grid.xs[0].iter().map(|c| cols[c.index()]).collect();
+    let g = replay_grid(crawler, t, &rows, &x0, what)?;
     check_verified(
-        &what,
+        what,
         lp_objective,
         g.verified,
         problem.length_scale(crawler),
