@@ -27,7 +27,7 @@
 //! square waves along each control axis, at several time shifts. Every answer is re-verified by
 //! replaying its controls through the general simulator ([`super::discrete`]'s replay).
 
-use super::discrete::{branch_bounds, build, check_sets, replay, Form};
+use super::discrete::{branch_bounds, build, check_sets, replay, Form, Layout};
 use super::geometry::Geometry;
 use crate::error::{Error, Result};
 use crate::integrate::{simulate_general, ControlInput, GeneralSimOptions, InputKind};
@@ -187,65 +187,9 @@ fn solve_from(
     let mm = 1usize << m;
     let h = p.period / mm as f64;
     let what = format!("P_{m} of the general problem (local)");
-    if start.len() != mm {
-        return Err(Error::invalid(
-            "start",
-            format!("{} steps", start.len()),
-            format!("needs one control per step ({mm})"),
-        ));
-    }
+    check_start(p, mm, start)?;
     let scale = p.c.scale();
-    let umax = start.iter().flatten().fold(1.0_f64, |s, v| s.max(v.abs()));
-    if p.zero_mean {
-        for k in 0..p.controls() {
-            let mean = start.iter().map(|u| u[k]).sum::<f64>() / mm as f64;
-            if mean.abs() > 1e-9 * umax {
-                return Err(Error::invalid(
-                    format!("start[{}]", k + 1),
-                    mean,
-                    "the start control must have zero mean (zero_mean = true)",
-                ));
-            }
-        }
-    }
-    // The start's process on this grid.
-    let times: Vec<f64> = (0..mm).map(|i| i as f64 * h).collect();
-    let input = ControlInput::new(
-        InputKind::PiecewiseConstant,
-        p.period,
-        times,
-        start.to_vec(),
-        &p.control,
-        "start",
-    )?;
-    let x0 = match &p.boundary {
-        Boundary::Initial(x0) => x0.clone(),
-        Boundary::Periodic if p.c.violation(&vec![0.0; p.states()], 0.0).is_none() => {
-            vec![0.0; p.states()]
-        }
-        Boundary::Periodic => g.chebyshev_centre.clone(),
-    };
-    let opts = GeneralSimOptions {
-        steps_per_period: mm,
-        drift: crate::integrate::DriftStep::Explicit,
-        ..GeneralSimOptions::DEFAULT
-    };
-    let sim = simulate_general(p, &input, &x0, &opts)?;
-    let start_objective = sim.objective.ok_or_else(|| {
-        Error::invalid(
-            "start",
-            "the start control",
-            format!(
-                "its periodic regime was not reached within {} periods",
-                opts.max_periods
-            ),
-        )
-    })?;
-    let mut active: Vec<Vec<bool>> = sim
-        .lambda
-        .iter()
-        .map(|l| l.iter().map(|&l| l > 0.0).collect())
-        .collect();
+    let (start_objective, mut active) = start_branches(p, g, mm, h, start)?;
 
     // One LP for every choice of branches; branches are column bounds.
     let (pb, lay) = build(p, m, Form::Branches(&active), &[]);
@@ -314,7 +258,99 @@ fn solve_from(
         Ok(0)
     };
     let run = active_set::run(&mut model, 1.0, 20 * mm * sigma, 3, &what, pivot)?;
-    let r = replay(p, m, &lay, &run.cols, &what)?;
+    reverified(p, m, &lay, run, trials, start_objective, &what)
+}
+
+/// Refuses a start (field `start`) without one control per step of the grid, or, under the
+/// zero-mean constraint, with a non-zero mean (relative to its largest entry).
+fn check_start(p: &GeneralProblem, mm: usize, start: &[Vec<f64>]) -> Result<()> {
+    if start.len() != mm {
+        return Err(Error::invalid(
+            "start",
+            format!("{} steps", start.len()),
+            format!("needs one control per step ({mm})"),
+        ));
+    }
+    let umax = start.iter().flatten().fold(1.0_f64, |s, v| s.max(v.abs()));
+    if p.zero_mean {
+        for k in 0..p.controls() {
+            let mean = start.iter().map(|u| u[k]).sum::<f64>() / mm as f64;
+            if mean.abs() > 1e-9 * umax {
+                return Err(Error::invalid(
+                    format!("start[{}]", k + 1),
+                    mean,
+                    "the start control must have zero mean (zero_mean = true)",
+                ));
+            }
+        }
+    }
+    Ok(())
+}
+
+/// The start's process on this grid (module docs): the start control simulated by catching-up
+/// to its periodic regime (or over the horizon of a Cauchy problem); returns its `J` and the
+/// branches read off it, on face where the projection's multiplier is positive. Refused (field
+/// `start`) when the control is not in U or the periodic regime is not reached.
+fn start_branches(
+    p: &GeneralProblem,
+    g: &Geometry,
+    mm: usize,
+    h: f64,
+    start: &[Vec<f64>],
+) -> Result<(f64, Vec<Vec<bool>>)> {
+    let times: Vec<f64> = (0..mm).map(|i| i as f64 * h).collect();
+    let input = ControlInput::new(
+        InputKind::PiecewiseConstant,
+        p.period,
+        times,
+        start.to_vec(),
+        &p.control,
+        "start",
+    )?;
+    let x0 = match &p.boundary {
+        Boundary::Initial(x0) => x0.clone(),
+        Boundary::Periodic if p.c.violation(&vec![0.0; p.states()], 0.0).is_none() => {
+            vec![0.0; p.states()]
+        }
+        Boundary::Periodic => g.chebyshev_centre.clone(),
+    };
+    let opts = GeneralSimOptions {
+        steps_per_period: mm,
+        drift: crate::integrate::DriftStep::Explicit,
+        ..GeneralSimOptions::DEFAULT
+    };
+    let sim = simulate_general(p, &input, &x0, &opts)?;
+    let start_objective = sim.objective.ok_or_else(|| {
+        Error::invalid(
+            "start",
+            "the start control",
+            format!(
+                "its periodic regime was not reached within {} periods",
+                opts.max_periods
+            ),
+        )
+    })?;
+    let active: Vec<Vec<bool>> = sim
+        .lambda
+        .iter()
+        .map(|l| l.iter().map(|&l| l > 0.0).collect())
+        .collect();
+    Ok((start_objective, active))
+}
+
+/// Re-verification (module docs): the LP's controls replayed through the general simulator,
+/// whose `J` must agree with the LP's; the replayed process is the one reported.
+fn reverified(
+    p: &GeneralProblem,
+    m: u32,
+    lay: &Layout,
+    run: active_set::Outcome,
+    trials: usize,
+    start_objective: f64,
+    what: &str,
+) -> Result<GeneralLocal> {
+    let scale = p.c.scale();
+    let r = replay(p, m, lay, &run.cols, what)?;
     if (r.objective - run.objective).abs() > 1e-6 * (scale + r.objective.abs()) {
         return Err(Error::Numerical(format!(
             "{what}: the controls give J = {} when simulated, not {}",
