@@ -52,41 +52,10 @@ pub(super) fn polish_general_phases(
     let inf = f64::INFINITY;
     let multiplier = big_m(p, g, 1.0).ok()?.multiplier;
     let w = reward_weights(p);
-    // S with R = S^T S: the eigenvectors scaled by the square roots of R's eigenvalues.
-    let eig = crate::linalg::symmetric_eigen(nalgebra::DMatrix::from_fn(m, m, |i, k| r[i][k]))?;
-    let rows_s: Vec<Vec<f64>> = (0..m)
-        .filter(|&k| eig.eigenvalues[k] > 1e-14 * eig.eigenvalues.amax())
-        .map(|k| {
-            let s = eig.eigenvalues[k].sqrt();
-            (0..m).map(|i| s * eig.eigenvectors[(i, k)]).collect()
-        })
-        .collect();
+    let rows_s = cost_rows(&r, m)?;
     let mut qp = Qp::default();
-    let tau: Vec<usize> = (0..pieces).map(|_| qp.add_column(0.0, 0.0, t)).collect();
-    let knots = match p.boundary {
-        Boundary::Periodic => pieces,
-        Boundary::Initial(_) => pieces + 1,
-    };
-    let x: Vec<Vec<usize>> = (0..knots)
-        .map(|i| match &p.boundary {
-            Boundary::Initial(x0) if i == 0 => {
-                x0.iter().map(|&v| qp.add_column(0.0, v, v)).collect()
-            }
-            _ => (0..n).map(|_| qp.add_column(0.0, -inf, inf)).collect(),
-        })
-        .collect();
-    let u: Vec<Vec<usize>> = (0..pieces)
-        .map(|_| (0..m).map(|_| qp.add_column(0.0, -inf, inf)).collect())
-        .collect();
-    // Integrated reactions on the held faces only.
-    let lam: Vec<Vec<(usize, usize)>> = held
-        .iter()
-        .map(|h| {
-            h.iter()
-                .map(|&f| (f - 1, qp.add_column(-w[f - 1], 0.0, multiplier * t)))
-                .collect()
-        })
-        .collect();
+    let cols = phase_columns(&mut qp, p, pieces, held, &w, multiplier);
+    let (tau, x, u, lam, knots) = (&cols.tau, &cols.x, &cols.u, &cols.lam, cols.knots);
     let face_row = |x: &[usize], f: usize| -> Vec<(usize, f64)> {
         x.iter()
             .zip(&p.c.normals[f])
@@ -142,7 +111,7 @@ pub(super) fn polish_general_phases(
             qp.add_perspective(v, e, tau[j]);
         }
     }
-    for xk in &x {
+    for xk in x {
         for f in 0..sigma {
             qp.add_row(-inf, p.c.offsets[f], face_row(xk, f));
         }
@@ -154,12 +123,98 @@ pub(super) fn polish_general_phases(
         }
     }
     let sol = qp.solve("the general phase gait's polish").ok()?;
-    let val = |c: usize| sol.v[c];
+    Some(solved_phases(&sol.v, &cols, held, sigma, empty, t))
+}
+
+/// The rows of `S` with `R = S^T S`: the eigenvectors scaled by the square roots of `R`'s
+/// eigenvalues (those above `1e-14` of the largest); one rotated cone per row (module docs).
+/// `None` when the eigendecomposition fails.
+fn cost_rows(r: &[Vec<f64>], m: usize) -> Option<Vec<Vec<f64>>> {
+    let eig = crate::linalg::symmetric_eigen(nalgebra::DMatrix::from_fn(m, m, |i, k| r[i][k]))?;
+    Some(
+        (0..m)
+            .filter(|&k| eig.eigenvalues[k] > 1e-14 * eig.eigenvalues.amax())
+            .map(|k| {
+                let s = eig.eigenvalues[k].sqrt();
+                (0..m).map(|i| s * eig.eigenvectors[(i, k)]).collect()
+            })
+            .collect(),
+    )
+}
+
+/// The polish's columns (module docs): durations `tau_j`, the states at the knots (`x_0`
+/// fixed for a Cauchy problem, the last knot the first when periodic), increments `U_j` and
+/// the integrated reactions `L_{j,f}` on the held faces only, `(face, column)` per phase.
+struct PhaseColumns {
+    tau: Vec<usize>,
+    x: Vec<Vec<usize>>,
+    u: Vec<Vec<usize>>,
+    lam: Vec<Vec<(usize, usize)>>,
+    knots: usize,
+}
+
+/// Adds the [`PhaseColumns`] of `pieces` phases holding `held` (1-based) to `qp`: `L_{j,f}`
+/// costs `-w_f` and is at most `multiplier T`.
+fn phase_columns(
+    qp: &mut Qp,
+    p: &GeneralProblem,
+    pieces: usize,
+    held: &[Vec<usize>],
+    w: &[f64],
+    multiplier: f64,
+) -> PhaseColumns {
+    let (n, m, t, inf) = (p.states(), p.controls(), p.period, f64::INFINITY);
+    let tau: Vec<usize> = (0..pieces).map(|_| qp.add_column(0.0, 0.0, t)).collect();
+    let knots = match p.boundary {
+        Boundary::Periodic => pieces,
+        Boundary::Initial(_) => pieces + 1,
+    };
+    let x: Vec<Vec<usize>> = (0..knots)
+        .map(|i| match &p.boundary {
+            Boundary::Initial(x0) if i == 0 => {
+                x0.iter().map(|&v| qp.add_column(0.0, v, v)).collect()
+            }
+            _ => (0..n).map(|_| qp.add_column(0.0, -inf, inf)).collect(),
+        })
+        .collect();
+    let u: Vec<Vec<usize>> = (0..pieces)
+        .map(|_| (0..m).map(|_| qp.add_column(0.0, -inf, inf)).collect())
+        .collect();
+    // Integrated reactions on the held faces only.
+    let lam: Vec<Vec<(usize, usize)>> = held
+        .iter()
+        .map(|h| {
+            h.iter()
+                .map(|&f| (f - 1, qp.add_column(-w[f - 1], 0.0, multiplier * t)))
+                .collect()
+        })
+        .collect();
+    PhaseColumns {
+        tau,
+        x,
+        u,
+        lam,
+        knots,
+    }
+}
+
+/// The polished gait read off the solution `v` as a solver's phases, dropping those of at most
+/// `empty` times the period `t` (their increments and reactions vanish with them).
+fn solved_phases(
+    v: &[f64],
+    cols: &PhaseColumns,
+    held: &[Vec<usize>],
+    sigma: usize,
+    empty: f64,
+    t: f64,
+) -> MilpPhases {
+    let (tau, x, u, lam, knots) = (&cols.tau, &cols.x, &cols.u, &cols.lam, cols.knots);
+    let val = |c: usize| v[c];
     let mut out = MilpPhases {
         states: vec![x[0].iter().map(|&c| val(c)).collect()],
         ..MilpPhases::default()
     };
-    for j in 0..pieces {
+    for j in 0..tau.len() {
         let d = val(tau[j]);
         if d <= empty * t {
             continue;
@@ -175,5 +230,5 @@ pub(super) fn polish_general_phases(
         out.states
             .push(x[(j + 1) % knots].iter().map(|&c| val(c)).collect());
     }
-    Some(out)
+    out
 }
