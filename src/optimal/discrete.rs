@@ -291,38 +291,7 @@ pub(super) fn solve_discrete_in(
         Cost::None => None,
     };
     let start = match start {
-        Some((times, lengths)) => {
-            let incs = sample_increments(
-                times,
-                lengths,
-                crawler.stiffness(),
-                a,
-                problem.period,
-                big_m,
-            );
-            // Sampling keeps the rate bounds and the zero mean; a TV bound it may break, and
-            // HiGHS would drop such a start without a word.
-            if let Some(v) = problem.max_total_variation {
-                let tv: f64 = (0..big_m)
-                    .flat_map(|i| {
-                        let next = &incs[(i + 1) % big_m];
-                        incs[i].iter().zip(next).map(|(u0, u1)| (u1 - u0).abs())
-                    })
-                    .sum::<f64>()
-                    / h;
-                if tv > v * (1.0 + 1e-9) {
-                    return Err(Error::invalid(
-                        "start",
-                        format!("TV(u) = {tv}"),
-                        format!("exceeds gait.max_total_variation = {v} on the grid of P_{m}"),
-                    ));
-                }
-            }
-            let from_rest = vec![0.0; crawler.links()];
-            let traj = replay_grid(crawler, problem.period, &incs, &from_rest, &what)?;
-            let objective = traj.verified - grid_cost(problem, &incs, h);
-            Some((incs, traj, objective))
-        }
+        Some((times, lengths)) => Some(grid_start(crawler, problem, m, times, lengths, &what)?),
         None => None,
     };
     let mut rounds = 0;
@@ -343,20 +312,7 @@ pub(super) fn solve_discrete_in(
         // The first round starts from the start gait, later ones from the previous round's
         // solution (the same columns), its cost epigraphs raised onto the cost, which the new
         // cuts were placed to exceed.
-        let start_cols = match (&last, &start) {
-            (Some((cols, _, _)), _) => {
-                let mut cols = cols.clone();
-                for (g, u) in lay.gs.iter().flatten().zip(lay.grid.us.iter().flatten()) {
-                    let u = cols[u.index()];
-                    cols[g.index()] = cols[g.index()].max(u * u / h);
-                }
-                Some(cols)
-            }
-            (None, Some((incs, traj, _))) => {
-                Some(lay.start_columns(pb.num_cols(), crawler, incs, h, traj))
-            }
-            (None, None) => None,
-        };
+        let start_cols = round_start(&last, &start, &lay, pb.num_cols(), crawler, h);
         let gap = problem.length_scale(crawler) * 1e-9;
         let (cols, objective, bound, status) = solve_max(pb, &what, start_cols.as_deref(), gap)?;
         // Cut short before HiGHS had a bound: the work bound, valid for every gait.
@@ -386,16 +342,122 @@ pub(super) fn solve_discrete_in(
         }
         last = Some((cols, bound, lay));
     };
-    // The gait, with increments of exact zero mean, replayed by the simulator.
+    let start_objective = start.map(|s| s.2);
+    let end = MilpEnd {
+        cols,
+        lay,
+        bound,
+        status,
+    };
+    replayed_solution(crawler, problem, m, end, rounds, start_objective, &what)
+}
+
+/// The start gait `(times, lengths)` on the grid of P_m: its increments (checked against a bound
+/// on TV(u)), its trajectory from rest and its objective `J` there; the MILP's first incumbent.
+fn grid_start(
+    crawler: &Crawler,
+    problem: &GaitProblem,
+    m: u32,
+    times: &[f64],
+    lengths: &[Vec<f64>],
+    what: &str,
+) -> Result<(Vec<Vec<f64>>, GridReplay, f64)> {
+    let big_m = 1usize << m;
+    let h = problem.period / big_m as f64;
+    let a = &problem.rate_bound;
+    let incs = sample_increments(
+        times,
+        lengths,
+        crawler.stiffness(),
+        a,
+        problem.period,
+        big_m,
+    );
+    // Sampling keeps the rate bounds and the zero mean; a TV bound it may break, and
+    // HiGHS would drop such a start without a word.
+    if let Some(v) = problem.max_total_variation {
+        let tv: f64 = (0..big_m)
+            .flat_map(|i| {
+                let next = &incs[(i + 1) % big_m];
+                incs[i].iter().zip(next).map(|(u0, u1)| (u1 - u0).abs())
+            })
+            .sum::<f64>()
+            / h;
+        if tv > v * (1.0 + 1e-9) {
+            return Err(Error::invalid(
+                "start",
+                format!("TV(u) = {tv}"),
+                format!("exceeds gait.max_total_variation = {v} on the grid of P_{m}"),
+            ));
+        }
+    }
+    let from_rest = vec![0.0; crawler.links()];
+    let traj = replay_grid(crawler, problem.period, &incs, &from_rest, what)?;
+    let objective = traj.verified - grid_cost(problem, &incs, h);
+    Ok((incs, traj, objective))
+}
+
+/// The MILP start of an outer-approximation round: the previous round's solution (the same
+/// columns) with its cost epigraphs raised onto the cost, which the new cuts were placed to
+/// exceed; in the first round the start gait's columns, if any.
+fn round_start(
+    last: &Option<(Vec<f64>, f64, Layout)>,
+    start: &Option<(Vec<Vec<f64>>, GridReplay, f64)>,
+    lay: &Layout,
+    ncols: usize,
+    crawler: &Crawler,
+    h: f64,
+) -> Option<Vec<f64>> {
+    match (last, start) {
+        (Some((cols, _, _)), _) => {
+            let mut cols = cols.clone();
+            for (g, u) in lay.gs.iter().flatten().zip(lay.grid.us.iter().flatten()) {
+                let u = cols[u.index()];
+                cols[g.index()] = cols[g.index()].max(u * u / h);
+            }
+            Some(cols)
+        }
+        (None, Some((incs, traj, _))) => Some(lay.start_columns(ncols, crawler, incs, h, traj)),
+        (None, None) => None,
+    }
+}
+
+/// The last round of the outer approximation: its columns, layout, bound and status.
+struct MilpEnd {
+    cols: Vec<f64>,
+    lay: Layout,
+    bound: f64,
+    status: MilpStatus,
+}
+
+/// The MILP's gait, with increments of exact zero mean, replayed by the simulator (module
+/// docs: the verified displacement is the one reported) and certified against the bound.
+fn replayed_solution(
+    crawler: &Crawler,
+    problem: &GaitProblem,
+    m: u32,
+    end: MilpEnd,
+    rounds: usize,
+    start_objective: Option<f64>,
+    what: &str,
+) -> Result<DiscreteSolution> {
+    let nb = crawler.blocks();
+    let h = problem.period / (1usize << m) as f64;
+    let MilpEnd {
+        cols,
+        lay,
+        bound,
+        status,
+    } = end;
     let incs = lay.grid.increments(&cols);
     let x0: Vec<f64> = lay.grid.xs[0].iter().map(|c| cols[c.index()]).collect();
     let cost = grid_cost(problem, &incs, h);
-    let g = replay_grid(crawler, problem.period, &incs, &x0, &what)?;
+    let g = replay_grid(crawler, problem.period, &incs, &x0, what)?;
     Ok(DiscreteSolution {
         m,
         step: h,
         certificate: certify(
-            &what,
+            what,
             problem.length_scale(crawler),
             status,
             lay.displacement(&cols, nb),
@@ -410,7 +472,7 @@ pub(super) fn solve_discrete_in(
         states: g.states,
         controls: g.controls,
         rounds,
-        start_objective: start.map(|s| s.2),
+        start_objective,
         polish: None,
     })
 }
