@@ -3,7 +3,7 @@
 use super::layout::Layout;
 use super::PhaseSolution;
 use crate::error::{Error, Result};
-use crate::integrate::Method;
+use crate::integrate::{Method, Trajectory};
 use crate::model::Crawler;
 use crate::optimal::milp::{check_verified, gait_knots, replay};
 use crate::optimal::units::{scale_all, scale_rows, Units};
@@ -260,6 +260,69 @@ pub fn phase_gait_of(
     durations: &[f64],
     increments: &[Vec<f64>],
 ) -> Result<PhaseSolution> {
+    let t = problem.period;
+    check_pieces(crawler, problem, durations, increments)?;
+    let what = "start gait";
+    let sim = replay(crawler, t, durations, increments, None, Method::Exact, what)?;
+    let verified = sim
+        .displacement_per_period
+        .ok_or_else(|| Error::Numerical(format!("{what}: the replay did not converge")))?;
+    let traj = sim
+        .trajectory
+        .as_ref()
+        .filter(|tr| tr.t.len() >= 2)
+        .ok_or_else(|| Error::Numerical(format!("{what}: no trajectory was recorded")))?;
+    let mut g = trajectory_pieces(crawler, problem, durations, increments, traj);
+    let Some(x0) = g.states.first().cloned() else {
+        return Err(Error::Numerical(format!(
+            "{what}: no piece of positive duration"
+        )));
+    };
+    g.states.push(x0);
+    check_verified(
+        what,
+        g.displacement(),
+        verified,
+        problem.length_scale(crawler),
+    )?;
+    // The gait returned is the merged one: its cost, which merging lowers where a run's rates
+    // differ (the same motion at constant rates; a quadratic cost's start had reported the
+    // cost of the unmerged pieces, so its J was below what it is).
+    let merged = g.merged();
+    let cost = merged.cost(problem);
+    Ok(PhaseSolution {
+        phases: merged.slip_phases(),
+        certificate: Certificate {
+            status: MilpStatus::Stalled,
+            milp_objective: verified,
+            bound: f64::NAN,
+            gap: f64::NAN,
+        },
+        verified_displacement: verified,
+        actuation_cost: cost,
+        controls: merged
+            .increments
+            .iter()
+            .zip(&merged.durations)
+            .map(|(u, d)| u.iter().map(|v| v / d).collect())
+            .collect(),
+        durations: merged.durations,
+        states: merged.states,
+        block_displacements: merged.block_displacements,
+        modes: merged.modes,
+        rounds: 0,
+    })
+}
+
+/// Refuses (field `start`) pieces that do not match the links, non-positive or non-finite
+/// durations, durations not summing to the period, increments that exceed the rate bounds or
+/// do not sum to 0 ([`phase_gait_of`]).
+fn check_pieces(
+    crawler: &Crawler,
+    problem: &GaitProblem,
+    durations: &[f64],
+    increments: &[Vec<f64>],
+) -> Result<()> {
     let (n, t) = (crawler.links(), problem.period);
     let a = &problem.rate_bound;
     let bad = |why: String| {
@@ -298,16 +361,21 @@ pub fn phase_gait_of(
             ));
         }
     }
-    let what = "start gait";
-    let sim = replay(crawler, t, durations, increments, None, Method::Exact, what)?;
-    let verified = sim
-        .displacement_per_period
-        .ok_or_else(|| Error::Numerical(format!("{what}: the replay did not converge")))?;
-    let traj = sim
-        .trajectory
-        .as_ref()
-        .filter(|tr| tr.t.len() >= 2)
-        .ok_or_else(|| Error::Numerical(format!("{what}: no trajectory was recorded")))?;
+    Ok(())
+}
+
+/// The exact simulator's pieces of the gait's periodic regime as a raw phase gait (before
+/// merging; the closing state not yet pushed): per recorded step of positive duration, its
+/// spring-force increments `k (L(s1) - L(s0))` with `L` linear between the knots, its start
+/// state, and the block displacements (below `1e-9` of the length scale read as 0) and modes.
+fn trajectory_pieces(
+    crawler: &Crawler,
+    problem: &GaitProblem,
+    durations: &[f64],
+    increments: &[Vec<f64>],
+    traj: &Trajectory,
+) -> RawGait {
+    let (n, t) = (crawler.links(), problem.period);
     let (times, lengths) = gait_knots(durations, increments, crawler.stiffness());
     // L at time s: linear between the knots (s in [0, T]).
     let length_at = |s: f64| -> Vec<f64> {
@@ -349,45 +417,7 @@ pub fn phase_gait_of(
         );
         g.block_displacements.push(d);
     }
-    let Some(x0) = g.states.first().cloned() else {
-        return Err(Error::Numerical(format!(
-            "{what}: no piece of positive duration"
-        )));
-    };
-    g.states.push(x0);
-    check_verified(
-        what,
-        g.displacement(),
-        verified,
-        problem.length_scale(crawler),
-    )?;
-    // The gait returned is the merged one: its cost, which merging lowers where a run's rates
-    // differ (the same motion at constant rates; a quadratic cost's start had reported the
-    // cost of the unmerged pieces, so its J was below what it is).
-    let merged = g.merged();
-    let cost = merged.cost(problem);
-    Ok(PhaseSolution {
-        phases: merged.slip_phases(),
-        certificate: Certificate {
-            status: MilpStatus::Stalled,
-            milp_objective: verified,
-            bound: f64::NAN,
-            gap: f64::NAN,
-        },
-        verified_displacement: verified,
-        actuation_cost: cost,
-        controls: merged
-            .increments
-            .iter()
-            .zip(&merged.durations)
-            .map(|(u, d)| u.iter().map(|v| v / d).collect())
-            .collect(),
-        durations: merged.durations,
-        states: merged.states,
-        block_displacements: merged.block_displacements,
-        modes: merged.modes,
-        rounds: 0,
-    })
+    g
 }
 
 /// The slip phases of a gait, in order: the modes of its phases where some block slips, a run
