@@ -268,14 +268,13 @@ fn check_crawler(crawler: &Crawler) -> Result<()> {
 
 /// The Kuhn grid of `C x box` at `resolution` steps across C's widest link-force range and
 /// `box_resolution` across each actuator range, and whether it is aligned with every friction
-/// threshold.
+/// threshold (the crawler checked by [`BoundSettings::grid`]).
 fn grid_of(
     crawler: &Crawler,
     problem: &GaitProblem,
     resolution: usize,
     box_resolution: usize,
-) -> Result<(grid::Grid, bool)> {
-    check_crawler(crawler)?;
+) -> (grid::Grid, bool) {
     let a = &problem.rate_bound;
     let k = crawler.stiffness();
     let lmax: Vec<f64> = (0..crawler.links())
@@ -291,7 +290,7 @@ fn grid_of(
         .chain(crawler.mu_backward())
         .all(|m| ((m / h).round() * h - m).abs() <= tol);
     let grid = grid::Grid::new(crawler, h, &lmax, box_resolution, aligned);
-    Ok((grid, aligned))
+    (grid, aligned)
 }
 
 /// The grid and the face motions of one bound computation.
@@ -302,9 +301,10 @@ struct Prepared {
     aligned: bool,
 }
 
-/// Checks the crawler and builds the grid of `C x box` of `level` and the face motions.
+/// Builds the grid of `C x box` of `level` (checked by [`BoundSettings::grid`]) and the face
+/// motions.
 fn prepare(crawler: &Crawler, problem: &GaitProblem, level: &Resolved) -> Result<Prepared> {
-    let (grid, aligned) = grid_of(crawler, problem, level.resolution, level.box_resolution)?;
+    let (grid, aligned) = grid_of(crawler, problem, level.resolution, level.box_resolution);
     let fact: usize = (1..=2 * crawler.links()).product();
     let simplices = grid.cells().saturating_mul(fact);
     if simplices > MAX_SIMPLICES {
