@@ -369,17 +369,7 @@ fn solve_storage_lp(
     //                             sum_r m_r <= 1,  m >= 0,
     // (an occupation measure on (simplex, face, control) that is invariant when tested against
     // the piecewise-linear functions of the grid), and V is read from its node duals.
-    let mut used = vec![false; columns];
-    let mut total = 0usize;
-    rows(&mut |cols, _, _| {
-        total += 1;
-        if total <= MAX_ROWS {
-            cols.iter().for_each(|&p| used[p] = true)
-        }
-    });
-    if total > MAX_ROWS {
-        return Err(refuse(total));
-    }
+    let used = used_columns(columns, rows, refuse)?;
     let pinned = used.iter().position(|&u| u);
     let mut pb = ColProblem::default();
     // Each constrained node's row handle and its index (HiGHS numbers rows as they are added).
@@ -462,6 +452,27 @@ fn solve_storage_lp(
         rows: count,
         columns: used.iter().filter(|&&u| u).count() + 1,
     })
+}
+
+/// Which of `columns` storage values some row refers to, in one pass over the rows that also
+/// counts them: beyond [`MAX_ROWS`] the LP is refused (`refuse`) before it is built.
+fn used_columns(
+    columns: usize,
+    rows: &RowSource,
+    refuse: &dyn Fn(usize) -> Error,
+) -> Result<Vec<bool>> {
+    let mut used = vec![false; columns];
+    let mut total = 0usize;
+    rows(&mut |cols, _, _| {
+        total += 1;
+        if total <= MAX_ROWS {
+            cols.iter().for_each(|&p| used[p] = true)
+        }
+    });
+    if total > MAX_ROWS {
+        return Err(refuse(total));
+    }
+    Ok(used)
 }
 
 /// The tangents of the cost used (0 without a cost), as recorded in results.
