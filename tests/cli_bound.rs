@@ -154,13 +154,12 @@ fn the_quadratic_cost_enters_the_bound_by_its_tangents() {
 #[test]
 fn the_default_grid_fits_a_four_block_crawler() {
     let dir = tempfile::tempdir().unwrap();
-    let file = dir.path().join("four.toml");
-    std::fs::write(
-        &file,
+    let file = common::write(
+        dir.path(),
+        "four.toml",
         "[crawler]\nblocks = 4\nstiffness = 1\nmu_forward = 1\nmu_backward = 1.6\n\n\
          [gait]\nperiod = 10\nmax_actuator_speed = 1\ncost = { kind = \"none\" }\n",
-    )
-    .unwrap();
+    );
     let f = file.to_str().unwrap();
     let v = crawlopt_json(&[
         "optimize",
@@ -181,37 +180,24 @@ fn the_default_grid_fits_a_four_block_crawler() {
     assert!((j - 3.6).abs() < 1e-6, "{j}");
     let value = ub["value"].as_f64().unwrap();
     assert!(value >= j && value <= 7.5 + 1e-9, "{ub}");
-    let err = crawlopt(&[
-        "optimize",
-        f,
-        "--phases",
-        "2",
-        "--bound",
+    // A grid given that is too large is refused (exit 2) naming the flag given, and why.
+    let refused = |grid: &[&str], flag: &str, why: &str| {
+        let mut args = vec!["optimize", f, "--phases", "2", "--bound"];
+        args.extend_from_slice(grid);
+        let err = crawlopt(&args);
+        assert_eq!(err.status.code(), Some(2));
+        let stderr = String::from_utf8_lossy(&err.stderr);
+        assert!(stderr.contains(flag) && stderr.contains(why), "{stderr}");
+    };
+    refused(
+        &["--bound-resolution", "8", "--bound-box-resolution", "8"],
         "--bound-resolution",
-        "8",
-        "--bound-box-resolution",
-        "8",
-    ]);
-    assert_eq!(err.status.code(), Some(2));
-    let stderr = String::from_utf8_lossy(&err.stderr);
-    assert!(
-        stderr.contains("--bound-resolution") && stderr.contains("simplices"),
-        "{stderr}"
+        "simplices",
     );
     // Only the box given, too fine for four blocks: refused by its row count, naming it.
-    let err = crawlopt(&[
-        "optimize",
-        f,
-        "--phases",
-        "2",
-        "--bound",
+    refused(
+        &["--bound-box-resolution", "8"],
         "--bound-box-resolution",
-        "8",
-    ]);
-    assert_eq!(err.status.code(), Some(2));
-    let stderr = String::from_utf8_lossy(&err.stderr);
-    assert!(
-        stderr.contains("--bound-box-resolution") && stderr.contains("rows"),
-        "{stderr}"
+        "rows",
     );
 }
