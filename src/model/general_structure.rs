@@ -46,6 +46,39 @@ fn close(a: f64, b: f64) -> bool {
 impl GeneralProblem {
     /// The crawler whose gait problem this is, when it is one (module docs); `None` otherwise.
     pub fn as_chain(&self) -> Option<ChainView> {
+        let (beta, rate_bounds) = self.chain_dynamics()?;
+        let n = beta.len();
+        let blocks = n + 1;
+        if self.c.faces() != 2 * blocks {
+            return None;
+        }
+        let (faces, mu, lambda) = self.chain_faces(&beta)?;
+        let cost_weight = match &self.cost {
+            GeneralCost::None => None,
+            GeneralCost::Quadratic { weight } if *weight == 0.0 => None,
+            GeneralCost::Quadratic { weight } => Some(weight / lambda),
+            GeneralCost::Matrix { .. } => return None,
+        };
+        let stiffness = beta.iter().map(|b| 1.0 / (b * b)).collect();
+        let crawler = Crawler::new(
+            stiffness,
+            mu.iter().map(|m| m[0]).collect(),
+            mu.iter().map(|m| m[1]).collect(),
+        )
+        .ok()?;
+        Some(ChainView {
+            crawler,
+            rate_bounds,
+            objective_scale: lambda,
+            cost_weight,
+            faces,
+        })
+    }
+
+    /// The chain's dynamics, when (P)'s are a chain's: `beta_l = 1 / sqrt(k_l)` (the positive
+    /// diagonal of `B`, with `A = 0`, no drift, `m = n`, periodic, zero-mean controls) and the
+    /// rate bounds `a_l` of a symmetric box U; `None` otherwise.
+    fn chain_dynamics(&self) -> Option<(Vec<f64>, Vec<f64>)> {
         let n = self.states();
         let d = &self.dynamics;
         if n == 0
@@ -76,10 +109,16 @@ impl GeneralProblem {
             }
             _ => return None,
         };
+        Some((beta, rate_bounds))
+    }
+
+    /// C's faces matched to the chain's blocks (`beta` from [`Self::chain_dynamics`]): for each
+    /// block its forward and backward faces, its thresholds `mu_b^+-` (offset times `s_b`), and
+    /// the objective's common scale `lambda` (weights `+-lambda / (N s_b)`); `None` when a face
+    /// is not a block's, a block lacks one of its two, or a weight is off the pattern.
+    fn chain_faces(&self, beta: &[f64]) -> Option<(Vec<[usize; 2]>, Vec<[f64; 2]>, f64)> {
+        let n = beta.len();
         let blocks = n + 1;
-        if self.c.faces() != 2 * blocks {
-            return None;
-        }
         // Each block's bracket e_(b-1) / beta_(b-1) - e_b / beta_b and its norm s_b.
         let bracket = |b: usize| -> Vec<f64> {
             let mut r = vec![0.0; n];
@@ -146,26 +185,7 @@ impl GeneralProblem {
             .into_iter()
             .map(|p| Some([p[0]?, p[1]?]))
             .collect::<Option<_>>()?;
-        let cost_weight = match &self.cost {
-            GeneralCost::None => None,
-            GeneralCost::Quadratic { weight } if *weight == 0.0 => None,
-            GeneralCost::Quadratic { weight } => Some(weight / lambda),
-            GeneralCost::Matrix { .. } => return None,
-        };
-        let stiffness = beta.iter().map(|b| 1.0 / (b * b)).collect();
-        let crawler = Crawler::new(
-            stiffness,
-            mu.iter().map(|m| m[0]).collect(),
-            mu.iter().map(|m| m[1]).collect(),
-        )
-        .ok()?;
-        Some(ChainView {
-            crawler,
-            rate_bounds,
-            objective_scale: lambda,
-            cost_weight,
-            faces,
-        })
+        Some((faces, mu, lambda))
     }
 }
 
