@@ -8,7 +8,9 @@
 //! `certificate` against the solution. A file is data from elsewhere: a number that disagrees
 //! is refused naming its field.
 
-use super::{GeneralAnswer, GeneralFile};
+use super::{
+    GeneralAnswer, GeneralFile, GeneralLocalOptimized, GeneralOptimized, GeneralPhaseOptimized,
+};
 use crate::certify::GeneralProcess;
 use crate::error::{Error, Result};
 use crate::model::general::{Boundary, ControlSet, GeneralProblem};
@@ -86,115 +88,128 @@ impl GeneralAnswer {
             ));
         }
         match self {
-            GeneralAnswer::Discrete(r) => {
-                let s = &r.solution;
-                let j = check_pm(&p, MAX_GENERAL_M, &GeneralProcess::from_pm(&p, s), what)?;
-                objectives(what, j, s.objective, r.objective)?;
-                if let Some(table) = &r.convergence {
-                    let rows: Vec<_> = table
-                        .iter()
-                        .map(|row| (row.m as usize, row.objective, row.bound))
-                        .collect();
-                    check_table(what, "convergence", &rows, s.m as usize, j, false)?;
-                }
-                check_upper_bound(what, &p, &r.certificate, j)?;
-                check_global(what, r.status, &r.certificate, &s.certificate, None, j)
-            }
-            GeneralAnswer::Local(r) => {
-                let s = &r.solution;
-                let j = check_pm(
-                    &p,
-                    MAX_GENERAL_LOCAL_M,
-                    &GeneralProcess::from_local(&p, s),
-                    what,
-                )?;
-                objectives(what, j, s.objective, r.objective)?;
-                if r.status != local_status(s.stop) {
-                    return Err(bad(
-                        what,
-                        "status",
-                        r.status.as_str(),
-                        format!(
-                            "disagrees with solution.stop ({})",
-                            local_status(s.stop).as_str()
-                        ),
-                    ));
-                }
-                check_local_certificate(what, &r.certificate)?;
-                for (field, v) in [
-                    ("solution.lp_objective", s.lp_objective),
-                    ("solution.start_objective", s.start_objective),
-                ] {
-                    if !v.is_finite() {
-                        return Err(bad(what, field, v, "must be finite"));
-                    }
-                }
-                if r.starts_tried == 0 || r.best_start >= r.starts_tried {
-                    return Err(bad(
-                        what,
-                        "best_start",
-                        r.best_start,
-                        format!("must be below starts_tried ({})", r.starts_tried),
-                    ));
-                }
-                Ok(())
-            }
-            GeneralAnswer::Phase(r) => {
-                let s = &r.solution;
-                // The crawler's local methods on the chain (`sequence`, `chain`).
-                let local = r.method != "phase";
-                let chain = match r.formulation.as_deref() {
-                    None => false,
-                    Some("chain") if p.as_chain().is_some() => true,
-                    Some("chain") => {
-                        return Err(bad(
-                            what,
-                            "formulation",
-                            "chain",
-                            "the problem is not a crawler's gait problem (a chain), so the \
-                             chain's formulation cannot have run",
-                        ))
-                    }
-                    Some(other) => {
-                        return Err(bad(
-                            what,
-                            "formulation",
-                            other,
-                            "the only formulation recorded is \"chain\" (absent: the general \
-                             one)",
-                        ))
-                    }
-                };
-                if local && !chain {
-                    return Err(bad(
-                        what,
-                        "formulation",
-                        format!("{:?}", r.formulation),
-                        format!(
-                            "the {} method runs on the chain: must be \"chain\"",
-                            r.method
-                        ),
-                    ));
-                }
-                let j = check_phase(&p, s, chain, local, what)?;
-                objectives(what, j, s.objective, r.objective)?;
-                if local {
-                    return check_local_phase(what, r);
-                }
-                if let Some(g) = &r.phase_growth {
-                    let rows: Vec<_> = g
-                        .table
-                        .iter()
-                        .map(|row| (row.phases, row.objective, row.bound))
-                        .collect();
-                    check_table(what, "phase_growth.table", &rows, s.max_phases, j, true)?;
-                }
-                check_upper_bound(what, &p, &r.certificate, j)?;
-                let k = Some(s.max_phases);
-                check_global(what, r.status, &r.certificate, &s.certificate, k, j)
-            }
+            GeneralAnswer::Discrete(r) => check_discrete_answer(r, &p, what),
+            GeneralAnswer::Local(r) => check_local_answer(r, &p, what),
+            GeneralAnswer::Phase(r) => check_phase_answer(r, &p, what),
         }
     }
+}
+
+/// A P_m answer of the global method: its process replayed, its objective, its convergence
+/// table, its upper bound and its global certificate.
+fn check_discrete_answer(r: &GeneralOptimized, p: &GeneralProblem, what: &str) -> Result<()> {
+    let s = &r.solution;
+    let j = check_pm(p, MAX_GENERAL_M, &GeneralProcess::from_pm(p, s), what)?;
+    objectives(what, j, s.objective, r.objective)?;
+    if let Some(table) = &r.convergence {
+        let rows: Vec<_> = table
+            .iter()
+            .map(|row| (row.m as usize, row.objective, row.bound))
+            .collect();
+        check_table(what, "convergence", &rows, s.m as usize, j, false)?;
+    }
+    check_upper_bound(what, p, &r.certificate, j)?;
+    check_global(what, r.status, &r.certificate, &s.certificate, None, j)
+}
+
+/// A P_m answer of the local method: its process replayed, its objective, its status against
+/// its stop, its local certificate and its start record.
+fn check_local_answer(r: &GeneralLocalOptimized, p: &GeneralProblem, what: &str) -> Result<()> {
+    let s = &r.solution;
+    let j = check_pm(
+        p,
+        MAX_GENERAL_LOCAL_M,
+        &GeneralProcess::from_local(p, s),
+        what,
+    )?;
+    objectives(what, j, s.objective, r.objective)?;
+    if r.status != local_status(s.stop) {
+        return Err(bad(
+            what,
+            "status",
+            r.status.as_str(),
+            format!(
+                "disagrees with solution.stop ({})",
+                local_status(s.stop).as_str()
+            ),
+        ));
+    }
+    check_local_certificate(what, &r.certificate)?;
+    for (field, v) in [
+        ("solution.lp_objective", s.lp_objective),
+        ("solution.start_objective", s.start_objective),
+    ] {
+        if !v.is_finite() {
+            return Err(bad(what, field, v, "must be finite"));
+        }
+    }
+    if r.starts_tried == 0 || r.best_start >= r.starts_tried {
+        return Err(bad(
+            what,
+            "best_start",
+            r.best_start,
+            format!("must be below starts_tried ({})", r.starts_tried),
+        ));
+    }
+    Ok(())
+}
+
+/// An answer of exact phase gaits (the general MILP, or the crawler's local methods on a
+/// chain): its formulation, its gait replayed, its objective, then its growth table, upper
+/// bound and global certificate, or its local record.
+fn check_phase_answer(r: &GeneralPhaseOptimized, p: &GeneralProblem, what: &str) -> Result<()> {
+    let s = &r.solution;
+    // The crawler's local methods on the chain (`sequence`, `chain`).
+    let local = r.method != "phase";
+    let chain = match r.formulation.as_deref() {
+        None => false,
+        Some("chain") if p.as_chain().is_some() => true,
+        Some("chain") => {
+            return Err(bad(
+                what,
+                "formulation",
+                "chain",
+                "the problem is not a crawler's gait problem (a chain), so the \
+                     chain's formulation cannot have run",
+            ))
+        }
+        Some(other) => {
+            return Err(bad(
+                what,
+                "formulation",
+                other,
+                "the only formulation recorded is \"chain\" (absent: the general \
+                     one)",
+            ))
+        }
+    };
+    if local && !chain {
+        return Err(bad(
+            what,
+            "formulation",
+            format!("{:?}", r.formulation),
+            format!(
+                "the {} method runs on the chain: must be \"chain\"",
+                r.method
+            ),
+        ));
+    }
+    let j = check_phase(p, s, chain, local, what)?;
+    objectives(what, j, s.objective, r.objective)?;
+    if local {
+        return check_local_phase(what, r);
+    }
+    if let Some(g) = &r.phase_growth {
+        let rows: Vec<_> = g
+            .table
+            .iter()
+            .map(|row| (row.phases, row.objective, row.bound))
+            .collect();
+        check_table(what, "phase_growth.table", &rows, s.max_phases, j, true)?;
+    }
+    check_upper_bound(what, p, &r.certificate, j)?;
+    let k = Some(s.max_phases);
+    check_global(what, r.status, &r.certificate, &s.certificate, k, j)
 }
 
 /// A local answer's certificate (P_m's local method, the crawler's on a chain): `local`,
