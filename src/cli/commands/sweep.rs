@@ -84,49 +84,20 @@ pub fn run(a: SweepArgs) -> Result<ExitCode, Error> {
 }
 
 fn run_sweep(a: RunArgs) -> Result<ExitCode, Error> {
-    let file = a.file.expect("required by clap");
-    let spec = SweepSpec::load(&file)?;
-    let shard = a.shard.as_deref().map(Shard::parse).transpose()?;
-    if let Some(dir) = &a.results {
-        if !dir.is_dir() {
-            return Err(Error::invalid(
-                "--results",
-                dir.display(),
-                "must be an existing directory",
-            ));
-        }
-    }
+    let file = a.file.as_ref().expect("required by clap");
+    let spec = SweepSpec::load(file)?;
+    let mut settings = settings_of(&a)?;
     let format = if a.json {
         Format::JsonLines
     } else {
         Format::Csv
     };
-    if let Some(dir) = &a.plot {
-        present::check_figure_dir(dir)?;
-    }
-    let mut settings = SweepSettings {
-        threads: a.jobs,
-        shard,
-        skip: Default::default(),
-        full_results: a.results.is_some(),
-        cancel: Some(Default::default()),
-    };
-    // Checked before the output is opened (a resumed table is trimmed when opened).
-    settings
-        .check()
-        .map_err(|e| api::rename_fields(e, &[("threads", "--jobs".to_string())]))?;
     let (writer, skip) = TableWriter::open(&spec, a.output.as_deref(), format, a.resume)?;
     settings.skip = skip;
     let writer = Mutex::new(writer);
     let rows = Mutex::new(Vec::new());
     let failed: Mutex<Option<Error>> = Mutex::new(None);
-    let bar = indicatif::ProgressBar::new(0);
-    bar.set_style(
-        indicatif::ProgressStyle::with_template(
-            "{bar:30} {pos}/{len} points [{elapsed_precise}, ETA {msg}]",
-        )
-        .expect("valid template"),
-    );
+    let bar = progress_bar();
     let on_point = |out: study::Outcome, p: study::SweepProgress| {
         let mut result = writer.lock().map_err(|_| ()).and_then(|mut w| {
             w.write(&out.row).map_err(|e| {
@@ -156,7 +127,60 @@ fn run_sweep(a: RunArgs) -> Result<ExitCode, Error> {
     if let Some(e) = failed.into_inner().expect("not poisoned") {
         return Err(e);
     }
-    let s = done?;
+    let rows = rows.into_inner().expect("not poisoned");
+    summarise(&a, &spec, &done?, rows)?;
+    Ok(ExitCode::SUCCESS)
+}
+
+/// The sweep's settings of the flags, checked before the output is opened (a resumed table is
+/// trimmed when opened): the shard, the results and figure directories, the threads.
+fn settings_of(a: &RunArgs) -> Result<SweepSettings, Error> {
+    let shard = a.shard.as_deref().map(Shard::parse).transpose()?;
+    if let Some(dir) = &a.results {
+        if !dir.is_dir() {
+            return Err(Error::invalid(
+                "--results",
+                dir.display(),
+                "must be an existing directory",
+            ));
+        }
+    }
+    if let Some(dir) = &a.plot {
+        present::check_figure_dir(dir)?;
+    }
+    let settings = SweepSettings {
+        threads: a.jobs,
+        shard,
+        skip: Default::default(),
+        full_results: a.results.is_some(),
+        cancel: Some(Default::default()),
+    };
+    settings
+        .check()
+        .map_err(|e| api::rename_fields(e, &[("threads", "--jobs".to_string())]))?;
+    Ok(settings)
+}
+
+/// The progress bar of the points, with the run's ETA as its message.
+fn progress_bar() -> indicatif::ProgressBar {
+    let bar = indicatif::ProgressBar::new(0);
+    bar.set_style(
+        indicatif::ProgressStyle::with_template(
+            "{bar:30} {pos}/{len} points [{elapsed_precise}, ETA {msg}]",
+        )
+        .expect("valid template"),
+    );
+    bar
+}
+
+/// The run's summary line (on stdout with a table file, else on stderr), then its figures
+/// when asked, drawn from the table file or from `rows`, the rows kept in memory.
+fn summarise(
+    a: &RunArgs,
+    spec: &SweepSpec,
+    s: &study::SweepSummary,
+    rows: Vec<study::Row>,
+) -> Result<(), Error> {
     let wrote = a
         .output
         .as_ref()
@@ -166,14 +190,14 @@ fn run_sweep(a: RunArgs) -> Result<ExitCode, Error> {
         s.points, s.in_share, s.computed, s.errors, s.skipped, s.seconds
     );
     match (&a.output, a.json) {
-        (Some(_), true) => json_line(&s),
+        (Some(_), true) => json_line(s),
         (Some(_), false) => outln(&line),
         (None, _) => eprintln!("{line}"),
     }
     if let Some(dir) = &a.plot {
         let rows = match &a.output {
-            Some(path) => study::read_table(path, &study::header(&spec))?.0,
-            None => rows.into_inner().expect("not poisoned"),
+            Some(path) => study::read_table(path, &study::header(spec))?.0,
+            None => rows,
         };
         let axes: Vec<String> = spec.axes.iter().map(|x| x.field.clone()).collect();
         for p in write_figures(dir, &study::figures(&axes, &rows)?)? {
@@ -184,7 +208,7 @@ fn run_sweep(a: RunArgs) -> Result<ExitCode, Error> {
             }
         }
     }
-    Ok(ExitCode::SUCCESS)
+    Ok(())
 }
 
 fn merge(m: MergeArgs) -> Result<ExitCode, Error> {
