@@ -39,6 +39,16 @@ pub struct ChainView {
     pub faces: Vec<[usize; 2]>,
 }
 
+/// C's faces matched to a chain's blocks ([`GeneralProblem::as_chain`]).
+struct ChainFaces {
+    /// For each block, its forward and backward faces.
+    faces: Vec<[usize; 2]>,
+    /// For each block, its thresholds `mu_b^+` and `mu_b^-`.
+    mu: Vec<[f64; 2]>,
+    /// The objective's scale `lambda > 0`.
+    lambda: f64,
+}
+
 fn close(a: f64, b: f64) -> bool {
     (a - b).abs() <= MATCH_TOL * a.abs().max(b.abs()).max(1e-300)
 }
@@ -52,7 +62,7 @@ impl GeneralProblem {
         if self.c.faces() != 2 * blocks {
             return None;
         }
-        let (faces, mu, lambda) = self.chain_faces(&beta)?;
+        let ChainFaces { faces, mu, lambda } = self.chain_faces(&beta)?;
         let cost_weight = match &self.cost {
             GeneralCost::None => None,
             GeneralCost::Quadratic { weight } if *weight == 0.0 => None,
@@ -116,7 +126,7 @@ impl GeneralProblem {
     /// block its forward and backward faces, its thresholds `mu_b^+-` (offset times `s_b`), and
     /// the objective's common scale `lambda` (weights `+-lambda / (N s_b)`); `None` when a face
     /// is not a block's, a block lacks one of its two, or a weight is off the pattern.
-    fn chain_faces(&self, beta: &[f64]) -> Option<(Vec<[usize; 2]>, Vec<[f64; 2]>, f64)> {
+    fn chain_faces(&self, beta: &[f64]) -> Option<ChainFaces> {
         let n = beta.len();
         let blocks = n + 1;
         // Each block's bracket e_(b-1) / beta_(b-1) - e_b / beta_b and its norm s_b.
@@ -185,7 +195,7 @@ impl GeneralProblem {
             .into_iter()
             .map(|p| Some([p[0]?, p[1]?]))
             .collect::<Option<_>>()?;
-        Some((faces, mu, lambda))
+        Some(ChainFaces { faces, mu, lambda })
     }
 }
 
