@@ -104,6 +104,23 @@ impl ChainDp {
     ) {
         let n = self.inv_k.len();
         debug_assert!(ls < le && le <= n && (left_cut || ls == 0) && (right_cut || le == n));
+        self.forward(lo, hi, v, (ls, left_cut), le);
+        self.backtrack(lo, hi, x, (ls, left_cut), (le, right_cut));
+        self.multipliers(lo, hi, v, x, d, (ls, left_cut), le);
+    }
+
+    /// The forward pass of [`Self::solve_window`] over links `ls..le`: the derivative of the
+    /// cost-to-go as two stacks of knots, each link's min-convolution with `[lo_l, hi_l]` and
+    /// its `q_l'` added, and the zero `z_l` of the sum found by popping knots (recorded in
+    /// `zeros`, with whether it sits on a kink in `kinks`). `O(le - ls)` amortised.
+    fn forward(
+        &mut self,
+        lo: &[f64],
+        hi: &[f64],
+        v: &[f64],
+        (ls, left_cut): (usize, bool),
+        le: usize,
+    ) {
         self.left.clear();
         self.right.clear();
         let (mut off_l, mut off_r) = (0.0_f64, 0.0_f64);
@@ -194,7 +211,18 @@ impl ChainDp {
             self.kinks[l] = g_l < 0.0 || g_r > 0.0;
         }
         self.crossings += crossings;
-        // Backtracking: the clamps give the solution and the face of every block b > ls.
+    }
+
+    /// The backtracking of [`Self::solve_window`]: the clamps of the zeros give `x[ls..le]` and
+    /// the face of every block `b > ls` (a cut end block is free and anchors `D`).
+    fn backtrack(
+        &mut self,
+        lo: &[f64],
+        hi: &[f64],
+        x: &mut [f64],
+        (ls, left_cut): (usize, bool),
+        (le, right_cut): (usize, bool),
+    ) {
         let mut top = le;
         let mut xl = 0.0;
         if right_cut {
@@ -238,7 +266,6 @@ impl ChainDp {
             self.ws[ls] = Bound::Free;
             self.anchors[ls] = true;
         }
-        self.multipliers(lo, hi, v, x, d, (ls, left_cut), le);
     }
 
     /// `D` from stationarity `D_{b+1} = D_b - (x_b - v_b) / k_b` over blocks `ls..=le`,
