@@ -100,44 +100,10 @@ impl ChainQp {
             .iter()
             .chain(x.iter())
             .fold(1e-300_f64, |m, a| m.max(a.abs()));
-        let tol_act = 1e-12 * scale;
-        for b in 0..nb {
-            let keep = match self.ws[b] {
-                Bound::Free => true,
-                Bound::Lower => (increment(x, b) - lo[b]).abs() <= tol_act,
-                Bound::Upper => (increment(x, b) - hi[b]).abs() <= tol_act,
-            };
-            if !keep {
-                self.ws[b] = Bound::Free;
-            }
-        }
-        if self.ws.iter().all(|&w| w != Bound::Free) {
-            self.ws[nb - 1] = Bound::Free;
-        }
+        self.prune(lo, hi, x, 1e-12 * scale);
         for it in 1..=self.max_iter {
             self.solve_equality(lo, hi, v);
-            // Ratio test along p = xw - x over the free increments.
-            let mut alpha = 1.0;
-            let mut block: Option<(usize, Bound)> = None;
-            for b in 0..nb {
-                if self.ws[b] != Bound::Free {
-                    continue;
-                }
-                let dp = increment(&self.xw, b) - increment(x, b);
-                if dp < 0.0 && lo[b] > f64::NEG_INFINITY {
-                    let a = ((lo[b] - increment(x, b)) / dp).max(0.0);
-                    if a < alpha {
-                        alpha = a;
-                        block = Some((b, Bound::Lower));
-                    }
-                } else if dp > 0.0 && hi[b] < f64::INFINITY {
-                    let a = ((hi[b] - increment(x, b)) / dp).max(0.0);
-                    if a < alpha {
-                        alpha = a;
-                        block = Some((b, Bound::Upper));
-                    }
-                }
-            }
+            let (alpha, block) = self.ratio_test(lo, hi, x);
             if let Some((b, side)) = block {
                 for (xi, wi) in x.iter_mut().zip(&self.xw) {
                     *xi += alpha * (wi - *xi);
@@ -186,6 +152,52 @@ impl ChainQp {
             "projection onto C did not converge in {} active-set iterations",
             self.max_iter
         )))
+    }
+
+    /// The working set pruned to the constraints active at `x` (within `tol_act`), with one
+    /// block freed if every one is active (the equality system is singular then).
+    fn prune(&mut self, lo: &[f64], hi: &[f64], x: &[f64], tol_act: f64) {
+        let nb = self.ws.len();
+        for b in 0..nb {
+            let keep = match self.ws[b] {
+                Bound::Free => true,
+                Bound::Lower => (increment(x, b) - lo[b]).abs() <= tol_act,
+                Bound::Upper => (increment(x, b) - hi[b]).abs() <= tol_act,
+            };
+            if !keep {
+                self.ws[b] = Bound::Free;
+            }
+        }
+        if self.ws.iter().all(|&w| w != Bound::Free) {
+            self.ws[nb - 1] = Bound::Free;
+        }
+    }
+
+    /// The ratio test along `p = xw - x` over the free increments: the longest step
+    /// `alpha <= 1` that stays in C, and the block and face that stop it (`None` at 1).
+    fn ratio_test(&self, lo: &[f64], hi: &[f64], x: &[f64]) -> (f64, Option<(usize, Bound)>) {
+        let mut alpha = 1.0;
+        let mut block: Option<(usize, Bound)> = None;
+        for b in 0..self.ws.len() {
+            if self.ws[b] != Bound::Free {
+                continue;
+            }
+            let dp = increment(&self.xw, b) - increment(x, b);
+            if dp < 0.0 && lo[b] > f64::NEG_INFINITY {
+                let a = ((lo[b] - increment(x, b)) / dp).max(0.0);
+                if a < alpha {
+                    alpha = a;
+                    block = Some((b, Bound::Lower));
+                }
+            } else if dp > 0.0 && hi[b] < f64::INFINITY {
+                let a = ((hi[b] - increment(x, b)) / dp).max(0.0);
+                if a < alpha {
+                    alpha = a;
+                    block = Some((b, Bound::Upper));
+                }
+            }
+        }
+        (alpha, block)
     }
 
     #[inline]
