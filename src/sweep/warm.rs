@@ -192,64 +192,18 @@ impl ChainWarm {
             .rposition(|&b| b == Bound::Free)
             .unwrap_or(f0);
         let (w, lo, hi) = (&self.inv_k[..n], &self.lo[..=n], &self.hi[..=n]);
-        let sgn = &self.sgn[..=n];
         let bnd = |b: usize| match self.ws[b] {
             Bound::Lower => lo[b],
             Bound::Upper => hi[b],
             Bound::Free => 0.0,
         };
-        // Wrong sign of D on a face, by more than the tolerance.
-        let wrong = |b: usize, db: f64, tol: f64| match self.ws[b] {
-            Bound::Lower => db < -tol,
-            Bound::Upper => db > tol,
-            Bound::Free => false,
-        };
+        let wrong = |b: usize, db: f64, tol: f64| wrong_sign(self.ws[b], db, tol);
         // Floating segments over links f0..fl, forward: the running sum restarts after a link
         // whose right block is free (`on = 0`); block f0 is free.
         let rec = &self.rec[f0..fl];
-        let swv = &mut self.swv[f0..fl];
-        let mut s = 0.0_f64;
-        let mut on = 0.0_f64;
-        let v: &[f64] = match input {
-            Input::Point(v) => {
-                for ((r, &vl), sl) in rec.iter().zip(&v[f0..fl]).zip(swv.iter_mut()) {
-                    s = if on != 0.0 { s } else { 0.0 } + r.w * vl;
-                    *sl = s;
-                    on = r.on;
-                }
-                v
-            }
-            Input::Increment { delta, v } => {
-                for l in (0..f0).chain(fl..n) {
-                    v[l] = x[l] + delta[l];
-                }
-                let it = rec.iter().zip(swv.iter_mut()).zip(&mut v[f0..fl]);
-                for (((r, sl), vl), (xl, dl)) in it.zip(x[f0..fl].iter().zip(&delta[f0..fl])) {
-                    *vl = xl + dl;
-                    s = if on != 0.0 { s } else { 0.0 } + r.w * *vl;
-                    *sl = s;
-                    on = r.on;
-                }
-                v
-            }
-        };
+        let v = floating_sums(rec, &mut self.swv[f0..fl], input, x, (f0, fl));
         let vm = &v[f0..fl];
-        // max |v| in four independent lanes (no loop-carried chain through one register).
-        let mut lanes = [0.0_f64; 4];
-        let chunks = v.chunks_exact(4);
-        for a in chunks.remainder() {
-            lanes[0] = if a.abs() > lanes[0] {
-                a.abs()
-            } else {
-                lanes[0]
-            };
-        }
-        for ch in chunks {
-            for (m, a) in lanes.iter_mut().zip(ch) {
-                *m = if a.abs() > *m { a.abs() } else { *m };
-            }
-        }
-        let scale = lanes.iter().fold(0.0_f64, |m, &a| m.max(a));
+        let scale = max_abs(v);
         // Rounding of an increment (two values of size `scale`) and of a multiplier summed along
         // a segment of a few links; the DP settles anything within these anyway.
         let tol_p = 8.0 * f64::EPSILON * scale;
@@ -309,24 +263,31 @@ impl ChainWarm {
         let inc = increment(x, f0);
         bad |= inc < lo[f0] - tol_p || inc > hi[f0] + tol_p;
         if bad {
-            for b in 0..=n {
-                let inc = increment(x, b);
-                let wrong_p =
-                    self.ws[b] == Bound::Free && (inc < lo[b] - tol_p || inc > hi[b] + tol_p);
-                if wrong_p || wrong(b, d[b], tol_d) {
-                    self.bad[b] = true;
-                    self.viol.push(b);
-                }
-            }
+            self.flag_violations(x, d, tol_p, tol_d);
         }
         // Tiny wrong-signed multipliers of degenerate faces (rounding) are zero (after a repair,
         // once the faces are final).
         if self.viol.is_empty() {
-            for (db, sb) in d.iter_mut().zip(sgn) {
+            for (db, sb) in d.iter_mut().zip(&self.sgn[..=n]) {
                 *db = if sb * *db < 0.0 { 0.0 } else { *db };
             }
         }
         Some(tol_p)
+    }
+
+    /// The blocks that violate a KKT condition after a pass whose flag is up: a free block's
+    /// increment out of its bounds, or a face's `D` of the wrong sign (by more than the
+    /// tolerances), flagged in `bad` and listed in `viol`.
+    fn flag_violations(&mut self, x: &[f64], d: &[f64], tol_p: f64, tol_d: f64) {
+        let (lo, hi) = (&self.lo, &self.hi);
+        for b in 0..x.len() + 1 {
+            let inc = increment(x, b);
+            let wrong_p = self.ws[b] == Bound::Free && (inc < lo[b] - tol_p || inc > hi[b] + tol_p);
+            if wrong_p || wrong_sign(self.ws[b], d[b], tol_d) {
+                self.bad[b] = true;
+                self.viol.push(b);
+            }
+        }
     }
 
     /// The per-link records of the pass, which depend on the working set alone (see `pass`).
@@ -489,6 +450,74 @@ impl ChainWarm {
             }
         }
     }
+}
+
+/// The pass's forward sweep over the floating links `f0..fl` (block `f0` free): the running
+/// `sum w v` of each segment into `swv`, restarted after a link whose right block is free
+/// (`on = 0`). For an increment input, `v = x + delta` is formed on the way (and on the pinned
+/// links outside). Returns `v`.
+fn floating_sums<'a>(
+    rec: &[Rec],
+    swv: &mut [f64],
+    input: Input<'a>,
+    x: &[f64],
+    (f0, fl): (usize, usize),
+) -> &'a [f64] {
+    let n = x.len();
+    let mut s = 0.0_f64;
+    let mut on = 0.0_f64;
+    match input {
+        Input::Point(v) => {
+            for ((r, &vl), sl) in rec.iter().zip(&v[f0..fl]).zip(swv.iter_mut()) {
+                s = if on != 0.0 { s } else { 0.0 } + r.w * vl;
+                *sl = s;
+                on = r.on;
+            }
+            v
+        }
+        Input::Increment { delta, v } => {
+            for l in (0..f0).chain(fl..n) {
+                v[l] = x[l] + delta[l];
+            }
+            let it = rec.iter().zip(swv.iter_mut()).zip(&mut v[f0..fl]);
+            for (((r, sl), vl), (xl, dl)) in it.zip(x[f0..fl].iter().zip(&delta[f0..fl])) {
+                *vl = xl + dl;
+                s = if on != 0.0 { s } else { 0.0 } + r.w * *vl;
+                *sl = s;
+                on = r.on;
+            }
+            v
+        }
+    }
+}
+
+/// Whether `D_b = db` has the wrong sign for a block on face `ws`, by more than `tol`.
+#[inline]
+fn wrong_sign(ws: Bound, db: f64, tol: f64) -> bool {
+    match ws {
+        Bound::Lower => db < -tol,
+        Bound::Upper => db > tol,
+        Bound::Free => false,
+    }
+}
+
+/// `max |v|` in four independent lanes (no loop-carried chain through one register).
+fn max_abs(v: &[f64]) -> f64 {
+    let mut lanes = [0.0_f64; 4];
+    let chunks = v.chunks_exact(4);
+    for a in chunks.remainder() {
+        lanes[0] = if a.abs() > lanes[0] {
+            a.abs()
+        } else {
+            lanes[0]
+        };
+    }
+    for ch in chunks {
+        for (m, a) in lanes.iter_mut().zip(ch) {
+            *m = if a.abs() > *m { a.abs() } else { *m };
+        }
+    }
+    lanes.iter().fold(0.0_f64, |m, &a| m.max(a))
 }
 
 #[cfg(test)]
