@@ -191,6 +191,33 @@ fn the_three_block_optimum_with_its_events() {
     assert!(matches!(events[0].0, Event::Stage(_)));
 }
 
+/// The sequence method with K below the slip phases of its default start (the phase optimum,
+/// 4 slip phases here) starts from the K-phase optimum, its growth of K stopped at K, where it
+/// was refused; the structured gait (6 slip phases) is not its start. Its answer is at least
+/// the K-phase MILP's optimum (13/6 at K = 3) and has at most K slip phases.
+#[test]
+fn the_sequence_method_below_its_default_start_s_phases_starts_at_k() {
+    let (c, p) = model("three_blocks_gait");
+    let run = |method, phases| {
+        let s = OptimizeSettings {
+            method,
+            phases: Some(phases),
+            ..Default::default()
+        };
+        optimize(&c, &p, &s, Hooks::default()).unwrap().result
+    };
+    let milp = run(GaitMethod::Phase, 3);
+    assert!(
+        (milp.objective - 13.0 / 6.0).abs() < 1e-8,
+        "{}",
+        milp.objective
+    );
+    let seq = run(GaitMethod::Sequence, 3);
+    assert_eq!(seq.method, "sequence");
+    assert!(seq.objective >= milp.objective - 1e-9, "{}", seq.objective);
+    assert!(crawlopt::optimal::slip_sequence(&seq.gait.slip).len() <= 3);
+}
+
 #[test]
 fn the_one_link_closed_form_through_analyze_and_optimize() {
     // theory §10: J* = (a T - 2 w) / (2 k) = 3.

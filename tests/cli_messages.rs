@@ -507,10 +507,10 @@ fn a_time_limit_spent_at_once_says_time_limit_for_every_method() {
     }
 }
 
-/// Every refusal names the flag the user gave, or would give: the bound's own settings, the
-/// phases below a default start of the sequence method (where the start was not given), a
-/// fixed K of a general phase MILP with a growth setting, and the computation's flags of
-/// `report` on a result file, whose gait is computed already (nothing written).
+/// Every refusal names the flag the user gave, or would give: the bound's own settings, a
+/// given start of more slip phases than the sequence method's K, a fixed K of a general phase
+/// MILP with a growth setting, and the computation's flags of `report` on a result file, whose
+/// gait is computed already (nothing written).
 #[test]
 fn refusals_name_the_flag_to_change() {
     let dir = tempfile::tempdir().unwrap();
@@ -524,14 +524,6 @@ fn refusals_name_the_flag_to_change() {
         (
             &["optimize", general, "--bound", "--bound-resolution", "0"],
             "error: --bound-resolution:",
-        ),
-        (
-            &["optimize", three, "--method", "sequence", "--phases", "3"],
-            "error: --phases: is below the 4 slip phases of the default start gait",
-        ),
-        (
-            &["optimize", general, "--method", "sequence", "--phases", "3"],
-            "error: --phases: is below",
         ),
         (
             &[
@@ -549,6 +541,22 @@ fn refusals_name_the_flag_to_change() {
     ] {
         assert_refused(&crawlopt(args), &[want]);
     }
+    let four = common::optimize_json(three.as_ref(), &["--method", "phase", "--phases", "4"]);
+    let start = write(dir.path(), "four.json", &four.to_string());
+    let out = crawlopt(&[
+        "optimize",
+        three,
+        "--method",
+        "sequence",
+        "--phases",
+        "3",
+        "--start",
+        start.to_str().unwrap(),
+    ]);
+    assert_refused(
+        &out,
+        &["error: --start: has more slip phases than --phases = 3 (got 4 slip phases)"],
+    );
     let html = dir.path().join("r.html");
     let out = crawlopt(&[
         "report",

@@ -362,6 +362,12 @@ fn solve_sequence(
     em: &Emitter<'_>,
 ) -> Result<GaitResult> {
     let start = settings.start.as_ref();
+    // With K given, a structured gait of more slip modes cannot start the search.
+    let floor = floor.filter(|f| {
+        settings
+            .phases
+            .is_none_or(|k| slip_sequence(&f.best.result.gait.slip).len() <= k)
+    });
     let from = start_gait(start, crawler, problem, plan, floor, em)?;
     let (seq, origin) = (slip_sequence(&from.result.gait.slip), from.origin);
     let k = settings

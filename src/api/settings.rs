@@ -185,8 +185,9 @@ pub struct OptimizeSettings {
     /// The method (default [`GaitMethod::Auto`]).
     pub method: GaitMethod,
     /// Slip phases allowed in a phase gait (phase, auto); the sequence method's number of slip
-    /// modes (default: the start's plus 2). Without it K grows from 1 until the value has not
-    /// improved for `patience` K (or `max_phases`, or the time limit).
+    /// modes (default: the start's plus 2; given, its default start gait grows K up to it and
+    /// the best structured gait starts it only when it fits). Without it K grows from 1 until
+    /// the value has not improved for `patience` K (or `max_phases`, or the time limit).
     pub phases: Option<usize>,
     /// Consecutive K without a gain that end a certified growth of K (default
     /// [`DEFAULT_PATIENCE`]).
@@ -333,7 +334,12 @@ impl OptimizeSettings {
         let local_search = method == Local
             || (method == Discrete && grows && problem.cost == Cost::None && m <= MAX_LOCAL_M);
         self.check_growth_settings(grows, certified_growth, local_search)?;
-        let growth = self.growth();
+        let mut growth = self.growth();
+        if let (Sequence, Some(k)) = (method, self.phases) {
+            // The sequence search moves among sequences of K slip modes: its default start
+            // grows K no further, so that it fits.
+            growth.max_phases = growth.max_phases.min(k);
+        }
         if let Some(s) = self.shifts {
             check_shifts(s)?;
         }
