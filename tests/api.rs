@@ -192,9 +192,9 @@ fn the_three_block_optimum_with_its_events() {
 }
 
 /// The sequence method with K below the slip phases of its default start (the phase optimum,
-/// 4 slip phases here) starts from the K-phase optimum, its growth of K stopped at K, where it
-/// was refused; the structured gait (6 slip phases) is not its start. Its answer is at least
-/// the K-phase MILP's optimum (13/6 at K = 3) and has at most K slip phases.
+/// 4 slip phases here) starts from a gait grown to at most K phases, where it was refused; the
+/// structured gait (6 slip phases) is not its start. Here the growth reaches K = 3, so the
+/// answer is at least the 3-phase MILP's optimum 13/6, with at most 3 slip phases.
 #[test]
 fn the_sequence_method_below_its_default_start_s_phases_starts_at_k() {
     let (c, p) = model("three_blocks_gait");

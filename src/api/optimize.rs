@@ -161,6 +161,10 @@ fn solve(
         f.objective
     )));
     let mut out = floor_answer(f, plan);
+    if r.status == MilpStatus::TimeLimit {
+        // The method was cut by the time limit: so is the job, whichever gait it returns.
+        out.status = MilpStatus::TimeLimit;
+    }
     let what = match (
         r.certificate.kind.as_str(),
         r.certificate.phases,

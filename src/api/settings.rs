@@ -185,15 +185,17 @@ pub struct OptimizeSettings {
     /// The method (default [`GaitMethod::Auto`]).
     pub method: GaitMethod,
     /// Slip phases allowed in a phase gait (phase, auto); the sequence method's number of slip
-    /// modes (default: the start's plus 2; given, its default start gait grows K up to it and
-    /// the best structured gait starts it only when it fits). Without it K grows from 1 until
+    /// modes (default: the start's plus 2; given, its default start gait grows K no further,
+    /// stopping earlier at the first K without a gain, and the best structured gait starts it
+    /// only when it fits). Without it K grows from 1 until
     /// the value has not improved for `patience` K (or `max_phases`, or the time limit).
     pub phases: Option<usize>,
     /// Consecutive K without a gain that end a certified growth of K (default
     /// [`DEFAULT_PATIENCE`]).
     pub patience: Option<usize>,
     /// Largest K tried when K grows (default [`DEFAULT_MAX_PHASES`]; checked by
-    /// [`OptimizeSettings::check_values`], in `1..=MAX_PHASES` and not below the first K).
+    /// [`OptimizeSettings::check_values`], in `1..=MAX_PHASES` and not below the first K). The
+    /// sequence method's default start grows K to at most `phases` when that is given.
     pub max_phases: Option<usize>,
     /// The grid of P_m has 2^m steps (discrete: default [`DEFAULT_M_DISCRETE`]; local: default
     /// [`DEFAULT_M_LOCAL`]).

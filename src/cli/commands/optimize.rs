@@ -60,10 +60,12 @@ pub struct OptimizeArgs {
     ))]
     pub patience: Option<usize>,
     /// Largest K tried when K grows (the library's default, `api::DEFAULT_MAX_PHASES`; for
-    /// --method phase or auto without --phases, and for the default start gaits).
+    /// --method phase or auto without --phases, and for the default start gaits, whose growth
+    /// stops at --phases for the sequence method).
     #[arg(long = "max-phases", allow_negative_numbers = true, value_parser = count, help = format!(
         "Largest K tried when K grows (default {}, {} for a general problem file; for --method \
-         phase or auto without --phases, and for the default start gaits)",
+         phase or auto without --phases, and for the default start gaits, whose growth stops at \
+         --phases for the sequence method)",
         api::DEFAULT_MAX_PHASES,
         api::DEFAULT_GENERAL_PHASES
     ))]
