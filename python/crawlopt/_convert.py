@@ -22,6 +22,16 @@ def _input_error(field: str, value: Any, reason: str) -> InputError:
     return e
 
 
+def _count(value: Any, name: str, bits: int = 64) -> Any:
+    """A whole-number setting as the extension holds it (unsigned, ``bits`` wide; None stays
+    None): an integer out of that range is an InputError naming the setting, where the
+    extension's conversion raises a bare OverflowError. Its range within that (``phases >= 1``)
+    is the library's to check; other types are left to the extension's TypeError."""
+    if isinstance(value, int) and not isinstance(value, bool) and not 0 <= value < 2**bits:
+        raise _input_error(name, value, f"must be a whole number in [0, 2^{bits})")
+    return value
+
+
 def _array(value: Any, name: str, ndim: int, shape: str) -> np.ndarray:
     """``value`` as a float array of exactly ``ndim`` dimensions: an array of another shape is
     refused (InputError, a ValueError, naming ``name`` and the ``shape`` expected), never
@@ -87,4 +97,6 @@ def _bound_settings(bound) -> Union[tuple, None]:
             raise _input_error(
                 f"bound.{k}", repr(bound[k]), f"unknown setting (known: {', '.join(keys)})"
             )
-    return tuple(bound.get(k) for k in keys)
+    return tuple(
+        bound.get(k) if k == "time_limit" else _count(bound.get(k), f"bound.{k}") for k in keys
+    )

@@ -10,7 +10,7 @@ from typing import Any, Callable, Optional, Union
 import numpy as np
 
 from . import _crawlopt as _rs
-from ._convert import NotConvergedWarning, _array, _bound_settings, _input_error
+from ._convert import NotConvergedWarning, _array, _bound_settings, _count, _input_error
 from ._documents import GeneralResult, GeneralSimulation
 from ._progress import progress_callback
 
@@ -181,7 +181,12 @@ class GeneralProblem:
         ``GeneralSimulation`` (``objective`` J, None without the regime, and ``status``
         "not_converged" then, with a NotConvergedWarning; ``t``, ``x``, ``u``,
         ``reactions``)."""
-        doc, record = self._inner.simulate(method, steps_per_period, max_periods, tol)
+        doc, record = self._inner.simulate(
+            method,
+            _count(steps_per_period, "steps_per_period"),
+            _count(max_periods, "max_periods"),
+            tol,
+        )
         r = GeneralSimulation(doc, record)
         if r.status != "converged":
             warnings.warn(
@@ -238,15 +243,15 @@ class GeneralProblem:
         is certified (``--no-polish`` is ``polish=False``); ``solution["polish"]`` records it."""
         d, record = self._inner.optimize(
             method,
-            m,
-            shifts,
+            _count(m, "m", 32),
+            _count(shifts, "shifts"),
             time_limit,
             certify,
             progress_callback(progress),
-            max_phases,
+            _count(max_phases, "max_phases"),
             polish,
-            phases,
-            patience,
+            _count(phases, "phases"),
+            _count(patience, "patience"),
             convergence,
             _bound_settings(bound),
         )

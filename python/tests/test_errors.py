@@ -22,6 +22,39 @@ def test_input_error_names_the_field_and_value():
     assert e.value.field == "time_limit"
 
 
+def test_whole_numbers_out_of_range_name_the_setting():
+    # A negative or too large count is an InputError naming it, not the extension's bare
+    # OverflowError; within range, the library's own check names it too (phases=0).
+    m = co.load("examples/three_blocks_gait.toml")
+    c, gp = m.crawler, m.gait_problem
+    general = co.load("examples/general_one_link.toml")
+    cases = [
+        (lambda: co.optimize(c, gp, phases=-1), "phases"),
+        (lambda: co.optimize(c, gp, max_phases=-2), "max_phases"),
+        (lambda: co.optimize(c, gp, method="discrete", m=2**32), "m"),
+        (lambda: co.optimize(c, gp, phases=2, bound={"resolution": -1}), "bound.resolution"),
+        (
+            lambda: co.optimize(c, gp, phases=2, bound={"cost_tangents": 2**70}),
+            "bound.cost_tangents",
+        ),
+        (
+            lambda: co.simulate(
+                c,
+                m.actuation or co.Actuation.sine(period=1.0, amplitude=[1.0, 1.0]),
+                steps_per_period=-5,
+            ),
+            "steps_per_period",
+        ),
+        (lambda: general.optimize(phases=-1, method="phase"), "phases"),
+        (lambda: general.simulate(max_periods=-1), "max_periods"),
+        (lambda: co.optimize(c, gp, phases=0), "phases"),
+    ]
+    for call, field in cases:
+        with pytest.raises(co.InputError) as e:
+            call()
+        assert e.value.field == field, str(e.value)
+
+
 def test_non_unique_error_carries_the_subset():
     c = co.Crawler(blocks=2, mu_forward=1.0, mu_backward=1.0)
     act = co.Actuation.sine(period=1.0, amplitude=[1.0])
