@@ -160,6 +160,55 @@ pub(crate) struct GeneralRaw {
     pub rho: Vec<Vec<f64>>,
 }
 
+/// The columns of one general multiplier LP: the adjoint `p_i` and reactions `xi` (of
+/// [`adjoint_columns`]), `omega`, the normal-cone weights `rho >= 0` on the active rows of U,
+/// and the stage's scalars `r`, `s`, `delta` ([`Stage::columns`]).
+struct GeneralCols {
+    pc: Vec<Vec<Col>>,
+    xi: Vec<Vec<Col>>,
+    omega: Vec<Col>,
+    rho: Vec<Vec<Col>>,
+    r: Col,
+    s: Col,
+    delta: Col,
+}
+
+impl GeneralCols {
+    /// Adds the columns to `pb`, in this order: `p`, `xi`, `omega` (boxed only under a zero
+    /// mean: otherwise `omega = 0`), `rho`, then `r`, `s`, `delta`.
+    fn add(
+        pb: &mut RowProblem,
+        p: &GeneralProblem,
+        st: &GeneralStructure,
+        stage: Stage,
+        norm: Option<Norm>,
+    ) -> Self {
+        let (n, m, steps) = (st.n, st.m, st.steps);
+        const INF: f64 = f64::INFINITY;
+        let (pc, xi) = adjoint_columns(pb, norm, steps, n, &st.active);
+        let (box_, weight) = norm_box(norm);
+        let om_box = if p.zero_mean { box_ } else { 0.0 };
+        let omega: Vec<Col> = (0..m)
+            .map(|l| pb.add_column(-weight * functional(steps, l), -om_box..=om_box))
+            .collect();
+        let rho: Vec<Vec<Col>> = st
+            .urows_active
+            .iter()
+            .map(|a| a.iter().map(|_| pb.add_column(0.0, 0.0..=INF)).collect())
+            .collect();
+        let (r, s, delta) = stage.columns(pb, norm);
+        GeneralCols {
+            pc,
+            xi,
+            omega,
+            rho,
+            r,
+            s,
+            delta,
+        }
+    }
+}
+
 /// Solves one multiplier LP (`None` when HiGHS reports no optimum). `drift_term = false` drops
 /// `h A^T p_k` from the adjoint equation: only for showing, in tests, that the term matters.
 /// `durations_free` (phase gaits) adds the phase LP's stationarity in the durations: the
@@ -174,23 +223,58 @@ pub(crate) fn solve_general(
     drift_term: bool,
     durations_free: bool,
 ) -> Result<Option<GeneralRaw>> {
-    let (n, m, steps) = (st.n, st.m, st.steps);
-    const INF: f64 = f64::INFINITY;
     let mut pb = RowProblem::default();
-    let (pc, xi) = adjoint_columns(&mut pb, norm, steps, n, &st.active);
-    let (box_, weight) = norm_box(norm);
-    let om_box = if p.zero_mean { box_ } else { 0.0 };
-    let omega: Vec<Col> = (0..m)
-        .map(|l| pb.add_column(-weight * functional(steps, l), -om_box..=om_box))
-        .collect();
-    let rho: Vec<Vec<Col>> = st
-        .urows_active
-        .iter()
-        .map(|a| a.iter().map(|_| pb.add_column(0.0, 0.0..=INF)).collect())
-        .collect();
-    let (r, s, delta) = stage.columns(&mut pb, norm);
+    let c = GeneralCols::add(&mut pb, p, st, stage, norm);
+    adjoint_rows(&mut pb, p, st, &c, drift_term);
+    for k in 0..st.steps {
+        for (fi, &h) in st.held[k].iter().enumerate() {
+            if !h {
+                // A face held by no reaction: an inequality of the branch LP, xi <= 0 (up to r).
+                pb.add_row(..=0.0, [(c.xi[k][fi], 1.0), (c.r, -1.0)]);
+            }
+        }
+    }
+    for i in 0..st.steps {
+        reaction_rows(&mut pb, p, st, &c, lambda, i);
+        maximality_rows(&mut pb, p, st, &c, lambda, i);
+    }
+    if st.phase && durations_free {
+        duration_rows(&mut pb, p, st, &c, lambda);
+    }
+    // Theorem 2.2 / 6.1 sign: xi >= -s.
+    for row in &c.xi {
+        for &col in row {
+            pb.add_row(0.0.., [(col, 1.0), (c.s, 1.0)]);
+        }
+    }
+    let Some(cols) = solve_multiplier_lp(pb, "certify: the general multiplier LP")? else {
+        return Ok(None);
+    };
+    let val = |c: &Col| cols[c.index()];
+    let vals = |rows: &Vec<Vec<Col>>| -> Vec<Vec<f64>> {
+        rows.iter().map(|r| r.iter().map(val).collect()).collect()
+    };
+    Ok(Some(GeneralRaw {
+        lambda,
+        p: vals(&c.pc),
+        xi: vals(&c.xi),
+        omega: c.omega.iter().map(val).collect(),
+        rho: vals(&c.rho),
+    }))
+}
+
+/// The adjoint equation with transversality (cyclic; Theorem 6.2 (px), (p2mx)), one row per
+/// step and state: `p_k - p_{k-1} + h A^T p_k - sum xi_{k,f} x*_f = 0` (without the `h A^T p_k`
+/// term when `drift_term` is false).
+fn adjoint_rows(
+    pb: &mut RowProblem,
+    p: &GeneralProblem,
+    st: &GeneralStructure,
+    c: &GeneralCols,
+    drift_term: bool,
+) {
+    let (n, steps) = (st.n, st.steps);
     let a = &p.dynamics.a;
-    // Adjoint with transversality (cyclic): p_k - p_{k-1} + h A^T p_k - sum xi_{k,f} x*_f = 0.
     for k in 0..steps {
         let prev = (k + steps - 1) % steps;
         for l in 0..n {
@@ -206,116 +290,124 @@ pub(crate) fn solve_general(
             if prev == k {
                 coef[l] -= 1.0;
             } else {
-                row.push((pc[prev][l], -1.0));
+                row.push((c.pc[prev][l], -1.0));
             }
             row.extend(
                 (0..n)
                     .filter(|&q| coef[q] != 0.0)
-                    .map(|q| (pc[k][q], coef[q])),
+                    .map(|q| (c.pc[k][q], coef[q])),
             );
             for (fi, &f) in st.active[k].iter().enumerate() {
                 let v = p.c.normals[f][l];
                 if v != 0.0 {
-                    row.push((xi[k][fi], -v));
+                    row.push((c.xi[k][fi], -v));
                 }
             }
             pb.add_row(0.0..=0.0, row);
         }
     }
-    for k in 0..steps {
-        for (fi, &h) in st.held[k].iter().enumerate() {
-            if !h {
-                // A face held by no reaction: an inequality of the branch LP, xi <= 0 (up to r).
-                pb.add_row(..=0.0, [(xi[k][fi], 1.0), (r, -1.0)]);
-            }
-        }
-    }
-    for i in 0..steps {
-        // Reaction stationarity on the faces that may react on piece i: lambda w_f + <p_i, x*_f>.
-        let k = (i + 1) % steps;
-        for &(fi, reacts) in &st.reacting[i] {
-            let f = st.active[k][fi];
-            let lw = lambda * st.w[f];
-            let dot_row = |extra: (Col, f64)| {
-                let mut row: Vec<(Col, f64)> = (0..n)
-                    .filter(|&l| p.c.normals[f][l] != 0.0)
-                    .map(|l| (pc[i][l], p.c.normals[f][l]))
-                    .collect();
-                row.push(extra);
-                row
-            };
-            pb.add_row(..=-lw, dot_row((r, -1.0)));
-            if reacts {
-                pb.add_row(-lw.., dot_row((r, 1.0)));
-            }
-        }
-        // Weak maximality: psi = -B^T p_i - omega - lambda R u_i = sum rho G (up to r).
-        for l in 0..m {
-            let g = lambda * st.grad_f2[i][l];
+}
+
+/// Reaction stationarity on piece `i` (Theorem 6.2 (pr)): `lambda w_f + <p_i, x*_f> <= 0` (up
+/// to `r`) on every face that may react there, and `= 0` where it does react.
+fn reaction_rows(
+    pb: &mut RowProblem,
+    p: &GeneralProblem,
+    st: &GeneralStructure,
+    c: &GeneralCols,
+    lambda: f64,
+    i: usize,
+) {
+    let (n, steps) = (st.n, st.steps);
+    // Reaction stationarity on the faces that may react on piece i: lambda w_f + <p_i, x*_f>.
+    let k = (i + 1) % steps;
+    for &(fi, reacts) in &st.reacting[i] {
+        let f = st.active[k][fi];
+        let lw = lambda * st.w[f];
+        let dot_row = |extra: (Col, f64)| {
             let mut row: Vec<(Col, f64)> = (0..n)
-                .filter(|&q| p.dynamics.b[q][l] != 0.0)
-                .map(|q| (pc[i][q], -p.dynamics.b[q][l]))
+                .filter(|&l| p.c.normals[f][l] != 0.0)
+                .map(|l| (c.pc[i][l], p.c.normals[f][l]))
                 .collect();
-            row.push((omega[l], -1.0));
-            for (ri, &rr) in st.urows_active[i].iter().enumerate() {
-                let v = st.urows[rr].0[l];
-                if v != 0.0 {
-                    row.push((rho[i][ri], -v));
-                }
-            }
-            let mut lo = row.clone();
-            lo.push((r, 1.0));
-            row.push((r, -1.0));
-            pb.add_row(..=g, row);
-            pb.add_row(g.., lo);
-        }
-        if st.at_vertex[i] {
-            // Margin: psi in the interior of N_U(u_i), every weight at least delta.
-            for &c in &rho[i] {
-                pb.add_row(0.0.., [(c, 1.0), (delta, -1.0)]);
-            }
+            row.push(extra);
+            row
+        };
+        pb.add_row(..=-lw, dot_row((c.r, -1.0)));
+        if reacts {
+            pb.add_row(-lw.., dot_row((c.r, 1.0)));
         }
     }
-    if st.phase && durations_free {
-        // Stationarity in the durations: H_i = sum_r rho_{i,r} h_r - <p_i, b> + lambda cost_h_i
-        // equal on every phase (up to r).
-        let ham = pb.add_column(0.0, -INF..=INF);
-        for i in 0..steps {
-            let mut row: Vec<(Col, f64)> = vec![(ham, -1.0)];
-            for (ri, &rr) in st.urows_active[i].iter().enumerate() {
-                row.push((rho[i][ri], st.urows[rr].1));
+}
+
+/// Weak maximality on piece `i` (Theorem 6.2 (pw)): `psi_i = -B^T p_i - omega - lambda R u_i`
+/// equal to `sum rho G` over the active rows of U (up to `r`), two rows per control; at a
+/// vertex of U, also the margin rows `rho >= delta`.
+fn maximality_rows(
+    pb: &mut RowProblem,
+    p: &GeneralProblem,
+    st: &GeneralStructure,
+    c: &GeneralCols,
+    lambda: f64,
+    i: usize,
+) {
+    let (n, m) = (st.n, st.m);
+    // Weak maximality: psi = -B^T p_i - omega - lambda R u_i = sum rho G (up to r).
+    for l in 0..m {
+        let g = lambda * st.grad_f2[i][l];
+        let mut row: Vec<(Col, f64)> = (0..n)
+            .filter(|&q| p.dynamics.b[q][l] != 0.0)
+            .map(|q| (c.pc[i][q], -p.dynamics.b[q][l]))
+            .collect();
+        row.push((c.omega[l], -1.0));
+        for (ri, &rr) in st.urows_active[i].iter().enumerate() {
+            let v = st.urows[rr].0[l];
+            if v != 0.0 {
+                row.push((c.rho[i][ri], -v));
             }
-            row.extend(
-                (0..n)
-                    .filter(|&q| p.dynamics.drift[q] != 0.0)
-                    .map(|q| (pc[i][q], -p.dynamics.drift[q])),
-            );
-            let cst = lambda * st.cost_h[i];
-            let mut lo = row.clone();
-            lo.push((r, 1.0));
-            row.push((r, -1.0));
-            pb.add_row(..=-cst, row);
-            pb.add_row(-cst.., lo);
+        }
+        let mut lo = row.clone();
+        lo.push((c.r, 1.0));
+        row.push((c.r, -1.0));
+        pb.add_row(..=g, row);
+        pb.add_row(g.., lo);
+    }
+    if st.at_vertex[i] {
+        // Margin: psi in the interior of N_U(u_i), every weight at least delta.
+        for &col in &c.rho[i] {
+            pb.add_row(0.0.., [(col, 1.0), (c.delta, -1.0)]);
         }
     }
-    // Theorem 2.2 / 6.1 sign: xi >= -s.
-    for row in &xi {
-        for &c in row {
-            pb.add_row(0.0.., [(c, 1.0), (s, 1.0)]);
+}
+
+/// The phase LP's stationarity in the durations (phase gaits): a free column `H` (added here,
+/// after all the others) and `H_i = sum_r rho_{i,r} h_r - <p_i, b> + lambda cost_h_i` equal to
+/// it on every phase, up to `r`.
+fn duration_rows(
+    pb: &mut RowProblem,
+    p: &GeneralProblem,
+    st: &GeneralStructure,
+    c: &GeneralCols,
+    lambda: f64,
+) {
+    const INF: f64 = f64::INFINITY;
+    // Stationarity in the durations: H_i = sum_r rho_{i,r} h_r - <p_i, b> + lambda cost_h_i
+    // equal on every phase (up to r).
+    let ham = pb.add_column(0.0, -INF..=INF);
+    for i in 0..st.steps {
+        let mut row: Vec<(Col, f64)> = vec![(ham, -1.0)];
+        for (ri, &rr) in st.urows_active[i].iter().enumerate() {
+            row.push((c.rho[i][ri], st.urows[rr].1));
         }
+        row.extend(
+            (0..st.n)
+                .filter(|&q| p.dynamics.drift[q] != 0.0)
+                .map(|q| (c.pc[i][q], -p.dynamics.drift[q])),
+        );
+        let cst = lambda * st.cost_h[i];
+        let mut lo = row.clone();
+        lo.push((c.r, 1.0));
+        row.push((c.r, -1.0));
+        pb.add_row(..=-cst, row);
+        pb.add_row(-cst.., lo);
     }
-    let Some(cols) = solve_multiplier_lp(pb, "certify: the general multiplier LP")? else {
-        return Ok(None);
-    };
-    let val = |c: &Col| cols[c.index()];
-    let vals = |rows: &Vec<Vec<Col>>| -> Vec<Vec<f64>> {
-        rows.iter().map(|r| r.iter().map(val).collect()).collect()
-    };
-    Ok(Some(GeneralRaw {
-        lambda,
-        p: vals(&pc),
-        xi: vals(&xi),
-        omega: omega.iter().map(val).collect(),
-        rho: vals(&rho),
-    }))
 }
