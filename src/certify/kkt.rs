@@ -462,38 +462,110 @@ pub(crate) fn branch_lp(
     if pr.problem.cost != Cost::None {
         return Ok(None);
     }
-    let (n, nb, np) = (st.n, st.nb, st.np);
-    let phase = pr.kind == ProcessKind::Phase;
-    let c = &pr.crawler;
-    let a = &pr.problem.rate_bound;
-    const INF: f64 = f64::INFINITY;
     let mut pb = RowProblem::default();
-    let xs: Vec<Vec<Col>> = (0..np)
-        .map(|_| (0..n).map(|_| pb.add_column(0.0, -INF..=INF)).collect())
-        .collect();
-    let us: Vec<Vec<Col>> = (0..np)
-        .map(|j| {
-            (0..n)
-                .map(|l| {
-                    let w = a[l] * pr.durations[j];
-                    pb.add_column(0.0, -w..=w)
-                })
-                .collect()
-        })
-        .collect();
-    let inv_n = 1.0 / nb as f64;
-    let ds: Vec<Vec<Col>> = (0..np)
-        .map(|j| {
-            (0..nb)
-                .map(|b| match dirs[j][b] {
-                    1 => pb.add_column(inv_n, 0.0..=INF),
-                    -1 => pb.add_column(inv_n, -INF..=0.0),
-                    _ => pb.add_column(inv_n, 0.0..=0.0),
-                })
-                .collect()
-        })
-        .collect();
+    let cols = BranchCols::add(&mut pb, pr, st, dirs);
     let mut row = 0usize;
+    let dyn_rows = branch_dynamics_rows(&mut pb, st, &cols, &mut row);
+    let face_rows = branch_face_rows(&mut pb, pr, st, dirs, &cols, &mut row);
+    let mut mean_rows = vec![0usize; st.n];
+    for l in 0..st.n {
+        pb.add_row(
+            0.0..=0.0,
+            cols.us.iter().map(|u| (u[l], 1.0)).collect::<Vec<_>>(),
+        );
+        mean_rows[l] = row;
+        row += 1;
+    }
+    let Some((objective, y)) = solve_branch(pb) else {
+        return Ok(None);
+    };
+    // HiGHS's row duals y satisfy c = A^T y + (column duals) for either sense, so the
+    // Lagrangian multiplier of "row = rhs" in the text's convention is y: q_j = y(dyn_j),
+    // face dual = y(face), and p = -q, xi = -(face dual), omega = y(mean).
+    let p: Vec<Vec<f64>> = (0..st.np)
+        .map(|j| (0..st.n).map(|l| -y[dyn_rows[j][l]]).collect())
+        .collect();
+    let xi: Vec<Vec<f64>> = (0..st.np)
+        .map(|j| {
+            st.active[j]
+                .iter()
+                .map(|f| {
+                    // Every active face of piece j got a row above (the same loop over
+                    // st.active[j]), so the search cannot miss; a miss would read as 0.
+                    face_rows[j]
+                        .iter()
+                        .find(|(g, _)| g == f)
+                        .map_or(0.0, |(_, r)| -y[*r])
+                })
+                .collect()
+        })
+        .collect();
+    let omega = (0..st.n).map(|l| y[mean_rows[l]]).collect();
+    Ok(Some((
+        objective,
+        Raw {
+            lambda: 1.0,
+            p,
+            xi,
+            omega,
+        },
+    )))
+}
+
+/// The columns of a branch LP: the states `x_j` (free), the actuator increments `u_j` (within
+/// `a_l tau_j`) and the block displacements `D_j` (signed as `dirs` fixes them, weighted `1/N`
+/// in the objective), added in that order.
+struct BranchCols {
+    xs: Vec<Vec<Col>>,
+    us: Vec<Vec<Col>>,
+    ds: Vec<Vec<Col>>,
+}
+
+impl BranchCols {
+    /// Adds the columns to `pb` (`x`, then `u`, then `D`).
+    fn add(pb: &mut RowProblem, pr: &Process, st: &Structure, dirs: &[Vec<i8>]) -> Self {
+        let (n, nb, np) = (st.n, st.nb, st.np);
+        let a = &pr.problem.rate_bound;
+        const INF: f64 = f64::INFINITY;
+        let xs: Vec<Vec<Col>> = (0..np)
+            .map(|_| (0..n).map(|_| pb.add_column(0.0, -INF..=INF)).collect())
+            .collect();
+        let us: Vec<Vec<Col>> = (0..np)
+            .map(|j| {
+                (0..n)
+                    .map(|l| {
+                        let w = a[l] * pr.durations[j];
+                        pb.add_column(0.0, -w..=w)
+                    })
+                    .collect()
+            })
+            .collect();
+        let inv_n = 1.0 / nb as f64;
+        let ds: Vec<Vec<Col>> = (0..np)
+            .map(|j| {
+                (0..nb)
+                    .map(|b| match dirs[j][b] {
+                        1 => pb.add_column(inv_n, 0.0..=INF),
+                        -1 => pb.add_column(inv_n, -INF..=0.0),
+                        _ => pb.add_column(inv_n, 0.0..=0.0),
+                    })
+                    .collect()
+            })
+            .collect();
+        BranchCols { xs, us, ds }
+    }
+}
+
+/// The branch LP's dynamics, one row per piece and link: `x_{j+1} - x_j - u_j + sum_b D_{j,b}
+/// K nu_b = 0` (cyclic). Returns each row's index (counted in `row`), for reading its dual `p`.
+fn branch_dynamics_rows(
+    pb: &mut RowProblem,
+    st: &Structure,
+    cols: &BranchCols,
+    row: &mut usize,
+) -> Vec<Vec<usize>> {
+    let (n, nb, np) = (st.n, st.nb, st.np);
+    let (xs, us, ds) = (&cols.xs, &cols.us, &cols.ds);
     let mut dyn_rows = vec![vec![0usize; n]; np];
     for j in 0..np {
         let next = &xs[(j + 1) % np];
@@ -507,10 +579,29 @@ pub(crate) fn branch_lp(
                 }
             }
             pb.add_row(0.0..=0.0, r);
-            dyn_rows[j][l] = row;
-            row += 1;
+            dyn_rows[j][l] = *row;
+            *row += 1;
         }
     }
+    dyn_rows
+}
+
+/// The branch LP's faces of C at every knot, two per block: `<x*_f, x_j> <= c_f`, an equality
+/// where this branch holds the face. Returns each (face, row index) per knot (counted in
+/// `row`), for reading its dual `xi`.
+fn branch_face_rows(
+    pb: &mut RowProblem,
+    pr: &Process,
+    st: &Structure,
+    dirs: &[Vec<i8>],
+    cols: &BranchCols,
+    row: &mut usize,
+) -> Vec<Vec<(FaceId, usize)>> {
+    let (n, nb, np) = (st.n, st.nb, st.np);
+    let phase = pr.kind == ProcessKind::Phase;
+    let c = &pr.crawler;
+    let xs = &cols.xs;
+    const INF: f64 = f64::INFINITY;
     let mut face_rows = vec![Vec::new(); np];
     for j in 0..np {
         for b in 0..nb {
@@ -533,66 +624,32 @@ pub(crate) fn branch_lp(
                 } else {
                     pb.add_row(-INF..=cf, coeffs);
                 }
-                face_rows[j].push((f, row));
-                row += 1;
+                face_rows[j].push((f, *row));
+                *row += 1;
             }
         }
     }
-    let mut mean_rows = vec![0usize; n];
-    for l in 0..n {
-        pb.add_row(
-            0.0..=0.0,
-            us.iter().map(|u| (u[l], 1.0)).collect::<Vec<_>>(),
-        );
-        mean_rows[l] = row;
-        row += 1;
-    }
+    face_rows
+}
+
+/// Solves a branch LP (a maximisation) to tight tolerances: its optimum and row duals, or
+/// `None` when HiGHS refuses the model or an option, fails, or reports no optimum.
+fn solve_branch(pb: RowProblem) -> Option<(f64, Vec<f64>)> {
     // The branch LP is a cross-check of the certificate: a model HiGHS refuses or does not
     // solve to optimality gives no cross-check (None), never an error of the certificate.
     let Ok(mut model) = Highs::new(pb, Sense::Maximise, "certify: the branch LP") else {
-        return Ok(None);
+        return None;
     };
     if model.option("primal_feasibility_tolerance", 1e-10).is_err()
         || model.option("dual_feasibility_tolerance", 1e-10).is_err()
     {
-        return Ok(None);
+        return None;
     }
     let Ok(solved) = model.solve() else {
-        return Ok(None);
+        return None;
     };
     if solved.status != SolveStatus::Optimal {
-        return Ok(None);
+        return None;
     }
-    let y = &solved.row_duals;
-    // HiGHS's row duals y satisfy c = A^T y + (column duals) for either sense, so the
-    // Lagrangian multiplier of "row = rhs" in the text's convention is y: q_j = y(dyn_j),
-    // face dual = y(face), and p = -q, xi = -(face dual), omega = y(mean).
-    let p: Vec<Vec<f64>> = (0..np)
-        .map(|j| (0..n).map(|l| -y[dyn_rows[j][l]]).collect())
-        .collect();
-    let xi: Vec<Vec<f64>> = (0..np)
-        .map(|j| {
-            st.active[j]
-                .iter()
-                .map(|f| {
-                    // Every active face of piece j got a row above (the same loop over
-                    // st.active[j]), so the search cannot miss; a miss would read as 0.
-                    face_rows[j]
-                        .iter()
-                        .find(|(g, _)| g == f)
-                        .map_or(0.0, |(_, r)| -y[*r])
-                })
-                .collect()
-        })
-        .collect();
-    let omega = (0..n).map(|l| y[mean_rows[l]]).collect();
-    Ok(Some((
-        solved.objective,
-        Raw {
-            lambda: 1.0,
-            p,
-            xi,
-            omega,
-        },
-    )))
+    Some((solved.objective, solved.row_duals))
 }
