@@ -70,70 +70,23 @@ pub(crate) fn k_nu(n: usize, k: &[f64], b: usize) -> Vec<(usize, f64)> {
 }
 
 impl Structure {
+    /// The structure of `p` at relative tolerance `tol` (faces relative to the crawler's state
+    /// scale, displacements to [`d_tol`], controls to their bounds).
     pub fn of(p: &Process, tol: f64) -> Self {
         let c = &p.crawler;
         let (n, nb, np) = (c.links(), c.blocks(), p.durations.len());
-        let scale = c.state_scale();
         let dtol = d_tol(c, tol);
         let slips: Vec<Vec<i8>> = p
             .block_displacements
             .iter()
             .map(|d| d.iter().map(|&v| slip(v, dtol)).collect())
             .collect();
-        let mut active = Vec::with_capacity(np);
-        let mut held = Vec::with_capacity(np);
-        let mut slack = Vec::with_capacity(np);
-        let is_active = |j: usize, f: FaceId| -> Option<f64> {
-            let force = c.block_forces(&p.states[j])[f.b];
-            let s = if f.s > 0 {
-                c.mu_forward()[f.b] - force
-            } else {
-                c.mu_backward()[f.b] + force
-            };
-            (s <= tol * scale).then_some(s)
-        };
-        for j in 0..np {
-            let prev = (j + np - 1) % np;
-            let (mut a, mut h, mut sl) = (Vec::new(), Vec::new(), Vec::new());
-            for b in 0..nb {
-                for s in [1i8, -1] {
-                    let f = FaceId { b, s };
-                    if let Some(v) = is_active(j, f) {
-                        // Held by the piece ending here (both kinds) or starting here (phase).
-                        let by_prev = slips[prev][b] == s;
-                        let by_next = p.kind == ProcessKind::Phase && slips[j][b] == s;
-                        a.push(f);
-                        h.push(by_prev || by_next);
-                        sl.push(v);
-                    }
-                }
-            }
-            active.push(a);
-            held.push(h);
-            slack.push(sl);
-        }
-        let mut biactive = Vec::with_capacity(np);
-        for j in 0..np {
-            let mut v = Vec::new();
-            for b in 0..nb {
-                if slips[j][b] != 0 {
-                    continue;
-                }
-                for s in [1i8, -1] {
-                    let f = FaceId { b, s };
-                    let end = active[(j + 1) % np].contains(&f);
-                    let start = active[j].contains(&f);
-                    let avail = match p.kind {
-                        ProcessKind::Discrete { .. } => end,
-                        ProcessKind::Phase => end && start,
-                    };
-                    if avail {
-                        v.push((b, s));
-                    }
-                }
-            }
-            biactive.push(v);
-        }
+        let ActiveFaces {
+            active,
+            held,
+            slack,
+        } = active_faces(p, &slips, tol);
+        let biactive = biactive_pairs(p.kind, &slips, &active, nb, np);
         let a = &p.problem.rate_bound;
         let bound = p
             .controls
@@ -152,20 +105,7 @@ impl Structure {
                     .collect()
             })
             .collect();
-        let grad_f2 = p
-            .controls
-            .iter()
-            .map(|u| match p.problem.cost {
-                Cost::None => vec![0.0; n],
-                Cost::Quadratic { weight } => u.iter().map(|v| weight * v).collect(),
-            })
-            .collect();
-        let cost_h = p
-            .controls
-            .iter()
-            .zip(&grad_f2)
-            .map(|(u, g)| u.iter().zip(g).map(|(u, g)| u * g).sum::<f64>() - p.problem.cost.eval(u))
-            .collect();
+        let (grad_f2, cost_h) = cost_terms(p, n);
         Structure {
             a: a.to_vec(),
             cost_h,
@@ -183,6 +123,115 @@ impl Structure {
             k: c.stiffness().to_vec(),
         }
     }
+}
+
+/// The faces active at every knot with their held flags and slacks, as [`active_faces`] finds
+/// them (the fields of [`Structure`] of the same names).
+struct ActiveFaces {
+    active: Vec<Vec<FaceId>>,
+    held: Vec<Vec<bool>>,
+    slack: Vec<Vec<f64>>,
+}
+
+/// The faces active at every knot (slack within `tol` of the state scale), whether each is held
+/// (by the piece ending there, or for a phase gait starting there, slipping on it) and its
+/// slack: [`Structure::active`], [`Structure::held`], [`Structure::slack`].
+fn active_faces(p: &Process, slips: &[Vec<i8>], tol: f64) -> ActiveFaces {
+    let c = &p.crawler;
+    let (nb, np) = (c.blocks(), p.durations.len());
+    let scale = c.state_scale();
+    let mut active = Vec::with_capacity(np);
+    let mut held = Vec::with_capacity(np);
+    let mut slack = Vec::with_capacity(np);
+    let is_active = |j: usize, f: FaceId| -> Option<f64> {
+        let force = c.block_forces(&p.states[j])[f.b];
+        let s = if f.s > 0 {
+            c.mu_forward()[f.b] - force
+        } else {
+            c.mu_backward()[f.b] + force
+        };
+        (s <= tol * scale).then_some(s)
+    };
+    for j in 0..np {
+        let prev = (j + np - 1) % np;
+        let (mut a, mut h, mut sl) = (Vec::new(), Vec::new(), Vec::new());
+        for b in 0..nb {
+            for s in [1i8, -1] {
+                let f = FaceId { b, s };
+                if let Some(v) = is_active(j, f) {
+                    // Held by the piece ending here (both kinds) or starting here (phase).
+                    let by_prev = slips[prev][b] == s;
+                    let by_next = p.kind == ProcessKind::Phase && slips[j][b] == s;
+                    a.push(f);
+                    h.push(by_prev || by_next);
+                    sl.push(v);
+                }
+            }
+        }
+        active.push(a);
+        held.push(h);
+        slack.push(sl);
+    }
+    ActiveFaces {
+        active,
+        held,
+        slack,
+    }
+}
+
+/// The biactive (block, direction) pairs of every piece ([`Structure::biactive`]): a sticking
+/// block whose face is active where a slip on it would need it (P_m: at the piece's end; a
+/// phase: at both ends).
+fn biactive_pairs(
+    kind: ProcessKind,
+    slips: &[Vec<i8>],
+    active: &[Vec<FaceId>],
+    nb: usize,
+    np: usize,
+) -> Vec<Vec<(usize, i8)>> {
+    let mut biactive = Vec::with_capacity(np);
+    for j in 0..np {
+        let mut v = Vec::new();
+        for b in 0..nb {
+            if slips[j][b] != 0 {
+                continue;
+            }
+            for s in [1i8, -1] {
+                let f = FaceId { b, s };
+                let end = active[(j + 1) % np].contains(&f);
+                let start = active[j].contains(&f);
+                let avail = match kind {
+                    ProcessKind::Discrete { .. } => end,
+                    ProcessKind::Phase => end && start,
+                };
+                if avail {
+                    v.push((b, s));
+                }
+            }
+        }
+        biactive.push(v);
+    }
+    biactive
+}
+
+/// The cost's terms per piece: `Df2(u_j)` and `Df2(u_j).u_j - f2(u_j)`
+/// ([`Structure::grad_f2`], [`Structure::cost_h`]).
+fn cost_terms(p: &Process, n: usize) -> (Vec<Vec<f64>>, Vec<f64>) {
+    let grad_f2: Vec<Vec<f64>> = p
+        .controls
+        .iter()
+        .map(|u| match p.problem.cost {
+            Cost::None => vec![0.0; n],
+            Cost::Quadratic { weight } => u.iter().map(|v| weight * v).collect(),
+        })
+        .collect();
+    let cost_h = p
+        .controls
+        .iter()
+        .zip(&grad_f2)
+        .map(|(u, g)| u.iter().zip(g).map(|(u, g)| u * g).sum::<f64>() - p.problem.cost.eval(u))
+        .collect();
+    (grad_f2, cost_h)
 }
 
 /// Raw multipliers: `p_j` per piece, `xi` per active face of every knot (same layout as
