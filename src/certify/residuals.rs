@@ -13,64 +13,9 @@ pub(super) fn discrete_residuals(
     raw: &Raw,
     durations_free: bool,
 ) -> Vec<(&'static str, String, f64)> {
-    let (n, np) = (st.n, st.np);
-    let lam_n = raw.lambda / st.nb as f64;
-    let mut adj = 0.0_f64;
-    let mut comp = 0.0_f64;
-    let mut lp_sign = 0.0_f64;
-    for j in 0..np {
-        let prev = (j + np - 1) % np;
-        let mut jump: Vec<f64> = (0..n).map(|l| raw.p[j][l] - raw.p[prev][l]).collect();
-        for (fi, &f) in st.active[j].iter().enumerate() {
-            let x = raw.xi[j][fi];
-            for (l, v) in normal(n, f) {
-                jump[l] -= x * v;
-            }
-            comp = comp.max(x.abs() * st.slack[j][fi]);
-            if !st.held[j][fi] {
-                lp_sign = lp_sign.max(x);
-            }
-        }
-        adj = jump.iter().fold(adj, |m, v| m.max(v.abs()));
-    }
-    let mut slip_res = 0.0_f64;
-    let mut bi = 0.0_f64;
-    let mut maxim = 0.0_f64;
-    for j in 0..np {
-        for b in 0..st.nb {
-            let dot: f64 = kkt::k_nu(n, &st.k, b)
-                .iter()
-                .map(|&(l, v)| raw.p[j][l] * v)
-                .sum();
-            if st.slips[j][b] != 0 {
-                slip_res = slip_res.max((dot + lam_n).abs());
-            }
-            for &(bb, dir) in &st.biactive[j] {
-                if bb == b {
-                    let g = -dot - lam_n;
-                    bi = bi.max(if dir > 0 { -g } else { g });
-                }
-            }
-        }
-        for l in 0..n {
-            let psi = -raw.p[j][l] - raw.omega[l] - raw.lambda * st.grad_f2[j][l];
-            maxim = maxim.max(dist_normal(psi, st.bound[j][l]));
-        }
-    }
-    // Phase gaits: the maximised Hamiltonian is the same on every phase.
-    let mut ham_lo = f64::INFINITY;
-    let mut ham_hi = f64::NEG_INFINITY;
-    for j in 0..np {
-        let h: f64 = (0..n)
-            .map(|l| {
-                let psi = -raw.p[j][l] - raw.omega[l] - raw.lambda * st.grad_f2[j][l];
-                st.a[l] * psi.abs()
-            })
-            .sum::<f64>()
-            + raw.lambda * st.cost_h[j];
-        ham_lo = ham_lo.min(h);
-        ham_hi = ham_hi.max(h);
-    }
+    let (adj, comp, lp_sign) = adjoint_terms(st, raw);
+    let (slip_res, bi, maxim) = stationarity_terms(st, raw);
+    let (ham_lo, ham_hi) = hamiltonian_range(st, raw);
     let mut out = vec![
         (
             "adjoint",
@@ -116,6 +61,86 @@ pub(super) fn discrete_residuals(
         ));
     }
     out
+}
+
+/// The residuals at the knots (Theorem 6.2 (px), (p2mx); Theorem 6.1 (necd1)): the adjoint
+/// equation's jump `p_j - p_{j-1} - sum_f xi_{j,f} x*_f`, the complementarity `|xi| slack` and
+/// the largest `xi` on a face no slip holds, each the largest over the knots.
+fn adjoint_terms(st: &Structure, raw: &Raw) -> (f64, f64, f64) {
+    let (n, np) = (st.n, st.np);
+    let mut adj = 0.0_f64;
+    let mut comp = 0.0_f64;
+    let mut lp_sign = 0.0_f64;
+    for j in 0..np {
+        let prev = (j + np - 1) % np;
+        let mut jump: Vec<f64> = (0..n).map(|l| raw.p[j][l] - raw.p[prev][l]).collect();
+        for (fi, &f) in st.active[j].iter().enumerate() {
+            let x = raw.xi[j][fi];
+            for (l, v) in normal(n, f) {
+                jump[l] -= x * v;
+            }
+            comp = comp.max(x.abs() * st.slack[j][fi]);
+            if !st.held[j][fi] {
+                lp_sign = lp_sign.max(x);
+            }
+        }
+        adj = jump.iter().fold(adj, |m, v| m.max(v.abs()));
+    }
+    (adj, comp, lp_sign)
+}
+
+/// The residuals on the pieces (Theorem 6.2 (pr), (pw)): slip stationarity `|<p_j, K nu_b> +
+/// lambda/N|` of the slipping blocks, the relaxed sign at the biactive pairs (not yet clipped at
+/// 0), and the distance of `psi_j` from the normal cone of the box.
+fn stationarity_terms(st: &Structure, raw: &Raw) -> (f64, f64, f64) {
+    let (n, np) = (st.n, st.np);
+    let lam_n = raw.lambda / st.nb as f64;
+    let mut slip_res = 0.0_f64;
+    let mut bi = 0.0_f64;
+    let mut maxim = 0.0_f64;
+    for j in 0..np {
+        for b in 0..st.nb {
+            let dot: f64 = kkt::k_nu(n, &st.k, b)
+                .iter()
+                .map(|&(l, v)| raw.p[j][l] * v)
+                .sum();
+            if st.slips[j][b] != 0 {
+                slip_res = slip_res.max((dot + lam_n).abs());
+            }
+            for &(bb, dir) in &st.biactive[j] {
+                if bb == b {
+                    let g = -dot - lam_n;
+                    bi = bi.max(if dir > 0 { -g } else { g });
+                }
+            }
+        }
+        for l in 0..n {
+            let psi = -raw.p[j][l] - raw.omega[l] - raw.lambda * st.grad_f2[j][l];
+            maxim = maxim.max(dist_normal(psi, st.bound[j][l]));
+        }
+    }
+    (slip_res, bi, maxim)
+}
+
+/// The smallest and largest maximised Hamiltonian `H_j = sum_l a_l |psi_{j,l}| + lambda
+/// cost_h_j` over the pieces (phase gaits: it is the same on every phase).
+fn hamiltonian_range(st: &Structure, raw: &Raw) -> (f64, f64) {
+    let (n, np) = (st.n, st.np);
+    // Phase gaits: the maximised Hamiltonian is the same on every phase.
+    let mut ham_lo = f64::INFINITY;
+    let mut ham_hi = f64::NEG_INFINITY;
+    for j in 0..np {
+        let h: f64 = (0..n)
+            .map(|l| {
+                let psi = -raw.p[j][l] - raw.omega[l] - raw.lambda * st.grad_f2[j][l];
+                st.a[l] * psi.abs()
+            })
+            .sum::<f64>()
+            + raw.lambda * st.cost_h[j];
+        ham_lo = ham_lo.min(h);
+        ham_hi = ham_hi.max(h);
+    }
+    (ham_lo, ham_hi)
 }
 
 /// Largest residual of the branch-LP KKT system (all discrete conditions but the sign).
