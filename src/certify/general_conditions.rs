@@ -113,60 +113,9 @@ pub(crate) fn residuals(
     drift_term: bool,
     durations_free: bool,
 ) -> Vec<(&'static str, &'static str, f64)> {
-    let (n, m, steps) = (st.n, st.m, st.steps);
-    let (mut adj, mut comp, mut lp_sign, mut react, mut maxim) =
-        (0.0_f64, 0.0_f64, 0.0_f64, 0.0_f64, 0.0_f64);
-    for k in 0..steps {
-        let prev = (k + steps - 1) % steps;
-        for l in 0..n {
-            let mut v = raw.p[k][l] - raw.p[prev][l];
-            if drift_term {
-                v += st.tau[k]
-                    * (0..n)
-                        .map(|q| p.dynamics.a[q][l] * raw.p[k][q])
-                        .sum::<f64>();
-            }
-            for (fi, &f) in st.active[k].iter().enumerate() {
-                v -= raw.xi[k][fi] * p.c.normals[f][l];
-            }
-            adj = adj.max(v.abs());
-        }
-        for (fi, &x) in raw.xi[k].iter().enumerate() {
-            comp = comp.max(x.abs() * st.slack[k][fi]);
-            if !st.held[k][fi] {
-                lp_sign = lp_sign.max(x);
-            }
-        }
-    }
-    for i in 0..steps {
-        let k = (i + 1) % steps;
-        for &(fi, reacts) in &st.reacting[i] {
-            let f = st.active[k][fi];
-            let g = raw.lambda * st.w[f] + dot(&raw.p[i], &p.c.normals[f]);
-            react = react.max(if reacts { g.abs() } else { g });
-        }
-    }
-    let (mut ham_lo, mut ham_hi) = (f64::INFINITY, f64::NEG_INFINITY);
-    for i in 0..steps {
-        let psi = psi_of(p, st, raw, i);
-        for l in 0..m {
-            let cone: f64 = st.urows_active[i]
-                .iter()
-                .zip(&raw.rho[i])
-                .map(|(&r, w)| w.max(0.0) * st.urows[r].0[l])
-                .sum();
-            maxim = maxim.max((psi[l] - cone).abs());
-        }
-        let ham = st.urows_active[i]
-            .iter()
-            .zip(&raw.rho[i])
-            .map(|(&r, w)| w.max(0.0) * st.urows[r].1)
-            .sum::<f64>()
-            - dot(&raw.p[i], &p.dynamics.drift)
-            + raw.lambda * st.cost_h[i];
-        ham_lo = ham_lo.min(ham);
-        ham_hi = ham_hi.max(ham);
-    }
+    let (adj, comp, lp_sign) = adjoint_terms(p, st, raw, drift_term);
+    let react = reaction_term(p, st, raw);
+    let (maxim, ham_lo, ham_hi) = maximality_terms(p, st, raw);
     let mut out = vec![
         (
             "adjoint",
@@ -209,6 +158,92 @@ pub(crate) fn residuals(
         ));
     }
     out
+}
+
+/// The residuals at the knots (Theorem 6.2 (px), (p2mx); Theorem 6.1 (necd1)): the adjoint
+/// equation's `p_k - p_(k-1) + tau_k A^T p_k - sum_f xi_{k,f} x*_f` (without the `A^T` term when
+/// `drift_term` is false), the complementarity `|xi| slack` and the largest `xi` on a face no
+/// reaction holds, each the largest over the knots.
+fn adjoint_terms(
+    p: &GeneralProblem,
+    st: &GeneralStructure,
+    raw: &GeneralRaw,
+    drift_term: bool,
+) -> (f64, f64, f64) {
+    let (n, steps) = (st.n, st.steps);
+    let (mut adj, mut comp, mut lp_sign) = (0.0_f64, 0.0_f64, 0.0_f64);
+    for k in 0..steps {
+        let prev = (k + steps - 1) % steps;
+        for l in 0..n {
+            let mut v = raw.p[k][l] - raw.p[prev][l];
+            if drift_term {
+                v += st.tau[k]
+                    * (0..n)
+                        .map(|q| p.dynamics.a[q][l] * raw.p[k][q])
+                        .sum::<f64>();
+            }
+            for (fi, &f) in st.active[k].iter().enumerate() {
+                v -= raw.xi[k][fi] * p.c.normals[f][l];
+            }
+            adj = adj.max(v.abs());
+        }
+        for (fi, &x) in raw.xi[k].iter().enumerate() {
+            comp = comp.max(x.abs() * st.slack[k][fi]);
+            if !st.held[k][fi] {
+                lp_sign = lp_sign.max(x);
+            }
+        }
+    }
+    (adj, comp, lp_sign)
+}
+
+/// Reaction stationarity (Theorem 6.2 (pr)): the largest `|lambda w_f + <p_i, x*_f>|` on a face
+/// reacting on piece `i`, and the largest signed value at a biactive face (not yet clipped at 0).
+fn reaction_term(p: &GeneralProblem, st: &GeneralStructure, raw: &GeneralRaw) -> f64 {
+    let steps = st.steps;
+    let mut react = 0.0_f64;
+    for i in 0..steps {
+        let k = (i + 1) % steps;
+        for &(fi, reacts) in &st.reacting[i] {
+            let f = st.active[k][fi];
+            let g = raw.lambda * st.w[f] + dot(&raw.p[i], &p.c.normals[f]);
+            react = react.max(if reacts { g.abs() } else { g });
+        }
+    }
+    react
+}
+
+/// Weak maximality (Theorem 6.2 (pw)): the largest `|psi_i - sum_r rho_{i,r} G_r|` (weights
+/// clipped at 0), and the smallest and largest maximised Hamiltonian `H_i = sum_r rho_{i,r} h_r
+/// - <p_i, b> + lambda cost_h_i` over the pieces.
+fn maximality_terms(
+    p: &GeneralProblem,
+    st: &GeneralStructure,
+    raw: &GeneralRaw,
+) -> (f64, f64, f64) {
+    let mut maxim = 0.0_f64;
+    let (mut ham_lo, mut ham_hi) = (f64::INFINITY, f64::NEG_INFINITY);
+    for i in 0..st.steps {
+        let psi = psi_of(p, st, raw, i);
+        for l in 0..st.m {
+            let cone: f64 = st.urows_active[i]
+                .iter()
+                .zip(&raw.rho[i])
+                .map(|(&r, w)| w.max(0.0) * st.urows[r].0[l])
+                .sum();
+            maxim = maxim.max((psi[l] - cone).abs());
+        }
+        let ham = st.urows_active[i]
+            .iter()
+            .zip(&raw.rho[i])
+            .map(|(&r, w)| w.max(0.0) * st.urows[r].1)
+            .sum::<f64>()
+            - dot(&raw.p[i], &p.dynamics.drift)
+            + raw.lambda * st.cost_h[i];
+        ham_lo = ham_lo.min(ham);
+        ham_hi = ham_hi.max(ham);
+    }
+    (maxim, ham_lo, ham_hi)
 }
 
 /// `psi_i = -B^T p_i - omega - lambda R u^i`.
