@@ -68,7 +68,7 @@
 
 use super::discrete::{
     big_m, check_sets, column_bound, cost_matrix, initial_cuts, replay_periodic, reward_weights,
-    state_columns, MAX_OA_ROUNDS,
+    state_columns, BigM, MAX_OA_ROUNDS,
 };
 use super::geometry::{into_u, Geometry};
 use super::phase_polish::{polish_general_phases, MilpPhases};
@@ -153,21 +153,35 @@ struct Layout {
     s: Vec<Vec<Col>>,
 }
 
-fn build(
-    p: &GeneralProblem,
-    g: &Geometry,
-    k: usize,
-    cuts: &[Vec<f64>],
-) -> Result<(RowProblem, Layout)> {
-    let bm = big_m(p, g, 1.0)?;
-    let (n, sigma, m) = (p.states(), p.c.faces(), p.controls());
+/// The column families of the phase MILP as [`build`] adds them: the states (`x_K` is `x_0`
+/// when periodic), the durations `tau_j`, the phase-in-use flags `y_j`, the integrated controls
+/// `U_j`, the integrated reactions `L_{j,f}` (carrying the reward `w_f`) and the held-face flags
+/// `s_{j,f}`.
+struct Columns {
+    xs: Vec<Vec<Col>>,
+    tau: Vec<Col>,
+    y: Vec<Col>,
+    us: Vec<Vec<Col>>,
+    lam: Vec<Vec<Col>>,
+    s: Vec<Vec<Col>>,
+}
+
+impl Columns {
+    /// The states at the start of phase `i` (`i = K` wraps to `x_0` when periodic).
+    fn x_at(&self, i: usize) -> Vec<Col> {
+        self.xs[i % self.xs.len()].clone()
+    }
+}
+
+/// Adds the columns of the phase MILP, family by family in this order (the solver's results
+/// depend on it): states, `tau_j in [0, T]`, `y_j`, free `U_j`, `L_{j,f} in [0, M T]` with the
+/// objective weight `w_f`, `s_{j,f}`.
+fn add_columns(pb: &mut RowProblem, p: &GeneralProblem, k: usize, multiplier: f64) -> Columns {
+    let (sigma, m) = (p.c.faces(), p.controls());
     let t = p.period;
     let w = reward_weights(p);
     let free = || f64::NEG_INFINITY..f64::INFINITY;
-    let mut pb = RowProblem::default();
-    let xs = state_columns(&mut pb, p, k);
-    let nx = xs.len();
-    let x_at = |i: usize| xs[i % nx].clone();
+    let xs = state_columns(pb, p, k);
     let tau: Vec<Col> = (0..k).map(|_| pb.add_column(0.0, 0.0..=t)).collect();
     let y: Vec<Col> = (0..k).map(|_| pb.add_integer_column(0.0, 0..=1)).collect();
     let us: Vec<Vec<Col>> = (0..k)
@@ -176,7 +190,7 @@ fn build(
     let lam: Vec<Vec<Col>> = (0..k)
         .map(|_| {
             (0..sigma)
-                .map(|f| pb.add_column(w[f], 0.0..=bm.multiplier * t))
+                .map(|f| pb.add_column(w[f], 0.0..=multiplier * t))
                 .collect()
         })
         .collect();
@@ -187,73 +201,124 @@ fn build(
                 .collect()
         })
         .collect();
-    pb.add_row(t..=t, tau.iter().map(|&c| (c, 1.0)).collect::<Vec<_>>());
-    for j in 0..k {
-        // tau_j <= T y_j, y_{j+1} <= y_j.
-        pb.add_row(..=0.0, [(tau[j], 1.0), (y[j], -t)]);
-        if j + 1 < k {
-            pb.add_row(..=0.0, [(y[j + 1], 1.0), (y[j], -1.0)]);
-        }
-        match &p.control {
-            ControlSet::Box { lower, upper } => {
-                for c in 0..m {
-                    pb.add_row(..=0.0, [(us[j][c], 1.0), (tau[j], -upper[c])]);
-                    pb.add_row(0.0.., [(us[j][c], 1.0), (tau[j], -lower[c])]);
-                }
-            }
-            ControlSet::Polytope(u) => {
-                for f in 0..u.faces() {
-                    let mut row: Vec<_> = us[j]
-                        .iter()
-                        .zip(&u.normals[f])
-                        .map(|(&c, &a)| (c, a))
-                        .collect();
-                    row.push((tau[j], -u.offsets[f]));
-                    pb.add_row(..=0.0, row);
-                }
+    Columns {
+        xs,
+        tau,
+        y,
+        us,
+        lam,
+        s,
+    }
+}
+
+/// `U_j in tau_j U` for phase `j`: the box `lower tau_j <= U_j <= upper tau_j` or the polytope
+/// `G U_j <= h tau_j`.
+fn add_control_rows(pb: &mut RowProblem, p: &GeneralProblem, cols: &Columns, j: usize) {
+    let (us, tau) = (&cols.us, &cols.tau);
+    match &p.control {
+        ControlSet::Box { lower, upper } => {
+            for c in 0..p.controls() {
+                pb.add_row(..=0.0, [(us[j][c], 1.0), (tau[j], -upper[c])]);
+                pb.add_row(0.0.., [(us[j][c], 1.0), (tau[j], -lower[c])]);
             }
         }
-        // x_{j+1} - x_j - B U_j - b tau_j + sum_f L_{j,f} x*_f = 0.
-        let (xj, xn) = (x_at(j), x_at(j + 1));
-        for r in 0..n {
-            let mut row = vec![(xn[r], 1.0), (xj[r], -1.0)];
-            for c in 0..m {
-                let b = p.dynamics.b[r][c];
-                if b != 0.0 {
-                    row.push((us[j][c], -b));
-                }
-            }
-            if p.dynamics.drift[r] != 0.0 {
-                row.push((tau[j], -p.dynamics.drift[r]));
-            }
-            for f in 0..sigma {
-                let a = p.c.normals[f][r];
-                if a != 0.0 {
-                    row.push((lam[j][f], a));
-                }
-            }
-            pb.add_row(0.0..=0.0, merged(row));
-        }
-        for f in 0..sigma {
-            let c = p.c.offsets[f];
-            pb.add_row(..=0.0, [(lam[j][f], 1.0), (tau[j], -bm.multiplier)]);
-            pb.add_row(..=0.0, [(lam[j][f], 1.0), (s[j][f], -bm.multiplier * t)]);
-            pb.add_row(..=0.0, [(s[j][f], 1.0), (y[j], -1.0)]);
-            // <x*_f, x> - S_f s >= c_f - S_f at both ends.
-            for end in [&xj, &xn] {
-                let mut row: Vec<_> = end
+        ControlSet::Polytope(u) => {
+            for f in 0..u.faces() {
+                let mut row: Vec<_> = us[j]
                     .iter()
-                    .zip(&p.c.normals[f])
-                    .map(|(&col, &a)| (col, a))
+                    .zip(&u.normals[f])
+                    .map(|(&c, &a)| (c, a))
                     .collect();
-                row.push((s[j][f], -bm.slack[f]));
-                pb.add_row(c - bm.slack[f]..=f64::INFINITY, row);
+                row.push((tau[j], -u.offsets[f]));
+                pb.add_row(..=0.0, row);
             }
         }
     }
-    // Every x_j in C (x_K is x_0 when periodic).
-    for xj in &xs {
+}
+
+/// The state update of phase `j`, one row per state component:
+/// `x_{j+1} - x_j - B U_j - b tau_j + sum_f L_{j,f} x*_f = 0`.
+fn add_dynamics_rows(
+    pb: &mut RowProblem,
+    p: &GeneralProblem,
+    cols: &Columns,
+    j: usize,
+    (xj, xn): (&[Col], &[Col]),
+) {
+    let (n, sigma, m) = (p.states(), p.c.faces(), p.controls());
+    for r in 0..n {
+        let mut row = vec![(xn[r], 1.0), (xj[r], -1.0)];
+        for c in 0..m {
+            let b = p.dynamics.b[r][c];
+            if b != 0.0 {
+                row.push((cols.us[j][c], -b));
+            }
+        }
+        if p.dynamics.drift[r] != 0.0 {
+            row.push((cols.tau[j], -p.dynamics.drift[r]));
+        }
         for f in 0..sigma {
+            let a = p.c.normals[f][r];
+            if a != 0.0 {
+                row.push((cols.lam[j][f], a));
+            }
+        }
+        pb.add_row(0.0..=0.0, merged(row));
+    }
+}
+
+/// The face rows of phase `j`, face by face: `L_{j,f} <= M tau_j`, `L_{j,f} <= M T s_{j,f}`,
+/// `s_{j,f} <= y_j`, and the held face `s_{j,f} = 1 => <x*_f, x> = c_f` at both ends of the
+/// phase (big-M `S_f`).
+fn add_face_rows(
+    pb: &mut RowProblem,
+    p: &GeneralProblem,
+    cols: &Columns,
+    bm: &BigM,
+    j: usize,
+    (xj, xn): (&[Col], &[Col]),
+) {
+    let t = p.period;
+    let (tau, y, lam, s) = (&cols.tau, &cols.y, &cols.lam, &cols.s);
+    for f in 0..p.c.faces() {
+        let c = p.c.offsets[f];
+        pb.add_row(..=0.0, [(lam[j][f], 1.0), (tau[j], -bm.multiplier)]);
+        pb.add_row(..=0.0, [(lam[j][f], 1.0), (s[j][f], -bm.multiplier * t)]);
+        pb.add_row(..=0.0, [(s[j][f], 1.0), (y[j], -1.0)]);
+        // <x*_f, x> - S_f s >= c_f - S_f at both ends.
+        for end in [xj, xn] {
+            let mut row: Vec<_> = end
+                .iter()
+                .zip(&p.c.normals[f])
+                .map(|(&col, &a)| (col, a))
+                .collect();
+            row.push((s[j][f], -bm.slack[f]));
+            pb.add_row(c - bm.slack[f]..=f64::INFINITY, row);
+        }
+    }
+}
+
+/// The rows of phase `j` in order: `tau_j <= T y_j`, `y_{j+1} <= y_j`, the control set, the
+/// state update, the faces.
+fn add_phase_rows(pb: &mut RowProblem, p: &GeneralProblem, cols: &Columns, bm: &BigM, j: usize) {
+    let (t, k) = (p.period, cols.tau.len());
+    let (tau, y) = (&cols.tau, &cols.y);
+    // tau_j <= T y_j, y_{j+1} <= y_j.
+    pb.add_row(..=0.0, [(tau[j], 1.0), (y[j], -t)]);
+    if j + 1 < k {
+        pb.add_row(..=0.0, [(y[j + 1], 1.0), (y[j], -1.0)]);
+    }
+    add_control_rows(pb, p, cols, j);
+    let (xj, xn) = (cols.x_at(j), cols.x_at(j + 1));
+    add_dynamics_rows(pb, p, cols, j, (&xj, &xn));
+    add_face_rows(pb, p, cols, bm, j, (&xj, &xn));
+}
+
+/// Every state in C (`x_K` is `x_0` when periodic) and, with a zero-mean control,
+/// `sum_j U_j = 0`.
+fn add_state_and_mean_rows(pb: &mut RowProblem, p: &GeneralProblem, cols: &Columns) {
+    for xj in &cols.xs {
+        for f in 0..p.c.faces() {
             let row: Vec<_> = xj
                 .iter()
                 .zip(&p.c.normals[f])
@@ -263,32 +328,61 @@ fn build(
         }
     }
     if p.zero_mean {
-        for c in 0..m {
-            let row: Vec<_> = us.iter().map(|u| (u[c], 1.0)).collect();
+        for c in 0..p.controls() {
+            let row: Vec<_> = cols.us.iter().map(|u| (u[c], 1.0)).collect();
             pb.add_row(0.0..=0.0, row);
         }
     }
-    if let Some(r) = cost_matrix(&p.cost, m) {
-        for j in 0..k {
+}
+
+/// The outer approximation of a quadratic cost: per phase a column `e_j` (objective `-1`) and
+/// one cut per point `u0` of `cuts`, `e - (R u0) . U + f2(u0) tau >= 0`.
+fn add_cost_cuts(pb: &mut RowProblem, p: &GeneralProblem, cols: &Columns, cuts: &[Vec<f64>]) {
+    if let Some(r) = cost_matrix(&p.cost, p.controls()) {
+        for j in 0..cols.tau.len() {
             let e = pb.add_column(-1.0, 0.0..);
             for u0 in cuts {
                 // e - (R u0) . U + f2(u0) tau >= 0.
                 let ru0: Vec<f64> = r.iter().map(|row| dot(row, u0)).collect();
-                let mut row = vec![(e, 1.0), (tau[j], 0.5 * dot(u0, &ru0))];
-                row.extend(us[j].iter().zip(&ru0).map(|(&c, &a)| (c, -a)));
+                let mut row = vec![(e, 1.0), (cols.tau[j], 0.5 * dot(u0, &ru0))];
+                row.extend(cols.us[j].iter().zip(&ru0).map(|(&c, &a)| (c, -a)));
                 pb.add_row(0.0..=f64::INFINITY, row);
             }
         }
     }
-    let x = (0..=k).map(x_at).collect();
+}
+
+/// The phase MILP of at most `k` phases with the cost's cuts at `cuts` (module docs): its
+/// columns, then `sum_j tau_j = T`, the rows of each phase, the states in C, the zero mean and
+/// the cost's cuts, in this order.
+fn build(
+    p: &GeneralProblem,
+    g: &Geometry,
+    k: usize,
+    cuts: &[Vec<f64>],
+) -> Result<(RowProblem, Layout)> {
+    let bm = big_m(p, g, 1.0)?;
+    let t = p.period;
+    let mut pb = RowProblem::default();
+    let cols = add_columns(&mut pb, p, k, bm.multiplier);
+    pb.add_row(
+        t..=t,
+        cols.tau.iter().map(|&c| (c, 1.0)).collect::<Vec<_>>(),
+    );
+    for j in 0..k {
+        add_phase_rows(&mut pb, p, &cols, &bm, j);
+    }
+    add_state_and_mean_rows(&mut pb, p, &cols);
+    add_cost_cuts(&mut pb, p, &cols, cuts);
+    let x = (0..=k).map(|i| cols.x_at(i)).collect();
     Ok((
         pb,
         Layout {
             x,
-            tau,
-            u: us,
-            lam,
-            s,
+            tau: cols.tau,
+            u: cols.us,
+            lam: cols.lam,
+            s: cols.s,
         },
     ))
 }
