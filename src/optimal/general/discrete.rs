@@ -29,6 +29,7 @@
 //! become cut points until the true objective of the incumbent meets the bound within
 //! [`OA_TOL`] (relative above 1, absolute below), as for the crawler's P_m. C and U bounded.
 
+use super::discrete_rows as rows;
 use super::geometry::{into_u, Geometry};
 use crate::error::{Error, Result};
 use crate::integrate::{simulate_general, ControlInput, GeneralSimOptions, InputKind};
@@ -368,129 +369,32 @@ pub(super) fn branch_bounds(active: bool) -> [(f64, f64); 2] {
     }
 }
 
-/// Builds P_m in `form` (the objective `J`, to be maximised).
+/// Builds P_m in `form` (the objective `J`, to be maximised): the states, controls and
+/// multipliers, then step by step the control set, the catching-up step and the
+/// complementarity ([`super::discrete_rows`]), then the cost's cuts and the zero mean.
 pub(super) fn build(
     p: &GeneralProblem,
     m: u32,
     form: Form<'_>,
     cuts: &[Vec<f64>],
 ) -> (RowProblem, Layout) {
-    let (n, sigma, mm) = (p.states(), p.c.faces(), 1usize << m);
+    let mm = 1usize << m;
     let h = p.period / mm as f64;
     let w = reward_weights(p);
-    let free = || f64::NEG_INFINITY..f64::INFINITY;
     let mut pb = RowProblem::default();
     let xs = state_columns(&mut pb, p, mm);
     let nx = xs.len();
     let x_at = |i: usize| &xs[i % nx];
-    let us: Vec<Vec<Col>> = (0..mm)
-        .map(|_| match &p.control {
-            ControlSet::Box { lower, upper } => (0..p.controls())
-                .map(|k| pb.add_column(0.0, lower[k]..=upper[k]))
-                .collect(),
-            ControlSet::Polytope(_) => (0..p.controls())
-                .map(|_| pb.add_column(0.0, free()))
-                .collect(),
-        })
-        .collect();
-    let mus: Vec<Vec<Col>> = (0..mm)
-        .map(|i| {
-            (0..sigma)
-                .map(|j| match form {
-                    Form::Milp(bm) => pb.add_column(w[j], 0.0..=bm.multiplier),
-                    Form::Branches(b) => {
-                        let (lo, hi) = branch_bounds(b[i][j])[0];
-                        pb.add_column(w[j], lo..=hi)
-                    }
-                })
-                .collect()
-        })
-        .collect();
+    let us = rows::add_control_columns(&mut pb, p, mm);
+    let mus = rows::add_multiplier_columns(&mut pb, p, mm, form, &w);
     let mut slacks: Vec<Vec<Col>> = Vec::new();
     for i in 0..mm {
-        if let ControlSet::Polytope(u) = &p.control {
-            for k in 0..u.faces() {
-                let row: Vec<_> = us[i]
-                    .iter()
-                    .zip(&u.normals[k])
-                    .map(|(&c, &a)| (c, a))
-                    .collect();
-                pb.add_row(..=u.offsets[k], row);
-            }
-        }
-        // x^(i+1) - (I + h A) x^i - h B u^i + sum_j mu_j x*_j = h b.
-        for r in 0..n {
-            let mut row = vec![(x_at(i + 1)[r], 1.0)];
-            for k in 0..n {
-                let a = -(if k == r { 1.0 } else { 0.0 }) - h * p.dynamics.a[r][k];
-                if a != 0.0 {
-                    row.push((x_at(i)[k], a));
-                }
-            }
-            for k in 0..p.controls() {
-                let b = p.dynamics.b[r][k];
-                if b != 0.0 {
-                    row.push((us[i][k], -h * b));
-                }
-            }
-            for j in 0..sigma {
-                let a = p.c.normals[j][r];
-                if a != 0.0 {
-                    row.push((mus[i][j], a));
-                }
-            }
-            let rhs = h * p.dynamics.drift[r];
-            pb.add_row(rhs..=rhs, row);
-        }
-        for j in 0..sigma {
-            let face: Vec<_> = x_at(i + 1)
-                .iter()
-                .zip(&p.c.normals[j])
-                .map(|(&c, &a)| (c, a))
-                .collect();
-            let c = p.c.offsets[j];
-            match form {
-                Form::Branches(b) => {
-                    if j == 0 {
-                        slacks.push(Vec::with_capacity(sigma));
-                    }
-                    let (lo, hi) = branch_bounds(b[i][j])[1];
-                    let s = pb.add_column(0.0, lo..=hi);
-                    slacks[i].push(s);
-                    let mut row = face;
-                    row.push((s, 1.0));
-                    pb.add_row(c..=c, row);
-                }
-                Form::Milp(bm) => {
-                    // mu <= M_mu z and c - <x*, x> <= S (1 - z), i.e. <x*, x> - S z >= c - S.
-                    let z = pb.add_integer_column(0.0, 0..=1);
-                    pb.add_row(..=0.0, [(mus[i][j], 1.0), (z, -bm.multiplier)]);
-                    let mut row = face.clone();
-                    row.push((z, -bm.slack[j]));
-                    pb.add_row(c - bm.slack[j]..=f64::INFINITY, row);
-                    pb.add_row(..=c, face);
-                }
-            }
-        }
+        rows::add_control_rows(&mut pb, p, &us[i]);
+        rows::add_dynamics_rows(&mut pb, p, h, (x_at(i), x_at(i + 1)), (&us[i], &mus[i]));
+        rows::add_face_rows(&mut pb, p, form, (i, x_at(i + 1), &mus[i]), &mut slacks);
     }
-    if let Some(r) = cost_matrix(&p.cost, p.controls()) {
-        for u in &us {
-            let e = pb.add_column(-h, 0.0..);
-            for u0 in cuts {
-                // e - (R u0) . u >= -(1/2) u0^T R u0.
-                let ru0: Vec<f64> = r.iter().map(|row| dot(row, u0)).collect();
-                let mut row = vec![(e, 1.0)];
-                row.extend(u.iter().zip(&ru0).map(|(&c, &a)| (c, -a)));
-                pb.add_row(-0.5 * dot(u0, &ru0)..=f64::INFINITY, row);
-            }
-        }
-    }
-    if p.zero_mean {
-        for k in 0..p.controls() {
-            let row: Vec<_> = us.iter().map(|u| (u[k], 1.0)).collect();
-            pb.add_row(0.0..=0.0, row);
-        }
-    }
+    rows::add_cost_cuts(&mut pb, p, h, &us, cuts);
+    rows::add_zero_mean_rows(&mut pb, p, &us);
     let x = (0..=mm).map(|i| x_at(i).clone()).collect();
     (
         pb,

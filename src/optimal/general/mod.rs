@@ -7,6 +7,7 @@
 
 mod chain_phase;
 pub mod discrete;
+mod discrete_rows;
 pub mod geometry;
 pub mod local;
 pub mod phase;

@@ -1,0 +1,176 @@
+//! The column families and row blocks of the general P_m ([`super::discrete::build`], module
+//! docs there), one function each, in the order `build` adds them (the solvers' results depend
+//! on that order).
+
+use super::discrete::{branch_bounds, cost_matrix, Form};
+use crate::model::general::{dot, ControlSet, GeneralProblem};
+use highs::{Col, RowProblem};
+
+/// The control columns `u^i`, step by step: within the box's bounds, or free for a polytope U
+/// (whose rows [`add_control_rows`] adds).
+pub(super) fn add_control_columns(
+    pb: &mut RowProblem,
+    p: &GeneralProblem,
+    mm: usize,
+) -> Vec<Vec<Col>> {
+    let free = || f64::NEG_INFINITY..f64::INFINITY;
+    (0..mm)
+        .map(|_| match &p.control {
+            ControlSet::Box { lower, upper } => (0..p.controls())
+                .map(|k| pb.add_column(0.0, lower[k]..=upper[k]))
+                .collect(),
+            ControlSet::Polytope(_) => (0..p.controls())
+                .map(|_| pb.add_column(0.0, free()))
+                .collect(),
+        })
+        .collect()
+}
+
+/// The multiplier columns `mu^i_j`, step by step, with the objective weights `w_j`: within
+/// `[0, M_mu]` for the MILP, within the branch's bounds ([`branch_bounds`]) for a branch LP.
+pub(super) fn add_multiplier_columns(
+    pb: &mut RowProblem,
+    p: &GeneralProblem,
+    mm: usize,
+    form: Form<'_>,
+    w: &[f64],
+) -> Vec<Vec<Col>> {
+    (0..mm)
+        .map(|i| {
+            (0..p.c.faces())
+                .map(|j| match form {
+                    Form::Milp(bm) => pb.add_column(w[j], 0.0..=bm.multiplier),
+                    Form::Branches(b) => {
+                        let (lo, hi) = branch_bounds(b[i][j])[0];
+                        pb.add_column(w[j], lo..=hi)
+                    }
+                })
+                .collect()
+        })
+        .collect()
+}
+
+/// `u^i in U` for a polytope U: `G u^i <= h` (a box U is in the columns' bounds).
+pub(super) fn add_control_rows(pb: &mut RowProblem, p: &GeneralProblem, u_i: &[Col]) {
+    if let ControlSet::Polytope(u) = &p.control {
+        for k in 0..u.faces() {
+            let row: Vec<_> = u_i
+                .iter()
+                .zip(&u.normals[k])
+                .map(|(&c, &a)| (c, a))
+                .collect();
+            pb.add_row(..=u.offsets[k], row);
+        }
+    }
+}
+
+/// The catching-up step from `x^i` to `x^(i+1)` of step `h`, one row per state component:
+/// `x^(i+1) - (I + h A) x^i - h B u^i + sum_j mu_j x*_j = h b`.
+pub(super) fn add_dynamics_rows(
+    pb: &mut RowProblem,
+    p: &GeneralProblem,
+    h: f64,
+    (x_i, x_next): (&[Col], &[Col]),
+    (u_i, mu_i): (&[Col], &[Col]),
+) {
+    let n = p.states();
+    for r in 0..n {
+        let mut row = vec![(x_next[r], 1.0)];
+        for k in 0..n {
+            let a = -(if k == r { 1.0 } else { 0.0 }) - h * p.dynamics.a[r][k];
+            if a != 0.0 {
+                row.push((x_i[k], a));
+            }
+        }
+        for k in 0..p.controls() {
+            let b = p.dynamics.b[r][k];
+            if b != 0.0 {
+                row.push((u_i[k], -h * b));
+            }
+        }
+        for j in 0..p.c.faces() {
+            let a = p.c.normals[j][r];
+            if a != 0.0 {
+                row.push((mu_i[j], a));
+            }
+        }
+        let rhs = h * p.dynamics.drift[r];
+        pb.add_row(rhs..=rhs, row);
+    }
+}
+
+/// The complementarity of step `i`, face by face, at `x^(i+1)`: for a branch LP a slack column
+/// `s^i_j` (pushed onto `slacks`) with `<x*_j, x^(i+1)> + s^i_j = c_j`; for the MILP a binary
+/// `z^i_j` with `mu <= M_mu z`, `c - <x*, x> <= S (1 - z)` and `<x*_j, x^(i+1)> <= c_j`.
+pub(super) fn add_face_rows(
+    pb: &mut RowProblem,
+    p: &GeneralProblem,
+    form: Form<'_>,
+    (i, x_next, mu_i): (usize, &[Col], &[Col]),
+    slacks: &mut Vec<Vec<Col>>,
+) {
+    let sigma = p.c.faces();
+    for j in 0..sigma {
+        let face: Vec<_> = x_next
+            .iter()
+            .zip(&p.c.normals[j])
+            .map(|(&c, &a)| (c, a))
+            .collect();
+        let c = p.c.offsets[j];
+        match form {
+            Form::Branches(b) => {
+                if j == 0 {
+                    slacks.push(Vec::with_capacity(sigma));
+                }
+                let (lo, hi) = branch_bounds(b[i][j])[1];
+                let s = pb.add_column(0.0, lo..=hi);
+                slacks[i].push(s);
+                let mut row = face;
+                row.push((s, 1.0));
+                pb.add_row(c..=c, row);
+            }
+            Form::Milp(bm) => {
+                // mu <= M_mu z and c - <x*, x> <= S (1 - z), i.e. <x*, x> - S z >= c - S.
+                let z = pb.add_integer_column(0.0, 0..=1);
+                pb.add_row(..=0.0, [(mu_i[j], 1.0), (z, -bm.multiplier)]);
+                let mut row = face.clone();
+                row.push((z, -bm.slack[j]));
+                pb.add_row(c - bm.slack[j]..=f64::INFINITY, row);
+                pb.add_row(..=c, face);
+            }
+        }
+    }
+}
+
+/// The outer approximation of a quadratic cost (module docs of [`super::discrete`]): per step
+/// an epigraph column `e^i` (objective `-h`) and one tangent cut per point `u0` of `cuts`.
+pub(super) fn add_cost_cuts(
+    pb: &mut RowProblem,
+    p: &GeneralProblem,
+    h: f64,
+    us: &[Vec<Col>],
+    cuts: &[Vec<f64>],
+) {
+    if let Some(r) = cost_matrix(&p.cost, p.controls()) {
+        for u in us {
+            let e = pb.add_column(-h, 0.0..);
+            for u0 in cuts {
+                // e - (R u0) . u >= -(1/2) u0^T R u0.
+                let ru0: Vec<f64> = r.iter().map(|row| dot(row, u0)).collect();
+                let mut row = vec![(e, 1.0)];
+                row.extend(u.iter().zip(&ru0).map(|(&c, &a)| (c, -a)));
+                pb.add_row(-0.5 * dot(u0, &ru0)..=f64::INFINITY, row);
+            }
+        }
+    }
+}
+
+/// `sum_i u^i = 0` under the zero-mean constraint, one row per control component.
+pub(super) fn add_zero_mean_rows(pb: &mut RowProblem, p: &GeneralProblem, us: &[Vec<Col>]) {
+    if p.zero_mean {
+        for k in 0..p.controls() {
+            let row: Vec<_> = us.iter().map(|u| (u[k], 1.0)).collect();
+            pb.add_row(0.0..=0.0, row);
+        }
+    }
+}
