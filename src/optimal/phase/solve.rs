@@ -155,17 +155,18 @@ pub(super) fn solve_steps(
     Ok(units.phase(&s, true))
 }
 
-/// The phase MILP of `phases` steps (or, with `fixed` modes, its LP), solved with outer
-/// approximation of a quadratic cost, the answer replayed by the exact simulator and certified.
-/// Arguments are checked by the callers.
-fn solve_steps_in(
+/// The outer-approximation loop of [`solve_steps_in`]: the phase MILP (or LP) built and solved
+/// round after round, each answer's rates added as tangents of a quadratic cost, until the
+/// bound meets the answer's true `J`, the time runs out or no tangent is new. Returns the last
+/// answer, its bound, its status and the rounds.
+fn oa_rounds(
     crawler: &Crawler,
     problem: &GaitProblem,
     phases: usize,
     start: Option<&PhaseSolution>,
     fixed: Option<&[Vec<i8>]>,
     rows: &ExtraRows,
-) -> Result<PhaseSolution> {
+) -> Result<(RawGait, f64, MilpStatus, usize)> {
     let t = problem.period;
     let a = &problem.rate_bound;
     let what = format!("gait of at most {phases} slip phases");
@@ -209,49 +210,85 @@ fn solve_steps_in(
             };
             break (raw, bound, status);
         }
-        let mut added = false;
-        for (d, u) in raw.durations.iter().zip(&raw.increments) {
-            for (l, &ul) in u.iter().enumerate() {
-                added |= r.add(l, ul / d, a[l]);
-            }
-        }
-        if !added {
+        if !add_tangents(r, &raw, a) {
             break (raw, bound, MilpStatus::ApproximationLimit);
         }
         incumbent = Some(raw);
     };
-    let scale = problem.length_scale(crawler);
-    let verify = |raw: &RawGait| -> Result<f64> {
-        if raw.durations.len() < 2 {
-            return Ok(0.0);
+    Ok((raw, bound, status, rounds))
+}
+
+/// Adds the rates `U_l / tau` of every phase of `raw` as tangent points of the quadratic cost
+/// (rates bounded by `a`); whether any was new.
+fn add_tangents(r: &mut TangentRates, raw: &RawGait, a: &[f64]) -> bool {
+    let mut added = false;
+    for (d, u) in raw.durations.iter().zip(&raw.increments) {
+        for (l, &ul) in u.iter().enumerate() {
+            added |= r.add(l, ul / d, a[l]);
         }
-        replay(
-            crawler,
-            t,
-            &raw.durations,
-            &raw.increments,
-            Some(&raw.states[0]),
-            Method::Exact,
-            &what,
-        )?
-        .displacement_per_period
-        .ok_or_else(|| Error::Numerical(format!("{what}: the replay did not converge")))
-    };
-    // A quadratic cost's gait polished on its sequence of slip modes (`super::polish`): kept
-    // when its replay agrees and J is no worse.
+    }
+    added
+}
+
+/// The displacement per period of `raw` as the exact simulator replays it from its first state
+/// (0 for a gait of fewer than two phases).
+fn verify_replay(crawler: &Crawler, t: f64, raw: &RawGait, what: &str) -> Result<f64> {
+    if raw.durations.len() < 2 {
+        return Ok(0.0);
+    }
+    replay(
+        crawler,
+        t,
+        &raw.durations,
+        &raw.increments,
+        Some(&raw.states[0]),
+        Method::Exact,
+        what,
+    )?
+    .displacement_per_period
+    .ok_or_else(|| Error::Numerical(format!("{what}: the replay did not converge")))
+}
+
+/// `raw` or, with a quadratic cost, its polish on its sequence of slip modes
+/// (`super::polish`), kept when its replay agrees and J is no worse; with its replayed
+/// displacement.
+fn polished_or_replayed(
+    crawler: &Crawler,
+    problem: &GaitProblem,
+    raw: RawGait,
+    what: &str,
+) -> Result<(RawGait, f64)> {
+    let (t, scale) = (problem.period, problem.length_scale(crawler));
     let polished = polish_phases(crawler, problem, &raw).and_then(|p| {
-        let v = verify(&p).ok()?;
-        check_verified(&what, p.displacement(), v, scale).ok()?;
+        let v = verify_replay(crawler, t, &p, what).ok()?;
+        check_verified(what, p.displacement(), v, scale).ok()?;
         let better = v - p.cost(problem) >= raw.displacement() - raw.cost(problem) - 1e-9 * scale;
         better.then_some((p, v))
     });
-    let (raw, verified) = match polished {
+    Ok(match polished {
         Some(pv) => pv,
         None => {
-            let v = verify(&raw)?;
+            let v = verify_replay(crawler, t, &raw, what)?;
             (raw, v)
         }
-    };
+    })
+}
+
+/// The phase MILP of `phases` steps (or, with `fixed` modes, its LP), solved with outer
+/// approximation of a quadratic cost ([`oa_rounds`]), the answer replayed by the exact
+/// simulator ([`polished_or_replayed`]) and certified. Arguments are checked by the callers.
+fn solve_steps_in(
+    crawler: &Crawler,
+    problem: &GaitProblem,
+    phases: usize,
+    start: Option<&PhaseSolution>,
+    fixed: Option<&[Vec<i8>]>,
+    rows: &ExtraRows,
+) -> Result<PhaseSolution> {
+    let what = format!("gait of at most {phases} slip phases");
+    let (raw, bound, status, rounds) = oa_rounds(crawler, problem, phases, start, fixed, rows)?;
+    let scale = problem.length_scale(crawler);
+    let (raw, verified) = polished_or_replayed(crawler, problem, raw, &what)?;
     let cost = raw.cost(problem);
     // What the MILP proved is optimality among gaits of at most `phases` slip phases.
     let status = match status {
