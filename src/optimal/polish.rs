@@ -345,89 +345,36 @@ impl Qp {
         // Redundant rows (a held face's equality beside its active range, the rate rows and
         // `tau = 0` of an empty piece) would make the KKT system singular.
         let rows = independent_rows(rows, n);
-        let (m, nc) = (rows.len(), live.len());
-        let dim = n + m + nc;
+        let sys = NewtonKkt {
+            qp: self,
+            m: rows.len(),
+            rows,
+            live,
+            n,
+        };
+        let dim = sys.dim();
         // Dense LU up to MAX_EXACT_KKT; the SVD a rank-deficient system needs (redundant
         // active rows) only up to a quarter of it, as in `exact_on` (it costs seconds beyond).
         if dim > MAX_EXACT_KKT || crate::progress::out_of_time().unwrap_or(true) {
             return None;
         }
         let svd_ok = dim <= MAX_EXACT_KKT / 4;
-        let grad = |v: &[f64]| -> DVector<f64> {
-            let mut g = DVector::from_column_slice(&self.q);
-            for (&(i, j), &a) in &self.p {
-                g[i] += a * v[j];
-                if i != j {
-                    g[j] += a * v[i];
-                }
-            }
-            g
-        };
-        // The constraints' Jacobian (rows, then cones: d(u^2 - g tau) = (2u, -tau, -g)).
-        let jacobian = |v: &[f64]| -> DMatrix<f64> {
-            let mut j = DMatrix::<f64>::zeros(m + nc, n);
-            for (r, (entries, _)) in rows.iter().enumerate() {
-                for &(c, a) in entries {
-                    j[(r, c)] += a;
-                }
-            }
-            for (k, &(u, g, tau)) in live.iter().enumerate() {
-                j[(m + k, u)] += 2.0 * v[u];
-                j[(m + k, g)] -= v[tau];
-                j[(m + k, tau)] -= v[g];
-            }
-            j
-        };
         let mut v = v0.to_vec();
         // Multipliers: least squares of grad + J^T w = 0 at v0.
-        let jt = jacobian(&v).transpose();
+        let jt = sys.jacobian(&v).transpose();
         if !svd_ok {
             return None;
         }
         let mut w = crate::linalg::svd(jt.clone(), true, true)?
-            .solve(&(-grad(&v)), 1e-12 * jt.amax().max(1e-300))
+            .solve(&(-sys.grad(&v)), 1e-12 * jt.amax().max(1e-300))
             .ok()?;
+        let (m, nc) = (sys.m, sys.live.len());
         for _ in 0..30 {
             // Within the job's deadline and cancellation: the answer then stays Clarabel's.
             if crate::progress::out_of_time().unwrap_or(true) {
                 return None;
             }
-            let jac = jacobian(&v);
-            let mut k = DMatrix::<f64>::zeros(dim, dim);
-            for (&(i, j), &a) in &self.p {
-                k[(i, j)] += a;
-                if i != j {
-                    k[(j, i)] += a;
-                }
-            }
-            for (c, &(u, g, tau)) in live.iter().enumerate() {
-                // The cone's Hessian times its multiplier: 2 on (u, u), -1 on (g, tau).
-                let z = w[m + c];
-                k[(u, u)] += 2.0 * z;
-                k[(g, tau)] -= z;
-                k[(tau, g)] -= z;
-            }
-            k.view_mut((n, 0), (m + nc, n)).copy_from(&jac);
-            k.view_mut((0, n), (n, m + nc)).copy_from(&jac.transpose());
-            let mut f = DVector::<f64>::zeros(dim);
-            let stat = grad(&v) + jac.transpose() * &w;
-            f.rows_mut(0, n).copy_from(&stat);
-            for (r, (entries, b)) in rows.iter().enumerate() {
-                f[n + r] = entries.iter().map(|&(c, a)| a * v[c]).sum::<f64>() - b;
-            }
-            for (c, &(u, g, tau)) in live.iter().enumerate() {
-                f[n + m + c] = v[u] * v[u] - v[g] * v[tau];
-            }
-            let norm = k.amax().max(1e-300);
-            let step = k.clone().lu().solve(&(-&f)).or_else(|| {
-                svd_ok
-                    .then(|| {
-                        crate::linalg::svd(k, true, true)?
-                            .solve(&(-&f), 1e-13 * norm)
-                            .ok()
-                    })
-                    .flatten()
-            })?;
+            let step = sys.step(&v, &w, svd_ok)?;
             for (x, d) in v.iter_mut().zip(step.rows(0, n).iter()) {
                 *x += d;
             }
@@ -442,8 +389,8 @@ impl Qp {
             .cones
             .iter()
             .all(|&(u, g, tau)| v[u] * v[u] <= v[g] * v[tau] + 1e-12 * scale * scale);
-        let stationary =
-            (grad(&v) + jacobian(&v).transpose() * &w).amax() <= 1e-9 * grad(v0).amax().max(1.0);
+        let stationary = (sys.grad(&v) + sys.jacobian(&v).transpose() * &w).amax()
+            <= 1e-9 * sys.grad(v0).amax().max(1.0);
         (cones_hold && stationary && v.iter().all(|x| x.is_finite())).then_some(v)
     }
 
@@ -461,6 +408,96 @@ impl Qp {
             let value: f64 = r.entries.iter().map(|&(k, a)| a * v[k]).sum();
             let size: f64 = r.entries.iter().map(|&(k, a)| (a * v[k]).abs()).sum();
             ok(value, size, r.lo, r.hi)
+        })
+    }
+}
+
+/// The KKT system that [`Qp::newton_on`] solves by Newton's method: the QP's objective, the
+/// independent equality `rows` (`m` of them) and the `live` cones held as `u^2 = g tau`, over
+/// `n` columns; the unknowns are `v`, then the rows' multipliers, then the cones'.
+struct NewtonKkt<'a> {
+    qp: &'a Qp,
+    rows: Vec<(Vec<(usize, f64)>, f64)>,
+    live: Vec<(usize, usize, usize)>,
+    n: usize,
+    m: usize,
+}
+
+impl NewtonKkt<'_> {
+    /// The size of the system: columns, rows and live cones.
+    fn dim(&self) -> usize {
+        self.n + self.m + self.live.len()
+    }
+
+    /// The objective's gradient `P v + q` at `v`.
+    fn grad(&self, v: &[f64]) -> DVector<f64> {
+        let mut g = DVector::from_column_slice(&self.qp.q);
+        for (&(i, j), &a) in &self.qp.p {
+            g[i] += a * v[j];
+            if i != j {
+                g[j] += a * v[i];
+            }
+        }
+        g
+    }
+
+    /// The constraints' Jacobian at `v` (rows, then cones: d(u^2 - g tau) = (2u, -tau, -g)).
+    fn jacobian(&self, v: &[f64]) -> DMatrix<f64> {
+        let (m, nc) = (self.m, self.live.len());
+        let mut j = DMatrix::<f64>::zeros(m + nc, self.n);
+        for (r, (entries, _)) in self.rows.iter().enumerate() {
+            for &(c, a) in entries {
+                j[(r, c)] += a;
+            }
+        }
+        for (k, &(u, g, tau)) in self.live.iter().enumerate() {
+            j[(m + k, u)] += 2.0 * v[u];
+            j[(m + k, g)] -= v[tau];
+            j[(m + k, tau)] -= v[g];
+        }
+        j
+    }
+
+    /// One Newton step at `(v, w)`: the KKT matrix (the Lagrangian's Hessian, the Jacobian
+    /// and its transpose) solved against the residual (stationarity, the rows, the cones) by
+    /// LU, else, when `svd_ok`, by least squares; `None` when neither solves it.
+    fn step(&self, v: &[f64], w: &DVector<f64>, svd_ok: bool) -> Option<DVector<f64>> {
+        let (n, m, nc, dim) = (self.n, self.m, self.live.len(), self.dim());
+        let jac = self.jacobian(v);
+        let mut k = DMatrix::<f64>::zeros(dim, dim);
+        for (&(i, j), &a) in &self.qp.p {
+            k[(i, j)] += a;
+            if i != j {
+                k[(j, i)] += a;
+            }
+        }
+        for (c, &(u, g, tau)) in self.live.iter().enumerate() {
+            // The cone's Hessian times its multiplier: 2 on (u, u), -1 on (g, tau).
+            let z = w[m + c];
+            k[(u, u)] += 2.0 * z;
+            k[(g, tau)] -= z;
+            k[(tau, g)] -= z;
+        }
+        k.view_mut((n, 0), (m + nc, n)).copy_from(&jac);
+        k.view_mut((0, n), (n, m + nc)).copy_from(&jac.transpose());
+        let mut f = DVector::<f64>::zeros(dim);
+        let stat = self.grad(v) + jac.transpose() * w;
+        f.rows_mut(0, n).copy_from(&stat);
+        for (r, (entries, b)) in self.rows.iter().enumerate() {
+            f[n + r] = entries.iter().map(|&(c, a)| a * v[c]).sum::<f64>() - b;
+        }
+        for (c, &(u, g, tau)) in self.live.iter().enumerate() {
+            f[n + m + c] = v[u] * v[u] - v[g] * v[tau];
+        }
+        let norm = k.amax().max(1e-300);
+        k.clone().lu().solve(&(-&f)).or_else(|| {
+            svd_ok
+                .then(|| {
+                    crate::linalg::svd(k, true, true)?
+                        .solve(&(-&f), 1e-13 * norm)
+                        .ok()
+                })
+                .flatten()
         })
     }
 }
