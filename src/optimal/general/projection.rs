@@ -29,17 +29,9 @@ pub struct ProjectedVertex {
     pub lifted: Vec<f64>,
 }
 
-/// The projection of `C ∩ window` onto `(x_a, x_b)` (`a != b`, 0-based): the polygon's
-/// vertices counter-clockwise, each with a point of C above it. `window` is a box
-/// `[lo_k, hi_k]` per coordinate (finite), needed when C is unbounded; `None` for a bounded C.
-/// Errors: an empty `C ∩ window`, an unbounded LP (C unbounded and no window).
-pub fn project_polyhedron(
-    c: &Polyhedron,
-    window: Option<&[(f64, f64)]>,
-    a: usize,
-    b: usize,
-) -> Result<Vec<ProjectedVertex>> {
-    let n = c.dim();
+/// The checks of [`project_polyhedron`]'s arguments: two different coordinates of the `n`, and
+/// a window of one finite interval `lo < hi` per coordinate.
+fn check_projection(n: usize, window: Option<&[(f64, f64)]>, a: usize, b: usize) -> Result<()> {
     if a >= n || b >= n || a == b {
         return Err(Error::invalid(
             "projection",
@@ -59,13 +51,26 @@ pub fn project_polyhedron(
             ));
         }
     }
-    let s = window
-        .map(|w| {
-            w.iter()
-                .fold(c.scale(), |m, (lo, hi)| m.max(lo.abs()).max(hi.abs()))
-        })
-        .unwrap_or_else(|| c.scale());
-    let support = |d: (f64, f64)| -> Result<ProjectedVertex> {
+    Ok(())
+}
+
+/// The support LPs of the projection of `C ∩ window` onto `(x_a, x_b)`, posed in units of
+/// the scale `s` (C's, widened by the window's ends).
+struct Support<'a> {
+    c: &'a Polyhedron,
+    window: Option<&'a [(f64, f64)]>,
+    s: f64,
+    a: usize,
+    b: usize,
+}
+
+impl Support<'_> {
+    /// The maximiser over `C ∩ window` of `d.0 x_a + d.1 x_b`, a vertex of the polygon with
+    /// its point of C; an error when the LP has no optimum (C within the window empty, or
+    /// unbounded without a window).
+    fn at(&self, d: (f64, f64)) -> Result<ProjectedVertex> {
+        let (c, window, s, a, b) = (self.c, self.window, self.s, self.a, self.b);
+        let n = c.dim();
         let mut pb = RowProblem::default();
         let cols: Vec<_> = (0..n)
             .map(|k| {
@@ -103,20 +108,18 @@ pub fn project_polyhedron(
                 "projection of C: C within the window is empty".into(),
             )),
         }
-    };
-    let tol = 1e-9 * s;
-    let same = |p: &ProjectedVertex, q: &ProjectedVertex| {
-        (p.point.0 - q.point.0).abs() <= tol && (p.point.1 - q.point.1).abs() <= tol
-    };
-    // The maximisers of +x_a, +x_b, -x_a, -x_b: counter-clockwise.
-    let mut ring: Vec<ProjectedVertex> = Vec::new();
-    for d in [(1.0, 0.0), (0.0, 1.0), (-1.0, 0.0), (0.0, -1.0)] {
-        let v = support(d)?;
-        if !ring.iter().any(|p| same(p, &v)) {
-            ring.push(v);
-        }
     }
-    // Refine each side until every side is an edge.
+}
+
+/// Whether `p` and `q` are the same point of the plane, to `tol` in each coordinate.
+fn same(p: &ProjectedVertex, q: &ProjectedVertex, tol: f64) -> bool {
+    (p.point.0 - q.point.0).abs() <= tol && (p.point.1 - q.point.1).abs() <= tol
+}
+
+/// Refines each side of `ring` until every side is an edge (module docs): the LP in the
+/// direction of the side's outer normal either finds a vertex beyond it, inserted, or proves
+/// it an edge; at most [`MAX_PROJECTED_VERTICES`] vertices.
+fn refine_sides(ring: &mut Vec<ProjectedVertex>, support: &Support<'_>, tol: f64) -> Result<()> {
     let mut k = 0;
     while k < ring.len() && ring.len() > 1 {
         let (p, q) = (&ring[k], &ring[(k + 1) % ring.len()]);
@@ -127,16 +130,20 @@ pub fn project_polyhedron(
             continue;
         }
         let d = (dy / len, -dx / len);
-        let v = support(d)?;
+        let v = support.at(d)?;
         let beyond = d.0 * (v.point.0 - p.point.0) + d.1 * (v.point.1 - p.point.1);
-        if beyond > tol && !same(&v, p) && !same(&v, q) {
+        if beyond > tol && !same(&v, p, tol) && !same(&v, q, tol) {
             ring.insert(k + 1, v);
         } else {
             k += 1;
         }
     }
-    // An axis direction along an edge has the whole edge as maximisers, and the LP may return
-    // a point inside it: points where the polygon does not turn are not vertices.
+    Ok(())
+}
+
+/// Removes the points of `ring` where the polygon does not turn (to `tol`): an axis direction
+/// along an edge has the whole edge as maximisers, and the LP may return a point inside it.
+fn drop_straight(ring: &mut Vec<ProjectedVertex>, tol: f64) {
     let mut k = 0;
     while ring.len() > 3 && k < ring.len() {
         let nv = ring.len();
@@ -153,6 +160,37 @@ pub fn project_polyhedron(
             k += 1;
         }
     }
+}
+
+/// The projection of `C ∩ window` onto `(x_a, x_b)` (`a != b`, 0-based): the polygon's
+/// vertices counter-clockwise, each with a point of C above it. `window` is a box
+/// `[lo_k, hi_k]` per coordinate (finite), needed when C is unbounded; `None` for a bounded C.
+/// Errors: an empty `C ∩ window`, an unbounded LP (C unbounded and no window).
+pub fn project_polyhedron(
+    c: &Polyhedron,
+    window: Option<&[(f64, f64)]>,
+    a: usize,
+    b: usize,
+) -> Result<Vec<ProjectedVertex>> {
+    check_projection(c.dim(), window, a, b)?;
+    let s = window
+        .map(|w| {
+            w.iter()
+                .fold(c.scale(), |m, (lo, hi)| m.max(lo.abs()).max(hi.abs()))
+        })
+        .unwrap_or_else(|| c.scale());
+    let support = Support { c, window, s, a, b };
+    let tol = 1e-9 * s;
+    // The maximisers of +x_a, +x_b, -x_a, -x_b: counter-clockwise.
+    let mut ring: Vec<ProjectedVertex> = Vec::new();
+    for d in [(1.0, 0.0), (0.0, 1.0), (-1.0, 0.0), (0.0, -1.0)] {
+        let v = support.at(d)?;
+        if !ring.iter().any(|p| same(p, &v, tol)) {
+            ring.push(v);
+        }
+    }
+    refine_sides(&mut ring, &support, tol)?;
+    drop_straight(&mut ring, tol);
     Ok(ring)
 }
 
