@@ -172,92 +172,151 @@ impl Layout {
     }
 }
 
+/// One column per step and block, step by step: a binary, or a continuous column in
+/// `[0, md]` of objective `cost` (the block displacements `D^+`, `D^-`).
+fn per_block(
+    pb: &mut RowProblem,
+    (steps, nb): (usize, usize),
+    cost: f64,
+    integer: bool,
+    md: f64,
+) -> Vec<Vec<Col>> {
+    (0..steps)
+        .map(|_| {
+            (0..nb)
+                .map(|_| {
+                    if integer {
+                        pb.add_integer_column(0.0, 0..=1)
+                    } else {
+                        pb.add_column(cost, 0.0..=md)
+                    }
+                })
+                .collect()
+        })
+        .collect()
+}
+
+/// The columns the rows of one step of [`build`] use: states, increments, the forward and
+/// backward block displacements and their binaries.
+struct StepColumns<'a> {
+    xs: &'a [Vec<Col>],
+    us: &'a [Vec<Col>],
+    ps: &'a [Vec<Col>],
+    qs: &'a [Vec<Col>],
+    zps: &'a [Vec<Col>],
+    zqs: &'a [Vec<Col>],
+}
+
+/// The link rows of step `i` (of `h`), link by link: the dynamics
+/// `x^{i+1}_l - x^i_l - U^i_l + k_l (D_{l+1} - D_l) = 0` and, with a quadratic cost's tangent
+/// `rates`, its epigraph column `g` (objective `-c/2`, pushed onto `gs`) and its cuts.
+fn add_link_rows(
+    pb: &mut RowProblem,
+    crawler: &Crawler,
+    problem: &GaitProblem,
+    cols: &StepColumns<'_>,
+    (i, h): (usize, f64),
+    rates: Option<&TangentRates>,
+    gs: &mut Vec<Vec<Col>>,
+) {
+    let (xs, us, ps, qs) = (cols.xs, cols.us, cols.ps, cols.qs);
+    let n = crawler.links();
+    let k = crawler.stiffness();
+    let a = &problem.rate_bound;
+    let weight = match problem.cost {
+        Cost::Quadratic { weight } => weight,
+        Cost::None => 0.0,
+    };
+    let next = &xs[(i + 1) % xs.len()];
+    // Dynamics: x^{i+1}_l - x^i_l - U^i_l + k_l (D_{l+1} - D_l) = 0.
+    for l in 0..n {
+        pb.add_row(
+            0.0..=0.0,
+            [
+                (next[l], 1.0),
+                (xs[i][l], -1.0),
+                (us[i][l], -1.0),
+                (ps[i][l + 1], k[l]),
+                (qs[i][l + 1], -k[l]),
+                (ps[i][l], -k[l]),
+                (qs[i][l], k[l]),
+            ],
+        );
+        if let Some(r) = rates {
+            let g = pb.add_column(-0.5 * weight, 0.0..=a[l] * a[l] * h);
+            r.add_cuts(&mut *pb, l, g, us[i][l], None, h);
+            if l == 0 {
+                gs.push(Vec::with_capacity(n));
+            }
+            gs[i].push(g);
+        }
+    }
+}
+
+/// The block rows of step `i`, block by block: the force range at `x^{i+1}`, `D^± <= md z^±`,
+/// `z^+ + z^- <= 1`, and the big-M complementarity that a block moves forward (backward) only
+/// with its force at `mu^+` (`-mu^-`).
+fn add_block_rows(
+    pb: &mut RowProblem,
+    crawler: &Crawler,
+    cols: &StepColumns<'_>,
+    i: usize,
+    md: f64,
+) {
+    let (ps, qs, zps, zqs) = (cols.ps, cols.qs, cols.zps, cols.zqs);
+    let (mp, mm) = (crawler.mu_forward(), crawler.mu_backward());
+    let next = &cols.xs[(i + 1) % cols.xs.len()];
+    for b in 0..crawler.blocks() {
+        let f = force_row(next, b);
+        let w = mp[b] + mm[b];
+        pb.add_row(-mm[b]..=mp[b], &f);
+        pb.add_row(..=0.0, [(ps[i][b], 1.0), (zps[i][b], -md)]);
+        pb.add_row(..=0.0, [(qs[i][b], 1.0), (zqs[i][b], -md)]);
+        pb.add_row(..=1.0, [(zps[i][b], 1.0), (zqs[i][b], 1.0)]);
+        // mu^+ - F <= W (1 - zp)  <=>  -F + W zp <= mu^-.
+        let mut row: Vec<(Col, f64)> = f.iter().map(|&(c, v)| (c, -v)).collect();
+        row.push((zps[i][b], w));
+        pb.add_row(..=mm[b], &row);
+        // F + mu^- <= W (1 - zq)  <=>  F + W zq <= mu^+.
+        let mut row = f.clone();
+        row.push((zqs[i][b], w));
+        pb.add_row(..=mp[b], &row);
+    }
+}
+
+/// The MILP of P_m on `2^m` steps: the grid's columns, the block displacements `D^+`, `D^-`
+/// (objective `±1/N`) and their binaries, then step by step the link rows
+/// ([`add_link_rows`]) and the block rows ([`add_block_rows`]), then the control rows.
 fn build(
     crawler: &Crawler,
     problem: &GaitProblem,
     m: u32,
     rates: Option<&TangentRates>,
 ) -> (RowProblem, Layout) {
-    let (n, nb) = (crawler.links(), crawler.blocks());
+    let nb = crawler.blocks();
     let big_m = 1usize << m;
     let h = problem.period / big_m as f64;
-    let (k, mp, mm) = (
-        crawler.stiffness(),
-        crawler.mu_forward(),
-        crawler.mu_backward(),
-    );
-    let a = &problem.rate_bound;
     let md = h * block_speed_bound(crawler, problem);
-    let weight = match problem.cost {
-        Cost::Quadratic { weight } => weight,
-        Cost::None => 0.0,
-    };
 
     let mut pb = RowProblem::default();
     let grid = GridColumns::new(&mut pb, crawler, problem, big_m);
     let mut gs = Vec::new();
-    let (xs, us) = (&grid.xs, &grid.us);
     let inv_n = 1.0 / nb as f64;
-    let per_block = |cost: f64, integer: bool, pb: &mut RowProblem| -> Vec<Vec<Col>> {
-        (0..big_m)
-            .map(|_| {
-                (0..nb)
-                    .map(|_| {
-                        if integer {
-                            pb.add_integer_column(0.0, 0..=1)
-                        } else {
-                            pb.add_column(cost, 0.0..=md)
-                        }
-                    })
-                    .collect()
-            })
-            .collect()
+    let ps = per_block(&mut pb, (big_m, nb), inv_n, false, md);
+    let qs = per_block(&mut pb, (big_m, nb), -inv_n, false, md);
+    let zps = per_block(&mut pb, (big_m, nb), 0.0, true, md);
+    let zqs = per_block(&mut pb, (big_m, nb), 0.0, true, md);
+    let cols = StepColumns {
+        xs: &grid.xs,
+        us: &grid.us,
+        ps: &ps,
+        qs: &qs,
+        zps: &zps,
+        zqs: &zqs,
     };
-    let ps = per_block(inv_n, false, &mut pb);
-    let qs = per_block(-inv_n, false, &mut pb);
-    let zps = per_block(0.0, true, &mut pb);
-    let zqs = per_block(0.0, true, &mut pb);
     for i in 0..big_m {
-        let next = &xs[(i + 1) % big_m];
-        // Dynamics: x^{i+1}_l - x^i_l - U^i_l + k_l (D_{l+1} - D_l) = 0.
-        for l in 0..n {
-            pb.add_row(
-                0.0..=0.0,
-                [
-                    (next[l], 1.0),
-                    (xs[i][l], -1.0),
-                    (us[i][l], -1.0),
-                    (ps[i][l + 1], k[l]),
-                    (qs[i][l + 1], -k[l]),
-                    (ps[i][l], -k[l]),
-                    (qs[i][l], k[l]),
-                ],
-            );
-            if let Some(r) = rates {
-                let g = pb.add_column(-0.5 * weight, 0.0..=a[l] * a[l] * h);
-                r.add_cuts(&mut pb, l, g, us[i][l], None, h);
-                if l == 0 {
-                    gs.push(Vec::with_capacity(n));
-                }
-                gs[i].push(g);
-            }
-        }
-        for b in 0..nb {
-            let f = force_row(next, b);
-            let w = mp[b] + mm[b];
-            pb.add_row(-mm[b]..=mp[b], &f);
-            pb.add_row(..=0.0, [(ps[i][b], 1.0), (zps[i][b], -md)]);
-            pb.add_row(..=0.0, [(qs[i][b], 1.0), (zqs[i][b], -md)]);
-            pb.add_row(..=1.0, [(zps[i][b], 1.0), (zqs[i][b], 1.0)]);
-            // mu^+ - F <= W (1 - zp)  <=>  -F + W zp <= mu^-.
-            let mut row: Vec<(Col, f64)> = f.iter().map(|&(c, v)| (c, -v)).collect();
-            row.push((zps[i][b], w));
-            pb.add_row(..=mm[b], &row);
-            // F + mu^- <= W (1 - zq)  <=>  F + W zq <= mu^+.
-            let mut row = f.clone();
-            row.push((zqs[i][b], w));
-            pb.add_row(..=mp[b], &row);
-        }
+        add_link_rows(&mut pb, crawler, problem, &cols, (i, h), rates, &mut gs);
+        add_block_rows(&mut pb, crawler, &cols, i, md);
     }
     let jumps = grid.add_control_rows(&mut pb, problem);
     (
