@@ -30,6 +30,7 @@
 //! [`OA_TOL`] (relative above 1, absolute below), as for the crawler's P_m. C and U bounded.
 
 use super::discrete_rows as rows;
+pub(super) use super::discrete_rows::{branch_bounds, cost_matrix, BigM, Form};
 use super::geometry::{into_u, Geometry};
 use crate::error::{Error, Result};
 use crate::integrate::{simulate_general, ControlInput, GeneralSimOptions, InputKind};
@@ -63,15 +64,6 @@ pub struct GeneralPm {
     /// without a quadratic cost (the MILP's answer is then exact) or with polishing off.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub polish: Option<crate::optimal::polish::PolishRecord>,
-}
-
-/// The big-M constants (module docs).
-#[derive(Debug, Clone, PartialEq)]
-pub(super) struct BigM {
-    /// `S_j`, the largest slack of face `j` over C.
-    pub(super) slack: Vec<f64>,
-    /// `M_mu` (with `h = 1`: a bound on the reaction rates `lambda_j`).
-    pub(super) multiplier: f64,
 }
 
 /// `max_{x in C} <d, x>` (C bounded).
@@ -348,27 +340,6 @@ pub(super) struct Layout {
     pub s: Vec<Vec<Col>>,
 }
 
-/// Which form of P_m [`build`] makes.
-#[derive(Clone, Copy)]
-pub(super) enum Form<'a> {
-    /// The MILP: a binary per step and face, big-M rows.
-    Milp(&'a BigM),
-    /// The LP of fixed complementarity branches: a slack column `s^i_j` per step and face
-    /// (`<x*_j, x^(i+1)> + s^i_j = c_j`) and, on branch `active[i][j]`, `s^i_j = 0` and
-    /// `mu^i_j >= 0`, off it `mu^i_j = 0` and `s^i_j >= 0`: the branches are column bounds
-    /// ([`branch_bounds`]), which the local method changes between solves.
-    Branches(&'a [Vec<bool>]),
-}
-
-/// The bounds of `(mu^i_j, s^i_j)` on branch `active` (see [`Form::Branches`]).
-pub(super) fn branch_bounds(active: bool) -> [(f64, f64); 2] {
-    if active {
-        [(0.0, f64::INFINITY), (0.0, 0.0)]
-    } else {
-        [(0.0, 0.0), (0.0, f64::INFINITY)]
-    }
-}
-
 /// Builds P_m in `form` (the objective `J`, to be maximised): the states, controls and
 /// multipliers, then step by step the control set, the catching-up step and the
 /// complementarity ([`super::discrete_rows`]), then the cost's cuts and the zero mean.
@@ -405,19 +376,6 @@ pub(super) fn build(
             s: slacks,
         },
     )
-}
-
-/// `R` of a quadratic cost (`None` for `f2 = 0`).
-pub(super) fn cost_matrix(cost: &GeneralCost, m: usize) -> Option<Vec<Vec<f64>>> {
-    match cost {
-        GeneralCost::None => None,
-        GeneralCost::Quadratic { weight } => Some(
-            (0..m)
-                .map(|i| (0..m).map(|k| if i == k { *weight } else { 0.0 }).collect())
-                .collect(),
-        ),
-        GeneralCost::Matrix { matrix } => Some(matrix.clone()),
-    }
 }
 
 /// Most rounds of the outer approximation of a quadratic cost.

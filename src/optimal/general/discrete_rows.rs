@@ -2,9 +2,51 @@
 //! docs there), one function each, in the order `build` adds them (the solvers' results depend
 //! on that order).
 
-use super::discrete::{branch_bounds, cost_matrix, Form};
-use crate::model::general::{dot, ControlSet, GeneralProblem};
+use crate::model::general::{dot, ControlSet, GeneralCost, GeneralProblem};
 use highs::{Col, RowProblem};
+
+/// The big-M constants (module docs of [`super::discrete`]).
+#[derive(Debug, Clone, PartialEq)]
+pub(super) struct BigM {
+    /// `S_j`, the largest slack of face `j` over C.
+    pub(super) slack: Vec<f64>,
+    /// `M_mu` (with `h = 1`: a bound on the reaction rates `lambda_j`).
+    pub(super) multiplier: f64,
+}
+
+/// Which form of P_m [`super::discrete::build`] makes.
+#[derive(Clone, Copy)]
+pub(super) enum Form<'a> {
+    /// The MILP: a binary per step and face, big-M rows.
+    Milp(&'a BigM),
+    /// The LP of fixed complementarity branches: a slack column `s^i_j` per step and face
+    /// (`<x*_j, x^(i+1)> + s^i_j = c_j`) and, on branch `active[i][j]`, `s^i_j = 0` and
+    /// `mu^i_j >= 0`, off it `mu^i_j = 0` and `s^i_j >= 0`: the branches are column bounds
+    /// ([`branch_bounds`]), which the local method changes between solves.
+    Branches(&'a [Vec<bool>]),
+}
+
+/// The bounds of `(mu^i_j, s^i_j)` on branch `active` (see [`Form::Branches`]).
+pub(super) fn branch_bounds(active: bool) -> [(f64, f64); 2] {
+    if active {
+        [(0.0, f64::INFINITY), (0.0, 0.0)]
+    } else {
+        [(0.0, 0.0), (0.0, f64::INFINITY)]
+    }
+}
+
+/// `R` of a quadratic cost (`None` for `f2 = 0`).
+pub(super) fn cost_matrix(cost: &GeneralCost, m: usize) -> Option<Vec<Vec<f64>>> {
+    match cost {
+        GeneralCost::None => None,
+        GeneralCost::Quadratic { weight } => Some(
+            (0..m)
+                .map(|i| (0..m).map(|k| if i == k { *weight } else { 0.0 }).collect())
+                .collect(),
+        ),
+        GeneralCost::Matrix { matrix } => Some(matrix.clone()),
+    }
+}
 
 /// The control columns `u^i`, step by step: within the box's bounds, or free for a polytope U
 /// (whose rows [`add_control_rows`] adds).
