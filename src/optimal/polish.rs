@@ -353,18 +353,14 @@ impl Qp {
             n,
         };
         let dim = sys.dim();
-        // Dense LU up to MAX_EXACT_KKT; the SVD a rank-deficient system needs (redundant
-        // active rows) only up to a quarter of it, as in `exact_on` (it costs seconds beyond).
-        if dim > MAX_EXACT_KKT || crate::progress::out_of_time().unwrap_or(true) {
+        // Dense, up to a quarter of MAX_EXACT_KKT: the multipliers' least squares below needs
+        // an SVD, which costs seconds beyond that (as in `exact_on`).
+        if dim > MAX_EXACT_KKT / 4 || crate::progress::out_of_time().unwrap_or(true) {
             return None;
         }
-        let svd_ok = dim <= MAX_EXACT_KKT / 4;
         let mut v = v0.to_vec();
         // Multipliers: least squares of grad + J^T w = 0 at v0.
         let jt = sys.jacobian(&v).transpose();
-        if !svd_ok {
-            return None;
-        }
         let mut w = crate::linalg::svd(jt.clone(), true, true)?
             .solve(&(-sys.grad(&v)), 1e-12 * jt.amax().max(1e-300))
             .ok()?;
@@ -374,7 +370,7 @@ impl Qp {
             if crate::progress::out_of_time().unwrap_or(true) {
                 return None;
             }
-            let step = sys.step(&v, &w, svd_ok)?;
+            let step = sys.step(&v, &w)?;
             for (x, d) in v.iter_mut().zip(step.rows(0, n).iter()) {
                 *x += d;
             }
@@ -460,8 +456,8 @@ impl NewtonKkt<'_> {
 
     /// One Newton step at `(v, w)`: the KKT matrix (the Lagrangian's Hessian, the Jacobian
     /// and its transpose) solved against the residual (stationarity, the rows, the cones) by
-    /// LU, else, when `svd_ok`, by least squares; `None` when neither solves it.
-    fn step(&self, v: &[f64], w: &DVector<f64>, svd_ok: bool) -> Option<DVector<f64>> {
+    /// LU, else by least squares; `None` when neither solves it.
+    fn step(&self, v: &[f64], w: &DVector<f64>) -> Option<DVector<f64>> {
         let (n, m, nc, dim) = (self.n, self.m, self.live.len(), self.dim());
         let jac = self.jacobian(v);
         let mut k = DMatrix::<f64>::zeros(dim, dim);
@@ -491,13 +487,9 @@ impl NewtonKkt<'_> {
         }
         let norm = k.amax().max(1e-300);
         k.clone().lu().solve(&(-&f)).or_else(|| {
-            svd_ok
-                .then(|| {
-                    crate::linalg::svd(k, true, true)?
-                        .solve(&(-&f), 1e-13 * norm)
-                        .ok()
-                })
-                .flatten()
+            crate::linalg::svd(k, true, true)?
+                .solve(&(-&f), 1e-13 * norm)
+                .ok()
         })
     }
 }
