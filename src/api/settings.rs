@@ -187,8 +187,8 @@ pub struct OptimizeSettings {
     /// Slip phases allowed in a phase gait (phase, auto); the sequence method's number of slip
     /// modes (default: the start's plus 2; given, its default start gait grows K no further,
     /// stopping earlier at the first K without a gain, and the best structured gait starts it
-    /// only when it fits). Without it K grows from 1 until
-    /// the value has not improved for `patience` K (or `max_phases`, or the time limit).
+    /// only when it fits). Without it K grows from 1 until the value has not improved for
+    /// `patience` K (or `max_phases`, or the time limit).
     pub phases: Option<usize>,
     /// Consecutive K without a gain that end a certified growth of K (default
     /// [`DEFAULT_PATIENCE`]).
