@@ -131,6 +131,18 @@ fn settings_that_do_not_apply_are_refused_naming_them() {
     for (s, want) in &cases {
         assert_eq!(field(s, &[]), *want, "{s:?}");
     }
+    // The growth's flags say which method takes them, as the keywords do.
+    let edits: [&dyn Fn(&mut OptimizeSettings); 3] =
+        [&|s| s.phases = Some(2), &|s| s.patience = Some(2), &|s| {
+            s.max_phases = Some(2)
+        }];
+    for edit in edits {
+        let e = with(Discrete, f, edit).plan_general(&[]).unwrap_err();
+        assert!(
+            e.to_string().contains("applies to --method phase only"),
+            "{e}"
+        );
+    }
     // A front end's own options for crawler results only (named as the front end names them;
     // the command line's --plot and --report now apply to both kinds and are not listed).
     let s = with(Auto, f, &|_| {});

@@ -105,25 +105,28 @@ impl OptimizeSettings {
              --method local, --bound with --method discrete or phase on a crawler's \
              problem)"
         };
+        // The growth's settings name the method they belong to.
+        let only_phase = "applies to --method phase only on a general problem file (--phases \
+                          and --max-phases also to sequence where the problem is a crawler's)";
         let mut given = vec![
-            ("phases", self.phases.is_some() && !phase),
-            ("patience", self.patience.is_some() && !phase),
+            ("phases", self.phases.is_some() && !phase, only_phase),
+            ("patience", self.patience.is_some() && !phase, only_phase),
             if phase {
-                ("m", self.m.is_some())
+                ("m", self.m.is_some(), reason)
             } else {
-                ("max_phases", self.max_phases.is_some())
+                ("max_phases", self.max_phases.is_some(), only_phase)
             },
-            ("convergence", self.convergence && (local || phase)),
-            ("start", self.start.is_some()),
-            ("shifts", self.shifts.is_some() && !local),
-            ("certify", self.certify && local),
-            ("no_polish", polish.1 && (local || phase)),
-            ("bound", self.bound.is_some() && local),
+            ("convergence", self.convergence && (local || phase), reason),
+            ("start", self.start.is_some(), reason),
+            ("shifts", self.shifts.is_some() && !local, reason),
+            ("certify", self.certify && local, reason),
+            ("no_polish", polish.1 && (local || phase), reason),
+            ("bound", self.bound.is_some() && local, reason),
         ];
-        given.extend(front_end.iter().copied());
+        given.extend(front_end.iter().map(|&(name, g)| (name, g, reason)));
         given
             .into_iter()
-            .map(|(name, g)| (name, g, reason.to_string()))
+            .map(|(name, g, why)| (name, g, why.to_string()))
             .collect()
     }
 
