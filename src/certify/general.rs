@@ -3,10 +3,10 @@
 //! polytope `{G u <= h}`) with zero mean, `f1` linear in the reaction, `f2(u) = (1/2) u^T R u`.
 //! The crawler's certificate ([`crate::certify`], whose module docs explain the method, the
 //! stages and the verdict) is the instance `A = 0, B = K^(-1/2)` after the change of variables
-//! `x = K^(1/2) x~`; both share the types ([`ConditionCheck`], [`Verdict`],
-//! [`Normalisation`], [`BranchLp`], [`CertifyOptions`]) and the staged search for multipliers
-//! (`certify::stages`); this module states the conditions for the general data (its multiplier
-//! LP in `certify::general_kkt`, its report in `certify::general_report`).
+//! `x = K^(1/2) x~`; both share the types ([`super::ConditionCheck`], [`Verdict`],
+//! [`super::Normalisation`], [`super::BranchLp`], [`CertifyOptions`]) and the staged search for
+//! multipliers (`certify::stages`); this module states the conditions for the general data (its
+//! multiplier LP in `certify::general_kkt`, its report in `certify::general_report`).
 //!
 //! # The branch LP and its KKT system
 //!

@@ -9,7 +9,7 @@ pub const CERTIFICATE_FORMAT: &str = "crawlopt-necessary-conditions";
 /// Version of the certificate format.
 pub const CERTIFICATE_VERSION: u32 = 1;
 
-/// Options of [`certify`].
+/// Options of [`super::certify`].
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct CertifyOptions {
     /// Relative tolerance of every residual (pointwise residuals relative to

@@ -80,7 +80,7 @@ pub struct DiscreteSolution {
     /// MILP solves (outer-approximation rounds for a quadratic cost, else 1).
     pub rounds: usize,
     /// `J` of the start gait on this grid, when the solve had one
-    /// ([`solve_discrete_global_from`]).
+    /// ([`super::solve_discrete_global_from`]).
     pub start_objective: Option<f64>,
     /// What polishing on the fixed slip pattern did ([`crate::optimal::polish`]); `None`
     /// without a quadratic cost (the MILP's answer is then exact) or with polishing off.

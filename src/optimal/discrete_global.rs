@@ -29,7 +29,7 @@ pub fn solve_discrete_global(
 /// [`solve_discrete_global`] from a start gait given by its knots (`times` from 0 to the
 /// period, `lengths` with the last row equal to the first, as in a [`GaitResult`]'s gait).
 ///
-/// The start's actuation is sampled on the grid ([`sample_increments`]) and played by
+/// The start's actuation is sampled on the grid ([`super::local::sample_increments`]) and played by
 /// catching-up to its periodic orbit; that trajectory is a feasible point of the MILP and
 /// becomes HiGHS's first incumbent, so a solve cut short by the time limit returns at least
 /// the start (its value is [`DiscreteSolution::start_objective`]). A start whose sampled control

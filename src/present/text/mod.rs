@@ -56,7 +56,7 @@ macro_rules! wln {
 pub(crate) use wln;
 
 /// The scales of a gait problem's quantities: text output shows a value smaller than
-/// [`text::SNAP`] times its quantity's scale as 0 (solver noise).
+/// [`crate::number::SNAP`] times its quantity's scale as 0 (solver noise).
 pub struct GaitScales {
     /// Lengths, displacements and the objective: the largest stroke an actuator can make in a
     /// period, `T max_l a_l / k_l`.
@@ -98,8 +98,8 @@ impl GaitScales {
 
 /// The scale of computed forces of a crawler (states, the ends of C, vertices): its smallest
 /// friction threshold. The exact ones are sums of thresholds, so a force smaller than
-/// [`text::SNAP`] times the smallest threshold is rounding noise of a zero. (Not the largest
-/// threshold: with mu+ = 1e300 and mu- = 3, C spans [-6, 3].)
+/// [`crate::number::SNAP`] times the smallest threshold is rounding noise of a zero. (Not the
+/// largest threshold: with mu+ = 1e300 and mu- = 3, C spans [-6, 3].)
 pub fn force_scale(crawler: &Crawler) -> f64 {
     let mu = crawler.mu_forward().iter().chain(crawler.mu_backward());
     mu.fold(f64::INFINITY, |m, &v| m.min(v))
