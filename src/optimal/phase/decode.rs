@@ -117,6 +117,36 @@ impl RawGait {
         g
     }
 
+    /// The gait as a [`PhaseSolution`] of `phases` steps: its rates `u / tau` from its
+    /// increments, with what was proven (`certificate`), its verified displacement, its cost
+    /// and the outer approximation's `rounds`.
+    pub(super) fn into_solution(
+        self,
+        phases: usize,
+        certificate: Certificate,
+        verified: f64,
+        cost: f64,
+        rounds: usize,
+    ) -> PhaseSolution {
+        PhaseSolution {
+            phases,
+            certificate,
+            verified_displacement: verified,
+            actuation_cost: cost,
+            controls: self
+                .increments
+                .iter()
+                .zip(&self.durations)
+                .map(|(u, d)| u.iter().map(|v| v / d).collect())
+                .collect(),
+            durations: self.durations,
+            states: self.states,
+            block_displacements: self.block_displacements,
+            modes: self.modes,
+            rounds,
+        }
+    }
+
     pub(super) fn displacement(&self) -> f64 {
         self.block_displacements
             .iter()
@@ -290,28 +320,14 @@ pub fn phase_gait_of(
     // cost of the unmerged pieces, so its J was below what it is).
     let merged = g.merged();
     let cost = merged.cost(problem);
-    Ok(PhaseSolution {
-        phases: merged.slip_phases(),
-        certificate: Certificate {
-            status: MilpStatus::Stalled,
-            milp_objective: verified,
-            bound: f64::NAN,
-            gap: f64::NAN,
-        },
-        verified_displacement: verified,
-        actuation_cost: cost,
-        controls: merged
-            .increments
-            .iter()
-            .zip(&merged.durations)
-            .map(|(u, d)| u.iter().map(|v| v / d).collect())
-            .collect(),
-        durations: merged.durations,
-        states: merged.states,
-        block_displacements: merged.block_displacements,
-        modes: merged.modes,
-        rounds: 0,
-    })
+    let certificate = Certificate {
+        status: MilpStatus::Stalled,
+        milp_objective: verified,
+        bound: f64::NAN,
+        gap: f64::NAN,
+    };
+    let phases = merged.slip_phases();
+    Ok(merged.into_solution(phases, certificate, verified, cost, 0))
 }
 
 /// Refuses (field `start`) pieces that do not match the links, non-positive or non-finite

@@ -304,23 +304,7 @@ fn solve_steps_in(
         verified,
         cost,
     )?;
-    Ok(PhaseSolution {
-        phases,
-        certificate,
-        verified_displacement: verified,
-        actuation_cost: cost,
-        controls: raw
-            .increments
-            .iter()
-            .zip(&raw.durations)
-            .map(|(u, d)| u.iter().map(|v| v / d).collect())
-            .collect(),
-        durations: raw.durations,
-        states: raw.states,
-        block_displacements: raw.block_displacements,
-        modes: raw.modes,
-        rounds,
-    })
+    Ok(raw.into_solution(phases, certificate, verified, cost, rounds))
 }
 
 /// The relative gain in `J` below which a larger `K` or a move of [`search_sequences`] counts
