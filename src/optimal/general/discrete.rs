@@ -588,7 +588,23 @@ pub fn simulate_grid(
     u: &[Vec<f64>],
     what: &str,
 ) -> Result<crate::integrate::GeneralSimulation> {
-    let mm = 1usize << m;
+    debug_assert_eq!(u.len(), 1usize << m);
+    let mut cauchy = p.clone();
+    cauchy.boundary = Boundary::Initial(x0.to_vec());
+    run_on_grid(&cauchy, x0, u, what)
+}
+
+/// The sweeping process of `p` (its own boundary condition) driven by the piecewise-constant
+/// controls `u`, one row per step of the uniform grid `h = T / u.len()`, started from `x0` and
+/// stepped as P_m steps (`u.len()` steps per period, the drift explicit). The P_m replay
+/// ([`simulate_grid`], a Cauchy problem) and the local method's periodic start run through it.
+pub(crate) fn run_on_grid(
+    p: &GeneralProblem,
+    x0: &[f64],
+    u: &[Vec<f64>],
+    what: &str,
+) -> Result<crate::integrate::GeneralSimulation> {
+    let mm = u.len();
     let h = p.period / mm as f64;
     let times: Vec<f64> = (0..mm).map(|i| i as f64 * h).collect();
     let input = ControlInput::new(
@@ -599,14 +615,12 @@ pub fn simulate_grid(
         &p.control,
         what,
     )?;
-    let mut cauchy = p.clone();
-    cauchy.boundary = Boundary::Initial(x0.to_vec());
     let opts = GeneralSimOptions {
         steps_per_period: mm,
         drift: crate::integrate::DriftStep::Explicit,
         ..GeneralSimOptions::DEFAULT
     };
-    simulate_general(&cauchy, &input, x0, &opts)
+    simulate_general(p, &input, x0, &opts)
 }
 
 /// Replays the MILP's controls in the simulator from its `x^0` ([`replay`]) and certifies the

@@ -27,10 +27,10 @@
 //! square waves along each control axis, at several time shifts. Every answer is re-verified by
 //! replaying its controls through the general simulator ([`super::discrete`]'s replay).
 
-use super::discrete::{branch_bounds, build, check_sets, replay, Form, Layout};
+use super::discrete::{branch_bounds, build, check_sets, replay, run_on_grid, Form, Layout};
 use super::geometry::Geometry;
 use crate::error::{Error, Result};
-use crate::integrate::{simulate_general, ControlInput, GeneralSimOptions, InputKind};
+use crate::integrate::{ControlInput, GeneralSimOptions};
 use crate::model::general::{Boundary, ControlSet, GeneralCost, GeneralProblem, Reward};
 use crate::optimal::active_set::{self, LocalStop};
 use crate::optimal::solver::{Highs, SolveStatus};
@@ -185,11 +185,10 @@ fn solve_from(
     start: &[Vec<f64>],
 ) -> Result<GeneralLocal> {
     let mm = 1usize << m;
-    let h = p.period / mm as f64;
     let what = format!("P_{m} of the general problem (local)");
     check_start(p, mm, start)?;
     let scale = p.c.scale();
-    let (start_objective, mut active) = start_branches(p, g, mm, h, start)?;
+    let (start_objective, mut active) = start_branches(p, g, start)?;
 
     // One LP for every choice of branches; branches are column bounds.
     let (pb, lay) = build(p, m, Form::Branches(&active), &[]);
@@ -294,19 +293,8 @@ fn check_start(p: &GeneralProblem, mm: usize, start: &[Vec<f64>]) -> Result<()> 
 fn start_branches(
     p: &GeneralProblem,
     g: &Geometry,
-    mm: usize,
-    h: f64,
     start: &[Vec<f64>],
 ) -> Result<(f64, Vec<Vec<bool>>)> {
-    let times: Vec<f64> = (0..mm).map(|i| i as f64 * h).collect();
-    let input = ControlInput::new(
-        InputKind::PiecewiseConstant,
-        p.period,
-        times,
-        start.to_vec(),
-        &p.control,
-        "start",
-    )?;
     let x0 = match &p.boundary {
         Boundary::Initial(x0) => x0.clone(),
         Boundary::Periodic if p.c.violation(&vec![0.0; p.states()], 0.0).is_none() => {
@@ -314,19 +302,14 @@ fn start_branches(
         }
         Boundary::Periodic => g.chebyshev_centre.clone(),
     };
-    let opts = GeneralSimOptions {
-        steps_per_period: mm,
-        drift: crate::integrate::DriftStep::Explicit,
-        ..GeneralSimOptions::DEFAULT
-    };
-    let sim = simulate_general(p, &input, &x0, &opts)?;
+    let sim = run_on_grid(p, &x0, start, "start")?;
     let start_objective = sim.objective.ok_or_else(|| {
         Error::invalid(
             "start",
             "the start control",
             format!(
                 "its periodic regime was not reached within {} periods",
-                opts.max_periods
+                GeneralSimOptions::DEFAULT.max_periods
             ),
         )
     })?;
