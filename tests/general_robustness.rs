@@ -384,6 +384,46 @@ fn a_short_phases_control_is_moved_into_a_polytope_u() {
     common::certify_written(dir.path(), &v);
 }
 
+/// A general file that is a crawler's chain (three blocks, per-link stiffness and friction, in
+/// the variables of `crawler_as_general`): the chain's phase formulation returned a rate
+/// 5.4e-10 above its bound of 4.4535544824622555, within the crawler's tolerance but not the
+/// replay's, and the answer was refused with exit 2 ("phase controls.values[5]: lies outside
+/// U"). The chain's controls are now clipped into U before the replay: the answer is the
+/// crawler's own optimum among three slip phases, 2.496835698 (`optimize` of the crawler file
+/// with `--phases 3`), with every control in U.
+#[test]
+fn a_chain_gaits_rate_at_its_bound_by_rounding_is_clipped_into_u() {
+    let dir = tempfile::tempdir().unwrap();
+    let model = common::write(
+        dir.path(),
+        "chain_box.toml",
+        "[sweeping_process]\n\
+         normals = [[-0.8141151387263864, 0.0], [0.8141151387263864, -0.0], \
+         [0.8141151387263864, -1.608748299060648], [-0.8141151387263864, 1.608748299060648], \
+         [0.0, 1.608748299060648], [-0.0, -1.608748299060648]]\n\
+         offsets = [1.645661928464921, 2.0732187267605835, 0.8826035386091325, \
+         2.7805754045296704, 1.2431526306379115, 3.2605317289742963]\n\
+         [dynamics]\nB = [[1.228327483953209, 0.0], [0.0, 0.6216012788227359]]\n\
+         [control]\nlower = [-0.2307750432594322, -4.4535544824622555]\n\
+         upper = [0.2307750432594322, 4.4535544824622555]\nzero_mean = true\n\
+         [objective]\nface_weights = [0.40944249465106974, -0.40944249465106974, \
+         0.18487576156490904, -0.18487576156490904, 0.20720042627424531, \
+         -0.20720042627424531]\n\
+         [problem]\nperiod = 4.595612975161993\n",
+    );
+    let v = common::optimize_json(&model, &["--method", "phase", "--phases", "3"]);
+    let j = v["objective"].as_f64().unwrap();
+    assert!((j - 2.496835698).abs() < 1e-8, "J = {j}");
+    let upper = [0.2307750432594322, 4.4535544824622555];
+    for u in v["solution"]["controls"].as_array().unwrap() {
+        for (l, x) in u.as_array().unwrap().iter().enumerate() {
+            let x = x.as_f64().unwrap();
+            assert!(x.abs() <= upper[l], "control {l} = {x} outside U");
+        }
+    }
+    common::certify_written(dir.path(), &v);
+}
+
 /// A phase polish whose KKT matrix spans many orders of magnitude (a quadratic cost of 1e-6
 /// beside controls up to 800): nalgebra's SVD iterated without limit there, and `optimize
 /// --method phase --phases 2 --time-limit 5` ran on past 120 s, beyond any deadline. Every

@@ -16,7 +16,7 @@
 //! forward (backward) face with the reaction rate `s_b D_b / tau` (`D_b` the block's
 //! displacement over the phase, `s_b` the norm of its row), and `J = lambda J_crawler`.
 
-use super::geometry::Geometry;
+use super::geometry::{into_u, Geometry};
 use super::phase::{check_phase_growth, replay_phases, GeneralPhaseGait};
 use crate::error::{Error, Result};
 use crate::model::general::GeneralProblem;
@@ -182,7 +182,15 @@ pub fn chain_gait(
     let to_general = |x: &[f64]| -> Vec<f64> { x.iter().zip(&beta).map(|(x, b)| x * b).collect() };
     let what = "the chain's gait";
     let x0 = to_general(&s.states[0]);
-    let (states, sim) = replay_phases(p, s.durations, s.controls, &x0, what)?;
+    // The crawler's rates lie in its box to its own tolerance, which may exceed the replay's
+    // (measured: 5.4e-10 above a bound of 4.45, refused as "outside U"): clipped into U.
+    let mut centre = None;
+    let controls = s
+        .controls
+        .iter()
+        .map(|u| into_u(&p.control, &mut centre, u.clone()))
+        .collect::<Result<Vec<_>>>()?;
+    let (states, sim) = replay_phases(p, s.durations, &controls, &x0, what)?;
     let objective = sim.objective.unwrap_or(sim.reward - sim.cost);
     let lambda = view.objective_scale;
     let want = lambda * s.objective;
@@ -241,7 +249,7 @@ pub fn chain_gait(
             gap: f64::NAN,
         },
         durations: s.durations.to_vec(),
-        controls: s.controls.to_vec(),
+        controls,
         states,
         held,
         reactions,
