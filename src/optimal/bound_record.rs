@@ -47,12 +47,15 @@ pub struct UpperBound {
 
 impl UpperBound {
     /// How far a gait of objective `j` can be from the best periodic gait, as a fraction of the
-    /// bound: `(value - j) / value` (0 when the bound is not positive: then `j` = 0 is optimal).
-    pub fn within(&self, j: f64) -> f64 {
-        if self.value > 0.0 {
-            (self.value - j).max(0.0) / self.value
-        } else {
+    /// bound: `(value - j) / value`, and 0 when the two agree to `1e-9` of `scale` (the
+    /// problem's length scale) or of themselves: a bound of `7.5e-12` over `J = 0` (a crawler
+    /// that cannot move) is the LP's rounding of 0, not a gap of 100 %.
+    pub fn within(&self, j: f64, scale: f64) -> f64 {
+        let close = 1e-9 * scale.abs().max(self.value.abs()).max(j.abs());
+        if self.value - j <= close || self.value <= 0.0 {
             0.0
+        } else {
+            (self.value - j) / self.value
         }
     }
 
@@ -97,5 +100,35 @@ impl UpperBound {
             s.push_str(&format!(", {} cost tangents", self.cost_tangents));
         }
         s
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn bound(value: f64) -> UpperBound {
+        UpperBound {
+            method: METHOD.into(),
+            resolution: 2,
+            box_resolution: 2,
+            cost_tangents: 0,
+            value,
+            status: BoundStatus::Optimal,
+            aligned: true,
+            rows: 1,
+            columns: 1,
+            seconds: 0.0,
+        }
+    }
+
+    /// The gap is relative to the bound, and 0 where bound and `J` agree to rounding: a crawler
+    /// that cannot move (`J = 0`) under an LP bound of 7.5e-12 is optimal, not 100 % away.
+    #[test]
+    fn the_gap_is_zero_where_bound_and_j_agree_to_rounding() {
+        assert_eq!(bound(7.5e-12).within(0.0, 5.0), 0.0);
+        assert_eq!(bound(0.0).within(0.0, 5.0), 0.0);
+        assert!((bound(4.0).within(3.0, 5.0) - 0.25).abs() < 1e-15);
+        assert!((bound(1e-3).within(0.0, 5.0) - 1.0).abs() < 1e-15);
     }
 }

@@ -315,7 +315,7 @@ fn key_numbers(h: &mut String, result: &GaitResult, ctx: &ReportContext<'_>, cer
             num(ub.value),
             esc(&ub.method),
             esc(&ub.resolution_text()),
-            100.0 * ub.within(result.objective)
+            100.0 * ub.within(result.objective, super::text::GaitScales::of(result).length)
         ));
     }
     if let Some(nc) = ctx.certificate {

@@ -30,7 +30,7 @@ pub fn gait_result(r: &GaitResult) -> String {
         }
     }
     if let Some(ub) = &r.certificate.upper_bound {
-        upper_bound_line(&mut out, ub, r.objective, &len);
+        upper_bound_line(&mut out, ub, (r.objective, sc.length), &len);
     }
     wln!(
         out,
@@ -258,14 +258,14 @@ pub fn certificate(c: &NecessaryConditions, r: &GaitResult) -> String {
 }
 
 /// The upper bound over all periodic gaits and how far `j` can be from it, crawler or general
-/// (a chain's), the values written by `len`.
+/// (a chain's), the values written by `len`; `scale` is the problem's length scale.
 pub(super) fn upper_bound_line(
     out: &mut String,
     ub: &crate::optimal::bound_record::UpperBound,
-    j: f64,
+    (j, scale): (f64, f64),
     len: &dyn Fn(f64) -> String,
 ) {
-    let within = format!("{:.1} %", 100.0 * ub.within(j));
+    let within = format!("{:.1} %", 100.0 * ub.within(j, scale));
     wln!(
         out,
         "upper bound over all periodic gaits: {} ({}, grid {}{}): optimal within {within}",

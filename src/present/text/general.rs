@@ -230,7 +230,7 @@ pub fn general_optimum(r: &GeneralOptimized) -> String {
         );
     }
     if let Some(ub) = &r.certificate.upper_bound {
-        super::gait::upper_bound_line(&mut out, ub, s.objective, &|v| num(v, scale));
+        super::gait::upper_bound_line(&mut out, ub, (s.objective, scale), &|v| num(v, scale));
     }
     if let Some(table) = &r.convergence {
         super::gait::convergence_table(&mut out, table, &|v| num(v, scale));
@@ -331,7 +331,7 @@ pub fn general_phase(r: &GeneralPhaseOptimized) -> String {
         .fold(0.0_f64, |m, v| m.max(v.abs()))
         .max(1e-300);
     if let Some(ub) = &r.certificate.upper_bound {
-        super::gait::upper_bound_line(&mut out, ub, s.objective, &|v| num(v, scale));
+        super::gait::upper_bound_line(&mut out, ub, (s.objective, scale), &|v| num(v, scale));
     }
     if let Some(pg) = &r.phase_growth {
         super::gait::growth_table(&mut out, pg, &|v| num(v, scale));
