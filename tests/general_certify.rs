@@ -87,42 +87,6 @@ fn the_one_link_problem_matches_the_crawler_certificate() {
     assert!(one.interior_arcs.iter().all(|a| (a - 2.5).abs() < 1e-9));
 }
 
-/// The crawler's P_m process or phase gait in the general variables
-/// (`crate::model::general_crawler`): `x~ = K^(-1/2) x`, the reactions of the unit rows
-/// `lambda_(b+-) = s_b max(+-D_b, 0) / tau_j` (`tau_j = h` on P_m).
-fn general_process_of(c: &Crawler, r: &GaitResult, kind: ProcessKind) -> GeneralProcess {
-    let sk: Vec<f64> = c.stiffness().iter().map(|k| k.sqrt()).collect();
-    let s = |b: usize| {
-        let (l, r) = (
-            if b > 0 { c.stiffness()[b - 1] } else { 0.0 },
-            c.stiffness().get(b),
-        );
-        (l + r.copied().unwrap_or(0.0)).sqrt()
-    };
-    GeneralProcess {
-        kind,
-        durations: r.gait.durations.clone(),
-        x: r.gait
-            .states
-            .iter()
-            .map(|x| x.iter().zip(&sk).map(|(x, s)| x / s).collect())
-            .collect(),
-        u: r.gait.controls.clone(),
-        lambda: r
-            .gait
-            .block_displacements
-            .iter()
-            .zip(&r.gait.durations)
-            .map(|(d, &h)| {
-                d.iter()
-                    .enumerate()
-                    .flat_map(|(b, &v)| [s(b) * v.max(0.0) / h, s(b) * (-v).max(0.0) / h])
-                    .collect()
-            })
-            .collect(),
-    }
-}
-
 /// (b) Crawlers (N = 2, 3, per-link stiffness) as general problems: on the same P_m optimum
 /// (the crawler's, in the variables x~ = K^(-1/2) x) the general certificate gives the crawler
 /// certificate's verdict, and its multipliers are the crawler's transformed: p~ = K^(1/2) p,
@@ -216,7 +180,9 @@ fn assert_matches_crawler(
         let a = r.problem.rate_bound.clone();
         let cc = certify::certify_result(r, "test").unwrap();
         let inst = crawler_as_general(crawler, period, &a, GeneralCost::None).unwrap();
-        let pr = general_process_of(crawler, r, kind);
+        // The crawler's process in the general variables (`GeneralProcess::of_crawler`).
+        let pr = GeneralProcess::of_crawler(&Process::from_result(r, "test").unwrap());
+        assert_eq!(pr.kind, kind);
         let opts = CertifyOptions::default();
         let c = certify_general(&inst.problem, &pr, &opts).unwrap();
         println!(

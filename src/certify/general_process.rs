@@ -4,11 +4,22 @@
 //! is computed (a certificate of something that is not a process would be a silent wrong
 //! number), every message naming the field.
 
+use super::process::Process;
 use crate::error::{Error, Result};
 use crate::integrate::{simulate_general, ControlInput, GeneralSimOptions, InputKind};
 use crate::model::general::{Boundary, ControlSet, GeneralProblem};
 pub use crate::optimal::consistency::ProcessKind;
 use crate::optimal::general::{GeneralPhaseGait, GeneralPm};
+
+/// `s_b = |K^(1/2) nu_b| = sqrt(k_(b-1) + k_b)` per block (`k` of the missing link of an end
+/// block 0): the length of block `b`'s faces in a crawler's instance of (P)
+/// ([`crate::model::crawler_as_general`]), by which its unit rows' multipliers differ from the
+/// crawler's (in the units of `nu_b`).
+pub(crate) fn crawler_face_scales(k: &[f64]) -> Vec<f64> {
+    (0..=k.len())
+        .map(|b| (b.checked_sub(1).map_or(0.0, |l| k[l]) + k.get(b).copied().unwrap_or(0.0)).sqrt())
+        .collect()
+}
 
 /// The rows `(G_k, h_k)` of U: a box as `e_l <= upper_l`, `-e_l <= -lower_l` (in this order per
 /// component), a polytope's unit rows as given.
@@ -117,6 +128,38 @@ impl GeneralProcess {
             x,
             u: pick(&self.u),
             lambda: pick(&self.lambda),
+        }
+    }
+
+    /// A crawler's process as a process of its instance of (P)
+    /// ([`crate::model::crawler_as_general`]): the states `x~ = K^(-1/2) x` and the reaction
+    /// rates of the unit rows, `lambda_(b+-) = s_b max(+-D_b, 0) / tau_j` with
+    /// `s_b = |K^(1/2) nu_b|` (the block displacements `D_b = (mu_(b+) - mu_(b-)) / s_b` of
+    /// that module's docs, per unit time); controls, durations and the kind are the crawler's.
+    pub fn of_crawler(pr: &Process) -> Self {
+        let k = pr.crawler.stiffness();
+        let sqrt_k: Vec<f64> = k.iter().map(|k| k.sqrt()).collect();
+        let s_b = crawler_face_scales(k);
+        GeneralProcess {
+            kind: pr.kind,
+            durations: pr.durations.clone(),
+            x: pr
+                .states
+                .iter()
+                .map(|x| x.iter().zip(&sqrt_k).map(|(x, s)| x / s).collect())
+                .collect(),
+            u: pr.controls.clone(),
+            lambda: pr
+                .block_displacements
+                .iter()
+                .zip(&pr.durations)
+                .map(|(d, &h)| {
+                    d.iter()
+                        .zip(&s_b)
+                        .flat_map(|(&v, &s)| [s * v.max(0.0) / h, s * (-v).max(0.0) / h])
+                        .collect()
+                })
+                .collect(),
         }
     }
 
