@@ -6,7 +6,9 @@
 //! `x = K^(1/2) x~`; both share the types ([`super::ConditionCheck`], [`Verdict`],
 //! [`super::Normalisation`], [`super::BranchLp`], [`CertifyOptions`]) and the staged search for
 //! multipliers (`certify::stages`); this module states the conditions for the general data (its
-//! multiplier LP in `certify::general_kkt`, its report in `certify::general_report`).
+//! multiplier LP in `certify::general_kkt`, its report in `certify::general_report`). That
+//! multiplier LP is the only one: the crawler's certificate solves it on the crawler's instance
+//! and reads the multipliers back (`certify::crawler_general`, the change of variables below).
 //!
 //! # The branch LP and its KKT system
 //!

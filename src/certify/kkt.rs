@@ -1,6 +1,9 @@
-//! The multiplier linear programs: the first-order (KKT) system of the fixed-branch LP at a
-//! given process, solved for multipliers that violate it least (module docs of
-//! [`crate::certify`] for the mathematics).
+//! A crawler process's combinatorial structure (active, held and biactive faces, slips, rates
+//! at their bounds), its branch LPs, and the pieces of the multiplier LPs both certificates
+//! share: the stages, the degenerate search's box and functional, the adjoint's columns and the
+//! tight HiGHS solve (module docs of [`crate::certify`] for the mathematics). The multiplier LPs
+//! themselves are the general problem's (`certify::general_kkt`), solved for a crawler on its
+//! instance of (P) (`certify::crawler_general`).
 
 use crate::certify::process::{d_tol, slip, Process, ProcessKind};
 use crate::error::{Error, Result};
@@ -44,8 +47,6 @@ pub(crate) struct Structure {
     pub a: Vec<f64>,
     /// `Df2(u_j).u_j - f2(u_j)` per piece (the cost's part of the maximised Hamiltonian).
     pub cost_h: Vec<f64>,
-    /// Whether the durations are free (phase gaits): then the phase LP is stationary in them.
-    pub phase: bool,
 }
 
 /// The outer normal `x*_f` as (link, value) pairs (at most two).
@@ -109,7 +110,6 @@ impl Structure {
         Structure {
             a: a.to_vec(),
             cost_h,
-            phase: p.kind == ProcessKind::Phase,
             n,
             nb,
             np,
@@ -251,8 +251,8 @@ pub(crate) enum Stage {
     Kkt,
     /// Keeping `r <= r_max`, minimise the largest violation `s` of `xi >= 0`.
     Sign { r_max: f64 },
-    /// Keeping `r <= r_max` and `s <= s_max`, maximise the margin `delta` of
-    /// `-(p + omega) sign(u) >= delta` on the pieces where a control is at its bound.
+    /// Keeping `r <= r_max` and `s <= s_max`, maximise the margin `delta`: every normal-cone
+    /// weight `rho >= delta` on the pieces where the control is a vertex of U.
     Margin { r_max: f64, s_max: f64, cap: f64 },
 }
 
@@ -336,187 +336,6 @@ pub(crate) fn adjoint_columns<F>(
 /// The generic functional: irrational, deterministic weights.
 pub(crate) fn functional(j: usize, l: usize) -> f64 {
     (1.0 + j as f64 * 0.618_033_988_749_895 + l as f64 * 0.414_213_562_373_095).sin() + 0.1
-}
-
-/// The columns of one crawler multiplier LP: the adjoint `p_j` and reactions `xi` (of
-/// [`adjoint_columns`]), `omega`, the stage's scalars `r`, `s`, `delta` ([`Stage::columns`]) and
-/// the maximised Hamiltonian's constant `ham` (phase gaits).
-struct MultiplierCols {
-    p: Vec<Vec<Col>>,
-    xi: Vec<Vec<Col>>,
-    omega: Vec<Col>,
-    r: Col,
-    s: Col,
-    delta: Col,
-    ham: Col,
-}
-
-impl MultiplierCols {
-    /// Adds the columns to `pb`, in this order: `p`, `xi`, `omega`, `r`, `s`, `delta`, `ham`.
-    fn add(pb: &mut RowProblem, st: &Structure, stage: Stage, norm: Option<Norm>) -> Self {
-        let (n, np) = (st.n, st.np);
-        const INF: f64 = f64::INFINITY;
-        let (p, xi) = adjoint_columns(pb, norm, np, n, &st.active);
-        let (box_, weight) = norm_box(norm);
-        let omega: Vec<Col> = (0..n)
-            .map(|l| pb.add_column(-weight * functional(np, l), -box_..=box_))
-            .collect();
-        let (r, s, delta) = stage.columns(pb, norm);
-        // The maximised Hamiltonian's constant (phase gaits).
-        let ham = pb.add_column(0.0, -INF..=INF);
-        MultiplierCols {
-            p,
-            xi,
-            omega,
-            r,
-            s,
-            delta,
-            ham,
-        }
-    }
-}
-
-/// Solves one multiplier LP; `None` when HiGHS does not report an optimum.
-pub(crate) fn solve(
-    st: &Structure,
-    lambda: f64,
-    stage: Stage,
-    norm: Option<Norm>,
-    durations_free: bool,
-) -> Result<Option<Raw>> {
-    let inv_n = lambda / st.nb as f64;
-    let mut pb = RowProblem::default();
-    let c = MultiplierCols::add(&mut pb, st, stage, norm);
-    adjoint_rows(&mut pb, st, &c);
-    for j in 0..st.np {
-        slip_rows(&mut pb, st, &c, inv_n, j);
-        maximality_rows(&mut pb, st, &c, lambda, j);
-    }
-    if st.phase && durations_free {
-        duration_rows(&mut pb, st, &c, lambda);
-    }
-    for j in 0..st.np {
-        for (fi, &h) in st.held[j].iter().enumerate() {
-            if !h {
-                // A face held by no slip is an inequality of the branch LP: xi <= r.
-                pb.add_row(..=0.0, [(c.xi[j][fi], 1.0), (c.r, -1.0)]);
-            }
-            // Theorem 2.2 / 6.1 sign: xi >= -s.
-            pb.add_row(0.0.., [(c.xi[j][fi], 1.0), (c.s, 1.0)]);
-        }
-    }
-    let Some(cols) = solve_multiplier_lp(pb, "certify: the multiplier LP")? else {
-        return Ok(None);
-    };
-    let val = |c: &Col| cols[c.index()];
-    Ok(Some(Raw {
-        lambda,
-        p: c.p.iter().map(|r| r.iter().map(val).collect()).collect(),
-        xi: c.xi.iter().map(|r| r.iter().map(val).collect()).collect(),
-        omega: c.omega.iter().map(val).collect(),
-    }))
-}
-
-/// The adjoint equation with transversality (cyclic; Theorem 6.2 (px), (p2mx)), one row per
-/// piece and link: `p_j - p_{j-1} - sum_f xi_{j,f} x*_f = 0`.
-fn adjoint_rows(pb: &mut RowProblem, st: &Structure, c: &MultiplierCols) {
-    let (n, np) = (st.n, st.np);
-    let (p, xi) = (&c.p, &c.xi);
-    // Adjoint equation with transversality (cyclic): p_j - p_{j-1} - sum_f xi_{j,f} x*_f = 0.
-    for j in 0..np {
-        let prev = (j + np - 1) % np;
-        let mut rows: Vec<Vec<(Col, f64)>> = (0..n)
-            .map(|l| vec![(p[j][l], 1.0), (p[prev][l], -1.0)])
-            .collect();
-        for (fi, &f) in st.active[j].iter().enumerate() {
-            for (l, v) in normal(n, f) {
-                rows[l].push((xi[j][fi], -v));
-            }
-        }
-        for row in rows {
-            pb.add_row(0.0..=0.0, row);
-        }
-    }
-}
-
-/// Slip stationarity on piece `j` (Theorem 6.2 (pr)): `p_j . K nu_b + lambda/N = 0` (up to `r`)
-/// for a slipping block, and the relaxed branch's sign at its biactive pairs.
-fn slip_rows(pb: &mut RowProblem, st: &Structure, c: &MultiplierCols, inv_n: f64, j: usize) {
-    let (n, p, r) = (st.n, &c.p, c.r);
-    // Slip stationarity: p_j . K nu_b + lambda/N = 0 for a slipping block.
-    for b in 0..st.nb {
-        let kn = k_nu(n, &st.k, b);
-        let dot = |extra: (Col, f64)| {
-            let mut row: Vec<(Col, f64)> = kn.iter().map(|&(l, v)| (p[j][l], v)).collect();
-            row.push(extra);
-            row
-        };
-        if st.slips[j][b] != 0 {
-            pb.add_row(..=-inv_n, dot((r, -1.0)));
-            pb.add_row(-inv_n.., dot((r, 1.0)));
-        }
-        for &(bb, dir) in &st.biactive[j] {
-            if bb != b {
-                continue;
-            }
-            // Relaxed branch: -p.K nu_b - lambda/N >= 0 (dir +), <= 0 (dir -).
-            if dir > 0 {
-                pb.add_row(..=-inv_n, dot((r, -1.0)));
-            } else {
-                pb.add_row(-inv_n.., dot((r, 1.0)));
-            }
-        }
-    }
-}
-
-/// Weak maximality on piece `j` (Theorem 6.2 (pw)): `psi = -p - omega - lambda Df2(u)` in the
-/// normal cone of the box at `u_j` (up to `r`), and the margin rows where a control is at its
-/// bound.
-fn maximality_rows(pb: &mut RowProblem, st: &Structure, c: &MultiplierCols, lambda: f64, j: usize) {
-    let (p, omega, r, delta) = (&c.p, &c.omega, c.r, c.delta);
-    // Weak maximality: psi = -p - omega - lambda Df2(u) in N_U(u) (box).
-    for l in 0..st.n {
-        let g = lambda * st.grad_f2[j][l];
-        let bnd = st.bound[j][l];
-        if bnd >= 0 {
-            // psi >= -r  <=>  -p - omega + r >= g.
-            pb.add_row(g.., [(p[j][l], -1.0), (omega[l], -1.0), (r, 1.0)]);
-        }
-        if bnd <= 0 {
-            // psi <= r  <=>  -p - omega - r <= g.
-            pb.add_row(..=g, [(p[j][l], -1.0), (omega[l], -1.0), (r, -1.0)]);
-        }
-        if bnd != 0 {
-            // Margin: -(p + omega) sign(u) >= delta.
-            let sg = f64::from(bnd);
-            pb.add_row(0.0.., [(p[j][l], -sg), (omega[l], -sg), (delta, -1.0)]);
-        }
-    }
-}
-
-/// The phase LP's stationarity in the durations (phase gaits): every phase's maximised
-/// Hamiltonian equal to the column `ham`, up to `r`.
-fn duration_rows(pb: &mut RowProblem, st: &Structure, c: &MultiplierCols, lambda: f64) {
-    let (p, omega, r) = (&c.p, &c.omega, c.r);
-    // Stationarity in the durations: H_j = sum_l a_l |psi_{j,l}| + lambda (Df2(u).u - f2(u))
-    // equal on every phase, |psi| = sign(u) psi at a bound (0 inside, up to r).
-    for j in 0..st.np {
-        let mut row: Vec<(Col, f64)> = vec![(c.ham, -1.0)];
-        let mut cst = lambda * st.cost_h[j];
-        for l in 0..st.n {
-            let sg = f64::from(st.bound[j][l]);
-            if sg != 0.0 {
-                row.push((p[j][l], -sg * st.a[l]));
-                row.push((omega[l], -sg * st.a[l]));
-                cst -= sg * st.a[l] * lambda * st.grad_f2[j][l];
-            }
-        }
-        let mut lo = row.clone();
-        lo.push((r, 1.0));
-        row.push((r, -1.0));
-        pb.add_row(..=-cst, row);
-        pb.add_row(-cst.., lo);
-    }
 }
 
 /// Solves a multiplier LP (a minimisation) to tight tolerances, both certificates' (`what`

@@ -52,7 +52,11 @@
 //! inequalities, whereas the branch LP of the computational P_m (theory §6) leaves the multiplier of
 //! a held face free. It is a genuine extra check, and it can fail on an optimum of P_m: the
 //! three-block P_3 optimum needs `xi = -1/2` somewhere (P_2: `-1`; P_4: satisfied), while the
-//! exact three-block phase optimum satisfies it with the durations fixed (tests/certify.rs).
+//! exact three-block phase optimum satisfies it with the durations fixed (tests/certify.rs). The
+//! sign stage below levels the violation in (P)'s units, `xi~ = s_b xi`: on the P_3 optimum of
+//! `optimize examples/three_blocks_gait.toml --method discrete --m 3` it reports `xi = -(2 -
+//! sqrt 2)` on the end block and `-(sqrt 2 - 1)` on the middle one (`s_b = sqrt 2`), where a least
+//! violation in the crawler's units is `-1/2` on both.
 //!
 //! Signs: the paper prints `+p` in Thm 6.2 (pw) and in the proof's (pw2) but `-p` in Theorem 2.2
 //! and §4. With `xi >= 0` only the latter admits the bang-bang one-link optimum (the adjoint rises
@@ -63,20 +67,33 @@
 //!
 //! The multiplier set is a polyhedron; rather than a vertex of it (the dual solution the branch
 //! LP's solver happens to return, often degenerate: e.g. `omega` at an end of its interval, so
-//! that `p + omega` vanishes on half the period), three small LPs in `(p, xi, omega)` are solved
-//! with HiGHS:
+//! that `p + omega` vanishes on half the period), three small LPs are solved with HiGHS. There is
+//! one formulation of them, the general problem's ([`general`]): the crawler's branch LP *is* the
+//! branch LP of its exact instance of (P) ([`crate::model::crawler_as_general`]: `x~ =
+//! K^(-1/2) x`, unit normals `x~*_(b+-) = +-K^(1/2) nu_b / s_b` with `s_b = sqrt(k_(b-1) + k_b)`,
+//! face weights `+-1/(N s_b)`, `B = K^(-1/2)`, `A = 0`), so the LPs are solved in `(p~, xi~,
+//! omega, rho)` for the crawler's process in those variables ([`GeneralProcess::of_crawler`]) and
+//! read back in the crawler's names: `p = K^(-1/2) p~`, `omega` unchanged (`B^T p~ = p`, so `psi`
+//! is unchanged too) and `xi_(b+-) = xi~_(b+-) / s_b` (the Lagrangian term `<q, dynamics>` is
+//! invariant under the change of variables; `certify::crawler_general`):
 //! 1. with `lambda = 1`, minimise the largest violation `r` of the branch LP's KKT system (all
 //!    conditions above but the sign; the adjoint equation is imposed exactly, `xi` exists only on
 //!    active faces). `r = 0` iff the process is optimal for its branch LP; `r > 0` measures how far
-//!    it is from being so (a suboptimal gait has `r > 0`);
-//! 2. keeping `r`, minimise the largest violation `s` of `xi >= 0`;
-//! 3. keeping `r` and `s`, maximise the non-degeneracy margin `delta`: `-(p_l + omega_l) sign(u_l)
-//!    >= delta` wherever `u_l` is at a bound.
+//!    it is from being so (a suboptimal gait has `r > 0`). The rows are those of (P): a violation
+//!    of the slip stationarity `<p, K nu_b> + lambda/N` weighs `1/s_b` there;
+//! 2. keeping `r`, minimise the largest violation `s` of `xi~ >= 0` (`xi~ = s_b xi`);
+//! 3. keeping `r` and `s`, maximise the non-degeneracy margin `delta`: every normal-cone weight
+//!    `rho_(j,l) = |psi_(j,l)|` at least `delta` on the pieces where `u_j` is a vertex of the box
+//!    (every rate at a bound; `psi = -(p + omega)` for `f2 = 0`).
+//!
+//! Where the multipliers are unique (e.g. every `holds` verdict of the tests) the weights are
+//! immaterial; where they are not, the residuals and the margin reported are those of the
+//! multipliers these stages pick, recomputed in the crawler's own units.
 //!
 //! If stage 1 leaves `r` above tolerance, the degenerate case `lambda = 0` is tried: the
 //! conditions are then homogeneous, and a generic linear functional of `(p, omega)` and its
-//! opposite are maximised over them in the box `|p|, |omega| <= 1`; a non-zero maximiser, scaled
-//! to `max(|p|, |omega|) = 1`, is a degenerate multiplier.
+//! opposite are maximised over them in the box `|p~|, |omega| <= 1`; a non-zero maximiser, read
+//! back and scaled to `max(|p|, |omega|) = 1`, is a degenerate multiplier.
 //! Every residual is then recomputed in plain floating point from the multipliers found, not taken
 //! from the LP. The branch LPs themselves are solved too (`f2 = 0`), each with its slips fixed
 //! so that every point of it is a process: the gait's own branch (biactive blocks sticking)
@@ -142,12 +159,14 @@
 //! `tau_k` (with `|U| <= a tau`, `sum tau = T`) reads `H_k = sum_l a_l |psi_{k,l}| + lambda
 //! (Df2(u_k).u_k - f2(u_k))` equal on every phase: the maximised Hamiltonian is constant, as for
 //! an autonomous problem. It is checked (condition `duration_stationarity`, group "6.2") with
-//! multipliers of its own, found by the stage-1 LP with these rows added: imposed on the reported
+//! multipliers of its own, found by the stage-1 LP with these rows added (the general phase LP's
+//! `H_i = sum_r rho_(i,r) h_r`, for the box `sum_l a_l |psi_(i,l)|`): imposed on the reported
 //! multipliers it can conflict with `dxi >= 0` (the three-block phase optimum: `xi = -1/6`
 //! somewhere), and Theorem 2.2 does not state it. (Checked with `lambda = 1` only.) The
 //! block-speed bound `|D| <= V tau` of the phase MILP is taken as inactive.
 
 pub mod bound;
+mod crawler_general;
 pub mod general;
 mod general_conditions;
 mod general_kkt;
@@ -188,8 +207,9 @@ pub fn certify(pr: &Process, opts: &CertifyOptions) -> Result<NecessaryCondition
     pr.check("process", opts.structure_tol)?;
     let st = Structure::of(pr, opts.structure_tol);
     let cap = 10.0 / (st.nb as f64 * st.k.iter().cloned().fold(f64::INFINITY, f64::min));
+    let general = crawler_general::AsGeneral::of(pr, &st, opts.structure_tol)?;
     let chosen = stages::search(
-        |lambda, stage, norm| kkt::solve(&st, lambda, stage, norm, false),
+        |lambda, stage, norm| general.solve(lambda, stage, norm, false),
         |raw| kkt_residual(pr, &st, raw),
         opts.tol,
         cap,
@@ -205,7 +225,7 @@ pub fn certify(pr: &Process, opts: &CertifyOptions) -> Result<NecessaryCondition
     // Phase gaits: the phase LP is stationary in the durations too, with multipliers of their own
     // (imposing it on the reported ones can conflict with dxi >= 0: three-block phase optimum).
     let duration = if pr.kind == ProcessKind::Phase && chosen.0.lambda > 0.0 {
-        let raw = kkt::solve(&st, 1.0, Stage::Kkt, None, true)?.ok_or_else(|| {
+        let raw = general.solve(1.0, Stage::Kkt, None, true)?.ok_or_else(|| {
             crate::Error::Numerical("certify: HiGHS found the multiplier LP infeasible".into())
         })?;
         Some(kkt_residual_with(pr, &st, &raw, true) / sup(&raw.p).max(1.0))
