@@ -39,13 +39,12 @@ impl<'a> AsGeneral<'a> {
         let inst =
             crawler_as_general(&pr.crawler, pr.problem.period, &pr.problem.rate_bound, cost)?;
         let gp = GeneralProcess::of_crawler(pr);
-        let gst = GeneralStructure::of(&inst.problem, &gp, tol);
-        Ok(AsGeneral {
-            s_b: crawler_face_scales(pr.crawler.stiffness()),
-            inst,
-            st,
-            gst,
-        })
+        let s_b = crawler_face_scales(pr.crawler.stiffness());
+        let mut gst = GeneralStructure::of(&inst.problem, &gp, tol);
+        // The violations in the crawler's units: its slip stationarity <p, K nu_b> + lambda/N is
+        // s_b times the unit row's, its xi is xi~ / s_b.
+        gst.face_scale = s_b.iter().flat_map(|&s| [s, s]).collect();
+        Ok(AsGeneral { s_b, inst, st, gst })
     }
 
     /// One general multiplier LP (the crawler's instance has no drift: `A = 0`), its solution

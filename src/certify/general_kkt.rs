@@ -67,6 +67,11 @@ pub(crate) struct GeneralStructure {
     pub w: Vec<f64>,
     /// The rows of U.
     pub urows: Vec<(Vec<f64>, f64)>,
+    /// The unit of each face's rows in the violations `r` and `s` of the staged LPs: a face's
+    /// reaction stationarity counts `r / face_scale`, its sign and branch-LP face sign
+    /// `face_scale * (r or s)`. 1 for (P)'s own faces; `s_b` for a crawler's instance, so that
+    /// the least violations are the crawler's, in the units of `nu_b` (`certify::crawler_general`).
+    pub face_scale: Vec<f64>,
 }
 
 impl GeneralStructure {
@@ -144,6 +149,7 @@ impl GeneralStructure {
             cost_h,
             w: face_weights(p),
             urows,
+            face_scale: vec![1.0; p.c.faces()],
         }
     }
 }
@@ -230,7 +236,8 @@ pub(crate) fn solve_general(
         for (fi, &h) in st.held[k].iter().enumerate() {
             if !h {
                 // A face held by no reaction: an inequality of the branch LP, xi <= 0 (up to r).
-                pb.add_row(..=0.0, [(c.xi[k][fi], 1.0), (c.r, -1.0)]);
+                let sf = st.face_scale[st.active[k][fi]];
+                pb.add_row(..=0.0, [(c.xi[k][fi], 1.0), (c.r, -sf)]);
             }
         }
     }
@@ -242,9 +249,10 @@ pub(crate) fn solve_general(
         duration_rows(&mut pb, p, st, &c, lambda);
     }
     // Theorem 2.2 / 6.1 sign: xi >= -s.
-    for row in &c.xi {
-        for &col in row {
-            pb.add_row(0.0.., [(col, 1.0), (c.s, 1.0)]);
+    for (k, row) in c.xi.iter().enumerate() {
+        for (fi, &col) in row.iter().enumerate() {
+            let sf = st.face_scale[st.active[k][fi]];
+            pb.add_row(0.0.., [(col, 1.0), (c.s, sf)]);
         }
     }
     let Some(cols) = solve_multiplier_lp(pb, "certify: the general multiplier LP")? else {
@@ -332,9 +340,10 @@ fn reaction_rows(
             row.push(extra);
             row
         };
-        pb.add_row(..=-lw, dot_row((c.r, -1.0)));
+        let sf = st.face_scale[f];
+        pb.add_row(..=-lw, dot_row((c.r, -1.0 / sf)));
         if reacts {
-            pb.add_row(-lw.., dot_row((c.r, 1.0)));
+            pb.add_row(-lw.., dot_row((c.r, 1.0 / sf)));
         }
     }
 }

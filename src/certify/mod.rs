@@ -52,11 +52,7 @@
 //! inequalities, whereas the branch LP of the computational P_m (theory §6) leaves the multiplier of
 //! a held face free. It is a genuine extra check, and it can fail on an optimum of P_m: the
 //! three-block P_3 optimum needs `xi = -1/2` somewhere (P_2: `-1`; P_4: satisfied), while the
-//! exact three-block phase optimum satisfies it with the durations fixed (tests/certify.rs). The
-//! sign stage below levels the violation in (P)'s units, `xi~ = s_b xi`: on the P_3 optimum of
-//! `optimize examples/three_blocks_gait.toml --method discrete --m 3` it reports `xi = -(2 -
-//! sqrt 2)` on the end block and `-(sqrt 2 - 1)` on the middle one (`s_b = sqrt 2`), where a least
-//! violation in the crawler's units is `-1/2` on both.
+//! exact three-block phase optimum satisfies it with the durations fixed (tests/certify.rs).
 //!
 //! Signs: the paper prints `+p` in Thm 6.2 (pw) and in the proof's (pw2) but `-p` in Theorem 2.2
 //! and §4. With `xi >= 0` only the latter admits the bang-bang one-link optimum (the adjoint rises
@@ -79,9 +75,11 @@
 //! 1. with `lambda = 1`, minimise the largest violation `r` of the branch LP's KKT system (all
 //!    conditions above but the sign; the adjoint equation is imposed exactly, `xi` exists only on
 //!    active faces). `r = 0` iff the process is optimal for its branch LP; `r > 0` measures how far
-//!    it is from being so (a suboptimal gait has `r > 0`). The rows are those of (P): a violation
-//!    of the slip stationarity `<p, K nu_b> + lambda/N` weighs `1/s_b` there;
-//! 2. keeping `r`, minimise the largest violation `s` of `xi~ >= 0` (`xi~ = s_b xi`);
+//!    it is from being so (a suboptimal gait has `r > 0`). The rows are (P)'s, with `r` counted
+//!    in the crawler's units on each face (`face_scale = s_b`: the unit row's slip stationarity
+//!    is `(<p, K nu_b> + lambda/N) / s_b`), so that the least violation is the crawler's;
+//! 2. keeping `r`, minimise the largest violation `s` of `xi >= 0`, again in the crawler's units
+//!    (`xi~ >= -s_b s`);
 //! 3. keeping `r` and `s`, maximise the non-degeneracy margin `delta`: every normal-cone weight
 //!    `rho_(j,l) = |psi_(j,l)|` at least `delta` on the pieces where `u_j` is a vertex of the box
 //!    (every rate at a bound; `psi = -(p + omega)` for `f2 = 0`).
