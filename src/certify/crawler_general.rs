@@ -10,12 +10,12 @@
 //! units of the unnormalised `+-nu_b`); the general face of block `b` (0-based) and side `+` is
 //! `2 b`, of side `-` is `2 b + 1` (0-based).
 
-use super::general_kkt::{solve_general, GeneralRaw, GeneralStructure};
-use super::general_process::{crawler_face_scales, GeneralProcess};
-use super::kkt::{Norm, Raw, Stage, Structure};
-use super::process::Process;
+use super::general_kkt::{face_weights, solve_general, GeneralRaw, GeneralStructure};
+use super::general_process::{control_rows, crawler_face_scales};
+use super::kkt::{FaceId, Norm, Raw, Stage, Structure};
+use super::process::{Process, ProcessKind};
 use crate::error::Result;
-use crate::model::general::GeneralCost;
+use crate::model::general::{GeneralCost, GeneralProblem};
 use crate::model::{crawler_as_general, CrawlerInstance};
 use crate::optimal::Cost;
 
@@ -30,20 +30,16 @@ pub(crate) struct AsGeneral<'a> {
 
 impl<'a> AsGeneral<'a> {
     /// The instance of `pr`'s crawler and gait problem (cost `f2` unchanged: the control is the
-    /// crawler's) and `pr` in its variables, with the structure at the relative tolerance `tol`.
-    pub fn of(pr: &Process, st: &'a Structure, tol: f64) -> Result<Self> {
+    /// crawler's), with the crawler's structure `st` in its terms.
+    pub fn of(pr: &Process, st: &'a Structure) -> Result<Self> {
         let cost = match pr.problem.cost {
             Cost::None => GeneralCost::None,
             Cost::Quadratic { weight } => GeneralCost::Quadratic { weight },
         };
         let inst =
             crawler_as_general(&pr.crawler, pr.problem.period, &pr.problem.rate_bound, cost)?;
-        let gp = GeneralProcess::of_crawler(pr);
         let s_b = crawler_face_scales(pr.crawler.stiffness());
-        let mut gst = GeneralStructure::of(&inst.problem, &gp, tol);
-        // The violations in the crawler's units: its slip stationarity <p, K nu_b> + lambda/N is
-        // s_b times the unit row's, its xi is xi~ / s_b.
-        gst.face_scale = s_b.iter().flat_map(|&s| [s, s]).collect();
+        let gst = structure_of(&inst.problem, pr, st, &s_b);
         Ok(AsGeneral { s_b, inst, st, gst })
     }
 
@@ -90,7 +86,7 @@ impl<'a> AsGeneral<'a> {
                 faces
                     .iter()
                     .map(|f| {
-                        let face = 2 * f.b + usize::from(f.s < 0);
+                        let face = face_of(*f);
                         self.gst.active[j]
                             .iter()
                             .position(|&g| g == face)
@@ -105,5 +101,80 @@ impl<'a> AsGeneral<'a> {
             xi,
             omega: g.omega,
         }
+    }
+}
+
+/// The general face of a crawler's face: block `b`'s side `+` is `2 b`, side `-` is `2 b + 1`.
+fn face_of(f: FaceId) -> usize {
+    2 * f.b + usize::from(f.s < 0)
+}
+
+/// The crawler's structure `st` of `pr` in the terms of its instance `p` of (P): the same
+/// active and held faces (slacks in the unit normals' units, `/ s_b`), each slipping block's
+/// face reacting and each biactive pair a face that may react without doing so, the same
+/// bounds of the rates (rows `+e_l <= a_l`, `-e_l <= a_l`), one decision at one tolerance for
+/// both certificates. The violations are counted in the crawler's units (`face_scale = s_b`:
+/// its slip stationarity `<p, K nu_b> + lambda/N` is `s_b` times the unit row's, its `xi` is
+/// `xi~ / s_b`).
+fn structure_of(p: &GeneralProblem, pr: &Process, st: &Structure, s_b: &[f64]) -> GeneralStructure {
+    let active: Vec<Vec<usize>> = st
+        .active
+        .iter()
+        .map(|a| a.iter().map(|&f| face_of(f)).collect())
+        .collect();
+    let slack = st
+        .active
+        .iter()
+        .zip(&st.slack)
+        .map(|(a, sl)| a.iter().zip(sl).map(|(f, v)| v / s_b[f.b]).collect())
+        .collect();
+    let reacting = (0..st.np)
+        .map(|i| {
+            let slipping = (0..st.nb).filter(|&b| st.slips[i][b] != 0).map(|b| {
+                (
+                    face_of(FaceId {
+                        b,
+                        s: st.slips[i][b],
+                    }),
+                    true,
+                )
+            });
+            let biactive = st.biactive[i]
+                .iter()
+                .map(|&(b, s)| (face_of(FaceId { b, s }), false));
+            slipping.chain(biactive).collect()
+        })
+        .collect();
+    let urows = control_rows(&p.control);
+    let urows_active: Vec<Vec<usize>> = st
+        .bound
+        .iter()
+        .map(|bound| {
+            bound
+                .iter()
+                .enumerate()
+                .filter(|(_, &s)| s != 0)
+                .map(|(l, &s)| 2 * l + usize::from(s < 0))
+                .collect()
+        })
+        .collect();
+    let at_vertex = urows_active.iter().map(|a| a.len() == st.n).collect();
+    GeneralStructure {
+        n: st.n,
+        m: st.n,
+        steps: st.np,
+        tau: pr.durations.clone(),
+        phase: pr.kind == ProcessKind::Phase,
+        active,
+        held: st.held.clone(),
+        slack,
+        reacting,
+        urows_active,
+        at_vertex,
+        grad_f2: st.grad_f2.clone(),
+        cost_h: st.cost_h.clone(),
+        w: face_weights(p),
+        urows,
+        face_scale: s_b.iter().flat_map(|&s| [s, s]).collect(),
     }
 }

@@ -51,7 +51,9 @@
 //!
 //! The multipliers are found by the shared staged search (least violation `r` of the first
 //! five, then least violation of the sign, then the largest margin `delta`: every `rho_{i,r} >=
-//! delta` where `u^i` is a vertex of U), or with `lambda = 0` by the same generic functional;
+//! delta` on every active row of U, the relative interior of the normal cone, and on a box's
+//! bound the switching function `-sign(u_l) sigma_{i,l} >= delta`, the margin its verdict reads),
+//! or with `lambda = 0` by the same generic functional;
 //! every residual is then recomputed in floating point. Only periodic problems are certified.
 //!
 //! # Phase gaits
@@ -193,14 +195,12 @@ pub(crate) fn certify_with(
             })
             .collect();
         // The biactive pairs (step, face): active at the step's end with no reaction on it.
-        let (active_at, reacting) = (&st.active, &st.reacting);
         let pairs: Vec<(usize, usize)> = (0..st.steps)
             .flat_map(|i| {
-                let k = (i + 1) % st.steps;
-                reacting[i]
+                st.reacting[i]
                     .iter()
                     .filter(|&&(_, reacts)| !reacts)
-                    .map(move |&(fi, _)| (i, active_at[k][fi]))
+                    .map(move |&(f, _)| (i, f))
             })
             .collect();
         // A cross-check: a branch LP HiGHS does not solve gives none, never an error.

@@ -3,7 +3,7 @@
 //! floating point, and the properties of `f2` and U that the verdict reads. Below the driver
 //! ([`crate::certify::general`]) and the report (`general_report`), which both use them.
 
-use super::general_kkt::{GeneralRaw, GeneralStructure};
+use super::general_kkt::{psi_of, GeneralRaw, GeneralStructure};
 use super::general_process::GeneralProcess;
 use super::stages::sign_residual;
 use super::{BranchLp, CertifyOptions, ConditionCheck, Normalisation, Verdict};
@@ -203,9 +203,7 @@ fn reaction_term(p: &GeneralProblem, st: &GeneralStructure, raw: &GeneralRaw) ->
     let steps = st.steps;
     let mut react = 0.0_f64;
     for i in 0..steps {
-        let k = (i + 1) % steps;
-        for &(fi, reacts) in &st.reacting[i] {
-            let f = st.active[k][fi];
+        for &(f, reacts) in &st.reacting[i] {
             let g = raw.lambda * st.w[f] + dot(&raw.p[i], &p.c.normals[f]);
             react = react.max(if reacts { g.abs() } else { g });
         }
@@ -244,21 +242,6 @@ fn maximality_terms(
         ham_hi = ham_hi.max(ham);
     }
     (maxim, ham_lo, ham_hi)
-}
-
-/// `psi_i = -B^T p_i - omega - lambda R u^i`.
-pub(crate) fn psi_of(
-    p: &GeneralProblem,
-    st: &GeneralStructure,
-    raw: &GeneralRaw,
-    i: usize,
-) -> Vec<f64> {
-    (0..st.m)
-        .map(|l| {
-            let btp: f64 = (0..st.n).map(|q| p.dynamics.b[q][l] * raw.p[i][q]).sum();
-            -btp - raw.omega[l] - raw.lambda * st.grad_f2[i][l]
-        })
-        .collect()
 }
 
 /// Whether `f2` is strictly convex (`R` positive definite).

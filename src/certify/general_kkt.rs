@@ -52,8 +52,8 @@ pub(crate) struct GeneralStructure {
     /// `c_j - <x*_j, x^k>` of each active face.
     pub slack: Vec<Vec<f64>>,
     /// The faces that may carry a reaction on piece `i` in its branch (P_m: active at
-    /// `x^(i+1)`; a phase: active at both ends), as an index into `active[(i + 1) % P]` and
-    /// whether the piece has a reaction on it (else the pair is biactive).
+    /// `x^(i+1)`; a phase: active at both ends), 0-based, and whether the piece has a reaction
+    /// on it (else the pair is biactive).
     pub reacting: Vec<Vec<(usize, bool)>>,
     /// Rows of U active at `u^i`, per piece.
     pub urows_active: Vec<Vec<usize>>,
@@ -103,9 +103,8 @@ impl GeneralStructure {
                 let end = (i + 1) % steps;
                 active[end]
                     .iter()
-                    .enumerate()
-                    .filter(|(_, f)| !phase || active[i].contains(f))
-                    .map(|(fi, &f)| (fi, reacts(i, f)))
+                    .filter(|f| !phase || active[i].contains(f))
+                    .map(|&f| (f, reacts(i, f)))
                     .collect()
             })
             .collect();
@@ -154,6 +153,28 @@ impl GeneralStructure {
     }
 }
 
+impl GeneralStructure {
+    /// Per active row of U at piece `i` (layout of [`GeneralStructure::urows_active`]): `Some((l,
+    /// v))` where the row is `v e_l` and no other active row there involves control `l` (a box
+    /// bound, or a polytope's lone axis-aligned row). Its weight is then determined by `psi_i`,
+    /// `rho = sign(v) psi_(i,l) / |v|`, and the LP needs no column for it: `rho >= 0` is the
+    /// one row `sign(v) psi_(i,l) >= 0` (the crawler's `psi >= 0` at an upper bound).
+    pub fn axis_rows(&self, i: usize) -> Vec<Option<(usize, f64)>> {
+        let act = &self.urows_active[i];
+        let touches = |l: usize| act.iter().filter(|&&r| self.urows[r].0[l] != 0.0).count();
+        act.iter()
+            .map(|&r| {
+                let row = &self.urows[r].0;
+                let mut nz = (0..self.m).filter(|&l| row[l] != 0.0);
+                match (nz.next(), nz.next()) {
+                    (Some(l), None) if touches(l) == 1 => Some((l, row[l])),
+                    _ => None,
+                }
+            })
+            .collect()
+    }
+}
+
 /// Raw multipliers at the given `lambda`: `p_i` per step, `xi` per active face of every knot
 /// (layout of [`GeneralStructure::active`]), `omega`, and the normal-cone weights `rho` of
 /// `psi_i` on the active rows of U (layout of [`GeneralStructure::urows_active`]).
@@ -166,14 +187,31 @@ pub(crate) struct GeneralRaw {
     pub rho: Vec<Vec<f64>>,
 }
 
+/// `psi_i = -B^T p_i - omega - lambda R u^i`.
+pub(crate) fn psi_of(
+    p: &GeneralProblem,
+    st: &GeneralStructure,
+    raw: &GeneralRaw,
+    i: usize,
+) -> Vec<f64> {
+    (0..st.m)
+        .map(|l| {
+            let btp: f64 = (0..st.n).map(|q| p.dynamics.b[q][l] * raw.p[i][q]).sum();
+            -btp - raw.omega[l] - raw.lambda * st.grad_f2[i][l]
+        })
+        .collect()
+}
+
 /// The columns of one general multiplier LP: the adjoint `p_i` and reactions `xi` (of
-/// [`adjoint_columns`]), `omega`, the normal-cone weights `rho >= 0` on the active rows of U,
+/// [`adjoint_columns`]), `omega`, the normal-cone weights `rho >= 0` on the active rows of U
+/// but the axis rows ([`GeneralStructure::axis_rows`]: their weight is `psi`'s, `None` here),
 /// and the stage's scalars `r`, `s`, `delta` ([`Stage::columns`]).
 struct GeneralCols {
     pc: Vec<Vec<Col>>,
     xi: Vec<Vec<Col>>,
     omega: Vec<Col>,
-    rho: Vec<Vec<Col>>,
+    rho: Vec<Vec<Option<Col>>>,
+    axis: Vec<Vec<Option<(usize, f64)>>>,
     r: Col,
     s: Col,
     delta: Col,
@@ -181,7 +219,7 @@ struct GeneralCols {
 
 impl GeneralCols {
     /// Adds the columns to `pb`, in this order: `p`, `xi`, `omega` (boxed only under a zero
-    /// mean: otherwise `omega = 0`), `rho`, then `r`, `s`, `delta`.
+    /// mean: otherwise `omega = 0`), `rho` (off the axis rows), then `r`, `s`, `delta`.
     fn add(
         pb: &mut RowProblem,
         p: &GeneralProblem,
@@ -197,10 +235,14 @@ impl GeneralCols {
         let omega: Vec<Col> = (0..m)
             .map(|l| pb.add_column(-weight * functional(steps, l), -om_box..=om_box))
             .collect();
-        let rho: Vec<Vec<Col>> = st
-            .urows_active
+        let axis: Vec<Vec<Option<(usize, f64)>>> = (0..steps).map(|i| st.axis_rows(i)).collect();
+        let rho: Vec<Vec<Option<Col>>> = axis
             .iter()
-            .map(|a| a.iter().map(|_| pb.add_column(0.0, 0.0..=INF)).collect())
+            .map(|a| {
+                a.iter()
+                    .map(|ax| ax.is_none().then(|| pb.add_column(0.0, 0.0..=INF)))
+                    .collect()
+            })
             .collect();
         let (r, s, delta) = stage.columns(pb, norm);
         GeneralCols {
@@ -208,6 +250,7 @@ impl GeneralCols {
             xi,
             omega,
             rho,
+            axis,
             r,
             s,
             delta,
@@ -262,13 +305,29 @@ pub(crate) fn solve_general(
     let vals = |rows: &Vec<Vec<Col>>| -> Vec<Vec<f64>> {
         rows.iter().map(|r| r.iter().map(val).collect()).collect()
     };
-    Ok(Some(GeneralRaw {
+    let mut raw = GeneralRaw {
         lambda,
         p: vals(&c.pc),
         xi: vals(&c.xi),
         omega: c.omega.iter().map(val).collect(),
-        rho: vals(&c.rho),
-    }))
+        rho: Vec::new(),
+    };
+    // An axis row's weight is psi's (clipped at 0: the LP keeps sign(v) psi >= -r).
+    raw.rho = (0..st.steps)
+        .map(|i| {
+            let psi = psi_of(p, st, &raw, i);
+            c.rho[i]
+                .iter()
+                .zip(&c.axis[i])
+                .map(|(col, ax)| match (col, ax) {
+                    (Some(col), _) => val(col),
+                    (None, Some((l, v))) => (psi[*l] / v).max(0.0),
+                    (None, None) => unreachable!("a row without a column is an axis row"),
+                })
+                .collect()
+        })
+        .collect();
+    Ok(Some(raw))
 }
 
 /// The adjoint equation with transversality (cyclic; Theorem 6.2 (px), (p2mx)), one row per
@@ -326,11 +385,9 @@ fn reaction_rows(
     lambda: f64,
     i: usize,
 ) {
-    let (n, steps) = (st.n, st.steps);
+    let n = st.n;
     // Reaction stationarity on the faces that may react on piece i: lambda w_f + <p_i, x*_f>.
-    let k = (i + 1) % steps;
-    for &(fi, reacts) in &st.reacting[i] {
-        let f = st.active[k][fi];
+    for &(f, reacts) in &st.reacting[i] {
         let lw = lambda * st.w[f];
         let dot_row = |extra: (Col, f64)| {
             let mut row: Vec<(Col, f64)> = (0..n)
@@ -349,8 +406,12 @@ fn reaction_rows(
 }
 
 /// Weak maximality on piece `i` (Theorem 6.2 (pw)): `psi_i = -B^T p_i - omega - lambda R u_i`
-/// equal to `sum rho G` over the active rows of U (up to `r`), two rows per control; at a
-/// vertex of U, also the margin rows `rho >= delta`.
+/// equal to `sum rho G` over the active rows of U (up to `r`), two rows per control, where a
+/// control's only active row is an axis row `v e_l` one row `sign(v) psi_(i,l) >= -r` (its weight
+/// `psi_(i,l) / v`, [`GeneralStructure::axis_rows`]); and the margin rows on every active row
+/// (`rho >= delta`, the relative interior of `N_U(u_i)`; on an axis row the switching function
+/// `-sign(v) sigma_(i,l) >= delta`, the margin a box's verdict reads, the crawler's `-(p + omega)
+/// sign(u) >= delta` at every rate at its bound).
 fn maximality_rows(
     pb: &mut RowProblem,
     p: &GeneralProblem,
@@ -360,18 +421,36 @@ fn maximality_rows(
     i: usize,
 ) {
     let (n, m) = (st.n, st.m);
-    // Weak maximality: psi = -B^T p_i - omega - lambda R u_i = sum rho G (up to r).
-    for l in 0..m {
-        let g = lambda * st.grad_f2[i][l];
+    // -B^T p_i - omega as (column, coefficient) pairs, for control l.
+    let minus_sigma = |l: usize, scale: f64| -> Vec<(Col, f64)> {
         let mut row: Vec<(Col, f64)> = (0..n)
             .filter(|&q| p.dynamics.b[q][l] != 0.0)
-            .map(|q| (c.pc[i][q], -p.dynamics.b[q][l]))
+            .map(|q| (c.pc[i][q], -scale * p.dynamics.b[q][l]))
             .collect();
-        row.push((c.omega[l], -1.0));
+        row.push((c.omega[l], -scale));
+        row
+    };
+    for l in 0..m {
+        let g = lambda * st.grad_f2[i][l];
+        if let Some(&(_, v)) = c.axis[i].iter().flatten().find(|(al, _)| *al == l) {
+            // sign(v) psi >= -r, psi = -sigma - g with the switching function sigma = B^T p +
+            // omega; the margin on sigma, the one the verdict reads for a box:
+            // -sign(v) sigma >= delta (the crawler's -(p + omega) sign(u) >= delta).
+            let sg = v.signum();
+            let mut row = minus_sigma(l, sg);
+            row.push((c.r, 1.0));
+            pb.add_row(sg * g.., row);
+            let mut row = minus_sigma(l, sg);
+            row.push((c.delta, -1.0));
+            pb.add_row(0.0.., row);
+            continue;
+        }
+        // psi = sum rho G (up to r).
+        let mut row = minus_sigma(l, 1.0);
         for (ri, &rr) in st.urows_active[i].iter().enumerate() {
             let v = st.urows[rr].0[l];
-            if v != 0.0 {
-                row.push((c.rho[i][ri], -v));
+            if let (Some(col), true) = (c.rho[i][ri], v != 0.0) {
+                row.push((col, -v));
             }
         }
         let mut lo = row.clone();
@@ -380,11 +459,9 @@ fn maximality_rows(
         pb.add_row(..=g, row);
         pb.add_row(g.., lo);
     }
-    if st.at_vertex[i] {
-        // Margin: psi in the interior of N_U(u_i), every weight at least delta.
-        for &col in &c.rho[i] {
-            pb.add_row(0.0.., [(col, 1.0), (c.delta, -1.0)]);
-        }
+    // Margin: psi in the relative interior of N_U(u_i), every weight at least delta.
+    for col in c.rho[i].iter().flatten() {
+        pb.add_row(0.0.., [(*col, 1.0), (c.delta, -1.0)]);
     }
 }
 
@@ -404,15 +481,30 @@ fn duration_rows(
     let ham = pb.add_column(0.0, -INF..=INF);
     for i in 0..st.steps {
         let mut row: Vec<(Col, f64)> = vec![(ham, -1.0)];
+        let mut cst = lambda * st.cost_h[i];
         for (ri, &rr) in st.urows_active[i].iter().enumerate() {
-            row.push((c.rho[i][ri], st.urows[rr].1));
+            let h = st.urows[rr].1;
+            match (c.rho[i][ri], c.axis[i][ri]) {
+                (Some(col), _) => row.push((col, h)),
+                // rho h = (psi_l / v) h, psi_l = -B^T p - omega - lambda (R u)_l.
+                (None, Some((l, v))) => {
+                    let w = h / v;
+                    row.extend(
+                        (0..st.n)
+                            .filter(|&q| p.dynamics.b[q][l] != 0.0)
+                            .map(|q| (c.pc[i][q], -w * p.dynamics.b[q][l])),
+                    );
+                    row.push((c.omega[l], -w));
+                    cst -= w * lambda * st.grad_f2[i][l];
+                }
+                (None, None) => unreachable!("a row without a column is an axis row"),
+            }
         }
         row.extend(
             (0..st.n)
                 .filter(|&q| p.dynamics.drift[q] != 0.0)
                 .map(|q| (c.pc[i][q], -p.dynamics.drift[q])),
         );
-        let cst = lambda * st.cost_h[i];
         let mut lo = row.clone();
         lo.push((c.r, 1.0));
         row.push((c.r, -1.0));

@@ -3,10 +3,10 @@
 //! [`crate::certify`] and [`crate::certify::general`]).
 
 use super::general_conditions::{
-    is_box, psi_of, residuals, strictly_convex, GeneralFaceMultiplier, GeneralMultipliers,
+    is_box, residuals, strictly_convex, GeneralFaceMultiplier, GeneralMultipliers,
     GeneralNecessaryConditions, GENERAL_CERTIFICATE_FORMAT,
 };
-use super::general_kkt::{GeneralRaw, GeneralStructure};
+use super::general_kkt::{psi_of, GeneralRaw, GeneralStructure};
 use super::general_process::GeneralProcess;
 use super::records::ConditionCheck;
 use super::stages::sup;

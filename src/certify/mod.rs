@@ -68,10 +68,12 @@
 //! branch LP of its exact instance of (P) ([`crate::model::crawler_as_general`]: `x~ =
 //! K^(-1/2) x`, unit normals `x~*_(b+-) = +-K^(1/2) nu_b / s_b` with `s_b = sqrt(k_(b-1) + k_b)`,
 //! face weights `+-1/(N s_b)`, `B = K^(-1/2)`, `A = 0`), so the LPs are solved in `(p~, xi~,
-//! omega, rho)` for the crawler's process in those variables ([`GeneralProcess::of_crawler`]) and
-//! read back in the crawler's names: `p = K^(-1/2) p~`, `omega` unchanged (`B^T p~ = p`, so `psi`
-//! is unchanged too) and `xi_(b+-) = xi~_(b+-) / s_b` (the Lagrangian term `<q, dynamics>` is
-//! invariant under the change of variables; `certify::crawler_general`):
+//! omega)` with the crawler's own structure (`kkt::Structure`: its active, held and biactive faces,
+//! slips and rates at a bound, in (P)'s face numbering) and read back in the crawler's names:
+//! `p = K^(-1/2) p~`, `omega` unchanged (`B^T p~ = p`, so `psi` is unchanged too) and `xi_(b+-) =
+//! xi~_(b+-) / s_b` (the Lagrangian term `<q, dynamics>` is invariant under the change of
+//! variables; `certify::crawler_general`). The box's bounds are axis rows of U, whose
+//! normal-cone weights are `psi`'s own (no columns for them), so the LPs have the crawler's size:
 //! 1. with `lambda = 1`, minimise the largest violation `r` of the branch LP's KKT system (all
 //!    conditions above but the sign; the adjoint equation is imposed exactly, `xi` exists only on
 //!    active faces). `r = 0` iff the process is optimal for its branch LP; `r > 0` measures how far
@@ -80,9 +82,8 @@
 //!    is `(<p, K nu_b> + lambda/N) / s_b`), so that the least violation is the crawler's;
 //! 2. keeping `r`, minimise the largest violation `s` of `xi >= 0`, again in the crawler's units
 //!    (`xi~ >= -s_b s`);
-//! 3. keeping `r` and `s`, maximise the non-degeneracy margin `delta`: every normal-cone weight
-//!    `rho_(j,l) = |psi_(j,l)|` at least `delta` on the pieces where `u_j` is a vertex of the box
-//!    (every rate at a bound; `psi = -(p + omega)` for `f2 = 0`).
+//! 3. keeping `r` and `s`, maximise the non-degeneracy margin `delta`: `-(p_l + omega_l)
+//!    sign(u_l) >= delta` wherever `u_l` is at a bound.
 //!
 //! Where the multipliers are unique (e.g. every `holds` verdict of the tests) the weights are
 //! immaterial; where they are not, the residuals and the margin reported are those of the
@@ -205,7 +206,7 @@ pub fn certify(pr: &Process, opts: &CertifyOptions) -> Result<NecessaryCondition
     pr.check("process", opts.structure_tol)?;
     let st = Structure::of(pr, opts.structure_tol);
     let cap = 10.0 / (st.nb as f64 * st.k.iter().cloned().fold(f64::INFINITY, f64::min));
-    let general = crawler_general::AsGeneral::of(pr, &st, opts.structure_tol)?;
+    let general = crawler_general::AsGeneral::of(pr, &st)?;
     let chosen = stages::search(
         |lambda, stage, norm| general.solve(lambda, stage, norm, false),
         |raw| kkt_residual(pr, &st, raw),
