@@ -241,7 +241,7 @@ impl BenchSettings {
 
 /// Runs the benchmark: every crawler is built and checked before the first case is timed;
 /// `on_case` receives each case as it is measured (catching-up, then exact, per N; a search
-/// beyond [`BENCH_MAX_EXACT_SEARCH_BLOCKS`] blocks is catching-up's only).
+/// beyond `BENCH_MAX_EXACT_SEARCH_BLOCKS` blocks is catching-up's only).
 pub fn bench(settings: &BenchSettings, on_case: &mut dyn FnMut(&BenchCase)) -> Result<()> {
     settings.check()?;
     let s = settings;

@@ -208,7 +208,7 @@ fn structure_checks(p: &GeneralProblem, checks: &mut Vec<Check>) {
 /// Cauchy problem over `[0, T]` from `x(0)`. On a crawler's chain
 /// ([`GeneralProblem::as_chain`](crate::model::general::GeneralProblem::as_chain)) under a
 /// zero-mean piecewise-constant input, the periodic regime is searched by the crawler's
-/// simulator with the same scheme ([`crate::integrate::chain_regime`]: the chain's O(N) kernels
+/// simulator with the same scheme ([`crate::integrate::chain_regime`](mod@crate::integrate::chain_regime): the chain's O(N) kernels
 /// and Newton steps, where the general period map is iterated plainly) and the general simulator
 /// plays the period from the state it found, checking that it repeats (`regime_search =
 /// "chain"`); its catching-up steps project with the chain's O(N) method too
@@ -374,7 +374,7 @@ pub struct GeneralPmSettings {
     /// ([`crate::optimal::general::general_convergence`]; default false): the answer is the
     /// finest P_m solved, all within `time_limit`.
     pub convergence: bool,
-    /// Also prove the crawler's upper bound over all periodic gaits ([`chain_upper_bound`];
+    /// Also prove the crawler's upper bound over all periodic gaits (`chain_upper_bound`;
     /// default none): only for a problem that is a crawler's gait problem.
     pub bound: Option<BoundSettings>,
     /// Polish the answer of a quadratic cost on its fixed face pattern, a QP solved to the

@@ -48,7 +48,7 @@ pub struct GeneralPhaseSettings {
     /// naming `formulation`, where the problem is not a chain.
     pub formulation: Option<PhaseFormulation>,
     /// Also prove the crawler's upper bound over all periodic gaits (default none): only for
-    /// a problem that is a crawler's gait problem ([`super::general::chain_upper_bound`]).
+    /// a problem that is a crawler's gait problem (`super::general::chain_upper_bound`).
     pub bound: Option<crate::certify::bound::BoundSettings>,
     /// Also check the necessary conditions of Theorem 2.2 on the gait, on its own phases with
     /// the durations free (default false; [`crate::certify::general`]).

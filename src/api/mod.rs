@@ -17,7 +17,7 @@
 //! - [`crate::present`]: figures and the report ([`report_file`]: the optimum a report of a
 //!   problem file shows; [`report_result`]: the report of a result file, the settings that
 //!   compute a gait refused);
-//! - [`bench`]: the simulation cost per step;
+//! - [`bench`](fn@bench): the simulation cost per step;
 //! - [`fit`] with [`crate::fit::FitSettings`]: a crawler identified from a measured trajectory,
 //!   with the exact interval of every parameter (see [`crate::fit`]);
 //! - [`general`]: the general problem (P) of the paper's §2 (`[sweeping_process]` files):

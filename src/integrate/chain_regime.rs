@@ -1,6 +1,6 @@
 //! The periodic regime of a general problem that is a crawler's chain
 //! ([`GeneralProblem::as_chain`]), searched by the crawler's own simulator: its exact method on
-//! the O(N) chain kernels with the Newton-Krylov search ([`super::periodic`]), where the general
+//! the O(N) chain kernels with the Newton-Krylov search (`super::periodic`), where the general
 //! exact simulator ([`super::general_exact`]) iterates the period map plainly through `O(N^2)`
 //! transient periods of a long chain (50 blocks: 3782 periods).
 //!

@@ -215,7 +215,7 @@ impl GeneralSimOptions {
     };
 
     /// Checks the options for a problem whose recorded period holds `per_step` values a step
-    /// (states, controls, reactions): at most [`super::periodic::MAX_RECORDED`] in all.
+    /// (states, controls, reactions): at most `super::periodic::MAX_RECORDED` in all.
     /// Both general methods are held to it, so that no setting is accepted by one and refused
     /// by the other.
     pub fn check(&self, per_step: usize) -> Result<()> {

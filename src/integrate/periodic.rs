@@ -70,7 +70,7 @@ pub struct SimOptions {
     pub accelerate_after: Option<usize>,
     /// Newton-Krylov steps in the accelerated search, safeguarded by Anderson (`None`: Anderson
     /// alone). The exact method takes the Jacobian of catching-up on its knots (when they fit
-    /// [`MAX_SAMPLES`]; else Anderson alone). Default [`NewtonOptions::DEFAULT`].
+    /// `MAX_SAMPLES`; else Anderson alone). Default [`NewtonOptions::DEFAULT`].
     pub newton: Option<NewtonOptions>,
     /// Initial state `x(0)` (default 0, the unloaded crawler).
     pub initial_state: Option<Vec<f64>>,
@@ -78,7 +78,7 @@ pub struct SimOptions {
     /// link and step) when it fits in this many bytes, and forms them step by step from the
     /// actuation otherwise (memory `O(N)`, a slower step; bitwise the same results). Default
     /// [`IncrementStorage::DEFAULT_BUDGET`] (64 MiB). A table is refused beyond
-    /// [`MAX_SAMPLES`] increments.
+    /// `MAX_SAMPLES` increments.
     pub increment_budget: usize,
 }
 

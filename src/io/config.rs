@@ -170,7 +170,7 @@ pub struct ModelFile {
 }
 
 impl ModelFile {
-    /// Reads and parses a model file (a regular file of at most [`MAX_MODEL_BYTES`]).
+    /// Reads and parses a model file (a regular file of at most `MAX_MODEL_BYTES`).
     pub fn load(path: &Path) -> Result<Self> {
         let bytes = read_input_file(path, MAX_MODEL_BYTES).map_err(|reason| Error::Io {
             path: path.display().to_string(),

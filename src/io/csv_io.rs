@@ -50,7 +50,7 @@ pub const MAX_CSV_BYTES: u64 = 64 << 20;
 
 /// Reads a piecewise-linear actuation from CSV: one row per knot, columns `t, L_1, .., L_n`
 /// (a header row is recognised by a non-numeric first field and skipped). Only a regular file
-/// of at most [`MAX_CSV_BYTES`] is read.
+/// of at most `MAX_CSV_BYTES` is read.
 pub fn read_actuation_csv(path: &Path, links: usize) -> Result<(Vec<f64>, Vec<Vec<f64>>)> {
     let bytes = read_input_file(path, MAX_CSV_BYTES)
         .map_err(|e| io_err(path, format!("cannot read actuation CSV: {e}")))?;

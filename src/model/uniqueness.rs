@@ -277,7 +277,7 @@ struct Closest {
 impl Uniqueness {
     /// Decides the condition for the given friction thresholds.
     ///
-    /// A subset violates it when its two sums agree to a relative [`REL_TOL`] (module docs);
+    /// A subset violates it when its two sums agree to a relative `REL_TOL` (module docs);
     /// `Undecided` when the subsets are too many to enumerate, or a threshold is subnormal (its
     /// sums have no relative precision to decide with).
     pub fn decide(mu_forward: &[f64], mu_backward: &[f64]) -> Self {

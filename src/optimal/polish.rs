@@ -4,7 +4,7 @@
 //! With a quadratic cost `f2`, the MILPs of P_m (the crawler's, `optimal::discrete`,
 //! and the general problem's, [`crate::optimal::general::discrete`]) carry `f2` by an outer
 //! approximation: tangent cuts, refined until the incumbent's true objective meets the bound
-//! to [`OA_TOL`](crate::optimal::milp::OA_TOL). A control not at a bound of U is then only
+//! to `optimal::milp::OA_TOL`. A control not at a bound of U is then only
 //! accurate to about the cuts' spacing (1e-3 on the examples), and the discrete necessary
 //! conditions (Theorem 6.2 (pw): `-B^T p - omega - lambda Df2(u)` in `N_U(u)`) fail at that
 //! size although the answer is the MILP's optimum to its gap.
@@ -13,8 +13,8 @@
 //! at every step), P_m is a convex QP: linear dynamics, linear reward, the quadratic cost. Its
 //! feasible set holds the MILP's answer, so its optimum is no worse; and every feasible point of
 //! it is a feasible point of P_m (the KKT system of the catching-up projection with its signs
-//! on the fixed pattern). Each formulation describes that QP as a [`Qp`] (columns with bounds,
-//! rows with ranges, a quadratic and a linear objective, minimised); [`Qp::solve`] solves it
+//! on the fixed pattern). Each formulation describes that QP as a `Qp` (columns with bounds,
+//! rows with ranges, a quadratic and a linear objective, minimised); `Qp::solve` solves it
 //! by Clarabel (an interior-point method) and then exactly on the active set Clarabel finds
 //! (the KKT system of the equality-constrained QP, dense), keeping the exact point when it is
 //! feasible and no worse. The caller replays the polished controls in the simulator, as every

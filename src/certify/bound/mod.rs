@@ -15,7 +15,7 @@
 //! ```
 //!
 //! where `(x', l', y')` are the rates on the relative interior of `F` under `u` (linear in `u`
-//! there: [`faces`]). Then `J = y(T) - y(0) <= rho T`. Proof: `x`, `l` are Lipschitz; at almost
+//! there: `faces`). Then `J = y(T) - y(0) <= rho T`. Proof: `x`, `l` are Lipschitz; at almost
 //! every `t` they are differentiable, `V(p(t))` is differentiable, and
 //! - `x'(t)` lies in the lineality space of the tangent cone of C at `x(t)` (`x` stays in C both
 //!   forward and backward in time), so with `F(t)` the face whose relative interior holds
@@ -38,7 +38,7 @@
 //! V(p(0))`. Each inequality of (R) is linear in `u` on the polytope of controls that keep `x`
 //! on `F`, so it holds on that polytope iff at its vertices: (R) is a finite LP in the node
 //! values of `V` and `rho`; minimising `rho` gives the bound. The pairs `(S, F)` are taken from
-//! a superset of those that meet (a test on the simplex's vertices, [`grid`]), which only adds
+//! a superset of those that meet (a test on the simplex's vertices, `grid`), which only adds
 //! rows. Whatever `V` the solver returns, the bound reported is recomputed from it,
 //! `rho = max over rows of (y' - <g_S, d>)`, so it holds exactly for that `V` (an unfinished
 //! solve gives a weaker but still valid bound).

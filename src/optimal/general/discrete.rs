@@ -27,7 +27,7 @@
 //! (tangent planes, below `f2` by convexity), `-h e^i` in the objective. With fewer cuts the MILP
 //! under-estimates the cost, so its bound stays a bound on P_m; the controls of each solution
 //! become cut points until the true objective of the incumbent meets the bound within
-//! [`OA_TOL`] (relative above 1, absolute below), as for the crawler's P_m. C and U bounded.
+//! `OA_TOL` (relative above 1, absolute below), as for the crawler's P_m. C and U bounded.
 
 use super::discrete_rows as rows;
 pub(super) use super::discrete_rows::{branch_bounds, cost_matrix, BigM, Form};

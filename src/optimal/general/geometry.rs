@@ -3,7 +3,7 @@
 //! boundedness, redundant faces, vertices with their active faces, and whether face weights
 //! define `f1` uniquely (theory §11).
 //!
-//! The linear programs go through [`crate::optimal::solver`] and are posed in units of C's
+//! The linear programs go through `crate::optimal::solver` and are posed in units of C's
 //! scale `s = max_j |c_j|` (the state divided by `s`), so that HiGHS's absolute tolerances
 //! (1e-9) are relative to C; every decision below uses the relative tolerance [`REL_TOL`].
 //!

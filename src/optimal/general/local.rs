@@ -1,5 +1,5 @@
 //! The paper's P_m (§6, theory §11) for the general problem (P), locally: the active-set method on
-//! its LPCC ([`crate::optimal::active_set`], shared with the crawler's local method), for grids
+//! its LPCC (`crate::optimal::active_set`, shared with the crawler's local method), for grids
 //! beyond the reach of the global MILP ([`super::discrete`]).
 //!
 //! P_m's complementarity is, per step `i` and face `j`, `0 <= mu^i_j ⊥ s^i_j >= 0` with the
@@ -67,7 +67,7 @@ pub struct GeneralLocal {
 
 /// Refuses what the local method cannot solve (cheap, before any start is simulated): `m`
 /// outside `1..=MAX_GENERAL_LOCAL_M`, a quadratic cost (the branch problems are LPs), and what
-/// [`check_sets`] refuses.
+/// `check_sets` refuses.
 pub fn check_general_local(p: &GeneralProblem, g: &Geometry, m: u32) -> Result<()> {
     if !(1..=MAX_GENERAL_LOCAL_M).contains(&m) {
         return Err(Error::invalid(

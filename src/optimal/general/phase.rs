@@ -63,7 +63,7 @@
 //! cost, so the MILP's bound stays a bound; the rates `u_j` of each solution become cut points
 //! until the true (replayed) `J` of the incumbent meets the bound within 1e-6 (`OA_TOL`; status
 //! `approximation_limit` after 40 rounds, as for P_m). The answer is then polished on its held
-//! faces ([`super::phase_polish`], exact to rounding) and kept when its replay agrees and `J` is
+//! faces (`super::phase_polish`, exact to rounding) and kept when its replay agrees and `J` is
 //! no worse.
 
 use super::discrete::{

@@ -70,7 +70,7 @@ impl PhaseFamily for GeneralPhases<'_> {
 /// crawler's growth, [`crate::optimal::growth::grow`]): the gait of the largest `J_K` found,
 /// claimed for the last `K` solved; `time_limit` in seconds for the whole growth (within the
 /// job's deadline). `progress` sees each `K`. Errors name `max_phases`, `min_phases`,
-/// `patience`, `time_limit` or what [`check_phase_growth`] names.
+/// `patience`, `time_limit` or what `check_phase_growth` names.
 pub fn grow_general_phases(
     p: &GeneralProblem,
     g: &Geometry,
