@@ -257,3 +257,59 @@ fn an_empty_phase_is_dropped() {
         [2.0, 3.0, 2.0, 3.0]
     );
 }
+
+/// The duration condition's rows substitute an axis row's weight `psi_l / v`, which brings in
+/// `p_i` through `B`, and the drift `b` brings `p_i` in again: two controls at a bound with a
+/// non-diagonal `B`, or one with `b != 0`, put a column twice in one row, which HiGHS refused
+/// (exit 2 on a gait it had just found). Both now certify, with the verdicts the crawler-free
+/// formulation (a column per normal-cone weight) gave: the 3-phase gaits `degenerate`, the
+/// 4-phase ones `fails` on Theorem 2.2's sign (0.5), the duration condition holding.
+#[test]
+fn phase_gaits_with_a_coupling_b_or_a_drift_certify() {
+    let square =
+        "[sweeping_process]\nnormals = [[1.0, 0.0], [0.0, 1.0], [-1.0, 0.0], [0.0, -1.0]]\n\
+                  offsets = [1.0, 1.0, 1.0, 1.0]\n[control]\nlower = [-1.0, -1.0]\n\
+                  upper = [1.0, 1.0]\nzero_mean = true\n[problem]\nperiod = 10.0\n";
+    let coupled = format!(
+        "{square}[dynamics]\nB = [[1.0, 0.4], [0.0, 1.0]]\n[objective]\nface_weights = [1.0, 0.6, 0.0, 0.0]\n"
+    );
+    let drifting = format!(
+        "{square}[dynamics]\nB = [[1.0, 0.0], [0.0, 1.0]]\nb = [0.2, -0.1]\n[objective]\nface_weights = [1.0, 0.5, 0.0, 0.0]\n"
+    );
+    let dir = tempfile::tempdir().unwrap();
+    for (name, text) in [("coupled", coupled), ("drifting", drifting)] {
+        let f = dir.path().join(format!("{name}.toml"));
+        std::fs::write(&f, text).unwrap();
+        for (k, verdict) in [("3", "degenerate"), ("4", "fails")] {
+            let args = [
+                "optimize",
+                f.to_str().unwrap(),
+                "--method",
+                "phase",
+                "--phases",
+                k,
+                "--certify",
+                "--json",
+            ];
+            let out = crawlopt(&args);
+            assert!(
+                out.status.success(),
+                "{name} K = {k}: {}",
+                String::from_utf8_lossy(&out.stderr)
+            );
+            let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+            let c = &v["necessary_conditions"];
+            assert_eq!(c["verdict"].as_str(), Some(verdict), "{name} K = {k}");
+            let duration = c["conditions"]
+                .as_array()
+                .unwrap()
+                .iter()
+                .find(|x| x["name"] == "duration_stationarity")
+                .unwrap_or_else(|| panic!("{name} K = {k}: no duration condition"));
+            assert!(
+                duration["residual"].as_f64().unwrap() <= 1e-9,
+                "{name} K = {k}: {duration}"
+            );
+        }
+    }
+}

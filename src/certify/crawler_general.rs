@@ -113,7 +113,8 @@ fn face_of(f: FaceId) -> usize {
 /// active and held faces (slacks in the unit normals' units, `/ s_b`), each slipping block's
 /// face reacting and each biactive pair a face that may react without doing so, the same
 /// bounds of the rates (rows `+e_l <= a_l`, `-e_l <= a_l`), one decision at one tolerance for
-/// both certificates. The violations are counted in the crawler's units (`face_scale = s_b`:
+/// both certificates, and the margin taken on every rate at its bound as the crawler's
+/// certificate reads it. The violations are counted in the crawler's units (`face_scale = s_b`:
 /// its slip stationarity `<p, K nu_b> + lambda/N` is `s_b` times the unit row's, its `xi` is
 /// `xi~ / s_b`).
 fn structure_of(p: &GeneralProblem, pr: &Process, st: &Structure, s_b: &[f64]) -> GeneralStructure {
@@ -176,5 +177,6 @@ fn structure_of(p: &GeneralProblem, pr: &Process, st: &Structure, s_b: &[f64]) -
         w: face_weights(p),
         urows,
         face_scale: s_b.iter().flat_map(|&s| [s, s]).collect(),
+        margin_off_vertex: true,
     }
 }

@@ -51,9 +51,9 @@
 //!
 //! The multipliers are found by the shared staged search (least violation `r` of the first
 //! five, then least violation of the sign, then the largest margin `delta`: every `rho_{i,r} >=
-//! delta` on every active row of U, the relative interior of the normal cone, and on a box's
-//! bound the switching function `-sign(u_l) sigma_{i,l} >= delta`, the margin its verdict reads),
-//! or with `lambda = 0` by the same generic functional;
+//! delta` on the active rows of U where `u^i` is a vertex of U, and on a box's bound the
+//! switching function `-sign(u_l) sigma_{i,l} >= delta`, the margin its verdict reads), or with
+//! `lambda = 0` by the same generic functional;
 //! every residual is then recomputed in floating point. Only periodic problems are certified.
 //!
 //! # Phase gaits

@@ -72,6 +72,12 @@ pub(crate) struct GeneralStructure {
     /// `face_scale * (r or s)`. 1 for (P)'s own faces; `s_b` for a crawler's instance, so that
     /// the least violations are the crawler's, in the units of `nu_b` (`certify::crawler_general`).
     pub face_scale: Vec<f64>,
+    /// Whether the margin stage also weighs the pieces off a vertex of U. (P)'s certificate
+    /// takes the margin on the pieces at a vertex only (off one it is 0 by definition); a
+    /// crawler's on every rate at its bound, as its margin `min |p + omega|` reads. Where every
+    /// piece is at a vertex the two agree; elsewhere they only pick among non-unique
+    /// multipliers differently (both margins are then 0).
+    pub margin_off_vertex: bool,
 }
 
 impl GeneralStructure {
@@ -149,6 +155,7 @@ impl GeneralStructure {
             w: face_weights(p),
             urows,
             face_scale: vec![1.0; p.c.faces()],
+            margin_off_vertex: false,
         }
     }
 }
@@ -408,10 +415,11 @@ fn reaction_rows(
 /// Weak maximality on piece `i` (Theorem 6.2 (pw)): `psi_i = -B^T p_i - omega - lambda R u_i`
 /// equal to `sum rho G` over the active rows of U (up to `r`), two rows per control, where a
 /// control's only active row is an axis row `v e_l` one row `sign(v) psi_(i,l) >= -r` (its weight
-/// `psi_(i,l) / v`, [`GeneralStructure::axis_rows`]); and the margin rows on every active row
-/// (`rho >= delta`, the relative interior of `N_U(u_i)`; on an axis row the switching function
-/// `-sign(v) sigma_(i,l) >= delta`, the margin a box's verdict reads, the crawler's `-(p + omega)
-/// sign(u) >= delta` at every rate at its bound).
+/// `psi_(i,l) / v`, [`GeneralStructure::axis_rows`]); and, at a vertex of U (or anywhere with
+/// [`GeneralStructure::margin_off_vertex`]), the margin rows on every active row (`rho >= delta`,
+/// the relative interior of `N_U(u_i)`; on an axis row the switching function `-sign(v)
+/// sigma_(i,l) >= delta`, the margin a box's verdict reads, the crawler's `-(p + omega) sign(u)
+/// >= delta` at every rate at its bound).
 fn maximality_rows(
     pb: &mut RowProblem,
     p: &GeneralProblem,
@@ -430,6 +438,7 @@ fn maximality_rows(
         row.push((c.omega[l], -scale));
         row
     };
+    let margin = st.at_vertex[i] || st.margin_off_vertex;
     for l in 0..m {
         let g = lambda * st.grad_f2[i][l];
         if let Some(&(_, v)) = c.axis[i].iter().flatten().find(|(al, _)| *al == l) {
@@ -440,9 +449,11 @@ fn maximality_rows(
             let mut row = minus_sigma(l, sg);
             row.push((c.r, 1.0));
             pb.add_row(sg * g.., row);
-            let mut row = minus_sigma(l, sg);
-            row.push((c.delta, -1.0));
-            pb.add_row(0.0.., row);
+            if margin {
+                let mut row = minus_sigma(l, sg);
+                row.push((c.delta, -1.0));
+                pb.add_row(0.0.., row);
+            }
             continue;
         }
         // psi = sum rho G (up to r).
@@ -460,8 +471,10 @@ fn maximality_rows(
         pb.add_row(g.., lo);
     }
     // Margin: psi in the relative interior of N_U(u_i), every weight at least delta.
-    for col in c.rho[i].iter().flatten() {
-        pb.add_row(0.0.., [(*col, 1.0), (c.delta, -1.0)]);
+    if margin {
+        for col in c.rho[i].iter().flatten() {
+            pb.add_row(0.0.., [(*col, 1.0), (c.delta, -1.0)]);
+        }
     }
 }
 
@@ -482,6 +495,10 @@ fn duration_rows(
     for i in 0..st.steps {
         let mut row: Vec<(Col, f64)> = vec![(ham, -1.0)];
         let mut cst = lambda * st.cost_h[i];
+        // The coefficients of p_i and omega, merged: an axis row's weight and the drift both
+        // bring p_i in (HiGHS refuses a column repeated in a row).
+        let mut cp = vec![0.0; st.n];
+        let mut co = vec![0.0; st.m];
         for (ri, &rr) in st.urows_active[i].iter().enumerate() {
             let h = st.urows[rr].1;
             match (c.rho[i][ri], c.axis[i][ri]) {
@@ -489,21 +506,27 @@ fn duration_rows(
                 // rho h = (psi_l / v) h, psi_l = -B^T p - omega - lambda (R u)_l.
                 (None, Some((l, v))) => {
                     let w = h / v;
-                    row.extend(
-                        (0..st.n)
-                            .filter(|&q| p.dynamics.b[q][l] != 0.0)
-                            .map(|q| (c.pc[i][q], -w * p.dynamics.b[q][l])),
-                    );
-                    row.push((c.omega[l], -w));
+                    for (q, cq) in cp.iter_mut().enumerate() {
+                        *cq -= w * p.dynamics.b[q][l];
+                    }
+                    co[l] -= w;
                     cst -= w * lambda * st.grad_f2[i][l];
                 }
                 (None, None) => unreachable!("a row without a column is an axis row"),
             }
         }
+        for (q, cq) in cp.iter_mut().enumerate() {
+            *cq -= p.dynamics.drift[q];
+        }
         row.extend(
             (0..st.n)
-                .filter(|&q| p.dynamics.drift[q] != 0.0)
-                .map(|q| (c.pc[i][q], -p.dynamics.drift[q])),
+                .filter(|&q| cp[q] != 0.0)
+                .map(|q| (c.pc[i][q], cp[q])),
+        );
+        row.extend(
+            (0..st.m)
+                .filter(|&l| co[l] != 0.0)
+                .map(|l| (c.omega[l], co[l])),
         );
         let mut lo = row.clone();
         lo.push((c.r, 1.0));

@@ -252,7 +252,9 @@ pub(crate) enum Stage {
     /// Keeping `r <= r_max`, minimise the largest violation `s` of `xi >= 0`.
     Sign { r_max: f64 },
     /// Keeping `r <= r_max` and `s <= s_max`, maximise the margin `delta`: every normal-cone
-    /// weight `rho >= delta` on the pieces where the control is a vertex of U.
+    /// weight `rho >= delta` (on a box's bound, `-sign(u_l) sigma_l >= delta`) on the pieces
+    /// where the control is a vertex of U, or on every piece for a crawler
+    /// (`GeneralStructure::margin_off_vertex`).
     Margin { r_max: f64, s_max: f64, cap: f64 },
 }
 
