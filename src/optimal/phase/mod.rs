@@ -51,7 +51,18 @@
 //! Valid inequalities: at most `n` blocks slip in a phase (if all `N` did, the forces would sum
 //! to `sum_b ±mu_b = 0`, which the uniqueness condition excludes). Tried and dropped, measured
 //! on the same instance: a bound on the barycentre speed (it halves the root bound, from 20 to
-//! 10.5, but the `K = 5` proof took 1.1 s instead of 0.75 s).
+//! 10.5, but the `K = 5` proof took 1.1 s instead of 0.75 s). On long chains (issue 27; the
+//! benchmarks page, "The phase MILP on long chains"), from 10 blocks: the
+//! friction balance's speed rows (at most `m+` blocks hold their forward faces at once, a run
+//! of them moves like a lever about neighbours that do not slip forward, so a block slides at
+//! most `V_+ tau` and all together at most `C_+ tau`; uniform chain, `mu^- = 1.3`: `V_+ = 5`,
+//! `C_+ = 15` at `N = 10` where `V = 9`), valid for every gait: they lowered the LP bound
+//! from the work bound 28 to 15 (`N = 20`: 56.4 to 33) but closed no new `K` in 60 s, and the
+//! one proof that closes, `N = 20`, `K = 2` from the triangle wave, took 9826 nodes and 439,636
+//! LP iterations instead of 5871 and 326,775; a mirror row for chains symmetric under
+//! reversing the blocks (the rear half slides at least as far as the front half; the mirror
+//! image of a gait moves the chain as far, checked by the exact simulator) took 9353 nodes and
+//! 496,126 iterations with the speed rows, and alone had not closed after 15,616 nodes.
 //!
 //! The quadratic cost is the perspective `(c/2) |U_j|^2 / tau_j` (likewise for `W_j`), handled
 //! by outer approximation ([`TangentRates`](crate::optimal::milp::TangentRates)): tangent cuts under-estimate it, so the MILP's
