@@ -65,8 +65,7 @@ impl<'a> AsGeneral<'a> {
     }
 
     /// General multipliers in the crawler's units: `p = K^(-1/2) p~`, `omega`, and `xi = xi~ / s_b`
-    /// on each face the crawler's structure has active (a face active in one structure only
-    /// carries no mass: its residuals show it).
+    /// (the instance's active faces are the crawler's, in the same order: [`structure_of`]).
     fn back(&self, g: GeneralRaw) -> Raw {
         let p =
             g.p.iter()
@@ -81,17 +80,12 @@ impl<'a> AsGeneral<'a> {
             .st
             .active
             .iter()
-            .enumerate()
-            .map(|(j, faces)| {
+            .zip(&g.xi)
+            .map(|(faces, xs)| {
                 faces
                     .iter()
-                    .map(|f| {
-                        let face = face_of(*f);
-                        self.gst.active[j]
-                            .iter()
-                            .position(|&g| g == face)
-                            .map_or(0.0, |fi| g.xi[j][fi] / self.s_b[f.b])
-                    })
+                    .zip(xs)
+                    .map(|(f, x)| x / self.s_b[f.b])
                     .collect()
             })
             .collect();
