@@ -167,9 +167,11 @@ fn a_start_with_more_slip_phases_than_k_is_a_cutoff_and_the_answer_when_nothing_
             ..PhaseOptions::default()
         };
         let s = solve_phase_with(&c, &p, k, Some(60.0), &opts).unwrap();
-        // Nothing of at most K slip phases reaches 2.6: the start, certified for K.
+        // Nothing of at most K slip phases reaches 2.6: the start, proven at least as good as
+        // every gait of at most K slip phases (it has 4, so not "optimal among" them).
         assert_eq!(s.phases, k);
-        assert_eq!(s.certificate.status, MilpStatus::OptimalAmongKPhases);
+        assert_eq!(s.slip_phases(), 4);
+        assert_eq!(s.certificate.status, MilpStatus::DominatesKPhases);
         assert_eq!(s.certificate.bound, g.objective());
         assert_eq!(s.durations, g.durations);
     }
@@ -260,4 +262,50 @@ fn an_idle_phase_optimum_is_certified() {
     assert_eq!(v["necessary_conditions"]["verdict"], "degenerate", "{v}");
     let back = common::certify_written(dir.path(), &v);
     assert_eq!(back, v["necessary_conditions"]);
+}
+
+/// `--phases 1` on a uniform chain of ten blocks: the best structured gait (the alternating
+/// triangle wave, two slip phases) beats every gait of one slip phase, and is the answer. It was
+/// reported `optimal_among_k_phases` (K = 1) with no word that it is the structured gait, a
+/// claim about a class the gait is not in; the answer now says `dominates_k_phases`, names the
+/// structured gait, certifies, and a file with the old claim is refused naming `status`.
+#[test]
+fn a_structured_gait_of_more_slip_phases_than_k_is_said_to_dominate_k() {
+    let dir = tempfile::tempdir().unwrap();
+    let model = common::write(
+        dir.path(),
+        "ten.toml",
+        "[crawler]\nblocks = 10\nstiffness = 1.0\nmu_forward = 1.0\nmu_backward = 1.3\n\
+         [gait]\nperiod = 10.0\nmax_actuator_speed = 1.0\n",
+    );
+    let v = common::optimize_json(&model, &["--method", "phase", "--phases", "1"]);
+    assert_eq!(v["status"], "dominates_k_phases", "{v}");
+    assert_eq!(v["certificate"]["phases"], 1);
+    // The wave moves 4 - 1 / (N - 1) = 35 / 9; the bound is its own J.
+    let j = v["objective"].as_f64().unwrap();
+    assert!((j - 35.0 / 9.0).abs() < 1e-9, "J = {j}");
+    assert!((v["certificate"]["bound"].as_f64().unwrap() - j).abs() < 1e-9);
+    let origin = v["structured"]["origin"].as_str().unwrap();
+    assert!(origin.contains("alternating triangle wave"), "{origin}");
+    let slip: Vec<Vec<i64>> = serde_json::from_value(v["solution"]["slip"].clone()).unwrap();
+    let runs = crawlopt::optimal::slip_sequence(
+        &slip
+            .iter()
+            .map(|r| r.iter().map(|&m| m as i8).collect())
+            .collect::<Vec<_>>(),
+    );
+    assert_eq!(runs.len(), 2);
+    let back = common::certify_written(dir.path(), &v);
+    assert_eq!(back["verdict"], "holds", "{back}");
+    // The old claim, written back, is refused with the field named.
+    let mut old = v.clone();
+    old["status"] = "optimal_among_k_phases".into();
+    let file = common::write(dir.path(), "old.json", &old.to_string());
+    let out = common::crawlopt(&["certify", file.to_str().unwrap()]);
+    assert!(!out.status.success());
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.contains("status") && err.contains("dominates_k_phases"),
+        "{err}"
+    );
 }

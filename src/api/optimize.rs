@@ -14,7 +14,7 @@ use crate::optimal::{
     discrete_convergence, discrete_start, grow_phases, phase_start, search_sequences,
     shifted_origin, slip_sequence, solve_discrete_global_with, solve_discrete_local_shifted,
     solve_phase_with, GaitProblem, GaitResult, MilpStatus, PhaseOptions, PhaseSolution, StartGait,
-    StartRecord, MAX_PHASES,
+    StartRecord, StructuredRecord, MAX_PHASES,
 };
 use serde::Serialize;
 
@@ -252,7 +252,17 @@ fn solve_method(
                     None
                 }
             });
-            solve_phase_method(crawler, problem, settings, plan, start, em)
+            let mut r = solve_phase_method(crawler, problem, settings, plan, start.clone(), em)?;
+            // The MILPs kept their start: the answer is the structured gait, said so.
+            if let (Some(f), Some(p)) = (floor, &start) {
+                if r.gait.durations == p.durations && r.gait.states == p.states {
+                    r.structured = Some(StructuredRecord {
+                        origin: f.best.origin.clone(),
+                        replaced: None,
+                    });
+                }
+            }
+            Ok(r)
         }
         GaitMethod::Discrete if settings.convergence => {
             em.stage("m = 1");

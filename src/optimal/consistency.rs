@@ -532,6 +532,51 @@ impl GaitResult {
         }
     }
 
+    /// A claim over gaits of at most `K` slip phases against the gait: `optimal_among_k_phases`
+    /// is for a gait in that class, `dominates_k_phases` for one outside it (more slip phases
+    /// than `K`), and both need the phase certificate with its `K`.
+    fn check_phase_claim(&self, what: &str) -> Result<()> {
+        let c = &self.certificate;
+        let among = self.status == MilpStatus::OptimalAmongKPhases;
+        if !among && self.status != MilpStatus::DominatesKPhases {
+            return Ok(());
+        }
+        let k = match (c.kind.as_str(), c.phases) {
+            ("global_k_phases", Some(k)) => k,
+            _ => {
+                return Err(bad(
+                    what,
+                    "status",
+                    self.status.as_str(),
+                    "is the status of a phase gait's global certificate, with its K in \
+                     certificate.phases",
+                ))
+            }
+        };
+        let p = self.gait.slip_phases();
+        match (among, p > k) {
+            (true, true) => Err(bad(
+                what,
+                "status",
+                self.status.as_str(),
+                format!(
+                    "claims optimality among gaits of at most {k} slip phases \
+                     (certificate.phases) for a gait of {p}; that claim is dominates_k_phases"
+                ),
+            )),
+            (false, false) => Err(bad(
+                what,
+                "status",
+                self.status.as_str(),
+                format!(
+                    "is for a gait of more than {k} slip phases (certificate.phases); this one \
+                     has {p}"
+                ),
+            )),
+            _ => Ok(()),
+        }
+    }
+
     /// The certificate's kind against the method, its bound against the objective and its gap
     /// against both.
     fn check_certificate(&self, what: &str, close: impl Fn(f64, f64) -> bool) -> Result<()> {
@@ -552,17 +597,7 @@ impl GaitResult {
                 format!("a {} result's certificate is one of {kinds:?}", self.method),
             ));
         }
-        if self.status == MilpStatus::OptimalAmongKPhases
-            && !(c.kind == "global_k_phases" && c.phases.is_some())
-        {
-            return Err(bad(
-                what,
-                "status",
-                self.status.as_str(),
-                "is the status of a phase gait's global certificate, with its K in \
-                 certificate.phases",
-            ));
-        }
+        self.check_phase_claim(what)?;
         match (c.kind.as_str(), c.bound, c.gap) {
             ("local", None, None) => Ok(()),
             ("local", _, _) => Err(bad(

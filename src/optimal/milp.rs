@@ -19,6 +19,11 @@ pub enum MilpStatus {
     /// Proven optimal among the gaits of at most `K` slip phases, `K` the certificate's
     /// `phases` (phase gaits: nothing is claimed about gaits of more phases).
     OptimalAmongKPhases,
+    /// The answer has more slip phases than `K` (a known start, e.g. the best structured gait,
+    /// that the `K`-phase MILP cannot hold) and the MILP proved that no gait of at most `K`
+    /// slip phases does better: the bound (the answer's own `J`) is global over that class,
+    /// which the answer lies outside. Nothing is claimed about the answer's own class.
+    DominatesKPhases,
     /// The time limit was reached with a feasible incumbent; see the gap and the bound (for a
     /// phase growth, the bound of the `K` the limit cut short, `K` the certificate's `phases`).
     TimeLimit,
@@ -38,6 +43,7 @@ impl MilpStatus {
         match self {
             MilpStatus::Optimal => "optimal",
             MilpStatus::OptimalAmongKPhases => "optimal_among_k_phases",
+            MilpStatus::DominatesKPhases => "dominates_k_phases",
             MilpStatus::TimeLimit => "time_limit",
             MilpStatus::ApproximationLimit => "approximation_limit",
             MilpStatus::Stationary => "stationary",
@@ -46,7 +52,8 @@ impl MilpStatus {
     }
 
     /// Whether the answer is proven optimal for its class (P_m, or gaits of at most `K` slip
-    /// phases).
+    /// phases). Not [`MilpStatus::DominatesKPhases`]: that answer is outside the class its
+    /// bound covers.
     pub fn is_optimal(self) -> bool {
         matches!(self, MilpStatus::Optimal | MilpStatus::OptimalAmongKPhases)
     }

@@ -136,6 +136,12 @@ pub struct GaitData {
 }
 
 impl GaitData {
+    /// Its number of slip phases, runs of one slip mode merged cyclically (what a phase
+    /// certificate's `K` counts; [`crate::optimal::slip_sequence`]).
+    pub fn slip_phases(&self) -> usize {
+        super::slip_sequence(&self.slip).len()
+    }
+
     /// A gait on a uniform grid of step `step` (P_m), slip modes read off the displacements.
     fn on_grid(
         crawler: &Crawler,

@@ -236,6 +236,12 @@ fn page(
 fn claims(result: &GaitResult) -> (String, String) {
     let c = &result.certificate;
     let cert = match (c.kind.as_str(), c.phases, result.m) {
+        ("global_k_phases", Some(k), _) if result.status == MilpStatus::DominatesKPhases => {
+            format!("at least as good as every gait of at most {k} slip phases (it has more)")
+        }
+        ("global_k_phases", Some(k), _) if result.status == MilpStatus::TimeLimit => {
+            format!("not proven: the bound is over gaits of at most {k} slip phases")
+        }
         ("global_k_phases", Some(k), _) => {
             format!("globally optimal among gaits of at most {k} slip phases")
         }
@@ -262,6 +268,9 @@ fn claims(result: &GaitResult) -> (String, String) {
     let status = match result.status {
         MilpStatus::Optimal => "solved to optimality",
         MilpStatus::OptimalAmongKPhases => among.as_str(),
+        MilpStatus::DominatesKPhases => {
+            "proven: no gait of at most K slip phases does better (the gait has more)"
+        }
         MilpStatus::TimeLimit => "stopped at the time limit (see the gap)",
         MilpStatus::ApproximationLimit => {
             "outer approximation of the cost stopped before closing the gap (see the gap)"

@@ -159,7 +159,9 @@ fn grow(
         problem,
         formulation: opts.formulation,
     };
-    let g = crate::optimal::growth::grow(&family, opts.range(), opts.start.clone(), progress)?;
+    let mut g = crate::optimal::growth::grow(&family, opts.range(), opts.start.clone(), progress)?;
+    // A start kept over a larger K's in-class optimum took that K's claim.
+    g.best.settle_claim();
     Ok(PhaseGrowth {
         best: g.best,
         table: g.table,

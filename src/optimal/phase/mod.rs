@@ -90,7 +90,7 @@
 use crate::error::{Error, Result};
 use crate::model::Crawler;
 use crate::optimal::milp::check_time_limit;
-use crate::optimal::{Certificate, GaitProblem};
+use crate::optimal::{Certificate, GaitProblem, MilpStatus};
 use serde::Serialize;
 
 mod decode;
@@ -145,6 +145,23 @@ impl PhaseSolution {
     /// `J` = verified displacement minus actuation cost.
     pub fn objective(&self) -> f64 {
         self.verified_displacement - self.actuation_cost
+    }
+
+    /// Its number of slip phases, runs of one slip mode merged cyclically (what `K` counts).
+    pub fn slip_phases(&self) -> usize {
+        slip_sequence(&self.modes).len()
+    }
+
+    /// The claim made true for the gait it is on: a gait of more slip phases than its
+    /// certificate's `K` (a known start the `K`-phase MILP could not hold, kept because no gait
+    /// of at most `K` slip phases beats it) is [`MilpStatus::DominatesKPhases`], not optimal
+    /// among a class it is not in.
+    pub(crate) fn settle_claim(&mut self) {
+        if self.certificate.status == MilpStatus::OptimalAmongKPhases
+            && self.slip_phases() > self.phases
+        {
+            self.certificate.status = MilpStatus::DominatesKPhases;
+        }
     }
 }
 
@@ -225,7 +242,7 @@ fn start_unproven(
     let mut s = s.clone();
     s.phases = phases;
     s.certificate = Certificate {
-        status: crate::optimal::MilpStatus::TimeLimit,
+        status: MilpStatus::TimeLimit,
         milp_objective: s.verified_displacement,
         bound,
         gap: Certificate::gap_of(bound, j),

@@ -78,7 +78,7 @@ pub fn solve_phase_with(
     let solved = crate::progress::within(time_limit, || {
         solve_steps(crawler, problem, phases, fits, None, &rows)
     });
-    match solved {
+    let mut answer = match solved {
         // No gait of at most `phases` slip phases reaches the cutoff: the start, if any, is
         // at least as good as all of them.
         Err(Error::Infeasible(_)) if cutoff.is_some() => match start {
@@ -129,7 +129,9 @@ pub fn solve_phase_with(
             _ => Ok(s),
         },
         r => r,
-    }
+    }?;
+    answer.settle_claim();
+    Ok(answer)
 }
 
 /// [`solve_steps_in`] in the optimisers' internal units ([`Units`]): the problem and the start

@@ -76,7 +76,10 @@ fn head(out: &mut String, r: &GaitResult, sc: &GaitScales) {
     let c = &r.certificate;
     let len = |v: f64| num(v, sc.length);
     match (r.status, c.phases) {
-        (MilpStatus::OptimalAmongKPhases | MilpStatus::TimeLimit, Some(k)) => {
+        (
+            MilpStatus::OptimalAmongKPhases | MilpStatus::DominatesKPhases | MilpStatus::TimeLimit,
+            Some(k),
+        ) => {
             wln!(
                 out,
                 "method {}: {} (K = {k})",
@@ -115,6 +118,10 @@ fn certificate_line(out: &mut String, r: &GaitResult, len: &dyn Fn(f64) -> Strin
     };
     let what = match (r.status, c.kind.as_str()) {
         (_, "local") => format!("local ({})", status_word(r.status)),
+        (MilpStatus::DominatesKPhases, _) => format!(
+            "proven at least as good as all {scope} (this gait has {})",
+            r.gait.slip_phases()
+        ),
         (status, _) if status.is_optimal() => format!("global among {scope}"),
         (status, _) => format!(
             "not proven ({}); the bound is over {scope}",
