@@ -10,7 +10,8 @@
 //! units of the unnormalised `+-nu_b`); the general face of block `b` (0-based) and side `+` is
 //! `2 b`, of side `-` is `2 b + 1` (0-based).
 
-use super::general_kkt::{face_weights, solve_general, GeneralRaw, GeneralStructure};
+use super::general_conditions::residuals;
+use super::general_kkt::{face_weights, psi_of, solve_general, GeneralRaw, GeneralStructure};
 use super::general_process::{control_rows, crawler_face_scales};
 use super::kkt::{FaceId, Norm, Raw, Stage, Structure};
 use super::process::{Process, ProcessKind};
@@ -62,6 +63,72 @@ impl<'a> AsGeneral<'a> {
             durations_free,
         )?;
         Ok(raw.map(|g| self.back(g)))
+    }
+
+    /// The discrete residuals of the crawler's multipliers `raw`, recomputed by (P)'s
+    /// residuals ([`residuals`]) on the instance, each in the crawler's units
+    /// ([`GeneralStructure::state_scale`], [`GeneralStructure::face_scale`]), in (P)'s names:
+    /// adjoint, complementarity, reaction stationarity, branch face sign, weak maximality,
+    /// sign and, with `durations_free`, the duration stationarity.
+    pub fn residuals(&self, raw: &Raw, durations_free: bool) -> Vec<(&'static str, f64)> {
+        residuals(
+            &self.inst.problem,
+            &self.gst,
+            &self.forward(raw),
+            true,
+            durations_free,
+        )
+        .into_iter()
+        .map(|(name, _, r)| (name, r))
+        .collect()
+    }
+
+    /// The crawler's multipliers in the instance's units, the inverse of [`Self::back`]:
+    /// `p~ = K^(1/2) p`, `omega`, `xi~ = s_b xi`, and each rate at its bound weighted by `psi`
+    /// (`rho = sign(v) psi_l`, clipped at 0: every active row of the crawler's box is an axis row,
+    /// [`GeneralStructure::axis_rows`]).
+    fn forward(&self, raw: &Raw) -> GeneralRaw {
+        let p = raw
+            .p
+            .iter()
+            .map(|p| {
+                p.iter()
+                    .zip(&self.inst.sqrt_k)
+                    .map(|(p, s)| p * s)
+                    .collect()
+            })
+            .collect();
+        let xi = self
+            .st
+            .active
+            .iter()
+            .zip(&raw.xi)
+            .map(|(faces, xs)| {
+                faces
+                    .iter()
+                    .zip(xs)
+                    .map(|(f, x)| x * self.s_b[f.b])
+                    .collect()
+            })
+            .collect();
+        let mut g = GeneralRaw {
+            lambda: raw.lambda,
+            p,
+            xi,
+            omega: raw.omega.clone(),
+            rho: Vec::new(),
+        };
+        g.rho = (0..self.gst.steps)
+            .map(|i| {
+                let psi = psi_of(&self.inst.problem, &self.gst, &g, i);
+                self.gst
+                    .axis_rows(i)
+                    .iter()
+                    .map(|ax| ax.map_or(0.0, |(l, v)| (psi[l] / v).max(0.0)))
+                    .collect()
+            })
+            .collect();
+        g
     }
 
     /// General multipliers in the crawler's units: `p = K^(-1/2) p~`, `omega`, and `xi = xi~ / s_b`
@@ -171,6 +238,8 @@ fn structure_of(p: &GeneralProblem, pr: &Process, st: &Structure, s_b: &[f64]) -
         w: face_weights(p),
         urows,
         face_scale: s_b.iter().flat_map(|&s| [s, s]).collect(),
+        // B = K^(-1/2): the instance's p~ is K^(1/2) p.
+        state_scale: (0..st.n).map(|l| p.dynamics.b[l][l]).collect(),
         margin_off_vertex: true,
     }
 }

@@ -5,7 +5,6 @@
 
 use super::general_kkt::{psi_of, GeneralRaw, GeneralStructure};
 use super::general_process::GeneralProcess;
-use super::stages::sign_residual;
 use super::{BranchLp, CertifyOptions, ConditionCheck, Normalisation, Verdict};
 use crate::error::{Error, Result};
 use crate::model::general::{dot, ControlSet, GeneralCost, GeneralProblem};
@@ -146,7 +145,7 @@ pub(crate) fn residuals(
              with rho >= 0 on the active rows of U (Thm 6.2 (pw))",
             maxim,
         ),
-        ("sign", "xi_{k,f} >= 0", sign_residual(raw)),
+        ("sign", "xi_{k,f} >= 0", sign_term(st, raw)),
     ];
     if durations_free && st.phase {
         out.push((
@@ -185,16 +184,28 @@ fn adjoint_terms(
             for (fi, &f) in st.active[k].iter().enumerate() {
                 v -= raw.xi[k][fi] * p.c.normals[f][l];
             }
-            adj = adj.max(v.abs());
+            adj = adj.max(v.abs() * st.state_scale[l]);
         }
         for (fi, &x) in raw.xi[k].iter().enumerate() {
             comp = comp.max(x.abs() * st.slack[k][fi]);
             if !st.held[k][fi] {
-                lp_sign = lp_sign.max(x);
+                lp_sign = lp_sign.max(x / st.face_scale[st.active[k][fi]]);
             }
         }
     }
     (adj, comp, lp_sign)
+}
+
+/// The largest violation of `xi >= 0` (Theorem 2.2 sign), each mass in its face's unit
+/// (`xi / face_scale`: a crawler's `xi` per unnormalised `nu_b`).
+fn sign_term(st: &GeneralStructure, raw: &GeneralRaw) -> f64 {
+    let mut s = 0.0_f64;
+    for (k, row) in raw.xi.iter().enumerate() {
+        for (fi, &x) in row.iter().enumerate() {
+            s = s.max(-x / st.face_scale[st.active[k][fi]]);
+        }
+    }
+    s
 }
 
 /// Reaction stationarity (Theorem 6.2 (pr)): the largest `|lambda w_f + <p_i, x*_f>|` on a face
@@ -204,7 +215,7 @@ fn reaction_term(p: &GeneralProblem, st: &GeneralStructure, raw: &GeneralRaw) ->
     let mut react = 0.0_f64;
     for i in 0..steps {
         for &(f, reacts) in &st.reacting[i] {
-            let g = raw.lambda * st.w[f] + dot(&raw.p[i], &p.c.normals[f]);
+            let g = (raw.lambda * st.w[f] + dot(&raw.p[i], &p.c.normals[f])) * st.face_scale[f];
             react = react.max(if reacts { g.abs() } else { g });
         }
     }

@@ -72,6 +72,11 @@ pub(crate) struct GeneralStructure {
     /// `face_scale * (r or s)`. 1 for (P)'s own faces; `s_b` for a crawler's instance, so that
     /// the least violations are the crawler's, in the units of `nu_b` (`certify::crawler_general`).
     pub face_scale: Vec<f64>,
+    /// The unit of each state's adjoint row in the recomputed residuals
+    /// (`general_conditions::residuals`): 1 for (P)'s own states; `1 / sqrt(k_l)` for a
+    /// crawler's instance, whose adjoint `p~ = K^(1/2) p`, so that the residual is the crawler's,
+    /// in the units of its own `p` (with `face_scale` for the faces' rows and `xi`).
+    pub state_scale: Vec<f64>,
     /// Whether the margin stage also weighs the pieces off a vertex of U. (P)'s certificate
     /// takes the margin on the pieces at a vertex only (off one it is 0 by definition); a
     /// crawler's on every rate at its bound, as its margin `min |p + omega|` reads. Where every
@@ -155,6 +160,7 @@ impl GeneralStructure {
             w: face_weights(p),
             urows,
             face_scale: vec![1.0; p.c.faces()],
+            state_scale: vec![1.0; n],
             margin_off_vertex: false,
         }
     }

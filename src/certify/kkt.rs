@@ -43,8 +43,6 @@ pub(crate) struct Structure {
     pub grad_f2: Vec<Vec<f64>>,
     /// `k_l`.
     pub k: Vec<f64>,
-    /// `a_l`.
-    pub a: Vec<f64>,
     /// `Df2(u_j).u_j - f2(u_j)` per piece (the cost's part of the maximised Hamiltonian).
     pub cost_h: Vec<f64>,
 }
@@ -108,7 +106,6 @@ impl Structure {
             .collect();
         let (grad_f2, cost_h) = cost_terms(p, n);
         Structure {
-            a: a.to_vec(),
             cost_h,
             n,
             nb,

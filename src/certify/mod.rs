@@ -94,7 +94,13 @@
 //! opposite are maximised over them in the box `|p~|, |omega| <= 1`; a non-zero maximiser, read
 //! back and scaled to `max(|p|, |omega|) = 1`, is a degenerate multiplier.
 //! Every residual is then recomputed in plain floating point from the multipliers found, not taken
-//! from the LP. The branch LPs themselves are solved too (`f2 = 0`), each with its slips fixed
+//! from the LP, by (P)'s residuals on the instance (`certify::general_conditions::residuals`,
+//! the same code as a general certificate's) in the crawler's units (the adjoint row of link `l`
+//! times `1 / sqrt(k_l)`, a face's rows and `xi` by `s_b`) and stated in the crawler's words
+//! (`slip_stationarity` is (P)'s reaction stationarity on a slipping block's face). The
+//! maximised Hamiltonian of a phase gait is (P)'s, `sum_r rho_r h_r`: `a_l |psi_l|` on the rates
+//! at their bound (where `psi` lies in the box's normal cone; an interior rate's `psi`, zero up
+//! to the maximality residual, adds nothing). The branch LPs themselves are solved too (`f2 = 0`), each with its slips fixed
 //! so that every point of it is a process: the gait's own branch (biactive blocks sticking)
 //! and, within a budget ([`branches_enumerated`]), every branch through it (each
 //! biactive block sticking or slipping on its face). The best optimum minus `J` is reported
@@ -209,7 +215,7 @@ pub fn certify(pr: &Process, opts: &CertifyOptions) -> Result<NecessaryCondition
     let general = crawler_general::AsGeneral::of(pr, &st)?;
     let chosen = stages::search(
         |lambda, stage, norm| general.solve(lambda, stage, norm, false),
-        |raw| kkt_residual(pr, &st, raw),
+        |raw| kkt_residual(pr, &general, raw),
         opts.tol,
         cap,
         pr.kind == ProcessKind::Phase,
@@ -227,14 +233,15 @@ pub fn certify(pr: &Process, opts: &CertifyOptions) -> Result<NecessaryCondition
         let raw = general.solve(1.0, Stage::Kkt, None, true)?.ok_or_else(|| {
             crate::Error::Numerical("certify: HiGHS found the multiplier LP infeasible".into())
         })?;
-        Some(kkt_residual_with(pr, &st, &raw, true) / sup(&raw.p).max(1.0))
+        Some(kkt_residual_with(pr, &general, &raw, true) / sup(&raw.p).max(1.0))
     } else {
         None
     };
-    let mut rep = report::report(pr, &st, chosen.0, chosen.1, opts);
+    let mut rep = report::report(pr, &st, &general, chosen.0, chosen.1, opts);
     if let Some(r) = duration {
         rep.add_duration_condition(
-            "H_k = sum_l a_l |psi_{k,l}| + lambda (Df2(u_k).u_k - f2(u_k))",
+            "H_k = sum_l a_l |psi_{k,l}| over the rates at their bound + lambda (Df2(u_k).u_k - \
+             f2(u_k))",
             r,
             opts.tol,
         );
@@ -299,13 +306,14 @@ mod tests {
             let r = GaitResult::from_discrete(&c, &pb, &s);
             let pr = Process::from_result(&r, "test").unwrap();
             let st = Structure::of(&pr, INPUT_TOL);
+            let general = crawler_general::AsGeneral::of(&pr, &st).unwrap();
             let (opt, raw) = kkt::branch_lp(&pr, &st, &st.slips).unwrap().unwrap();
             assert!((opt - r.objective).abs() < 1e-9, "{opt} vs {}", r.objective);
-            let res = discrete_residuals(&pr, &st, &raw, false);
+            let res = discrete_residuals(&pr, &general, &raw, false);
             for (name, _, v) in &res {
                 println!("N = {nb}: {name} {v:.3e}");
             }
-            assert!(kkt_residual(&pr, &st, &raw) < 1e-9);
+            assert!(kkt_residual(&pr, &general, &raw) < 1e-9);
         }
     }
 }

@@ -2,6 +2,7 @@
 //! in the paper's form, the continuous group of Theorem 2.2, the verdict and its reason; `J` of
 //! a process and the one-link structure (theory §9).
 
+use super::crawler_general::AsGeneral;
 use super::kkt::{normal, FaceId, Raw, Structure};
 use super::process::{Process, ProcessKind};
 use super::records::*;
@@ -16,6 +17,7 @@ use crate::optimal::Cost;
 pub(super) fn report(
     pr: &Process,
     st: &Structure,
+    general: &AsGeneral,
     raw: Raw,
     scaled_by: String,
     opts: &CertifyOptions,
@@ -26,7 +28,7 @@ pub(super) fn report(
     let discrete = matches!(pr.kind, ProcessKind::Discrete { .. });
     let sup_p = sup(&raw.p);
     let pscale = sup_p.max(1.0);
-    let disc = discrete_residuals(pr, st, &raw, false);
+    let disc = discrete_residuals(pr, general, &raw, false);
     let mut conditions = discrete_group(&disc, tol * pscale, raw.lambda);
 
     // Continuous time (Theorem 2.2) with the paper's extension.
