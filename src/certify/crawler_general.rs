@@ -13,6 +13,7 @@
 use super::general_conditions::residuals;
 use super::general_kkt::{face_weights, psi_of, solve_general, GeneralRaw, GeneralStructure};
 use super::general_process::{control_rows, crawler_face_scales};
+use super::general_report::l1_maximality;
 use super::kkt::{FaceId, Norm, Raw, Stage, Structure};
 use super::process::{Process, ProcessKind};
 use crate::error::Result;
@@ -81,6 +82,18 @@ impl<'a> AsGeneral<'a> {
         .into_iter()
         .map(|(name, _, r)| (name, r))
         .collect()
+    }
+
+    /// Theorem 2.2's weak maximality in `L^1(0, T)` of the crawler's multipliers `raw`: (P)'s
+    /// (`general_report::l1_maximality`, `p` piecewise linear on P_m, constant on a phase) on the
+    /// instance, where `psi` is the crawler's own (`B^T p~ = p`).
+    pub fn l1_maximality(&self, raw: &Raw) -> f64 {
+        let g = self.forward(raw);
+        let psi: Vec<Vec<f64>> = (0..self.gst.steps)
+            .map(|i| psi_of(&self.inst.problem, &self.gst, &g, i))
+            .collect();
+        // Never None: the instance's U is the crawler's box (a failing residual if it were not).
+        l1_maximality(&self.inst.problem, &self.gst, &g, &psi).unwrap_or(f64::INFINITY)
     }
 
     /// The crawler's multipliers in the instance's units, the inverse of [`Self::back`]:

@@ -199,7 +199,7 @@ fn control_law_residual(
 /// Weak maximality in L^1(0, T) with p extended piecewise linearly (§9; a box U): on step i,
 /// psi ramps from its value at p_i to that at p_(i+1), u^i fixed. On a phase p is constant
 /// (A = 0). `None` for a polytope U.
-fn l1_maximality(
+pub(crate) fn l1_maximality(
     p: &GeneralProblem,
     st: &GeneralStructure,
     raw: &GeneralRaw,

@@ -10,7 +10,7 @@ use super::residuals::discrete_residuals;
 use super::stages::sup;
 use super::verdict::{
     check, discrete_group, law_target, misplaced_mass, norm2, normalisation,
-    significant_multipliers, step_distance, verdict,
+    significant_multipliers, verdict,
 };
 use crate::optimal::Cost;
 
@@ -53,7 +53,7 @@ pub(super) fn report(
         adjoint: disc[0].2,
         sign: disc[5].2,
         support: misplaced_mass(&st.active, &raw.xi, discrete),
-        l1: l1_maximality(pr, st, &raw, discrete),
+        l1: general.l1_maximality(&raw),
         nontrivial: raw.lambda + sup_p,
         nondegenerate: margin > nd_tol,
         law: control_law_residual(pr, &raw, &p_plus_omega, nd_tol),
@@ -133,25 +133,6 @@ fn degenerate_reason(
 /// `psi_l = -p_l - omega_l - lambda Df2(u_j)_l` at the adjoint value `p` on piece `j`.
 fn psi_at(st: &Structure, raw: &Raw, p: &[f64], j: usize, l: usize) -> f64 {
     -p[l] - raw.omega[l] - raw.lambda * st.grad_f2[j][l]
-}
-
-/// Weak maximality in L^1(0, T) (Theorem 2.2): on piece j, psi ramps from its value at p_j to
-/// that at p_(j+1) for P_m (p extended piecewise linearly, §9), constant on a phase.
-fn l1_maximality(pr: &Process, st: &Structure, raw: &Raw, discrete: bool) -> f64 {
-    let (n, np) = (st.n, st.np);
-    let mut l1 = 0.0;
-    for j in 0..np {
-        let next = if discrete { (j + 1) % np } else { j };
-        for l in 0..n {
-            let (a, b) = (
-                psi_at(st, raw, &raw.p[j], j, l),
-                psi_at(st, raw, &raw.p[next], j, l),
-            );
-            let bound = st.bound[j][l];
-            l1 += step_distance(a, b, pr.durations[j], bound == 1, bound == -1);
-        }
-    }
-    l1
 }
 
 /// The control law weak maximality implies (§4): the largest `|u - law| / a` over the pieces.
