@@ -13,7 +13,7 @@
 use super::general_conditions::residuals;
 use super::general_kkt::{face_weights, psi_of, solve_general, GeneralRaw, GeneralStructure};
 use super::general_process::{control_rows, crawler_face_scales};
-use super::general_report::l1_maximality;
+use super::general_report::{control_law_residual, l1_maximality};
 use super::kkt::{FaceId, Norm, Raw, Stage, Structure};
 use super::process::{Process, ProcessKind};
 use crate::error::Result;
@@ -94,6 +94,21 @@ impl<'a> AsGeneral<'a> {
             .collect();
         // Never None: the instance's U is the crawler's box (a failing residual if it were not).
         l1_maximality(&self.inst.problem, &self.gst, &g, &psi).unwrap_or(f64::INFINITY)
+    }
+
+    /// The control law weak maximality implies (§4; `f2 = 0` or `(c/2)|u|^2`): (P)'s on the
+    /// instance, whose switching function is the crawler's `p + omega` (`B^T p~ = p`), as the
+    /// largest `|u - law| / a_l` (twice (P)'s `|u - law| / (upper - lower)`: `[-a_l, a_l]`).
+    pub fn control_law_residual(
+        &self,
+        u: &[Vec<f64>],
+        lambda: f64,
+        p_plus_omega: &[Vec<f64>],
+        nd_tol: f64,
+    ) -> f64 {
+        // Never None: the instance's U is a box and its cost none or quadratic.
+        2.0 * control_law_residual(&self.inst.problem, u, lambda, p_plus_omega, nd_tol)
+            .unwrap_or(f64::INFINITY)
     }
 
     /// The crawler's multipliers in the instance's units, the inverse of [`Self::back`]:

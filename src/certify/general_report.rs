@@ -47,7 +47,7 @@ pub(crate) fn report(
     let wmax = st.w.iter().fold(0.0_f64, |a, v| a.max(v.abs()));
     let nd_tol = 1e-6 * sup(&switching).max(wmax).max(1e-300);
     let margin_required = !strictly_convex(&p.cost, m);
-    let law = control_law_residual(p, pr, raw, &switching, nd_tol);
+    let law = control_law_residual(p, &pr.u, raw.lambda, &switching, nd_tol);
     let l1 = l1_maximality(p, st, raw, &psi);
     let continuous = ContinuousGroup {
         adj,
@@ -167,11 +167,12 @@ fn nondegeneracy_margin(
 }
 
 /// The control law weak maximality implies (a box U, f2 = 0 or (c/2)|u|^2): the largest
-/// `|u - law| / (upper - lower)` over the steps; `None` where no law is closed-form.
-fn control_law_residual(
+/// `|u - law| / (upper - lower)` over the steps (controls `u`, switching function `sigma` at
+/// `lambda`); `None` where no law is closed-form.
+pub(crate) fn control_law_residual(
     p: &GeneralProblem,
-    pr: &GeneralProcess,
-    raw: &GeneralRaw,
+    u: &[Vec<f64>],
+    lambda: f64,
     switching: &[Vec<f64>],
     nd_tol: f64,
 ) -> Option<f64> {
@@ -184,9 +185,9 @@ fn control_law_residual(
         GeneralCost::Quadratic { weight } => weight,
         _ => 0.0,
     };
-    let quadratic = (c > 0.0 && raw.lambda > 0.0).then_some(raw.lambda * c);
+    let quadratic = (c > 0.0 && lambda > 0.0).then_some(lambda * c);
     let mut worst = 0.0_f64;
-    for (s, u) in switching.iter().zip(&pr.u) {
+    for (s, u) in switching.iter().zip(u) {
         for l in 0..s.len() {
             if let Some(w) = law_target(s[l], quadratic, lower[l], upper[l], nd_tol) {
                 worst = worst.max((u[l] - w).abs() / (upper[l] - lower[l]));

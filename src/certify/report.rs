@@ -9,10 +9,8 @@ use super::records::*;
 use super::residuals::discrete_residuals;
 use super::stages::sup;
 use super::verdict::{
-    check, discrete_group, law_target, misplaced_mass, norm2, normalisation,
-    significant_multipliers, verdict,
+    check, discrete_group, misplaced_mass, norm2, normalisation, significant_multipliers, verdict,
 };
-use crate::optimal::Cost;
 
 pub(super) fn report(
     pr: &Process,
@@ -56,7 +54,7 @@ pub(super) fn report(
         l1: general.l1_maximality(&raw),
         nontrivial: raw.lambda + sup_p,
         nondegenerate: margin > nd_tol,
-        law: control_law_residual(pr, &raw, &p_plus_omega, nd_tol),
+        law: general.control_law_residual(&pr.controls, raw.lambda, &p_plus_omega, nd_tol),
     };
     conditions.extend(residuals.checks(tol * pscale, pr.problem.period, tol));
 
@@ -133,24 +131,6 @@ fn degenerate_reason(
 /// `psi_l = -p_l - omega_l - lambda Df2(u_j)_l` at the adjoint value `p` on piece `j`.
 fn psi_at(st: &Structure, raw: &Raw, p: &[f64], j: usize, l: usize) -> f64 {
     -p[l] - raw.omega[l] - raw.lambda * st.grad_f2[j][l]
-}
-
-/// The control law weak maximality implies (§4): the largest `|u - law| / a` over the pieces.
-fn control_law_residual(pr: &Process, raw: &Raw, p_plus_omega: &[Vec<f64>], nd_tol: f64) -> f64 {
-    let a = &pr.problem.rate_bound;
-    let quadratic = match pr.problem.cost {
-        Cost::Quadratic { weight } if raw.lambda > 0.0 => Some(raw.lambda * weight),
-        _ => None,
-    };
-    let mut law = 0.0_f64;
-    for (s, u) in p_plus_omega.iter().zip(&pr.controls) {
-        for l in 0..s.len() {
-            if let Some(w) = law_target(s[l], quadratic, -a[l], a[l], nd_tol) {
-                law = law.max((u[l] - w).abs() / a[l]);
-            }
-        }
-    }
-    law
 }
 
 /// The residuals of Theorem 2.2's continuous group, before they are checked.
