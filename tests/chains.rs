@@ -212,7 +212,10 @@ fn the_peers_instances_keep_their_known_optima() {
             "N = {nb}: {}",
             auto.objective
         );
-        assert!(auto.structured.is_none(), "N = {nb}");
+        // Not replaced by the floor (the answer may be the structured gait itself, the MILP's
+        // start kept at its K, which `structured` then names).
+        let replaced = auto.structured.as_ref().and_then(|s| s.replaced.as_ref());
+        assert!(replaced.is_none(), "N = {nb}: {replaced:?}");
         let s = best_structured(&c, &p, &StructuredOptions::default())
             .unwrap()
             .unwrap();

@@ -551,7 +551,11 @@ def simulate(
 class GaitResult:
     """An optimal gait with its certificate (what ``crawlopt optimize --json`` writes): every
     field of that document is an attribute (``objective``, ``displacement_per_period``,
-    ``status``, ``certificate``, ``phase_growth``, ``convergence``, ...); ``gait`` (also
+    ``status``, ``certificate``, ``phase_growth``, ``convergence``, ...); ``status`` is what was
+    proven: "optimal" (P_m), "optimal_among_k_phases" (K in ``certificate["phases"]``),
+    "dominates_k_phases" (a gait of more than K slip phases, e.g. the structured gait named in
+    ``structured``, that no gait of at most K slip phases beats), "time_limit",
+    "approximation_limit", or a local method's "stationary" / "stalled"; ``gait`` (also
     ``solution``, the document's name for it) has the arrays ``t`` (knot times), ``L``
     (actuator lengths at the knots), ``u`` (controls per piece), ``x`` (states), ``slip``."""
 

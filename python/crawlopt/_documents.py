@@ -301,9 +301,8 @@ class GeneralResult(_LibraryFigures, Document):
 
     @property
     def status(self) -> Optional[str]:
-        """What was proven: "optimal", "optimal_among_k_phases", "dominates_k_phases" (a gait
-        of more than K slip phases, at least every gait of at most K), "time_limit", ... or a
-        local method's "stationary" / "stalled"."""
+        """What was proven: "optimal", "optimal_among_k_phases", "time_limit", ... or a local
+        method's "stationary" / "stalled"."""
         return self._doc.get("status")
 
     @staticmethod

@@ -65,6 +65,9 @@ fn optimize_named(
         let mut result = crate::progress::within(settings.time_limit, || {
             solve(crawler, problem, settings, &plan, em)
         })?;
+        if plan.method != GaitMethod::Discrete {
+            result = at_least_idle(crawler, problem, &plan, result, em)?;
+        }
         if let Some(b) = &settings.bound {
             em.stage("proving an upper bound over all periodic gaits");
             let ub = crate::certify::bound::upper_bound(crawler, problem, b)?;
@@ -196,6 +199,53 @@ fn solve(
     Ok(out)
 }
 
+/// The idle gait (`u = 0`, `J = 0`, a gait of every class) in place of an answer below it: a
+/// method cut short by the time limit (or a local one stopped in a costly gait, with every
+/// structured gait costing more than it moves) may end below 0 (six blocks with a quadratic
+/// cost, `--phases 4 --time-limit 10`: J = -0.084). The idle answer keeps the claim's status
+/// where it was `time_limit` (the job was cut short) and records what the method found.
+/// Not for the discrete method, whose P_m answer is the optimum of its own grid problem.
+fn at_least_idle(
+    crawler: &Crawler,
+    problem: &GaitProblem,
+    plan: &Plan,
+    r: GaitResult,
+    em: &Emitter<'_>,
+) -> Result<GaitResult> {
+    let tol = 1e-9 * problem.length_scale(crawler);
+    if r.objective >= -tol {
+        return Ok(r);
+    }
+    em.send(Event::Note(format!(
+        "the {} method's gait has J = {:.6e} < 0: the idle gait (u = 0, J = 0) is returned",
+        plan.method.name(),
+        r.objective
+    )));
+    let n = crawler.links();
+    let mut idle = crate::optimal::structured::knots_result(
+        crawler,
+        problem,
+        vec![0.0, 0.5 * problem.period],
+        vec![vec![0.0; n]; 2],
+        "the idle gait (u = 0)",
+    )?;
+    if matches!(plan.method, GaitMethod::Sequence | GaitMethod::Chain) {
+        idle.method = plan.method.name().into();
+    }
+    if r.status == MilpStatus::TimeLimit {
+        idle.status = MilpStatus::TimeLimit;
+    }
+    if let Some(s) = idle.structured.as_mut() {
+        s.replaced = Some(format!(
+            "{}: J = {} (status {}), below the idle gait",
+            r.method,
+            r.objective,
+            r.status.as_str()
+        ));
+    }
+    Ok(idle)
+}
+
 /// The best structured gait `f` as the job's answer, when the method found none or a worse
 /// one. Its envelope names the method that ran where that method answers with exact phase
 /// gaits (sequence, chain; [`GaitResult::is_phase_gait`]); the local and discrete methods
@@ -303,8 +353,8 @@ fn solve_method(
 }
 
 /// The chain method: a pattern search over the chain's ramp gaits from the best structured
-/// gaits (`floor`; none is an error: the method has no start), or the idle gait when every ramp
-/// pays more than it moves the crawler. Written as method `chain`.
+/// gaits (`floor`; none is an error: the method has no start). Written as method `chain`; a
+/// ramp gait below 0 gives way to the idle gait ([`at_least_idle`]).
 fn solve_chain(
     crawler: &Crawler,
     problem: &GaitProblem,
@@ -337,30 +387,11 @@ fn solve_chain(
             ))
         },
     )?;
-    if s.result.objective >= 0.0 {
-        let mut r = s.result;
-        r.method = GaitMethod::Chain.name().into();
-        return Ok(r);
-    }
-    // The idle gait (u = 0, J = 0) is a gait too: with a cost, every ramp the search
-    // tried may pay more than it moves the crawler.
-    em.send(Event::Note(format!(
-        "the chain method's best ramp gait has J = {:.6e} < 0: the idle gait (u = 0, \
-         J = 0) is returned",
-        s.result.objective
-    )));
-    let n = crawler.links();
-    let mut idle = crate::optimal::structured::knots_result(
-        crawler,
-        problem,
-        vec![0.0, 0.5 * problem.period],
-        vec![vec![0.0; n]; 2],
-        "the idle gait (u = 0)",
-    )?;
-    // A search cut short says so, whatever it returns.
-    idle.status = s.result.status;
-    idle.method = GaitMethod::Chain.name().into();
-    Ok(idle)
+    // A ramp gait below 0 (every ramp paying more than it moves the crawler) gives way to the
+    // idle gait in `at_least_idle`.
+    let mut r = s.result;
+    r.method = GaitMethod::Chain.name().into();
+    Ok(r)
 }
 
 /// The sequence method: a local search over cyclic sequences of `settings.phases` slip modes
@@ -520,4 +551,33 @@ fn start_of(start: &Start, crawler: &Crawler, problem: &GaitProblem) -> Result<S
         }
     };
     StartGait::from_result(crawler, problem, result, &name)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::optimal::structured::knots_result;
+    use crate::optimal::Cost;
+
+    /// An answer below the idle gait (a stroke that costs more than it moves the crawler, as a
+    /// MILP cut short by its time limit may return: six blocks at `--phases 4 --time-limit 10`
+    /// gave J = -0.084) gives way to the idle gait, J = 0, keeping the `time_limit` status and
+    /// saying what the method had found; the answer reads back.
+    #[test]
+    fn an_answer_below_zero_gives_way_to_the_idle_gait() {
+        let c = Crawler::uniform(3, 1.0, 1.0, 1.5).unwrap();
+        let cost = Cost::Quadratic { weight: 100.0 };
+        let p = GaitProblem::new(&c, 10.0, &[1.0, 1.0], cost, None).unwrap();
+        let lengths = vec![vec![0.1, 0.0], vec![-0.1, 0.0]];
+        let mut costly = knots_result(&c, &p, vec![0.0, 5.0], lengths, "a stroke").unwrap();
+        assert!(costly.objective < -0.1, "J = {}", costly.objective);
+        costly.status = MilpStatus::TimeLimit;
+        let plan = OptimizeSettings::default().plan(&c, &p).unwrap();
+        let r = at_least_idle(&c, &p, &plan, costly, &Emitter::new(None)).unwrap();
+        assert_eq!(r.objective, 0.0);
+        assert_eq!(r.status, MilpStatus::TimeLimit);
+        let why = r.structured.as_ref().and_then(|s| s.replaced.clone());
+        assert!(why.is_some_and(|w| w.contains("below the idle gait")));
+        GaitResult::from_json(&serde_json::to_string(&r).unwrap(), "idle").unwrap();
+    }
 }

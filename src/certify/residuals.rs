@@ -1,7 +1,7 @@
 //! The discrete residuals of a crawler's necessary conditions (Theorems 6.1–6.2): (P)'s
 //! residuals recomputed on the crawler's instance, in the crawler's units
 //! ([`AsGeneral::residuals`]), and stated in the crawler's own words (blocks that slip, links'
-//! rates); and the integral the continuous group needs.
+//! rates).
 
 use super::crawler_general::AsGeneral;
 use super::kkt::Raw;
@@ -77,16 +77,4 @@ pub(super) fn kkt_residual_with(
         .iter()
         .filter(|(name, _, _)| *name != "sign")
         .fold(0.0_f64, |m, (_, _, r)| m.max(*r))
-}
-
-/// `int_0^tau max(0, linear from a to b) ds`.
-pub(crate) fn int_pos(a: f64, b: f64, tau: f64) -> f64 {
-    if a >= 0.0 && b >= 0.0 {
-        0.5 * tau * (a + b)
-    } else if a <= 0.0 && b <= 0.0 {
-        0.0
-    } else {
-        let hi = a.max(b);
-        0.5 * tau * hi * hi / (b - a).abs()
-    }
 }

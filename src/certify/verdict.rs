@@ -7,7 +7,6 @@
 //! bounded by `a`, a general problem's faces are C's rows and its controls live in U.
 
 use super::records::{ConditionCheck, Normalisation, Verdict};
-use super::residuals::int_pos;
 
 /// One condition with its residual held against its tolerance.
 pub(super) fn check(
@@ -210,5 +209,17 @@ pub(super) fn normalisation(
         lambda_theorem_2_2: lambda / nontrivial,
         paper_norm: paper,
         lambda_paper_norm: lambda / paper,
+    }
+}
+
+/// `int_0^tau max(0, linear from a to b) ds`.
+fn int_pos(a: f64, b: f64, tau: f64) -> f64 {
+    if a >= 0.0 && b >= 0.0 {
+        0.5 * tau * (a + b)
+    } else if a <= 0.0 && b <= 0.0 {
+        0.0
+    } else {
+        let hi = a.max(b);
+        0.5 * tau * hi * hi / (b - a).abs()
     }
 }

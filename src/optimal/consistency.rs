@@ -15,6 +15,11 @@ use crate::optimal::{replay, Certificate, GaitProblem, GaitResult, MilpStatus};
 /// are meaningful at the `1e-9` level of the certificate.
 pub const INPUT_TOL: f64 = 1e-7;
 
+/// The largest gap of an `optimal_among_k_phases` or `dominates_k_phases` claim in a result
+/// file: ten times the outer approximation's tolerance on a quadratic cost (`1e-6`, within which
+/// such a MILP counts as closed); beyond it the claim is a `time_limit` or `approximation_limit`.
+pub const PHASE_CLAIM_GAP: f64 = 1e-5;
+
 /// How the process was discretised, which fixes where a slipping block's face must be active.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum ProcessKind {
@@ -532,7 +537,8 @@ impl GaitResult {
         }
     }
 
-    /// A claim over gaits of at most `K` slip phases against the gait: `optimal_among_k_phases`
+    /// A claim over gaits of at most `K` slip phases against the gait (and its gap against
+    /// [`PHASE_CLAIM_GAP`]): `optimal_among_k_phases`
     /// is for a gait in that class, `dominates_k_phases` for one outside it (more slip phases
     /// than `K`), and both need the phase certificate with its `K`.
     fn check_phase_claim(&self, what: &str) -> Result<()> {
@@ -553,6 +559,20 @@ impl GaitResult {
                 ))
             }
         };
+        // Both claim that no gait of at most K slip phases beats this one: the bound is its J
+        // (up to the outer approximation's tolerance of a quadratic cost).
+        if let Some(gap) = c.gap.filter(|&g| g.is_nan() || g > PHASE_CLAIM_GAP) {
+            return Err(bad(
+                what,
+                "certificate.gap",
+                gap,
+                format!(
+                    "status {} claims no gait of at most {k} slip phases does better; its gap \
+                     must be at most {PHASE_CLAIM_GAP:e}",
+                    self.status.as_str()
+                ),
+            ));
+        }
         let p = self.gait.slip_phases();
         match (among, p > k) {
             (true, true) => Err(bad(

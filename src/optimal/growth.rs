@@ -7,7 +7,8 @@
 //!
 //! **What the answer claims.** The best verified gait found, with the certificate of the
 //! largest `K` solved: `optimal_among_k_phases` when that `K`'s MILP was solved to optimality
-//! (no gait of at most `K` phases does better than its bound), `time_limit` with that `K`'s
+//! (no gait of at most `K` phases does better than its bound; `dominates_k_phases` for the
+//! crawler when the gait is a start of more slip phases than `K`), `time_limit` with that `K`'s
 //! bound and gap when the limit cut it short. Both families' MILPs at `K` contain every gait
 //! of fewer phases, so a growth's `J_K` never decreases; a growth stopped by its patience
 //! claims only the `K` it reached.
@@ -35,7 +36,8 @@ pub struct PhaseStep {
     pub bound: f64,
     /// Its gap.
     pub gap: f64,
-    /// `"optimal_among_k_phases"`, `"time_limit"` or `"approximation_limit"`.
+    /// `"optimal_among_k_phases"`, `"dominates_k_phases"` (the start kept: no gait of at most
+    /// `K` slip phases beats it), `"time_limit"` or `"approximation_limit"`.
     pub status: MilpStatus,
     /// Wall time of this `K`, seconds.
     pub seconds: f64,

@@ -191,7 +191,8 @@ pub struct GaitResult {
     /// `m` of P_m (discrete only).
     pub m: Option<u32>,
     /// What was proven ([`MilpStatus`]): `"optimal"` (for P_m), `"optimal_among_k_phases"`
-    /// (phase gaits; `K` is `certificate.phases`), `"time_limit"` (see the gap and bound),
+    /// (phase gaits; `K` is `certificate.phases`), `"dominates_k_phases"` (a phase gait of more
+    /// than `K` slip phases that none of at most `K` beats), `"time_limit"` (see the gap and bound),
     /// `"approximation_limit"`, or the local methods' `"stationary"` / `"stalled"`.
     pub status: MilpStatus,
     /// `J` = displacement per period minus actuation cost, from the verified displacement.
@@ -226,8 +227,9 @@ pub struct GaitResult {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub polish: Option<crate::optimal::polish::PolishRecord>,
     /// The best structured gait ([`crate::optimal::structured`]) when it is the answer: the
-    /// method's own gait was below it (the floor of every answer), or it was the start of a
-    /// local method that did not improve on it.
+    /// method's own gait was below it (the floor of every answer; `replaced` says what the
+    /// method found), it was the start of a local method that did not improve on it, or the
+    /// phase MILPs kept it as their start (no gait of at most `K` slip phases beats it).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub structured: Option<StructuredRecord>,
 }

@@ -239,7 +239,7 @@ fn claims(result: &GaitResult) -> (String, String) {
         ("global_k_phases", Some(k), _) if result.status == MilpStatus::DominatesKPhases => {
             format!("at least as good as every gait of at most {k} slip phases (it has more)")
         }
-        ("global_k_phases", Some(k), _) if result.status == MilpStatus::TimeLimit => {
+        ("global_k_phases", Some(k), _) if !result.status.is_optimal() => {
             format!("not proven: the bound is over gaits of at most {k} slip phases")
         }
         ("global_k_phases", Some(k), _) => {
@@ -265,12 +265,15 @@ fn claims(result: &GaitResult) -> (String, String) {
         Some(k) => format!("solved to optimality among gaits of at most {k} slip phases"),
         None => "solved to optimality among gaits of at most K slip phases".into(),
     };
+    let dominates = format!(
+        "proven: no gait of at most {} slip phases does better (this one has {})",
+        c.phases.unwrap_or_default(),
+        result.gait.slip_phases()
+    );
     let status = match result.status {
         MilpStatus::Optimal => "solved to optimality",
         MilpStatus::OptimalAmongKPhases => among.as_str(),
-        MilpStatus::DominatesKPhases => {
-            "proven: no gait of at most K slip phases does better (the gait has more)"
-        }
+        MilpStatus::DominatesKPhases => dominates.as_str(),
         MilpStatus::TimeLimit => "stopped at the time limit (see the gap)",
         MilpStatus::ApproximationLimit => {
             "outer approximation of the cost stopped before closing the gap (see the gap)"
@@ -480,6 +483,19 @@ fn gait_section(h: &mut String, result: &GaitResult, n: usize, cert: &str, statu
         num(result.solver_objective),
         num(result.actuation_cost)
     ));
+    if let Some(st) = &result.structured {
+        h.push_str(&format!(
+            "<p id=\"structured\">The gait: {}.",
+            esc(&st.origin)
+        ));
+        if let Some(why) = &st.replaced {
+            h.push_str(&format!(
+                " Kept instead of the method's answer: {}.",
+                esc(why)
+            ));
+        }
+        h.push_str("</p>\n");
+    }
     // Pieces are numbered from 0, as in the text of `crawlopt optimize` and its certificate
     // ("piece 1" is the second piece there too).
     h.push_str("<div class=\"scroll\">\n<table id=\"pieces\">\n<tr><th>piece</th><th>from t</th><th>to t</th>");

@@ -91,8 +91,10 @@ pub struct PhaseGrowth {
 /// that accurate) for `patience` consecutive `K`, or `max_phases` or the time limit is reached
 /// (module docs). The returned gait is the best found, and its certificate is that of the largest
 /// `K` solved: `optimal_among_k_phases` when that `K` was solved to optimality (the gait has at
-/// most that many slip phases, and no gait of that many does better than the bound), `time_limit`
-/// with that `K`'s bound and gap when the limit cut its MILP short. `progress` sees each `K` as it
+/// most that many slip phases, and no gait of that many does better than the bound),
+/// `dominates_k_phases` when the gait is the start, of more slip phases than that `K`, and no gait
+/// of at most `K` beats it, `time_limit` with that `K`'s bound and gap when the limit cut its MILP
+/// short. `progress` sees each `K` as it
 /// is solved.
 pub fn grow_phases(
     crawler: &Crawler,

@@ -197,9 +197,11 @@ pub struct PhaseOptions {
     /// A known gait, e.g. the best structured gait turned into phases by [`phase_gait_of`], or
     /// an optimum of a smaller `K`. When it has at most `K` slip phases it is the MILP's first
     /// incumbent; when it has more, its `J` is the [`cutoff`](Self::cutoff) unless one is
-    /// given. If no gait of at most `K` slip phases beats the cutoff, the answer is this gait,
-    /// certified `optimal_among_k_phases` with bound `J` of this gait: no gait of at most `K`
-    /// slip phases does better (whatever this gait's own number of slip phases).
+    /// given. If no gait of at most `K` slip phases beats the cutoff, the answer is this gait
+    /// with bound `J` of this gait: no gait of at most `K` slip phases does better. Its status
+    /// is `dominates_k_phases` when it has more than `K` slip phases
+    /// ([`MilpStatus::DominatesKPhases`]), `optimal_among_k_phases` otherwise; a MILP answer as
+    /// good as it up to `1e-9` of the length scale is preferred (its claim is the stronger).
     pub start: Option<PhaseSolution>,
     /// Search only the gaits with `J >= cutoff` (less `1e-9` of the length scale), a row on the
     /// MILP's objective. Without a start and with no such gait, the answer is an

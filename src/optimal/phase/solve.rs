@@ -78,6 +78,7 @@ pub fn solve_phase_with(
     let solved = crate::progress::within(time_limit, || {
         solve_steps(crawler, problem, phases, fits, None, &rows)
     });
+    let resolution = crate::optimal::growth::MOVE_RESOLUTION * problem.length_scale(crawler);
     let mut answer = match solved {
         // No gait of at most `phases` slip phases reaches the cutoff: the start, if any, is
         // at least as good as all of them.
@@ -113,8 +114,10 @@ pub fn solve_phase_with(
         // the start. The MILP's bound covers every gait of at most `phases` slip phases; a
         // bound below the start's J says that none of them reaches it, so the claim is the
         // cutoff's: bound J of the start (a bound below a verified J would be false).
+        // A MILP answer as good as the start up to the replay's resolution is kept: it is of at
+        // most `phases` slip phases, so its claim is the stronger (optimal among them).
         Ok(s) => match start {
-            Some(st) if st.objective() > s.objective() => {
+            Some(st) if st.objective() > s.objective() + resolution => {
                 let mut st = st.clone();
                 let bound = s.certificate.bound.max(st.objective());
                 st.phases = phases;
