@@ -116,29 +116,7 @@ impl<'a> AsGeneral<'a> {
     /// (`rho = sign(v) psi_l`, clipped at 0: every active row of the crawler's box is an axis row,
     /// [`GeneralStructure::axis_rows`]).
     fn forward(&self, raw: &Raw) -> GeneralRaw {
-        let p = raw
-            .p
-            .iter()
-            .map(|p| {
-                p.iter()
-                    .zip(&self.inst.sqrt_k)
-                    .map(|(p, s)| p * s)
-                    .collect()
-            })
-            .collect();
-        let xi = self
-            .st
-            .active
-            .iter()
-            .zip(&raw.xi)
-            .map(|(faces, xs)| {
-                faces
-                    .iter()
-                    .zip(xs)
-                    .map(|(f, x)| x * self.s_b[f.b])
-                    .collect()
-            })
-            .collect();
+        let (p, xi) = self.rescaled(&raw.p, &raw.xi, |v, s| v * s);
         let mut g = GeneralRaw {
             lambda: raw.lambda,
             p,
@@ -162,34 +140,46 @@ impl<'a> AsGeneral<'a> {
     /// General multipliers in the crawler's units: `p = K^(-1/2) p~`, `omega`, and `xi = xi~ / s_b`
     /// (the instance's active faces are the crawler's, in the same order: [`structure_of`]).
     fn back(&self, g: GeneralRaw) -> Raw {
-        let p =
-            g.p.iter()
-                .map(|p| {
-                    p.iter()
-                        .zip(&self.inst.sqrt_k)
-                        .map(|(p, s)| p / s)
-                        .collect()
-                })
-                .collect();
-        let xi = self
-            .st
-            .active
-            .iter()
-            .zip(&g.xi)
-            .map(|(faces, xs)| {
-                faces
-                    .iter()
-                    .zip(xs)
-                    .map(|(f, x)| x / self.s_b[f.b])
-                    .collect()
-            })
-            .collect();
+        let (p, xi) = self.rescaled(&g.p, &g.xi, |v, s| v / s);
         Raw {
             lambda: g.lambda,
             p,
             xi,
             omega: g.omega,
         }
+    }
+
+    /// `p` per link by `sqrt(k_l)` and `xi` per face by `s_b`, each through `by(value, scale)`
+    /// (a product one way, a quotient the other).
+    fn rescaled(
+        &self,
+        p: &[Vec<f64>],
+        xi: &[Vec<f64>],
+        by: impl Fn(f64, f64) -> f64,
+    ) -> (Vec<Vec<f64>>, Vec<Vec<f64>>) {
+        let p = p
+            .iter()
+            .map(|p| {
+                p.iter()
+                    .zip(&self.inst.sqrt_k)
+                    .map(|(&v, &s)| by(v, s))
+                    .collect()
+            })
+            .collect();
+        let xi = self
+            .st
+            .active
+            .iter()
+            .zip(xi)
+            .map(|(faces, xs)| {
+                faces
+                    .iter()
+                    .zip(xs)
+                    .map(|(f, &x)| by(x, self.s_b[f.b]))
+                    .collect()
+            })
+            .collect();
+        (p, xi)
     }
 }
 
