@@ -10,12 +10,15 @@
 //! units of the unnormalised `+-nu_b`); the general face of block `b` (0-based) and side `+` is
 //! `2 b`, of side `-` is `2 b + 1` (0-based).
 
+use super::crawler_words::crawler_words;
 use super::general_conditions::residuals;
+use super::general_conditions::GeneralNecessaryConditions;
 use super::general_kkt::{face_weights, psi_of, solve_general, GeneralRaw, GeneralStructure};
-use super::general_process::{control_rows, crawler_face_scales};
-use super::general_report::{control_law_residual, l1_maximality};
+use super::general_process::{control_rows, crawler_face_scales, GeneralProcess};
+use super::general_report::{report, Words};
 use super::kkt::{FaceId, Norm, Raw, Stage, Structure};
 use super::process::{Process, ProcessKind};
+use super::CertifyOptions;
 use crate::error::Result;
 use crate::model::general::{GeneralCost, GeneralProblem};
 use crate::model::{crawler_as_general, CrawlerInstance};
@@ -27,6 +30,8 @@ pub(crate) struct AsGeneral<'a> {
     inst: CrawlerInstance,
     st: &'a Structure,
     gst: GeneralStructure,
+    /// The process on the instance ([`GeneralProcess::of_crawler`]).
+    process: GeneralProcess,
     s_b: Vec<f64>,
 }
 
@@ -42,7 +47,14 @@ impl<'a> AsGeneral<'a> {
             crawler_as_general(&pr.crawler, pr.problem.period, &pr.problem.rate_bound, cost)?;
         let s_b = crawler_face_scales(pr.crawler.stiffness());
         let gst = structure_of(&inst.problem, pr, st, &s_b);
-        Ok(AsGeneral { s_b, inst, st, gst })
+        let process = GeneralProcess::of_crawler(pr);
+        Ok(AsGeneral {
+            s_b,
+            inst,
+            st,
+            gst,
+            process,
+        })
     }
 
     /// One general multiplier LP (the crawler's instance has no drift: `A = 0`), its solution
@@ -84,31 +96,32 @@ impl<'a> AsGeneral<'a> {
         .collect()
     }
 
-    /// Theorem 2.2's weak maximality in `L^1(0, T)` of the crawler's multipliers `raw`: (P)'s
-    /// (`general_report::l1_maximality`, `p` piecewise linear on P_m, constant on a phase) on the
-    /// instance, where `psi` is the crawler's own (`B^T p~ = p`).
-    pub fn l1_maximality(&self, raw: &Raw) -> f64 {
-        let g = self.forward(raw);
-        let psi: Vec<Vec<f64>> = (0..self.gst.steps)
-            .map(|i| psi_of(&self.inst.problem, &self.gst, &g, i))
-            .collect();
-        // Never None: the instance's U is the crawler's box (a failing residual if it were not).
-        l1_maximality(&self.inst.problem, &self.gst, &g, &psi).unwrap_or(f64::INFINITY)
-    }
-
-    /// The control law weak maximality implies (§4; `f2 = 0` or `(c/2)|u|^2`): (P)'s on the
-    /// instance, whose switching function is the crawler's `p + omega` (`B^T p~ = p`), as the
-    /// largest `|u - law| / a_l` (twice (P)'s `|u - law| / (upper - lower)`: `[-a_l, a_l]`).
-    pub fn control_law_residual(
+    /// (P)'s certificate report ([`report`]) of the crawler's multipliers `raw` on the
+    /// instance: every residual in the crawler's units (the structure's scales), every
+    /// condition in the crawler's words ([`crawler_words`]); read back into the crawler's
+    /// names by `certify::report`.
+    pub fn report(
         &self,
-        u: &[Vec<f64>],
-        lambda: f64,
-        p_plus_omega: &[Vec<f64>],
-        nd_tol: f64,
-    ) -> f64 {
-        // Never None: the instance's U is a box and its cost none or quadratic.
-        2.0 * control_law_residual(&self.inst.problem, u, lambda, p_plus_omega, nd_tol)
-            .unwrap_or(f64::INFINITY)
+        raw: &Raw,
+        scaled_by: String,
+        opts: &CertifyOptions,
+    ) -> GeneralNecessaryConditions {
+        let words = Words {
+            switching: "p + omega",
+            component: "link",
+            condition: crawler_words,
+        };
+        let g = self.forward(raw);
+        report(
+            &self.inst.problem,
+            &self.process,
+            &self.gst,
+            &g,
+            scaled_by,
+            opts,
+            true,
+            &words,
+        )
     }
 
     /// The crawler's multipliers in the instance's units, the inverse of [`Self::back`]:
@@ -259,5 +272,6 @@ fn structure_of(p: &GeneralProblem, pr: &Process, st: &Structure, s_b: &[f64]) -
         // B = K^(-1/2): the instance's p~ is K^(1/2) p.
         state_scale: (0..st.n).map(|l| p.dynamics.b[l][l]).collect(),
         margin_off_vertex: true,
+        switching_unit: 1.0 / (st.nb as f64 * st.k.iter().fold(0.0_f64, |m, &k| m.max(k))),
     }
 }

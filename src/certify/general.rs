@@ -102,8 +102,8 @@
 //! margin is, for a box U, `min_{i,l} |sigma_{i,l}|` (the crawler's `min |p + omega|`), for a
 //! polytope the least `rho` over the steps at vertices of U (0 if a step is not at a vertex).
 //! For a strictly convex `f2` (`R` positive definite) the maximiser of the Hamiltonian is unique
-//! whatever `sigma`, so the margin is reported but not required (the crawler's certificate asks
-//! it for quadratic costs too).
+//! whatever `sigma`, so the margin is reported but not required (a crawler's certificate is this
+//! report on its instance: the same rule).
 
 use super::general_conditions::residuals;
 pub use super::general_conditions::{
@@ -148,7 +148,9 @@ pub(crate) fn certify_with(
         10.0 * wmax.max(1.0),
         st.phase,
     )?;
-    let mut rep = super::general_report::report(p, pr, &st, &chosen.0, chosen.1, opts, drift_term);
+    let words = &super::general_report::GENERAL_WORDS;
+    let mut rep =
+        super::general_report::report(p, pr, &st, &chosen.0, chosen.1, opts, drift_term, words);
     if st.phase {
         // The phase LP is stationary in the durations too, with multipliers of their own
         // (imposing it on the reported ones could conflict with dxi >= 0, as for crawlers): with

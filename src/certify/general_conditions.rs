@@ -67,8 +67,12 @@ pub struct GeneralNecessaryConditions {
     pub lambda: f64,
     /// `J` of the process.
     pub objective: f64,
-    /// The non-degeneracy margin (module docs).
+    /// The non-degeneracy margin (module docs): `0` when it is within the solver's resolution
+    /// [`GeneralNecessaryConditions::nondegeneracy_resolution`].
     pub nondegeneracy_margin: f64,
+    /// The resolution at which the margin is known: the conditions' tolerance times the
+    /// adjoint's scale `max(1, ||p||_inf)`, that of every other residual.
+    pub nondegeneracy_resolution: f64,
     /// Whether the verdict requires that margin (`f2` not strictly convex).
     pub margin_required: bool,
     /// Normalisation constants (as for crawlers).

@@ -83,6 +83,11 @@ pub(crate) struct GeneralStructure {
     /// piece is at a vertex the two agree; elsewhere they only pick among non-unique
     /// multipliers differently (both margins are then 0).
     pub margin_off_vertex: bool,
+    /// The natural unit of the switching function `B^T p + omega`, the floor of the
+    /// non-degeneracy threshold `1e-6 max(sup |sigma|, switching_unit)` when `sigma` vanishes
+    /// identically: `max |w|` for (P); `1 / (N k_max)` for a crawler's instance (its `p` is then
+    /// `lambda / N` per `K nu_b` while block `b` slips).
+    pub switching_unit: f64,
 }
 
 impl GeneralStructure {
@@ -157,6 +162,7 @@ impl GeneralStructure {
             at_vertex,
             grad_f2,
             cost_h,
+            switching_unit: face_weights(p).iter().fold(0.0_f64, |a, v| a.max(v.abs())),
             w: face_weights(p),
             urows,
             face_scale: vec![1.0; p.c.faces()],

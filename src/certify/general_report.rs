@@ -17,7 +17,30 @@ use super::verdict::{
 use super::{CertifyOptions, CERTIFICATE_VERSION};
 use crate::model::general::{ControlSet, GeneralCost, GeneralProblem};
 
-/// The certificate of `pr` with the multipliers `raw` (scaled as `scaled_by` says).
+/// How a certificate names (P)'s objects: (P)'s own words, or an instance's read back in its
+/// own names (a crawler's links, blocks and `p + omega`). The numbers are (P)'s either way; the
+/// units of the instance live on [`GeneralStructure`] (`state_scale`, `face_scale`,
+/// `switching_unit`).
+pub(super) struct Words {
+    /// The switching function as the reason writes it (`B^T p + omega`, `p + omega`).
+    pub switching: &'static str,
+    /// One control component (`component`, `link`).
+    pub component: &'static str,
+    /// The instance's name and statement of a condition of (P) (its name and group, "6.2" or
+    /// "2.2"), where it has its own.
+    pub condition: fn(&str, &str) -> Option<(&'static str, &'static str)>,
+}
+
+/// (P)'s own words.
+pub(super) const GENERAL_WORDS: Words = Words {
+    switching: "B^T p + omega",
+    component: "component",
+    condition: |_, _| None,
+};
+
+/// The certificate of `pr` with the multipliers `raw` (scaled as `scaled_by` says), its
+/// conditions named in `words`: one report for (P) and for every instance of it.
+#[allow(clippy::too_many_arguments)]
 pub(crate) fn report(
     p: &GeneralProblem,
     pr: &GeneralProcess,
@@ -26,11 +49,12 @@ pub(crate) fn report(
     scaled_by: String,
     opts: &CertifyOptions,
     drift_term: bool,
+    words: &Words,
 ) -> GeneralNecessaryConditions {
     let m = st.m;
     let discrete = !st.phase;
     let tol = opts.tol;
-    let sup_p = sup(&raw.p);
+    let sup_p = scaled_sup(&raw.p, &st.state_scale);
     let ptol = tol * sup_p.max(1.0);
     let disc = residuals(p, st, raw, drift_term, false);
     let (adj, sign) = (disc[0].2, disc[5].2);
@@ -38,15 +62,27 @@ pub(crate) fn report(
 
     let (psi, switching) = psi_and_switching(p, st, raw);
     // Support: dxi at knot k lies on step k-1 once p is extended piecewise linearly (§9; P_m
-    // only: a phase gait's p jumps at its knots).
-    let misplaced = misplaced_mass(&st.active, &raw.xi, discrete);
+    // only: a phase gait's p jumps at its knots); each mass in its face's unit.
+    let xi_units: Vec<Vec<f64>> = st
+        .active
+        .iter()
+        .zip(&raw.xi)
+        .map(|(faces, xs)| {
+            faces
+                .iter()
+                .zip(xs)
+                .map(|(&f, x)| x / st.face_scale[f])
+                .collect()
+        })
+        .collect();
+    let misplaced = misplaced_mass(&st.active, &xi_units, discrete);
     // The multipliers solve LPs to the conditions' tolerance: below it, a margin is zero at the
-    // solver's resolution (as for crawlers; a tiny objective scale made 1e-12 pass as a margin).
+    // solver's resolution (a 1e-12 slack of the margin LP is no measured value).
     let margin = nondegeneracy_margin(p, st, raw, &switching);
     let margin = if margin <= ptol { 0.0 } else { margin };
-    let wmax = st.w.iter().fold(0.0_f64, |a, v| a.max(v.abs()));
-    let nd_tol = 1e-6 * sup(&switching).max(wmax).max(1e-300);
+    let nd_tol = 1e-6 * sup(&switching).max(st.switching_unit).max(1e-300);
     let margin_required = !strictly_convex(&p.cost, m);
+    let nondeg = !margin_required || margin > nd_tol;
     let law = control_law_residual(p, &pr.u, raw.lambda, &switching, nd_tol);
     let l1 = l1_maximality(p, st, raw, &psi);
     let continuous = ContinuousGroup {
@@ -55,36 +91,37 @@ pub(crate) fn report(
         misplaced,
         l1,
         nontrivial: raw.lambda + sup_p,
-        nondegeneracy: (nd_tol - margin).max(0.0),
+        nondegenerate: margin > nd_tol,
         law,
     };
     conditions.extend(continuous.checks(p, ptol, tol));
+    for c in &mut conditions {
+        if let Some((name, statement)) = (words.condition)(&c.name, &c.theorem) {
+            c.name = name.into();
+            c.statement = statement.into();
+        }
+    }
 
     // The verdict reads the discrete group; a phase gait, an exact process of (P), must also
     // meet Theorem 2.2 itself (sign, support, L^1 maximality, ...; not the non-degeneracy nor
-    // the control law, which make a verdict degenerate), as the crawler's phase certificate.
-    let nondeg = !margin_required || margin > nd_tol;
-    let (verdict, reason) = verdict(
-        &conditions,
-        discrete,
-        raw.lambda,
-        nondeg,
-        if margin_required {
-            "the necessary conditions hold with lambda = 1 and B^T p + omega leaves the \
-             control unique"
-        } else {
-            "the necessary conditions hold with lambda = 1 (f2 strictly convex: the control \
-             is unique)"
-        },
-        || {
-            format!(
-                "the conditions hold with lambda = 1 but only degenerately: non-degeneracy \
-                 margin {margin:.3e} (§4 (nndg) fails)"
-            )
-        },
-    );
-    let paper = paper_norm(p, st, raw, &psi);
+    // the control law, which make a verdict degenerate).
     let times = pr.times();
+    let holds = match (margin_required, is_box(&p.control)) {
+        (false, _) => "the necessary conditions hold with lambda = 1 (f2 strictly convex: the \
+                       control is unique)"
+            .to_string(),
+        (true, true) => format!(
+            "the necessary conditions hold with lambda = 1 and {} vanishes nowhere",
+            words.switching
+        ),
+        (true, false) => "the necessary conditions hold with lambda = 1 and B^T p + omega \
+                          leaves the control unique"
+            .to_string(),
+    };
+    let (verdict, reason) = verdict(&conditions, discrete, raw.lambda, nondeg, &holds, || {
+        degenerate_reason(p, words, &switching, margin, ptol, &times)
+    });
+    let paper = paper_norm(p, st, raw, &psi);
     GeneralNecessaryConditions {
         format: GENERAL_CERTIFICATE_FORMAT.into(),
         version: CERTIFICATE_VERSION,
@@ -95,6 +132,7 @@ pub(crate) fn report(
         lambda: raw.lambda,
         objective: pr.objective(p),
         nondegeneracy_margin: margin,
+        nondegeneracy_resolution: ptol,
         margin_required,
         normalisation: normalisation(scaled_by, raw.lambda, sup_p, paper),
         conditions,
@@ -116,6 +154,59 @@ pub(crate) fn report(
         },
         branch_lp: None,
     }
+}
+
+/// `sup |p|` with each state's adjoint in its unit (`state_scale`: a crawler's own `p`).
+fn scaled_sup(p: &[Vec<f64>], state_scale: &[f64]) -> f64 {
+    p.iter()
+        .flat_map(|p| p.iter().zip(state_scale).map(|(v, s)| (v * s).abs()))
+        .fold(0.0, f64::max)
+}
+
+/// Why the conditions hold only degenerately (§4 (nndg)): for a box U, where the switching
+/// function is least (piece, time, component); for a polytope, the least weight of the
+/// normal cone.
+fn degenerate_reason(
+    p: &GeneralProblem,
+    words: &Words,
+    switching: &[Vec<f64>],
+    margin: f64,
+    resolution: f64,
+    times: &[f64],
+) -> String {
+    if !is_box(&p.control) {
+        return format!(
+            "the conditions hold with lambda = 1 but only degenerately: non-degeneracy margin \
+             {margin:.3e} (§4 (nndg) fails)"
+        );
+    }
+    let (j, l) = argmin_abs(switching);
+    format!(
+        "the conditions hold with lambda = 1 but only degenerately: {} = {} on piece {j} \
+         (t = {:.6}), {} {} (§4 (nndg) fails)",
+        words.switching,
+        if margin == 0.0 {
+            format!("0 at the solver's resolution {resolution:.1e}")
+        } else {
+            format!("{:.3e}", switching[j][l])
+        },
+        times[j],
+        words.component,
+        l + 1
+    )
+}
+
+/// The (row, column) of the least `|value|`.
+fn argmin_abs(rows: &[Vec<f64>]) -> (usize, usize) {
+    let mut best = (0, 0, f64::INFINITY);
+    for (j, r) in rows.iter().enumerate() {
+        for (l, v) in r.iter().enumerate() {
+            if v.abs() < best.2 {
+                best = (j, l, v.abs());
+            }
+        }
+    }
+    (best.0, best.1)
 }
 
 /// `psi_i = -B^T p - omega` per step and the switching function `sigma_i = -psi_i - lambda
@@ -238,7 +329,7 @@ struct ContinuousGroup {
     misplaced: f64,
     l1: Option<f64>,
     nontrivial: f64,
-    nondegeneracy: f64,
+    nondegenerate: bool,
     law: Option<f64>,
 }
 
@@ -292,13 +383,14 @@ impl ContinuousGroup {
             "nondegeneracy",
             "2.2",
             if is_box(&p.control) {
-                "sigma = B^T p + omega != 0 componentwise (§4 (nndg)); residual = max(0, 1e-6 \
-                 max(sup|sigma|, max|w|) - min|sigma|)"
+                "sigma = B^T p + omega != 0 componentwise (§4 (nndg)): min |sigma| above 1e-6 \
+                 max(sup|sigma|, max|w|) and the solver's resolution; residual 1 when it is not \
+                 (the margin is reported beside J)"
             } else {
-                "psi in the interior of N_U(u) at a vertex of U on every step; residual = max(0, \
-                 1e-6 max(sup|sigma|, max|w|) - min rho)"
+                "psi in the interior of N_U(u) at a vertex of U on every step: min rho above 1e-6 \
+                 max(sup|sigma|, max|w|) and the solver's resolution; residual 1 when it is not"
             },
-            self.nondegeneracy,
+            if self.nondegenerate { 0.0 } else { 1.0 },
             0.0,
         ));
         if let Some(law) = self.law {
@@ -316,7 +408,9 @@ impl ContinuousGroup {
 }
 
 /// The paper's normalisation of the multipliers: `lambda + |p(0)| + |omega| + sum_k
-/// (|sum_j xi_k^j x*_j| + tau_k |psi_k|)`.
+/// (|sum_j xi_k^j x*_j| + tau_k |psi_k|)`, the state's vectors (`p` and its jumps) in the units
+/// of `state_scale` (a crawler's own `p` and `sum_b xi_b nu_b`; `psi` and `omega` are the
+/// controls', the same for an instance).
 fn paper_norm(
     p: &GeneralProblem,
     st: &GeneralStructure,
@@ -324,7 +418,9 @@ fn paper_norm(
     psi: &[Vec<f64>],
 ) -> f64 {
     let n = st.n;
-    let mut paper = raw.lambda + norm2(&raw.p[0]) + norm2(&raw.omega);
+    let in_units =
+        |v: &[f64]| -> Vec<f64> { v.iter().zip(&st.state_scale).map(|(v, s)| v * s).collect() };
+    let mut paper = raw.lambda + norm2(&in_units(&raw.p[0])) + norm2(&raw.omega);
     for k in 0..st.steps {
         let mut v = vec![0.0; n];
         for (fi, &f) in st.active[k].iter().enumerate() {
@@ -332,7 +428,7 @@ fn paper_norm(
                 *vl += raw.xi[k][fi] * p.c.normals[f][l];
             }
         }
-        paper += norm2(&v) + st.tau[k] * norm2(&psi[k]);
+        paper += norm2(&in_units(&v)) + st.tau[k] * norm2(&psi[k]);
     }
     paper
 }

@@ -146,17 +146,21 @@
 //! # Verdict
 //!
 //! - `holds`: the discrete conditions (group "6.2") hold with `lambda = 1` — for phase gaits the
-//!   continuous ones (group "2.2", then exact) too — and `p + omega` vanishes nowhere;
+//!   continuous ones (group "2.2", then exact) too — and `p + omega` vanishes nowhere (not
+//!   required with a quadratic cost: `f2` strictly convex makes the control unique);
 //! - `degenerate`: they hold but only with `p + omega` vanishing on some piece (e.g. an interior
 //!   control with `f2 = 0`), or only with `lambda = 0`;
 //! - `fails`: no multipliers satisfy them; the reason lists the violated conditions with their
 //!   residuals at the least violating multipliers (a min-max solution spreads the violation over
 //!   several conditions, so all of them are named).
 //!
-//! The verdict, the two groups' bookkeeping, the support of `dxi`, the L^1 weak maximality of a
-//! step and the normalisations are one piece (`verdict.rs`) for a crawler's certificate and for
-//! a general one; each report adds its own terms (a crawler's blocks and rate bounds, a general
-//! problem's faces of C and its set U).
+//! There is one report, (P)'s (`general_report`): a crawler's certificate is (P)'s report on its
+//! instance, with every residual in the crawler's units (`GeneralStructure::state_scale`,
+//! `face_scale`, `switching_unit`) and every condition in the crawler's words
+//! (`residuals::crawler_words`), read back in the crawler's names (`report.rs`: `p` and
+//! `p + omega` per link, `dxi` per block and side, the one-link structure). The verdict, the
+//! groups' bookkeeping, the support of `dxi`, the L^1 weak maximality of a step and the
+//! normalisations are `verdict.rs`.
 //!
 //! For P_m the continuous group is reported with the same tolerance and is expected to fail at
 //! `O(h)`: it is the rate at which the discrete multipliers approach Theorem 2.2's.
@@ -172,6 +176,7 @@
 
 pub mod bound;
 mod crawler_general;
+mod crawler_words;
 pub mod general;
 mod general_conditions;
 mod general_kkt;

@@ -95,6 +95,11 @@ pub struct MultiplierData {
     pub xi: Vec<FaceMultiplier>,
 }
 
+/// Files of earlier builds asked the non-degeneracy margin of every cost.
+fn margin_required_before() -> bool {
+    true
+}
+
 /// The normalisation constants (module docs).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Normalisation {
@@ -159,6 +164,11 @@ pub struct NecessaryConditions {
     /// of earlier builds.)
     #[serde(default)]
     pub nondegeneracy_resolution: f64,
+    /// Whether the verdict requires that margin: `f2` not strictly convex (with a quadratic
+    /// cost the control `proj_U(-(p + omega) / c)` is unique wherever `p + omega` vanishes).
+    /// (Absent, true, in files of earlier builds, which asked the margin of every cost.)
+    #[serde(default = "margin_required_before")]
+    pub margin_required: bool,
     /// Normalisation constants.
     pub normalisation: Normalisation,
     /// Every condition with its residual.

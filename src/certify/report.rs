@@ -1,17 +1,17 @@
-//! The report of a crawler's certificate: every condition with its residual, the multipliers
-//! in the paper's form, the continuous group of Theorem 2.2, the verdict and its reason; `J` of
-//! a process and the one-link structure (theory §9).
+//! The report of a crawler's certificate: (P)'s report on the crawler's instance read back in
+//! the crawler's names; `J` of a process and the one-link structure (theory §9).
 
 use super::crawler_general::AsGeneral;
-use super::kkt::{normal, FaceId, Raw, Structure};
+use super::kkt::{FaceId, Raw, Structure};
 use super::process::{Process, ProcessKind};
 use super::records::*;
-use super::residuals::discrete_residuals;
-use super::stages::sup;
-use super::verdict::{
-    check, discrete_group, misplaced_mass, norm2, normalisation, significant_multipliers, verdict,
-};
+use super::verdict::significant_multipliers;
 
+/// The certificate of the crawler process `pr` with the multipliers `raw` (in the crawler's
+/// units): (P)'s report on its instance ([`AsGeneral::report`]: the same conditions, residuals,
+/// margin, normalisations and verdict, in the crawler's units and words), read back in the
+/// crawler's names (`p`, `p + omega` per link, `dxi` per block and side), with the one-link
+/// structure of theory §9.
 pub(super) fn report(
     pr: &Process,
     st: &Structure,
@@ -20,208 +20,41 @@ pub(super) fn report(
     scaled_by: String,
     opts: &CertifyOptions,
 ) -> NecessaryConditions {
-    let (n, np) = (st.n, st.np);
-    let tol = opts.tol;
-    let times = pr.times();
+    let g = general.report(&raw, scaled_by, opts);
     let discrete = matches!(pr.kind, ProcessKind::Discrete { .. });
-    let sup_p = sup(&raw.p);
-    let pscale = sup_p.max(1.0);
-    let disc = discrete_residuals(pr, general, &raw, false);
-    let mut conditions = discrete_group(&disc, tol * pscale, raw.lambda);
-
-    // Continuous time (Theorem 2.2) with the paper's extension.
-    let p_plus_omega: Vec<Vec<f64>> = raw
-        .p
-        .iter()
-        .map(|p| (0..n).map(|l| p[l] + raw.omega[l]).collect())
-        .collect();
-    // The multipliers solve LPs to the conditions' tolerance: below it, |p + omega| is zero at
-    // the solver's resolution (the margin LP's slack of 1e-12 showed as `p + omega = 1e-12`).
-    let resolution = tol * pscale;
-    let margin = p_plus_omega
-        .iter()
-        .flatten()
-        .fold(f64::INFINITY, |m, v| m.min(v.abs()));
-    let margin = if margin <= resolution { 0.0 } else { margin };
-    // Relative to |p + omega|, or to the natural unit of p (|<p, K nu_b>| = lambda/N while block
-    // b slips) when p + omega vanishes identically.
-    let kmax = st.k.iter().fold(0.0_f64, |m, &k| m.max(k));
-    let nd_tol = 1e-6 * sup(&p_plus_omega).max(1.0 / (st.nb as f64 * kmax));
-    let residuals = ContinuousResiduals {
-        adjoint: disc[0].2,
-        sign: disc[5].2,
-        support: misplaced_mass(&st.active, &raw.xi, discrete),
-        l1: general.l1_maximality(&raw),
-        nontrivial: raw.lambda + sup_p,
-        nondegenerate: margin > nd_tol,
-        law: general.control_law_residual(&pr.controls, raw.lambda, &p_plus_omega, nd_tol),
-    };
-    conditions.extend(residuals.checks(tol * pscale, pr.problem.period, tol));
-
-    let (verdict, reason) = verdict(
-        &conditions,
-        discrete,
-        raw.lambda,
-        residuals.nondegenerate,
-        "the necessary conditions hold with lambda = 1 and p + omega vanishes nowhere",
-        || degenerate_reason(&p_plus_omega, margin, resolution, &times),
-    );
-    let psi: Vec<Vec<f64>> = (0..np)
-        .map(|j| (0..n).map(|l| psi_at(st, &raw, &raw.p[j], j, l)).collect())
-        .collect();
-    let paper = paper_norm(pr, st, &raw, &psi);
-    let multipliers = MultiplierData {
-        extension: if discrete {
-            "piecewise_linear"
-        } else {
-            "piecewise_constant"
-        }
-        .into(),
-        xi: face_multipliers(st, &raw, &times),
-        times,
-        psi,
-        p: raw.p.clone(),
-        p_plus_omega,
-        u: pr.controls.clone(),
-        omega: raw.omega.clone(),
-    };
+    let times = g.multipliers.times;
     NecessaryConditions {
         format: CERTIFICATE_FORMAT.into(),
         version: CERTIFICATE_VERSION,
-        method: if discrete { "discrete" } else { "phase" }.into(),
-        m: match pr.kind {
-            ProcessKind::Discrete { m } => Some(m),
-            ProcessKind::Phase => None,
-        },
-        verdict,
-        reason,
-        lambda: raw.lambda,
+        method: g.method,
+        m: g.m,
+        verdict: g.verdict,
+        reason: g.reason,
+        lambda: g.lambda,
         objective: process_objective(pr),
-        nondegeneracy_margin: margin,
-        nondegeneracy_resolution: resolution,
-        normalisation: normalisation(scaled_by, raw.lambda, sup_p, paper),
-        conditions,
-        multipliers,
+        nondegeneracy_margin: g.nondegeneracy_margin,
+        nondegeneracy_resolution: g.nondegeneracy_resolution,
+        margin_required: g.margin_required,
+        normalisation: g.normalisation,
+        conditions: g.conditions,
+        multipliers: MultiplierData {
+            extension: if discrete {
+                "piecewise_linear"
+            } else {
+                "piecewise_constant"
+            }
+            .into(),
+            xi: face_multipliers(st, &raw, &times),
+            times,
+            psi: g.multipliers.psi,
+            p: raw.p,
+            p_plus_omega: g.multipliers.switching,
+            u: g.multipliers.u,
+            omega: raw.omega,
+        },
         one_link: one_link_structure(pr, opts.structure_tol),
         branch_lp: None,
     }
-}
-
-/// Why the conditions hold only degenerately: where `p + omega` is least (§4 (nndg)).
-fn degenerate_reason(
-    p_plus_omega: &[Vec<f64>],
-    margin: f64,
-    resolution: f64,
-    times: &[f64],
-) -> String {
-    let (j, l) = argmin_abs(p_plus_omega);
-    format!(
-        "the conditions hold with lambda = 1 but only degenerately: p + omega = {} on piece {j} \
-         (t = {:.6}), link {} (§4 (nndg) fails)",
-        if margin == 0.0 {
-            format!("0 at the solver's resolution {resolution:.1e}")
-        } else {
-            format!("{:.3e}", p_plus_omega[j][l])
-        },
-        times[j],
-        l + 1
-    )
-}
-
-/// `psi_l = -p_l - omega_l - lambda Df2(u_j)_l` at the adjoint value `p` on piece `j`.
-fn psi_at(st: &Structure, raw: &Raw, p: &[f64], j: usize, l: usize) -> f64 {
-    -p[l] - raw.omega[l] - raw.lambda * st.grad_f2[j][l]
-}
-
-/// The residuals of Theorem 2.2's continuous group, before they are checked.
-struct ContinuousResiduals {
-    adjoint: f64,
-    sign: f64,
-    support: f64,
-    l1: f64,
-    nontrivial: f64,
-    nondegenerate: bool,
-    law: f64,
-}
-
-impl ContinuousResiduals {
-    /// The checks, in the report's order, at the tolerance `ptol` of p's scale (the L^1
-    /// maximality over the period `t_total`, the control law at the conditions' `tol`).
-    fn checks(&self, ptol: f64, t_total: f64, tol: f64) -> Vec<ConditionCheck> {
-        [
-            (
-                "adjoint",
-                "dp = sum_j x*_j dxi^j, p(T) = p(0) (Thm 2.2 adjoint, transversality)",
-                self.adjoint,
-                ptol,
-            ),
-            (
-                "sign",
-                "dxi^j >= 0 (Thm 2.2; Thm 6.1 for the paper's P_m, whose state constraints are \
-                 pure inequalities: the branch LP of the computational P_m leaves it free on held \
-                 faces)",
-                self.sign,
-                ptol,
-            ),
-            (
-                "support",
-                "supp dxi^j in {t : face j active at x(t)}: dxi mass on steps where the face is \
-                 not active throughout (Thm 2.2 support)",
-                self.support,
-                ptol,
-            ),
-            (
-                "weak_maximality",
-                "int_0^T dist(psi(t), N_U(u(t))) dt, psi = -p - omega - lambda Df2(u) (Thm 2.2)",
-                self.l1,
-                ptol * t_total,
-            ),
-            (
-                "nontriviality",
-                "lambda + ||p||_inf > 0, scaled to 1 (Thm 2.2)",
-                if self.nontrivial > 0.0 { 0.0 } else { 1.0 },
-                0.0,
-            ),
-            (
-                "nondegeneracy",
-                "p_l(t) + omega_l != 0 for all t and l (§4 (nndg)): min |p + omega| above 1e-6 \
-                 max(sup|p + omega|, 1/(N k_max)) and the solver's resolution; residual 1 when \
-                 it is not (min |p + omega| is reported beside J)",
-                if self.nondegenerate { 0.0 } else { 1.0 },
-                0.0,
-            ),
-            (
-                "control_law",
-                "u = -a sign(p + omega) where p + omega != 0 (f2 = 0, §4), u = proj_U(-(p + \
-                 omega)/(lambda c)) (f2 = (c/2)|u|^2): max |u - law| / a",
-                self.law,
-                tol.max(1e-9) * 10.0,
-            ),
-        ]
-        .into_iter()
-        .map(|(name, statement, residual, tolerance)| {
-            check(name, "2.2", statement, residual, tolerance)
-        })
-        .collect()
-    }
-}
-
-/// The paper's normalisation of the multipliers: `lambda + |p(0)| + |omega| + sum_j (|sum_b
-/// xi_j^b K nu_b| + tau_j |psi_j|)`.
-fn paper_norm(pr: &Process, st: &Structure, raw: &Raw, psi: &[Vec<f64>]) -> f64 {
-    let n = st.n;
-    let mut paper = raw.lambda + norm2(&raw.p[0]) + norm2(&raw.omega);
-    for j in 0..st.np {
-        let mut v = vec![0.0; n];
-        for (fi, &f) in st.active[j].iter().enumerate() {
-            for (l, c) in normal(n, f) {
-                v[l] += raw.xi[j][fi] * c;
-            }
-        }
-        paper += norm2(&v);
-        paper += pr.durations[j] * norm2(&psi[j]);
-    }
-    paper
 }
 
 /// The face multipliers `dxi` per knot, block and side ([`significant_multipliers`]).
@@ -248,18 +81,6 @@ pub fn process_objective(pr: &Process) -> f64 {
         .map(|(u, d)| d * pr.problem.cost.eval(u))
         .sum();
     displacement - cost
-}
-
-fn argmin_abs(rows: &[Vec<f64>]) -> (usize, usize) {
-    let mut best = (0, 0, f64::INFINITY);
-    for (j, r) in rows.iter().enumerate() {
-        for (l, v) in r.iter().enumerate() {
-            if v.abs() < best.2 {
-                best = (j, l, v.abs());
-            }
-        }
-    }
-    (best.0, best.1)
 }
 
 /// §4's structure of a one-link process: switches of the control, where they happen, interior

@@ -2,9 +2,8 @@
 //! general problem (P): the groups of conditions of Theorem 6.2 (the discrete problem P_m) and
 //! Theorem 2.2 (continuous time), the support of the face multipliers, the L^1 weak maximality
 //! on one step, the verdict that reads the two groups, and the normalisations of the
-//! multipliers. The two reports ([`super::report`], [`super::general_report`]) differ only in
-//! the problem's own terms: a crawler's faces are blocks and its controls the links' rates
-//! bounded by `a`, a general problem's faces are C's rows and its controls live in U.
+//! multipliers. They serve the one report ([`super::general_report`]), which a crawler's
+//! certificate reads back in its own names ([`super::report`]).
 
 use super::records::{ConditionCheck, Normalisation, Verdict};
 

@@ -545,7 +545,14 @@ fn certificate_section(h: &mut String, c: &NecessaryConditions) {
         num(c.lambda),
         esc(&c.normalisation.scaled_by),
         num(c.objective),
-        num(c.nondegeneracy_margin)
+        if c.margin_required {
+            num(c.nondegeneracy_margin)
+        } else {
+            format!(
+                "{} (not required: f2 strictly convex)",
+                num(c.nondegeneracy_margin)
+            )
+        }
     ));
     h.push_str(
         "<div class=\"scroll\">\n<table id=\"conditions\">\n<tr><th class=\"l\">theorem</th>\

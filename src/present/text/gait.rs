@@ -166,6 +166,21 @@ fn search_line(out: &mut String, r: &GaitResult, len: &dyn Fn(f64) -> String) {
     }
 }
 
+/// The non-degeneracy margin as measured (a margin within the solver's resolution is 0 at that
+/// resolution) and whether the verdict asks it (not with `f2` strictly convex).
+pub(super) fn margin_text(margin: f64, resolution: f64, required: bool) -> String {
+    let value = if margin == 0.0 {
+        format!("0 (at the solver's resolution {resolution:.1e})")
+    } else {
+        format!("{margin:.3e}")
+    };
+    if required {
+        value
+    } else {
+        format!("{value}, not required: f2 strictly convex")
+    }
+}
+
 /// The human form of a certificate of the gait of `r`: the same content as its JSON,
 /// multipliers abridged.
 pub fn certificate(c: &NecessaryConditions, r: &GaitResult) -> String {
@@ -175,15 +190,11 @@ pub fn certificate(c: &NecessaryConditions, r: &GaitResult) -> String {
     // The adjoint's own scale (lambda + ||p||_inf is normalised, but omega shifts it).
     let adjoint = text::max_abs(m.p_plus_omega.iter().flatten().chain(&m.omega));
     conditions_head(&mut out, c.verdict, &c.reason, c.lambda, &c.normalisation);
-    // Only what was measured: a margin within the solver's resolution is 0 at that resolution.
-    let margin = if c.nondegeneracy_margin == 0.0 {
-        format!(
-            "0 (at the solver's resolution {:.1e})",
-            c.nondegeneracy_resolution
-        )
-    } else {
-        format!("{:.3e}", c.nondegeneracy_margin)
-    };
+    let margin = margin_text(
+        c.nondegeneracy_margin,
+        c.nondegeneracy_resolution,
+        c.margin_required,
+    );
     wln!(
         out,
         "  J = {}; min |p + omega| = {margin}; omega = {}",

@@ -13,14 +13,13 @@ pub fn general_certificate(c: &GeneralNecessaryConditions) -> String {
     super::gait::conditions_head(&mut out, c.verdict, &c.reason, c.lambda, &c.normalisation);
     wln!(
         out,
-        "  J = {}; non-degeneracy margin {:.3e} ({}); omega = {}",
+        "  J = {}; non-degeneracy margin {}; omega = {}",
         num(c.objective, c.objective.abs().max(1e-300)),
-        c.nondegeneracy_margin,
-        if c.margin_required {
-            "required"
-        } else {
-            "not required: f2 strictly convex"
-        },
+        super::gait::margin_text(
+            c.nondegeneracy_margin,
+            c.nondegeneracy_resolution,
+            c.margin_required
+        ),
         list(&m.omega, adjoint)
     );
     if let Some(b) = &c.branch_lp {
