@@ -4,16 +4,19 @@
 //! `cargo run --release --example long_chain_study -- [DIR] [LIMIT] [N,N,...]` prints, per chain
 //! and N, the best structured gait (J, which, seconds), the best travelling wave of one
 //! wavelength along the body, and the chain method's answer under LIMIT seconds (default 20)
-//! with how far its links' lags are from the alternating pattern; and writes into DIR (default
-//! `docs/figures`) the space-time figure (the library's `spacetime`) and a heat map of the
-//! actuator lengths L_l(t) of the chain method's gait at N = 10, 30, 100 (uniform) and N = 30
-//! (heterogeneous), as `long_chains_{uniform,heterogeneous}_N{N}_{spacetime,lengths}.svg`.
+//! with how far its links' lags are from the alternating pattern, and the work bound over all
+//! gaits (`certify::bound::work_bound`); and writes into DIR (default `docs/figures`) the
+//! figure `long_chains_J_of_N.svg` (J against N, both chains, structured and chain method) and
+//! the space-time figure (the library's `spacetime`) and a heat map of the actuator lengths
+//! L_l(t) of the chain method's gait at N = 10, 30, 100 (both chains), as
+//! `long_chains_{uniform,heterogeneous}_N{N}_{spacetime,lengths}.svg`.
 //!
 //! Chains as in `examples/bench_chains.rs`: uniform k = a = 1, T = 10, mu+ = 1, mu- = 1.3; the
 //! heterogeneous chain: `k_l = 1 + 0.5 sin(1.7 l)`, block `b` with the friction pair `b mod 3`
 //! of `(1, 1.3)`, `(1 + 0.1 sqrt 2, 1.3 + 0.2 sqrt 2)`, `(1 - 0.1 sqrt 3, 1.3 - 0.05 sqrt 3)`.
 
 use crawlopt::api::{optimize, GaitMethod, Hooks, OptimizeSettings};
+use crawlopt::certify::bound::work_bound;
 use crawlopt::optimal::structured::{best_structured, StructuredOptions};
 use crawlopt::optimal::{Cost, GaitProblem, GaitResult};
 use crawlopt::present::gait_figures;
@@ -21,6 +24,73 @@ use crawlopt::Crawler;
 use std::fmt::Write as _;
 use std::path::Path;
 use std::time::Instant;
+
+use plotters::prelude::*;
+
+/// One chain's values per N: (N, best structured J, chain method's J).
+type Series = Vec<(usize, f64, f64)>;
+
+/// Figure `long_chains_J_of_N.svg`: J against N (log scale) for both chains, the best
+/// structured gait dashed and the chain method's answer solid.
+fn j_of_n_svg(path: &Path, series: &[(&str, Series)]) -> Result<(), Box<dyn std::error::Error>> {
+    // The text is measured with the font the library's figures embed.
+    let font = include_bytes!("../assets/fonts/DejaVuSans.ttf");
+    plotters::style::register_font("sans-serif", FontStyle::Normal, font)
+        .map_err(|_| "the font cannot be registered")?;
+    let root = SVGBackend::new(path, (760, 460)).into_drawing_area();
+    root.fill(&WHITE)?;
+    let nmax = series
+        .iter()
+        .flat_map(|(_, s)| s.iter().map(|r| r.0))
+        .max()
+        .unwrap_or(100) as f64;
+    let jmax = series
+        .iter()
+        .flat_map(|(_, s)| s.iter().map(|r| r.1.max(r.2)))
+        .fold(0.0, f64::max);
+    let mut chart = ChartBuilder::on(&root)
+        .caption("J against N (k = a = 1, T = 10)", ("sans-serif", 18))
+        .margin(12)
+        .x_label_area_size(40)
+        .y_label_area_size(50)
+        .build_cartesian_2d((2.0..nmax * 1.05).log_scale(), 0.0..jmax * 1.08)?;
+    chart
+        .configure_mesh()
+        .x_desc("N (blocks)")
+        .y_desc("J (displacement per period)")
+        .draw()?;
+    let colours = [RGBColor(0, 114, 178), RGBColor(213, 94, 0)];
+    for ((name, s), colour) in series.iter().zip(colours) {
+        let chain: Vec<(f64, f64)> = s.iter().map(|r| (r.0 as f64, r.2)).collect();
+        let structured: Vec<(f64, f64)> = s.iter().map(|r| (r.0 as f64, r.1)).collect();
+        chart
+            .draw_series(LineSeries::new(chain.clone(), colour.stroke_width(2)))?
+            .label(format!("{name}: chain method"))
+            .legend(move |(x, y)| {
+                PathElement::new(vec![(x, y), (x + 20, y)], colour.stroke_width(2))
+            });
+        chart.draw_series(chain.iter().map(|&p| Circle::new(p, 3, colour.filled())))?;
+        chart
+            .draw_series(DashedLineSeries::new(
+                structured,
+                6,
+                4,
+                colour.stroke_width(1),
+            ))?
+            .label(format!("{name}: best structured gait"))
+            .legend(move |(x, y)| {
+                PathElement::new(vec![(x, y), (x + 20, y)], colour.stroke_width(1))
+            });
+    }
+    chart
+        .configure_series_labels()
+        .position(SeriesLabelPosition::LowerRight)
+        .background_style(WHITE.mix(0.9))
+        .border_style(BLACK)
+        .draw()?;
+    root.present()?;
+    Ok(())
+}
 
 #[path = "support/cycling_chain.rs"]
 mod cycling_chain;
@@ -163,10 +233,12 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     std::fs::create_dir_all(&dir)?;
     println!(
         "| chain | N | best structured J | which | s | 1-wavelength travelling triangle J | \
-         chain J | status | s | max lag offset from alternating |"
+         chain J | status | s | max lag offset from alternating | work bound |"
     );
-    println!("|---|---|---|---|---|---|---|---|---|---|");
+    println!("|---|---|---|---|---|---|---|---|---|---|---|");
+    let mut series: Vec<(&str, Series)> = Vec::new();
     for kind in ["uniform", "heterogeneous"] {
+        let mut values: Series = Vec::new();
         for &nb in &ns {
             let c = if kind == "uniform" {
                 Crawler::uniform(nb, 1.0, 1.0, 1.3)?
@@ -204,16 +276,17 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             let wall = t0.elapsed().as_secs_f64();
             println!(
                 "| {kind} | {nb} | {:.6} | {} | {:.2} | {one_wave:.6} | {:.6} | {} | {wall:.1} | \
-                 {:.3} |",
+                 {:.3} | {:.3} |",
                 s.objective,
                 s.best.origin.trim_start_matches("structured: "),
                 s.seconds,
                 r.objective,
                 r.status.as_str(),
-                off_alternating(&r)
+                off_alternating(&r),
+                work_bound(&c, &p)
             );
-            let figure = (kind == "uniform" && [10, 30, 100].contains(&nb))
-                || (kind == "heterogeneous" && nb == 30);
+            values.push((nb, s.objective, r.objective));
+            let figure = [10, 30, 100].contains(&nb);
             if figure {
                 let stem = format!("long_chains_{kind}_N{nb}");
                 for f in gait_figures(&r)? {
@@ -228,6 +301,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                 )?;
             }
         }
+        series.push((kind, values));
+    }
+    if ns.len() > 1 {
+        j_of_n_svg(&dir.join("long_chains_J_of_N.svg"), &series)?;
     }
     Ok(())
 }

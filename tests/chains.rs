@@ -254,7 +254,9 @@ proptest! {
         let p = GaitProblem::new(&c, 10.0, &vec![1.0; c.links()], Cost::None, None).unwrap();
         let s = best_structured(&c, &p, &StructuredOptions::default()).unwrap().unwrap();
         let top = s.rows.iter().filter_map(|r| r.objective).fold(f64::MIN, f64::max);
-        let r = run(&c, &p, chain(3.0));
+        // The run screens the same gaits first: as long again as this screening, plus 3 s of
+        // search, so that the limit does not cut its screening short of `top`.
+        let r = run(&c, &p, chain(s.seconds + 3.0));
         // (The rows are screened with a periodicity tolerance of 1e-9: their J to about 1e-8.)
         prop_assert!(r.objective >= top - 1e-7, "chain {} < structured {top}", r.objective);
         // Re-verified: a consistent process whose exact replay gives its value.
@@ -291,6 +293,68 @@ fn the_chain_method_honours_its_time_limit_and_cancellation() {
     )
     .unwrap_err();
     assert_eq!(e, crawlopt::Error::Cancelled);
+}
+
+/// The limit passed once a start's search has ended (here: the observer of the chain's sweeps
+/// sleeps past it after the first start's last sweep): the method did not finish, so the answer says
+/// `time_limit`, even where the best start's own search stalled and the limit only left the
+/// next starts unsearched (it said `stalled`: issue 27's audit, 50 blocks at 10 s). Cancelling
+/// from the observer after the first sweep stops the search within its next trial.
+#[test]
+fn the_chain_method_says_time_limit_when_the_limit_leaves_starts_unsearched() {
+    let c = Crawler::uniform(4, 1.0, 1.0, 1.3).unwrap();
+    let p = GaitProblem::new(&c, 10.0, &[1.0; 3], Cost::None, None).unwrap();
+    let s = best_structured(&c, &p, &StructuredOptions::default())
+        .unwrap()
+        .unwrap();
+    let limit = s.seconds + 2.0;
+    // The first start's last sweep: at the smallest step, without a gain (J as after the sweep
+    // before); its search then stalls, and the limit passes before the next start.
+    let mut before = f64::NAN;
+    let mut on = |e: &crawlopt::api::Event, t: f64| {
+        if let crawlopt::api::Event::ChainSweep(st) = e {
+            let last = st.step <= crawlopt::optimal::chain::LAST_STEP && st.objective == before;
+            if last && t < limit {
+                std::thread::sleep(std::time::Duration::from_secs_f64(limit - t + 0.05));
+            }
+            before = st.objective;
+        }
+    };
+    let r = optimize(
+        &c,
+        &p,
+        &chain(limit),
+        Hooks {
+            events: Some(&mut on),
+            cancel: None,
+        },
+    )
+    .unwrap()
+    .result;
+    assert_eq!(r.status.as_str(), "time_limit");
+    assert!(r.objective >= s.objective - 1e-9);
+    assert!((replayed(&c, &p, &r) - r.objective).abs() < 1e-8);
+
+    let cancel = crawlopt::progress::Cancel::new();
+    let mut sweeps = 0;
+    let mut stop = |e: &crawlopt::api::Event, _: f64| {
+        if let crawlopt::api::Event::ChainSweep(_) = e {
+            sweeps += 1;
+            cancel.cancel();
+        }
+    };
+    let e = optimize(
+        &c,
+        &p,
+        &chain(600.0),
+        Hooks {
+            events: Some(&mut stop),
+            cancel: Some(&cancel),
+        },
+    )
+    .unwrap_err();
+    assert_eq!(e, crawlopt::Error::Cancelled);
+    assert_eq!(sweeps, 1);
 }
 
 /// The screening of structured gaits is within the job's deadline: at 1000 blocks its 192

@@ -215,3 +215,59 @@ fn bad_sweep_files_and_flags_exit_2_naming_the_field() {
     assert_eq!(lines.len(), 12);
     assert!(lines.iter().all(|l| l["crawler.mu_forward"].is_number()));
 }
+
+/// A sweep runs the chain method (issue 27) over the length of a uniform chain: every point
+/// says `method = chain` and is at least the alternating triangle wave, `4 - 1/(N - 1)` (the
+/// structured floor of the method).
+#[test]
+fn a_sweep_runs_the_chain_method_over_the_chain_length() {
+    let dir = tempfile::tempdir().unwrap();
+    let spec = r#"
+job = "optimize"
+[model.crawler]
+blocks = 8
+stiffness = 1.0
+mu_forward = 1.0
+mu_backward = 1.3
+[model.gait]
+period = 10.0
+max_actuator_speed = 1.0
+[settings]
+method = "chain"
+time_limit = 30.0
+[[axis]]
+field = "crawler.blocks"
+values = [8, 10]
+"#;
+    let file = dir.path().join("chain.toml");
+    std::fs::write(&file, spec).unwrap();
+    let out_csv = dir.path().join("chain.csv");
+    let out = crawlopt(&[
+        "sweep",
+        file.to_str().unwrap(),
+        "-j",
+        "1",
+        "-o",
+        out_csv.to_str().unwrap(),
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let mut rd = csv::Reader::from_path(&out_csv).unwrap();
+    let header = rd.headers().unwrap().clone();
+    let col = |name: &str| header.iter().position(|c| c == name).unwrap();
+    let (blocks, method, objective) = (col("crawler.blocks"), col("method"), col("objective"));
+    let mut seen = 0;
+    for row in rd.records() {
+        let row = row.unwrap();
+        let n: f64 = row[blocks].parse().unwrap();
+        let j: f64 = row[objective].parse().unwrap();
+        assert_eq!(&row[method], "chain");
+        let wave = 4.0 - 1.0 / (n - 1.0);
+        assert!(j >= wave - 1e-7, "N = {n}: J = {j} below the wave {wave}");
+        seen += 1;
+    }
+    assert_eq!(seen, 2);
+}

@@ -221,6 +221,10 @@ fn event_json(e: &Event, seconds: f64) -> String {
             "kind": "discrete", "m": row.m, "objective": row.objective, "bound": row.bound,
             "gap": row.gap, "seconds_of_step": row.seconds,
         }),
+        Event::ChainSweep(st) => json!({
+            "kind": "chain", "sweep": st.sweep, "step": st.step, "objective": st.objective,
+            "simulations": st.evaluations, "seconds_of_step": st.seconds,
+        }),
         Event::Milp(p) => json!({
             "kind": "milp", "incumbent": p.incumbent, "bound": p.bound,
             "seconds_of_step": p.seconds,

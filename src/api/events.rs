@@ -1,6 +1,7 @@
 //! Progress of a job as typed events, and the hooks a caller passes: an observer of events and
 //! a cancellation token.
 
+use crate::optimal::chain::ChainStep;
 use crate::optimal::{ConvergenceRow, PhaseStep, StartEvent};
 use crate::progress::{self, Cancel, MilpProgress};
 use std::cell::RefCell;
@@ -22,6 +23,9 @@ pub enum Event {
     },
     /// One P_m of a convergence table was solved.
     DiscreteSolved(ConvergenceRow),
+    /// One sweep of the chain method's pattern search ended: its step, the best `J` so far
+    /// over the starts searched, the simulations so far.
+    ChainSweep(ChainStep),
     /// A running MILP's incumbent and bound (user's units; a maximisation), reported by HiGHS
     /// while it solves, at most a few times a second.
     Milp(MilpProgress),

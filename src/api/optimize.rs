@@ -380,12 +380,7 @@ fn solve_chain(
         problem,
         &starts,
         &ChainOptions::default(),
-        &mut |st| {
-            em.stage(format!(
-                "chain pattern search: sweep {}, step {}, J = {:.6} ({} simulations)",
-                st.sweep, st.step, st.objective, st.evaluations
-            ))
-        },
+        &mut |st| em.send(Event::ChainSweep(st.clone())),
     )?;
     // A ramp gait below 0 (every ramp paying more than it moves the crawler) gives way to the
     // idle gait in `at_least_idle`.

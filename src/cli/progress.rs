@@ -46,6 +46,13 @@ impl Spinner {
                 row.seconds,
                 row.m + 1
             ),
+            Event::ChainSweep(st) => format!(
+                "chain pattern search: sweep {}, step {}, best J = {} ({} simulations)",
+                st.sweep,
+                st.step,
+                n(st.objective),
+                st.evaluations
+            ),
             Event::Note(s) => format!("note: {s}"),
             Event::Milp(p) => {
                 let incumbent = p.incumbent.map_or("none".into(), n);

@@ -29,10 +29,11 @@ use std::time::Instant;
 
 /// The first step of the pattern search (fractions of the period; amplitude fractions).
 pub const FIRST_STEP: f64 = 1.0 / 16.0;
-/// The smallest step: the search stops when a sweep at this step gains nothing.
-pub const LAST_STEP: f64 = 1.0 / 512.0;
+/// The smallest step: the search stops when a sweep at this step gains nothing (`2^-10` of the
+/// period, the step of P_10).
+pub const LAST_STEP: f64 = 1.0 / 1024.0;
 /// The shortest ramp (fraction of the period).
-const MIN_RAMP: f64 = 1.0 / 256.0;
+const MIN_RAMP: f64 = 1.0 / 512.0;
 /// The smallest amplitude fraction.
 const MIN_ALPHA: f64 = 1.0 / 64.0;
 /// Parameters per link.
@@ -364,7 +365,9 @@ pub fn search_chain_multi(
     })
 }
 
-/// [`search_chain_multi`] within the current deadline.
+/// [`search_chain_multi`] within the current deadline. The progress reports the best `J` over
+/// the starts searched so far; when the limit cuts a start or leaves one unsearched, the answer
+/// says `time_limit` (its own search may have stalled, but the method did not finish).
 fn search_each(
     crawler: &Crawler,
     problem: &GaitProblem,
@@ -372,30 +375,46 @@ fn search_each(
     progress: &mut dyn FnMut(&ChainStep),
 ) -> Result<ChainSearch> {
     let mut best: Option<ChainSearch> = None;
+    let mut cut = false;
     for (ramps, origin) in starts {
         if best.is_some() && crate::progress::out_of_time()? {
+            cut = true;
             break;
         }
+        let so_far = best
+            .as_ref()
+            .map_or(f64::NEG_INFINITY, |b| b.result.objective);
         let s = search_chain(
             crawler,
             problem,
             ramps,
             origin,
             &ChainOptions::default(),
-            progress,
+            &mut |st: &ChainStep| {
+                progress(&ChainStep {
+                    objective: st.objective.max(so_far),
+                    ..st.clone()
+                })
+            },
         )?;
-        let stop = s.stop == LocalStop::TimeLimit;
+        cut = s.stop == LocalStop::TimeLimit;
         if best
             .as_ref()
             .is_none_or(|b| s.result.objective > b.result.objective + 1e-12)
         {
             best = Some(s);
         }
-        if stop {
+        if cut {
             break;
         }
     }
-    best.ok_or_else(|| Error::invalid("starts", 0, "the chain method needs a start"))
+    let mut best =
+        best.ok_or_else(|| Error::invalid("starts", 0, "the chain method needs a start"))?;
+    if cut {
+        best.stop = LocalStop::TimeLimit;
+        best.result.status = crate::optimal::MilpStatus::TimeLimit;
+    }
+    Ok(best)
 }
 
 /// The starts of the chain method from the structured gaits `gaits` and their values `values`
