@@ -59,7 +59,7 @@ pub(super) fn crawler_words(name: &str, theorem: &str) -> Option<(&'static str, 
             "p_l(t) + omega_l != 0 for all t and l (§4 (nndg)): min |p + omega| above 1e-6 \
              max(sup|p + omega|, 1/(N k_max)) and the solver's resolution; residual 1 when it \
              is not (min |p + omega| is reported beside J); required unless f2 is strictly \
-             convex",
+             convex and lambda > 0",
         ),
         ("2.2", "control_law") => (
             "control_law",

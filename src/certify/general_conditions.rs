@@ -73,7 +73,8 @@ pub struct GeneralNecessaryConditions {
     /// The resolution at which the margin is known: the conditions' tolerance times the
     /// adjoint's scale `max(1, ||p||_inf)`, that of every other residual.
     pub nondegeneracy_resolution: f64,
-    /// Whether the verdict requires that margin (`f2` not strictly convex).
+    /// Whether the verdict requires that margin: unless `f2` is strictly convex and
+    /// `lambda > 0`.
     pub margin_required: bool,
     /// Normalisation constants (as for crawlers).
     pub normalisation: Normalisation,

@@ -1,5 +1,6 @@
-//! The report of a general certificate (a P_m process or a phase gait): every condition with its residual, the continuous
-//! group of Theorem 2.2 and the verdict, in the crawler certificate's form (module docs of
+//! The one report of a certificate (a P_m process or a phase gait of (P), or of an instance of
+//! it such as a crawler, named in its words): every condition with its residual, the
+//! continuous group of Theorem 2.2, the margin and the verdict (module docs of
 //! [`crate::certify`] and [`crate::certify::general`]).
 
 use super::general_conditions::{
@@ -81,7 +82,9 @@ pub(crate) fn report(
     let margin = nondegeneracy_margin(p, st, raw, &switching);
     let margin = if margin <= ptol { 0.0 } else { margin };
     let nd_tol = 1e-6 * sup(&switching).max(st.switching_unit).max(1e-300);
-    let margin_required = !strictly_convex(&p.cost, m);
+    // With lambda > 0 a strictly convex f2 makes the Hamiltonian's maximiser unique whatever
+    // sigma; with lambda = 0 the cost has left the Hamiltonian and only the margin could.
+    let margin_required = !(strictly_convex(&p.cost, m) && raw.lambda > 0.0);
     let nondeg = !margin_required || margin > nd_tol;
     let law = control_law_residual(p, &pr.u, raw.lambda, &switching, nd_tol);
     let l1 = l1_maximality(p, st, raw, &psi);
@@ -103,8 +106,8 @@ pub(crate) fn report(
     }
 
     // The verdict reads the discrete group; a phase gait, an exact process of (P), must also
-    // meet Theorem 2.2 itself (sign, support, L^1 maximality, ...; not the non-degeneracy nor
-    // the control law, which make a verdict degenerate).
+    // meet Theorem 2.2 itself (sign, support, L^1 maximality, ...; not the non-degeneracy,
+    // which makes a verdict degenerate, nor the control law, which is reported only).
     let times = pr.times();
     let holds = match (margin_required, is_box(&p.control)) {
         (false, _) => "the necessary conditions hold with lambda = 1 (f2 strictly convex: the \
@@ -180,7 +183,13 @@ fn degenerate_reason(
              {margin:.3e} (§4 (nndg) fails)"
         );
     }
-    let (j, l) = argmin_abs(switching);
+    // Where the switching function is 0 at the resolution, the first such place (in time, then
+    // component): the least of values below the resolution would be round-off's choice.
+    let (j, l) = if margin == 0.0 {
+        first_within(switching, resolution)
+    } else {
+        argmin_abs(switching)
+    };
     format!(
         "the conditions hold with lambda = 1 but only degenerately: {} = {} on piece {j} \
          (t = {:.6}), {} {} (§4 (nndg) fails)",
@@ -194,6 +203,14 @@ fn degenerate_reason(
         words.component,
         l + 1
     )
+}
+
+/// The first (row, column) whose `|value|` is at most `within` (the least `|value|` if none).
+fn first_within(rows: &[Vec<f64>], within: f64) -> (usize, usize) {
+    rows.iter()
+        .enumerate()
+        .find_map(|(j, r)| r.iter().position(|v| v.abs() <= within).map(|l| (j, l)))
+        .unwrap_or_else(|| argmin_abs(rows))
 }
 
 /// The (row, column) of the least `|value|`.
@@ -385,10 +402,12 @@ impl ContinuousGroup {
             if is_box(&p.control) {
                 "sigma = B^T p + omega != 0 componentwise (§4 (nndg)): min |sigma| above 1e-6 \
                  max(sup|sigma|, max|w|) and the solver's resolution; residual 1 when it is not \
-                 (the margin is reported beside J)"
+                 (the margin is reported beside J); required unless f2 is strictly convex and \
+                 lambda > 0"
             } else {
                 "psi in the interior of N_U(u) at a vertex of U on every step: min rho above 1e-6 \
-                 max(sup|sigma|, max|w|) and the solver's resolution; residual 1 when it is not"
+                 max(sup|sigma|, max|w|) and the solver's resolution; residual 1 when it is not; \
+                 required unless f2 is strictly convex and lambda > 0"
             },
             if self.nondegenerate { 0.0 } else { 1.0 },
             0.0,

@@ -147,7 +147,8 @@
 //!
 //! - `holds`: the discrete conditions (group "6.2") hold with `lambda = 1` — for phase gaits the
 //!   continuous ones (group "2.2", then exact) too — and `p + omega` vanishes nowhere (not
-//!   required with a quadratic cost: `f2` strictly convex makes the control unique);
+//!   required with a quadratic cost and `lambda = 1`: `f2` strictly convex makes the control
+//!   unique);
 //! - `degenerate`: they hold but only with `p + omega` vanishing on some piece (e.g. an interior
 //!   control with `f2 = 0`), or only with `lambda = 0`;
 //! - `fails`: no multipliers satisfy them; the reason lists the violated conditions with their
@@ -157,7 +158,7 @@
 //! There is one report, (P)'s (`general_report`): a crawler's certificate is (P)'s report on its
 //! instance, with every residual in the crawler's units (`GeneralStructure::state_scale`,
 //! `face_scale`, `switching_unit`) and every condition in the crawler's words
-//! (`residuals::crawler_words`), read back in the crawler's names (`report.rs`: `p` and
+//! (`crawler_words::crawler_words`), read back in the crawler's names (`report.rs`: `p` and
 //! `p + omega` per link, `dxi` per block and side, the one-link structure). The verdict, the
 //! groups' bookkeeping, the support of `dxi`, the L^1 weak maximality of a step and the
 //! normalisations are `verdict.rs`.

@@ -164,8 +164,9 @@ pub struct NecessaryConditions {
     /// of earlier builds.)
     #[serde(default)]
     pub nondegeneracy_resolution: f64,
-    /// Whether the verdict requires that margin: `f2` not strictly convex (with a quadratic
-    /// cost the control `proj_U(-(p + omega) / c)` is unique wherever `p + omega` vanishes).
+    /// Whether the verdict requires that margin: unless `f2` is strictly convex and
+    /// `lambda > 0` (with a quadratic cost the control `proj_U(-(p + omega) / (lambda c))` is
+    /// then unique wherever `p + omega` vanishes).
     /// (Absent, true, in files of earlier builds, which asked the margin of every cost.)
     #[serde(default = "margin_required_before")]
     pub margin_required: bool,

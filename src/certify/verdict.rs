@@ -122,8 +122,8 @@ pub(super) fn law_target(
 }
 
 /// Whether a condition counts for the verdict of its group: all but `lambda > 0` (which
-/// decides between the verdicts) and the non-degeneracy and the control law (which make a
-/// verdict degenerate, not failed).
+/// decides between the verdicts), the non-degeneracy (which makes a verdict degenerate, not
+/// failed) and the control law (reported only: what the maximality implies where it decides).
 fn counted(c: &ConditionCheck, theorem: &str) -> bool {
     c.theorem == theorem
         && !matches!(

@@ -100,14 +100,20 @@ pub fn build_general_report(
         let verdict = serde_json::to_string(&nc.verdict).unwrap_or_default();
         h.push_str(&format!(
             "<h2 id=\"certificate\">Necessary conditions (Theorem 2.2, discrete form)</h2>\n\
-             <p>Verdict: <b>{}</b>: {}.</p>\n<p>Multiplier λ = {}; J = {}.</p>\n\
+             <p>Verdict: <b>{}</b>: {}.</p>\n<p>Multiplier λ = {}; J = {}; non-degeneracy \
+             margin {}.</p>\n\
              <div class=\"scroll\">\n<table id=\"conditions\">\n<tr><th class=\"l\">theorem</th>\
              <th class=\"l\">condition</th><th>residual</th><th>tolerance</th>\
              <th class=\"l\">holds</th><th class=\"l\">statement</th></tr>\n",
             esc(verdict.trim_matches('"')),
             esc(&nc.reason),
             num(nc.lambda),
-            num(nc.objective)
+            num(nc.objective),
+            esc(&super::text::margin_text(
+                nc.nondegeneracy_margin,
+                nc.nondegeneracy_resolution,
+                nc.margin_required
+            ))
         ));
         conditions_rows(&mut h, &nc.conditions);
         h.push_str("</table>\n</div>\n");

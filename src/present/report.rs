@@ -545,14 +545,11 @@ fn certificate_section(h: &mut String, c: &NecessaryConditions) {
         num(c.lambda),
         esc(&c.normalisation.scaled_by),
         num(c.objective),
-        if c.margin_required {
-            num(c.nondegeneracy_margin)
-        } else {
-            format!(
-                "{} (not required: f2 strictly convex)",
-                num(c.nondegeneracy_margin)
-            )
-        }
+        esc(&super::text::margin_text(
+            c.nondegeneracy_margin,
+            c.nondegeneracy_resolution,
+            c.margin_required
+        ))
     ));
     h.push_str(
         "<div class=\"scroll\">\n<table id=\"conditions\">\n<tr><th class=\"l\">theorem</th>\

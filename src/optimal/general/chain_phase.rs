@@ -160,7 +160,11 @@ pub fn chain_phase_gait(
     g.max_phases = s.phases;
     g.certificate = Certificate {
         status: s.certificate.status,
-        milp_objective: lambda * s.certificate.milp_objective,
+        // The crawler's MILP records its displacement; (P)'s certificate records the MILP's J:
+        // the replayed J with the MILP's own displacement (the displacement alone, 2.17, was
+        // above the bound 1.55 with a quadratic cost, and the file was refused on reading).
+        milp_objective: g.objective
+            + lambda * (s.certificate.milp_objective - s.verified_displacement),
         bound,
         gap: Certificate::gap_of(bound, g.objective),
     };

@@ -168,7 +168,7 @@ fn search_line(out: &mut String, r: &GaitResult, len: &dyn Fn(f64) -> String) {
 
 /// The non-degeneracy margin as measured (a margin within the solver's resolution is 0 at that
 /// resolution) and whether the verdict asks it (not with `f2` strictly convex).
-pub(super) fn margin_text(margin: f64, resolution: f64, required: bool) -> String {
+pub(crate) fn margin_text(margin: f64, resolution: f64, required: bool) -> String {
     let value = if margin == 0.0 {
         format!("0 (at the solver's resolution {resolution:.1e})")
     } else {
