@@ -109,18 +109,7 @@ pub(crate) fn report(
     // meet Theorem 2.2 itself (sign, support, L^1 maximality, ...; not the non-degeneracy,
     // which makes a verdict degenerate, nor the control law, which is reported only).
     let times = pr.times();
-    let holds = match (margin_required, is_box(&p.control)) {
-        (false, _) => "the necessary conditions hold with lambda = 1 (f2 strictly convex: the \
-                       control is unique)"
-            .to_string(),
-        (true, true) => format!(
-            "the necessary conditions hold with lambda = 1 and {} vanishes nowhere",
-            words.switching
-        ),
-        (true, false) => "the necessary conditions hold with lambda = 1 and B^T p + omega \
-                          leaves the control unique"
-            .to_string(),
-    };
+    let holds = holds_reason(margin_required, is_box(&p.control), words);
     let (verdict, reason) = verdict(&conditions, discrete, raw.lambda, nondeg, &holds, || {
         degenerate_reason(p, words, &switching, margin, ptol, &times)
     });
@@ -139,23 +128,53 @@ pub(crate) fn report(
         margin_required,
         normalisation: normalisation(scaled_by, raw.lambda, sup_p, paper),
         conditions,
-        multipliers: GeneralMultipliers {
-            xi: face_multipliers(st, raw, &times),
-            times,
-            p: raw.p.clone(),
-            switching,
-            psi,
-            u: pr.u.clone(),
-            omega: raw.omega.clone(),
-            // The weights of U's active rows, numbered from 1.
-            normal_cone: st
-                .urows_active
-                .iter()
-                .zip(&raw.rho)
-                .map(|(rows, w)| rows.iter().zip(w).map(|(&r, &v)| (r + 1, v)).collect())
-                .collect(),
-        },
+        multipliers: multipliers_record(pr, st, raw, times, switching, psi),
         branch_lp: None,
+    }
+}
+
+/// The multipliers as the certificate records them: per piece `p`, the switching function,
+/// `psi`, `u`; `omega`; the weights of U's active rows (numbered from 1); the masses of `dxi`.
+fn multipliers_record(
+    pr: &GeneralProcess,
+    st: &GeneralStructure,
+    raw: &GeneralRaw,
+    times: Vec<f64>,
+    switching: Vec<Vec<f64>>,
+    psi: Vec<Vec<f64>>,
+) -> GeneralMultipliers {
+    GeneralMultipliers {
+        xi: face_multipliers(st, raw, &times),
+        times,
+        p: raw.p.clone(),
+        switching,
+        psi,
+        u: pr.u.clone(),
+        omega: raw.omega.clone(),
+        normal_cone: st
+            .urows_active
+            .iter()
+            .zip(&raw.rho)
+            .map(|(rows, w)| rows.iter().zip(w).map(|(&r, &v)| (r + 1, v)).collect())
+            .collect(),
+    }
+}
+
+/// The reason of a `holds` verdict: the control is unique because `f2` is strictly convex
+/// (`margin_required` false), or because the switching function vanishes nowhere (a box U)
+/// or leaves it unique (a polytope).
+fn holds_reason(margin_required: bool, box_u: bool, words: &Words) -> String {
+    match (margin_required, box_u) {
+        (false, _) => "the necessary conditions hold with lambda = 1 (f2 strictly convex: the \
+                       control is unique)"
+            .to_string(),
+        (true, true) => format!(
+            "the necessary conditions hold with lambda = 1 and {} vanishes nowhere",
+            words.switching
+        ),
+        (true, false) => "the necessary conditions hold with lambda = 1 and B^T p + omega \
+                          leaves the control unique"
+            .to_string(),
     }
 }
 
