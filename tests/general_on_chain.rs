@@ -350,3 +350,44 @@ fn a_phase_answer_with_a_cost_reads_back() {
     );
     common::certify_written(dir.path(), &v);
 }
+
+/// The chain's phase growth on a general problem starts from the chain's best structured gait,
+/// as the crawler's does: at `K = 2` the answer is the crawler's (the travelling wave, J = 1.5,
+/// `dominates_k_phases`), where the 2-phase MILP alone finds only the idle gait (J = 0). The
+/// file reads back and certifies; the same gait claimed optimal among 2 phases is refused.
+#[test]
+fn a_general_chain_keeps_the_structured_gait_where_k_is_too_small() {
+    let dir = tempfile::tempdir().unwrap();
+    let args = ["--method", "phase", "--phases", "2"];
+    let general = common::optimize_json(std::path::Path::new(GENERAL), &args);
+    let crawler = common::optimize_json(std::path::Path::new(CRAWLER), &args);
+    for v in [&general, &crawler] {
+        assert_eq!(v["status"], "dominates_k_phases", "{}", v["kind"]);
+    }
+    let (jg, jc) = (
+        general["objective"].as_f64().unwrap(),
+        crawler["objective"].as_f64().unwrap(),
+    );
+    assert!(
+        (jg - 1.5).abs() < 1e-9 && (jc - 1.5).abs() < 1e-9,
+        "{jg} {jc}"
+    );
+    assert_eq!(
+        general["structured"]["origin"],
+        crawler["structured"]["origin"]
+    );
+    let phases = general["solution"]["durations"].as_array().unwrap().len();
+    assert!(
+        phases > 4,
+        "{phases} phases: the structured gait is not of the class K = 2"
+    );
+    common::certify_written(dir.path(), &general);
+    let mut claimed = general.clone();
+    claimed["status"] = "optimal_among_k_phases".into();
+    claimed["solution"]["certificate"]["status"] = "optimal_among_k_phases".into();
+    let path = common::write(dir.path(), "claimed.json", &claimed.to_string());
+    let out = common::crawlopt(&["certify", path.to_str().unwrap()]);
+    assert!(!out.status.success());
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("solution.durations"), "{err}");
+}

@@ -137,15 +137,18 @@ pub fn optimize_general_phase(
                  meets the uniqueness condition; see `analyze`)",
             ));
         }
-        let grown = match &chain {
+        let (grown, structured) = match &chain {
             Some(view) => grow_chain_phases(&p, &g, view, range, s.time_limit, &mut progress),
-            None => grow_general_phases(&p, &g, range, s.time_limit, &mut progress),
+            None => {
+                grow_general_phases(&p, &g, range, s.time_limit, &mut progress).map(|g| (g, None))
+            }
         }
         .map_err(named)?;
         let mut r = GeneralPhaseOptimized::new(file, p.period, grown.best);
         if chain.is_some() {
             r.formulation = Some("chain".into());
         }
+        r.structured = structured;
         if s.phases.is_none() {
             r.phase_growth = Some(PhaseGrowthRecord {
                 table: grown.table,

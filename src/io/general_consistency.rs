@@ -456,8 +456,11 @@ fn check_phase_shape(
         ));
     }
     let (n, mc, sigma) = (p.states(), p.controls(), p.c.faces());
-    // The chain's formulation counts slip phases: a transition may precede each.
-    let most = if chain {
+    // The chain's formulation counts slip phases: a transition may precede each. A gait that
+    // dominates the class (the chain's structured start, kept) is not of it: any length.
+    let most = if s.certificate.status == crate::optimal::MilpStatus::DominatesKPhases {
+        MAX_LOCAL_PHASES
+    } else if chain {
         2 * s.max_phases
     } else {
         s.max_phases
@@ -699,6 +702,7 @@ fn check_global(
         ],
         Some(_) => &[
             MilpStatus::OptimalAmongKPhases,
+            MilpStatus::DominatesKPhases,
             MilpStatus::TimeLimit,
             MilpStatus::ApproximationLimit,
         ],

@@ -2,6 +2,8 @@
 //! ([`GeneralProblem::as_chain`]): the crawler's growth over `K` *slip* phases (transitions
 //! free, [`crate::optimal::grow_phases`]) in place of the general `K`-phase MILP, its gait
 //! written back in the problem's own terms and re-verified by the general exact simulator.
+//! As on the crawler, the growth starts from the chain's best structured gait, so the answer
+//! is never below it ([`structured_start`]).
 //!
 //! **What the answer claims.** Every general gait of at most `K` phases has at most `K` slip
 //! phases, so the chain MILP's bound at `K` bounds every general gait of at most `K` phases;
@@ -21,9 +23,13 @@ use super::phase::{check_phase_growth, replay_phases, GeneralPhaseGait};
 use crate::error::{Error, Result};
 use crate::model::general::GeneralProblem;
 use crate::model::ChainView;
+use crate::model::Crawler;
 use crate::optimal::growth::{Growth, GrowthRange, PhaseStep};
 use crate::optimal::milp::Certificate;
-use crate::optimal::{grow_phases, Cost, GaitProblem, GrowOptions, PhaseSolution};
+use crate::optimal::structured::{best_structured, StructuredOptions};
+use crate::optimal::{
+    grow_phases, Cost, GaitProblem, GrowOptions, PhaseSolution, StructuredRecord,
+};
 
 /// The crawler's gait problem of a chain view: period from `p`, the rate bounds `a_l` of the
 /// box U (the crawler's `k_l` times its actuator speeds, so the speeds are `a_l / k_l`), the
@@ -70,7 +76,8 @@ pub fn chain_gait_problem(p: &GeneralProblem, view: &ChainView) -> Result<GaitPr
 
 /// `K` grown over `range` (slip phases) by the crawler's growth on the chain of `p` (module
 /// docs), each `K` reported to `progress` in the problem's units; the best gait written back
-/// as a general phase gait. Checked as [`super::grow_general_phases`] is (errors name
+/// as a general phase gait, with the record of the structured start where the growth kept it
+/// (as a crawler's answer records it). Checked as [`super::grow_general_phases`] is (errors name
 /// `max_phases`, `patience`, `time_limit`); `time_limit` in seconds, within the job's
 /// deadline.
 pub fn grow_chain_phases(
@@ -80,7 +87,7 @@ pub fn grow_chain_phases(
     range: GrowthRange,
     time_limit: Option<f64>,
     progress: &mut dyn FnMut(&PhaseStep),
-) -> Result<Growth<GeneralPhaseGait>> {
+) -> Result<(Growth<GeneralPhaseGait>, Option<StructuredRecord>)> {
     check_phase_growth(p, g, range, time_limit)?;
     crate::progress::within(time_limit, || grow_chain(p, view, range, progress))
 }
@@ -91,13 +98,15 @@ fn grow_chain(
     view: &ChainView,
     range: GrowthRange,
     progress: &mut dyn FnMut(&PhaseStep),
-) -> Result<Growth<GeneralPhaseGait>> {
+) -> Result<(Growth<GeneralPhaseGait>, Option<StructuredRecord>)> {
     let gp = chain_gait_problem(p, view)?;
+    let (start, origin) = structured_start(&view.crawler, &gp)?.unzip();
     let lambda = view.objective_scale;
     let opts = GrowOptions {
         min_phases: range.min_phases,
         max_phases: range.max_phases,
         patience: range.patience,
+        start: start.clone(),
         ..GrowOptions::default()
     };
     let scaled = |st: &PhaseStep| PhaseStep {
@@ -107,11 +116,36 @@ fn grow_chain(
         ..st.clone()
     };
     let g = grow_phases(&view.crawler, &gp, &opts, &mut |st| progress(&scaled(st)))?;
-    Ok(Growth {
+    let kept = start.is_some_and(|s| s.durations == g.best.durations && s.states == g.best.states);
+    let record = origin.filter(|_| kept).map(|origin| StructuredRecord {
+        origin,
+        replaced: None,
+    });
+    let growth = Growth {
         best: chain_phase_gait(p, view, &g.best)?,
         table: g.table.iter().map(scaled).collect(),
         stop: g.stop,
-    })
+    };
+    Ok((growth, record))
+}
+
+/// The best structured gait of the chain's crawler (travelling, alternating and grouped
+/// waves, [`best_structured`]) in phase form: the growth's start, so that every MILP takes it
+/// as its incumbent where it fits `K` and as its cutoff where it has more slip phases. As on
+/// the crawler, the answer is then at least that gait, and a `K` it beats says
+/// `dominates_k_phases` (three blocks at `K = 2`: J = 1.5 where the 2-phase MILP alone finds
+/// only the idle gait). `None` where no structured gait reached a periodic orbit or it has no
+/// phase form (the growth then starts from nothing, as before); with the gait, its origin in
+/// words.
+fn structured_start(
+    crawler: &Crawler,
+    gp: &GaitProblem,
+) -> Result<Option<(PhaseSolution, String)>> {
+    let Some(found) = best_structured(crawler, gp, &StructuredOptions::default())? else {
+        return Ok(None);
+    };
+    let form = found.best.phase_form(crawler, gp).ok();
+    Ok(form.map(|f| (f, found.best.origin)))
 }
 
 /// A crawler's exact gait on its own pieces (a phase MILP's, or a local method's): durations,

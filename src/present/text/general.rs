@@ -274,6 +274,16 @@ pub fn general_phase(r: &GeneralPhaseOptimized) -> String {
             num(r.period, 0.0),
             super::status_word(c.status),
         ),
+        Some("chain") if c.status == crate::optimal::MilpStatus::DominatesKPhases => wln!(
+            out,
+            "exact gait of {} phases, proven at least as good as every gait of at most {k} \
+             phases by the chain's formulation ({k} slip phases, transitions free; the problem \
+             is a crawler's) (T = {}), global MILP: {}",
+            s.durations.len(),
+            num(r.period, 0.0),
+            super::status_word(c.status),
+            k = s.max_phases,
+        ),
         Some("chain") => wln!(
             out,
             "exact gait, global among those of at most {k} phases by the chain's formulation \
