@@ -458,6 +458,38 @@ fn a_general_simulation_has_its_objective_at_the_top() {
     assert!((v["objective"].as_f64().unwrap() - 3.0).abs() < 1e-12);
 }
 
+/// A simulation of either kind has one envelope in front of its own fields: `format`,
+/// `version`, `kind` and `objective` (a crawler's: its displacement per period, `f2 = 0`;
+/// `max(0, 2A - 2) = 4` for one link under a sine of amplitude 3, theory §10).
+#[test]
+fn a_simulation_of_either_kind_has_one_envelope() {
+    let dir = tempfile::tempdir().unwrap();
+    let crawler = common::write(
+        dir.path(),
+        "one_link_sine.toml",
+        "[crawler]\nblocks = 2\nstiffness = 1.0\nmu_forward = 1.0\nmu_backward = 2.0\n\n\
+         [actuation]\nkind = \"sine\"\nperiod = 1.0\namplitude = 3.0\n",
+    );
+    let c = json_of(&crawlopt(&[
+        "simulate",
+        crawler.to_str().unwrap(),
+        "--json",
+    ]));
+    let g = json_of(&crawlopt(&["simulate", ONE_LINK, "--json"]));
+    for (v, kind) in [(&c, "crawler"), (&g, "general")] {
+        assert_eq!(v["format"], "crawlopt-simulation");
+        assert_eq!(v["version"], 1);
+        assert_eq!(v["kind"], kind);
+    }
+    assert_eq!(c["objective"], c["displacement_per_period"]);
+    assert!(
+        (c["objective"].as_f64().unwrap() - 4.0).abs() < 1e-9,
+        "{}",
+        c["objective"]
+    );
+    assert!((g["objective"].as_f64().unwrap() - 3.0).abs() < 1e-12);
+}
+
 /// `plot` and `report` read a general result back (the problem from its envelope) and draw
 /// what `optimize --plot --report` drew from the answer in memory: the same figures, byte for
 /// byte (the numbers round-trip exactly), and a report showing the same objective.

@@ -14,8 +14,10 @@ from ._figure import Figure
 class Simulation:
     """A simulation to the periodic regime: ``status`` ("converged", or "not_converged" when
     the regime was not reached: then ``displacement_per_period`` is None, ``repr`` says so
-    and ``simulate`` warned with NotConvergedWarning), ``converged``,
-    ``periods_to_converge``, ... (every field of ``crawlopt simulate --json``), and the
+    and ``simulate`` warned with NotConvergedWarning), the envelope of every simulation
+    (``format``, ``version``, ``kind`` "crawler", ``objective``: J with no actuation cost, the
+    displacement per period), ``converged``, ``periods_to_converge``, ... (every field of
+    ``crawlopt simulate --json``), and the
     recorded periods as NumPy arrays: ``t`` (times), ``x`` (link forces, times x links), ``X``
     (block positions, times x blocks), ``y`` (barycentre) and ``slip`` (int8, times x blocks:
     -1 backward, 0 stick, 1 forward). ``plot()`` draws them (matplotlib); in Jupyter it shows

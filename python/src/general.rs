@@ -114,7 +114,7 @@ impl GeneralProblem {
         };
         let f = self.inner.clone();
         let s = run(py, None, |_| api::simulate_general(&f, &opts))?;
-        let doc = pythonize::pythonize(py, &s)?;
+        let doc = pythonize::pythonize(py, &crawlopt::io::SimulationDocument::general(&s))?;
         let problem = self.inner.problem().map_err(|e| to_py(py, e))?;
         Ok((
             doc,

@@ -24,7 +24,8 @@ fn matrix<'py, T: numpy::Element + Copy>(
         .expect("rows of equal length")
 }
 
-/// A simulation: its scalar results as a dict (converted straight from the struct: a JSON text
+/// A simulation: its scalar results as a dict, the library's document of a simulation (its
+/// envelope: format, version, kind, objective; converted straight from the struct: a JSON text
 /// parsed again in Python cost a fifth of the call's overhead), and the recorded trajectory as
 /// arrays (`t`, `x`, `X`, `y`, `slip`) when periods were recorded (taken out before the
 /// summary is converted: it is most of the work otherwise).
@@ -35,7 +36,7 @@ fn simulation_out(
     blocks: usize,
 ) -> PyResult<(Bound<'_, PyAny>, Bound<'_, PyDict>)> {
     let trajectory = s.trajectory.take();
-    let summary = pythonize::pythonize(py, &s)?;
+    let summary = pythonize::pythonize(py, &crawlopt::io::SimulationDocument::crawler(&s))?;
     let arrays = PyDict::new(py);
     if let Some(tr) = &trajectory {
         arrays.set_item("t", PyArray1::from_slice(py, &tr.t))?;

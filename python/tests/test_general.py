@@ -272,3 +272,16 @@ def test_a_chain_file_is_simulated_with_the_chains_kernels():
         assert s["simulation"]["projection"] == projection
         assert s.objective == pytest.approx(4 - 1 / 19, abs=1e-9)
         assert s["simulation"]["periods"] < 50
+
+
+def test_a_simulation_of_either_kind_has_one_envelope():
+    # The library's document of a simulation (crawlopt::io::SimulationDocument): format,
+    # version, kind and objective, the crawler's being its displacement per period (f2 = 0):
+    # max(0, 2A - 2) = 4 for one link under a sine of amplitude 3 (theory §10).
+    c = co.Crawler(blocks=2, stiffness=1.0, mu_forward=1.0, mu_backward=2.0)
+    crawler = co.simulate(c, co.Actuation.sine(period=1.0, amplitude=[3.0]))
+    general = co.load(ONE_LINK).simulate()
+    for s, kind in ((crawler.to_dict(), "crawler"), (general.to_dict(), "general")):
+        assert (s["format"], s["version"], s["kind"]) == ("crawlopt-simulation", 1, kind)
+    assert crawler.objective == crawler.displacement_per_period == pytest.approx(4.0, abs=1e-9)
+    assert general["objective"] == pytest.approx(J_STAR, abs=1e-9)

@@ -8,7 +8,7 @@ use super::{analyze, analyze_general, general_sim_options, simulate, Hooks};
 use super::{GeneralAnalysis, GeneralSimulated, ModelAnalysis};
 use crate::error::Result;
 use crate::integrate::{Actuation, SimOptions, Simulation};
-use crate::io::{write_general_csv, write_trajectory_csv, ProblemFile};
+use crate::io::{write_general_csv, write_trajectory_csv, ProblemFile, SimulationDocument};
 use crate::model::general::GeneralProblem;
 use crate::model::Crawler;
 use crate::present::{self, figures::Figure, text};
@@ -70,8 +70,8 @@ impl Analyzed {
     }
 }
 
-/// What [`simulate_file`] played, of the file's kind (its JSON is the kind's own: the
-/// simulation's).
+/// What [`simulate_file`] played, of the file's kind (its JSON is [`Simulated::document`]: the
+/// envelope of every simulation, then the kind's fields).
 #[derive(Debug, Clone, PartialEq)]
 pub enum Simulated {
     /// A crawler's actuation ([`simulate`]).
@@ -92,12 +92,20 @@ pub enum Simulated {
     },
 }
 
+impl Simulated {
+    /// The simulation's document: one envelope over the kind's fields
+    /// ([`SimulationDocument`]).
+    pub fn document(&self) -> SimulationDocument<'_> {
+        match self {
+            Simulated::Crawler { simulation, .. } => SimulationDocument::crawler(simulation),
+            Simulated::General { answer, .. } => SimulationDocument::general(answer),
+        }
+    }
+}
+
 impl Serialize for Simulated {
     fn serialize<S: serde::Serializer>(&self, s: S) -> std::result::Result<S::Ok, S::Error> {
-        match self {
-            Simulated::Crawler { simulation, .. } => simulation.serialize(s),
-            Simulated::General { answer, .. } => answer.serialize(s),
-        }
+        self.document().serialize(s)
     }
 }
 

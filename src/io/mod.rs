@@ -36,6 +36,7 @@ mod general_results;
 pub mod json;
 mod model_toml;
 mod result_file;
+mod simulation_doc;
 
 pub(crate) use config::escape_controls;
 pub use config::{
@@ -50,6 +51,9 @@ pub use general_results::{
 };
 pub use model_toml::{crawler_toml, read_fit_csv, write_text, MAX_FIT_CSV_BYTES};
 pub use result_file::ResultFile;
+pub use simulation_doc::{
+    SimulationBody, SimulationDocument, SIMULATION_FORMAT, SIMULATION_VERSION,
+};
 
 use crate::error::{Error, Result};
 
