@@ -72,7 +72,7 @@ fn patience_ends_the_growth_on_a_plateau_and_the_claim_is_the_last_k() {
     // J_4 = J_5 = J_6 = 3: with patience 2 the growth stops at K = 6, and the best gait (found
     // at K = 4) is claimed for K = 6, the largest K proven.
     let s = settings(|s| {
-        s.max_phases = 10;
+        s.max_phases = Some(10);
         s.patience = 2;
     });
     let r = optimize_general_phase(&one_link(10.0), &s, Hooks::default()).unwrap();
@@ -122,8 +122,8 @@ fn bad_settings_are_refused_naming_the_field() {
     let cases: Vec<(GeneralPhaseSettings, &str)> = vec![
         (settings(|s| s.phases = Some(0)), "phases"),
         (settings(|s| s.phases = Some(1000)), "phases"),
-        (settings(|s| s.max_phases = 0), "max_phases"),
-        (settings(|s| s.max_phases = 1000), "max_phases"),
+        (settings(|s| s.max_phases = Some(0)), "max_phases"),
+        (settings(|s| s.max_phases = Some(1000)), "max_phases"),
         (settings(|s| s.patience = 0), "patience"),
         (settings(|s| s.time_limit = Some(-1.0)), "time_limit"),
     ];

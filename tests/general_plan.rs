@@ -44,7 +44,7 @@ fn the_plan_fills_in_each_methods_defaults() {
     assert_eq!(
         phase.plan_general(&[]).unwrap(),
         GeneralPlan::Phase(GeneralPhaseSettings {
-            max_phases: 3,
+            max_phases: Some(3),
             ..Default::default()
         })
     );

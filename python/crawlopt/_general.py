@@ -229,9 +229,10 @@ class GeneralProblem:
         (KeyboardInterrupt); ``progress`` as for ``optimize``. ``method`` "phase" (where A = 0):
         the exact continuous-time gait, globally among those of at most ``phases`` phases, or
         with K grown from 1 to ``max_phases`` (None: the library's default,
-        ``api::DEFAULT_GENERAL_PHASES``) until ``patience`` consecutive K bring no gain, as for
-        crawlers (``crawlopt optimize --method phase``; ``phase_growth`` holds the table of the
-        K solved); its ``solution`` holds ``objective`` (J re-verified by the exact simulation),
+        ``api::DEFAULT_GENERAL_PHASES``, or the crawler's ``api::DEFAULT_MAX_PHASES`` slip
+        phases where the problem is a crawler's gait problem) until ``patience`` consecutive K
+        bring no gain, as for crawlers (``crawlopt optimize --method phase``; ``phase_growth``
+        holds the table of the K solved); its ``solution`` holds ``objective`` (J re-verified by the exact simulation),
         ``durations``, ``controls``, ``states``, ``held`` (faces, 1-based) and ``reactions`` per
         phase. ``method`` "sequence" or "chain" (where the problem is a crawler's gait problem,
         as ``analyze()["structure"]`` says; else an ``InputError`` naming ``method``): the

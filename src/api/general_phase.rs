@@ -11,8 +11,10 @@ use crate::optimal::general::{grow_chain_phases, grow_general_phases};
 use crate::optimal::growth::GrowthRange;
 use crate::optimal::PhaseGrowthRecord;
 
-/// Default `K` of [`GeneralPhaseSettings`]: 4 phases, what the paper's §4 one-link optimum
-/// needs (free rise, slide on one face, free fall, slide on the other).
+/// Default largest `K` of [`GeneralPhaseSettings`] in the general formulation: 4 phases, what
+/// the paper's §4 one-link optimum needs (free rise, slide on one face, free fall, slide on the
+/// other). The chain's formulation counts slip phases and takes the crawler's default,
+/// [`crate::optimal::DEFAULT_MAX_PHASES`] ([`GeneralPhaseSettings::max_phases`]).
 pub const DEFAULT_GENERAL_PHASES: usize = 4;
 
 /// A formulation of the phase MILP ([`GeneralPhaseSettings::formulation`]).
@@ -29,9 +31,12 @@ pub enum PhaseFormulation {
 /// Settings of [`optimize_general_phase`].
 #[derive(Debug, Clone, PartialEq)]
 pub struct GeneralPhaseSettings {
-    /// `K` when it grows: the largest number of phases tried (default
-    /// [`DEFAULT_GENERAL_PHASES`]; at most [`crate::optimal::general::MAX_GENERAL_PHASES`]).
-    pub max_phases: usize,
+    /// `K` when it grows: the largest number of phases tried, at most
+    /// [`crate::optimal::general::MAX_GENERAL_PHASES`]. `None` (the default) takes the
+    /// formulation's default: [`DEFAULT_GENERAL_PHASES`] phases in the general one, the
+    /// crawler's [`crate::optimal::DEFAULT_MAX_PHASES`] slip phases in the chain's, so that a
+    /// crawler and its general form grow `K` alike ([`GeneralPhaseSettings::max_phases_for`]).
+    pub max_phases: Option<usize>,
     /// A fixed `K`: one MILP over gaits of at most `K` phases (default `None`: `K` grows from
     /// 1 to `max_phases`).
     pub phases: Option<usize>,
@@ -58,7 +63,7 @@ pub struct GeneralPhaseSettings {
 impl Default for GeneralPhaseSettings {
     fn default() -> Self {
         GeneralPhaseSettings {
-            max_phases: DEFAULT_GENERAL_PHASES,
+            max_phases: None,
             phases: None,
             patience: super::DEFAULT_PATIENCE,
             time_limit: None,
@@ -66,6 +71,19 @@ impl Default for GeneralPhaseSettings {
             bound: None,
             certify: false,
         }
+    }
+}
+
+impl GeneralPhaseSettings {
+    /// The largest `K` of a growth: `max_phases`, or the formulation's default where it is
+    /// `None` (the chain's, `chain`: [`crate::optimal::DEFAULT_MAX_PHASES`] slip phases as for
+    /// a crawler; else [`DEFAULT_GENERAL_PHASES`] phases).
+    pub fn max_phases_for(&self, chain: bool) -> usize {
+        self.max_phases.unwrap_or(if chain {
+            crate::optimal::DEFAULT_MAX_PHASES
+        } else {
+            DEFAULT_GENERAL_PHASES
+        })
     }
 }
 
@@ -83,6 +101,20 @@ pub fn optimize_general_phase(
     }
     let (p, g) = super::general_problem(file)?;
     let bound_chain = super::general::chain_for_bound(&p, s.bound.as_ref())?;
+    // A chain (a crawler's gait problem) takes the chain's stronger formulation: K slip
+    // phases, transitions free (`optimal::general::chain_phase`).
+    let chain = p.as_chain().filter(|v| {
+        v.crawler.require_unique().is_ok() && s.formulation != Some(PhaseFormulation::General)
+    });
+    if chain.is_none() && s.formulation == Some(PhaseFormulation::Chain) {
+        return Err(crate::Error::invalid(
+            "formulation",
+            "chain",
+            "the chain's formulation needs a crawler's gait problem (a chain whose crawler \
+             meets the uniqueness condition; see `analyze`)",
+        ));
+    }
+    let max_phases = s.max_phases_for(chain.is_some());
     let range = match s.phases {
         Some(k) => GrowthRange {
             min_phases: k,
@@ -91,7 +123,7 @@ pub fn optimize_general_phase(
         },
         None => GrowthRange {
             min_phases: 1,
-            max_phases: s.max_phases,
+            max_phases,
             patience: s.patience,
         },
     };
@@ -113,10 +145,7 @@ pub fn optimize_general_phase(
     run_with(hooks, |em| {
         em.stage(match s.phases {
             Some(k) => format!("the phase MILP of the general problem (K = {k})"),
-            None => format!(
-                "the phase MILPs of the general problem, K = 1..{} grown",
-                s.max_phases
-            ),
+            None => format!("the phase MILPs of the general problem, K = 1..{max_phases} grown"),
         });
         let mut progress = |st: &crate::optimal::PhaseStep| {
             em.send(Event::PhaseSolved {
@@ -124,19 +153,6 @@ pub fn optimize_general_phase(
                 start: false,
             })
         };
-        // A chain (a crawler's gait problem) takes the chain's stronger formulation: K slip
-        // phases, transitions free (`optimal::general::chain_phase`).
-        let chain = p.as_chain().filter(|v| {
-            v.crawler.require_unique().is_ok() && s.formulation != Some(PhaseFormulation::General)
-        });
-        if chain.is_none() && s.formulation == Some(PhaseFormulation::Chain) {
-            return Err(crate::Error::invalid(
-                "formulation",
-                "chain",
-                "the chain's formulation needs a crawler's gait problem (a chain whose crawler \
-                 meets the uniqueness condition; see `analyze`)",
-            ));
-        }
         let (grown, structured) = match &chain {
             Some(view) => grow_chain_phases(&p, &g, view, range, s.time_limit, &mut progress),
             None => {

@@ -201,7 +201,7 @@ impl OptimizeSettings {
         if phase {
             let d = GeneralPhaseSettings::default();
             GeneralPlan::Phase(GeneralPhaseSettings {
-                max_phases: self.max_phases.unwrap_or(d.max_phases),
+                max_phases: self.max_phases,
                 phases: self.phases,
                 patience: self.patience.unwrap_or(d.patience),
                 time_limit: self.time_limit,

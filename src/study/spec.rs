@@ -371,14 +371,15 @@ fn plan_values(plan: &GeneralPlan) -> Result<()> {
     let mut checks = match plan {
         GeneralPlan::Discrete(s) => vec![("m", s.m as usize, 1, MAX_GENERAL_M as usize)],
         GeneralPlan::Local(s) => vec![("m", s.m as usize, 1, MAX_GENERAL_LOCAL_M as usize)],
-        GeneralPlan::Phase(s) => vec![
-            ("max_phases", s.max_phases, 1, MAX_GENERAL_PHASES),
-            ("patience", s.patience, 1, usize::MAX),
-        ],
+        GeneralPlan::Phase(s) => vec![("patience", s.patience, 1, usize::MAX)],
         // The crawler's methods: the crawler's ranges.
         GeneralPlan::OnChain(s) => return s.crawler.check_values(),
     };
     if let GeneralPlan::Phase(s) = plan {
+        checks.extend(
+            s.max_phases
+                .map(|k| ("max_phases", k, 1, MAX_GENERAL_PHASES)),
+        );
         checks.extend(s.phases.map(|k| ("phases", k, 1, MAX_GENERAL_PHASES)));
     }
     for (name, value, min, max) in checks {
