@@ -227,18 +227,18 @@ class GeneralProblem:
         "structure"), as ``certificate["upper_bound"]``; else an ``InputError`` naming
         ``bound``. Ctrl-C stops it
         (KeyboardInterrupt); ``progress`` as for ``optimize``. ``method`` "phase" (where A = 0):
-        the exact continuous-time gait, globally among those of at most ``phases`` phases, or
-        with K grown from 1 to ``max_phases`` (None: the library's default,
-        ``api::DEFAULT_GENERAL_PHASES``, or the crawler's ``api::DEFAULT_MAX_PHASES`` slip
-        phases where the problem is a crawler's gait problem) until ``patience`` consecutive K
-        bring no gain, as for crawlers (``crawlopt optimize --method phase``; ``phase_growth``
-        holds the table of the K solved); its ``solution`` holds ``objective`` (J re-verified by the exact simulation),
-        ``durations``, ``controls``, ``states``, ``held`` (faces, 1-based) and ``reactions`` per
-        phase. ``method`` "sequence" or "chain" (where the problem is a crawler's gait problem,
-        as ``analyze()["structure"]`` says; else an ``InputError`` naming ``method``): the
-        crawler's local method on that crawler (``time_limit``, and ``phases`` and
-        ``max_phases`` with "sequence", as for ``optimize``), its gait written back as a phase
-        gait of the problem and re-verified by the exact simulation; no global claim (``status``
+        the exact continuous-time gait, globally among those of at most ``phases`` phases, or with K
+        grown from 1 to ``max_phases`` (None: the library's default,
+        ``api::DEFAULT_GENERAL_PHASES``, or the crawler's ``api::DEFAULT_MAX_PHASES`` slip phases
+        where the problem is a crawler's gait problem) until ``patience`` consecutive K bring no
+        gain, as for crawlers (``crawlopt optimize --method phase``; ``phase_growth`` holds the
+        table of the K solved); its ``solution`` holds ``objective`` (J re-verified by the exact
+        simulation), ``durations``, ``controls``, ``states``, ``held`` (faces, 1-based) and
+        ``reactions`` per phase. ``method`` "sequence" or "chain" (where the problem is a crawler's
+        gait problem, as ``analyze()["structure"]`` says; else an ``InputError`` naming ``method``):
+        the crawler's local method on that crawler (``time_limit``, and ``phases`` and
+        ``max_phases`` with "sequence", as for ``optimize``), its gait written back as a phase gait
+        of the problem and re-verified by the exact simulation; no global claim (``status``
         "stationary" or "stalled", ``certificate["kind"]`` "local"). ``polish`` (discrete only;
         default True): a quadratic cost's answer is polished on its fixed face pattern before it
         is certified (``--no-polish`` is ``polish=False``); ``solution["polish"]`` records it."""
