@@ -585,3 +585,49 @@ fn plot_and_report_apply_to_general_files() {
     );
     assert!(!dir.path().join("none").exists());
 }
+
+/// `--formulation`: `transitions` reaches the §4 one-link optimum at `--phases 2` (4 phases)
+/// where `general` gives 0; a name that is none, a crawler's file and a method other than phase
+/// are refused with exit 2, naming `--formulation`.
+#[test]
+fn optimize_takes_the_phase_formulation() {
+    let run = |extra: &[&str]| {
+        let mut args = vec!["optimize", "examples/general_one_link.toml", "--json"];
+        args.extend_from_slice(extra);
+        crawlopt(&args)
+    };
+    let slots = run(&[
+        "--method",
+        "phase",
+        "--phases",
+        "2",
+        "--formulation",
+        "transitions",
+    ]);
+    assert!(slots.status.success(), "{}", stderr(&slots));
+    let v = json(&slots);
+    assert!((v["objective"].as_f64().unwrap() - 3.0).abs() < 1e-7);
+    assert_eq!(v["formulation"], "transitions");
+    let plain = json(&run(&[
+        "--method",
+        "phase",
+        "--phases",
+        "2",
+        "--formulation",
+        "general",
+    ]));
+    assert!(plain["objective"].as_f64().unwrap().abs() < 1e-9);
+    for out in [
+        run(&["--method", "phase", "--formulation", "bogus"]),
+        run(&["--method", "discrete", "--formulation", "general"]),
+        crawlopt(&[
+            "optimize",
+            "examples/three_blocks_gait.toml",
+            "--formulation",
+            "chain",
+        ]),
+    ] {
+        assert_eq!(out.status.code(), Some(2), "{}", stderr(&out));
+        assert!(stderr(&out).contains("--formulation"), "{}", stderr(&out));
+    }
+}

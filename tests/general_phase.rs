@@ -9,7 +9,9 @@ use common::{one_link_problem, random_polygon_problem, Rng};
 use crawlopt::integrate::{simulate_general_exact, ControlInput, InputKind};
 use crawlopt::model::general::{Boundary, GeneralCost, GeneralParts, GeneralProblem};
 use crawlopt::model::{crawler_as_general, Crawler};
-use crawlopt::optimal::general::{check_problem, solve_general_phase, GeneralPhaseGait};
+use crawlopt::optimal::general::{
+    check_problem, solve_general_phase, solve_general_transitions, GeneralPhaseGait,
+};
 use crawlopt::optimal::{solve_phase_global, Cost, GaitProblem, MilpStatus};
 use crawlopt::Error;
 
@@ -137,6 +139,100 @@ fn crawler_instances_give_the_crawler_phase_optima() {
             let (reward, gap, periodic) = replay(&inst.problem, &got);
             assert!((reward - got.objective).abs() < 1e-9);
             assert!(gap < 1e-9 && periodic < 1e-9, "{gap:e} {periodic:e}");
+        }
+    }
+}
+
+/// Slots of a free transition and a phase (`solve_general_transitions`) are as strong as the
+/// chain's formulation where measured: the crawler's `J_K` at `K` slots on the three-block
+/// example (2.1667, 2.6) and on the four-block crawler whose optimum has two slip phases in a
+/// row (3.0667 at `K` = 2 and 3, where the general formulation needs 4 and 6 phases); the §4
+/// one-link optimum at `K = 2` (the general formulation needs 4); on random polygons, at least
+/// the general formulation at `K` and at most it at `2K`. Every gait replayed, of at most `2K`
+/// phases.
+#[test]
+fn free_transitions_are_as_strong_as_the_chains_formulation() {
+    let check = |p: &GeneralProblem, s: &GeneralPhaseGait, k: usize| {
+        assert_eq!(s.certificate.status, MilpStatus::OptimalAmongKPhases);
+        assert!(s.durations.len() <= 2 * k, "{} phases", s.durations.len());
+        let (reward, gap, periodic) = replay(p, s);
+        assert!(
+            (reward - s.objective).abs() < 1e-9,
+            "{reward} vs {}",
+            s.objective
+        );
+        assert!(gap < 1e-9 && periodic < 1e-9, "{gap:e} {periodic:e}");
+    };
+    for (a, b, t, want) in [(-1.0, 1.0, 10.0, 3.0), (-0.5, 1.5, 12.0, 4.0)] {
+        let p = one_link_problem(a, b, t);
+        let g = check_problem(&p).unwrap();
+        for k in 1..=3 {
+            let s = solve_general_transitions(&p, &g, k, None).unwrap();
+            let expect = if k >= 2 { want } else { 0.0 };
+            assert!(
+                (s.objective - expect).abs() < 1e-7,
+                "K = {k}: {}",
+                s.objective
+            );
+            check(&p, &s, k);
+        }
+    }
+    let crawlers = [
+        (
+            Crawler::new(vec![1.0; 2], vec![1.0; 3], vec![1.5; 3]).unwrap(),
+            10.0,
+            [3, 4],
+        ),
+        (
+            Crawler::new(
+                vec![1.0, 2.0, 1.5],
+                vec![1.0, 1.2, 0.9, 1.1],
+                vec![2.5, 3.1, 2.7, 2.0],
+            )
+            .unwrap(),
+            8.0,
+            [2, 3],
+        ),
+    ];
+    for (crawler, t, ks) in crawlers {
+        let speed = vec![1.0; crawler.links()];
+        let gp = GaitProblem::new(&crawler, t, &speed, Cost::None, None).unwrap();
+        let inst = crawler_as_general(&crawler, t, &gp.rate_bound, GeneralCost::None).unwrap();
+        let g = check_problem(&inst.problem).unwrap();
+        for k in ks {
+            let want = solve_phase_global(&crawler, &gp, k, Some(60.0))
+                .unwrap()
+                .objective();
+            let s = solve_general_transitions(&inst.problem, &g, k, Some(60.0)).unwrap();
+            assert!(
+                (s.objective - want).abs() < 1e-7,
+                "N = {}, K = {k}: {} vs the crawler's {want}",
+                crawler.blocks(),
+                s.objective
+            );
+            check(&inst.problem, &s, k);
+        }
+    }
+    let mut rng = Rng(0x5851_f42d_4c95_7f2d);
+    for sigma in [3, 4, 5] {
+        let mut p = random_polygon_problem(&mut rng, sigma);
+        p.dynamics.a = vec![vec![0.0; 2]; 2];
+        let g = check_problem(&p).unwrap();
+        for k in 1..=2 {
+            let s = solve_general_transitions(&p, &g, k, Some(60.0)).unwrap();
+            let below = solve_general_phase(&p, &g, k, Some(60.0))
+                .unwrap()
+                .objective;
+            let above = solve_general_phase(&p, &g, 2 * k, Some(60.0))
+                .unwrap()
+                .objective;
+            let tol = 1e-7 * below.abs().max(1.0);
+            assert!(
+                below <= s.objective + tol && s.objective <= above + tol,
+                "sigma = {sigma}, K = {k}: {below} <= {} <= {above}",
+                s.objective
+            );
+            check(&p, &s, k);
         }
     }
 }

@@ -193,3 +193,39 @@ fn on_crawler_instances_both_growths_agree() {
         assert!((general.best.objective - chain.best.objective()).abs() < 1e-7);
     }
 }
+
+/// The free-transition formulation through the API (`formulation = Transitions`): the growth
+/// reaches the §4 one-link optimum at `K = 2` slots (4 phases; the general formulation needs
+/// `K = 4`), says `formulation = "transitions"`, reads back and certifies (`holds`); the same
+/// file without its formulation is refused (4 phases for `K = 2`), naming the field.
+#[test]
+fn free_transitions_reach_the_one_link_optimum_at_two_slots() {
+    use crawlopt::api::PhaseFormulation;
+    use crawlopt::io::ResultFile;
+    let t = 10.0;
+    let want = (t - 4.0) / 2.0;
+    let s = settings(|s| s.formulation = Some(PhaseFormulation::Transitions));
+    let r = optimize_general_phase(&one_link(t), &s, Hooks::default()).unwrap();
+    assert!((r.objective - want).abs() < 1e-9, "{}", r.objective);
+    assert_eq!(r.formulation.as_deref(), Some("transitions"));
+    let g = r.phase_growth.as_ref().expect("K was grown");
+    let js: Vec<f64> = g.table.iter().map(|s| s.objective).collect();
+    assert!(js[0].abs() < 1e-9 && (js[1] - want).abs() < 1e-9, "{js:?}");
+    let fixed = settings(|s| {
+        s.formulation = Some(PhaseFormulation::Transitions);
+        s.phases = Some(2);
+        s.certify = true;
+    });
+    let two = optimize_general_phase(&one_link(t), &fixed, Hooks::default()).unwrap();
+    assert!((two.objective - want).abs() < 1e-9);
+    assert_eq!(two.solution.durations.len(), 4);
+    let verdict = two.necessary_conditions.as_ref().map(|c| c.verdict);
+    assert_eq!(verdict, Some(crawlopt::certify::Verdict::Holds));
+    let text = serde_json::to_string(&two).unwrap();
+    let back = ResultFile::from_json(&text, "two.json").unwrap();
+    assert!((back.objective() - want).abs() < 1e-9);
+    let mut v: serde_json::Value = serde_json::from_str(&text).unwrap();
+    v.as_object_mut().unwrap().remove("formulation");
+    let e = ResultFile::from_json(&v.to_string(), "two.json").unwrap_err();
+    assert!(e.to_string().contains("solution.durations"), "{e}");
+}

@@ -156,6 +156,7 @@ class GeneralProblem:
         patience: Optional[int] = None,
         convergence: bool = False,
         bound: Optional[tuple] = None,
+        formulation: Optional[str] = None,
     ) -> tuple[dict[str, Any], GeneralRecord]: ...
 
 class GeneralRecord:

@@ -212,6 +212,7 @@ class GeneralProblem:
         patience: Optional[int] = None,
         convergence: bool = False,
         bound: Union[bool, dict, None] = None,
+        formulation: Optional[str] = None,
     ) -> GeneralResult:
         """The paper's P_m on 2^``m`` steps: ``method`` "discrete" (global MILP, with its
         certificate) or "local" (the LPCC active-set method from the file's ``[input]`` or
@@ -241,7 +242,11 @@ class GeneralProblem:
         of the problem and re-verified by the exact simulation; no global claim (``status``
         "stationary" or "stalled", ``certificate["kind"]`` "local"). ``polish`` (discrete only;
         default True): a quadratic cost's answer is polished on its fixed face pattern before it
-        is certified (``--no-polish`` is ``polish=False``); ``solution["polish"]`` records it."""
+        is certified (``--no-polish`` is ``polish=False``); ``solution["polish"]`` records it.
+        ``formulation`` ("phase" only; ``--formulation``): "general" (K phases), "transitions"
+        (K slots of a free transition and a phase, as strong as the chain's where measured) or
+        "chain" (a crawler's gait problem only); None: the chain's on a crawler's chain, the
+        general one elsewhere."""
         d, record = self._inner.optimize(
             method,
             _count(m, "m", 32),
@@ -255,5 +260,6 @@ class GeneralProblem:
             _count(patience, "patience"),
             convergence,
             _bound_settings(bound),
+            formulation,
         )
         return GeneralResult(d, record)

@@ -130,7 +130,7 @@ impl GeneralProblem {
     /// the record the library draws and reports.
     #[pyo3(signature = (
         method, m, shifts, time_limit, certify, progress, max_phases, polish = None,
-        phases = None, patience = None, convergence = false, bound = None
+        phases = None, patience = None, convergence = false, bound = None, formulation = None
     ))]
     #[allow(clippy::too_many_arguments)]
     fn optimize<'py>(
@@ -148,10 +148,15 @@ impl GeneralProblem {
         patience: Option<usize>,
         convergence: bool,
         bound: Option<crate::bound::BoundTuple>,
+        formulation: Option<&str>,
     ) -> PyResult<(Bound<'py, PyAny>, GeneralRecord)> {
         let f = self.inner.clone();
         // The library decides what applies to a general problem, with its defaults.
         let method = GaitMethod::from_name(method).map_err(|e| to_py(py, e))?;
+        let formulation = formulation
+            .map(api::PhaseFormulation::from_name)
+            .transpose()
+            .map_err(|e| to_py(py, e))?;
         let settings = OptimizeSettings {
             method,
             m,
@@ -164,6 +169,7 @@ impl GeneralProblem {
             patience,
             convergence,
             bound: crate::bound::bound_settings(bound),
+            formulation,
             naming: Naming::Keywords,
             ..OptimizeSettings::default()
         };

@@ -138,6 +138,8 @@ pub fn optimize(
         time_limit,
         certify,
         polish,
+        // A crawler's phase MILP has its own formulation (the library refuses the setting).
+        formulation: None,
         naming: Naming::Keywords,
         bound,
     };

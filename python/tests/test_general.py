@@ -285,3 +285,19 @@ def test_a_simulation_of_either_kind_has_one_envelope():
         assert (s["format"], s["version"], s["kind"]) == ("crawlopt-simulation", 1, kind)
     assert crawler.objective == crawler.displacement_per_period == pytest.approx(4.0, abs=1e-9)
     assert general["objective"] == pytest.approx(J_STAR, abs=1e-9)
+
+
+def test_the_free_transition_formulation_reaches_the_one_link_optimum_at_two_slots():
+    # Slots of a free transition and a phase: the §4 optimum (4 phases) at K = 2, where the
+    # general formulation gives 0; the formulation is named in the answer and checked.
+    p = co.load(ONE_LINK)
+    slots = p.optimize(method="phase", phases=2, formulation="transitions")
+    assert slots["objective"] == pytest.approx(J_STAR, abs=1e-7)
+    assert slots["formulation"] == "transitions"
+    assert len(slots["solution"]["durations"]) == 4
+    plain = p.optimize(method="phase", phases=2, formulation="general")
+    assert plain["objective"] == pytest.approx(0.0, abs=1e-9)
+    with pytest.raises(co.InputError, match="formulation"):
+        p.optimize(method="phase", formulation="bogus")
+    with pytest.raises(co.InputError, match="formulation"):
+        p.optimize(method="discrete", formulation="general")

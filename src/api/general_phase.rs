@@ -7,7 +7,7 @@ use super::events::{run_with, Event, Hooks};
 use crate::error::Result;
 use crate::io::GeneralFile;
 pub use crate::io::GeneralPhaseOptimized;
-use crate::optimal::general::{grow_chain_phases, grow_general_phases};
+use crate::optimal::general::{grow_chain_phases, grow_general_phases, grow_general_transitions};
 use crate::optimal::growth::GrowthRange;
 use crate::optimal::PhaseGrowthRecord;
 
@@ -23,9 +23,40 @@ pub enum PhaseFormulation {
     /// `K` phases of constant control and held faces (`optimal::general::phase`): any (P)
     /// with `A = 0`.
     General,
+    /// `K` slots of a free transition (no face held, no binaries) and a phase
+    /// (`optimal::general::solve_general_transitions`): any (P) with `A = 0`, as strong as the
+    /// chain's formulation on a chain where measured (the same `J_K`), with the general
+    /// one's binaries at `K` and its value at `2K` or more.
+    Transitions,
     /// `K` slip phases with transitions free (`optimal::general::chain_phase`): a crawler's
     /// gait problem only; every general gait of at most `K` phases is among its gaits.
     Chain,
+}
+
+impl PhaseFormulation {
+    /// The formulation's name: `general`, `transitions` or `chain` (the result's
+    /// `formulation`, the CLI's `--formulation`, Python's `formulation=`).
+    pub fn name(self) -> &'static str {
+        match self {
+            PhaseFormulation::General => "general",
+            PhaseFormulation::Transitions => "transitions",
+            PhaseFormulation::Chain => "chain",
+        }
+    }
+
+    /// The formulation of a name ([`PhaseFormulation::name`]); an error naming `formulation`.
+    pub fn from_name(name: &str) -> crate::Result<Self> {
+        [Self::General, Self::Transitions, Self::Chain]
+            .into_iter()
+            .find(|f| f.name() == name)
+            .ok_or_else(|| {
+                crate::Error::invalid(
+                    "formulation",
+                    name,
+                    "must be \"general\", \"transitions\" or \"chain\"",
+                )
+            })
+    }
 }
 
 /// Settings of [`optimize_general_phase`].
@@ -49,8 +80,9 @@ pub struct GeneralPhaseSettings {
     pub time_limit: Option<f64>,
     /// The formulation: `None` (the default) takes the chain's where the problem is a
     /// crawler's gait problem and the general one elsewhere; `Some(General)` forces the
-    /// general one (to compare them); `Some(Chain)` asks for the chain's and is refused,
-    /// naming `formulation`, where the problem is not a chain.
+    /// general one (to compare them); `Some(Transitions)` the general problem's slots of a
+    /// free transition and a phase, on any problem; `Some(Chain)` asks for the chain's and is
+    /// refused, naming `formulation`, where the problem is not a chain.
     pub formulation: Option<PhaseFormulation>,
     /// Also prove the crawler's upper bound over all periodic gaits (default none): only for
     /// a problem that is a crawler's gait problem (`super::general::chain_upper_bound`).
@@ -104,7 +136,11 @@ pub fn optimize_general_phase(
     // A chain (a crawler's gait problem) takes the chain's stronger formulation: K slip
     // phases, transitions free (`optimal::general::chain_phase`).
     let chain = p.as_chain().filter(|v| {
-        v.crawler.require_unique().is_ok() && s.formulation != Some(PhaseFormulation::General)
+        v.crawler.require_unique().is_ok()
+            && !matches!(
+                s.formulation,
+                Some(PhaseFormulation::General | PhaseFormulation::Transitions)
+            )
     });
     if chain.is_none() && s.formulation == Some(PhaseFormulation::Chain) {
         return Err(crate::Error::invalid(
@@ -153,8 +189,13 @@ pub fn optimize_general_phase(
                 start: false,
             })
         };
+        let transitions = s.formulation == Some(PhaseFormulation::Transitions);
         let (grown, structured) = match &chain {
             Some(view) => grow_chain_phases(&p, &g, view, range, s.time_limit, &mut progress),
+            None if transitions => {
+                grow_general_transitions(&p, &g, range, s.time_limit, &mut progress)
+                    .map(|g| (g, None))
+            }
             None => {
                 grow_general_phases(&p, &g, range, s.time_limit, &mut progress).map(|g| (g, None))
             }
@@ -163,6 +204,8 @@ pub fn optimize_general_phase(
         let mut r = GeneralPhaseOptimized::new(file, p.period, grown.best);
         if chain.is_some() {
             r.formulation = Some("chain".into());
+        } else if transitions {
+            r.formulation = Some("transitions".into());
         }
         r.structured = structured;
         if s.phases.is_none() {

@@ -122,6 +122,11 @@ impl OptimizeSettings {
             ("certify", self.certify && local, reason),
             ("no_polish", polish.1 && (local || phase), reason),
             ("bound", self.bound.is_some() && local, reason),
+            (
+                "formulation",
+                self.formulation.is_some() && !phase,
+                only_phase,
+            ),
         ];
         given.extend(front_end.iter().map(|&(name, g)| (name, g, reason)));
         given
@@ -160,6 +165,11 @@ impl OptimizeSettings {
             (
                 "patience",
                 self.patience.is_some() && !phase,
+                only_phase.to_string(),
+            ),
+            (
+                "formulation",
+                self.formulation.is_some() && !phase,
                 only_phase.to_string(),
             ),
             (
@@ -205,7 +215,7 @@ impl OptimizeSettings {
                 phases: self.phases,
                 patience: self.patience.unwrap_or(d.patience),
                 time_limit: self.time_limit,
-                formulation: None,
+                formulation: self.formulation,
                 bound: self.bound,
                 certify: self.certify,
             })
@@ -258,6 +268,7 @@ impl OptimizeSettings {
             ("shifts", self.shifts.is_some()),
             (polish, self.polish.is_some()),
             ("bound", self.bound.is_some()),
+            ("formulation", self.formulation.is_some()),
         ];
         if let Some((name, _)) = given.iter().chain(front_end).find(|(_, g)| *g) {
             return Err(Error::invalid(n.setting(name), "given", reason));

@@ -120,6 +120,7 @@ impl Naming {
             "bound",
             "convergence",
             "polish",
+            "formulation",
         ]
         .into_iter()
         .map(|f| (f, self.setting(f)))
@@ -217,6 +218,11 @@ pub struct OptimizeSettings {
     /// [`crate::optimal::polish::POLISH_DEFAULT`], on; without it a rate off its bounds is
     /// only as accurate as the MILP's outer approximation (about 1e-3).
     pub polish: Option<bool>,
+    /// The phase MILP's formulation on a general problem file (default `None`: the chain's
+    /// where the problem is a crawler's, the general one elsewhere;
+    /// [`super::GeneralPhaseSettings::formulation`]). Refused elsewhere, naming it: a crawler's
+    /// phase MILP has its own.
+    pub formulation: Option<super::PhaseFormulation>,
     /// How messages name the settings.
     pub naming: Naming,
     /// Also prove an upper bound over all periodic gaits ([`crate::certify::bound`]), recorded
@@ -379,6 +385,14 @@ impl OptimizeSettings {
                 n.setting("polish"),
                 v,
                 format!("applies to {} only", n.methods(&[Discrete])),
+            ));
+        }
+        if let Some(f) = self.formulation {
+            return Err(Error::invalid(
+                n.setting("formulation"),
+                f.name(),
+                "applies to the phase method on a general problem file only (a crawler's \
+                 phase MILP counts slip phases, as the chain's formulation does)",
             ));
         }
         if method == Chain && problem.max_total_variation.is_some() {

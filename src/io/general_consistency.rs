@@ -161,8 +161,10 @@ fn check_phase_answer(r: &GeneralPhaseOptimized, p: &GeneralProblem, what: &str)
     let s = &r.solution;
     // The crawler's local methods on the chain (`sequence`, `chain`).
     let local = r.method != "phase";
+    // A transition before each of the K phases: the chain's formulation and "transitions".
+    let transitions = r.formulation.as_deref() == Some("transitions");
     let chain = match r.formulation.as_deref() {
-        None => false,
+        None | Some("transitions") => false,
         Some("chain") if p.as_chain().is_some() => true,
         Some("chain") => {
             return Err(bad(
@@ -178,8 +180,8 @@ fn check_phase_answer(r: &GeneralPhaseOptimized, p: &GeneralProblem, what: &str)
                 what,
                 "formulation",
                 other,
-                "the only formulation recorded is \"chain\" (absent: the general \
-                     one)",
+                "the formulations recorded are \"chain\" and \"transitions\" (absent: \
+                     the general one)",
             ))
         }
     };
@@ -194,7 +196,7 @@ fn check_phase_answer(r: &GeneralPhaseOptimized, p: &GeneralProblem, what: &str)
             ),
         ));
     }
-    let j = check_phase(p, s, chain, local, what)?;
+    let j = check_phase(p, s, chain || transitions, local, what)?;
     objectives(what, j, s.objective, r.objective)?;
     if local {
         return check_local_phase(what, r);
@@ -413,9 +415,9 @@ fn check_pm(p: &GeneralProblem, max_m: u32, pr: &GeneralProcess, what: &str) -> 
     Ok(j)
 }
 
-/// The shapes of a phase gait's records against the problem and its method (`chain`: the
-/// chain's formulation, a transition before each slip phase; `local`: as many phases as it
-/// says), and `A = 0`; returns the number of phases.
+/// The shapes of a phase gait's records against the problem and its method (`chain`: a
+/// transition before each phase, the chain's formulation or free transitions; `local`: as many
+/// phases as it says), and `A = 0`; returns the number of phases.
 fn check_phase_shape(
     p: &GeneralProblem,
     s: &crate::optimal::general::GeneralPhaseGait,

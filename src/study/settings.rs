@@ -25,6 +25,7 @@ struct OptimizeKeys {
     time_limit: Option<f64>,
     #[serde(default)]
     certify: bool,
+    formulation: Option<String>,
 }
 
 #[derive(Deserialize, Default)]
@@ -58,6 +59,12 @@ pub(super) fn optimize_settings(t: toml::Table, dir: &Path) -> Result<OptimizeSe
         Some(m) => GaitMethod::from_name(m).map_err(|e| in_settings(e, &["method"]))?,
         None => GaitMethod::Auto,
     };
+    let formulation = k
+        .formulation
+        .as_deref()
+        .map(crate::api::PhaseFormulation::from_name)
+        .transpose()
+        .map_err(|e| in_settings(e, &["formulation"]))?;
     Ok(OptimizeSettings {
         method,
         phases: k.phases,
@@ -73,6 +80,7 @@ pub(super) fn optimize_settings(t: toml::Table, dir: &Path) -> Result<OptimizeSe
         // The upper bound over all gaits is not a sweep setting (yet): its grid and LP are
         // a study of their own.
         bound: None,
+        formulation,
         naming: Naming::Keywords,
     })
 }
@@ -161,6 +169,7 @@ pub(crate) const SETTING_KEYS: &[&str] = &[
     "shifts",
     "time_limit",
     "certify",
+    "formulation",
     "steps_per_period",
     "max_periods",
     "tol",

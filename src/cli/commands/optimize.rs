@@ -71,6 +71,11 @@ pub struct OptimizeArgs {
         api::DEFAULT_GENERAL_PHASES
     ))]
     pub max_phases: Option<usize>,
+    /// The phase MILP's formulation on a general problem file: general (K phases), transitions
+    /// (K slots of a free transition and a phase) or chain (a crawler's; K slip phases).
+    /// Default: the chain's on a crawler's chain, the general one elsewhere.
+    #[arg(long, value_name = "NAME")]
+    pub formulation: Option<String>,
     /// The grid of P_m has 2^m steps (--method discrete, default 3; --method local, default
     /// 10).
     #[arg(long, allow_negative_numbers = true, value_parser = count_u32)]
@@ -147,6 +152,12 @@ fn settings_of(a: &OptimizeArgs) -> Result<OptimizeSettings, Error> {
         time_limit: a.time_limit,
         certify: a.certify,
         polish: a.no_polish.then_some(false),
+        formulation: a
+            .formulation
+            .as_deref()
+            .map(api::PhaseFormulation::from_name)
+            .transpose()
+            .map_err(|e| Naming::Flags.name_settings(e))?,
         naming: Naming::Flags,
         bound: a.bound.settings()?,
     })

@@ -29,8 +29,9 @@ pub use local::{
     MAX_GENERAL_LOCAL_M,
 };
 pub use phase::{
-    check_general_phase, replay_phases, solve_general_phase, GeneralPhaseGait, MAX_GENERAL_PHASES,
+    check_general_phase, replay_phases, solve_general_phase, solve_general_transitions,
+    GeneralPhaseGait, MAX_GENERAL_PHASES,
 };
-pub use phase_growth::grow_general_phases;
+pub use phase_growth::{grow_general_phases, grow_general_transitions};
 pub use pm::{general_convergence, solve_general_pm, solve_general_pm_with};
 pub use projection::{project_polyhedron, ProjectedVertex, MAX_PROJECTED_VERTICES};

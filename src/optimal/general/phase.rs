@@ -54,6 +54,14 @@
 //! `tau_j <= T y_j`, `s_{j,f} <= y_j` and `y_{j+1} <= y_j`, so unused phases come last (empty
 //! phases can always be moved to the end: they do not move `x`).
 //!
+//! **Free transitions** ([`solve_general_transitions`]): `K` *slots*, each a phase that holds no
+//! face (its `L` and `s` fixed at 0: no binaries) followed by a phase as above, `2K` phases with
+//! the binaries of `K`; the in-use flag `y` is per slot. A gait of at most `K` phases is a gait
+//! of `K` slots (empty transitions), so the optimum over slots is at least the one over `K`
+//! phases and at most the one over `2K`; it is what the chain's formulation does for a crawler
+//! (a transition before each slip phase), and on crawlers written as (P) it reaches the
+//! crawler's `J_K` (measured: `tests/general_phase.rs`, docs/guide/general.md).
+//!
 //! A quadratic cost `f2(u) = (1/2) u^T R u` (`R = c I` for `quadratic`) costs `tau_j f2(u_j)`
 //! per phase, the perspective `tau_j f2(U_j / tau_j)`: convex in `(U_j, tau_j)`, not linear. It
 //! enters by its outer approximation, as the crawler's phase method does: an epigraph variable
@@ -154,9 +162,10 @@ struct Layout {
 }
 
 /// The column families of the phase MILP as [`build`] adds them: the states (`x_K` is `x_0`
-/// when periodic), the durations `tau_j`, the phase-in-use flags `y_j`, the integrated controls
+/// when periodic), the durations `tau_j`, the slot-in-use flags `y_i`, the integrated controls
 /// `U_j`, the integrated reactions `L_{j,f}` (carrying the reward `w_f`) and the held-face flags
-/// `s_{j,f}`.
+/// `s_{j,f}`. A slot is one phase, or with free transitions ([`Slots`]) a transition and a
+/// phase.
 struct Columns {
     xs: Vec<Vec<Col>>,
     tau: Vec<Col>,
@@ -164,6 +173,7 @@ struct Columns {
     us: Vec<Vec<Col>>,
     lam: Vec<Vec<Col>>,
     s: Vec<Vec<Col>>,
+    slots: Slots,
 }
 
 impl Columns {
@@ -173,31 +183,73 @@ impl Columns {
     }
 }
 
+/// How the `K` of a phase MILP is spent: `K` phases, or `K` slots of a *free transition* (a
+/// phase that holds no face: no binaries) followed by a phase, `2K` phases in all, as the
+/// chain's formulation has a transition before each slip phase. Every gait of at most `K`
+/// phases is a gait of `K` slots (its phases in the slots' second halves, the transitions
+/// empty), so the slots' optimum is at least the phases' at the same `K` with as many
+/// binaries, and at most theirs at `2K`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) struct Slots {
+    /// `K`.
+    pub k: usize,
+    /// Whether each slot starts with a free transition.
+    pub transitions: bool,
+}
+
+impl Slots {
+    /// The MILP's phases: `K`, or `2K` with transitions.
+    fn phases(self) -> usize {
+        if self.transitions {
+            2 * self.k
+        } else {
+            self.k
+        }
+    }
+
+    /// The slot of phase `j`.
+    fn slot(self, j: usize) -> usize {
+        if self.transitions {
+            j / 2
+        } else {
+            j
+        }
+    }
+
+    /// Whether phase `j` is a free transition (holds no face).
+    fn free(self, j: usize) -> bool {
+        self.transitions && j % 2 == 0
+    }
+}
+
 /// Adds the columns of the phase MILP, family by family in this order (the solver's results
-/// depend on it): states, `tau_j in [0, T]`, `y_j`, free `U_j`, `L_{j,f} in [0, M T]` with the
-/// objective weight `w_f`, `s_{j,f}`.
-fn add_columns(pb: &mut RowProblem, p: &GeneralProblem, k: usize, multiplier: f64) -> Columns {
+/// depend on it): states, `tau_j in [0, T]`, `y_i` per slot, free `U_j`, `L_{j,f} in [0, M T]`
+/// with the objective weight `w_f`, `s_{j,f}` (both fixed at 0 on a free transition).
+fn add_columns(pb: &mut RowProblem, p: &GeneralProblem, slots: Slots, multiplier: f64) -> Columns {
     let (sigma, m) = (p.c.faces(), p.controls());
-    let t = p.period;
+    let (t, k) = (p.period, slots.phases());
     let w = reward_weights(p);
     let free = || f64::NEG_INFINITY..f64::INFINITY;
     let xs = state_columns(pb, p, k);
     let tau: Vec<Col> = (0..k).map(|_| pb.add_column(0.0, 0.0..=t)).collect();
-    let y: Vec<Col> = (0..k).map(|_| pb.add_integer_column(0.0, 0..=1)).collect();
+    let y: Vec<Col> = (0..slots.k)
+        .map(|_| pb.add_integer_column(0.0, 0..=1))
+        .collect();
     let us: Vec<Vec<Col>> = (0..k)
         .map(|_| (0..m).map(|_| pb.add_column(0.0, free())).collect())
         .collect();
+    let held = |j: usize| if slots.free(j) { 0.0 } else { 1.0 };
     let lam: Vec<Vec<Col>> = (0..k)
-        .map(|_| {
+        .map(|j| {
             (0..sigma)
-                .map(|f| pb.add_column(w[f], 0.0..=multiplier * t))
+                .map(|f| pb.add_column(w[f], 0.0..=held(j) * multiplier * t))
                 .collect()
         })
         .collect();
     let s: Vec<Vec<Col>> = (0..k)
-        .map(|_| {
+        .map(|j| {
             (0..sigma)
-                .map(|_| pb.add_integer_column(0.0, 0..=1))
+                .map(|_| pb.add_integer_column(0.0, 0..=i32::from(!slots.free(j))))
                 .collect()
         })
         .collect();
@@ -208,6 +260,7 @@ fn add_columns(pb: &mut RowProblem, p: &GeneralProblem, k: usize, multiplier: f6
         us,
         lam,
         s,
+        slots,
     }
 }
 
@@ -279,12 +332,16 @@ fn add_face_rows(
     (xj, xn): (&[Col], &[Col]),
 ) {
     let t = p.period;
-    let (tau, y, lam, s) = (&cols.tau, &cols.y, &cols.lam, &cols.s);
+    if cols.slots.free(j) {
+        // A free transition holds no face: its L and s are fixed at 0.
+        return;
+    }
+    let (tau, y, lam, s) = (&cols.tau, &cols.y[cols.slots.slot(j)], &cols.lam, &cols.s);
     for f in 0..p.c.faces() {
         let c = p.c.offsets[f];
         pb.add_row(..=0.0, [(lam[j][f], 1.0), (tau[j], -bm.multiplier)]);
         pb.add_row(..=0.0, [(lam[j][f], 1.0), (s[j][f], -bm.multiplier * t)]);
-        pb.add_row(..=0.0, [(s[j][f], 1.0), (y[j], -1.0)]);
+        pb.add_row(..=0.0, [(s[j][f], 1.0), (*y, -1.0)]);
         // <x*_f, x> - S_f s >= c_f - S_f at both ends.
         for end in [xj, xn] {
             let mut row: Vec<_> = end
@@ -298,15 +355,16 @@ fn add_face_rows(
     }
 }
 
-/// The rows of phase `j` in order: `tau_j <= T y_j`, `y_{j+1} <= y_j`, the control set, the
-/// state update, the faces.
+/// The rows of phase `j` in order: `tau_j <= T y_i` (`i` its slot), `y_{i+1} <= y_i` at a
+/// slot's last phase, the control set, the state update, the faces.
 fn add_phase_rows(pb: &mut RowProblem, p: &GeneralProblem, cols: &Columns, bm: &BigM, j: usize) {
-    let (t, k) = (p.period, cols.tau.len());
-    let (tau, y) = (&cols.tau, &cols.y);
-    // tau_j <= T y_j, y_{j+1} <= y_j.
-    pb.add_row(..=0.0, [(tau[j], 1.0), (y[j], -t)]);
-    if j + 1 < k {
-        pb.add_row(..=0.0, [(y[j + 1], 1.0), (y[j], -1.0)]);
+    let t = p.period;
+    let (tau, y, i) = (&cols.tau, &cols.y, cols.slots.slot(j));
+    // tau_j <= T y_i, y_{i+1} <= y_i.
+    pb.add_row(..=0.0, [(tau[j], 1.0), (y[i], -t)]);
+    let last_of_slot = !cols.slots.transitions || j % 2 == 1;
+    if last_of_slot && i + 1 < y.len() {
+        pb.add_row(..=0.0, [(y[i + 1], 1.0), (y[i], -1.0)]);
     }
     add_control_rows(pb, p, cols, j);
     let (xj, xn) = (cols.x_at(j), cols.x_at(j + 1));
@@ -352,19 +410,20 @@ fn add_cost_cuts(pb: &mut RowProblem, p: &GeneralProblem, cols: &Columns, cuts: 
     }
 }
 
-/// The phase MILP of at most `k` phases with the cost's cuts at `cuts` (module docs): its
-/// columns, then `sum_j tau_j = T`, the rows of each phase, the states in C, the zero mean and
-/// the cost's cuts, in this order.
+/// The phase MILP of `slots` with the cost's cuts at `cuts` (module docs): its columns, then
+/// `sum_j tau_j = T`, the rows of each phase, the states in C, the zero mean and the cost's
+/// cuts, in this order.
 fn build(
     p: &GeneralProblem,
     g: &Geometry,
-    k: usize,
+    slots: Slots,
     cuts: &[Vec<f64>],
 ) -> Result<(RowProblem, Layout)> {
     let bm = big_m(p, g, 1.0)?;
     let t = p.period;
+    let k = slots.phases();
     let mut pb = RowProblem::default();
-    let cols = add_columns(&mut pb, p, k, bm.multiplier);
+    let cols = add_columns(&mut pb, p, slots, bm.multiplier);
     pb.add_row(
         t..=t,
         cols.tau.iter().map(|&c| (c, 1.0)).collect::<Vec<_>>(),
@@ -408,6 +467,37 @@ pub fn solve_general_phase(
     k: usize,
     time_limit: Option<f64>,
 ) -> Result<GeneralPhaseGait> {
+    let slots = Slots {
+        k,
+        transitions: false,
+    };
+    solve_general_slots(p, g, slots, time_limit)
+}
+
+/// The globally optimal gait of `k` slots of a free transition and a phase ([`Slots`]),
+/// re-verified by the exact simulator: at least [`solve_general_phase`]'s at the same `k`, with
+/// as many binaries; `time_limit` in seconds. Its gait has up to `2k` phases.
+pub fn solve_general_transitions(
+    p: &GeneralProblem,
+    g: &Geometry,
+    k: usize,
+    time_limit: Option<f64>,
+) -> Result<GeneralPhaseGait> {
+    let slots = Slots {
+        k,
+        transitions: true,
+    };
+    solve_general_slots(p, g, slots, time_limit)
+}
+
+/// [`solve_general_phase`] or [`solve_general_transitions`] by `slots`.
+fn solve_general_slots(
+    p: &GeneralProblem,
+    g: &Geometry,
+    slots: Slots,
+    time_limit: Option<f64>,
+) -> Result<GeneralPhaseGait> {
+    let k = slots.k;
     check_general_phase(p, g, k)?;
     crate::optimal::check_time_limit(time_limit)?;
     let what = format!("the phase MILP of the general problem (K = {k})");
@@ -416,7 +506,7 @@ pub fn solve_general_phase(
     let mut round = 0;
     crate::progress::within(time_limit, || loop {
         round += 1;
-        let (pb, lay) = build(p, g, k, &cuts)?;
+        let (pb, lay) = build(p, g, slots, &cuts)?;
         let (cols, milp_objective, bound, status) =
             solve_max(pb, &what, None, 1e-9 * scale.max(1e-300))?;
         let bound = match bound {

@@ -5,16 +5,20 @@
 
 use super::discrete::{big_m, column_bound, reward_weights};
 use super::geometry::Geometry;
-use super::phase::{check_phase_growth, solve_general_phase, GeneralPhaseGait};
+use super::phase::{
+    check_phase_growth, solve_general_phase, solve_general_transitions, GeneralPhaseGait,
+};
 use crate::error::Result;
 use crate::model::general::{GeneralCost, GeneralProblem};
 use crate::optimal::growth::{grow, Growth, GrowthRange, PhaseFamily, PhaseStep};
 use crate::optimal::milp::{Certificate, MilpStatus, OA_TOL};
 
-/// The general phase gaits of one problem: one `K` is [`solve_general_phase`].
+/// The general phase gaits of one problem: one `K` is [`solve_general_phase`], or
+/// [`solve_general_transitions`] with `transitions`.
 struct GeneralPhases<'a> {
     p: &'a GeneralProblem,
     g: &'a Geometry,
+    transitions: bool,
 }
 
 impl PhaseFamily for GeneralPhases<'_> {
@@ -23,7 +27,11 @@ impl PhaseFamily for GeneralPhases<'_> {
     // The general MILP takes no start: each K is solved from scratch (its symmetry breaking
     // keeps small K cheap).
     fn solve(&self, k: usize, _best: Option<&GeneralPhaseGait>) -> Result<GeneralPhaseGait> {
-        solve_general_phase(self.p, self.g, k, None)
+        if self.transitions {
+            solve_general_transitions(self.p, self.g, k, None)
+        } else {
+            solve_general_phase(self.p, self.g, k, None)
+        }
     }
     fn objective(g: &GeneralPhaseGait) -> f64 {
         g.objective
@@ -78,7 +86,31 @@ pub fn grow_general_phases(
     time_limit: Option<f64>,
     progress: &mut dyn FnMut(&PhaseStep),
 ) -> Result<Growth<GeneralPhaseGait>> {
+    grow_general(p, g, range, time_limit, false, progress)
+}
+
+/// [`grow_general_phases`] over slots of a free transition and a phase
+/// ([`solve_general_transitions`]): `K` counts the phases that hold faces, as the chain's
+/// formulation counts slip phases.
+pub fn grow_general_transitions(
+    p: &GeneralProblem,
+    g: &Geometry,
+    range: GrowthRange,
+    time_limit: Option<f64>,
+    progress: &mut dyn FnMut(&PhaseStep),
+) -> Result<Growth<GeneralPhaseGait>> {
+    grow_general(p, g, range, time_limit, true, progress)
+}
+
+fn grow_general(
+    p: &GeneralProblem,
+    g: &Geometry,
+    range: GrowthRange,
+    time_limit: Option<f64>,
+    transitions: bool,
+    progress: &mut dyn FnMut(&PhaseStep),
+) -> Result<Growth<GeneralPhaseGait>> {
     check_phase_growth(p, g, range, time_limit)?;
-    let family = GeneralPhases { p, g };
+    let family = GeneralPhases { p, g, transitions };
     crate::progress::within(time_limit, || grow(&family, range, None, progress))
 }

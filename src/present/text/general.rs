@@ -284,6 +284,15 @@ pub fn general_phase(r: &GeneralPhaseOptimized) -> String {
             super::status_word(c.status),
             k = s.max_phases,
         ),
+        Some("transitions") => wln!(
+            out,
+            "exact gait of {} phases, global among those of at most {k} phases by {k} slots of \
+             a free transition and a phase (T = {}), global MILP: {}",
+            s.durations.len(),
+            num(r.period, 0.0),
+            super::status_word(c.status),
+            k = s.max_phases,
+        ),
         Some("chain") => wln!(
             out,
             "exact gait, global among those of at most {k} phases by the chain's formulation \
