@@ -390,4 +390,16 @@ fn a_general_chain_keeps_the_structured_gait_where_k_is_too_small() {
     assert!(!out.status.success());
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(err.contains("solution.durations"), "{err}");
+    // The claim is the chain's, for its structured start: without either it is refused.
+    for field in ["structured", "formulation"] {
+        let mut v = general.clone();
+        v.as_object_mut().unwrap().remove(field);
+        let path = common::write(dir.path(), "tampered.json", &v.to_string());
+        let out = common::crawlopt(&["certify", path.to_str().unwrap()]);
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(
+            !out.status.success() && err.contains("status"),
+            "{field}: {err}"
+        );
+    }
 }

@@ -4,6 +4,7 @@
 //! progress events per `K` and cancellation.
 
 use super::events::{run_with, Event, Hooks};
+use super::settings::PhaseFormulation;
 use crate::error::Result;
 use crate::io::GeneralFile;
 pub use crate::io::GeneralPhaseOptimized;
@@ -16,48 +17,6 @@ use crate::optimal::PhaseGrowthRecord;
 /// other). The chain's formulation counts slip phases and takes the crawler's default,
 /// [`crate::optimal::DEFAULT_MAX_PHASES`] ([`GeneralPhaseSettings::max_phases`]).
 pub const DEFAULT_GENERAL_PHASES: usize = 4;
-
-/// A formulation of the phase MILP ([`GeneralPhaseSettings::formulation`]).
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum PhaseFormulation {
-    /// `K` phases of constant control and held faces (`optimal::general::phase`): any (P)
-    /// with `A = 0`.
-    General,
-    /// `K` slots of a free transition (no face held, no binaries) and a phase
-    /// (`optimal::general::solve_general_transitions`): any (P) with `A = 0`, as strong as the
-    /// chain's formulation on a chain where measured (the same `J_K`), with the general
-    /// one's binaries at `K` and its value at `2K` or more.
-    Transitions,
-    /// `K` slip phases with transitions free (`optimal::general::chain_phase`): a crawler's
-    /// gait problem only; every general gait of at most `K` phases is among its gaits.
-    Chain,
-}
-
-impl PhaseFormulation {
-    /// The formulation's name: `general`, `transitions` or `chain` (the result's
-    /// `formulation`, the CLI's `--formulation`, Python's `formulation=`).
-    pub fn name(self) -> &'static str {
-        match self {
-            PhaseFormulation::General => "general",
-            PhaseFormulation::Transitions => "transitions",
-            PhaseFormulation::Chain => "chain",
-        }
-    }
-
-    /// The formulation of a name ([`PhaseFormulation::name`]); an error naming `formulation`.
-    pub fn from_name(name: &str) -> crate::Result<Self> {
-        [Self::General, Self::Transitions, Self::Chain]
-            .into_iter()
-            .find(|f| f.name() == name)
-            .ok_or_else(|| {
-                crate::Error::invalid(
-                    "formulation",
-                    name,
-                    "must be \"general\", \"transitions\" or \"chain\"",
-                )
-            })
-    }
-}
 
 /// Settings of [`optimize_general_phase`].
 #[derive(Debug, Clone, PartialEq)]
@@ -107,6 +66,22 @@ impl Default for GeneralPhaseSettings {
 }
 
 impl GeneralPhaseSettings {
+    /// The `K` the MILPs run over: `phases` alone, or `1..=max_phases` grown with `patience`.
+    fn range(&self, max_phases: usize) -> GrowthRange {
+        match self.phases {
+            Some(k) => GrowthRange {
+                min_phases: k,
+                max_phases: k,
+                patience: 1,
+            },
+            None => GrowthRange {
+                min_phases: 1,
+                max_phases,
+                patience: self.patience,
+            },
+        }
+    }
+
     /// The largest `K` of a growth: `max_phases`, or the formulation's default where it is
     /// `None` (the chain's, `chain`: [`crate::optimal::DEFAULT_MAX_PHASES`] slip phases as for
     /// a crawler; else [`DEFAULT_GENERAL_PHASES`] phases).
@@ -117,6 +92,33 @@ impl GeneralPhaseSettings {
             DEFAULT_GENERAL_PHASES
         })
     }
+}
+
+/// The chain the phase MILP runs on (module docs): a chain (a crawler's gait problem whose
+/// crawler meets the uniqueness condition) takes the chain's stronger formulation, K slip
+/// phases with transitions free (`optimal::general::chain_phase`), unless `formulation` asks
+/// for one of (P)'s; `Some(Chain)` on a problem that is not such a chain is refused, naming
+/// `formulation`.
+fn chain_formulation(
+    p: &crate::model::general::GeneralProblem,
+    formulation: Option<PhaseFormulation>,
+) -> Result<Option<crate::model::ChainView>> {
+    let chain = p.as_chain().filter(|v| {
+        v.crawler.require_unique().is_ok()
+            && !matches!(
+                formulation,
+                Some(PhaseFormulation::General | PhaseFormulation::Transitions)
+            )
+    });
+    if chain.is_none() && formulation == Some(PhaseFormulation::Chain) {
+        return Err(crate::Error::invalid(
+            "formulation",
+            "chain",
+            "the chain's formulation needs a crawler's gait problem (a chain whose crawler \
+             meets the uniqueness condition; see `analyze`)",
+        ));
+    }
+    Ok(chain)
 }
 
 /// The best exact gait of a problem file (`A = 0`; a quadratic `f2` by outer approximation)
@@ -133,36 +135,9 @@ pub fn optimize_general_phase(
     }
     let (p, g) = super::general_problem(file)?;
     let bound_chain = super::general::chain_for_bound(&p, s.bound.as_ref())?;
-    // A chain (a crawler's gait problem) takes the chain's stronger formulation: K slip
-    // phases, transitions free (`optimal::general::chain_phase`).
-    let chain = p.as_chain().filter(|v| {
-        v.crawler.require_unique().is_ok()
-            && !matches!(
-                s.formulation,
-                Some(PhaseFormulation::General | PhaseFormulation::Transitions)
-            )
-    });
-    if chain.is_none() && s.formulation == Some(PhaseFormulation::Chain) {
-        return Err(crate::Error::invalid(
-            "formulation",
-            "chain",
-            "the chain's formulation needs a crawler's gait problem (a chain whose crawler \
-             meets the uniqueness condition; see `analyze`)",
-        ));
-    }
+    let chain = chain_formulation(&p, s.formulation)?;
     let max_phases = s.max_phases_for(chain.is_some());
-    let range = match s.phases {
-        Some(k) => GrowthRange {
-            min_phases: k,
-            max_phases: k,
-            patience: 1,
-        },
-        None => GrowthRange {
-            min_phases: 1,
-            max_phases,
-            patience: s.patience,
-        },
-    };
+    let range = s.range(max_phases);
     let named = |e: crate::Error| match (s.phases, e) {
         (
             Some(_),

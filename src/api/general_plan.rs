@@ -125,7 +125,7 @@ impl OptimizeSettings {
             (
                 "formulation",
                 self.formulation.is_some() && !phase,
-                only_phase,
+                "applies to --method phase only on a general problem file",
             ),
         ];
         given.extend(front_end.iter().map(|&(name, g)| (name, g, reason)));
@@ -170,7 +170,7 @@ impl OptimizeSettings {
             (
                 "formulation",
                 self.formulation.is_some() && !phase,
-                only_phase.to_string(),
+                "applies to method=\"phase\" only on a general problem".to_string(),
             ),
             (
                 "convergence",

@@ -74,16 +74,15 @@ pub use general_local::{
     GeneralLocalSettings,
 };
 pub use general_phase::{
-    optimize_general_phase, GeneralPhaseOptimized, GeneralPhaseSettings, PhaseFormulation,
-    DEFAULT_GENERAL_PHASES,
+    optimize_general_phase, GeneralPhaseOptimized, GeneralPhaseSettings, DEFAULT_GENERAL_PHASES,
 };
 pub use general_plan::{optimize_general_plan, GeneralAnswer, GeneralPlan};
 pub use optimize::{optimize, Optimized};
 pub use optimize_file::{optimize_file, report_file, report_result, OptimizeJob, OptimizedFile};
 pub use problem_file::{analyze_file, simulate_file, Analyzed, Simulated};
 pub use settings::{
-    rename_fields, GaitMethod, Naming, OptimizeSettings, Plan, Start, DEFAULT_MAX_PHASES,
-    DEFAULT_M_DISCRETE, DEFAULT_M_LOCAL, DEFAULT_PATIENCE, DEFAULT_SHIFTS,
+    rename_fields, GaitMethod, Naming, OptimizeSettings, PhaseFormulation, Plan, Start,
+    DEFAULT_MAX_PHASES, DEFAULT_M_DISCRETE, DEFAULT_M_LOCAL, DEFAULT_PATIENCE, DEFAULT_SHIFTS,
 };
 
 use crate::error::{Error, Result};

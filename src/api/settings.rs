@@ -222,12 +222,56 @@ pub struct OptimizeSettings {
     /// where the problem is a crawler's, the general one elsewhere;
     /// [`super::GeneralPhaseSettings::formulation`]). Refused elsewhere, naming it: a crawler's
     /// phase MILP has its own.
-    pub formulation: Option<super::PhaseFormulation>,
+    pub formulation: Option<PhaseFormulation>,
     /// How messages name the settings.
     pub naming: Naming,
     /// Also prove an upper bound over all periodic gaits ([`crate::certify::bound`]), recorded
     /// as `certificate.upper_bound` (default: none).
     pub bound: Option<crate::certify::bound::BoundSettings>,
+}
+
+/// A formulation of the phase MILP of a general problem
+/// ([`GeneralPhaseSettings::formulation`](super::GeneralPhaseSettings::formulation)).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum PhaseFormulation {
+    /// `K` phases of constant control and held faces (`optimal::general::phase`): any (P)
+    /// with `A = 0`.
+    General,
+    /// `K` slots of a free transition (no face held, no binaries) and a phase
+    /// (`optimal::general::solve_general_transitions`): any (P) with `A = 0`, as strong as the
+    /// chain's formulation on the chains measured (the same `J_K`), with the general one's
+    /// binaries at `K`: at least the general formulation's value at `K`, at most its value at
+    /// `2K`.
+    Transitions,
+    /// `K` slip phases with transitions free (`optimal::general::chain_phase`): a crawler's
+    /// gait problem only; every general gait of at most `K` phases is among its gaits.
+    Chain,
+}
+
+impl PhaseFormulation {
+    /// The formulation's name: `general`, `transitions` or `chain` (the result's
+    /// `formulation`, the CLI's `--formulation`, Python's `formulation=`).
+    pub fn name(self) -> &'static str {
+        match self {
+            PhaseFormulation::General => "general",
+            PhaseFormulation::Transitions => "transitions",
+            PhaseFormulation::Chain => "chain",
+        }
+    }
+
+    /// The formulation of a name ([`PhaseFormulation::name`]); an error naming `formulation`.
+    pub fn from_name(name: &str) -> crate::Result<Self> {
+        [Self::General, Self::Transitions, Self::Chain]
+            .into_iter()
+            .find(|f| f.name() == name)
+            .ok_or_else(|| {
+                crate::Error::invalid(
+                    "formulation",
+                    name,
+                    "must be \"general\", \"transitions\" or \"chain\"",
+                )
+            })
+    }
 }
 
 /// What [`OptimizeSettings`] decide for a problem: the method that runs and every value it

@@ -8,6 +8,10 @@
 //! `certificate` against the solution. A file is data from elsewhere: a number that disagrees
 //! is refused naming its field.
 
+use super::general_claims::{
+    bad, check_dominates, check_global, check_local_certificate, check_local_phase, check_slots,
+    check_table, check_upper_bound,
+};
 use super::{
     GeneralAnswer, GeneralFile, GeneralLocalOptimized, GeneralOptimized, GeneralPhaseOptimized,
 };
@@ -18,11 +22,7 @@ use crate::optimal::consistency::{max_diff, INPUT_TOL};
 use crate::optimal::general::{
     replay_phases, simulate_grid, MAX_GENERAL_LOCAL_M, MAX_GENERAL_M, MAX_GENERAL_PHASES,
 };
-use crate::optimal::{local_status, Certificate, MilpStatus, ResultCertificate};
-
-fn bad(what: &str, field: &str, got: impl ToString, reason: impl Into<String>) -> Error {
-    Error::invalid(format!("{what}: {field}"), got, reason)
-}
+use crate::optimal::{local_status, MilpStatus};
 
 /// The problem of a stored file, its errors naming `{what}: problem.<field>`.
 fn stored_problem(file: &GeneralFile, what: &str) -> Result<GeneralProblem> {
@@ -198,6 +198,12 @@ fn check_phase_answer(r: &GeneralPhaseOptimized, p: &GeneralProblem, what: &str)
     }
     let j = check_phase(p, s, chain || transitions, local, what)?;
     objectives(what, j, s.objective, r.objective)?;
+    if transitions {
+        check_slots(s, what)?;
+    }
+    if r.status == MilpStatus::DominatesKPhases {
+        check_dominates(r, chain, what)?;
+    }
     if local {
         return check_local_phase(what, r);
     }
@@ -214,150 +220,8 @@ fn check_phase_answer(r: &GeneralPhaseOptimized, p: &GeneralProblem, what: &str)
     check_global(what, r.status, &r.certificate, &s.certificate, k, j)
 }
 
-/// A local answer's certificate (P_m's local method, the crawler's on a chain): `local`,
-/// without bound, gap or upper bound.
-fn check_local_certificate(what: &str, cert: &ResultCertificate) -> Result<()> {
-    if *cert != ResultCertificate::local(None) {
-        return Err(bad(
-            what,
-            "certificate",
-            format!("kind {}", cert.kind),
-            "a local answer's certificate is \"local\", without bound or gap",
-        ));
-    }
-    Ok(())
-}
-
 /// The most phases a gait of the crawler's local methods on a chain may have in a result file.
 const MAX_LOCAL_PHASES: usize = 1 << 20;
-
-/// The claims of a local method's phase gait on a chain (`sequence`, `chain`): a local status
-/// (`stationary`, `stalled`, `time_limit`) that is the solution's, the certificate `local`
-/// without bound or gap, no bound in the solution, no growth table and no upper bound.
-fn check_local_phase(what: &str, r: &crate::io::GeneralPhaseOptimized) -> Result<()> {
-    let s = &r.solution;
-    let allowed = [
-        MilpStatus::Stationary,
-        MilpStatus::Stalled,
-        MilpStatus::TimeLimit,
-    ];
-    if r.status != s.certificate.status || !allowed.contains(&r.status) {
-        return Err(bad(
-            what,
-            "status",
-            r.status.as_str(),
-            format!(
-                "must be solution.certificate.status ({}), one of stationary, stalled, \
-                 time_limit (a local method)",
-                s.certificate.status.as_str()
-            ),
-        ));
-    }
-    check_local_certificate(what, &r.certificate)?;
-    if !(s.certificate.bound.is_nan() && s.certificate.gap.is_nan()) {
-        return Err(bad(
-            what,
-            "solution.certificate.bound",
-            s.certificate.bound,
-            "a local method proves no bound (null)",
-        ));
-    }
-    if r.phase_growth.is_some() {
-        return Err(bad(
-            what,
-            "phase_growth",
-            "a table",
-            "a local method grows no K",
-        ));
-    }
-    Ok(())
-}
-
-/// A table of a growth of `K` or of P_1..P_m (`rows`: the `K` or `m`, its verified `J`, its
-/// bound) against the answer: increasing `K` or `m` ending at the solution's `last`, each
-/// bound at least its `J`, and `j` the last row's `J` (a convergence table: the answer is the
-/// finest P_m) or the largest (`best`: a growth keeps its best gait).
-fn check_table(
-    what: &str,
-    field: &str,
-    rows: &[(usize, f64, f64)],
-    last: usize,
-    j: f64,
-    best: bool,
-) -> Result<()> {
-    let close = |a: f64, b: f64| (a - b).abs() <= INPUT_TOL * a.abs().max(b.abs()).max(1.0);
-    let Some(&(k, jk, _)) = rows.last() else {
-        return Err(bad(what, field, "[]", "has no row"));
-    };
-    if k != last {
-        return Err(bad(
-            what,
-            field,
-            k,
-            format!("its last row must be the solution's {last}"),
-        ));
-    }
-    for (i, w) in rows.windows(2).enumerate() {
-        if w[1].0 <= w[0].0 {
-            return Err(bad(
-                what,
-                &format!("{field}[{}]", i + 1),
-                w[1].0,
-                "must increase",
-            ));
-        }
-    }
-    for (i, &(_, v, b)) in rows.iter().enumerate() {
-        if !v.is_finite() || !(b >= v || close(b, v)) {
-            return Err(bad(
-                what,
-                &format!("{field}[{i}]"),
-                format!("J {v}, bound {b}"),
-                "needs a finite J at most its bound",
-            ));
-        }
-    }
-    let want = if best {
-        rows.iter().fold(f64::NEG_INFINITY, |m, r| m.max(r.1))
-    } else {
-        jk
-    };
-    if !close(want, j) {
-        return Err(bad(
-            what,
-            field,
-            want,
-            format!("disagrees with the solution's verified J {j}"),
-        ));
-    }
-    Ok(())
-}
-
-/// An upper bound recorded with a global answer: only for a problem that is a crawler's gait
-/// problem (whose bound it is), by the bound's method, and at least the verified `j` (taken as
-/// recorded, as for crawlers: its LP is not re-solved).
-fn check_upper_bound(
-    what: &str,
-    p: &GeneralProblem,
-    cert: &ResultCertificate,
-    j: f64,
-) -> Result<()> {
-    let Some(ub) = &cert.upper_bound else {
-        return Ok(());
-    };
-    if p.as_chain().is_none() {
-        return Err(bad(
-            what,
-            "certificate.upper_bound",
-            ub.value,
-            "a general problem carries the crawler's upper bound only when it is a crawler's \
-             gait problem",
-        ));
-    }
-    let tol = INPUT_TOL * j.abs().max(1.0);
-    ub.check_recorded(what, j, |a, b| (a - b).abs() <= tol)?;
-    Ok(())
-}
 
 /// The solution's and the envelope's `objective` against `J` of the replay.
 fn objectives(what: &str, j: f64, solution: f64, top: f64) -> Result<()> {
@@ -684,97 +548,4 @@ fn check_phase(
         ));
     }
     Ok(sim.reward - sim.cost)
-}
-
-/// The envelope's status and certificate of a MILP's answer against the solution's
-/// certificate (`phases`: `K` of a phase gait) and its replayed objective `j`.
-fn check_global(
-    what: &str,
-    status: MilpStatus,
-    cert: &ResultCertificate,
-    c: &Certificate,
-    phases: Option<usize>,
-    j: f64,
-) -> Result<()> {
-    let allowed: &[MilpStatus] = match phases {
-        None => &[
-            MilpStatus::Optimal,
-            MilpStatus::TimeLimit,
-            MilpStatus::ApproximationLimit,
-        ],
-        Some(_) => &[
-            MilpStatus::OptimalAmongKPhases,
-            MilpStatus::DominatesKPhases,
-            MilpStatus::TimeLimit,
-            MilpStatus::ApproximationLimit,
-        ],
-    };
-    if c.status != status || !allowed.contains(&status) {
-        return Err(bad(
-            what,
-            "status",
-            status.as_str(),
-            format!(
-                "must be solution.certificate.status ({}), one of {:?}",
-                c.status.as_str(),
-                allowed.iter().map(|s| s.as_str()).collect::<Vec<_>>()
-            ),
-        ));
-    }
-    let want = ResultCertificate::of_milp(c, phases);
-    for (field, got, want) in [
-        ("certificate.kind", cert.kind.clone(), want.kind.clone()),
-        (
-            "certificate.phases",
-            format!("{:?}", cert.phases),
-            format!("{:?}", want.phases),
-        ),
-    ] {
-        if got != want {
-            return Err(bad(what, field, got, format!("must be {want}")));
-        }
-    }
-    let tol = INPUT_TOL * j.abs().max(1.0);
-    if !(c.bound.is_finite() && c.bound >= j - tol) {
-        return Err(bad(
-            what,
-            "solution.certificate.bound",
-            c.bound,
-            format!("is below the verified objective {j}"),
-        ));
-    }
-    // The MILP's incumbent lies under its own bound.
-    if !(c.milp_objective.is_finite()
-        && c.milp_objective <= c.bound + INPUT_TOL * c.bound.abs().max(1.0))
-    {
-        return Err(bad(
-            what,
-            "solution.certificate.milp_objective",
-            c.milp_objective,
-            format!("must be finite and at most the bound ({})", c.bound),
-        ));
-    }
-    let gap = Certificate::gap_of(c.bound, j);
-    if !(c.gap.is_finite() && (c.gap - gap).abs() <= INPUT_TOL * gap.abs().max(1.0)) {
-        return Err(bad(
-            what,
-            "solution.certificate.gap",
-            c.gap,
-            format!("disagrees with the bound and the objective ({gap})"),
-        ));
-    }
-    for (field, got, want) in [
-        ("certificate.bound", cert.bound, c.bound),
-        ("certificate.gap", cert.gap, c.gap),
-    ] {
-        if got != Some(want) {
-            return Err(bad(
-                what,
-                field,
-                format!("{got:?}"),
-                format!("must be the solution's ({want})"),
-            ));
-        }
-    }
-    Ok(())
 }

@@ -65,6 +65,9 @@ pub struct GeneralAnalysis {
 pub struct GeneralSimulated {
     /// `"general"`.
     pub kind: &'static str,
+    /// `J` of one period on the periodic orbit (over `[0, T]` for a Cauchy problem), as
+    /// `simulation.objective`; `None` when the periodic regime was not reached.
+    pub objective: Option<f64>,
     /// `"exact"` (event-driven, where `A = 0` and the input is piecewise constant, unless
     /// catching-up is asked) or `"catching-up"`.
     pub method: &'static str,
@@ -80,9 +83,6 @@ pub struct GeneralSimulated {
     /// played from the state found by the general simulator; `"plain"` by iterating the
     /// general period map from `start` (also for a Cauchy problem, which has no regime).
     pub regime_search: &'static str,
-    /// `J` of one period on the periodic orbit (over `[0, T]` for a Cauchy problem), as
-    /// `simulation.objective`; `None` when the periodic regime was not reached.
-    pub objective: Option<f64>,
     /// The control played.
     pub input: ControlInput,
     /// The simulation.

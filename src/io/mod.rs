@@ -31,6 +31,7 @@
 mod config;
 mod csv_io;
 pub mod general;
+mod general_claims;
 mod general_consistency;
 mod general_results;
 pub mod json;

@@ -5,7 +5,7 @@
 //! - `format` ([`SIMULATION_FORMAT`]) and `version` ([`SIMULATION_VERSION`]);
 //! - `kind`: `"crawler"` or `"general"`;
 //! - `objective`: `J` of one period of the periodic regime, `None` (JSON `null`) where it was
-//!   not reached. For a general problem it is `int f1 - f2` over the period (paper eq. (2.2));
+//!   not reached. For a general problem it is `int f1 - f2` over the period (paper eq. (2.3));
 //!   for a crawler, its instance of (P) with no actuation cost (`f2 = 0`: `simulate` plays an
 //!   actuation, not a gait problem), so it is the displacement per period;
 //! - then the kind's fields, unchanged: a crawler's [`Simulation`] (its

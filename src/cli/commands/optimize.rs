@@ -60,13 +60,14 @@ pub struct OptimizeArgs {
     ))]
     pub patience: Option<usize>,
     /// Largest K tried when K grows (the library's default, `api::DEFAULT_MAX_PHASES`, and
-    /// `api::DEFAULT_GENERAL_PHASES` for a general problem that is not a chain; for --method
+    /// `api::DEFAULT_GENERAL_PHASES` in (P)'s own formulations; for --method
     /// phase or auto without --phases, and for the default start gaits, whose growth stops at
     /// --phases for the sequence method).
     #[arg(long = "max-phases", allow_negative_numbers = true, value_parser = count, help = format!(
-        "Largest K tried when K grows (default {}; {} for a general problem file that is not a \
-         crawler's chain; for --method phase or auto without --phases, and for the default \
-         start gaits, whose growth stops at --phases for the sequence method)",
+        "Largest K tried when K grows (default {}; {} for a general problem file unless the \
+         chain's formulation runs, which counts slip phases as a crawler does; for --method \
+         phase or auto without --phases, and for the default start gaits, whose growth stops \
+         at --phases for the sequence method)",
         api::DEFAULT_MAX_PHASES,
         api::DEFAULT_GENERAL_PHASES
     ))]

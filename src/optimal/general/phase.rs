@@ -198,6 +198,11 @@ pub(crate) struct Slots {
 }
 
 impl Slots {
+    /// `k` slots, with transitions or not.
+    fn of(k: usize, transitions: bool) -> Self {
+        Slots { k, transitions }
+    }
+
     /// The MILP's phases: `K`, or `2K` with transitions.
     fn phases(self) -> usize {
         if self.transitions {
@@ -219,6 +224,11 @@ impl Slots {
     /// Whether phase `j` is a free transition (holds no face).
     fn free(self, j: usize) -> bool {
         self.transitions && j % 2 == 0
+    }
+
+    /// Whether phase `j` ends its slot.
+    fn last_of_slot(self, j: usize) -> bool {
+        !self.free(j)
     }
 }
 
@@ -362,8 +372,7 @@ fn add_phase_rows(pb: &mut RowProblem, p: &GeneralProblem, cols: &Columns, bm: &
     let (tau, y, i) = (&cols.tau, &cols.y, cols.slots.slot(j));
     // tau_j <= T y_i, y_{i+1} <= y_i.
     pb.add_row(..=0.0, [(tau[j], 1.0), (y[i], -t)]);
-    let last_of_slot = !cols.slots.transitions || j % 2 == 1;
-    if last_of_slot && i + 1 < y.len() {
+    if cols.slots.last_of_slot(j) && i + 1 < y.len() {
         pb.add_row(..=0.0, [(y[i + 1], 1.0), (y[i], -1.0)]);
     }
     add_control_rows(pb, p, cols, j);
@@ -467,11 +476,7 @@ pub fn solve_general_phase(
     k: usize,
     time_limit: Option<f64>,
 ) -> Result<GeneralPhaseGait> {
-    let slots = Slots {
-        k,
-        transitions: false,
-    };
-    solve_general_slots(p, g, slots, time_limit)
+    solve_general_slots(p, g, Slots::of(k, false), time_limit)
 }
 
 /// The globally optimal gait of `k` slots of a free transition and a phase ([`Slots`]),
@@ -483,11 +488,7 @@ pub fn solve_general_transitions(
     k: usize,
     time_limit: Option<f64>,
 ) -> Result<GeneralPhaseGait> {
-    let slots = Slots {
-        k,
-        transitions: true,
-    };
-    solve_general_slots(p, g, slots, time_limit)
+    solve_general_slots(p, g, Slots::of(k, true), time_limit)
 }
 
 /// [`solve_general_phase`] or [`solve_general_transitions`] by `slots`.

@@ -90,8 +90,8 @@ pub fn grow_general_phases(
 }
 
 /// [`grow_general_phases`] over slots of a free transition and a phase
-/// ([`solve_general_transitions`]): `K` counts the phases that hold faces, as the chain's
-/// formulation counts slip phases.
+/// ([`solve_general_transitions`]): `K` counts slots, each a free transition and a phase, as
+/// the chain's formulation counts a transition and a slip phase.
 pub fn grow_general_transitions(
     p: &GeneralProblem,
     g: &Geometry,

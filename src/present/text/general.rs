@@ -264,52 +264,7 @@ pub fn general_phase(r: &GeneralPhaseOptimized) -> String {
     } else {
         s.objective.abs().max(c.bound.abs()).max(1e-300)
     };
-    match r.formulation.as_deref() {
-        _ if local => wln!(
-            out,
-            "exact gait of {} phases by the crawler's {} method on the problem's chain (the \
-             problem is a crawler's) (T = {}), no global claim: {}",
-            s.durations.len(),
-            r.method,
-            num(r.period, 0.0),
-            super::status_word(c.status),
-        ),
-        Some("chain") if c.status == crate::optimal::MilpStatus::DominatesKPhases => wln!(
-            out,
-            "exact gait of {} phases, proven at least as good as every gait of at most {k} \
-             phases by the chain's formulation ({k} slip phases, transitions free; the problem \
-             is a crawler's) (T = {}), global MILP: {}",
-            s.durations.len(),
-            num(r.period, 0.0),
-            super::status_word(c.status),
-            k = s.max_phases,
-        ),
-        Some("transitions") => wln!(
-            out,
-            "exact gait of {} phases, global among those of at most {k} phases by {k} slots of \
-             a free transition and a phase (T = {}), global MILP: {}",
-            s.durations.len(),
-            num(r.period, 0.0),
-            super::status_word(c.status),
-            k = s.max_phases,
-        ),
-        Some("chain") => wln!(
-            out,
-            "exact gait, global among those of at most {k} phases by the chain's formulation \
-             ({k} slip phases, transitions free; the problem is a crawler's) (T = {}), global \
-             MILP: {}",
-            num(r.period, 0.0),
-            super::status_word(c.status),
-            k = s.max_phases,
-        ),
-        _ => wln!(
-            out,
-            "exact gait of at most {} phases (T = {}), global MILP: {}",
-            s.max_phases,
-            num(r.period, 0.0),
-            super::status_word(c.status)
-        ),
-    }
+    phase_head(&mut out, r, local);
     if let Some(st) = &r.structured {
         wln!(out, "gait: {}", st.origin);
         if let Some(why) = &st.replaced {
@@ -367,6 +322,59 @@ pub fn general_phase(r: &GeneralPhaseOptimized) -> String {
         );
     }
     out
+}
+
+/// The first line of a phase answer: the gait, the class its claim is over (by the
+/// formulation that ran, `formulation`) and the status.
+fn phase_head(out: &mut String, r: &GeneralPhaseOptimized, local: bool) {
+    let s = &r.solution;
+    let c = &s.certificate;
+    match r.formulation.as_deref() {
+        _ if local => wln!(
+            *out,
+            "exact gait of {} phases by the crawler's {} method on the problem's chain (the \
+             problem is a crawler's) (T = {}), no global claim: {}",
+            s.durations.len(),
+            r.method,
+            num(r.period, 0.0),
+            super::status_word(c.status),
+        ),
+        Some("chain") if c.status == crate::optimal::MilpStatus::DominatesKPhases => wln!(
+            *out,
+            "exact gait of {} phases, proven at least as good as every gait of at most {k} \
+             phases by the chain's formulation ({k} slip phases, transitions free; the problem \
+             is a crawler's) (T = {}), global MILP: {}",
+            s.durations.len(),
+            num(r.period, 0.0),
+            super::status_word(c.status),
+            k = s.max_phases,
+        ),
+        Some("transitions") => wln!(
+            *out,
+            "exact gait of {} phases, global among those of at most {k} phases by {k} slots of \
+             a free transition and a phase (T = {}), global MILP: {}",
+            s.durations.len(),
+            num(r.period, 0.0),
+            super::status_word(c.status),
+            k = s.max_phases,
+        ),
+        Some("chain") => wln!(
+            *out,
+            "exact gait, global among those of at most {k} phases by the chain's formulation \
+             ({k} slip phases, transitions free; the problem is a crawler's) (T = {}), global \
+             MILP: {}",
+            num(r.period, 0.0),
+            super::status_word(c.status),
+            k = s.max_phases,
+        ),
+        _ => wln!(
+            *out,
+            "exact gait of at most {} phases (T = {}), global MILP: {}",
+            s.max_phases,
+            num(r.period, 0.0),
+            super::status_word(c.status)
+        ),
+    }
 }
 
 /// A local optimum of the general P_m ([`crate::api::optimize_general_local`]).

@@ -1,0 +1,323 @@
+//! The claims of a general result read back ([`super::general_consistency`] checks the gait
+//! itself first): the status against the solution's certificate and its `K` (a closed MILP's
+//! gap, `dominates_k_phases` only for the chain's kept structured start, a free-transition
+//! gait within its slots), a local answer's record, the tables of `K` and of `m`, and the
+//! upper bound. A claim that does not follow is refused naming its field.
+
+use super::GeneralPhaseOptimized;
+use crate::error::{Error, Result};
+use crate::model::general::GeneralProblem;
+use crate::optimal::consistency::{INPUT_TOL, PHASE_CLAIM_GAP};
+use crate::optimal::{Certificate, MilpStatus, ResultCertificate};
+
+/// An error naming `field` of the result `what`.
+pub(super) fn bad(what: &str, field: &str, got: impl ToString, reason: impl Into<String>) -> Error {
+    Error::invalid(format!("{what}: {field}"), got, reason)
+}
+
+/// The phases of a free-transition answer fit its `K` slots: each phase that holds a face takes
+/// a slot, with at most one free phase before it; a free phase not followed by one that holds
+/// a face takes a slot of its own (the fewest slots, counted greedily in time order).
+pub(super) fn check_slots(s: &crate::optimal::general::GeneralPhaseGait, what: &str) -> Result<()> {
+    let mut slots = 0;
+    let mut j = 0;
+    while j < s.held.len() {
+        slots += 1;
+        // A free phase is a slot's transition, and the next phase (of any kind) its phase.
+        j += if s.held[j].is_empty() { 2 } else { 1 };
+    }
+    if slots > s.max_phases {
+        return Err(bad(
+            what,
+            "solution.held",
+            format!("{slots} slots"),
+            format!(
+                "the gait needs {slots} slots of a free transition and a phase; the formulation \
+                 \"transitions\" claims {} (solution.max_phases)",
+                s.max_phases
+            ),
+        ));
+    }
+    Ok(())
+}
+
+/// A claim that the gait beats every gait of at most `K` phases without being one: only the
+/// chain's formulation makes it, keeping its structured start (`structured`) when that start
+/// is outside the class (more phases holding faces than `K`), with the gap of a closed MILP.
+pub(super) fn check_dominates(r: &GeneralPhaseOptimized, chain: bool, what: &str) -> Result<()> {
+    let s = &r.solution;
+    let holding = s.held.iter().filter(|h| !h.is_empty()).count();
+    let reason = if !chain {
+        "is claimed only by the chain's formulation (formulation \"chain\")".to_string()
+    } else if r.structured.is_none() {
+        "is claimed only for the chain's structured start, recorded as `structured`".to_string()
+    } else if holding <= s.max_phases {
+        format!(
+            "is for a gait outside the class of at most {} phases; this one has {holding} \
+             phases holding faces (optimal_among_k_phases is its claim)",
+            s.max_phases
+        )
+    } else if s.certificate.gap.is_nan() || s.certificate.gap > PHASE_CLAIM_GAP {
+        format!(
+            "claims no gait of at most {} phases does better; its gap ({}) must be at most \
+             {PHASE_CLAIM_GAP:e}",
+            s.max_phases, s.certificate.gap
+        )
+    } else {
+        return Ok(());
+    };
+    Err(bad(what, "status", r.status.as_str(), reason))
+}
+
+/// A local answer's certificate (P_m's local method, the crawler's on a chain): `local`,
+/// without bound, gap or upper bound.
+pub(super) fn check_local_certificate(what: &str, cert: &ResultCertificate) -> Result<()> {
+    if *cert != ResultCertificate::local(None) {
+        return Err(bad(
+            what,
+            "certificate",
+            format!("kind {}", cert.kind),
+            "a local answer's certificate is \"local\", without bound or gap",
+        ));
+    }
+    Ok(())
+}
+
+/// The claims of a local method's phase gait on a chain (`sequence`, `chain`): a local status
+/// (`stationary`, `stalled`, `time_limit`) that is the solution's, the certificate `local`
+/// without bound or gap, no bound in the solution, no growth table and no upper bound.
+pub(super) fn check_local_phase(what: &str, r: &crate::io::GeneralPhaseOptimized) -> Result<()> {
+    let s = &r.solution;
+    let allowed = [
+        MilpStatus::Stationary,
+        MilpStatus::Stalled,
+        MilpStatus::TimeLimit,
+    ];
+    if r.status != s.certificate.status || !allowed.contains(&r.status) {
+        return Err(bad(
+            what,
+            "status",
+            r.status.as_str(),
+            format!(
+                "must be solution.certificate.status ({}), one of stationary, stalled, \
+                 time_limit (a local method)",
+                s.certificate.status.as_str()
+            ),
+        ));
+    }
+    check_local_certificate(what, &r.certificate)?;
+    if !(s.certificate.bound.is_nan() && s.certificate.gap.is_nan()) {
+        return Err(bad(
+            what,
+            "solution.certificate.bound",
+            s.certificate.bound,
+            "a local method proves no bound (null)",
+        ));
+    }
+    if r.phase_growth.is_some() {
+        return Err(bad(
+            what,
+            "phase_growth",
+            "a table",
+            "a local method grows no K",
+        ));
+    }
+    Ok(())
+}
+
+/// A table of a growth of `K` or of P_1..P_m (`rows`: the `K` or `m`, its verified `J`, its
+/// bound) against the answer: increasing `K` or `m` ending at the solution's `last`, each
+/// bound at least its `J`, and `j` the last row's `J` (a convergence table: the answer is the
+/// finest P_m) or the largest (`best`: a growth keeps its best gait).
+pub(super) fn check_table(
+    what: &str,
+    field: &str,
+    rows: &[(usize, f64, f64)],
+    last: usize,
+    j: f64,
+    best: bool,
+) -> Result<()> {
+    let close = |a: f64, b: f64| (a - b).abs() <= INPUT_TOL * a.abs().max(b.abs()).max(1.0);
+    let Some(&(k, jk, _)) = rows.last() else {
+        return Err(bad(what, field, "[]", "has no row"));
+    };
+    if k != last {
+        return Err(bad(
+            what,
+            field,
+            k,
+            format!("its last row must be the solution's {last}"),
+        ));
+    }
+    for (i, w) in rows.windows(2).enumerate() {
+        if w[1].0 <= w[0].0 {
+            return Err(bad(
+                what,
+                &format!("{field}[{}]", i + 1),
+                w[1].0,
+                "must increase",
+            ));
+        }
+    }
+    for (i, &(_, v, b)) in rows.iter().enumerate() {
+        if !v.is_finite() || !(b >= v || close(b, v)) {
+            return Err(bad(
+                what,
+                &format!("{field}[{i}]"),
+                format!("J {v}, bound {b}"),
+                "needs a finite J at most its bound",
+            ));
+        }
+    }
+    let want = if best {
+        rows.iter().fold(f64::NEG_INFINITY, |m, r| m.max(r.1))
+    } else {
+        jk
+    };
+    if !close(want, j) {
+        return Err(bad(
+            what,
+            field,
+            want,
+            format!("disagrees with the solution's verified J {j}"),
+        ));
+    }
+    Ok(())
+}
+
+/// An upper bound recorded with a global answer: only for a problem that is a crawler's gait
+/// problem (whose bound it is), by the bound's method, and at least the verified `j` (taken as
+/// recorded, as for crawlers: its LP is not re-solved).
+pub(super) fn check_upper_bound(
+    what: &str,
+    p: &GeneralProblem,
+    cert: &ResultCertificate,
+    j: f64,
+) -> Result<()> {
+    let Some(ub) = &cert.upper_bound else {
+        return Ok(());
+    };
+    if p.as_chain().is_none() {
+        return Err(bad(
+            what,
+            "certificate.upper_bound",
+            ub.value,
+            "a general problem carries the crawler's upper bound only when it is a crawler's \
+             gait problem",
+        ));
+    }
+    let tol = INPUT_TOL * j.abs().max(1.0);
+    ub.check_recorded(what, j, |a, b| (a - b).abs() <= tol)?;
+    Ok(())
+}
+
+/// A closed phase MILP (`optimal_among_k_phases`) has its gap within the outer
+/// approximation's tolerance ([`PHASE_CLAIM_GAP`]), as a crawler's.
+pub(super) fn check_closed(what: &str, status: MilpStatus, c: &Certificate) -> Result<()> {
+    if status == MilpStatus::OptimalAmongKPhases && (c.gap.is_nan() || c.gap > PHASE_CLAIM_GAP) {
+        return Err(bad(
+            what,
+            "solution.certificate.gap",
+            c.gap,
+            format!(
+                "status optimal_among_k_phases claims the MILP closed; its gap must be at most \
+                 {PHASE_CLAIM_GAP:e}"
+            ),
+        ));
+    }
+    Ok(())
+}
+
+/// The envelope's status and certificate of a MILP's answer against the solution's
+/// certificate (`phases`: `K` of a phase gait) and its replayed objective `j`.
+pub(super) fn check_global(
+    what: &str,
+    status: MilpStatus,
+    cert: &ResultCertificate,
+    c: &Certificate,
+    phases: Option<usize>,
+    j: f64,
+) -> Result<()> {
+    let allowed: &[MilpStatus] = match phases {
+        None => &[
+            MilpStatus::Optimal,
+            MilpStatus::TimeLimit,
+            MilpStatus::ApproximationLimit,
+        ],
+        Some(_) => &[
+            MilpStatus::OptimalAmongKPhases,
+            MilpStatus::DominatesKPhases,
+            MilpStatus::TimeLimit,
+            MilpStatus::ApproximationLimit,
+        ],
+    };
+    if c.status != status || !allowed.contains(&status) {
+        return Err(bad(
+            what,
+            "status",
+            status.as_str(),
+            format!(
+                "must be solution.certificate.status ({}), one of {:?}",
+                c.status.as_str(),
+                allowed.iter().map(|s| s.as_str()).collect::<Vec<_>>()
+            ),
+        ));
+    }
+    let want = ResultCertificate::of_milp(c, phases);
+    for (field, got, want) in [
+        ("certificate.kind", cert.kind.clone(), want.kind.clone()),
+        (
+            "certificate.phases",
+            format!("{:?}", cert.phases),
+            format!("{:?}", want.phases),
+        ),
+    ] {
+        if got != want {
+            return Err(bad(what, field, got, format!("must be {want}")));
+        }
+    }
+    let tol = INPUT_TOL * j.abs().max(1.0);
+    if !(c.bound.is_finite() && c.bound >= j - tol) {
+        return Err(bad(
+            what,
+            "solution.certificate.bound",
+            c.bound,
+            format!("is below the verified objective {j}"),
+        ));
+    }
+    // The MILP's incumbent lies under its own bound.
+    if !(c.milp_objective.is_finite()
+        && c.milp_objective <= c.bound + INPUT_TOL * c.bound.abs().max(1.0))
+    {
+        return Err(bad(
+            what,
+            "solution.certificate.milp_objective",
+            c.milp_objective,
+            format!("must be finite and at most the bound ({})", c.bound),
+        ));
+    }
+    check_closed(what, status, c)?;
+    let gap = Certificate::gap_of(c.bound, j);
+    if !(c.gap.is_finite() && (c.gap - gap).abs() <= INPUT_TOL * gap.abs().max(1.0)) {
+        return Err(bad(
+            what,
+            "solution.certificate.gap",
+            c.gap,
+            format!("disagrees with the bound and the objective ({gap})"),
+        ));
+    }
+    for (field, got, want) in [
+        ("certificate.bound", cert.bound, c.bound),
+        ("certificate.gap", cert.gap, c.gap),
+    ] {
+        if got != Some(want) {
+            return Err(bad(
+                what,
+                field,
+                format!("{got:?}"),
+                format!("must be the solution's ({want})"),
+            ));
+        }
+    }
+    Ok(())
+}
