@@ -479,7 +479,7 @@ pub fn solve_general_phase(
     solve_general_slots(p, g, Slots::of(k, false), time_limit)
 }
 
-/// The globally optimal gait of `k` slots of a free transition and a phase ([`Slots`]),
+/// The globally optimal gait of `k` slots of a free transition and a phase (module docs),
 /// re-verified by the exact simulator: at least [`solve_general_phase`]'s at the same `k`, with
 /// as many binaries; `time_limit` in seconds. Its gait has up to `2k` phases.
 pub fn solve_general_transitions(
