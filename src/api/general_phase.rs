@@ -178,9 +178,9 @@ pub fn optimize_general_phase(
         .map_err(named)?;
         let mut r = GeneralPhaseOptimized::new(file, p.period, grown.best);
         if chain.is_some() {
-            r.formulation = Some("chain".into());
+            r.formulation = Some(PhaseFormulation::Chain.name().into());
         } else if transitions {
-            r.formulation = Some("transitions".into());
+            r.formulation = Some(PhaseFormulation::Transitions.name().into());
         }
         r.structured = structured;
         if s.phases.is_none() {

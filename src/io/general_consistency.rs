@@ -279,13 +279,13 @@ fn check_pm(p: &GeneralProblem, max_m: u32, pr: &GeneralProcess, what: &str) -> 
     Ok(j)
 }
 
-/// The shapes of a phase gait's records against the problem and its method (`chain`: a
+/// The shapes of a phase gait's records against the problem and its method (`transitions`: a
 /// transition before each phase, the chain's formulation or free transitions; `local`: as many
 /// phases as it says), and `A = 0`; returns the number of phases.
 fn check_phase_shape(
     p: &GeneralProblem,
     s: &crate::optimal::general::GeneralPhaseGait,
-    chain: bool,
+    transitions: bool,
     local: bool,
     what: &str,
 ) -> Result<usize> {
@@ -322,11 +322,12 @@ fn check_phase_shape(
         ));
     }
     let (n, mc, sigma) = (p.states(), p.controls(), p.c.faces());
-    // The chain's formulation counts slip phases: a transition may precede each. A gait that
-    // dominates the class (the chain's structured start, kept) is not of it: any length.
+    // A transition may precede each of the K phases (the chain's slip phases, or free
+    // transitions). A gait that dominates the class (the chain's structured start, kept) is not
+    // of it: any length.
     let most = if s.certificate.status == crate::optimal::MilpStatus::DominatesKPhases {
         MAX_LOCAL_PHASES
-    } else if chain {
+    } else if transitions {
         2 * s.max_phases
     } else {
         s.max_phases
@@ -452,11 +453,11 @@ fn check_phase_reactions(
 fn check_phase(
     p: &GeneralProblem,
     s: &crate::optimal::general::GeneralPhaseGait,
-    chain: bool,
+    transitions: bool,
     local: bool,
     what: &str,
 ) -> Result<f64> {
-    let np = check_phase_shape(p, s, chain, local, what)?;
+    let np = check_phase_shape(p, s, transitions, local, what)?;
     check_phase_controls(p, s, what)?;
     check_phase_reactions(p, s, what)?;
     let scale = p.c.scale();
