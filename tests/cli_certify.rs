@@ -171,3 +171,56 @@ fn inconsistent_result_files_are_refused_with_one_line() {
     assert_eq!(out.status.code(), Some(2));
     assert!(stderr(&out).contains("no/such/file.json"));
 }
+
+/// A phase answer with a piece of about 1e-12 of the period (four blocks of unequal stiffness
+/// and friction, K = 3): HiGHS meets the rate bound only to its feasibility tolerance, and that
+/// excess divided by so short a duration gave a rate 7 % beyond the bound, which `certify` then
+/// refused. The decoder clips each increment to the bound the MILP imposes, so the answer keeps
+/// every rate within it and reads back.
+#[test]
+fn a_phase_answer_with_a_very_short_piece_keeps_its_rates_within_the_bound() {
+    let dir = tempfile::tempdir().unwrap();
+    let model = dir.path().join("four.toml");
+    std::fs::write(
+        &model,
+        "[crawler]\nblocks = 4\nstiffness = [1.0, 2.0, 1.5]\n\
+         mu_forward = [1.0, 1.2, 0.9, 1.1]\nmu_backward = [2.5, 3.1, 2.7, 2.0]\n\n\
+         [gait]\nperiod = 8.0\nmax_actuator_speed = 1.0\ncost = { kind = \"none\" }\n",
+    )
+    .unwrap();
+    let out = crawlopt(&[
+        "optimize",
+        model.to_str().unwrap(),
+        "--phases",
+        "3",
+        "--json",
+    ]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let v = json(&out);
+    // J_3 of this crawler, as tests/general_phase.rs finds it with the chain's formulation.
+    assert!((v["objective"].as_f64().unwrap() - 3.0666666667).abs() < 1e-7);
+    let bound: Vec<f64> = v["problem"]["rate_bound"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|a| a.as_f64().unwrap())
+        .collect();
+    for (j, u) in v["solution"]["controls"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .enumerate()
+    {
+        for (l, ul) in u.as_array().unwrap().iter().enumerate() {
+            let ul = ul.as_f64().unwrap();
+            assert!(
+                ul.abs() <= bound[l] * (1.0 + 1e-12),
+                "controls[{j}][{l}] = {ul}"
+            );
+        }
+    }
+    let f = write(dir.path(), "k3.json", &v);
+    let out = crawlopt(&["certify", f.to_str().unwrap(), "--json"]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    assert_eq!(json(&out)["verdict"], "holds");
+}

@@ -22,17 +22,26 @@ pub(super) struct RawGait {
 
 impl RawGait {
     /// Reads the gait: each used phase gives its transition and its slip segment, those of
-    /// positive duration, in order.
-    pub(super) fn read(lay: &Layout, cols: &[f64], t: f64) -> Self {
+    /// positive duration, in order. Each increment is clipped to the rate bound `|U_l| <= a_l d`
+    /// that the MILP imposes: HiGHS meets it only to its feasibility tolerance, and on a piece
+    /// of a few 1e-12 of the period that excess, divided by the duration, would give a rate far
+    /// beyond `a_l` (a gait `certify` then refuses).
+    pub(super) fn read(lay: &Layout, cols: &[f64], t: f64, a: &[f64]) -> Self {
         let val = |c: &Col| cols[c.index()];
         let vals = |cs: &[Col]| -> Vec<f64> { cs.iter().map(val).collect() };
+        let clipped = |cs: &[Col], d: f64| -> Vec<f64> {
+            cs.iter()
+                .zip(a)
+                .map(|(c, &al)| val(c).clamp(-al * d, al * d))
+                .collect()
+        };
         let nb = lay.ps.first().map_or(0, Vec::len);
         let mut g = RawGait::default();
         for j in 0..lay.tau.len() {
             let sigma = val(&lay.sigma[j]);
             if sigma > 1e-12 * t {
                 g.durations.push(sigma);
-                g.increments.push(vals(&lay.ws[j]));
+                g.increments.push(clipped(&lay.ws[j], sigma));
                 g.states.push(vals(&lay.xs[j]));
                 g.block_displacements.push(vec![0.0; nb]);
                 g.modes.push(vec![0; nb]);
@@ -40,7 +49,7 @@ impl RawGait {
             let tau = val(&lay.tau[j]);
             if tau > 1e-12 * t {
                 g.durations.push(tau);
-                g.increments.push(vals(&lay.us[j]));
+                g.increments.push(clipped(&lay.us[j], tau));
                 g.states.push(vals(&lay.ys[j]));
                 g.block_displacements.push(
                     lay.ps[j]

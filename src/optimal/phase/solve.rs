@@ -201,7 +201,7 @@ fn oa_rounds(
         let (cols, objective, bound, status) = solve_max(pb, &what, start_cols.as_deref(), gap)?;
         // Cut short before HiGHS had a bound: the work bound, valid for every gait.
         let bound = bound.unwrap_or_else(|| super::work_limit(crawler, problem).max(objective));
-        let raw = RawGait::read(&lay, &cols, t);
+        let raw = RawGait::read(&lay, &cols, t, a);
         last_bound = bound;
         let Some(r) = rates.as_mut() else {
             break (raw, bound, status);
