@@ -319,12 +319,15 @@ fn optimize_convergence_tabulates_p_1_to_p_m_of_a_general_file() {
 #[test]
 fn optimize_method_phase_finds_the_exact_gait() {
     // The one-link problem: J* = (T - 2 (b - a)) / 2 = 3 with 4 phases (free rise, slide on
-    // b, free fall, slide on a), two of them with a held face.
+    // b, free fall, slide on a), two of them with a held face; in the general formulation
+    // (K phases, no free transition), which needs K = 4 for it.
     let out = crawlopt(&[
         "optimize",
         "examples/general_one_link.toml",
         "--method",
         "phase",
+        "--formulation",
+        "general",
         "--json",
     ]);
     assert!(out.status.success(), "{}", stderr(&out));
@@ -349,6 +352,8 @@ fn optimize_method_phase_finds_the_exact_gait() {
         "examples/general_one_link.toml",
         "--method",
         "phase",
+        "--formulation",
+        "general",
         "--max-phases",
         "3",
     ]);
@@ -371,6 +376,8 @@ fn optimize_method_phase_finds_the_exact_gait() {
         "examples/general_one_link.toml",
         "--method",
         "phase",
+        "--formulation",
+        "general",
         "--phases",
         "4",
         "--json",

@@ -263,7 +263,10 @@ fn an_empty_phase_is_dropped() {
 /// non-diagonal `B`, or one with `b != 0`, put a column twice in one row, which HiGHS refused
 /// (exit 2 on a gait it had just found). Both now certify, with the verdicts the crawler-free
 /// formulation (a column per normal-cone weight) gave: the 3-phase gaits `degenerate`, the
-/// 4-phase ones `fails` on Theorem 2.2's sign (0.5), the duration condition holding.
+/// 4-phase ones `fails` on Theorem 2.2's sign (0.5), the duration condition holding. These are
+/// the general formulation's gaits (`--formulation general`): with free transitions, the default
+/// here, K = 2 slots already reach the 4-phase gait (J = 6, the same verdict) and K = 3 gives a
+/// 5-phase gait of the same J.
 #[test]
 fn phase_gaits_with_a_coupling_b_or_a_drift_certify() {
     let square =
@@ -288,6 +291,8 @@ fn phase_gaits_with_a_coupling_b_or_a_drift_certify() {
                 "phase",
                 "--phases",
                 k,
+                "--formulation",
+                "general",
                 "--certify",
                 "--json",
             ];

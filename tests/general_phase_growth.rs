@@ -26,8 +26,14 @@ fn one_link(period: f64) -> GeneralFile {
     .unwrap()
 }
 
+/// The library's defaults but the general formulation (`K` phases, no free transition), whose
+/// values at each `K` these tests assert; on a problem that is not a chain the default is the
+/// free-transition one ([`free_transitions_reach_the_one_link_optimum_at_two_slots`]).
 fn settings(edit: impl FnOnce(&mut GeneralPhaseSettings)) -> GeneralPhaseSettings {
-    let mut s = GeneralPhaseSettings::default();
+    let mut s = GeneralPhaseSettings {
+        formulation: Some(crawlopt::api::PhaseFormulation::General),
+        ..GeneralPhaseSettings::default()
+    };
     edit(&mut s);
     s
 }
@@ -197,7 +203,9 @@ fn on_crawler_instances_both_growths_agree() {
 /// The free-transition formulation through the API (`formulation = Transitions`): the growth
 /// reaches the §4 one-link optimum at `K = 2` slots (4 phases; the general formulation needs
 /// `K = 4`), says `formulation = "transitions"`, reads back and certifies (`holds`); the same
-/// file without its formulation is refused (4 phases for `K = 2`), naming the field.
+/// file without its formulation is refused (4 phases for `K = 2`), naming the field. On this
+/// problem, which is not a chain, it is the default: the library's default settings give the
+/// same growth.
 #[test]
 fn free_transitions_reach_the_one_link_optimum_at_two_slots() {
     use crawlopt::api::PhaseFormulation;
@@ -211,6 +219,22 @@ fn free_transitions_reach_the_one_link_optimum_at_two_slots() {
     let g = r.phase_growth.as_ref().expect("K was grown");
     let js: Vec<f64> = g.table.iter().map(|s| s.objective).collect();
     assert!(js[0].abs() < 1e-9 && (js[1] - want).abs() < 1e-9, "{js:?}");
+    let default = optimize_general_phase(
+        &one_link(t),
+        &GeneralPhaseSettings::default(),
+        Hooks::default(),
+    )
+    .unwrap();
+    assert_eq!(default.formulation.as_deref(), Some("transitions"));
+    let default_js: Vec<f64> = default
+        .phase_growth
+        .as_ref()
+        .unwrap()
+        .table
+        .iter()
+        .map(|s| s.objective)
+        .collect();
+    assert_eq!(default_js, js);
     let fixed = settings(|s| {
         s.formulation = Some(PhaseFormulation::Transitions);
         s.phases = Some(2);

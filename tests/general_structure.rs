@@ -340,8 +340,15 @@ fn a_chain_takes_the_chains_phase_formulation() {
     // "chain" on the one-link problem (not a crawler's) is refused naming the field.
     let one = std::fs::read_to_string("examples/general_one_link.toml").unwrap();
     let one = crawlopt::io::GeneralFile::parse(&one).unwrap();
-    let r = optimize_general_phase(&one, &settings(None), Hooks::default()).unwrap();
+    let r = optimize_general_phase(
+        &one,
+        &settings(Some(PhaseFormulation::General)),
+        Hooks::default(),
+    )
+    .unwrap();
     assert!(r.formulation.is_none());
+    let r = optimize_general_phase(&one, &settings(None), Hooks::default()).unwrap();
+    assert_eq!(r.formulation.as_deref(), Some("transitions"));
     match optimize_general_phase(
         &one,
         &settings(Some(PhaseFormulation::Chain)),

@@ -561,9 +561,10 @@ fn plot_and_report_read_a_general_result_back() {
 }
 
 /// A gait that barely moves reads back: the three-block problem with one face weight off the
-/// crawler's pattern by 1e-10 (not a chain, so the general formulation runs), whose K = 4 and
-/// K = 5 optima have J near 0, stored to the solver's tolerance of U and of J's scale (their
+/// crawler's pattern by 1e-10 (not a chain), whose K = 4 and K = 5 optima in the general
+/// formulation have J near 0, stored to the solver's tolerance of U and of J's scale (their
 /// zero mean, 6e-12, and their reward, 2.5e-10, were refused relative to their own tiny size).
+/// The default there, free transitions, reads back too.
 #[test]
 fn a_gait_that_barely_moves_reads_back() {
     let text = std::fs::read_to_string("examples/general_three_blocks.toml")
@@ -573,14 +574,22 @@ fn a_gait_that_barely_moves_reads_back() {
             "face_weights = [0.3333333334333333,",
         );
     let file = crawlopt::io::GeneralFile::parse(&text).unwrap();
-    for k in [4, 5] {
+    use crawlopt::api::PhaseFormulation;
+    for (k, formulation) in [4, 5]
+        .into_iter()
+        .flat_map(|k| [(k, Some(PhaseFormulation::General)), (k, None)])
+    {
         let s = crawlopt::api::GeneralPhaseSettings {
             phases: Some(k),
+            formulation,
             ..Default::default()
         };
         let r = crawlopt::api::optimize_general_phase(&file, &s, crawlopt::api::Hooks::default())
             .unwrap();
-        assert!(r.formulation.is_none());
+        match formulation {
+            Some(_) => assert!(r.formulation.is_none()),
+            None => assert_eq!(r.formulation.as_deref(), Some("transitions")),
+        }
         let json = serde_json::to_string(&r).unwrap();
         if let Err(e) = ResultFile::from_json(&json, "r.json") {
             panic!("K = {k} (J = {}): {e}", r.objective);

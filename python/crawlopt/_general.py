@@ -246,7 +246,7 @@ class GeneralProblem:
         ``formulation`` ("phase" only; ``--formulation``): "general" (K phases), "transitions"
         (K slots of a free transition and a phase, as strong as the chain's where measured) or
         "chain" (a crawler's gait problem only); None: the chain's on a crawler's chain, the
-        general one elsewhere."""
+        transitions elsewhere."""
         d, record = self._inner.optimize(
             method,
             _count(m, "m", 32),

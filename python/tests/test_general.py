@@ -58,9 +58,9 @@ def test_simulate_and_optimize_reach_the_closed_form():
     assert sol["x"].shape == (33, 1) and abs(sol["u"].sum()) < 1e-9
     assert [e["kind"] for e in events] == ["stage", "stage"]
 
-    # Exact continuous-time gaits (A = 0): J* with 4 phases (free rise, slide on b, free fall,
-    # slide on a), none with 3.
-    ph = p.optimize(method="phase")
+    # Exact continuous-time gaits (A = 0), in the general formulation (K phases, no free
+    # transition): J* with 4 phases (free rise, slide on b, free fall, slide on a), none with 3.
+    ph = p.optimize(method="phase", formulation="general")
     sol = ph["solution"]
     assert ph["method"] == "phase" and sol["max_phases"] == 4
     assert sol["objective"] == pytest.approx(J_STAR, abs=1e-7)
@@ -68,13 +68,15 @@ def test_simulate_and_optimize_reach_the_closed_form():
     assert sol["durations"].sum() == pytest.approx(10.0, abs=1e-9)
     assert sol["states"].shape == (5, 1) and sol["controls"].shape == (4, 1)
     assert sum(1 for h in sol["held"] if h) == 2
-    assert p.optimize(method="phase", max_phases=3)["solution"]["objective"] == pytest.approx(
-        0.0, abs=1e-9
-    )
+    assert p.optimize(method="phase", formulation="general", max_phases=3)["solution"][
+        "objective"
+    ] == pytest.approx(0.0, abs=1e-9)
     # K grown as for crawlers: one row per K, J_K = 0 below 4; a progress event per K; a
     # plateau ends the growth after `patience` K, claimed for the last K; a fixed K, no table.
     events = []
-    grown = p.optimize(method="phase", max_phases=8, patience=1, progress=events.append)
+    grown = p.optimize(
+        method="phase", formulation="general", max_phases=8, patience=1, progress=events.append
+    )
     rows = grown["phase_growth"]["table"]
     assert [r["phases"] for r in rows] == [1, 2, 3, 4, 5]
     assert [r["objective"] for r in rows] == pytest.approx([0, 0, 0, J_STAR, J_STAR], abs=1e-7)
@@ -85,7 +87,7 @@ def test_simulate_and_optimize_reach_the_closed_form():
     table = p.optimize(m=3, convergence=True)["convergence"]
     assert [r["m"] for r in table] == [1, 2, 3]
     assert [r["objective"] for r in table] == pytest.approx([J_STAR] * 3, abs=1e-7)
-    fixed = p.optimize(method="phase", phases=4)
+    fixed = p.optimize(method="phase", formulation="general", phases=4)
     assert "phase_growth" not in fixed.keys()
     assert fixed["objective"] == pytest.approx(J_STAR, abs=1e-7)
 
@@ -297,6 +299,10 @@ def test_the_free_transition_formulation_reaches_the_one_link_optimum_at_two_slo
     assert len(slots["solution"]["durations"]) == 4
     plain = p.optimize(method="phase", phases=2, formulation="general")
     assert plain["objective"] == pytest.approx(0.0, abs=1e-9)
+    # The default on a problem that is not a chain.
+    default = p.optimize(method="phase", phases=2)
+    assert default["formulation"] == "transitions"
+    assert default["objective"] == pytest.approx(J_STAR, abs=1e-7)
     with pytest.raises(co.InputError, match="formulation"):
         p.optimize(method="phase", formulation="bogus")
     with pytest.raises(co.InputError, match="formulation"):

@@ -37,11 +37,13 @@ pub struct GeneralPhaseSettings {
     /// Seconds for all the MILPs (`None`, the default: no limit): the best gait so far, claimed
     /// with the bound of the `K` the limit cut short.
     pub time_limit: Option<f64>,
-    /// The formulation: `None` (the default) takes the chain's where the problem is a
-    /// crawler's gait problem and the general one elsewhere; `Some(General)` forces the
-    /// general one (to compare them); `Some(Transitions)` the general problem's slots of a
-    /// free transition and a phase, on any problem; `Some(Chain)` asks for the chain's and is
-    /// refused, naming `formulation`, where the problem is not a chain.
+    /// The formulation: `None` (the default) takes the strongest that applies: the chain's
+    /// where the problem is a crawler's gait problem, the slots of a free transition and a
+    /// phase elsewhere (`Transitions`: at equal `K` at least as good as the general one, as
+    /// strong as the chain's on every crawler measured). `Some(General)` forces the general
+    /// one, `K` phases with no free transition (to compare them); `Some(Transitions)` the
+    /// slots on any problem; `Some(Chain)` asks for the chain's and is refused, naming
+    /// `formulation`, where the problem is not a chain.
     pub formulation: Option<PhaseFormulation>,
     /// Also prove the crawler's upper bound over all periodic gaits (default none): only for
     /// a problem that is a crawler's gait problem (`super::general::chain_upper_bound`).
@@ -164,7 +166,7 @@ pub fn optimize_general_phase(
                 start: false,
             })
         };
-        let transitions = s.formulation == Some(PhaseFormulation::Transitions);
+        let transitions = matches!(s.formulation, None | Some(PhaseFormulation::Transitions));
         let (grown, structured) = match &chain {
             Some(view) => grow_chain_phases(&p, &g, view, range, s.time_limit, &mut progress),
             None if transitions => {

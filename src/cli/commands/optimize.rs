@@ -74,7 +74,7 @@ pub struct OptimizeArgs {
     pub max_phases: Option<usize>,
     /// The phase MILP's formulation on a general problem file: general (K phases), transitions
     /// (K slots of a free transition and a phase) or chain (a crawler's; K slip phases).
-    /// Default: the chain's on a crawler's chain, the general one elsewhere.
+    /// Default: the chain's on a crawler's chain, transitions elsewhere.
     #[arg(long, value_name = "NAME")]
     pub formulation: Option<String>,
     /// The grid of P_m has 2^m steps (--method discrete, default 3; --method local, default
