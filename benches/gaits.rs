@@ -64,7 +64,6 @@ fn bench_gaits(c: &mut Criterion) {
                 start.times(),
                 start.lengths(),
                 8,
-                None,
             )
             .unwrap();
             assert!(s.objective() >= 0.99 * 3.75);
@@ -73,7 +72,7 @@ fn bench_gaits(c: &mut Criterion) {
     let (crawler, problem) = instance(3);
     g.bench_function(BenchmarkId::new("discrete_global", "3x8"), |b| {
         b.iter(|| {
-            let s = solve_discrete_global(&crawler, &problem, 3, None).unwrap();
+            let s = solve_discrete_global(&crawler, &problem, 3).unwrap();
             assert_eq!(s.certificate.status, MilpStatus::Optimal);
             assert!((s.objective() - 2.0).abs() < 1e-6);
         })

@@ -90,7 +90,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             }
             continue;
         }
-        match solve_phase_with(&crawler, &problem, k, Some(limit), &opts) {
+        match crawlopt::progress::within(Some(limit), || {
+            solve_phase_with(&crawler, &problem, k, &opts)
+        }) {
             Ok(s) => println!(
                 "{v},{nb},{k},{},{:.6},{:.6},{:.4},{:.1}",
                 s.certificate.status.as_str(),

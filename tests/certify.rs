@@ -70,7 +70,7 @@ fn assert_bang_bang_matches(c: &NecessaryConditions, a: f64) {
 fn one_link_p_m_optimum_satisfies_every_discrete_condition_with_lambda_1() {
     let (c, p) = one_link();
     for m in [3, 4] {
-        let s = solve_discrete_global(&c, &p, m, Some(60.0)).unwrap();
+        let s = solve_discrete_global(&c, &p, m).unwrap();
         let r = GaitResult::from_discrete(&c, &p, &s);
         let cert = certify(
             &Process::from_result(&r, "P_m").unwrap(),
@@ -117,7 +117,7 @@ fn one_link_p_m_optimum_satisfies_every_discrete_condition_with_lambda_1() {
 #[test]
 fn one_link_phase_optimum_reproduces_section_4() {
     let (c, p) = one_link();
-    let s = solve_phase_global(&c, &p, 4, None).unwrap();
+    let s = solve_phase_global(&c, &p, 4).unwrap();
     let r = GaitResult::from_phase(&c, &p, &s);
     let cert = certify(
         &Process::from_result(&r, "phase").unwrap(),
@@ -159,7 +159,7 @@ fn three_block_optimum_and_perturbation() -> (Process, Process) {
     };
     let (c, p) = three_blocks();
     let m = 3;
-    let s = solve_discrete_global(&c, &p, m, Some(60.0)).unwrap();
+    let s = solve_discrete_global(&c, &p, m).unwrap();
     let r = GaitResult::from_discrete(&c, &p, &s);
     let opt = Process::from_result(&r, "P_3").unwrap();
     let steps = 1usize << m;
@@ -235,7 +235,7 @@ fn a_global_optimum_failing_strong_stationarity_is_not_called_suboptimal() {
         .map(|r| r.to_vec())
         .collect();
     let pr = Process::discrete_from_controls(&c, &p, 3, &u).unwrap();
-    let best = solve_discrete_global(&c, &p, 3, Some(60.0)).unwrap();
+    let best = solve_discrete_global(&c, &p, 3).unwrap();
     let cert = certify(&pr, &CertifyOptions::default()).unwrap();
     show(&cert);
     assert!(
@@ -382,7 +382,7 @@ fn three_block_phase_optimum_satisfies_theorem_2_2_exactly() {
     // Phase gaits have no discretisation: p is piecewise constant with jumps at knots where faces
     // are active, so Theorem 2.2's conditions, the sign dxi >= 0 included, hold to rounding.
     let (c, p) = three_blocks();
-    let s = solve_phase_global(&c, &p, 3, Some(120.0)).unwrap();
+    let s = solve_phase_global(&c, &p, 3).unwrap();
     let r = GaitResult::from_phase(&c, &p, &s);
     let cert = certify(
         &Process::from_result(&r, "phase").unwrap(),
@@ -465,7 +465,7 @@ fn one_link_multipliers_scale_with_the_stiffness() {
     // departures from the ends of C.
     let c = Crawler::new(vec![2.0], vec![1.0, 0.8], vec![2.5, 1.7]).unwrap();
     let p = GaitProblem::new(&c, 7.0, &[1.0], Cost::None, None).unwrap();
-    let s = solve_phase_global(&c, &p, 4, None).unwrap();
+    let s = solve_phase_global(&c, &p, 4).unwrap();
     let r = GaitResult::from_phase(&c, &p, &s);
     let cert = certify(
         &Process::from_result(&r, "phase").unwrap(),

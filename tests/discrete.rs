@@ -12,7 +12,7 @@ fn one_link_p_m_equals_the_closed_form_for_every_m() {
     let c = Crawler::uniform(2, 1.0, 1.0, 2.0).unwrap();
     let p = GaitProblem::new(&c, 10.0, &[1.0], Cost::None, None).unwrap();
     for m in 1..=4 {
-        let s = solve_discrete_global(&c, &p, m, Some(60.0)).unwrap();
+        let s = solve_discrete_global(&c, &p, m).unwrap();
         assert_eq!(s.certificate.status, MilpStatus::Optimal);
         assert!(
             (s.verified_displacement - 3.0).abs() < 1e-8,
@@ -40,7 +40,7 @@ fn discrete_optimum_never_exceeds_the_continuous_one_for_one_link() {
         let p = GaitProblem::new(&c, t, &[1.0], Cost::None, None).unwrap();
         let cont = one_link_optimum(&c, &p).unwrap().value;
         for m in 1..=3 {
-            let s = solve_discrete_global(&c, &p, m, Some(60.0)).unwrap();
+            let s = solve_discrete_global(&c, &p, m).unwrap();
             assert!(
                 s.verified_displacement <= cont + 1e-8,
                 "k {k} T {t} m {m}: {} > {cont}",
@@ -62,7 +62,7 @@ fn three_block_p_m_matches_the_peer_milp() {
     let p = GaitProblem::new(&c, 10.0, &[1.0, 1.0], Cost::None, None).unwrap();
     let mut values = Vec::new();
     for m in 1..=3 {
-        let s = solve_discrete_global(&c, &p, m, Some(60.0)).unwrap();
+        let s = solve_discrete_global(&c, &p, m).unwrap();
         assert_eq!(s.certificate.status, MilpStatus::Optimal);
         assert!(s.verified_displacement >= -1e-12, "m {m}");
         println!(
@@ -82,13 +82,17 @@ fn a_start_is_the_first_incumbent_of_p_m() {
     // short after a second returns at least it, so the start was taken.
     let c = Crawler::uniform(4, 1.0, 1.0, 1.5).unwrap();
     let p = GaitProblem::new(&c, 10.0, &[1.0; 3], Cost::None, None).unwrap();
-    let phase = solve_phase_global(&c, &p, 3, Some(120.0)).unwrap();
+    let phase = solve_phase_global(&c, &p, 3).unwrap();
     let g = GaitResult::from_phase(&c, &p, &phase).gait;
-    let local = solve_discrete_local(&c, &p, 4, &g.times, &g.lengths, Some(60.0)).unwrap();
+    let local = solve_discrete_local(&c, &p, 4, &g.times, &g.lengths).unwrap();
     assert!(local.objective() > 3.5 - 1e-9, "{}", local.objective());
     let g = GaitResult::from_local(&c, &p, &local, "phase").gait;
     let (times, lengths) = (g.times, g.lengths);
-    let s = solve_discrete_global_from(&c, &p, 4, Some(1.0), Some((&times, &lengths))).unwrap();
+    // Within a deadline of 1 s (the job's, as the API sets it from `time_limit`).
+    let s = crawlopt::progress::within(Some(1.0), || {
+        solve_discrete_global_from(&c, &p, 4, Some((&times, &lengths)))
+    })
+    .unwrap();
     let start = s.start_objective.expect("a start");
     assert!((start - local.objective()).abs() < 1e-9, "{start}");
     assert!(s.objective() >= start - 1e-9, "{} < {start}", s.objective());
@@ -102,10 +106,10 @@ fn a_start_changes_no_optimum() {
     // every column feasibly is checked by the unit tests of the module.)
     let c = Crawler::uniform(3, 1.0, 1.0, 1.5).unwrap();
     let p = GaitProblem::new(&c, 10.0, &[1.0, 1.0], Cost::None, None).unwrap();
-    let plain = solve_discrete_global(&c, &p, 3, Some(120.0)).unwrap();
+    let plain = solve_discrete_global(&c, &p, 3).unwrap();
     assert_eq!(plain.start_objective, None);
     let (times, lengths) = plain.knots(c.stiffness());
-    let s = solve_discrete_global_from(&c, &p, 3, Some(120.0), Some((&times, &lengths))).unwrap();
+    let s = solve_discrete_global_from(&c, &p, 3, Some((&times, &lengths))).unwrap();
     let start = s.start_objective.expect("a start");
     assert!((start - plain.objective()).abs() < 1e-9, "{start}");
     assert_eq!(s.certificate.status, MilpStatus::Optimal);
@@ -125,8 +129,7 @@ fn a_start_breaking_the_tv_bound_is_refused() {
         vec![0.0, 2.0],
         vec![0.0, 0.0],
     ];
-    let e =
-        solve_discrete_global_from(&c, &p, 3, Some(60.0), Some((&times, &lengths))).unwrap_err();
+    let e = solve_discrete_global_from(&c, &p, 3, Some((&times, &lengths))).unwrap_err();
     assert!(
         e.to_string().starts_with("start") && e.to_string().contains("max_total_variation"),
         "{e}"

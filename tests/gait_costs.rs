@@ -27,7 +27,7 @@ fn quadratic_cost_one_link_matches_the_closed_form_in_both_formulations() {
     assert!((closed.value - 0.5625).abs() < 1e-12, "{}", closed.value);
     assert!((closed.rate - 0.625).abs() < 1e-12);
 
-    let s = solve_phase_global(&c, &p, 4, Some(120.0)).unwrap();
+    let s = solve_phase_global(&c, &p, 4).unwrap();
     assert_eq!(s.certificate.status, MilpStatus::OptimalAmongKPhases);
     assert!(
         (s.objective() - 0.5625).abs() < 2e-6,
@@ -50,7 +50,7 @@ fn quadratic_cost_one_link_matches_the_closed_form_in_both_formulations() {
     // P_m: catching-up is exact for one link and the optimal gait's halves lie on the grid, so
     // J_m = J* for every m >= 1.
     for m in 1..=3 {
-        let s = solve_discrete_global(&c, &p, m, Some(120.0)).unwrap();
+        let s = solve_discrete_global(&c, &p, m).unwrap();
         assert_eq!(s.certificate.status, MilpStatus::Optimal);
         assert!(
             (s.objective() - 0.5625).abs() < 2e-6,
@@ -85,7 +85,7 @@ fn a_heavy_cost_makes_idling_optimal() {
     let c = Crawler::uniform(2, 1.0, 0.5, 1.0).unwrap();
     let p = GaitProblem::new(&c, 10.0, &[1.0], Cost::Quadratic { weight: 1.4 }, None).unwrap();
     assert_eq!(one_link_optimum(&c, &p).unwrap().value, 0.0);
-    let s = solve_phase_global(&c, &p, 4, Some(120.0)).unwrap();
+    let s = solve_phase_global(&c, &p, 4).unwrap();
     assert!(s.objective().abs() < 1e-6, "{}", s.objective());
     assert!(s.certificate.bound < 1e-6);
 }
@@ -97,7 +97,7 @@ fn total_variation_bound_in_p_m_matches_the_closed_form() {
     let p = GaitProblem::new(&c, 10.0, &[1.0], Cost::None, Some(3.0)).unwrap();
     assert_eq!(one_link_optimum(&c, &p).unwrap().value, 1.75);
     for m in 1..=3 {
-        let s = solve_discrete_global(&c, &p, m, Some(60.0)).unwrap();
+        let s = solve_discrete_global(&c, &p, m).unwrap();
         assert!(
             (s.objective() - 1.75).abs() < 1e-7,
             "m = {m}: {}",
@@ -109,7 +109,7 @@ fn total_variation_bound_in_p_m_matches_the_closed_form() {
         assert!(tv <= 3.0 + 1e-7, "TV(u) = {tv}");
     }
     // The phase formulation cannot express it and says so.
-    let e = solve_phase_global(&c, &p, 4, None).unwrap_err().to_string();
+    let e = solve_phase_global(&c, &p, 4).unwrap_err().to_string();
     assert!(e.contains("gait.max_total_variation"), "{e}");
 }
 
@@ -177,7 +177,7 @@ fn convergence_table_of_p_m() {
     let c = Crawler::uniform(2, 1.0, 1.0, 2.0).unwrap();
     let p = GaitProblem::new(&c, 10.0, &[1.0], Cost::None, None).unwrap();
     let mut seen = 0;
-    let (table, finest) = discrete_convergence(&c, &p, 3, None, &mut |_| seen += 1).unwrap();
+    let (table, finest) = discrete_convergence(&c, &p, 3, &mut |_| seen += 1).unwrap();
     assert_eq!(seen, 3);
     assert_eq!(table.iter().map(|r| r.m).collect::<Vec<_>>(), vec![1, 2, 3]);
     assert!(table.iter().all(|r| (r.objective - 3.0).abs() < 1e-8));

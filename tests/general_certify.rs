@@ -46,7 +46,7 @@ fn the_one_link_problem_matches_the_crawler_certificate() {
     let text = std::fs::read_to_string("examples/general_one_link.toml").unwrap();
     let (p, g) = general_problem(&GeneralFile::parse(&text).unwrap()).unwrap();
     let m = 3;
-    let s = solve_general_pm(&p, &g, m, None).unwrap();
+    let s = solve_general_pm(&p, &g, m).unwrap();
     assert!((s.objective - 3.0).abs() < 1e-9, "{}", s.objective);
     let pr = GeneralProcess::from_pm(&p, &s);
     let c = certify_general(&p, &pr, &CertifyOptions::default()).unwrap();
@@ -111,7 +111,7 @@ fn crawler_instances_match_the_crawler_certificate() {
     for (crawler, period, m) in cases {
         let speed = vec![1.0; crawler.links()];
         let gp = GaitProblem::new(&crawler, period, &speed, Cost::None, None).unwrap();
-        let sol = solve_discrete_global(&crawler, &gp, m, None).unwrap();
+        let sol = solve_discrete_global(&crawler, &gp, m).unwrap();
         let r = GaitResult::from_discrete(&crawler, &gp, &sol);
         assert_matches_crawler(&crawler, &r, ProcessKind::Discrete { m });
     }
@@ -135,7 +135,7 @@ fn crawler_phase_gaits_match_the_crawler_certificate() {
     for (crawler, period, k) in cases {
         let speed = vec![1.0; crawler.links()];
         let gp = GaitProblem::new(&crawler, period, &speed, Cost::None, None).unwrap();
-        let sol = solve_phase_global(&crawler, &gp, k, None).unwrap();
+        let sol = solve_phase_global(&crawler, &gp, k).unwrap();
         let r = GaitResult::from_phase(&crawler, &gp, &sol);
         let (cc, c) = assert_matches_crawler(&crawler, &r, ProcessKind::Phase);
         assert_eq!((c.method.as_str(), c.m), ("phase", None));
@@ -318,7 +318,7 @@ fn a_two_dimensional_problem_with_drift_derived_by_hand() {
         .map(|l| (1.0 - beta[l]) * (2.0 - 1.0 - beta[l]) - 2.0 * c)
         .sum();
     assert!((want - 0.21).abs() < 1e-15);
-    let s = solve_general_pm(&p, &g, 1, None).unwrap();
+    let s = solve_general_pm(&p, &g, 1).unwrap();
     assert_eq!(s.certificate.status, MilpStatus::Optimal);
     assert!((s.objective - want).abs() < 1e-7, "{}", s.objective);
     for l in 0..2 {
@@ -363,7 +363,7 @@ fn a_two_dimensional_problem_with_drift_derived_by_hand() {
         ..drift_parts(alpha, c)
     })
     .unwrap();
-    let sq = solve_general_pm(&q, &check_problem(&q).unwrap(), 1, None).unwrap();
+    let sq = solve_general_pm(&q, &check_problem(&q).unwrap(), 1).unwrap();
     assert!((sq.objective - want).abs() < 1e-7, "{}", sq.objective);
     let cq = certify_general(&q, &pr, &CertifyOptions::default()).unwrap();
     assert_eq!(cq.verdict, Verdict::Holds, "{}", cq.reason);
@@ -499,7 +499,7 @@ fn a_polytope_u_gives_the_box_certificate() {
     );
     assert_ne!(poly, text);
     let (q, _) = general_problem(&GeneralFile::parse(&poly).unwrap()).unwrap();
-    let s = solve_general_pm(&p, &g, 2, None).unwrap();
+    let s = solve_general_pm(&p, &g, 2).unwrap();
     let pr = GeneralProcess::from_pm(&p, &s);
     let opts = CertifyOptions::default();
     let (a, b) = (
@@ -576,7 +576,7 @@ fn random_optima_satisfy_the_conditions() {
                 .for_each(|v| *v /= 1.01 * over);
         }
         let g = check_problem(&p).unwrap();
-        let s = solve_general_pm(&p, &g, 1, None).unwrap();
+        let s = solve_general_pm(&p, &g, 1).unwrap();
         let c = certify_general(
             &p,
             &GeneralProcess::from_pm(&p, &s),

@@ -55,11 +55,10 @@ fn on_a_crawler_instance_the_two_tables_agree() {
     let crawler = Crawler::new(vec![1.0, 2.0], vec![1.0, 1.2, 0.9], vec![2.5, 3.1, 2.7]).unwrap();
     let t = 6.0;
     let gp = GaitProblem::new(&crawler, t, &[1.0, 1.0], Cost::None, None).unwrap();
-    let (chain, _) = discrete_convergence(&crawler, &gp, 3, None, &mut |_| {}).unwrap();
+    let (chain, _) = discrete_convergence(&crawler, &gp, 3, &mut |_| {}).unwrap();
     let inst = crawler_as_general(&crawler, t, &gp.rate_bound, GeneralCost::None).unwrap();
     let g = check_problem(&inst.problem).unwrap();
-    let (general, finest) =
-        general_convergence(&inst.problem, &g, 3, None, true, &mut |_| {}).unwrap();
+    let (general, finest) = general_convergence(&inst.problem, &g, 3, true, &mut |_| {}).unwrap();
     assert_eq!(chain.len(), 3);
     assert_eq!(general.len(), 3);
     for (a, b) in chain.iter().zip(&general) {

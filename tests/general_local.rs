@@ -42,7 +42,7 @@ fn the_one_link_problem_reaches_its_closed_form_from_reasonable_starts() {
     let g = check_problem(&p).unwrap();
     for m in 3..=5 {
         for (name, start) in [("sine", sine(m)), ("square 0.8", square(m, 0.8, 1))] {
-            let s = solve_general_local(&p, &g, m, &start, None).unwrap();
+            let s = solve_general_local(&p, &g, m, &start).unwrap();
             assert_eq!(s.stop, LocalStop::Stationary);
             assert!(s.start_objective < 2.0 + 1e-9, "{}", s.start_objective);
             assert!(
@@ -56,14 +56,14 @@ fn the_one_link_problem_reaches_its_closed_form_from_reasonable_starts() {
     // The default starts (full-amplitude square waves at shifts) are optimal themselves here.
     for m in [2, 6] {
         for start in default_starts(&p, m, 4) {
-            let s = solve_general_local(&p, &g, m, &start, None).unwrap();
+            let s = solve_general_local(&p, &g, m, &start).unwrap();
             assert!((s.objective - 3.0).abs() < 1e-7, "m = {m}: {}", s.objective);
         }
     }
     // Local, not global: from the square wave of amplitude 0.5 on 16 steps (J = 0.5) the
     // method stops at a stationary point of P_4 below J* (J = 1.75 on a plateau of J: the
     // gain needs two branches switched at once), never above it.
-    let s = solve_general_local(&p, &g, 4, &square(4, 0.5, 0), None).unwrap();
+    let s = solve_general_local(&p, &g, 4, &square(4, 0.5, 0)).unwrap();
     assert!((s.start_objective - 0.5).abs() < 1e-9);
     assert_eq!(s.stop, LocalStop::Stationary);
     assert!(
@@ -82,9 +82,9 @@ fn random_instances_never_above_the_global_optimum_and_true_processes() {
         for _ in 0..2 {
             let p = random_polygon_problem(&mut rng, sigma);
             let g = analyze_polyhedron(&p.c).unwrap();
-            let global = solve_general_pm(&p, &g, m, None).unwrap();
+            let global = solve_general_pm(&p, &g, m).unwrap();
             for start in default_starts(&p, m, 2) {
-                let s = solve_general_local(&p, &g, m, &start, None).unwrap();
+                let s = solve_general_local(&p, &g, m, &start).unwrap();
                 cases += 1;
                 let tol = 1e-7 * (1.0 + global.objective.abs());
                 assert!(
@@ -138,25 +138,36 @@ fn random_instances_never_above_the_global_optimum_and_true_processes() {
 fn the_local_method_refuses_what_it_cannot_solve() {
     let mut p = one_link_problem(-1.0, 1.0, 10.0);
     let g = check_problem(&p).unwrap();
-    let e = solve_general_local(&p, &g, 0, &square(1, 1.0, 0), None).unwrap_err();
+    let e = solve_general_local(&p, &g, 0, &square(1, 1.0, 0)).unwrap_err();
     assert!(e.to_string().starts_with("m:"), "{e}");
-    let e = solve_general_local(&p, &g, 15, &square(1, 1.0, 0), None).unwrap_err();
+    let e = solve_general_local(&p, &g, 15, &square(1, 1.0, 0)).unwrap_err();
     assert!(e.to_string().starts_with("m:"), "{e}");
-    let e = solve_general_local(&p, &g, 3, &square(2, 1.0, 0), None).unwrap_err();
+    let e = solve_general_local(&p, &g, 3, &square(2, 1.0, 0)).unwrap_err();
     assert!(e.to_string().starts_with("start:"), "{e}");
     let mut biased = square(3, 1.0, 0);
     biased[0][0] = 0.5;
-    let e = solve_general_local(&p, &g, 3, &biased, None).unwrap_err();
+    let e = solve_general_local(&p, &g, 3, &biased).unwrap_err();
     assert!(e.to_string().starts_with("start[1]:"), "{e}");
     let mut outside = square(3, 1.0, 0);
     outside[0][0] = 2.0;
     outside[7][0] = -2.0;
-    let e = solve_general_local(&p, &g, 3, &outside, None).unwrap_err();
+    let e = solve_general_local(&p, &g, 3, &outside).unwrap_err();
     assert!(e.to_string().starts_with("start.values[1]"), "{e}");
-    let e = solve_general_local(&p, &g, 3, &square(3, 1.0, 0), Some(-1.0)).unwrap_err();
+    // A bad time limit is the job's setting, refused by the API naming it.
+    let file =
+        crawlopt::io::GeneralFile::load_if_general("examples/general_one_link.toml".as_ref())
+            .unwrap()
+            .unwrap();
+    let s = crawlopt::api::GeneralLocalSettings {
+        m: 3,
+        time_limit: Some(-1.0),
+        ..crawlopt::api::GeneralLocalSettings::default()
+    };
+    let e = crawlopt::api::optimize_general_local(&file, &s, crawlopt::api::Hooks::default())
+        .unwrap_err();
     assert!(e.to_string().starts_with("time_limit:"), "{e}");
     p.cost = GeneralCost::Quadratic { weight: 1.0 };
-    let e = solve_general_local(&p, &g, 3, &square(3, 1.0, 0), None).unwrap_err();
+    let e = solve_general_local(&p, &g, 3, &square(3, 1.0, 0)).unwrap_err();
     assert!(e.to_string().starts_with("objective.cost:"), "{e}");
 }
 
@@ -168,7 +179,10 @@ fn a_spent_time_limit_ends_the_local_method_and_a_cancel_wins_over_it() {
     use crawlopt::api::{optimize_general_local, GeneralLocalSettings, Hooks};
     let p = one_link_problem(-1.0, 1.0, 10.0);
     let g = check_problem(&p).unwrap();
-    let e = solve_general_local(&p, &g, 3, &square(3, 1.0, 0), Some(1e-9)).unwrap_err();
+    let e = crawlopt::progress::within(Some(1e-9), || {
+        solve_general_local(&p, &g, 3, &square(3, 1.0, 0))
+    })
+    .unwrap_err();
     assert!(matches!(e, crawlopt::Error::TimeLimit(_)), "{e}");
     let file =
         crawlopt::io::GeneralFile::load_if_general("examples/general_one_link.toml".as_ref())

@@ -69,7 +69,7 @@ fn the_one_link_problem_of_section_4() {
         let g = check_problem(&p).unwrap();
         let mut last = f64::NEG_INFINITY;
         for k in 1..=5 {
-            let s = solve_general_phase(&p, &g, k, None).unwrap();
+            let s = solve_general_phase(&p, &g, k).unwrap();
             assert_eq!(s.certificate.status, MilpStatus::OptimalAmongKPhases);
             let expect = if k >= 4 { want } else { 0.0 };
             assert!(
@@ -123,9 +123,9 @@ fn crawler_instances_give_the_crawler_phase_optima() {
         let inst = crawler_as_general(&crawler, t, &gp.rate_bound, GeneralCost::None).unwrap();
         let g = check_problem(&inst.problem).unwrap();
         for k in steps {
-            let want = solve_phase_global(&crawler, &gp, k, Some(60.0)).unwrap();
+            let want = solve_phase_global(&crawler, &gp, k).unwrap();
             assert_eq!(want.certificate.status, MilpStatus::OptimalAmongKPhases);
-            let got = solve_general_phase(&inst.problem, &g, 2 * k, Some(60.0)).unwrap();
+            let got = solve_general_phase(&inst.problem, &g, 2 * k).unwrap();
             assert_eq!(got.certificate.status, MilpStatus::OptimalAmongKPhases);
             assert!(
                 (got.objective - want.objective()).abs() < 1e-7,
@@ -134,7 +134,7 @@ fn crawler_instances_give_the_crawler_phase_optima() {
                 got.objective,
                 want.objective()
             );
-            let above = solve_phase_global(&crawler, &gp, 2 * k, Some(60.0)).unwrap();
+            let above = solve_phase_global(&crawler, &gp, 2 * k).unwrap();
             assert!(got.objective <= above.objective() + 1e-7);
             let (reward, gap, periodic) = replay(&inst.problem, &got);
             assert!((reward - got.objective).abs() < 1e-9);
@@ -167,7 +167,7 @@ fn free_transitions_are_as_strong_as_the_chains_formulation() {
         let p = one_link_problem(a, b, t);
         let g = check_problem(&p).unwrap();
         for k in 1..=3 {
-            let s = solve_general_transitions(&p, &g, k, None).unwrap();
+            let s = solve_general_transitions(&p, &g, k).unwrap();
             let expect = if k >= 2 { want } else { 0.0 };
             assert!(
                 (s.objective - expect).abs() < 1e-7,
@@ -200,10 +200,8 @@ fn free_transitions_are_as_strong_as_the_chains_formulation() {
         let inst = crawler_as_general(&crawler, t, &gp.rate_bound, GeneralCost::None).unwrap();
         let g = check_problem(&inst.problem).unwrap();
         for k in ks {
-            let want = solve_phase_global(&crawler, &gp, k, Some(60.0))
-                .unwrap()
-                .objective();
-            let s = solve_general_transitions(&inst.problem, &g, k, Some(60.0)).unwrap();
+            let want = solve_phase_global(&crawler, &gp, k).unwrap().objective();
+            let s = solve_general_transitions(&inst.problem, &g, k).unwrap();
             assert!(
                 (s.objective - want).abs() < 1e-7,
                 "N = {}, K = {k}: {} vs the crawler's {want}",
@@ -219,13 +217,9 @@ fn free_transitions_are_as_strong_as_the_chains_formulation() {
         p.dynamics.a = vec![vec![0.0; 2]; 2];
         let g = check_problem(&p).unwrap();
         for k in 1..=2 {
-            let s = solve_general_transitions(&p, &g, k, Some(60.0)).unwrap();
-            let below = solve_general_phase(&p, &g, k, Some(60.0))
-                .unwrap()
-                .objective;
-            let above = solve_general_phase(&p, &g, 2 * k, Some(60.0))
-                .unwrap()
-                .objective;
+            let s = solve_general_transitions(&p, &g, k).unwrap();
+            let below = solve_general_phase(&p, &g, k).unwrap().objective;
+            let above = solve_general_phase(&p, &g, 2 * k).unwrap().objective;
             let tol = 1e-7 * below.abs().max(1.0);
             assert!(
                 below <= s.objective + tol && s.objective <= above + tol,
@@ -274,7 +268,7 @@ fn random_polygons_no_exact_gait_of_k_segments_beats_the_phase_optimum() {
             continue;
         }
         let lower = sim.objective.unwrap();
-        let s = solve_general_phase(&p, &g, k, Some(60.0)).unwrap();
+        let s = solve_general_phase(&p, &g, k).unwrap();
         assert_eq!(s.certificate.status, MilpStatus::OptimalAmongKPhases);
         assert!(
             s.objective >= lower - 1e-7,
@@ -303,7 +297,7 @@ fn a_quadratic_cost_by_outer_approximation() {
     let mut p = one_link_problem(-1.0, 1.0, 40.0);
     p.cost = GeneralCost::Quadratic { weight: 1.0 };
     let g = check_problem(&p).unwrap();
-    let s = solve_general_phase(&p, &g, 4, None).unwrap();
+    let s = solve_general_phase(&p, &g, 4).unwrap();
     assert_eq!(s.certificate.status, MilpStatus::OptimalAmongKPhases);
     assert!((s.objective - 3.0).abs() < 1e-5, "{}", s.objective);
     assert!(s.certificate.bound >= s.objective - 1e-9);
@@ -336,8 +330,8 @@ fn a_quadratic_cost_by_outer_approximation() {
     .unwrap();
     let g = check_problem(&inst.problem).unwrap();
     for k in [1, 2] {
-        let want = solve_phase_global(&crawler, &gp, k, Some(60.0)).unwrap();
-        let got = solve_general_phase(&inst.problem, &g, 2 * k, Some(60.0)).unwrap();
+        let want = solve_phase_global(&crawler, &gp, k).unwrap();
+        let got = solve_general_phase(&inst.problem, &g, 2 * k).unwrap();
         assert_eq!(got.certificate.status, MilpStatus::OptimalAmongKPhases);
         assert!(
             (got.objective - want.objective()).abs() < 1e-5,
@@ -359,7 +353,7 @@ fn a_polytope_u_gives_the_box_optimum() {
     let p = GeneralProblem::new(q).unwrap();
     let g = check_problem(&p).unwrap();
     for (k, want) in [(3, 0.0), (4, 3.0)] {
-        let s = solve_general_phase(&p, &g, k, None).unwrap();
+        let s = solve_general_phase(&p, &g, k).unwrap();
         assert_eq!(s.certificate.status, MilpStatus::OptimalAmongKPhases);
         assert!(
             (s.objective - want).abs() < 1e-7,
@@ -386,7 +380,7 @@ fn a_cauchy_problem_from_a_face() {
     let p = GeneralProblem::new(q).unwrap();
     let g = check_problem(&p).unwrap();
     for k in [3, 4] {
-        let s = solve_general_phase(&p, &g, k, None).unwrap();
+        let s = solve_general_phase(&p, &g, k).unwrap();
         assert_eq!(s.certificate.status, MilpStatus::OptimalAmongKPhases);
         assert!((s.objective - 4.0).abs() < 1e-7, "K = {k}: {}", s.objective);
         assert!((s.states[0][0] + 1.0).abs() < 1e-12);
@@ -414,7 +408,7 @@ fn parts() -> GeneralParts {
 fn refused_field(p: GeneralParts, k: usize) -> String {
     let p = GeneralProblem::new(p).unwrap();
     let g = check_problem(&p).unwrap();
-    match solve_general_phase(&p, &g, k, None) {
+    match solve_general_phase(&p, &g, k) {
         Err(Error::InvalidParameter { field, .. }) => field,
         other => panic!("not refused: {other:?}"),
     }
@@ -427,10 +421,5 @@ fn bad_input_is_refused_naming_the_field() {
     assert_eq!(refused_field(a, 4), "dynamics.A");
     assert_eq!(refused_field(parts(), 0), "max_phases");
     assert_eq!(refused_field(parts(), 1000), "max_phases");
-    let p = GeneralProblem::new(parts()).unwrap();
-    let g = check_problem(&p).unwrap();
-    match solve_general_phase(&p, &g, 4, Some(-1.0)) {
-        Err(Error::InvalidParameter { field, .. }) => assert_eq!(field, "time_limit"),
-        other => panic!("not refused: {other:?}"),
-    }
+    // A bad time limit is the job's setting, refused by the API (tests/general_phase_growth.rs).
 }

@@ -173,7 +173,7 @@ fn on_crawler_instances_both_growths_agree() {
             max_phases: 6,
             patience: 6,
         };
-        let general = grow_general_phases(&inst.problem, &g, range, None, &mut |_| {}).unwrap();
+        let general = grow_general_phases(&inst.problem, &g, range, &mut |_| {}).unwrap();
         assert_eq!(chain.table.len(), 3);
         assert_eq!(general.table.len(), 6);
         for w in general.table.windows(2) {

@@ -25,7 +25,7 @@ fn the_one_link_problem_of_section_4() {
         let p = one_link_problem(a, b, t);
         let g = check_problem(&p).unwrap();
         for m in 1..=3 {
-            let s = solve_general_pm(&p, &g, m, None).unwrap();
+            let s = solve_general_pm(&p, &g, m).unwrap();
             assert_eq!(s.certificate.status, MilpStatus::Optimal);
             assert!(
                 (s.objective - want).abs() < 1e-7,
@@ -50,8 +50,8 @@ fn crawler_instances_give_the_crawler_p_m_optima() {
         let inst = crawler_as_general(&crawler, 6.0, &gp.rate_bound, GeneralCost::None).unwrap();
         let g = check_problem(&inst.problem).unwrap();
         for m in 1..=2 {
-            let want = solve_discrete_global(&crawler, &gp, m, None).unwrap();
-            let got = solve_general_pm(&inst.problem, &g, m, None).unwrap();
+            let want = solve_discrete_global(&crawler, &gp, m).unwrap();
+            let got = solve_general_pm(&inst.problem, &g, m).unwrap();
             let j = want.verified_displacement - want.actuation_cost;
             assert!(
                 (got.objective - j).abs() < 1e-7,
@@ -96,7 +96,7 @@ fn random_instances_against_the_enumeration_of_branches() {
                     best = best.max(v);
                 }
             }
-            let s = solve_general_pm(&p, &g, m, None).unwrap();
+            let s = solve_general_pm(&p, &g, m).unwrap();
             assert!(
                 (s.objective - best).abs() < 1e-7 * (1.0 + best.abs()),
                 "sigma = {sigma}, m = {m}: MILP {} vs branches {best}",
@@ -156,7 +156,7 @@ fn random_intervals_against_the_enumeration_of_branches_for_m_3() {
                 best = best.max(v);
             }
         }
-        let s = solve_general_pm(&p, &g, m, None).unwrap();
+        let s = solve_general_pm(&p, &g, m).unwrap();
         assert!(
             (s.objective - best).abs() < 1e-7 * (1.0 + best.abs()),
             "m = {m}: MILP {} vs branches {best}",
@@ -173,7 +173,7 @@ fn p_m_refuses_what_it_cannot_solve() {
     // the field.
     let mut p = one_link_problem(-1.0, 1.0, 10.0);
     let g = check_problem(&p).unwrap();
-    let e = solve_general_pm(&p, &g, 11, None).unwrap_err().to_string();
+    let e = solve_general_pm(&p, &g, 11).unwrap_err().to_string();
     assert!(e.starts_with("m:"), "{e}");
     p.cost = GeneralCost::Quadratic { weight: 1.0 };
     let e = solve_general_branch(&p, 1, &vec![vec![false; 2]; 2])
@@ -194,9 +194,7 @@ fn p_m_refuses_what_it_cannot_solve() {
     })
     .unwrap();
     let g = check_problem(&half).unwrap();
-    let e = solve_general_pm(&half, &g, 1, None)
-        .unwrap_err()
-        .to_string();
+    let e = solve_general_pm(&half, &g, 1).unwrap_err().to_string();
     assert!(e.starts_with("sweeping_process"), "{e}");
 }
 
@@ -211,7 +209,7 @@ fn a_quadratic_cost_by_outer_approximation() {
     p.cost = GeneralCost::Quadratic { weight: 1.0 };
     let g = check_problem(&p).unwrap();
     for m in 1..=2 {
-        let s = solve_general_pm(&p, &g, m, None).unwrap();
+        let s = solve_general_pm(&p, &g, m).unwrap();
         assert_eq!(s.certificate.status, MilpStatus::Optimal);
         assert!((s.objective - 3.0).abs() < 1e-5, "m = {m}: {}", s.objective);
         assert!(s.certificate.bound >= s.objective - 1e-9);
@@ -234,8 +232,8 @@ fn a_quadratic_cost_by_outer_approximation() {
     )
     .unwrap();
     let g = check_problem(&inst.problem).unwrap();
-    let want = solve_discrete_global(&crawler, &gp, 2, None).unwrap();
-    let got = solve_general_pm(&inst.problem, &g, 2, None).unwrap();
+    let want = solve_discrete_global(&crawler, &gp, 2).unwrap();
+    let got = solve_general_pm(&inst.problem, &g, 2).unwrap();
     let j = want.verified_displacement - want.actuation_cost;
     assert!((got.objective - j).abs() < 1e-5, "{} vs {j}", got.objective);
 }

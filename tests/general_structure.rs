@@ -412,7 +412,7 @@ fn with_any_stiffness_the_chain_is_the_crawlers_problem() {
             formulation,
             ..GeneralPhaseSettings::default()
         };
-        let want = solve_phase_global(&c, &gp, 2, Some(60.0)).unwrap();
+        let want = solve_phase_global(&c, &gp, 2).unwrap();
         let chain = optimize_general_phase(&file, &phases(2, None), Hooks::default()).unwrap();
         assert_eq!(chain.formulation.as_deref(), Some("chain"));
         assert!(

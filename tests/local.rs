@@ -39,7 +39,7 @@ fn one_link_local_improves_a_poor_start_and_keeps_the_optimum() {
     let times = [0.0, 2.5, 5.0, 10.0];
     let lengths = [vec![0.0], vec![2.5], vec![0.0], vec![0.0]];
     for m in [2, 4, 6] {
-        let s = solve_discrete_local(&c, &p, m, &times, &lengths, Some(60.0)).unwrap();
+        let s = solve_discrete_local(&c, &p, m, &times, &lengths).unwrap();
         assert!(
             (s.start_objective - 0.5).abs() < 1e-9,
             "{}",
@@ -58,7 +58,7 @@ fn one_link_local_improves_a_poor_start_and_keeps_the_optimum() {
     let times = [0.0, 5.0, 10.0];
     let lengths = [vec![0.0], vec![5.0], vec![0.0]];
     for m in [4, 8] {
-        let s = solve_discrete_local(&c, &p, m, &times, &lengths, Some(60.0)).unwrap();
+        let s = solve_discrete_local(&c, &p, m, &times, &lengths).unwrap();
         assert!(
             (s.objective() - 3.0).abs() < 1e-9,
             "m = {m}: {}",
@@ -71,11 +71,11 @@ fn one_link_local_improves_a_poor_start_and_keeps_the_optimum() {
 fn three_block_local_lies_between_its_start_and_the_global_optimum() {
     let c = Crawler::uniform(3, 1.0, 1.0, 1.5).unwrap();
     let p = GaitProblem::new(&c, 10.0, &[1.0, 1.0], Cost::None, None).unwrap();
-    let phase = solve_phase_global(&c, &p, 4, Some(120.0)).unwrap();
+    let phase = solve_phase_global(&c, &p, 4).unwrap();
     let (times, lengths) = knots_of(&phase, c.stiffness());
     for m in [2, 3] {
-        let global = solve_discrete_global(&c, &p, m, Some(120.0)).unwrap();
-        let s = solve_discrete_local(&c, &p, m, &times, &lengths, Some(60.0)).unwrap();
+        let global = solve_discrete_global(&c, &p, m).unwrap();
+        let s = solve_discrete_local(&c, &p, m, &times, &lengths).unwrap();
         eprintln!(
             "N = 3, m = {m}: start {} -> local {} ({:?}, {} LPs, {} switches); global {}",
             s.start_objective,
@@ -94,7 +94,7 @@ fn three_block_local_lies_between_its_start_and_the_global_optimum() {
         assert!(s.controls.iter().flatten().all(|u| u.abs() <= 1.0 + 1e-9));
     }
     // On a fine grid the local optimum approaches the continuous-time value 2.6 from below.
-    let s = solve_discrete_local(&c, &p, 10, &times, &lengths, Some(60.0)).unwrap();
+    let s = solve_discrete_local(&c, &p, 10, &times, &lengths).unwrap();
     assert!(
         s.objective() <= 2.6 + 1e-9 && s.objective() > 2.59,
         "{}",
@@ -108,10 +108,10 @@ fn local_refuses_what_it_does_not_handle() {
     let p = GaitProblem::new(&c, 10.0, &[1.0], Cost::Quadratic { weight: 1.0 }, None).unwrap();
     let times = [0.0, 5.0, 10.0];
     let lengths = [vec![0.0], vec![2.0], vec![0.0]];
-    let e = solve_discrete_local(&c, &p, 3, &times, &lengths, None).unwrap_err();
+    let e = solve_discrete_local(&c, &p, 3, &times, &lengths).unwrap_err();
     assert!(e.to_string().starts_with("gait.cost"), "{e}");
     let p = GaitProblem::new(&c, 10.0, &[1.0], Cost::None, None).unwrap();
-    let e = solve_discrete_local(&c, &p, 15, &times, &lengths, None).unwrap_err();
+    let e = solve_discrete_local(&c, &p, 15, &times, &lengths).unwrap_err();
     assert!(e.to_string().starts_with("m:"), "{e}");
 }
 
@@ -153,15 +153,13 @@ fn shifted_starts_keep_the_best_local_answer() {
     // shifts, so the best of 8 is at least its answer, and one shift is that answer.
     let c = Crawler::uniform(3, 1.0, 1.0, 1.5).unwrap();
     let p = GaitProblem::new(&c, 10.0, &[1.0, 1.0], Cost::None, None).unwrap();
-    let phase = solve_phase_global(&c, &p, 4, Some(120.0)).unwrap();
+    let phase = solve_phase_global(&c, &p, 4).unwrap();
     let (times, lengths) = knots_of(&phase, c.stiffness());
-    let plain = solve_discrete_local(&c, &p, 6, &times, &lengths, Some(60.0)).unwrap();
-    let (one, d) =
-        solve_discrete_local_shifted(&c, &p, 6, &times, &lengths, 1, Some(60.0)).unwrap();
+    let plain = solve_discrete_local(&c, &p, 6, &times, &lengths).unwrap();
+    let (one, d) = solve_discrete_local_shifted(&c, &p, 6, &times, &lengths, 1).unwrap();
     assert_eq!(d, 0.0);
     assert_eq!(one.objective(), plain.objective());
-    let (best, d) =
-        solve_discrete_local_shifted(&c, &p, 6, &times, &lengths, 8, Some(60.0)).unwrap();
+    let (best, d) = solve_discrete_local_shifted(&c, &p, 6, &times, &lengths, 8).unwrap();
     println!(
         "64 steps: unshifted {}, best of 8 shifts {} (shift {d})",
         plain.objective(),
@@ -169,6 +167,6 @@ fn shifted_starts_keep_the_best_local_answer() {
     );
     assert!(best.objective() >= plain.objective() - 1e-12);
     assert!(best.objective() <= 2.6 + 1e-9);
-    let e = solve_discrete_local_shifted(&c, &p, 6, &times, &lengths, 0, None).unwrap_err();
+    let e = solve_discrete_local_shifted(&c, &p, 6, &times, &lengths, 0).unwrap_err();
     assert!(e.to_string().starts_with("shifts"), "{e}");
 }

@@ -23,7 +23,7 @@ fn one_link_phase_optimum_equals_the_closed_form() {
         // first loads (stick) then the front slides; on the fall the load reverses, then the
         // rear slides. One slip phase cannot move the crawler.
         for phases in [1, 2, 3, 4] {
-            let s = solve_phase_global(&c, &p, phases, Some(60.0)).unwrap();
+            let s = solve_phase_global(&c, &p, phases).unwrap();
             assert_eq!(s.certificate.status, MilpStatus::OptimalAmongKPhases);
             let expect = if phases >= 2 { want } else { 0.0 };
             assert!(
@@ -51,7 +51,7 @@ fn three_block_optimum_is_non_decreasing_in_the_number_of_phases() {
     let mut last = 0.0;
     for phases in 1..=5 {
         let t0 = Instant::now();
-        let s = solve_phase_global(&c, &p, phases, Some(120.0)).unwrap();
+        let s = solve_phase_global(&c, &p, phases).unwrap();
         println!(
             "N = 3, mu+ = 1, mu- = 1.5, T = 10: K = {phases}: J = {:.12} (gap {:.1e}, {:.2} s, {} phases used)",
             s.verified_displacement,
@@ -77,12 +77,12 @@ fn sequence_search_climbs_from_a_smaller_optimum_to_the_global_one() {
     // each candidate is an LP for its sequence, so the value never drops below the start.
     let c = Crawler::uniform(3, 1.0, 1.0, 1.5).unwrap();
     let p = GaitProblem::new(&c, 10.0, &[1.0, 1.0], Cost::None, None).unwrap();
-    let k3 = solve_phase_global(&c, &p, 3, Some(120.0)).unwrap();
+    let k3 = solve_phase_global(&c, &p, 3).unwrap();
     assert!((k3.objective() - 13.0 / 6.0).abs() < 1e-7);
     let seq = slip_sequence(&k3.modes);
     assert_eq!(seq.len(), 3);
-    let k4 = solve_phase_global(&c, &p, 4, Some(120.0)).unwrap();
-    let s = search_sequences(&c, &p, &seq, 4, Some(120.0)).unwrap();
+    let k4 = solve_phase_global(&c, &p, 4).unwrap();
+    let s = search_sequences(&c, &p, &seq, 4).unwrap();
     eprintln!(
         "sequence search: {} -> {} ({} LPs, {} moves, {:?}); MILP K = 4: {}",
         s.start_objective,
@@ -105,7 +105,7 @@ fn sequence_search_climbs_from_a_smaller_optimum_to_the_global_one() {
 
     // An idle start is seeded with a peristaltic wave (each block forward in turn, from the
     // front); its LP alone already moves the crawler.
-    let idle = search_sequences(&c, &p, &[], 4, Some(120.0)).unwrap();
+    let idle = search_sequences(&c, &p, &[], 4).unwrap();
     eprintln!(
         "from idle: {} -> {} ({} moves)",
         idle.start_objective,
@@ -116,8 +116,8 @@ fn sequence_search_climbs_from_a_smaller_optimum_to_the_global_one() {
     assert!(idle.start_objective > 2.0, "{}", idle.start_objective);
     assert!(idle.best.objective() >= idle.start_objective - 1e-9);
     // Refusals: too many slip phases, a mode that is no face of C.
-    assert!(search_sequences(&c, &p, &seq, 2, None).is_err());
-    let e = search_sequences(&c, &p, &[vec![1, 1, 0]], 2, None)
+    assert!(search_sequences(&c, &p, &seq, 2).is_err());
+    let e = search_sequences(&c, &p, &[vec![1, 1, 0]], 2)
         .unwrap_err()
         .to_string();
     assert!(e.contains("not a slip mode of a face of C"), "{e}");

@@ -34,8 +34,8 @@ fn the_dissipation_row_keeps_the_known_optima() {
     // (blocks, K, J*): the optima of the peers' instances, certified among K slip phases.
     for (blocks, k, want) in [(3, 4, 2.6), (4, 3, 3.5), (5, 3, 3.75)] {
         let (c, p) = peers(blocks);
-        let plain = solve_phase_global(&c, &p, k, Some(120.0)).unwrap();
-        let rows = solve_phase_with(&c, &p, k, Some(120.0), &with_rows(None, None)).unwrap();
+        let plain = solve_phase_global(&c, &p, k).unwrap();
+        let rows = solve_phase_with(&c, &p, k, &with_rows(None, None)).unwrap();
         for s in [&plain, &rows] {
             assert_eq!(
                 s.certificate.status,
@@ -67,8 +67,8 @@ proptest! {
             return Ok(());
         }
         let p = GaitProblem::new(&c, 10.0, &[1.0, 0.8, 1.2], Cost::None, None).unwrap();
-        let plain = solve_phase_global(&c, &p, 2, Some(60.0)).unwrap();
-        let rows = solve_phase_with(&c, &p, 2, Some(60.0), &with_rows(None, None)).unwrap();
+        let plain = solve_phase_global(&c, &p, 2).unwrap();
+        let rows = solve_phase_with(&c, &p, 2, &with_rows(None, None)).unwrap();
         prop_assert_eq!(plain.certificate.status, MilpStatus::OptimalAmongKPhases);
         prop_assert_eq!(rows.certificate.status, MilpStatus::OptimalAmongKPhases);
         let scale = plain.objective().abs().max(1.0);
@@ -137,7 +137,7 @@ fn a_gait_given_as_knots_is_checked() {
         cutoff: Some(f64::NAN),
         ..PhaseOptions::default()
     };
-    assert_eq!(field(solve_phase_with(&c, &p, 2, None, &bad)), "cutoff");
+    assert_eq!(field(solve_phase_with(&c, &p, 2, &bad)), "cutoff");
 }
 
 /// The three-block optimum (J_K = 0, 0, 13/6, 2.6 for K = 1..4), taken from the default start
@@ -166,7 +166,7 @@ fn a_start_with_more_slip_phases_than_k_is_a_cutoff_and_the_answer_when_nothing_
             start: Some(g.clone()),
             ..PhaseOptions::default()
         };
-        let s = solve_phase_with(&c, &p, k, Some(60.0), &opts).unwrap();
+        let s = solve_phase_with(&c, &p, k, &opts).unwrap();
         // Nothing of at most K slip phases reaches 2.6: the start, proven at least as good as
         // every gait of at most K slip phases (it has 4, so not "optimal among" them).
         assert_eq!(s.phases, k);
@@ -177,17 +177,17 @@ fn a_start_with_more_slip_phases_than_k_is_a_cutoff_and_the_answer_when_nothing_
     }
     // K = 4: the start fits, and is the MILP's incumbent; the MILP's own certificate.
     let opts = with_rows(Some(g.clone()), None);
-    let s = solve_phase_with(&c, &p, 4, Some(60.0), &opts).unwrap();
+    let s = solve_phase_with(&c, &p, 4, &opts).unwrap();
     assert_eq!(s.certificate.status, MilpStatus::OptimalAmongKPhases);
     assert!((s.objective() - 2.6).abs() < 1e-7 && s.certificate.bound < 2.6 + 1e-6);
     // A cutoff alone: J_3 = 13/6 is found above 2, and nothing of 3 reaches 2.5.
-    let s = solve_phase_with(&c, &p, 3, Some(60.0), &with_rows(None, Some(2.0))).unwrap();
+    let s = solve_phase_with(&c, &p, 3, &with_rows(None, Some(2.0))).unwrap();
     assert!(
         (s.objective() - 13.0 / 6.0).abs() < 1e-7,
         "J_3 = {}",
         s.objective()
     );
-    match solve_phase_with(&c, &p, 3, Some(60.0), &with_rows(None, Some(2.5))) {
+    match solve_phase_with(&c, &p, 3, &with_rows(None, Some(2.5))) {
         Err(Error::Infeasible(m)) => assert!(m.contains("cutoff"), "{m}"),
         r => panic!("{r:?}"),
     }

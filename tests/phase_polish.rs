@@ -33,7 +33,7 @@ fn the_crawlers_phase_optimum_of_a_quadratic_cost_is_the_closed_form() {
     let pb = GaitProblem::new(&c, 10.0, &[1.0], Cost::Quadratic { weight: 0.6 }, None).unwrap();
     let closed = one_link_optimum(&c, &pb).unwrap();
     assert!((closed.value - 1.0 / 12.0).abs() <= 1e-15, "{closed:?}");
-    let s = solve_phase_global(&c, &pb, 4, Some(60.0)).unwrap();
+    let s = solve_phase_global(&c, &pb, 4).unwrap();
     assert!(
         (s.objective() - closed.value).abs() <= 1e-12,
         "J = {}",
@@ -67,7 +67,7 @@ fn the_general_phase_optimum_of_a_quadratic_cost_is_the_closed_form() {
     let file = GeneralFile::parse(&text).unwrap();
     let (p, g) = general_problem(&file).unwrap();
     assert!(p.as_chain().is_none());
-    let s = solve_general_phase(&p, &g, 4, Some(60.0)).unwrap();
+    let s = solve_general_phase(&p, &g, 4).unwrap();
     assert!(
         (s.objective - 1.0 / 12.0).abs() <= 1e-12,
         "J = {}",

@@ -117,7 +117,7 @@ fn a_crawler_optimum_with_interior_rates_certifies_after_polishing() {
     let p = GaitProblem::new(&c, 10.0, &[1.0], Cost::Quadratic { weight: 0.6 }, None).unwrap();
     let exact = one_link_optimum(&c, &p).unwrap();
     assert!((exact.rate - 5.0 / 6.0).abs() <= 1e-15, "{exact:?}");
-    let s = solve_discrete_global(&c, &p, 3, None).unwrap();
+    let s = solve_discrete_global(&c, &p, 3).unwrap();
     let rec = s.polish.as_ref().expect("a quadratic cost is polished");
     assert!(rec.applied, "{rec:?}");
     assert!(rec.objective_after >= rec.objective_before, "{rec:?}");

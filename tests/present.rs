@@ -8,13 +8,13 @@ use crawlopt::Crawler;
 fn one_link() -> GaitResult {
     let c = Crawler::uniform(2, 1.0, 1.0, 2.0).unwrap();
     let p = GaitProblem::new(&c, 10.0, &[1.0], Cost::None, None).unwrap();
-    GaitResult::from_phase(&c, &p, &solve_phase_global(&c, &p, 4, None).unwrap())
+    GaitResult::from_phase(&c, &p, &solve_phase_global(&c, &p, 4).unwrap())
 }
 
 fn three_blocks() -> GaitResult {
     let c = Crawler::uniform(3, 1.0, 1.0, 1.5).unwrap();
     let p = GaitProblem::new(&c, 10.0, &[1.0, 1.0], Cost::None, None).unwrap();
-    GaitResult::from_phase(&c, &p, &solve_phase_global(&c, &p, 3, None).unwrap())
+    GaitResult::from_phase(&c, &p, &solve_phase_global(&c, &p, 3).unwrap())
 }
 
 #[test]

@@ -30,12 +30,12 @@ fn results() -> Vec<(&'static str, Value)> {
     )
     .unwrap();
     let phase = GaitResult::from_growth(&c, &p, &growth);
-    let disc = GaitResult::from_discrete(&c, &p, &solve_discrete_global(&c, &p, 2, None).unwrap());
+    let disc = GaitResult::from_discrete(&c, &p, &solve_discrete_global(&c, &p, 2).unwrap());
     let (t, l) = (&phase.gait.times, &phase.gait.lengths);
     let local = GaitResult::from_local(
         &c,
         &p,
-        &solve_discrete_local(&c, &p, 4, t, l, None).unwrap(),
+        &solve_discrete_local(&c, &p, 4, t, l).unwrap(),
         "phase",
     );
     [("phase", phase), ("discrete", disc), ("local", local)]
@@ -167,7 +167,7 @@ fn an_idle_gait_of_one_piece_is_read_drawn_and_reported() {
     // replay and its figures once failed ("actuation.times: needs at least 2 knots").
     let c = Crawler::uniform(2, 1.0, 1.0, 2.0).unwrap();
     let p = GaitProblem::new(&c, 10.0, &[1.0], Cost::None, None).unwrap();
-    let s = crawlopt::optimal::solve_phase_global(&c, &p, 1, None).unwrap();
+    let s = crawlopt::optimal::solve_phase_global(&c, &p, 1).unwrap();
     let r = GaitResult::from_phase(&c, &p, &s);
     assert_eq!((r.gait.durations.len(), r.objective), (1, 0.0));
     let back = read(&serde_json::to_value(&r).unwrap()).unwrap();

@@ -20,7 +20,7 @@ fn one_link(k: f64, mu: f64, period: f64, speed: f64, cost: Cost) -> (Crawler, G
 fn agrees_with_closed_form(c: &Crawler, p: &GaitProblem) {
     let exact = one_link_optimum(c, p).unwrap().value;
     let scale = p.length_scale(c).max(exact.abs());
-    let phase = solve_phase_global(c, p, 2, None).unwrap();
+    let phase = solve_phase_global(c, p, 2).unwrap();
     assert!(
         (phase.objective() - exact).abs() <= 1e-7 * scale,
         "phase {} against {exact} ({p:?})",
@@ -36,7 +36,7 @@ fn agrees_with_closed_form(c: &Crawler, p: &GaitProblem) {
         // P_3's optimum with a sweep of the whole period is the continuous one (one rise, one
         // fall, on grid times) whenever the optimum moves; the local method from the idle start
         // may stop at 0, so only its validity is asserted: never above the optimum.
-        let d = solve_discrete_global(c, p, 3, None).unwrap();
+        let d = solve_discrete_global(c, p, 3).unwrap();
         assert!(
             d.objective() <= exact + 1e-7 * scale,
             "P_3 {}",
@@ -45,8 +45,7 @@ fn agrees_with_closed_form(c: &Crawler, p: &GaitProblem) {
         assert!(d.certificate.bound >= d.objective() - 1e-7 * scale);
         let times = [0.0, p.period / 2.0, p.period];
         let rise = p.rate_bound[0] * p.period / 2.0 / c.stiffness()[0];
-        let l = solve_discrete_local(c, p, 3, &times, &[vec![0.0], vec![rise], vec![0.0]], None)
-            .unwrap();
+        let l = solve_discrete_local(c, p, 3, &times, &[vec![0.0], vec![rise], vec![0.0]]).unwrap();
         assert!(
             (l.verified_displacement - exact).abs() <= 1e-7 * scale,
             "local {} against {exact}",
@@ -91,17 +90,9 @@ fn any_units_agree_with_the_closed_form() {
 /// Asserts that every optimiser refuses `(c, p)` naming `field`.
 fn refused(c: &Crawler, p: &GaitProblem, field: &str) {
     let msgs = [
-        solve_phase_global(c, p, 2, Some(5.0)).map(|_| ()),
-        solve_discrete_global(c, p, 2, Some(5.0)).map(|_| ()),
-        solve_discrete_local(
-            c,
-            p,
-            2,
-            &[0.0, p.period],
-            &vec![vec![0.0; c.links()]; 2],
-            None,
-        )
-        .map(|_| ()),
+        solve_phase_global(c, p, 2).map(|_| ()),
+        solve_discrete_global(c, p, 2).map(|_| ()),
+        solve_discrete_local(c, p, 2, &[0.0, p.period], &vec![vec![0.0; c.links()]; 2]).map(|_| ()),
     ];
     for m in msgs {
         match m {
@@ -135,12 +126,12 @@ fn outside_the_range_every_optimiser_refuses_naming_the_field() {
     let p = GaitProblem::new(&c, 11.7, &[1e-300, 0.85, 1.48], Cost::None, None).unwrap();
     refused(&c, &p, "gait.max_actuator_speed");
     let p = GaitProblem::new(&c, 11.7, &[1e-5, 0.85, 1.48], Cost::None, None).unwrap();
-    let r = solve_discrete_global(&c, &p, 2, Some(20.0)).unwrap();
+    let r = solve_discrete_global(&c, &p, 2).unwrap();
     let g = crawlopt::optimal::GaitResult::from_discrete(&c, &p, &r);
     crawlopt::optimal::GaitResult::from_json(&serde_json::to_string(&g).unwrap(), "P_2").unwrap();
     // A cost that outweighs any motion by 1e300 (P_2 once answered J = -5.8e290).
     let (c, p) = one_link(1.0, 1.0, 10.0, 1.0, Cost::Quadratic { weight: 1e300 });
-    let e = solve_discrete_global(&c, &p, 2, None).unwrap_err();
+    let e = solve_discrete_global(&c, &p, 2).unwrap_err();
     assert!(e.to_string().starts_with("gait.cost.weight"), "{e}");
 }
 

@@ -158,7 +158,7 @@ fn never_below_a_random_gait_or_a_phase_optimum() {
         }
         // crawlopt's own optimum among gaits of few slip phases (a global MILP).
         let phases = if c.blocks() <= 3 { 4 } else { 2 };
-        let opt = solve_phase_global(&c, &p, phases, Some(60.0)).unwrap();
+        let opt = solve_phase_global(&c, &p, phases).unwrap();
         assert!(
             opt.verified_displacement <= bound.value + 1e-9,
             "N = {}: phase gait {} > bound {}",
@@ -217,7 +217,7 @@ fn with_a_quadratic_cost_never_below_a_random_gait_or_a_phase_optimum() {
                 bound.value
             );
         }
-        let opt = solve_phase_global(&c, &p, 3, Some(60.0)).unwrap();
+        let opt = solve_phase_global(&c, &p, 3).unwrap();
         assert!(
             opt.objective() <= bound.value + 1e-9,
             "N = {}: phase gait {} > bound {}",

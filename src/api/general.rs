@@ -414,22 +414,19 @@ pub(super) fn pm_job(
 ) -> Result<GeneralOptimized> {
     let (p, g) = general_problem(file)?;
     let chain = chain_for_bound(&p, s.bound.as_ref())?;
+    crate::optimal::check_time_limit(s.time_limit)?;
     let (solution, convergence) = if s.convergence {
         let mut progress = |row: &crate::optimal::ConvergenceRow| {
             em.send(super::Event::DiscreteSolved(row.clone()))
         };
-        let (table, finest) = crate::optimal::general::general_convergence(
-            &p,
-            &g,
-            s.m,
-            s.time_limit,
-            s.polish,
-            &mut progress,
-        )?;
+        let (table, finest) = crate::progress::within(s.time_limit, || {
+            crate::optimal::general::general_convergence(&p, &g, s.m, s.polish, &mut progress)
+        })?;
         (finest, Some(table))
     } else {
-        let sol =
-            crate::optimal::general::solve_general_pm_with(&p, &g, s.m, s.time_limit, s.polish)?;
+        let sol = crate::progress::within(s.time_limit, || {
+            crate::optimal::general::solve_general_pm_with(&p, &g, s.m, s.polish)
+        })?;
         (sol, None)
     };
     let necessary_conditions = if s.certify {

@@ -108,7 +108,7 @@ pub fn optimize_general_local(
                     1usize << s.m,
                     k + 1
                 ));
-                let sol = match solve_general_local(&p, &g, s.m, start, None) {
+                let sol = match solve_general_local(&p, &g, s.m, start) {
                     Ok(sol) => sol,
                     Err(Error::TimeLimit(_)) if best.is_some() => break,
                     Err(e) => return Err(e),

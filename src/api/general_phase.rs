@@ -135,6 +135,7 @@ pub fn optimize_general_phase(
     if s.patience == 0 {
         return Err(crate::Error::invalid("patience", 0, "must be at least 1"));
     }
+    crate::optimal::check_time_limit(s.time_limit)?;
     let (p, g) = super::general_problem(file)?;
     let bound_chain = super::general::chain_for_bound(&p, s.bound.as_ref())?;
     let chain = chain_formulation(&p, s.formulation)?;
@@ -167,16 +168,15 @@ pub fn optimize_general_phase(
             })
         };
         let transitions = matches!(s.formulation, None | Some(PhaseFormulation::Transitions));
-        let (grown, structured) = match &chain {
-            Some(view) => grow_chain_phases(&p, &g, view, range, s.time_limit, &mut progress),
+        // The job's deadline: `time_limit` over the growth (the bound and the certificate
+        // after it run to completion).
+        let (grown, structured) = crate::progress::within(s.time_limit, || match &chain {
+            Some(view) => grow_chain_phases(&p, &g, view, range, &mut progress),
             None if transitions => {
-                grow_general_transitions(&p, &g, range, s.time_limit, &mut progress)
-                    .map(|g| (g, None))
+                grow_general_transitions(&p, &g, range, &mut progress).map(|g| (g, None))
             }
-            None => {
-                grow_general_phases(&p, &g, range, s.time_limit, &mut progress).map(|g| (g, None))
-            }
-        }
+            None => grow_general_phases(&p, &g, range, &mut progress).map(|g| (g, None)),
+        })
         .map_err(named)?;
         let mut r = GeneralPhaseOptimized::new(file, p.period, grown.best);
         if chain.is_some() {

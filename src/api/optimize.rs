@@ -283,7 +283,6 @@ fn solve_method(
                 from.times(),
                 from.lengths(),
                 plan.shifts,
-                None,
             )?;
             let origin = shifted_origin(&from.origin, shift);
             Ok(GaitResult::from_local(crawler, problem, &s, &origin))
@@ -316,7 +315,7 @@ fn solve_method(
         }
         GaitMethod::Discrete if settings.convergence => {
             em.stage("m = 1");
-            let (table, s) = discrete_convergence(crawler, problem, m, None, &mut |row| {
+            let (table, s) = discrete_convergence(crawler, problem, m, &mut |row| {
                 em.send(Event::DiscreteSolved(row.clone()))
             })?;
             let mut r = GaitResult::from_discrete(crawler, problem, &s);
@@ -336,7 +335,6 @@ fn solve_method(
                 crawler,
                 problem,
                 m,
-                None,
                 from.as_ref().map(|f| (f.times(), f.lengths())),
                 settings
                     .polish
@@ -440,7 +438,7 @@ fn solve_sequence(
         "local search over sequences of {k} slip modes, from {} of {origin}",
         seq.len()
     ));
-    let s = search_sequences(crawler, problem, &seq, k, None)?;
+    let s = search_sequences(crawler, problem, &seq, k)?;
     Ok(GaitResult::from_sequence(crawler, problem, &s, &origin))
 }
 
@@ -461,7 +459,7 @@ fn solve_phase_method(
                 start,
                 ..PhaseOptions::default()
             };
-            let s = solve_phase_with(crawler, problem, k, None, &opts)?;
+            let s = solve_phase_with(crawler, problem, k, &opts)?;
             Ok(GaitResult::from_phase(crawler, problem, &s))
         }
         None => {

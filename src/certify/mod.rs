@@ -308,7 +308,7 @@ mod tests {
         for (nb, mm, m) in [(2, 2.0, 3), (3, 1.5, 3)] {
             let c = Crawler::uniform(nb, 1.0, 1.0, mm).unwrap();
             let pb = GaitProblem::new(&c, 10.0, &vec![1.0; nb - 1], Cost::None, None).unwrap();
-            let s = solve_discrete_global(&c, &pb, m, Some(60.0)).unwrap();
+            let s = solve_discrete_global(&c, &pb, m).unwrap();
             let r = GaitResult::from_discrete(&c, &pb, &s);
             let pr = Process::from_result(&r, "test").unwrap();
             let st = Structure::of(&pr, INPUT_TOL);

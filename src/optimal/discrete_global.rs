@@ -7,7 +7,6 @@
 use super::discrete::{solve_discrete_in, DiscreteSolution, MAX_M};
 use crate::error::{Error, Result};
 use crate::model::Crawler;
-use crate::optimal::milp::check_time_limit;
 use crate::optimal::polish::PolishRecord;
 use crate::optimal::polish::POLISH_DEFAULT;
 pub use crate::optimal::refinement::ConvergenceRow;
@@ -16,14 +15,13 @@ use crate::optimal::units::{scale_all, scale_rows, Units};
 use crate::optimal::Certificate;
 use crate::optimal::{Cost, GaitProblem};
 
-/// Solves P_m globally (module docs). `time_limit` in seconds.
+/// Solves P_m globally (module docs), within the job's deadline ([`crate::progress::within`]).
 pub fn solve_discrete_global(
     crawler: &Crawler,
     problem: &GaitProblem,
     m: u32,
-    time_limit: Option<f64>,
 ) -> Result<DiscreteSolution> {
-    solve_discrete_global_from(crawler, problem, m, time_limit, None)
+    solve_discrete_global_from(crawler, problem, m, None)
 }
 
 /// [`solve_discrete_global`] from a start gait given by its knots (`times` from 0 to the
@@ -41,10 +39,9 @@ pub fn solve_discrete_global_from(
     crawler: &Crawler,
     problem: &GaitProblem,
     m: u32,
-    time_limit: Option<f64>,
     start: Option<(&[f64], &[Vec<f64>])>,
 ) -> Result<DiscreteSolution> {
-    solve_discrete_global_with(crawler, problem, m, time_limit, start, POLISH_DEFAULT)
+    solve_discrete_global_with(crawler, problem, m, start, POLISH_DEFAULT)
 }
 
 /// [`solve_discrete_global_from`], with `polish` saying whether the answer of a quadratic cost
@@ -55,7 +52,6 @@ pub fn solve_discrete_global_with(
     crawler: &Crawler,
     problem: &GaitProblem,
     m: u32,
-    time_limit: Option<f64>,
     start: Option<(&[f64], &[Vec<f64>])>,
     polish: bool,
 ) -> Result<DiscreteSolution> {
@@ -69,17 +65,16 @@ pub fn solve_discrete_global_with(
         ));
     }
     crate::optimal::check_size(crawler, 1 << m, "m", m)?;
-    check_time_limit(time_limit)?;
     // Solved in the optimisers' internal units ([`Units`]), answered in the user's.
     let units = Units::of(crawler, problem);
     let (c, p) = (units.crawler(crawler)?, units.problem(problem));
     let start = start.map(|(t, l)| units.knots_in(t, l));
     let start = start.as_ref().map(|(t, l)| (t.as_slice(), l.as_slice()));
-    let s = crate::progress::within(time_limit, || {
+    let s = {
         crate::progress::with_objective_scale(units.objective_scale(), || {
             solve_discrete_in(&c, &p, m, start)
         })
-    })?;
+    }?;
     let s = match p.cost {
         Cost::Quadratic { .. } if polish => super::discrete_polish::polish(&c, &p, s),
         _ => s,
@@ -88,7 +83,7 @@ pub fn solve_discrete_global_with(
 }
 
 /// Solves P_m for `m = 1..=max_m` (the paper's discrete approximations, §6), all within
-/// `time_limit` (each within what is left) and each started from the previous optimum (every
+/// the job's deadline ([`crate::progress::within`]) (each within what is left) and each started from the previous optimum (every
 /// step of `P_{m-1}` cut in two: a gait of `P_m`); returns the table and the finest solution. Stops early,
 /// keeping what was solved, when the time runs out (a time-limit error when it ran out before
 /// `P_1` was solved).
@@ -96,7 +91,6 @@ pub fn discrete_convergence(
     crawler: &Crawler,
     problem: &GaitProblem,
     max_m: u32,
-    time_limit: Option<f64>,
     progress: &mut dyn FnMut(&ConvergenceRow),
 ) -> Result<(Vec<ConvergenceRow>, DiscreteSolution)> {
     if !(1..=MAX_M).contains(&max_m) {
@@ -107,9 +101,8 @@ pub fn discrete_convergence(
         ));
     }
     crate::optimal::check_size(crawler, 1 << max_m, "m", max_m)?;
-    check_time_limit(time_limit)?;
     let family = ChainPm { crawler, problem };
-    crate::progress::within(time_limit, || converge(&family, 1..=max_m, progress))
+    converge(&family, 1..=max_m, progress)
 }
 
 /// The crawler's P_m as a [`PmFamily`]: each `m` started from the previous optimum.
@@ -124,7 +117,7 @@ impl PmFamily for ChainPm<'_> {
     fn solve(&self, m: u32, previous: Option<&DiscreteSolution>) -> Result<DiscreteSolution> {
         let knots = previous.map(|s| s.knots(self.crawler.stiffness()));
         let start = knots.as_ref().map(|(t, l)| (&t[..], &l[..]));
-        solve_discrete_global_from(self.crawler, self.problem, m, None, start)
+        solve_discrete_global_from(self.crawler, self.problem, m, start)
     }
     fn value(s: &DiscreteSolution) -> (f64, &Certificate) {
         (s.objective(), &s.certificate)

@@ -36,8 +36,7 @@ use super::solver::Highs;
 use crate::error::{Error, Result};
 use crate::model::Crawler;
 use crate::optimal::milp::{
-    block_speed_bound, check_time_limit, check_verified, force, replay_grid, GridColumns,
-    GridReplay,
+    block_speed_bound, check_verified, force, replay_grid, GridColumns, GridReplay,
 };
 use crate::optimal::units::{scale_all, scale_rows, Units};
 use crate::optimal::{Cost, GaitProblem};
@@ -179,22 +178,20 @@ pub fn solve_discrete_local(
     m: u32,
     start_times: &[f64],
     start_lengths: &[Vec<f64>],
-    time_limit: Option<f64>,
 ) -> Result<LocalSolution> {
     crawler.require_unique()?;
     problem.check_scales(crawler)?;
-    check_time_limit(time_limit)?;
     check_local(problem, m)?;
     crate::optimal::check_size(crawler, 1 << m, "m", m)?;
     // Solved in the optimisers' internal units ([`Units`]), answered in the user's.
     let units = Units::of(crawler, problem);
     let (c, p) = (units.crawler(crawler)?, units.problem(problem));
     let (times, lengths) = units.knots_in(start_times, start_lengths);
-    let s = crate::progress::within(time_limit, || {
+    let s = {
         crate::progress::with_objective_scale(units.objective_scale(), || {
             solve_local_in(&c, &p, m, &times, &lengths)
         })
-    })?;
+    }?;
     Ok(units.local(&s))
 }
 
@@ -442,7 +439,7 @@ pub fn shift_knots(
 
 /// [`solve_discrete_local`] from `shifts` time shifts of the start (`j T / shifts`,
 /// `j = 0..shifts`, see [`shift_knots`]), keeping the best answer (the first of equals), within
-/// `time_limit` in all: the local search ends where its start leads, and on a grid the phase
+/// the job's deadline ([`crate::progress::within`]) in all: the local search ends where its start leads, and on a grid the phase
 /// at which a continuous-time start is sampled decides which discrete gait it becomes (three
 /// blocks, 64 steps: 2.4688 from the phase optimum as it is, 2.5625 from 6 of 32 shifts, among
 /// them 2 of the 8 shifts tried by default). Also returns the shift of the best.
@@ -453,11 +450,9 @@ pub fn solve_discrete_local_shifted(
     start_times: &[f64],
     start_lengths: &[Vec<f64>],
     shifts: usize,
-    time_limit: Option<f64>,
 ) -> Result<(LocalSolution, f64)> {
     crate::optimal::check_shifts(shifts)?;
-    check_time_limit(time_limit)?;
-    crate::progress::within(time_limit, || {
+    {
         let t = problem.period;
         let mut best: Option<(LocalSolution, f64)> = None;
         for j in 0..shifts {
@@ -466,7 +461,7 @@ pub fn solve_discrete_local_shifted(
             }
             let shift = t * j as f64 / shifts as f64;
             let (times, lengths) = shift_knots(start_times, start_lengths, shift, t);
-            let s = match solve_discrete_local(crawler, problem, m, &times, &lengths, None) {
+            let s = match solve_discrete_local(crawler, problem, m, &times, &lengths) {
                 Ok(s) => s,
                 Err(Error::TimeLimit(_)) if best.is_some() => break,
                 Err(e) => return Err(e),
@@ -485,7 +480,7 @@ pub fn solve_discrete_local_shifted(
         // The loop runs at least once (shifts >= 1, checked) and either stores its first
         // answer or returns its error, so `best` is set here.
         Ok(best.expect("the first shift solved or an error returned"))
-    })
+    }
 }
 /// A local P_m solution's conversion between unit systems ([`Units`]): here, beside the
 /// solution, so that the unit system needs not know it.

@@ -641,7 +641,7 @@ mod tests {
     fn one_link_result() -> GaitResult {
         let c = Crawler::uniform(2, 1.0, 1.0, 2.0).unwrap();
         let p = GaitProblem::new(&c, 10.0, &[1.0], Cost::None, None).unwrap();
-        let s = solve_phase_global(&c, &p, 4, None).unwrap();
+        let s = solve_phase_global(&c, &p, 4).unwrap();
         GaitResult::from_phase(&c, &p, &s)
     }
 

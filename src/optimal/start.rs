@@ -201,15 +201,8 @@ fn start_in_half(
     progress(StartEvent::Stage(&format!(
         "start: local LPCC method on P_{m}"
     )));
-    match solve_discrete_local_shifted(
-        crawler,
-        problem,
-        m,
-        phase.times(),
-        phase.lengths(),
-        shifts,
-        None,
-    ) {
+    match solve_discrete_local_shifted(crawler, problem, m, phase.times(), phase.lengths(), shifts)
+    {
         Ok((s, shift)) => {
             let origin = shifted_origin(&phase.origin, shift);
             Ok(Some(StartGait {

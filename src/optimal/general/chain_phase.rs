@@ -78,18 +78,16 @@ pub fn chain_gait_problem(p: &GeneralProblem, view: &ChainView) -> Result<GaitPr
 /// docs), each `K` reported to `progress` in the problem's units; the best gait written back
 /// as a general phase gait, with the record of the structured start where the growth kept it
 /// (as a crawler's answer records it). Checked as [`super::grow_general_phases`] is (errors name
-/// `max_phases`, `patience`, `time_limit`); `time_limit` in seconds, within the job's
-/// deadline.
+/// `max_phases`, `patience`), within the job's deadline ([`crate::progress::within`]).
 pub fn grow_chain_phases(
     p: &GeneralProblem,
     g: &Geometry,
     view: &ChainView,
     range: GrowthRange,
-    time_limit: Option<f64>,
     progress: &mut dyn FnMut(&PhaseStep),
 ) -> Result<(Growth<GeneralPhaseGait>, Option<StructuredRecord>)> {
-    check_phase_growth(p, g, range, time_limit)?;
-    crate::progress::within(time_limit, || grow_chain(p, view, range, progress))
+    check_phase_growth(p, g, range)?;
+    grow_chain(p, view, range, progress)
 }
 
 /// [`grow_chain_phases`], checked, within the deadline.

@@ -161,8 +161,8 @@ pub fn grid_controls(input: &ControlInput, m: u32) -> Vec<Vec<f64>> {
         .collect()
 }
 
-/// Solves P_m locally from `start` (one control per step of `2^m`; module docs); `time_limit`
-/// in seconds. The start is refused (field `start`) when it does not have one row in U per
+/// Solves P_m locally from `start` (one control per step of `2^m`; module docs), within
+/// the job's deadline ([`crate::progress::within`]). The start is refused (field `start`) when it does not have one row in U per
 /// step, or a non-zero mean under the zero-mean constraint, or when its periodic regime is not
 /// reached.
 pub fn solve_general_local(
@@ -170,11 +170,9 @@ pub fn solve_general_local(
     g: &Geometry,
     m: u32,
     start: &[Vec<f64>],
-    time_limit: Option<f64>,
 ) -> Result<GeneralLocal> {
     check_general_local(p, g, m)?;
-    crate::optimal::check_time_limit(time_limit)?;
-    crate::progress::within(time_limit, || solve_from(p, g, m, start))
+    solve_from(p, g, m, start)
 }
 
 /// [`solve_general_local`], arguments checked, within the current deadline.

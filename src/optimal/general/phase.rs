@@ -139,16 +139,14 @@ pub fn check_general_phase(p: &GeneralProblem, g: &Geometry, k: usize) -> Result
     check_sets(p, g, "the phase method")
 }
 
-/// Checks a growth of the phase method over `range` within `time_limit` (seconds): what
-/// [`check_general_phase`] asks at the largest `K`, the time limit and the range itself.
+/// Checks a growth of the phase method over `range`: what [`check_general_phase`] asks at the
+/// largest `K`, and the range itself.
 pub(crate) fn check_phase_growth(
     p: &GeneralProblem,
     g: &Geometry,
     range: crate::optimal::growth::GrowthRange,
-    time_limit: Option<f64>,
 ) -> Result<()> {
     check_general_phase(p, g, range.max_phases)?;
-    crate::optimal::milp::check_time_limit(time_limit)?;
     range.check(MAX_GENERAL_PHASES)
 }
 
@@ -469,43 +467,31 @@ fn merged(row: Vec<(Col, f64)>) -> Vec<(Col, f64)> {
 }
 
 /// The globally optimal gait among those of at most `k` phases (module docs), re-verified by
-/// the exact simulator; `time_limit` in seconds.
-pub fn solve_general_phase(
-    p: &GeneralProblem,
-    g: &Geometry,
-    k: usize,
-    time_limit: Option<f64>,
-) -> Result<GeneralPhaseGait> {
-    solve_general_slots(p, g, Slots::of(k, false), time_limit)
+/// the exact simulator, within the job's deadline ([`crate::progress::within`]).
+pub fn solve_general_phase(p: &GeneralProblem, g: &Geometry, k: usize) -> Result<GeneralPhaseGait> {
+    solve_general_slots(p, g, Slots::of(k, false))
 }
 
 /// The globally optimal gait of `k` slots of a free transition and a phase (module docs),
 /// re-verified by the exact simulator: at least [`solve_general_phase`]'s at the same `k`, with
-/// as many binaries; `time_limit` in seconds. Its gait has up to `2k` phases.
+/// as many binaries, within the job's deadline ([`crate::progress::within`]). Its gait has up to `2k` phases.
 pub fn solve_general_transitions(
     p: &GeneralProblem,
     g: &Geometry,
     k: usize,
-    time_limit: Option<f64>,
 ) -> Result<GeneralPhaseGait> {
-    solve_general_slots(p, g, Slots::of(k, true), time_limit)
+    solve_general_slots(p, g, Slots::of(k, true))
 }
 
 /// [`solve_general_phase`] or [`solve_general_transitions`] by `slots`.
-fn solve_general_slots(
-    p: &GeneralProblem,
-    g: &Geometry,
-    slots: Slots,
-    time_limit: Option<f64>,
-) -> Result<GeneralPhaseGait> {
+fn solve_general_slots(p: &GeneralProblem, g: &Geometry, slots: Slots) -> Result<GeneralPhaseGait> {
     let k = slots.k;
     check_general_phase(p, g, k)?;
-    crate::optimal::check_time_limit(time_limit)?;
     let what = format!("the phase MILP of the general problem (K = {k})");
     let scale = p.c.scale();
     let mut cuts = initial_cuts(p)?;
     let mut round = 0;
-    crate::progress::within(time_limit, || loop {
+    loop {
         round += 1;
         let (pb, lay) = build(p, g, slots, &cuts)?;
         let (cols, milp_objective, bound, status) =
@@ -528,7 +514,7 @@ fn solve_general_slots(
             return Ok(polished(p, g, sol, &what));
         }
         cuts.extend(sol.controls.iter().cloned());
-    })
+    }
 }
 
 /// `sol` polished on its held faces when it has a cost ([`super::phase_polish`]): the polished

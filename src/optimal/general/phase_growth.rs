@@ -28,9 +28,9 @@ impl PhaseFamily for GeneralPhases<'_> {
     // keeps small K cheap).
     fn solve(&self, k: usize, _best: Option<&GeneralPhaseGait>) -> Result<GeneralPhaseGait> {
         if self.transitions {
-            solve_general_transitions(self.p, self.g, k, None)
+            solve_general_transitions(self.p, self.g, k)
         } else {
-            solve_general_phase(self.p, self.g, k, None)
+            solve_general_phase(self.p, self.g, k)
         }
     }
     fn objective(g: &GeneralPhaseGait) -> f64 {
@@ -76,17 +76,15 @@ impl PhaseFamily for GeneralPhases<'_> {
 
 /// The best exact gait of a general problem (`A = 0`) with `K` raised over `range` (the
 /// crawler's growth, [`crate::optimal::growth::grow`]): the gait of the largest `J_K` found,
-/// claimed for the last `K` solved; `time_limit` in seconds for the whole growth (within the
-/// job's deadline). `progress` sees each `K`. Errors name `max_phases`, `min_phases`,
-/// `patience`, `time_limit` or what `check_phase_growth` names.
+/// claimed for the last `K` solved, the whole growth within the job's deadline ([`crate::progress::within`]). `progress` sees each `K`.
+/// Errors name `max_phases`, `min_phases`, `patience` or what `check_phase_growth` names.
 pub fn grow_general_phases(
     p: &GeneralProblem,
     g: &Geometry,
     range: GrowthRange,
-    time_limit: Option<f64>,
     progress: &mut dyn FnMut(&PhaseStep),
 ) -> Result<Growth<GeneralPhaseGait>> {
-    grow_general(p, g, range, time_limit, false, progress)
+    grow_general(p, g, range, false, progress)
 }
 
 /// [`grow_general_phases`] over slots of a free transition and a phase
@@ -96,21 +94,19 @@ pub fn grow_general_transitions(
     p: &GeneralProblem,
     g: &Geometry,
     range: GrowthRange,
-    time_limit: Option<f64>,
     progress: &mut dyn FnMut(&PhaseStep),
 ) -> Result<Growth<GeneralPhaseGait>> {
-    grow_general(p, g, range, time_limit, true, progress)
+    grow_general(p, g, range, true, progress)
 }
 
 fn grow_general(
     p: &GeneralProblem,
     g: &Geometry,
     range: GrowthRange,
-    time_limit: Option<f64>,
     transitions: bool,
     progress: &mut dyn FnMut(&PhaseStep),
 ) -> Result<Growth<GeneralPhaseGait>> {
-    check_phase_growth(p, g, range, time_limit)?;
+    check_phase_growth(p, g, range)?;
     let family = GeneralPhases { p, g, transitions };
-    crate::progress::within(time_limit, || grow(&family, range, None, progress))
+    grow(&family, range, None, progress)
 }

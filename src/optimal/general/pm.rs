@@ -11,15 +11,10 @@ use crate::optimal::milp::Certificate;
 use crate::optimal::polish::POLISH_DEFAULT;
 use crate::optimal::refinement::{converge, ConvergenceRow, PmFamily};
 
-/// Solves P_m globally ([`super::discrete`]'s module docs); `time_limit` in seconds. A quadratic cost's answer is
-/// polished ([`solve_general_pm_with`], [`POLISH_DEFAULT`]).
-pub fn solve_general_pm(
-    p: &GeneralProblem,
-    g: &Geometry,
-    m: u32,
-    time_limit: Option<f64>,
-) -> Result<GeneralPm> {
-    solve_general_pm_with(p, g, m, time_limit, POLISH_DEFAULT)
+/// Solves P_m globally ([`super::discrete`]'s module docs), within the job's deadline ([`crate::progress::within`]). A quadratic
+/// cost's answer is polished ([`solve_general_pm_with`], [`POLISH_DEFAULT`]).
+pub fn solve_general_pm(p: &GeneralProblem, g: &Geometry, m: u32) -> Result<GeneralPm> {
+    solve_general_pm_with(p, g, m, POLISH_DEFAULT)
 }
 
 /// [`solve_general_pm`], with `polish` saying whether the answer of a quadratic cost is
@@ -29,11 +24,9 @@ pub fn solve_general_pm_with(
     p: &GeneralProblem,
     g: &Geometry,
     m: u32,
-    time_limit: Option<f64>,
     polish: bool,
 ) -> Result<GeneralPm> {
-    crate::optimal::check_time_limit(time_limit)?;
-    let sol = crate::progress::within(time_limit, || solve_milp(p, g, m))?;
+    let sol = solve_milp(p, g, m)?;
     Ok(if polish && p.cost != GeneralCost::None {
         super::polish::polish(p, sol)
     } else {
@@ -53,7 +46,7 @@ impl PmFamily for GeneralPms<'_> {
     type Solution = GeneralPm;
 
     fn solve(&self, m: u32, _previous: Option<&GeneralPm>) -> Result<GeneralPm> {
-        solve_general_pm_with(self.p, self.g, m, None, self.polish)
+        solve_general_pm_with(self.p, self.g, m, self.polish)
     }
     fn value(s: &GeneralPm) -> (f64, &Certificate) {
         (s.objective, &s.certificate)
@@ -62,7 +55,7 @@ impl PmFamily for GeneralPms<'_> {
 
 /// Solves the general problem's P_m for `m = 1..=max_m` (paper §5: the optima of P_m
 /// converge to that of (P)) by the loop the crawler's table runs
-/// ([`crate::optimal::refinement::converge`]), all within `time_limit` seconds; returns the
+/// ([`crate::optimal::refinement::converge`]), all within the job's deadline ([`crate::progress::within`]); returns the
 /// table and the finest solution, stopping early (keeping what was solved) when the time runs
 /// out. `max_m` is checked first, naming `m`. The table starts at the coarsest `m` whose
 /// explicit step is stable for `A` (1 when `A = 0`; a stiff drift refuses coarser grids).
@@ -70,15 +63,13 @@ pub fn general_convergence(
     p: &GeneralProblem,
     g: &Geometry,
     max_m: u32,
-    time_limit: Option<f64>,
     polish: bool,
     progress: &mut dyn FnMut(&ConvergenceRow),
 ) -> Result<(Vec<ConvergenceRow>, GeneralPm)> {
-    crate::optimal::check_time_limit(time_limit)?;
     super::discrete::check(p, g, max_m)?;
     let first = (1..=max_m)
         .find(|&m| super::discrete::check_explicit_step(p, m).is_ok())
         .unwrap_or(max_m);
     let family = GeneralPms { p, g, polish };
-    crate::progress::within(time_limit, || converge(&family, first..=max_m, progress))
+    converge(&family, first..=max_m, progress)
 }

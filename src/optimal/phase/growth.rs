@@ -123,7 +123,7 @@ impl PhaseFamily for ChainPhases<'_> {
             cutoff: None,
             formulation: self.formulation,
         };
-        solve_phase_with(self.crawler, self.problem, k, None, &opts)
+        solve_phase_with(self.crawler, self.problem, k, &opts)
     }
     fn objective(g: &PhaseSolution) -> f64 {
         g.objective()

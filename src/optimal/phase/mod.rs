@@ -89,7 +89,6 @@
 
 use crate::error::{Error, Result};
 use crate::model::Crawler;
-use crate::optimal::milp::check_time_limit;
 use crate::optimal::{Certificate, GaitProblem, MilpStatus};
 use serde::Serialize;
 
@@ -252,17 +251,11 @@ fn start_unproven(
     s
 }
 
-/// Refuses what no phase problem accepts: a crawler failing the uniqueness condition, a bad
-/// time limit, `phases` outside `1..=MAX_PHASES`, a total-variation bound.
-fn check_phase_args(
-    crawler: &Crawler,
-    problem: &GaitProblem,
-    phases: usize,
-    time_limit: Option<f64>,
-) -> Result<()> {
+/// Refuses what no phase problem accepts: a crawler failing the uniqueness condition,
+/// `phases` outside `1..=MAX_PHASES`, a total-variation bound.
+fn check_phase_args(crawler: &Crawler, problem: &GaitProblem, phases: usize) -> Result<()> {
     crawler.require_unique()?;
     problem.check_scales(crawler)?;
-    check_time_limit(time_limit)?;
     if !(1..=MAX_PHASES).contains(&phases) {
         return Err(Error::invalid(
             "phases",

@@ -105,9 +105,8 @@ pub fn search_sequences(
     problem: &GaitProblem,
     start_modes: &[Vec<i8>],
     phases: usize,
-    time_limit: Option<f64>,
 ) -> Result<SequenceSearch> {
-    check_phase_args(crawler, problem, phases, time_limit)?;
+    check_phase_args(crawler, problem, phases)?;
     // An idle start has no slip phase: seed it with each block slipping forward in turn, from
     // the front (a peristaltic wave), or one block slipping; the LP may leave them all empty
     // (the idle gait held on a face), so nothing is lost.
@@ -159,9 +158,9 @@ pub fn search_sequences(
             + usize::from(i < (phases - start_modes.len()) % start_modes.len());
         seq.extend(std::iter::repeat_n(m.clone(), extra));
     }
-    crate::progress::within(time_limit, || {
+    {
         search_from(crawler, problem, start_modes, seq)
-    })
+    }
 }
 
 /// [`search_sequences`] from the sequence `seq` (grown from `start_modes`, checked), within

@@ -16,9 +16,8 @@ pub fn solve_phase_global(
     crawler: &Crawler,
     problem: &GaitProblem,
     phases: usize,
-    time_limit: Option<f64>,
 ) -> Result<PhaseSolution> {
-    solve_phase_from(crawler, problem, phases, time_limit, None)
+    solve_phase_from(crawler, problem, phases, None)
 }
 
 /// [`solve_phase_global`] with a known gait of at most `phases` slip phases as the first
@@ -27,7 +26,6 @@ pub fn solve_phase_from(
     crawler: &Crawler,
     problem: &GaitProblem,
     phases: usize,
-    time_limit: Option<f64>,
     start: Option<&PhaseSolution>,
 ) -> Result<PhaseSolution> {
     if let Some(s) = start {
@@ -44,7 +42,7 @@ pub fn solve_phase_from(
         start: start.cloned(),
         ..PhaseOptions::default()
     };
-    solve_phase_with(crawler, problem, phases, time_limit, &opts)
+    solve_phase_with(crawler, problem, phases, &opts)
 }
 
 /// [`solve_phase_global`] with the options of [`PhaseOptions`]: a known gait as the first
@@ -54,10 +52,9 @@ pub fn solve_phase_with(
     crawler: &Crawler,
     problem: &GaitProblem,
     phases: usize,
-    time_limit: Option<f64>,
     opts: &PhaseOptions,
 ) -> Result<PhaseSolution> {
-    check_phase_args(crawler, problem, phases, time_limit)?;
+    check_phase_args(crawler, problem, phases)?;
     let start = opts.start.as_ref();
     if let Some(c) = opts.cutoff {
         if !c.is_finite() {
@@ -75,9 +72,7 @@ pub fn solve_phase_with(
         // A hair below, so that the start's own J (and round-off) stays feasible.
         cutoff: cutoff.map(|c| c - 1e-9 * problem.length_scale(crawler)),
     };
-    let solved = crate::progress::within(time_limit, || {
-        solve_steps(crawler, problem, phases, fits, None, &rows)
-    });
+    let solved = { solve_steps(crawler, problem, phases, fits, None, &rows) };
     let resolution = crate::optimal::growth::MOVE_RESOLUTION * problem.length_scale(crawler);
     let mut answer = match solved {
         // No gait of at most `phases` slip phases reaches the cutoff: the start, if any, is

@@ -143,7 +143,7 @@ fn any_rotation_of_a_gait_is_a_feasible_start_for_as_many_steps_or_more() {
     for cost in [Cost::None, Cost::Quadratic { weight: 0.1 }] {
         let c = Crawler::uniform(3, 1.0, 1.0, 1.5).unwrap();
         let p = GaitProblem::new(&c, 10.0, &[1.0, 1.0], cost, None).unwrap();
-        let s = solve_phase_global(&c, &p, 4, Some(60.0)).unwrap();
+        let s = solve_phase_global(&c, &p, 4).unwrap();
         let g = RawGait::of(&s);
         let slips = g.slip_phases();
         assert!(g.durations.len() > slips, "the optimum has transitions");
