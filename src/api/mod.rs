@@ -78,7 +78,9 @@ pub use general_phase::{
 };
 pub use general_plan::{optimize_general_plan, GeneralAnswer, GeneralPlan};
 pub use optimize::{optimize, Optimized};
-pub use optimize_file::{optimize_file, report_file, report_result, OptimizeJob, OptimizedFile};
+pub use optimize_file::{
+    optimize_file, report_file, report_result, OptimizeJob, OptimizedFile, ReportSettings,
+};
 pub use problem_file::{analyze_file, simulate_file, Analyzed, Simulated};
 pub use settings::{
     rename_fields, GaitMethod, Naming, OptimizeSettings, PhaseFormulation, Plan, Start,

@@ -130,6 +130,19 @@ pub fn optimize_file(
     OptimizeJob::new(file, settings)?.run(hooks)
 }
 
+/// Settings of a report job ([`report_file`], [`report_result`]).
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct ReportSettings {
+    /// A crawler's optimum with at most this many slip phases (default `None`: `K` grown, as
+    /// `optimize`'s phase method grows it); a problem file's setting only.
+    pub phases: Option<usize>,
+    /// Seconds for computing the optimum (default `None`: no limit); a problem file's setting
+    /// only.
+    pub time_limit: Option<f64>,
+    /// How errors spell the settings (default [`Naming::Keywords`]).
+    pub naming: Naming,
+}
+
 /// The report of a result file of either kind (`crawlopt report RESULT.json`): `text` read back
 /// and checked as `certify` reads it (`name` labels its errors), then its HTML page. The
 /// settings that compute a gait (`phases`, `time_limit`) are refused when given, not ignored:
@@ -137,13 +150,12 @@ pub fn optimize_file(
 pub fn report_result(
     text: &str,
     name: &str,
-    phases: Option<usize>,
-    time_limit: Option<f64>,
-    naming: Naming,
+    s: &ReportSettings,
 ) -> Result<(crate::io::ResultFile, String)> {
+    let naming = s.naming;
     let given = [
-        ("phases", phases.map(|k| k.to_string())),
-        ("time_limit", time_limit.map(|t| t.to_string())),
+        ("phases", s.phases.map(|k| k.to_string())),
+        ("time_limit", s.time_limit.map(|t| t.to_string())),
     ];
     if let Some((setting, Some(v))) = given.into_iter().find(|(_, v)| v.is_some()) {
         return Err(Error::invalid(
@@ -163,11 +175,14 @@ pub fn report_result(
 /// settings as `naming` spells them.
 pub fn report_file(
     file: &ProblemFile,
-    phases: Option<usize>,
-    time_limit: Option<f64>,
-    naming: Naming,
+    s: &ReportSettings,
     hooks: Hooks<'_>,
 ) -> Result<OptimizedFile> {
+    let ReportSettings {
+        phases,
+        time_limit,
+        naming,
+    } = *s;
     let method = match file {
         ProblemFile::Crawler(_) => GaitMethod::Phase,
         ProblemFile::General(_) => GaitMethod::Auto,

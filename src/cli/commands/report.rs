@@ -33,25 +33,18 @@ pub fn run(a: ReportArgs) -> Result<ExitCode, Error> {
     // A directory (the default report.html may be one) is refused before the work.
     AtomicFile::check(&a.output)?;
     let name = file_name(&a.file);
+    let settings = api::ReportSettings {
+        phases: a.phases,
+        time_limit: a.time_limit,
+        naming: Naming::Flags,
+    };
     let summary = if a.file.extension().is_some_and(|e| e == "json") {
-        let (r, html) = api::report_result(
-            &read_text(&a.file)?,
-            &name,
-            a.phases,
-            a.time_limit,
-            Naming::Flags,
-        )?;
+        let (r, html) = api::report_result(&read_text(&a.file)?, &name, &settings)?;
         report::write_report(&a.output, &html)?;
         text::result_file_summary(&r)
     } else {
         let file = ProblemFile::load(&a.file)?;
-        let answer = api::report_file(
-            &file,
-            a.phases,
-            a.time_limit,
-            Naming::Flags,
-            Hooks::default(),
-        )?;
+        let answer = api::report_file(&file, &settings, Hooks::default())?;
         let command = format!("crawlopt report {name}");
         report::write_report(&a.output, &answer.report_html(&name, &command)?)?;
         answer.summary()
