@@ -423,3 +423,47 @@ fn bad_input_is_refused_naming_the_field() {
     assert_eq!(refused_field(parts(), 1000), "max_phases");
     // A bad time limit is the job's setting, refused by the API (tests/general_phase_growth.rs).
 }
+
+/// Reactions only on held faces and never negative, exactly: a random quadrilateral whose
+/// `K = 3` optimum (general formulation) ends with a phase of `1.1e-12 T`, where the MILP's
+/// integrated reactions on faces it does not hold (zero to HiGHS's feasibility tolerance),
+/// divided by that duration, were stored as reactions of 0.83 and 1.64. Every answer of the
+/// formulations and `K` tried here holds the invariant, and its `int f1` is the replay's.
+#[test]
+fn reactions_sit_on_held_faces_only_even_on_a_vanishing_phase() {
+    let text = "[sweeping_process]\n\
+        normals = [[0.9985, 0.0548], [-0.9927, 0.1209], [-0.6066, -0.795], [-0.0777, -0.997]]\n\
+        offsets = [1.226, 0.869, 1.112, 1.375]\n\
+        [dynamics]\nB = [[0.731, 0.146], [-0.096, -0.37]]\n\
+        [control]\nlower = [-1.0, -1.0]\nupper = [1.0, 1.0]\nzero_mean = true\n\
+        [objective]\nface_weights = [0.759, 0.322, 0.057, 0.555]\n\
+        [problem]\nperiod = 7.18\n";
+    let p = crawlopt::io::GeneralFile::parse(text)
+        .unwrap()
+        .problem()
+        .unwrap();
+    let g = check_problem(&p).unwrap();
+    for k in 1..=4 {
+        for s in [
+            solve_general_phase(&p, &g, k).unwrap(),
+            solve_general_transitions(&p, &g, k).unwrap(),
+        ] {
+            for (j, (held, r)) in s.held.iter().zip(&s.reactions).enumerate() {
+                for (f, &rf) in r.iter().enumerate() {
+                    assert!(rf >= 0.0, "K = {k}, phase {j}, face {}: {rf}", f + 1);
+                    assert!(
+                        rf == 0.0 || held.contains(&(f + 1)),
+                        "K = {k}, phase {j}: {rf} on face {} not held ({held:?})",
+                        f + 1
+                    );
+                }
+            }
+            let (reward, gap, periodic) = replay(&p, &s);
+            assert!((reward - s.objective).abs() < 1e-9, "K = {k}");
+            assert!(
+                gap < 1e-9 && periodic < 1e-9,
+                "K = {k}: {gap:e} {periodic:e}"
+            );
+        }
+    }
+}

@@ -473,8 +473,9 @@ pub fn solve_general_phase(p: &GeneralProblem, g: &Geometry, k: usize) -> Result
 }
 
 /// The globally optimal gait of `k` slots of a free transition and a phase (module docs),
-/// re-verified by the exact simulator: at least [`solve_general_phase`]'s at the same `k`, with
-/// as many binaries, within the job's deadline ([`crate::progress::within`]). Its gait has up to `2k` phases.
+/// re-verified by the exact simulator: at least [`solve_general_phase`]'s at the same `k`, with as
+/// many binaries, within the job's deadline ([`crate::progress::within`]). Its gait has up to `2k`
+/// phases.
 pub fn solve_general_transitions(
     p: &GeneralProblem,
     g: &Geometry,
@@ -603,7 +604,11 @@ pub fn replay_phases(
     Ok((states, sim))
 }
 
-/// The MILP's gait read off its columns: the phases longer than [`EMPTY_PHASE`] `T`.
+/// The MILP's gait read off its columns: the phases longer than [`EMPTY_PHASE`] `T`. A face's
+/// integrated reaction is kept on a held face only, and at least 0: the MILP's `L_{j,f} <= M T
+/// s_{j,f}` and `L_{j,f} >= 0` hold to HiGHS's feasibility tolerance only, and on a phase of
+/// `1e-12 T` that noise divided by the duration gave reactions of 0.8 and 1.6 on faces the
+/// phase does not hold (a random quadrilateral, `K = 3`).
 fn read_phases(lay: &Layout, cols: &[f64], t: f64) -> MilpPhases {
     let val = |c: &Col| cols[c.index()];
     let mut phases = MilpPhases {
@@ -617,13 +622,21 @@ fn read_phases(lay: &Layout, cols: &[f64], t: f64) -> MilpPhases {
         }
         phases.durations.push(tau);
         phases.increments.push(lay.u[j].iter().map(val).collect());
-        phases.held.push(
-            (0..lay.s[j].len())
-                .filter(|&f| val(&lay.s[j][f]) > 0.5)
-                .map(|f| f + 1)
+        let held: Vec<usize> = (0..lay.s[j].len())
+            .filter(|&f| val(&lay.s[j][f]) > 0.5)
+            .map(|f| f + 1)
+            .collect();
+        phases.integrated.push(
+            lay.lam[j]
+                .iter()
+                .enumerate()
+                .map(|(f, c)| match held.contains(&(f + 1)) {
+                    true => val(c).max(0.0),
+                    false => 0.0,
+                })
                 .collect(),
         );
-        phases.integrated.push(lay.lam[j].iter().map(val).collect());
+        phases.held.push(held);
         phases.states.push(lay.x[j + 1].iter().map(val).collect());
     }
     phases

@@ -224,7 +224,8 @@ fn solved_phases(
         out.held.push(held[j].clone());
         let mut integrated = vec![0.0; sigma];
         for &(f, l) in &lam[j] {
-            integrated[f] = val(l);
+            // Non-negative as in the MILP's reading (Clarabel meets `L >= 0` to its tolerance).
+            integrated[f] = val(l).max(0.0);
         }
         out.integrated.push(integrated);
         out.states
