@@ -130,3 +130,23 @@ fn a_result_file_with_a_changed_table_is_refused() {
     });
     assert!(field.ends_with("convergence"), "{field}");
 }
+
+/// The job's time limit is the API's to check (the solvers take none; they run within the
+/// deadline the job sets): a limit that is not positive and finite is refused naming
+/// `time_limit`, with and without the table, before any P_m is solved.
+#[test]
+fn a_bad_time_limit_is_refused_by_the_job() {
+    for convergence in [true, false] {
+        for t in [-1.0, 0.0, f64::NAN, f64::INFINITY] {
+            let s = GeneralPmSettings {
+                time_limit: Some(t),
+                convergence,
+                ..settings(3)
+            };
+            match optimize_general(&one_link(), &s) {
+                Err(Error::InvalidParameter { field, .. }) => assert_eq!(field, "time_limit"),
+                other => panic!("{t} not refused: {other:?}"),
+            }
+        }
+    }
+}

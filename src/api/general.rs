@@ -204,16 +204,16 @@ fn structure_checks(p: &GeneralProblem, checks: &mut Vec<Check>) {
 /// Simulates the file's `[input]`: exactly where `A = 0` and the input is piecewise constant
 /// ([`crate::integrate::general_exact`], unless `opts.method` asks for catching-up), else by
 /// catching-up ([`crate::integrate::general`], the damping of `A` stepped implicitly): for a
-/// periodic problem until the periodic regime, with `J` of one period on the orbit; for a
-/// Cauchy problem over `[0, T]` from `x(0)`. On a crawler's chain
+/// periodic problem until the periodic regime, with `J` of one period on the orbit; for a Cauchy
+/// problem over `[0, T]` from `x(0)`. On a crawler's chain
 /// ([`GeneralProblem::as_chain`](crate::model::general::GeneralProblem::as_chain)) under a
-/// zero-mean piecewise-constant input, the periodic regime is searched by the crawler's
-/// simulator with the same scheme ([`crate::integrate::chain_regime`](mod@crate::integrate::chain_regime): the chain's O(N) kernels
-/// and Newton steps, where the general period map is iterated plainly) and the general simulator
-/// plays the period from the state it found, checking that it repeats (`regime_search =
-/// "chain"`); its catching-up steps project with the chain's O(N) method too
-/// (`simulation.projection = "chain"`, [`crate::sweep::OntoC`]), the exact method's tangent
-/// cones with the dense one.
+/// zero-mean piecewise-constant input, the periodic regime is searched by the crawler's simulator
+/// with the same scheme ([`crate::integrate::chain_regime`](mod@crate::integrate::chain_regime):
+/// the chain's O(N) kernels and Newton steps, where the general period map is iterated plainly) and
+/// the general simulator plays the period from the state it found, checking that it repeats
+/// (`regime_search = "chain"`); its catching-up steps project with the chain's O(N) method too
+/// (`simulation.projection = "chain"`, [`crate::sweep::OntoC`]), the exact method's tangent cones
+/// with the dense one.
 pub fn simulate_general(file: &GeneralFile, opts: &GeneralSimOptions) -> Result<GeneralSimulated> {
     simulate_general_problem(file, opts).map(|(_, s)| s)
 }

@@ -12,9 +12,10 @@ use crate::optimal::general::{grow_chain_phases, grow_general_phases, grow_gener
 use crate::optimal::growth::GrowthRange;
 use crate::optimal::PhaseGrowthRecord;
 
-/// Default largest `K` of [`GeneralPhaseSettings`] in the general formulation: 4 phases, what
-/// the paper's §4 one-link optimum needs (free rise, slide on one face, free fall, slide on the
-/// other). The chain's formulation counts slip phases and takes the crawler's default,
+/// Default largest `K` of [`GeneralPhaseSettings`] in (P)'s own formulations: 4 phases in the
+/// general one, what the paper's §4 one-link optimum needs (free rise, slide on one face, free
+/// fall, slide on the other), and 4 slots of a free transition and a phase with free
+/// transitions. The chain's formulation counts slip phases and takes the crawler's default,
 /// [`crate::optimal::DEFAULT_MAX_PHASES`] ([`GeneralPhaseSettings::max_phases`]).
 pub const DEFAULT_GENERAL_PHASES: usize = 4;
 
@@ -23,12 +24,14 @@ pub const DEFAULT_GENERAL_PHASES: usize = 4;
 pub struct GeneralPhaseSettings {
     /// `K` when it grows: the largest number of phases tried, at most
     /// [`crate::optimal::general::MAX_GENERAL_PHASES`]. `None` (the default) takes the
-    /// formulation's default: [`DEFAULT_GENERAL_PHASES`] phases in the general one, the
-    /// crawler's [`crate::optimal::DEFAULT_MAX_PHASES`] slip phases in the chain's, so that a
-    /// crawler and its general form grow `K` alike ([`GeneralPhaseSettings::max_phases_for`]).
+    /// formulation's default: [`DEFAULT_GENERAL_PHASES`] phases in the general one (slots with free
+    /// transitions), the crawler's [`crate::optimal::DEFAULT_MAX_PHASES`] slip phases in the
+    /// chain's, so that a crawler and its general form grow `K` alike
+    /// ([`GeneralPhaseSettings::max_phases_for`]).
     pub max_phases: Option<usize>,
-    /// A fixed `K`: one MILP over gaits of at most `K` phases (default `None`: `K` grows from
-    /// 1 to `max_phases`).
+    /// A fixed `K`: one MILP over gaits of at most `K` phases (slots with free transitions,
+    /// slip phases in the chain's formulation; default `None`: `K` grows from 1 to
+    /// `max_phases`).
     pub phases: Option<usize>,
     /// Consecutive `K` without a gain that end the growth, counted once a `J_K` moves the
     /// system (above `1e-9` of its length scale; default [`crate::api::DEFAULT_PATIENCE`], as
@@ -135,7 +138,6 @@ pub fn optimize_general_phase(
     if s.patience == 0 {
         return Err(crate::Error::invalid("patience", 0, "must be at least 1"));
     }
-    crate::optimal::check_time_limit(s.time_limit)?;
     let (p, g) = super::general_problem(file)?;
     let bound_chain = super::general::chain_for_bound(&p, s.bound.as_ref())?;
     let chain = chain_formulation(&p, s.formulation)?;
@@ -156,6 +158,7 @@ pub fn optimize_general_phase(
         },
         (_, e) => e,
     };
+    crate::optimal::check_time_limit(s.time_limit)?;
     run_with(hooks, |em| {
         em.stage(match s.phases {
             Some(k) => format!("the phase MILP of the general problem (K = {k})"),

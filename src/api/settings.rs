@@ -219,7 +219,7 @@ pub struct OptimizeSettings {
     /// only as accurate as the MILP's outer approximation (about 1e-3).
     pub polish: Option<bool>,
     /// The phase MILP's formulation on a general problem file (default `None`: the chain's
-    /// where the problem is a crawler's, the general one elsewhere;
+    /// where the problem is a crawler's, free transitions elsewhere;
     /// [`super::GeneralPhaseSettings::formulation`]). Refused elsewhere, naming it: a crawler's
     /// phase MILP has its own.
     pub formulation: Option<PhaseFormulation>,

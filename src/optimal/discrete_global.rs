@@ -70,11 +70,9 @@ pub fn solve_discrete_global_with(
     let (c, p) = (units.crawler(crawler)?, units.problem(problem));
     let start = start.map(|(t, l)| units.knots_in(t, l));
     let start = start.as_ref().map(|(t, l)| (t.as_slice(), l.as_slice()));
-    let s = {
-        crate::progress::with_objective_scale(units.objective_scale(), || {
-            solve_discrete_in(&c, &p, m, start)
-        })
-    }?;
+    let s = crate::progress::with_objective_scale(units.objective_scale(), || {
+        solve_discrete_in(&c, &p, m, start)
+    })?;
     let s = match p.cost {
         Cost::Quadratic { .. } if polish => super::discrete_polish::polish(&c, &p, s),
         _ => s,
@@ -82,11 +80,11 @@ pub fn solve_discrete_global_with(
     Ok(units.discrete(&s))
 }
 
-/// Solves P_m for `m = 1..=max_m` (the paper's discrete approximations, §6), all within
-/// the job's deadline ([`crate::progress::within`]) (each within what is left) and each started from the previous optimum (every
-/// step of `P_{m-1}` cut in two: a gait of `P_m`); returns the table and the finest solution. Stops early,
-/// keeping what was solved, when the time runs out (a time-limit error when it ran out before
-/// `P_1` was solved).
+/// Solves P_m for `m = 1..=max_m` (the paper's discrete approximations, §6), all within the job's
+/// deadline ([`crate::progress::within`]) (each within what is left) and each started from the
+/// previous optimum (every step of `P_{m-1}` cut in two: a gait of `P_m`); returns the table and
+/// the finest solution. Stops early, keeping what was solved, when the time runs out (a time-limit
+/// error when it ran out before `P_1` was solved).
 pub fn discrete_convergence(
     crawler: &Crawler,
     problem: &GaitProblem,

@@ -187,11 +187,9 @@ pub fn solve_discrete_local(
     let units = Units::of(crawler, problem);
     let (c, p) = (units.crawler(crawler)?, units.problem(problem));
     let (times, lengths) = units.knots_in(start_times, start_lengths);
-    let s = {
-        crate::progress::with_objective_scale(units.objective_scale(), || {
-            solve_local_in(&c, &p, m, &times, &lengths)
-        })
-    }?;
+    let s = crate::progress::with_objective_scale(units.objective_scale(), || {
+        solve_local_in(&c, &p, m, &times, &lengths)
+    })?;
     Ok(units.local(&s))
 }
 
@@ -437,12 +435,13 @@ pub fn shift_knots(
     (knots, rows)
 }
 
-/// [`solve_discrete_local`] from `shifts` time shifts of the start (`j T / shifts`,
-/// `j = 0..shifts`, see [`shift_knots`]), keeping the best answer (the first of equals), within
-/// the job's deadline ([`crate::progress::within`]) in all: the local search ends where its start leads, and on a grid the phase
-/// at which a continuous-time start is sampled decides which discrete gait it becomes (three
-/// blocks, 64 steps: 2.4688 from the phase optimum as it is, 2.5625 from 6 of 32 shifts, among
-/// them 2 of the 8 shifts tried by default). Also returns the shift of the best.
+/// [`solve_discrete_local`] from `shifts` time shifts of the start (`j T / shifts`, `j =
+/// 0..shifts`, see [`shift_knots`]), keeping the best answer (the first of equals), within the
+/// job's deadline ([`crate::progress::within`]) in all: the local search ends where its start
+/// leads, and on a grid the phase at which a continuous-time start is sampled decides which
+/// discrete gait it becomes (three blocks, 64 steps: 2.4688 from the phase optimum as it is, 2.5625
+/// from 6 of 32 shifts, among them 2 of the 8 shifts tried by default). Also returns the shift of
+/// the best.
 pub fn solve_discrete_local_shifted(
     crawler: &Crawler,
     problem: &GaitProblem,
@@ -452,36 +451,35 @@ pub fn solve_discrete_local_shifted(
     shifts: usize,
 ) -> Result<(LocalSolution, f64)> {
     crate::optimal::check_shifts(shifts)?;
-    {
-        let t = problem.period;
-        let mut best: Option<(LocalSolution, f64)> = None;
-        for j in 0..shifts {
-            if best.is_some() && crate::progress::out_of_time()? {
-                break;
-            }
-            let shift = t * j as f64 / shifts as f64;
-            let (times, lengths) = shift_knots(start_times, start_lengths, shift, t);
-            let s = match solve_discrete_local(crawler, problem, m, &times, &lengths) {
-                Ok(s) => s,
-                Err(Error::TimeLimit(_)) if best.is_some() => break,
-                Err(e) => return Err(e),
-            };
-            let stop = s.stop == LocalStop::TimeLimit;
-            if best
-                .as_ref()
-                .is_none_or(|(b, _)| s.objective() > b.objective() + 1e-9)
-            {
-                best = Some((s, shift));
-            }
-            if stop {
-                break;
-            }
+    let t = problem.period;
+    let mut best: Option<(LocalSolution, f64)> = None;
+    for j in 0..shifts {
+        if best.is_some() && crate::progress::out_of_time()? {
+            break;
         }
-        // The loop runs at least once (shifts >= 1, checked) and either stores its first
-        // answer or returns its error, so `best` is set here.
-        Ok(best.expect("the first shift solved or an error returned"))
+        let shift = t * j as f64 / shifts as f64;
+        let (times, lengths) = shift_knots(start_times, start_lengths, shift, t);
+        let s = match solve_discrete_local(crawler, problem, m, &times, &lengths) {
+            Ok(s) => s,
+            Err(Error::TimeLimit(_)) if best.is_some() => break,
+            Err(e) => return Err(e),
+        };
+        let stop = s.stop == LocalStop::TimeLimit;
+        if best
+            .as_ref()
+            .is_none_or(|(b, _)| s.objective() > b.objective() + 1e-9)
+        {
+            best = Some((s, shift));
+        }
+        if stop {
+            break;
+        }
     }
+    // The loop runs at least once (shifts >= 1, checked) and either stores its first
+    // answer or returns its error, so `best` is set here.
+    Ok(best.expect("the first shift solved or an error returned"))
 }
+
 /// A local P_m solution's conversion between unit systems ([`Units`]): here, beside the
 /// solution, so that the unit system needs not know it.
 impl Units {

@@ -190,9 +190,9 @@ pub struct GaitResult {
     pub method: String,
     /// `m` of P_m (discrete only).
     pub m: Option<u32>,
-    /// What was proven ([`MilpStatus`]): `"optimal"` (for P_m), `"optimal_among_k_phases"`
-    /// (phase gaits; `K` is `certificate.phases`), `"dominates_k_phases"` (a phase gait of more
-    /// than `K` slip phases that none of at most `K` beats), `"time_limit"` (see the gap and bound),
+    /// What was proven ([`MilpStatus`]): `"optimal"` (for P_m), `"optimal_among_k_phases"` (phase
+    /// gaits; `K` is `certificate.phases`), `"dominates_k_phases"` (a phase gait of more than `K`
+    /// slip phases that none of at most `K` beats), `"time_limit"` (see the gap and bound),
     /// `"approximation_limit"`, or the local methods' `"stationary"` / `"stalled"`.
     pub status: MilpStatus,
     /// `J` = displacement per period minus actuation cost, from the verified displacement.
@@ -443,9 +443,9 @@ impl GaitResult {
     }
 
     /// The record of a phase gait found by [`search_sequences`](crate::optimal::search_sequences):
-    /// an exact continuous-time gait (method `"sequence"`, replayed exactly as a phase gait), optimal for its
-    /// sequence of slip modes only, so its certificate is `"local"` (no gap, no bound); `start`
-    /// says where the start sequence came from.
+    /// an exact continuous-time gait (method `"sequence"`, replayed exactly as a phase gait),
+    /// optimal for its sequence of slip modes only, so its certificate is `"local"` (no gap, no
+    /// bound); `start` says where the start sequence came from.
     pub fn from_sequence(
         crawler: &Crawler,
         problem: &GaitProblem,

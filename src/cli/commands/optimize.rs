@@ -45,8 +45,9 @@ pub struct OptimizeArgs {
     #[arg(long, value_enum, default_value = "auto")]
     pub method: OptimizeMethod,
     /// Slip phases allowed in a phase gait (all-stick transitions between them are free; for
-    /// a general problem file, phases of constant control, or slip phases where it is a
-    /// crawler's); without it K grows from 1 until the value has not improved for --patience K
+    /// a general problem file, slots of a free transition and a phase of constant control by
+    /// default, phases with --formulation general, or slip phases where it is a crawler's);
+    /// without it K grows from 1 until the value has not improved for --patience K
     /// (or --max-phases, or the time limit).
     #[arg(long, allow_negative_numbers = true, value_parser = count)]
     pub phases: Option<usize>,

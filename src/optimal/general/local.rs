@@ -161,10 +161,10 @@ pub fn grid_controls(input: &ControlInput, m: u32) -> Vec<Vec<f64>> {
         .collect()
 }
 
-/// Solves P_m locally from `start` (one control per step of `2^m`; module docs), within
-/// the job's deadline ([`crate::progress::within`]). The start is refused (field `start`) when it does not have one row in U per
-/// step, or a non-zero mean under the zero-mean constraint, or when its periodic regime is not
-/// reached.
+/// Solves P_m locally from `start` (one control per step of `2^m`; module docs), within the job's
+/// deadline ([`crate::progress::within`]). The start is refused (field `start`) when it does not
+/// have one row in U per step, or a non-zero mean under the zero-mean constraint, or when its
+/// periodic regime is not reached.
 pub fn solve_general_local(
     p: &GeneralProblem,
     g: &Geometry,

@@ -74,10 +74,11 @@ impl PhaseFamily for GeneralPhases<'_> {
     }
 }
 
-/// The best exact gait of a general problem (`A = 0`) with `K` raised over `range` (the
-/// crawler's growth, [`crate::optimal::growth::grow`]): the gait of the largest `J_K` found,
-/// claimed for the last `K` solved, the whole growth within the job's deadline ([`crate::progress::within`]). `progress` sees each `K`.
-/// Errors name `max_phases`, `min_phases`, `patience` or what `check_phase_growth` names.
+/// The best exact gait of a general problem (`A = 0`) with `K` raised over `range` (the crawler's
+/// growth, [`crate::optimal::growth::grow`]): the gait of the largest `J_K` found, claimed for the
+/// last `K` solved, the whole growth within the job's deadline ([`crate::progress::within`]).
+/// `progress` sees each `K`. Errors name `max_phases`, `min_phases`, `patience` or what
+/// `check_phase_growth` names.
 pub fn grow_general_phases(
     p: &GeneralProblem,
     g: &Geometry,

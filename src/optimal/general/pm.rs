@@ -11,8 +11,9 @@ use crate::optimal::milp::Certificate;
 use crate::optimal::polish::POLISH_DEFAULT;
 use crate::optimal::refinement::{converge, ConvergenceRow, PmFamily};
 
-/// Solves P_m globally ([`super::discrete`]'s module docs), within the job's deadline ([`crate::progress::within`]). A quadratic
-/// cost's answer is polished ([`solve_general_pm_with`], [`POLISH_DEFAULT`]).
+/// Solves P_m globally ([`super::discrete`]'s module docs), within the job's deadline
+/// ([`crate::progress::within`]). A quadratic cost's answer is polished ([`solve_general_pm_with`],
+/// [`POLISH_DEFAULT`]).
 pub fn solve_general_pm(p: &GeneralProblem, g: &Geometry, m: u32) -> Result<GeneralPm> {
     solve_general_pm_with(p, g, m, POLISH_DEFAULT)
 }
@@ -53,12 +54,12 @@ impl PmFamily for GeneralPms<'_> {
     }
 }
 
-/// Solves the general problem's P_m for `m = 1..=max_m` (paper §5: the optima of P_m
-/// converge to that of (P)) by the loop the crawler's table runs
-/// ([`crate::optimal::refinement::converge`]), all within the job's deadline ([`crate::progress::within`]); returns the
-/// table and the finest solution, stopping early (keeping what was solved) when the time runs
-/// out. `max_m` is checked first, naming `m`. The table starts at the coarsest `m` whose
-/// explicit step is stable for `A` (1 when `A = 0`; a stiff drift refuses coarser grids).
+/// Solves the general problem's P_m for `m = 1..=max_m` (paper §5: the optima of P_m converge to
+/// that of (P)) by the loop the crawler's table runs ([`crate::optimal::refinement::converge`]),
+/// all within the job's deadline ([`crate::progress::within`]); returns the table and the finest
+/// solution, stopping early (keeping what was solved) when the time runs out. `max_m` is checked
+/// first, naming `m`. The table starts at the coarsest `m` whose explicit step is stable for `A` (1
+/// when `A = 0`; a stiff drift refuses coarser grids).
 pub fn general_convergence(
     p: &GeneralProblem,
     g: &Geometry,

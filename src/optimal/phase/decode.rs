@@ -281,18 +281,19 @@ impl RawGait {
     }
 }
 
-/// The phase gait of a piecewise-linear actuation (pieces of `durations`, increments
-/// `U_j = k (L_{j+1} - L_j)` per link, summing to 0 over the period): played by the exact
-/// simulator to its periodic orbit, each interval between events is a phase of constant control
-/// and slip mode, with its states and block displacements. So any gait written as knots (a
-/// structured gait, a local method's answer) becomes a start of the phase MILP
-/// ([`PhaseOptions::start`](super::PhaseOptions::start), [`GrowOptions::start`](super::GrowOptions::start)).
+/// The phase gait of a piecewise-linear actuation (pieces of `durations`, increments `U_j = k
+/// (L_{j+1} - L_j)` per link, summing to 0 over the period): played by the exact simulator to its
+/// periodic orbit, each interval between events is a phase of constant control and slip mode, with
+/// its states and block displacements. So any gait written as knots (a structured gait, a local
+/// method's answer) becomes a start of the phase MILP
+/// ([`PhaseOptions::start`](super::PhaseOptions::start),
+/// [`GrowOptions::start`](super::GrowOptions::start)).
 ///
 /// The result makes no claim: `phases` is its number of slip phases, its certificate has status
 /// `stalled`, a NaN bound and gap; a MILP that takes it as its start certifies its own answer.
 /// Refused (field `start`): pieces that do not match the links, non-positive or non-finite
-/// durations, durations not summing to the period, increments that exceed the rate bounds or
-/// do not sum to 0.
+/// durations, durations not summing to the period, increments that exceed the rate bounds or do not
+/// sum to 0.
 pub fn phase_gait_of(
     crawler: &Crawler,
     problem: &GaitProblem,

@@ -26,9 +26,9 @@ pub struct GrowOptions {
     /// Last `K` tried.
     pub max_phases: usize,
     /// Stop after this many consecutive `K` without a gain, counted once `J_K` moves the crawler
-    /// (above [`MOVE_RESOLUTION`](crate::optimal::growth::MOVE_RESOLUTION) times the length scale; before,
-    /// `K` is too small for any gait to move the crawler, e.g. one link needs 2 slip phases).
-    /// The default is 2: plateaus `J_K = J_{K+1} < J_{K+2}` occur (a 4-block crawler with
+    /// (above [`MOVE_RESOLUTION`](crate::optimal::growth::MOVE_RESOLUTION) times the length scale;
+    /// before, `K` is too small for any gait to move the crawler, e.g. one link needs 2 slip
+    /// phases). The default is 2: plateaus `J_K = J_{K+1} < J_{K+2}` occur (a 4-block crawler with
     /// per-block friction had `J_3 = J_4 = 6.575 < J_5 = 6.600`).
     pub patience: usize,
     /// Wall-clock limit for the whole growth, seconds (from its start, within the job's

@@ -86,20 +86,19 @@ pub struct SequenceSearch {
     pub stop: LocalStop,
 }
 
-/// Local search over the sequences of slip modes of phase gaits with `phases` steps, for
-/// crawlers or `K` where the MILP is too slow (theory §7: "local search over sequences scales
-/// further").
+/// Local search over the sequences of slip modes of phase gaits with `phases` steps, for crawlers
+/// or `K` where the MILP is too slow (theory §7: "local search over sequences scales further").
 ///
-/// For a fixed cyclic sequence, the best gait following it is an LP (the MILP of the module
-/// docs with its binaries fixed), so every candidate is an exact continuous-time gait, solved
-/// to optimality for its sequence and re-verified by the exact simulator. A move replaces the
-/// mode of one step by a valid mode differing in one or two blocks ([`slip_mode_is_valid`]);
-/// the first improving move is taken, scanning the steps cyclically, until a whole cycle brings
-/// none (a local optimum for these moves) or the time limit. The start sequence is
-/// `start_modes` (e.g. the [`slip_sequence`](super::slip_sequence) of a gait), each mode repeated in turn until there
-/// are `phases` steps: a repeated mode is a slip phase that may stay empty, so the start's
-/// value is kept. An empty start (an idle gait) is seeded with each block slipping forward in
-/// turn, from the front (where that is a face of C; else one block slipping).
+/// For a fixed cyclic sequence, the best gait following it is an LP (the MILP of the module docs
+/// with its binaries fixed), so every candidate is an exact continuous-time gait, solved to
+/// optimality for its sequence and re-verified by the exact simulator. A move replaces the mode of
+/// one step by a valid mode differing in one or two blocks ([`slip_mode_is_valid`]); the first
+/// improving move is taken, scanning the steps cyclically, until a whole cycle brings none (a local
+/// optimum for these moves) or the time limit. The start sequence is `start_modes` (e.g. the
+/// [`slip_sequence`](super::slip_sequence) of a gait), each mode repeated in turn until there are
+/// `phases` steps: a repeated mode is a slip phase that may stay empty, so the start's value is
+/// kept. An empty start (an idle gait) is seeded with each block slipping forward in turn, from the
+/// front (where that is a face of C; else one block slipping).
 pub fn search_sequences(
     crawler: &Crawler,
     problem: &GaitProblem,
@@ -158,9 +157,7 @@ pub fn search_sequences(
             + usize::from(i < (phases - start_modes.len()) % start_modes.len());
         seq.extend(std::iter::repeat_n(m.clone(), extra));
     }
-    {
-        search_from(crawler, problem, start_modes, seq)
-    }
+    search_from(crawler, problem, start_modes, seq)
 }
 
 /// [`search_sequences`] from the sequence `seq` (grown from `start_modes`, checked), within

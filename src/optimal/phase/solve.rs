@@ -72,7 +72,7 @@ pub fn solve_phase_with(
         // A hair below, so that the start's own J (and round-off) stays feasible.
         cutoff: cutoff.map(|c| c - 1e-9 * problem.length_scale(crawler)),
     };
-    let solved = { solve_steps(crawler, problem, phases, fits, None, &rows) };
+    let solved = solve_steps(crawler, problem, phases, fits, None, &rows);
     let resolution = crate::optimal::growth::MOVE_RESOLUTION * problem.length_scale(crawler);
     let mut answer = match solved {
         // No gait of at most `phases` slip phases reaches the cutoff: the start, if any, is
