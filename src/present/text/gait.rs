@@ -210,18 +210,7 @@ pub fn certificate(c: &NecessaryConditions, r: &GaitResult) -> String {
             b.improvement
         );
     }
-    for k in &c.conditions {
-        wln!(
-            out,
-            "  [Thm {}] {:<18} residual {:>10.3e}  tol {:.1e}  {}  {}",
-            k.theorem,
-            k.name,
-            k.residual,
-            k.tolerance,
-            if k.holds { "holds" } else { "FAILS" },
-            k.statement
-        );
-    }
+    super::condition_lines(&mut out, &c.conditions, 18);
     let rows = m.p.len();
     let show = rows.min(64);
     wln!(

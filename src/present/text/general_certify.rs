@@ -32,18 +32,7 @@ pub fn general_certificate(c: &GeneralNecessaryConditions) -> String {
             b.improvement
         );
     }
-    for k in &c.conditions {
-        wln!(
-            out,
-            "  [Thm {}] {:<21} residual {:>10.3e}  tol {:.1e}  {}  {}",
-            k.theorem,
-            k.name,
-            k.residual,
-            k.tolerance,
-            if k.holds { "holds" } else { "FAILS" },
-            k.statement
-        );
-    }
+    super::condition_lines(&mut out, &c.conditions, 21);
     let rows = m.p.len();
     let show = rows.min(64);
     let us = max_abs(m.u.iter().flatten()).max(1e-300);

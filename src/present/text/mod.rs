@@ -156,6 +156,27 @@ pub fn max_abs<'a>(v: impl IntoIterator<Item = &'a f64>) -> f64 {
         .fold(0.0, |m, x| m.max(x.abs()))
 }
 
+/// One line per condition of Theorem 2.2 (a crawler's certificate or (P)'s alike): its
+/// theorem, name (padded to `width`), residual, tolerance, whether it holds and its statement.
+pub fn condition_lines(
+    out: &mut String,
+    conditions: &[crate::certify::ConditionCheck],
+    width: usize,
+) {
+    for k in conditions {
+        wln!(
+            out,
+            "  [Thm {}] {:<width$} residual {:>10.3e}  tol {:.1e}  {}  {}",
+            k.theorem,
+            k.name,
+            k.residual,
+            k.tolerance,
+            if k.holds { "holds" } else { "FAILS" },
+            k.statement
+        );
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
