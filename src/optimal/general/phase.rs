@@ -630,9 +630,12 @@ fn read_phases(lay: &Layout, cols: &[f64], t: f64) -> MilpPhases {
             lay.lam[j]
                 .iter()
                 .enumerate()
-                .map(|(f, c)| match held.contains(&(f + 1)) {
-                    true => val(c).max(0.0),
-                    false => 0.0,
+                .map(|(f, c)| {
+                    if held.contains(&(f + 1)) {
+                        val(c).max(0.0)
+                    } else {
+                        0.0
+                    }
                 })
                 .collect(),
         );
