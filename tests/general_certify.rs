@@ -85,6 +85,102 @@ fn the_one_link_problem_matches_the_crawler_certificate() {
     assert!(one.bang_bang && one.switch_at_end.iter().all(|&e| e));
     // The interior arcs: (beta - alpha)/a = 2 rounded up to the grid (h = 1.25).
     assert!(one.interior_arcs.iter().all(|a| (a - 2.5).abs() < 1e-9));
+    // The general certificate states the same structure (C = [-1, 1], B = 1: the same numbers).
+    let mut general_one = c
+        .one_link
+        .clone()
+        .expect("a problem on a line: §4's structure");
+    general_one
+        .interior_arcs
+        .iter_mut()
+        .for_each(|a| *a = (*a * 1e6).round() / 1e6);
+    let mut crawler_one = one.clone();
+    crawler_one
+        .interior_arcs
+        .iter_mut()
+        .for_each(|a| *a = (*a * 1e6).round() / 1e6);
+    assert_eq!(general_one, crawler_one);
+}
+
+/// The branch LP of a phase gait, its durations fixed (the one LP of `certify::branch`): on
+/// the one-link problem with `g = 2u` (C = [-1, 1], U = [-1, 1], face weights 1/2, T = 10) the
+/// optimum (u = +-1, held 4 s at each end) is optimal on its branch, J = 8; the gait that
+/// crosses C at half speed in 2 s and stays with u = +-1/2 (J = 3) is not: with its durations
+/// and faces its held phases can take u = +-1, reaction 2 for 3 s at each end, J = 6.
+#[test]
+fn a_phase_gaits_branch_lp_fixes_its_durations() {
+    let text = std::fs::read_to_string("examples/general_one_link.toml")
+        .unwrap()
+        .replace("B = [[1.0]]", "B = [[2.0]]");
+    let (p, _) = general_problem(&GeneralFile::parse(&text).unwrap()).unwrap();
+    let gait = |cross: f64, u: f64| GeneralProcess {
+        kind: ProcessKind::Phase,
+        durations: vec![cross, 5.0 - cross, cross, 5.0 - cross],
+        x: [-1.0, 1.0, 1.0, -1.0, -1.0].map(|v| vec![v]).to_vec(),
+        u: [u, u, -u, -u].map(|v| vec![v]).to_vec(),
+        lambda: vec![
+            vec![0.0, 0.0],
+            vec![2.0 * u, 0.0],
+            vec![0.0, 0.0],
+            vec![0.0, 2.0 * u],
+        ],
+    };
+    for (cross, u, j, optimum) in [(1.0, 1.0, 8.0, 8.0), (2.0, 0.5, 3.0, 6.0)] {
+        let c = certify_general(&p, &gait(cross, u), &CertifyOptions::default()).unwrap();
+        assert!((c.objective - j).abs() < 1e-12, "{}", c.objective);
+        let b = c.branch_lp.expect("f2 = 0: the branch LP");
+        assert!((b.optimum - optimum).abs() < 1e-9, "{b:?}");
+        assert!((b.improvement - (optimum - j)).abs() < 1e-9, "{b:?}");
+    }
+}
+
+/// §4's structure on (P) itself: the one-link problem with `g = beta_u u`, `beta_u = 2`, crosses
+/// C = [-1, 1] in `(beta - alpha) / (|beta_u| a) = 1`, and its exact phase optimum (u = +-1 for
+/// T/2 each) has two interior arcs of that length, switching at the ends of C, bang-bang. A
+/// problem with a drift, or in two dimensions, has none.
+#[test]
+fn a_problem_on_a_line_states_section_4s_structure() {
+    let text = std::fs::read_to_string("examples/general_one_link.toml")
+        .unwrap()
+        .replace("B = [[1.0]]", "B = [[2.0]]");
+    let (p, _) = general_problem(&GeneralFile::parse(&text).unwrap()).unwrap();
+    // The optimum: u = +1 on [0, 5), -1 on [5, 10), from x = -1: x reaches 1 at t = 1 and is
+    // held there (reaction rate 2 on face 1, x <= 1) until t = 5, then the same downwards.
+    let pr = GeneralProcess {
+        kind: ProcessKind::Phase,
+        durations: vec![1.0, 4.0, 1.0, 4.0],
+        x: [-1.0, 1.0, 1.0, -1.0, -1.0].map(|v| vec![v]).to_vec(),
+        u: [1.0, 1.0, -1.0, -1.0].map(|v| vec![v]).to_vec(),
+        lambda: vec![
+            vec![0.0, 0.0],
+            vec![2.0, 0.0],
+            vec![0.0, 0.0],
+            vec![0.0, 2.0],
+        ],
+    };
+    let c = certify_general(&p, &pr, &CertifyOptions::default()).unwrap();
+    // J = (|beta_u| a T - 2 (beta - alpha)) / 2 = (20 - 4) / 2, the §4 optimum at twice the rate.
+    assert!((c.objective - 8.0).abs() < 1e-12, "{}", c.objective);
+    assert_eq!(c.verdict, Verdict::Holds, "{}", c.reason);
+    let one = c.one_link.expect("a problem on a line");
+    assert_eq!((one.alpha, one.beta), (-1.0, 1.0));
+    assert!((one.expected_arc - 1.0).abs() < 1e-12);
+    assert!(one.bang_bang && one.switch_at_end == [true, true]);
+    assert_eq!(one.interior_arcs.len(), 2);
+    assert!(
+        one.interior_arcs.iter().all(|a| (a - 1.0).abs() < 1e-9),
+        "{one:?}"
+    );
+    let drifting = text.replace("B = [[2.0]]", "B = [[2.0]]\nb = [0.1]");
+    let (p, _) = general_problem(&GeneralFile::parse(&drifting).unwrap()).unwrap();
+    let pr = GeneralProcess::from_controls(&p, 1, &[vec![1.0], vec![-1.0]], &[-1.0]).unwrap();
+    let c = certify_general(&p, &pr, &CertifyOptions::default()).unwrap();
+    assert!(c.one_link.is_none());
+    let p = drift_problem([0.25, 0.2], 0.05);
+    let pr = GeneralProcess::from_controls(&p, 1, &[vec![1.0, 1.0], vec![-1.0, -1.0]], &[0.0, 0.0])
+        .unwrap();
+    let c = certify_general(&p, &pr, &CertifyOptions::default()).unwrap();
+    assert!(c.one_link.is_none());
 }
 
 /// (b) Crawlers (N = 2, 3, per-link stiffness) as general problems: on the same P_m optimum
@@ -244,6 +340,26 @@ fn assert_matches_crawler(
             if name != "sign" {
                 assert!(r < 1e-9, "N = {nb}: {name} {r:e}");
             }
+        }
+        // §4's structure of a one-link crawler is (P)'s on its instance: the same switches,
+        // arcs and arc length, C in the variable x~ = x / sqrt(k); none for more links.
+        match (&cc.one_link, &c.one_link) {
+            (Some(x), Some(y)) => {
+                let sk = inst.sqrt_k[0];
+                assert!(
+                    (x.alpha / sk - y.alpha).abs() < 1e-12 && (x.beta / sk - y.beta).abs() < 1e-12
+                );
+                assert!((x.expected_arc - y.expected_arc).abs() < 1e-9);
+                assert_eq!(x.switch_at_end, y.switch_at_end);
+                assert_eq!(x.bang_bang, y.bang_bang);
+                let close = |a: &[f64], b: &[f64]| {
+                    a.len() == b.len() && a.iter().zip(b).all(|(a, b)| (a - b).abs() < 1e-9)
+                };
+                assert!(close(&x.switch_times, &y.switch_times), "{x:?} vs {y:?}");
+                assert!(close(&x.interior_arcs, &y.interior_arcs), "{x:?} vs {y:?}");
+            }
+            (None, None) => assert!(crawler.links() > 1),
+            (x, y) => panic!("N = {nb}: one-link structure {x:?} vs {y:?}"),
         }
         // Where the multipliers are unique (these optima with verdict `holds`), they agree.
         if c.verdict == Verdict::Holds {

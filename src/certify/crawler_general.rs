@@ -78,6 +78,14 @@ impl<'a> AsGeneral<'a> {
         Ok(raw.map(|g| self.back(g)))
     }
 
+    /// The branch LP of the process on its instance ([`super::branch::branch_lp`]: the
+    /// slipping blocks' faces reacting, and the biactive pairs `choice` picks, in the order of
+    /// [`Structure::biactive`]), its optimum and duals read back in the crawler's names.
+    pub fn branch_lp(&self, choice: &[bool]) -> Option<(f64, Raw)> {
+        super::branch::branch_lp(&self.inst.problem, &self.gst, choice)
+            .map(|(optimum, raw)| (optimum, self.back(raw)))
+    }
+
     /// The discrete residuals of the crawler's multipliers `raw`, recomputed by (P)'s
     /// residuals ([`residuals`]) on the instance, each in the crawler's units
     /// ([`GeneralStructure::state_scale`], [`GeneralStructure::face_scale`]), in (P)'s names:

@@ -111,14 +111,11 @@ pub use super::general_conditions::{
     GENERAL_CERTIFICATE_FORMAT,
 };
 use super::general_kkt::{solve_general, GeneralRaw, GeneralStructure};
-use super::general_process::ProcessKind;
 pub use super::general_process::{GeneralProcess, EMPTY_PHASE};
 use super::kkt::Stage;
 use super::CertifyOptions;
-use super::Verdict;
 use crate::error::Result;
 use crate::model::general::{GeneralCost, GeneralProblem};
-use crate::optimal::general::solve_general_branch;
 
 /// Computes multipliers of a general P_m process and checks the necessary conditions.
 pub fn certify_general(
@@ -170,58 +167,26 @@ pub(crate) fn certify_with(
             .0
         };
         let r = kkt_residual(p, &st, &raw, drift_term, true) / super::stages::sup(&raw.p).max(1.0);
-        super::records::duration_condition(
-            &mut rep.conditions,
-            &mut rep.verdict,
-            &mut rep.reason,
+        rep.add_duration_condition(
             "H_i = sum_r rho_{i,r} h_r - <p_i, b> + lambda (Df2(u_i).u_i - f2(u_i))",
             r,
             opts.tol,
         );
-        if rep.verdict == Verdict::Fails && p.cost != GeneralCost::None {
-            super::records::note_approximate_cost(&rep.conditions, &mut rep.reason);
+        if p.cost != GeneralCost::None {
+            rep.note_approximate_cost();
         }
     }
-    if let (ProcessKind::Discrete { m }, GeneralCost::None) = (pr.kind, &p.cost) {
-        let own: Vec<Vec<bool>> = (0..st.steps)
-            .map(|i| {
-                let k = (i + 1) % st.steps;
-                (0..p.c.faces())
-                    .map(|f| {
-                        st.active[k]
-                            .iter()
-                            .position(|&g| g == f)
-                            .is_some_and(|fi| st.held[k][fi])
-                    })
-                    .collect()
-            })
-            .collect();
-        // The biactive pairs (step, face): active at the step's end with no reaction on it.
-        let pairs: Vec<(usize, usize)> = (0..st.steps)
-            .flat_map(|i| {
-                st.reacting[i]
-                    .iter()
-                    .filter(|&&(_, reacts)| !reacts)
-                    .map(move |&(f, _)| (i, f))
-            })
-            .collect();
-        // A cross-check: a branch LP HiGHS does not solve gives none, never an error.
-        // The branch LP's columns: states, controls and reactions per step.
+    // The branch LPs through the process (f2 = 0): its own and, within the budget, every
+    // choice of its biactive pairs reacting or not; on a P_m process a failure that they do not
+    // show suboptimal says so (a phase gait's fix its durations).
+    if p.cost == GeneralCost::None {
+        let biactive = st.reacting.iter().flatten().filter(|(_, r)| !r).count();
+        // The branch LP's columns: states, controls and reactions per piece.
         let columns = st.steps * (p.states() + p.controls() + p.c.faces());
-        rep.branch_lp =
-            super::records::best_branch(pairs.len(), columns, pr.objective(p), |choice| {
-                let mut active = own.clone();
-                for (&(i, f), _) in pairs.iter().zip(choice).filter(|(_, &c)| c) {
-                    active[i][f] = true;
-                }
-                Ok(solve_general_branch(p, m, &active).ok().flatten())
-            })?;
-        super::records::note_biactive(
-            rep.verdict,
-            rep.branch_lp.as_ref(),
-            opts.tol,
-            &mut rep.reason,
-        );
+        let branch = super::records::best_branch(biactive, columns, pr.objective(p), |choice| {
+            Ok(super::branch::branch_lp(p, &st, choice).map(|(optimum, _)| optimum))
+        })?;
+        rep.set_branch_lp(branch, !st.phase, opts.tol);
     }
     Ok(rep)
 }

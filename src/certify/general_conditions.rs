@@ -5,12 +5,12 @@
 
 use super::general_kkt::{psi_of, GeneralRaw, GeneralStructure};
 use super::general_process::GeneralProcess;
-use super::{BranchLp, CertifyOptions, ConditionCheck, Normalisation, Verdict};
+use super::{CertifyOptions, NecessaryConditions};
 use crate::error::{Error, Result};
 use crate::model::general::{dot, ControlSet, GeneralCost, GeneralProblem};
 use serde::Serialize;
 
-/// Value of [`GeneralNecessaryConditions::format`].
+/// Value of the `format` of a [`GeneralNecessaryConditions`].
 pub const GENERAL_CERTIFICATE_FORMAT: &str = "crawlopt-general-necessary-conditions";
 
 /// The mass of `dxi` at one knot on one face.
@@ -48,43 +48,9 @@ pub struct GeneralMultipliers {
     pub xi: Vec<GeneralFaceMultiplier>,
 }
 
-/// The certificate of a general P_m process or phase gait (module docs).
-#[derive(Debug, Clone, PartialEq, Serialize)]
-pub struct GeneralNecessaryConditions {
-    /// Always [`GENERAL_CERTIFICATE_FORMAT`].
-    pub format: String,
-    /// [`super::CERTIFICATE_VERSION`].
-    pub version: u32,
-    /// `"discrete"` (a P_m process) or `"phase"` (an exact phase gait).
-    pub method: String,
-    /// `m` of P_m (absent for a phase gait).
-    pub m: Option<u32>,
-    /// The verdict.
-    pub verdict: Verdict,
-    /// One sentence explaining it.
-    pub reason: String,
-    /// `lambda` of the reported multipliers (1, or 0 in the degenerate case).
-    pub lambda: f64,
-    /// `J` of the process.
-    pub objective: f64,
-    /// The non-degeneracy margin (module docs): `0` when it is within the solver's resolution
-    /// [`GeneralNecessaryConditions::nondegeneracy_resolution`].
-    pub nondegeneracy_margin: f64,
-    /// The resolution at which the margin is known: the conditions' tolerance times the
-    /// adjoint's scale `max(1, ||p||_inf)`, that of every other residual.
-    pub nondegeneracy_resolution: f64,
-    /// Whether the verdict requires that margin: unless `f2` is strictly convex and
-    /// `lambda > 0`.
-    pub margin_required: bool,
-    /// Normalisation constants (as for crawlers).
-    pub normalisation: Normalisation,
-    /// Every condition with its residual.
-    pub conditions: Vec<ConditionCheck>,
-    /// The multipliers.
-    pub multipliers: GeneralMultipliers,
-    /// The branch LP solved as such (`f2 = 0` only).
-    pub branch_lp: Option<BranchLp>,
-}
+/// The certificate of a general P_m process or phase gait (module docs): the one record of
+/// [`NecessaryConditions`] with (P)'s multipliers.
+pub type GeneralNecessaryConditions = NecessaryConditions<GeneralMultipliers>;
 
 impl super::stages::Multipliers for GeneralRaw {
     fn p(&self) -> &[Vec<f64>] {

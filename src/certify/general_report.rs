@@ -129,6 +129,7 @@ pub(crate) fn report(
         normalisation: normalisation(scaled_by, raw.lambda, sup_p, paper),
         conditions,
         multipliers: multipliers_record(pr, st, raw, times, switching, psi),
+        one_link: super::one_link::general(p, pr, opts.structure_tol),
         branch_lp: None,
     }
 }

@@ -100,7 +100,8 @@
 //! (`slip_stationarity` is (P)'s reaction stationarity on a slipping block's face). The
 //! maximised Hamiltonian of a phase gait is (P)'s, `sum_r rho_r h_r`: `a_l |psi_l|` on the rates
 //! at their bound (where `psi` lies in the box's normal cone; an interior rate's `psi`, zero up
-//! to the maximality residual, adds nothing). The branch LPs themselves are solved too (`f2 = 0`), each with its slips fixed
+//! to the maximality residual, adds nothing). The branch LPs themselves are solved too (`f2 = 0`;
+//! (P)'s branch LPs on the instance, `certify::branch`), each with its slips fixed
 //! so that every point of it is a process: the gait's own branch (biactive blocks sticking)
 //! and, within a budget ([`branches_enumerated`]), every branch through it (each
 //! biactive block sticking or slipping on its face). The best optimum minus `J` is reported
@@ -176,6 +177,7 @@
 //! block-speed bound `|D| <= V tau` of the phase MILP is taken as inactive.
 
 pub mod bound;
+mod branch;
 mod crawler_general;
 mod crawler_words;
 pub mod general;
@@ -184,6 +186,7 @@ mod general_kkt;
 mod general_process;
 mod general_report;
 mod kkt;
+mod one_link;
 mod process;
 mod records;
 mod report;
@@ -230,8 +233,7 @@ pub fn certify(pr: &Process, opts: &CertifyOptions) -> Result<NecessaryCondition
     // The branch LP's columns: states, controls and block displacements per piece.
     let columns = st.np * (2 * st.n + st.nb);
     let branch = records::best_branch(biactive, columns, process_objective(pr), |choice| {
-        let dirs = kkt::branch_dirs(&st, choice);
-        Ok(kkt::branch_lp(pr, &st, &dirs)?.map(|(optimum, _)| optimum))
+        Ok(general.branch_lp(choice).map(|(optimum, _)| optimum))
     })?;
     // Phase gaits: the phase LP is stationary in the durations too, with multipliers of their own
     // (imposing it on the reported ones can conflict with dxi >= 0: three-block phase optimum).
@@ -252,23 +254,10 @@ pub fn certify(pr: &Process, opts: &CertifyOptions) -> Result<NecessaryCondition
             opts.tol,
         );
     }
-    if pr.kind == ProcessKind::Phase
-        && pr.problem.cost != crate::optimal::Cost::None
-        && rep.verdict == Verdict::Fails
-    {
-        records::note_approximate_cost(&rep.conditions, &mut rep.reason);
+    if pr.kind == ProcessKind::Phase && pr.problem.cost != crate::optimal::Cost::None {
+        rep.note_approximate_cost();
     }
-    rep.branch_lp = branch;
-    // A phase gait's branch LPs fix its durations: optimal on them, it may still gain by
-    // moving a switch (its duration stationarity says so), so only P_m processes get the note.
-    if pr.kind != ProcessKind::Phase {
-        records::note_biactive(
-            rep.verdict,
-            rep.branch_lp.as_ref(),
-            opts.tol,
-            &mut rep.reason,
-        );
-    }
+    rep.set_branch_lp(branch, pr.kind != ProcessKind::Phase, opts.tol);
     Ok(rep)
 }
 
@@ -313,7 +302,7 @@ mod tests {
             let pr = Process::from_result(&r, "test").unwrap();
             let st = Structure::of(&pr, INPUT_TOL);
             let general = crawler_general::AsGeneral::of(&pr, &st).unwrap();
-            let (opt, raw) = kkt::branch_lp(&pr, &st, &st.slips).unwrap().unwrap();
+            let (opt, raw) = general.branch_lp(&[]).unwrap();
             assert!((opt - r.objective).abs() < 1e-9, "{opt} vs {}", r.objective);
             let res = discrete_residuals(&pr, &general, &raw, false);
             for (name, _, v) in &res {

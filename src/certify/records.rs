@@ -1,5 +1,6 @@
-//! The records of a crawler's certificate (module docs of [`crate::certify`]): the options,
-//! the conditions with their residuals, the multipliers and the verdict, as written to JSON.
+//! The records of a certificate (module docs of [`crate::certify`]), of (P) and of a crawler
+//! alike: the options, the conditions with their residuals, the multipliers and the verdict, as
+//! written to JSON.
 
 use super::process::INPUT_TOL;
 use serde::{Deserialize, Serialize};
@@ -116,7 +117,8 @@ pub struct Normalisation {
     pub lambda_paper_norm: f64,
 }
 
-/// §4 of the paper for one link: switches, interior arcs and where the switches happen.
+/// §4 of the paper for one link (a one-link crawler, or (P) on a line with `A = 0`, `b = 0` and
+/// `U = [-a, a]`: `certify::one_link`): switches, interior arcs and where the switches happen.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct OneLinkStructure {
     /// `C = [alpha, beta]`.
@@ -130,22 +132,29 @@ pub struct OneLinkStructure {
     /// Lengths of the maximal intervals with `alpha < x < beta` (the first and the last joined
     /// across `T`).
     pub interior_arcs: Vec<f64>,
-    /// `(beta - alpha) / a`, §4's arc length.
+    /// `(beta - alpha) / (|B| a)` (a crawler's `(beta - alpha) / a`), §4's arc length: the time
+    /// `x` takes to cross C at full control.
     pub expected_arc: f64,
     /// Whether the control is bang-bang (`|u| = a` on every piece).
     pub bang_bang: bool,
 }
 
-/// The certificate of a process (module docs).
+/// The certificate of a process (module docs): one record for (P) and for every instance of
+/// it, `M` its multipliers as the problem names them: a crawler's per link, block and side
+/// ([`MultiplierData`], the default), (P)'s per component and face
+/// ([`super::general::GeneralMultipliers`]). A crawler's certificate is (P)'s on its instance
+/// with the multipliers read back ([`NecessaryConditions::named`]): the conditions, residuals,
+/// margin, normalisations and verdict are (P)'s.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct NecessaryConditions {
-    /// Always [`CERTIFICATE_FORMAT`].
+pub struct NecessaryConditions<M = MultiplierData> {
+    /// [`CERTIFICATE_FORMAT`] for a crawler,
+    /// [`GENERAL_CERTIFICATE_FORMAT`](super::general::GENERAL_CERTIFICATE_FORMAT) for (P).
     pub format: String,
     /// [`CERTIFICATE_VERSION`].
     pub version: u32,
-    /// `"discrete"` or `"phase"`.
+    /// `"discrete"` (a P_m process) or `"phase"` (an exact phase gait).
     pub method: String,
-    /// `m` of P_m.
+    /// `m` of P_m (absent for a phase gait).
     pub m: Option<u32>,
     /// The verdict.
     pub verdict: Verdict,
@@ -153,13 +162,16 @@ pub struct NecessaryConditions {
     pub reason: String,
     /// `lambda` of the reported multipliers (1, or 0 in the degenerate case).
     pub lambda: f64,
-    /// `J` of the process: displacement per period minus the actuation cost.
+    /// `J` of the process (a crawler's: displacement per period minus the actuation cost).
     pub objective: f64,
-    /// `min |p_l + omega_l|` over pieces and links, as measured: `0` when it is within the
-    /// solver's resolution [`NecessaryConditions::nondegeneracy_resolution`] (the multiplier
-    /// LPs carry a slack of `1e-12` that is no measured value).
+    /// The non-degeneracy margin, as measured: for a box U the least `|sigma_l|` of the
+    /// switching function `sigma = B^T p + omega` over pieces and components (a crawler's
+    /// `min |p_l + omega_l|`), for a polytope U the least weight `rho` of U's active rows at the
+    /// pieces at a vertex of U. `0` when it is within the solver's resolution
+    /// [`NecessaryConditions::nondegeneracy_resolution`] (the multiplier LPs carry a slack of
+    /// `1e-12` that is no measured value).
     pub nondegeneracy_margin: f64,
-    /// The resolution at which `p + omega` is known: the conditions' tolerance times the
+    /// The resolution at which the margin is known: the conditions' tolerance times the
     /// adjoint's scale `max(1, ||p||_inf)`, that of every other residual. (Absent, 0, in files
     /// of earlier builds.)
     #[serde(default)]
@@ -175,11 +187,40 @@ pub struct NecessaryConditions {
     /// Every condition with its residual.
     pub conditions: Vec<ConditionCheck>,
     /// The multipliers.
-    pub multipliers: MultiplierData,
-    /// §4's structure (one link only).
+    pub multipliers: M,
+    /// §4's structure of the process where the problem is the one-link problem (theory §9: a
+    /// one-link crawler, or (P) on a line with `A = 0`, `b = 0`, `U = [-a, a]`); `null`
+    /// otherwise.
+    #[serde(default)]
     pub one_link: Option<OneLinkStructure>,
     /// The branch LP solved as such (`f2 = 0` only).
     pub branch_lp: Option<BranchLp>,
+}
+
+impl<M> NecessaryConditions<M> {
+    /// The same certificate with its multipliers named by `name` (an instance's certificate of
+    /// (P) read back in the instance's own names): every condition, residual, the margin and
+    /// the verdict unchanged.
+    pub(crate) fn named<N>(self, name: impl FnOnce(M) -> N) -> NecessaryConditions<N> {
+        NecessaryConditions {
+            format: self.format,
+            version: self.version,
+            method: self.method,
+            m: self.m,
+            verdict: self.verdict,
+            reason: self.reason,
+            lambda: self.lambda,
+            objective: self.objective,
+            nondegeneracy_margin: self.nondegeneracy_margin,
+            nondegeneracy_resolution: self.nondegeneracy_resolution,
+            margin_required: self.margin_required,
+            normalisation: self.normalisation,
+            conditions: self.conditions,
+            multipliers: name(self.multipliers),
+            one_link: self.one_link,
+            branch_lp: self.branch_lp,
+        }
+    }
 }
 
 /// The branch LP (fixed active faces and slips, so every point of it a process) solved by
@@ -291,7 +332,7 @@ pub(crate) fn best_branch(
 /// from multipliers of its own: inserted after the five conditions with the durations fixed,
 /// and a verdict that held turned into `fails` when it does not hold. `hamiltonian` states the
 /// phase's maximised Hamiltonian `H_k` in the problem's terms.
-pub(crate) fn duration_condition(
+fn duration_condition(
     conditions: &mut Vec<ConditionCheck>,
     verdict: &mut Verdict,
     reason: &mut String,
@@ -324,7 +365,7 @@ pub(crate) fn duration_condition(
     }
 }
 
-impl NecessaryConditions {
+impl<M> NecessaryConditions<M> {
     /// [`duration_condition`] on this certificate.
     pub(crate) fn add_duration_condition(&mut self, hamiltonian: &str, r: f64, tol: f64) {
         duration_condition(
@@ -335,6 +376,24 @@ impl NecessaryConditions {
             r,
             tol,
         );
+    }
+
+    /// Completes the reason of a failing phase gait of a quadratic cost
+    /// ([`note_approximate_cost`]); a certificate that does not fail is left as it is.
+    pub(crate) fn note_approximate_cost(&mut self) {
+        if self.verdict == Verdict::Fails {
+            note_approximate_cost(&self.conditions, &mut self.reason);
+        }
+    }
+
+    /// Records the best branch LP through the process; on a P_m process (`p_m`) a failure
+    /// that it does not show suboptimal says so ([`note_biactive`]; a phase gait's branch
+    /// LPs fix its durations, so they do not make it a local optimum).
+    pub(crate) fn set_branch_lp(&mut self, branch: Option<BranchLp>, p_m: bool, tol: f64) {
+        self.branch_lp = branch;
+        if p_m {
+            note_biactive(self.verdict, self.branch_lp.as_ref(), tol, &mut self.reason);
+        }
     }
 }
 
@@ -352,12 +411,7 @@ const APPROXIMATE_COST: &str = " (f2 is quadratic and every violation is within 
 /// so: improvements up to `tol` (the certificate's tolerance) relative to `max(1, |optimum|)`
 /// count as none. Shared by a crawler's certificate and a general one (P_m processes only: a
 /// phase gait's branch LPs fix its durations).
-pub(crate) fn note_biactive(
-    verdict: Verdict,
-    branch: Option<&BranchLp>,
-    tol: f64,
-    reason: &mut String,
-) {
+fn note_biactive(verdict: Verdict, branch: Option<&BranchLp>, tol: f64, reason: &mut String) {
     let Some(b) = branch else { return };
     if verdict != Verdict::Fails
         || b.biactive == 0
@@ -381,7 +435,7 @@ pub(crate) fn note_biactive(
 /// Says in `reason` why a failing phase gait of a quadratic cost may still be an optimum: when
 /// every failing condition of the verdict is within `1e6` times its tolerance (the size the
 /// phase MILP's outer approximation leaves); a larger violation gets no note.
-pub(crate) fn note_approximate_cost(conditions: &[ConditionCheck], reason: &mut String) {
+fn note_approximate_cost(conditions: &[ConditionCheck], reason: &mut String) {
     let counted = |c: &&ConditionCheck| {
         !c.holds
             && !matches!(

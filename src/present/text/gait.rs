@@ -245,21 +245,7 @@ pub fn certificate(c: &NecessaryConditions, r: &GaitResult) -> String {
         );
     }
     if let Some(o) = &c.one_link {
-        wln!(
-        out,
-            "  one link (§4): C = [{}, {}], bang-bang {}, switches at t = {} (at an end of C: {:?})",
-            num(o.alpha, sc.force),
-            num(o.beta, sc.force),
-            o.bang_bang,
-            list(&o.switch_times, sc.time),
-            o.switch_at_end
-        );
-        wln!(
-            out,
-            "    interior arcs {} vs (beta - alpha)/a = {}",
-            list(&o.interior_arcs, sc.time),
-            num(o.expected_arc, sc.time)
-        );
+        super::one_link_lines(&mut out, o, sc.force, sc.time, "(beta - alpha)/a");
     }
     out
 }

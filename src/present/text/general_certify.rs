@@ -67,5 +67,15 @@ pub fn general_certificate(c: &GeneralNecessaryConditions) -> String {
             num(x.value, mass)
         );
     }
+    if let Some(o) = &c.one_link {
+        let x_scale = o.alpha.abs().max(o.beta.abs());
+        super::one_link_lines(
+            &mut out,
+            o,
+            x_scale,
+            m.times[rows],
+            "(beta - alpha)/(|B| a)",
+        );
+    }
     out
 }

@@ -177,6 +177,33 @@ pub fn condition_lines(
     }
 }
 
+/// The lines of §4's one-link structure of a certificate (a crawler's or (P)'s on a line): C,
+/// bang-bang, the switches and the interior arcs against `arc` (how the arc length is written),
+/// C's ends written to `x_scale`, times to `t_scale`.
+pub fn one_link_lines(
+    out: &mut String,
+    o: &crate::certify::OneLinkStructure,
+    x_scale: f64,
+    t_scale: f64,
+    arc: &str,
+) {
+    wln!(
+        out,
+        "  one link (§4): C = [{}, {}], bang-bang {}, switches at t = {} (at an end of C: {:?})",
+        num(o.alpha, x_scale),
+        num(o.beta, x_scale),
+        o.bang_bang,
+        list(&o.switch_times, t_scale),
+        o.switch_at_end
+    );
+    wln!(
+        out,
+        "    interior arcs {} vs {arc} = {}",
+        list(&o.interior_arcs, t_scale),
+        num(o.expected_arc, t_scale)
+    );
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
