@@ -54,11 +54,10 @@ fn pattern(s: &DiscreteSolution) -> Vec<Vec<i8>> {
         .collect()
 }
 
-/// P_m on the slip pattern `slip` as a QP (minimising `-J`).
 /// A crawler's state and increment columns of `pieces` pieces of a polish: per piece the link
 /// forces `x_l` in their ranges over C and the increments `U_l` in `[-a_l span, a_l span]`
 /// (`span` the longest a piece may last).
-pub(crate) fn link_columns(
+fn link_columns(
     qp: &mut Qp,
     crawler: &Crawler,
     problem: &GaitProblem,
@@ -86,6 +85,7 @@ pub(crate) fn link_columns(
     (x, u)
 }
 
+/// P_m on the slip pattern `slip` as a QP (minimising `-J`).
 fn build(crawler: &Crawler, problem: &GaitProblem, slip: &[Vec<i8>]) -> (Qp, Columns) {
     let steps = slip.len();
     let (n, nb) = (crawler.links(), crawler.blocks());

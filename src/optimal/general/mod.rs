@@ -33,5 +33,6 @@ pub use phase::{
     GeneralPhaseGait, MAX_GENERAL_PHASES,
 };
 pub use phase_growth::{grow_general_phases, grow_general_transitions};
+pub(crate) use phase_polish::{polish_phases_within, MilpPhases};
 pub use pm::{general_convergence, solve_general_pm, solve_general_pm_with};
 pub use projection::{project_polyhedron, ProjectedVertex, MAX_PROJECTED_VERTICES};

@@ -1,7 +1,7 @@
-//! Polishing a general phase gait of a quadratic cost on its own pattern of held faces (the
-//! crawler's is `optimal::phase::polish`, whose module docs give the reason: the outer
-//! approximation leaves a rate off the bounds of U only as accurate as its cuts, and the
-//! necessary conditions fail at that size).
+//! Polishing a phase gait of a quadratic cost on its own pattern of held faces, for (P) and
+//! every instance of it (a crawler's phase gait is polished here on its instance,
+//! `optimal::phase::polish`): the outer approximation leaves a rate off the bounds of U only
+//! as accurate as its cuts, and the necessary conditions fail at that size.
 //!
 //! With the faces held on each phase fixed, the phase problem ([`super::phase`]) is convex in
 //! the durations `tau_j`, the increments `U_j`, the states and the integrated reactions
@@ -20,7 +20,7 @@ use crate::optimal::polish::Qp;
 
 /// A solver's phase gait: the phases of positive duration, in time order.
 #[derive(Debug, Clone, Default)]
-pub(super) struct MilpPhases {
+pub(crate) struct MilpPhases {
     pub durations: Vec<f64>,
     /// `U_j = tau_j u_j`.
     pub increments: Vec<Vec<f64>>,
@@ -34,10 +34,26 @@ pub(super) struct MilpPhases {
 
 /// The best gait on the held faces `held` (1-based, per phase) of a gait of phases `durations`
 /// (module docs), as a solver's phases without those of at most `empty` times `T`; `None`
-/// without a cost or when the convex problem finds no solution.
+/// without a cost or when the convex problem finds no solution. The reactions' rates are
+/// bounded by the phase MILP's big-M (from C's and U's geometry).
 pub(super) fn polish_general_phases(
     p: &GeneralProblem,
     g: &Geometry,
+    durations: &[f64],
+    held: &[Vec<usize>],
+    empty: f64,
+) -> Option<MilpPhases> {
+    let multiplier = big_m(p, g, 1.0).ok()?.multiplier;
+    polish_phases_within(p, &vec![multiplier; p.c.faces()], durations, held, empty)
+}
+
+/// [`polish_general_phases`] with the rate of the reaction on face `f` bounded by
+/// `rate_bounds[f]` (`L_{j,f} <= rate_bounds[f] tau_j`: no reaction in zero time), the bound a
+/// phase MILP of the problem's structure imposes: (P)'s big-M, or on a crawler's instance its
+/// block speed bound in the face's units (`optimal::phase::polish`).
+pub(crate) fn polish_phases_within(
+    p: &GeneralProblem,
+    rate_bounds: &[f64],
     durations: &[f64],
     held: &[Vec<usize>],
     empty: f64,
@@ -50,11 +66,10 @@ pub(super) fn polish_general_phases(
     let (n, m, sigma, pieces) = (p.states(), p.controls(), p.c.faces(), durations.len());
     let t = p.period;
     let inf = f64::INFINITY;
-    let multiplier = big_m(p, g, 1.0).ok()?.multiplier;
     let w = reward_weights(p);
     let rows_s = cost_rows(&r, m)?;
     let mut qp = Qp::default();
-    let cols = phase_columns(&mut qp, p, pieces, held, &w, multiplier);
+    let cols = phase_columns(&mut qp, p, pieces, held, &w, rate_bounds);
     let (tau, x, u, lam, knots) = (&cols.tau, &cols.x, &cols.u, &cols.lam, cols.knots);
     let face_row = |x: &[usize], f: usize| -> Vec<(usize, f64)> {
         x.iter()
@@ -79,7 +94,7 @@ pub(super) fn polish_general_phases(
             let c = p.c.offsets[f];
             qp.add_row(c, c, face_row(xj, f));
             qp.add_row(c, c, face_row(xn, f));
-            qp.add_row(-inf, 0.0, vec![(l, 1.0), (tau[j], -multiplier)]);
+            qp.add_row(-inf, 0.0, vec![(l, 1.0), (tau[j], -rate_bounds[f])]);
         }
         match &p.control {
             ControlSet::Box { lower, upper } => {
@@ -154,14 +169,14 @@ struct PhaseColumns {
 }
 
 /// Adds the [`PhaseColumns`] of `pieces` phases holding `held` (1-based) to `qp`: `L_{j,f}`
-/// costs `-w_f` and is at most `multiplier T`.
+/// costs `-w_f` and is at most `rate_bounds[f] T`.
 fn phase_columns(
     qp: &mut Qp,
     p: &GeneralProblem,
     pieces: usize,
     held: &[Vec<usize>],
     w: &[f64],
-    multiplier: f64,
+    rate_bounds: &[f64],
 ) -> PhaseColumns {
     let (n, m, t, inf) = (p.states(), p.controls(), p.period, f64::INFINITY);
     let tau: Vec<usize> = (0..pieces).map(|_| qp.add_column(0.0, 0.0, t)).collect();
@@ -185,7 +200,7 @@ fn phase_columns(
         .iter()
         .map(|h| {
             h.iter()
-                .map(|&f| (f - 1, qp.add_column(-w[f - 1], 0.0, multiplier * t)))
+                .map(|&f| (f - 1, qp.add_column(-w[f - 1], 0.0, rate_bounds[f - 1] * t)))
                 .collect()
         })
         .collect();

@@ -68,7 +68,8 @@
 //! by outer approximation ([`TangentRates`](crate::optimal::milp::TangentRates)): tangent cuts under-estimate it, so the MILP's
 //! bound stays valid; cuts at the rates of each solution are added and the MILP re-solved (from
 //! the previous gait) until the true objective of the incumbent meets the bound; the answer is
-//! then polished on its slip modes ([`polish`]: a convex problem, exact to rounding) and kept
+//! then polished on its slip modes ([`polish`]: a convex problem, exact to rounding; (P)'s phase
+//! polish on the crawler's instance) and kept
 //! when the replay agrees and `J` is no worse. A
 //! total-variation bound on `u = U / tau` is not linear in these variables and is refused (the
 //! discrete method has it).
