@@ -106,7 +106,11 @@ fn the_one_link_problem_matches_the_crawler_certificate() {
 /// the one-link problem with `g = 2u` (C = [-1, 1], U = [-1, 1], face weights 1/2, T = 10) the
 /// optimum (u = +-1, held 4 s at each end) is optimal on its branch, J = 8; the gait that
 /// crosses C at half speed in 2 s and stays with u = +-1/2 (J = 3) is not: with its durations
-/// and faces its held phases can take u = +-1, reaction 2 for 3 s at each end, J = 6.
+/// and faces its held phases can take u = +-1, reaction 2 for 3 s at each end, J = 6. A gait
+/// of unequal durations (up in 1 s, held 3 s at u = 1, down in 2 s at u = -1/2, held 4 s at
+/// u = -3/4: J = 6) is optimal on its branch: the zero mean weighs each rate by its duration,
+/// `3 u_1 + 4 u_3 = 0`, so `J = 3 u_1 - 4 u_3 = 6 u_1 <= 6` (an unweighted mean would allow
+/// only 5.5).
 #[test]
 fn a_phase_gaits_branch_lp_fixes_its_durations() {
     let text = std::fs::read_to_string("examples/general_one_link.toml")
@@ -125,8 +129,25 @@ fn a_phase_gaits_branch_lp_fixes_its_durations() {
             vec![0.0, 2.0 * u],
         ],
     };
-    for (cross, u, j, optimum) in [(1.0, 1.0, 8.0, 8.0), (2.0, 0.5, 3.0, 6.0)] {
-        let c = certify_general(&p, &gait(cross, u), &CertifyOptions::default()).unwrap();
+    let unequal = GeneralProcess {
+        kind: ProcessKind::Phase,
+        durations: vec![1.0, 3.0, 2.0, 4.0],
+        x: [-1.0, 1.0, 1.0, -1.0, -1.0].map(|v| vec![v]).to_vec(),
+        u: [1.0, 1.0, -0.5, -0.75].map(|v| vec![v]).to_vec(),
+        lambda: vec![
+            vec![0.0, 0.0],
+            vec![2.0, 0.0],
+            vec![0.0, 0.0],
+            vec![0.0, 1.5],
+        ],
+    };
+    let cases = [
+        (gait(1.0, 1.0), 8.0, 8.0),
+        (gait(2.0, 0.5), 3.0, 6.0),
+        (unequal, 6.0, 6.0),
+    ];
+    for (process, j, optimum) in cases {
+        let c = certify_general(&p, &process, &CertifyOptions::default()).unwrap();
         assert!((c.objective - j).abs() < 1e-12, "{}", c.objective);
         let b = c.branch_lp.expect("f2 = 0: the branch LP");
         assert!((b.optimum - optimum).abs() < 1e-9, "{b:?}");
@@ -166,6 +187,7 @@ fn a_problem_on_a_line_states_section_4s_structure() {
     assert_eq!((one.alpha, one.beta), (-1.0, 1.0));
     assert!((one.expected_arc - 1.0).abs() < 1e-12);
     assert!(one.bang_bang && one.switch_at_end == [true, true]);
+    assert_eq!(one.switch_times, [0.0, 5.0]);
     assert_eq!(one.interior_arcs.len(), 2);
     assert!(
         one.interior_arcs.iter().all(|a| (a - 1.0).abs() < 1e-9),

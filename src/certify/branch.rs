@@ -134,10 +134,22 @@ pub(crate) fn branch_lp(
             lambda: 1.0,
             p: p_adj,
             xi,
-            omega: mean_rows.iter().map(|&r| y[r]).collect(),
+            // Without the zero-mean constraint omega is 0 (module docs of `certify::general`).
+            omega: if p.zero_mean {
+                mean_rows.iter().map(|&r| y[r]).collect()
+            } else {
+                vec![0.0; st.m]
+            },
             rho: Vec::new(),
         },
     ))
+}
+
+/// The columns of the largest branch LP through the process (states and controls per piece,
+/// and every face that may react: all biactive pairs reacting), the size the budget of
+/// [`super::records::best_branch`] counts, for (P) and its instances alike.
+pub(crate) fn columns(st: &GeneralStructure) -> usize {
+    st.steps * (st.n + st.m) + st.reacting.iter().map(Vec::len).sum::<usize>()
 }
 
 /// The faces reacting on each piece in the branch: those with a reaction, and the biactive

@@ -14,7 +14,7 @@ use super::crawler_words::crawler_words;
 use super::general_conditions::residuals;
 use super::general_conditions::GeneralNecessaryConditions;
 use super::general_kkt::{face_weights, psi_of, solve_general, GeneralRaw, GeneralStructure};
-use super::general_process::{control_rows, crawler_face_scales, GeneralProcess};
+use super::general_process::{control_rows, GeneralProcess};
 use super::general_report::{report, Words};
 use super::kkt::{FaceId, Norm, Raw, Stage, Structure};
 use super::process::{Process, ProcessKind};
@@ -45,7 +45,7 @@ impl<'a> AsGeneral<'a> {
         };
         let inst =
             crawler_as_general(&pr.crawler, pr.problem.period, &pr.problem.rate_bound, cost)?;
-        let s_b = crawler_face_scales(pr.crawler.stiffness());
+        let s_b = crate::model::crawler_row_norms(pr.crawler.stiffness());
         let gst = structure_of(&inst.problem, pr, st, &s_b);
         let process = GeneralProcess::of_crawler(pr);
         Ok(AsGeneral {
@@ -81,9 +81,14 @@ impl<'a> AsGeneral<'a> {
     /// The branch LP of the process on its instance ([`super::branch::branch_lp`]: the
     /// slipping blocks' faces reacting, and the biactive pairs `choice` picks, in the order of
     /// [`Structure::biactive`]), its optimum and duals read back in the crawler's names.
-    pub fn branch_lp(&self, choice: &[bool]) -> Option<(f64, Raw)> {
+    pub(crate) fn branch_lp(&self, choice: &[bool]) -> Option<(f64, Raw)> {
         super::branch::branch_lp(&self.inst.problem, &self.gst, choice)
             .map(|(optimum, raw)| (optimum, self.back(raw)))
+    }
+
+    /// The size of the largest branch LP ([`super::branch::columns`]), for the budget.
+    pub(crate) fn branch_columns(&self) -> usize {
+        super::branch::columns(&self.gst)
     }
 
     /// The discrete residuals of the crawler's multipliers `raw`, recomputed by (P)'s

@@ -3,9 +3,10 @@
 //! polytope `{G u <= h}`) with zero mean, `f1` linear in the reaction, `f2(u) = (1/2) u^T R u`.
 //! The crawler's certificate ([`crate::certify`], whose module docs explain the method, the
 //! stages and the verdict) is the instance `A = 0, B = K^(-1/2)` after the change of variables
-//! `x = K^(1/2) x~`; both share the types ([`super::ConditionCheck`], [`Verdict`],
-//! [`super::Normalisation`], [`super::BranchLp`], [`CertifyOptions`]) and the staged search for
-//! multipliers (`certify::stages`); this module states the conditions for the general data (its
+//! `x = K^(1/2) x~`; both share the types ([`super::ConditionCheck`], [`super::Verdict`],
+//! [`super::Normalisation`], [`super::BranchLp`], [`CertifyOptions`], the one record
+//! [`super::NecessaryConditions`]), the staged search for multipliers (`certify::stages`) and
+//! the branch LPs (`certify::branch`, solved for P_m processes and phase gaits alike); this module states the conditions for the general data (its
 //! multiplier LP in `certify::general_kkt`, its report in `certify::general_report`). That
 //! multiplier LP is the only one: the crawler's certificate solves it on the crawler's instance
 //! and reads the multipliers back (`certify::crawler_general`, the change of variables below).
@@ -181,8 +182,7 @@ pub(crate) fn certify_with(
     // show suboptimal says so (a phase gait's fix its durations).
     if p.cost == GeneralCost::None {
         let biactive = st.reacting.iter().flatten().filter(|(_, r)| !r).count();
-        // The branch LP's columns: states, controls and reactions per piece.
-        let columns = st.steps * (p.states() + p.controls() + p.c.faces());
+        let columns = super::branch::columns(&st);
         let branch = super::records::best_branch(biactive, columns, pr.objective(p), |choice| {
             Ok(super::branch::branch_lp(p, &st, choice).map(|(optimum, _)| optimum))
         })?;

@@ -11,16 +11,6 @@ use crate::model::general::{Boundary, ControlSet, GeneralProblem};
 pub use crate::optimal::consistency::ProcessKind;
 use crate::optimal::general::{GeneralPhaseGait, GeneralPm};
 
-/// `s_b = |K^(1/2) nu_b| = sqrt(k_(b-1) + k_b)` per block (`k` of the missing link of an end
-/// block 0): the length of block `b`'s faces in a crawler's instance of (P)
-/// ([`crate::model::crawler_as_general`]), by which its unit rows' multipliers differ from the
-/// crawler's (in the units of `nu_b`).
-pub(crate) fn crawler_face_scales(k: &[f64]) -> Vec<f64> {
-    (0..=k.len())
-        .map(|b| (b.checked_sub(1).map_or(0.0, |l| k[l]) + k.get(b).copied().unwrap_or(0.0)).sqrt())
-        .collect()
-}
-
 /// The rows `(G_k, h_k)` of U: a box as `e_l <= upper_l`, `-e_l <= -lower_l` (in this order per
 /// component), a polytope's unit rows as given.
 pub(crate) fn control_rows(u: &ControlSet) -> Vec<(Vec<f64>, f64)> {
@@ -139,7 +129,7 @@ impl GeneralProcess {
     pub fn of_crawler(pr: &Process) -> Self {
         let k = pr.crawler.stiffness();
         let sqrt_k: Vec<f64> = k.iter().map(|k| k.sqrt()).collect();
-        let s_b = crawler_face_scales(k);
+        let s_b = crate::model::crawler_row_norms(k);
         GeneralProcess {
             kind: pr.kind,
             durations: pr.durations.clone(),

@@ -230,8 +230,7 @@ pub fn certify(pr: &Process, opts: &CertifyOptions) -> Result<NecessaryCondition
         pr.kind == ProcessKind::Phase,
     )?;
     let biactive = st.biactive.iter().map(Vec::len).sum();
-    // The branch LP's columns: states, controls and block displacements per piece.
-    let columns = st.np * (2 * st.n + st.nb);
+    let columns = general.branch_columns();
     let branch = records::best_branch(biactive, columns, process_objective(pr), |choice| {
         Ok(general.branch_lp(choice).map(|(optimum, _)| optimum))
     })?;

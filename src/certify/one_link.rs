@@ -1,8 +1,8 @@
 //! §4's structure of a one-link process (theory §9): where the control switches, whether each
 //! switch happens at an end of C, the interior arcs and whether the control is bang-bang. It is
-//! a property of (P) on a line: `C = [alpha, beta]`, one control with `U = [-a, a]` and
-//! `x' in -N_C(x) + beta_u u` (`A = 0`, `b = 0`), along which `x` crosses C in
-//! `(beta - alpha) / (|beta_u| a)` at full rate. A one-link crawler is such a problem in its
+//! a property of a process of (P) on a line: `C = [alpha, beta]`, one control with
+//! `U = [-a, a]` and `x' in -N_C(x) + beta_u u` (`A = 0`, `b = 0`), along which `x` crosses C
+//! in `(beta - alpha) / (|beta_u| a)` at full rate. A one-link crawler is such a problem in its
 //! link's force (`beta_u = 1`, [`crawler`]); a general problem is one where its data say so
 //! ([`general`]).
 
@@ -29,7 +29,7 @@ struct Line<'a> {
 }
 
 /// The structure of a one-link crawler's process; `None` for more than one link.
-pub fn crawler(pr: &Process, tol: f64) -> Option<OneLinkStructure> {
+pub(crate) fn crawler(pr: &Process, tol: f64) -> Option<OneLinkStructure> {
     if pr.crawler.links() != 1 {
         return None;
     }
@@ -50,10 +50,15 @@ pub fn crawler(pr: &Process, tol: f64) -> Option<OneLinkStructure> {
     ))
 }
 
-/// The structure of a process of (P) where (P) is the one-link problem on a line: one state
-/// and one control, `A = 0`, `b = 0`, `B != 0`, a box `U = [-a, a]` (`a > 0`) and a bounded
-/// `C`; `None` otherwise.
-pub fn general(p: &GeneralProblem, pr: &GeneralProcess, tol: f64) -> Option<OneLinkStructure> {
+/// The structure of a process of (P) on a line: one state and one control, `A = 0`, `b = 0`,
+/// `B != 0`, a box `U = [-a, a]` (`a > 0`) and a bounded `C`; `None` otherwise. It describes
+/// the process whatever `f1`, `f2` and the zero mean (§4's problem is the case of face weights
+/// `1/2`, `f2 = 0` and zero mean, where the arcs of an optimum are the expected arc).
+pub(crate) fn general(
+    p: &GeneralProblem,
+    pr: &GeneralProcess,
+    tol: f64,
+) -> Option<OneLinkStructure> {
     let d = &p.dynamics;
     if p.states() != 1 || p.controls() != 1 || !d.is_state_independent() || d.drift[0] != 0.0 {
         return None;

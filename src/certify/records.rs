@@ -5,7 +5,8 @@
 use super::process::INPUT_TOL;
 use serde::{Deserialize, Serialize};
 
-/// Value of [`NecessaryConditions::format`].
+/// Value of [`NecessaryConditions::format`] for a crawler's certificate
+/// ([`GENERAL_CERTIFICATE_FORMAT`](super::general::GENERAL_CERTIFICATE_FORMAT) for (P)'s).
 pub const CERTIFICATE_FORMAT: &str = "crawlopt-necessary-conditions";
 /// Version of the certificate format.
 pub const CERTIFICATE_VERSION: u32 = 1;
@@ -143,7 +144,7 @@ pub struct OneLinkStructure {
 /// it, `M` its multipliers as the problem names them: a crawler's per link, block and side
 /// ([`MultiplierData`], the default), (P)'s per component and face
 /// ([`super::general::GeneralMultipliers`]). A crawler's certificate is (P)'s on its instance
-/// with the multipliers read back ([`NecessaryConditions::named`]): the conditions, residuals,
+/// with the multipliers read back in the crawler's names: the conditions, residuals,
 /// margin, normalisations and verdict are (P)'s.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct NecessaryConditions<M = MultiplierData> {

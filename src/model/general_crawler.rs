@@ -42,6 +42,16 @@ impl CrawlerInstance {
     }
 }
 
+/// `s_b = |K^(1/2) nu_b| = sqrt(k_(b-1) + k_b)` per block (`k` of the missing link of an end
+/// block 0): the norm of block `b`'s rows in the instance ([`crawler_as_general`]), by which its
+/// unit rows' reactions and multipliers differ from the crawler's (in the units of `nu_b`):
+/// `L_(b+-) = s_b max(+-D_b, 0)` for a block displacement `D_b`, `xi~ = s_b xi`.
+pub fn crawler_row_norms(k: &[f64]) -> Vec<f64> {
+    (0..=k.len())
+        .map(|b| (b.checked_sub(1).map_or(0.0, |l| k[l]) + k.get(b).copied().unwrap_or(0.0)).sqrt())
+        .collect()
+}
+
 /// The crawler's gait problem as (P): period `T`, rate bounds `a_l` (`|u_l| <= a_l`), cost `f2`
 /// of `u` (unchanged: the control is the crawler's), periodic with zero-mean controls.
 pub fn crawler_as_general(
@@ -52,6 +62,7 @@ pub fn crawler_as_general(
 ) -> Result<CrawlerInstance> {
     let (nb, n) = (c.blocks(), c.links());
     let sqrt_k: Vec<f64> = c.stiffness().iter().map(|k| k.sqrt()).collect();
+    let s_b = crawler_row_norms(c.stiffness());
     let mut normals = Vec::with_capacity(2 * nb);
     let mut offsets = Vec::with_capacity(2 * nb);
     let mut weights = Vec::with_capacity(2 * nb);
@@ -64,7 +75,7 @@ pub fn crawler_as_general(
         if b < n {
             row[b] = -sqrt_k[b];
         }
-        let s = row.iter().map(|v| v * v).sum::<f64>().sqrt();
+        let s = s_b[b];
         let w = 1.0 / (nb as f64 * s);
         normals.push(row.clone());
         offsets.push(c.mu_forward()[b]);

@@ -22,7 +22,7 @@ mod vm;
 
 pub use analysis::{Analysis, OneLink, MAX_LINKS_FOR_VERTICES};
 pub use crawler::Crawler;
-pub use general_crawler::{crawler_as_general, CrawlerInstance};
+pub use general_crawler::{crawler_as_general, crawler_row_norms, CrawlerInstance};
 pub use general_structure::ChainView;
 pub use polytope::{Face, FaceSign, MAX_LINKS_FOR_NORMALS};
 pub use uniqueness::{SubsetSearch, Uniqueness};

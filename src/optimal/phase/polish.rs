@@ -20,7 +20,7 @@
 
 use super::decode::RawGait;
 use crate::model::general::GeneralCost;
-use crate::model::{crawler_as_general, Crawler};
+use crate::model::{crawler_as_general, crawler_row_norms, Crawler, CrawlerInstance};
 use crate::optimal::general::{polish_phases_within, MilpPhases};
 use crate::optimal::milp::block_speed_bound;
 use crate::optimal::{Cost, GaitProblem};
@@ -48,7 +48,7 @@ pub(super) fn polish_phases(
         GeneralCost::Quadratic { weight },
     )
     .ok()?;
-    let s_b = row_norms(crawler.stiffness());
+    let s_b = crawler_row_norms(crawler.stiffness());
     let v = block_speed_bound(crawler, problem);
     let rate_bounds: Vec<f64> = s_b.iter().flat_map(|&s| [s * v, s * v]).collect();
     let held: Vec<Vec<usize>> = raw
@@ -70,30 +70,19 @@ pub(super) fn polish_phases(
         &held,
         EMPTY_PIECE,
     )?;
-    read_back(&phases, &inst.sqrt_k, &s_b)
-}
-
-/// `s_b = |K^(1/2) nu_b| = sqrt(k_(b-1) + k_b)` per block (the end blocks with one link).
-fn row_norms(k: &[f64]) -> Vec<f64> {
-    (0..=k.len())
-        .map(|b| {
-            let back = if b >= 1 { k[b - 1] } else { 0.0 };
-            (back + k.get(b).copied().unwrap_or(0.0)).sqrt()
-        })
-        .collect()
+    read_back(&phases, &inst, &s_b)
 }
 
 /// The polished phases of the instance as the crawler's gait: states `x = K^(1/2) x~` at the
 /// piece starts (the first repeated at the end), the same increments, the block displacements
 /// `D_b = (L_(b+) - L_(b-)) / s_b` and the modes of the faces held; `None` when no piece is
 /// left.
-fn read_back(phases: &MilpPhases, sqrt_k: &[f64], s_b: &[f64]) -> Option<RawGait> {
-    let scaled = |x: &[f64]| -> Vec<f64> { x.iter().zip(sqrt_k).map(|(x, s)| x * s).collect() };
+fn read_back(phases: &MilpPhases, inst: &CrawlerInstance, s_b: &[f64]) -> Option<RawGait> {
     let mut out = RawGait::default();
     for (j, &d) in phases.durations.iter().enumerate() {
         out.durations.push(d);
         out.increments.push(phases.increments[j].clone());
-        out.states.push(scaled(&phases.states[j]));
+        out.states.push(inst.to_crawler(&phases.states[j]));
         let l = &phases.integrated[j];
         out.block_displacements.push(
             s_b.iter()
