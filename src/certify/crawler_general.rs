@@ -20,9 +20,8 @@ use super::kkt::{FaceId, Norm, Raw, Stage, Structure};
 use super::process::{Process, ProcessKind};
 use super::CertifyOptions;
 use crate::error::Result;
-use crate::model::general::{GeneralCost, GeneralProblem};
+use crate::model::general::GeneralProblem;
 use crate::model::{crawler_as_general, CrawlerInstance};
-use crate::optimal::Cost;
 
 /// The crawler process `pr` as (P): its instance, its process there and that process's
 /// structure, with the crawler's structure to read the multipliers back into.
@@ -39,10 +38,7 @@ impl<'a> AsGeneral<'a> {
     /// The instance of `pr`'s crawler and gait problem (cost `f2` unchanged: the control is the
     /// crawler's), with the crawler's structure `st` in its terms.
     pub fn of(pr: &Process, st: &'a Structure) -> Result<Self> {
-        let cost = match pr.problem.cost {
-            Cost::None => GeneralCost::None,
-            Cost::Quadratic { weight } => GeneralCost::Quadratic { weight },
-        };
+        let cost = pr.problem.cost.into();
         let inst =
             crawler_as_general(&pr.crawler, pr.problem.period, &pr.problem.rate_bound, cost)?;
         let s_b = crate::model::crawler_row_norms(pr.crawler.stiffness());

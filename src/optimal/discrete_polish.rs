@@ -1,32 +1,26 @@
 //! Polishing the crawler's P_m answer ([`crate::optimal::polish`]): P_m on the answer's fixed
-//! slip pattern as a [`Qp`], in the optimisers' internal units.
+//! slip pattern as a [`Qp`], which is (P)'s P_m polish on the crawler's instance
+//! ([`crate::model::crawler_as_general`], `x~ = K^(-1/2) x`; the QP of
+//! [`super::general::pm_on_pattern`]) with the crawler's TV bound added.
 //!
 //! The pattern is read from the replayed gait: block `b` slips forward in step `i` when its
 //! displacement `D^i_b` is positive (beyond `1e-9` of the largest), backward when negative,
-//! else sticks. Slipping forward: `D^i_b = P^i_b >= 0` and `F_b(x^(i+1)) = mu_b^+`; backward:
-//! `D^i_b = -Q^i_b <= 0` and `F_b(x^(i+1)) = -mu_b^-`; sticking: `D^i_b = 0` and
-//! `-mu_b^- <= F_b(x^(i+1)) <= mu_b^+` (a face held without slip stays free to be left). These
-//! are the branches of the catching-up KKT system of the MILP (module docs of
-//! [`super::discrete`]), so every feasible point is a catching-up gait and the MILP's answer is
-//! one. The QP maximises `(1/N) sum D - (c/2) sum_{i,l} (U^i_l)^2 / h` with the cost exact,
-//! under the same rate bounds, zero mean and TV bound.
+//! else sticks. Slipping forward, the block's forward face reacts on step `i` (`mu^i_(b+) >= 0`)
+//! and is held at `x^(i+1)`; backward, its backward face; sticking, neither reacts and both
+//! stay free to be left (a face held without slip). These are the branches of the catching-up
+//! KKT system of the MILP (module docs of [`super::discrete`]), so every feasible point is a
+//! catching-up gait and the MILP's answer is one. The QP maximises
+//! `(1/N) sum D - (c/2) sum_{i,l} (U^i_l)^2 / h` (`D_b = (mu_(b+) - mu_(b-)) / s_b`) with the
+//! cost exact, under the same rate bounds, zero mean and TV bound; its answer is replayed by
+//! the crawler's simulator.
 
 use super::discrete::{grid_cost, DiscreteSolution};
+use super::general::{pm_on_pattern, PmColumns};
 use super::milp::{certify, replay_grid};
 use super::polish::{no_worse, PolishRecord, Qp};
-use super::{Cost, GaitProblem};
+use super::GaitProblem;
 use crate::error::Result;
-use crate::model::Crawler;
-
-/// The columns of the QP.
-struct Columns {
-    /// States `x^i`, `i = 0..M` (`x^M` is `x^0`).
-    x: Vec<Vec<usize>>,
-    /// Increments `U^i = h u^i`.
-    u: Vec<Vec<usize>>,
-    /// Block displacements `P^i_b - Q^i_b`, as `(P, Q)`.
-    d: Vec<Vec<(usize, usize)>>,
-}
+use crate::model::{crawler_as_general, crawler_row_norms, Crawler, CrawlerInstance};
 
 /// The slip of a block in a step: +1 forward, -1 backward, 0 stuck.
 fn pattern(s: &DiscreteSolution) -> Vec<Vec<i8>> {
@@ -54,126 +48,38 @@ fn pattern(s: &DiscreteSolution) -> Vec<Vec<i8>> {
         .collect()
 }
 
-/// A crawler's state and increment columns of `pieces` pieces of a polish: per piece the link
-/// forces `x_l` in their ranges over C and the increments `U_l` in `[-a_l span, a_l span]`
-/// (`span` the longest a piece may last).
-fn link_columns(
-    qp: &mut Qp,
-    crawler: &Crawler,
+/// P_m on the slip pattern `slip` as a QP (minimising `-J`): (P)'s ([`pm_on_pattern`]) on the
+/// crawler's instance, block `b` slipping forward (backward) its face `2b` (`2b + 1`, 0-based)
+/// reacting, with the TV bound `sum_{i,l} |u^(i+1)_l - u^i_l| <= V` added. Its controls are
+/// the crawler's rates, its states `x~ = K^(-1/2) x`.
+fn build(
+    inst: &CrawlerInstance,
     problem: &GaitProblem,
-    pieces: usize,
-    span: f64,
-) -> (Vec<Vec<usize>>, Vec<Vec<usize>>) {
-    let ranges = crawler.link_force_ranges();
-    let x = (0..pieces)
-        .map(|_| {
-            ranges
-                .iter()
-                .map(|r| qp.add_column(0.0, r[0], r[1]))
-                .collect()
-        })
-        .collect();
-    let u = (0..pieces)
-        .map(|_| {
-            problem
-                .rate_bound
-                .iter()
-                .map(|&al| qp.add_column(0.0, -al * span, al * span))
-                .collect()
-        })
-        .collect();
-    (x, u)
-}
-
-/// P_m on the slip pattern `slip` as a QP (minimising `-J`).
-fn build(crawler: &Crawler, problem: &GaitProblem, slip: &[Vec<i8>]) -> (Qp, Columns) {
-    let steps = slip.len();
-    let (n, nb) = (crawler.links(), crawler.blocks());
-    let h = problem.period / steps as f64;
-    let (k, mp, mm) = (
-        crawler.stiffness(),
-        crawler.mu_forward(),
-        crawler.mu_backward(),
-    );
-    let inf = f64::INFINITY;
-    let mut qp = Qp::default();
-    let (x, u) = link_columns(&mut qp, crawler, problem, steps, h);
-    if let Cost::Quadratic { weight } = problem.cost {
-        // (c/2) U^2 / h per step and link.
-        for c in u.iter().flatten() {
-            qp.add_quadratic(*c, *c, weight / h);
-        }
-    }
-    let inv_n = 1.0 / nb as f64;
-    let d: Vec<Vec<(usize, usize)>> = slip
+    m: u32,
+    slip: &[Vec<i8>],
+) -> (Qp, PmColumns) {
+    let active: Vec<Vec<bool>> = slip
         .iter()
-        .map(|r| {
-            r.iter()
-                .map(|&s| {
-                    let p = qp.add_column(-inv_n, 0.0, if s > 0 { inf } else { 0.0 });
-                    let q = qp.add_column(inv_n, 0.0, if s < 0 { inf } else { 0.0 });
-                    (p, q)
-                })
-                .collect()
-        })
+        .map(|r| r.iter().flat_map(|&s| [s > 0, s < 0]).collect())
         .collect();
-    for i in 0..steps {
-        let next = &x[(i + 1) % steps];
-        // x^{i+1}_l - x^i_l - U^i_l + k_l (D_{l+1} - D_l) = 0.
-        for l in 0..n {
-            let (p0, q0) = d[i][l];
-            let (p1, q1) = d[i][l + 1];
-            qp.add_row(
-                0.0,
-                0.0,
-                vec![
-                    (next[l], 1.0),
-                    (x[i][l], -1.0),
-                    (u[i][l], -1.0),
-                    (p1, k[l]),
-                    (q1, -k[l]),
-                    (p0, -k[l]),
-                    (q0, k[l]),
-                ],
-            );
-        }
-        for b in 0..nb {
-            // F_b(x) = x_{b-1} - x_b.
-            let mut f = Vec::with_capacity(2);
-            if b > 0 {
-                f.push((next[b - 1], 1.0));
-            }
-            if b < n {
-                f.push((next[b], -1.0));
-            }
-            let (lo, hi) = match slip[i][b] {
-                1 => (mp[b], mp[b]),
-                -1 => (-mm[b], -mm[b]),
-                _ => (-mm[b], mp[b]),
-            };
-            qp.add_row(lo, hi, f);
-        }
-    }
-    for l in 0..n {
-        qp.add_row(0.0, 0.0, u.iter().map(|r| (r[l], 1.0)).collect());
-    }
+    let (mut qp, cols) = pm_on_pattern(&inst.problem, m, &active);
     if let Some(v) = problem.max_total_variation {
-        // |U^{i+1}_l - U^i_l| <= s^i_l, sum s <= h V.
-        let mut total = Vec::with_capacity(steps * n);
+        // |u^{i+1}_l - u^i_l| <= s^i_l, sum s <= V.
+        let inf = f64::INFINITY;
+        let steps = cols.u.len();
+        let mut total = Vec::new();
         for i in 0..steps {
-            for l in 0..n {
+            for l in 0..cols.u[i].len() {
                 let s = qp.add_column(0.0, 0.0, inf);
-                let (u0, u1) = (u[i][l], u[(i + 1) % steps][l]);
+                let (u0, u1) = (cols.u[i][l], cols.u[(i + 1) % steps][l]);
                 qp.add_row(0.0, inf, vec![(s, 1.0), (u1, -1.0), (u0, 1.0)]);
                 qp.add_row(0.0, inf, vec![(s, 1.0), (u1, 1.0), (u0, -1.0)]);
                 total.push((s, 1.0));
             }
         }
-        qp.add_row(-inf, h * v, total);
+        qp.add_row(-inf, v, total);
     }
-    let mut xs = x.clone();
-    xs.push(x[0].clone());
-    (qp, Columns { x: xs, u, d })
+    (qp, cols)
 }
 
 /// Polishes `s` (module docs), in internal units: the polished answer when it replays to an
@@ -218,10 +124,21 @@ fn polished(
     let slip = pattern(s);
     let steps = slip.len();
     let h = problem.period / steps as f64;
-    let (qp, cols) = build(crawler, problem, &slip);
+    let inst = crawler_as_general(
+        crawler,
+        problem.period,
+        &problem.rate_bound,
+        problem.cost.into(),
+    )?;
+    let (qp, cols) = build(&inst, problem, s.m, &slip);
     let sol = qp.solve(&what)?;
     let val = |c: &usize| sol.v[*c];
-    let mut incs: Vec<Vec<f64>> = cols.u.iter().map(|r| r.iter().map(val).collect()).collect();
+    // The instance's controls are the crawler's rates: the increments are h u.
+    let mut incs: Vec<Vec<f64>> = cols
+        .u
+        .iter()
+        .map(|r| r.iter().map(|c| h * val(c)).collect())
+        .collect();
     // An exact zero mean (the QP's is within its tolerance), as for the MILP's increments.
     for l in 0..crawler.links() {
         let mean = incs.iter().map(|u| u[l]).sum::<f64>() / steps as f64;
@@ -229,16 +146,23 @@ fn polished(
             u[l] -= mean;
         }
     }
-    let x0: Vec<f64> = cols.x[0].iter().map(val).collect();
+    let state = |x: &Vec<usize>| inst.to_crawler(&x.iter().map(val).collect::<Vec<_>>());
+    let x0 = state(&cols.x[0]);
+    // D_b = (mu_(b+) - mu_(b-)) / s_b.
+    let s_b = crawler_row_norms(crawler.stiffness());
     let displacement = cols
-        .d
+        .mu
         .iter()
-        .flatten()
-        .map(|&(p, q)| val(&p) - val(&q))
+        .map(|mu| {
+            s_b.iter()
+                .enumerate()
+                .map(|(b, s)| (val(&mu[2 * b]) - val(&mu[2 * b + 1])) / s)
+                .sum::<f64>()
+        })
         .sum::<f64>()
         / crawler.blocks() as f64;
     let g = replay_grid(crawler, problem.period, &incs, &x0, &what)?;
-    let qp_x: Vec<Vec<f64>> = cols.x.iter().map(|r| r.iter().map(val).collect()).collect();
+    let qp_x: Vec<Vec<f64>> = cols.x.iter().map(state).collect();
     let force_scale = (0..crawler.blocks())
         .map(|b| crawler.mu_forward()[b] + crawler.mu_backward()[b])
         .fold(0.0_f64, f64::max);

@@ -21,6 +21,17 @@ pub enum Cost {
     },
 }
 
+/// A crawler's cost as the cost of its instance of (P) ([`crate::model::crawler_as_general`]):
+/// the same `f2` of the same control.
+impl From<Cost> for crate::model::general::GeneralCost {
+    fn from(c: Cost) -> Self {
+        match c {
+            Cost::None => Self::None,
+            Cost::Quadratic { weight } => Self::Quadratic { weight },
+        }
+    }
+}
+
 impl Cost {
     /// `f2(u)`.
     pub fn eval(&self, u: &[f64]) -> f64 {

@@ -16,14 +16,16 @@ use crate::optimal::milp::Certificate;
 use crate::optimal::polish::{no_worse, PolishRecord, Qp};
 
 /// The columns of the QP: states per knot (`x^M` is `x^0` when periodic), controls, reactions.
-struct Columns {
-    x: Vec<Vec<usize>>,
-    u: Vec<Vec<usize>>,
-    mu: Vec<Vec<usize>>,
+pub(crate) struct PmColumns {
+    pub x: Vec<Vec<usize>>,
+    pub u: Vec<Vec<usize>>,
+    pub mu: Vec<Vec<usize>>,
 }
 
-/// P_m of `p` on the pattern `active` as a QP (minimising `-J`).
-fn build(p: &GeneralProblem, m: u32, active: &[Vec<bool>]) -> (Qp, Columns) {
+/// P_m of `p` on the pattern `active` (`active[i][j]`: face `j` reacts on step `i`, held at its
+/// end) as a QP minimising `-J`: (P)'s and every instance's (a crawler's P_m polish is it on
+/// the crawler's instance, its slips as the reacting faces, `optimal::discrete_polish`).
+pub(crate) fn pm_on_pattern(p: &GeneralProblem, m: u32, active: &[Vec<bool>]) -> (Qp, PmColumns) {
     let (n, sigma, mm) = (p.states(), p.c.faces(), 1usize << m);
     let h = p.period / mm as f64;
     let w = reward_weights(p);
@@ -110,7 +112,7 @@ fn build(p: &GeneralProblem, m: u32, active: &[Vec<bool>]) -> (Qp, Columns) {
         }
     }
     let x = (0..=mm).map(|i| x_at(i).clone()).collect();
-    (qp, Columns { x, u, mu })
+    (qp, PmColumns { x, u, mu })
 }
 
 /// Polishes `sol` (module docs): the polished answer when it replays to an objective no worse
@@ -151,7 +153,7 @@ fn polished(p: &GeneralProblem, sol: &GeneralPm) -> Result<std::result::Result<G
         .map(|r| r.iter().map(|l| *l > tol).collect())
         .collect();
     let what = format!("polishing P_{m} of the general problem");
-    let (qp, cols) = build(p, m, &active);
+    let (qp, cols) = pm_on_pattern(p, m, &active);
     let s = qp.solve(&what)?;
     let val = |c: &usize| s.v[*c];
     let x0: Vec<f64> = cols.x[0].iter().map(val).collect();

@@ -19,7 +19,6 @@
 //! exact simulator and keeps it only when the replay agrees and `J` is no worse.
 
 use super::decode::RawGait;
-use crate::model::general::GeneralCost;
 use crate::model::{crawler_as_general, crawler_row_norms, Crawler, CrawlerInstance};
 use crate::optimal::general::{polish_phases_within, MilpPhases};
 use crate::optimal::milp::block_speed_bound;
@@ -35,9 +34,9 @@ pub(super) fn polish_phases(
     problem: &GaitProblem,
     raw: &RawGait,
 ) -> Option<RawGait> {
-    let Cost::Quadratic { weight } = problem.cost else {
+    if problem.cost == Cost::None {
         return None;
-    };
+    }
     if raw.durations.is_empty() {
         return None;
     }
@@ -45,7 +44,7 @@ pub(super) fn polish_phases(
         crawler,
         problem.period,
         &problem.rate_bound,
-        GeneralCost::Quadratic { weight },
+        problem.cost.into(),
     )
     .ok()?;
     let s_b = crawler_row_norms(crawler.stiffness());
