@@ -102,6 +102,34 @@ fn the_one_link_problem_matches_the_crawler_certificate() {
     assert_eq!(general_one, crawler_one);
 }
 
+/// `examples/general_one_link.toml` with `g = 2u`: C = [-1, 1], U = [-1, 1] with zero mean,
+/// face weights 1/2, T = 10.
+fn line_problem() -> (String, GeneralProblem) {
+    let text = std::fs::read_to_string("examples/general_one_link.toml")
+        .unwrap()
+        .replace("B = [[1.0]]", "B = [[2.0]]");
+    let (p, _) = general_problem(&GeneralFile::parse(&text).unwrap()).unwrap();
+    (text, p)
+}
+
+/// A four-phase gait of [`line_problem`]: up from -1 to 1, held at 1 (face 1), down, held at -1
+/// (face 2), with the phases' `durations` and rates `u`; a held phase's reaction rate is
+/// `2 |u|`.
+fn line_gait(durations: [f64; 4], u: [f64; 4]) -> GeneralProcess {
+    GeneralProcess {
+        kind: ProcessKind::Phase,
+        durations: durations.to_vec(),
+        x: [-1.0, 1.0, 1.0, -1.0, -1.0].map(|v| vec![v]).to_vec(),
+        u: u.map(|v| vec![v]).to_vec(),
+        lambda: vec![
+            vec![0.0, 0.0],
+            vec![2.0 * u[1], 0.0],
+            vec![0.0, 0.0],
+            vec![0.0, -2.0 * u[3]],
+        ],
+    }
+}
+
 /// The branch LP of a phase gait, its durations fixed (the one LP of `certify::branch`): on
 /// the one-link problem with `g = 2u` (C = [-1, 1], U = [-1, 1], face weights 1/2, T = 10) the
 /// optimum (u = +-1, held 4 s at each end) is optimal on its branch, J = 8; the gait that
@@ -113,38 +141,23 @@ fn the_one_link_problem_matches_the_crawler_certificate() {
 /// only 5.5).
 #[test]
 fn a_phase_gaits_branch_lp_fixes_its_durations() {
-    let text = std::fs::read_to_string("examples/general_one_link.toml")
-        .unwrap()
-        .replace("B = [[1.0]]", "B = [[2.0]]");
-    let (p, _) = general_problem(&GeneralFile::parse(&text).unwrap()).unwrap();
-    let gait = |cross: f64, u: f64| GeneralProcess {
-        kind: ProcessKind::Phase,
-        durations: vec![cross, 5.0 - cross, cross, 5.0 - cross],
-        x: [-1.0, 1.0, 1.0, -1.0, -1.0].map(|v| vec![v]).to_vec(),
-        u: [u, u, -u, -u].map(|v| vec![v]).to_vec(),
-        lambda: vec![
-            vec![0.0, 0.0],
-            vec![2.0 * u, 0.0],
-            vec![0.0, 0.0],
-            vec![0.0, 2.0 * u],
-        ],
-    };
-    let unequal = GeneralProcess {
-        kind: ProcessKind::Phase,
-        durations: vec![1.0, 3.0, 2.0, 4.0],
-        x: [-1.0, 1.0, 1.0, -1.0, -1.0].map(|v| vec![v]).to_vec(),
-        u: [1.0, 1.0, -0.5, -0.75].map(|v| vec![v]).to_vec(),
-        lambda: vec![
-            vec![0.0, 0.0],
-            vec![2.0, 0.0],
-            vec![0.0, 0.0],
-            vec![0.0, 1.5],
-        ],
-    };
+    let (_, p) = line_problem();
     let cases = [
-        (gait(1.0, 1.0), 8.0, 8.0),
-        (gait(2.0, 0.5), 3.0, 6.0),
-        (unequal, 6.0, 6.0),
+        (
+            line_gait([1.0, 4.0, 1.0, 4.0], [1.0, 1.0, -1.0, -1.0]),
+            8.0,
+            8.0,
+        ),
+        (
+            line_gait([2.0, 3.0, 2.0, 3.0], [0.5, 0.5, -0.5, -0.5]),
+            3.0,
+            6.0,
+        ),
+        (
+            line_gait([1.0, 3.0, 2.0, 4.0], [1.0, 1.0, -0.5, -0.75]),
+            6.0,
+            6.0,
+        ),
     ];
     for (process, j, optimum) in cases {
         let c = certify_general(&p, &process, &CertifyOptions::default()).unwrap();
@@ -161,24 +174,10 @@ fn a_phase_gaits_branch_lp_fixes_its_durations() {
 /// problem with a drift, or in two dimensions, has none.
 #[test]
 fn a_problem_on_a_line_states_section_4s_structure() {
-    let text = std::fs::read_to_string("examples/general_one_link.toml")
-        .unwrap()
-        .replace("B = [[1.0]]", "B = [[2.0]]");
-    let (p, _) = general_problem(&GeneralFile::parse(&text).unwrap()).unwrap();
+    let (text, p) = line_problem();
     // The optimum: u = +1 on [0, 5), -1 on [5, 10), from x = -1: x reaches 1 at t = 1 and is
     // held there (reaction rate 2 on face 1, x <= 1) until t = 5, then the same downwards.
-    let pr = GeneralProcess {
-        kind: ProcessKind::Phase,
-        durations: vec![1.0, 4.0, 1.0, 4.0],
-        x: [-1.0, 1.0, 1.0, -1.0, -1.0].map(|v| vec![v]).to_vec(),
-        u: [1.0, 1.0, -1.0, -1.0].map(|v| vec![v]).to_vec(),
-        lambda: vec![
-            vec![0.0, 0.0],
-            vec![2.0, 0.0],
-            vec![0.0, 0.0],
-            vec![0.0, 2.0],
-        ],
-    };
+    let pr = line_gait([1.0, 4.0, 1.0, 4.0], [1.0, 1.0, -1.0, -1.0]);
     let c = certify_general(&p, &pr, &CertifyOptions::default()).unwrap();
     // J = (|beta_u| a T - 2 (beta - alpha)) / 2 = (20 - 4) / 2, the §4 optimum at twice the rate.
     assert!((c.objective - 8.0).abs() < 1e-12, "{}", c.objective);
