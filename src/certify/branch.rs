@@ -6,7 +6,8 @@
 //!
 //! ```text
 //! maximise   sum_{i,f} w_f L_{i,f}                                         (f2 = 0 only)
-//! subject to x_(i+1) - (I + tau_i A) x_i - tau_i B u_i + sum_f L_{i,f} x*_f = tau_i b  (q_i = -p_i)
+//! subject to x_(i+1) - (I + tau_i A) x_i - tau_i B u_i + sum_f L_{i,f} x*_f = tau_i b
+//!              (dual q_i = -p_i)
 //!            <x*_f, x_k> <= c_f at every knot, held as "=" where a reaction of the branch on
 //!              the piece ending there (or, for a phase gait, starting there) is on f  (-xi_{k,f})
 //!            u_i in U,  sum_i tau_i u_i = 0 (zero mean; omega),  cyclic: x_P = x_0

@@ -6,8 +6,9 @@
 //! `x = K^(1/2) x~`; both share the types ([`super::ConditionCheck`], [`super::Verdict`],
 //! [`super::Normalisation`], [`super::BranchLp`], [`CertifyOptions`], the one record
 //! [`super::NecessaryConditions`]), the staged search for multipliers (`certify::stages`) and
-//! the branch LPs (`certify::branch`, solved for P_m processes and phase gaits alike); this module states the conditions for the general data (its
-//! multiplier LP in `certify::general_kkt`, its report in `certify::general_report`). That
+//! the branch LPs (`certify::branch`, solved for P_m processes and phase gaits alike); this
+//! module states the conditions for the general data (its multiplier LP in
+//! `certify::general_kkt`, its report in `certify::general_report`). That
 //! multiplier LP is the only one: the crawler's certificate solves it on the crawler's instance
 //! and reads the multipliers back (`certify::crawler_general`, the change of variables below).
 //!

@@ -189,9 +189,9 @@ pub struct NecessaryConditions<M = MultiplierData> {
     pub conditions: Vec<ConditionCheck>,
     /// The multipliers.
     pub multipliers: M,
-    /// §4's structure of the process where the problem is the one-link problem (theory §9: a
-    /// one-link crawler, or (P) on a line with `A = 0`, `b = 0`, `U = [-a, a]`); `null`
-    /// otherwise.
+    /// §4's structure of the process where the problem lives on a line (theory §9: a one-link
+    /// crawler, or (P) with one state and one control, `A = 0`, `b = 0`, `U = [-a, a]`);
+    /// `null` otherwise.
     #[serde(default)]
     pub one_link: Option<OneLinkStructure>,
     /// The branch LP solved as such (`f2 = 0` only).
