@@ -180,23 +180,14 @@ fn inconsistent_result_files_are_refused_with_one_line() {
 #[test]
 fn a_phase_answer_with_a_very_short_piece_keeps_its_rates_within_the_bound() {
     let dir = tempfile::tempdir().unwrap();
-    let model = dir.path().join("four.toml");
-    std::fs::write(
-        &model,
+    let model = common::write(
+        dir.path(),
+        "four.toml",
         "[crawler]\nblocks = 4\nstiffness = [1.0, 2.0, 1.5]\n\
          mu_forward = [1.0, 1.2, 0.9, 1.1]\nmu_backward = [2.5, 3.1, 2.7, 2.0]\n\n\
          [gait]\nperiod = 8.0\nmax_actuator_speed = 1.0\ncost = { kind = \"none\" }\n",
-    )
-    .unwrap();
-    let out = crawlopt(&[
-        "optimize",
-        model.to_str().unwrap(),
-        "--phases",
-        "3",
-        "--json",
-    ]);
-    assert!(out.status.success(), "{}", stderr(&out));
-    let v = json(&out);
+    );
+    let v = common::optimize_json(&model, &["--phases", "3"]);
     // J_3 of this crawler, as tests/general_phase.rs finds it with the chain's formulation.
     assert!((v["objective"].as_f64().unwrap() - 3.0666666667).abs() < 1e-7);
     let bound: Vec<f64> = v["problem"]["rate_bound"]
@@ -219,8 +210,5 @@ fn a_phase_answer_with_a_very_short_piece_keeps_its_rates_within_the_bound() {
             );
         }
     }
-    let f = write(dir.path(), "k3.json", &v);
-    let out = crawlopt(&["certify", f.to_str().unwrap(), "--json"]);
-    assert!(out.status.success(), "{}", stderr(&out));
-    assert_eq!(json(&out)["verdict"], "holds");
+    assert_eq!(common::certify_written(dir.path(), &v)["verdict"], "holds");
 }
