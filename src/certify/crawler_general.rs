@@ -10,13 +10,13 @@
 //! units of the unnormalised `+-nu_b`); the general face of block `b` (0-based) and side `+` is
 //! `2 b`, of side `-` is `2 b + 1` (0-based).
 
+use super::crawler_structure::{FaceId, Raw, Structure};
 use super::crawler_words::crawler_words;
-use super::general_conditions::residuals;
+use super::general::certify_structured;
 use super::general_conditions::GeneralNecessaryConditions;
-use super::general_kkt::{face_weights, psi_of, solve_general, GeneralRaw, GeneralStructure};
+use super::general_kkt::{face_weights, GeneralRaw, GeneralStructure};
 use super::general_process::{control_rows, GeneralProcess};
-use super::general_report::{report, Words};
-use super::kkt::{FaceId, Norm, Raw, Stage, Structure};
+use super::general_report::Words;
 use super::process::{Process, ProcessKind};
 use super::CertifyOptions;
 use crate::error::Result;
@@ -53,155 +53,59 @@ impl<'a> AsGeneral<'a> {
         })
     }
 
-    /// One general multiplier LP (the crawler's instance has no drift: `A = 0`), its solution
-    /// read back in the crawler's names.
-    pub fn solve(
-        &self,
-        lambda: f64,
-        stage: Stage,
-        norm: Option<Norm>,
-        durations_free: bool,
-    ) -> Result<Option<Raw>> {
-        let raw = solve_general(
-            &self.inst.problem,
-            &self.gst,
-            lambda,
-            stage,
-            norm,
-            true,
-            durations_free,
-        )?;
-        Ok(raw.map(|g| self.back(g)))
-    }
-
-    /// The branch LP of the process on its instance ([`super::branch::branch_lp`]: the
-    /// slipping blocks' faces reacting, and the biactive pairs `choice` picks, in the order of
-    /// [`Structure::biactive`]), its optimum and duals read back in the crawler's names.
-    pub(crate) fn branch_lp(&self, choice: &[bool]) -> Option<(f64, Raw)> {
-        super::branch::branch_lp(&self.inst.problem, &self.gst, choice)
-            .map(|(optimum, raw)| (optimum, self.back(raw)))
-    }
-
-    /// The size of the largest branch LP ([`super::branch::columns`]), for the budget.
-    pub(crate) fn branch_columns(&self) -> usize {
-        super::branch::columns(&self.gst)
-    }
-
-    /// The discrete residuals of the crawler's multipliers `raw`, recomputed by (P)'s
-    /// residuals ([`residuals`]) on the instance, each in the crawler's units
-    /// ([`GeneralStructure::state_scale`], [`GeneralStructure::face_scale`]), in (P)'s names:
-    /// adjoint, complementarity, reaction stationarity, branch face sign, weak maximality,
-    /// sign and, with `durations_free`, the duration stationarity.
-    pub fn residuals(&self, raw: &Raw, durations_free: bool) -> Vec<(&'static str, f64)> {
-        residuals(
-            &self.inst.problem,
-            &self.gst,
-            &self.forward(raw),
-            true,
-            durations_free,
-        )
-        .into_iter()
-        .map(|(name, _, r)| (name, r))
-        .collect()
-    }
-
-    /// (P)'s certificate report ([`report`]) of the crawler's multipliers `raw` on the
-    /// instance: every residual in the crawler's units (the structure's scales), every
-    /// condition in the crawler's words ([`crawler_words`]); read back into the crawler's
-    /// names by `certify::report`.
-    pub fn report(
-        &self,
-        raw: &Raw,
-        scaled_by: String,
-        opts: &CertifyOptions,
-    ) -> GeneralNecessaryConditions {
+    /// The one certificate ([`certify_structured`]) of the process on its instance, with the
+    /// crawler's structure, units and words ([`crawler_words`]): (P)'s report, and the
+    /// multipliers it states read back in the crawler's names ([`Self::back`]).
+    pub fn certify(&self, opts: &CertifyOptions) -> Result<(GeneralNecessaryConditions, Raw)> {
         let words = Words {
             switching: "p + omega",
             component: "link",
             condition: crawler_words,
+            hamiltonian: "H_k = sum_l a_l |psi_{k,l}| over the rates at their bound + lambda \
+                          (Df2(u_k).u_k - f2(u_k))",
         };
-        let g = self.forward(raw);
-        report(
+        let (rep, raw) = certify_structured(
             &self.inst.problem,
             &self.process,
             &self.gst,
-            &g,
-            scaled_by,
+            &words,
             opts,
             true,
-            &words,
-        )
-    }
-
-    /// The crawler's multipliers in the instance's units, the inverse of [`Self::back`]:
-    /// `p~ = K^(1/2) p`, `omega`, `xi~ = s_b xi`, and each rate at its bound weighted by `psi`
-    /// (`rho = sign(v) psi_l`, clipped at 0: every active row of the crawler's box is an axis row,
-    /// [`GeneralStructure::axis_rows`]).
-    fn forward(&self, raw: &Raw) -> GeneralRaw {
-        let (p, xi) = self.rescaled(&raw.p, &raw.xi, |v, s| v * s);
-        let mut g = GeneralRaw {
-            lambda: raw.lambda,
-            p,
-            xi,
-            omega: raw.omega.clone(),
-            rho: Vec::new(),
-        };
-        g.rho = (0..self.gst.steps)
-            .map(|i| {
-                let psi = psi_of(&self.inst.problem, &self.gst, &g, i);
-                self.gst
-                    .axis_rows(i)
-                    .iter()
-                    .map(|ax| ax.map_or(0.0, |(l, v)| (psi[l] / v).max(0.0)))
-                    .collect()
-            })
-            .collect();
-        g
+        )?;
+        Ok((rep, self.back(raw)))
     }
 
     /// General multipliers in the crawler's units: `p = K^(-1/2) p~`, `omega`, and `xi = xi~ / s_b`
     /// (the instance's active faces are the crawler's, in the same order: [`structure_of`]).
     fn back(&self, g: GeneralRaw) -> Raw {
-        let (p, xi) = self.rescaled(&g.p, &g.xi, |v, s| v / s);
+        let p =
+            g.p.iter()
+                .map(|p| {
+                    p.iter()
+                        .zip(&self.inst.sqrt_k)
+                        .map(|(v, s)| v / s)
+                        .collect()
+                })
+                .collect();
+        let xi = self
+            .st
+            .active
+            .iter()
+            .zip(&g.xi)
+            .map(|(faces, xs)| {
+                faces
+                    .iter()
+                    .zip(xs)
+                    .map(|(f, x)| x / self.s_b[f.b])
+                    .collect()
+            })
+            .collect();
         Raw {
             lambda: g.lambda,
             p,
             xi,
             omega: g.omega,
         }
-    }
-
-    /// `p` per link by `sqrt(k_l)` and `xi` per face by `s_b`, each through `by(value, scale)`
-    /// (a product one way, a quotient the other).
-    fn rescaled(
-        &self,
-        p: &[Vec<f64>],
-        xi: &[Vec<f64>],
-        by: impl Fn(f64, f64) -> f64,
-    ) -> (Vec<Vec<f64>>, Vec<Vec<f64>>) {
-        let p = p
-            .iter()
-            .map(|p| {
-                p.iter()
-                    .zip(&self.inst.sqrt_k)
-                    .map(|(&v, &s)| by(v, s))
-                    .collect()
-            })
-            .collect();
-        let xi = self
-            .st
-            .active
-            .iter()
-            .zip(xi)
-            .map(|(faces, xs)| {
-                faces
-                    .iter()
-                    .zip(xs)
-                    .map(|(f, &x)| by(x, self.s_b[f.b]))
-                    .collect()
-            })
-            .collect();
-        (p, xi)
     }
 }
 
@@ -282,5 +186,52 @@ fn structure_of(p: &GeneralProblem, pr: &Process, st: &Structure, s_b: &[f64]) -
         state_scale: (0..st.n).map(|l| p.dynamics.b[l][l]).collect(),
         margin_off_vertex: true,
         switching_unit: 1.0 / (st.nb as f64 * st.k.iter().fold(0.0_f64, |m, &k| m.max(k))),
+        margin_cap: 10.0 / (st.nb as f64 * st.k.iter().fold(f64::INFINITY, |m, &k| m.min(k))),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::general_conditions::residuals;
+    use super::super::general_kkt::psi_of;
+    use super::super::process::INPUT_TOL;
+    use super::*;
+    use crate::optimal::{solve_discrete_global, Cost, GaitProblem, GaitResult};
+    use crate::Crawler;
+
+    /// The duals HiGHS returns for the branch LP on the crawler's instance
+    /// ([`super::super::branch::branch_lp`]) satisfy the KKT system the certificate solves for
+    /// (the independent check of the derivation and its signs), at the global optimum of P_m,
+    /// every residual counted in the crawler's units.
+    #[test]
+    fn branch_lp_duals_satisfy_the_kkt_system() {
+        for (nb, mm, m) in [(2, 2.0, 3), (3, 1.5, 3)] {
+            let c = Crawler::uniform(nb, 1.0, 1.0, mm).unwrap();
+            let pb = GaitProblem::new(&c, 10.0, &vec![1.0; nb - 1], Cost::None, None).unwrap();
+            let s = solve_discrete_global(&c, &pb, m).unwrap();
+            let r = GaitResult::from_discrete(&c, &pb, &s);
+            let pr = Process::from_result(&r, "test").unwrap();
+            let st = Structure::of(&pr, INPUT_TOL);
+            let general = AsGeneral::of(&pr, &st).unwrap();
+            let (p, gst) = (&general.inst.problem, &general.gst);
+            let (opt, mut raw) = super::super::branch::branch_lp(p, gst, &[]).unwrap();
+            assert!((opt - r.objective).abs() < 1e-9, "{opt} vs {}", r.objective);
+            // Each rate at its bound weighted by psi (every active row of the box is an axis row).
+            raw.rho = (0..gst.steps)
+                .map(|i| {
+                    let psi = psi_of(p, gst, &raw, i);
+                    let axis = gst.axis_rows(i);
+                    axis.iter()
+                        .map(|ax| ax.map_or(0.0, |(l, v)| (psi[l] / v).max(0.0)))
+                        .collect()
+                })
+                .collect();
+            for (name, _, v) in residuals(p, gst, &raw, true, false) {
+                println!("N = {nb}: {name} {v:.3e}");
+                if name != "sign" {
+                    assert!(v < 1e-9, "N = {nb}: {name} {v:.3e}");
+                }
+            }
+        }
     }
 }

@@ -8,9 +8,10 @@
 //! [`super::NecessaryConditions`]), the staged search for multipliers (`certify::stages`) and
 //! the branch LPs (`certify::branch`, solved for P_m processes and phase gaits alike); this
 //! module states the conditions for the general data (its multiplier LP in
-//! `certify::general_kkt`, its report in `certify::general_report`). That
-//! multiplier LP is the only one: the crawler's certificate solves it on the crawler's instance
-//! and reads the multipliers back (`certify::crawler_general`, the change of variables below).
+//! `certify::general_kkt`, its report in `certify::general_report`) and holds the one driver
+//! (`certify_structured`). That driver is the only one: the crawler's certificate runs it on the
+//! crawler's instance with the crawler's structure and units, and reads the multipliers back
+//! (`certify::crawler_general`, the change of variables below).
 //!
 //! # The branch LP and its KKT system
 //!
@@ -112,9 +113,10 @@ pub use super::general_conditions::{
     residuals_of, GeneralFaceMultiplier, GeneralMultipliers, GeneralNecessaryConditions,
     GENERAL_CERTIFICATE_FORMAT,
 };
-use super::general_kkt::{solve_general, GeneralRaw, GeneralStructure};
+use super::general_kkt::{solve_general, GeneralRaw, GeneralStructure, Stage};
 pub use super::general_process::{GeneralProcess, EMPTY_PHASE};
-use super::kkt::Stage;
+use super::general_report::{report, Words};
+use super::stages::{scaled_sup, search};
 use super::CertifyOptions;
 use crate::error::Result;
 use crate::model::general::{GeneralCost, GeneralProblem};
@@ -139,57 +141,68 @@ pub(crate) fn certify_with(
     let pr = &pr.without_empty_phases(p.period);
     pr.check(p, opts.structure_tol)?;
     let st = GeneralStructure::of(p, pr, opts.structure_tol);
-    let wmax = st.w.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
-    let chosen = super::stages::search(
-        |lambda, stage, norm| solve_general(p, &st, lambda, stage, norm, drift_term, false),
-        |raw| kkt_residual(p, &st, raw, drift_term, false),
+    let words = &super::general_report::GENERAL_WORDS;
+    Ok(certify_structured(p, pr, &st, words, opts, drift_term)?.0)
+}
+
+/// The one certificate driver: the multipliers of `pr` with the structure `st` (its active,
+/// held and biactive faces, its rates at their bounds, and the units the violations are
+/// counted in: (P)'s own from [`GeneralStructure::of`], or an instance's, such as a
+/// crawler's), its report in `words`, the duration condition of a phase gait and the branch
+/// LPs through it. Returns the report and the multipliers it states (for an instance to read
+/// back in its own names).
+pub(super) fn certify_structured(
+    p: &GeneralProblem,
+    pr: &GeneralProcess,
+    st: &GeneralStructure,
+    words: &Words,
+    opts: &CertifyOptions,
+    drift_term: bool,
+) -> Result<(GeneralNecessaryConditions, GeneralRaw)> {
+    let chosen = search(
+        |lambda, stage, norm| solve_general(p, st, lambda, stage, norm, drift_term, false),
+        |raw| kkt_residual(p, st, raw, drift_term, false),
+        st,
         opts.tol,
-        10.0 * wmax.max(1.0),
         st.phase,
     )?;
-    let words = &super::general_report::GENERAL_WORDS;
-    let mut rep =
-        super::general_report::report(p, pr, &st, &chosen.0, chosen.1, opts, drift_term, words);
+    let mut rep = report(p, pr, st, &chosen.0, chosen.1, opts, drift_term, words);
     if st.phase {
         // The phase LP is stationary in the durations too, with multipliers of their own
-        // (imposing it on the reported ones could conflict with dxi >= 0, as for crawlers): with
-        // lambda = 1 where the conditions hold with it, else by the same search (lambda = 0).
+        // (imposing it on the reported ones could conflict with dxi >= 0: the three-block
+        // crawler's phase optimum): with lambda = 1 where the conditions hold with it, else by
+        // the same search (lambda = 0).
         let raw = if chosen.0.lambda > 0.0 {
-            solve_general(p, &st, 1.0, Stage::Kkt, None, drift_term, true)?.ok_or_else(|| {
+            solve_general(p, st, 1.0, Stage::Kkt, None, drift_term, true)?.ok_or_else(|| {
                 crate::Error::Numerical("certify: HiGHS found the multiplier LP infeasible".into())
             })?
         } else {
-            super::stages::search(
-                |lambda, stage, norm| solve_general(p, &st, lambda, stage, norm, drift_term, true),
-                |raw| kkt_residual(p, &st, raw, drift_term, true),
+            search(
+                |lambda, stage, norm| solve_general(p, st, lambda, stage, norm, drift_term, true),
+                |raw| kkt_residual(p, st, raw, drift_term, true),
+                st,
                 opts.tol,
-                10.0 * wmax.max(1.0),
                 true,
             )?
             .0
         };
-        let r = kkt_residual(p, &st, &raw, drift_term, true) / super::stages::sup(&raw.p).max(1.0);
-        rep.add_duration_condition(
-            "H_i = sum_r rho_{i,r} h_r - <p_i, b> + lambda (Df2(u_i).u_i - f2(u_i))",
-            r,
-            opts.tol,
-        );
+        let r = kkt_residual(p, st, &raw, drift_term, true)
+            / scaled_sup(&raw.p, &st.state_scale).max(1.0);
+        rep.add_duration_condition(words.hamiltonian, r, opts.tol);
         if p.cost != GeneralCost::None {
             rep.note_approximate_cost();
         }
     }
-    // The branch LPs through the process (f2 = 0): its own and, within the budget, every
-    // choice of its biactive pairs reacting or not; on a P_m process a failure that they do not
-    // show suboptimal says so (a phase gait's fix its durations).
-    if p.cost == GeneralCost::None {
-        let biactive = st.reacting.iter().flatten().filter(|(_, r)| !r).count();
-        let columns = super::branch::columns(&st);
-        let branch = super::records::best_branch(biactive, columns, pr.objective(p), |choice| {
-            Ok(super::branch::branch_lp(p, &st, choice).map(|(optimum, _)| optimum))
-        })?;
-        rep.set_branch_lp(branch, !st.phase, opts.tol);
-    }
-    Ok(rep)
+    // The branch LPs through the process (f2 = 0 only: none otherwise): its own and, within
+    // the budget, every choice of its biactive pairs reacting or not; on a P_m process a
+    // failure that they do not show suboptimal says so (a phase gait's fix its durations).
+    let biactive = st.reacting.iter().flatten().filter(|(_, r)| !r).count();
+    let columns = super::branch::columns(st);
+    let branch = super::records::best_branch(biactive, columns, pr.objective(p), |choice| {
+        Ok(super::branch::branch_lp(p, st, choice).map(|(optimum, _)| optimum))
+    })?;
+    rep.set_branch_lp(branch, !st.phase, opts.tol);
+    Ok((rep, chosen.0))
 }
 
 /// The largest residual of the branch LP's KKT system (all discrete conditions but the sign;

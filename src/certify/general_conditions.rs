@@ -52,28 +52,6 @@ pub struct GeneralMultipliers {
 /// [`NecessaryConditions`] with (P)'s multipliers.
 pub type GeneralNecessaryConditions = NecessaryConditions<GeneralMultipliers>;
 
-impl super::stages::Multipliers for GeneralRaw {
-    fn p(&self) -> &[Vec<f64>] {
-        &self.p
-    }
-    fn omega(&self) -> &[f64] {
-        &self.omega
-    }
-    fn xi(&self) -> &[Vec<f64>] {
-        &self.xi
-    }
-    fn degenerate(self, by: f64) -> Self {
-        let div = |rows| super::stages::divided(rows, by);
-        GeneralRaw {
-            lambda: 0.0,
-            p: div(self.p),
-            xi: div(self.xi),
-            omega: self.omega.into_iter().map(|v| v / by).collect(),
-            rho: div(self.rho),
-        }
-    }
-}
-
 /// The discrete residuals as (name, statement, residual), recomputed in floating point; with
 /// `durations_free` (phase gaits) also the stationarity in the durations.
 pub(crate) fn residuals(
@@ -116,7 +94,7 @@ pub(crate) fn residuals(
              with rho >= 0 on the active rows of U (Thm 6.2 (pw))",
             maxim,
         ),
-        ("sign", "xi_{k,f} >= 0", sign_term(st, raw)),
+        ("sign", "xi_{k,f} >= 0", super::stages::sign_residual(st, raw)),
     ];
     if durations_free && st.phase {
         out.push((
@@ -165,18 +143,6 @@ fn adjoint_terms(
         }
     }
     (adj, comp, lp_sign)
-}
-
-/// The largest violation of `xi >= 0` (Theorem 2.2 sign), each mass in its face's unit
-/// (`xi / face_scale`: a crawler's `xi` per unnormalised `nu_b`).
-fn sign_term(st: &GeneralStructure, raw: &GeneralRaw) -> f64 {
-    let mut s = 0.0_f64;
-    for (k, row) in raw.xi.iter().enumerate() {
-        for (fi, &x) in row.iter().enumerate() {
-            s = s.max(-x / st.face_scale[st.active[k][fi]]);
-        }
-    }
-    s
 }
 
 /// Reaction stationarity (Theorem 6.2 (pr)): the largest `|lambda w_f + <p_i, x*_f>|` on a face

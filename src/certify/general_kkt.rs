@@ -1,14 +1,15 @@
-//! The multiplier linear programs of the general problem's P_m (module docs of
-//! [`crate::certify::general`] for the mathematics): the combinatorial structure of a process
-//! (active faces, held faces, active rows of U) and the KKT system of its branch LP, solved by
-//! HiGHS for multipliers that violate it least, in the stages of the crawler's certificate
-//! ([`crate::certify`]: [`Stage`], [`Norm`], the same generic functional).
+//! The one multiplier linear program of the certificate (module docs of
+//! [`crate::certify::general`] for the mathematics): the combinatorial structure of a process of
+//! (P) (active faces, held faces, active rows of U) and the KKT system of its branch LP, solved
+//! by HiGHS for multipliers that violate it least, in the stages of the search
+//! (`certify::stages`: [`Stage`], [`Norm`], a generic functional for the degenerate case). A
+//! crawler's certificate solves it on the crawler's instance (`certify::crawler_general`).
 
 use super::general_process::{control_rows, GeneralProcess, ProcessKind};
-use super::kkt::{adjoint_columns, functional, norm_box, solve_multiplier_lp, Norm, Stage};
-use crate::error::Result;
+use crate::error::{Error, Result};
 use crate::model::general::{dot, GeneralCost, GeneralProblem, Reward};
-use highs::{Col, RowProblem};
+use crate::optimal::solver::{Highs, SolveStatus};
+use highs::{Col, RowProblem, Sense};
 
 /// The cost's Hessian `R` (`f2 = (1/2) u^T R u`; zero for `f2 = 0`).
 pub(crate) fn cost_hessian(cost: &GeneralCost, m: usize) -> Vec<Vec<f64>> {
@@ -88,6 +89,11 @@ pub(crate) struct GeneralStructure {
     /// identically: `max |w|` for (P); `1 / (N k_max)` for a crawler's instance (its `p` is then
     /// `lambda / N` per `K nu_b` while block `b` slips).
     pub switching_unit: f64,
+    /// The bound on the margin `delta` of the last stage (in the units of the switching
+    /// function), so that the LP is bounded where every rate's margin could grow without end:
+    /// `10 max(max |w|, 1)` for (P); `10 / (N k_min)` for a crawler's instance (ten times the
+    /// largest `p` one slipping block asks).
+    pub margin_cap: f64,
 }
 
 impl GeneralStructure {
@@ -148,6 +154,8 @@ impl GeneralStructure {
                 .zip(&grad_f2)
                 .map(|(u, g)| dot(g, u) - p.cost.eval(u))
                 .collect();
+        let w = face_weights(p);
+        let wmax = w.iter().fold(0.0_f64, |a, v| a.max(v.abs()));
         GeneralStructure {
             n,
             m,
@@ -162,8 +170,9 @@ impl GeneralStructure {
             at_vertex,
             grad_f2,
             cost_h,
-            switching_unit: face_weights(p).iter().fold(0.0_f64, |a, v| a.max(v.abs())),
-            w: face_weights(p),
+            switching_unit: wmax,
+            margin_cap: 10.0 * wmax.max(1.0),
+            w,
             urows,
             face_scale: vec![1.0; p.c.faces()],
             state_scale: vec![1.0; n],
@@ -545,5 +554,118 @@ fn duration_rows(
         row.push((c.r, -1.0));
         pb.add_row(..=-cst, row);
         pb.add_row(-cst.., lo);
+    }
+}
+
+/// Which optimisation over the multiplier set.
+#[derive(Debug, Clone, Copy)]
+pub(crate) enum Stage {
+    /// Minimise the largest violation `r` of the branch LP's KKT system.
+    Kkt,
+    /// Keeping `r <= r_max`, minimise the largest violation `s` of `xi >= 0`.
+    Sign { r_max: f64 },
+    /// Keeping `r <= r_max` and `s <= s_max`, maximise the margin `delta`: every normal-cone
+    /// weight `rho >= delta` (on a box's bound, `-sign(u_l) sigma_l >= delta`) on the pieces
+    /// where the control is a vertex of U, or on every piece for a crawler
+    /// (`GeneralStructure::margin_off_vertex`).
+    Margin { r_max: f64, s_max: f64, cap: f64 },
+}
+
+impl Stage {
+    /// The stage's three scalar columns of a multiplier LP, with its objective and bounds:
+    /// the KKT violation `r`, the sign violation `s` and the margin `delta`. A degenerate
+    /// search (`norm`) holds the KKT system exactly (`r = 0`), and `s = 0` where it imposes
+    /// `xi >= 0`.
+    pub(crate) fn columns(self, pb: &mut RowProblem, norm: Option<Norm>) -> (Col, Col, Col) {
+        const INF: f64 = f64::INFINITY;
+        let (r_cost, r_hi) = match self {
+            Stage::Kkt if norm.is_some() => (0.0, 0.0),
+            Stage::Kkt => (1.0, INF),
+            Stage::Sign { r_max } | Stage::Margin { r_max, .. } => (0.0, r_max),
+        };
+        let r = pb.add_column(r_cost, 0.0..=r_hi);
+        let (s_cost, s_hi) = match self {
+            Stage::Kkt if norm.is_some_and(|n| n.sign_hard) => (0.0, 0.0),
+            Stage::Kkt => (0.0, INF),
+            Stage::Sign { .. } => (1.0, INF),
+            Stage::Margin { s_max, .. } => (0.0, s_max),
+        };
+        let s = pb.add_column(s_cost, 0.0..=s_hi);
+        let (d_cost, d_hi) = match self {
+            Stage::Margin { cap, .. } => (-1.0, cap),
+            _ => (0.0, INF),
+        };
+        let delta = pb.add_column(d_cost, -INF..=d_hi);
+        (r, s, delta)
+    }
+}
+
+/// The search for degenerate multipliers (`lambda = 0`): the conditions are then homogeneous,
+/// so a non-zero `(p, omega)` exists iff the fixed generic linear functional `sign * c` has a
+/// positive maximum over them within the box `|p|, |omega| <= 1`, for `sign = 1` or `-1` (a
+/// non-zero `v` has `c.v != 0` for generic `c`).
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Norm {
+    pub sign: f64,
+    /// Whether `xi >= 0` is imposed too (phase gaits, whose verdict includes it).
+    pub sign_hard: bool,
+}
+
+/// The box `|p|, |omega| <= box` and the weight of the generic functional in the objective:
+/// `(1, sign)` in a degenerate search, `(inf, 0)` otherwise.
+pub(crate) fn norm_box(norm: Option<Norm>) -> (f64, f64) {
+    match norm {
+        Some(Norm { sign, .. }) => (1.0, sign),
+        None => (f64::INFINITY, 0.0),
+    }
+}
+
+/// The adjoint's columns `p_j` (`pieces` x `n`, in [`norm_box`]'s box, weighted by the generic
+/// functional) and the free reaction multipliers `xi`, one per knot and active face.
+pub(crate) fn adjoint_columns<F>(
+    pb: &mut RowProblem,
+    norm: Option<Norm>,
+    pieces: usize,
+    n: usize,
+    active: &[Vec<F>],
+) -> (Vec<Vec<Col>>, Vec<Vec<Col>>) {
+    let (box_, weight) = norm_box(norm);
+    let p = (0..pieces)
+        .map(|j| {
+            (0..n)
+                .map(|l| pb.add_column(-weight * functional(j, l), -box_..=box_))
+                .collect()
+        })
+        .collect();
+    let xi = active
+        .iter()
+        .map(|a| {
+            a.iter()
+                .map(|_| pb.add_column(0.0, f64::NEG_INFINITY..=f64::INFINITY))
+                .collect()
+        })
+        .collect();
+    (p, xi)
+}
+
+/// The generic functional: irrational, deterministic weights.
+pub(crate) fn functional(j: usize, l: usize) -> f64 {
+    (1.0 + j as f64 * 0.618_033_988_749_895 + l as f64 * 0.414_213_562_373_095).sin() + 0.1
+}
+
+/// Solves a multiplier LP (a minimisation) to tight tolerances, both certificates' (`what`
+/// names it in errors): its columns, or `None` when HiGHS proves it infeasible (no multipliers
+/// of that stage); a time limit is a numerical error (these LPs are small and untimed).
+pub(crate) fn solve_multiplier_lp(pb: RowProblem, what: &str) -> Result<Option<Vec<f64>>> {
+    let mut model = Highs::new(pb, Sense::Minimise, what)?;
+    model.option("primal_feasibility_tolerance", 1e-10)?;
+    model.option("dual_feasibility_tolerance", 1e-10)?;
+    let solved = model.solve()?;
+    match solved.status {
+        SolveStatus::Optimal => Ok(Some(solved.columns)),
+        SolveStatus::Infeasible => Ok(None),
+        SolveStatus::TimeLimit { .. } => {
+            Err(Error::Numerical(format!("{what} stopped at a time limit")))
+        }
     }
 }

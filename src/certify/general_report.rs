@@ -10,7 +10,7 @@ use super::general_conditions::{
 use super::general_kkt::{psi_of, GeneralRaw, GeneralStructure};
 use super::general_process::GeneralProcess;
 use super::records::ConditionCheck;
-use super::stages::sup;
+use super::stages::{scaled_sup, sup};
 use super::verdict::{
     check, discrete_group, law_target, misplaced_mass, norm2, normalisation,
     significant_multipliers, step_distance, verdict,
@@ -30,6 +30,8 @@ pub(super) struct Words {
     /// The instance's name and statement of a condition of (P) (its name and group, "6.2" or
     /// "2.2"), where it has its own.
     pub condition: fn(&str, &str) -> Option<(&'static str, &'static str)>,
+    /// The maximised Hamiltonian of a phase, as the duration condition states it.
+    pub hamiltonian: &'static str,
 }
 
 /// (P)'s own words.
@@ -37,6 +39,7 @@ pub(super) const GENERAL_WORDS: Words = Words {
     switching: "B^T p + omega",
     component: "component",
     condition: |_, _| None,
+    hamiltonian: "H_i = sum_r rho_{i,r} h_r - <p_i, b> + lambda (Df2(u_i).u_i - f2(u_i))",
 };
 
 /// The certificate of `pr` with the multipliers `raw` (scaled as `scaled_by` says), its
@@ -177,13 +180,6 @@ fn holds_reason(margin_required: bool, box_u: bool, words: &Words) -> String {
                           leaves the control unique"
             .to_string(),
     }
-}
-
-/// `sup |p|` with each state's adjoint in its unit (`state_scale`: a crawler's own `p`).
-fn scaled_sup(p: &[Vec<f64>], state_scale: &[f64]) -> f64 {
-    p.iter()
-        .flat_map(|p| p.iter().zip(state_scale).map(|(v, s)| (v * s).abs()))
-        .fold(0.0, f64::max)
 }
 
 /// Why the conditions hold only degenerately (§4 (nndg)): for a box U, where the switching

@@ -68,7 +68,7 @@
 //! branch LP of its exact instance of (P) ([`crate::model::crawler_as_general`]: `x~ =
 //! K^(-1/2) x`, unit normals `x~*_(b+-) = +-K^(1/2) nu_b / s_b` with `s_b = sqrt(k_(b-1) + k_b)`,
 //! face weights `+-1/(N s_b)`, `B = K^(-1/2)`, `A = 0`), so the LPs are solved in `(p~, xi~,
-//! omega)` with the crawler's own structure (`kkt::Structure`: its active, held and biactive faces,
+//! omega)` with the crawler's own structure (`crawler_structure::Structure`: its active, held and biactive faces,
 //! slips and rates at a bound, in (P)'s face numbering) and read back in the crawler's names:
 //! `p = K^(-1/2) p~`, `omega` unchanged (`B^T p~ = p`, so `psi` is unchanged too) and `xi_(b+-) =
 //! xi~_(b+-) / s_b` (the Lagrangian term `<q, dynamics>` is invariant under the change of
@@ -156,8 +156,9 @@
 //!   residuals at the least violating multipliers (a min-max solution spreads the violation over
 //!   several conditions, so all of them are named).
 //!
-//! There is one report, (P)'s (`general_report`): a crawler's certificate is (P)'s report on its
-//! instance, with every residual in the crawler's units (`GeneralStructure::state_scale`,
+//! There is one driver and one report, (P)'s (`general::certify_structured`, `general_report`):
+//! a crawler's certificate is (P)'s certificate of its process on its instance, with the
+//! crawler's own structure (`crawler_structure::Structure`, mapped by `crawler_general`), with every residual in the crawler's units (`GeneralStructure::state_scale`,
 //! `face_scale`, `switching_unit`) and every condition in the crawler's words
 //! (`crawler_words::crawler_words`), read back in the crawler's names (`report.rs`: `p` and
 //! `p + omega` per link, `dxi` per block and side, the one-link structure). The verdict, the
@@ -173,24 +174,24 @@
 //! multipliers of its own, found by the stage-1 LP with these rows added (the general phase LP's
 //! `H_i = sum_r rho_(i,r) h_r`, for the box `sum_l a_l |psi_(i,l)|`): imposed on the reported
 //! multipliers it can conflict with `dxi >= 0` (the three-block phase optimum: `xi = -1/6`
-//! somewhere), and Theorem 2.2 does not state it. (Checked with `lambda = 1` only.) The
+//! somewhere), and Theorem 2.2 does not state it. It is checked with `lambda = 1` where the
+//! other conditions hold with it, else with multipliers of the same search at `lambda = 0`. The
 //! block-speed bound `|D| <= V tau` of the phase MILP is taken as inactive.
 
 pub mod bound;
 mod branch;
 mod crawler_general;
+mod crawler_structure;
 mod crawler_words;
 pub mod general;
 mod general_conditions;
 mod general_kkt;
 mod general_process;
 mod general_report;
-mod kkt;
 mod one_link;
 mod process;
 mod records;
 mod report;
-mod residuals;
 mod stages;
 mod verdict;
 
@@ -206,9 +207,7 @@ pub use report::{one_link_structure, process_objective};
 
 use crate::error::Result;
 use crate::optimal::GaitResult;
-use kkt::{Raw, Stage, Structure};
-use residuals::{kkt_residual, kkt_residual_with};
-use stages::sup;
+use crawler_structure::Structure;
 
 /// Certifies the process of an optimizer result (`crawlopt certify`); `what` names the source.
 pub fn certify_result(r: &GaitResult, what: &str) -> Result<NecessaryConditions> {
@@ -216,98 +215,13 @@ pub fn certify_result(r: &GaitResult, what: &str) -> Result<NecessaryConditions>
     certify(&p, &CertifyOptions::default())
 }
 
-/// Computes multipliers of a process and checks the necessary conditions (module docs).
+/// Computes multipliers of a process and checks the necessary conditions (module docs): (P)'s
+/// one certificate ([`general`]) on the crawler's instance, with the crawler's structure, and
+/// read back in its names.
 pub fn certify(pr: &Process, opts: &CertifyOptions) -> Result<NecessaryConditions> {
     pr.check("process", opts.structure_tol)?;
     let st = Structure::of(pr, opts.structure_tol);
-    let cap = 10.0 / (st.nb as f64 * st.k.iter().cloned().fold(f64::INFINITY, f64::min));
     let general = crawler_general::AsGeneral::of(pr, &st)?;
-    let chosen = stages::search(
-        |lambda, stage, norm| general.solve(lambda, stage, norm, false),
-        |raw| kkt_residual(pr, &general, raw),
-        opts.tol,
-        cap,
-        pr.kind == ProcessKind::Phase,
-    )?;
-    let biactive = st.biactive.iter().map(Vec::len).sum();
-    let columns = general.branch_columns();
-    let branch = records::best_branch(biactive, columns, process_objective(pr), |choice| {
-        Ok(general.branch_lp(choice).map(|(optimum, _)| optimum))
-    })?;
-    // Phase gaits: the phase LP is stationary in the durations too, with multipliers of their own
-    // (imposing it on the reported ones can conflict with dxi >= 0: three-block phase optimum).
-    let duration = if pr.kind == ProcessKind::Phase && chosen.0.lambda > 0.0 {
-        let raw = general.solve(1.0, Stage::Kkt, None, true)?.ok_or_else(|| {
-            crate::Error::Numerical("certify: HiGHS found the multiplier LP infeasible".into())
-        })?;
-        Some(kkt_residual_with(pr, &general, &raw, true) / sup(&raw.p).max(1.0))
-    } else {
-        None
-    };
-    let mut rep = report::report(pr, &st, &general, chosen.0, chosen.1, opts);
-    if let Some(r) = duration {
-        rep.add_duration_condition(
-            "H_k = sum_l a_l |psi_{k,l}| over the rates at their bound + lambda (Df2(u_k).u_k - \
-             f2(u_k))",
-            r,
-            opts.tol,
-        );
-    }
-    if pr.kind == ProcessKind::Phase && pr.problem.cost != crate::optimal::Cost::None {
-        rep.note_approximate_cost();
-    }
-    rep.set_branch_lp(branch, pr.kind != ProcessKind::Phase, opts.tol);
-    Ok(rep)
-}
-
-impl stages::Multipliers for Raw {
-    fn p(&self) -> &[Vec<f64>] {
-        &self.p
-    }
-    fn omega(&self) -> &[f64] {
-        &self.omega
-    }
-    fn xi(&self) -> &[Vec<f64>] {
-        &self.xi
-    }
-    fn degenerate(self, by: f64) -> Self {
-        let div = |rows| stages::divided(rows, by);
-        Raw {
-            lambda: 0.0,
-            p: div(self.p),
-            xi: div(self.xi),
-            omega: self.omega.into_iter().map(|v| v / by).collect(),
-        }
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::optimal::Cost;
-    use crate::optimal::{solve_discrete_global, GaitProblem};
-    use crate::Crawler;
-    use residuals::discrete_residuals;
-
-    /// The duals HiGHS returns for the branch LP satisfy the KKT system as written here (the
-    /// independent check of the derivation and its signs), at the global optimum of P_m.
-    #[test]
-    fn branch_lp_duals_satisfy_the_kkt_system() {
-        for (nb, mm, m) in [(2, 2.0, 3), (3, 1.5, 3)] {
-            let c = Crawler::uniform(nb, 1.0, 1.0, mm).unwrap();
-            let pb = GaitProblem::new(&c, 10.0, &vec![1.0; nb - 1], Cost::None, None).unwrap();
-            let s = solve_discrete_global(&c, &pb, m).unwrap();
-            let r = GaitResult::from_discrete(&c, &pb, &s);
-            let pr = Process::from_result(&r, "test").unwrap();
-            let st = Structure::of(&pr, INPUT_TOL);
-            let general = crawler_general::AsGeneral::of(&pr, &st).unwrap();
-            let (opt, raw) = general.branch_lp(&[]).unwrap();
-            assert!((opt - r.objective).abs() < 1e-9, "{opt} vs {}", r.objective);
-            let res = discrete_residuals(&pr, &general, &raw, false);
-            for (name, _, v) in &res {
-                println!("N = {nb}: {name} {v:.3e}");
-            }
-            assert!(kkt_residual(&pr, &general, &raw) < 1e-9);
-        }
-    }
+    let (rep, raw) = general.certify(opts)?;
+    Ok(report::report(pr, &st, rep, raw, opts))
 }

@@ -1,27 +1,27 @@
 //! The report of a crawler's certificate: (P)'s report on the crawler's instance read back in
 //! the crawler's names; `J` of a process.
 
+#[cfg(doc)]
 use super::crawler_general::AsGeneral;
-use super::kkt::{FaceId, Raw, Structure};
+use super::crawler_structure::{FaceId, Raw, Structure};
+use super::general_conditions::GeneralNecessaryConditions;
 use super::process::{Process, ProcessKind};
 use super::records::*;
 use super::verdict::significant_multipliers;
 
-/// The certificate of the crawler process `pr` with the multipliers `raw` (in the crawler's
-/// units): (P)'s report on its instance ([`AsGeneral::report`]: the same conditions, residuals,
-/// margin, normalisations and verdict, in the crawler's units and words), read back in the
-/// crawler's names (`p`, `p + omega` per link, `dxi` per block and side), with the one-link
-/// structure of theory §9.
+/// The certificate of the crawler process `pr`: (P)'s report `g` on its instance
+/// ([`AsGeneral::certify`]: the same conditions, residuals, margin, normalisations and
+/// verdict, in the crawler's units and words) with the multipliers `raw` it states (in the
+/// crawler's units), read back in the crawler's names (`p`, `p + omega` per link, `dxi` per
+/// block and side), with the one-link structure of theory §9.
 pub(super) fn report(
     pr: &Process,
     st: &Structure,
-    general: &AsGeneral,
+    g: GeneralNecessaryConditions,
     raw: Raw,
-    scaled_by: String,
     opts: &CertifyOptions,
 ) -> NecessaryConditions {
     let discrete = matches!(pr.kind, ProcessKind::Discrete { .. });
-    let g = general.report(&raw, scaled_by, opts);
     let mut c = g.named(move |g| MultiplierData {
         extension: if discrete {
             "piecewise_linear"
