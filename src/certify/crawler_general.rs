@@ -10,52 +10,93 @@
 //! units of the unnormalised `+-nu_b`); the general face of block `b` (0-based) and side `+` is
 //! `2 b`, of side `-` is `2 b + 1` (0-based).
 
-use super::crawler_structure::{FaceId, Raw, Structure};
 use super::crawler_words::crawler_words;
 use super::general::certify_structured;
 use super::general_conditions::GeneralNecessaryConditions;
-use super::general_kkt::{face_weights, GeneralRaw, GeneralStructure};
-use super::general_process::{control_rows, GeneralProcess};
+use super::general_kkt::{GeneralRaw, GeneralStructure};
+use super::general_process::GeneralProcess;
 use super::general_report::Words;
-use super::process::{Process, ProcessKind};
+use super::process::Process;
 use super::CertifyOptions;
 use crate::error::Result;
-use crate::model::general::GeneralProblem;
 use crate::model::{crawler_as_general, CrawlerInstance};
 
+/// A face of C: block `b` (0-based) and side `s` (`+1`: `F_b <= mu_b^+`, outer normal `nu_b`;
+/// `-1`: `-F_b <= mu_b^-`, outer normal `-nu_b`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) struct FaceId {
+    pub b: usize,
+    pub s: i8,
+}
+
+impl FaceId {
+    /// The crawler's face of the instance's face `f` (0-based): `2 b` is block `b`'s side `+`,
+    /// `2 b + 1` its side `-`.
+    fn of(f: usize) -> Self {
+        FaceId {
+            b: f / 2,
+            s: if f % 2 == 0 { 1 } else { -1 },
+        }
+    }
+}
+
+/// A crawler's multipliers in its own units: `p_j` per piece, `xi` per active face of every
+/// knot (the faces in `active`), `omega`, at the given `lambda`.
+#[derive(Debug, Clone, PartialEq)]
+pub(crate) struct Raw {
+    pub lambda: f64,
+    pub p: Vec<Vec<f64>>,
+    pub active: Vec<Vec<FaceId>>,
+    pub xi: Vec<Vec<f64>>,
+    pub omega: Vec<f64>,
+}
+
 /// The crawler process `pr` as (P): its instance, its process there and that process's
-/// structure, with the crawler's structure to read the multipliers back into.
-pub(crate) struct AsGeneral<'a> {
+/// structure, in the crawler's units.
+pub(crate) struct AsGeneral {
     inst: CrawlerInstance,
-    st: &'a Structure,
     gst: GeneralStructure,
     /// The process on the instance ([`GeneralProcess::of_crawler`]).
     process: GeneralProcess,
     s_b: Vec<f64>,
 }
 
-impl<'a> AsGeneral<'a> {
+impl AsGeneral {
     /// The instance of `pr`'s crawler and gait problem (cost `f2` unchanged: the control is the
-    /// crawler's), with the crawler's structure `st` in its terms.
-    pub fn of(pr: &Process, st: &'a Structure) -> Result<Self> {
+    /// crawler's), its process there and that process's structure at relative tolerance `tol`
+    /// ([`GeneralStructure::of`]: faces relative to the instance's C, reactions `tau lambda =
+    /// s_b |D|` to the same scale, rates to their bounds), counted in the crawler's units:
+    /// - `face_scale = s_b`: its slip stationarity `<p, K nu_b> + lambda/N` is `s_b` times the
+    ///   unit row's, its `xi` is `xi~ / s_b`;
+    /// - `state_scale = 1 / sqrt(k_l)` (`B = K^(-1/2)`: the instance's `p~` is `K^(1/2) p`);
+    /// - the margin taken on every rate at its bound, as its margin `min |p + omega|` reads;
+    /// - the switching function's unit `1 / (N k_max)` (its `p` is `lambda / N` per `K nu_b`
+    ///   while block `b` slips), and the margin's cap ten times `1 / (N k_min)`.
+    pub fn of(pr: &Process, tol: f64) -> Result<Self> {
         let cost = pr.problem.cost.into();
         let inst =
             crawler_as_general(&pr.crawler, pr.problem.period, &pr.problem.rate_bound, cost)?;
-        let s_b = crate::model::crawler_row_norms(pr.crawler.stiffness());
-        let gst = structure_of(&inst.problem, pr, st, &s_b);
+        let k = pr.crawler.stiffness();
+        let s_b = crate::model::crawler_row_norms(k);
         let process = GeneralProcess::of_crawler(pr);
+        let mut gst = GeneralStructure::of(&inst.problem, &process, tol);
+        let nb = pr.crawler.blocks() as f64;
+        gst.face_scale = s_b.iter().flat_map(|&s| [s, s]).collect();
+        gst.state_scale = inst.sqrt_k.iter().map(|s| 1.0 / s).collect();
+        gst.margin_off_vertex = true;
+        gst.switching_unit = 1.0 / (nb * k.iter().fold(0.0_f64, |m, &k| m.max(k)));
+        gst.margin_cap = 10.0 / (nb * k.iter().fold(f64::INFINITY, |m, &k| m.min(k)));
         Ok(AsGeneral {
             s_b,
             inst,
-            st,
             gst,
             process,
         })
     }
 
-    /// The one certificate ([`certify_structured`]) of the process on its instance, with the
-    /// crawler's structure, units and words ([`crawler_words`]): (P)'s report, and the
-    /// multipliers it states read back in the crawler's names ([`Self::back`]).
+    /// The one certificate ([`certify_structured`]) of the process on its instance, in the
+    /// crawler's units and words ([`crawler_words`]): (P)'s report, and the multipliers it
+    /// states read back in the crawler's names ([`Self::back`]).
     pub fn certify(&self, opts: &CertifyOptions) -> Result<(GeneralNecessaryConditions, Raw)> {
         let words = Words {
             switching: "p + omega",
@@ -75,8 +116,8 @@ impl<'a> AsGeneral<'a> {
         Ok((rep, self.back(raw)))
     }
 
-    /// General multipliers in the crawler's units: `p = K^(-1/2) p~`, `omega`, and `xi = xi~ / s_b`
-    /// (the instance's active faces are the crawler's, in the same order: [`structure_of`]).
+    /// General multipliers in the crawler's units: `p = K^(-1/2) p~`, `omega`, and
+    /// `xi = xi~ / s_b` on the crawler's faces ([`FaceId::of`]).
     fn back(&self, g: GeneralRaw) -> Raw {
         let p =
             g.p.iter()
@@ -87,9 +128,13 @@ impl<'a> AsGeneral<'a> {
                         .collect()
                 })
                 .collect();
-        let xi = self
-            .st
+        let active: Vec<Vec<FaceId>> = self
+            .gst
             .active
+            .iter()
+            .map(|a| a.iter().map(|&f| FaceId::of(f)).collect())
+            .collect();
+        let xi = active
             .iter()
             .zip(&g.xi)
             .map(|(faces, xs)| {
@@ -103,90 +148,10 @@ impl<'a> AsGeneral<'a> {
         Raw {
             lambda: g.lambda,
             p,
+            active,
             xi,
             omega: g.omega,
         }
-    }
-}
-
-/// The general face of a crawler's face: block `b`'s side `+` is `2 b`, side `-` is `2 b + 1`.
-fn face_of(f: FaceId) -> usize {
-    2 * f.b + usize::from(f.s < 0)
-}
-
-/// The crawler's structure `st` of `pr` in the terms of its instance `p` of (P): the same
-/// active and held faces (slacks in the unit normals' units, `/ s_b`), each slipping block's
-/// face reacting and each biactive pair a face that may react without doing so, the same
-/// bounds of the rates (rows `+e_l <= a_l`, `-e_l <= a_l`), one decision at one tolerance for
-/// both certificates, and the margin taken on every rate at its bound as the crawler's
-/// certificate reads it. The violations are counted in the crawler's units (`face_scale = s_b`:
-/// its slip stationarity `<p, K nu_b> + lambda/N` is `s_b` times the unit row's, its `xi` is
-/// `xi~ / s_b`).
-fn structure_of(p: &GeneralProblem, pr: &Process, st: &Structure, s_b: &[f64]) -> GeneralStructure {
-    let active: Vec<Vec<usize>> = st
-        .active
-        .iter()
-        .map(|a| a.iter().map(|&f| face_of(f)).collect())
-        .collect();
-    let slack = st
-        .active
-        .iter()
-        .zip(&st.slack)
-        .map(|(a, sl)| a.iter().zip(sl).map(|(f, v)| v / s_b[f.b]).collect())
-        .collect();
-    let reacting = (0..st.np)
-        .map(|i| {
-            let slipping = (0..st.nb).filter(|&b| st.slips[i][b] != 0).map(|b| {
-                (
-                    face_of(FaceId {
-                        b,
-                        s: st.slips[i][b],
-                    }),
-                    true,
-                )
-            });
-            let biactive = st.biactive[i]
-                .iter()
-                .map(|&(b, s)| (face_of(FaceId { b, s }), false));
-            slipping.chain(biactive).collect()
-        })
-        .collect();
-    let urows = control_rows(&p.control);
-    let urows_active: Vec<Vec<usize>> = st
-        .bound
-        .iter()
-        .map(|bound| {
-            bound
-                .iter()
-                .enumerate()
-                .filter(|(_, &s)| s != 0)
-                .map(|(l, &s)| 2 * l + usize::from(s < 0))
-                .collect()
-        })
-        .collect();
-    let at_vertex = urows_active.iter().map(|a| a.len() == st.n).collect();
-    GeneralStructure {
-        n: st.n,
-        m: st.n,
-        steps: st.np,
-        tau: pr.durations.clone(),
-        phase: pr.kind == ProcessKind::Phase,
-        active,
-        held: st.held.clone(),
-        slack,
-        reacting,
-        urows_active,
-        at_vertex,
-        grad_f2: st.grad_f2.clone(),
-        cost_h: st.cost_h.clone(),
-        w: face_weights(p),
-        urows,
-        face_scale: s_b.iter().flat_map(|&s| [s, s]).collect(),
-        // B = K^(-1/2): the instance's p~ is K^(1/2) p.
-        state_scale: (0..st.n).map(|l| p.dynamics.b[l][l]).collect(),
-        margin_off_vertex: true,
-        switching_unit: 1.0 / (st.nb as f64 * st.k.iter().fold(0.0_f64, |m, &k| m.max(k))),
-        margin_cap: 10.0 / (st.nb as f64 * st.k.iter().fold(f64::INFINITY, |m, &k| m.min(k))),
     }
 }
 
@@ -211,8 +176,7 @@ mod tests {
             let s = solve_discrete_global(&c, &pb, m).unwrap();
             let r = GaitResult::from_discrete(&c, &pb, &s);
             let pr = Process::from_result(&r, "test").unwrap();
-            let st = Structure::of(&pr, INPUT_TOL);
-            let general = AsGeneral::of(&pr, &st).unwrap();
+            let general = AsGeneral::of(&pr, INPUT_TOL).unwrap();
             let (p, gst) = (&general.inst.problem, &general.gst);
             let (opt, mut raw) = super::super::branch::branch_lp(p, gst, &[]).unwrap();
             assert!((opt - r.objective).abs() < 1e-9, "{opt} vs {}", r.objective);

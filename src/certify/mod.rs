@@ -68,8 +68,10 @@
 //! branch LP of its exact instance of (P) ([`crate::model::crawler_as_general`]: `x~ =
 //! K^(-1/2) x`, unit normals `x~*_(b+-) = +-K^(1/2) nu_b / s_b` with `s_b = sqrt(k_(b-1) + k_b)`,
 //! face weights `+-1/(N s_b)`, `B = K^(-1/2)`, `A = 0`), so the LPs are solved in `(p~, xi~,
-//! omega)` with the crawler's own structure (`crawler_structure::Structure`: its active, held and biactive faces,
-//! slips and rates at a bound, in (P)'s face numbering) and read back in the crawler's names:
+//! omega)` with the structure of the crawler's process on that instance (its active, held and
+//! biactive faces, slipping blocks' faces reacting, rates at a bound, in (P)'s face numbering:
+//! face `2 b` is block `b`'s side `+`, `2 b + 1` its side `-`, 0-based), counted in the
+//! crawler's units, and read back in the crawler's names:
 //! `p = K^(-1/2) p~`, `omega` unchanged (`B^T p~ = p`, so `psi` is unchanged too) and `xi_(b+-) =
 //! xi~_(b+-) / s_b` (the Lagrangian term `<q, dynamics>` is invariant under the change of
 //! variables; `certify::crawler_general`). The box's bounds are axis rows of U, whose
@@ -157,9 +159,10 @@
 //!   several conditions, so all of them are named).
 //!
 //! There is one driver and one report, (P)'s (`general::certify_structured`, `general_report`):
-//! a crawler's certificate is (P)'s certificate of its process on its instance, with the
-//! crawler's own structure (`crawler_structure::Structure`, mapped by `crawler_general`), with every residual in the crawler's units (`GeneralStructure::state_scale`,
-//! `face_scale`, `switching_unit`) and every condition in the crawler's words
+//! a crawler's certificate is (P)'s certificate of its process on its instance (the process
+//! `GeneralProcess::of_crawler`, its structure `GeneralStructure::of`, in `crawler_general`),
+//! with every residual in the crawler's units (`GeneralStructure::state_scale`, `face_scale`,
+//! `switching_unit`, `margin_cap`) and every condition in the crawler's words
 //! (`crawler_words::crawler_words`), read back in the crawler's names (`report.rs`: `p` and
 //! `p + omega` per link, `dxi` per block and side, the one-link structure). The verdict, the
 //! groups' bookkeeping, the support of `dxi`, the L^1 weak maximality of a step and the
@@ -181,7 +184,6 @@
 pub mod bound;
 mod branch;
 mod crawler_general;
-mod crawler_structure;
 mod crawler_words;
 pub mod general;
 mod general_conditions;
@@ -207,7 +209,6 @@ pub use report::{one_link_structure, process_objective};
 
 use crate::error::Result;
 use crate::optimal::GaitResult;
-use crawler_structure::Structure;
 
 /// Certifies the process of an optimizer result (`crawlopt certify`); `what` names the source.
 pub fn certify_result(r: &GaitResult, what: &str) -> Result<NecessaryConditions> {
@@ -220,8 +221,7 @@ pub fn certify_result(r: &GaitResult, what: &str) -> Result<NecessaryConditions>
 /// read back in its names.
 pub fn certify(pr: &Process, opts: &CertifyOptions) -> Result<NecessaryConditions> {
     pr.check("process", opts.structure_tol)?;
-    let st = Structure::of(pr, opts.structure_tol);
-    let general = crawler_general::AsGeneral::of(pr, &st)?;
+    let general = crawler_general::AsGeneral::of(pr, opts.structure_tol)?;
     let (rep, raw) = general.certify(opts)?;
-    Ok(report::report(pr, &st, rep, raw, opts))
+    Ok(report::report(pr, rep, raw, opts))
 }

@@ -7,7 +7,6 @@ use crate::error::{Error, Result};
 use crate::integrate::Method;
 use crate::model::Crawler;
 use crate::optimal::consistency::ProcessView;
-pub(crate) use crate::optimal::consistency::{d_tol, slip};
 pub use crate::optimal::consistency::{ProcessKind, INPUT_TOL};
 use crate::optimal::{replay, GaitProblem, GaitResult};
 

@@ -17,8 +17,9 @@ pub struct CertifyOptions {
     /// Relative tolerance of every residual (pointwise residuals relative to
     /// `max(1, ||p||_inf)`, integrals also to `T`).
     pub tol: f64,
-    /// Relative tolerance for recognising active faces, slips and controls at their bounds
-    /// (relative to the size of C, to it over the stiffest link, and to `a_l`).
+    /// Relative tolerance for recognising active faces, reactions (a crawler's slips) and
+    /// controls at their bounds (relative to the size of C, `max |c_f|` with unit normals, on
+    /// (P) or a crawler's instance of it; and to the largest bound of U).
     pub structure_tol: f64,
 }
 

@@ -3,7 +3,7 @@
 
 #[cfg(doc)]
 use super::crawler_general::AsGeneral;
-use super::crawler_structure::{FaceId, Raw, Structure};
+use super::crawler_general::{FaceId, Raw};
 use super::general_conditions::GeneralNecessaryConditions;
 use super::process::{Process, ProcessKind};
 use super::records::*;
@@ -16,7 +16,6 @@ use super::verdict::significant_multipliers;
 /// block and side), with the one-link structure of theory §9.
 pub(super) fn report(
     pr: &Process,
-    st: &Structure,
     g: GeneralNecessaryConditions,
     raw: Raw,
     opts: &CertifyOptions,
@@ -29,7 +28,7 @@ pub(super) fn report(
             "piecewise_constant"
         }
         .into(),
-        xi: face_multipliers(st, &raw, &g.times),
+        xi: face_multipliers(&raw, &g.times),
         times: g.times,
         psi: g.psi,
         p: raw.p,
@@ -44,8 +43,8 @@ pub(super) fn report(
 }
 
 /// The face multipliers `dxi` per knot, block and side ([`significant_multipliers`]).
-fn face_multipliers(st: &Structure, raw: &Raw, times: &[f64]) -> Vec<FaceMultiplier> {
-    significant_multipliers(&st.active, &raw.xi, |j, FaceId { b, s }, value| {
+fn face_multipliers(raw: &Raw, times: &[f64]) -> Vec<FaceMultiplier> {
+    significant_multipliers(&raw.active, &raw.xi, |j, FaceId { b, s }, value| {
         FaceMultiplier {
             knot: j,
             time: times[j],
