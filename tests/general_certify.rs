@@ -10,8 +10,8 @@ use common::{crawlopt, Rng};
 use crawlopt::api::{general_problem, optimize, GaitMethod, Hooks, OptimizeSettings};
 use crawlopt::certify::general::{GeneralFaceMultiplier, GeneralMultipliers};
 use crawlopt::certify::{
-    self, certify_general, one_link_structure, residuals_of, CertifyOptions, ConditionCheck,
-    GeneralProcess, Process, ProcessKind, Verdict,
+    self, certify_general, residuals_of, CertifyOptions, ConditionCheck, GeneralProcess, Process,
+    ProcessKind, Verdict,
 };
 use crawlopt::io::GeneralFile;
 use crawlopt::model::general::{GeneralCost, GeneralParts, GeneralProblem, EXPLICIT_STEP_LIMIT};
@@ -81,7 +81,10 @@ fn the_one_link_problem_matches_the_crawler_certificate() {
     for (u, sg) in gm.u.iter().zip(&gm.switching) {
         assert_eq!(u[0], -sg[0].signum());
     }
-    let one = one_link_structure(&cp, 1e-7).unwrap();
+    let one = cc
+        .one_link
+        .clone()
+        .expect("a one-link crawler: §4's structure");
     assert!(one.bang_bang && one.switch_at_end.iter().all(|&e| e));
     // The interior arcs: (beta - alpha)/a = 2 rounded up to the grid (h = 1.25).
     assert!(one.interior_arcs.iter().all(|a| (a - 2.5).abs() < 1e-9));

@@ -205,7 +205,7 @@ pub use records::{
     NecessaryConditions, Normalisation, OneLinkStructure, Verdict, CERTIFICATE_FORMAT,
     CERTIFICATE_VERSION, MAX_BRANCH_COLUMNS, MAX_BRANCH_PAIRS,
 };
-pub use report::{one_link_structure, process_objective};
+pub use report::process_objective;
 
 use crate::error::Result;
 use crate::optimal::GaitResult;
@@ -223,5 +223,5 @@ pub fn certify(pr: &Process, opts: &CertifyOptions) -> Result<NecessaryCondition
     pr.check("process", opts.structure_tol)?;
     let general = crawler_general::AsGeneral::of(pr, opts.structure_tol)?;
     let (rep, raw) = general.certify(opts)?;
-    Ok(report::report(pr, rep, raw, opts))
+    Ok(report::report(pr, rep, raw))
 }

@@ -2,12 +2,11 @@
 //! switch happens at an end of C, the interior arcs and whether the control is bang-bang. It is
 //! a property of a process of (P) on a line: `C = [alpha, beta]`, one control with
 //! `U = [-a, a]` and `x' in -N_C(x) + beta_u u` (`A = 0`, `b = 0`), along which `x` crosses C
-//! in `(beta - alpha) / (|beta_u| a)` at full rate. A one-link crawler is such a problem in its
-//! link's force (`beta_u = 1`, [`crawler`]); a general problem is one where its data say so
-//! ([`general`]).
+//! in `(beta - alpha) / (|beta_u| a)` at full rate: a general problem where its data say so
+//! ([`general`]), and a one-link crawler's instance (`x~ = x / sqrt(k)`, `beta_u = 1 / sqrt(k)`),
+//! whose structure the crawler's certificate states with C scaled back to its link's force.
 
 use super::general_process::GeneralProcess;
-use super::process::Process;
 use super::records::OneLinkStructure;
 use crate::model::general::{ControlSet, GeneralProblem};
 
@@ -26,28 +25,6 @@ struct Line<'a> {
     u: Vec<f64>,
     durations: &'a [f64],
     period: f64,
-}
-
-/// The structure of a one-link crawler's process; `None` for more than one link.
-pub(crate) fn crawler(pr: &Process, tol: f64) -> Option<OneLinkStructure> {
-    if pr.crawler.links() != 1 {
-        return None;
-    }
-    let [alpha, beta] = pr.crawler.link_force_ranges()[0];
-    let a = pr.problem.rate_bound[0];
-    Some(structure(
-        &Line {
-            alpha,
-            beta,
-            a,
-            rate: a,
-            x: pr.states.iter().map(|s| s[0]).collect(),
-            u: pr.controls.iter().map(|u| u[0]).collect(),
-            durations: &pr.durations,
-            period: pr.problem.period,
-        },
-        tol,
-    ))
 }
 
 /// The structure of a process of (P) on a line: one state and one control, `A = 0`, `b = 0`,

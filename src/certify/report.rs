@@ -14,12 +14,7 @@ use super::verdict::significant_multipliers;
 /// verdict, in the crawler's units and words) with the multipliers `raw` it states (in the
 /// crawler's units), read back in the crawler's names (`p`, `p + omega` per link, `dxi` per
 /// block and side), with the one-link structure of theory §9.
-pub(super) fn report(
-    pr: &Process,
-    g: GeneralNecessaryConditions,
-    raw: Raw,
-    opts: &CertifyOptions,
-) -> NecessaryConditions {
+pub(super) fn report(pr: &Process, g: GeneralNecessaryConditions, raw: Raw) -> NecessaryConditions {
     let discrete = matches!(pr.kind, ProcessKind::Discrete { .. });
     let mut c = g.named(move |g| MultiplierData {
         extension: if discrete {
@@ -38,7 +33,14 @@ pub(super) fn report(
     });
     c.format = CERTIFICATE_FORMAT.into();
     c.objective = process_objective(pr);
-    c.one_link = one_link_structure(pr, opts.structure_tol);
+    // §4's structure is the instance's, whose C is the crawler's in `x~ = x / sqrt(k)`
+    // (switches, arcs and the expected arc are invariant under that scaling).
+    let sqrt_k = pr.crawler.stiffness()[0].sqrt();
+    c.one_link = c.one_link.map(|o| OneLinkStructure {
+        alpha: o.alpha * sqrt_k,
+        beta: o.beta * sqrt_k,
+        ..o
+    });
     c
 }
 
@@ -66,10 +68,4 @@ pub fn process_objective(pr: &Process) -> f64 {
         .map(|(u, d)| d * pr.problem.cost.eval(u))
         .sum();
     displacement - cost
-}
-
-/// §4's structure of a one-link process: switches of the control, where they happen, interior
-/// arcs (`x` linear between knots). `None` for more than one link.
-pub fn one_link_structure(pr: &Process, tol: f64) -> Option<OneLinkStructure> {
-    super::one_link::crawler(pr, tol)
 }
