@@ -125,64 +125,18 @@ pub(super) fn check_local_phase(what: &str, r: &crate::io::GeneralPhaseOptimized
     Ok(())
 }
 
-/// A table of a growth of `K` or of P_1..P_m (`rows`: the `K` or `m`, its verified `J`, its
-/// bound) against the answer: increasing `K` or `m` ending at the solution's `last`, each
-/// bound at least its `J`, and `j` the last row's `J` (a convergence table: the answer is the
-/// finest P_m) or the largest (`best`: a growth keeps its best gait).
+/// [`crate::optimal::consistency::check_table`] with a general reader's equality of
+/// objectives (relative [`INPUT_TOL`]).
 pub(super) fn check_table(
     what: &str,
     field: &str,
-    rows: &[(usize, f64, f64)],
+    rows: &[(usize, f64, f64, MilpStatus)],
     last: usize,
     j: f64,
-    best: bool,
+    growth: bool,
 ) -> Result<()> {
     let close = |a: f64, b: f64| (a - b).abs() <= INPUT_TOL * a.abs().max(b.abs()).max(1.0);
-    let Some(&(k, jk, _)) = rows.last() else {
-        return Err(bad(what, field, "[]", "has no row"));
-    };
-    if k != last {
-        return Err(bad(
-            what,
-            field,
-            k,
-            format!("its last row must be the solution's {last}"),
-        ));
-    }
-    for (i, w) in rows.windows(2).enumerate() {
-        if w[1].0 <= w[0].0 {
-            return Err(bad(
-                what,
-                &format!("{field}[{}]", i + 1),
-                w[1].0,
-                "must increase",
-            ));
-        }
-    }
-    for (i, &(_, v, b)) in rows.iter().enumerate() {
-        if !v.is_finite() || !(b >= v || close(b, v)) {
-            return Err(bad(
-                what,
-                &format!("{field}[{i}]"),
-                format!("J {v}, bound {b}"),
-                "needs a finite J at most its bound",
-            ));
-        }
-    }
-    let want = if best {
-        rows.iter().fold(f64::NEG_INFINITY, |m, r| m.max(r.1))
-    } else {
-        jk
-    };
-    if !close(want, j) {
-        return Err(bad(
-            what,
-            field,
-            want,
-            format!("disagrees with the solution's verified J {j}"),
-        ));
-    }
-    Ok(())
+    crate::optimal::consistency::check_table(what, field, rows, Some(last), j, growth, close)
 }
 
 /// An upper bound recorded with a global answer: only for a problem that is a crawler's gait

@@ -656,88 +656,130 @@ impl GaitResult {
         }
     }
 
-    /// The phase-growth and convergence tables: finite rows, each value at most its bound,
-    /// optimal values non-decreasing in K (in m: nested dyadic grids), and the reported gait's
-    /// objective the table's best (phase growth) or last (convergence) value.
+    /// The phase-growth and convergence tables ([`check_table`]): the growth's last `K` is the
+    /// certificate's, the convergence's last `m` the result's.
     fn check_tables(&self, what: &str, close: impl Fn(f64, f64) -> bool) -> Result<()> {
-        let rows: Vec<(usize, f64, f64, MilpStatus, &str)> =
-            match (&self.phase_growth, &self.convergence) {
-                (Some(g), None) => g
+        match (&self.phase_growth, &self.convergence) {
+            (Some(g), None) => {
+                let rows: Vec<_> = g
                     .table
                     .iter()
-                    .map(|r| {
-                        (
-                            r.phases,
-                            r.objective,
-                            r.bound,
-                            r.status,
-                            "phase_growth.table",
-                        )
-                    })
-                    .collect(),
-                (None, Some(c)) => c
+                    .map(|r| (r.phases, r.objective, r.bound, r.status))
+                    .collect();
+                let last = self.certificate.phases;
+                check_table(
+                    what,
+                    "phase_growth.table",
+                    &rows,
+                    last,
+                    self.objective,
+                    true,
+                    close,
+                )
+            }
+            (None, Some(c)) => {
+                let rows: Vec<_> = c
                     .iter()
-                    .map(|r| (r.m as usize, r.objective, r.bound, r.status, "convergence"))
-                    .collect(),
-                (None, None) => return Ok(()),
-                (Some(_), Some(_)) => {
-                    return Err(bad(
-                        what,
-                        "convergence",
-                        "a table",
-                        "a result has a phase growth or a convergence table, not both",
-                    ))
-                }
-            };
-        let mut best = f64::NEG_INFINITY;
-        let mut last_optimal: Option<f64> = None;
-        for (i, &(key, j, bound, status, field)) in rows.iter().enumerate() {
-            let at = format!("{field}[{i}]");
-            if key != i + 1 {
-                return Err(bad(
+                    .map(|r| (r.m as usize, r.objective, r.bound, r.status))
+                    .collect();
+                let last = self.m.map(|m| m as usize);
+                check_table(
                     what,
-                    &at,
-                    key,
-                    format!("rows run over 1, 2, ... (row {} here)", i + 1),
-                ));
+                    "convergence",
+                    &rows,
+                    last,
+                    self.objective,
+                    false,
+                    close,
+                )
             }
-            if !(j.is_finite() && bound.is_finite()) || (j > bound && !close(j, bound)) {
-                return Err(bad(
-                    what,
-                    &at,
-                    j,
-                    format!("must be finite and at most its bound {bound}"),
-                ));
-            }
-            if status.is_optimal() {
-                if let Some(prev) = last_optimal {
-                    if j < prev && !close(j, prev) {
-                        return Err(bad(
-                            what,
-                            &at,
-                            j,
-                            format!(
-                                "an optimum below the previous optimum {prev} of a smaller class"
-                            ),
-                        ));
-                    }
-                }
-                last_optimal = Some(j);
-            }
-            best = best.max(j);
+            (None, None) => Ok(()),
+            (Some(_), Some(_)) => Err(bad(
+                what,
+                "convergence",
+                "a table",
+                "a result has a phase growth or a convergence table, not both",
+            )),
         }
-        let want = match self.convergence {
-            Some(_) => rows.last().map_or(best, |r| r.1),
-            None => best,
-        };
-        if !close(want, self.objective) {
+    }
+}
+
+/// A table of a growth of `K` (`growth`) or of P_m over `m` (`rows`: the `K` or `m`, its
+/// verified `J`, its bound, its status) against the answer, for a crawler's result and a general
+/// one alike: at least one row, `K` or `m` increasing and ending at the answer's `last` (where
+/// it has one), each `J` finite and at most its bound, and the answer's `j` the largest `J` (a
+/// growth keeps its best gait) or the last one (the answer is the finest P_m). In a growth the
+/// optimal values do not decrease: the classes of gaits of at most `K` phases are nested. Over
+/// `m` they may: a step of catching-up is not two half steps (a polytope's projection of
+/// `x + v` is not in general that of its projection of `x + v/2` plus `v/2`), so P_m's
+/// processes are not P_(m+1)'s, and a drift makes the explicit step differ too. `close` is the
+/// reader's equality of objectives.
+pub(crate) fn check_table(
+    what: &str,
+    field: &str,
+    rows: &[(usize, f64, f64, MilpStatus)],
+    last: Option<usize>,
+    j: f64,
+    growth: bool,
+    close: impl Fn(f64, f64) -> bool,
+) -> Result<()> {
+    let Some(&(k, jk, _, _)) = rows.last() else {
+        return Err(bad(what, field, "[]", "has no row"));
+    };
+    if let Some(last) = last.filter(|&l| l != k) {
+        return Err(bad(
+            what,
+            field,
+            k,
+            format!("its last row must be the answer's {last}"),
+        ));
+    }
+    for (i, w) in rows.windows(2).enumerate() {
+        if w[1].0 <= w[0].0 {
             return Err(bad(
                 what,
-                "objective",
-                self.objective,
-                format!("disagrees with the table's value {want} for this gait"),
+                &format!("{field}[{}]", i + 1),
+                w[1].0,
+                "must increase",
             ));
         }
-        Ok(())
     }
+    let mut last_optimal: Option<f64> = None;
+    for (i, &(_, v, b, status)) in rows.iter().enumerate() {
+        let at = format!("{field}[{i}]");
+        if !(v.is_finite() && b.is_finite()) || (v > b && !close(v, b)) {
+            return Err(bad(
+                what,
+                &at,
+                format!("J {v}, bound {b}"),
+                "needs a finite J at most its finite bound",
+            ));
+        }
+        if growth && status.is_optimal() {
+            if let Some(prev) = last_optimal.filter(|&prev| v < prev && !close(v, prev)) {
+                return Err(bad(
+                    what,
+                    &at,
+                    v,
+                    format!("an optimum below the previous optimum {prev} of a smaller class"),
+                ));
+            }
+            last_optimal = Some(v);
+        }
+    }
+    let want = if growth {
+        rows.iter().fold(f64::NEG_INFINITY, |m, r| m.max(r.1))
+    } else {
+        jk
+    };
+    if !close(want, j) {
+        // Both fields are named: either may be the one that is wrong.
+        return Err(bad(
+            what,
+            &format!("objective and {field}"),
+            j,
+            format!("the answer's objective disagrees with the table's value {want} for it"),
+        ));
+    }
+    Ok(())
 }
