@@ -27,10 +27,16 @@
 //! (tangent planes, below `f2` by convexity), `-h e^i` in the objective. With fewer cuts the MILP
 //! under-estimates the cost, so its bound stays a bound on P_m; the controls of each solution
 //! become cut points until the true objective of the incumbent meets the bound within
-//! `OA_TOL` (relative above 1, absolute below), as for the crawler's P_m. C and U bounded.
+//! `OA_TOL` (relative above 1, absolute below), as for the crawler's P_m. A separable `f2`
+//! (`R` diagonal) has the crawler's stronger form: an epigraph `e^i_k >= (r_k/2) (u^i_k)^2` per
+//! component, cut by the tangents of the parabola at the cut points' components, the first 17
+//! evenly spread over U (the sum of the components' tangents is a tangent plane, so this is
+//! never weaker, and it combines one component's tangent with another's). C and U bounded.
 
 use super::discrete_rows as rows;
-pub(super) use super::discrete_rows::{branch_bounds, cost_matrix, BigM, Form};
+pub(super) use super::discrete_rows::{
+    branch_bounds, component_points, cost_matrix, separable, BigM, Form,
+};
 use super::geometry::{into_u, Geometry};
 use crate::error::{Error, Result};
 use crate::integrate::{simulate_general, ControlInput, GeneralSimOptions, InputKind};
@@ -432,15 +438,32 @@ pub(super) fn replay_periodic(
 }
 
 /// The first cut points of a quadratic cost's outer approximation (P_m and phase gaits): 0 and
-/// the extreme values of each control component in U.
+/// the extreme values of each control component in U; for a separable cost
+/// ([`rows::separable`]), 17 points evenly spread over each component's range in U (the
+/// crawler's first tangents), whose components are the tangent points.
 pub(super) fn initial_cuts(p: &GeneralProblem) -> Result<Vec<Vec<f64>>> {
-    let mut cuts = vec![vec![0.0; p.controls()]];
-    for k in 0..p.controls() {
+    let m = p.controls();
+    let extreme = |k: usize, sign: f64| -> Result<f64> {
+        let mut d = vec![0.0; m];
+        d[k] = sign;
+        Ok(sign * support_u(&p.control, &d)?)
+    };
+    if cost_matrix(&p.cost, m).is_some_and(|r| rows::separable(&r).is_some()) {
+        let range = (0..m)
+            .map(|k| Ok((extreme(k, -1.0)?, extreme(k, 1.0)?)))
+            .collect::<Result<Vec<_>>>()?;
+        return Ok((0..17)
+            .map(|i| {
+                let t = i as f64 / 16.0;
+                range.iter().map(|&(lo, hi)| lo + t * (hi - lo)).collect()
+            })
+            .collect());
+    }
+    let mut cuts = vec![vec![0.0; m]];
+    for k in 0..m {
         for sign in [1.0, -1.0] {
-            let mut d = vec![0.0; p.controls()];
-            d[k] = sign;
-            let mut u0 = vec![0.0; p.controls()];
-            u0[k] = sign * support_u(&p.control, &d)?;
+            let mut u0 = vec![0.0; m];
+            u0[k] = extreme(k, sign)?;
             cuts.push(u0);
         }
     }

@@ -184,8 +184,32 @@ pub(super) fn add_face_rows(
     }
 }
 
+/// The diagonal of `R` when `f2` is separable (`R` diagonal: a `quadratic` cost, or a diagonal
+/// `matrix`): its outer approximation then cuts one epigraph per component, tangents of the
+/// parabola `(r_k / 2) u_k^2` (as the crawler's per-link cost), far tighter than tangent planes
+/// of the sum at the same points.
+pub(super) fn separable(r: &[Vec<f64>]) -> Option<Vec<f64>> {
+    let off_diagonal = r
+        .iter()
+        .enumerate()
+        .any(|(i, row)| row.iter().enumerate().any(|(k, &v)| k != i && v != 0.0));
+    (!off_diagonal).then(|| (0..r.len()).map(|k| r[k][k]).collect())
+}
+
+/// The distinct values of component `k` over the cut points (a separable cost's tangent
+/// points on that component).
+pub(super) fn component_points(cuts: &[Vec<f64>], k: usize) -> Vec<f64> {
+    let mut v: Vec<f64> = cuts.iter().map(|u0| u0[k]).collect();
+    v.sort_by(f64::total_cmp);
+    let tol = 1e-12 * v.iter().fold(1e-300_f64, |m, x| m.max(x.abs()));
+    v.dedup_by(|a, b| (*a - *b).abs() <= tol);
+    v
+}
+
 /// The outer approximation of a quadratic cost (module docs of [`super::discrete`]): per step
-/// an epigraph column `e^i` (objective `-h`) and one tangent cut per point `u0` of `cuts`.
+/// an epigraph column `e^i` (objective `-h`) and one tangent cut per point `u0` of `cuts`; for a
+/// separable cost ([`separable`]) one epigraph `e^i_k` per component, cut by the tangents of
+/// `(r_k / 2) u_k^2` at the points' components.
 pub(super) fn add_cost_cuts(
     pb: &mut RowProblem,
     p: &GeneralProblem,
@@ -193,16 +217,33 @@ pub(super) fn add_cost_cuts(
     us: &[Vec<Col>],
     cuts: &[Vec<f64>],
 ) {
-    if let Some(r) = cost_matrix(&p.cost, p.controls()) {
+    let Some(r) = cost_matrix(&p.cost, p.controls()) else {
+        return;
+    };
+    if let Some(d) = separable(&r) {
+        let points: Vec<Vec<f64>> = (0..d.len()).map(|k| component_points(cuts, k)).collect();
         for u in us {
-            let e = pb.add_column(-h, 0.0..);
-            for u0 in cuts {
-                // e - (R u0) . u >= -(1/2) u0^T R u0.
-                let ru0: Vec<f64> = r.iter().map(|row| dot(row, u0)).collect();
-                let mut row = vec![(e, 1.0)];
-                row.extend(u.iter().zip(&ru0).map(|(&c, &a)| (c, -a)));
-                pb.add_row(-0.5 * dot(u0, &ru0)..=f64::INFINITY, row);
+            for (k, &rk) in d.iter().enumerate().filter(|(_, &rk)| rk != 0.0) {
+                let e = pb.add_column(-h, 0.0..);
+                for &v in &points[k] {
+                    // e - r_k v u_k >= -(r_k / 2) v^2.
+                    pb.add_row(
+                        -0.5 * rk * v * v..=f64::INFINITY,
+                        [(e, 1.0), (u[k], -rk * v)],
+                    );
+                }
             }
+        }
+        return;
+    }
+    for u in us {
+        let e = pb.add_column(-h, 0.0..);
+        for u0 in cuts {
+            // e - (R u0) . u >= -(1/2) u0^T R u0.
+            let ru0: Vec<f64> = r.iter().map(|row| dot(row, u0)).collect();
+            let mut row = vec![(e, 1.0)];
+            row.extend(u.iter().zip(&ru0).map(|(&c, &a)| (c, -a)));
+            pb.add_row(-0.5 * dot(u0, &ru0)..=f64::INFINITY, row);
         }
     }
 }
@@ -214,5 +255,29 @@ pub(super) fn add_zero_mean_rows(pb: &mut RowProblem, p: &GeneralProblem, us: &[
             let row: Vec<_> = us.iter().map(|u| (u[k], 1.0)).collect();
             pb.add_row(0.0..=0.0, row);
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A diagonal `R` is separable (its diagonal), any off-diagonal entry makes it not; the
+    /// tangent points of a component are its distinct values, sorted.
+    #[test]
+    fn separable_costs_and_their_tangent_points() {
+        assert_eq!(
+            separable(&[vec![0.1, 0.0], vec![0.0, 0.3]]),
+            Some(vec![0.1, 0.3])
+        );
+        assert_eq!(separable(&[vec![1.0, 0.5], vec![0.5, 1.0]]), None);
+        let cuts = [
+            vec![1.0, 0.0],
+            vec![-1.0, 0.0],
+            vec![1.0, 2.0],
+            vec![0.5, 0.0],
+        ];
+        assert_eq!(component_points(&cuts, 0), [-1.0, 0.5, 1.0]);
+        assert_eq!(component_points(&cuts, 1), [0.0, 2.0]);
     }
 }

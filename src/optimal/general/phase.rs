@@ -75,8 +75,8 @@
 //! no worse.
 
 use super::discrete::{
-    big_m, check_sets, column_bound, cost_matrix, initial_cuts, replay_periodic, reward_weights,
-    state_columns, BigM, MAX_OA_ROUNDS,
+    big_m, check_sets, column_bound, component_points, cost_matrix, initial_cuts, replay_periodic,
+    reward_weights, separable, state_columns, BigM, MAX_OA_ROUNDS,
 };
 use super::geometry::{into_u, Geometry};
 use super::phase_polish::{polish_general_phases, MilpPhases};
@@ -401,18 +401,39 @@ fn add_state_and_mean_rows(pb: &mut RowProblem, p: &GeneralProblem, cols: &Colum
 }
 
 /// The outer approximation of a quadratic cost: per phase a column `e_j` (objective `-1`) and
-/// one cut per point `u0` of `cuts`, `e - (R u0) . U + f2(u0) tau >= 0`.
+/// one cut per point `u0` of `cuts`, `e - (R u0) . U + f2(u0) tau >= 0` (the perspective of a
+/// tangent plane); for a separable cost ([`separable`]) one column per phase and component, cut
+/// by the perspectives of the tangents of `(r_k / 2) u_k^2` at the points' components.
 fn add_cost_cuts(pb: &mut RowProblem, p: &GeneralProblem, cols: &Columns, cuts: &[Vec<f64>]) {
-    if let Some(r) = cost_matrix(&p.cost, p.controls()) {
+    let Some(r) = cost_matrix(&p.cost, p.controls()) else {
+        return;
+    };
+    if let Some(d) = separable(&r) {
+        let points: Vec<Vec<f64>> = (0..d.len()).map(|k| component_points(cuts, k)).collect();
         for j in 0..cols.tau.len() {
-            let e = pb.add_column(-1.0, 0.0..);
-            for u0 in cuts {
-                // e - (R u0) . U + f2(u0) tau >= 0.
-                let ru0: Vec<f64> = r.iter().map(|row| dot(row, u0)).collect();
-                let mut row = vec![(e, 1.0), (cols.tau[j], 0.5 * dot(u0, &ru0))];
-                row.extend(cols.us[j].iter().zip(&ru0).map(|(&c, &a)| (c, -a)));
-                pb.add_row(0.0..=f64::INFINITY, row);
+            for (k, &rk) in d.iter().enumerate().filter(|(_, &rk)| rk != 0.0) {
+                let e = pb.add_column(-1.0, 0.0..);
+                for &v in &points[k] {
+                    // e - r_k v U_k + (r_k / 2) v^2 tau >= 0.
+                    let row = [
+                        (e, 1.0),
+                        (cols.us[j][k], -rk * v),
+                        (cols.tau[j], 0.5 * rk * v * v),
+                    ];
+                    pb.add_row(0.0..=f64::INFINITY, row);
+                }
             }
+        }
+        return;
+    }
+    for j in 0..cols.tau.len() {
+        let e = pb.add_column(-1.0, 0.0..);
+        for u0 in cuts {
+            // e - (R u0) . U + f2(u0) tau >= 0.
+            let ru0: Vec<f64> = r.iter().map(|row| dot(row, u0)).collect();
+            let mut row = vec![(e, 1.0), (cols.tau[j], 0.5 * dot(u0, &ru0))];
+            row.extend(cols.us[j].iter().zip(&ru0).map(|(&c, &a)| (c, -a)));
+            pb.add_row(0.0..=f64::INFINITY, row);
         }
     }
 }
