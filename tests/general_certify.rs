@@ -207,6 +207,38 @@ fn a_problem_on_a_line_states_section_4s_structure() {
     assert!(c.one_link.is_none());
 }
 
+/// A one-link crawler with `k = 4`: its certificate states §4's structure in the link's force,
+/// `C = [-mu^+, mu^-]` read back from its instance's `C / sqrt(k)`, with the arc
+/// `(beta - alpha) / (k a)` at the force rate `k a` and the switches at the ends of C (the
+/// P_4 optimum of `examples/one_link_gait.toml` with `stiffness = 4`).
+#[test]
+fn a_stiff_one_links_structure_is_in_its_own_force() {
+    let c = Crawler::uniform(2, 4.0, 1.0, 2.0).unwrap();
+    let gp = GaitProblem::new(&c, 10.0, &[1.0], Cost::None, None).unwrap();
+    let r = GaitResult::from_discrete(&c, &gp, &solve_discrete_global(&c, &gp, 4).unwrap());
+    let cert = certify::certify_result(&r, "test").unwrap();
+    assert_eq!(cert.verdict, Verdict::Holds, "{}", cert.reason);
+    let one = cert.one_link.expect("a one-link crawler: §4's structure");
+    let [alpha, beta] = c.link_force_ranges()[0];
+    assert!(
+        (one.alpha - alpha).abs() < 1e-12 && (one.beta - beta).abs() < 1e-12,
+        "{one:?}"
+    );
+    assert!(
+        (one.expected_arc - (beta - alpha) / 4.0).abs() < 1e-12,
+        "{one:?}"
+    );
+    assert!(
+        one.bang_bang && one.switch_at_end.iter().all(|&e| e),
+        "{one:?}"
+    );
+    // The interior arcs: the expected arc 0.5 rounded up to the grid (h = 0.625).
+    assert!(
+        one.interior_arcs.iter().all(|a| (a - 0.625).abs() < 1e-9),
+        "{one:?}"
+    );
+}
+
 /// (b) Crawlers (N = 2, 3, per-link stiffness) as general problems: on the same P_m optimum
 /// (the crawler's, in the variables x~ = K^(-1/2) x) the general certificate gives the crawler
 /// certificate's verdict, and its multipliers are the crawler's transformed: p~ = K^(1/2) p,

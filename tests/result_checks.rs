@@ -214,6 +214,10 @@ fn a_convergence_table_may_fall_with_m() {
     println!("largest gap between one step and two half steps: {gap:.3e}");
     assert!(gap > 1e-2, "one step equals two half steps here: {gap}");
     let (rows, s) = crawlopt::optimal::discrete_convergence(&c, &p, 2, &mut |_| {}).unwrap();
+    // Both rows optimal: the rule this test replaces (optimal values rising with m) applied.
+    assert!(rows
+        .iter()
+        .all(|r| r.status == crawlopt::optimal::MilpStatus::Optimal));
     let mut r = GaitResult::from_discrete(&c, &p, &s);
     r.convergence = Some(rows);
     let mut v = serde_json::to_value(&r).unwrap();

@@ -10,7 +10,8 @@
 //! module states the conditions for the general data (its multiplier LP in
 //! `certify::general_kkt`, its report in `certify::general_report`) and holds the one driver
 //! (`certify_structured`). That driver is the only one: the crawler's certificate runs it on the
-//! crawler's instance with the crawler's structure and units, and reads the multipliers back
+//! crawler's process on its instance, with the structure found there counted in the crawler's
+//! units, and reads the multipliers back
 //! (`certify::crawler_general`, the change of variables below).
 //!
 //! # The branch LP and its KKT system

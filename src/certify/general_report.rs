@@ -21,7 +21,7 @@ use crate::model::general::{ControlSet, GeneralCost, GeneralProblem};
 /// How a certificate names (P)'s objects: (P)'s own words, or an instance's read back in its
 /// own names (a crawler's links, blocks and `p + omega`). The numbers are (P)'s either way; the
 /// units of the instance live on [`GeneralStructure`] (`state_scale`, `face_scale`,
-/// `switching_unit`).
+/// `switching_unit`, `margin_cap`).
 pub(super) struct Words {
     /// The switching function as the reason writes it (`B^T p + omega`, `p + omega`).
     pub switching: &'static str,

@@ -217,8 +217,8 @@ pub fn certify_result(r: &GaitResult, what: &str) -> Result<NecessaryConditions>
 }
 
 /// Computes multipliers of a process and checks the necessary conditions (module docs): (P)'s
-/// one certificate ([`general`]) on the crawler's instance, with the crawler's structure, and
-/// read back in its names.
+/// one certificate ([`general`]) of the process on the crawler's instance, counted in the
+/// crawler's units, and read back in its names.
 pub fn certify(pr: &Process, opts: &CertifyOptions) -> Result<NecessaryConditions> {
     pr.check("process", opts.structure_tol)?;
     let general = crawler_general::AsGeneral::of(pr, opts.structure_tol)?;

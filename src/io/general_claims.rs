@@ -130,7 +130,7 @@ pub(super) fn check_local_phase(what: &str, r: &crate::io::GeneralPhaseOptimized
 pub(super) fn check_table(
     what: &str,
     field: &str,
-    rows: &[(usize, f64, f64, MilpStatus)],
+    rows: &[(usize, f64, f64)],
     last: usize,
     j: f64,
     growth: bool,

@@ -104,7 +104,7 @@ fn check_discrete_answer(r: &GeneralOptimized, p: &GeneralProblem, what: &str) -
     if let Some(table) = &r.convergence {
         let rows: Vec<_> = table
             .iter()
-            .map(|row| (row.m as usize, row.objective, row.bound, row.status))
+            .map(|row| (row.m as usize, row.objective, row.bound))
             .collect();
         check_table(what, "convergence", &rows, s.m as usize, j, false)?;
     }
@@ -211,7 +211,7 @@ fn check_phase_answer(r: &GeneralPhaseOptimized, p: &GeneralProblem, what: &str)
         let rows: Vec<_> = g
             .table
             .iter()
-            .map(|row| (row.phases, row.objective, row.bound, row.status))
+            .map(|row| (row.phases, row.objective, row.bound))
             .collect();
         check_table(what, "phase_growth.table", &rows, s.max_phases, j, true)?;
     }

@@ -664,7 +664,7 @@ impl GaitResult {
                 let rows: Vec<_> = g
                     .table
                     .iter()
-                    .map(|r| (r.phases, r.objective, r.bound, r.status))
+                    .map(|r| (r.phases, r.objective, r.bound))
                     .collect();
                 let last = self.certificate.phases;
                 check_table(
@@ -680,7 +680,7 @@ impl GaitResult {
             (None, Some(c)) => {
                 let rows: Vec<_> = c
                     .iter()
-                    .map(|r| (r.m as usize, r.objective, r.bound, r.status))
+                    .map(|r| (r.m as usize, r.objective, r.bound))
                     .collect();
                 let last = self.m.map(|m| m as usize);
                 check_table(
@@ -705,25 +705,25 @@ impl GaitResult {
 }
 
 /// A table of a growth of `K` (`growth`) or of P_m over `m` (`rows`: the `K` or `m`, its
-/// verified `J`, its bound, its status) against the answer, for a crawler's result and a general
+/// verified `J`, its bound) against the answer, for a crawler's result and a general
 /// one alike: at least one row, `K` or `m` increasing and ending at the answer's `last` (where
 /// it has one), each `J` finite and at most its bound, and the answer's `j` the largest `J` (a
-/// growth keeps its best gait) or the last one (the answer is the finest P_m). In a growth the
-/// optimal values do not decrease: the classes of gaits of at most `K` phases are nested. Over
-/// `m` they may: a step of catching-up is not two half steps (a polytope's projection of
+/// growth keeps its best gait) or the last one (the answer is the finest P_m). In a growth each
+/// bound is at least the `J` of every earlier row: the classes of gaits of at most `K` phases
+/// are nested, so an earlier gait is one of the later class. Over `m` no such order holds: a step of catching-up is not two half steps (a polytope's projection of
 /// `x + v` is not in general that of its projection of `x + v/2` plus `v/2`), so P_m's
 /// processes are not P_(m+1)'s, and a drift makes the explicit step differ too. `close` is the
 /// reader's equality of objectives.
 pub(crate) fn check_table(
     what: &str,
     field: &str,
-    rows: &[(usize, f64, f64, MilpStatus)],
+    rows: &[(usize, f64, f64)],
     last: Option<usize>,
     j: f64,
     growth: bool,
     close: impl Fn(f64, f64) -> bool,
 ) -> Result<()> {
-    let Some(&(k, jk, _, _)) = rows.last() else {
+    let Some(&(k, jk, _)) = rows.last() else {
         return Err(bad(what, field, "[]", "has no row"));
     };
     if let Some(last) = last.filter(|&l| l != k) {
@@ -744,8 +744,11 @@ pub(crate) fn check_table(
             ));
         }
     }
-    let mut last_optimal: Option<f64> = None;
-    for (i, &(_, v, b, status)) in rows.iter().enumerate() {
+    // In a growth every earlier row's J is that of a gait of a smaller class, hence of this
+    // row's class: at most this row's optimum, so at most its bound (whatever the statuses, and
+    // robust to an outer approximation's tolerance, unlike a comparison of the J's).
+    let mut earlier = f64::NEG_INFINITY;
+    for (i, &(_, v, b)) in rows.iter().enumerate() {
         let at = format!("{field}[{i}]");
         if !(v.is_finite() && b.is_finite()) || (v > b && !close(v, b)) {
             return Err(bad(
@@ -755,17 +758,18 @@ pub(crate) fn check_table(
                 "needs a finite J at most its finite bound",
             ));
         }
-        if growth && status.is_optimal() {
-            if let Some(prev) = last_optimal.filter(|&prev| v < prev && !close(v, prev)) {
-                return Err(bad(
-                    what,
-                    &at,
-                    v,
-                    format!("an optimum below the previous optimum {prev} of a smaller class"),
-                ));
-            }
-            last_optimal = Some(v);
+        if growth && earlier > b && !close(earlier, b) {
+            return Err(bad(
+                what,
+                &at,
+                format!("bound {b}"),
+                format!(
+                    "is below {earlier}, the J of a gait of a smaller class (which is one of this \
+                     class)"
+                ),
+            ));
         }
+        earlier = earlier.max(v);
     }
     let want = if growth {
         rows.iter().fold(f64::NEG_INFINITY, |m, r| m.max(r.1))
