@@ -3,6 +3,8 @@
 //! write pass it, and every mutation the robustness issue found accepted (or drawn) is refused
 //! naming its field.
 
+mod common;
+
 use crawlopt::optimal::{
     grow_phases, solve_discrete_global, solve_discrete_local, Cost, GaitProblem, GaitResult,
     GrowOptions,
@@ -186,13 +188,8 @@ fn an_idle_gait_of_one_piece_is_read_drawn_and_reported() {
 fn a_convergence_table_may_fall_with_m() {
     let (c, p) = three_blocks();
     let mut proj = crawlopt::sweep::Projector::new(&c).unwrap();
-    let mut seed = 12345u64;
-    let mut uniform = || {
-        seed ^= seed << 13;
-        seed ^= seed >> 7;
-        seed ^= seed << 17;
-        (seed % 10_000) as f64 / 10_000.0 * 6.0 - 3.0
-    };
+    let mut rng = common::Rng(12345);
+    let mut uniform = || rng.range(-3.0, 3.0);
     let mut gap = 0.0_f64;
     for _ in 0..200 {
         let mut x = vec![0.0; 2];

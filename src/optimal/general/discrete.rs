@@ -34,9 +34,7 @@
 //! never weaker, and it combines one component's tangent with another's). C and U bounded.
 
 use super::discrete_rows as rows;
-pub(super) use super::discrete_rows::{
-    branch_bounds, component_points, cost_matrix, separable, BigM, Form,
-};
+pub(super) use super::discrete_rows::{branch_bounds, cost_epigraphs, cost_matrix, BigM, Form};
 use super::geometry::{into_u, Geometry};
 use crate::error::{Error, Result};
 use crate::integrate::{simulate_general, ControlInput, GeneralSimOptions, InputKind};

@@ -206,10 +206,44 @@ pub(super) fn component_points(cuts: &[Vec<f64>], k: usize) -> Vec<f64> {
     v
 }
 
-/// The outer approximation of a quadratic cost (module docs of [`super::discrete`]): per step
-/// an epigraph column `e^i` (objective `-h`) and one tangent cut per point `u0` of `cuts`; for a
-/// separable cost ([`separable`]) one epigraph `e^i_k` per component, cut by the tangents of
-/// `(r_k / 2) u_k^2` at the points' components.
+/// One epigraph of a quadratic cost's outer approximation: its cuts `e >= a . u - c`, each as
+/// `a` (per control component, its non-zero entries) and `c`.
+pub(super) type Epigraph = Vec<(Vec<(usize, f64)>, f64)>;
+
+/// The epigraphs of a quadratic cost's outer approximation at the points `cuts` (module docs of
+/// [`super::discrete`]), for P_m's steps and the phase MILP's phases alike (none for `f2 = 0`):
+/// one whose cuts are the tangent planes `e >= (R u0) . u - (1/2) u0^T R u0`, or for a separable
+/// cost ([`separable`]) one per component `k` with `r_k != 0`, cut by the tangents
+/// `e_k >= r_k v u_k - (r_k / 2) v^2` of its parabola at the points' components `v`.
+pub(super) fn cost_epigraphs(p: &GeneralProblem, cuts: &[Vec<f64>]) -> Vec<Epigraph> {
+    let Some(r) = cost_matrix(&p.cost, p.controls()) else {
+        return Vec::new();
+    };
+    match separable(&r) {
+        Some(d) => d
+            .iter()
+            .enumerate()
+            .filter(|(_, &rk)| rk != 0.0)
+            .map(|(k, &rk)| {
+                component_points(cuts, k)
+                    .into_iter()
+                    .map(|v| (vec![(k, rk * v)], 0.5 * rk * v * v))
+                    .collect()
+            })
+            .collect(),
+        None => vec![cuts
+            .iter()
+            .map(|u0| {
+                let ru0: Vec<f64> = r.iter().map(|row| dot(row, u0)).collect();
+                let c = 0.5 * dot(u0, &ru0);
+                (ru0.into_iter().enumerate().collect(), c)
+            })
+            .collect()],
+    }
+}
+
+/// The outer approximation of a quadratic cost on P_m's steps ([`cost_epigraphs`]): per step
+/// and epigraph a column `e` (objective `-h`) with its cuts `e - a . u^i >= -c`.
 pub(super) fn add_cost_cuts(
     pb: &mut RowProblem,
     p: &GeneralProblem,
@@ -217,33 +251,15 @@ pub(super) fn add_cost_cuts(
     us: &[Vec<Col>],
     cuts: &[Vec<f64>],
 ) {
-    let Some(r) = cost_matrix(&p.cost, p.controls()) else {
-        return;
-    };
-    if let Some(d) = separable(&r) {
-        let points: Vec<Vec<f64>> = (0..d.len()).map(|k| component_points(cuts, k)).collect();
-        for u in us {
-            for (k, &rk) in d.iter().enumerate().filter(|(_, &rk)| rk != 0.0) {
-                let e = pb.add_column(-h, 0.0..);
-                for &v in &points[k] {
-                    // e - r_k v u_k >= -(r_k / 2) v^2.
-                    pb.add_row(
-                        -0.5 * rk * v * v..=f64::INFINITY,
-                        [(e, 1.0), (u[k], -rk * v)],
-                    );
-                }
-            }
-        }
-        return;
-    }
+    let epigraphs = cost_epigraphs(p, cuts);
     for u in us {
-        let e = pb.add_column(-h, 0.0..);
-        for u0 in cuts {
-            // e - (R u0) . u >= -(1/2) u0^T R u0.
-            let ru0: Vec<f64> = r.iter().map(|row| dot(row, u0)).collect();
-            let mut row = vec![(e, 1.0)];
-            row.extend(u.iter().zip(&ru0).map(|(&c, &a)| (c, -a)));
-            pb.add_row(-0.5 * dot(u0, &ru0)..=f64::INFINITY, row);
+        for cuts in &epigraphs {
+            let e = pb.add_column(-h, 0.0..);
+            for (a, c) in cuts {
+                let mut row = vec![(e, 1.0)];
+                row.extend(a.iter().map(|&(k, v)| (u[k], -v)));
+                pb.add_row(-c..=f64::INFINITY, row);
+            }
         }
     }
 }

@@ -75,14 +75,14 @@
 //! no worse.
 
 use super::discrete::{
-    big_m, check_sets, column_bound, component_points, cost_matrix, initial_cuts, replay_periodic,
-    reward_weights, separable, state_columns, BigM, MAX_OA_ROUNDS,
+    big_m, check_sets, column_bound, cost_epigraphs, initial_cuts, replay_periodic, reward_weights,
+    state_columns, BigM, MAX_OA_ROUNDS,
 };
 use super::geometry::{into_u, Geometry};
 use super::phase_polish::{polish_general_phases, MilpPhases};
 use crate::error::{Error, Result};
 use crate::integrate::{simulate_general_exact, ControlInput, InputKind};
-use crate::model::general::{dot, Boundary, ControlSet, GeneralCost, GeneralProblem};
+use crate::model::general::{Boundary, ControlSet, GeneralCost, GeneralProblem};
 use crate::optimal::milp::{solve_max, Certificate, MilpStatus, OA_TOL};
 use highs::{Col, RowProblem};
 use serde::{Deserialize, Serialize};
@@ -400,40 +400,19 @@ fn add_state_and_mean_rows(pb: &mut RowProblem, p: &GeneralProblem, cols: &Colum
     }
 }
 
-/// The outer approximation of a quadratic cost: per phase a column `e_j` (objective `-1`) and
-/// one cut per point `u0` of `cuts`, `e - (R u0) . U + f2(u0) tau >= 0` (the perspective of a
-/// tangent plane); for a separable cost ([`separable`]) one column per phase and component, cut
-/// by the perspectives of the tangents of `(r_k / 2) u_k^2` at the points' components.
+/// The outer approximation of a quadratic cost on the phases ([`cost_epigraphs`], the same
+/// cuts as P_m's): per phase and epigraph a column `e` (objective `-1`) with the perspectives
+/// of its cuts, `e - a . U_j + c tau_j >= 0`.
 fn add_cost_cuts(pb: &mut RowProblem, p: &GeneralProblem, cols: &Columns, cuts: &[Vec<f64>]) {
-    let Some(r) = cost_matrix(&p.cost, p.controls()) else {
-        return;
-    };
-    if let Some(d) = separable(&r) {
-        let points: Vec<Vec<f64>> = (0..d.len()).map(|k| component_points(cuts, k)).collect();
-        for j in 0..cols.tau.len() {
-            for (k, &rk) in d.iter().enumerate().filter(|(_, &rk)| rk != 0.0) {
-                let e = pb.add_column(-1.0, 0.0..);
-                for &v in &points[k] {
-                    // e - r_k v U_k + (r_k / 2) v^2 tau >= 0.
-                    let row = [
-                        (e, 1.0),
-                        (cols.us[j][k], -rk * v),
-                        (cols.tau[j], 0.5 * rk * v * v),
-                    ];
-                    pb.add_row(0.0..=f64::INFINITY, row);
-                }
-            }
-        }
-        return;
-    }
+    let epigraphs = cost_epigraphs(p, cuts);
     for j in 0..cols.tau.len() {
-        let e = pb.add_column(-1.0, 0.0..);
-        for u0 in cuts {
-            // e - (R u0) . U + f2(u0) tau >= 0.
-            let ru0: Vec<f64> = r.iter().map(|row| dot(row, u0)).collect();
-            let mut row = vec![(e, 1.0), (cols.tau[j], 0.5 * dot(u0, &ru0))];
-            row.extend(cols.us[j].iter().zip(&ru0).map(|(&c, &a)| (c, -a)));
-            pb.add_row(0.0..=f64::INFINITY, row);
+        for cuts in &epigraphs {
+            let e = pb.add_column(-1.0, 0.0..);
+            for (a, c) in cuts {
+                let mut row = vec![(e, 1.0), (cols.tau[j], *c)];
+                row.extend(a.iter().map(|&(k, v)| (cols.us[j][k], -v)));
+                pb.add_row(0.0..=f64::INFINITY, row);
+            }
         }
     }
 }
