@@ -450,7 +450,9 @@ fn text_output_is_rounded_and_json_keeps_every_digit() {
 }
 
 /// Issue 30, item 17: no negative zero in JSON output. P_1 of three blocks is idle and HiGHS
-/// bounds it by `-0.0`; the convergence table's row carries `"bound": 0.0`.
+/// bounds it by zero up to its rounding (`-0.0` once; `1.8e-15` with (P)'s MILP on the
+/// crawler's instance, whose rows are scaled by `sqrt(k_(b-1) + k_b)`); the convergence
+/// table's row carries a non-negative bound.
 #[test]
 fn json_output_has_no_negative_zero() {
     let out = crawlopt(&[
@@ -468,7 +470,7 @@ fn json_output_has_no_negative_zero() {
     assert!(!text.contains("-0.0,") && !text.contains("-0.0}"), "{text}");
     let v: serde_json::Value = serde_json::from_str(&text).unwrap();
     let bound = v["convergence"][0]["bound"].as_f64().unwrap();
-    assert_eq!(bound, 0.0);
+    assert!(bound.abs() <= 1e-12, "{bound}");
     assert!(bound.is_sign_positive());
 }
 
