@@ -11,6 +11,9 @@
 //! (checked), so are its multipliers, every feasible point is the catching-up process of its
 //! controls. Objective: `sum_i [f1(mu^i) - h f2(u^i)]` with `f1` linear in `mu` (face weights
 //! `w_j`, or `<q, x*_j>` for `f1 = <q, eta>`); `sum_i u^i = 0` under the zero-mean constraint.
+//! A chain's multipliers and binaries are made in the order of its faces' classes
+//! (`discrete_rows::face_classes`: a crawler's P_m is this MILP on its instance, and HiGHS
+//! searches that order about as fast as the crawler's former MILP of its own).
 //!
 //! The constants, from linear programs over C and U:
 //! - `S_j = c_j - min_{x in C} <x*_j, x>`: the largest slack of face `j` in C (C bounded);
@@ -41,7 +44,7 @@ use crate::integrate::{simulate_general, ControlInput, GeneralSimOptions, InputK
 use crate::model::general::{
     dot, Boundary, ControlSet, GeneralCost, GeneralProblem, Reward, EXPLICIT_STEP_LIMIT,
 };
-use crate::optimal::milp::{solve_max, Certificate, MilpStatus, OA_TOL};
+use crate::optimal::milp::Certificate;
 use crate::optimal::solver::{Highs, SolveStatus};
 use highs::{Col, RowProblem, Sense};
 use serde::{Deserialize, Serialize};
@@ -342,6 +345,10 @@ pub(super) struct Layout {
     pub mu: Vec<Vec<Col>>,
     /// Slacks `s^i_j = c_j - <x*_j, x^(i+1)>` (branch LPs only; empty for the MILP).
     pub s: Vec<Vec<Col>>,
+    /// Binaries `z^i_j` (the MILP only; empty for a branch LP).
+    pub z: Vec<Vec<Col>>,
+    /// A quadratic cost's epigraph columns, per step and epigraph ([`rows::cost_epigraphs`]).
+    pub e: Vec<Vec<Col>>,
 }
 
 /// Builds P_m in `form` (the objective `J`, to be maximised): the states, controls and
@@ -361,23 +368,46 @@ pub(super) fn build(
     let nx = xs.len();
     let x_at = |i: usize| &xs[i % nx];
     let us = rows::add_control_columns(&mut pb, p, mm);
-    let mus = rows::add_multiplier_columns(&mut pb, p, mm, form, &w);
-    let mut slacks: Vec<Vec<Col>> = Vec::new();
+    // A chain's per-face columns in its classes' order (rows::face_classes), binaries too.
+    let classes = match form {
+        Form::Milp(_) => rows::face_classes(p),
+        Form::Branches(_) => None,
+    };
+    let mus = rows::add_multiplier_columns(&mut pb, p, mm, (form, classes.as_deref()), &w);
+    let made = classes.map(|c| {
+        rows::per_face_columns(&mut pb, (mm, p.c.faces()), &c, |pb, _, _| {
+            pb.add_integer_column(0.0, 0..=1)
+        })
+    });
+    let mut per_face: Vec<Vec<Col>> = Vec::new();
     for i in 0..mm {
         rows::add_control_rows(&mut pb, p, &us[i]);
         rows::add_dynamics_rows(&mut pb, p, h, (x_at(i), x_at(i + 1)), (&us[i], &mus[i]));
-        rows::add_face_rows(&mut pb, p, form, (i, x_at(i + 1), &mus[i]), &mut slacks);
+        let made_i = made.as_ref().map(|z| &z[i][..]);
+        rows::add_face_rows(
+            &mut pb,
+            p,
+            form,
+            (i, x_at(i + 1), &mus[i]),
+            (made_i, &mut per_face),
+        );
     }
-    rows::add_cost_cuts(&mut pb, p, h, &us, cuts);
+    let e = rows::add_cost_cuts(&mut pb, p, h, &us, cuts);
     rows::add_zero_mean_rows(&mut pb, p, &us);
     let x = (0..=mm).map(|i| x_at(i).clone()).collect();
+    let (s, z) = match form {
+        Form::Branches(_) => (per_face, Vec::new()),
+        Form::Milp(_) => (Vec::new(), per_face),
+    };
     (
         pb,
         Layout {
             x,
             u: us,
             mu: mus,
-            s: slacks,
+            s,
+            z,
+            e,
         },
     )
 }
@@ -466,40 +496,6 @@ pub(super) fn initial_cuts(p: &GeneralProblem) -> Result<Vec<Vec<f64>>> {
         }
     }
     Ok(cuts)
-}
-
-/// The MILP's answer of [`super::solve_general_pm`], with its outer approximation, unpolished;
-/// within the current deadline.
-pub(super) fn solve_milp(p: &GeneralProblem, g: &Geometry, m: u32) -> Result<GeneralPm> {
-    check(p, g, m)?;
-    let mm = 1usize << m;
-    let h = p.period / mm as f64;
-    check_solver_range(p, h, None)?;
-    let bm = big_m(p, g, h)?;
-    check_solver_range(p, h, Some(&bm))?;
-    let what = format!("P_{m} of the general problem");
-    let scale = p.c.scale();
-    let mut cuts = initial_cuts(p)?;
-    let mut round = 0;
-    loop {
-        round += 1;
-        let (pb, lay) = build(p, m, Form::Milp(&bm), &cuts);
-        let (cols, milp_objective, bound, status) =
-            solve_max(pb, &what, None, 1e-9 * scale.max(1e-300))?;
-        let bound = bound.unwrap_or_else(|| column_bound(p, mm as f64 * bm.multiplier));
-        let sol = verified(p, m, &lay, &cols, milp_objective, bound, status, &what)?;
-        let gap = Certificate::gap_of(bound, sol.objective);
-        let done = p.cost == GeneralCost::None || gap <= OA_TOL || status != MilpStatus::Optimal;
-        if done {
-            return Ok(sol);
-        }
-        if round >= MAX_OA_ROUNDS {
-            let mut sol = sol;
-            sol.certificate.status = MilpStatus::ApproximationLimit;
-            return Ok(sol);
-        }
-        cuts.extend(sol.u.iter().cloned());
-    }
 }
 
 /// The optimum of P_m on fixed complementarity branches (an LP; `None` when infeasible):
@@ -642,34 +638,4 @@ pub(crate) fn run_on_grid(
         ..GeneralSimOptions::DEFAULT
     };
     simulate_general(p, &input, x0, &opts)
-}
-
-/// Replays the MILP's controls in the simulator from its `x^0` ([`replay`]) and certifies the
-/// answer.
-#[allow(clippy::too_many_arguments)]
-fn verified(
-    p: &GeneralProblem,
-    m: u32,
-    lay: &Layout,
-    cols: &[f64],
-    milp_objective: f64,
-    bound: f64,
-    status: MilpStatus,
-    what: &str,
-) -> Result<GeneralPm> {
-    let r = replay(p, m, lay, cols, what)?;
-    Ok(GeneralPm {
-        m,
-        objective: r.objective,
-        certificate: Certificate {
-            status,
-            milp_objective,
-            bound,
-            gap: Certificate::gap_of(bound, r.objective),
-        },
-        x: r.x,
-        u: r.u,
-        lambda: r.lambda,
-        polish: None,
-    })
 }

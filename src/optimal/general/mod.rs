@@ -14,6 +14,7 @@ pub mod phase;
 mod phase_growth;
 mod phase_polish;
 mod pm;
+mod pm_milp;
 mod polish;
 pub mod projection;
 
@@ -35,5 +36,6 @@ pub use phase::{
 pub use phase_growth::{grow_general_phases, grow_general_transitions};
 pub(crate) use phase_polish::{polish_phases_within, MilpPhases};
 pub use pm::{general_convergence, solve_general_pm, solve_general_pm_with};
+pub(crate) use pm_milp::{solve_pm_milp, PmOptions, PmStart};
 pub(crate) use polish::{pm_on_pattern, PmColumns};
 pub use projection::{project_polyhedron, ProjectedVertex, MAX_PROJECTED_VERTICES};
