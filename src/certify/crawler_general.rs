@@ -19,7 +19,7 @@ use super::general_report::Words;
 use super::process::Process;
 use super::CertifyOptions;
 use crate::error::Result;
-use crate::model::{crawler_as_general, CrawlerInstance};
+use crate::model::CrawlerInstance;
 
 /// A face of C: block `b` (0-based) and side `s` (`+1`: `F_b <= mu_b^+`, outer normal `nu_b`;
 /// `-1`: `-F_b <= mu_b^-`, outer normal `-nu_b`).
@@ -73,9 +73,7 @@ impl AsGeneral {
     /// - the switching function's unit `1 / (N k_max)` (its `p` is `lambda / N` per `K nu_b`
     ///   while block `b` slips), and the margin's cap ten times `1 / (N k_min)`.
     pub fn of(pr: &Process, tol: f64) -> Result<Self> {
-        let cost = pr.problem.cost.into();
-        let inst =
-            crawler_as_general(&pr.crawler, pr.problem.period, &pr.problem.rate_bound, cost)?;
+        let inst = pr.problem.instance(&pr.crawler)?;
         let k = pr.crawler.stiffness();
         let s_b = crate::model::crawler_row_norms(k);
         let process = GeneralProcess::of_crawler(pr);

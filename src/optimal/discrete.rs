@@ -38,7 +38,7 @@
 //! state until the periodic regime, and the verified displacement is the one reported.
 
 use crate::error::{Error, Result};
-use crate::model::{crawler_as_general, crawler_row_norms, Crawler, CrawlerInstance};
+use crate::model::{crawler_row_norms, Crawler, CrawlerInstance};
 use crate::optimal::general::geometry::analyze_polyhedron;
 use crate::optimal::general::{solve_pm_milp, PmOptions, PmStart};
 use crate::optimal::milp::{certify, control_knots, replay_grid, GridReplay};
@@ -110,12 +110,7 @@ pub(super) fn solve_discrete_in(
     let steps = 1usize << m;
     let h = problem.period / steps as f64;
     let what = format!("P_{m}");
-    let inst = crawler_as_general(
-        crawler,
-        problem.period,
-        &problem.rate_bound,
-        problem.cost.into(),
-    )?;
+    let inst = problem.instance(crawler)?;
     let geometry = analyze_polyhedron(&inst.problem.c)?;
     let start = match start {
         Some((times, lengths)) => Some(grid_start(crawler, problem, m, times, lengths, &what)?),

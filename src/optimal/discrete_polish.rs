@@ -20,7 +20,7 @@ use super::milp::{certify, replay_grid};
 use super::polish::{no_worse, PolishRecord, Qp};
 use super::GaitProblem;
 use crate::error::Result;
-use crate::model::{crawler_as_general, crawler_row_norms, Crawler, CrawlerInstance};
+use crate::model::{crawler_row_norms, Crawler, CrawlerInstance};
 
 /// The slip of a block in a step: +1 forward, -1 backward, 0 stuck.
 fn pattern(s: &DiscreteSolution) -> Vec<Vec<i8>> {
@@ -124,12 +124,7 @@ fn polished(
     let slip = pattern(s);
     let steps = slip.len();
     let h = problem.period / steps as f64;
-    let inst = crawler_as_general(
-        crawler,
-        problem.period,
-        &problem.rate_bound,
-        problem.cost.into(),
-    )?;
+    let inst = problem.instance(crawler)?;
     let (qp, cols) = build(&inst, problem, s.m, &slip);
     let sol = qp.solve(&what)?;
     let val = |c: &usize| sol.v[*c];

@@ -80,6 +80,13 @@ fn positive(field: &str, v: f64) -> Result<()> {
 }
 
 impl GaitProblem {
+    /// The crawler's gait problem as (P) ([`crate::model::crawler_as_general`]): its period,
+    /// rate bounds and cost on the crawler's instance (the TV bound, which (P) has not, stays
+    /// the caller's).
+    pub fn instance(&self, crawler: &Crawler) -> Result<crate::model::CrawlerInstance> {
+        crate::model::crawler_as_general(crawler, self.period, &self.rate_bound, self.cost.into())
+    }
+
     /// Builds and validates the problem for `crawler`: `max_actuator_speed` bounds `|L_l'|`, one
     /// per link, so `a_l = k_l * max_actuator_speed_l`.
     pub fn new(

@@ -272,7 +272,7 @@ fn start_columns(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::model::{crawler_as_general, Crawler};
+    use crate::model::Crawler;
     use crate::optimal::general::geometry::analyze_polyhedron;
     use crate::optimal::milp::replay_grid;
     use crate::optimal::{sample_increments, Cost, GaitProblem};
@@ -287,7 +287,7 @@ mod tests {
         (times, lengths): (&[f64], &[Vec<f64>]),
         flip: bool,
     ) -> bool {
-        let inst = crawler_as_general(c, p.period, &p.rate_bound, p.cost.into()).unwrap();
+        let inst = p.instance(c).unwrap();
         let q = &inst.problem;
         let g = analyze_polyhedron(&q.c).unwrap();
         let steps = 1usize << m;

@@ -19,7 +19,7 @@
 //! exact simulator and keeps it only when the replay agrees and `J` is no worse.
 
 use super::decode::RawGait;
-use crate::model::{crawler_as_general, crawler_row_norms, Crawler, CrawlerInstance};
+use crate::model::{crawler_row_norms, Crawler, CrawlerInstance};
 use crate::optimal::general::{polish_phases_within, MilpPhases};
 use crate::optimal::milp::block_speed_bound;
 use crate::optimal::{Cost, GaitProblem};
@@ -40,13 +40,7 @@ pub(super) fn polish_phases(
     if raw.durations.is_empty() {
         return None;
     }
-    let inst = crawler_as_general(
-        crawler,
-        problem.period,
-        &problem.rate_bound,
-        problem.cost.into(),
-    )
-    .ok()?;
+    let inst = problem.instance(crawler).ok()?;
     let s_b = crawler_row_norms(crawler.stiffness());
     let v = block_speed_bound(crawler, problem);
     let rate_bounds: Vec<f64> = s_b.iter().flat_map(|&s| [s * v, s * v]).collect();
