@@ -166,10 +166,12 @@ mod tests {
     /// The duals HiGHS returns for the branch LP on the crawler's instance
     /// ([`super::super::branch::branch_lp`]) satisfy the KKT system the certificate solves for
     /// (the independent check of the derivation and its signs), at the global optimum of P_m,
-    /// every residual counted in the crawler's units. At a face active without a reaction (a
-    /// biactive pair) the sign of its stationarity holds on one of the branches, reacting or
-    /// not, as the certificate's branch search takes them: each is tried, and one must satisfy
-    /// every condition.
+    /// every residual counted in the crawler's units. Each branch through the biactive pairs
+    /// (faces active without a reaction) holds the process and lies in P_m, so at a global
+    /// optimum its LP's optimum is J (asserted). On one of them the duals must satisfy every
+    /// condition, the sign at the biactive pairs included: strong stationarity, which the
+    /// certificate's branch search looks for and which global optimality alone does not imply;
+    /// it holds at these optima (the test's own claim, checked here).
     #[test]
     fn branch_lp_duals_satisfy_the_kkt_system() {
         for (nb, mm, m) in [(2, 2.0, 3), (3, 1.5, 3)] {
@@ -181,32 +183,44 @@ mod tests {
             let general = AsGeneral::of(&pr, INPUT_TOL).unwrap();
             let (p, gst) = (&general.inst.problem, &general.gst);
             let biactive = gst.reacting.iter().flatten().filter(|f| !f.1).count();
-            assert!(biactive <= 10, "N = {nb}: {biactive} biactive pairs");
-            let mut best = f64::INFINITY;
+            assert!(biactive <= 12, "N = {nb}: {biactive} biactive pairs");
+            let mut best: Option<(f64, Vec<(&str, f64)>)> = None;
             for bits in 0..1usize << biactive {
                 let choice: Vec<bool> = (0..biactive).map(|k| bits >> k & 1 == 1).collect();
-                let Some((opt, raw)) = super::super::branch::branch_lp(p, gst, &choice) else {
-                    continue;
-                };
-                if (opt - r.objective).abs() < 1e-9 {
-                    best = best.min(kkt_residual(p, gst, raw, nb));
+                let (opt, raw) = super::super::branch::branch_lp(p, gst, &choice)
+                    .unwrap_or_else(|| panic!("N = {nb}: branch {bits} has no optimum"));
+                assert!(
+                    (opt - r.objective).abs() < 1e-9,
+                    "N = {nb}: branch {bits}: {opt} vs {}",
+                    r.objective
+                );
+                let res = kkt_residuals(p, gst, raw);
+                let worst = res
+                    .iter()
+                    .filter(|(name, _)| *name != "sign")
+                    .fold(0.0_f64, |w, (_, v)| w.max(*v));
+                if best.as_ref().is_none_or(|(b, _)| worst < *b) {
+                    best = Some((worst, res));
                 }
             }
+            let (worst, res) = best.expect("one branch at least");
+            for (name, v) in res {
+                println!("N = {nb}: {name} {v:.3e}");
+            }
             assert!(
-                best < 1e-9,
-                "N = {nb}: no branch satisfies the KKT system ({best:.3e})"
+                worst < 1e-9,
+                "N = {nb}: no branch satisfies the KKT system ({worst:.3e})"
             );
         }
     }
 
-    /// The largest residual but the sign (printed, each) of the branch LP's duals `raw`, each
-    /// rate at its bound weighted by psi (every active row of the box is an axis row).
-    fn kkt_residual(
+    /// The residuals of the branch LP's duals `raw`, each rate at its bound weighted by psi
+    /// (every active row of the box is an axis row).
+    fn kkt_residuals(
         p: &GeneralProblem,
         gst: &GeneralStructure,
         mut raw: GeneralRaw,
-        nb: usize,
-    ) -> f64 {
+    ) -> Vec<(&'static str, f64)> {
         raw.rho = (0..gst.steps)
             .map(|i| {
                 let psi = psi_of(p, gst, &raw, i);
@@ -216,13 +230,9 @@ mod tests {
                     .collect()
             })
             .collect();
-        let mut worst = 0.0_f64;
-        for (name, _, v) in residuals(p, gst, &raw, true, false) {
-            println!("N = {nb}: {name} {v:.3e}");
-            if name != "sign" {
-                worst = worst.max(v);
-            }
-        }
-        worst
+        residuals(p, gst, &raw, true, false)
+            .into_iter()
+            .map(|(name, _, v)| (name, v))
+            .collect()
     }
 }

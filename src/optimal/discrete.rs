@@ -18,10 +18,12 @@
 //!
 //! The complementarity is (P)'s big-M form per face of the instance, its columns in the chain's
 //! order (every step's forward faces, then the backward ones: the order of the crawler's former
-//! MILP of its own, which HiGHS searches as fast), the cost (P)'s outer approximation per link
-//! (a tangent of each link's parabola at 17 rates, then at each answer's rates). The dynamics with the sign and complementarity conditions are exactly the KKT system
-//! of the catching-up projection (theory §4), which has a unique solution, so every feasible
-//! point is a catching-up trajectory. The time-shift symmetry of a periodic gait is left to
+//! MILP of its own, which HiGHS searches about as fast), the cost (P)'s outer approximation per
+//! link (a tangent of each link's parabola at 17 rates, then at each answer's rates).
+//!
+//! The dynamics with the sign and complementarity conditions are exactly the KKT system of the
+//! catching-up projection (theory §4), which has a unique solution, so every feasible point is a
+//! catching-up trajectory. The time-shift symmetry of a periodic gait is left to
 //! HiGHS: the rows that break it (step 0 carries the largest displacement; or `x^0_1` is the
 //! least `x^i_1`) made the solve slower, not faster, on the three-block instance at `2^m = 16`
 //! (143 s and 34 s against 25 s without, one thread; `crawlopt optimize

@@ -484,9 +484,8 @@ pub(crate) fn solve_max(
     // the time goes into the proof. Without them (one thread, idle machine): the three-block
     // phase growth to K = 5 in 0.55 s instead of 1.0 s (K = 5 alone 0.34 s, was 0.62 s), P_3 (8
     // steps) in 0.66 s (1.08 s) and P_4 (16 steps) in 10.4 s (13.9 s), the four-block P_3 in
-    // 10.7 s (16.7 s); the
-    // other heuristics (feasibility jump, shifting, ZI rounding, root reduced cost) changed
-    // nothing measurable.
+    // 10.7 s (16.7 s), P_m then with the crawler's former MILP of its own; the other heuristics
+    // (feasibility jump, shifting, ZI rounding, root reduced cost) changed nothing measurable.
     h.option("mip_heuristic_run_rins", false)?;
     h.option("mip_heuristic_run_rens", false)?;
     h.until_deadline();

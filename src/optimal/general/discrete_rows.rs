@@ -208,7 +208,7 @@ pub(super) fn add_face_rows(
             Form::Branches(b) => {
                 let (lo, hi) = branch_bounds(b[i][j])[1];
                 let s = pb.add_column(0.0, lo..=hi);
-                per_face[i].push(s);
+                per_face.last_mut().expect("pushed above").push(s);
                 let mut row = face;
                 row.push((s, 1.0));
                 pb.add_row(c..=c, row);
@@ -219,7 +219,7 @@ pub(super) fn add_face_rows(
                     Some(z) => z[j],
                     None => pb.add_integer_column(0.0, 0..=1),
                 };
-                per_face[i].push(z);
+                per_face.last_mut().expect("pushed above").push(z);
                 pb.add_row(..=0.0, [(mu_i[j], 1.0), (z, -bm.multiplier)]);
                 let mut row = face.clone();
                 row.push((z, -bm.slack[j]));

@@ -88,8 +88,8 @@ fn solve_milp(p: &GeneralProblem, g: &Geometry, m: u32) -> Result<GeneralPm> {
     verified(p, m, &run, &what)
 }
 
-/// Replays the MILP's controls in the simulator from its `x^0` ([`super::discrete::replay`]) and certifies the
-/// answer.
+/// Replays the MILP's controls in the simulator from its `x^0` ([`super::discrete::replay`])
+/// and certifies the answer.
 fn verified(p: &GeneralProblem, m: u32, run: &PmRun, what: &str) -> Result<GeneralPm> {
     let r = super::discrete::replay(p, m, &run.lay, &run.cols, what)?;
     Ok(GeneralPm {

@@ -129,8 +129,22 @@ pub(crate) fn solve_pm_milp(
             (None, Some(s)) => Some(start_columns(p, &cuts, &lay, &jumps, pb.num_cols(), s)),
             (None, None) => None,
         };
-        let (cols, milp_objective, bound, status) = solve_max(pb, what, start.as_deref(), gap)?;
-        let bound = bound.unwrap_or_else(|| fallback.max(milp_objective));
+        let (cols, milp_objective, bound, status) = match solve_max(pb, what, start.as_deref(), gap)
+        {
+            // Out of time before this round had a point: the last round's answer stands.
+            Err(Error::TimeLimit(_)) if last.is_some() => {
+                let run = last.expect("checked");
+                return Ok(PmRun {
+                    status: MilpStatus::TimeLimit,
+                    ..run
+                });
+            }
+            r => r?,
+        };
+        // Without a dual bound from HiGHS: the last round's (a relaxation of this one, with
+        // fewer cuts) or the fallback, never below the incumbent.
+        let earlier = last.as_ref().map_or(fallback, |r| r.bound.min(fallback));
+        let bound = bound.unwrap_or_else(|| earlier.max(milp_objective));
         let run = PmRun {
             lay,
             cols,
@@ -162,8 +176,9 @@ pub(crate) fn solve_pm_milp(
 }
 
 /// The controls of an answer that would add a cut: for a separable cost, those with a component
-/// farther than `1e-9` of its range in U from every cut point's; else those farther than that
-/// from every cut point.
+/// of non-zero weight `r_k` farther than `1e-9` times the component's largest size over the cut
+/// points (which hold U's extremes) from every cut point's; else those farther than that from
+/// every cut point.
 fn new_points(p: &GeneralProblem, cuts: &[Vec<f64>], u: &[Vec<f64>]) -> Vec<Vec<f64>> {
     let range = |k: usize| {
         cuts.iter()
@@ -171,14 +186,14 @@ fn new_points(p: &GeneralProblem, cuts: &[Vec<f64>], u: &[Vec<f64>]) -> Vec<Vec<
             .max(1e-300)
     };
     let ranges: Vec<f64> = (0..p.controls()).map(range).collect();
-    let separable = super::discrete_rows::cost_matrix(&p.cost, p.controls())
-        .is_some_and(|r| separable(&r).is_some());
+    let diagonal =
+        super::discrete_rows::cost_matrix(&p.cost, p.controls()).and_then(|r| separable(&r));
     let mut known: Vec<Vec<f64>> = cuts.to_vec();
     let mut fresh = Vec::new();
     for ui in u {
         let near = |c: &Vec<f64>, k: usize| (c[k] - ui[k]).abs() <= 1e-9 * ranges[k];
-        let is_new = if separable {
-            (0..ui.len()).any(|k| !known.iter().any(|c| near(c, k)))
+        let is_new = if let Some(r) = &diagonal {
+            (0..ui.len()).any(|k| r[k] != 0.0 && !known.iter().any(|c| near(c, k)))
         } else {
             !known.iter().any(|c| (0..ui.len()).all(|k| near(c, k)))
         };
