@@ -43,7 +43,7 @@ use crate::error::{Error, Result};
 use crate::model::{crawler_row_norms, Crawler, CrawlerInstance};
 use crate::optimal::general::geometry::analyze_polyhedron;
 use crate::optimal::general::{solve_pm_milp, PmOptions, PmStart};
-use crate::optimal::milp::{certify, control_knots, replay_grid, GridReplay};
+use crate::optimal::milp::{certify, control_knots, replay_grid, shift_to_zero_mean, GridReplay};
 use crate::optimal::polish::PolishRecord;
 use crate::optimal::sample_increments;
 use crate::optimal::{Certificate, GaitProblem};
@@ -127,17 +127,12 @@ pub(super) fn solve_discrete_in(
         bound_hint: Some(crate::optimal::work_limit(crawler, problem)),
     };
     let run = solve_pm_milp(&inst.problem, &geometry, m, &opts, &what)?;
-    // The increments of the MILP's controls, shifted to an exact zero mean (the solver's is
-    // within its tolerance).
     let mut incs: Vec<Vec<f64>> = run
         .controls()
         .iter()
         .map(|u| u.iter().map(|v| v * h).collect())
         .collect();
-    for l in 0..crawler.links() {
-        let mean = incs.iter().map(|u| u[l]).sum::<f64>() / steps as f64;
-        incs.iter_mut().for_each(|u| u[l] -= mean);
-    }
+    shift_to_zero_mean(&mut incs);
     let x0 = inst.to_crawler(&run.states()[0]);
     let cost = grid_cost(problem, &incs, h);
     let g = replay_grid(crawler, problem.period, &incs, &x0, &what)?;

@@ -16,7 +16,7 @@
 
 use super::discrete::{grid_cost, DiscreteSolution};
 use super::general::{pm_on_pattern, PmColumns};
-use super::milp::{certify, replay_grid};
+use super::milp::{certify, replay_grid, shift_to_zero_mean};
 use super::polish::{no_worse, PolishRecord, Qp};
 use super::GaitProblem;
 use crate::error::Result;
@@ -135,12 +135,7 @@ fn polished(
         .map(|r| r.iter().map(|c| h * val(c)).collect())
         .collect();
     // An exact zero mean (the QP's is within its tolerance), as for the MILP's increments.
-    for l in 0..crawler.links() {
-        let mean = incs.iter().map(|u| u[l]).sum::<f64>() / steps as f64;
-        for u in &mut incs {
-            u[l] -= mean;
-        }
-    }
+    shift_to_zero_mean(&mut incs);
     let state = |x: &Vec<usize>| inst.to_crawler(&x.iter().map(val).collect::<Vec<_>>());
     let x0 = state(&cols.x[0]);
     // D_b = (mu_(b+) - mu_(b-)) / s_b.

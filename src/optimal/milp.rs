@@ -343,14 +343,20 @@ impl GridColumns {
             .iter()
             .map(|u| u.iter().map(|c| cols[c.index()]).collect())
             .collect();
-        let steps = rows.len() as f64;
-        for l in 0..rows.first().map_or(0, Vec::len) {
-            let mean = rows.iter().map(|u| u[l]).sum::<f64>() / steps;
-            for u in &mut rows {
-                u[l] -= mean;
-            }
-        }
+        shift_to_zero_mean(&mut rows);
         rows
+    }
+}
+
+/// Shifts each column of equal-step increments (one row per step) by its mean, to an exact zero
+/// mean: a solver's increments have theirs only within its tolerance.
+pub(crate) fn shift_to_zero_mean(rows: &mut [Vec<f64>]) {
+    let steps = rows.len() as f64;
+    for l in 0..rows.first().map_or(0, Vec::len) {
+        let mean = rows.iter().map(|u| u[l]).sum::<f64>() / steps;
+        for u in rows.iter_mut() {
+            u[l] -= mean;
+        }
     }
 }
 

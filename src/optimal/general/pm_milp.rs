@@ -247,8 +247,8 @@ fn raised(p: &GeneralProblem, cuts: &[Vec<f64>], lay: &Layout, mut cols: Vec<f64
 
 /// The MILP's columns at a start process: its states, controls and multipliers, a face's
 /// binary set where its multiplier is positive and the face holds at the step's end (to `1e-10`
-/// of the face's slack range; elsewhere a multiplier of rounding size is dropped), the
-/// epigraphs at their floors and the control's jumps.
+/// of C's scale; elsewhere a multiplier of rounding size is dropped), the epigraphs at their
+/// floors and the control's jumps.
 fn start_columns(
     p: &GeneralProblem,
     cuts: &[Vec<f64>],
