@@ -575,3 +575,99 @@ fn three_block_theorem_2_2_residuals_shrink_with_m() {
     assert!((maxim - 0.3125).abs() < 1e-9);
     assert!(sign <= 1e-9 && support <= 1e-9, "{sign} {support}");
 }
+
+/// A crawler's process is checked as (P)'s on its instance: every way of breaking a P_m and a
+/// phase optimum of three blocks is refused by the crawler's check naming the crawler's field
+/// (state, control, block displacement), and by (P)'s check of the same process on the
+/// instance naming the instance's field at the same place (`x[k]`, `u[i]`, the reaction of
+/// face `2 b` or `2 b + 1`): one check, read in two kinds of words.
+#[test]
+fn a_crawler_process_is_refused_where_its_instance_process_is() {
+    use crawlopt::certify::GeneralProcess;
+    let (c, pb) = three_blocks();
+    let inst = pb.instance(&c).unwrap();
+    let discrete = GaitResult::from_discrete(&c, &pb, &solve_discrete_global(&c, &pb, 3).unwrap());
+    let phase = GaitResult::from_phase(&c, &pb, &solve_phase_global(&c, &pb, 4).unwrap());
+    for r in [discrete, phase] {
+        let good = Process::from_result(&r, "test").unwrap();
+        GeneralProcess::of_crawler(&good)
+            .check(&inst.problem, 1e-7)
+            .unwrap();
+        let np = good.durations.len();
+        // A piece on which some block slips, and that block.
+        let (j, b) = (0..np)
+            .find_map(|j| {
+                let d = &good.block_displacements[j];
+                d.iter().position(|v| v.abs() > 1e-3).map(|b| (j, b))
+            })
+            .expect("the optimum moves");
+        // The first piece and block where a forward shift of 1e-3 moves a block off its face:
+        // a block that does not move forward and whose forward face is inactive at the piece's
+        // end (every block before it moving forward against its face, or backward by more).
+        let forward_slack = |x: &[f64], b: usize| c.mu_forward()[b] - c.block_forces(x)[b];
+        let (sj, sb) = (0..np)
+            .find_map(|j| {
+                let d = &good.block_displacements[j];
+                (0..3)
+                    .find(|&b| d[b] + 1e-3 > 0.0 && forward_slack(&good.states[j + 1], b) > 1e-3)
+                    .filter(|&b| (0..b).all(|a| d[a] > 1e-6 || d[a] < -2e-3))
+                    .map(|b| (j, b))
+            })
+            .expect("a stuck block off its forward face");
+        type Edit = Box<dyn Fn(&mut Process)>;
+        let cases: Vec<(Edit, String, String)> = vec![
+            (
+                // Far outside C (and so neither periodic nor a step): states come first.
+                Box::new(|p| p.states[1][0] = 9.0),
+                "solution.states[1]".into(),
+                "x[1]".into(),
+            ),
+            (
+                Box::new(move |p| p.states[np][0] += 0.3),
+                format!("solution.states[{np}]"),
+                format!("x[{np}]"),
+            ),
+            (
+                Box::new(|p| p.controls[0][1] = 5.0),
+                "solution.controls[0][1]".into(),
+                "u[0]".into(),
+            ),
+            (
+                // One block's displacement changed: the dynamics break.
+                Box::new(move |p| p.block_displacements[j][b] *= 0.5),
+                format!("solution.states[{}]", j + 1),
+                format!("x[{}]", j + 1),
+            ),
+            (
+                Box::new(|p| {
+                    let u = p.controls[0][1];
+                    p.controls[0][1] -= if u == 0.0 { -0.01 } else { 0.01 * u.signum() };
+                }),
+                "zero mean".into(),
+                "must have zero mean".into(),
+            ),
+            (
+                // A rigid shift of every block on a piece keeps the dynamics (sum_b nu_b = 0)
+                // but moves a stuck block off its face: the flow rule breaks.
+                Box::new(move |p| {
+                    for d in p.block_displacements[sj].iter_mut() {
+                        *d += 1e-3;
+                    }
+                }),
+                format!("solution.block_displacements[{sj}][{sb}]"),
+                format!("lambda[{sj}][{}]", 2 * sb + 1),
+            ),
+        ];
+        for (edit, crawler_field, general_field) in cases {
+            let mut bad = good.clone();
+            edit(&mut bad);
+            let e = bad.check("test", 1e-7).unwrap_err().to_string();
+            assert!(e.contains(&crawler_field), "{crawler_field}: {e}");
+            let g = GeneralProcess::of_crawler(&bad)
+                .check(&inst.problem, 1e-7)
+                .unwrap_err()
+                .to_string();
+            assert!(g.contains(&general_field), "{general_field}: {g}");
+        }
+    }
+}

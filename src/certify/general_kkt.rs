@@ -5,9 +5,10 @@
 //! (`certify::stages`: [`Stage`], [`Norm`], a generic functional for the degenerate case). A
 //! crawler's certificate solves it on the crawler's instance (`certify::crawler_general`).
 
-use super::general_process::{control_rows, GeneralProcess, ProcessKind};
+use super::general_process::{GeneralProcess, ProcessKind};
 use crate::error::{Error, Result};
 use crate::model::general::{dot, GeneralCost, GeneralProblem, Reward};
+use crate::optimal::process::control_rows;
 use crate::optimal::solver::{Highs, SolveStatus};
 use highs::{Col, RowProblem, Sense};
 

@@ -7,24 +7,10 @@
 use super::process::Process;
 use crate::error::{Error, Result};
 use crate::integrate::{simulate_general, ControlInput, GeneralSimOptions, InputKind};
-use crate::model::general::{Boundary, ControlSet, GeneralProblem};
-pub use crate::optimal::consistency::ProcessKind;
+use crate::model::general::{Boundary, GeneralProblem};
 use crate::optimal::general::{GeneralPhaseGait, GeneralPm};
-
-/// The rows `(G_k, h_k)` of U: a box as `e_l <= upper_l`, `-e_l <= -lower_l` (in this order per
-/// component), a polytope's unit rows as given.
-pub(crate) fn control_rows(u: &ControlSet) -> Vec<(Vec<f64>, f64)> {
-    match u {
-        ControlSet::Box { lower, upper } => {
-            let m = lower.len();
-            let unit = |l: usize, s: f64| (0..m).map(|k| if k == l { s } else { 0.0 }).collect();
-            (0..m)
-                .flat_map(|l| [(unit(l, 1.0), upper[l]), (unit(l, -1.0), -lower[l])])
-                .collect()
-        }
-        ControlSet::Polytope(p) => p.normals.iter().cloned().zip(p.offsets.clone()).collect(),
-    }
-}
+pub use crate::optimal::process::ProcessKind;
+use crate::optimal::process::{Fault, ProcessRows};
 
 /// Phases of a phase gait at most this fraction of the period long are dropped before the gait
 /// is certified ([`GeneralProcess::without_empty_phases`]): at the MILP's resolution such a phase
@@ -127,29 +113,13 @@ impl GeneralProcess {
     /// `s_b = |K^(1/2) nu_b|` (the block displacements `D_b = (mu_(b+) - mu_(b-)) / s_b` of
     /// that module's docs, per unit time); controls, durations and the kind are the crawler's.
     pub fn of_crawler(pr: &Process) -> Self {
-        let k = pr.crawler.stiffness();
-        let sqrt_k: Vec<f64> = k.iter().map(|k| k.sqrt()).collect();
-        let s_b = crate::model::crawler_row_norms(k);
+        let (x, lambda) = pr.view().instance_rows();
         GeneralProcess {
             kind: pr.kind,
             durations: pr.durations.clone(),
-            x: pr
-                .states
-                .iter()
-                .map(|x| x.iter().zip(&sqrt_k).map(|(x, s)| x / s).collect())
-                .collect(),
+            x,
             u: pr.controls.clone(),
-            lambda: pr
-                .block_displacements
-                .iter()
-                .zip(&pr.durations)
-                .map(|(d, &h)| {
-                    d.iter()
-                        .zip(&s_b)
-                        .flat_map(|(&v, &s)| [s * v.max(0.0) / h, s * (-v).max(0.0) / h])
-                        .collect()
-                })
-                .collect(),
+            lambda,
         }
     }
 
@@ -245,48 +215,87 @@ impl GeneralProcess {
     /// starts at its `x(0)` instead of ending where it began), every message naming the field
     /// as `{at}.x[k]`, `{at}.u[i]`, ...: how a result file's P_m process is checked on reading.
     pub fn check_as(&self, p: &GeneralProblem, tol: f64, at: &str) -> Result<()> {
-        let bad = |field: String, got: String, why: &str| {
-            Err(Error::invalid(format!("{at}.{field}"), got, why))
-        };
         self.check_rows(p, tol, at)?;
+        match self.rows().fault(p, tol) {
+            None => Ok(()),
+            Some(fault) => Err(self.in_words(&fault, at)),
+        }
+    }
+
+    /// The process's rows, borrowed, for the checks of [`ProcessRows::fault`].
+    pub fn rows(&self) -> ProcessRows<'_> {
+        ProcessRows {
+            kind: self.kind,
+            durations: &self.durations,
+            x: &self.x,
+            u: &self.u,
+            lambda: &self.lambda,
+        }
+    }
+
+    /// A fault in (P)'s words, naming the field as `{at}.x[k]`, `{at}.u[i]`, ...
+    fn in_words(&self, fault: &Fault, at: &str) -> Error {
+        let bad = |field: String, got: String, why: &str| {
+            Error::invalid(format!("{at}.{field}"), got, why)
+        };
         let steps = self.durations.len();
-        let scale = p.c.scale();
-        // Computed states carry the rounding of the increments that made them
-        // ([`GeneralProblem::rounding`]).
-        let allowed = tol * scale + p.rounding(&self.durations, &self.x, &self.u);
-        match &p.boundary {
-            Boundary::Periodic => {
-                let gap = max_diff(&self.x[steps], &self.x[0]);
-                if gap > allowed {
-                    return bad(
-                        format!("x[{steps}]"),
-                        format!("{gap:e} from x[0]"),
-                        "not periodic",
-                    );
-                }
+        match fault {
+            Fault::NotPeriodic { gap } => bad(
+                format!("x[{steps}]"),
+                format!("{gap:e} from x[0]"),
+                "not periodic",
+            ),
+            Fault::NotInitial { gap } => bad(
+                "x[0]".into(),
+                format!("{gap:e} from problem.initial_state"),
+                "must be the initial state",
+            ),
+            Fault::Outside { k, face, by } => bad(
+                format!("x[{k}]"),
+                format!("{by:e}"),
+                &format!("outside face {}", face + 1),
+            ),
+            Fault::ControlOutside { i } => {
+                bad(format!("u[{i}]"), format!("{:?}", self.u[*i]), "outside U")
             }
-            Boundary::Initial(x0) => {
-                let gap = max_diff(&self.x[0], x0);
-                if gap > tol * scale {
-                    return bad(
-                        "x[0]".into(),
-                        format!("{gap:e} from problem.initial_state"),
-                        "must be the initial state",
-                    );
-                }
+            Fault::Mean { mean } => {
+                bad("u".into(), format!("mean {mean:?}"), "must have zero mean")
+            }
+            Fault::Negative { i, face } => bad(
+                format!("lambda[{i}][{face}]"),
+                self.lambda[*i][*face].to_string(),
+                "negative",
+            ),
+            Fault::Step { i, residual } => {
+                let step = match self.kind {
+                    ProcessKind::Discrete { .. } => {
+                        "the catching-up step x^(i+1) = x^i + h (g - sum lambda x*)"
+                    }
+                    ProcessKind::Phase => {
+                        "the phase's segment x^(i+1) = x^i + tau_i (g - sum lambda x*)"
+                    }
+                };
+                bad(
+                    format!("x[{}]", i + 1),
+                    format!("{residual:e}"),
+                    &format!(
+                        "does not follow from {s}.x[{i}], {s}.u[{i}] and {s}.lambda[{i}] by {step}",
+                        s = at.rsplit(": ").next().unwrap_or(at)
+                    ),
+                )
+            }
+            Fault::Inactive { i, face } => {
+                let ends = match self.kind {
+                    ProcessKind::Discrete { .. } => "an inactive face",
+                    ProcessKind::Phase => "a face not active at both ends of the phase",
+                };
+                bad(
+                    format!("lambda[{i}][{}]", face + 1),
+                    self.lambda[*i][*face].to_string(),
+                    &format!("reaction on {ends}"),
+                )
             }
         }
-        for (k, x) in self.x.iter().enumerate() {
-            if let Some((j, s)) = p.c.violation(x, allowed) {
-                return bad(
-                    format!("x[{k}]"),
-                    format!("{s:e}"),
-                    &format!("outside face {}", j + 1),
-                );
-            }
-        }
-        self.check_controls(p, tol, at)?;
-        self.check_steps(p, tol, allowed, at)
     }
 
     /// The grid (P_m: `2^m` steps of `T / 2^m`; a phase gait: positive durations summing to
@@ -351,91 +360,6 @@ impl GeneralProcess {
         Ok(())
     }
 
-    /// The controls: in U, and of zero mean where the problem asks it.
-    fn check_controls(&self, p: &GeneralProblem, tol: f64, at: &str) -> Result<()> {
-        let bad = |field: String, got: String, why: &str| {
-            Err(Error::invalid(format!("{at}.{field}"), got, why))
-        };
-        let mc = p.controls();
-        let uscale = control_rows(&p.control)
-            .iter()
-            .fold(0.0_f64, |s, (_, h)| s.max(h.abs()));
-        let mut mean = vec![0.0; mc];
-        for (i, u) in self.u.iter().enumerate() {
-            if !p.control.contains(u, tol * uscale) {
-                return bad(format!("u[{i}]"), format!("{u:?}"), "outside U");
-            }
-            for (m, v) in mean.iter_mut().zip(u) {
-                *m += v * self.durations[i] / p.period;
-            }
-        }
-        if p.zero_mean && mean.iter().any(|v| v.abs() > tol * uscale) {
-            return bad("u".into(), format!("mean {mean:?}"), "must have zero mean");
-        }
-        Ok(())
-    }
-
-    /// Each step: reactions non-negative, the state following from the previous one, the
-    /// control and the reactions by the scheme, and a reaction only on an active face (states
-    /// to `allowed`).
-    fn check_steps(&self, p: &GeneralProblem, tol: f64, allowed: f64, at: &str) -> Result<()> {
-        let bad = |field: String, got: String, why: &str| {
-            Err(Error::invalid(format!("{at}.{field}"), got, why))
-        };
-        let (n, sigma, steps) = (p.states(), p.c.faces(), self.durations.len());
-        let scale = p.c.scale();
-        let (step, ends) = match self.kind {
-            ProcessKind::Discrete { .. } => (
-                "the catching-up step x^(i+1) = x^i + h (g - sum lambda x*)",
-                "an inactive face",
-            ),
-            ProcessKind::Phase => (
-                "the phase's segment x^(i+1) = x^i + tau_i (g - sum lambda x*)",
-                "a face not active at both ends of the phase",
-            ),
-        };
-        let mut g = vec![0.0; n];
-        for i in 0..steps {
-            let (lam, h) = (&self.lambda[i], self.durations[i]);
-            if let Some(j) = lam.iter().position(|&l| h * l < -tol * scale) {
-                return bad(format!("lambda[{i}][{j}]"), lam[j].to_string(), "negative");
-            }
-            p.dynamics.eval(&self.x[i], &self.u[i], &mut g);
-            let mut res = 0.0_f64;
-            for l in 0..n {
-                let react: f64 = (0..sigma).map(|j| lam[j] * p.c.normals[j][l]).sum();
-                let v = self.x[i][l] + h * (g[l] - react) - self.x[i + 1][l];
-                res = res.max(v.abs());
-            }
-            if res > allowed {
-                return bad(
-                    format!("x[{}]", i + 1),
-                    format!("{res:e}"),
-                    &format!(
-                        "does not follow from {s}.x[{i}], {s}.u[{i}] and {s}.lambda[{i}] by {step}",
-                        s = at.rsplit(": ").next().unwrap_or(at)
-                    ),
-                );
-            }
-            for j in 0..sigma {
-                let mut off = -p.c.slack(j, &self.x[i + 1]);
-                if self.kind == ProcessKind::Phase {
-                    off = off.max(-p.c.slack(j, &self.x[i]));
-                }
-                // A reaction's face is active to the states' tolerance (the product with the
-                // reaction for a reaction below C's scale).
-                if h * lam[j] * off > allowed * (h * lam[j]).max(scale) {
-                    return bad(
-                        format!("lambda[{i}][{}]", j + 1),
-                        lam[j].to_string(),
-                        &format!("reaction on {ends}"),
-                    );
-                }
-            }
-        }
-        Ok(())
-    }
-
     /// `J = sum_i tau_i (f1(lambda^i) - f2(u^i))`.
     pub fn objective(&self, p: &GeneralProblem) -> f64 {
         self.u
@@ -445,10 +369,4 @@ impl GeneralProcess {
             .map(|((u, l), h)| h * (p.reward.eval(&p.c.normals, l) - p.cost.eval(u)))
             .sum()
     }
-}
-
-fn max_diff(a: &[f64], b: &[f64]) -> f64 {
-    a.iter()
-        .zip(b)
-        .fold(0.0_f64, |d, (x, y)| d.max((x - y).abs()))
 }

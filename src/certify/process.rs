@@ -6,7 +6,7 @@
 use crate::error::{Error, Result};
 use crate::integrate::Method;
 use crate::model::Crawler;
-use crate::optimal::consistency::ProcessView;
+use crate::optimal::consistency::{bad, ProcessView};
 pub use crate::optimal::consistency::{ProcessKind, INPUT_TOL};
 use crate::optimal::{replay, GaitProblem, GaitResult};
 
@@ -27,10 +27,6 @@ pub struct Process {
     pub states: Vec<Vec<f64>>,
     /// Block displacements `D_{j,b}` per piece.
     pub block_displacements: Vec<Vec<f64>>,
-}
-
-fn bad(what: &str, field: &str, got: impl ToString, reason: impl Into<String>) -> Error {
-    Error::invalid(format!("{what}: {field}"), got, reason)
 }
 
 impl Process {

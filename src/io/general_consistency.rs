@@ -18,10 +18,11 @@ use super::{
 use crate::certify::GeneralProcess;
 use crate::error::{Error, Result};
 use crate::model::general::{Boundary, ControlSet, GeneralProblem};
-use crate::optimal::consistency::{max_diff, INPUT_TOL};
+use crate::optimal::consistency::INPUT_TOL;
 use crate::optimal::general::{
     replay_phases, simulate_grid, MAX_GENERAL_LOCAL_M, MAX_GENERAL_M, MAX_GENERAL_PHASES,
 };
+use crate::optimal::process::max_diff;
 use crate::optimal::{local_status, MilpStatus};
 
 /// The problem of a stored file, its errors naming `{what}: problem.<field>`.
