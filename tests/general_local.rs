@@ -238,3 +238,56 @@ fn the_api_job_reports_its_starts_and_can_be_cancelled() {
     let e = optimize_general_local(&file, &settings, hooks).unwrap_err();
     assert!(matches!(e, crawlopt::Error::Cancelled), "{e}");
 }
+
+/// Where `A = 0` and the file has no `[input]`, (P)'s local method starts from the phase
+/// optimum (`start_from = "phase"`), as a crawler's local method does: on the three-block
+/// crawler written as (P) its answer is the crawler's local answer (J = 2.595703125 at m = 10,
+/// the same for both), where the square waves it started from before stopped at J = 2e-15.
+/// With a drift (`A != 0`) no phase gait applies and the square waves start.
+#[test]
+fn the_local_method_starts_from_the_phase_optimum_where_a_is_zero() {
+    use crawlopt::api::{optimize_general_local, GeneralLocalSettings, Hooks};
+    use crawlopt::io::GeneralFile;
+    use crawlopt::optimal::{solve_discrete_local_shifted, GaitProblem};
+    let file = GeneralFile::load_if_general("examples/general_three_blocks.toml".as_ref())
+        .unwrap()
+        .unwrap();
+    assert!(file.input.is_none());
+    let r =
+        optimize_general_local(&file, &GeneralLocalSettings::default(), Hooks::default()).unwrap();
+    assert_eq!(r.start_from, "phase");
+    // The crawler's local method from its phase start (the default policy of `optimize
+    // --method local` on the crawler's file).
+    let c = crawlopt::Crawler::uniform(3, 1.0, 1.0, 1.5).unwrap();
+    let pb = GaitProblem::new(&c, 10.0, &[1.0, 1.0], crawlopt::optimal::Cost::None, None).unwrap();
+    let start = crawlopt::optimal::phase_start(
+        &c,
+        &pb,
+        &crawlopt::optimal::GrowOptions::default(),
+        &mut |_| {},
+    )
+    .unwrap();
+    let (crawler, _) =
+        solve_discrete_local_shifted(&c, &pb, 10, start.times(), start.lengths(), 8).unwrap();
+    println!(
+        "general J = {}, crawler J = {}",
+        r.objective,
+        crawler.objective()
+    );
+    assert!((r.objective - crawler.objective()).abs() < 1e-9);
+    assert!(r.objective > 2.59, "{}", r.objective);
+    // A drift: the square waves.
+    let drift = GeneralFile::parse(
+        "[sweeping_process]\nnormals = [[1.0], [-1.0]]\noffsets = [1.0, 1.0]\n[dynamics]\n\
+         A = [[-0.1]]\nB = [[1.0]]\n[control]\nlower = [-1.0]\nupper = [1.0]\nzero_mean = true\n\
+         [objective]\nface_weights = [0.5, 0.5]\n[problem]\nperiod = 10.0\n",
+    )
+    .unwrap();
+    let s = GeneralLocalSettings {
+        m: 4,
+        shifts: 2,
+        time_limit: None,
+    };
+    let r = optimize_general_local(&drift, &s, Hooks::default()).unwrap();
+    assert_eq!((r.start_from, r.starts_tried), ("square_waves", 2));
+}

@@ -215,8 +215,9 @@ class GeneralProblem:
         formulation: Optional[str] = None,
     ) -> GeneralResult:
         """The paper's P_m on 2^``m`` steps: ``method`` "discrete" (global MILP, with its
-        certificate) or "local" (the LPCC active-set method from the file's ``[input]`` or
-        square waves, ``shifts`` rotations of each; no global claim). ``solution`` holds
+        certificate) or "local" (the LPCC active-set method from the file's ``[input]``, else
+        where A = 0 the phase optimum, else square waves; ``shifts`` rotations of each; no
+        global claim). ``solution`` holds
         ``objective`` (J re-verified by simulation), ``x``, ``u``, ``lambda``. ``certify``
         ("discrete", "phase", "sequence", "chain") adds ``necessary_conditions``: Theorem 2.2's
         conditions on the optimum with their residuals and ``verdict`` (``crawlopt optimize

@@ -1,15 +1,19 @@
 //! The general problem's P_m solved locally as a job ([`optimize_general_local`]): the start
-//! policy (the file's `[input]`, else square waves along each control axis, each at several
-//! time shifts), the time budget across starts, progress and cancellation; and the global
-//! job with hooks ([`optimize_general_with_hooks`]).
+//! policy (the file's `[input]`; else, where `A = 0`, the phase optimum as a crawler's local
+//! method starts from it; else square waves along each control axis; each at several time
+//! shifts), the time budget across starts, progress and cancellation; and the global job with
+//! hooks ([`optimize_general_with_hooks`]).
 
-use super::events::{run_with, Hooks};
+use super::events::{run_with, Emitter, Event, Hooks};
 use super::settings::{DEFAULT_M_LOCAL, DEFAULT_SHIFTS};
 use crate::error::{Error, Result};
+use crate::integrate::{ControlInput, InputKind};
 use crate::io::GeneralFile;
 pub use crate::io::GeneralLocalOptimized;
+use crate::model::general::GeneralProblem;
 use crate::optimal::general::{
-    check_general_local, default_starts, grid_controls, solve_general_local, GeneralLocal,
+    check_general_local, default_starts, grid_controls, rotated, solve_general_local, GeneralLocal,
+    GeneralPhaseGait, Geometry,
 };
 
 /// [`super::optimize_general`] with `hooks`: cancellable (within a HiGHS callback) and
@@ -67,34 +71,9 @@ pub fn optimize_general_local(
     check_general_local(&p, &g, s.m)?;
     crate::optimal::check_shifts(s.shifts)?;
     crate::optimal::check_time_limit(s.time_limit)?;
-    let (starts, start_from) = match &file.input {
-        Some(_) => {
-            let grid = grid_controls(&file.input(&p)?, s.m);
-            let mm = grid.len();
-            let mut rotations: Vec<usize> = (0..s.shifts).map(|j| j * mm / s.shifts).collect();
-            rotations.dedup();
-            let starts = rotations
-                .into_iter()
-                .map(|r| {
-                    let mut w = grid.clone();
-                    w.rotate_right(r);
-                    w
-                })
-                .collect();
-            (starts, "input")
-        }
-        None => (default_starts(&p, s.m, s.shifts), "square_waves"),
-    };
-    if starts.is_empty() {
-        return Err(Error::invalid(
-            "control",
-            "U",
-            "holds no segment through 0 along any control axis: no square-wave start; give \
-             one as [input]",
-        ));
-    }
     run_with(hooks, |em| {
         crate::progress::within(s.time_limit, || {
+            let (starts, start_from) = starts(file, &p, &g, s, em)?;
             let n = starts.len();
             let mut best: Option<(GeneralLocal, usize)> = None;
             let mut tried = 0;
@@ -134,4 +113,67 @@ pub fn optimize_general_local(
             ))
         })
     })
+}
+
+/// The starts of [`optimize_general_local`] (module docs) on `2^m` steps, each at
+/// `s.shifts` rotations, and where they came from: the file's `[input]`; else, where `A = 0`,
+/// the phase optimum (within half of the time left; where it cannot be had, a note says why
+/// and the square waves start); else the square waves.
+fn starts(
+    file: &GeneralFile,
+    p: &GeneralProblem,
+    g: &Geometry,
+    s: &GeneralLocalSettings,
+    em: &Emitter<'_>,
+) -> Result<(Vec<Vec<Vec<f64>>>, &'static str)> {
+    if file.input.is_some() {
+        let grid = grid_controls(&file.input(p)?, s.m);
+        return Ok((rotated(&grid, s.shifts), "input"));
+    }
+    if p.dynamics.is_state_independent() {
+        em.stage("start: the phase gait, K grown");
+        let mut progress = |st: &crate::optimal::PhaseStep| {
+            em.send(Event::PhaseSolved {
+                step: st.clone(),
+                start: true,
+            })
+        };
+        let gait = crate::progress::share(0.5, || {
+            super::general_phase::phase_start(p, g, &mut progress)
+        });
+        match gait.and_then(|gait| phase_grid(p, &gait, s.m)) {
+            Ok(grid) => return Ok((rotated(&grid, s.shifts), "phase")),
+            Err(Error::Cancelled) => return Err(Error::Cancelled),
+            Err(e) => em.send(Event::Note(format!(
+                "no phase gait to start from ({e}); starting from square waves"
+            ))),
+        }
+    }
+    let starts = default_starts(p, s.m, s.shifts);
+    if starts.is_empty() {
+        return Err(Error::invalid(
+            "control",
+            "U",
+            "holds no segment through 0 along any control axis: no square-wave start; give \
+             one as [input]",
+        ));
+    }
+    Ok((starts, "square_waves"))
+}
+
+/// A phase gait's controls on `2^m` steps: the mean over each step (so a zero mean stays zero).
+fn phase_grid(p: &GeneralProblem, gait: &GeneralPhaseGait, m: u32) -> Result<Vec<Vec<f64>>> {
+    let mut times = vec![0.0];
+    for d in &gait.durations[..gait.durations.len().saturating_sub(1)] {
+        times.push(times[times.len() - 1] + d);
+    }
+    let input = ControlInput::new(
+        InputKind::PiecewiseConstant,
+        p.period,
+        times,
+        gait.controls.clone(),
+        &p.control,
+        "start",
+    )?;
+    Ok(grid_controls(&input, m))
 }

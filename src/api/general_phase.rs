@@ -8,9 +8,13 @@ use super::settings::PhaseFormulation;
 use crate::error::Result;
 use crate::io::GeneralFile;
 pub use crate::io::GeneralPhaseOptimized;
-use crate::optimal::general::{grow_chain_phases, grow_general_phases, grow_general_transitions};
-use crate::optimal::growth::GrowthRange;
-use crate::optimal::PhaseGrowthRecord;
+use crate::model::general::GeneralProblem;
+use crate::model::ChainView;
+use crate::optimal::general::{
+    grow_chain_phases, grow_general_phases, grow_general_transitions, GeneralPhaseGait, Geometry,
+};
+use crate::optimal::growth::{Growth, GrowthRange};
+use crate::optimal::{PhaseGrowthRecord, PhaseStep, StructuredRecord};
 
 /// Default largest `K` of [`GeneralPhaseSettings`] in (P)'s own formulations: 4 phases in the
 /// general one, what the paper's §4 one-link optimum needs (free rise, slide on one face, free
@@ -105,9 +109,9 @@ impl GeneralPhaseSettings {
 /// for one of (P)'s; `Some(Chain)` on a problem that is not such a chain is refused, naming
 /// `formulation`.
 fn chain_formulation(
-    p: &crate::model::general::GeneralProblem,
+    p: &GeneralProblem,
     formulation: Option<PhaseFormulation>,
-) -> Result<Option<crate::model::ChainView>> {
+) -> Result<Option<ChainView>> {
     let chain = p.as_chain().filter(|v| {
         v.crawler.require_unique().is_ok()
             && !matches!(
@@ -124,6 +128,41 @@ fn chain_formulation(
         ));
     }
     Ok(chain)
+}
+
+/// The growth of `K` in the formulation chosen: the chain's where `chain` is given, else the
+/// slots of a free transition and a phase (`transitions`) or (P)'s own.
+fn grow(
+    p: &GeneralProblem,
+    g: &Geometry,
+    chain: Option<&ChainView>,
+    transitions: bool,
+    range: GrowthRange,
+    progress: &mut dyn FnMut(&PhaseStep),
+) -> Result<(Growth<GeneralPhaseGait>, Option<StructuredRecord>)> {
+    match chain {
+        Some(view) => grow_chain_phases(p, g, view, range, progress),
+        None if transitions => grow_general_transitions(p, g, range, progress).map(|g| (g, None)),
+        None => grow_general_phases(p, g, range, progress).map(|g| (g, None)),
+    }
+}
+
+/// The phase gait that starts (P)'s local method where `A = 0` (as the phase optimum starts
+/// a crawler's): `K` grown from 1 in the default formulation (the strongest that applies,
+/// [`GeneralPhaseSettings`]'s default) up to its default largest `K`, with patience 1 (a
+/// start need not be certified), within the job's deadline.
+pub(super) fn phase_start(
+    p: &GeneralProblem,
+    g: &Geometry,
+    progress: &mut dyn FnMut(&PhaseStep),
+) -> Result<GeneralPhaseGait> {
+    let chain = chain_formulation(p, None)?;
+    let range = GrowthRange {
+        min_phases: 1,
+        max_phases: GeneralPhaseSettings::default().max_phases_for(chain.is_some()),
+        patience: 1,
+    };
+    grow(p, g, chain.as_ref(), true, range, progress).map(|(grown, _)| grown.best)
 }
 
 /// The best exact gait of a problem file (`A = 0`; a quadratic `f2` by outer approximation)
@@ -164,7 +203,7 @@ pub fn optimize_general_phase(
             Some(k) => format!("the phase MILP of the general problem (K = {k})"),
             None => format!("the phase MILPs of the general problem, K = 1..{max_phases} grown"),
         });
-        let mut progress = |st: &crate::optimal::PhaseStep| {
+        let mut progress = |st: &PhaseStep| {
             em.send(Event::PhaseSolved {
                 step: st.clone(),
                 start: false,
@@ -173,12 +212,8 @@ pub fn optimize_general_phase(
         let transitions = matches!(s.formulation, None | Some(PhaseFormulation::Transitions));
         // The job's deadline: `time_limit` over the growth (the bound and the certificate
         // after it run to completion).
-        let (grown, structured) = crate::progress::within(s.time_limit, || match &chain {
-            Some(view) => grow_chain_phases(&p, &g, view, range, &mut progress),
-            None if transitions => {
-                grow_general_transitions(&p, &g, range, &mut progress).map(|g| (g, None))
-            }
-            None => grow_general_phases(&p, &g, range, &mut progress).map(|g| (g, None)),
+        let (grown, structured) = crate::progress::within(s.time_limit, || {
+            grow(&p, &g, chain.as_ref(), transitions, range, &mut progress)
         })
         .map_err(named)?;
         let mut r = GeneralPhaseOptimized::new(file, p.period, grown.best);

@@ -120,7 +120,7 @@ fn phase_word<'de, D: Deserializer<'de>>(d: D) -> std::result::Result<&'static s
 }
 
 fn start_word<'de, D: Deserializer<'de>>(d: D) -> std::result::Result<&'static str, D::Error> {
-    word(d, &["input", "square_waves"])
+    word(d, &["input", "phase", "square_waves"])
 }
 
 /// The problem as a result stores it: the file's sections without `[input]` (a control to
@@ -215,7 +215,8 @@ pub struct GeneralLocalOptimized {
     pub certificate: ResultCertificate,
     /// The period.
     pub period: f64,
-    /// Where the starts came from: `"input"` (the file's `[input]`) or `"square_waves"`.
+    /// Where the starts came from: `"input"` (the file's `[input]`), `"phase"` (the phase
+    /// optimum, where `A = 0`) or `"square_waves"`.
     #[serde(deserialize_with = "start_word")]
     pub start_from: Word,
     /// Starts solved from (all of them unless the time limit ended the search).

@@ -24,7 +24,9 @@
 //! The start is a control on the grid (one row per step), simulated by catching-up to its
 //! periodic regime (or over the horizon of a Cauchy problem); the branches are read off that
 //! process: on face where the projection's multiplier is positive. [`default_starts`] gives
-//! square waves along each control axis, at several time shifts. Every answer is re-verified by
+//! square waves along each control axis, at several time shifts ([`rotated`]); the job
+//! (`crawlopt::api::optimize_general_local`) starts from the phase optimum instead where
+//! `A = 0`. Every answer is re-verified by
 //! replaying its controls through the general simulator ([`super::discrete`]'s replay).
 
 use super::discrete::{branch_bounds, build, check_sets, replay, run_on_grid, Form, Layout};
@@ -132,15 +134,26 @@ pub fn default_starts(p: &GeneralProblem, m: u32, shifts: usize) -> Vec<Vec<Vec<
                 u
             })
             .collect();
-        let mut rotations: Vec<usize> = (0..shifts).map(|j| j * mm / shifts).collect();
-        rotations.dedup();
-        for r in rotations {
-            let mut w = wave.clone();
-            w.rotate_right(r);
-            starts.push(w);
-        }
+        starts.extend(rotated(&wave, shifts));
     }
     starts
+}
+
+/// Controls on a grid of `M` steps rotated by `j M / shifts` steps, `j = 0..shifts` (equal
+/// rotations once): where a start switches on the grid decides which process it makes, so a
+/// local search tries it at several time shifts.
+pub fn rotated(grid: &[Vec<f64>], shifts: usize) -> Vec<Vec<Vec<f64>>> {
+    let mm = grid.len();
+    let mut rotations: Vec<usize> = (0..shifts).map(|j| j * mm / shifts).collect();
+    rotations.dedup();
+    rotations
+        .into_iter()
+        .map(|r| {
+            let mut w = grid.to_vec();
+            w.rotate_right(r);
+            w
+        })
+        .collect()
 }
 
 /// The controls of `input` on `2^m` steps: the mean over each step.

@@ -26,7 +26,7 @@ pub use geometry::{
     analyze_polyhedron, check_problem, check_with, Geometry, Vertex, MAX_VERTEX_SUBSETS,
 };
 pub use local::{
-    check_general_local, default_starts, grid_controls, solve_general_local, GeneralLocal,
+    check_general_local, default_starts, grid_controls, rotated, solve_general_local, GeneralLocal,
     MAX_GENERAL_LOCAL_M,
 };
 pub use phase::{
