@@ -603,23 +603,31 @@ fn a_crawler_process_is_refused_where_its_instance_process_is() {
             .expect("the optimum moves");
         // The first piece and block where a forward shift of 1e-3 moves a block off its face:
         // a block that does not move forward and whose forward face is inactive at the piece's
-        // end (every block before it moving forward against its face, or backward by more).
+        // end (every block before it moving forward against its face, or backward by more); a
+        // block after the first where there is one, so that the block's number is tested.
         let forward_slack = |x: &[f64], b: usize| c.mu_forward()[b] - c.block_forces(x)[b];
-        let (sj, sb) = (0..np)
-            .find_map(|j| {
+        let candidates: Vec<(usize, usize)> = (0..np)
+            .filter_map(|j| {
                 let d = &good.block_displacements[j];
-                (0..3)
+                let first = (0..3)
                     .find(|&b| d[b] + 1e-3 > 0.0 && forward_slack(&good.states[j + 1], b) > 1e-3)
-                    .filter(|&b| (0..b).all(|a| d[a] > 1e-6 || d[a] < -2e-3))
-                    .map(|b| (j, b))
+                    .filter(|&b| (0..b).all(|a| d[a] > 1e-6 || d[a] < -2e-3))?;
+                Some((j, first))
             })
+            .collect();
+        let (sj, sb) = *candidates
+            .iter()
+            .find(|c| c.1 >= 1)
+            .or(candidates.first())
             .expect("a stuck block off its forward face");
+        println!("{:?}: shifted piece {sj}, block {}", good.kind, sb + 1);
         type Edit = Box<dyn Fn(&mut Process)>;
         let cases: Vec<(Edit, String, String)> = vec![
             (
                 // Far outside C (and so neither periodic nor a step): states come first.
                 Box::new(|p| p.states[1][0] = 9.0),
-                "solution.states[1]".into(),
+                "solution.states[1]: state is not admissible (outside C): spring force on block"
+                    .into(),
                 "x[1]".into(),
             ),
             (
@@ -654,8 +662,8 @@ fn a_crawler_process_is_refused_where_its_instance_process_is() {
                         *d += 1e-3;
                     }
                 }),
-                format!("solution.block_displacements[{sj}][{sb}]"),
-                format!("lambda[{sj}][{}]", 2 * sb + 1),
+                format!("solution.block_displacements[{sj}][{sb}]: block {}", sb + 1),
+                format!("lambda[{sj}][{}]:", 2 * sb + 1),
             ),
         ];
         for (edit, crawler_field, general_field) in cases {

@@ -276,6 +276,22 @@ fn the_local_method_starts_from_the_phase_optimum_where_a_is_zero() {
     );
     assert!((r.objective - crawler.objective()).abs() < 1e-9);
     assert!(r.objective > 2.59, "{}", r.objective);
+    // A period so short that the phase gait's mean, zero to its solver's tolerance, is 7e-9
+    // of its controls: refused as a start before its grid was shifted to an exact zero mean
+    // ("start[1]: the start control must have zero mean"). J* = 0 here (T < 2 (b - a)).
+    let short = GeneralFile::parse(
+        "[sweeping_process]\nnormals = [[1.0], [-1.0]]\noffsets = [1.0e-4, 1.0e-4]\n[dynamics]\n\
+         B = [[1.0]]\n[control]\nlower = [-1.0]\nupper = [1.0]\nzero_mean = true\n\
+         [objective]\nface_weights = [0.5, 0.5]\n[problem]\nperiod = 3.0e-5\n",
+    )
+    .unwrap();
+    let s = GeneralLocalSettings {
+        m: 6,
+        ..GeneralLocalSettings::default()
+    };
+    let r = optimize_general_local(&short, &s, Hooks::default()).unwrap();
+    assert_eq!(r.start_from, "phase");
+    assert!(r.objective.abs() < 1e-12, "{}", r.objective);
     // A drift: the square waves.
     let drift = GeneralFile::parse(
         "[sweeping_process]\nnormals = [[1.0], [-1.0]]\noffsets = [1.0, 1.0]\n[dynamics]\n\

@@ -7,13 +7,12 @@
 use super::events::{run_with, Emitter, Event, Hooks};
 use super::settings::{DEFAULT_M_LOCAL, DEFAULT_SHIFTS};
 use crate::error::{Error, Result};
-use crate::integrate::{ControlInput, InputKind};
 use crate::io::GeneralFile;
 pub use crate::io::GeneralLocalOptimized;
 use crate::model::general::GeneralProblem;
 use crate::optimal::general::{
-    check_general_local, default_starts, grid_controls, rotated, solve_general_local, GeneralLocal,
-    GeneralPhaseGait, Geometry,
+    check_general_local, default_starts, grid_controls, phase_grid, rotated, solve_general_local,
+    GeneralLocal, Geometry,
 };
 
 /// [`super::optimize_general`] with `hooks`: cancellable (within a HiGHS callback) and
@@ -74,37 +73,26 @@ pub fn optimize_general_local(
     run_with(hooks, |em| {
         crate::progress::within(s.time_limit, || {
             let (starts, start_from) = starts(file, &p, &g, s, em)?;
-            let n = starts.len();
-            let mut best: Option<(GeneralLocal, usize)> = None;
-            let mut tried = 0;
-            for (k, start) in starts.iter().enumerate() {
-                if best.is_some() && crate::progress::out_of_time()? {
-                    break;
+            let (answer, start_from) = match best_of(&p, &g, s, &starts, em) {
+                // The phase gait's controls refused as a start on this grid (field `start`):
+                // the square waves instead, as where there is no phase gait.
+                Err(Error::InvalidParameter {
+                    field,
+                    value,
+                    reason,
+                }) if start_from == "phase" && field.starts_with("start") => {
+                    em.send(Event::Note(format!(
+                        "the phase gait is no start on this grid ({field}: {reason}, got \
+                         {value}); trying square waves"
+                    )));
+                    (
+                        best_of(&p, &g, s, &square_waves(&p, s)?, em)?,
+                        "square_waves",
+                    )
                 }
-                em.stage(format!(
-                    "local LPCC method on P_{} ({} steps), start {} of {n}",
-                    s.m,
-                    1usize << s.m,
-                    k + 1
-                ));
-                let sol = match solve_general_local(&p, &g, s.m, start) {
-                    Ok(sol) => sol,
-                    Err(Error::TimeLimit(_)) if best.is_some() => break,
-                    Err(e) => return Err(e),
-                };
-                tried += 1;
-                let out_of_time = sol.stop == crate::optimal::LocalStop::TimeLimit;
-                if best.as_ref().is_none_or(|(b, _)| {
-                    sol.objective > b.objective + 1e-9 * (1.0 + b.objective.abs())
-                }) {
-                    best = Some((sol, k));
-                }
-                if out_of_time {
-                    break;
-                }
-            }
-            // The first start either stores its answer or returns its error.
-            let (solution, best_start) = best.expect("the first start solved or an error returned");
+                other => (other?, start_from),
+            };
+            let (solution, best_start, tried) = answer;
             Ok(GeneralLocalOptimized::new(
                 file,
                 p.period,
@@ -117,8 +105,9 @@ pub fn optimize_general_local(
 
 /// The starts of [`optimize_general_local`] (module docs) on `2^m` steps, each at
 /// `s.shifts` rotations, and where they came from: the file's `[input]`; else, where `A = 0`,
-/// the phase optimum (within half of the time left; where it cannot be had, a note says why
-/// and the square waves start); else the square waves.
+/// the phase optimum (within half of the time left, without a limit to the end of its growth,
+/// as a crawler's; where it cannot be had, a note says why and the square waves start); else
+/// the square waves.
 fn starts(
     file: &GeneralFile,
     p: &GeneralProblem,
@@ -141,14 +130,65 @@ fn starts(
         let gait = crate::progress::share(0.5, || {
             super::general_phase::phase_start(p, g, &mut progress)
         });
-        match gait.and_then(|gait| phase_grid(p, &gait, s.m)) {
+        match gait.and_then(|gait| phase_grid(p, &gait.durations, &gait.controls, s.m)) {
             Ok(grid) => return Ok((rotated(&grid, s.shifts), "phase")),
             Err(Error::Cancelled) => return Err(Error::Cancelled),
             Err(e) => em.send(Event::Note(format!(
-                "no phase gait to start from ({e}); starting from square waves"
+                "no phase gait to start from ({e}); trying square waves"
             ))),
         }
     }
+    Ok((square_waves(p, s)?, "square_waves"))
+}
+
+/// Solves P_m locally from each of `starts` in turn, within the job's deadline, and keeps the
+/// best verified answer: `(answer, its start, starts tried)`. A start's refusal before any
+/// answer is held is the error returned; the time limit after one ends the search.
+fn best_of(
+    p: &GeneralProblem,
+    g: &Geometry,
+    s: &GeneralLocalSettings,
+    starts: &[Vec<Vec<f64>>],
+    em: &Emitter<'_>,
+) -> Result<(GeneralLocal, usize, usize)> {
+    let n = starts.len();
+    let mut best: Option<(GeneralLocal, usize)> = None;
+    let mut tried = 0;
+    for (k, start) in starts.iter().enumerate() {
+        if best.is_some() && crate::progress::out_of_time()? {
+            break;
+        }
+        em.stage(format!(
+            "local LPCC method on P_{} ({} steps), start {} of {n}",
+            s.m,
+            1usize << s.m,
+            k + 1
+        ));
+        let sol = match solve_general_local(p, g, s.m, start) {
+            Ok(sol) => sol,
+            Err(Error::TimeLimit(_)) if best.is_some() => break,
+            Err(e) => return Err(e),
+        };
+        tried += 1;
+        let out_of_time = sol.stop == crate::optimal::LocalStop::TimeLimit;
+        if best
+            .as_ref()
+            .is_none_or(|(b, _)| sol.objective > b.objective + 1e-9 * (1.0 + b.objective.abs()))
+        {
+            best = Some((sol, k));
+        }
+        if out_of_time {
+            break;
+        }
+    }
+    // The first start either stores its answer or returns its error.
+    let (solution, k) = best.expect("the first start solved or an error returned");
+    Ok((solution, k, tried))
+}
+
+/// The square-wave starts ([`default_starts`]); refused, naming `control`, where U holds no
+/// segment through 0 along any control axis.
+fn square_waves(p: &GeneralProblem, s: &GeneralLocalSettings) -> Result<Vec<Vec<Vec<f64>>>> {
     let starts = default_starts(p, s.m, s.shifts);
     if starts.is_empty() {
         return Err(Error::invalid(
@@ -158,22 +198,5 @@ fn starts(
              one as [input]",
         ));
     }
-    Ok((starts, "square_waves"))
-}
-
-/// A phase gait's controls on `2^m` steps: the mean over each step (so a zero mean stays zero).
-fn phase_grid(p: &GeneralProblem, gait: &GeneralPhaseGait, m: u32) -> Result<Vec<Vec<f64>>> {
-    let mut times = vec![0.0];
-    for d in &gait.durations[..gait.durations.len().saturating_sub(1)] {
-        times.push(times[times.len() - 1] + d);
-    }
-    let input = ControlInput::new(
-        InputKind::PiecewiseConstant,
-        p.period,
-        times,
-        gait.controls.clone(),
-        &p.control,
-        "start",
-    )?;
-    Ok(grid_controls(&input, m))
+    Ok(starts)
 }

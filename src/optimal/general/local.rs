@@ -32,7 +32,7 @@
 use super::discrete::{branch_bounds, build, check_sets, replay, run_on_grid, Form, Layout};
 use super::geometry::Geometry;
 use crate::error::{Error, Result};
-use crate::integrate::{ControlInput, GeneralSimOptions};
+use crate::integrate::{ControlInput, GeneralSimOptions, InputKind};
 use crate::model::general::{Boundary, ControlSet, GeneralCost, GeneralProblem, Reward};
 use crate::optimal::active_set::{self, LocalStop};
 use crate::optimal::solver::{Highs, SolveStatus};
@@ -154,6 +154,36 @@ pub fn rotated(grid: &[Vec<f64>], shifts: usize) -> Vec<Vec<Vec<f64>>> {
             w
         })
         .collect()
+}
+
+/// A phase gait's controls (`controls[j]` for `durations[j]`) as a start on `2^m` steps: the
+/// mean over each step, shifted to an exact zero mean where the problem asks it (the gait's
+/// mean is zero only to its solver's tolerance, which on a short period is more than a start's
+/// `1e-9`). Refused (field `start`) where the controls are not a piecewise-constant control
+/// in U.
+pub fn phase_grid(
+    p: &GeneralProblem,
+    durations: &[f64],
+    controls: &[Vec<f64>],
+    m: u32,
+) -> Result<Vec<Vec<f64>>> {
+    let mut times = vec![0.0];
+    for d in &durations[..durations.len().saturating_sub(1)] {
+        times.push(times[times.len() - 1] + d);
+    }
+    let input = ControlInput::new(
+        InputKind::PiecewiseConstant,
+        p.period,
+        times,
+        controls.to_vec(),
+        &p.control,
+        "start",
+    )?;
+    let mut grid = grid_controls(&input, m);
+    if p.zero_mean {
+        crate::optimal::milp::shift_to_zero_mean(&mut grid);
+    }
+    Ok(grid)
 }
 
 /// The controls of `input` on `2^m` steps: the mean over each step.

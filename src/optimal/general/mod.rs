@@ -26,8 +26,8 @@ pub use geometry::{
     analyze_polyhedron, check_problem, check_with, Geometry, Vertex, MAX_VERTEX_SUBSETS,
 };
 pub use local::{
-    check_general_local, default_starts, grid_controls, rotated, solve_general_local, GeneralLocal,
-    MAX_GENERAL_LOCAL_M,
+    check_general_local, default_starts, grid_controls, phase_grid, rotated, solve_general_local,
+    GeneralLocal, MAX_GENERAL_LOCAL_M,
 };
 pub use phase::{
     check_general_phase, replay_phases, solve_general_phase, solve_general_transitions,
