@@ -663,7 +663,8 @@ fn a_crawler_process_is_refused_where_its_instance_process_is() {
                     }
                 }),
                 format!("solution.block_displacements[{sj}][{sb}]: block {}", sb + 1),
-                format!("lambda[{sj}][{}]:", 2 * sb + 1),
+                // Block b's forward face is face 2b of its instance (0-based, as the array).
+                format!("lambda[{sj}][{}]:", 2 * sb),
             ),
         ];
         for (edit, crawler_field, general_field) in cases {

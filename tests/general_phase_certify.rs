@@ -144,7 +144,7 @@ fn inconsistent_phase_gaits_are_refused() {
                 q.u[2][0] = -0.25;
                 q.lambda[2][0] = 0.25;
             }),
-            "process.lambda[0][2]",
+            "process.lambda[0][1]",
         ),
         (
             Box::new(|q| {

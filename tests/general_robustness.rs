@@ -522,3 +522,53 @@ fn states_are_checked_at_the_scale_of_their_increments() {
         }
     }
 }
+
+/// One link of half-width `a = 1e-4`, `|u| <= 1`, weights 1/2, zero mean: the best gait crosses
+/// C at full rate and pushes on each face for the rest of its half period, `J = T/2 - 2a`. At
+/// `T = 1e-3` the phase MILP's reaction rates `L / tau` came out as `1 + 1e-6` where the exact
+/// replay's are 1, and `certify` refused the written gait ("int f1 of the stored reactions
+/// disagrees with the exact replay's"); at `T = 1e-2` it read back. The stored rates are now
+/// the replay's: `J` is the closed form and each result reads back, each phase's step
+/// `x_{j+1} = x_j + tau_j (u_j - sum lambda x*)` holding to `1e-8` of C's size (the MILP's
+/// durations' tolerance: a crossing `2e-13` longer than C's width takes, seen at `T = 1e-2`;
+/// the MILP's rates left `3e-10` at `T = 1e-3`).
+#[test]
+fn a_phase_gaits_stored_reactions_are_its_replays() {
+    let dir = tempfile::tempdir().unwrap();
+    let a = 1e-4;
+    for t in [1e-2, 1e-3] {
+        let file = common::write(
+            dir.path(),
+            "short.toml",
+            &format!(
+                "[sweeping_process]\nnormals = [[1.0], [-1.0]]\noffsets = [{a:e}, {a:e}]\n\
+                 [dynamics]\nB = [[1.0]]\n[control]\nlower = [-1.0]\nupper = [1.0]\n\
+                 zero_mean = true\n[objective]\nface_weights = [0.5, 0.5]\n\
+                 [problem]\nperiod = {t:e}\n"
+            ),
+        );
+        let v = common::crawlopt_json(&[
+            "optimize",
+            file.to_str().unwrap(),
+            "--method",
+            "phase",
+            "--phases",
+            "2",
+            "--json",
+        ]);
+        let j = v["objective"].as_f64().unwrap();
+        assert!((j - (t / 2.0 - 2.0 * a)).abs() < 1e-12, "T = {t}: J = {j}");
+        let s = &v["solution"];
+        let rows = |k: &str| -> Vec<Vec<f64>> { serde_json::from_value(s[k].clone()).unwrap() };
+        let (x, u, lam) = (rows("states"), rows("controls"), rows("reactions"));
+        for (i, d) in s["durations"].as_array().unwrap().iter().enumerate() {
+            let d = d.as_f64().unwrap();
+            let step = x[i][0] + d * (u[i][0] - lam[i][0] + lam[i][1]) - x[i + 1][0];
+            assert!(
+                step.abs() < 1e-8 * a,
+                "T = {t}, phase {i}: residual {step:e}"
+            );
+        }
+        common::certify_written(dir.path(), &v);
+    }
+}

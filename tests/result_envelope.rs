@@ -344,7 +344,38 @@ fn tampered_general_results_are_refused_naming_the_field() {
         &format!("/solution/reactions/{j}/{f}"),
         json!(r * 1.5),
     );
-    refused(&w, "solution.reactions");
+    // A reaction changed breaks its phase's step, named at the state it should reach (as P_m's
+    // above), with the rows it should follow from.
+    refused(
+        &w,
+        &format!(
+            "solution.states[{}]: does not follow from solution.states[{j}], \
+             solution.controls[{j}] and solution.reactions[{j}]",
+            j + 1
+        ),
+    );
+    // (P)'s other conditions on the phase gait's own rows: a negative reaction, a reaction on a
+    // face the phase does not hold, a control outside U.
+    let mut w = v.clone();
+    set(&mut w, &format!("/solution/reactions/{j}/{f}"), json!(-r));
+    refused(&w, &format!("solution.reactions[{j}][{f}]: negative"));
+    let mut w = v.clone();
+    set(
+        &mut w,
+        &format!("/solution/reactions/{j}/{}", 1 - f),
+        json!(r),
+    );
+    refused(
+        &w,
+        &format!(
+            "solution.reactions[{j}][{}]: a reaction on face {}",
+            1 - f,
+            2 - f
+        ),
+    );
+    let mut w = v.clone();
+    set(&mut w, "/solution/controls/0/0", json!(5.0));
+    refused(&w, "solution.controls[0]: outside U");
     // The local answer: its status follows its stop.
     let (_, v) = optimize(
         ONE_LINK,

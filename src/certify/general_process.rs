@@ -10,7 +10,7 @@ use crate::integrate::{simulate_general, ControlInput, GeneralSimOptions, InputK
 use crate::model::general::{Boundary, GeneralProblem};
 use crate::optimal::general::{GeneralPhaseGait, GeneralPm};
 pub use crate::optimal::process::ProcessKind;
-use crate::optimal::process::{Fault, ProcessRows};
+use crate::optimal::process::{FieldNames, ProcessRows};
 
 /// Phases of a phase gait at most this fraction of the period long are dropped before the gait
 /// is certified ([`GeneralProcess::without_empty_phases`]): at the MILP's resolution such a phase
@@ -218,7 +218,15 @@ impl GeneralProcess {
         self.check_rows(p, tol, at)?;
         match self.rows().fault(p, tol) {
             None => Ok(()),
-            Some(fault) => Err(self.in_words(&fault, at)),
+            Some(fault) => Err(fault.in_words(
+                &self.rows(),
+                &FieldNames {
+                    at,
+                    x: "x",
+                    u: "u",
+                    lambda: "lambda",
+                },
+            )),
         }
     }
 
@@ -230,71 +238,6 @@ impl GeneralProcess {
             x: &self.x,
             u: &self.u,
             lambda: &self.lambda,
-        }
-    }
-
-    /// A fault in (P)'s words, naming the field as `{at}.x[k]`, `{at}.u[i]`, ...
-    fn in_words(&self, fault: &Fault, at: &str) -> Error {
-        let bad = |field: String, got: String, why: &str| {
-            Error::invalid(format!("{at}.{field}"), got, why)
-        };
-        let steps = self.durations.len();
-        match fault {
-            Fault::NotPeriodic { gap } => bad(
-                format!("x[{steps}]"),
-                format!("{gap:e} from x[0]"),
-                "not periodic",
-            ),
-            Fault::NotInitial { gap } => bad(
-                "x[0]".into(),
-                format!("{gap:e} from problem.initial_state"),
-                "must be the initial state",
-            ),
-            Fault::Outside { k, face, by } => bad(
-                format!("x[{k}]"),
-                format!("{by:e}"),
-                &format!("outside face {}", face + 1),
-            ),
-            Fault::ControlOutside { i } => {
-                bad(format!("u[{i}]"), format!("{:?}", self.u[*i]), "outside U")
-            }
-            Fault::Mean { mean } => {
-                bad("u".into(), format!("mean {mean:?}"), "must have zero mean")
-            }
-            Fault::Negative { i, face } => bad(
-                format!("lambda[{i}][{face}]"),
-                self.lambda[*i][*face].to_string(),
-                "negative",
-            ),
-            Fault::Step { i, residual } => {
-                let step = match self.kind {
-                    ProcessKind::Discrete { .. } => {
-                        "the catching-up step x^(i+1) = x^i + h (g - sum lambda x*)"
-                    }
-                    ProcessKind::Phase => {
-                        "the phase's segment x^(i+1) = x^i + tau_i (g - sum lambda x*)"
-                    }
-                };
-                bad(
-                    format!("x[{}]", i + 1),
-                    format!("{residual:e}"),
-                    &format!(
-                        "does not follow from {s}.x[{i}], {s}.u[{i}] and {s}.lambda[{i}] by {step}",
-                        s = at.rsplit(": ").next().unwrap_or(at)
-                    ),
-                )
-            }
-            Fault::Inactive { i, face } => {
-                let ends = match self.kind {
-                    ProcessKind::Discrete { .. } => "an inactive face",
-                    ProcessKind::Phase => "a face not active at both ends of the phase",
-                };
-                bad(
-                    format!("lambda[{i}][{}]", face + 1),
-                    self.lambda[*i][*face].to_string(),
-                    &format!("reaction on {ends}"),
-                )
-            }
         }
     }
 

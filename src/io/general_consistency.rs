@@ -1,8 +1,9 @@
 //! Is a general result what it says? The check [`super::ResultFile`] runs on a general
 //! problem's result read back (the counterpart of the crawler's
 //! [`crate::optimal::consistency`]): the stored problem (P) rebuilt and checked, the stored
-//! process a process of it ([`GeneralProcess::check_as`] for P_m; durations, controls in U,
-//! reactions and faces for a phase gait), the controls replayed by the general simulator that
+//! process a process of it (one check of (P)'s conditions for both, [`ProcessRows::fault`]:
+//! through [`GeneralProcess::check_as`] for P_m, on the record's own rows for a phase gait,
+//! whose durations, shapes and held faces are checked first), the controls replayed by the general simulator that
 //! verified them when they were found ([`simulate_grid`], [`replay_phases`]) and every stored
 //! number compared with the replay, then the envelope's `objective`, `status` and
 //! `certificate` against the solution. A file is data from elsewhere: a number that disagrees
@@ -17,12 +18,12 @@ use super::{
 };
 use crate::certify::GeneralProcess;
 use crate::error::{Error, Result};
-use crate::model::general::{Boundary, ControlSet, GeneralProblem};
+use crate::model::general::GeneralProblem;
 use crate::optimal::consistency::INPUT_TOL;
 use crate::optimal::general::{
     replay_phases, simulate_grid, MAX_GENERAL_LOCAL_M, MAX_GENERAL_M, MAX_GENERAL_PHASES,
 };
-use crate::optimal::process::max_diff;
+use crate::optimal::process::{max_diff, Fault, FieldNames, ProcessKind, ProcessRows};
 use crate::optimal::{local_status, MilpStatus};
 
 /// The problem of a stored file, its errors naming `{what}: problem.<field>`.
@@ -282,14 +283,14 @@ fn check_pm(p: &GeneralProblem, max_m: u32, pr: &GeneralProcess, what: &str) -> 
 
 /// The shapes of a phase gait's records against the problem and its method (`transitions`: a
 /// transition before each phase, the chain's formulation or free transitions; `local`: as many
-/// phases as it says), and `A = 0`; returns the number of phases.
+/// phases as it says), and `A = 0`.
 fn check_phase_shape(
     p: &GeneralProblem,
     s: &crate::optimal::general::GeneralPhaseGait,
     transitions: bool,
     local: bool,
     what: &str,
-) -> Result<usize> {
+) -> Result<()> {
     let cap = if local {
         MAX_LOCAL_PHASES
     } else {
@@ -368,57 +369,12 @@ fn check_phase_shape(
         ));
     }
     let t = p.period;
-    crate::optimal::consistency::check_durations(what, "solution.durations", &s.durations, t)?;
-    Ok(np)
+    crate::optimal::consistency::check_durations(what, "solution.durations", &s.durations, t)
 }
 
-/// A phase gait's controls: in U and, where the problem asks it, of zero mean over the period
-/// (relative to U's scale as well as the controls').
-fn check_phase_controls(
-    p: &GeneralProblem,
-    s: &crate::optimal::general::GeneralPhaseGait,
-    what: &str,
-) -> Result<()> {
-    let (mc, t) = (p.controls(), p.period);
-    // Relative to U's scale as well as the controls': tiny controls are stored to the solver's
-    // tolerance of U, not of their own size.
-    let u_set = match &p.control {
-        ControlSet::Box { lower, upper } => lower.iter().chain(upper),
-        ControlSet::Polytope(q) => q.offsets.iter().chain(&[]),
-    }
-    .fold(0.0_f64, |m, v| m.max(v.abs()));
-    let uscale = s
-        .controls
-        .iter()
-        .flatten()
-        .fold(u_set, |m, v| m.max(v.abs()));
-    let mut mean = vec![0.0; mc];
-    for (j, u) in s.controls.iter().enumerate() {
-        if !p.control.contains(u, INPUT_TOL * uscale.max(1e-300)) {
-            return Err(bad(
-                what,
-                &format!("solution.controls[{j}]"),
-                format!("{u:?}"),
-                "outside U",
-            ));
-        }
-        for (m, v) in mean.iter_mut().zip(u) {
-            *m += v * s.durations[j] / t;
-        }
-    }
-    if p.zero_mean && mean.iter().any(|v| v.abs() > INPUT_TOL * uscale) {
-        return Err(bad(
-            what,
-            "solution.controls",
-            format!("mean {mean:?}"),
-            "must have zero mean",
-        ));
-    }
-    Ok(())
-}
-
-/// A phase gait's reactions: non-negative, on its held faces only (numbered `1..=sigma`).
-fn check_phase_reactions(
+/// A phase gait's record of its faces: the held faces numbered `1..=sigma`, and a reaction on a
+/// held face only (that it is non-negative and the face active is (P)'s check).
+fn check_held(
     p: &GeneralProblem,
     s: &crate::optimal::general::GeneralPhaseGait,
     what: &str,
@@ -436,14 +392,15 @@ fn check_phase_reactions(
         }
         let rmax = r.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
         let tol = INPUT_TOL * rmax.max(scale / s.durations[j]);
-        if let Some(f) =
-            (0..sigma).find(|&f| r[f] < -tol || (r[f] > tol && !held.contains(&(f + 1))))
-        {
+        if let Some(f) = (0..sigma).find(|&f| r[f] > tol && !held.contains(&(f + 1))) {
             return Err(bad(
                 what,
                 &format!("solution.reactions[{j}][{f}]"),
                 r[f],
-                "a reaction must be non-negative, and on a held face only",
+                format!(
+                    "a reaction on face {}, which the phase does not hold",
+                    f + 1
+                ),
             ));
         }
     }
@@ -458,20 +415,30 @@ fn check_phase(
     local: bool,
     what: &str,
 ) -> Result<f64> {
-    let np = check_phase_shape(p, s, transitions, local, what)?;
-    check_phase_controls(p, s, what)?;
-    check_phase_reactions(p, s, what)?;
+    check_phase_shape(p, s, transitions, local, what)?;
+    check_held(p, s, what)?;
+    // (P)'s conditions on the record, shared with every process (`optimal::process`).
+    let rows = ProcessRows {
+        kind: ProcessKind::Phase,
+        durations: &s.durations,
+        x: &s.states,
+        u: &s.controls,
+        lambda: &s.reactions,
+    };
+    let at = format!("{what}: solution");
+    let names = FieldNames {
+        at: &at,
+        x: "states",
+        u: "controls",
+        lambda: "reactions",
+    };
+    // A reaction off its face is reported after the replay, which names a moved state itself.
+    let flow = match rows.fault(p, INPUT_TOL) {
+        Some(fault @ Fault::Inactive { .. }) => Some(fault),
+        Some(fault) => return Err(fault.in_words(&rows, &names)),
+        None => None,
+    };
     let scale = p.c.scale();
-    if let Boundary::Initial(x0) = &p.boundary {
-        if max_diff(&s.states[0], x0) > INPUT_TOL * scale {
-            return Err(bad(
-                what,
-                "solution.states[0]",
-                format!("{:?}", s.states[0]),
-                "must be the initial state",
-            ));
-        }
-    }
     let (states, sim) = replay_phases(p, &s.durations, &s.controls, &s.states[0], what)?;
     // Replayed states carry the rounding of the phases' increments.
     let rounding = p.rounding(&s.durations, &states, &s.controls);
@@ -484,6 +451,9 @@ fn check_phase(
                 format!("disagrees with the exact replay of the gait ({want:?})"),
             ));
         }
+    }
+    if let Some(fault) = flow {
+        return Err(fault.in_words(&rows, &names));
     }
     // A held face lies under the whole phase: active at both of its ends (to 1e-6 of C's
     // scale, looser than the states' check: a MILP holds its faces to its own tolerance).
@@ -502,16 +472,6 @@ fn check_phase(
                 ));
             }
         }
-    }
-    if p.boundary == Boundary::Periodic
-        && max_diff(&states[np], &states[0]) > INPUT_TOL * scale + rounding
-    {
-        return Err(bad(
-            what,
-            &format!("solution.states[{np}]"),
-            format!("{:?}", states[np]),
-            "the gait is not periodic: it does not end where it began",
-        ));
     }
     let close = Close::scaled(p, sim.reward, sim.cost);
     close.check(

@@ -10,6 +10,7 @@
 //! result's `x[k]`, `lambda[i][j]`; a crawler's `solution.states[k]`, a block and its friction
 //! threshold).
 
+use crate::error::Error;
 use crate::model::general::{Boundary, ControlSet, GeneralProblem};
 
 /// How the process was discretised, which fixes where a slipping block's face must be active.
@@ -205,6 +206,91 @@ impl ProcessRows<'_> {
             }
         }
         None
+    }
+}
+
+/// What a record of (P)'s process calls its fields, for [`Fault::in_words`]: a P_m process's
+/// `x`, `u`, `lambda` (theory §6), a phase gait's `states`, `controls`, `reactions`, each under
+/// the path `at` (such as `"result.json: solution"`).
+#[derive(Debug, Clone, Copy)]
+pub struct FieldNames<'a> {
+    /// The path of the record; a field is named `{at}.{x}[k]`.
+    pub at: &'a str,
+    /// The states `x^k`.
+    pub x: &'a str,
+    /// The controls `u^i`.
+    pub u: &'a str,
+    /// The reaction rates `lambda^i`.
+    pub lambda: &'a str,
+}
+
+impl Fault {
+    /// The fault of `rows` as an error naming the record's field (indices 0-based, as in the
+    /// record's arrays; faces in the words 1-based, as C's faces are numbered).
+    pub fn in_words(&self, rows: &ProcessRows, names: &FieldNames) -> Error {
+        let FieldNames { at, x, u, lambda } = *names;
+        let bad = |field: String, got: String, why: &str| {
+            Error::invalid(format!("{at}.{field}"), got, why)
+        };
+        let steps = rows.durations.len();
+        match self {
+            Fault::NotPeriodic { gap } => bad(
+                format!("{x}[{steps}]"),
+                format!("{gap:e} from {x}[0]"),
+                "not periodic: the process does not end where it began",
+            ),
+            Fault::NotInitial { gap } => bad(
+                format!("{x}[0]"),
+                format!("{gap:e} from problem.initial_state"),
+                "must be the initial state",
+            ),
+            Fault::Outside { k, face, by } => bad(
+                format!("{x}[{k}]"),
+                format!("{by:e}"),
+                &format!("outside face {}", face + 1),
+            ),
+            Fault::ControlOutside { i } => bad(
+                format!("{u}[{i}]"),
+                format!("{:?}", rows.u[*i]),
+                "outside U",
+            ),
+            Fault::Mean { mean } => bad(u.into(), format!("mean {mean:?}"), "must have zero mean"),
+            Fault::Negative { i, face } => bad(
+                format!("{lambda}[{i}][{face}]"),
+                rows.lambda[*i][*face].to_string(),
+                "negative",
+            ),
+            Fault::Step { i, residual } => {
+                let step = match rows.kind {
+                    ProcessKind::Discrete { .. } => {
+                        "the catching-up step x^(i+1) = x^i + h (g - sum lambda x*)"
+                    }
+                    ProcessKind::Phase => {
+                        "the phase's segment x^(i+1) = x^i + tau_i (g - sum lambda x*)"
+                    }
+                };
+                let s = at.rsplit(": ").next().unwrap_or(at);
+                bad(
+                    format!("{x}[{}]", i + 1),
+                    format!("{residual:e}"),
+                    &format!(
+                        "does not follow from {s}.{x}[{i}], {s}.{u}[{i}] and {s}.{lambda}[{i}] \
+                         by {step}"
+                    ),
+                )
+            }
+            Fault::Inactive { i, face } => {
+                let ends = match rows.kind {
+                    ProcessKind::Discrete { .. } => "which is not active at the step's end",
+                    ProcessKind::Phase => "which is not active at both ends of the phase",
+                };
+                bad(
+                    format!("{lambda}[{i}][{face}]"),
+                    rows.lambda[*i][*face].to_string(),
+                    &format!("a reaction on face {}, {ends}", face + 1),
+                )
+            }
+        }
     }
 }
 

@@ -110,7 +110,8 @@ pub struct GeneralPhaseGait {
     pub states: Vec<Vec<f64>>,
     /// Faces held per phase (1-based).
     pub held: Vec<Vec<usize>>,
-    /// Reaction rates `lambda_{j,f} = L_{j,f} / tau_j` per phase and face.
+    /// Reaction rates per phase and face: the exact replay's, averaged over the phase (the
+    /// MILP's `L_{j,f} / tau_j` to its tolerance).
     pub reactions: Vec<Vec<f64>>,
     /// The largest difference between the MILP's states and the replayed ones.
     pub state_gap: f64,
@@ -604,6 +605,50 @@ pub fn replay_phases(
     Ok((states, sim))
 }
 
+/// The replay's reaction rates averaged over each phase, `(1/tau_j) int lambda dt` over the
+/// phase, on its held faces (1-based) only and at least 0: the stored rates then give each
+/// phase's segment `x_{j+1} = x_j + tau_j (g - sum lambda x*)` and `int f1` as the replay has
+/// them, to rounding (the replay's rounding-level reactions on a face it touches, `6e-14`
+/// seen, are not kept). The MILP's own rates `L_{j,f} / tau_j` hold to its feasibility
+/// tolerance only: on a period of `1e-3` they were `1 + 1e-6` where the replay's are 1, and
+/// the result's reader refused them.
+fn phase_reactions(
+    durations: &[f64],
+    held: &[Vec<usize>],
+    sim: &crate::integrate::GeneralSimulation,
+    sigma: usize,
+) -> Vec<Vec<f64>> {
+    let starts: Vec<f64> = durations
+        .iter()
+        .scan(0.0, |at, d| {
+            let t = *at;
+            *at += d;
+            Some(t)
+        })
+        .collect();
+    let mut out = vec![vec![0.0; sigma]; durations.len()];
+    for (i, lam) in sim.lambda.iter().enumerate() {
+        let (a, b) = (sim.t[i], sim.t[i + 1]);
+        // The replay's events include every phase's start, so a segment lies in one phase.
+        let j = starts
+            .partition_point(|&t| t <= 0.5 * (a + b))
+            .saturating_sub(1);
+        for (o, l) in out[j].iter_mut().zip(lam) {
+            *o += (b - a) * l;
+        }
+    }
+    for ((row, d), h) in out.iter_mut().zip(durations).zip(held) {
+        for (f, v) in row.iter_mut().enumerate() {
+            *v = if h.contains(&(f + 1)) {
+                (*v / d).max(0.0)
+            } else {
+                0.0
+            };
+        }
+    }
+    out
+}
+
 /// The MILP's gait read off its columns: the phases longer than [`EMPTY_PHASE`] `T`. A face's
 /// integrated reaction is kept on a held face only, and at least 0: the MILP's `L_{j,f} <= M T
 /// s_{j,f}` and `L_{j,f} >= 0` hold to HiGHS's feasibility tolerance only, and on a phase of
@@ -650,7 +695,7 @@ fn read_phases(lay: &Layout, cols: &[f64], t: f64) -> MilpPhases {
 /// boundaries (and `x(T) = x(0)` when periodic), within `1e-6` relative; a disagreement is an
 /// error naming `what`. The controls `U_j / tau_j` are clipped into a box U against the
 /// solver's feasibility tolerance, and into a polytope U by the Euclidean projection
-/// ([`into_u`]).
+/// ([`into_u`]); the stored reactions are the replay's ([`phase_reactions`]).
 pub(super) fn verified_gait(
     p: &GeneralProblem,
     phases: &MilpPhases,
@@ -671,18 +716,13 @@ pub(super) fn verified_gait(
         .zip(&durations)
         .map(|(u, tau)| into_u(&p.control, &mut centre, u.iter().map(|v| v / tau).collect()))
         .collect::<Result<_>>()?;
-    let reactions: Vec<Vec<f64>> = phases
-        .integrated
-        .iter()
-        .zip(&durations)
-        .map(|(l, tau)| l.iter().map(|v| v / tau).collect())
-        .collect();
     if durations.is_empty() {
         return Err(Error::Numerical(format!(
             "{what}: no phase of positive duration"
         )));
     }
     let (states, sim) = replay_phases(p, &durations, &controls, &milp_states[0], what)?;
+    let reactions = phase_reactions(&durations, &held, &sim, p.c.faces());
     let state_gap = states
         .iter()
         .zip(milp_states)
