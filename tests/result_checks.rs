@@ -227,3 +227,40 @@ fn a_convergence_table_may_fall_with_m() {
         w["convergence"][0]["bound"] = json!(last)
     });
 }
+
+/// Each link's rate is held to its own bound: on a crawler whose rate bounds are 10 apart
+/// (`a = [1, 0.1]`, `T = 100`: `J = 4.5`, the slow link at its bound throughout), a control of
+/// the slow link beyond its bound by `5e-7` of it is refused naming it, while the same change
+/// inwards reads back. Since the crawler's own check became (P)'s, every component was held to
+/// `1e-7` of the largest bound, and this control (`5e-8` over) was refused only through the
+/// step it breaks (`solution.states[1]`, a residual of `2.5e-7` over its piece of 5).
+#[test]
+fn each_links_rate_is_held_to_its_own_bound() {
+    let c = Crawler::uniform(3, 1.0, 1.0, 1.5).unwrap();
+    let p = GaitProblem::new(&c, 100.0, &[1.0, 0.1], Cost::None, None).unwrap();
+    let growth = grow_phases(
+        &c,
+        &p,
+        &GrowOptions {
+            max_phases: 3,
+            ..GrowOptions::default()
+        },
+        &mut |_| {},
+    )
+    .unwrap();
+    let v = serde_json::to_value(GaitResult::from_growth(&c, &p, &growth)).unwrap();
+    read(&v).unwrap();
+    assert!(v["objective"].as_f64().unwrap() > 4.0, "{}", v["objective"]);
+    let controls = v["solution"]["controls"].as_array().unwrap();
+    let j = controls
+        .iter()
+        .position(|u| (u[1].as_f64().unwrap().abs() - 0.1).abs() < 1e-12)
+        .expect("the slow link at its bound on some phase");
+    let u = controls[j][1].as_f64().unwrap();
+    refused(&v, &format!("solution.controls[{j}][1]"), |w| {
+        w["solution"]["controls"][j][1] = json!(u * (1.0 + 5e-7))
+    });
+    let mut w = v.clone();
+    w["solution"]["controls"][j][1] = json!(u * (1.0 - 1e-9));
+    read(&w).unwrap();
+}

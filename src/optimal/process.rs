@@ -42,6 +42,26 @@ pub(crate) fn control_rows(u: &ControlSet) -> Vec<(Vec<f64>, f64)> {
     }
 }
 
+/// The scale each component of a control is held to (its bound and its mean): a box's
+/// `max(|lower_l|, |upper_l|)` per component, so that a crawler's links whose rate bounds `a_l`
+/// are 100 apart are each checked against their own; U's largest offset for every component
+/// of a polytope (its unit rows mix them). Never below `1e-9` of U's largest bound (a component
+/// fixed at 0 is held to that).
+pub(crate) fn control_scales(u: &ControlSet) -> Vec<f64> {
+    let largest = control_rows(u)
+        .iter()
+        .fold(0.0_f64, |s, (_, h)| s.max(h.abs()));
+    let floor = 1e-9 * largest;
+    match u {
+        ControlSet::Box { lower, upper } => lower
+            .iter()
+            .zip(upper)
+            .map(|(lo, hi)| lo.abs().max(hi.abs()).max(floor))
+            .collect(),
+        ControlSet::Polytope(q) => vec![largest; q.dim()],
+    }
+}
+
 /// A process of (P) on `P` pieces, borrowed: durations `tau_i`, states `x^0..x^P`, controls
 /// `u^i` and reaction rates `lambda^i` per face (the projection's multipliers over the piece's
 /// duration). The rows' shapes are the caller's to have checked.
@@ -122,7 +142,8 @@ impl ProcessRows<'_> {
     /// mean, then piece by piece the reactions' sign, the step and the flow rule; `None` when
     /// it is a process of `p`. States are compared to `tol` times C's scale plus the rounding
     /// of the increments that made them ([`GeneralProblem::rounding`]), a step's residual also
-    /// to `tol` times its largest term (`tau_i |g|` or a reaction `tau_i lambda_j`); controls to `tol` times U's; a reaction's face
+    /// to `tol` times its largest term (`tau_i |g|` or a reaction `tau_i lambda_j`); controls
+    /// to `tol` times each component's scale ([`control_scales`]); a reaction's face
     /// must be active to the states' tolerance (the product with the reaction for a reaction
     /// below C's scale).
     pub fn fault(&self, p: &GeneralProblem, tol: f64) -> Option<Fault> {
@@ -152,21 +173,29 @@ impl ProcessRows<'_> {
             .or_else(|| self.step_fault(p, tol, allowed))
     }
 
-    /// The controls: in U, and of zero mean where the problem asks it.
+    /// The controls: in U, and of zero mean where the problem asks it, each component to `tol`
+    /// times its own scale ([`control_scales`]).
     fn control_fault(&self, p: &GeneralProblem, tol: f64) -> Option<Fault> {
-        let uscale = control_rows(&p.control)
-            .iter()
-            .fold(0.0_f64, |s, (_, h)| s.max(h.abs()));
+        let scales = control_scales(&p.control);
         let mut mean = vec![0.0; p.controls()];
         for (i, u) in self.u.iter().enumerate() {
-            if !p.control.contains(u, tol * uscale) {
+            let inside = match &p.control {
+                ControlSet::Box { lower, upper } => u
+                    .iter()
+                    .zip(lower.iter().zip(upper))
+                    .zip(&scales)
+                    .all(|((v, (lo, hi)), s)| *v >= lo - tol * s && *v <= hi + tol * s),
+                ControlSet::Polytope(_) => p.control.contains(u, tol * scales[0]),
+            };
+            if !inside {
                 return Some(Fault::ControlOutside { i });
             }
             for (m, v) in mean.iter_mut().zip(u) {
                 *m += v * self.durations[i] / p.period;
             }
         }
-        (p.zero_mean && mean.iter().any(|v| v.abs() > tol * uscale)).then_some(Fault::Mean { mean })
+        let off = mean.iter().zip(&scales).any(|(v, s)| v.abs() > tol * s);
+        (p.zero_mean && off).then_some(Fault::Mean { mean })
     }
 
     /// Each piece: reactions non-negative, the state following from the previous one, the
