@@ -307,3 +307,57 @@ fn the_local_method_starts_from_the_phase_optimum_where_a_is_zero() {
     let r = optimize_general_local(&drift, &s, Hooks::default()).unwrap();
     assert_eq!((r.start_from, r.starts_tried), ("square_waves", 2));
 }
+
+/// A general job's notes reach its answer, as a crawler's do (`OptimizedFile::notes`, printed
+/// by the command line after the job, `GeneralResult.notes` in Python): on a random 3-D
+/// polytope with a period of `1e-3`, the phase gait is refused as a start on the grid of
+/// P_5, and the note says so and that the square waves were tried instead
+/// (`start_from = "square_waves"`). Before, the note showed on the progress line only.
+#[test]
+fn a_general_jobs_notes_reach_its_answer() {
+    use crawlopt::api::{optimize_file, GaitMethod, Hooks, OptimizeSettings, OptimizedFile};
+    use crawlopt::io::{GeneralAnswer, GeneralFile, ProblemFile};
+    let file = GeneralFile::parse(
+        "[sweeping_process]\n\
+         normals = [[1.0575, -0.1534, -0.0317], [-1.1149, -0.0921, 0.1884], \
+         [0.1214, 0.9217, 0.1539], [-0.1157, -1.0423, 0.1418], [0.0567, -0.1599, 1.1957], \
+         [-0.1147, -0.0967, -0.8909], [0.9316, 0.9185, 0.8294], [-1.164, -0.9669, 0.8972]]\n\
+         offsets = [1.101, 0.872, 0.953, 1.459, 0.984, 1.075, 1.367, 0.683]\n\
+         [dynamics]\nB = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]]\n\
+         [control]\nlower = [-1.0, -1.0, -1.0]\nupper = [1.0, 1.0, 1.0]\nzero_mean = true\n\
+         [objective]\nface_weights = [-0.692, 0.817, 0.636, -0.501, -0.62, 0.479, 0.881, -0.607]\n\
+         [problem]\nperiod = 0.001\n",
+    )
+    .unwrap();
+    let settings = OptimizeSettings {
+        method: GaitMethod::Local,
+        m: Some(5),
+        ..Default::default()
+    };
+    let mut seen = Vec::new();
+    let mut watch = |e: &crawlopt::api::Event, _: f64| {
+        if let crawlopt::api::Event::Note(n) = e {
+            seen.push(n.clone());
+        }
+    };
+    let hooks = Hooks {
+        events: Some(&mut watch),
+        cancel: None,
+    };
+    let done = optimize_file(&ProblemFile::General(Box::new(file)), &settings, hooks).unwrap();
+    let OptimizedFile::General { answer, .. } = &done else {
+        panic!("a general answer")
+    };
+    let GeneralAnswer::Local(r) = answer.as_ref() else {
+        panic!("the local method's answer")
+    };
+    assert_eq!(r.start_from, "square_waves");
+    assert_eq!(done.notes(), &seen[..], "the caller's events are passed on");
+    assert_eq!(done.notes().len(), 1, "{:?}", done.notes());
+    assert!(
+        done.notes()[0].contains("the phase gait is no start on this grid")
+            && done.notes()[0].ends_with("trying square waves"),
+        "{}",
+        done.notes()[0]
+    );
+}

@@ -274,10 +274,12 @@ class GeneralResult(_LibraryFigures, Document):
     before (with the MILP's own certificate). ``from_json``/``to_json`` read and write the
     document (read back checked as ``crawlopt certify`` checks it); ``certify()`` gives its
     NecessaryConditions; ``figures()`` and ``report()`` are the library's (``crawlopt optimize
-    --plot --report``)."""
+    --plot --report``). ``notes``: how the job went (a start refused and the one tried
+    instead, ...), as a crawler's ``GaitResult.notes``; empty for a result read back."""
 
-    def __init__(self, doc: dict, record: Any = None):
+    def __init__(self, doc: dict, record: Any = None, notes=()):
         self._record = record
+        self.notes = list(notes)
         sol = doc["solution"]
         if doc.get("method") in _EXACT_GAITS:
             _series(sol, ("durations", "controls", "states", "reactions"))

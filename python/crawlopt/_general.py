@@ -248,7 +248,7 @@ class GeneralProblem:
         (K slots of a free transition and a phase, as strong as the chain's where measured) or
         "chain" (a crawler's gait problem only); None: the chain's on a crawler's chain, the
         transitions elsewhere."""
-        d, record = self._inner.optimize(
+        d, record, notes = self._inner.optimize(
             method,
             _count(m, "m", 32),
             _count(shifts, "shifts"),
@@ -263,4 +263,4 @@ class GeneralProblem:
             _bound_settings(bound),
             formulation,
         )
-        return GeneralResult(d, record)
+        return GeneralResult(d, record, notes)

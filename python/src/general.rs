@@ -149,7 +149,7 @@ impl GeneralProblem {
         convergence: bool,
         bound: Option<crate::bound::BoundTuple>,
         formulation: Option<&str>,
-    ) -> PyResult<(Bound<'py, PyAny>, GeneralRecord)> {
+    ) -> PyResult<(Bound<'py, PyAny>, GeneralRecord, Vec<String>)> {
         let f = self.inner.clone();
         // The library decides what applies to a general problem, with its defaults.
         let method = GaitMethod::from_name(method).map_err(|e| to_py(py, e))?;
@@ -178,13 +178,22 @@ impl GeneralProblem {
         let done = run(py, progress, |hooks| {
             api::optimize_file(&file, &settings, hooks)
         })?;
-        let api::OptimizedFile::General { problem, answer } = done else {
+        let api::OptimizedFile::General {
+            problem,
+            answer,
+            notes,
+        } = done
+        else {
             return Err(pyo3::exceptions::PyRuntimeError::new_err(
                 "a general problem file gave a crawler's answer",
             ));
         };
         let doc = pythonize::pythonize(py, &answer)?;
-        Ok((doc, GeneralRecord::new(*problem, Record::Answer(*answer))))
+        Ok((
+            doc,
+            GeneralRecord::new(*problem, Record::Answer(*answer)),
+            notes,
+        ))
     }
 }
 

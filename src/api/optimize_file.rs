@@ -32,6 +32,9 @@ pub enum OptimizedFile {
         problem: Box<GeneralProblem>,
         /// The answer.
         answer: Box<GeneralAnswer>,
+        /// Notes on how the job went (the job's [`super::Event::Note`]s, as a crawler's
+        /// [`Optimized::notes`]: such as a start refused and the one tried instead).
+        notes: Vec<String>,
     },
 }
 
@@ -107,10 +110,26 @@ impl<'a> OptimizeJob<'a> {
                 Ok(OptimizedFile::Crawler(Box::new(done)))
             }
             (Checked::General { problem, plan }, ProblemFile::General(general)) => {
+                // The job's notes kept for the answer, every event passed on to the caller.
+                let Hooks { mut events, cancel } = hooks;
+                let mut notes = Vec::new();
+                let mut keep = |e: &super::Event, t: f64| {
+                    if let super::Event::Note(n) = e {
+                        notes.push(n.clone());
+                    }
+                    if let Some(f) = events.as_mut() {
+                        f(e, t);
+                    }
+                };
+                let hooks = Hooks {
+                    events: Some(&mut keep),
+                    cancel,
+                };
                 let answer = optimize_general_plan(general, &plan, self.settings.naming, hooks)?;
                 Ok(OptimizedFile::General {
                     problem,
                     answer: Box::new(answer),
+                    notes,
                 })
             }
             (Checked::General { .. }, ProblemFile::Crawler(_)) => {
@@ -237,7 +256,7 @@ impl OptimizedFile {
     pub fn notes(&self) -> &[String] {
         match self {
             OptimizedFile::Crawler(o) => &o.notes,
-            OptimizedFile::General { .. } => &[],
+            OptimizedFile::General { notes, .. } => notes,
         }
     }
 
@@ -266,9 +285,9 @@ impl OptimizedFile {
                 }
                 Ok(figs)
             }
-            OptimizedFile::General { problem, answer } => {
-                present::general_answer_figures(problem, answer)
-            }
+            OptimizedFile::General {
+                problem, answer, ..
+            } => present::general_answer_figures(problem, answer),
         }
     }
 
@@ -284,7 +303,9 @@ impl OptimizedFile {
                 };
                 report::build_report_with(&o.result, &ctx)
             }
-            OptimizedFile::General { problem, answer } => present::build_general_report(
+            OptimizedFile::General {
+                problem, answer, ..
+            } => present::build_general_report(
                 problem,
                 present::GeneralReportInput::Answer(answer),
                 source,
