@@ -219,6 +219,7 @@ fn the_api_job_reports_its_starts_and_can_be_cancelled() {
         m: 3,
         shifts: 3,
         time_limit: None,
+        start: None,
     };
     let mut stages = 0;
     let mut count = |e: &Event, _: f64| stages += usize::from(matches!(e, Event::Stage(_)));
@@ -303,6 +304,7 @@ fn the_local_method_starts_from_the_phase_optimum_where_a_is_zero() {
         m: 4,
         shifts: 2,
         time_limit: None,
+        start: None,
     };
     let r = optimize_general_local(&drift, &s, Hooks::default()).unwrap();
     assert_eq!((r.start_from, r.starts_tried), ("square_waves", 2));
@@ -359,5 +361,118 @@ fn a_general_jobs_notes_reach_its_answer() {
             && done.notes()[0].ends_with("trying square waves"),
         "{}",
         done.notes()[0]
+    );
+}
+
+/// (P)'s local method starts from a given general result (`--start`, `Start::File` or
+/// `Start::General`), as a crawler's does from a gait result: its control averaged on the grid
+/// (`start_from = "start"`). A local optimum started from itself is stationary: the same `J`,
+/// which is its start's. A phase optimum's result starts it too (never below its start's `J`
+/// on the grid). A start of another shape, or a crawler's gait result, is refused naming
+/// `start`.
+#[test]
+fn the_local_method_starts_from_a_given_result() {
+    use crawlopt::api::{
+        optimize_general_local, optimize_general_phase, GeneralLocalSettings, GeneralPhaseSettings,
+        Hooks, Start,
+    };
+    use crawlopt::io::{GeneralAnswer, GeneralFile};
+    let file = GeneralFile::load_if_general("examples/general_three_blocks.toml".as_ref())
+        .unwrap()
+        .unwrap();
+    let s = GeneralLocalSettings {
+        m: 6,
+        shifts: 2,
+        ..GeneralLocalSettings::default()
+    };
+    let first = optimize_general_local(&file, &s, Hooks::default()).unwrap();
+    let again = GeneralLocalSettings {
+        shifts: 1,
+        start: Some(Start::General {
+            answer: Box::new(GeneralAnswer::Local(Box::new(first.clone()))),
+            name: "first".into(),
+        }),
+        ..s.clone()
+    };
+    let r = optimize_general_local(&file, &again, Hooks::default()).unwrap();
+    assert_eq!((r.start_from, r.starts_tried), ("start", 1));
+    assert!((r.solution.start_objective - first.objective).abs() < 1e-9);
+    assert!(
+        (r.objective - first.objective).abs() < 1e-9,
+        "{}",
+        r.objective
+    );
+    // From a phase optimum's result file, as `--start` reads it.
+    let phase = optimize_general_phase(
+        &file,
+        &GeneralPhaseSettings {
+            phases: Some(3),
+            ..GeneralPhaseSettings::default()
+        },
+        Hooks::default(),
+    )
+    .unwrap();
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("phase.json");
+    std::fs::write(&path, serde_json::to_string(&phase).unwrap()).unwrap();
+    let from_file = GeneralLocalSettings {
+        start: Some(Start::File(path)),
+        ..s.clone()
+    };
+    let r = optimize_general_local(&file, &from_file, Hooks::default()).unwrap();
+    assert_eq!(r.start_from, "start");
+    assert!(r.objective >= r.solution.start_objective - 1e-9);
+    // The start is the phase gait averaged on 64 steps (J = 2.125 there for the phase's
+    // 2.1667; the local answer 2.1875).
+    assert!(
+        (r.solution.start_objective - phase.objective).abs() < 0.05 * phase.objective,
+        "phase J = {}, its start on the grid {}",
+        phase.objective,
+        r.solution.start_objective
+    );
+    // Another shape: the one-link problem's own answer on the three-block problem.
+    let one = GeneralFile::load_if_general("examples/general_one_link.toml".as_ref())
+        .unwrap()
+        .unwrap();
+    let wrong = GeneralLocalSettings {
+        start: Some(Start::General {
+            answer: Box::new(GeneralAnswer::Local(Box::new(first))),
+            name: "three.json".into(),
+        }),
+        ..s.clone()
+    };
+    let e = optimize_general_local(&one, &wrong, Hooks::default()).unwrap_err();
+    assert!(
+        e.to_string()
+            .starts_with("start: is a result of a problem with 2 states"),
+        "{e}"
+    );
+    // A crawler's gait result.
+    let c = crawlopt::Crawler::uniform(3, 1.0, 1.0, 1.5).unwrap();
+    let pb = crawlopt::optimal::GaitProblem::new(
+        &c,
+        10.0,
+        &[1.0, 1.0],
+        crawlopt::optimal::Cost::None,
+        None,
+    )
+    .unwrap();
+    let g = crawlopt::optimal::GaitResult::from_discrete(
+        &c,
+        &pb,
+        &crawlopt::optimal::solve_discrete_global(&c, &pb, 2).unwrap(),
+    );
+    let crawler = GeneralLocalSettings {
+        start: Some(Start::Result {
+            result: Box::new(g),
+            name: "crawler.json".into(),
+        }),
+        ..s
+    };
+    let e = optimize_general_local(&file, &crawler, Hooks::default()).unwrap_err();
+    assert!(
+        e.to_string()
+            .starts_with("start: is a crawler's gait result"),
+        "{e}"
     );
 }

@@ -157,6 +157,7 @@ class GeneralProblem:
         convergence: bool = False,
         bound: Optional[tuple] = None,
         formulation: Optional[str] = None,
+        start: Optional[str] = None,
     ) -> tuple[dict[str, Any], GeneralRecord, list[str]]: ...
 
 class GeneralRecord:

@@ -22,6 +22,18 @@ def _matrix_or_vector(value, name: str, ndim: int) -> list:
     return _array(value, name, ndim, shape).tolist()
 
 
+def _start_json(start: Optional[GeneralResult]) -> Optional[str]:
+    """A start's document for the extension (None stays None): a GeneralResult's JSON; any
+    other value is an InputError naming ``start``."""
+    if start is None:
+        return None
+    if not isinstance(start, GeneralResult):
+        raise _input_error(
+            "start", type(start).__name__, "a general problem starts from a GeneralResult"
+        )
+    return start.to_json()
+
+
 class GeneralProblem:
     """A general problem (P) of the paper's §2 (a ``[sweeping_process]`` file, theory §11): a
     polyhedron C = {x : <x*_j, x> <= c_j}, affine dynamics g = A x + B u + b, a control set U,
@@ -213,11 +225,13 @@ class GeneralProblem:
         convergence: bool = False,
         bound: Union[bool, dict, None] = None,
         formulation: Optional[str] = None,
+        start: Optional[GeneralResult] = None,
     ) -> GeneralResult:
         """The paper's P_m on 2^``m`` steps: ``method`` "discrete" (global MILP, with its
-        certificate) or "local" (the LPCC active-set method from the file's ``[input]``, else
-        where A = 0 the phase optimum, else square waves; ``shifts`` rotations of each; no
-        global claim). ``solution`` holds
+        certificate) or "local" (the LPCC active-set method from ``start``, a GeneralResult of
+        the same numbers of states and controls and the same period, its control averaged on
+        the grid (``--start``); else the file's ``[input]``, else where A = 0 the phase optimum,
+        else square waves; ``shifts`` rotations of each; no global claim). ``solution`` holds
         ``objective`` (J re-verified by simulation), ``x``, ``u``, ``lambda``. ``certify``
         ("discrete", "phase", "sequence", "chain") adds ``necessary_conditions``: Theorem 2.2's
         conditions on the optimum with their residuals and ``verdict`` (``crawlopt optimize
@@ -262,5 +276,6 @@ class GeneralProblem:
             convergence,
             _bound_settings(bound),
             formulation,
+            _start_json(start),
         )
         return GeneralResult(d, record, notes)

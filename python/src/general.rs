@@ -123,14 +123,16 @@ impl GeneralProblem {
     }
 
     /// P_m of the problem (`crawlopt optimize --json`): `method` "discrete" (global MILP) or
-    /// "local" (the LPCC active-set method, `shifts` rotations of each start); None takes the
+    /// "local" (the LPCC active-set method, `shifts` rotations of each start, from `start`, a
+    /// general result's JSON, when given); None takes the
     /// library's default; "phase" (exact gaits where `A = 0`, globally among those of at most
     /// `phases` phases, or `K` grown to `max_phases` until `patience` K bring no gain).
     /// Cancellable (Ctrl-C); `progress` receives the events. Returns the document and
     /// the record the library draws and reports.
     #[pyo3(signature = (
         method, m, shifts, time_limit, certify, progress, max_phases, polish = None,
-        phases = None, patience = None, convergence = false, bound = None, formulation = None
+        phases = None, patience = None, convergence = false, bound = None, formulation = None,
+        start = None
     ))]
     #[allow(clippy::too_many_arguments)]
     fn optimize<'py>(
@@ -149,6 +151,7 @@ impl GeneralProblem {
         convergence: bool,
         bound: Option<crate::bound::BoundTuple>,
         formulation: Option<&str>,
+        start: Option<&str>,
     ) -> PyResult<(Bound<'py, PyAny>, GeneralRecord, Vec<String>)> {
         let f = self.inner.clone();
         // The library decides what applies to a general problem, with its defaults.
@@ -157,9 +160,19 @@ impl GeneralProblem {
             .map(api::PhaseFormulation::from_name)
             .transpose()
             .map_err(|e| to_py(py, e))?;
+        // A start is a general result's document, read and checked as `certify` reads it.
+        let start = start
+            .map(|text| crawlopt::io::GeneralAnswer::from_json(text, "start"))
+            .transpose()
+            .map_err(|e| to_py(py, e))?
+            .map(|answer| api::Start::General {
+                answer: Box::new(answer),
+                name: "start".into(),
+            });
         let settings = OptimizeSettings {
             method,
             m,
+            start,
             shifts,
             time_limit,
             certify,
@@ -171,7 +184,6 @@ impl GeneralProblem {
             bound: crate::bound::bound_settings(bound),
             formulation,
             naming: Naming::Keywords,
-            ..OptimizeSettings::default()
         };
         // The one optimisation of a problem file, as the command line runs it.
         let file = ProblemFile::General(Box::new(f));

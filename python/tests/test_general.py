@@ -330,3 +330,21 @@ def test_a_general_jobs_notes_reach_its_result(tmp_path):
     assert r["start_from"] == "square_waves"
     assert len(r.notes) == 1 and "the phase gait is no start on this grid" in r.notes[0]
     assert co.GeneralResult.from_json(r.to_json()).notes == []
+
+
+def test_the_local_method_starts_from_a_given_result():
+    # As `crawlopt optimize --method local --start R.json`: a local optimum started from itself
+    # is stationary (its J, which is its start's); a crawler's result or another object is
+    # refused naming start.
+    p = co.load(example("general_three_blocks.toml"))
+    first = p.optimize(method="local", m=6, shifts=2)
+    again = p.optimize(method="local", m=6, shifts=1, start=first)
+    assert again["start_from"] == "start" and again["starts_tried"] == 1
+    assert again.solution["start_objective"] == pytest.approx(first.objective, abs=1e-9)
+    assert again.objective == pytest.approx(first.objective, abs=1e-9)
+    with pytest.raises(co.InputError, match="start"):
+        p.optimize(method="local", m=6, start="first.json")
+    with pytest.raises(co.InputError, match="start"):
+        co.load(ONE_LINK).optimize(method="local", m=6, start=first)
+    with pytest.raises(co.InputError, match="start"):
+        p.optimize(method="discrete", m=3, start=first)

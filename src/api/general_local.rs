@@ -1,5 +1,5 @@
 //! The general problem's P_m solved locally as a job ([`optimize_general_local`]): the start
-//! policy (the file's `[input]`; else, where `A = 0`, the phase optimum as a crawler's local
+//! policy (a given result, `--start`; else the file's `[input]`; else, where `A = 0`, the phase optimum as a crawler's local
 //! method starts from it; else square waves along each control axis; each at several time
 //! shifts), the time budget across starts, progress and cancellation; and the global job with
 //! hooks ([`optimize_general_with_hooks`]).
@@ -46,6 +46,10 @@ pub struct GeneralLocalSettings {
     pub shifts: usize,
     /// Seconds for all starts (`None`: no limit): the best answer so far when it runs out.
     pub time_limit: Option<f64>,
+    /// A start (default `None`: the policy of the module docs): a general result of the same
+    /// numbers of states and controls and the same period, its control averaged on the grid
+    /// (a file is read when the job runs; errors name `start`).
+    pub start: Option<super::Start>,
 }
 
 impl Default for GeneralLocalSettings {
@@ -54,6 +58,7 @@ impl Default for GeneralLocalSettings {
             m: DEFAULT_M_LOCAL,
             shifts: DEFAULT_SHIFTS,
             time_limit: None,
+            start: None,
         }
     }
 }
@@ -104,7 +109,8 @@ pub fn optimize_general_local(
 }
 
 /// The starts of [`optimize_general_local`] (module docs) on `2^m` steps, each at
-/// `s.shifts` rotations, and where they came from: the file's `[input]`; else, where `A = 0`,
+/// `s.shifts` rotations, and where they came from: a given result ([`given_start`]); else the
+/// file's `[input]`; else, where `A = 0`,
 /// the phase optimum (within half of the time left, without a limit to the end of its growth,
 /// as a crawler's; where it cannot be had, a note says why and the square waves start); else
 /// the square waves.
@@ -115,6 +121,10 @@ fn starts(
     s: &GeneralLocalSettings,
     em: &Emitter<'_>,
 ) -> Result<(Vec<Vec<Vec<f64>>>, &'static str)> {
+    if let Some(start) = &s.start {
+        let grid = given_start(start, p, s.m)?;
+        return Ok((rotated(&grid, s.shifts), "start"));
+    }
     if file.input.is_some() {
         let grid = grid_controls(&file.input(p)?, s.m);
         return Ok((rotated(&grid, s.shifts), "input"));
@@ -139,6 +149,52 @@ fn starts(
         }
     }
     Ok((square_waves(p, s)?, "square_waves"))
+}
+
+/// A given start on `2^m` steps: a general result (read and checked as `certify` reads it, for
+/// a file) of the same numbers of states and controls and the same period as `p`, its control
+/// averaged over each step and shifted to an exact zero mean where `p` asks it
+/// ([`phase_grid`]); a crawler's gait result, or a result of another shape, is refused naming
+/// `start`.
+fn given_start(start: &super::Start, p: &GeneralProblem, m: u32) -> Result<Vec<Vec<f64>>> {
+    let refuse = |name: &str, why: String| Err(Error::invalid("start", name, why));
+    let read;
+    let (answer, name) = match start {
+        super::Start::File(path) => {
+            let name = path.display().to_string();
+            let text = crate::io::read_input_text(path, crate::io::MAX_RESULT_BYTES)?;
+            read = crate::io::GeneralAnswer::from_json(&text, &name)?;
+            (&read, name)
+        }
+        super::Start::General { answer, name } => {
+            answer.check_consistent(name)?;
+            (answer.as_ref(), name.clone())
+        }
+        super::Start::Result { name, .. } => {
+            return refuse(
+                name,
+                "is a crawler's gait result; a general problem starts from a general result".into(),
+            )
+        }
+    };
+    let q = answer.problem().problem()?;
+    if (q.states(), q.controls()) != (p.states(), p.controls()) || q.period != p.period {
+        return refuse(
+            &name,
+            format!(
+                "is a result of a problem with {} states, {} controls and period {}; this one \
+                 has {}, {} and {}",
+                q.states(),
+                q.controls(),
+                q.period,
+                p.states(),
+                p.controls(),
+                p.period
+            ),
+        );
+    }
+    let (durations, controls) = answer.pieces();
+    phase_grid(p, &durations, controls, m)
 }
 
 /// Solves P_m locally from each of `starts` in turn, within the job's deadline, and keeps the

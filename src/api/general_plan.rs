@@ -117,7 +117,11 @@ impl OptimizeSettings {
                 ("max_phases", self.max_phases.is_some(), only_phase)
             },
             ("convergence", self.convergence && (local || phase), reason),
-            ("start", self.start.is_some(), reason),
+            (
+                "start",
+                self.start.is_some() && !local,
+                "applies to --method local only on a general problem file",
+            ),
             ("shifts", self.shifts.is_some() && !local, reason),
             ("certify", self.certify && local, reason),
             ("no_polish", polish.1 && (local || phase), reason),
@@ -177,7 +181,11 @@ impl OptimizeSettings {
                 self.convergence && (local || phase),
                 discrete.to_string(),
             ),
-            ("start", self.start.is_some(), not_general.to_string()),
+            (
+                "start",
+                self.start.is_some() && !local,
+                "applies to method=\"local\" only on a general problem".to_string(),
+            ),
             (
                 "bound",
                 self.bound.is_some() && local,
@@ -225,6 +233,7 @@ impl OptimizeSettings {
                 m: self.m.unwrap_or(d.m),
                 shifts: self.shifts.unwrap_or(d.shifts),
                 time_limit: self.time_limit,
+                start: self.start.clone(),
             })
         } else {
             let d = GeneralPmSettings::default();

@@ -542,6 +542,14 @@ fn start_of(start: &Start, crawler: &Crawler, problem: &GaitProblem) -> Result<S
             result.check_consistent(name)?;
             ((**result).clone(), name.clone())
         }
+        Start::General { name, .. } => {
+            return Err(Error::invalid(
+                "start",
+                name,
+                "is a general problem's result; a crawler's gait starts from a crawler's gait \
+                 result",
+            ))
+        }
     };
     StartGait::from_result(crawler, problem, result, &name)
 }

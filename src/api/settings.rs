@@ -158,7 +158,8 @@ impl Naming {
     }
 }
 
-/// A start gait for the local methods and the P_m MILP.
+/// A start gait for the local methods and the P_m MILP: a crawler's gait result for a
+/// crawler's problem; a general result (a file, or [`Start::General`]) for (P)'s local method.
 #[derive(Clone, Debug, PartialEq)]
 pub enum Start {
     /// A result file of `optimize` (read only when the method takes a start).
@@ -168,6 +169,13 @@ pub enum Start {
         /// The gait result.
         result: Box<GaitResult>,
         /// What to call it (e.g. `start.json`).
+        name: String,
+    },
+    /// A general problem's result in memory (for (P)'s local method), and a name for messages.
+    General {
+        /// The result.
+        answer: Box<crate::io::GeneralAnswer>,
+        /// What to call it.
         name: String,
     },
 }

@@ -120,7 +120,7 @@ fn phase_word<'de, D: Deserializer<'de>>(d: D) -> std::result::Result<&'static s
 }
 
 fn start_word<'de, D: Deserializer<'de>>(d: D) -> std::result::Result<&'static str, D::Error> {
-    word(d, &["input", "phase", "square_waves"])
+    word(d, &["input", "phase", "square_waves", "start"])
 }
 
 /// The problem as a result stores it: the file's sections without `[input]` (a control to
@@ -215,8 +215,8 @@ pub struct GeneralLocalOptimized {
     pub certificate: ResultCertificate,
     /// The period.
     pub period: f64,
-    /// Where the starts came from: `"input"` (the file's `[input]`), `"phase"` (the phase
-    /// optimum, where `A = 0`) or `"square_waves"`.
+    /// Where the starts came from: `"start"` (a given result, `--start`), `"input"` (the file's
+    /// `[input]`), `"phase"` (the phase optimum, where `A = 0`) or `"square_waves"`.
     #[serde(deserialize_with = "start_word")]
     pub start_from: Word,
     /// Starts solved from (all of them unless the time limit ended the search).
@@ -357,6 +357,17 @@ impl GeneralAnswer {
             GeneralAnswer::Discrete(r) => r.method,
             GeneralAnswer::Local(r) => r.method,
             GeneralAnswer::Phase(r) => r.method,
+        }
+    }
+
+    /// The answer's control as pieces `(durations, controls)`: a P_m answer's `2^m` equal steps,
+    /// a phase gait's phases (how a result starts (P)'s local method, `--start`).
+    pub fn pieces(&self) -> (Vec<f64>, &[Vec<f64>]) {
+        let steps = |period: f64, u: &[Vec<f64>]| vec![period / u.len().max(1) as f64; u.len()];
+        match self {
+            GeneralAnswer::Discrete(r) => (steps(r.period, &r.solution.u), &r.solution.u),
+            GeneralAnswer::Local(r) => (steps(r.period, &r.solution.u), &r.solution.u),
+            GeneralAnswer::Phase(r) => (r.solution.durations.clone(), &r.solution.controls),
         }
     }
 

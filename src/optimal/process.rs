@@ -143,7 +143,8 @@ impl ProcessRows<'_> {
     /// it is a process of `p`. States are compared to `tol` times C's scale plus the rounding
     /// of the increments that made them ([`GeneralProblem::rounding`]), a step's residual also
     /// to `tol` times its largest term (`tau_i |g|` or a reaction `tau_i lambda_j`); controls
-    /// to `tol` times each component's scale ([`control_scales`]); a reaction's face
+    /// to `tol` times each component's scale (a box's bound per component, U's largest offset
+    /// for a polytope); a reaction's face
     /// must be active to the states' tolerance (the product with the reaction for a reaction
     /// below C's scale).
     pub fn fault(&self, p: &GeneralProblem, tol: f64) -> Option<Fault> {
@@ -174,7 +175,7 @@ impl ProcessRows<'_> {
     }
 
     /// The controls: in U, and of zero mean where the problem asks it, each component to `tol`
-    /// times its own scale ([`control_scales`]).
+    /// times its own scale (`control_scales`).
     fn control_fault(&self, p: &GeneralProblem, tol: f64) -> Option<Fault> {
         let scales = control_scales(&p.control);
         let mut mean = vec![0.0; p.controls()];
