@@ -309,26 +309,12 @@ def test_the_free_transition_formulation_reaches_the_one_link_optimum_at_two_slo
         p.optimize(method="discrete", formulation="general")
 
 
-def test_a_general_jobs_notes_reach_its_result(tmp_path):
-    # A random 3-D polytope with T = 1e-3: the phase gait is refused as a start on P_5's grid,
-    # and the note saying so (and that square waves were tried) is the result's, as a
-    # crawler's notes are; a result read back has none.
-    f = tmp_path / "short.toml"
-    f.write_text(
-        "[sweeping_process]\n"
-        "normals = [[1.0575, -0.1534, -0.0317], [-1.1149, -0.0921, 0.1884], "
-        "[0.1214, 0.9217, 0.1539], [-0.1157, -1.0423, 0.1418], [0.0567, -0.1599, 1.1957], "
-        "[-0.1147, -0.0967, -0.8909], [0.9316, 0.9185, 0.8294], [-1.164, -0.9669, 0.8972]]\n"
-        "offsets = [1.101, 0.872, 0.953, 1.459, 0.984, 1.075, 1.367, 0.683]\n"
-        "[dynamics]\nB = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]]\n"
-        "[control]\nlower = [-1.0, -1.0, -1.0]\nupper = [1.0, 1.0, 1.0]\nzero_mean = true\n"
-        "[objective]\n"
-        "face_weights = [-0.692, 0.817, 0.636, -0.501, -0.62, 0.479, 0.881, -0.607]\n"
-        "[problem]\nperiod = 0.001\n"
-    )
-    r = co.load(f).optimize(method="local", m=5)
-    assert r["start_from"] == "square_waves"
-    assert len(r.notes) == 1 and "the phase gait is no start on this grid" in r.notes[0]
+def test_a_general_jobs_notes_reach_its_result():
+    # The three-block crawler written as (P), by the crawler's sequence method at two slip
+    # phases: the best structured gait is returned, and the note saying why is the result's,
+    # as a crawler's notes are; a result read back has none.
+    r = co.load(example("general_three_blocks.toml")).optimize(method="sequence", phases=2)
+    assert len(r.notes) == 1 and "is below the best structured gait" in r.notes[0]
     assert co.GeneralResult.from_json(r.to_json()).notes == []
 
 

@@ -1,8 +1,8 @@
 //! The general problem's P_m solved locally as a job ([`optimize_general_local`]): the start
-//! policy (a given result, `--start`; else the file's `[input]`; else, where `A = 0`, the phase optimum as a crawler's local
-//! method starts from it; else square waves along each control axis; each at several time
-//! shifts), the time budget across starts, progress and cancellation; and the global job with
-//! hooks ([`optimize_general_with_hooks`]).
+//! policy (a given result, `--start`; else the file's `[input]`; else, where `A = 0`, the phase
+//! optimum as a crawler's local method starts from it; else square waves along each control
+//! axis; each at several time shifts), the time budget across starts, progress and
+//! cancellation; and the global job with hooks ([`optimize_general_with_hooks`]).
 
 use super::events::{run_with, Emitter, Event, Hooks};
 use super::settings::{DEFAULT_M_LOCAL, DEFAULT_SHIFTS};
@@ -110,10 +110,9 @@ pub fn optimize_general_local(
 
 /// The starts of [`optimize_general_local`] (module docs) on `2^m` steps, each at
 /// `s.shifts` rotations, and where they came from: a given result ([`given_start`]); else the
-/// file's `[input]`; else, where `A = 0`,
-/// the phase optimum (within half of the time left, without a limit to the end of its growth,
-/// as a crawler's; where it cannot be had, a note says why and the square waves start); else
-/// the square waves.
+/// file's `[input]`; else, where `A = 0`, the phase optimum (within half of the time left,
+/// without a limit to the end of its growth, as a crawler's; where it cannot be had, a note
+/// says why and the square waves start); else the square waves.
 fn starts(
     file: &GeneralFile,
     p: &GeneralProblem,
@@ -153,7 +152,7 @@ fn starts(
 
 /// A given start on `2^m` steps: a general result (read and checked as `certify` reads it, for
 /// a file) of the same numbers of states and controls and the same period as `p`, its control
-/// averaged over each step and shifted to an exact zero mean where `p` asks it
+/// averaged over each step and moved to an exact zero mean within U where `p` asks it
 /// ([`phase_grid`]); a crawler's gait result, or a result of another shape, is refused naming
 /// `start`.
 fn given_start(start: &super::Start, p: &GeneralProblem, m: u32) -> Result<Vec<Vec<f64>>> {

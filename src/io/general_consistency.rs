@@ -3,11 +3,11 @@
 //! [`crate::optimal::consistency`]): the stored problem (P) rebuilt and checked, the stored
 //! process a process of it (one check of (P)'s conditions for both, [`ProcessRows::fault`]:
 //! through [`GeneralProcess::check_as`] for P_m, on the record's own rows for a phase gait,
-//! whose durations, shapes and held faces are checked first), the controls replayed by the general simulator that
-//! verified them when they were found ([`simulate_grid`], [`replay_phases`]) and every stored
-//! number compared with the replay, then the envelope's `objective`, `status` and
-//! `certificate` against the solution. A file is data from elsewhere: a number that disagrees
-//! is refused naming its field.
+//! whose durations, shapes and held faces are checked first), the controls replayed by the
+//! general simulator that verified them when they were found ([`simulate_grid`],
+//! [`replay_phases`]) and every stored number compared with the replay, then the envelope's
+//! `objective`, `status` and `certificate` against the solution. A file is data from
+//! elsewhere: a number that disagrees is refused naming its field.
 
 use super::general_claims::{
     bad, check_dominates, check_global, check_local_certificate, check_local_phase, check_slots,
@@ -454,6 +454,19 @@ fn check_phase(
     }
     if let Some(fault) = flow {
         return Err(fault.in_words(&rows, &names));
+    }
+    // The replay itself periodic, to the states' tolerance (the stored states are, and each is
+    // within that of the replay's: twice that for the replay without this check).
+    let np = states.len() - 1;
+    if p.boundary == crate::model::general::Boundary::Periodic
+        && max_diff(&states[np], &states[0]) > INPUT_TOL * scale + rounding
+    {
+        return Err(bad(
+            what,
+            &format!("solution.states[{np}]"),
+            format!("{:?}", states[np]),
+            "the replayed gait is not periodic: it does not end where it began",
+        ));
     }
     // A held face lies under the whole phase: active at both of its ends (to 1e-6 of C's
     // scale, looser than the states' check: a MILP holds its faces to its own tolerance).

@@ -157,33 +157,83 @@ pub fn rotated(grid: &[Vec<f64>], shifts: usize) -> Vec<Vec<Vec<f64>>> {
 }
 
 /// A phase gait's controls (`controls[j]` for `durations[j]`) as a start on `2^m` steps: the
-/// mean over each step, shifted to an exact zero mean where the problem asks it (the gait's
-/// mean is zero only to its solver's tolerance, which on a short period is more than a start's
-/// `1e-9`). Refused (field `start`) where the controls are not a piecewise-constant control
-/// in U.
+/// mean over each step, moved to an exact zero mean within U where the problem asks it
+/// (`to_zero_mean`; the gait's mean is zero only to its solver's tolerance, which on a short
+/// period is more than a start's `1e-9`). Refused (field `start`) where the controls are not a
+/// piecewise-constant control in U.
 pub fn phase_grid(
     p: &GeneralProblem,
     durations: &[f64],
     controls: &[Vec<f64>],
     m: u32,
 ) -> Result<Vec<Vec<f64>>> {
-    let mut times = vec![0.0];
-    for d in &durations[..durations.len().saturating_sub(1)] {
-        times.push(times[times.len() - 1] + d);
+    // The pieces' start times, their durations scaled to sum to `T` exactly; a piece that
+    // starts no later than the one before, or at `T`, lasts less than the rounding of the sum
+    // and is left out (a phase gait of a random polytope with `T = 1e-3` had its last phase
+    // start at `T + 3.4e-13`, and the start was refused).
+    let total: f64 = durations.iter().sum();
+    let (mut times, mut kept) = (Vec::new(), Vec::new());
+    let mut at = 0.0;
+    for (d, u) in durations.iter().zip(controls) {
+        let t = at * (p.period / total);
+        if times.last().is_none_or(|&last| t > last && t < p.period) {
+            times.push(if times.is_empty() { 0.0 } else { t });
+            kept.push(u.clone());
+        }
+        at += d;
     }
     let input = ControlInput::new(
         InputKind::PiecewiseConstant,
         p.period,
         times,
-        controls.to_vec(),
+        kept,
         &p.control,
         "start",
     )?;
     let mut grid = grid_controls(&input, m);
     if p.zero_mean {
-        crate::optimal::milp::shift_to_zero_mean(&mut grid);
+        to_zero_mean(&p.control, &mut grid);
     }
     Ok(grid)
+}
+
+/// Controls on equal steps moved to an exact zero mean while staying in U. A shift by the mean
+/// (`milp::shift_to_zero_mean`) moved a control at its bound out of U: by `1.6e-9` on a
+/// random 3-D polytope with `T = 1e-3`, and the local method refused that start. Here each
+/// control becomes `(1 - theta) u_i + theta c`, with `c` the point at distance `rho` from 0
+/// opposite the mean `m`, where the ball of radius `rho` about 0 lies in U, and `theta = |m|
+/// / (rho + |m|)`: the new mean is `(1 - theta) m + theta c = 0`, and each control, a convex
+/// combination of two points of U, stays in it. Where 0 is not inside U (no such ball), the
+/// shift.
+fn to_zero_mean(u: &ControlSet, grid: &mut [Vec<f64>]) {
+    let rho = match u {
+        ControlSet::Box { lower, upper } => lower
+            .iter()
+            .zip(upper)
+            .fold(f64::INFINITY, |r, (lo, hi)| r.min(-lo).min(*hi)),
+        ControlSet::Polytope(q) => q.offsets.iter().fold(f64::INFINITY, |r, h| r.min(*h)),
+    };
+    let steps = grid.len() as f64;
+    let mut mean = vec![0.0; grid.first().map_or(0, Vec::len)];
+    for row in grid.iter() {
+        for (m, v) in mean.iter_mut().zip(row) {
+            *m += v / steps;
+        }
+    }
+    let norm = mean.iter().map(|v| v * v).sum::<f64>().sqrt();
+    if norm == 0.0 {
+        return;
+    }
+    if !(rho > 0.0 && rho.is_finite()) {
+        crate::optimal::milp::shift_to_zero_mean(grid);
+        return;
+    }
+    let theta = norm / (rho + norm);
+    for row in grid.iter_mut() {
+        for (v, m) in row.iter_mut().zip(&mean) {
+            *v = (1.0 - theta) * *v - theta * rho * m / norm;
+        }
+    }
 }
 
 /// The controls of `input` on `2^m` steps: the mean over each step.

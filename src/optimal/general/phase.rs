@@ -110,8 +110,9 @@ pub struct GeneralPhaseGait {
     pub states: Vec<Vec<f64>>,
     /// Faces held per phase (1-based).
     pub held: Vec<Vec<usize>>,
-    /// Reaction rates per phase and face: the exact replay's, averaged over the phase (the
-    /// MILP's `L_{j,f} / tau_j` to its tolerance).
+    /// Reaction rates per phase and face: of the phase MILPs, the exact replay's averaged over
+    /// the phase (the MILP's `L_{j,f} / tau_j` to its tolerance); of the crawler's methods on a
+    /// chain, its block displacements' (`s_b |D_b| / tau`).
     pub reactions: Vec<Vec<f64>>,
     /// The largest difference between the MILP's states and the replayed ones.
     pub state_gap: f64,
