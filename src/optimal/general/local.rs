@@ -206,13 +206,10 @@ pub fn phase_grid(
 /// combination of two points of U, stays in it. Where 0 is not inside U (no such ball), the
 /// shift.
 fn to_zero_mean(u: &ControlSet, grid: &mut [Vec<f64>]) {
-    let rho = match u {
-        ControlSet::Box { lower, upper } => lower
-            .iter()
-            .zip(upper)
-            .fold(f64::INFINITY, |r, (lo, hi)| r.min(-lo).min(*hi)),
-        ControlSet::Polytope(q) => q.offsets.iter().fold(f64::INFINITY, |r, h| r.min(*h)),
-    };
+    // The distance from 0 to U's nearest row (unit rows: a box's `upper_l` and `-lower_l`).
+    let rho = crate::optimal::process::control_rows(u)
+        .iter()
+        .fold(f64::INFINITY, |r, (_, h)| r.min(*h));
     let steps = grid.len() as f64;
     let mut mean = vec![0.0; grid.first().map_or(0, Vec::len)];
     for row in grid.iter() {
