@@ -572,3 +572,47 @@ fn a_phase_gaits_stored_reactions_are_its_replays() {
         common::certify_written(dir.path(), &v);
     }
 }
+
+/// One link of half-width `a = 1e-4` over periods 5 to 100 times as long (`J = T/2 - 2a`, the
+/// paper's §4 optimum). The phase MILP was solved in the problem's own units, where HiGHS's
+/// absolute tolerance (`1e-9`) is `1e-5` of C's size: at `T = 5e-4` and `2e-3` the control's
+/// mean came out `1e-7` and `4e-7` of its bound and `certify` refused the written answer
+/// ("must have zero mean"), at `T = 1e-2`, `K = 4` the replay ended `9.5e-11` from where it
+/// began ("not periodic"), and at `T = 5e-4`, `K = 5` `optimize` refused its own MILP's
+/// `int f1` (`1e-6` above the replay's). In units of order one (C's size, U's bound, the time
+/// to cross C) every answer is the closed form to `1e-9` and reads back.
+#[test]
+fn short_periods_on_a_small_link_give_the_closed_form_and_read_back() {
+    let dir = tempfile::tempdir().unwrap();
+    let a = 1e-4;
+    for t in [5e-4, 2e-3, 1e-2] {
+        let file = common::write(
+            dir.path(),
+            "small.toml",
+            &format!(
+                "[sweeping_process]\nnormals = [[1.0], [-1.0]]\noffsets = [{a:e}, {a:e}]\n\
+                 [dynamics]\nB = [[1.0]]\n[control]\nlower = [-1.0]\nupper = [1.0]\n\
+                 zero_mean = true\n[objective]\nface_weights = [0.5, 0.5]\n\
+                 [problem]\nperiod = {t:e}\n"
+            ),
+        );
+        for k in ["2", "3", "4", "5"] {
+            let v = common::crawlopt_json(&[
+                "optimize",
+                file.to_str().unwrap(),
+                "--method",
+                "phase",
+                "--phases",
+                k,
+                "--json",
+            ]);
+            let j = v["objective"].as_f64().unwrap();
+            let want = t / 2.0 - 2.0 * a;
+            assert!(
+                (j - want).abs() <= 1e-9 * want,
+                "T = {t}, K = {k}: J = {j}, not {want}"
+            );
+            common::certify_written(dir.path(), &v);
+        }
+    }
+}

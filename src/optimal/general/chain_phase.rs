@@ -19,7 +19,8 @@
 //! displacement over the phase, `s_b` the norm of its row), and `J = lambda J_crawler`.
 
 use super::geometry::{into_u, Geometry};
-use super::phase::{check_phase_growth, replay_phases, GeneralPhaseGait};
+use super::phase::{check_phase_growth, GeneralPhaseGait};
+use super::phase_replay::replay_phases;
 use crate::error::{Error, Result};
 use crate::model::general::GeneralProblem;
 use crate::model::ChainView;

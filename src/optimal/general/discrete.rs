@@ -364,7 +364,7 @@ pub(super) fn build(
     let h = p.period / mm as f64;
     let w = reward_weights(p);
     let mut pb = RowProblem::default();
-    let xs = state_columns(&mut pb, p, mm);
+    let xs = state_columns(&mut pb, p, mm, 1.0);
     let nx = xs.len();
     let x_at = |i: usize| &xs[i % nx];
     let us = rows::add_control_columns(&mut pb, p, mm);
@@ -415,13 +415,14 @@ pub(super) fn build(
 /// Most rounds of the outer approximation of a quadratic cost.
 pub(super) const MAX_OA_ROUNDS: usize = 40;
 
-/// The state columns at the knots of `pieces` pieces: `pieces` of them for a periodic problem
-/// (the last knot is the first), `pieces + 1` for a Cauchy problem, whose first is fixed to
-/// `x(0)`.
+/// The state columns at the knots of `pieces` pieces, in units of `unit`: `pieces` of them for
+/// a periodic problem (the last knot is the first), `pieces + 1` for a Cauchy problem, whose
+/// first is fixed to `x(0) / unit`.
 pub(super) fn state_columns(
     pb: &mut RowProblem,
     p: &GeneralProblem,
     pieces: usize,
+    unit: f64,
 ) -> Vec<Vec<Col>> {
     let nx = match p.boundary {
         Boundary::Periodic => pieces,
@@ -429,9 +430,10 @@ pub(super) fn state_columns(
     };
     (0..nx)
         .map(|i| match &p.boundary {
-            Boundary::Initial(x0) if i == 0 => {
-                x0.iter().map(|&v| pb.add_column(0.0, v..=v)).collect()
-            }
+            Boundary::Initial(x0) if i == 0 => x0
+                .iter()
+                .map(|&v| pb.add_column(0.0, v / unit..=v / unit))
+                .collect(),
             _ => (0..p.states())
                 .map(|_| pb.add_column(0.0, f64::NEG_INFINITY..f64::INFINITY))
                 .collect(),

@@ -13,6 +13,7 @@ pub mod local;
 pub mod phase;
 mod phase_growth;
 mod phase_polish;
+mod phase_replay;
 mod pm;
 mod pm_milp;
 mod polish;
@@ -30,11 +31,12 @@ pub use local::{
     GeneralLocal, MAX_GENERAL_LOCAL_M,
 };
 pub use phase::{
-    check_general_phase, replay_phases, solve_general_phase, solve_general_transitions,
-    GeneralPhaseGait, MAX_GENERAL_PHASES,
+    check_general_phase, solve_general_phase, solve_general_transitions, GeneralPhaseGait,
+    MAX_GENERAL_PHASES,
 };
 pub use phase_growth::{grow_general_phases, grow_general_transitions};
 pub(crate) use phase_polish::{polish_phases_within, MilpPhases};
+pub use phase_replay::replay_phases;
 pub use pm::{general_convergence, solve_general_pm, solve_general_pm_with};
 pub(crate) use pm_milp::{solve_pm_milp, PmOptions, PmStart};
 pub(crate) use polish::{pm_on_pattern, PmColumns};

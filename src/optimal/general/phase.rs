@@ -2,7 +2,7 @@
 //! theory §11): a mixed-integer linear program over gaits of at most `K` *phases*, each a
 //! stretch of constant control `u_j` and of held faces, solved globally in HiGHS and
 //! re-verified by the exact event-driven simulator
-//! ([`simulate_general_exact`]).
+//! ([`simulate_general_exact`](crate::integrate::simulate_general_exact)).
 //!
 //! With `g = B u + b`, phase `j` lasts `tau_j >= 0` (`sum_j tau_j = T`) and carries
 //! `U_j = tau_j u_j` and the integrated reactions `L_{j,f} = tau_j lambda_{j,f} >= 0`:
@@ -50,6 +50,11 @@
 //! `eta = g - Proj_{T_C(x)}(g) = Proj_{N_C(x)}(g)`, so `|eta| <= |g| <= G` and
 //! `|lambda| <= |eta| / sigma_*`; since every feasible point is a solution, the bound cuts none.
 //!
+//! The MILP's columns are measured in units of order one (C's size, U's largest bound, the
+//! time to cross C at the largest speed), since HiGHS holds rows to an absolute tolerance: in
+//! the problem's own units a small C or a short period turned that tolerance into a control's
+//! mean and a periodicity a reader refuses.
+//!
 //! Symmetry is broken where it costs `K` binaries: a binary `y_j` per phase with
 //! `tau_j <= T y_j`, `s_{j,f} <= y_j` and `y_{j+1} <= y_j`, so unused phases come last (empty
 //! phases can always be moved to the end: they do not move `x`).
@@ -75,52 +80,23 @@
 //! no worse.
 
 use super::discrete::{
-    big_m, check_sets, column_bound, cost_epigraphs, initial_cuts, replay_periodic, reward_weights,
-    state_columns, BigM, MAX_OA_ROUNDS,
+    big_m, check_sets, column_bound, cost_epigraphs, initial_cuts, reward_weights, state_columns,
+    BigM, MAX_OA_ROUNDS,
 };
-use super::geometry::{into_u, Geometry};
+use super::geometry::Geometry;
 use super::phase_polish::{polish_general_phases, MilpPhases};
+use super::phase_replay::verified_gait;
+pub use super::phase_replay::GeneralPhaseGait;
 use crate::error::{Error, Result};
-use crate::integrate::{simulate_general_exact, ControlInput, InputKind};
-use crate::model::general::{Boundary, ControlSet, GeneralCost, GeneralProblem};
-use crate::optimal::milp::{solve_max, Certificate, MilpStatus, OA_TOL};
+use crate::model::general::{ControlSet, GeneralCost, GeneralProblem};
+use crate::optimal::milp::{solve_max, MilpStatus, OA_TOL};
 use highs::{Col, RowProblem};
-use serde::{Deserialize, Serialize};
 
 /// Largest `K` of the general phase method.
 pub const MAX_GENERAL_PHASES: usize = 24;
 
 /// Phases shorter than this times `T` are dropped from the answer (the MILP's zero durations).
 pub(super) const EMPTY_PHASE: f64 = 1e-12;
-
-/// A globally optimal gait among those of at most `K` phases, re-verified.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct GeneralPhaseGait {
-    /// `K`, the phases allowed.
-    pub max_phases: usize,
-    /// `J` of the gait as the exact simulator replays it.
-    pub objective: f64,
-    /// The MILP's status, objective, bound (on `J` over gaits of at most `K` phases) and gap.
-    pub certificate: Certificate,
-    /// Durations `tau_j` of the phases used (empty ones removed), in time order.
-    pub durations: Vec<f64>,
-    /// Controls `u_j = U_j / tau_j` per phase.
-    pub controls: Vec<Vec<f64>>,
-    /// States `x_j` at the phase starts and the end, as replayed.
-    pub states: Vec<Vec<f64>>,
-    /// Faces held per phase (1-based).
-    pub held: Vec<Vec<usize>>,
-    /// Reaction rates per phase and face: of the phase MILPs, the exact replay's averaged over
-    /// the phase (the MILP's `L_{j,f} / tau_j` to its tolerance); of the crawler's methods on a
-    /// chain, its block displacements' (`s_b |D_b| / tau`).
-    pub reactions: Vec<Vec<f64>>,
-    /// The largest difference between the MILP's states and the replayed ones.
-    pub state_gap: f64,
-    /// `int f2(u) dt` of the gait (0 without a cost).
-    pub actuation_cost: f64,
-    /// MILP solves (outer-approximation rounds for a quadratic cost, else 1).
-    pub rounds: usize,
-}
 
 /// Checks that the phase method applies to `p` with `k` phases.
 pub fn check_general_phase(p: &GeneralProblem, g: &Geometry, k: usize) -> Result<()> {
@@ -152,8 +128,69 @@ pub(crate) fn check_phase_growth(
     range.check(MAX_GENERAL_PHASES)
 }
 
-/// The columns of the phase MILP.
+/// The units the phase MILP's columns are measured in, so that its numbers are of order one.
+/// HiGHS holds its rows to an absolute tolerance (`1e-9`), which in the problem's own units is
+/// a relative error of `1e-9 / T` on the durations and `1e-9 / |C|` on the states: on one link
+/// of half-width `1e-4` with `T = 2e-3`, the phases came out `4e-10` off (`2e-7` of `T`), the
+/// control's mean `4e-7` of its bound (which a reader refuses), and at `K = 5` the MILP's
+/// `int f1` `1e-6` above its replay's (which refused the answer).
+///
+/// The units: C's scale `s_x` for states and integrated reactions (`x_j = s_x x'_j`,
+/// `L_{j,f} = s_x L'_{j,f}`), U's largest bound `s_u` for controls, and for time the time
+/// `t_0 = s_x / v` in which the largest speed `v = max_i (s_u sum_k |B_ik| + |b_i|)` crosses C
+/// (`tau_j = t_0 tau'_j`, `U_j = t_0 s_u U'_j`). Each row is divided by its own unit (the
+/// dynamics and the faces by `s_x`, a cost cut by `t_0`); the objective stays in the problem's
+/// units. Where HiGHS fails on that model (a period `3e9` crossing times long, in a test), the
+/// problem's own units are tried ([`Units::own`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Units {
+    /// `t_0`.
+    time: f64,
+    /// `s_x`.
+    state: f64,
+    /// `s_u`.
+    control: f64,
+    /// `T / t_0`.
+    period: f64,
+}
+
+impl Units {
+    /// The units of order one (type docs).
+    fn of(p: &GeneralProblem) -> Self {
+        let control = crate::optimal::process::control_scales(&p.control)
+            .iter()
+            .fold(0.0_f64, |m, v| m.max(*v));
+        let control = if control > 0.0 { control } else { 1.0 };
+        let state = p.c.scale();
+        let speed = (0..p.states())
+            .map(|i| {
+                let b: f64 = p.dynamics.b[i].iter().map(|v| v.abs()).sum();
+                control * b + p.dynamics.drift[i].abs()
+            })
+            .fold(0.0_f64, f64::max);
+        let time = if speed > 0.0 { state / speed } else { p.period };
+        Units {
+            time,
+            state,
+            control,
+            period: p.period / time,
+        }
+    }
+
+    /// The problem's own units (all 1).
+    fn own(p: &GeneralProblem) -> Self {
+        Units {
+            time: 1.0,
+            state: 1.0,
+            control: 1.0,
+            period: p.period,
+        }
+    }
+}
+
+/// The columns of the phase MILP (in [`Units`]).
 struct Layout {
+    units: Units,
     x: Vec<Vec<Col>>,
     tau: Vec<Col>,
     u: Vec<Vec<Col>>,
@@ -167,6 +204,7 @@ struct Layout {
 /// `s_{j,f}`. A slot is one phase, or with free transitions ([`Slots`]) a transition and a
 /// phase.
 struct Columns {
+    units: Units,
     xs: Vec<Vec<Col>>,
     tau: Vec<Col>,
     y: Vec<Col>,
@@ -235,13 +273,20 @@ impl Slots {
 /// Adds the columns of the phase MILP, family by family in this order (the solver's results
 /// depend on it): states, `tau_j in [0, T]`, `y_i` per slot, free `U_j`, `L_{j,f} in [0, M T]`
 /// with the objective weight `w_f`, `s_{j,f}` (both fixed at 0 on a free transition).
-fn add_columns(pb: &mut RowProblem, p: &GeneralProblem, slots: Slots, multiplier: f64) -> Columns {
+fn add_columns(
+    pb: &mut RowProblem,
+    p: &GeneralProblem,
+    slots: Slots,
+    multiplier: f64,
+    units: Units,
+) -> Columns {
     let (sigma, m) = (p.c.faces(), p.controls());
     let (t, k) = (p.period, slots.phases());
     let w = reward_weights(p);
     let free = || f64::NEG_INFINITY..f64::INFINITY;
-    let xs = state_columns(pb, p, k);
-    let tau: Vec<Col> = (0..k).map(|_| pb.add_column(0.0, 0.0..=t)).collect();
+    let xs = state_columns(pb, p, k, units.state);
+    let period = units.period;
+    let tau: Vec<Col> = (0..k).map(|_| pb.add_column(0.0, 0.0..=period)).collect();
     let y: Vec<Col> = (0..slots.k)
         .map(|_| pb.add_integer_column(0.0, 0..=1))
         .collect();
@@ -252,7 +297,10 @@ fn add_columns(pb: &mut RowProblem, p: &GeneralProblem, slots: Slots, multiplier
     let lam: Vec<Vec<Col>> = (0..k)
         .map(|j| {
             (0..sigma)
-                .map(|f| pb.add_column(w[f], 0.0..=held(j) * multiplier * t))
+                .map(|f| {
+                    let top = held(j) * multiplier * t / units.state;
+                    pb.add_column(w[f] * units.state, 0.0..=top)
+                })
                 .collect()
         })
         .collect();
@@ -264,6 +312,7 @@ fn add_columns(pb: &mut RowProblem, p: &GeneralProblem, slots: Slots, multiplier
         })
         .collect();
     Columns {
+        units,
         xs,
         tau,
         y,
@@ -277,12 +326,12 @@ fn add_columns(pb: &mut RowProblem, p: &GeneralProblem, slots: Slots, multiplier
 /// `U_j in tau_j U` for phase `j`: the box `lower tau_j <= U_j <= upper tau_j` or the polytope
 /// `G U_j <= h tau_j`.
 fn add_control_rows(pb: &mut RowProblem, p: &GeneralProblem, cols: &Columns, j: usize) {
-    let (us, tau) = (&cols.us, &cols.tau);
+    let (us, tau, su) = (&cols.us, &cols.tau, cols.units.control);
     match &p.control {
         ControlSet::Box { lower, upper } => {
             for c in 0..p.controls() {
-                pb.add_row(..=0.0, [(us[j][c], 1.0), (tau[j], -upper[c])]);
-                pb.add_row(0.0.., [(us[j][c], 1.0), (tau[j], -lower[c])]);
+                pb.add_row(..=0.0, [(us[j][c], 1.0), (tau[j], -upper[c] / su)]);
+                pb.add_row(0.0.., [(us[j][c], 1.0), (tau[j], -lower[c] / su)]);
             }
         }
         ControlSet::Polytope(u) => {
@@ -292,7 +341,7 @@ fn add_control_rows(pb: &mut RowProblem, p: &GeneralProblem, cols: &Columns, j: 
                     .zip(&u.normals[f])
                     .map(|(&c, &a)| (c, a))
                     .collect();
-                row.push((tau[j], -u.offsets[f]));
+                row.push((tau[j], -u.offsets[f] / su));
                 pb.add_row(..=0.0, row);
             }
         }
@@ -309,16 +358,22 @@ fn add_dynamics_rows(
     (xj, xn): (&[Col], &[Col]),
 ) {
     let (n, sigma, m) = (p.states(), p.c.faces(), p.controls());
+    let Units {
+        time,
+        state,
+        control,
+        ..
+    } = cols.units;
     for r in 0..n {
         let mut row = vec![(xn[r], 1.0), (xj[r], -1.0)];
         for c in 0..m {
             let b = p.dynamics.b[r][c];
             if b != 0.0 {
-                row.push((cols.us[j][c], -b));
+                row.push((cols.us[j][c], -b * time * control / state));
             }
         }
         if p.dynamics.drift[r] != 0.0 {
-            row.push((cols.tau[j], -p.dynamics.drift[r]));
+            row.push((cols.tau[j], -p.dynamics.drift[r] * time / state));
         }
         for f in 0..sigma {
             let a = p.c.normals[f][r];
@@ -341,16 +396,21 @@ fn add_face_rows(
     j: usize,
     (xj, xn): (&[Col], &[Col]),
 ) {
-    let t = p.period;
     if cols.slots.free(j) {
         // A free transition holds no face: its L and s are fixed at 0.
         return;
     }
     let (tau, y, lam, s) = (&cols.tau, &cols.y[cols.slots.slot(j)], &cols.lam, &cols.s);
+    // The rate bound `M` in the columns' units: `L' <= (M t_0 / s_x) tau'`.
+    let (sx, rate) = (
+        cols.units.state,
+        bm.multiplier * cols.units.time / cols.units.state,
+    );
+    let period = cols.units.period;
     for f in 0..p.c.faces() {
-        let c = p.c.offsets[f];
-        pb.add_row(..=0.0, [(lam[j][f], 1.0), (tau[j], -bm.multiplier)]);
-        pb.add_row(..=0.0, [(lam[j][f], 1.0), (s[j][f], -bm.multiplier * t)]);
+        let (c, slack) = (p.c.offsets[f] / sx, bm.slack[f] / sx);
+        pb.add_row(..=0.0, [(lam[j][f], 1.0), (tau[j], -rate)]);
+        pb.add_row(..=0.0, [(lam[j][f], 1.0), (s[j][f], -rate * period)]);
         pb.add_row(..=0.0, [(s[j][f], 1.0), (*y, -1.0)]);
         // <x*_f, x> - S_f s >= c_f - S_f at both ends.
         for end in [xj, xn] {
@@ -359,8 +419,8 @@ fn add_face_rows(
                 .zip(&p.c.normals[f])
                 .map(|(&col, &a)| (col, a))
                 .collect();
-            row.push((s[j][f], -bm.slack[f]));
-            pb.add_row(c - bm.slack[f]..=f64::INFINITY, row);
+            row.push((s[j][f], -slack));
+            pb.add_row(c - slack..=f64::INFINITY, row);
         }
     }
 }
@@ -368,10 +428,9 @@ fn add_face_rows(
 /// The rows of phase `j` in order: `tau_j <= T y_i` (`i` its slot), `y_{i+1} <= y_i` at a
 /// slot's last phase, the control set, the state update, the faces.
 fn add_phase_rows(pb: &mut RowProblem, p: &GeneralProblem, cols: &Columns, bm: &BigM, j: usize) {
-    let t = p.period;
     let (tau, y, i) = (&cols.tau, &cols.y, cols.slots.slot(j));
     // tau_j <= T y_i, y_{i+1} <= y_i.
-    pb.add_row(..=0.0, [(tau[j], 1.0), (y[i], -t)]);
+    pb.add_row(..=0.0, [(tau[j], 1.0), (y[i], -cols.units.period)]);
     if cols.slots.last_of_slot(j) && i + 1 < y.len() {
         pb.add_row(..=0.0, [(y[i + 1], 1.0), (y[i], -1.0)]);
     }
@@ -391,7 +450,7 @@ fn add_state_and_mean_rows(pb: &mut RowProblem, p: &GeneralProblem, cols: &Colum
                 .zip(&p.c.normals[f])
                 .map(|(&col, &a)| (col, a))
                 .collect();
-            pb.add_row(..=p.c.offsets[f], row);
+            pb.add_row(..=p.c.offsets[f] / cols.units.state, row);
         }
     }
     if p.zero_mean {
@@ -407,12 +466,14 @@ fn add_state_and_mean_rows(pb: &mut RowProblem, p: &GeneralProblem, cols: &Colum
 /// of its cuts, `e - a . U_j + c tau_j >= 0`.
 fn add_cost_cuts(pb: &mut RowProblem, p: &GeneralProblem, cols: &Columns, cuts: &[Vec<f64>]) {
     let epigraphs = cost_epigraphs(p, cuts);
+    // `e = T e'`, and each cut divided by `T`.
+    let Units { time, control, .. } = cols.units;
     for j in 0..cols.tau.len() {
         for cuts in &epigraphs {
-            let e = pb.add_column(-1.0, 0.0..);
+            let e = pb.add_column(-time, 0.0..);
             for (a, c) in cuts {
                 let mut row = vec![(e, 1.0), (cols.tau[j], *c)];
-                row.extend(a.iter().map(|&(k, v)| (cols.us[j][k], -v)));
+                row.extend(a.iter().map(|&(k, v)| (cols.us[j][k], -v * control)));
                 pb.add_row(0.0..=f64::INFINITY, row);
             }
         }
@@ -427,14 +488,16 @@ fn build(
     g: &Geometry,
     slots: Slots,
     cuts: &[Vec<f64>],
+    units: Units,
 ) -> Result<(RowProblem, Layout)> {
     let bm = big_m(p, g, 1.0)?;
-    let t = p.period;
     let k = slots.phases();
     let mut pb = RowProblem::default();
-    let cols = add_columns(&mut pb, p, slots, bm.multiplier);
+    let cols = add_columns(&mut pb, p, slots, bm.multiplier, units);
+    // sum_j tau_j = T.
+    let period = cols.units.period;
     pb.add_row(
-        t..=t,
+        period..=period,
         cols.tau.iter().map(|&c| (c, 1.0)).collect::<Vec<_>>(),
     );
     for j in 0..k {
@@ -446,6 +509,7 @@ fn build(
     Ok((
         pb,
         Layout {
+            units: cols.units,
             x,
             tau: cols.tau,
             u: cols.us,
@@ -491,19 +555,11 @@ fn solve_general_slots(p: &GeneralProblem, g: &Geometry, slots: Slots) -> Result
     let k = slots.k;
     check_general_phase(p, g, k)?;
     let what = format!("the phase MILP of the general problem (K = {k})");
-    let scale = p.c.scale();
     let mut cuts = initial_cuts(p)?;
     let mut round = 0;
     loop {
         round += 1;
-        let (pb, lay) = build(p, g, slots, &cuts)?;
-        let (cols, milp_objective, bound, status) =
-            solve_max(pb, &what, None, 1e-9 * scale.max(1e-300))?;
-        let bound = match bound {
-            Some(b) => b,
-            None => column_bound(p, big_m(p, g, 1.0)?.multiplier * p.period),
-        };
-        let phases = read_phases(&lay, &cols, p.period);
+        let (phases, milp_objective, bound, status) = solve_milp(p, g, slots, &cuts, &what)?;
         let mut sol = verified_gait(p, &phases, milp_objective, bound, status, k, &what)?;
         sol.rounds = round;
         let done = p.cost == GeneralCost::None
@@ -518,6 +574,34 @@ fn solve_general_slots(p: &GeneralProblem, g: &Geometry, slots: Slots) -> Result
         }
         cuts.extend(sol.controls.iter().cloned());
     }
+}
+
+/// One phase MILP in [`Units`] of order one, or in the problem's own where HiGHS fails on
+/// those: its phases, objective, bound (the column bound when the time limit left HiGHS without
+/// one) and status.
+fn solve_milp(
+    p: &GeneralProblem,
+    g: &Geometry,
+    slots: Slots,
+    cuts: &[Vec<f64>],
+    what: &str,
+) -> Result<(MilpPhases, f64, f64, MilpStatus)> {
+    let gap = 1e-9 * p.c.scale().max(1e-300);
+    let units = Units::of(p);
+    let (pb, mut lay) = build(p, g, slots, cuts, units)?;
+    let (cols, milp_objective, bound, status) = match solve_max(pb, what, None, gap) {
+        Err(Error::Numerical(_)) if units != Units::own(p) => {
+            let pb;
+            (pb, lay) = build(p, g, slots, cuts, Units::own(p))?;
+            solve_max(pb, what, None, gap)?
+        }
+        answer => answer?,
+    };
+    let bound = match bound {
+        Some(b) => b,
+        None => column_bound(p, big_m(p, g, 1.0)?.multiplier * p.period),
+    };
+    Ok((read_phases(&lay, &cols), milp_objective, bound, status))
 }
 
 /// `sol` polished on its held faces when it has a cost ([`super::phase_polish`]): the polished
@@ -562,112 +646,33 @@ fn polished(
     }
 }
 
-/// The exact process of a phase gait (constant control `controls[j]` for `durations[j]`) from
-/// `x0`, over the durations' sum as a Cauchy problem: the states at the phase boundaries and
-/// the end (`durations.len() + 1` rows) and the simulation (its `reward`, `cost` and
-/// `objective` those of the gait). What a phase answer is verified by, here and when a result
-/// file is read back; `what` names the gait in errors.
-pub fn replay_phases(
-    p: &GeneralProblem,
-    durations: &[f64],
-    controls: &[Vec<f64>],
-    x0: &[f64],
-    what: &str,
-) -> Result<(Vec<Vec<f64>>, crate::integrate::GeneralSimulation)> {
-    let total: f64 = durations.iter().sum();
-    let mut times = Vec::with_capacity(durations.len());
-    let mut at = 0.0;
-    for d in durations {
-        times.push(at);
-        at += d;
-    }
-    let input = ControlInput::new(
-        InputKind::PiecewiseConstant,
-        total,
-        times.clone(),
-        controls.to_vec(),
-        &p.control,
-        "phase controls",
-    )?;
-    let mut cauchy = p.clone();
-    cauchy.period = total;
-    cauchy.boundary = Boundary::Initial(x0.to_vec());
-    let sim = simulate_general_exact(&cauchy, &input, x0, 1, 1e-12)?;
-    // The states at the knots (the simulator records each knot's time exactly) and the end.
-    let mut states = Vec::with_capacity(durations.len() + 1);
-    states.push(sim.x[0].clone());
-    for &tk in times.iter().skip(1) {
-        let i = sim.t.iter().position(|&s| s == tk).ok_or_else(|| {
-            Error::Numerical(format!("{what}: the replay has no state at t = {tk}"))
-        })?;
-        states.push(sim.x[i].clone());
-    }
-    states.push(sim.x.last().expect("events").clone());
-    Ok((states, sim))
-}
-
-/// The replay's reaction rates averaged over each phase, `(1/tau_j) int lambda dt` over the
-/// phase, on its held faces (1-based) only and at least 0: the stored rates then give each
-/// phase's segment `x_{j+1} = x_j + tau_j (g - sum lambda x*)` and `int f1` as the replay has
-/// them, to rounding (the replay's rounding-level reactions on a face it touches, `6e-14`
-/// seen, are not kept). The MILP's own rates `L_{j,f} / tau_j` hold to its feasibility
-/// tolerance only: on a period of `1e-3` they were `1 + 1e-6` where the replay's are 1, and
-/// the result's reader refused them.
-fn phase_reactions(
-    durations: &[f64],
-    held: &[Vec<usize>],
-    sim: &crate::integrate::GeneralSimulation,
-    sigma: usize,
-) -> Vec<Vec<f64>> {
-    let starts: Vec<f64> = durations
-        .iter()
-        .scan(0.0, |at, d| {
-            let t = *at;
-            *at += d;
-            Some(t)
-        })
-        .collect();
-    let mut out = vec![vec![0.0; sigma]; durations.len()];
-    for (i, lam) in sim.lambda.iter().enumerate() {
-        let (a, b) = (sim.t[i], sim.t[i + 1]);
-        // The replay's events include every phase's start, so a segment lies in one phase.
-        let j = starts
-            .partition_point(|&t| t <= 0.5 * (a + b))
-            .saturating_sub(1);
-        for (o, l) in out[j].iter_mut().zip(lam) {
-            *o += (b - a) * l;
-        }
-    }
-    for ((row, d), h) in out.iter_mut().zip(durations).zip(held) {
-        for (f, v) in row.iter_mut().enumerate() {
-            *v = if h.contains(&(f + 1)) {
-                (*v / d).max(0.0)
-            } else {
-                0.0
-            };
-        }
-    }
-    out
-}
-
 /// The MILP's gait read off its columns: the phases longer than [`EMPTY_PHASE`] `T`. A face's
 /// integrated reaction is kept on a held face only, and at least 0: the MILP's `L_{j,f} <= M T
 /// s_{j,f}` and `L_{j,f} >= 0` hold to HiGHS's feasibility tolerance only, and on a phase of
 /// `1e-12 T` that noise divided by the duration gave reactions of 0.8 and 1.6 on faces the
 /// phase does not hold (a random quadrilateral, `K = 3`).
-fn read_phases(lay: &Layout, cols: &[f64], t: f64) -> MilpPhases {
+fn read_phases(lay: &Layout, cols: &[f64]) -> MilpPhases {
     let val = |c: &Col| cols[c.index()];
+    let Units {
+        time,
+        state,
+        control,
+        period,
+    } = lay.units;
+    let at = |c: &Col| state * val(c);
     let mut phases = MilpPhases {
-        states: vec![lay.x[0].iter().map(val).collect::<Vec<f64>>()],
+        states: vec![lay.x[0].iter().map(at).collect::<Vec<f64>>()],
         ..MilpPhases::default()
     };
     for j in 0..lay.tau.len() {
         let tau = val(&lay.tau[j]);
-        if tau <= EMPTY_PHASE * t {
+        if tau <= EMPTY_PHASE * period {
             continue;
         }
-        phases.durations.push(tau);
-        phases.increments.push(lay.u[j].iter().map(val).collect());
+        phases.durations.push(time * tau);
+        phases
+            .increments
+            .push(lay.u[j].iter().map(|c| time * control * val(c)).collect());
         let held: Vec<usize> = (0..lay.s[j].len())
             .filter(|&f| val(&lay.s[j][f]) > 0.5)
             .map(|f| f + 1)
@@ -678,7 +683,7 @@ fn read_phases(lay: &Layout, cols: &[f64], t: f64) -> MilpPhases {
                 .enumerate()
                 .map(|(f, c)| {
                     if held.contains(&(f + 1)) {
-                        val(c).max(0.0)
+                        at(c).max(0.0)
                     } else {
                         0.0
                     }
@@ -686,96 +691,7 @@ fn read_phases(lay: &Layout, cols: &[f64], t: f64) -> MilpPhases {
                 .collect(),
         );
         phases.held.push(held);
-        phases.states.push(lay.x[j + 1].iter().map(val).collect());
+        phases.states.push(lay.x[j + 1].iter().map(at).collect());
     }
     phases
-}
-
-/// Replays a solver's gait in the exact simulator from its `x_0` (a Cauchy problem over one
-/// period) and checks the replay against the solver: `int f1` and the states at the phase
-/// boundaries (and `x(T) = x(0)` when periodic), within `1e-6` relative; a disagreement is an
-/// error naming `what`. The controls `U_j / tau_j` are clipped into a box U against the
-/// solver's feasibility tolerance, and into a polytope U by the Euclidean projection
-/// ([`into_u`]); the stored reactions are the replay's ([`phase_reactions`]).
-pub(super) fn verified_gait(
-    p: &GeneralProblem,
-    phases: &MilpPhases,
-    milp_objective: f64,
-    bound: f64,
-    status: MilpStatus,
-    k: usize,
-    what: &str,
-) -> Result<GeneralPhaseGait> {
-    let scale = p.c.scale();
-    let durations = phases.durations.clone();
-    let held = phases.held.clone();
-    let milp_states = &phases.states;
-    let mut centre = None;
-    let controls: Vec<Vec<f64>> = phases
-        .increments
-        .iter()
-        .zip(&durations)
-        .map(|(u, tau)| into_u(&p.control, &mut centre, u.iter().map(|v| v / tau).collect()))
-        .collect::<Result<_>>()?;
-    if durations.is_empty() {
-        return Err(Error::Numerical(format!(
-            "{what}: no phase of positive duration"
-        )));
-    }
-    let (states, sim) = replay_phases(p, &durations, &controls, &milp_states[0], what)?;
-    let reactions = phase_reactions(&durations, &held, &sim, p.c.faces());
-    let state_gap = states
-        .iter()
-        .zip(milp_states)
-        .flat_map(|(a, b)| a.iter().zip(b).map(|(a, b)| (a - b).abs()))
-        .fold(0.0_f64, f64::max);
-    let objective = sim.objective.unwrap_or(sim.reward - sim.cost);
-    // The replay's states carry the rounding of the phases' increments.
-    let rounding = p.rounding(&durations, &states, &controls);
-    let w = reward_weights(p);
-    let lp_reward: f64 = phases
-        .integrated
-        .iter()
-        .map(|r| r.iter().zip(&w).map(|(l, w)| w * l).sum::<f64>())
-        .sum();
-    if (sim.reward - lp_reward).abs() > 1e-6 * (scale + lp_reward.abs())
-        || state_gap > 1e-6 * scale + rounding
-    {
-        return Err(Error::Numerical(format!(
-            "{what}: the gait replayed gives int f1 = {} (MILP {lp_reward}) and states off by \
-             {state_gap:e}",
-            sim.reward
-        )));
-    }
-    replay_periodic(
-        p,
-        states.last().expect("states"),
-        &states[0],
-        1e-6 * scale + rounding,
-        what,
-        "replayed gait",
-    )?;
-    // What the MILP proved is optimality among gaits of at most `k` phases (as for crawlers).
-    let status = match status {
-        MilpStatus::Optimal => MilpStatus::OptimalAmongKPhases,
-        s => s,
-    };
-    Ok(GeneralPhaseGait {
-        max_phases: k,
-        objective,
-        certificate: Certificate {
-            status,
-            milp_objective,
-            bound,
-            gap: Certificate::gap_of(bound, objective),
-        },
-        durations,
-        controls,
-        states,
-        held,
-        reactions,
-        state_gap,
-        actuation_cost: sim.cost,
-        rounds: 1,
-    })
 }
