@@ -43,7 +43,7 @@ from ._crawlopt import (
     NumericalError,
     TimeLimitError,
 )
-from ._documents import GeneralResult, GeneralSimulation, NecessaryConditions
+from ._documents import GeneralAnalysis, GeneralResult, GeneralSimulation, NecessaryConditions
 from ._fit import FitResult, fit
 from ._general import GeneralProblem
 from ._progress import progress_callback
@@ -62,6 +62,7 @@ __all__ = [
     "FitResult",
     "GaitProblem",
     "GaitResult",
+    "GeneralAnalysis",
     "GeneralProblem",
     "GeneralResult",
     "GeneralSimulation",

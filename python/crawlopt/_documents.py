@@ -109,6 +109,42 @@ class Document:
         self.__init__(state["_doc"])
 
 
+class GeneralAnalysis(Document):
+    """The analysis of a general problem (P) (``crawlopt analyze --json`` on a general file):
+    ``problem`` (its data as the library reads it), ``geometry`` (C's faces, redundant faces,
+    vertices, Chebyshev centre and radius, boundedness), ``checks`` (each a dict of ``name``,
+    ``status`` "pass", "fail" or "info", and ``detail``: the conditions (P) asks of C, U and the
+    face weights, the dynamics, and the structure recognised, such as a crawler's chain) and
+    ``failure``, the first failed check's message (None: well posed). Every field of the JSON
+    is an attribute; ``a["field"]`` reads it too."""
+
+    @property
+    def well_posed(self) -> bool:
+        """Whether every check passed (``failure`` is None)."""
+        return self._doc.get("failure") is None
+
+    def check(self, name: str) -> dict:
+        """The check named ``name`` (such as "structure"); a KeyError names the ones there
+        are."""
+        for c in self._doc.get("checks", []):
+            if c.get("name") == name:
+                return c
+        names = [c.get("name") for c in self._doc.get("checks", [])]
+        raise KeyError(f"no check {name!r}; the checks are {names}")
+
+    def __repr__(self) -> str:
+        g = self._doc.get("geometry", {})
+        return (
+            f"GeneralAnalysis(well_posed={self.well_posed}, faces={g.get('faces')}, "
+            f"bounded={g.get('bounded')})"
+        )
+
+    def _repr_html_(self) -> str:
+        checks = self._doc.get("checks", [])
+        rows = [(c.get("name"), f"{c.get('status')}: {c.get('detail')}") for c in checks]
+        return numbers_table(rows)
+
+
 class NecessaryConditions(Document):
     """A certificate of the necessary conditions (Theorem 2.2; discrete form Theorems
     6.1–6.2), for a crawler's gait or a general problem's optimum: ``verdict`` ("holds",

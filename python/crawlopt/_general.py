@@ -1,6 +1,6 @@
 """The general problem (P) of the paper's §2 as a Python class: read from its file or built
-from arrays with the file's fields; answers as typed documents (``GeneralSimulation``,
-``GeneralResult``)."""
+from arrays with the file's fields; answers as typed documents (``GeneralAnalysis``,
+``GeneralSimulation``, ``GeneralResult``)."""
 
 from __future__ import annotations
 
@@ -11,7 +11,7 @@ import numpy as np
 
 from . import _crawlopt as _rs
 from ._convert import NotConvergedWarning, _array, _bound_settings, _count, _input_error
-from ._documents import GeneralResult, GeneralSimulation
+from ._documents import GeneralAnalysis, GeneralResult, GeneralSimulation
 from ._progress import progress_callback
 
 Progress = Union[bool, Callable[[dict], Any], None]
@@ -173,12 +173,13 @@ class GeneralProblem:
             f"controls={len(B[0]) if B else 0}, period={d['problem']['period']:g})"
         )
 
-    def analyze(self) -> dict:
-        """C's faces, redundant faces, vertices and Chebyshev centre, and the checks;
-        ``failure`` is the first failed check's message (None: well posed)."""
+    def analyze(self) -> GeneralAnalysis:
+        """C's faces, redundant faces, vertices and Chebyshev centre, and the checks, as a
+        ``GeneralAnalysis``; ``failure`` is the first failed check's message (None: well
+        posed)."""
         analysis, failure = self._inner.analyze()
         analysis["failure"] = failure
-        return analysis
+        return GeneralAnalysis(analysis)
 
     def simulate(
         self,
@@ -239,8 +240,8 @@ class GeneralProblem:
         (discrete only) solves P_1..P_``m`` in turn and adds their table ``convergence``
         (``crawlopt optimize --convergence``), the answer being the finest. ``bound`` (as for
         ``optimize``; "discrete" and "phase"): the crawler's upper bound over all periodic gaits,
-        where the problem is a crawler's gait problem (``analyze()`` says so under
-        "structure"), as ``certificate["upper_bound"]``; else an ``InputError`` naming
+        where the problem is a crawler's gait problem (``analyze().check("structure")``
+        says so), as ``certificate["upper_bound"]``; else an ``InputError`` naming
         ``bound``. Ctrl-C stops it
         (KeyboardInterrupt); ``progress`` as for ``optimize``. ``method`` "phase" (where A = 0):
         the exact continuous-time gait, globally among those of at most ``phases`` phases, or with K
@@ -251,7 +252,8 @@ class GeneralProblem:
         table of the K solved); its ``solution`` holds ``objective`` (J re-verified by the exact
         simulation), ``durations``, ``controls``, ``states``, ``held`` (faces, 1-based) and
         ``reactions`` per phase. ``method`` "sequence" or "chain" (where the problem is a crawler's
-        gait problem, as ``analyze()["structure"]`` says; else an ``InputError`` naming ``method``):
+        gait problem, as ``analyze().check("structure")`` says; else an ``InputError`` naming
+        ``method``):
         the crawler's local method on that crawler (``time_limit``, and ``phases`` and
         ``max_phases`` with "sequence", as for ``optimize``), its gait written back as a phase gait
         of the problem and re-verified by the exact simulation; no global claim (``status``

@@ -3,6 +3,7 @@
 and exact phase gaits are the library's, with the closed form of the §4 one-link problem."""
 
 import json
+import pickle
 import re
 
 import crawlopt as co
@@ -25,6 +26,37 @@ def test_load_gives_a_general_problem_with_its_analysis():
     assert a["geometry"]["chebyshev_radius"] == pytest.approx(1.0)
     # A crawler file still gives a Model.
     assert isinstance(co.load(example("three_blocks_gait.toml")), co.Model)
+
+
+def test_the_analysis_is_a_typed_document():
+    """``analyze()`` gives a ``GeneralAnalysis``, as a crawler's gives an ``Analysis``: its
+    fields as attributes and as items, ``well_posed``, a check by name (the chain recognised
+    in the three-block crawler written as (P); an unknown name is a KeyError naming the checks
+    there are), and it pickles to an equal document."""
+    a = co.load(ONE_LINK).analyze()
+    assert isinstance(a, co.GeneralAnalysis)
+    assert a.well_posed and a.failure is None and a["failure"] is None
+    assert a.geometry["chebyshev_radius"] == pytest.approx(1.0)
+    assert a.check("C is bounded")["status"] == "info"
+    three = co.load(ONE_LINK.replace("general_one_link", "general_three_blocks")).analyze()
+    assert three.check("structure")["detail"].startswith("a chain: the gait problem of a crawler")
+    with pytest.raises(KeyError, match="the checks are"):
+        three.check("no such check")
+    assert pickle.loads(pickle.dumps(three)) == three
+    assert "well_posed=True" in repr(three) and "<table" in three._repr_html_()
+    # A repeated face makes the face weights ill defined at the vertex it shares.
+    bad = co.GeneralProblem(
+        normals=[[1.0], [-1.0], [1.0]],
+        offsets=[1.0, 1.0, 1.0],
+        B=[[1.0]],
+        lower=[-1.0],
+        upper=[1.0],
+        face_weights=[0.5, 0.5, 0.5],
+        period=10.0,
+    ).analyze()
+    assert not bad.well_posed
+    assert bad.failure.startswith("objective.face_weights: are not well defined")
+    assert bad.check("face weights well defined")["status"] == "fail"
 
 
 def test_simulate_and_optimize_reach_the_closed_form():

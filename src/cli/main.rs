@@ -20,18 +20,22 @@ struct Cli {
 
 #[derive(Subcommand)]
 enum Command {
-    /// Analyse a crawler: the polytope C, the uniqueness condition, v_m and its directions.
+    /// Analyse a problem file: a crawler's polytope C, uniqueness condition, v_m and directions;
+    /// a general problem's C, U and the conditions (P) asks of them.
     Analyze(commands::analyze::AnalyzeArgs),
-    /// Simulate the actuation of a model file until the periodic regime.
+    /// Simulate a problem file's control until the periodic regime: a crawler's [actuation], a
+    /// general problem's [input].
     Simulate(commands::simulate::SimulateArgs),
-    /// Compute an optimal gait of the [gait] problem.
+    /// Compute an optimal gait: of a crawler's [gait] problem, or of a general problem (P).
     Optimize(commands::optimize::OptimizeArgs),
     /// Check the necessary optimality conditions (Theorem 2.2, Theorems 6.1-6.2) on a gait
     /// result: multipliers, residuals and a verdict.
     Certify(commands::certify::CertifyArgs),
-    /// Draw the figures of a result file: a gait result (`optimize --json`) or a J_m table.
+    /// Draw the figures of a result file (`optimize --json`, a crawler's or a general
+    /// problem's), a J_m table or a sweep's table.
     Plot(commands::plot::PlotArgs),
-    /// One self-contained HTML report: parameters, analysis, optimal gait, figures, animation.
+    /// One self-contained HTML report of a problem file or a result: parameters, analysis,
+    /// optimal gait, figures (and a crawler's animation).
     Report(commands::report::ReportArgs),
     /// Measure the simulation cost per time step (sine gait L_l = A sin(2 pi t - l phi)).
     Bench(commands::bench::BenchArgs),

@@ -12,7 +12,7 @@ use std::process::ExitCode;
 
 #[derive(Args)]
 pub struct AnalyzeArgs {
-    /// Model file (TOML).
+    /// Problem file (TOML): a crawler's model file or a general problem (`[sweeping_process]`).
     pub file: PathBuf,
     /// Print one JSON object.
     #[arg(long)]

@@ -38,7 +38,8 @@ pub enum OptimizeMethod {
 
 #[derive(Args)]
 pub struct OptimizeArgs {
-    /// Model file (TOML) with a [gait] section.
+    /// Problem file (TOML): a crawler's model file with a [gait] section, or a general problem
+    /// (`[sweeping_process]`).
     pub file: PathBuf,
     /// Formulation; auto: phase gaits with K grown until the value stops improving (the
     /// discrete P_m when the problem bounds TV(u), which phase gaits cannot express).

@@ -9,7 +9,8 @@ use std::process::ExitCode;
 
 #[derive(Args)]
 pub struct PlotArgs {
-    /// RESULT.json, or a sweep's table (TABLE.csv or .jsonl).
+    /// RESULT.json (either kind), a J_m table (.json), or a sweep's table (TABLE.csv or
+    /// .jsonl).
     pub file: PathBuf,
     /// Directory for the SVG and PNG files (created if absent).
     #[arg(long, short = 'o', value_name = "DIR")]

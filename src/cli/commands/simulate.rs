@@ -32,7 +32,8 @@ pub enum MethodArg {
 
 #[derive(Args)]
 pub struct SimulateArgs {
-    /// Model file (TOML) with an [actuation] section.
+    /// Problem file (TOML): a crawler's model file with an [actuation] section, or a general
+    /// problem with an [input] section.
     pub file: PathBuf,
     /// Periods recorded on the periodic orbit (trajectory output); 0 records none (refused
     /// with -o, which would get nothing).
