@@ -1,13 +1,16 @@
 //! The claims of a general result read back ([`super::general_consistency`] checks the gait
-//! itself first): the status against the solution's certificate and its `K` (a closed MILP's
-//! gap, `dominates_k_phases` only for the chain's kept structured start, a free-transition
-//! gait within its slots), a local answer's record, the tables of `K` and of `m`, and the
-//! upper bound. A claim that does not follow is refused naming its field.
+//! itself first): the envelope's claim by the one check of both kinds of result
+//! ([`check_claim`]: kind, bound and gap against `J`, a claim over `K` phases against the gait),
+//! and what only a general record states: the status and bound against the solution's
+//! certificate, `dominates_k_phases` only for the chain's kept structured start, a
+//! free-transition gait within its slots, a local answer's record, the tables of `K` and of
+//! `m`, and an upper bound only on a chain. A claim that does not follow is refused naming its
+//! field.
 
 use super::GeneralPhaseOptimized;
 use crate::error::{Error, Result};
 use crate::model::general::GeneralProblem;
-use crate::optimal::consistency::{INPUT_TOL, PHASE_CLAIM_GAP};
+use crate::optimal::consistency::{check_claim, Claim, INPUT_TOL};
 use crate::optimal::{Certificate, MilpStatus, ResultCertificate};
 
 /// An error naming `field` of the result `what`.
@@ -41,28 +44,15 @@ pub(super) fn check_slots(s: &crate::optimal::general::GeneralPhaseGait, what: &
     Ok(())
 }
 
-/// A claim that the gait beats every gait of at most `K` phases without being one: only the
-/// chain's formulation makes it, keeping its structured start (`structured`) when that start
-/// is outside the class (more phases holding faces than `K`), with the gap of a closed MILP.
+/// A claim that the gait beats every gait of at most `K` phases without being one
+/// (`dominates_k_phases`, its class and gap are [`check_claim`]'s): only the chain's
+/// formulation makes it, keeping its structured start (`structured`) when that start is
+/// outside the class.
 pub(super) fn check_dominates(r: &GeneralPhaseOptimized, chain: bool, what: &str) -> Result<()> {
-    let s = &r.solution;
-    let holding = s.held.iter().filter(|h| !h.is_empty()).count();
     let reason = if !chain {
-        "is claimed only by the chain's formulation (formulation \"chain\")".to_string()
+        "is claimed only by the chain's formulation (formulation \"chain\")"
     } else if r.structured.is_none() {
-        "is claimed only for the chain's structured start, recorded as `structured`".to_string()
-    } else if holding <= s.max_phases {
-        format!(
-            "is for a gait outside the class of at most {} phases; this one has {holding} \
-             phases holding faces (optimal_among_k_phases is its claim)",
-            s.max_phases
-        )
-    } else if s.certificate.gap.is_nan() || s.certificate.gap > PHASE_CLAIM_GAP {
-        format!(
-            "claims no gait of at most {} phases does better; its gap ({}) must be at most \
-             {PHASE_CLAIM_GAP:e}",
-            s.max_phases, s.certificate.gap
-        )
+        "is claimed only for the chain's structured start, recorded as `structured`"
     } else {
         return Ok(());
     };
@@ -140,56 +130,37 @@ pub(super) fn check_table(
 }
 
 /// An upper bound recorded with a global answer: only for a problem that is a crawler's gait
-/// problem (whose bound it is), by the bound's method, and at least the verified `j` (taken as
-/// recorded, as for crawlers: its LP is not re-solved).
+/// problem, whose bound it is (its value against `J` is [`check_claim`]'s, taken as recorded,
+/// as for crawlers: its LP is not re-solved).
 pub(super) fn check_upper_bound(
     what: &str,
     p: &GeneralProblem,
     cert: &ResultCertificate,
-    j: f64,
 ) -> Result<()> {
-    let Some(ub) = &cert.upper_bound else {
-        return Ok(());
-    };
-    if p.as_chain().is_none() {
-        return Err(bad(
+    match &cert.upper_bound {
+        Some(ub) if p.as_chain().is_none() => Err(bad(
             what,
             "certificate.upper_bound",
             ub.value,
             "a general problem carries the crawler's upper bound only when it is a crawler's \
              gait problem",
-        ));
+        )),
+        _ => Ok(()),
     }
-    let tol = INPUT_TOL * j.abs().max(1.0);
-    ub.check_recorded(what, j, |a, b| (a - b).abs() <= tol)?;
-    Ok(())
-}
-
-/// A closed phase MILP (`optimal_among_k_phases`) has its gap within the outer
-/// approximation's tolerance ([`PHASE_CLAIM_GAP`]), as a crawler's.
-pub(super) fn check_closed(what: &str, status: MilpStatus, c: &Certificate) -> Result<()> {
-    if status == MilpStatus::OptimalAmongKPhases && (c.gap.is_nan() || c.gap > PHASE_CLAIM_GAP) {
-        return Err(bad(
-            what,
-            "solution.certificate.gap",
-            c.gap,
-            format!(
-                "status optimal_among_k_phases claims the MILP closed; its gap must be at most \
-                 {PHASE_CLAIM_GAP:e}"
-            ),
-        ));
-    }
-    Ok(())
 }
 
 /// The envelope's status and certificate of a MILP's answer against the solution's
-/// certificate (`phases`: `K` of a phase gait) and its replayed objective `j`.
+/// certificate and its replayed objective `j`: the status one the method may have and the
+/// solution's; the claim itself ([`check_claim`]: the kind and `K` the MILP's, its bound and gap
+/// against `j`, a phase claim against the gait's `phases` (`K` and the phases that hold a face));
+/// the MILP's incumbent under its bound; the envelope's bound and gap the solution's.
 pub(super) fn check_global(
     what: &str,
+    method: &str,
     status: MilpStatus,
     cert: &ResultCertificate,
     c: &Certificate,
-    phases: Option<usize>,
+    phases: Option<(usize, usize)>,
     j: f64,
 ) -> Result<()> {
     let allowed: &[MilpStatus] = match phases {
@@ -217,28 +188,28 @@ pub(super) fn check_global(
             ),
         ));
     }
-    let want = ResultCertificate::of_milp(c, phases);
-    for (field, got, want) in [
-        ("certificate.kind", cert.kind.clone(), want.kind.clone()),
-        (
-            "certificate.phases",
-            format!("{:?}", cert.phases),
-            format!("{:?}", want.phases),
-        ),
-    ] {
-        if got != want {
-            return Err(bad(what, field, got, format!("must be {want}")));
-        }
-    }
-    let tol = INPUT_TOL * j.abs().max(1.0);
-    if !(c.bound.is_finite() && c.bound >= j - tol) {
+    let want = ResultCertificate::of_milp(c, phases.map(|(k, _)| k));
+    if cert.phases != want.phases {
         return Err(bad(
             what,
-            "solution.certificate.bound",
-            c.bound,
-            format!("is below the verified objective {j}"),
+            "certificate.phases",
+            format!("{:?}", cert.phases),
+            format!("must be {:?}", want.phases),
         ));
     }
+    let tol = INPUT_TOL * j.abs().max(1.0);
+    let claim = Claim {
+        status,
+        certificate: cert,
+        bound: Some(c.bound),
+        gap: Some(c.gap),
+        record: "solution.certificate",
+        objective: j,
+        method,
+        kinds: &[want.kind.as_str()],
+        phases: (phases.map_or(0, |(_, held)| held), "phases holding a face"),
+    };
+    check_claim(what, &claim, |a, b| (a - b).abs() <= tol)?;
     // The MILP's incumbent lies under its own bound.
     if !(c.milp_objective.is_finite()
         && c.milp_objective <= c.bound + INPUT_TOL * c.bound.abs().max(1.0))
@@ -248,16 +219,6 @@ pub(super) fn check_global(
             "solution.certificate.milp_objective",
             c.milp_objective,
             format!("must be finite and at most the bound ({})", c.bound),
-        ));
-    }
-    check_closed(what, status, c)?;
-    let gap = Certificate::gap_of(c.bound, j);
-    if !(c.gap.is_finite() && (c.gap - gap).abs() <= INPUT_TOL * gap.abs().max(1.0)) {
-        return Err(bad(
-            what,
-            "solution.certificate.gap",
-            c.gap,
-            format!("disagrees with the bound and the objective ({gap})"),
         ));
     }
     for (field, got, want) in [

@@ -110,8 +110,16 @@ fn check_discrete_answer(r: &GeneralOptimized, p: &GeneralProblem, what: &str) -
             .collect();
         check_table(what, "convergence", &rows, s.m as usize, j, false)?;
     }
-    check_upper_bound(what, p, &r.certificate, j)?;
-    check_global(what, r.status, &r.certificate, &s.certificate, None, j)
+    check_upper_bound(what, p, &r.certificate)?;
+    check_global(
+        what,
+        r.method,
+        r.status,
+        &r.certificate,
+        &s.certificate,
+        None,
+        j,
+    )
 }
 
 /// A P_m answer of the local method: its process replayed, its objective, its status against
@@ -217,9 +225,18 @@ fn check_phase_answer(r: &GeneralPhaseOptimized, p: &GeneralProblem, what: &str)
             .collect();
         check_table(what, "phase_growth.table", &rows, s.max_phases, j, true)?;
     }
-    check_upper_bound(what, p, &r.certificate, j)?;
-    let k = Some(s.max_phases);
-    check_global(what, r.status, &r.certificate, &s.certificate, k, j)
+    let holding = s.held.iter().filter(|h| !h.is_empty()).count();
+    let k = Some((s.max_phases, holding));
+    check_upper_bound(what, p, &r.certificate)?;
+    check_global(
+        what,
+        r.method,
+        r.status,
+        &r.certificate,
+        &s.certificate,
+        k,
+        j,
+    )
 }
 
 /// The most phases a gait of the crawler's local methods on a chain may have in a result file.

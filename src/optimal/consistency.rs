@@ -14,7 +14,7 @@ use crate::model::Crawler;
 use crate::optimal::milp::control_knots;
 use crate::optimal::process::max_diff;
 pub use crate::optimal::process::ProcessKind;
-use crate::optimal::{replay, Certificate, GaitResult, MilpStatus};
+use crate::optimal::{replay, Certificate, GaitResult, MilpStatus, ResultCertificate};
 
 /// Default relative tolerance on the consistency of an input process (states in C, periodicity,
 /// zero mean, dynamics): relative to the size of C, the rate bounds and the period. Loose enough
@@ -264,123 +264,26 @@ impl GaitResult {
         }
     }
 
-    /// A claim over gaits of at most `K` slip phases against the gait (and its gap against
-    /// [`PHASE_CLAIM_GAP`]): `optimal_among_k_phases`
-    /// is for a gait in that class, `dominates_k_phases` for one outside it (more slip phases
-    /// than `K`), and both need the phase certificate with its `K`.
-    fn check_phase_claim(&self, what: &str) -> Result<()> {
-        let c = &self.certificate;
-        let among = self.status == MilpStatus::OptimalAmongKPhases;
-        if !among && self.status != MilpStatus::DominatesKPhases {
-            return Ok(());
-        }
-        let k = match (c.kind.as_str(), c.phases) {
-            ("global_k_phases", Some(k)) => k,
-            _ => {
-                return Err(bad(
-                    what,
-                    "status",
-                    self.status.as_str(),
-                    "is the status of a phase gait's global certificate, with its K in \
-                     certificate.phases",
-                ))
-            }
-        };
-        // Both claim that no gait of at most K slip phases beats this one: the bound is its J
-        // (up to the outer approximation's tolerance of a quadratic cost).
-        if let Some(gap) = c.gap.filter(|&g| g.is_nan() || g > PHASE_CLAIM_GAP) {
-            return Err(bad(
-                what,
-                "certificate.gap",
-                gap,
-                format!(
-                    "status {} claims no gait of at most {k} slip phases does better; its gap \
-                     must be at most {PHASE_CLAIM_GAP:e}",
-                    self.status.as_str()
-                ),
-            ));
-        }
-        let p = self.gait.slip_phases();
-        match (among, p > k) {
-            (true, true) => Err(bad(
-                what,
-                "status",
-                self.status.as_str(),
-                format!(
-                    "claims optimality among gaits of at most {k} slip phases \
-                     (certificate.phases) for a gait of {p}; that claim is dominates_k_phases"
-                ),
-            )),
-            (false, false) => Err(bad(
-                what,
-                "status",
-                self.status.as_str(),
-                format!(
-                    "is for a gait of more than {k} slip phases (certificate.phases); this one \
-                     has {p}"
-                ),
-            )),
-            _ => Ok(()),
-        }
-    }
-
-    /// The certificate's kind against the method, its bound against the objective and its gap
-    /// against both.
+    /// The certificate's claim ([`check_claim`]): its kind one of the method's, and a phase
+    /// claim against the gait's slip phases.
     fn check_certificate(&self, what: &str, close: impl Fn(f64, f64) -> bool) -> Result<()> {
-        let c = &self.certificate;
-        if let Some(ub) = &c.upper_bound {
-            ub.check_recorded(what, self.objective, &close)?;
-        }
         let kinds: &[&str] = match self.method.as_str() {
             "phase" => &["global_k_phases", "local"],
             "discrete" => &["global"],
             _ => &["local"],
         };
-        if !kinds.contains(&c.kind.as_str()) {
-            return Err(bad(
-                what,
-                "certificate.kind",
-                &c.kind,
-                format!("a {} result's certificate is one of {kinds:?}", self.method),
-            ));
-        }
-        self.check_phase_claim(what)?;
-        match (c.kind.as_str(), c.bound, c.gap) {
-            ("local", None, None) => Ok(()),
-            ("local", _, _) => Err(bad(
-                what,
-                "certificate.bound",
-                "a bound",
-                "a local answer proves no bound",
-            )),
-            (_, Some(bound), Some(gap)) => {
-                if !(bound.is_finite() && (bound >= self.objective || close(bound, self.objective)))
-                {
-                    return Err(bad(
-                        what,
-                        "certificate.bound",
-                        bound,
-                        format!("is below the verified objective {}", self.objective),
-                    ));
-                }
-                let want = Certificate::gap_of(bound, self.objective);
-                if !(gap.is_finite() && (gap - want).abs() <= INPUT_TOL * want.abs().max(1.0)) {
-                    return Err(bad(
-                        what,
-                        "certificate.gap",
-                        gap,
-                        format!("disagrees with the bound and the objective ({want})"),
-                    ));
-                }
-                Ok(())
-            }
-            _ => Err(bad(
-                what,
-                "certificate",
-                "no bound or no gap",
-                "a global certificate states both",
-            )),
-        }
+        let claim = Claim {
+            status: self.status,
+            certificate: &self.certificate,
+            bound: self.certificate.bound,
+            gap: self.certificate.gap,
+            record: "certificate",
+            objective: self.objective,
+            method: &self.method,
+            kinds,
+            phases: (self.gait.slip_phases(), "slip phases"),
+        };
+        check_claim(what, &claim, close)
     }
 
     /// The phase-growth and convergence tables ([`check_table`]): the growth's last `K` is the
@@ -428,6 +331,152 @@ impl GaitResult {
                 "a result has a phase growth or a convergence table, not both",
             )),
         }
+    }
+}
+
+/// What a result's envelope claims about its verified objective, for a crawler's result and a
+/// general one alike ([`check_claim`]).
+pub(crate) struct Claim<'a> {
+    /// The envelope's status.
+    pub status: MilpStatus,
+    /// The envelope's certificate: its kind, `K` and upper bound.
+    pub certificate: &'a ResultCertificate,
+    /// The bound and gap claimed, and the record that states them (`certificate`, or a general
+    /// MILP's `solution.certificate`, which the envelope repeats).
+    pub bound: Option<f64>,
+    /// (See `bound`.)
+    pub gap: Option<f64>,
+    /// (See `bound`.)
+    pub record: &'a str,
+    /// `J`, re-verified.
+    pub objective: f64,
+    /// The result's method, and the certificate kinds it may claim.
+    pub method: &'a str,
+    /// (See `method`.)
+    pub kinds: &'a [&'a str],
+    /// The gait's phases as `K` counts them, and what they are called in errors (a crawler's
+    /// slip phases; (P)'s phases that hold a face).
+    pub phases: (usize, &'a str),
+}
+
+/// The claim of a result read back (`close` is the reader's equality of objectives): a recorded
+/// upper bound at least `J`; the certificate's kind one of the method's; a claim over gaits of
+/// at most `K` phases (`optimal_among_k_phases` for a gait in that class, `dominates_k_phases`
+/// for one outside it) with the phase certificate, its `K` and a gap at most
+/// [`PHASE_CLAIM_GAP`]; a local certificate without bound or gap, a global one with a finite
+/// bound at least `J` and the gap of the two.
+pub(crate) fn check_claim(what: &str, c: &Claim, close: impl Fn(f64, f64) -> bool) -> Result<()> {
+    let cert = c.certificate;
+    if let Some(ub) = &cert.upper_bound {
+        ub.check_recorded(what, c.objective, &close)?;
+    }
+    if !c.kinds.contains(&cert.kind.as_str()) {
+        return Err(bad(
+            what,
+            "certificate.kind",
+            &cert.kind,
+            format!(
+                "a {} result's certificate is one of {:?}",
+                c.method, c.kinds
+            ),
+        ));
+    }
+    check_phase_claim(what, c)?;
+    let field = |name: &str| format!("{}.{name}", c.record);
+    let (bound, gap) = match (cert.kind.as_str(), c.bound, c.gap) {
+        ("local", None, None) => return Ok(()),
+        ("local", _, _) => {
+            return Err(bad(
+                what,
+                &field("bound"),
+                "a bound",
+                "a local answer proves no bound",
+            ))
+        }
+        (_, Some(bound), Some(gap)) => (bound, gap),
+        _ => {
+            return Err(bad(
+                what,
+                c.record,
+                "no bound or no gap",
+                "a global certificate states both",
+            ))
+        }
+    };
+    let j = c.objective;
+    if !(bound.is_finite() && (bound >= j || close(bound, j))) {
+        return Err(bad(
+            what,
+            &field("bound"),
+            bound,
+            format!("is below the verified objective {j}"),
+        ));
+    }
+    let want = Certificate::gap_of(bound, j);
+    if !(gap.is_finite() && (gap - want).abs() <= INPUT_TOL * want.abs().max(1.0)) {
+        return Err(bad(
+            what,
+            &field("gap"),
+            gap,
+            format!("disagrees with the bound and the objective ({want})"),
+        ));
+    }
+    Ok(())
+}
+
+/// A claim over gaits of at most `K` phases against the gait (and its gap against
+/// [`PHASE_CLAIM_GAP`]): `optimal_among_k_phases` is for a gait in that class,
+/// `dominates_k_phases` for one outside it (more phases than `K`), and both need the phase
+/// certificate with its `K`.
+fn check_phase_claim(what: &str, claim: &Claim) -> Result<()> {
+    let (c, status) = (claim.certificate, claim.status.as_str());
+    let among = claim.status == MilpStatus::OptimalAmongKPhases;
+    if !among && claim.status != MilpStatus::DominatesKPhases {
+        return Ok(());
+    }
+    let k = match (c.kind.as_str(), c.phases) {
+        ("global_k_phases", Some(k)) => k,
+        _ => {
+            return Err(bad(
+                what,
+                "status",
+                status,
+                "is the status of a phase gait's global certificate, with its K in \
+                 certificate.phases",
+            ))
+        }
+    };
+    // Both claim that no gait of at most K phases beats this one: the bound is its J (up to
+    // the outer approximation's tolerance of a quadratic cost).
+    if let Some(gap) = claim.gap.filter(|&g| g.is_nan() || g > PHASE_CLAIM_GAP) {
+        return Err(bad(
+            what,
+            &format!("{}.gap", claim.record),
+            gap,
+            format!(
+                "status {status} claims no gait of at most {k} phases does better; its gap \
+                 must be at most {PHASE_CLAIM_GAP:e}"
+            ),
+        ));
+    }
+    let (p, noun) = claim.phases;
+    match (among, p > k) {
+        (true, true) => Err(bad(
+            what,
+            "status",
+            status,
+            format!(
+                "claims optimality among gaits of at most {k} {noun} (certificate.phases) for \
+                 a gait of {p}; that claim is dominates_k_phases"
+            ),
+        )),
+        (false, false) => Err(bad(
+            what,
+            "status",
+            status,
+            format!("is for a gait of more than {k} {noun} (certificate.phases); this one has {p}"),
+        )),
+        _ => Ok(()),
     }
 }
 
