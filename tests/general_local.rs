@@ -493,3 +493,88 @@ fn the_local_method_starts_from_a_given_result() {
         "{e}"
     );
 }
+
+/// A start computed for a problem whose controls reach further (a wider U, faster actuators)
+/// is no gait of this problem: refused naming `start` and the start's own field, for (P) and
+/// for a crawler alike. The crawler's local method had answered "an LP of fixed branches has
+/// no feasible point", and (P)'s `start.values[1]: lies outside U`. A start from a narrower
+/// problem is a gait of this one and is taken: (P)'s local method from the one-link optimum
+/// of `U = [-1, 1]` reaches the optimum of `U = [-2, 2]` (J = 8 at `T = 10`, `m = 5`).
+#[test]
+fn a_start_outside_this_problems_controls_is_refused_naming_it() {
+    let dir = tempfile::tempdir().unwrap();
+    let examples = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("examples");
+    let read = |name: &str| std::fs::read_to_string(examples.join(name)).unwrap();
+    let narrow = examples.join("general_one_link.toml");
+    let wide = common::write(
+        dir.path(),
+        "wide.toml",
+        &read("general_one_link.toml")
+            .replace("lower = [-1.0]", "lower = [-2.0]")
+            .replace("upper = [1.0]", "upper = [2.0]"),
+    );
+    let crawler = examples.join("three_blocks_gait.toml");
+    let fast = common::write(
+        dir.path(),
+        "fast.toml",
+        &read("three_blocks_gait.toml")
+            .replace("max_actuator_speed = 1.0", "max_actuator_speed = 2.0"),
+    );
+    let phase = |file: &std::path::Path, name: &str| {
+        let v = common::crawlopt_json(&[
+            "optimize",
+            file.to_str().unwrap(),
+            "--method",
+            "phase",
+            "--json",
+        ]);
+        common::write(dir.path(), name, &v.to_string())
+    };
+    let (wide_start, fast_start) = (phase(&wide, "wide.json"), phase(&fast, "fast.json"));
+    for (file, start, method, want) in [
+        (
+            &narrow,
+            &wide_start,
+            "local",
+            "error: start: its control solution.controls[",
+        ),
+        (
+            &crawler,
+            &fast_start,
+            "local",
+            "error: start: its rate solution.controls[",
+        ),
+        (
+            &crawler,
+            &fast_start,
+            "sequence",
+            "error: start: its rate solution.controls[",
+        ),
+    ] {
+        let out = common::crawlopt(&[
+            "optimize",
+            file.to_str().unwrap(),
+            "--method",
+            method,
+            "--start",
+            start.to_str().unwrap(),
+        ]);
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{err}");
+        assert!(err.starts_with(want), "{err}");
+    }
+    let narrow_start = phase(&narrow, "narrow.json");
+    let v = common::crawlopt_json(&[
+        "optimize",
+        wide.to_str().unwrap(),
+        "--method",
+        "local",
+        "--m",
+        "5",
+        "--start",
+        narrow_start.to_str().unwrap(),
+        "--json",
+    ]);
+    assert!((v["objective"].as_f64().unwrap() - 8.0).abs() < 1e-9, "{v}");
+    assert_eq!(v["start_from"], "start");
+}

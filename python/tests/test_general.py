@@ -366,3 +366,19 @@ def test_the_local_method_starts_from_a_given_result():
         co.load(ONE_LINK).optimize(method="local", m=6, start=first)
     with pytest.raises(co.InputError, match="start"):
         p.optimize(method="discrete", m=3, start=first)
+    # A start of a problem with a larger U is no gait of this one: refused naming start and
+    # the start's own field.
+    narrow = co.load(ONE_LINK)
+    wide = co.GeneralProblem(
+        normals=[[1.0], [-1.0]],
+        offsets=[1.0, 1.0],
+        B=[[1.0]],
+        lower=[-2.0],
+        upper=[2.0],
+        zero_mean=True,
+        face_weights=[0.5, 0.5],
+        period=10.0,
+    )
+    with pytest.raises(co.InputError, match=r"solution\.controls\[\d+\] = \[-?2\.0\]") as e:
+        narrow.optimize(method="local", m=5, start=wide.optimize(method="phase"))
+    assert e.value.field == "start"

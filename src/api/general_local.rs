@@ -153,8 +153,8 @@ fn starts(
 /// A given start on `2^m` steps: a general result (read and checked as `certify` reads it, for
 /// a file) of the same numbers of states and controls and the same period as `p`, its control
 /// averaged over each step and moved to an exact zero mean within U where `p` asks it
-/// ([`phase_grid`]); a crawler's gait result, or a result of another shape, is refused naming
-/// `start`.
+/// ([`phase_grid`]); a crawler's gait result, a result of another shape, or one whose control
+/// leaves this problem's U (a result of a problem with a larger U), is refused naming `start`.
 fn given_start(start: &super::Start, p: &GeneralProblem, m: u32) -> Result<Vec<Vec<f64>>> {
     let refuse = |name: &str, why: String| Err(Error::invalid("start", name, why));
     let read;
@@ -193,6 +193,25 @@ fn given_start(start: &super::Start, p: &GeneralProblem, m: u32) -> Result<Vec<V
         );
     }
     let (durations, controls) = answer.pieces();
+    let field = match answer {
+        crate::io::GeneralAnswer::Phase(_) => "solution.controls",
+        _ => "solution.u",
+    };
+    // Each component to its own bound, as a result is read back.
+    let scale = crate::optimal::process::control_scales(&p.control)
+        .iter()
+        .fold(0.0_f64, |m, s| m.max(*s));
+    let tol = crate::optimal::consistency::INPUT_TOL * scale;
+    if let Some((j, u)) = controls
+        .iter()
+        .enumerate()
+        .find(|(_, u)| !p.control.contains(u, tol))
+    {
+        return refuse(
+            &name,
+            format!("its control {field}[{j}] = {u:?} lies outside this problem's U"),
+        );
+    }
     phase_grid(p, &durations, controls, m)
 }
 

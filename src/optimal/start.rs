@@ -48,7 +48,11 @@ pub struct StartGait {
 
 impl StartGait {
     /// The gait of a stored result `r` (read from `what`, e.g. a path) as a start for
-    /// `crawler` and `problem`: refused when it was computed for another crawler or period.
+    /// `crawler` and `problem`: refused when it was computed for another crawler or period, or
+    /// when a link's rate exceeds this problem's bound `a_l` (beyond the readers' relative
+    /// [`INPUT_TOL`](crate::optimal::consistency::INPUT_TOL)): a gait of a problem with faster
+    /// actuators is no gait of this one, and the local method's first LP had no feasible point
+    /// ("an LP of fixed branches has no feasible point").
     pub fn from_result(
         crawler: &Crawler,
         problem: &GaitProblem,
@@ -61,6 +65,22 @@ impl StartGait {
                 what,
                 "was computed for another crawler or period",
             ));
+        }
+        let tol = crate::optimal::consistency::INPUT_TOL;
+        for (j, u) in r.gait.controls.iter().enumerate() {
+            for ((l, v), a) in u.iter().enumerate().zip(&problem.rate_bound) {
+                if v.abs() > a * (1.0 + tol) {
+                    return Err(Error::invalid(
+                        "start",
+                        what,
+                        format!(
+                            "its rate solution.controls[{j}][{l}] = {v} exceeds this problem's \
+                             rate bound a_{} = {a}",
+                            l + 1
+                        ),
+                    ));
+                }
+            }
         }
         Ok(StartGait {
             origin: format!("{} ({what})", r.method),
