@@ -537,16 +537,7 @@ fn a_phase_gaits_stored_reactions_are_its_replays() {
     let dir = tempfile::tempdir().unwrap();
     let a = 1e-4;
     for t in [1e-2, 1e-3] {
-        let file = common::write(
-            dir.path(),
-            "short.toml",
-            &format!(
-                "[sweeping_process]\nnormals = [[1.0], [-1.0]]\noffsets = [{a:e}, {a:e}]\n\
-                 [dynamics]\nB = [[1.0]]\n[control]\nlower = [-1.0]\nupper = [1.0]\n\
-                 zero_mean = true\n[objective]\nface_weights = [0.5, 0.5]\n\
-                 [problem]\nperiod = {t:e}\n"
-            ),
-        );
+        let file = small_link(dir.path(), a, t);
         let v = common::crawlopt_json(&[
             "optimize",
             file.to_str().unwrap(),
@@ -573,6 +564,21 @@ fn a_phase_gaits_stored_reactions_are_its_replays() {
     }
 }
 
+/// The paper's §4 one link as (P): `C = [-a, a]`, `U = [-1, 1]` with zero mean, face weights
+/// 1/2 (`J` the displacement), period `t`; written into `dir`.
+fn small_link(dir: &std::path::Path, a: f64, t: f64) -> std::path::PathBuf {
+    common::write(
+        dir,
+        "small.toml",
+        &format!(
+            "[sweeping_process]\nnormals = [[1.0], [-1.0]]\noffsets = [{a:e}, {a:e}]\n\
+             [dynamics]\nB = [[1.0]]\n[control]\nlower = [-1.0]\nupper = [1.0]\n\
+             zero_mean = true\n[objective]\nface_weights = [0.5, 0.5]\n\
+             [problem]\nperiod = {t:e}\n"
+        ),
+    )
+}
+
 /// One link of half-width `a = 1e-4` over periods 5 to 100 times as long (`J = T/2 - 2a`, the
 /// paper's §4 optimum). The phase MILP was solved in the problem's own units, where HiGHS's
 /// absolute tolerance (`1e-9`) is `1e-5` of C's size: at `T = 5e-4` and `2e-3` the control's
@@ -586,16 +592,7 @@ fn short_periods_on_a_small_link_give_the_closed_form_and_read_back() {
     let dir = tempfile::tempdir().unwrap();
     let a = 1e-4;
     for t in [5e-4, 2e-3, 1e-2] {
-        let file = common::write(
-            dir.path(),
-            "small.toml",
-            &format!(
-                "[sweeping_process]\nnormals = [[1.0], [-1.0]]\noffsets = [{a:e}, {a:e}]\n\
-                 [dynamics]\nB = [[1.0]]\n[control]\nlower = [-1.0]\nupper = [1.0]\n\
-                 zero_mean = true\n[objective]\nface_weights = [0.5, 0.5]\n\
-                 [problem]\nperiod = {t:e}\n"
-            ),
-        );
+        let file = small_link(dir.path(), a, t);
         for k in ["2", "3", "4", "5"] {
             let v = common::crawlopt_json(&[
                 "optimize",

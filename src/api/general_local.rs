@@ -198,15 +198,10 @@ fn given_start(start: &super::Start, p: &GeneralProblem, m: u32) -> Result<Vec<V
         _ => "solution.u",
     };
     // Each component to its own bound, as a result is read back.
-    let scale = crate::optimal::process::control_scales(&p.control)
-        .iter()
-        .fold(0.0_f64, |m, s| m.max(*s));
-    let tol = crate::optimal::consistency::INPUT_TOL * scale;
-    if let Some((j, u)) = controls
-        .iter()
-        .enumerate()
-        .find(|(_, u)| !p.control.contains(u, tol))
-    {
+    let scales = crate::optimal::process::control_scales(&p.control);
+    let tol = crate::optimal::consistency::INPUT_TOL;
+    let inside = |u: &[f64]| crate::optimal::process::in_u(&p.control, &scales, u, tol);
+    if let Some((j, u)) = controls.iter().enumerate().find(|(_, u)| !inside(u)) {
         return refuse(
             &name,
             format!("its control {field}[{j}] = {u:?} lies outside this problem's U"),

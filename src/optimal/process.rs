@@ -62,6 +62,19 @@ pub(crate) fn control_scales(u: &ControlSet) -> Vec<f64> {
     }
 }
 
+/// Whether the control `u` lies in U within `tol` times each component's scale `scales`
+/// ([`control_scales`]; a polytope's one scale for every row), as a process read back is held.
+pub(crate) fn in_u(control: &ControlSet, scales: &[f64], u: &[f64], tol: f64) -> bool {
+    match control {
+        ControlSet::Box { lower, upper } => u
+            .iter()
+            .zip(lower.iter().zip(upper))
+            .zip(scales)
+            .all(|((v, (lo, hi)), s)| *v >= lo - tol * s && *v <= hi + tol * s),
+        ControlSet::Polytope(_) => control.contains(u, tol * scales[0]),
+    }
+}
+
 /// A process of (P) on `P` pieces, borrowed: durations `tau_i`, states `x^0..x^P`, controls
 /// `u^i` and reaction rates `lambda^i` per face (the projection's multipliers over the piece's
 /// duration). The rows' shapes are the caller's to have checked.
@@ -180,15 +193,7 @@ impl ProcessRows<'_> {
         let scales = control_scales(&p.control);
         let mut mean = vec![0.0; p.controls()];
         for (i, u) in self.u.iter().enumerate() {
-            let inside = match &p.control {
-                ControlSet::Box { lower, upper } => u
-                    .iter()
-                    .zip(lower.iter().zip(upper))
-                    .zip(&scales)
-                    .all(|((v, (lo, hi)), s)| *v >= lo - tol * s && *v <= hi + tol * s),
-                ControlSet::Polytope(_) => p.control.contains(u, tol * scales[0]),
-            };
-            if !inside {
+            if !in_u(&p.control, &scales, u, tol) {
                 return Some(Fault::ControlOutside { i });
             }
             for (m, v) in mean.iter_mut().zip(u) {

@@ -466,7 +466,7 @@ fn add_state_and_mean_rows(pb: &mut RowProblem, p: &GeneralProblem, cols: &Colum
 /// of its cuts, `e - a . U_j + c tau_j >= 0`.
 fn add_cost_cuts(pb: &mut RowProblem, p: &GeneralProblem, cols: &Columns, cuts: &[Vec<f64>]) {
     let epigraphs = cost_epigraphs(p, cuts);
-    // `e = T e'`, and each cut divided by `T`.
+    // `e = t_0 e'`, and each cut divided by `t_0`.
     let Units { time, control, .. } = cols.units;
     for j in 0..cols.tau.len() {
         for cuts in &epigraphs {
