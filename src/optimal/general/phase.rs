@@ -50,10 +50,10 @@
 //! `eta = g - Proj_{T_C(x)}(g) = Proj_{N_C(x)}(g)`, so `|eta| <= |g| <= G` and
 //! `|lambda| <= |eta| / sigma_*`; since every feasible point is a solution, the bound cuts none.
 //!
-//! The MILP's columns are measured in units of order one (C's size, U's largest bound, the
-//! time to cross C at the largest speed), since HiGHS holds rows to an absolute tolerance: in
-//! the problem's own units a small C or a short period turned that tolerance into a control's
-//! mean and a periodicity a reader refuses.
+//! The MILP's columns are measured in units of order one (C's scale, U's largest bound, the
+//! time to cross C at the largest speed or the period where that is shorter), since HiGHS
+//! holds rows to an absolute tolerance: in the problem's own units a small C or a short period
+//! turned that tolerance into a control's mean and a periodicity a reader refuses.
 //!
 //! Symmetry is broken where it costs `K` binaries: a binary `y_j` per phase with
 //! `tau_j <= T y_j`, `s_{j,f} <= y_j` and `y_{j+1} <= y_j`, so unused phases come last (empty
@@ -135,9 +135,10 @@ pub(crate) fn check_phase_growth(
 /// control's mean `4e-7` of its bound (which a reader refuses), and at `K = 5` the MILP's
 /// `int f1` `1e-6` above its replay's (which refused the answer).
 ///
-/// The units: C's scale `s_x` for states and integrated reactions (`x_j = s_x x'_j`,
-/// `L_{j,f} = s_x L'_{j,f}`), U's largest bound `s_u` for controls, and for time the time
-/// `t_0 = s_x / v` in which the largest speed `v = max_i (s_u sum_k |B_ik| + |b_i|)` crosses C
+/// The units: C's scale `s_x` (its largest offset) for states and integrated reactions
+/// (`x_j = s_x x'_j`, `L_{j,f} = s_x L'_{j,f}`), U's largest bound `s_u` for controls, and for
+/// time the time `t_0 = s_x / v` in which the largest speed
+/// `v = max_i (s_u sum_k |B_ik| + |b_i|)` crosses C, or `T` where that is shorter
 /// (`tau_j = t_0 tau'_j`, `U_j = t_0 s_u U'_j`). Each row is divided by its own unit (the
 /// dynamics and the faces by `s_x`, a cost cut by `t_0`); the objective stays in the problem's
 /// units. Where HiGHS fails on that model (a period `3e9` crossing times long, in a test), the
@@ -168,7 +169,12 @@ impl Units {
                 control * b + p.dynamics.drift[i].abs()
             })
             .fold(0.0_f64, f64::max);
-        let time = if speed > 0.0 { state / speed } else { p.period };
+        // A period shorter than the crossing is its own unit: durations then stay of order one.
+        let time = if speed > 0.0 {
+            (state / speed).min(p.period)
+        } else {
+            p.period
+        };
         Units {
             time,
             state,
@@ -270,9 +276,11 @@ impl Slots {
     }
 }
 
-/// Adds the columns of the phase MILP, family by family in this order (the solver's results
-/// depend on it): states, `tau_j in [0, T]`, `y_i` per slot, free `U_j`, `L_{j,f} in [0, M T]`
-/// with the objective weight `w_f`, `s_{j,f}` (both fixed at 0 on a free transition).
+/// Adds the columns of the phase MILP in `units` ([`Units`]), family by family in this order
+/// (the solver's results depend on it): states, `tau_j in [0, T]`, `y_i` per slot, free `U_j`,
+/// `L_{j,f} in [0, M T]` with the objective weight `w_f`, `s_{j,f}` (both fixed at 0 on a free
+/// transition); in the columns' units `tau'_j in [0, T / t_0]`, `L'_{j,f} in [0, M T / s_x]`
+/// with the weight `w_f s_x`.
 fn add_columns(
     pb: &mut RowProblem,
     p: &GeneralProblem,
@@ -462,8 +470,8 @@ fn add_state_and_mean_rows(pb: &mut RowProblem, p: &GeneralProblem, cols: &Colum
 }
 
 /// The outer approximation of a quadratic cost on the phases ([`cost_epigraphs`], the same
-/// cuts as P_m's): per phase and epigraph a column `e` (objective `-1`) with the perspectives
-/// of its cuts, `e - a . U_j + c tau_j >= 0`.
+/// cuts as P_m's): per phase and epigraph a column `e` (objective `-1`; in the columns' units
+/// `e = t_0 e'`, objective `-t_0`) with the perspectives of its cuts, `e - a . U_j + c tau_j >= 0`.
 fn add_cost_cuts(pb: &mut RowProblem, p: &GeneralProblem, cols: &Columns, cuts: &[Vec<f64>]) {
     let epigraphs = cost_epigraphs(p, cuts);
     // `e = t_0 e'`, and each cut divided by `t_0`.
