@@ -538,15 +538,7 @@ fn a_phase_gaits_stored_reactions_are_its_replays() {
     let a = 1e-4;
     for t in [1e-2, 1e-3] {
         let file = small_link(dir.path(), a, t);
-        let v = common::crawlopt_json(&[
-            "optimize",
-            file.to_str().unwrap(),
-            "--method",
-            "phase",
-            "--phases",
-            "2",
-            "--json",
-        ]);
+        let v = phase_answer(&file, "2");
         let j = v["objective"].as_f64().unwrap();
         assert!((j - (t / 2.0 - 2.0 * a)).abs() < 1e-12, "T = {t}: J = {j}");
         let s = &v["solution"];
@@ -579,6 +571,19 @@ fn small_link(dir: &std::path::Path, a: f64, t: f64) -> std::path::PathBuf {
     )
 }
 
+/// `optimize FILE --method phase --phases K --json`.
+fn phase_answer(file: &std::path::Path, k: &str) -> serde_json::Value {
+    common::crawlopt_json(&[
+        "optimize",
+        file.to_str().unwrap(),
+        "--method",
+        "phase",
+        "--phases",
+        k,
+        "--json",
+    ])
+}
+
 /// One link of half-width `a = 1e-4` over periods 5 to 100 times as long (`J = T/2 - 2a`, the
 /// paper's §4 optimum). The phase MILP was solved in the problem's own units, where HiGHS's
 /// absolute tolerance (`1e-9`) is `1e-5` of C's size: at `T = 5e-4` and `2e-3` the control's
@@ -594,15 +599,7 @@ fn short_periods_on_a_small_link_give_the_closed_form_and_read_back() {
     for t in [5e-4, 2e-3, 1e-2] {
         let file = small_link(dir.path(), a, t);
         for k in ["2", "3", "4", "5"] {
-            let v = common::crawlopt_json(&[
-                "optimize",
-                file.to_str().unwrap(),
-                "--method",
-                "phase",
-                "--phases",
-                k,
-                "--json",
-            ]);
+            let v = phase_answer(&file, k);
             let j = v["objective"].as_f64().unwrap();
             let want = t / 2.0 - 2.0 * a;
             assert!(

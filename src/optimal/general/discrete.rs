@@ -455,10 +455,7 @@ pub(super) fn replay_periodic(
     if p.boundary != Boundary::Periodic {
         return Ok(());
     }
-    let gap = end
-        .iter()
-        .zip(start)
-        .fold(0.0_f64, |d, (a, b)| d.max((a - b).abs()));
+    let gap = crate::optimal::process::max_diff(end, start);
     if gap > allowed {
         return Err(Error::Numerical(format!(
             "{what}: the {replayed} is not periodic (x(T) - x(0) = {gap:e})"

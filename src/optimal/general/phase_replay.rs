@@ -11,6 +11,7 @@ use crate::error::{Error, Result};
 use crate::integrate::{simulate_general_exact, ControlInput, GeneralSimulation, InputKind};
 use crate::model::general::{Boundary, GeneralProblem};
 use crate::optimal::milp::{Certificate, MilpStatus};
+use crate::optimal::process::max_diff;
 use serde::{Deserialize, Serialize};
 
 /// A globally optimal gait among those of at most `K` phases, re-verified.
@@ -236,12 +237,7 @@ fn replay_orbit(
     if p.boundary != Boundary::Periodic {
         return Ok(first);
     }
-    let gap = |states: &[Vec<f64>]| {
-        let (start, end) = (&states[0], states.last().expect("states"));
-        end.iter()
-            .zip(start)
-            .fold(0.0_f64, |d, (a, b)| d.max((a - b).abs()))
-    };
+    let gap = |states: &[Vec<f64>]| max_diff(states.last().expect("states"), &states[0]);
     let before = gap(&first.0);
     if before == 0.0 {
         return Ok(first);
