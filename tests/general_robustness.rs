@@ -610,3 +610,35 @@ fn short_periods_on_a_small_link_give_the_closed_form_and_read_back() {
         }
     }
 }
+
+/// P_m of one link of half-width `a` over `T = 20 a` to `100 a`, against the same link in units
+/// where `a = 1` (`J` scales by `a`; here the grid reaches `T/2 - 2a`). The MILP was solved in
+/// the problem's own units, where HiGHS's absolute tolerance is up to `3e-4` of C's size: at
+/// `a = 1e-5`, `T = 1e-3`, `m = 4` it claimed a global optimum with a bound `1.3e-7` of `J`
+/// below the twin's optimum; at `a = 3e-6`, `T = 6e-5`, `m = 4` `optimize` failed ("the
+/// simulated process is not periodic"); at `a = 1e-5`, `T = 6e-4`, `m = 5` it claimed a global
+/// optimum `2.8e-7` of `J` below the twin's, its bound equal. (At `a = 1e-4`, `T = 2e-3`,
+/// `m = 6`, too slow for a test, it claimed `J = 7.6876e-4` against `8e-4`.) In units of order
+/// one each gives the twin's optimum, and reads back.
+#[test]
+fn p_m_on_a_small_link_is_the_optimum_of_the_link_in_units_of_one() {
+    let dir = tempfile::tempdir().unwrap();
+    for (a, t, m) in [(1e-5, 1e-3, "4"), (3e-6, 6e-5, "4"), (1e-5, 6e-4, "5")] {
+        let run = |a: f64, t: f64| {
+            let file = small_link(dir.path(), a, t);
+            let args = ["optimize", file.to_str().unwrap(), "--method", "discrete"];
+            let v = common::crawlopt_json(&[&args[..], &["--m", m, "--json"]].concat());
+            common::certify_written(dir.path(), &v);
+            let j = v["objective"].as_f64().unwrap();
+            (j / a, v["certificate"]["bound"].as_f64().unwrap() / a)
+        };
+        let (j, bound) = run(a, t);
+        let (twin, _) = run(1.0, t / a);
+        let want = t / a / 2.0 - 2.0;
+        assert!((twin - want).abs() <= 1e-9 * want, "the twin: J = {twin}");
+        assert!(
+            (j - twin).abs() <= 1e-9 * want && bound >= twin - 1e-9 * want,
+            "a = {a}, T = {t}, m = {m}: J / a = {j}, bound / a = {bound}, not {twin}"
+        );
+    }
+}

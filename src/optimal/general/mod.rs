@@ -18,6 +18,7 @@ mod pm;
 mod pm_milp;
 mod polish;
 pub mod projection;
+mod units;
 
 pub use chain_phase::{
     chain_gait, chain_gait_problem, chain_phase_gait, grow_chain_phases, ChainPieces,

@@ -87,6 +87,7 @@ use super::geometry::Geometry;
 use super::phase_polish::{polish_general_phases, MilpPhases};
 use super::phase_replay::verified_gait;
 pub use super::phase_replay::GeneralPhaseGait;
+use super::units::Units;
 use crate::error::{Error, Result};
 use crate::model::general::{ControlSet, GeneralCost, GeneralProblem};
 use crate::optimal::milp::{solve_max, MilpStatus, OA_TOL};
@@ -128,73 +129,10 @@ pub(crate) fn check_phase_growth(
     range.check(MAX_GENERAL_PHASES)
 }
 
-/// The units the phase MILP's columns are measured in, so that its numbers are of order one.
-/// HiGHS holds its rows to an absolute tolerance (`1e-9`), which in the problem's own units is
-/// a relative error of `1e-9 / T` on the durations and `1e-9 / |C|` on the states: on one link
-/// of half-width `1e-4` with `T = 2e-3`, the phases came out `4e-10` off (`2e-7` of `T`), the
-/// control's mean `4e-7` of its bound (which a reader refuses), and at `K = 5` the MILP's
-/// `int f1` `1e-6` above its replay's (which refused the answer).
-///
-/// The units: C's scale `s_x` (its largest offset) for states and integrated reactions
-/// (`x_j = s_x x'_j`, `L_{j,f} = s_x L'_{j,f}`), U's largest bound `s_u` for controls, and for
-/// time the time `t_0 = s_x / v` in which the largest speed
-/// `v = max_i (s_u sum_k |B_ik| + |b_i|)` crosses C, or `T` where that is shorter
-/// (`tau_j = t_0 tau'_j`, `U_j = t_0 s_u U'_j`). Each row is divided by its own unit (the
-/// dynamics and the faces by `s_x`, a cost cut by `t_0`); the objective stays in the problem's
-/// units. Where HiGHS fails on that model (a period `3e9` crossing times long, in a test), the
-/// problem's own units are tried ([`Units::own`]).
-#[derive(Debug, Clone, Copy, PartialEq)]
-struct Units {
-    /// `t_0`.
-    time: f64,
-    /// `s_x`.
-    state: f64,
-    /// `s_u`.
-    control: f64,
-    /// `T / t_0`.
-    period: f64,
-}
-
-impl Units {
-    /// The units of order one (type docs).
-    fn of(p: &GeneralProblem) -> Self {
-        let control = crate::optimal::process::control_scales(&p.control)
-            .iter()
-            .fold(0.0_f64, |m, v| m.max(*v));
-        let control = if control > 0.0 { control } else { 1.0 };
-        let state = p.c.scale();
-        let speed = (0..p.states())
-            .map(|i| {
-                let b: f64 = p.dynamics.b[i].iter().map(|v| v.abs()).sum();
-                control * b + p.dynamics.drift[i].abs()
-            })
-            .fold(0.0_f64, f64::max);
-        // A period shorter than the crossing is its own unit: durations then stay of order one.
-        let time = if speed > 0.0 {
-            (state / speed).min(p.period)
-        } else {
-            p.period
-        };
-        Units {
-            time,
-            state,
-            control,
-            period: p.period / time,
-        }
-    }
-
-    /// The problem's own units (all 1).
-    fn own(p: &GeneralProblem) -> Self {
-        Units {
-            time: 1.0,
-            state: 1.0,
-            control: 1.0,
-            period: p.period,
-        }
-    }
-}
-
-/// The columns of the phase MILP (in [`Units`]).
+/// The columns of the phase MILP, measured in [`Units`] of order one (each row divided by its
+/// own unit: the dynamics and the faces by `s_x`, a cost cut by `t_0`; the objective stays in
+/// the problem's units). Where HiGHS fails on that model (a period `3e9` crossing times long,
+/// in a test), the problem's own units are tried ([`Units::own`]).
 struct Layout {
     units: Units,
     x: Vec<Vec<Col>>,

@@ -6,9 +6,10 @@
 //! its own simulator.
 
 use super::discrete::{big_m, build, check_solver_range, column_bound, initial_cuts, Layout};
-use super::discrete::{reward_weights, MAX_OA_ROUNDS};
+use super::discrete::{reward_weights, BigM, MAX_OA_ROUNDS};
 use super::discrete_rows::{cost_epigraphs, epigraph_floor, separable, Form};
 use super::geometry::Geometry;
+use super::units::Units;
 use crate::error::{Error, Result};
 use crate::model::general::{GeneralCost, GeneralProblem};
 use crate::optimal::milp::{solve_max, MilpStatus, OA_TOL};
@@ -87,11 +88,11 @@ impl PmRun {
 }
 
 /// Solves P_m's MILP of `p` on `2^m` steps (`m` checked by the caller) within the current
-/// deadline: for a quadratic cost, the controls of each round's answer become cut points until
-/// the MILP's reward less the true cost of its controls meets the bound within
-/// [`OA_TOL`](crate::optimal::milp::OA_TOL) (else `approximation_limit`, after
-/// [`MAX_OA_ROUNDS`] rounds or when no control is new); each later round starts from the
-/// previous answer, its epigraphs raised onto the new cuts. `what` names the problem in errors.
+/// deadline, in [`Units`] of order one: `p`'s data are checked against the solver's range in its
+/// own units, then, where those are not of order one already ([`Units::needed`]), the MILP of
+/// `p` in units of order one is solved ([`solve_scaled`]) and its answer converted back, or,
+/// where HiGHS fails on it numerically, the MILP in `p`'s own units. `what` names the problem
+/// in errors.
 pub(crate) fn solve_pm_milp(
     p: &GeneralProblem,
     g: &Geometry,
@@ -99,11 +100,96 @@ pub(crate) fn solve_pm_milp(
     opts: &PmOptions,
     what: &str,
 ) -> Result<PmRun> {
-    let mm = 1usize << m;
-    let h = p.period / mm as f64;
+    let h = p.period / (1usize << m) as f64;
     check_solver_range(p, h, None)?;
     let bm = big_m(p, g, h)?;
     check_solver_range(p, h, Some(&bm))?;
+    let units = Units::of(p);
+    if !units.needed() {
+        return solve_scaled(p, &bm, m, opts, what);
+    }
+    match solve_scaled(
+        &units.problem(p),
+        &in_units(&units, &bm),
+        m,
+        &opts.in_units(&units),
+        what,
+    ) {
+        Ok(run) => Ok(run.in_own_units(&units)),
+        Err(Error::Numerical(_)) => solve_scaled(p, &bm, m, opts, what),
+        Err(e) => Err(e),
+    }
+}
+
+/// The big-M constants of P_m in `units`: the slacks and the multipliers' bound are lengths
+/// (`M_mu = h G / sigma_*`, where `h` and `G` scale by `t_0` and `s_x / t_0`).
+fn in_units(units: &Units, bm: &BigM) -> BigM {
+    BigM {
+        slack: bm.slack.iter().map(|s| s / units.state).collect(),
+        multiplier: bm.multiplier / units.state,
+    }
+}
+
+impl PmOptions {
+    /// The options in `units`: the start's states and multipliers over `s_x`, its controls and a
+    /// total variation over `s_u`, a gap and a bound on `J` over `s_x`.
+    fn in_units(&self, units: &Units) -> PmOptions {
+        let (sx, su) = (units.state, units.control);
+        let rows = |m: &[Vec<f64>], f: f64| -> Vec<Vec<f64>> {
+            m.iter()
+                .map(|r| r.iter().map(|v| v / f).collect())
+                .collect()
+        };
+        PmOptions {
+            start: self.start.as_ref().map(|s| PmStart {
+                x: rows(&s.x, sx),
+                u: rows(&s.u, su),
+                mu: rows(&s.mu, sx),
+            }),
+            total_variation: self.total_variation.map(|v| v / su),
+            abs_gap: self.abs_gap.map(|v| v / sx),
+            bound_hint: self.bound_hint.map(|v| v / sx),
+        }
+    }
+}
+
+impl PmRun {
+    /// The run of `p` in `units` read in `p`'s own: the states and multipliers times `s_x`, the
+    /// controls times `s_u`, the objective and bound times `s_x` (the other columns, binaries and
+    /// epigraphs, stay as solved).
+    fn in_own_units(mut self, units: &Units) -> PmRun {
+        let (sx, su) = (units.state, units.control);
+        // A column is scaled once, though it may stand for two states (`x^M = x^0`).
+        let mut factor = vec![1.0; self.cols.len()];
+        for (family, f) in [(&self.lay.x, sx), (&self.lay.u, su), (&self.lay.mu, sx)] {
+            for c in family.iter().flatten() {
+                factor[c.index()] = f;
+            }
+        }
+        for (v, f) in self.cols.iter_mut().zip(factor) {
+            *v *= f;
+        }
+        self.milp_objective *= sx;
+        self.bound *= sx;
+        self
+    }
+}
+
+/// P_m's MILP of `p` with big-M constants `bm` (module docs), in `p`'s units: for a quadratic
+/// cost, the controls of each round's answer become cut points until the MILP's reward less the
+/// true cost of its controls meets the bound within
+/// [`OA_TOL`](crate::optimal::milp::OA_TOL) (else `approximation_limit`, after
+/// [`MAX_OA_ROUNDS`] rounds or when no control is new); each later round starts from the
+/// previous answer, its epigraphs raised onto the new cuts.
+fn solve_scaled(
+    p: &GeneralProblem,
+    bm: &BigM,
+    m: u32,
+    opts: &PmOptions,
+    what: &str,
+) -> Result<PmRun> {
+    let mm = 1usize << m;
+    let h = p.period / mm as f64;
     let gap = opts.abs_gap.unwrap_or(1e-9 * p.c.scale().max(1e-300));
     let fallback =
         column_bound(p, mm as f64 * bm.multiplier).min(opts.bound_hint.unwrap_or(f64::INFINITY));
@@ -111,7 +197,7 @@ pub(crate) fn solve_pm_milp(
     let mut last: Option<PmRun> = None;
     loop {
         let rounds = last.as_ref().map_or(0, |r| r.rounds) + 1;
-        let (mut pb, lay) = build(p, m, Form::Milp(&bm), &cuts);
+        let (mut pb, lay) = build(p, m, Form::Milp(bm), &cuts);
         let jumps = add_total_variation(&mut pb, &lay.u, opts.total_variation);
         if crate::progress::out_of_time()? {
             return match last {

@@ -1,0 +1,192 @@
+//! (P) in units of order one, for its MILPs. HiGHS holds rows to an absolute tolerance
+//! (`1e-9`), which in the problem's own units is a relative error of `1e-9 / T` on times and
+//! `1e-9 / |C|` on states: on one link of half-width `1e-4`, the phase MILP's durations came out
+//! `2e-7` of `T` off and its control's mean `4e-7` of its bound (which a reader refuses), and
+//! P_7 with `T = 1e-2` claimed a global optimum `J = 0.0047219` with a gap of `8e-11`, below the
+//! `0.0048` that the same grid reaches (the problem scaled to half-width 1 gives it).
+//!
+//! The units ([`Units::of`]): C's scale `s_x` (its largest offset) for states and the
+//! projection's multipliers, U's largest bound `s_u` for controls, and for time the time
+//! `t_0 = s_x / v` in which the largest speed `v = max_i (s_u sum_k |B_ik| + |b_i|)` crosses C,
+//! or `T` where that is shorter (so durations are of order one either way). With
+//! `x = s_x x'`, `u = s_u u'` and `t = t_0 t'`, the sweeping process `x' in -N_C(x) + A x + B u + b`
+//! is the same process of ([`Units::problem`])
+//!
+//! ```text
+//! C' = {x' : <x*_j, x'> <= c_j / s_x},   A' = t_0 A,   B' = (t_0 s_u / s_x) B,   b' = (t_0 / s_x) b,
+//! U' = U / s_u,   T' = T / t_0,   f2' = (t_0 s_u^2 / s_x) f2,   x'(0) = x(0) / s_x (Cauchy),
+//! ```
+//!
+//! the normal cone being a cone, and `J = s_x J'` with `f1`'s weights unchanged (a reaction's
+//! integral is a length). So an optimum of one is the optimum of the other, a bound a bound,
+//! and a grid's `h' = h / t_0` makes P_m of one P_m of the other: only the numbers change. The
+//! phase MILP measures its columns in these units; P_m is solved on the problem in these units,
+//! where the problem's own are not of order one already ([`Units::needed`]), and its answer
+//! converted back ([`super::pm_milp`]). Either is then re-verified in the problem's own units,
+//! as every answer is.
+
+use crate::model::general::{Boundary, ControlSet, GeneralCost, GeneralProblem};
+
+/// A unit system of (P) (module docs).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct Units {
+    /// `t_0`.
+    pub time: f64,
+    /// `s_x`.
+    pub state: f64,
+    /// `s_u`.
+    pub control: f64,
+    /// `T / t_0`.
+    pub period: f64,
+}
+
+impl Units {
+    /// The units of order one (module docs).
+    pub fn of(p: &GeneralProblem) -> Self {
+        let control = crate::optimal::process::control_scales(&p.control)
+            .iter()
+            .fold(0.0_f64, |m, v| m.max(*v));
+        let control = if control > 0.0 { control } else { 1.0 };
+        let state = p.c.scale();
+        let speed = (0..p.states())
+            .map(|i| {
+                let b: f64 = p.dynamics.b[i].iter().map(|v| v.abs()).sum();
+                control * b + p.dynamics.drift[i].abs()
+            })
+            .fold(0.0_f64, f64::max);
+        // A period shorter than the crossing is its own unit: durations then stay of order one.
+        let time = if speed > 0.0 {
+            (state / speed).min(p.period)
+        } else {
+            p.period
+        };
+        Units {
+            time,
+            state,
+            control,
+            period: p.period / time,
+        }
+    }
+
+    /// The problem's own units (all 1).
+    pub fn own(p: &GeneralProblem) -> Self {
+        Units {
+            time: 1.0,
+            state: 1.0,
+            control: 1.0,
+            period: p.period,
+        }
+    }
+
+    /// Whether a unit is off from the problem's own by more than a factor of 100 (P_m converts
+    /// only then). Within that range the problem is of order one already, and a conversion would
+    /// only move its answer by rounding and HiGHS's tolerances: on a crawler's instance (already
+    /// in the crawler's internal units, [`crate::optimal::units`]), P_2 of the three-block
+    /// crawler gave `J = 2 - 1.6e-9` converted, `2 - 7e-16` not.
+    pub fn needed(&self) -> bool {
+        [self.time, self.state, self.control]
+            .iter()
+            .any(|u| !(1e-2..=1e2).contains(u))
+    }
+
+    /// `p` in these units (module docs): the same problem, its numbers divided by their units.
+    pub fn problem(&self, p: &GeneralProblem) -> GeneralProblem {
+        let Units {
+            time,
+            state,
+            control,
+            period,
+        } = *self;
+        let scaled = |v: &[f64], f: f64| -> Vec<f64> { v.iter().map(|x| x * f).collect() };
+        let rows =
+            |m: &[Vec<f64>], f: f64| -> Vec<Vec<f64>> { m.iter().map(|r| scaled(r, f)).collect() };
+        let mut c = p.c.clone();
+        c.offsets = scaled(&c.offsets, 1.0 / state);
+        let mut dynamics = p.dynamics.clone();
+        dynamics.a = rows(&dynamics.a, time);
+        dynamics.b = rows(&dynamics.b, time * control / state);
+        dynamics.drift = scaled(&dynamics.drift, time / state);
+        let u = match &p.control {
+            ControlSet::Box { lower, upper } => ControlSet::Box {
+                lower: scaled(lower, 1.0 / control),
+                upper: scaled(upper, 1.0 / control),
+            },
+            ControlSet::Polytope(q) => {
+                let mut q = q.clone();
+                q.offsets = scaled(&q.offsets, 1.0 / control);
+                ControlSet::Polytope(q)
+            }
+        };
+        let f = time * control * control / state;
+        let cost = match &p.cost {
+            GeneralCost::None => GeneralCost::None,
+            GeneralCost::Quadratic { weight } => GeneralCost::Quadratic { weight: weight * f },
+            GeneralCost::Matrix { matrix } => GeneralCost::Matrix {
+                matrix: rows(matrix, f),
+            },
+        };
+        let boundary = match &p.boundary {
+            Boundary::Periodic => Boundary::Periodic,
+            Boundary::Initial(x0) => Boundary::Initial(scaled(x0, 1.0 / state)),
+        };
+        GeneralProblem {
+            c,
+            dynamics,
+            control: u,
+            zero_mean: p.zero_mean,
+            reward: p.reward.clone(),
+            cost,
+            period,
+            boundary,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::model::general::GeneralParts;
+
+    /// One link of half-width `a` driven at rates up to 2, a quadratic cost, period `t`.
+    fn link(a: f64, t: f64) -> GeneralProblem {
+        GeneralProblem::new(GeneralParts {
+            normals: vec![vec![1.0], vec![-1.0]],
+            offsets: vec![a, a],
+            b: vec![vec![1.0]],
+            lower: Some(vec![-2.0]),
+            upper: Some(vec![2.0]),
+            zero_mean: true,
+            face_weights: Some(vec![0.5, 0.5]),
+            cost: Some(GeneralCost::Quadratic { weight: 0.1 }),
+            period: t,
+            periodic: true,
+            ..Default::default()
+        })
+        .expect("a valid problem")
+    }
+
+    #[test]
+    fn a_small_link_in_its_units_is_the_link_of_half_width_one() {
+        // s_x = 1e-4, s_u = 2, v = 2: t_0 = 5e-5, T' = 1e-2 / 5e-5 = 200.
+        let p = link(1e-4, 1e-2);
+        let u = Units::of(&p);
+        assert!((u.time - 5e-5).abs() < 1e-18 && (u.period - 200.0).abs() < 1e-9);
+        let q = u.problem(&p);
+        assert_eq!(q.c.offsets, vec![1.0, 1.0]);
+        assert!((q.dynamics.b[0][0] - 1.0).abs() < 1e-12);
+        assert_eq!(q.control.dim(), 1);
+        assert!(q.control.contains(&[1.0], 0.0) && !q.control.contains(&[1.0 + 1e-9], 0.0));
+        // f2' = t_0 s_u^2 / s_x f2 = 5e-5 * 4 / 1e-4 f2 = 2 f2.
+        assert_eq!(q.cost, GeneralCost::Quadratic { weight: 0.2 });
+        assert!((q.period - 200.0).abs() < 1e-9);
+    }
+
+    #[test]
+    fn a_period_shorter_than_the_crossing_is_the_unit_of_time() {
+        let p = link(1.0, 0.1);
+        let u = Units::of(&p);
+        assert_eq!((u.time, u.period), (0.1, 1.0));
+        assert!(!u.needed() && Units::of(&link(1e-4, 1e-2)).needed());
+        assert_eq!(Units::own(&p).problem(&p), p);
+    }
+}
