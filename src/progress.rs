@@ -347,6 +347,13 @@ pub fn with_objective_scale<R>(scale: f64, f: impl FnOnce() -> R) -> R {
     r
 }
 
+/// Runs `f` with MILP objectives reported multiplied by `factor` on top of the current scale (a
+/// solve in units of its own inside a job that may have its own, [`with_objective_scale`]).
+pub fn with_objective_factor<R>(factor: f64, f: impl FnOnce() -> R) -> R {
+    let current = with_current(|s| s.objective_scale).unwrap_or(1.0);
+    with_objective_scale(current * factor, f)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -383,6 +390,19 @@ mod tests {
                         seconds: 0.0,
                     })
                 });
+                // A factor multiplies the current scale, which is restored after it.
+                with_objective_factor(5.0, || {
+                    report_milp(MilpProgress {
+                        incumbent: Some(0.5),
+                        bound: None,
+                        seconds: 0.0,
+                    })
+                });
+                report_milp(MilpProgress {
+                    incumbent: Some(0.25),
+                    bound: None,
+                    seconds: 0.0,
+                });
             });
             report_milp(MilpProgress {
                 incumbent: Some(1.0),
@@ -390,7 +410,7 @@ mod tests {
                 seconds: 0.0,
             });
         });
-        assert_eq!(seen, vec![Some(3.0), Some(1.0)]);
+        assert_eq!(seen, vec![Some(3.0), Some(5.0), Some(0.5), Some(1.0)]);
     }
 
     #[test]

@@ -125,6 +125,8 @@ pub(super) fn solve_discrete_in(
         total_variation: problem.max_total_variation,
         abs_gap: Some(problem.length_scale(crawler) * 1e-9),
         bound_hint: Some(crate::optimal::work_limit(crawler, problem)),
+        // The instance is in the crawler's internal units already.
+        keep_units: true,
     };
     let run = solve_pm_milp(&inst.problem, &geometry, m, &opts, &what)?;
     let mut incs: Vec<Vec<f64>> = run

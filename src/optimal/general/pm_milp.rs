@@ -41,6 +41,13 @@ pub(crate) struct PmOptions {
     /// A bound on `J` the caller knows (a crawler's work bound), used when the time limit cut
     /// HiGHS short before it had a dual bound, if tighter than the MILP's column bound.
     pub bound_hint: Option<f64>,
+    /// Solve in the problem's own units, never converted to [`Units`] of order one: for a
+    /// problem its caller has put in such units by its own rule, a crawler's instance in the
+    /// crawler's internal units ([`crate::optimal::units`]), where a second conversion only
+    /// moves HiGHS's path. On the three-block crawler at `max_actuator_speed = 30` (its
+    /// instance's controls 245 times its unit, so converted otherwise), P_4 took 105 s as given
+    /// and over 300 s converted.
+    pub keep_units: bool,
 }
 
 /// The MILP's last round: its layout and columns, objective and bound, status and rounds.
@@ -105,18 +112,18 @@ pub(crate) fn solve_pm_milp(
     let bm = big_m(p, g, h)?;
     check_solver_range(p, h, Some(&bm))?;
     let units = Units::of(p);
-    if !units.needed() {
-        return solve_scaled(p, &bm, m, opts, what);
+    if opts.keep_units || !units.needed() {
+        return solve_scaled(p, &bm, m, opts, what, 1.0);
     }
-    match solve_scaled(
-        &units.problem(p),
-        &in_units(&units, &bm),
-        m,
-        &opts.in_units(&units),
-        what,
-    ) {
+    // HiGHS's progress is of the scaled objective: reported times `s_x`.
+    let scaled = crate::progress::with_objective_factor(units.state, || {
+        let q = units.problem(p);
+        let o = opts.in_units(&units);
+        solve_scaled(&q, &in_units(&units, &bm), m, &o, what, units.state)
+    });
+    match scaled {
         Ok(run) => Ok(run.in_own_units(&units)),
-        Err(Error::Numerical(_)) => solve_scaled(p, &bm, m, opts, what),
+        Err(Error::Numerical(_)) => solve_scaled(p, &bm, m, opts, what, 1.0),
         Err(e) => Err(e),
     }
 }
@@ -149,14 +156,15 @@ impl PmOptions {
             total_variation: self.total_variation.map(|v| v / su),
             abs_gap: self.abs_gap.map(|v| v / sx),
             bound_hint: self.bound_hint.map(|v| v / sx),
+            keep_units: self.keep_units,
         }
     }
 }
 
 impl PmRun {
     /// The run of `p` in `units` read in `p`'s own: the states and multipliers times `s_x`, the
-    /// controls times `s_u`, the objective and bound times `s_x` (the other columns, binaries and
-    /// epigraphs, stay as solved).
+    /// controls times `s_u`, the objective and bound times `s_x` (the other columns, binaries,
+    /// epigraphs and the control's jumps, stay as solved: no caller reads them).
     fn in_own_units(mut self, units: &Units) -> PmRun {
         let (sx, su) = (units.state, units.control);
         // A column is scaled once, though it may stand for two states (`x^M = x^0`).
@@ -180,13 +188,17 @@ impl PmRun {
 /// true cost of its controls meets the bound within
 /// [`OA_TOL`](crate::optimal::milp::OA_TOL) (else `approximation_limit`, after
 /// [`MAX_OA_ROUNDS`] rounds or when no control is new); each later round starts from the
-/// previous answer, its epigraphs raised onto the new cuts.
+/// previous answer, its epigraphs raised onto the new cuts. `j_unit` is the problem's unit of
+/// `J` in `p`'s (`s_x` where `p` is a problem in [`Units`], else 1): the approximation's
+/// tolerance is relative above that unit and absolute below, in the problem's units as before
+/// the conversion.
 fn solve_scaled(
     p: &GeneralProblem,
     bm: &BigM,
     m: u32,
     opts: &PmOptions,
     what: &str,
+    j_unit: f64,
 ) -> Result<PmRun> {
     let mm = 1usize << m;
     let h = p.period / mm as f64;
@@ -245,7 +257,8 @@ fn solve_scaled(
         let u = run.values(&run.lay.u);
         let cost: f64 = u.iter().map(|u| h * p.cost.eval(u)).sum();
         let true_objective = run.reward(p) - cost;
-        let converged = run.bound - true_objective <= OA_TOL * true_objective.abs().max(1.0);
+        let converged =
+            run.bound - true_objective <= OA_TOL * true_objective.abs().max(1.0 / j_unit);
         if converged || status == MilpStatus::TimeLimit {
             return Ok(run);
         }
