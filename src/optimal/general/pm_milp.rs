@@ -13,6 +13,7 @@ use super::units::Units;
 use crate::error::{Error, Result};
 use crate::model::general::{GeneralCost, GeneralProblem};
 use crate::optimal::milp::{solve_max, MilpStatus, OA_TOL};
+use crate::optimal::units::scale_rows;
 use highs::{Col, RowProblem};
 
 /// A P_m process of the problem, in its variables, to start the MILP from (its first
@@ -96,8 +97,9 @@ impl PmRun {
 
 /// Solves P_m's MILP of `p` on `2^m` steps (`m` checked by the caller) within the current
 /// deadline, in [`Units`] of order one: `p`'s data are checked against the solver's range in its
-/// own units, then, where those are not of order one already ([`Units::needed`]), the MILP of
-/// `p` in units of order one is solved ([`solve_scaled`]) and its answer converted back, or,
+/// own units, then, where those are not of order one already ([`Units::needed`]) and the caller
+/// did not choose them ([`PmOptions::keep_units`]), the MILP of `p` in units of order one is
+/// solved ([`solve_scaled`]) and its answer converted back, or,
 /// where HiGHS fails on it numerically, the MILP in `p`'s own units. `what` names the problem
 /// in errors.
 pub(crate) fn solve_pm_milp(
@@ -142,16 +144,11 @@ impl PmOptions {
     /// total variation over `s_u`, a gap and a bound on `J` over `s_x`.
     fn in_units(&self, units: &Units) -> PmOptions {
         let (sx, su) = (units.state, units.control);
-        let rows = |m: &[Vec<f64>], f: f64| -> Vec<Vec<f64>> {
-            m.iter()
-                .map(|r| r.iter().map(|v| v / f).collect())
-                .collect()
-        };
         PmOptions {
             start: self.start.as_ref().map(|s| PmStart {
-                x: rows(&s.x, sx),
-                u: rows(&s.u, su),
-                mu: rows(&s.mu, sx),
+                x: scale_rows(&s.x, 1.0 / sx),
+                u: scale_rows(&s.u, 1.0 / su),
+                mu: scale_rows(&s.mu, 1.0 / sx),
             }),
             total_variation: self.total_variation.map(|v| v / su),
             abs_gap: self.abs_gap.map(|v| v / sx),

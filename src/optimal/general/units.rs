@@ -27,6 +27,7 @@
 //! as every answer is.
 
 use crate::model::general::{Boundary, ControlSet, GeneralCost, GeneralProblem};
+use crate::optimal::units::{scale_all, scale_rows};
 
 /// A unit system of (P) (module docs).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -98,23 +99,20 @@ impl Units {
             control,
             period,
         } = *self;
-        let scaled = |v: &[f64], f: f64| -> Vec<f64> { v.iter().map(|x| x * f).collect() };
-        let rows =
-            |m: &[Vec<f64>], f: f64| -> Vec<Vec<f64>> { m.iter().map(|r| scaled(r, f)).collect() };
         let mut c = p.c.clone();
-        c.offsets = scaled(&c.offsets, 1.0 / state);
+        c.offsets = scale_all(&c.offsets, 1.0 / state);
         let mut dynamics = p.dynamics.clone();
-        dynamics.a = rows(&dynamics.a, time);
-        dynamics.b = rows(&dynamics.b, time * control / state);
-        dynamics.drift = scaled(&dynamics.drift, time / state);
+        dynamics.a = scale_rows(&dynamics.a, time);
+        dynamics.b = scale_rows(&dynamics.b, time * control / state);
+        dynamics.drift = scale_all(&dynamics.drift, time / state);
         let u = match &p.control {
             ControlSet::Box { lower, upper } => ControlSet::Box {
-                lower: scaled(lower, 1.0 / control),
-                upper: scaled(upper, 1.0 / control),
+                lower: scale_all(lower, 1.0 / control),
+                upper: scale_all(upper, 1.0 / control),
             },
             ControlSet::Polytope(q) => {
                 let mut q = q.clone();
-                q.offsets = scaled(&q.offsets, 1.0 / control);
+                q.offsets = scale_all(&q.offsets, 1.0 / control);
                 ControlSet::Polytope(q)
             }
         };
@@ -123,12 +121,12 @@ impl Units {
             GeneralCost::None => GeneralCost::None,
             GeneralCost::Quadratic { weight } => GeneralCost::Quadratic { weight: weight * f },
             GeneralCost::Matrix { matrix } => GeneralCost::Matrix {
-                matrix: rows(matrix, f),
+                matrix: scale_rows(matrix, f),
             },
         };
         let boundary = match &p.boundary {
             Boundary::Periodic => Boundary::Periodic,
-            Boundary::Initial(x0) => Boundary::Initial(scaled(x0, 1.0 / state)),
+            Boundary::Initial(x0) => Boundary::Initial(scale_all(x0, 1.0 / state)),
         };
         GeneralProblem {
             c,
@@ -173,12 +171,15 @@ mod tests {
         let u = Units::of(&p);
         assert!((u.time - 5e-5).abs() < 1e-18 && (u.period - 200.0).abs() < 1e-9);
         let q = u.problem(&p);
-        assert_eq!(q.c.offsets, vec![1.0, 1.0]);
+        assert!(q.c.offsets.iter().all(|c| (c - 1.0).abs() < 1e-15));
         assert!((q.dynamics.b[0][0] - 1.0).abs() < 1e-12);
         assert_eq!(q.control.dim(), 1);
-        assert!(q.control.contains(&[1.0], 0.0) && !q.control.contains(&[1.0 + 1e-9], 0.0));
+        assert!(q.control.contains(&[1.0], 1e-15) && !q.control.contains(&[1.0 + 1e-9], 0.0));
         // f2' = t_0 s_u^2 / s_x f2 = 5e-5 * 4 / 1e-4 f2 = 2 f2.
-        assert_eq!(q.cost, GeneralCost::Quadratic { weight: 0.2 });
+        let GeneralCost::Quadratic { weight } = q.cost else {
+            panic!("a quadratic cost stays quadratic")
+        };
+        assert!((weight - 0.2).abs() < 1e-15);
         assert!((q.period - 200.0).abs() < 1e-9);
     }
 
