@@ -30,7 +30,8 @@ pub(crate) struct PmStart {
 }
 
 /// What a P_m MILP is asked beyond the problem; [`PmOptions::default`] is (P)'s own: no start,
-/// no total-variation bound, HiGHS's absolute gap `1e-9` times C's scale.
+/// no total-variation bound, HiGHS's absolute gap `1e-9` times C's scale, units of order one
+/// where the problem's are not ([`Units::needed`]).
 #[derive(Debug, Clone, Default)]
 pub(crate) struct PmOptions {
     /// The first incumbent (a start that does not fit the model is only a lost hint).
@@ -185,10 +186,10 @@ impl PmRun {
 /// true cost of its controls meets the bound within
 /// [`OA_TOL`](crate::optimal::milp::OA_TOL) (else `approximation_limit`, after
 /// [`MAX_OA_ROUNDS`] rounds or when no control is new); each later round starts from the
-/// previous answer, its epigraphs raised onto the new cuts. `j_unit` is the problem's unit of
-/// `J` in `p`'s (`s_x` where `p` is a problem in [`Units`], else 1): the approximation's
-/// tolerance is relative above that unit and absolute below, in the problem's units as before
-/// the conversion.
+/// previous answer, its epigraphs raised onto the new cuts. `j_unit` is `p`'s unit of `J` in the
+/// problem's own units (`s_x` where `p` is the problem in [`Units`], else 1): the
+/// approximation's tolerance is relative where `|J'| >= 1 / j_unit` and absolute below, which in
+/// the problem's units is `|J| >= 1`, as before the conversion.
 fn solve_scaled(
     p: &GeneralProblem,
     bm: &BigM,

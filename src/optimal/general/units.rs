@@ -82,9 +82,10 @@ impl Units {
 
     /// Whether a unit is off from the problem's own by more than a factor of 100 (P_m converts
     /// only then). Within that range the problem is of order one already, and a conversion would
-    /// only move its answer by rounding and HiGHS's tolerances: on a crawler's instance (already
-    /// in the crawler's internal units, [`crate::optimal::units`]), P_2 of the three-block
-    /// crawler gave `J = 2 - 1.6e-9` converted, `2 - 7e-16` not.
+    /// only move its answer by rounding and HiGHS's tolerances: P_2 of the three-block crawler's
+    /// instance, whose units are within that range, gave `J = 2 - 1.6e-9` converted and
+    /// `2 - 7e-16` not (measured before a crawler's instance was exempted altogether,
+    /// [`super::pm_milp`]'s `keep_units`).
     pub fn needed(&self) -> bool {
         [self.time, self.state, self.control]
             .iter()
