@@ -778,7 +778,7 @@ fn plot_and_report_refuse_bad_input_with_nothing_written() {
     let other = write(
         dir.path(),
         "v.json",
-        &text.replace("\"version\":2", "\"version\":9"),
+        &text.replace("\"version\":3", "\"version\":9"),
     );
     let good = write(dir.path(), "r.json", &text);
     // Absurd but finite rate bounds: refused by the reader (the sweep ratio a T / w is beyond

@@ -227,10 +227,10 @@ fn optimize_solves_p_m_of_a_general_file() {
     ]);
     assert!(out.status.success(), "{}", stderr(&out));
     let v = json(&out);
-    let j = v["solution"]["objective"].as_f64().unwrap();
+    let j = v["objective"].as_f64().unwrap();
     assert!((j - 3.0).abs() < 1e-7, "{j}");
-    assert_eq!(v["solution"]["certificate"]["status"], "optimal");
-    assert_eq!(v["solution"]["u"].as_array().unwrap().len(), 4);
+    assert_eq!(v["status"], "optimal");
+    assert_eq!(v["solution"]["controls"].as_array().unwrap().len(), 4);
     for (args, want) in [
         (&["--method", "phase", "--m", "2"][..], "error: --m"),
         (
@@ -267,7 +267,7 @@ fn optimize_solves_p_m_of_a_general_file() {
     ]);
     assert!(out.status.success(), "{}", stderr(&out));
     let v = json(&out);
-    assert!(v["solution"]["objective"].as_f64().unwrap().is_finite());
+    assert!(v["objective"].as_f64().unwrap().is_finite());
 }
 
 #[test]
@@ -333,12 +333,9 @@ fn optimize_method_phase_finds_the_exact_gait() {
     assert!(out.status.success(), "{}", stderr(&out));
     let v = json(&out);
     assert_eq!(v["method"], "phase");
-    let j = v["solution"]["objective"].as_f64().unwrap();
+    let j = v["objective"].as_f64().unwrap();
     assert!((j - 3.0).abs() < 1e-7, "{j}");
-    assert_eq!(
-        v["solution"]["certificate"]["status"],
-        "optimal_among_k_phases"
-    );
+    assert_eq!(v["status"], "optimal_among_k_phases");
     let held = v["solution"]["held"].as_array().unwrap();
     assert_eq!(held.len(), 4);
     assert_eq!(
@@ -436,9 +433,9 @@ fn optimize_method_local_solves_p_m_locally() {
     assert_eq!(v["solution"]["stop"], "stationary");
     let start = v["solution"]["start_objective"].as_f64().unwrap();
     assert!((start - 2.0).abs() < 1e-9, "{start}");
-    let j = v["solution"]["objective"].as_f64().unwrap();
+    let j = v["objective"].as_f64().unwrap();
     assert!((j - 3.0).abs() < 1e-7, "{j}");
-    assert_eq!(v["solution"]["u"].as_array().unwrap().len(), 16);
+    assert_eq!(v["solution"]["controls"].as_array().unwrap().len(), 16);
     let out = crawlopt(&["optimize", f, "--method", "local", "--m", "3"]);
     assert!(out.status.success(), "{}", stderr(&out));
     assert!(String::from_utf8_lossy(&out.stdout).contains("local LPCC method: stationary"));
@@ -514,7 +511,7 @@ fn plot_and_report_apply_to_general_files() {
         &report,
     ]);
     assert!(out.status.success(), "{}", stderr(&out));
-    let j = json(&out)["solution"]["objective"].as_f64().unwrap();
+    let j = json(&out)["objective"].as_f64().unwrap();
     let html = std::fs::read_to_string(&report).unwrap();
     assert!(
         html.contains(&format!("id=\"objective\" data-value=\"{j}\"")),

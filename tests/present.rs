@@ -95,7 +95,7 @@ fn bad_result_files_are_refused() {
         e.to_string().contains("not a complete JSON document"),
         "{e}"
     );
-    let e = PlotInput::from_json(&text.replace("\"version\":2", "\"version\":7"), "r.json")
+    let e = PlotInput::from_json(&text.replace("\"version\":3", "\"version\":7"), "r.json")
         .unwrap_err();
     assert!(e.to_string().contains("version"), "{e}");
     assert!(PlotInput::from_json("{}", "r.json").is_err());

@@ -58,7 +58,7 @@ fn general_results_carry_the_envelope_and_read_back() {
     ] {
         let (text, v) = optimize(ONE_LINK, args);
         assert_eq!(v["format"], "crawlopt-gait-result");
-        assert_eq!(v["version"], 2);
+        assert_eq!(v["version"], 3);
         assert_eq!(v["kind"], "general");
         assert_eq!(v["method"], method);
         assert_eq!(v["status"], status);
@@ -70,16 +70,24 @@ fn general_results_carry_the_envelope_and_read_back() {
         assert_eq!(v["problem"]["problem"]["period"], 10.0);
         assert!(v["problem"].get("input").is_none(), "{}", v["problem"]);
         let j = v["objective"].as_f64().unwrap();
-        assert_eq!(v["objective"], v["solution"]["objective"]);
+        // Each number once (version 3): the solution repeats neither J nor the MILP's
+        // certificate, and the period is the problem's.
+        for repeated in ["objective", "certificate"] {
+            assert!(
+                v["solution"].get(repeated).is_none(),
+                "{method}: {repeated}"
+            );
+        }
+        assert!(v.get("period").is_none(), "{method}");
         assert!((j - 3.0).abs() < 1e-7, "{method}: {j}");
         if cert == "local" {
             assert!(v["certificate"]["bound"].is_null() && v["certificate"]["gap"].is_null());
         } else {
-            assert_eq!(
-                v["certificate"]["bound"],
-                v["solution"]["certificate"]["bound"]
+            let milp = v["solver_objective"].as_f64().unwrap();
+            assert!(
+                milp <= v["certificate"]["bound"].as_f64().unwrap() + 1e-9,
+                "{milp}"
             );
-            assert_eq!(v["status"], v["solution"]["certificate"]["status"]);
         }
         let r = ResultFile::from_json(&text, "r.json").unwrap();
         assert_eq!(r.kind(), ResultKind::General);
@@ -99,10 +107,56 @@ fn general_results_carry_the_envelope_and_read_back() {
             panic!("read as a crawler's")
         };
         assert_eq!(old, answer);
+        // Version 2 repeated J, the MILP's certificate and the period, and named a P_m
+        // process's arrays x, u, lambda: it reads to the same answer, its repeated numbers
+        // checked against the envelope's.
+        let v2 = as_version_2(&v);
+        let ResultFile::General(old) = ResultFile::from_json(&v2.to_string(), "v2.json").unwrap()
+        else {
+            panic!("read as a crawler's")
+        };
+        assert_eq!(old, answer);
+        let mut w = v2.clone();
+        w["solution"]["objective"] = json!(j - 0.1);
+        let e = ResultFile::from_json(&w.to_string(), "v2.json").unwrap_err();
+        assert!(
+            e.to_string().starts_with("v2.json: solution.objective"),
+            "{e}"
+        );
+        let mut w = v2.clone();
+        w["period"] = json!(5.0);
+        let e = ResultFile::from_json(&w.to_string(), "v2.json").unwrap_err();
+        assert!(e.to_string().starts_with("v2.json: period"), "{e}");
         // The crawler's own reader names the kind.
         let e = GaitResult::from_json(&text, "r.json").unwrap_err();
         assert!(e.to_string().starts_with("r.json: kind"), "{e}");
     }
+}
+
+/// A general result of version 3 written as version 2 wrote it (module docs of
+/// `crawlopt::optimal::envelope`'s `RESULT_VERSION`).
+fn as_version_2(v: &Value) -> Value {
+    let mut w = v.clone();
+    let o = w.as_object_mut().unwrap();
+    o.insert("version".into(), json!(2));
+    o.insert("period".into(), v["problem"]["problem"]["period"].clone());
+    let milp = o.remove("solver_objective");
+    let s = o.get_mut("solution").unwrap().as_object_mut().unwrap();
+    s.insert("objective".into(), v["objective"].clone());
+    if let Some(milp) = milp {
+        s.insert(
+            "certificate".into(),
+            json!({"status": v["status"], "milp_objective": milp,
+                   "bound": v["certificate"]["bound"], "gap": v["certificate"]["gap"]}),
+        );
+    }
+    if s.contains_key("m") {
+        for (new, old) in [("states", "x"), ("controls", "u"), ("reactions", "lambda")] {
+            let rows = s.remove(new).unwrap();
+            s.insert(old.into(), rows);
+        }
+    }
+    w
 }
 
 /// `crawlopt certify` on a general result: the conditions of the stored P_m optimum (read
@@ -185,7 +239,7 @@ fn certify_reads_a_general_result_as_optimize_certify_does() {
     );
     let cauchy = write(dir.path(), "cauchy.toml", &src);
     let (text, v) = optimize(cauchy.to_str().unwrap(), &["--m", "2"]);
-    assert_eq!(v["solution"]["x"][0], json!([0.0]));
+    assert_eq!(v["solution"]["states"][0], json!([0.0]));
     ResultFile::from_json(&text, "cauchy.json").unwrap();
     let file = write(dir.path(), "cauchy.json", &text);
     let out = crawlopt(&["certify", file.to_str().unwrap()]);
@@ -220,15 +274,11 @@ fn refused(v: &Value, want: &str) {
 fn a_phase_gaits_replay_gap_and_milp_value_are_checked_on_reading() {
     let (_, v) = optimize(ONE_LINK, &["--method", "phase", "--phases", "4"]);
     ResultFile::from_json(&v.to_string(), "r.json").unwrap();
-    let bound = v["solution"]["certificate"]["bound"].as_f64().unwrap();
+    let bound = v["certificate"]["bound"].as_f64().unwrap();
     for (at, to, want) in [
         ("/solution/state_gap", json!(0.5), "solution.state_gap"),
         ("/solution/state_gap", json!(-1e-9), "solution.state_gap"),
-        (
-            "/solution/certificate/milp_objective",
-            json!(bound + 0.5),
-            "solution.certificate.milp_objective",
-        ),
+        ("/solver_objective", json!(bound + 0.5), "solver_objective"),
     ] {
         let mut w = v.clone();
         set(&mut w, at, to);
@@ -243,45 +293,40 @@ fn a_phase_gaits_replay_gap_and_milp_value_are_checked_on_reading() {
 fn tampered_general_results_are_refused_naming_the_field() {
     let (_, v) = optimize(ONE_LINK, &["--m", "3"]);
     let j = v["objective"].as_f64().unwrap();
-    let u = |i: usize| v["solution"]["u"][i][0].as_f64().unwrap();
+    let u = |i: usize| v["solution"]["controls"][i][0].as_f64().unwrap();
     // The P_3 optimum: up for half the period, down for the other half (in some rotation);
     // swapping a step of each keeps the mean but not the process.
     let up = (0..8).find(|&i| u(i) > 0.5).unwrap();
     let down = (0..8).find(|&i| u(i) < -0.5).unwrap();
     let cases: Vec<(&str, Value, &str)> = vec![
         ("/objective", json!(j + 0.1), "objective"),
-        ("/solution/objective", json!(j - 0.1), "solution.objective"),
-        ("/solution/u/0/0", json!(u(0) / 2.0), "solution.u"),
-        ("/solution/u/0/0", json!(3.0), "solution.u[0]"),
-        ("/certificate/bound", json!(j + 1.0), "certificate.bound"),
         (
-            "/solution/certificate/bound",
-            json!(j - 1.0),
-            "solution.certificate.bound",
+            "/solution/controls/0/0",
+            json!(u(0) / 2.0),
+            "solution.controls",
         ),
-        (
-            "/solution/certificate/gap",
-            json!(0.5),
-            "solution.certificate.gap",
-        ),
-        ("/status", json!("time_limit"), "status"),
+        ("/solution/controls/0/0", json!(3.0), "solution.controls[0]"),
+        // A bound above J that the gap does not state: the pair is refused.
+        ("/certificate/bound", json!(j + 1.0), "certificate.gap"),
+        ("/certificate/bound", json!(j - 1.0), "certificate.bound"),
+        ("/certificate/gap", json!(0.5), "certificate.gap"),
+        // A local method's status on the global method's answer. (A status lowered to
+        // time_limit, with the gap it states, is a weaker claim that holds: version 2 refused
+        // it only because the MILP's repeated status disagreed.)
+        ("/status", json!("stationary"), "status"),
         ("/certificate/kind", json!("local"), "certificate.kind"),
-        ("/period", json!(5.0), "period"),
+        ("/problem/problem/period", json!(5.0), "solution.states["),
         // Not a general result's method ("sequence" is one since it runs on a chain).
         ("/method", json!("simplex"), "method"),
         ("/kind", json!("robot"), "kind"),
-        ("/version", json!(3), "version"),
+        ("/version", json!(4), "version"),
         ("/solution/m", json!(11), "solution.m"),
         // The MILP's incumbent above its own bound.
-        (
-            "/solution/certificate/milp_objective",
-            json!(j + 1.0),
-            "solution.certificate.milp_objective",
-        ),
+        ("/solver_objective", json!(j + 1.0), "solver_objective"),
         (
             "/problem/objective/face_weights",
             json!([0.5, 0.25]),
-            "solution.objective",
+            "objective",
         ),
         (
             "/problem/sweeping_process/offsets",
@@ -296,24 +341,24 @@ fn tampered_general_results_are_refused_naming_the_field() {
     }
     let mut w = v.clone();
     let (a, b) = (
-        v["solution"]["u"][up].clone(),
-        v["solution"]["u"][down].clone(),
+        v["solution"]["controls"][up].clone(),
+        v["solution"]["controls"][down].clone(),
     );
-    set(&mut w, &format!("/solution/u/{up}"), b);
-    set(&mut w, &format!("/solution/u/{down}"), a);
-    refused(&w, "solution.x[");
+    set(&mut w, &format!("/solution/controls/{up}"), b);
+    set(&mut w, &format!("/solution/controls/{down}"), a);
+    refused(&w, "solution.states[");
     let mut w = v.clone();
-    let lam = v["solution"]["lambda"].as_array().unwrap();
+    let lam = v["solution"]["reactions"].as_array().unwrap();
     let i = lam
         .iter()
         .position(|l| l[0].as_f64().unwrap() > 0.0)
         .unwrap();
     set(
         &mut w,
-        &format!("/solution/lambda/{i}/0"),
+        &format!("/solution/reactions/{i}/0"),
         json!(lam[i][0].as_f64().unwrap() * 2.0),
     );
-    refused(&w, "solution.x[");
+    refused(&w, "solution.states[");
     // The phase gait: a duration, a reaction, the cost, a held face.
     let (_, v) = optimize(ONE_LINK, &["--method", "phase"]);
     for (at, to, want) in [
@@ -401,8 +446,8 @@ fn tampered_general_results_are_refused_naming_the_field() {
     );
 }
 
-/// Crawler results: the envelope of version 2 (`kind`, the gait under `solution`), and a file
-/// of version 1 (the gait under `gait`, `kind` possibly absent, as the files the docs shipped)
+/// Crawler results: the envelope of version 3 (`kind`, the gait under `solution`; version 2
+/// had the same shape and reads to the same result), and a file of version 1 (the gait under `gait`, `kind` possibly absent, as the files the docs shipped)
 /// still reads, to the same result; a version 2 file without `kind`, or with its gait under
 /// `gait`, is refused naming the field, and one claiming to be a general result is refused.
 #[test]
@@ -410,10 +455,16 @@ fn crawler_results_read_in_version_2_and_in_version_1() {
     let (text, v) = optimize("examples/one_link_gait.toml", &["--phases", "4"]);
     assert_eq!(v["kind"], "crawler");
     assert_eq!(v["format"], "crawlopt-gait-result");
-    assert_eq!(v["version"], 2);
+    assert_eq!(v["version"], 3);
     assert!(
         v["solution"]["durations"].is_array() && v.get("gait").is_none(),
         "{v}"
+    );
+    let mut v2 = v.clone();
+    v2["version"] = json!(2);
+    assert_eq!(
+        GaitResult::from_json(&v2.to_string(), "v2.json").unwrap(),
+        GaitResult::from_json(&text, "r.json").unwrap()
     );
     let r = ResultFile::from_json(&text, "r.json").unwrap();
     assert_eq!(r.kind(), ResultKind::Crawler);

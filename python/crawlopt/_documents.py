@@ -304,10 +304,12 @@ class GeneralResult(_LibraryFigures, Document):
     problem's sections, as the file has them), ``objective`` (J re-verified by simulation),
     ``status`` (what was proven), ``certificate`` (``kind`` global, global_k_phases or local,
     ``bound``, ``gap``, as a crawler's), ``necessary_conditions`` (a NecessaryConditions, with
-    ``certify=True``), and the gait as arrays: ``x``, ``u``, ``reactions`` for P_m (one row per
-    step), or ``durations``, ``controls``, ``states``, ``reactions`` and ``held`` per phase for
-    methods "phase", "sequence" and "chain". ``d["solution"]`` is the document's section as
-    before (with the MILP's own certificate). ``from_json``/``to_json`` read and write the
+    ``certify=True``), ``solver_objective`` (the MILP methods'), and the gait as arrays named
+    alike for every method (result version 3): ``states`` (one row per knot), ``controls`` and
+    ``reactions`` (one row per step of P_m or per phase), with ``durations`` and ``held`` per
+    phase for methods "phase", "sequence" and "chain"; ``x`` and ``u`` are the same arrays as
+    ``states`` and ``controls`` (a crawler's gait names them so). ``d["solution"]`` is the
+    document's section. ``from_json``/``to_json`` read and write the
     document (read back checked as ``crawlopt certify`` checks it); ``certify()`` gives its
     NecessaryConditions; ``figures()`` and ``report()`` are the library's (``crawlopt optimize
     --plot --report``). ``notes``: how the job went (a start refused and the one tried
@@ -317,19 +319,34 @@ class GeneralResult(_LibraryFigures, Document):
         self._record = record
         self.notes = list(notes)
         sol = doc["solution"]
-        if doc.get("method") in _EXACT_GAITS:
-            _series(sol, ("durations", "controls", "states", "reactions"))
-        else:
-            _series(sol, ("x", "u", "lambda"))
+        _series(sol, ("durations", "controls", "states", "reactions"))
         if isinstance(doc.get("necessary_conditions"), dict):
             doc["necessary_conditions"] = NecessaryConditions(doc["necessary_conditions"])
         super().__init__(doc)
         for k, v in sol.items():
-            if k != "lambda" and k not in doc and not hasattr(type(self), k):
+            if k not in doc and not hasattr(type(self), k):
                 setattr(self, k, v)
-        if "lambda" in sol:
-            self.reactions = sol["lambda"]
         self.necessary_conditions = doc.get("necessary_conditions")
+
+    @property
+    def x(self):
+        """``states``, under the name a crawler's gait gives them."""
+        return self.states
+
+    @property
+    def u(self):
+        """``controls``, under the name a crawler's gait gives them."""
+        return self.controls
+
+    def _knots(self) -> np.ndarray:
+        """The knot times: the phases' durations summed, or P_m's equal steps."""
+        s = self._doc["solution"]
+        if "durations" in s:
+            d = np.asarray(s["durations"], dtype=float)
+        else:
+            n = len(s["controls"])
+            d = np.full(n, float(self._doc["problem"]["problem"]["period"]) / max(n, 1))
+        return np.concatenate([[0.0], np.cumsum(d)])
 
     def to_dict(self) -> dict:
         d = dict(self._doc)
@@ -370,32 +387,28 @@ class GeneralResult(_LibraryFigures, Document):
         return NecessaryConditions(json.loads(_rs.certify_general_json(self.to_json())))
 
     def to_pandas(self):
-        """The gait as a DataFrame: one row per step (P_m: t_start, t_end, u_k, x_k at the
-        step's end, lambda_j) or per phase (methods "phase", "sequence", "chain": duration, u_k,
-        x_k at its end)."""
+        """The gait as a DataFrame: one row per step (P_m: t_start, t_end) or per phase (methods
+        "phase", "sequence", "chain": t_start, duration), then u_k, x_k at its end and the
+        reaction rates lambda_j."""
         pd = require("pandas", "to_pandas()")
         s = self._doc["solution"]
         cols: dict = {}
+        t = self._knots()
+        n = len(t) - 1
+        cols["t_start"] = t[:-1]
         if self._doc.get("method") in _EXACT_GAITS:
-            d = np.asarray(s["durations"], dtype=float)
-            cols["t_start"] = np.concatenate([[0.0], np.cumsum(d)[:-1]])
-            cols["duration"] = d
-            u = np.asarray(s["controls"], dtype=float).reshape(len(d), -1)
-            x = np.asarray(s["states"], dtype=float).reshape(len(d) + 1, -1)[1:]
+            cols["duration"] = np.diff(t)
         else:
-            u = np.asarray(s["u"], dtype=float)
-            u = u.reshape(len(u), -1)
-            h = float(self._doc["period"]) / max(len(u), 1)
-            cols["t_start"] = h * np.arange(len(u))
-            cols["t_end"] = h * np.arange(1, len(u) + 1)
-            x = np.asarray(s["x"], dtype=float).reshape(len(u) + 1, -1)[1:]
+            cols["t_end"] = t[1:]
+        u = np.asarray(s["controls"], dtype=float).reshape(n, -1)
+        x = np.asarray(s["states"], dtype=float).reshape(n + 1, -1)[1:]
         for k in range(u.shape[1]):
             cols[f"u_{k + 1}"] = u[:, k]
         for k in range(x.shape[1]):
             cols[f"x_{k + 1}"] = x[:, k]
-        lam = s.get("lambda") if "lambda" in s else None
+        lam = s.get("reactions")
         if lam is not None and np.size(lam):
-            lam = np.asarray(lam, dtype=float).reshape(len(u), -1)
+            lam = np.asarray(lam, dtype=float).reshape(n, -1)
             for j in range(lam.shape[1]):
                 cols[f"lambda_{j + 1}"] = lam[:, j]
         return pd.DataFrame(cols)
@@ -405,34 +418,26 @@ class GeneralResult(_LibraryFigures, Document):
         from ._plot import general_plot
 
         s = self._doc["solution"]
-        title = f"J = {s.get('objective', float('nan')):.6g} ({self.status})"
-        if self._doc.get("method") in _EXACT_GAITS:
-            d = np.asarray(s["durations"], dtype=float)
-            t = np.concatenate([[0.0], np.cumsum(d)])
-            return general_plot(t, s["states"], s["controls"], title)
-        u = np.asarray(s["u"], dtype=float)
-        t = np.linspace(0.0, float(self._doc["period"]), len(u) + 1)
-        return general_plot(t, s["x"], u, title)
+        title = f"J = {self._doc.get('objective', float('nan')):.6g} ({self.status})"
+        return general_plot(self._knots(), s["states"], s["controls"], title)
 
     def __repr__(self) -> str:
-        s = self._doc["solution"]
-        c = s.get("certificate") or {}
+        c = self._doc.get("certificate") or {}
         gap = c.get("gap")
         gap = "" if gap is None else f", gap={gap:.1e}"
         nc = self._doc.get("necessary_conditions")
         verdict = "" if nc is None else f", necessary_conditions={nc['verdict']!r}"
         return (
             f"GeneralResult(method={self._doc.get('method')!r}, "
-            f"objective={s.get('objective'):.10g}, status={self.status!r}{gap}{verdict})"
+            f"objective={self._doc.get('objective'):.10g}, status={self.status!r}{gap}{verdict})"
         )
 
     def _repr_html_(self) -> str:
-        s = self._doc["solution"]
-        c = s.get("certificate") or {}
+        c = self._doc.get("certificate") or {}
         nc = self._doc.get("necessary_conditions")
         rows = [
             ("method", self._doc.get("method")),
-            ("objective J", s.get("objective")),
+            ("objective J", self._doc.get("objective")),
             ("status", self.status),
             ("bound", c.get("bound")),
             ("gap", c.get("gap")),

@@ -232,8 +232,9 @@ class GeneralProblem:
         certificate) or "local" (the LPCC active-set method from ``start``, a GeneralResult of
         the same numbers of states and controls and the same period, its control averaged on
         the grid (``--start``); else the file's ``[input]``, else where A = 0 the phase optimum,
-        else square waves; ``shifts`` rotations of each; no global claim). ``solution`` holds
-        ``objective`` (J re-verified by simulation), ``x``, ``u``, ``lambda``. ``certify``
+        else square waves; ``shifts`` rotations of each; no global claim). ``objective`` is J
+        re-verified by simulation; ``solution`` holds ``states``, ``controls`` and
+        ``reactions`` (rates per step and face). ``certify``
         ("discrete", "phase", "sequence", "chain") adds ``necessary_conditions``: Theorem 2.2's
         conditions on the optimum with their residuals and ``verdict`` (``crawlopt optimize
         --certify``; a phase gait's on its own phases, the durations free). ``convergence``
@@ -249,8 +250,8 @@ class GeneralProblem:
         ``api::DEFAULT_GENERAL_PHASES``, or the crawler's ``api::DEFAULT_MAX_PHASES`` slip phases
         where the problem is a crawler's gait problem) until ``patience`` consecutive K bring no
         gain, as for crawlers (``crawlopt optimize --method phase``; ``phase_growth`` holds the
-        table of the K solved); its ``solution`` holds ``objective`` (J re-verified by the exact
-        simulation), ``durations``, ``controls``, ``states``, ``held`` (faces, 1-based) and
+        table of the K solved); ``objective`` is J re-verified by the exact simulation, and
+        ``solution`` holds ``durations``, ``controls``, ``states``, ``held`` (faces, 1-based) and
         ``reactions`` per phase. ``method`` "sequence" or "chain" (where the problem is a crawler's
         gait problem, as ``analyze().check("structure")`` says; else an ``InputError`` naming
         ``method``):

@@ -113,12 +113,12 @@ def test_results_round_trip_with_the_command_line(cli, tmp_path):
     assert "2.6" in html.read_text()
 
 
-def test_version_1_results_read_as_version_2(cli, tmp_path):
+def test_version_1_results_read_as_the_current_version(cli, tmp_path):
     # A result of version 1 (the gait under "gait", no "kind") reads to the same result, with
     # the same certificate; errors on it say that its gait was read as the solution.
     out = _optimize_json(cli, "examples/three_blocks_gait.toml")
     doc = json.loads(out)
-    assert doc["version"] == 2 and "solution" in doc and "gait" not in doc
+    assert doc["version"] == 3 and "solution" in doc and "gait" not in doc
     old = dict(doc, version=1, gait=doc["solution"])
     del old["solution"], old["kind"]
     path = tmp_path / "old.json"

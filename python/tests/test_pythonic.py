@@ -258,8 +258,9 @@ def test_typed_results_of_both_kinds():
     r = g.optimize(m=3, certify=True)
     assert isinstance(r, co.GeneralResult)
     assert r.objective == pytest.approx(3.0, abs=1e-9) and r.status == "optimal"
-    assert r["solution"]["objective"] == r.objective  # the dict form still reads
+    assert r["objective"] == r.objective  # the dict form still reads
     assert r.u.shape == (8, 1) and r.reactions.shape == (8, 2)
+    assert r.u is r.controls and r.x is r.states and r.states.shape == (9, 1)
     nc = r.necessary_conditions
     assert isinstance(nc, co.NecessaryConditions) and nc.verdict == "holds"
     assert "GeneralResult(method='discrete'" in repr(r) and "holds" in repr(r)

@@ -47,10 +47,11 @@ pub fn certify_general_answer(r: &GeneralAnswer, what: &str) -> Result<GeneralNe
         GeneralAnswer::Phase(r) => GeneralProcess::from_phase(&r.solution),
     };
     // Checked first as the file's solution, so that a message names the file and its field.
+    let at = format!("{what}: solution");
     pr.check_as(
         &p,
         crate::optimal::consistency::INPUT_TOL,
-        &format!("{what}: solution"),
+        &crate::optimal::process::FieldNames::record(&at),
     )?;
     certify_general(&p, &pr, &CertifyOptions::default())
 }

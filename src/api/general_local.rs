@@ -193,10 +193,7 @@ fn given_start(start: &super::Start, p: &GeneralProblem, m: u32) -> Result<Vec<V
         );
     }
     let (durations, controls) = answer.pieces();
-    let field = match answer {
-        crate::io::GeneralAnswer::Phase(_) => "solution.controls",
-        _ => "solution.u",
-    };
+    let field = "solution.controls";
     // Each component to its own bound, as a result is read back.
     let scales = crate::optimal::process::control_scales(&p.control);
     let tol = crate::optimal::consistency::INPUT_TOL;

@@ -208,25 +208,18 @@ impl GeneralProcess {
             }
             _ => {}
         }
-        self.check_as(p, tol, "process")
+        self.check_as(p, tol, &FieldNames::process("process"))
     }
 
     /// [`GeneralProcess::check`] for either boundary condition (a Cauchy problem's process
     /// starts at its `x(0)` instead of ending where it began), every message naming the field
-    /// as `{at}.x[k]`, `{at}.u[i]`, ...: how a result file's P_m process is checked on reading.
-    pub fn check_as(&self, p: &GeneralProblem, tol: f64, at: &str) -> Result<()> {
-        self.check_rows(p, tol, at)?;
+    /// as `names` says (`{at}.states[k]`, `{at}.controls[i]`, ... for a result file's
+    /// solution, [`FieldNames::record`]): how a result file's P_m process is checked on reading.
+    pub fn check_as(&self, p: &GeneralProblem, tol: f64, names: &FieldNames) -> Result<()> {
+        self.check_rows(p, tol, names)?;
         match self.rows().fault(p, tol) {
             None => Ok(()),
-            Some(fault) => Err(fault.in_words(
-                &self.rows(),
-                &FieldNames {
-                    at,
-                    x: "x",
-                    u: "u",
-                    lambda: "lambda",
-                },
-            )),
+            Some(fault) => Err(fault.in_words(&self.rows(), names)),
         }
     }
 
@@ -243,7 +236,8 @@ impl GeneralProcess {
 
     /// The grid (P_m: `2^m` steps of `T / 2^m`; a phase gait: positive durations summing to
     /// `T`), the rows' shapes and finite values.
-    fn check_rows(&self, p: &GeneralProblem, tol: f64, at: &str) -> Result<()> {
+    fn check_rows(&self, p: &GeneralProblem, tol: f64, names: &FieldNames) -> Result<()> {
+        let at = names.at;
         let bad = |field: String, got: String, why: &str| {
             Err(Error::invalid(format!("{at}.{field}"), got, why))
         };
@@ -280,9 +274,9 @@ impl GeneralProcess {
             rows.len() == len && rows.iter().all(|r| r.len() == width)
         };
         for (name, rows, want) in [
-            ("x", &self.x, (steps + 1, n)),
-            ("u", &self.u, (steps, mc)),
-            ("lambda", &self.lambda, (steps, sigma)),
+            (names.x, &self.x, (steps + 1, n)),
+            (names.u, &self.u, (steps, mc)),
+            (names.lambda, &self.lambda, (steps, sigma)),
         ] {
             if !shape(rows, want.0, want.1) {
                 return bad(

@@ -89,8 +89,8 @@ pub(super) fn check_local_phase(what: &str, r: &crate::io::GeneralPhaseOptimized
             "status",
             r.status.as_str(),
             format!(
-                "must be solution.certificate.status ({}), one of stationary, stalled, \
-                 time_limit (a local method)",
+                "must be one of stationary, stalled, time_limit (a local method), and \
+                 solution.certificate.status ({}) where a version 2 file repeats it",
                 s.certificate.status.as_str()
             ),
         ));
@@ -99,7 +99,7 @@ pub(super) fn check_local_phase(what: &str, r: &crate::io::GeneralPhaseOptimized
     if !(s.certificate.bound.is_nan() && s.certificate.gap.is_nan()) {
         return Err(bad(
             what,
-            "solution.certificate.bound",
+            "certificate.bound",
             s.certificate.bound,
             "a local method proves no bound (null)",
         ));
@@ -182,9 +182,10 @@ pub(super) fn check_global(
             "status",
             status.as_str(),
             format!(
-                "must be solution.certificate.status ({}), one of {:?}",
-                c.status.as_str(),
-                allowed.iter().map(|s| s.as_str()).collect::<Vec<_>>()
+                "must be one of {:?}, and solution.certificate.status ({}) where a version 2 \
+                 file repeats it",
+                allowed.iter().map(|s| s.as_str()).collect::<Vec<_>>(),
+                c.status.as_str()
             ),
         ));
     }
@@ -203,7 +204,7 @@ pub(super) fn check_global(
         certificate: cert,
         bound: Some(c.bound),
         gap: Some(c.gap),
-        record: "solution.certificate",
+        record: "certificate",
         objective: j,
         method,
         kinds: &[want.kind.as_str()],
@@ -216,7 +217,7 @@ pub(super) fn check_global(
     {
         return Err(bad(
             what,
-            "solution.certificate.milp_objective",
+            "solver_objective",
             c.milp_objective,
             format!("must be finite and at most the bound ({})", c.bound),
         ));

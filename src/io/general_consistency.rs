@@ -242,12 +242,13 @@ fn check_phase_answer(r: &GeneralPhaseOptimized, p: &GeneralProblem, what: &str)
 /// The most phases a gait of the crawler's local methods on a chain may have in a result file.
 const MAX_LOCAL_PHASES: usize = 1 << 20;
 
-/// The solution's and the envelope's `objective` against `J` of the replay.
+/// The envelope's `objective` against `J` of the replay, then the solution's (a copy of the
+/// envelope's since version 3; version 2 wrote it, and a disagreeing one is refused).
 fn objectives(what: &str, j: f64, solution: f64, top: f64) -> Result<()> {
     let close = Close(INPUT_TOL * j.abs().max(1e-300) + 1e-14);
     let why = "disagrees with the solution replayed by simulation";
-    close.check(what, "solution.objective", solution, j, why)?;
-    close.check(what, "objective", top, j, why)
+    close.check(what, "objective", top, j, why)?;
+    close.check(what, "solution.objective", solution, j, why)
 }
 
 /// Checks a P_m process (`m` at most `max_m`) against the problem and its replay; returns `J`
@@ -262,14 +263,15 @@ fn check_pm(p: &GeneralProblem, max_m: u32, pr: &GeneralProcess, what: &str) -> 
             format!("must be in 1..={max_m}"),
         ));
     }
-    pr.check_as(p, INPUT_TOL, &format!("{what}: solution"))?;
-    let sim = simulate_grid(p, m, &x[0], u, "solution.u")?;
+    let at = format!("{what}: solution");
+    pr.check_as(p, INPUT_TOL, &FieldNames::record(&at))?;
+    let sim = simulate_grid(p, m, &x[0], u, "solution.controls")?;
     let scale = p.c.scale();
     for (k, (got, want)) in x.iter().zip(&sim.x).enumerate() {
         if max_diff(got, want) > INPUT_TOL * scale {
             return Err(bad(
                 what,
-                &format!("solution.x[{k}]"),
+                &format!("solution.states[{k}]"),
                 format!("{got:?}"),
                 format!("disagrees with the process the controls give when simulated ({want:?})"),
             ));
@@ -280,7 +282,7 @@ fn check_pm(p: &GeneralProblem, max_m: u32, pr: &GeneralProcess, what: &str) -> 
         if max_diff(got, want) * h > INPUT_TOL * scale {
             return Err(bad(
                 what,
-                &format!("solution.lambda[{i}]"),
+                &format!("solution.reactions[{i}]"),
                 format!("{got:?}"),
                 format!("disagrees with the reactions of the simulated process ({want:?})"),
             ));
@@ -290,7 +292,7 @@ fn check_pm(p: &GeneralProblem, max_m: u32, pr: &GeneralProcess, what: &str) -> 
     let close = Close::of(sim.reward, sim.cost);
     close.check(
         what,
-        "solution.lambda",
+        "solution.reactions",
         pr.objective(p),
         j,
         "J of the stored reactions and controls disagrees with the replay's",
@@ -443,12 +445,7 @@ fn check_phase(
         lambda: &s.reactions,
     };
     let at = format!("{what}: solution");
-    let names = FieldNames {
-        at: &at,
-        x: "states",
-        u: "controls",
-        lambda: "reactions",
-    };
+    let names = FieldNames::record(&at);
     // A reaction off its face is reported after the replay, which names a moved state itself.
     let flow = match rows.fault(p, INPUT_TOL) {
         Some(fault @ Fault::Inactive { .. }) => Some(fault),

@@ -147,13 +147,17 @@ pub struct GeneralOptimized {
     pub method: Word,
     /// The problem (P) in the file's form (module docs).
     pub problem: GeneralFile,
-    /// `J` re-verified by simulation (as `solution.objective`).
+    /// `J` re-verified by simulation.
     pub objective: f64,
-    /// What was proven (as `solution.certificate.status`).
+    /// What was proven.
     pub status: MilpStatus,
     /// `"global"` with the MILP's bound and gap.
     pub certificate: ResultCertificate,
-    /// The period.
+    /// The MILP's own objective, before re-verification (as a crawler's result has it).
+    pub solver_objective: f64,
+    /// The period (not written: it is the problem's `[problem] period`; filled from it on
+    /// reading).
+    #[serde(skip_serializing)]
     pub period: f64,
     /// The verified optimum of P_m with its certificate.
     pub solution: GeneralPm,
@@ -184,6 +188,7 @@ impl GeneralOptimized {
             objective: solution.objective,
             status: solution.certificate.status,
             certificate: ResultCertificate::of_milp(&solution.certificate, None),
+            solver_objective: solution.certificate.milp_objective,
             period,
             solution,
             necessary_conditions,
@@ -206,14 +211,16 @@ pub struct GeneralLocalOptimized {
     pub method: Word,
     /// The problem (P) in the file's form (module docs).
     pub problem: GeneralFile,
-    /// `J` re-verified by simulation (as `solution.objective`).
+    /// `J` re-verified by simulation.
     pub objective: f64,
     /// How the method stopped ([`local_status`] of `solution.stop`): `stationary`,
     /// `stalled` or `time_limit`.
     pub status: MilpStatus,
     /// `"local"`: no bound, no gap.
     pub certificate: ResultCertificate,
-    /// The period.
+    /// The period (not written: it is the problem's `[problem] period`; filled from it on
+    /// reading).
+    #[serde(skip_serializing)]
     pub period: f64,
     /// Where the starts came from: `"start"` (a given result, `--start`), `"input"` (the file's
     /// `[input]`), `"phase"` (the phase optimum, where `A = 0`) or `"square_waves"`.
@@ -270,13 +277,18 @@ pub struct GeneralPhaseOptimized {
     pub method: Word,
     /// The problem (P) in the file's form (module docs).
     pub problem: GeneralFile,
-    /// `J` re-verified by the exact simulation (as `solution.objective`).
+    /// `J` re-verified by the exact simulation.
     pub objective: f64,
-    /// What was proven (as `solution.certificate.status`: `optimal_among_k_phases`, ...).
+    /// What was proven (`optimal_among_k_phases`, ...).
     pub status: MilpStatus,
     /// `"global_k_phases"` with `phases = K`, the MILP's bound and gap.
     pub certificate: ResultCertificate,
-    /// The period.
+    /// The MILP's own objective, before re-verification (of the crawler's methods on a chain:
+    /// the crawler's, in this problem's units; as a crawler's result has it).
+    pub solver_objective: f64,
+    /// The period (not written: it is the problem's `[problem] period`; filled from it on
+    /// reading).
+    #[serde(skip_serializing)]
     pub period: f64,
     /// The verified optimum with its certificate.
     pub solution: GeneralPhaseGait,
@@ -317,6 +329,7 @@ impl GeneralPhaseOptimized {
                 &solution.certificate,
                 Some(solution.max_phases),
             ),
+            solver_objective: solution.certificate.milp_objective,
             period,
             solution,
             phase_growth: None,

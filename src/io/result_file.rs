@@ -100,6 +100,7 @@ impl GeneralAnswer {
             })
         }
         let method = v.get("method").and_then(|m| m.as_str()).map(String::from);
+        let v = with_repeated_fields(v);
         Ok(match method.as_deref() {
             Some("discrete") => {
                 GeneralAnswer::Discrete(Box::new(parse::<GeneralOptimized>(v, what)?))
@@ -121,4 +122,56 @@ impl GeneralAnswer {
             }
         })
     }
+}
+
+/// A general result document with the fields the record repeats filled in where absent.
+/// Version 3 writes each number once: the period is the problem's (`problem.problem.period`),
+/// `J` the envelope's `objective`, and the MILP's certificate the envelope's `status`,
+/// `solver_objective` and `certificate` (bound and gap). The record keeps them beside its
+/// solution (the solvers' own types), so they are copied in before the shape is read. A
+/// version 2 document has them all (and no `solver_objective`, which is copied from its
+/// `solution.certificate.milp_objective`), and then every copy is checked against the
+/// original as before ([`GeneralAnswer::check_consistent`]): a file whose repeated numbers
+/// disagree is refused naming the field.
+fn with_repeated_fields(mut v: serde_json::Value) -> serde_json::Value {
+    use serde_json::{json, Value};
+    let Some(o) = v.as_object_mut() else {
+        return v;
+    };
+    let get = |o: &serde_json::Map<String, Value>, path: &[&str]| {
+        let mut at = o.get(path[0])?;
+        for k in &path[1..] {
+            at = at.get(k)?;
+        }
+        Some(at.clone())
+    };
+    if !o.contains_key("period") {
+        if let Some(t) = get(o, &["problem", "problem", "period"]) {
+            o.insert("period".into(), t);
+        }
+    }
+    if !o.contains_key("solver_objective") {
+        if let Some(j) = get(o, &["solution", "certificate", "milp_objective"]) {
+            o.insert("solver_objective".into(), j);
+        }
+    }
+    let objective = get(o, &["objective"]);
+    let certificate = match (get(o, &["status"]), get(o, &["solver_objective"])) {
+        (Some(status), Some(j)) => Some(json!({
+            "status": status,
+            "milp_objective": j,
+            "bound": get(o, &["certificate", "bound"]).unwrap_or(Value::Null),
+            "gap": get(o, &["certificate", "gap"]).unwrap_or(Value::Null),
+        })),
+        _ => None,
+    };
+    if let Some(Value::Object(s)) = o.get_mut("solution") {
+        if let Some(j) = objective {
+            s.entry("objective").or_insert(j);
+        }
+        if let Some(c) = certificate {
+            s.entry("certificate").or_insert(c);
+        }
+    }
+    v
 }

@@ -341,8 +341,8 @@ pub(crate) struct Claim<'a> {
     pub status: MilpStatus,
     /// The envelope's certificate: its kind, `K` and upper bound.
     pub certificate: &'a ResultCertificate,
-    /// The bound and gap claimed, and the record that states them (`certificate`, or a general
-    /// MILP's `solution.certificate`, which the envelope repeats).
+    /// The bound and gap claimed, and the record that states them (`certificate`; a version 2
+    /// general result repeated it as its MILP's `solution.certificate`).
     pub bound: Option<f64>,
     /// (See `bound`.)
     pub gap: Option<f64>,

@@ -13,10 +13,16 @@ use serde::{Deserialize, Serialize};
 pub const RESULT_FORMAT: &str = "crawlopt-gait-result";
 /// Version of the result format written by this build. Version 2 is one envelope for both
 /// kinds: `format`, `version`, `kind`, `method`, `problem`, `objective`, `status`,
-/// `certificate` and `solution` (a crawler's gait was under `gait` in version 1, and `kind`
-/// could be absent). Versions 1 and 2 are read ([`read_envelope`] upgrades a version 1
-/// document); others are refused.
-pub const RESULT_VERSION: u32 = 2;
+/// `certificate`, `solver_objective` (the MILP methods') and `solution` (a crawler's gait was
+/// under `gait` in version 1, and `kind` could be absent). Version 3 writes each number once
+/// and names the solution's arrays alike for every method: a general result's `solution` no
+/// longer repeats `objective` and the MILP's `certificate` (now the envelope's `status`,
+/// `certificate` and `solver_objective`), its period is the problem's (no top-level
+/// `period`), and a P_m process's `x`, `u`, `lambda` are `states`, `controls`, `reactions`,
+/// as a phase gait's and a crawler's; a crawler's result is unchanged. Versions 1 to 3 are
+/// read ([`read_envelope`] upgrades a version 1 document; a version 2 general document reads
+/// as it is, its repeated numbers checked); others are refused.
+pub const RESULT_VERSION: u32 = 3;
 
 /// The oldest result version this build reads.
 pub const RESULT_VERSION_READ_FROM: u32 = 1;
@@ -54,12 +60,12 @@ pub fn local_status(stop: LocalStop) -> MilpStatus {
 }
 
 /// Parses a result document and checks its envelope: `format` ([`RESULT_FORMAT`]), `version`
-/// (1 or [`RESULT_VERSION`]), `kind` (absent in version 1 only: a crawler's), and the key of
+/// (1 to [`RESULT_VERSION`]), `kind` (absent in version 1 only: a crawler's), and the key of
 /// the solution (`solution`; a version 1 crawler's `gait`, neither under the other's name).
 /// Returns the document in the shape of [`RESULT_VERSION`] (a version 1 crawler's `gait`
 /// becomes its `solution`), its kind, and the name its reader's errors give the source:
 /// `what`, or for a version 1 crawler's file `what (version 1, its gait read as solution)`,
-/// since they name the fields of version 2. Errors name `what` and the field.
+/// since they name the fields of later versions. Errors name `what` and the field.
 pub fn read_envelope(text: &str, what: &str) -> Result<(serde_json::Value, ResultKind, String)> {
     let v: serde_json::Value = serde_json::from_str(text).map_err(|e| Error::Io {
         path: what.into(),
@@ -152,7 +158,7 @@ fn upgraded(mut v: serde_json::Value, version: u64, kind: ResultKind) -> serde_j
     v
 }
 
-/// The versions read, in words: `1 and 2`.
+/// The versions read, in words: `1, 2 and 3`.
 fn versions_read() -> String {
     let all: Vec<String> = (RESULT_VERSION_READ_FROM..=RESULT_VERSION)
         .map(|v| v.to_string())
@@ -210,7 +216,7 @@ mod tests {
         assert_eq!(v["solution"], serde_json::json!([7]));
         assert_eq!(
             (v["version"].as_u64(), v["kind"].as_str()),
-            (Some(2), Some("crawler"))
+            (Some(u64::from(RESULT_VERSION)), Some("crawler"))
         );
         assert!(v.get("gait").is_none());
         // A key of the other version is refused, not ignored.
@@ -222,8 +228,11 @@ mod tests {
             let e = read_envelope(&doc, "r").unwrap_err();
             assert!(e.to_string().contains("is not a field of a version"), "{e}");
         }
-        let v3 = r#"{"format": "crawlopt-gait-result", "version": 3, "kind": "crawler"}"#;
-        let e = read_envelope(v3, "r").unwrap_err();
-        assert!(e.to_string().contains("reads versions 1 and 2 only"), "{e}");
+        let v4 = r#"{"format": "crawlopt-gait-result", "version": 4, "kind": "crawler"}"#;
+        let e = read_envelope(v4, "r").unwrap_err();
+        assert!(
+            e.to_string().contains("reads versions 1, 2 and 3 only"),
+            "{e}"
+        );
     }
 }

@@ -244,9 +244,10 @@ impl ProcessRows<'_> {
     }
 }
 
-/// What a record of (P)'s process calls its fields, for [`Fault::in_words`]: a P_m process's
-/// `x`, `u`, `lambda` (theory §6), a phase gait's `states`, `controls`, `reactions`, each under
-/// the path `at` (such as `"result.json: solution"`).
+/// What a record of (P)'s process calls its fields, for [`Fault::in_words`]: a result file's
+/// `states`, `controls`, `reactions` ([`FieldNames::record`], every method's since result
+/// version 3), or the process's own `x`, `u`, `lambda` (theory §6, [`FieldNames::process`]),
+/// each under the path `at` (such as `"result.json: solution"`).
 #[derive(Debug, Clone, Copy)]
 pub struct FieldNames<'a> {
     /// The path of the record; a field is named `{at}.{x}[k]`.
@@ -257,6 +258,28 @@ pub struct FieldNames<'a> {
     pub u: &'a str,
     /// The reaction rates `lambda^i`.
     pub lambda: &'a str,
+}
+
+impl<'a> FieldNames<'a> {
+    /// The names of a result file's solution: `states`, `controls`, `reactions`.
+    pub fn record(at: &'a str) -> Self {
+        FieldNames {
+            at,
+            x: "states",
+            u: "controls",
+            lambda: "reactions",
+        }
+    }
+
+    /// The names of the process's own fields: `x`, `u`, `lambda`.
+    pub fn process(at: &'a str) -> Self {
+        FieldNames {
+            at,
+            x: "x",
+            u: "u",
+            lambda: "lambda",
+        }
+    }
 }
 
 impl Fault {

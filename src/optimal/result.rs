@@ -656,7 +656,7 @@ mod tests {
             e.to_string().contains("not a complete JSON document"),
             "{e}"
         );
-        let other = text.replace("\"version\":2", "\"version\":3");
+        let other = text.replace("\"version\":3", "\"version\":4");
         let e = GaitResult::from_json(&other, "r.json").unwrap_err();
         assert!(e.to_string().contains("version"), "{e}");
         let e = GaitResult::from_json("{\"objective\": 1}", "r.json").unwrap_err();

@@ -57,15 +57,23 @@ pub const MAX_GENERAL_M: u32 = 10;
 pub struct GeneralPm {
     /// `m`.
     pub m: u32,
-    /// `J` of the controls, as the simulator replays them.
+    /// `J` of the controls, as the simulator replays them (written once, as the result's
+    /// `objective`; filled from it on reading).
+    #[serde(skip_serializing)]
     pub objective: f64,
-    /// The MILP's status, objective, bound and gap.
+    /// The MILP's status, objective, bound and gap (written once, as the result's `status`,
+    /// `solver_objective` and `certificate`; filled from them on reading).
+    #[serde(skip_serializing)]
     pub certificate: Certificate,
-    /// States `x^0..x^M`.
+    /// States `x^0..x^M` (`states`, as every result's solution names them; `x` in version 2).
+    #[serde(rename = "states", alias = "x")]
     pub x: Vec<Vec<f64>>,
-    /// Controls `u^0..u^(M-1)`.
+    /// Controls `u^0..u^(M-1)` (`controls`; `u` in version 2).
+    #[serde(rename = "controls", alias = "u")]
     pub u: Vec<Vec<f64>>,
-    /// Reactions `lambda^i = mu^i / h`.
+    /// Reaction rates `lambda^i = mu^i / h` per step and face (`reactions`, as a phase gait's;
+    /// `lambda` in version 2).
+    #[serde(rename = "reactions", alias = "lambda")]
     pub lambda: Vec<Vec<f64>>,
     /// What polishing on the fixed face pattern did ([`crate::optimal::polish`]); `None`
     /// without a quadratic cost (the MILP's answer is then exact) or with polishing off.

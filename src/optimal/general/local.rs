@@ -47,7 +47,9 @@ pub const MAX_GENERAL_LOCAL_M: u32 = 14;
 pub struct GeneralLocal {
     /// `m`.
     pub m: u32,
-    /// `J` of the controls, as the simulator replays them.
+    /// `J` of the controls, as the simulator replays them (written once, as the result's
+    /// `objective`; filled from it on reading).
+    #[serde(skip_serializing)]
     pub objective: f64,
     /// `J` of the last LP.
     pub lp_objective: f64,
@@ -59,11 +61,15 @@ pub struct GeneralLocal {
     pub switches: usize,
     /// Why the method stopped.
     pub stop: LocalStop,
-    /// States `x^0..x^M`.
+    /// States `x^0..x^M` (`states`, as every result's solution names them; `x` in version 2).
+    #[serde(rename = "states", alias = "x")]
     pub x: Vec<Vec<f64>>,
-    /// Controls `u^0..u^(M-1)`.
+    /// Controls `u^0..u^(M-1)` (`controls`; `u` in version 2).
+    #[serde(rename = "controls", alias = "u")]
     pub u: Vec<Vec<f64>>,
-    /// Reactions `lambda^i = mu^i / h`.
+    /// Reaction rates `lambda^i = mu^i / h` per step and face (`reactions`, as a phase gait's;
+    /// `lambda` in version 2).
+    #[serde(rename = "reactions", alias = "lambda")]
     pub lambda: Vec<Vec<f64>>,
 }
 

@@ -19,9 +19,14 @@ use serde::{Deserialize, Serialize};
 pub struct GeneralPhaseGait {
     /// `K`, the phases allowed.
     pub max_phases: usize,
-    /// `J` of the gait as the exact simulator replays it.
+    /// `J` of the gait as the exact simulator replays it (written once, as the result's
+    /// `objective`; filled from it on reading).
+    #[serde(skip_serializing)]
     pub objective: f64,
-    /// The MILP's status, objective, bound (on `J` over gaits of at most `K` phases) and gap.
+    /// The MILP's status, objective, bound (on `J` over gaits of at most `K` phases) and gap
+    /// (written once, as the result's `status`, `solver_objective` and `certificate`; filled
+    /// from them on reading).
+    #[serde(skip_serializing)]
     pub certificate: Certificate,
     /// Durations `tau_j` of the phases used (empty ones removed), in time order.
     pub durations: Vec<f64>,
