@@ -642,3 +642,83 @@ fn p_m_on_a_small_link_is_the_optimum_of_the_link_in_units_of_one() {
         );
     }
 }
+
+/// The square C of half-width `a` with U the unit square turned by 45 degrees (a polytope), in
+/// time `s` times slower: `B = (a / s) I`, `T = 10 s` (an exact twin of `a = s = 1`).
+fn polytope_u(a: f64, s: f64) -> String {
+    format!(
+        "[sweeping_process]\nnormals = [[1.0, 0.0], [0.0, 1.0], [-1.0, 0.0], [0.0, -1.0]]\n\
+         offsets = [{a:?}, {a:?}, {a:?}, {a:?}]\n[dynamics]\nB = [[{b:?}, 0.0], [0.0, {b:?}]]\n\
+         [control]\nG = [[1.0, 1.0], [-1.0, 1.0], [1.0, -1.0], [-1.0, -1.0]]\n\
+         h = [1.0, 1.0, 1.0, 1.0]\nzero_mean = true\n\
+         [objective]\nface_weights = [1.0, 0.0, 0.3, 0.0]\n[problem]\nperiod = {t:?}\n",
+        b = a / s,
+        t = 10.0 * s
+    )
+}
+
+/// A triangle C of scale `a` with a box U and a coupled `B`, in time `s` times slower.
+fn box_u(a: f64, s: f64) -> String {
+    format!(
+        "[sweeping_process]\nnormals = [[1.0, 0.0], [0.0, 1.0], [-1.0, -1.0]]\n\
+         offsets = [{a:?}, {a:?}, {a:?}]\n[dynamics]\nB = [[{b:?}, {c:?}], [{d:?}, {b:?}]]\n\
+         [control]\nlower = [-1.0, -1.0]\nupper = [1.0, 1.0]\nzero_mean = true\n\
+         [objective]\nface_weights = [0.5, 0.3, 0.4]\n[problem]\nperiod = {t:?}\n",
+        b = a / s,
+        c = 0.3 * a / s,
+        d = 0.2 * a / s,
+        t = 10.0 * s
+    )
+}
+
+/// Exact twins (one problem in other units: states times `a`, time times `s`) have one
+/// optimum, claimed as such and read back: P_3 and the phase MILP of a polytope U in slow time
+/// (`B` of size `1e-8`: the support LP of U took every vertex for optimal, bounded the
+/// multipliers by 0, and both MILPs claimed `J = 0` or `3.9e-4` optimal where `J = 3.9`), and
+/// P_3 and P_4 of a box U at C's scale `0.01` and `0.02` (solved in the problem's own units,
+/// P_3 was claimed optimal at `J / a = 3.653` and `4.097` where the grid reaches `6.487`).
+#[test]
+fn exact_twins_have_one_optimum() {
+    let dir = tempfile::tempdir().unwrap();
+    /// A family of twins, the twins `(a, s)` checked, and the methods' arguments.
+    type Case<'a> = (
+        fn(f64, f64) -> String,
+        &'a [(f64, f64)],
+        &'a [&'a [&'a str]],
+    );
+    let cases: [Case; 2] = [
+        (
+            polytope_u,
+            &[(1e-4, 1e4), (1.0, 1e8)],
+            &[
+                &["--method", "discrete", "--m", "3"],
+                &["--method", "phase"],
+            ],
+        ),
+        (
+            box_u,
+            &[(0.01, 1.0), (0.02, 1.0)],
+            &[&["--m", "3"], &["--m", "4"]],
+        ),
+    ];
+    for (make, twins, methods) in cases {
+        for args in methods {
+            let run = |a: f64, s: f64| {
+                let file = common::write(dir.path(), "twin.toml", &make(a, s));
+                let v = common::optimize_json(&file, args);
+                common::certify_written(dir.path(), &v);
+                let bound = v["certificate"]["bound"].as_f64().unwrap();
+                (v["objective"].as_f64().unwrap() / a, bound / a)
+            };
+            let (want, _) = run(1.0, 1.0);
+            assert!(want > 1.0, "{args:?}: J = {want}");
+            for &(a, s) in twins {
+                let (j, bound) = run(a, s);
+                assert!(
+                    (j - want).abs() <= 1e-9 * want && bound >= want - 1e-9 * want,
+                    "{args:?}, a = {a}, s = {s}: J / a = {j}, bound / a = {bound}, not {want}"
+                );
+            }
+        }
+    }
+}

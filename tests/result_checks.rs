@@ -264,3 +264,40 @@ fn each_links_rate_is_held_to_its_own_bound() {
     w["solution"]["controls"][j][1] = json!(u * (1.0 - 1e-9));
     read(&w).unwrap();
 }
+
+/// A P_m gait's slip modes are written at the reader's threshold, a length (it was `1e-9` times
+/// the time step): at a period of `1e7` a block moving by `1.25e-6` was written as sticking,
+/// and at a period of `1e-5` one moving by `3e-16` as slipping off its face; `optimize` exited
+/// 0 with files that `certify` refused.
+#[test]
+fn slip_modes_are_written_at_the_readers_threshold() {
+    let dir = tempfile::tempdir().unwrap();
+    let crawler = |mu: f64, period: f64, speed: f64| {
+        format!(
+            "[crawler]\nblocks = 3\nstiffness = 1.0\nmu_forward = {mu:?}\n\
+             mu_backward = {:?}\n[gait]\nperiod = {period:?}\nmax_actuator_speed = {speed:?}\n\
+             cost = {{ kind = \"none\" }}\n",
+            1.5 * mu
+        )
+    };
+    for (text, args) in [
+        (
+            crawler(1e-6, 1e7, 1e-12),
+            &["--method", "discrete", "--m", "3"][..],
+        ),
+        (crawler(1.0, 1e-5, 1e6), &["--method", "local"][..]),
+    ] {
+        let file = common::write(dir.path(), "c.toml", &text);
+        let v = common::optimize_json(&file, args);
+        let slips = v["solution"]["slip"].as_array().unwrap();
+        assert!(
+            slips
+                .iter()
+                .flat_map(|r| r.as_array().unwrap())
+                .any(|s| s != 0),
+            "{args:?}: a gait with J = {} slips",
+            v["objective"]
+        );
+        common::certify_written(dir.path(), &v);
+    }
+}

@@ -125,6 +125,14 @@ impl Crawler {
             .fold(0.0_f64, |m, r| m.max(r[1] - r[0]))
     }
 
+    /// Block displacements below this are "no motion": `tol` times the size of C over the
+    /// stiffest link (a displacement is a force over a stiffness). The one threshold of a
+    /// gait's slip modes, where a result is written and where it is read back.
+    pub fn displacement_tol(&self, tol: f64) -> f64 {
+        let kmax = self.stiffness().iter().fold(0.0_f64, |m, &k| m.max(k));
+        tol * self.state_scale() / kmax
+    }
+
     /// The largest violation `max_b max(F_b - mu_b^+, -mu_b^- - F_b, 0)` of C at `x`, with the
     /// face where it happens.
     pub fn violation(&self, x: &[f64]) -> (f64, Option<(usize, FaceSign)>) {

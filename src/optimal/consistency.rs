@@ -27,10 +27,9 @@ pub const INPUT_TOL: f64 = 1e-7;
 /// such a MILP counts as closed); beyond it the claim is a `time_limit` or `approximation_limit`.
 pub const PHASE_CLAIM_GAP: f64 = 1e-5;
 
-/// Displacements below this are "no motion": `tol` times the size of C over the stiffest link.
+/// Displacements below this are "no motion" ([`Crawler::displacement_tol`]).
 pub(crate) fn d_tol(c: &Crawler, tol: f64) -> f64 {
-    let kmax = c.stiffness().iter().fold(0.0_f64, |m, &k| m.max(k));
-    tol * c.state_scale() / kmax
+    c.displacement_tol(tol)
 }
 
 /// Slip direction of a displacement with a tolerance.

@@ -153,6 +153,10 @@ impl GaitData {
     ) -> Self {
         let durations = vec![step; controls.len()];
         let (times, lengths) = knots(crawler, &durations, controls);
+        // A length, as the reader's threshold is (`1e-9 * step` was a time: at a period of
+        // 1e-5 a block moving by 2e-16 was written as slipping, off its face, and at a period
+        // of 1e7 a block moving by 7.5e-7 as sticking; the reader refused both files).
+        let no_motion = crawler.displacement_tol(1e-9);
         GaitData {
             times,
             durations,
@@ -162,7 +166,7 @@ impl GaitData {
             block_displacements: block_displacements.to_vec(),
             slip: block_displacements
                 .iter()
-                .map(|d| d.iter().map(|&v| slip_of(v, 1e-9 * step)).collect())
+                .map(|d| d.iter().map(|&v| slip_of(v, no_motion)).collect())
                 .collect(),
             initial_state: initial_state.to_vec(),
         }

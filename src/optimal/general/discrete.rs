@@ -81,22 +81,36 @@ pub struct GeneralPm {
     pub polish: Option<crate::optimal::polish::PolishRecord>,
 }
 
-/// `max_{x in C} <d, x>` (C bounded).
+/// `max_{x in C} <d, x>` (C bounded), solved in units of order one: the support function is
+/// positively homogeneous in `d` and in the offsets, so the LP takes `d / |d|_inf` and the offsets
+/// over their largest, and its optimum is scaled back. HiGHS holds reduced costs to an absolute
+/// `1e-7`: with `d` of size `1e-8` as given (a row of `B` of a problem in slow time), every vertex
+/// passed as optimal, the support came out 0, and P_m's multipliers were bounded by 0, which made
+/// the MILP claim `J = 0` optimal where the problem reaches `3.9`.
 fn support(rows: &[Vec<f64>], offsets: &[f64], d: &[f64], what: &str) -> Result<f64> {
+    let largest = |v: &[f64]| v.iter().fold(0.0_f64, |m, x| m.max(x.abs()));
+    let dn = largest(d);
+    if dn == 0.0 {
+        return Ok(0.0);
+    }
+    let cn = match largest(offsets) {
+        c if c > 0.0 => c,
+        _ => 1.0,
+    };
     let mut pb = RowProblem::default();
     let x: Vec<Col> = d
         .iter()
-        .map(|&di| pb.add_column(di, f64::NEG_INFINITY..f64::INFINITY))
+        .map(|&di| pb.add_column(di / dn, f64::NEG_INFINITY..f64::INFINITY))
         .collect();
     for (r, &c) in rows.iter().zip(offsets) {
         pb.add_row(
-            ..=c,
+            ..=c / cn,
             x.iter().zip(r).map(|(&x, &a)| (x, a)).collect::<Vec<_>>(),
         );
     }
     let a = Highs::new(pb, Sense::Maximise, what)?.solve()?;
     match a.status {
-        SolveStatus::Optimal => Ok(a.objective),
+        SolveStatus::Optimal => Ok(a.objective * dn * cn),
         _ => Err(Error::Numerical(format!("{what}: no optimum"))),
     }
 }

@@ -116,17 +116,17 @@ pub(crate) fn solve_pm_milp(
     check_solver_range(p, h, Some(&bm))?;
     let units = Units::of(p);
     if opts.keep_units || !units.needed() {
-        return solve_scaled(p, &bm, m, opts, what, 1.0);
+        return solve_scaled(p, &bm, m, opts, what);
     }
     // HiGHS's progress is of the scaled objective: reported times `s_x`.
     let scaled = crate::progress::with_objective_factor(units.state, || {
         let q = units.problem(p);
         let o = opts.in_units(&units);
-        solve_scaled(&q, &in_units(&units, &bm), m, &o, what, units.state)
+        solve_scaled(&q, &in_units(&units, &bm), m, &o, what)
     });
     match scaled {
         Ok(run) => Ok(run.in_own_units(&units)),
-        Err(Error::Numerical(_)) => solve_scaled(p, &bm, m, opts, what, 1.0),
+        Err(Error::Numerical(_)) => solve_scaled(p, &bm, m, opts, what),
         Err(e) => Err(e),
     }
 }
@@ -186,17 +186,17 @@ impl PmRun {
 /// true cost of its controls meets the bound within
 /// [`OA_TOL`](crate::optimal::milp::OA_TOL) (else `approximation_limit`, after
 /// [`MAX_OA_ROUNDS`] rounds or when no control is new); each later round starts from the
-/// previous answer, its epigraphs raised onto the new cuts. `j_unit` is `p`'s unit of `J` in the
-/// problem's own units (`s_x` where `p` is the problem in [`Units`], else 1): the
-/// approximation's tolerance is relative where `|J'| >= 1 / j_unit` and absolute below, which in
-/// the problem's units is `|J| >= 1`, as before the conversion.
+/// previous answer, its epigraphs raised onto the new cuts. The approximation's tolerance is
+/// relative where `|J| >= 1` in `p`'s units and absolute below: `p` is in units of one (or a
+/// crawler's instance, in the crawler's), so `1` is the problem's own scale of `J`. (It was
+/// `|J| >= 1` in the problem's own units, which on a problem of C's scale `1e-6` let P_3 stop at
+/// a `J` `1.5e-3` below its bound, as `optimal`.)
 fn solve_scaled(
     p: &GeneralProblem,
     bm: &BigM,
     m: u32,
     opts: &PmOptions,
     what: &str,
-    j_unit: f64,
 ) -> Result<PmRun> {
     let mm = 1usize << m;
     let h = p.period / mm as f64;
@@ -255,8 +255,7 @@ fn solve_scaled(
         let u = run.values(&run.lay.u);
         let cost: f64 = u.iter().map(|u| h * p.cost.eval(u)).sum();
         let true_objective = run.reward(p) - cost;
-        let converged =
-            run.bound - true_objective <= OA_TOL * true_objective.abs().max(1.0 / j_unit);
+        let converged = run.bound - true_objective <= OA_TOL * true_objective.abs().max(1.0);
         if converged || status == MilpStatus::TimeLimit {
             return Ok(run);
         }
