@@ -265,12 +265,12 @@ fn each_links_rate_is_held_to_its_own_bound() {
     read(&w).unwrap();
 }
 
-/// A P_m gait's slip modes are written at the reader's threshold, a length (it was `1e-9` times
-/// the time step): at a period of `1e7` a block moving by `1.25e-6` was written as sticking,
+/// A P_m gait's slip modes are written at a threshold that is a length, as the reader's (it was
+/// `1e-9` times the time step): at a period of `1e7` a block moving by `1.25e-6` was written as sticking,
 /// and at a period of `1e-5` one moving by `3e-16` as slipping off its face; `optimize` exited
 /// 0 with files that `certify` refused.
 #[test]
-fn slip_modes_are_written_at_the_readers_threshold() {
+fn slip_modes_are_written_at_a_threshold_of_length() {
     let dir = tempfile::tempdir().unwrap();
     let crawler = |mu: f64, period: f64, speed: f64| {
         format!(

@@ -127,6 +127,16 @@ fn general_results_carry_the_envelope_and_read_back() {
         w["period"] = json!(5.0);
         let e = ResultFile::from_json(&w.to_string(), "v2.json").unwrap_err();
         assert!(e.to_string().starts_with("v2.json: period"), "{e}");
+        // A top-level solver_objective added to a version 2 file agrees with its MILP's.
+        if let Some(milp) = v["solver_objective"].as_f64() {
+            let mut w = v2.clone();
+            w["solver_objective"] = json!(milp - 0.5);
+            let e = ResultFile::from_json(&w.to_string(), "v2.json").unwrap_err();
+            assert!(
+                e.to_string().starts_with("v2.json: solver_objective"),
+                "{e}"
+            );
+        }
         // The crawler's own reader names the kind.
         let e = GaitResult::from_json(&text, "r.json").unwrap_err();
         assert!(e.to_string().starts_with("r.json: kind"), "{e}");

@@ -103,6 +103,7 @@ fn check_discrete_answer(r: &GeneralOptimized, p: &GeneralProblem, what: &str) -
     let s = &r.solution;
     let j = check_pm(p, MAX_GENERAL_M, &GeneralProcess::from_pm(p, s), what)?;
     objectives(what, j, s.objective, r.objective)?;
+    solver_objective(what, r.solver_objective, s.certificate.milp_objective)?;
     if let Some(table) = &r.convergence {
         let rows: Vec<_> = table
             .iter()
@@ -208,6 +209,7 @@ fn check_phase_answer(r: &GeneralPhaseOptimized, p: &GeneralProblem, what: &str)
     }
     let j = check_phase(p, s, chain || transitions, local, what)?;
     objectives(what, j, s.objective, r.objective)?;
+    solver_objective(what, r.solver_objective, s.certificate.milp_objective)?;
     if transitions {
         check_slots(s, what)?;
     }
@@ -249,6 +251,22 @@ fn objectives(what: &str, j: f64, solution: f64, top: f64) -> Result<()> {
     let why = "disagrees with the solution replayed by simulation";
     close.check(what, "objective", top, j, why)?;
     close.check(what, "solution.objective", solution, j, why)
+}
+
+/// The envelope's `solver_objective` against the MILP certificate's copy, which the claim's
+/// checks read: equal when the reader filled the copy from it (version 3), and a version 2
+/// file's own copy may not be contradicted by an added top-level value.
+fn solver_objective(what: &str, top: f64, milp: f64) -> Result<()> {
+    if top == milp {
+        Ok(())
+    } else {
+        Err(bad(
+            what,
+            "solver_objective",
+            top,
+            format!("disagrees with solution.certificate.milp_objective ({milp})"),
+        ))
+    }
 }
 
 /// Checks a P_m process (`m` at most `max_m`) against the problem and its replay; returns `J`

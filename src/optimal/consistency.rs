@@ -27,11 +27,6 @@ pub const INPUT_TOL: f64 = 1e-7;
 /// such a MILP counts as closed); beyond it the claim is a `time_limit` or `approximation_limit`.
 pub const PHASE_CLAIM_GAP: f64 = 1e-5;
 
-/// Displacements below this are "no motion" ([`Crawler::displacement_tol`]).
-pub(crate) fn d_tol(c: &Crawler, tol: f64) -> f64 {
-    c.displacement_tol(tol)
-}
-
 /// Slip direction of a displacement with a tolerance.
 pub(crate) fn slip(d: f64, tol: f64) -> i8 {
     if d > tol {
@@ -194,7 +189,7 @@ impl GaitResult {
         let np = g.durations.len();
         let scale = crawler.state_scale();
         // Slip modes: the sign of a displacement, and a slipping block on its face.
-        let dtol = d_tol(crawler, INPUT_TOL);
+        let dtol = crawler.displacement_tol(INPUT_TOL);
         for j in 0..np {
             let (f0, f1) = (
                 crawler.block_forces(&g.states[j]),

@@ -154,8 +154,8 @@ impl GaitData {
         let durations = vec![step; controls.len()];
         let (times, lengths) = knots(crawler, &durations, controls);
         // A length, as the reader's threshold is (`1e-9 * step` was a time: at a period of
-        // 1e-5 a block moving by 2e-16 was written as slipping, off its face, and at a period
-        // of 1e7 a block moving by 7.5e-7 as sticking; the reader refused both files).
+        // 1e-5 a block moving by 3e-16 was written as slipping, off its face, and at a period
+        // of 1e7 a block moving by 1.25e-6 as sticking; the reader refused both files).
         let no_motion = crawler.displacement_tol(1e-9);
         GaitData {
             times,

@@ -508,10 +508,8 @@ fn solve_general_slots(p: &GeneralProblem, g: &Geometry, slots: Slots) -> Result
         let (phases, milp_objective, bound, status) = solve_milp(p, g, slots, &cuts, &what)?;
         let mut sol = verified_gait(p, &phases, milp_objective, bound, status, k, &what)?;
         sol.rounds = round;
-        // Within `OA_TOL` of the bound relative to `|J|` or, below it, to the problem's own
-        // scale of `J` (C's; an absolute `1e-6` let a problem of C's scale `1e-6` stop far
-        // from its bound), as P_m's outer approximation.
-        let j_scale = sol.objective.abs().max(Units::of(p).state);
+        // Within `OA_TOL` of the bound relative to `|J|`, or to the floor below it, as P_m's.
+        let j_scale = sol.objective.abs().max(Units::of(p).oa_floor());
         let done = p.cost == GeneralCost::None
             || sol.certificate.bound - sol.objective <= OA_TOL * j_scale
             || status != MilpStatus::Optimal; // the MILP's own status

@@ -115,18 +115,25 @@ pub(crate) fn solve_pm_milp(
     let bm = big_m(p, g, h)?;
     check_solver_range(p, h, Some(&bm))?;
     let units = Units::of(p);
+    // The outer approximation's absolute floor in `p`'s units of `J` (a crawler's instance
+    // keeps the crawler's: 1 in its internal units).
+    let floor = if opts.keep_units {
+        1.0
+    } else {
+        units.oa_floor()
+    };
     if opts.keep_units || !units.needed() {
-        return solve_scaled(p, &bm, m, opts, what);
+        return solve_scaled(p, &bm, m, opts, what, floor);
     }
     // HiGHS's progress is of the scaled objective: reported times `s_x`.
     let scaled = crate::progress::with_objective_factor(units.state, || {
         let q = units.problem(p);
         let o = opts.in_units(&units);
-        solve_scaled(&q, &in_units(&units, &bm), m, &o, what)
+        solve_scaled(&q, &in_units(&units, &bm), m, &o, what, floor / units.state)
     });
     match scaled {
         Ok(run) => Ok(run.in_own_units(&units)),
-        Err(Error::Numerical(_)) => solve_scaled(p, &bm, m, opts, what),
+        Err(Error::Numerical(_)) => solve_scaled(p, &bm, m, opts, what, floor),
         Err(e) => Err(e),
     }
 }
@@ -187,16 +194,15 @@ impl PmRun {
 /// [`OA_TOL`](crate::optimal::milp::OA_TOL) (else `approximation_limit`, after
 /// [`MAX_OA_ROUNDS`] rounds or when no control is new); each later round starts from the
 /// previous answer, its epigraphs raised onto the new cuts. The approximation's tolerance is
-/// relative where `|J| >= 1` in `p`'s units and absolute below: `p` is in units of one (or a
-/// crawler's instance, in the crawler's), so `1` is the problem's own scale of `J`. (It was
-/// `|J| >= 1` in the problem's own units, which on a problem of C's scale `1e-6` let P_3 stop at
-/// a `J` `1.5e-3` below its bound, as `optimal`.)
+/// relative where `|J| >= floor` in `p`'s units of `J` and absolute below
+/// ([`Units::oa_floor`], converted to `p`'s units).
 fn solve_scaled(
     p: &GeneralProblem,
     bm: &BigM,
     m: u32,
     opts: &PmOptions,
     what: &str,
+    floor: f64,
 ) -> Result<PmRun> {
     let mm = 1usize << m;
     let h = p.period / mm as f64;
@@ -255,7 +261,7 @@ fn solve_scaled(
         let u = run.values(&run.lay.u);
         let cost: f64 = u.iter().map(|u| h * p.cost.eval(u)).sum();
         let true_objective = run.reward(p) - cost;
-        let converged = run.bound - true_objective <= OA_TOL * true_objective.abs().max(1.0);
+        let converged = run.bound - true_objective <= OA_TOL * true_objective.abs().max(floor);
         if converged || status == MilpStatus::TimeLimit {
             return Ok(run);
         }
