@@ -722,3 +722,64 @@ fn exact_twins_have_one_optimum() {
         }
     }
 }
+
+/// The three-block crawler as (P) at C's scale `a` (`B = a I`, offsets `a` times), and the
+/// drift example's square at scale `a` with its cost times `a`: exact twins of `a = 1`.
+fn chain_twin(a: f64) -> String {
+    let text = include_str!("../examples/general_three_blocks.toml");
+    let offsets = [1.0, 1.5, 1.0, 1.5, 1.0, 1.5].map(|v| format!("{:?}", v * a));
+    text.replace(
+        "offsets = [1.0, 1.5, 1.0, 1.5, 1.0, 1.5]",
+        &format!("offsets = [{}]", offsets.join(", ")),
+    )
+    .replace(
+        "B = [[1.0, 0.0], [0.0, 1.0]]",
+        &format!("B = [[{a:?}, 0.0], [0.0, {a:?}]]"),
+    )
+}
+
+/// (See [`chain_twin`].)
+fn drift_twin(a: f64) -> String {
+    let text = include_str!("../examples/general_drift.toml");
+    text.replace(
+        "offsets = [1.0, 1.0, 1.0, 1.0]",
+        &format!("offsets = [{a:?}, {a:?}, {a:?}, {a:?}]"),
+    )
+    .replace(
+        "B = [[1.0, 0.0], [0.0, 1.0]]",
+        &format!("B = [[{a:?}, 0.0], [0.0, {a:?}]]"),
+    )
+    .replace("weight = 0.1", &format!("weight = {:?}", 0.1 * a))
+}
+
+/// Ties and gaps relative to the problem's floor of `J` (C's scale capped at 1), not to 1:
+/// the chain at C's scale `1e-6` with `K = 2` keeps the start its twin keeps (every structured
+/// gait tied at an absolute `1e-12`, and the lag 3/16, `J / a = 1.375`, was kept where the twin
+/// keeps the lag 4/16, `1.5`), and the drift's P_3 at `1e-6`, which stops `3.6e-7` of `J`
+/// below its twin's optimum (within the outer approximation's `1e-6`), states that gap (it
+/// stated `4.8e-13`, absolute).
+#[test]
+fn exact_twins_of_small_scale_keep_the_start_and_state_the_gap() {
+    let dir = tempfile::tempdir().unwrap();
+    let run = |text: String, args: &[&str], a: f64| {
+        let file = common::write(dir.path(), "twin.toml", &text);
+        let v = common::optimize_json(&file, args);
+        common::certify_written(dir.path(), &v);
+        (v["objective"].as_f64().unwrap() / a, v)
+    };
+    let phases = ["--method", "phase", "--phases", "2"];
+    let (want, _) = run(chain_twin(1.0), &phases, 1.0);
+    assert!((want - 1.5).abs() < 1e-9, "{want}");
+    let (j, v) = run(chain_twin(1e-6), &phases, 1e-6);
+    assert!((j - want).abs() <= 1e-9 * want, "J / a = {j}, not {want}");
+    assert_eq!(v["status"], "dominates_k_phases");
+    let p3 = ["--method", "discrete", "--m", "3"];
+    let (want, _) = run(drift_twin(1.0), &p3, 1.0);
+    let (j, v) = run(drift_twin(1e-6), &p3, 1e-6);
+    let gap = v["certificate"]["gap"].as_f64().unwrap();
+    let short = (want - j) / want;
+    assert!(
+        short <= 1.01 * gap + 1e-12,
+        "J / a = {j} is {short:e} below the twin's {want}, the gap stated is {gap:e}"
+    );
+}

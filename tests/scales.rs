@@ -172,3 +172,61 @@ fn an_actuation_offset_that_would_drown_the_stroke_is_refused() {
         .unwrap_err();
     assert!(e.to_string().starts_with("actuation.lengths[*][1]"), "{e}");
 }
+
+/// A crawler of tiny lengths is its twin in units of one: the three-block crawler with
+/// stiffness `k` and speed `1 / k` (lengths `1 / k` times those of `k = 1`) picks the same
+/// structured start, and the phase MILP (`K = 3`) with a quadratic cost states its gap relative
+/// to `J`. With the
+/// floor of `J` at 1 in every unit, at `k = 1e12` every structured gait tied (their values,
+/// about `1.5e-12`, differ by less than `1e-12`), and the first, the lag 3/16 with `J = 1.375`
+/// in units of one, became the start, where the twin's is the lag 4/16 with `J = 1.5`; the
+/// outer approximation's gap came out absolute (`1e-12` times the twin's).
+#[test]
+fn exact_twins_of_tiny_lengths_pick_the_same_start_and_state_the_same_gaps() {
+    use crawlopt::optimal::structured::{best_structured, StructuredOptions};
+    let twin = |k: f64, cost: Cost| {
+        let c = Crawler::uniform(3, k, 1.0, 1.5).unwrap();
+        let p = GaitProblem::new(&c, 10.0, &[1.0 / k; 2], cost, None).unwrap();
+        (c, p)
+    };
+    let (c, p) = twin(1.0, Cost::None);
+    let want = best_structured(&c, &p, &StructuredOptions::default())
+        .unwrap()
+        .unwrap();
+    assert!((want.objective - 1.5).abs() < 1e-9, "{}", want.objective);
+    for k in [1e6, 1e12] {
+        let (c, p) = twin(k, Cost::None);
+        let s = best_structured(&c, &p, &StructuredOptions::default())
+            .unwrap()
+            .unwrap();
+        assert_eq!(s.best.origin, want.best.origin, "k = {k}");
+        assert!(
+            (s.objective * k - want.objective).abs() <= 1e-9 * want.objective,
+            "k = {k}: J k = {}",
+            s.objective * k
+        );
+    }
+    let gap = |k: f64| {
+        let (c, p) = twin(k, Cost::Quadratic { weight: 0.05 / k });
+        let s = solve_phase_global(&c, &p, 3).unwrap();
+        assert!(
+            s.objective() * k > 1.8,
+            "k = {k}: J k = {}",
+            s.objective() * k
+        );
+        s.certificate.gap
+    };
+    let at_one = gap(1.0);
+    assert!(
+        at_one > 1e-9,
+        "the outer approximation's gap at k = 1: {at_one}"
+    );
+    for k in [1e6, 1e12] {
+        // Up to the floor's cap at 1 (the length unit is 2.5 at k = 1): a factor of 2.5.
+        let g = gap(k);
+        assert!(
+            g >= 0.1 * at_one && g <= 10.0 * at_one,
+            "k = {k}: gap {g} against {at_one} at k = 1"
+        );
+    }
+}

@@ -482,7 +482,7 @@ pub(super) fn chain_upper_bound(
     let gp = crate::optimal::general::chain_gait_problem(p, view)?;
     let mut ub = crate::certify::bound::upper_bound(&view.crawler, &gp, b)?;
     ub.value *= view.objective_scale;
-    if ub.value.is_nan() || ub.value < j - 1e-9 * j.abs().max(1.0) {
+    if ub.value.is_nan() || ub.value < j - 1e-9 * j.abs().max(p.j_floor()) {
         return Err(Error::Numerical(format!(
             "upper bound {} below the verified optimum {j}: a defect of the bound",
             ub.value

@@ -72,7 +72,8 @@ fn optimize_named(
             em.stage("proving an upper bound over all periodic gaits");
             let ub = crate::certify::bound::upper_bound(crawler, problem, b)?;
             if ub.value.is_nan()
-                || ub.value < result.objective - 1e-9 * result.objective.abs().max(1.0)
+                || ub.value
+                    < result.objective - 1e-9 * result.objective.abs().max(problem.j_floor(crawler))
             {
                 return Err(crate::Error::Numerical(format!(
                     "upper bound {} below the verified gait {}: a defect of the bound",
@@ -366,7 +367,7 @@ fn solve_chain(
     };
     let gaits = structured_gaits(crawler, f.lags);
     let values: Vec<Option<f64>> = f.rows.iter().map(|r| r.objective).collect();
-    let starts = chain_starts(&gaits, &values, DEFAULT_STARTS);
+    let starts = chain_starts(&gaits, &values, problem.j_floor(crawler), DEFAULT_STARTS);
     em.stage(format!(
         "chain pattern search over {} ramp parameters, from the {} best structured \
          gaits",

@@ -154,6 +154,9 @@ pub(super) fn check_upper_bound(
 /// solution's; the claim itself ([`check_claim`]: the kind and `K` the MILP's, its bound and gap
 /// against `j`, a phase claim against the gait's `phases` (`K` and the phases that hold a face));
 /// the MILP's incumbent under its bound; the envelope's bound and gap the solution's.
+/// `(j, floor)` is the replayed `J` and the problem's floor of `J`
+/// ([`GeneralProblem::j_floor`](crate::model::general::GeneralProblem::j_floor)), over which
+/// gaps are stated and numbers compared.
 pub(super) fn check_global(
     what: &str,
     method: &str,
@@ -161,7 +164,7 @@ pub(super) fn check_global(
     cert: &ResultCertificate,
     c: &Certificate,
     phases: Option<(usize, usize)>,
-    j: f64,
+    (j, floor): (f64, f64),
 ) -> Result<()> {
     let allowed: &[MilpStatus] = match phases {
         None => &[
@@ -198,7 +201,7 @@ pub(super) fn check_global(
             format!("must be {:?}", want.phases),
         ));
     }
-    let tol = INPUT_TOL * j.abs().max(1.0);
+    let tol = INPUT_TOL * j.abs().max(floor);
     let claim = Claim {
         status,
         certificate: cert,
@@ -209,11 +212,12 @@ pub(super) fn check_global(
         method,
         kinds: &[want.kind.as_str()],
         phases: (phases.map_or(0, |(_, held)| held), "phases holding a face"),
+        j_floor: floor,
     };
     check_claim(what, &claim, |a, b| (a - b).abs() <= tol)?;
     // The MILP's incumbent lies under its own bound.
     if !(c.milp_objective.is_finite()
-        && c.milp_objective <= c.bound + INPUT_TOL * c.bound.abs().max(1.0))
+        && c.milp_objective <= c.bound + INPUT_TOL * c.bound.abs().max(floor))
     {
         return Err(bad(
             what,

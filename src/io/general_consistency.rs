@@ -119,7 +119,7 @@ fn check_discrete_answer(r: &GeneralOptimized, p: &GeneralProblem, what: &str) -
         &r.certificate,
         &s.certificate,
         None,
-        j,
+        (j, p.j_floor()),
     )
 }
 
@@ -237,7 +237,7 @@ fn check_phase_answer(r: &GeneralPhaseOptimized, p: &GeneralProblem, what: &str)
         &r.certificate,
         &s.certificate,
         k,
-        j,
+        (j, p.j_floor()),
     )
 }
 

@@ -116,6 +116,17 @@ pub struct GeneralParts {
 }
 
 impl GeneralProblem {
+    /// The floor of `J`'s scale in the problem's units: C's scale, the problem's own scale of
+    /// `J`, where it is below 1, else 1. Both MILPs' outer approximations stop when the bound is
+    /// within `optimal::milp::OA_TOL` of `J` relative to the larger of `|J|` and this, and every
+    /// gap is stated over it (`optimal::Certificate::gap_of`). An absolute `1e-6` had P_3 of a
+    /// problem of C's scale `1e-6` stop `1.5e-3` below its bound as `optimal`; the floor is
+    /// never above 1, so no stop is looser than that rule's (whose gap a reader holds a phase
+    /// claim to, `optimal::consistency::PHASE_CLAIM_GAP`).
+    pub fn j_floor(&self) -> f64 {
+        self.c.scale().min(1.0)
+    }
+
     /// The rounding a computed state of a process can carry: `1e3` units in the last place of
     /// the largest change a piece makes to the state, `max_i tau_i |g(x_i, u_i)|_inf` over
     /// pieces of durations `tau_i` from states `x_i` under controls `u_i` (a state is a sum of

@@ -50,6 +50,7 @@ pub(crate) struct Outcome {
 /// `sign` turns the model's objective into the maximised `J` (`-1` for a model that minimises
 /// `-J`, `1` for one that maximises `J`); `pivot(model, columns, reduced_costs, J)` moves the
 /// profitable degenerate pairs and returns how many; `max_stalls` consecutive LPs without a gain
+/// (by `1e-12` of `J`, or of `j_floor`, the problem's floor of `J`, where `|J|` is below it)
 /// end the loop ([`LocalStop::Stalled`]); the job's deadline ([`crate::progress`]) ends it with
 /// the last LP's answer ([`LocalStop::TimeLimit`]). `what` names P_m in errors.
 #[allow(clippy::too_many_arguments)]
@@ -58,6 +59,7 @@ pub(crate) fn run(
     sign: f64,
     max_rounds: usize,
     max_stalls: usize,
+    j_floor: f64,
     what: &str,
     mut pivot: impl FnMut(&mut Highs, &[f64], &[f64], f64) -> Result<usize>,
 ) -> Result<Outcome> {
@@ -105,7 +107,7 @@ pub(crate) fn run(
         }
         let cols = solved.columns;
         let objective = sign * solved.objective;
-        if !best.is_finite() || objective > best + 1e-12 * best.abs().max(1.0) {
+        if !best.is_finite() || objective > best + 1e-12 * best.abs().max(j_floor) {
             best = objective;
             stalls = 0;
         } else {

@@ -419,10 +419,12 @@ fn search_each(
 
 /// The starts of the chain method from the structured gaits `gaits` and their values `values`
 /// (as [`super::structured::best_structured`] evaluated them): the `count` best piecewise-linear
-/// ones (a sine has no ramp) of distinct values, best first.
+/// ones (a sine has no ramp) of distinct values (relative to the problem's floor of `J`,
+/// [`super::GaitProblem::j_floor`]), best first.
 pub fn chain_starts(
     gaits: &[StructuredGait],
     values: &[Option<f64>],
+    floor: f64,
     count: usize,
 ) -> Vec<(Vec<Ramp>, String)> {
     let mut order: Vec<(f64, &StructuredGait)> = gaits
@@ -435,7 +437,7 @@ pub fn chain_starts(
     let mut out: Vec<(Vec<Ramp>, String)> = Vec::new();
     let mut last = f64::NAN;
     for (j, g) in order {
-        if (j - last).abs() <= 1e-9 * j.abs().max(1.0) {
+        if (j - last).abs() <= 1e-9 * j.abs().max(floor) {
             continue;
         }
         last = j;

@@ -130,7 +130,7 @@ impl GaitResult {
                 "must be finite",
             ));
         }
-        self.check_certificate(what, close)?;
+        self.check_certificate(&crawler, what, close)?;
         self.check_tables(what, close)
     }
 
@@ -260,7 +260,12 @@ impl GaitResult {
 
     /// The certificate's claim ([`check_claim`]): its kind one of the method's, and a phase
     /// claim against the gait's slip phases.
-    fn check_certificate(&self, what: &str, close: impl Fn(f64, f64) -> bool) -> Result<()> {
+    fn check_certificate(
+        &self,
+        crawler: &Crawler,
+        what: &str,
+        close: impl Fn(f64, f64) -> bool,
+    ) -> Result<()> {
         let kinds: &[&str] = match self.method.as_str() {
             "phase" => &["global_k_phases", "local"],
             "discrete" => &["global"],
@@ -276,6 +281,7 @@ impl GaitResult {
             method: &self.method,
             kinds,
             phases: (self.gait.slip_phases(), "slip phases"),
+            j_floor: self.problem.j_floor(crawler),
         };
         check_claim(what, &claim, close)
     }
@@ -351,6 +357,8 @@ pub(crate) struct Claim<'a> {
     /// The gait's phases as `K` counts them, and what they are called in errors (a crawler's
     /// slip phases; (P)'s phases that hold a face).
     pub phases: (usize, &'a str),
+    /// The problem's floor of `J`, over which the gap is stated ([`Certificate::gap_of`]).
+    pub j_floor: f64,
 }
 
 /// The claim of a result read back (`close` is the reader's equality of objectives): a recorded
@@ -406,7 +414,7 @@ pub(crate) fn check_claim(what: &str, c: &Claim, close: impl Fn(f64, f64) -> boo
             format!("is below the verified objective {j}"),
         ));
     }
-    let want = Certificate::gap_of(bound, j);
+    let want = Certificate::gap_of(bound, j, c.j_floor);
     if !(gap.is_finite() && (gap - want).abs() <= INPUT_TOL * want.abs().max(1.0)) {
         return Err(bad(
             what,

@@ -172,7 +172,7 @@ fn polished(
     }
     let cost = grid_cost(problem, &incs, h);
     let objective = g.verified - cost;
-    if !no_worse(objective, s.objective()) {
+    if !no_worse(objective, s.objective(), problem.j_floor(crawler)) {
         return Ok(Err(format!(
             "the polished objective {objective} is below the MILP's {} (the MILP's answer kept)",
             s.objective()

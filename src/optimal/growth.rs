@@ -108,6 +108,8 @@ pub trait PhaseFamily {
     fn claim(g: &mut Self::Gait) -> (&mut usize, &mut Certificate);
     /// The problem's length scale (what a `J` that moves is measured against).
     fn length_scale(&self) -> f64;
+    /// The problem's floor of `J`, over which gaps are stated ([`Certificate::gap_of`]).
+    fn j_floor(&self) -> f64;
     /// The relative gain below which a larger `K` counts as no gain (the values' accuracy:
     /// `1e-7`, or the outer approximation's tolerance with a quadratic cost).
     fn gain_tolerance(&self) -> f64;
@@ -187,7 +189,7 @@ pub fn grow<F: PhaseFamily>(
             // The best gait stays if it is better, but the claim is now this K's: a time limit
             // with this K's bound (not "optimal" for the smaller K it was proven for, which
             // read as if the growth had finished).
-            keep_or_recertify::<F>(&mut best, s);
+            keep_or_recertify(family, &mut best, s);
             stop = GrowthStop::TimeLimit;
             break;
         }
@@ -204,7 +206,7 @@ pub fn grow<F: PhaseFamily>(
             // gait better than the best so far is never overruled by the gain tolerance, which
             // is relative to the length scale and can exceed a small true optimum (one link
             // with T just above 2w/a: J* = 5e-8 against a tolerance of 3e-7).
-            keep_or_recertify::<F>(&mut best, s);
+            keep_or_recertify(family, &mut best, s);
         } else {
             // The given start returned because nothing of at most K phases beats it: the
             // MILPs have not reached it yet, so this K is no plateau.
@@ -213,7 +215,7 @@ pub fn grow<F: PhaseFamily>(
                 without_gain += 1;
             }
             // Better within the tolerance only, or the same gait.
-            keep_or_recertify::<F>(&mut best, s);
+            keep_or_recertify(family, &mut best, s);
             if without_gain >= range.patience {
                 stop = GrowthStop::NoGain;
                 break;
@@ -241,7 +243,7 @@ pub fn grow<F: PhaseFamily>(
 /// The best gait after solving a larger `K`: `s` when it is better (with its own
 /// certificate), else the best so far, now certified for `s`'s `K` (its bound, gap and
 /// status).
-fn keep_or_recertify<F: PhaseFamily>(best: &mut Option<F::Gait>, mut s: F::Gait) {
+fn keep_or_recertify<F: PhaseFamily>(family: &F, best: &mut Option<F::Gait>, mut s: F::Gait) {
     match best.as_mut() {
         Some(b) if F::objective(&s) <= F::objective(b) => {
             let jb = F::objective(b);
@@ -249,7 +251,7 @@ fn keep_or_recertify<F: PhaseFamily>(best: &mut Option<F::Gait>, mut s: F::Gait)
             let (bk, bcert) = F::claim(b);
             *bk = *k;
             bcert.bound = cert.bound;
-            bcert.gap = ((cert.bound - jb) / jb.abs().max(1.0)).max(0.0);
+            bcert.gap = Certificate::gap_of(cert.bound, jb, family.j_floor());
             bcert.status = cert.status;
         }
         _ => *best = Some(s),

@@ -271,7 +271,8 @@ fn solve_local_in(
         }
         Ok(changed)
     };
-    let run = active_set::run(&mut model, -1.0, 20 * big_m * nb, 3, &what, pivot)?;
+    // In internal units, the floor of `J` is 1.
+    let run = active_set::run(&mut model, -1.0, 20 * big_m * nb, 3, 1.0, &what, pivot)?;
     reverified(crawler, problem, m, &grid, run, start_objective, &what)
 }
 

@@ -70,7 +70,8 @@ pub struct Certificate {
     /// method's answer, which proves no bound).
     #[serde(deserialize_with = "nan_if_null")]
     pub bound: f64,
-    /// Gap `(bound - verified) / max(|verified|, 1)`: relative above 1, absolute below (NaN,
+    /// Gap `(bound - verified) / max(|verified|, floor)`, `floor` the problem's own scale of
+    /// `J` capped at 1 ([`Certificate::gap_of`]): relative above it, in units of it below (NaN,
     /// written `null`, without a bound).
     #[serde(deserialize_with = "nan_if_null")]
     pub gap: f64,
@@ -101,19 +102,25 @@ pub(crate) fn certify(
         status,
         milp_objective: milp_displacement,
         bound,
-        gap: Certificate::gap_of(bound, objective),
+        gap: Certificate::gap_of(bound, objective, scale.min(1.0)),
     })
 }
 
 impl Certificate {
-    /// The gap of a bound over a verified objective: relative above 1, absolute below.
-    pub fn gap_of(bound: f64, objective: f64) -> f64 {
-        ((bound - objective) / objective.abs().max(1.0)).max(0.0)
+    /// The gap of a bound over a verified objective, relative to the larger of `|J|` and
+    /// `floor`, the problem's own scale of `J` capped at 1 (a crawler's
+    /// [`GaitProblem::j_floor`], (P)'s
+    /// [`GeneralProblem::j_floor`](crate::model::general::GeneralProblem::j_floor)): relative
+    /// where `|J|` is above it, in units of it below. A floor of 1 in every problem made the
+    /// gap absolute below `|J| = 1`, so a crawler of displacements `1e-12` stated a gap of
+    /// `1e-12` for a bound twice its `J`.
+    pub fn gap_of(bound: f64, objective: f64, floor: f64) -> f64 {
+        ((bound - objective) / objective.abs().max(floor)).max(0.0)
     }
 }
 
 /// The outer approximation stops when the incumbent's true objective is within this of the
-/// MILP's bound (relative above 1, absolute below).
+/// MILP's bound (relative above the problem's floor of `J`, in units of it below).
 pub(crate) const OA_TOL: f64 = 1e-6;
 
 /// The independent re-verification: the solver's displacement per period must be the one the

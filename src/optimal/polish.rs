@@ -70,9 +70,9 @@ impl PolishRecord {
 }
 
 /// Whether a polished objective may replace the MILP's: no worse, to the rounding of the
-/// replays (`1e-9` relative above 1, absolute below).
-pub(crate) fn no_worse(polished: f64, milp: f64) -> bool {
-    polished >= milp - 1e-9 * milp.abs().max(1.0)
+/// replays (`1e-9` relative above the problem's floor of `J`, in units of it below).
+pub(crate) fn no_worse(polished: f64, milp: f64, floor: f64) -> bool {
+    polished >= milp - 1e-9 * milp.abs().max(floor)
 }
 
 /// A row `lo <= sum a_k v_k <= hi`.

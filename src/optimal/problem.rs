@@ -233,6 +233,14 @@ impl GaitProblem {
             .fold(f64::INFINITY, f64::min)
     }
 
+    /// The floor of `J`'s scale for gaps and ties: the length unit
+    /// ([`Self::length_scale`]) capped at 1, so that nothing compares looser than an absolute
+    /// rule below `|J| = 1` did, and a crawler of tiny lengths compares relatively (its exact
+    /// twin in units of one gives the same gaps and choices).
+    pub fn j_floor(&self, crawler: &Crawler) -> f64 {
+        self.length_scale(crawler).min(1.0)
+    }
+
     /// Checks problem data that did not come through [`GaitProblem::new`] (e.g. read back from
     /// a result file): one positive finite rate bound per link, positive period, weight and
     /// total-variation bound.

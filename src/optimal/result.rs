@@ -67,8 +67,8 @@ pub struct ResultCertificate {
     /// `phases` slip phases, with any all-stick transitions between them) or `"local"` (a
     /// stationary point, no global claim).
     pub kind: String,
-    /// Gap between the bound and the verified value (relative above 1, absolute below); `None`
-    /// for local answers.
+    /// Gap between the bound and the verified value (relative above the problem's floor of `J`,
+    /// in units of it below, [`crate::optimal::Certificate::gap_of`]); `None` for local answers.
     pub gap: Option<f64>,
     /// Upper bound on the optimum of the problem solved; `None` for local answers.
     pub bound: Option<f64>,

@@ -364,11 +364,14 @@ pub fn best_structured(
             objective: *v,
         })
         .collect();
-    // The first of the best (ties go to the simplest family: triangle waves come first).
+    // The first of the best (ties go to the simplest family: triangle waves come first), a tie
+    // relative to the problem's floor of `J` (an absolute floor of 1 made every gait of a
+    // crawler of lengths `1e-12` a tie, and the first, a worse lag, the start).
+    let floor = problem.j_floor(crawler);
     let mut best: Option<(usize, f64)> = None;
     for (i, v) in values.iter().enumerate() {
         if let Some(v) = *v {
-            if best.is_none_or(|(_, b)| v > b + 1e-12 * b.abs().max(1.0)) {
+            if best.is_none_or(|(_, b)| v > b + 1e-12 * b.abs().max(floor)) {
                 best = Some((i, v));
             }
         }

@@ -97,19 +97,21 @@ impl Units {
         }
     }
 
-    /// A certificate with its values in length units scaled by `l` (gap recomputed).
+    /// A certificate with its values in length units scaled by `l` (gap recomputed over the
+    /// target units' floor of `J`, [`Certificate::gap_of`]).
     pub(crate) fn certificate_scaled(
         &self,
         c: &Certificate,
         objective: f64,
         l: f64,
+        floor: f64,
     ) -> Certificate {
         let bound = c.bound * l;
         Certificate {
             status: c.status,
             milp_objective: c.milp_objective * l,
             bound,
-            gap: Certificate::gap_of(bound, objective),
+            gap: Certificate::gap_of(bound, objective, floor),
         }
     }
 }

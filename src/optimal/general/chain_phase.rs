@@ -101,6 +101,7 @@ fn grow_chain(
     let gp = chain_gait_problem(p, view)?;
     let (start, origin) = structured_start(&view.crawler, &gp)?.unzip();
     let lambda = view.objective_scale;
+    let floor = p.j_floor();
     let opts = GrowOptions {
         min_phases: range.min_phases,
         max_phases: range.max_phases,
@@ -111,7 +112,7 @@ fn grow_chain(
     let scaled = |st: &PhaseStep| PhaseStep {
         objective: lambda * st.objective,
         bound: lambda * st.bound,
-        gap: Certificate::gap_of(lambda * st.bound, lambda * st.objective),
+        gap: Certificate::gap_of(lambda * st.bound, lambda * st.objective, floor),
         ..st.clone()
     };
     let g = grow_phases(&view.crawler, &gp, &opts, &mut |st| progress(&scaled(st)))?;
@@ -199,7 +200,7 @@ pub fn chain_phase_gait(
         milp_objective: g.objective
             + lambda * (s.certificate.milp_objective - s.verified_displacement),
         bound,
-        gap: Certificate::gap_of(bound, g.objective),
+        gap: Certificate::gap_of(bound, g.objective, p.j_floor()),
     };
     g.rounds = s.rounds;
     Ok(g)

@@ -30,7 +30,8 @@
 //! (tangent planes, below `f2` by convexity), `-h e^i` in the objective. With fewer cuts the MILP
 //! under-estimates the cost, so its bound stays a bound on P_m; the controls of each solution
 //! become cut points until the true objective of the incumbent meets the bound within
-//! `OA_TOL` (relative above 1, absolute below), as for the crawler's P_m. A separable `f2`
+//! `OA_TOL` (relative above the problem's floor of `J`, C's scale capped at 1, in units of it
+//! below), as for the crawler's P_m. A separable `f2`
 //! (`R` diagonal) has the crawler's stronger form: an epigraph `e^i_k >= (r_k/2) (u^i_k)^2` per
 //! component, cut by the tangents of the parabola at the cut points' components, the first 17
 //! evenly spread over U (the sum of the components' tangents is a tangent plane, so this is

@@ -350,7 +350,8 @@ fn solve_from(
         }
         Ok(0)
     };
-    let run = active_set::run(&mut model, 1.0, 20 * mm * sigma, 3, &what, pivot)?;
+    let floor = p.j_floor();
+    let run = active_set::run(&mut model, 1.0, 20 * mm * sigma, 3, floor, &what, pivot)?;
     reverified(p, m, &lay, run, trials, start_objective, &what)
 }
 

@@ -509,7 +509,7 @@ fn solve_general_slots(p: &GeneralProblem, g: &Geometry, slots: Slots) -> Result
         let mut sol = verified_gait(p, &phases, milp_objective, bound, status, k, &what)?;
         sol.rounds = round;
         // Within `OA_TOL` of the bound relative to `|J|`, or to the floor below it, as P_m's.
-        let j_scale = sol.objective.abs().max(Units::of(p).oa_floor());
+        let j_scale = sol.objective.abs().max(p.j_floor());
         let done = p.cost == GeneralCost::None
             || sol.certificate.bound - sol.objective <= OA_TOL * j_scale
             || status != MilpStatus::Optimal; // the MILP's own status

@@ -47,6 +47,9 @@ impl PhaseFamily for GeneralPhases<'_> {
             .fold(0.0_f64, |m, v| m.max(v.abs()));
         (w * self.p.c.scale()).max(1e-300)
     }
+    fn j_floor(&self) -> f64 {
+        self.p.j_floor()
+    }
     fn gain_tolerance(&self) -> f64 {
         match self.p.cost {
             GeneralCost::None => 1e-7,
@@ -68,7 +71,7 @@ impl PhaseFamily for GeneralPhases<'_> {
             status: MilpStatus::TimeLimit,
             milp_objective: g.objective,
             bound,
-            gap: Certificate::gap_of(bound, g.objective),
+            gap: Certificate::gap_of(bound, g.objective, self.p.j_floor()),
         };
         g
     }

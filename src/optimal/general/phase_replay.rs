@@ -213,7 +213,7 @@ pub(super) fn verified_gait(
             status,
             milp_objective,
             bound,
-            gap: Certificate::gap_of(bound, objective),
+            gap: Certificate::gap_of(bound, objective, p.j_floor()),
         },
         durations,
         controls,

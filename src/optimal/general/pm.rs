@@ -99,7 +99,7 @@ fn verified(p: &GeneralProblem, m: u32, run: &PmRun, what: &str) -> Result<Gener
             status: run.status,
             milp_objective: run.milp_objective,
             bound: run.bound,
-            gap: Certificate::gap_of(run.bound, r.objective),
+            gap: Certificate::gap_of(run.bound, r.objective, p.j_floor()),
         },
         x: r.x,
         u: r.u,

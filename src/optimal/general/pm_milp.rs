@@ -117,11 +117,7 @@ pub(crate) fn solve_pm_milp(
     let units = Units::of(p);
     // The outer approximation's absolute floor in `p`'s units of `J` (a crawler's instance
     // keeps the crawler's: 1 in its internal units).
-    let floor = if opts.keep_units {
-        1.0
-    } else {
-        units.oa_floor()
-    };
+    let floor = if opts.keep_units { 1.0 } else { p.j_floor() };
     if opts.keep_units || !units.needed() {
         return solve_scaled(p, &bm, m, opts, what, floor);
     }
@@ -195,7 +191,7 @@ impl PmRun {
 /// [`MAX_OA_ROUNDS`] rounds or when no control is new); each later round starts from the
 /// previous answer, its epigraphs raised onto the new cuts. The approximation's tolerance is
 /// relative where `|J| >= floor` in `p`'s units of `J` and absolute below
-/// ([`Units::oa_floor`], converted to `p`'s units).
+/// ([`GeneralProblem::j_floor`], converted to `p`'s units).
 fn solve_scaled(
     p: &GeneralProblem,
     bm: &BigM,

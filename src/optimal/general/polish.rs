@@ -174,7 +174,7 @@ fn polished(p: &GeneralProblem, sol: &GeneralPm) -> Result<std::result::Result<G
              hold (the MILP's answer kept)"
         )));
     }
-    if !no_worse(r.objective, sol.objective) {
+    if !no_worse(r.objective, sol.objective, p.j_floor()) {
         return Ok(Err(format!(
             "the polished objective {} is below the MILP's {} (the MILP's answer kept)",
             r.objective, sol.objective
@@ -189,7 +189,7 @@ fn polished(p: &GeneralProblem, sol: &GeneralPm) -> Result<std::result::Result<G
         m,
         objective: r.objective,
         certificate: Certificate {
-            gap: Certificate::gap_of(sol.certificate.bound, r.objective),
+            gap: Certificate::gap_of(sol.certificate.bound, r.objective, p.j_floor()),
             ..sol.certificate.clone()
         },
         x: r.x,

@@ -80,16 +80,6 @@ impl Units {
         }
     }
 
-    /// The outer approximation's absolute floor in the problem's units of `J` (both MILPs stop
-    /// when the bound is within `OA_TOL` of `J` relative to the larger of `|J|` and this): C's
-    /// scale, the problem's own scale of `J`, where it is below 1, else 1. An absolute `1e-6`
-    /// had P_3 of a problem of C's scale `1e-6` stop `1.5e-3` below its bound as `optimal`; the
-    /// floor is never above 1, so no stop is looser than that rule's (whose gap a reader holds a
-    /// phase claim to, `optimal::consistency::PHASE_CLAIM_GAP`).
-    pub fn oa_floor(&self) -> f64 {
-        self.state.min(1.0)
-    }
-
     /// Whether a unit differs from the problem's own (P_m converts then). Converting only
     /// where a unit was off by more than a factor of 100 was not enough: with C's scale
     /// `0.01` to `0.03` (units inside that band), HiGHS proved P_3 of a 2-D problem with a box U

@@ -480,7 +480,9 @@ impl Units {
             modes: s.modes.clone(),
             rounds: s.rounds,
         };
-        out.certificate = self.certificate_scaled(&s.certificate, out.objective(), l);
+        // The target units' floor of `J`: the user's length unit, or 1 inside.
+        let floor = if to_user { self.length.min(1.0) } else { 1.0 };
+        out.certificate = self.certificate_scaled(&s.certificate, out.objective(), l, floor);
         out
     }
 }

@@ -134,6 +134,9 @@ impl PhaseFamily for ChainPhases<'_> {
     fn length_scale(&self) -> f64 {
         self.problem.length_scale(self.crawler)
     }
+    fn j_floor(&self) -> f64 {
+        self.problem.j_floor(self.crawler)
+    }
     fn gain_tolerance(&self) -> f64 {
         gain_tolerance(self.problem)
     }

@@ -247,7 +247,7 @@ fn start_unproven(
         status: MilpStatus::TimeLimit,
         milp_objective: s.verified_displacement,
         bound,
-        gap: Certificate::gap_of(bound, j),
+        gap: Certificate::gap_of(bound, j, problem.j_floor(crawler)),
     };
     s
 }

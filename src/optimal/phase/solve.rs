@@ -118,7 +118,7 @@ pub fn solve_phase_with(
                 st.phases = phases;
                 st.certificate = Certificate {
                     bound,
-                    gap: Certificate::gap_of(bound, st.objective()),
+                    gap: Certificate::gap_of(bound, st.objective(), problem.j_floor(crawler)),
                     milp_objective: st.verified_displacement,
                     ..s.certificate
                 };
@@ -202,7 +202,8 @@ fn oa_rounds(
             break (raw, bound, status);
         };
         let true_objective = raw.displacement() - raw.cost(problem);
-        let converged = bound - true_objective <= OA_TOL * true_objective.abs().max(1.0);
+        let converged =
+            bound - true_objective <= OA_TOL * true_objective.abs().max(problem.j_floor(crawler));
         if converged || status == MilpStatus::TimeLimit || rounds >= MAX_OA_ROUNDS {
             let status = match status {
                 MilpStatus::Optimal if !converged => MilpStatus::ApproximationLimit,
