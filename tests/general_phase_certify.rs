@@ -318,3 +318,58 @@ fn phase_gaits_with_a_coupling_b_or_a_drift_certify() {
         }
     }
 }
+
+/// The one-link problem in other units: states times `a`, time times `s`, controls times `su`
+/// (an exact twin of `a = s = su = 1`).
+fn one_link_twin(a: f64, s: f64, su: f64) -> String {
+    let text = std::fs::read_to_string("examples/general_one_link.toml").unwrap();
+    let text = &text[..text.rfind("[input]").unwrap()];
+    text.replace("offsets = [1.0, 1.0]", &format!("offsets = [{a:?}, {a:?}]"))
+        .replace("B = [[1.0]]", &format!("B = [[{:?}]]", a / s / su))
+        .replace("period = 10.0", &format!("period = {:?}", 10.0 * s))
+        .replace("lower = [-1.0]", &format!("lower = [{:?}]", -su))
+        .replace("upper = [1.0]", &format!("upper = [{su:?}]"))
+}
+
+/// A verdict does not depend on units: the one-link optimum of the phase method and of P_3
+/// `holds` in every twin, each residual in units that scale with it, and the non-degeneracy
+/// margin (in units of the switching function, `B^T p`) is the twin's times `a / (s su)`. With
+/// absolute residuals the phase optimum `failed` at `a = 1e5` (complementarity and duration
+/// stationarity `1.3e-9`, rounding of slacks of size `1e5`) and P_3 was `degenerate` wherever
+/// `B` is `1e-6` (states of `1e-6`, time `1e6` times slower, controls `1e6` times larger): its
+/// margin `5e-7` was held to the unit `max |w| = 0.5` of a problem in units of one.
+#[test]
+fn a_verdict_is_the_same_in_any_units() {
+    let dir = tempfile::tempdir().unwrap();
+    for method in [
+        &["--method", "phase"][..],
+        &["--method", "discrete", "--m", "3"],
+    ] {
+        let run = |a: f64, s: f64, su: f64| {
+            let file = common::write(dir.path(), "twin.toml", &one_link_twin(a, s, su));
+            let c = common::certify_written(dir.path(), &common::optimize_json(&file, method));
+            let margin = c["nondegeneracy_margin"].as_f64().unwrap();
+            (
+                c["verdict"].as_str().unwrap().to_string(),
+                margin / (a / s / su),
+            )
+        };
+        let (verdict, margin) = run(1.0, 1.0, 1.0);
+        assert!(
+            verdict == "holds" && (margin - 0.5).abs() < 1e-9,
+            "{method:?}: {verdict}, margin {margin}"
+        );
+        for (a, s, su) in [
+            (1e5, 1.0, 1.0),
+            (1e-6, 1.0, 1.0),
+            (1.0, 1e6, 1.0),
+            (1.0, 1.0, 1e6),
+        ] {
+            let (v, m) = run(a, s, su);
+            assert!(
+                v == verdict && (m - margin).abs() <= 1e-6 * margin,
+                "{method:?}, a = {a}, s = {s}, su = {su}: {v}, margin {m} in the twin's units"
+            );
+        }
+    }
+}

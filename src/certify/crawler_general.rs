@@ -71,7 +71,9 @@ impl AsGeneral {
     /// - `state_scale = 1 / sqrt(k_l)` (`B = K^(-1/2)`: the instance's `p~` is `K^(1/2) p`);
     /// - the margin taken on every rate at its bound, as its margin `min |p + omega|` reads;
     /// - the switching function's unit `1 / (N k_max)` (its `p` is `lambda / N` per `K nu_b`
-    ///   while block `b` slips), and the margin's cap ten times `1 / (N k_min)`.
+    ///   while block `b` slips), and the margin's cap ten times `1 / (N k_min)`;
+    /// - the slacks in units of the instance's C, `psi` and the Hamiltonian in the crawler's
+    ///   own ([`super::general_kkt::ResidualUnits`]).
     pub fn of(pr: &Process, tol: f64) -> Result<Self> {
         let inst = pr.problem.instance(&pr.crawler)?;
         let k = pr.crawler.stiffness();
@@ -84,6 +86,10 @@ impl AsGeneral {
         gst.margin_off_vertex = true;
         gst.switching_unit = 1.0 / (nb * k.iter().fold(0.0_f64, |m, &k| m.max(k)));
         gst.margin_cap = 10.0 / (nb * k.iter().fold(f64::INFINITY, |m, &k| m.min(k)));
+        // The slacks in the instance's C (forces over `s_b`); `psi` and the Hamiltonian in the
+        // crawler's own units, as `state_scale` and `switching_unit` count them.
+        gst.units.psi = 1.0;
+        gst.units.speed = 1.0;
         Ok(AsGeneral {
             s_b,
             inst,

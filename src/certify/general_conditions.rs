@@ -73,8 +73,9 @@ pub(crate) fn residuals(
         ),
         (
             "complementarity",
-            "xi_{k,f} (c_f - <x*_f, x^k>) = 0: dxi only where its face is active (Thm 6.1 (necd1))",
-            comp,
+            "xi_{k,f} (c_f - <x*_f, x^k>) = 0: dxi only where its face is active, the slack in \
+             units of C's scale (Thm 6.1 (necd1))",
+            comp / st.units.slack,
         ),
         (
             "reaction_stationarity",
@@ -91,8 +92,8 @@ pub(crate) fn residuals(
         (
             "weak_maximality",
             "psi_i = -B^T p_i - omega - lambda Df2(u_i) in N_U(u_i): |psi_i - sum_r rho_{i,r} G_r| \
-             with rho >= 0 on the active rows of U (Thm 6.2 (pw))",
-            maxim,
+             with rho >= 0 on the active rows of U, in units of max |B_ij| (Thm 6.2 (pw))",
+            maxim / st.units.psi,
         ),
         ("sign", "xi_{k,f} >= 0", super::stages::sign_residual(st, raw)),
     ];
@@ -101,8 +102,8 @@ pub(crate) fn residuals(
             "duration_stationarity",
             "H_i = sum_r rho_{i,r} h_r - <p_i, b> + lambda (Df2(u_i).u_i - f2(u_i)) is the same \
              on every phase (phase LP stationary in the durations: the maximised Hamiltonian is \
-             constant); residual (max H - min H)/2",
-            0.5 * (ham_hi - ham_lo),
+             constant); residual (max H - min H)/2 in units of the fastest rate of a state",
+            0.5 * (ham_hi - ham_lo) / st.units.speed,
         ));
     }
     out

@@ -87,14 +87,62 @@ pub(crate) struct GeneralStructure {
     pub margin_off_vertex: bool,
     /// The natural unit of the switching function `B^T p + omega`, the floor of the
     /// non-degeneracy threshold `1e-6 max(sup |sigma|, switching_unit)` when `sigma` vanishes
-    /// identically: `max |w|` for (P); `1 / (N k_max)` for a crawler's instance (its `p` is then
+    /// identically: `max |w|` times [`ResidualUnits::psi`] for (P); `1 / (N k_max)` for a crawler's instance (its `p` is then
     /// `lambda / N` per `K nu_b` while block `b` slips).
     pub switching_unit: f64,
+    /// The units of the residuals whose terms are not of the adjoint's size, so that a
+    /// verdict is the same for the problem in any units (an exact twin: states times `a`,
+    /// time times `s`, controls times `s_u`): [`ResidualUnits`].
+    pub units: ResidualUnits,
     /// The bound on the margin `delta` of the last stage (in the units of the switching
     /// function), so that the LP is bounded where every rate's margin could grow without end:
-    /// `10 max(max |w|, 1)` for (P); `10 / (N k_min)` for a crawler's instance (ten times the
+    /// `10 max(max |w|, 1) max |B_ij|` for (P); `10 / (N k_min)` for a crawler's instance (ten times the
     /// largest `p` one slipping block asks).
     pub margin_cap: f64,
+}
+
+/// The units the recomputed residuals are counted in ([`GeneralStructure::units`]), each a
+/// size of the problem that scales as its residual does under a change of units (the adjoint
+/// `p`, in units of `J` per state, does not change). Without them the residuals were absolute:
+/// the one-link optimum of the phase method `fails` at C's scale `1e5` (complementarity and
+/// duration stationarity `1.3e-9`, rounding of slacks of size `1e5`), and P_3's switching
+/// function was held to the unit of `max |w|` where `B` is `1e-6` (a twin in slow time, small
+/// states or large controls), which made its verdict `degenerate` where the twin's `holds`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ResidualUnits {
+    /// The slacks' unit, C's scale `max |c_f|` (complementarity counts `xi slack / slack`).
+    pub slack: f64,
+    /// The unit of `psi = -B^T p - omega - lambda Df2(u)` and of the switching function per
+    /// unit of `p`: `max |B_ij|` (weak maximality counts `|psi - cone| / psi`, the switching
+    /// function's floor is `max |w| psi`).
+    pub psi: f64,
+    /// The unit of the maximised Hamiltonian per unit of `p`, the fastest rate of a state,
+    /// `max_i (sum_j |B_ij| u_unit + |b_i|)` with `u_unit` U's largest scale (the duration
+    /// stationarity counts `(max H - min H) / 2 / speed`).
+    pub speed: f64,
+}
+
+impl ResidualUnits {
+    /// The units of `p` ([`ResidualUnits`]); each is 1 on a problem in units of one, and never
+    /// below `1e-300`.
+    pub fn of(p: &GeneralProblem) -> Self {
+        let control = crate::optimal::process::control_scales(&p.control)
+            .iter()
+            .fold(0.0_f64, |m, v| m.max(*v));
+        let control = if control > 0.0 { control } else { 1.0 };
+        let b = &p.dynamics.b;
+        let psi = b.iter().flatten().fold(0.0_f64, |m, v| m.max(v.abs()));
+        let speed = b
+            .iter()
+            .zip(&p.dynamics.drift)
+            .map(|(row, d)| control * row.iter().map(|v| v.abs()).sum::<f64>() + d.abs())
+            .fold(0.0_f64, f64::max);
+        ResidualUnits {
+            slack: p.c.scale(),
+            psi: psi.max(1e-300),
+            speed: speed.max(1e-300),
+        }
+    }
 }
 
 impl GeneralStructure {
@@ -157,6 +205,7 @@ impl GeneralStructure {
                 .collect();
         let w = face_weights(p);
         let wmax = w.iter().fold(0.0_f64, |a, v| a.max(v.abs()));
+        let units = ResidualUnits::of(p);
         GeneralStructure {
             n,
             m,
@@ -171,8 +220,9 @@ impl GeneralStructure {
             at_vertex,
             grad_f2,
             cost_h,
-            switching_unit: wmax,
-            margin_cap: 10.0 * wmax.max(1.0),
+            switching_unit: wmax * units.psi,
+            margin_cap: 10.0 * wmax.max(1.0) * units.psi,
+            units,
             w,
             urows,
             face_scale: vec![1.0; p.c.faces()],

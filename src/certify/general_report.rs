@@ -83,14 +83,18 @@ pub(crate) fn report(
     // The multipliers solve LPs to the conditions' tolerance: below it, a margin is zero at the
     // solver's resolution (a 1e-12 slack of the margin LP is no measured value).
     let margin = nondegeneracy_margin(p, st, raw, &switching);
-    let margin = if margin <= ptol { 0.0 } else { margin };
+    let margin = if margin <= ptol * st.units.psi {
+        0.0
+    } else {
+        margin
+    };
     let nd_tol = 1e-6 * sup(&switching).max(st.switching_unit).max(1e-300);
     // With lambda > 0 a strictly convex f2 makes the Hamiltonian's maximiser unique whatever
     // sigma; with lambda = 0 the cost has left the Hamiltonian and only the margin could.
     let margin_required = !(strictly_convex(&p.cost, m) && raw.lambda > 0.0);
     let nondeg = !margin_required || margin > nd_tol;
     let law = control_law_residual(p, &pr.u, raw.lambda, &switching, nd_tol);
-    let l1 = l1_maximality(p, st, raw, &psi);
+    let l1 = l1_maximality(p, st, raw, &psi).map(|v| v / st.units.psi);
     let continuous = ContinuousGroup {
         adj,
         sign,
@@ -400,7 +404,7 @@ impl ContinuousGroup {
                 "weak_maximality",
                 "2.2",
                 "int_0^T dist(psi(t), N_U(u(t))) dt, psi = -B^T p - omega - lambda Df2(u), p \
-                 piecewise linear (Thm 2.2; O(h) on P_m grids)",
+                 piecewise linear, in units of max |B_ij| (Thm 2.2; O(h) on P_m grids)",
                 l1,
                 ptol * p.period,
             ));
@@ -417,12 +421,12 @@ impl ContinuousGroup {
             "2.2",
             if is_box(&p.control) {
                 "sigma = B^T p + omega != 0 componentwise (§4 (nndg)): min |sigma| above 1e-6 \
-                 max(sup|sigma|, max|w|) and the solver's resolution; residual 1 when it is not \
+                 max(sup|sigma|, max|w| max|B_ij|) and the solver's resolution; residual 1 when it is not \
                  (the margin is reported beside J); required unless f2 is strictly convex and \
                  lambda > 0"
             } else {
                 "psi in the interior of N_U(u) at a vertex of U on every step: min rho above 1e-6 \
-                 max(sup|sigma|, max|w|) and the solver's resolution; residual 1 when it is not; \
+                 max(sup|sigma|, max|w| max|B_ij|) and the solver's resolution; residual 1 when it is not; \
                  required unless f2 is strictly convex and lambda > 0"
             },
             if self.nondegenerate { 0.0 } else { 1.0 },
