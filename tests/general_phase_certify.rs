@@ -372,4 +372,23 @@ fn a_verdict_is_the_same_in_any_units() {
             );
         }
     }
+    // The multiplier LPs bound each violation in the residual's unit too: the three-block
+    // local optimum with controls a million times larger (`B = 1e-6 I`) `failed` (weak
+    // maximality `1e-6`: the LPs' absolute slack of `1e-12` on `psi`, counted in units of
+    // `1e-6`), where at scale 1 it is `degenerate`.
+    let text = std::fs::read_to_string("examples/general_three_blocks.toml").unwrap();
+    let verdict = |text: &str| {
+        let file = common::write(dir.path(), "twin.toml", text);
+        let v = common::optimize_json(&file, &["--method", "local"]);
+        let c = common::certify_written(dir.path(), &v);
+        c["verdict"].as_str().unwrap().to_string()
+    };
+    let twin = text
+        .replace(
+            "B = [[1.0, 0.0], [0.0, 1.0]]",
+            "B = [[1e-6, 0.0], [0.0, 1e-6]]",
+        )
+        .replace("lower = [-1.0, -1.0]", "lower = [-1e6, -1e6]")
+        .replace("upper = [1.0, 1.0]", "upper = [1e6, 1e6]");
+    assert_eq!(verdict(&twin), verdict(&text));
 }

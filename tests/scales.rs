@@ -3,6 +3,8 @@
 //! field named, and the inputs that once panicked inside HiGHS or gave a false certificate are
 //! refused, never answered.
 
+mod common;
+
 use crawlopt::optimal::{
     one_link_optimum, solve_discrete_global, solve_discrete_local, solve_phase_global, Cost,
     GaitProblem, MAX_SWEEP,
@@ -229,4 +231,23 @@ fn exact_twins_of_tiny_lengths_pick_the_same_start_and_state_the_same_gaps() {
             "k = {k}: gap {g} against {at_one} at k = 1"
         );
     }
+}
+
+/// A phase claim is written as it is read: the MILPs prove their answers over the length unit
+/// (they are solved in internal units), so the gap is stated over it too. Capped at 1, a crawler
+/// of length unit `2500` (stiffness `1e-3`) with a quadratic cost stated a gap of `2.2e-4` for
+/// its `optimal_among_k_phases` claim, above what a reader accepts (`1e-5`), and `certify`
+/// refused the file `optimize` had written.
+#[test]
+fn a_phase_claim_at_a_large_length_unit_reads_back() {
+    let dir = tempfile::tempdir().unwrap();
+    let text = "[crawler]\nblocks = 3\nstiffness = 0.001\nmu_forward = 1.0\n\
+                mu_backward = 1.5\n[gait]\nperiod = 10.0\nmax_actuator_speed = 1000.0\n\
+                cost = { kind = \"quadratic\", weight = 370.0 }\n";
+    let file = common::write(dir.path(), "large.toml", text);
+    let v = common::optimize_json(&file, &["--method", "phase", "--phases", "3"]);
+    assert_eq!(v["status"], "optimal_among_k_phases");
+    let gap = v["certificate"]["gap"].as_f64().unwrap();
+    assert!(gap <= 1e-6, "gap {gap}");
+    common::certify_written(dir.path(), &v);
 }

@@ -126,17 +126,13 @@ impl ResidualUnits {
     /// The units of `p` ([`ResidualUnits`]); each is 1 on a problem in units of one, and never
     /// below `1e-300`.
     pub fn of(p: &GeneralProblem) -> Self {
-        let control = crate::optimal::process::control_scales(&p.control)
+        let (_, speed) = crate::optimal::general::control_and_speed(p);
+        let psi = p
+            .dynamics
+            .b
             .iter()
-            .fold(0.0_f64, |m, v| m.max(*v));
-        let control = if control > 0.0 { control } else { 1.0 };
-        let b = &p.dynamics.b;
-        let psi = b.iter().flatten().fold(0.0_f64, |m, v| m.max(v.abs()));
-        let speed = b
-            .iter()
-            .zip(&p.dynamics.drift)
-            .map(|(row, d)| control * row.iter().map(|v| v.abs()).sum::<f64>() + d.abs())
-            .fold(0.0_f64, f64::max);
+            .flatten()
+            .fold(0.0_f64, |m, v| m.max(v.abs()));
         ResidualUnits {
             slack: p.c.scale(),
             psi: psi.max(1e-300),
@@ -485,7 +481,8 @@ fn reaction_rows(
 }
 
 /// Weak maximality on piece `i` (Theorem 6.2 (pw)): `psi_i = -B^T p_i - omega - lambda R u_i`
-/// equal to `sum rho G` over the active rows of U (up to `r`), two rows per control, where a
+/// equal to `sum rho G` over the active rows of U (up to `r` in units of `psi`,
+/// [`ResidualUnits::psi`], as the recomputed residual counts it), two rows per control, where a
 /// control's only active row is an axis row `v e_l` one row `sign(v) psi_(i,l) >= -r` (its weight
 /// `psi_(i,l) / v`, [`GeneralStructure::axis_rows`]); and, at a vertex of U (or anywhere with
 /// [`GeneralStructure::margin_off_vertex`]), the margin rows on every active row (`rho >= delta`,
@@ -511,6 +508,7 @@ fn maximality_rows(
         row
     };
     let margin = st.at_vertex[i] || st.margin_off_vertex;
+    let unit = st.units.psi;
     for l in 0..m {
         let g = lambda * st.grad_f2[i][l];
         if let Some(&(_, v)) = c.axis[i].iter().flatten().find(|(al, _)| *al == l) {
@@ -519,7 +517,7 @@ fn maximality_rows(
             // -sign(v) sigma >= delta (the crawler's -(p + omega) sign(u) >= delta).
             let sg = v.signum();
             let mut row = minus_sigma(l, sg);
-            row.push((c.r, 1.0));
+            row.push((c.r, unit));
             pb.add_row(sg * g.., row);
             if margin {
                 let mut row = minus_sigma(l, sg);
@@ -537,8 +535,8 @@ fn maximality_rows(
             }
         }
         let mut lo = row.clone();
-        lo.push((c.r, 1.0));
-        row.push((c.r, -1.0));
+        lo.push((c.r, unit));
+        row.push((c.r, -unit));
         pb.add_row(..=g, row);
         pb.add_row(g.., lo);
     }
@@ -552,7 +550,7 @@ fn maximality_rows(
 
 /// The phase LP's stationarity in the durations (phase gaits): a free column `H` (added here,
 /// after all the others) and `H_i = sum_r rho_{i,r} h_r - <p_i, b> + lambda cost_h_i` equal to
-/// it on every phase, up to `r`.
+/// it on every phase, up to `r` in units of a state's rate ([`ResidualUnits::speed`]).
 fn duration_rows(
     pb: &mut RowProblem,
     p: &GeneralProblem,
@@ -601,8 +599,8 @@ fn duration_rows(
                 .map(|l| (c.omega[l], co[l])),
         );
         let mut lo = row.clone();
-        lo.push((c.r, 1.0));
-        row.push((c.r, -1.0));
+        lo.push((c.r, st.units.speed));
+        row.push((c.r, -st.units.speed));
         pb.add_row(..=-cst, row);
         pb.add_row(-cst.., lo);
     }

@@ -82,12 +82,10 @@ pub(crate) fn report(
     let misplaced = misplaced_mass(&st.active, &xi_units, discrete);
     // The multipliers solve LPs to the conditions' tolerance: below it, a margin is zero at the
     // solver's resolution (a 1e-12 slack of the margin LP is no measured value).
+    // (In units of the switching function: `ptol` times its unit per unit of `p`.)
+    let resolution = ptol * st.units.psi;
     let margin = nondegeneracy_margin(p, st, raw, &switching);
-    let margin = if margin <= ptol * st.units.psi {
-        0.0
-    } else {
-        margin
-    };
+    let margin = if margin <= resolution { 0.0 } else { margin };
     let nd_tol = 1e-6 * sup(&switching).max(st.switching_unit).max(1e-300);
     // With lambda > 0 a strictly convex f2 makes the Hamiltonian's maximiser unique whatever
     // sigma; with lambda = 0 the cost has left the Hamiltonian and only the margin could.
@@ -118,7 +116,7 @@ pub(crate) fn report(
     let times = pr.times();
     let holds = holds_reason(margin_required, is_box(&p.control), words);
     let (verdict, reason) = verdict(&conditions, discrete, raw.lambda, nondeg, &holds, || {
-        degenerate_reason(p, words, &switching, margin, ptol, &times)
+        degenerate_reason(p, words, &switching, margin, resolution, &times)
     });
     let paper = paper_norm(p, st, raw, &psi);
     GeneralNecessaryConditions {
@@ -131,7 +129,7 @@ pub(crate) fn report(
         lambda: raw.lambda,
         objective: pr.objective(p),
         nondegeneracy_margin: margin,
-        nondegeneracy_resolution: ptol,
+        nondegeneracy_resolution: resolution,
         margin_required,
         normalisation: normalisation(scaled_by, raw.lambda, sup_p, paper),
         conditions,

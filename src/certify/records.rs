@@ -174,8 +174,9 @@ pub struct NecessaryConditions<M = MultiplierData> {
     /// `1e-12` that is no measured value).
     pub nondegeneracy_margin: f64,
     /// The resolution at which the margin is known: the conditions' tolerance times the
-    /// adjoint's scale `max(1, ||p||_inf)`, that of every other residual. (Absent, 0, in files
-    /// of earlier builds.)
+    /// adjoint's scale `max(1, ||p||_inf)`, that of every other residual, times the unit of the
+    /// switching function per unit of `p` (`max |B_ij|` for (P); 1 for a crawler). (Absent, 0,
+    /// in files of earlier builds.)
     #[serde(default)]
     pub nondegeneracy_resolution: f64,
     /// Whether the verdict requires that margin: unless `f2` is strictly convex and

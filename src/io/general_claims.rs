@@ -116,7 +116,7 @@ pub(super) fn check_local_phase(what: &str, r: &crate::io::GeneralPhaseOptimized
 }
 
 /// [`crate::optimal::consistency::check_table`] with a general reader's equality of
-/// objectives (relative [`INPUT_TOL`]).
+/// objectives (relative [`INPUT_TOL`], below the problem's floor of `J` `floor` in units of it).
 pub(super) fn check_table(
     what: &str,
     field: &str,
@@ -124,8 +124,9 @@ pub(super) fn check_table(
     last: usize,
     j: f64,
     growth: bool,
+    floor: f64,
 ) -> Result<()> {
-    let close = |a: f64, b: f64| (a - b).abs() <= INPUT_TOL * a.abs().max(b.abs()).max(1.0);
+    let close = |a: f64, b: f64| (a - b).abs() <= INPUT_TOL * a.abs().max(b.abs()).max(floor);
     crate::optimal::consistency::check_table(what, field, rows, Some(last), j, growth, close)
 }
 

@@ -109,7 +109,15 @@ fn check_discrete_answer(r: &GeneralOptimized, p: &GeneralProblem, what: &str) -
             .iter()
             .map(|row| (row.m as usize, row.objective, row.bound))
             .collect();
-        check_table(what, "convergence", &rows, s.m as usize, j, false)?;
+        check_table(
+            what,
+            "convergence",
+            &rows,
+            s.m as usize,
+            j,
+            false,
+            p.j_floor(),
+        )?;
     }
     check_upper_bound(what, p, &r.certificate)?;
     check_global(
@@ -225,7 +233,16 @@ fn check_phase_answer(r: &GeneralPhaseOptimized, p: &GeneralProblem, what: &str)
             .iter()
             .map(|row| (row.phases, row.objective, row.bound))
             .collect();
-        check_table(what, "phase_growth.table", &rows, s.max_phases, j, true)?;
+        let floor = p.j_floor();
+        check_table(
+            what,
+            "phase_growth.table",
+            &rows,
+            s.max_phases,
+            j,
+            true,
+            floor,
+        )?;
     }
     let holding = s.held.iter().filter(|h| !h.is_empty()).count();
     let k = Some((s.max_phases, holding));

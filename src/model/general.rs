@@ -116,15 +116,25 @@ pub struct GeneralParts {
 }
 
 impl GeneralProblem {
-    /// The floor of `J`'s scale in the problem's units: C's scale, the problem's own scale of
-    /// `J`, where it is below 1, else 1. Both MILPs' outer approximations stop when the bound is
+    /// The floor of `J`'s scale in the problem's units: the problem's own scale of `J`, the
+    /// largest face weight times C's scale (C's scale where no face has a weight), where it is
+    /// below 1, else 1. Both MILPs' outer approximations stop when the bound is
     /// within `optimal::milp::OA_TOL` of `J` relative to the larger of `|J|` and this, and every
     /// gap is stated over it (`optimal::Certificate::gap_of`). An absolute `1e-6` had P_3 of a
     /// problem of C's scale `1e-6` stop `1.5e-3` below its bound as `optimal`; the floor is
     /// never above 1, so no stop is looser than that rule's (whose gap a reader holds a phase
     /// claim to, `optimal::consistency::PHASE_CLAIM_GAP`).
     pub fn j_floor(&self) -> f64 {
-        self.c.scale().min(1.0)
+        let w = match &self.reward {
+            Reward::FaceWeights(w) => w.iter().fold(0.0_f64, |m, v| m.max(v.abs())),
+            Reward::ReactionWeights(q) => self
+                .c
+                .normals
+                .iter()
+                .fold(0.0_f64, |m, x| m.max(dot(x, q).abs())),
+        };
+        let w = if w > 0.0 { w } else { 1.0 };
+        (w * self.c.scale()).min(1.0)
     }
 
     /// The rounding a computed state of a process can carry: `1e3` units in the last place of

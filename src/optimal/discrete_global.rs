@@ -147,7 +147,7 @@ impl Units {
                 ..r.clone()
             }),
         };
-        out.certificate = self.certificate_scaled(&s.certificate, out.objective(), l, l.min(1.0));
+        out.certificate = self.certificate_scaled(&s.certificate, out.objective(), l, l);
         out
     }
 }

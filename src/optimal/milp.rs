@@ -108,8 +108,8 @@ pub(crate) fn certify(
 
 impl Certificate {
     /// The gap of a bound over a verified objective, relative to the larger of `|J|` and
-    /// `floor`, the problem's own scale of `J` capped at 1 (a crawler's
-    /// [`GaitProblem::j_floor`], (P)'s
+    /// `floor`, the problem's own scale of `J` (a crawler's length unit,
+    /// [`GaitProblem::j_floor`]; (P)'s capped at 1,
     /// [`GeneralProblem::j_floor`](crate::model::general::GeneralProblem::j_floor)): relative
     /// where `|J|` is above it, in units of it below. A floor of 1 in every problem made the
     /// gap absolute below `|J| = 1`, so a crawler of displacements `1e-12` stated a gap of

@@ -233,12 +233,15 @@ impl GaitProblem {
             .fold(f64::INFINITY, f64::min)
     }
 
-    /// The floor of `J`'s scale for gaps and ties: the length unit
-    /// ([`Self::length_scale`]) capped at 1, so that nothing compares looser than an absolute
-    /// rule below `|J| = 1` did, and a crawler of tiny lengths compares relatively (its exact
-    /// twin in units of one gives the same gaps and choices).
+    /// The floor of `J`'s scale for gaps and ties: the length unit ([`Self::length_scale`]),
+    /// the unit the MILPs prove their answers in (they are solved in internal units, where it
+    /// is 1: `optimal::units`), so that a crawler of tiny lengths compares relatively
+    /// and every exact twin states the same gaps and makes the same choices. (Capped at 1, a
+    /// gap stated over it could exceed what a reader accepts of a claim the MILP proved over
+    /// the length unit: a phase claim at a length unit of 1000 was written with a gap of
+    /// `2.2e-4` and refused by `certify`.)
     pub fn j_floor(&self, crawler: &Crawler) -> f64 {
-        self.length_scale(crawler).min(1.0)
+        self.length_scale(crawler)
     }
 
     /// Checks problem data that did not come through [`GaitProblem::new`] (e.g. read back from

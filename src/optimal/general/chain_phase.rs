@@ -244,7 +244,7 @@ pub fn chain_gait(
                 .collect::<Vec<_>>()
         })
         .fold(0.0_f64, f64::max);
-    if (objective - want).abs() > 1e-9 * want.abs().max(1.0) || state_gap > 1e-9 * scale {
+    if (objective - want).abs() > 1e-9 * want.abs().max(p.j_floor()) || state_gap > 1e-9 * scale {
         return Err(Error::Numerical(format!(
             "{what}: the general replay gives J = {objective} for the crawler's {want} and \
              states off by {state_gap:e}"

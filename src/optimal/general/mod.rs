@@ -42,3 +42,4 @@ pub use pm::{general_convergence, solve_general_pm, solve_general_pm_with};
 pub(crate) use pm_milp::{solve_pm_milp, PmOptions, PmStart};
 pub(crate) use polish::{pm_on_pattern, PmColumns};
 pub use projection::{project_polyhedron, ProjectedVertex, MAX_PROJECTED_VERTICES};
+pub use units::control_and_speed;

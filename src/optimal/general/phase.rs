@@ -585,7 +585,9 @@ fn polished(
         sol.max_phases,
         what,
     ) {
-        Ok(mut better) if better.objective >= sol.objective - 1e-9 * p.c.scale().max(1.0) => {
+        Ok(mut better)
+            if better.objective >= sol.objective - 1e-9 * sol.objective.abs().max(p.j_floor()) =>
+        {
             better.certificate.status = c.status;
             better.rounds = sol.rounds;
             better

@@ -42,20 +42,28 @@ pub(crate) struct Units {
     pub period: f64,
 }
 
+/// U's largest scale (1 where it has none) and the fastest rate of a state under it,
+/// `max_i (sum_j |B_ij| u + |b_i|)`: the sizes of a control and of a velocity in `p`'s units
+/// (the units of order one; a certificate's residual units, `certify::general_kkt`).
+pub fn control_and_speed(p: &GeneralProblem) -> (f64, f64) {
+    let control = crate::optimal::process::control_scales(&p.control)
+        .iter()
+        .fold(0.0_f64, |m, v| m.max(*v));
+    let control = if control > 0.0 { control } else { 1.0 };
+    let speed = (0..p.states())
+        .map(|i| {
+            let b: f64 = p.dynamics.b[i].iter().map(|v| v.abs()).sum();
+            control * b + p.dynamics.drift[i].abs()
+        })
+        .fold(0.0_f64, f64::max);
+    (control, speed)
+}
+
 impl Units {
     /// The units of order one (module docs).
     pub fn of(p: &GeneralProblem) -> Self {
-        let control = crate::optimal::process::control_scales(&p.control)
-            .iter()
-            .fold(0.0_f64, |m, v| m.max(*v));
-        let control = if control > 0.0 { control } else { 1.0 };
+        let (control, speed) = control_and_speed(p);
         let state = p.c.scale();
-        let speed = (0..p.states())
-            .map(|i| {
-                let b: f64 = p.dynamics.b[i].iter().map(|v| v.abs()).sum();
-                control * b + p.dynamics.drift[i].abs()
-            })
-            .fold(0.0_f64, f64::max);
         // A period shorter than the crossing is its own unit: durations then stay of order one.
         let time = if speed > 0.0 {
             (state / speed).min(p.period)

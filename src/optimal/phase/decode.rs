@@ -481,7 +481,7 @@ impl Units {
             rounds: s.rounds,
         };
         // The target units' floor of `J`: the user's length unit, or 1 inside.
-        let floor = if to_user { self.length.min(1.0) } else { 1.0 };
+        let floor = if to_user { self.length } else { 1.0 };
         out.certificate = self.certificate_scaled(&s.certificate, out.objective(), l, floor);
         out
     }
