@@ -413,3 +413,28 @@ fn a_fine_grid_cut_short_does_not_hide_a_coarse_grid_s_better_bound() {
         b.status
     );
 }
+
+/// The bound is solved in the optimisers' internal units, so exact twins (the one link with
+/// its lengths times `a` and its time times `s`: thresholds `a`, speed `a / s`, period `10 s`)
+/// prove one bound, `J` times the same ratio. In the user's units the LP ended "status
+/// unknown" at thresholds `1e6`, period `1e-5`, speed `1e12`, and proved `5.0 J* / 3` (valid but
+/// 43% looser) at thresholds `1e-6`, period `1e7`, speed `1e-12`, where scale 1 proves `3.5`.
+#[test]
+fn exact_twins_prove_one_bound() {
+    let bound = |a: f64, s: f64| {
+        let c = Crawler::new(vec![1.0], vec![a; 2], vec![2.0 * a; 2]).unwrap();
+        let p = GaitProblem::new(&c, 10.0 * s, &[a / s], Cost::None, None).unwrap();
+        let b = upper_bound(&c, &p, &BoundSettings::default()).unwrap();
+        assert_eq!(b.status, BoundStatus::Optimal, "a = {a}, s = {s}");
+        b.value / a
+    };
+    let want = bound(1.0, 1.0);
+    assert!((3.0..3.5 + 1e-6).contains(&want), "{want}");
+    for (a, s) in [(1e6, 1e-6), (1e-6, 1e6), (1e-6, 1.0), (1.0, 1e6)] {
+        let b = bound(a, s);
+        assert!(
+            (b - want).abs() <= 1e-9 * want,
+            "a = {a}, s = {s}: bound / a = {b}, not {want}"
+        );
+    }
+}

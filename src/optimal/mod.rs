@@ -30,7 +30,7 @@ pub(crate) mod solver;
 mod start;
 pub mod structured;
 mod structured_record;
-mod units;
+pub(crate) mod units;
 
 pub use discrete::{DiscreteSolution, MAX_M};
 pub use discrete_global::{

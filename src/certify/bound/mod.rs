@@ -505,8 +505,34 @@ pub fn refinement_ladder(resolution: usize, box_resolution: usize) -> Vec<(usize
 /// time limit lasts. Every grid's bound is valid, so the smallest is returned, with the grid and
 /// LP status that proved it: a fine grid cut short by the time limit no longer hides a coarser
 /// grid's better bound (three blocks, 8 x 8 cut at 60 s gave 3.548; the 4 x 4 grid proves 3.333
-/// in well under a second of LP).
+/// in well under a second of LP). Solved in the optimisers' internal units, its value
+/// converted back (exact twins prove one bound).
 pub fn upper_bound(
+    crawler: &Crawler,
+    problem: &GaitProblem,
+    settings: &BoundSettings,
+) -> Result<UpperBound> {
+    in_units(crawler, problem, |c, p| upper_bound_in(c, p, settings))
+}
+
+/// `bound` of the crawler and problem in the optimisers' internal units (forces of the friction
+/// thresholds' size, the period 1, the length unit 1: `optimal::units`), its value converted
+/// back (`J` is a length). The LP in the user's units lost its tolerances at extreme scales:
+/// one link with thresholds `1e6`, period `1e-5` and speed `1e12` ended "status unknown", and
+/// at speed `1e-12` the bound was `5.0` where the problem in units of one proves `3.5`.
+fn in_units(
+    crawler: &Crawler,
+    problem: &GaitProblem,
+    bound: impl FnOnce(&Crawler, &GaitProblem) -> Result<UpperBound>,
+) -> Result<UpperBound> {
+    let units = crate::optimal::units::Units::of(crawler, problem);
+    let mut ub = bound(&units.crawler(crawler)?, &units.problem(problem))?;
+    ub.value *= units.length;
+    Ok(ub)
+}
+
+/// [`upper_bound`] in the units given.
+fn upper_bound_in(
     crawler: &Crawler,
     problem: &GaitProblem,
     settings: &BoundSettings,
@@ -547,7 +573,9 @@ pub fn upper_bound_on_grid(
     problem: &GaitProblem,
     settings: &BoundSettings,
 ) -> Result<UpperBound> {
-    bound_on(crawler, problem, &settings.resolve(crawler)?)
+    in_units(crawler, problem, |c, p| {
+        bound_on(c, p, &settings.resolve(c)?)
+    })
 }
 
 /// The bound on the one grid of `level`.
