@@ -7,7 +7,7 @@
 
 use super::general_process::{GeneralProcess, ProcessKind};
 use crate::error::{Error, Result};
-use crate::model::general::{dot, GeneralCost, GeneralProblem, Reward};
+use crate::model::general::{dot, GeneralCost, GeneralProblem};
 use crate::optimal::process::control_rows;
 use crate::optimal::solver::{Highs, SolveStatus};
 use highs::{Col, RowProblem, Sense};
@@ -23,14 +23,6 @@ pub(crate) fn cost_hessian(cost: &GeneralCost, m: usize) -> Vec<Vec<f64>> {
         GeneralCost::None => diag(0.0),
         GeneralCost::Quadratic { weight } => diag(*weight),
         GeneralCost::Matrix { matrix } => matrix.clone(),
-    }
-}
-
-/// The coefficient `w_j` of `lambda_j` in `f1` (`<q, x*_j>` for reaction weights).
-pub(crate) fn face_weights(p: &GeneralProblem) -> Vec<f64> {
-    match &p.reward {
-        Reward::FaceWeights(w) => w.clone(),
-        Reward::ReactionWeights(q) => p.c.normals.iter().map(|n| dot(q, n)).collect(),
     }
 }
 
@@ -199,7 +191,7 @@ impl GeneralStructure {
                 .zip(&grad_f2)
                 .map(|(u, g)| dot(g, u) - p.cost.eval(u))
                 .collect();
-        let w = face_weights(p);
+        let w = p.face_weights();
         let wmax = w.iter().fold(0.0_f64, |a, v| a.max(v.abs()));
         let units = ResidualUnits::of(p);
         GeneralStructure {

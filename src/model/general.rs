@@ -125,16 +125,27 @@ impl GeneralProblem {
     /// never above 1, so no stop is looser than that rule's (whose gap a reader holds a phase
     /// claim to, `optimal::consistency::PHASE_CLAIM_GAP`).
     pub fn j_floor(&self) -> f64 {
-        let w = match &self.reward {
-            Reward::FaceWeights(w) => w.iter().fold(0.0_f64, |m, v| m.max(v.abs())),
-            Reward::ReactionWeights(q) => self
-                .c
-                .normals
-                .iter()
-                .fold(0.0_f64, |m, x| m.max(dot(x, q).abs())),
-        };
-        let w = if w > 0.0 { w } else { 1.0 };
-        (w * self.c.scale()).min(1.0)
+        let s = self.j_scale();
+        if s > 0.0 { s } else { self.c.scale() }.min(1.0)
+    }
+
+    /// `J`'s scale: the largest face weight times C's scale (`J = int sum_f w_f lambda_f dt`,
+    /// the reactions integrated to lengths of C); 0 where no face has a weight.
+    pub fn j_scale(&self) -> f64 {
+        let w = self
+            .face_weights()
+            .iter()
+            .fold(0.0_f64, |m, v| m.max(v.abs()));
+        w * self.c.scale()
+    }
+
+    /// The coefficient `w_f` of `lambda_f` in `f1`, per face (`<q, x*_f>` for reaction
+    /// weights).
+    pub fn face_weights(&self) -> Vec<f64> {
+        match &self.reward {
+            Reward::FaceWeights(w) => w.clone(),
+            Reward::ReactionWeights(q) => self.c.normals.iter().map(|n| dot(q, n)).collect(),
+        }
     }
 
     /// The rounding a computed state of a process can carry: `1e3` units in the last place of

@@ -43,7 +43,7 @@ use super::geometry::{into_u, Geometry};
 use crate::error::{Error, Result};
 use crate::integrate::{simulate_general, ControlInput, GeneralSimOptions, InputKind};
 use crate::model::general::{
-    dot, Boundary, ControlSet, GeneralCost, GeneralProblem, Reward, EXPLICIT_STEP_LIMIT,
+    Boundary, ControlSet, GeneralCost, GeneralProblem, Reward, EXPLICIT_STEP_LIMIT,
 };
 use crate::optimal::milp::Certificate;
 use crate::optimal::solver::{Highs, SolveStatus};
@@ -179,14 +179,6 @@ pub(super) fn big_m(p: &GeneralProblem, g: &Geometry, h: f64) -> Result<BigM> {
     })
 }
 
-/// The coefficient of `mu_j` in `f1` (module docs).
-pub(super) fn reward_weights(p: &GeneralProblem) -> Vec<f64> {
-    match &p.reward {
-        Reward::FaceWeights(w) => w.clone(),
-        Reward::ReactionWeights(q) => p.c.normals.iter().map(|n| dot(q, n)).collect(),
-    }
-}
-
 /// A bound on the objective of every point of a MILP whose reaction columns of face `j` add up
 /// to at most `total` over the period (P_m: `2^m` steps of `mu^i_j <= M_mu`; the phase MILP:
 /// `lambda_(k,j) <= M_mu tau_k` with `sum tau_k = T`): `f1`'s integral is at most
@@ -194,7 +186,7 @@ pub(super) fn reward_weights(p: &GeneralProblem) -> Vec<f64> {
 /// the time limit cut short before HiGHS had a dual bound: weak, but a bound, where the
 /// incumbent's own value would claim a proof that was never made.
 pub(super) fn column_bound(p: &GeneralProblem, total: f64) -> f64 {
-    total * reward_weights(p).iter().map(|w| w.max(0.0)).sum::<f64>()
+    total * p.face_weights().iter().map(|w| w.max(0.0)).sum::<f64>()
 }
 
 /// The range of magnitudes P_m's linear programs are handed (C's scale, the controls' bounds,
@@ -249,7 +241,7 @@ pub(super) fn check_solver_range(p: &GeneralProblem, h: f64, bm: Option<&BigM>) 
         (
             w_field,
             "the largest weight (of the unit normals)",
-            top(&mut reward_weights(p).into_iter()),
+            top(&mut p.face_weights().into_iter()),
         ),
     ];
     if let Some(bm) = bm {
@@ -385,7 +377,7 @@ pub(super) fn build(
 ) -> (RowProblem, Layout) {
     let mm = 1usize << m;
     let h = p.period / mm as f64;
-    let w = reward_weights(p);
+    let w = p.face_weights();
     let mut pb = RowProblem::default();
     let xs = state_columns(&mut pb, p, mm, 1.0);
     let nx = xs.len();
@@ -567,7 +559,7 @@ pub(super) fn replay(
     let val = |c: &Col| cols[c.index()];
     let x0: Vec<f64> = lay.x[0].iter().map(val).collect();
     let u: Vec<Vec<f64>> = lay.u.iter().map(|r| r.iter().map(val).collect()).collect();
-    let w = reward_weights(p);
+    let w = p.face_weights();
     let lp_reward: f64 = lay
         .mu
         .iter()

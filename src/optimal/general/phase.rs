@@ -80,8 +80,8 @@
 //! no worse.
 
 use super::discrete::{
-    big_m, check_sets, column_bound, cost_epigraphs, initial_cuts, reward_weights, state_columns,
-    BigM, MAX_OA_ROUNDS,
+    big_m, check_sets, column_bound, cost_epigraphs, initial_cuts, state_columns, BigM,
+    MAX_OA_ROUNDS,
 };
 use super::geometry::Geometry;
 use super::phase_polish::{polish_general_phases, MilpPhases};
@@ -228,7 +228,7 @@ fn add_columns(
 ) -> Columns {
     let (sigma, m) = (p.c.faces(), p.controls());
     let (t, k) = (p.period, slots.phases());
-    let w = reward_weights(p);
+    let w = p.face_weights();
     let free = || f64::NEG_INFINITY..f64::INFINITY;
     let xs = state_columns(pb, p, k, units.state);
     let period = units.period;
@@ -565,7 +565,7 @@ fn polished(
         return sol;
     };
     // The polish's own objective: int f1 less the exact cost of its phases.
-    let w = reward_weights(p);
+    let w = p.face_weights();
     let objective: f64 = phases
         .integrated
         .iter()

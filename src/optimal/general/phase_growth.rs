@@ -3,7 +3,7 @@
 //! for both families ([`crate::optimal::growth`]; the crawler's is
 //! [`crate::optimal::grow_phases`]).
 
-use super::discrete::{big_m, column_bound, reward_weights};
+use super::discrete::{big_m, column_bound};
 use super::geometry::Geometry;
 use super::phase::{
     check_phase_growth, solve_general_phase, solve_general_transitions, GeneralPhaseGait,
@@ -42,10 +42,7 @@ impl PhaseFamily for GeneralPhases<'_> {
     /// `J`'s scale: the largest face weight times C's length scale (`J = int sum_f w_f
     /// lambda_f dt`, the reactions integrated to lengths of C).
     fn length_scale(&self) -> f64 {
-        let w = reward_weights(self.p)
-            .iter()
-            .fold(0.0_f64, |m, v| m.max(v.abs()));
-        (w * self.p.c.scale()).max(1e-300)
+        self.p.j_scale().max(1e-300)
     }
     fn j_floor(&self) -> f64 {
         self.p.j_floor()

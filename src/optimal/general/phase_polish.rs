@@ -13,7 +13,7 @@
 //! (the phase formulation's argument), and the MILP's is one of them, so the optimum is no
 //! worse; the caller replays it and keeps it when the replay agrees and `J` is no worse.
 
-use super::discrete::{big_m, cost_matrix, reward_weights};
+use super::discrete::{big_m, cost_matrix};
 use super::geometry::Geometry;
 use crate::model::general::{Boundary, ControlSet, GeneralProblem};
 use crate::optimal::polish::Qp;
@@ -66,7 +66,7 @@ pub(crate) fn polish_phases_within(
     let (n, m, sigma, pieces) = (p.states(), p.controls(), p.c.faces(), durations.len());
     let t = p.period;
     let inf = f64::INFINITY;
-    let w = reward_weights(p);
+    let w = p.face_weights();
     let rows_s = cost_rows(&r, m)?;
     let mut qp = Qp::default();
     let cols = phase_columns(&mut qp, p, pieces, held, &w, rate_bounds);

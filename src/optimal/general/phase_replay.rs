@@ -4,7 +4,7 @@
 //! ([`phase_reactions`]), and a solver's gait verified by it and stored as the replay has it
 //! ([`verified_gait`]), a periodic one on the orbit its controls make ([`replay_orbit`]).
 
-use super::discrete::{replay_periodic, reward_weights};
+use super::discrete::replay_periodic;
 use super::geometry::into_u;
 use super::phase_polish::MilpPhases;
 use crate::error::{Error, Result};
@@ -178,7 +178,7 @@ pub(super) fn verified_gait(
     let objective = sim.objective.unwrap_or(sim.reward - sim.cost);
     // The replay's states carry the rounding of the phases' increments.
     let rounding = p.rounding(&durations, &states, &controls);
-    let w = reward_weights(p);
+    let w = p.face_weights();
     let lp_reward: f64 = phases
         .integrated
         .iter()

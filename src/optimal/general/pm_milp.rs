@@ -6,7 +6,7 @@
 //! its own simulator.
 
 use super::discrete::{big_m, build, check_solver_range, column_bound, initial_cuts, Layout};
-use super::discrete::{reward_weights, BigM, MAX_OA_ROUNDS};
+use super::discrete::{BigM, MAX_OA_ROUNDS};
 use super::discrete_rows::{cost_epigraphs, epigraph_floor, separable, Form};
 use super::geometry::Geometry;
 use super::units::Units;
@@ -88,7 +88,7 @@ impl PmRun {
 
     /// `sum_i f1(mu^i)`: the reward of the MILP's multipliers.
     pub fn reward(&self, p: &GeneralProblem) -> f64 {
-        let w = reward_weights(p);
+        let w = p.face_weights();
         self.values(&self.lay.mu)
             .iter()
             .map(|mu| mu.iter().zip(&w).map(|(m, w)| m * w).sum::<f64>())

@@ -9,7 +9,7 @@
 //! catching-up process, and the MILP's answer is one. The QP maximises
 //! `sum_i [f1(mu^i) - h f2(u^i)]` with the quadratic `f2` exactly.
 
-use super::discrete::{cost_matrix, replay_controls, reward_weights, GeneralPm};
+use super::discrete::{cost_matrix, replay_controls, GeneralPm};
 use crate::error::Result;
 use crate::model::general::{Boundary, ControlSet, GeneralProblem};
 use crate::optimal::milp::Certificate;
@@ -28,7 +28,7 @@ pub(crate) struct PmColumns {
 pub(crate) fn pm_on_pattern(p: &GeneralProblem, m: u32, active: &[Vec<bool>]) -> (Qp, PmColumns) {
     let (n, sigma, mm) = (p.states(), p.c.faces(), 1usize << m);
     let h = p.period / mm as f64;
-    let w = reward_weights(p);
+    let w = p.face_weights();
     let inf = f64::INFINITY;
     let mut qp = Qp::default();
     let nx = match p.boundary {
@@ -158,7 +158,7 @@ fn polished(p: &GeneralProblem, sol: &GeneralPm) -> Result<std::result::Result<G
     let val = |c: &usize| s.v[*c];
     let x0: Vec<f64> = cols.x[0].iter().map(val).collect();
     let u: Vec<Vec<f64>> = cols.u.iter().map(|r| r.iter().map(val).collect()).collect();
-    let w = reward_weights(p);
+    let w = p.face_weights();
     let reward: f64 = cols
         .mu
         .iter()
