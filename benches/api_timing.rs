@@ -68,7 +68,7 @@ fn main() {
     let (c, p) = api::gait_problem(&gait).unwrap();
     let run_opt = || {
         let r = api::optimize(&c, &p, &OptimizeSettings::default(), Hooks::default()).unwrap();
-        assert!((r.result.objective - 2.6).abs() < 1e-8);
+        assert!((r.result.head.objective - 2.6).abs() < 1e-8);
     };
     if !timing {
         run_sim();

@@ -97,8 +97,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                     "{head} | chain | {} | {} | {wall:.1} | {:.6} ({}) | - | - | {work} |",
                     first.map_or("never".into(), |t| format!("{t:.2}")),
                     last.map_or("-".into(), |t| format!("{t:.2}")),
-                    r.result.objective,
-                    r.result.status.as_str()
+                    r.result.head.objective,
+                    r.result.head.status.as_str()
                 ),
                 Err(e) => {
                     println!("{head} | chain | - | - | {wall:.1} | error: {e} | - | - | {work} |")

@@ -280,12 +280,12 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                 s.objective,
                 s.best.origin.trim_start_matches("structured: "),
                 s.seconds,
-                r.objective,
-                r.status.as_str(),
+                r.head.objective,
+                r.head.status.as_str(),
                 off_alternating(&r),
                 work_bound(&c, &p)
             );
-            values.push((nb, s.objective, r.objective));
+            values.push((nb, s.objective, r.head.objective));
             let figure = [10, 30, 100].contains(&nb);
             if figure {
                 let stem = format!("long_chains_{kind}_N{nb}");
@@ -294,7 +294,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                         std::fs::write(dir.join(format!("{stem}_spacetime.svg")), &f.svg)?;
                     }
                 }
-                let title = format!("{kind} chain, N = {nb}: L_l(t), J = {:.4}", r.objective);
+                let title = format!(
+                    "{kind} chain, N = {nb}: L_l(t), J = {:.4}",
+                    r.head.objective
+                );
                 std::fs::write(
                     dir.join(format!("{stem}_lengths.svg")),
                     lengths_svg(&r, &title),

@@ -173,8 +173,8 @@ fn the_three_block_optimum_with_its_events() {
         },
     )
     .unwrap();
-    assert!((best.result.objective - 2.6).abs() < 1e-8);
-    assert_eq!(best.result.method, "phase");
+    assert!((best.result.head.objective - 2.6).abs() < 1e-8);
+    assert_eq!(best.result.head.method, "phase");
     assert!(best.necessary_conditions.is_some());
     let solved: Vec<usize> = events
         .iter()
@@ -208,13 +208,17 @@ fn the_sequence_method_below_its_default_start_s_phases_starts_at_k() {
     };
     let milp = run(GaitMethod::Phase, 3);
     assert!(
-        (milp.objective - 13.0 / 6.0).abs() < 1e-8,
+        (milp.head.objective - 13.0 / 6.0).abs() < 1e-8,
         "{}",
-        milp.objective
+        milp.head.objective
     );
     let seq = run(GaitMethod::Sequence, 3);
-    assert_eq!(seq.method, "sequence");
-    assert!(seq.objective >= milp.objective - 1e-9, "{}", seq.objective);
+    assert_eq!(seq.head.method, "sequence");
+    assert!(
+        seq.head.objective >= milp.head.objective - 1e-9,
+        "{}",
+        seq.head.objective
+    );
     assert!(crawlopt::optimal::slip_sequence(&seq.gait.slip).len() <= 3);
 }
 
@@ -227,7 +231,7 @@ fn the_one_link_closed_form_through_analyze_and_optimize() {
     assert!((closed - 3.0).abs() < 1e-12);
     let (c, p) = api::gait_problem(&m).unwrap();
     let best = optimize(&c, &p, &OptimizeSettings::default(), Hooks::default()).unwrap();
-    assert!((best.result.objective - closed).abs() < 1e-8);
+    assert!((best.result.head.objective - closed).abs() < 1e-8);
 }
 
 #[test]
@@ -272,7 +276,11 @@ fn a_start_in_memory_is_checked_and_recorded() {
         ..Default::default()
     };
     let seq = optimize(&c, &p, &s, Hooks::default()).unwrap().result;
-    assert!((seq.objective - 2.6).abs() < 1e-8, "{}", seq.objective);
+    assert!(
+        (seq.head.objective - 2.6).abs() < 1e-8,
+        "{}",
+        seq.head.objective
+    );
     // A start of another crawler is refused, naming the start.
     let (c2, p2) = model("one_link_gait");
     match optimize(&c2, &p2, &s, Hooks::default()) {

@@ -93,7 +93,7 @@ fn optimize_is_never_below_the_best_structured_gait() {
         },
     );
     let want = 4.0 - 1.0 / 19.0;
-    assert!(r.objective >= want - 1e-9, "{}", r.objective);
+    assert!(r.head.objective >= want - 1e-9, "{}", r.head.objective);
     // Either the phase MILPs, started from the wave (their incumbent or cutoff), return it as
     // their own answer, or the floor replaces a lower answer and records what the method found.
     match r.structured.as_ref() {
@@ -110,16 +110,16 @@ fn optimize_is_never_below_the_best_structured_gait() {
             );
         }
         None => assert!(
-            r.method == "phase" && (r.objective - want).abs() < 1e-9,
+            r.head.method == "phase" && (r.head.objective - want).abs() < 1e-9,
             "{} {}",
-            r.method,
-            r.objective
+            r.head.method,
+            r.head.objective
         ),
     }
     GaitResult::from_json(&serde_json::to_string(&r).unwrap(), "floor").unwrap();
     // The hook a global method can take as its incumbent: the same gait and value.
     let (g, j) = structured_incumbent(&c, &p).unwrap().unwrap();
-    assert!((j - want).abs() < 1e-9 && (g.result.objective - j).abs() < 1e-12);
+    assert!((j - want).abs() < 1e-9 && (g.result.head.objective - j).abs() < 1e-12);
 }
 
 #[test]
@@ -131,7 +131,11 @@ fn the_one_link_closed_form_is_reached() {
     let star = one_link_optimum(&c, &p).unwrap().value;
     assert!((star - 3.0).abs() < 1e-12);
     let r = run(&c, &p, chain(30.0));
-    assert!((r.objective - star).abs() < 1e-9, "{}", r.objective);
+    assert!(
+        (r.head.objective - star).abs() < 1e-9,
+        "{}",
+        r.head.objective
+    );
     // f2 = (0.6/2) u^2: J(u) = 5u - 2 - 3u^2 for the triangle of rate u, J* = 1/12 at u = 5/6;
     // at the full rate J = 0.
     let pc = GaitProblem::new(&c, 10.0, &[1.0], Cost::Quadratic { weight: 0.6 }, None).unwrap();
@@ -142,14 +146,18 @@ fn the_one_link_closed_form_is_reached() {
         .unwrap();
     let r = run(&c, &pc, chain(30.0));
     assert!(
-        r.objective >= s.objective - 1e-12 && r.objective <= star + 1e-9,
+        r.head.objective >= s.objective - 1e-12 && r.head.objective <= star + 1e-9,
         "structured {} <= chain {} <= J* {star}",
         s.objective,
-        r.objective
+        r.head.objective
     );
     assert!(s.objective.abs() < 1e-9, "{}", s.objective);
-    assert!(r.objective > star - 1e-3, "{} {star}", r.objective);
-    assert!((replayed(&c, &pc, &r) - r.objective).abs() < 1e-9);
+    assert!(
+        r.head.objective > star - 1e-3,
+        "{} {star}",
+        r.head.objective
+    );
+    assert!((replayed(&c, &pc, &r) - r.head.objective).abs() < 1e-9);
 }
 
 /// With a cost that outweighs every motion, the idle gait (u = 0, J = 0) is the answer: the
@@ -164,7 +172,7 @@ fn the_chain_method_is_never_below_the_idle_gait() {
     let star = one_link_optimum(&c, &heavy).unwrap().value;
     assert!(star.abs() < 1e-12, "J* = {star}");
     let r = run(&c, &heavy, chain(30.0));
-    assert_eq!(r.objective, 0.0);
+    assert_eq!(r.head.objective, 0.0);
     assert!(replayed(&c, &heavy, &r).abs() < 1e-12);
     let fuzzed = Crawler::new(vec![3.824; 2], vec![0.176; 3], vec![0.631; 3]).unwrap();
     let p = GaitProblem::new(
@@ -176,7 +184,7 @@ fn the_chain_method_is_never_below_the_idle_gait() {
     )
     .unwrap();
     let r = run(&fuzzed, &p, chain(30.0));
-    assert!(r.objective >= 0.0, "J = {}", r.objective);
+    assert!(r.head.objective >= 0.0, "J = {}", r.head.objective);
     // The answer reads back (as `certify` and `plot` read it).
     GaitResult::from_json(&serde_json::to_string(&r).unwrap(), "chain").unwrap();
 }
@@ -208,9 +216,9 @@ fn the_peers_instances_keep_their_known_optima() {
             },
         );
         assert!(
-            (auto.objective - star).abs() < 1e-7,
+            (auto.head.objective - star).abs() < 1e-7,
             "N = {nb}: {}",
-            auto.objective
+            auto.head.objective
         );
         // Not replaced by the floor (the answer may be the structured gait itself, the MILP's
         // start kept at its K, which `structured` then names).
@@ -221,10 +229,10 @@ fn the_peers_instances_keep_their_known_optima() {
             .unwrap();
         let r = run(&c, &p, chain(20.0));
         assert!(
-            r.objective >= s.objective - 1e-12 && r.objective <= star + 1e-7,
+            r.head.objective >= s.objective - 1e-12 && r.head.objective <= star + 1e-7,
             "N = {nb}: structured {} <= chain {} <= {star}",
             s.objective,
-            r.objective
+            r.head.objective
         );
     }
 }
@@ -258,11 +266,11 @@ proptest! {
         // search, so that the limit does not cut its screening short of `top`.
         let r = run(&c, &p, chain(s.seconds + 3.0));
         // (The rows are screened with a periodicity tolerance of 1e-9: their J to about 1e-8.)
-        prop_assert!(r.objective >= top - 1e-7, "chain {} < structured {top}", r.objective);
+        prop_assert!(r.head.objective >= top - 1e-7, "chain {} < structured {top}", r.head.objective);
         // Re-verified: a consistent process whose exact replay gives its value.
         GaitResult::from_json(&serde_json::to_string(&r).unwrap(), "chain").unwrap();
         let again = replayed(&c, &p, &r);
-        prop_assert!((again - r.objective).abs() < 1e-8, "{again} vs {}", r.objective);
+        prop_assert!((again - r.head.objective).abs() < 1e-8, "{again} vs {}", r.head.objective);
     }
 }
 
@@ -278,8 +286,8 @@ fn the_chain_method_honours_its_time_limit_and_cancellation() {
         .unwrap()
         .unwrap();
     let r = run(&c, &p, chain(s.seconds + 0.3));
-    assert_eq!(r.status.as_str(), "time_limit");
-    assert!(r.objective >= s.objective - 1e-9);
+    assert_eq!(r.head.status.as_str(), "time_limit");
+    assert!(r.head.objective >= s.objective - 1e-9);
     let cancel = crawlopt::progress::Cancel::new();
     cancel.cancel();
     let e = optimize(
@@ -331,9 +339,9 @@ fn the_chain_method_says_time_limit_when_the_limit_leaves_starts_unsearched() {
     )
     .unwrap()
     .result;
-    assert_eq!(r.status.as_str(), "time_limit");
-    assert!(r.objective >= s.objective - 1e-9);
-    assert!((replayed(&c, &p, &r) - r.objective).abs() < 1e-8);
+    assert_eq!(r.head.status.as_str(), "time_limit");
+    assert!(r.head.objective >= s.objective - 1e-9);
+    assert!((replayed(&c, &p, &r) - r.head.objective).abs() < 1e-8);
 
     let cancel = crawlopt::progress::Cancel::new();
     let mut sweeps = 0;
@@ -369,11 +377,11 @@ fn the_structured_screening_of_a_thousand_blocks_stops_at_the_time_limit() {
     let r = run(&c, &p, chain(1.0));
     let took = began.elapsed().as_secs_f64();
     assert!(took < 12.0, "took {took} s with a time limit of 1 s");
-    assert_eq!(r.status, crawlopt::optimal::MilpStatus::TimeLimit);
+    assert_eq!(r.head.status, crawlopt::optimal::MilpStatus::TimeLimit);
     let j = replayed(&c, &p, &r);
     assert!(
-        (j - r.objective).abs() <= 1e-9 * j.abs().max(1.0),
+        (j - r.head.objective).abs() <= 1e-9 * j.abs().max(1.0),
         "{j} vs {}",
-        r.objective
+        r.head.objective
     );
 }

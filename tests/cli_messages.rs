@@ -429,7 +429,7 @@ fn text_output_is_rounded_and_json_keeps_every_digit() {
     let v: serde_json::Value = serde_json::from_str(&raw).unwrap();
     let r = GaitResult::from_json(&raw, "r.json").unwrap();
     assert_eq!(serde_json::to_value(&r).unwrap(), v, "bit-exact round trip");
-    assert_eq!(r.objective, v["objective"].as_f64().unwrap());
+    assert_eq!(r.head.objective, v["objective"].as_f64().unwrap());
     let dir = tempfile::tempdir().unwrap();
     let f = write(dir.path(), "r.json", &raw);
     let out = crawlopt(&["certify", f.to_str().unwrap()]);
@@ -444,7 +444,7 @@ fn text_output_is_rounded_and_json_keeps_every_digit() {
     let line = stdout(&out);
     assert!(long_numbers(&line, 12).is_empty(), "{line}");
     assert!(
-        line.contains(&format!("(objective J = {}, ", num(r.objective, 10.0))),
+        line.contains(&format!("(objective J = {}, ", num(r.head.objective, 10.0))),
         "{line}"
     );
 }

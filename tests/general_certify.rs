@@ -307,7 +307,7 @@ fn crawler_phase_gaits_match_the_crawler_certificate() {
     let r = optimize(&crawler, &gp, &s, Hooks::default())
         .unwrap()
         .result;
-    assert!(r.objective < 2.6 - 1e-3, "{}", r.objective);
+    assert!(r.head.objective < 2.6 - 1e-3, "{}", r.head.objective);
     let (cc, c) = assert_matches_crawler(&crawler, &r, ProcessKind::Phase);
     assert_eq!(c.verdict, Verdict::Fails, "{}", c.reason);
     let sign = |k: &[ConditionCheck]| condition(k, "sign", "2.2");

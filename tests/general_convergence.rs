@@ -42,7 +42,7 @@ fn the_one_link_table_is_the_closed_form_at_every_m() {
         assert_eq!(row.status, MilpStatus::Optimal);
     }
     assert_eq!(r.solution.m, 4);
-    assert!((r.objective - 3.0).abs() < 1e-9);
+    assert!((r.head.objective - 3.0).abs() < 1e-9);
     // Without the flag, one MILP and no table.
     let one = optimize_general(&one_link(), &GeneralPmSettings::default()).unwrap();
     assert!(one.convergence.is_none());

@@ -272,11 +272,11 @@ fn the_local_method_starts_from_the_phase_optimum_where_a_is_zero() {
         solve_discrete_local_shifted(&c, &pb, 10, start.times(), start.lengths(), 8).unwrap();
     println!(
         "general J = {}, crawler J = {}",
-        r.objective,
+        r.head.objective,
         crawler.objective()
     );
-    assert!((r.objective - crawler.objective()).abs() < 1e-9);
-    assert!(r.objective > 2.59, "{}", r.objective);
+    assert!((r.head.objective - crawler.objective()).abs() < 1e-9);
+    assert!(r.head.objective > 2.59, "{}", r.head.objective);
     // A period so short that the phase gait's mean, zero to its solver's tolerance, is 7e-9
     // of its controls: refused as a start before its grid was shifted to an exact zero mean
     // ("start[1]: the start control must have zero mean"). J* = 0 here (T < 2 (b - a)).
@@ -292,7 +292,7 @@ fn the_local_method_starts_from_the_phase_optimum_where_a_is_zero() {
     };
     let r = optimize_general_local(&short, &s, Hooks::default()).unwrap();
     assert_eq!(r.start_from, "phase");
-    assert!(r.objective.abs() < 1e-12, "{}", r.objective);
+    assert!(r.head.objective.abs() < 1e-12, "{}", r.head.objective);
     // A drift: the square waves.
     let drift = GeneralFile::parse(
         "[sweeping_process]\nnormals = [[1.0], [-1.0]]\noffsets = [1.0, 1.0]\n[dynamics]\n\
@@ -413,11 +413,11 @@ fn the_local_method_starts_from_a_given_result() {
     };
     let r = optimize_general_local(&file, &again, Hooks::default()).unwrap();
     assert_eq!((r.start_from, r.starts_tried), ("start", 1));
-    assert!((r.solution.start_objective - first.objective).abs() < 1e-9);
+    assert!((r.solution.start_objective - first.head.objective).abs() < 1e-9);
     assert!(
-        (r.objective - first.objective).abs() < 1e-9,
+        (r.head.objective - first.head.objective).abs() < 1e-9,
         "{}",
-        r.objective
+        r.head.objective
     );
     // From a phase optimum's result file, as `--start` reads it.
     let phase = optimize_general_phase(
@@ -438,13 +438,13 @@ fn the_local_method_starts_from_a_given_result() {
     };
     let r = optimize_general_local(&file, &from_file, Hooks::default()).unwrap();
     assert_eq!(r.start_from, "start");
-    assert!(r.objective >= r.solution.start_objective - 1e-9);
+    assert!(r.head.objective >= r.solution.start_objective - 1e-9);
     // The start is the phase gait averaged on 64 steps (J = 2.125 there for the phase's
     // 2.1667; the local answer 2.1875).
     assert!(
-        (r.solution.start_objective - phase.objective).abs() < 0.05 * phase.objective,
+        (r.solution.start_objective - phase.head.objective).abs() < 0.05 * phase.head.objective,
         "phase J = {}, its start on the grid {}",
-        phase.objective,
+        phase.head.objective,
         r.solution.start_objective
     );
     // Another shape: the one-link problem's own answer on the three-block problem.

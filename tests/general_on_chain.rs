@@ -58,20 +58,20 @@ fn the_crawlers_local_methods_run_on_its_general_form() {
             let GeneralAnswer::Phase(r) = run(&general_file(lambda), &s).unwrap() else {
                 panic!("not a phase answer");
             };
-            let j = lambda * want.objective;
+            let j = lambda * want.head.objective;
             assert!(
-                (r.objective - j).abs() < 1e-9 * j,
+                (r.head.objective - j).abs() < 1e-9 * j,
                 "{method:?}: {} vs {j}",
-                r.objective
+                r.head.objective
             );
-            assert_eq!(r.method, method.name());
-            assert_eq!(r.status, want.status);
+            assert_eq!(r.head.method, method.name());
+            assert_eq!(r.head.status, want.head.status);
             assert!(matches!(
-                r.status,
+                r.head.status,
                 MilpStatus::Stationary | MilpStatus::Stalled
             ));
-            assert_eq!(r.certificate.kind, "local");
-            assert!(r.certificate.bound.is_none() && r.certificate.gap.is_none());
+            assert_eq!(r.head.certificate.kind, "local");
+            assert!(r.head.certificate.bound.is_none() && r.head.certificate.gap.is_none());
             assert!(r.solution.certificate.bound.is_nan());
             assert_eq!(r.solution.max_phases, r.solution.durations.len());
             assert_eq!(r.solution.durations, want.gait.durations);

@@ -60,7 +60,11 @@ fn the_one_link_phase_optimum_holds() {
         ..Default::default()
     };
     let r = optimize_general_phase(&file, &s, Hooks::default()).unwrap();
-    assert!((r.objective - 3.0).abs() < 1e-9, "{}", r.objective);
+    assert!(
+        (r.head.objective - 3.0).abs() < 1e-9,
+        "{}",
+        r.head.objective
+    );
     let c = r.necessary_conditions.as_ref().unwrap();
     assert_eq!(c.verdict, Verdict::Holds, "{}", c.reason);
     assert_eq!((c.method.as_str(), c.m, c.lambda), ("phase", None, 1.0));

@@ -43,7 +43,11 @@ fn the_growth_reaches_the_one_link_closed_form_at_four_phases() {
     let t = 10.0;
     let want = (t - 4.0) / 2.0;
     let r = optimize_general_phase(&one_link(t), &settings(|_| {}), Hooks::default()).unwrap();
-    assert!((r.objective - want).abs() < 1e-9, "{}", r.objective);
+    assert!(
+        (r.head.objective - want).abs() < 1e-9,
+        "{}",
+        r.head.objective
+    );
     let g = r.phase_growth.as_ref().expect("K was grown");
     let js: Vec<f64> = g.table.iter().map(|s| s.objective).collect();
     assert_eq!(g.table.len(), 4, "{js:?}");
@@ -52,8 +56,8 @@ fn the_growth_reaches_the_one_link_closed_form_at_four_phases() {
         assert!((j - closed).abs() < 1e-9, "K = {}: {j}", k + 1);
     }
     assert_eq!(g.stop, GrowthStop::MaxPhases);
-    assert_eq!(r.certificate.phases, Some(4));
-    assert_eq!(r.status, MilpStatus::OptimalAmongKPhases);
+    assert_eq!(r.head.certificate.phases, Some(4));
+    assert_eq!(r.head.status, MilpStatus::OptimalAmongKPhases);
     // A fixed K is one MILP, with no table: the same optimum at K = 4, none below.
     let four = optimize_general_phase(
         &one_link(t),
@@ -61,7 +65,7 @@ fn the_growth_reaches_the_one_link_closed_form_at_four_phases() {
         Hooks::default(),
     )
     .unwrap();
-    assert!((four.objective - want).abs() < 1e-9);
+    assert!((four.head.objective - want).abs() < 1e-9);
     assert!(four.phase_growth.is_none());
     let three = optimize_general_phase(
         &one_link(t),
@@ -69,8 +73,12 @@ fn the_growth_reaches_the_one_link_closed_form_at_four_phases() {
         Hooks::default(),
     )
     .unwrap();
-    assert!(three.objective.abs() < 1e-9, "{}", three.objective);
-    assert_eq!(three.certificate.phases, Some(3));
+    assert!(
+        three.head.objective.abs() < 1e-9,
+        "{}",
+        three.head.objective
+    );
+    assert_eq!(three.head.certificate.phases, Some(3));
 }
 
 #[test]
@@ -85,10 +93,10 @@ fn patience_ends_the_growth_on_a_plateau_and_the_claim_is_the_last_k() {
     let g = r.phase_growth.as_ref().unwrap();
     assert_eq!(g.stop, GrowthStop::NoGain);
     assert_eq!(g.table.len(), 6);
-    assert_eq!(r.certificate.phases, Some(6));
+    assert_eq!(r.head.certificate.phases, Some(6));
     assert_eq!(r.solution.max_phases, 6);
-    assert!((r.objective - 3.0).abs() < 1e-9);
-    assert!(r.solution.certificate.bound >= r.objective - 1e-9);
+    assert!((r.head.objective - 3.0).abs() < 1e-9);
+    assert!(r.solution.certificate.bound >= r.head.objective - 1e-9);
 }
 
 #[test]
@@ -214,7 +222,11 @@ fn free_transitions_reach_the_one_link_optimum_at_two_slots() {
     let want = (t - 4.0) / 2.0;
     let s = settings(|s| s.formulation = Some(PhaseFormulation::Transitions));
     let r = optimize_general_phase(&one_link(t), &s, Hooks::default()).unwrap();
-    assert!((r.objective - want).abs() < 1e-9, "{}", r.objective);
+    assert!(
+        (r.head.objective - want).abs() < 1e-9,
+        "{}",
+        r.head.objective
+    );
     assert_eq!(r.formulation.as_deref(), Some("transitions"));
     let g = r.phase_growth.as_ref().expect("K was grown");
     let js: Vec<f64> = g.table.iter().map(|s| s.objective).collect();
@@ -241,13 +253,13 @@ fn free_transitions_reach_the_one_link_optimum_at_two_slots() {
         s.certify = true;
     });
     let two = optimize_general_phase(&one_link(t), &fixed, Hooks::default()).unwrap();
-    assert!((two.objective - want).abs() < 1e-9);
+    assert!((two.head.objective - want).abs() < 1e-9);
     assert_eq!(two.solution.durations.len(), 4);
     let verdict = two.necessary_conditions.as_ref().map(|c| c.verdict);
     assert_eq!(verdict, Some(crawlopt::certify::Verdict::Holds));
     let text = serde_json::to_string(&two).unwrap();
     let back = ResultFile::from_json(&text, "two.json").unwrap();
-    assert!((back.objective() - want).abs() < 1e-9);
+    assert!((back.head().objective - want).abs() < 1e-9);
     let mut v: serde_json::Value = serde_json::from_str(&text).unwrap();
     v.as_object_mut().unwrap().remove("formulation");
     let e = ResultFile::from_json(&v.to_string(), "two.json").unwrap_err();

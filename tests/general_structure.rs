@@ -237,6 +237,7 @@ fn the_chain_bound_of_a_general_problem_is_the_crawlers() {
         }
         let r = optimize_general(&file, &s).unwrap();
         let ub = r
+            .head
             .certificate
             .upper_bound
             .as_ref()
@@ -247,12 +248,12 @@ fn the_chain_bound_of_a_general_problem_is_the_crawlers() {
             ub.value,
             want
         );
-        assert!(ub.value >= r.objective);
+        assert!(ub.value >= r.head.objective);
         // Read back: consistent; a bound below J is refused naming it.
         let json = serde_json::to_string(&r).unwrap();
         assert!(crawlopt::io::ResultFile::from_json(&json, "r").is_ok());
         let mut v: serde_json::Value = serde_json::from_str(&json).unwrap();
-        v["certificate"]["upper_bound"]["value"] = (0.5 * r.objective).into();
+        v["certificate"]["upper_bound"]["value"] = (0.5 * r.head.objective).into();
         match crawlopt::io::ResultFile::from_json(&v.to_string(), "r") {
             Err(crawlopt::Error::InvalidParameter { field, .. }) => {
                 assert_eq!(field, "r: certificate.upper_bound.value")
@@ -284,7 +285,11 @@ fn a_chain_takes_the_chains_phase_formulation() {
     };
     let chain = optimize_general_phase(&file, &settings(None), Hooks::default()).unwrap();
     assert_eq!(chain.formulation.as_deref(), Some("chain"));
-    assert!((chain.objective - 2.6).abs() < 1e-9, "{}", chain.objective);
+    assert!(
+        (chain.head.objective - 2.6).abs() < 1e-9,
+        "{}",
+        chain.head.objective
+    );
     assert!(chain.solution.durations.len() <= 8);
     let general = optimize_general_phase(
         &file,
@@ -293,8 +298,12 @@ fn a_chain_takes_the_chains_phase_formulation() {
     )
     .unwrap();
     assert!(general.formulation.is_none());
-    assert!(general.objective.abs() < 1e-9, "{}", general.objective);
-    assert!(chain.solution.certificate.bound >= general.objective);
+    assert!(
+        general.head.objective.abs() < 1e-9,
+        "{}",
+        general.head.objective
+    );
+    assert!(chain.solution.certificate.bound >= general.head.objective);
     // The general formulation reaches it with 8 phases.
     let eight = optimize_general_phase(
         &file,
@@ -306,7 +315,11 @@ fn a_chain_takes_the_chains_phase_formulation() {
         Hooks::default(),
     )
     .unwrap();
-    assert!((eight.objective - 2.6).abs() < 1e-7, "{}", eight.objective);
+    assert!(
+        (eight.head.objective - 2.6).abs() < 1e-7,
+        "{}",
+        eight.head.objective
+    );
     // The held faces carry the reactions, and the rewards add up to J.
     let w = [
         1.0 / 3.0,
@@ -331,9 +344,9 @@ fn a_chain_takes_the_chains_phase_formulation() {
         }
     }
     assert!(
-        (reward - chain.objective).abs() < 1e-9,
+        (reward - chain.head.objective).abs() < 1e-9,
         "{reward} vs {}",
-        chain.objective
+        chain.head.objective
     );
     let json = serde_json::to_string(&chain).unwrap();
     assert!(crawlopt::io::ResultFile::from_json(&json, "r").is_ok());
@@ -416,9 +429,9 @@ fn with_any_stiffness_the_chain_is_the_crawlers_problem() {
         let chain = optimize_general_phase(&file, &phases(2, None), Hooks::default()).unwrap();
         assert_eq!(chain.formulation.as_deref(), Some("chain"));
         assert!(
-            (chain.objective - want.objective()).abs() < 1e-7,
+            (chain.head.objective - want.objective()).abs() < 1e-7,
             "k = {k:?}: chain {} vs crawler {}",
-            chain.objective,
+            chain.head.objective,
             want.objective()
         );
         let general = optimize_general_phase(
@@ -427,7 +440,7 @@ fn with_any_stiffness_the_chain_is_the_crawlers_problem() {
             Hooks::default(),
         )
         .unwrap();
-        assert!(general.objective <= chain.solution.certificate.bound + 1e-7);
+        assert!(general.head.objective <= chain.solution.certificate.bound + 1e-7);
         let b = BoundSettings {
             resolution: Some(4),
             box_resolution: Some(4),
@@ -439,7 +452,7 @@ fn with_any_stiffness_the_chain_is_the_crawlers_problem() {
             ..GeneralPmSettings::default()
         };
         let r = optimize_general(&file, &s).unwrap();
-        let got = r.certificate.upper_bound.unwrap().value;
+        let got = r.head.certificate.upper_bound.unwrap().value;
         let crawler = upper_bound(&c, &gp, &b).unwrap().value;
         // The same LP up to the last bit of its data (a_l / k_l * k_l): equal to its tolerance.
         assert!(

@@ -133,9 +133,9 @@ fn optimiser_results_pass_and_mutations_are_refused_by_field() {
         refused(&v, "certificate", |w| {
             w["certificate"]["kind"] = json!("global_everything")
         });
-        if r.certificate.bound.is_some() {
+        if r.head.certificate.bound.is_some() {
             refused(&v, "certificate.bound", |w| {
-                w["certificate"]["bound"] = json!(r.objective - 0.5)
+                w["certificate"]["bound"] = json!(r.head.objective - 0.5)
             });
             refused(&v, "certificate.gap", |w| {
                 w["certificate"]["gap"] = json!(0.5)
@@ -171,7 +171,7 @@ fn an_idle_gait_of_one_piece_is_read_drawn_and_reported() {
     let p = GaitProblem::new(&c, 10.0, &[1.0], Cost::None, None).unwrap();
     let s = crawlopt::optimal::solve_phase_global(&c, &p, 1).unwrap();
     let r = GaitResult::from_phase(&c, &p, &s);
-    assert_eq!((r.gait.durations.len(), r.objective), (1, 0.0));
+    assert_eq!((r.gait.durations.len(), r.head.objective), (1, 0.0));
     let back = read(&serde_json::to_value(&r).unwrap()).unwrap();
     assert!(!crawlopt::present::gait_figures(&back).unwrap().is_empty());
     let html = crawlopt::present::report::build_report(&back, "r.json").unwrap();

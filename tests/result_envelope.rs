@@ -90,9 +90,9 @@ fn general_results_carry_the_envelope_and_read_back() {
             );
         }
         let r = ResultFile::from_json(&text, "r.json").unwrap();
-        assert_eq!(r.kind(), ResultKind::General);
-        assert_eq!((r.method(), r.objective()), (method, j));
-        assert_eq!(r.status().as_str(), status);
+        assert_eq!(r.head().kind, ResultKind::General);
+        assert_eq!((r.head().method.as_str(), r.head().objective), (method, j));
+        assert_eq!(r.head().status.as_str(), status);
         let ResultFile::General(answer) = r else {
             panic!("read as a crawler's")
         };
@@ -477,9 +477,9 @@ fn crawler_results_read_in_version_2_and_in_version_1() {
         GaitResult::from_json(&text, "r.json").unwrap()
     );
     let r = ResultFile::from_json(&text, "r.json").unwrap();
-    assert_eq!(r.kind(), ResultKind::Crawler);
-    assert!((r.objective() - v["objective"].as_f64().unwrap()).abs() == 0.0);
-    assert_eq!(r.certificate().kind, "global_k_phases");
+    assert_eq!(r.head().kind, ResultKind::Crawler);
+    assert!((r.head().objective - v["objective"].as_f64().unwrap()).abs() == 0.0);
+    assert_eq!(r.head().certificate.kind, "global_k_phases");
     // Version 1: the gait under `gait`, no `kind`.
     let mut old = v.clone();
     let o = old.as_object_mut().unwrap();
@@ -488,7 +488,7 @@ fn crawler_results_read_in_version_2_and_in_version_1() {
     o.insert("gait".into(), gait);
     o.insert("version".into(), json!(1));
     let r = ResultFile::from_json(&old.to_string(), "old.json").unwrap();
-    assert_eq!(r.kind(), ResultKind::Crawler);
+    assert_eq!(r.head().kind, ResultKind::Crawler);
     assert_eq!(
         GaitResult::from_json(&old.to_string(), "old.json").unwrap(),
         GaitResult::from_json(&text, "r.json").unwrap()
@@ -511,14 +511,14 @@ fn crawler_results_read_in_version_2_and_in_version_1() {
         );
         assert_eq!(v["method"], method);
         let r = ResultFile::from_json(&text, "r.json").unwrap();
-        assert_eq!(r.method(), method);
+        assert_eq!(r.head().method, method);
         let mut as_v1 = v.clone();
         as_v1["method"] = json!("phase");
         let ResultFile::Crawler(old) = ResultFile::from_json(&as_v1.to_string(), "o").unwrap()
         else {
             panic!("read as a general result")
         };
-        assert_eq!(old.objective, v["objective"].as_f64().unwrap());
+        assert_eq!(old.head.objective, v["objective"].as_f64().unwrap());
     }
     // Version 2 needs its kind and its solution.
     let mut no_kind = v.clone();
@@ -684,7 +684,7 @@ fn a_gait_that_barely_moves_reads_back() {
         }
         let json = serde_json::to_string(&r).unwrap();
         if let Err(e) = ResultFile::from_json(&json, "r.json") {
-            panic!("K = {k} (J = {}): {e}", r.objective);
+            panic!("K = {k} (J = {}): {e}", r.head.objective);
         }
     }
 }

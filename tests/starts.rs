@@ -32,12 +32,12 @@ fn the_phase_start_stops_at_the_first_k_without_a_gain() {
     let mut events = Vec::new();
     let s = phase_start(&c, &p, &GrowOptions::default(), &mut record(&mut events)).unwrap();
     assert!(
-        (s.result.objective - 2.6).abs() < 1e-8,
+        (s.result.head.objective - 2.6).abs() < 1e-8,
         "{}",
-        s.result.objective
+        s.result.head.objective
     );
     assert_eq!(s.origin, "phase (K = 5)");
-    assert_eq!(s.result.method, "phase");
+    assert_eq!(s.result.head.method, "phase");
     assert_eq!(events[0], "stage start: phase gait, K = 1");
     let ks: Vec<&str> = events[1..]
         .iter()
@@ -63,12 +63,12 @@ fn the_discrete_start_is_the_local_optimum_under_a_time_limit() {
         "{}",
         s.origin
     );
-    assert_eq!(s.result.method, "local");
+    assert_eq!(s.result.head.method, "local");
     // The local method reaches P_3's global optimum, 2 (tests/discrete.rs), from the phase gait.
     assert!(
-        (s.result.objective - 2.0).abs() < 1e-8,
+        (s.result.head.objective - 2.0).abs() < 1e-8,
         "{}",
-        s.result.objective
+        s.result.head.objective
     );
     assert!(
         events
@@ -90,7 +90,7 @@ fn the_discrete_start_is_the_local_optimum_under_a_time_limit() {
     let s = discrete_start(&c_q, &p_q, 3, 8, &limited, &mut |_| {})
         .unwrap()
         .expect("a start");
-    assert_eq!(s.result.method, "phase");
+    assert_eq!(s.result.head.method, "phase");
     assert!(s.origin.starts_with("phase (K = "), "{}", s.origin);
 }
 

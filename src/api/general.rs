@@ -443,7 +443,7 @@ pub(super) fn pm_job(
     r.convergence = convergence;
     if let (Some(view), Some(b)) = (&chain, &s.bound) {
         em.stage("proving an upper bound over all periodic gaits (the chain's)");
-        r.certificate.upper_bound = Some(chain_upper_bound(&p, view, b, r.objective)?);
+        r.head.certificate.upper_bound = Some(chain_upper_bound(&p, view, b, r.head.objective)?);
     }
     Ok(r)
 }

@@ -84,7 +84,7 @@ pub fn optimize_general_on_chain(
         return Err(Error::Numerical(format!(
             "the crawler's {} method answered with a {} gait, not an exact one",
             method.name(),
-            r.method
+            r.head.method
         )));
     }
     let pieces = ChainPieces {
@@ -93,14 +93,14 @@ pub fn optimize_general_on_chain(
         states: &r.gait.states,
         block_displacements: &r.gait.block_displacements,
         modes: &r.gait.slip,
-        objective: r.objective,
+        objective: r.head.objective,
     };
     let mut gait = chain_gait(&p, &view, pieces)?;
-    gait.certificate.status = r.status;
+    gait.certificate.status = r.head.status;
     let mut answer = GeneralPhaseOptimized::new(file, p.period, gait);
-    answer.method = method.name();
-    answer.status = r.status;
-    answer.certificate = ResultCertificate::local(None);
+    answer.head.method = method.name().into();
+    answer.head.status = r.head.status;
+    answer.head.certificate = ResultCertificate::local(None);
     answer.formulation = Some("chain".into());
     answer.structured = r.structured.clone();
     if s.certify {

@@ -231,8 +231,8 @@ pub fn optimize_general_phase(
         }
         if let (Some(view), Some(b)) = (&bound_chain, &s.bound) {
             em.stage("proving an upper bound over all periodic gaits (the chain's)");
-            let ub = super::general::chain_upper_bound(&p, view, b, r.objective)?;
-            r.certificate.upper_bound = Some(ub);
+            let ub = super::general::chain_upper_bound(&p, view, b, r.head.objective)?;
+            r.head.certificate.upper_bound = Some(ub);
         }
         if s.certify {
             em.stage("checking the necessary conditions (Theorem 2.2) on the gait");

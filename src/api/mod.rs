@@ -42,7 +42,7 @@
 //! let (crawler, problem) = crawlopt::api::gait_problem(&model)?;
 //! let settings = OptimizeSettings { method: GaitMethod::Phase, phases: Some(3), ..Default::default() };
 //! let best = optimize(&crawler, &problem, &settings, Hooks::default())?;
-//! println!("J = {}", best.result.objective);
+//! println!("J = {}", best.result.head.objective);
 //! # Ok::<(), crawlopt::Error>(())
 //! ```
 

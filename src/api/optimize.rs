@@ -73,14 +73,15 @@ fn optimize_named(
             let ub = crate::certify::bound::upper_bound(crawler, problem, b)?;
             if ub.value.is_nan()
                 || ub.value
-                    < result.objective - 1e-9 * result.objective.abs().max(problem.j_floor(crawler))
+                    < result.head.objective
+                        - 1e-9 * result.head.objective.abs().max(problem.j_floor(crawler))
             {
                 return Err(crate::Error::Numerical(format!(
                     "upper bound {} below the verified gait {}: a defect of the bound",
-                    ub.value, result.objective
+                    ub.value, result.head.objective
                 )));
             }
-            result.certificate.upper_bound = Some(ub);
+            result.head.certificate.upper_bound = Some(ub);
         }
         let necessary_conditions = if settings.certify {
             em.stage("checking the necessary conditions");
@@ -127,7 +128,7 @@ fn solve(
     if crate::progress::out_of_time()? {
         if let Some(f) = floor {
             let mut r = floor_answer(f, plan);
-            r.status = MilpStatus::TimeLimit;
+            r.head.status = MilpStatus::TimeLimit;
             if let Some(s) = r.structured.as_mut() {
                 s.replaced = Some("the time limit was spent on the structured gaits".into());
             }
@@ -145,7 +146,7 @@ fn solve(
         Ok(r) => r,
         Err(Error::TimeLimit(e)) => {
             let mut r = floor_answer(f, plan);
-            r.status = MilpStatus::TimeLimit;
+            r.head.status = MilpStatus::TimeLimit;
             if let Some(s) = r.structured.as_mut() {
                 s.replaced = Some(format!("the method found no gait: {e}"));
             }
@@ -154,44 +155,44 @@ fn solve(
         Err(e) => return Err(e),
     };
     let tol = 1e-9 * problem.length_scale(crawler).max(f.objective.abs());
-    if r.objective >= f.objective - tol {
+    if r.head.objective >= f.objective - tol {
         return Ok(r);
     }
     em.send(Event::Note(format!(
         "the {} method's gait (J = {:.6}) is below the best structured gait (J = {:.6}), \
          which is returned",
         plan.method.name(),
-        r.objective,
+        r.head.objective,
         f.objective
     )));
     let mut out = floor_answer(f, plan);
-    if r.status == MilpStatus::TimeLimit {
+    if r.head.status == MilpStatus::TimeLimit {
         // The method was cut by the time limit: so is the job, whichever gait it returns.
-        out.status = MilpStatus::TimeLimit;
+        out.head.status = MilpStatus::TimeLimit;
     }
     let what = match (
-        r.certificate.kind.as_str(),
-        r.certificate.phases,
-        r.certificate.bound,
+        r.head.certificate.kind.as_str(),
+        r.head.certificate.phases,
+        r.head.certificate.bound,
     ) {
         ("global_k_phases", Some(k), Some(b)) => format!(
             "{}: J = {} among gaits of at most {k} slip phases (status {}, bound {b} on that \
              class)",
-            r.method,
-            r.objective,
-            r.status.as_str()
+            r.head.method,
+            r.head.objective,
+            r.head.status.as_str()
         ),
         (_, _, Some(b)) => format!(
             "{}: J = {} (status {}, bound {b} on its problem)",
-            r.method,
-            r.objective,
-            r.status.as_str()
+            r.head.method,
+            r.head.objective,
+            r.head.status.as_str()
         ),
         _ => format!(
             "{}: J = {} (status {})",
-            r.method,
-            r.objective,
-            r.status.as_str()
+            r.head.method,
+            r.head.objective,
+            r.head.status.as_str()
         ),
     };
     if let Some(s) = out.structured.as_mut() {
@@ -214,13 +215,13 @@ fn at_least_idle(
     em: &Emitter<'_>,
 ) -> Result<GaitResult> {
     let tol = 1e-9 * problem.length_scale(crawler);
-    if r.objective >= -tol {
+    if r.head.objective >= -tol {
         return Ok(r);
     }
     em.send(Event::Note(format!(
         "the {} method's gait has J = {:.6e} < 0: the idle gait (u = 0, J = 0) is returned",
         plan.method.name(),
-        r.objective
+        r.head.objective
     )));
     let n = crawler.links();
     let mut idle = crate::optimal::structured::knots_result(
@@ -231,17 +232,17 @@ fn at_least_idle(
         "the idle gait (u = 0)",
     )?;
     if matches!(plan.method, GaitMethod::Sequence | GaitMethod::Chain) {
-        idle.method = plan.method.name().into();
+        idle.head.method = plan.method.name().into();
     }
-    if r.status == MilpStatus::TimeLimit {
-        idle.status = MilpStatus::TimeLimit;
+    if r.head.status == MilpStatus::TimeLimit {
+        idle.head.status = MilpStatus::TimeLimit;
     }
     if let Some(s) = idle.structured.as_mut() {
         s.replaced = Some(format!(
             "{}: J = {} (status {}), below the idle gait",
-            r.method,
-            r.objective,
-            r.status.as_str()
+            r.head.method,
+            r.head.objective,
+            r.head.status.as_str()
         ));
     }
     Ok(idle)
@@ -254,7 +255,7 @@ fn at_least_idle(
 fn floor_answer(f: StructuredSearch, plan: &Plan) -> GaitResult {
     let mut r = f.best.result;
     if matches!(plan.method, GaitMethod::Sequence | GaitMethod::Chain) {
-        r.method = plan.method.name().into();
+        r.head.method = plan.method.name().into();
     }
     r
 }
@@ -384,7 +385,7 @@ fn solve_chain(
     // A ramp gait below 0 (every ramp paying more than it moves the crawler) gives way to the
     // idle gait in `at_least_idle`.
     let mut r = s.result;
-    r.method = GaitMethod::Chain.name().into();
+    r.head.method = GaitMethod::Chain.name().into();
     Ok(r)
 }
 
@@ -507,11 +508,11 @@ fn start_gait(
                 phase_start(crawler, problem, &plan.growth, &mut |e| em.start_event(e)),
                 floor,
             ) {
-                (Ok(p), Some(f)) if f.objective > p.result.objective => {
+                (Ok(p), Some(f)) if f.objective > p.result.head.objective => {
                     em.send(Event::Note(format!(
                         "the local method starts from the best structured gait (J = {:.6}), \
                          better than the phase start (J = {:.6})",
-                        f.objective, p.result.objective
+                        f.objective, p.result.head.objective
                     )));
                     f.best.clone()
                 }
@@ -572,12 +573,16 @@ mod tests {
         let p = GaitProblem::new(&c, 10.0, &[1.0, 1.0], cost, None).unwrap();
         let lengths = vec![vec![0.1, 0.0], vec![-0.1, 0.0]];
         let mut costly = knots_result(&c, &p, vec![0.0, 5.0], lengths, "a stroke").unwrap();
-        assert!(costly.objective < -0.1, "J = {}", costly.objective);
-        costly.status = MilpStatus::TimeLimit;
+        assert!(
+            costly.head.objective < -0.1,
+            "J = {}",
+            costly.head.objective
+        );
+        costly.head.status = MilpStatus::TimeLimit;
         let plan = OptimizeSettings::default().plan(&c, &p).unwrap();
         let r = at_least_idle(&c, &p, &plan, costly, &Emitter::new(None)).unwrap();
-        assert_eq!(r.objective, 0.0);
-        assert_eq!(r.status, MilpStatus::TimeLimit);
+        assert_eq!(r.head.objective, 0.0);
+        assert_eq!(r.head.status, MilpStatus::TimeLimit);
         let why = r.structured.as_ref().and_then(|s| s.replaced.clone());
         assert!(why.is_some_and(|w| w.contains("below the idle gait")));
         GaitResult::from_json(&serde_json::to_string(&r).unwrap(), "idle").unwrap();

@@ -240,15 +240,15 @@ impl OptimizedFile {
     pub fn summary(&self) -> String {
         match self {
             OptimizedFile::Crawler(o) => text::gait_summary(&o.result),
-            OptimizedFile::General { answer, .. } => text::general_summary(answer.objective()),
+            OptimizedFile::General { answer, .. } => text::general_summary(answer.head().objective),
         }
     }
 
     /// The objective J of the answer (verified by simulation).
     pub fn objective(&self) -> f64 {
         match self {
-            OptimizedFile::Crawler(o) => o.result.objective,
-            OptimizedFile::General { answer, .. } => answer.objective(),
+            OptimizedFile::Crawler(o) => o.result.head.objective,
+            OptimizedFile::General { answer, .. } => answer.head().objective,
         }
     }
 

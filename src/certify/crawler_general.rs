@@ -196,9 +196,9 @@ mod tests {
                 let (opt, raw) = super::super::branch::branch_lp(p, gst, &choice)
                     .unwrap_or_else(|| panic!("N = {nb}: branch {bits} has no optimum"));
                 assert!(
-                    (opt - r.objective).abs() < 1e-9,
+                    (opt - r.head.objective).abs() < 1e-9,
                     "N = {nb}: branch {bits}: {opt} vs {}",
-                    r.objective
+                    r.head.objective
                 );
                 let res = kkt_residuals(p, gst, raw);
                 let worst = res

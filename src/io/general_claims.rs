@@ -56,7 +56,7 @@ pub(super) fn check_dominates(r: &GeneralPhaseOptimized, chain: bool, what: &str
     } else {
         return Ok(());
     };
-    Err(bad(what, "status", r.status.as_str(), reason))
+    Err(bad(what, "status", r.head.status.as_str(), reason))
 }
 
 /// A local answer's certificate (P_m's local method, the crawler's on a chain): `local`,
@@ -83,11 +83,11 @@ pub(super) fn check_local_phase(what: &str, r: &crate::io::GeneralPhaseOptimized
         MilpStatus::Stalled,
         MilpStatus::TimeLimit,
     ];
-    if r.status != s.certificate.status || !allowed.contains(&r.status) {
+    if r.head.status != s.certificate.status || !allowed.contains(&r.head.status) {
         return Err(bad(
             what,
             "status",
-            r.status.as_str(),
+            r.head.status.as_str(),
             format!(
                 "must be one of stationary, stalled, time_limit (a local method), and \
                  solution.certificate.status ({}) where a version 2 file repeats it",
@@ -95,7 +95,7 @@ pub(super) fn check_local_phase(what: &str, r: &crate::io::GeneralPhaseOptimized
             ),
         ));
     }
-    check_local_certificate(what, &r.certificate)?;
+    check_local_certificate(what, &r.head.certificate)?;
     if !(s.certificate.bound.is_nan() && s.certificate.gap.is_nan()) {
         return Err(bad(
             what,

@@ -102,7 +102,7 @@ impl GeneralAnswer {
 fn check_discrete_answer(r: &GeneralOptimized, p: &GeneralProblem, what: &str) -> Result<()> {
     let s = &r.solution;
     let j = check_pm(p, MAX_GENERAL_M, &GeneralProcess::from_pm(p, s), what)?;
-    objectives(what, j, s.objective, r.objective)?;
+    objectives(what, j, s.objective, r.head.objective)?;
     solver_objective(what, r.solver_objective, s.certificate.milp_objective)?;
     if let Some(table) = &r.convergence {
         let rows: Vec<_> = table
@@ -119,12 +119,12 @@ fn check_discrete_answer(r: &GeneralOptimized, p: &GeneralProblem, what: &str) -
             p.j_floor(),
         )?;
     }
-    check_upper_bound(what, p, &r.certificate)?;
+    check_upper_bound(what, p, &r.head.certificate)?;
     check_global(
         what,
-        r.method,
-        r.status,
-        &r.certificate,
+        &r.head.method,
+        r.head.status,
+        &r.head.certificate,
         &s.certificate,
         None,
         (j, p.j_floor()),
@@ -141,19 +141,19 @@ fn check_local_answer(r: &GeneralLocalOptimized, p: &GeneralProblem, what: &str)
         &GeneralProcess::from_local(p, s),
         what,
     )?;
-    objectives(what, j, s.objective, r.objective)?;
-    if r.status != local_status(s.stop) {
+    objectives(what, j, s.objective, r.head.objective)?;
+    if r.head.status != local_status(s.stop) {
         return Err(bad(
             what,
             "status",
-            r.status.as_str(),
+            r.head.status.as_str(),
             format!(
                 "disagrees with solution.stop ({})",
                 local_status(s.stop).as_str()
             ),
         ));
     }
-    check_local_certificate(what, &r.certificate)?;
+    check_local_certificate(what, &r.head.certificate)?;
     for (field, v) in [
         ("solution.lp_objective", s.lp_objective),
         ("solution.start_objective", s.start_objective),
@@ -179,7 +179,7 @@ fn check_local_answer(r: &GeneralLocalOptimized, p: &GeneralProblem, what: &str)
 fn check_phase_answer(r: &GeneralPhaseOptimized, p: &GeneralProblem, what: &str) -> Result<()> {
     let s = &r.solution;
     // The crawler's local methods on the chain (`sequence`, `chain`).
-    let local = r.method != "phase";
+    let local = r.head.method != "phase";
     // A transition before each of the K phases: the chain's formulation and "transitions".
     let transitions = r.formulation.as_deref() == Some("transitions");
     let chain = match r.formulation.as_deref() {
@@ -211,17 +211,17 @@ fn check_phase_answer(r: &GeneralPhaseOptimized, p: &GeneralProblem, what: &str)
             format!("{:?}", r.formulation),
             format!(
                 "the {} method runs on the chain: must be \"chain\"",
-                r.method
+                r.head.method
             ),
         ));
     }
     let j = check_phase(p, s, chain || transitions, local, what)?;
-    objectives(what, j, s.objective, r.objective)?;
+    objectives(what, j, s.objective, r.head.objective)?;
     solver_objective(what, r.solver_objective, s.certificate.milp_objective)?;
     if transitions {
         check_slots(s, what)?;
     }
-    if r.status == MilpStatus::DominatesKPhases {
+    if r.head.status == MilpStatus::DominatesKPhases {
         check_dominates(r, chain, what)?;
     }
     if local {
@@ -246,12 +246,12 @@ fn check_phase_answer(r: &GeneralPhaseOptimized, p: &GeneralProblem, what: &str)
     }
     let holding = s.held.iter().filter(|h| !h.is_empty()).count();
     let k = Some((s.max_phases, holding));
-    check_upper_bound(what, p, &r.certificate)?;
+    check_upper_bound(what, p, &r.head.certificate)?;
     check_global(
         what,
-        r.method,
-        r.status,
-        &r.certificate,
+        &r.head.method,
+        r.head.status,
+        &r.head.certificate,
         &s.certificate,
         k,
         (j, p.j_floor()),

@@ -2,22 +2,22 @@
 //! [`crate::api`] builds, text output renders ([`crate::present::text`]) and `--json` writes.
 //! They sit here, below presentation and the API, so that both can name them.
 //!
-//! Every optimisation answer carries the envelope of every result, the crawler's included
-//! ([`crate::optimal::envelope`]): `format`, `version`, `kind` (`"general"`), `method`,
-//! `problem` (the problem (P) in the file's form, its `[input]` left out, so that the result
-//! is re-verified from itself alone), `objective`, `status` (what was proven, the crawler's
-//! [`MilpStatus`]), `certificate` (the crawler's [`ResultCertificate`]) and the method's
-//! `solution`. [`super::ResultFile`] reads them back, checked
+//! Every optimisation answer opens with the head of every result, the crawler's included
+//! ([`ResultHead`], flattened: `format`, `version`, `kind` (`"general"`), `method`,
+//! `objective`, `status` (what was proven, the crawler's [`crate::optimal::MilpStatus`]) and
+//! `certificate` (the crawler's [`ResultCertificate`])), then `problem` (the problem (P) in
+//! the file's form, its `[input]` left out, so that the result is re-verified from itself
+//! alone) and the method's `solution`. [`super::ResultFile`] reads them back, checked
 //! ([`GeneralAnswer::check_consistent`]).
 
 use super::GeneralFile;
 use crate::error::Error;
 use crate::integrate::{ControlInput, GeneralSimulation};
 use crate::model::general::GeneralProblem;
+use crate::optimal::envelope::ResultHead;
 use crate::optimal::general::{GeneralLocal, GeneralPhaseGait, GeneralPm, Geometry};
 use crate::optimal::{
-    local_status, ConvergenceRow, MilpStatus, PhaseGrowthRecord, ResultCertificate, ResultKind,
-    RESULT_FORMAT, RESULT_VERSION,
+    local_status, ConvergenceRow, PhaseGrowthRecord, ResultCertificate, ResultKind,
 };
 use serde::{Deserialize, Deserializer, Serialize};
 
@@ -107,18 +107,6 @@ fn word<'de, D: Deserializer<'de>>(
         .ok_or_else(|| serde::de::Error::custom(format!("\"{s}\" is not one of {words:?}")))
 }
 
-fn discrete_word<'de, D: Deserializer<'de>>(d: D) -> std::result::Result<&'static str, D::Error> {
-    word(d, &["discrete"])
-}
-
-fn local_word<'de, D: Deserializer<'de>>(d: D) -> std::result::Result<&'static str, D::Error> {
-    word(d, &["local"])
-}
-
-fn phase_word<'de, D: Deserializer<'de>>(d: D) -> std::result::Result<&'static str, D::Error> {
-    word(d, &["phase", "sequence", "chain"])
-}
-
 fn start_word<'de, D: Deserializer<'de>>(d: D) -> std::result::Result<&'static str, D::Error> {
     word(d, &["input", "phase", "square_waves", "start"])
 }
@@ -136,23 +124,13 @@ fn stored_problem(file: &GeneralFile) -> GeneralFile {
 /// [`crate::api::optimize_general`]'s answer.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct GeneralOptimized {
-    /// Always [`RESULT_FORMAT`].
-    pub format: String,
-    /// [`RESULT_VERSION`] of the writer.
-    pub version: u32,
-    /// [`ResultKind::General`] (`"general"`).
-    pub kind: ResultKind,
-    /// `"discrete"`: the paper's P_m, globally.
-    #[serde(deserialize_with = "discrete_word")]
-    pub method: Word,
+    /// The envelope ([`ResultHead`]): kind `"general"`, method `"discrete"` (the paper's P_m,
+    /// globally), `J` re-verified by simulation, what was proven, and the certificate
+    /// `"global"` with the MILP's bound and gap.
+    #[serde(flatten)]
+    pub head: ResultHead,
     /// The problem (P) in the file's form (module docs).
     pub problem: GeneralFile,
-    /// `J` re-verified by simulation.
-    pub objective: f64,
-    /// What was proven.
-    pub status: MilpStatus,
-    /// `"global"` with the MILP's bound and gap.
-    pub certificate: ResultCertificate,
     /// The MILP's own objective, before re-verification (as a crawler's result has it).
     pub solver_objective: f64,
     /// The period (not written: it is the problem's `[problem] period`; filled from it on
@@ -180,14 +158,14 @@ impl GeneralOptimized {
         necessary_conditions: Option<crate::certify::GeneralNecessaryConditions>,
     ) -> Self {
         GeneralOptimized {
-            format: RESULT_FORMAT.into(),
-            version: RESULT_VERSION,
-            kind: ResultKind::General,
-            method: "discrete",
+            head: ResultHead::new(
+                ResultKind::General,
+                "discrete",
+                solution.objective,
+                solution.certificate.status,
+                ResultCertificate::of_milp(&solution.certificate, None),
+            ),
             problem: stored_problem(file),
-            objective: solution.objective,
-            status: solution.certificate.status,
-            certificate: ResultCertificate::of_milp(&solution.certificate, None),
             solver_objective: solution.certificate.milp_objective,
             period,
             solution,
@@ -200,24 +178,14 @@ impl GeneralOptimized {
 /// [`crate::api::optimize_general_local`]'s answer.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct GeneralLocalOptimized {
-    /// Always [`RESULT_FORMAT`].
-    pub format: String,
-    /// [`RESULT_VERSION`] of the writer.
-    pub version: u32,
-    /// [`ResultKind::General`] (`"general"`).
-    pub kind: ResultKind,
-    /// `"local"`: the paper's P_m by the active-set method on its LPCC (no global claim).
-    #[serde(deserialize_with = "local_word")]
-    pub method: Word,
+    /// The envelope ([`ResultHead`]): kind `"general"`, method `"local"` (the paper's P_m by
+    /// the active-set method on its LPCC), `J` re-verified by simulation, how the method
+    /// stopped ([`local_status`] of `solution.stop`: `stationary`, `stalled` or `time_limit`)
+    /// and the certificate `"local"` (no bound, no gap).
+    #[serde(flatten)]
+    pub head: ResultHead,
     /// The problem (P) in the file's form (module docs).
     pub problem: GeneralFile,
-    /// `J` re-verified by simulation.
-    pub objective: f64,
-    /// How the method stopped ([`local_status`] of `solution.stop`): `stationary`,
-    /// `stalled` or `time_limit`.
-    pub status: MilpStatus,
-    /// `"local"`: no bound, no gap.
-    pub certificate: ResultCertificate,
     /// The period (not written: it is the problem's `[problem] period`; filled from it on
     /// reading).
     #[serde(skip_serializing)]
@@ -244,14 +212,14 @@ impl GeneralLocalOptimized {
         solution: GeneralLocal,
     ) -> Self {
         GeneralLocalOptimized {
-            format: RESULT_FORMAT.into(),
-            version: RESULT_VERSION,
-            kind: ResultKind::General,
-            method: "local",
+            head: ResultHead::new(
+                ResultKind::General,
+                "local",
+                solution.objective,
+                local_status(solution.stop),
+                ResultCertificate::local(None),
+            ),
             problem: stored_problem(file),
-            objective: solution.objective,
-            status: local_status(solution.stop),
-            certificate: ResultCertificate::local(None),
             period,
             start_from,
             starts_tried,
@@ -264,25 +232,16 @@ impl GeneralLocalOptimized {
 /// [`crate::api::optimize_general_phase`]'s answer.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct GeneralPhaseOptimized {
-    /// Always [`RESULT_FORMAT`].
-    pub format: String,
-    /// [`RESULT_VERSION`] of the writer.
-    pub version: u32,
-    /// [`ResultKind::General`] (`"general"`).
-    pub kind: ResultKind,
-    /// `"phase"`: exact gaits of at most `K` phases, globally; `"sequence"` or `"chain"`: the
-    /// crawler's local method on the problem's chain ([`crate::api::optimize_general_on_chain`]),
-    /// an exact gait without a global claim.
-    #[serde(deserialize_with = "phase_word")]
-    pub method: Word,
+    /// The envelope ([`ResultHead`]): kind `"general"`, method `"phase"` (exact gaits of at
+    /// most `K` phases, globally) or `"sequence"` or `"chain"` (the crawler's local method on
+    /// the problem's chain, [`crate::api::optimize_general_on_chain`], an exact gait without a
+    /// global claim), `J` re-verified by the exact simulation, what was proven
+    /// (`optimal_among_k_phases`, ...) and the certificate (`"global_k_phases"` with
+    /// `phases = K`, the MILP's bound and gap).
+    #[serde(flatten)]
+    pub head: ResultHead,
     /// The problem (P) in the file's form (module docs).
     pub problem: GeneralFile,
-    /// `J` re-verified by the exact simulation.
-    pub objective: f64,
-    /// What was proven (`optimal_among_k_phases`, ...).
-    pub status: MilpStatus,
-    /// `"global_k_phases"` with `phases = K`, the MILP's bound and gap.
-    pub certificate: ResultCertificate,
     /// The MILP's own objective, before re-verification (of the crawler's methods on a chain:
     /// the crawler's, in this problem's units; as a crawler's result has it).
     pub solver_objective: f64,
@@ -318,17 +277,14 @@ impl GeneralPhaseOptimized {
     /// The answer of `solution` for the problem of `file`, with its envelope.
     pub fn new(file: &GeneralFile, period: f64, solution: GeneralPhaseGait) -> Self {
         GeneralPhaseOptimized {
-            format: RESULT_FORMAT.into(),
-            version: RESULT_VERSION,
-            kind: ResultKind::General,
-            method: "phase",
-            problem: stored_problem(file),
-            objective: solution.objective,
-            status: solution.certificate.status,
-            certificate: ResultCertificate::of_milp(
-                &solution.certificate,
-                Some(solution.max_phases),
+            head: ResultHead::new(
+                ResultKind::General,
+                "phase",
+                solution.objective,
+                solution.certificate.status,
+                ResultCertificate::of_milp(&solution.certificate, Some(solution.max_phases)),
             ),
+            problem: stored_problem(file),
             solver_objective: solution.certificate.milp_objective,
             period,
             solution,
@@ -364,12 +320,12 @@ impl GeneralAnswer {
         }
     }
 
-    /// `"discrete"`, `"local"` or `"phase"`.
-    pub fn method(&self) -> &'static str {
+    /// The envelope: kind, method, `J`, status and certificate ([`ResultHead`]).
+    pub fn head(&self) -> &ResultHead {
         match self {
-            GeneralAnswer::Discrete(r) => r.method,
-            GeneralAnswer::Local(r) => r.method,
-            GeneralAnswer::Phase(r) => r.method,
+            GeneralAnswer::Discrete(r) => &r.head,
+            GeneralAnswer::Local(r) => &r.head,
+            GeneralAnswer::Phase(r) => &r.head,
         }
     }
 
@@ -390,33 +346,6 @@ impl GeneralAnswer {
             GeneralAnswer::Discrete(r) => &r.problem,
             GeneralAnswer::Local(r) => &r.problem,
             GeneralAnswer::Phase(r) => &r.problem,
-        }
-    }
-
-    /// `J`, re-verified.
-    pub fn objective(&self) -> f64 {
-        match self {
-            GeneralAnswer::Discrete(r) => r.objective,
-            GeneralAnswer::Local(r) => r.objective,
-            GeneralAnswer::Phase(r) => r.objective,
-        }
-    }
-
-    /// What was proven.
-    pub fn status(&self) -> MilpStatus {
-        match self {
-            GeneralAnswer::Discrete(r) => r.status,
-            GeneralAnswer::Local(r) => r.status,
-            GeneralAnswer::Phase(r) => r.status,
-        }
-    }
-
-    /// The certificate (global with bound and gap, or local).
-    pub fn certificate(&self) -> &ResultCertificate {
-        match self {
-            GeneralAnswer::Discrete(r) => &r.certificate,
-            GeneralAnswer::Local(r) => &r.certificate,
-            GeneralAnswer::Phase(r) => &r.certificate,
         }
     }
 }

@@ -6,7 +6,8 @@
 
 use super::{GeneralAnswer, GeneralLocalOptimized, GeneralOptimized, GeneralPhaseOptimized};
 use crate::error::{Error, Result};
-use crate::optimal::{read_envelope, GaitResult, MilpStatus, ResultCertificate, ResultKind};
+use crate::optimal::envelope::ResultHead;
+use crate::optimal::{read_envelope, GaitResult, ResultKind};
 
 /// A result of either kind ([`ResultFile::from_json`]).
 #[derive(Debug, Clone, PartialEq)]
@@ -35,43 +36,12 @@ impl ResultFile {
         }
     }
 
-    /// Which kind of problem it is of.
-    pub fn kind(&self) -> ResultKind {
+    /// The envelope every result opens with: kind, method, `J` re-verified, what was proven
+    /// and the certificate ([`ResultHead`]).
+    pub fn head(&self) -> &ResultHead {
         match self {
-            ResultFile::Crawler(_) => ResultKind::Crawler,
-            ResultFile::General(_) => ResultKind::General,
-        }
-    }
-
-    /// The method's name.
-    pub fn method(&self) -> &str {
-        match self {
-            ResultFile::Crawler(r) => &r.method,
-            ResultFile::General(r) => r.method(),
-        }
-    }
-
-    /// `J`, re-verified.
-    pub fn objective(&self) -> f64 {
-        match self {
-            ResultFile::Crawler(r) => r.objective,
-            ResultFile::General(r) => r.objective(),
-        }
-    }
-
-    /// What was proven.
-    pub fn status(&self) -> MilpStatus {
-        match self {
-            ResultFile::Crawler(r) => r.status,
-            ResultFile::General(r) => r.status(),
-        }
-    }
-
-    /// The certificate.
-    pub fn certificate(&self) -> &ResultCertificate {
-        match self {
-            ResultFile::Crawler(r) => &r.certificate,
-            ResultFile::General(r) => r.certificate(),
+            ResultFile::Crawler(r) => &r.head,
+            ResultFile::General(r) => r.head(),
         }
     }
 }

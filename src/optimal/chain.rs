@@ -333,7 +333,7 @@ fn search(
     };
     let mut result = knots_result(crawler, problem, times, lengths, &what)?;
     if stop == LocalStop::TimeLimit {
-        result.status = crate::optimal::MilpStatus::TimeLimit;
+        result.head.status = crate::optimal::MilpStatus::TimeLimit;
     }
     Ok(ChainSearch {
         result,
@@ -383,7 +383,7 @@ fn search_each(
         }
         let so_far = best
             .as_ref()
-            .map_or(f64::NEG_INFINITY, |b| b.result.objective);
+            .map_or(f64::NEG_INFINITY, |b| b.result.head.objective);
         let s = search_chain(
             crawler,
             problem,
@@ -400,7 +400,7 @@ fn search_each(
         cut = s.stop == LocalStop::TimeLimit;
         if best
             .as_ref()
-            .is_none_or(|b| s.result.objective > b.result.objective + 1e-12)
+            .is_none_or(|b| s.result.head.objective > b.result.head.objective + 1e-12)
         {
             best = Some(s);
         }
@@ -412,7 +412,7 @@ fn search_each(
         best.ok_or_else(|| Error::invalid("starts", 0, "the chain method needs a start"))?;
     if cut {
         best.stop = LocalStop::TimeLimit;
-        best.result.status = crate::optimal::MilpStatus::TimeLimit;
+        best.result.head.status = crate::optimal::MilpStatus::TimeLimit;
     }
     Ok(best)
 }

@@ -108,7 +108,7 @@ impl GaitResult {
             ("verified_displacement", self.verified_displacement, moved),
             ("displacement_per_period", replayed, moved),
             ("actuation_cost", self.actuation_cost, cost),
-            ("objective", self.objective, moved - cost),
+            ("objective", self.head.objective, moved - cost),
         ] {
             if !close(got, want) {
                 return Err(bad(
@@ -232,7 +232,7 @@ impl GaitResult {
 
     /// The process kind of the method (and `m`) a result names.
     pub(crate) fn process_kind(&self, what: &str) -> Result<ProcessKind> {
-        match (self.method.as_str(), self.m) {
+        match (self.head.method.as_str(), self.m) {
             ("discrete" | "local", Some(m)) if (1..=super::MAX_M).contains(&m) => {
                 Ok(ProcessKind::Discrete { m })
             }
@@ -266,19 +266,19 @@ impl GaitResult {
         what: &str,
         close: impl Fn(f64, f64) -> bool,
     ) -> Result<()> {
-        let kinds: &[&str] = match self.method.as_str() {
+        let kinds: &[&str] = match self.head.method.as_str() {
             "phase" => &["global_k_phases", "local"],
             "discrete" => &["global"],
             _ => &["local"],
         };
         let claim = Claim {
-            status: self.status,
-            certificate: &self.certificate,
-            bound: self.certificate.bound,
-            gap: self.certificate.gap,
+            status: self.head.status,
+            certificate: &self.head.certificate,
+            bound: self.head.certificate.bound,
+            gap: self.head.certificate.gap,
             record: "certificate",
-            objective: self.objective,
-            method: &self.method,
+            objective: self.head.objective,
+            method: &self.head.method,
             kinds,
             phases: (self.gait.slip_phases(), "slip phases"),
             j_floor: self.problem.j_floor(crawler),
@@ -296,13 +296,13 @@ impl GaitResult {
                     .iter()
                     .map(|r| (r.phases, r.objective, r.bound))
                     .collect();
-                let last = self.certificate.phases;
+                let last = self.head.certificate.phases;
                 check_table(
                     what,
                     "phase_growth.table",
                     &rows,
                     last,
-                    self.objective,
+                    self.head.objective,
                     true,
                     close,
                 )
@@ -318,7 +318,7 @@ impl GaitResult {
                     "convergence",
                     &rows,
                     last,
-                    self.objective,
+                    self.head.objective,
                     false,
                     close,
                 )

@@ -6,7 +6,7 @@
 //! kind (`crate::io::ResultFile`) both start here.
 
 use crate::error::{Error, Result};
-use crate::optimal::{LocalStop, MilpStatus};
+use crate::optimal::{Certificate, LocalStop, MilpStatus};
 use serde::{Deserialize, Serialize};
 
 /// Value of the `format` field of every result (both kinds).
@@ -45,6 +45,109 @@ impl ResultKind {
         match self {
             ResultKind::Crawler => "crawler",
             ResultKind::General => "general",
+        }
+    }
+}
+
+/// What is proven about the returned gait.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct ResultCertificate {
+    /// `"global"` (optimal for P_m), `"global_k_phases"` (optimal among gaits of at most
+    /// `phases` slip phases, with any all-stick transitions between them) or `"local"` (a
+    /// stationary point, no global claim).
+    pub kind: String,
+    /// Gap between the bound and the verified value (relative above the problem's floor of `J`,
+    /// in units of it below, [`crate::optimal::Certificate::gap_of`]); `None` for local answers.
+    pub gap: Option<f64>,
+    /// Upper bound on the optimum of the problem solved; `None` for local answers.
+    pub bound: Option<f64>,
+    /// `K` (slip phases) for phase gaits.
+    pub phases: Option<usize>,
+    /// A bound on `J` over *all* periodic gaits (`optimize --bound`, [`crate::certify::bound`]),
+    /// with the method and grid that proved it; read from a file it is taken as recorded
+    /// (checked to be finite and at least the objective, not recomputed).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub upper_bound: Option<crate::optimal::bound_record::UpperBound>,
+}
+
+impl ResultCertificate {
+    /// A local answer's certificate: no bound and no gap (no global claim), `phases` for a
+    /// phase gait.
+    pub fn local(phases: Option<usize>) -> Self {
+        ResultCertificate {
+            kind: "local".into(),
+            gap: None,
+            bound: None,
+            phases,
+            upper_bound: None,
+        }
+    }
+}
+
+impl ResultCertificate {
+    /// A MILP's certificate: `"global"` (P_m), or `"global_k_phases"` with `phases = K` when
+    /// `phases` is given (gaits of at most `K` phases); its bound and gap.
+    pub fn of_milp(c: &Certificate, phases: Option<usize>) -> Self {
+        ResultCertificate {
+            kind: if phases.is_some() {
+                "global_k_phases"
+            } else {
+                "global"
+            }
+            .into(),
+            gap: Some(c.gap),
+            bound: Some(c.bound),
+            phases,
+            upper_bound: None,
+        }
+    }
+}
+
+/// The fields every optimisation result carries, whichever its kind and method (module docs):
+/// one struct, flattened into the crawler's [`GaitResult`](super::GaitResult) and each of
+/// (P)'s answers (`crate::io::GeneralAnswer`), so that a reader of either asks one place what
+/// was solved by which method, what `J` it verified and what it proved
+/// (`crate::io::ResultFile::head`). The problem and the solution, whose shapes are the
+/// kind's and the method's, sit beside it in each result.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct ResultHead {
+    /// Always [`RESULT_FORMAT`].
+    pub format: String,
+    /// [`RESULT_VERSION`] of the writer (an older file is upgraded on reading,
+    /// [`read_envelope`]).
+    pub version: u32,
+    /// Which kind of problem (a version 1 crawler's file has none: read as a crawler's).
+    #[serde(default)]
+    pub kind: ResultKind,
+    /// The method that ran: `"phase"`, `"sequence"` or `"chain"` (an exact phase gait),
+    /// `"discrete"` (the paper's P_m, globally) or `"local"` (P_m by the active-set method).
+    pub method: String,
+    /// `J`, re-verified by simulation (the exact simulator for a phase gait, catching-up on
+    /// the grid for P_m).
+    pub objective: f64,
+    /// What was proven ([`MilpStatus`]).
+    pub status: MilpStatus,
+    /// The claim: global with the MILP's bound and gap, among `K` phases, or local.
+    pub certificate: ResultCertificate,
+}
+
+impl ResultHead {
+    /// The head of a result of this build: `format` and `version` filled in.
+    pub fn new(
+        kind: ResultKind,
+        method: &str,
+        objective: f64,
+        status: MilpStatus,
+        certificate: ResultCertificate,
+    ) -> Self {
+        ResultHead {
+            format: RESULT_FORMAT.into(),
+            version: RESULT_VERSION,
+            kind,
+            method: method.into(),
+            objective,
+            status,
+            certificate,
         }
     }
 }

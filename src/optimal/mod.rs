@@ -37,7 +37,7 @@ pub use discrete_global::{
     discrete_convergence, solve_discrete_global, solve_discrete_global_from,
     solve_discrete_global_with, ConvergenceRow,
 };
-pub use envelope::{local_status, read_envelope, ResultKind};
+pub use envelope::{local_status, read_envelope, ResultCertificate, ResultKind};
 pub use limits::{check_shifts, check_size, MAX_BLOCK_STEPS, MAX_OPT_BLOCKS, MAX_SHIFTS};
 pub use local::{
     check_local, sample_increments, shift_knots, solve_discrete_local,
@@ -55,7 +55,7 @@ pub use phase::{
 };
 pub use problem::{Cost, GaitProblem, MAX_COST_RATIO, MAX_RATIO, MAX_SWEEP};
 pub use result::{
-    CrawlerParams, GaitData, GaitResult, LocalRecord, PhaseGrowthRecord, ResultCertificate,
-    StartRecord, StructuredPieces, StructuredRecord, RESULT_FORMAT, RESULT_VERSION,
+    CrawlerParams, GaitData, GaitResult, LocalRecord, PhaseGrowthRecord, StartRecord,
+    StructuredPieces, StructuredRecord, RESULT_FORMAT, RESULT_VERSION,
 };
 pub use start::{discrete_start, phase_start, shifted_origin, StartEvent, StartGait};

@@ -9,12 +9,12 @@ use crate::integrate::{slip_of, Method};
 use crate::model::Crawler;
 use crate::optimal::milp::control_knots;
 use crate::optimal::{
-    Certificate, ConvergenceRow, DiscreteSolution, GaitProblem, GrowthStop, LocalSolution,
-    LocalStop, MilpStatus, PhaseGrowth, PhaseSolution, PhaseStep, SequenceSearch,
+    ConvergenceRow, DiscreteSolution, GaitProblem, GrowthStop, LocalSolution, LocalStop,
+    MilpStatus, PhaseGrowth, PhaseSolution, PhaseStep, SequenceSearch,
 };
 use serde::{Deserialize, Serialize};
 
-use super::envelope::{local_status, read_envelope, ResultKind};
+use super::envelope::{local_status, read_envelope, ResultCertificate, ResultHead, ResultKind};
 pub use super::envelope::{RESULT_FORMAT, RESULT_VERSION};
 
 /// The crawler's parameters, as stored in a result (per link / per block, expanded).
@@ -57,60 +57,6 @@ impl CrawlerParams {
             ));
         }
         Ok(c)
-    }
-}
-
-/// What is proven about the returned gait.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct ResultCertificate {
-    /// `"global"` (optimal for P_m), `"global_k_phases"` (optimal among gaits of at most
-    /// `phases` slip phases, with any all-stick transitions between them) or `"local"` (a
-    /// stationary point, no global claim).
-    pub kind: String,
-    /// Gap between the bound and the verified value (relative above the problem's floor of `J`,
-    /// in units of it below, [`crate::optimal::Certificate::gap_of`]); `None` for local answers.
-    pub gap: Option<f64>,
-    /// Upper bound on the optimum of the problem solved; `None` for local answers.
-    pub bound: Option<f64>,
-    /// `K` (slip phases) for phase gaits.
-    pub phases: Option<usize>,
-    /// A bound on `J` over *all* periodic gaits (`optimize --bound`, [`crate::certify::bound`]),
-    /// with the method and grid that proved it; read from a file it is taken as recorded
-    /// (checked to be finite and at least the objective, not recomputed).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub upper_bound: Option<crate::optimal::bound_record::UpperBound>,
-}
-
-impl ResultCertificate {
-    /// A local answer's certificate: no bound and no gap (no global claim), `phases` for a
-    /// phase gait.
-    pub fn local(phases: Option<usize>) -> Self {
-        ResultCertificate {
-            kind: "local".into(),
-            gap: None,
-            bound: None,
-            phases,
-            upper_bound: None,
-        }
-    }
-}
-
-impl ResultCertificate {
-    /// A MILP's certificate: `"global"` (P_m), or `"global_k_phases"` with `phases = K` when
-    /// `phases` is given (gaits of at most `K` phases); its bound and gap.
-    pub fn of_milp(c: &Certificate, phases: Option<usize>) -> Self {
-        ResultCertificate {
-            kind: if phases.is_some() {
-                "global_k_phases"
-            } else {
-                "global"
-            }
-            .into(),
-            gap: Some(c.gap),
-            bound: Some(c.bound),
-            phases,
-            upper_bound: None,
-        }
     }
 }
 
@@ -176,31 +122,23 @@ impl GaitData {
 /// One optimal-gait result (module docs).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct GaitResult {
-    /// Always [`RESULT_FORMAT`].
-    pub format: String,
-    /// [`RESULT_VERSION`] (a version 1 file is upgraded on reading).
-    pub version: u32,
-    /// Always [`ResultKind::Crawler`] (`"crawler"`; a version 1 file without it is read as a
-    /// crawler's).
-    #[serde(default)]
-    pub kind: ResultKind,
+    /// The envelope every result opens with ([`ResultHead`]): format, version, kind
+    /// (`"crawler"`), method (`"phase"`, `"sequence"` or `"chain"`, an exact phase gait, for
+    /// which version 1 files wrote `"phase"` alike; `"discrete"` or `"local"`, a P_m process on
+    /// the grid of `m`), `J` (displacement per period minus actuation cost, from the verified
+    /// displacement), status (`"optimal"` for P_m, `"optimal_among_k_phases"` for phase gaits,
+    /// `K` being `certificate.phases`, `"dominates_k_phases"` for a phase gait of more than `K`
+    /// slip phases that none of at most `K` beats, `"time_limit"` (see the gap and bound),
+    /// `"approximation_limit"`, or the local methods' `"stationary"` / `"stalled"`) and the
+    /// certificate.
+    #[serde(flatten)]
+    pub head: ResultHead,
     /// The crawler.
     pub crawler: CrawlerParams,
     /// The gait problem.
     pub problem: GaitProblem,
-    /// The method that ran: `"phase"`, `"sequence"` or `"chain"` (an exact phase gait;
-    /// version 1 files wrote `"phase"` for all three), `"discrete"` or `"local"` (a P_m
-    /// process on the grid of `m`).
-    pub method: String,
     /// `m` of P_m (discrete only).
     pub m: Option<u32>,
-    /// What was proven ([`MilpStatus`]): `"optimal"` (for P_m), `"optimal_among_k_phases"` (phase
-    /// gaits; `K` is `certificate.phases`), `"dominates_k_phases"` (a phase gait of more than `K`
-    /// slip phases that none of at most `K` beats), `"time_limit"` (see the gap and bound),
-    /// `"approximation_limit"`, or the local methods' `"stationary"` / `"stalled"`.
-    pub status: MilpStatus,
-    /// `J` = displacement per period minus actuation cost, from the verified displacement.
-    pub objective: f64,
     /// Displacement per period (verified).
     pub displacement_per_period: f64,
     /// `int_0^T f2(u) dt` of the gait.
@@ -209,8 +147,6 @@ pub struct GaitResult {
     pub verified_displacement: f64,
     /// The solver's own objective (before re-verification).
     pub solver_objective: f64,
-    /// What is proven.
-    pub certificate: ResultCertificate,
     /// The gait: the envelope's `solution` (`gait` in version 1 files, read as well).
     #[serde(rename = "solution")]
     pub gait: GaitData,
@@ -335,20 +271,20 @@ impl GaitResult {
         gait: GaitData,
     ) -> Self {
         GaitResult {
-            format: RESULT_FORMAT.into(),
-            version: RESULT_VERSION,
-            kind: ResultKind::Crawler,
+            head: ResultHead::new(
+                ResultKind::Crawler,
+                method,
+                verified - cost,
+                status,
+                certificate,
+            ),
             crawler: CrawlerParams::of(crawler),
             problem: problem.clone(),
-            method: method.into(),
             m,
-            status,
-            objective: verified - cost,
             displacement_per_period: verified,
             actuation_cost: cost,
             verified_displacement: verified,
             solver_objective,
-            certificate,
             gait,
             phase_growth: None,
             convergence: None,
@@ -434,13 +370,13 @@ impl GaitResult {
     /// Whether the gait is an exact phase gait (methods phase, sequence and chain), not a P_m
     /// process.
     pub fn is_phase_gait(&self) -> bool {
-        PHASE_GAIT_METHODS.contains(&self.method.as_str())
+        PHASE_GAIT_METHODS.contains(&self.head.method.as_str())
     }
 
     /// The simulator that verified this result's gait, and so replays it: catching-up on the grid
     /// for P_m answers (global or local), exact for phase gaits.
     pub fn verified_with(&self) -> Method {
-        match self.method.as_str() {
+        match self.head.method.as_str() {
             "discrete" | "local" => Method::CatchingUp,
             _ => Method::Exact,
         }
@@ -457,9 +393,9 @@ impl GaitResult {
         start: &str,
     ) -> Self {
         let mut r = GaitResult::from_phase(crawler, problem, &s.best);
-        r.method = "sequence".into();
-        r.status = local_status(s.stop);
-        r.certificate = ResultCertificate::local(Some(s.best.phases));
+        r.head.method = "sequence".into();
+        r.head.status = local_status(s.stop);
+        r.head.certificate = ResultCertificate::local(Some(s.best.phases));
         r.local = Some(LocalRecord {
             start_objective: s.start_objective,
             start: start.into(),
@@ -652,7 +588,7 @@ mod tests {
     #[test]
     fn round_trips_and_refuses_other_versions_and_truncation() {
         let r = one_link_result();
-        assert!((r.objective - 3.0).abs() < 1e-9);
+        assert!((r.head.objective - 3.0).abs() < 1e-9);
         let text = serde_json::to_string(&r).unwrap();
         assert_eq!(GaitResult::from_json(&text, "r.json").unwrap(), r);
         let e = GaitResult::from_json(&text[..text.len() / 2], "r.json").unwrap_err();

@@ -83,7 +83,7 @@ impl StartGait {
             }
         }
         Ok(StartGait {
-            origin: format!("{} ({what})", r.method),
+            origin: format!("{} ({what})", r.head.method),
             result: r,
         })
     }

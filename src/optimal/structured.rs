@@ -381,7 +381,7 @@ pub fn best_structured(
     };
     let result = structured_result(crawler, problem, &gaits[i])?;
     Ok(Some(StructuredSearch {
-        objective: result.objective,
+        objective: result.head.objective,
         best: StartGait {
             origin: gaits[i].description.clone(),
             result,

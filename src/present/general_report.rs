@@ -127,10 +127,10 @@ pub fn build_general_report(
 }
 
 /// The head of a report of a record: what it is, its method, its status, its certificate.
-type Description = (&'static str, &'static str, String, (String, String));
+type Description<'a> = (&'static str, &'a str, String, (String, String));
 
 /// What the record is, its method, its status, and its certificate (headline, detail).
-fn describe(input: GeneralReportInput<'_>) -> Description {
+fn describe(input: GeneralReportInput<'_>) -> Description<'_> {
     match input {
         GeneralReportInput::Simulation(r) => describe_simulation(r),
         GeneralReportInput::Answer(GeneralAnswer::Discrete(r)) => describe_discrete(r),
@@ -140,7 +140,7 @@ fn describe(input: GeneralReportInput<'_>) -> Description {
 }
 
 /// [`describe`] of a simulation: a given control played, no certificate.
-fn describe_simulation(r: &GeneralSimulated) -> Description {
+fn describe_simulation(r: &GeneralSimulated) -> Description<'_> {
     (
         "Simulation",
         r.method,
@@ -161,7 +161,7 @@ fn describe_simulation(r: &GeneralSimulated) -> Description {
 }
 
 /// [`describe`] of a global P_m optimum: the MILP's status, gap and bound.
-fn describe_discrete(r: &GeneralOptimized) -> Description {
+fn describe_discrete(r: &GeneralOptimized) -> Description<'_> {
     let c = &r.solution.certificate;
     (
         "Optimum",
@@ -185,7 +185,7 @@ fn describe_discrete(r: &GeneralOptimized) -> Description {
 }
 
 /// [`describe`] of a local P_m optimum: why the active-set method stopped, and its starts.
-fn describe_local(r: &GeneralLocalOptimized) -> Description {
+fn describe_local(r: &GeneralLocalOptimized) -> Description<'_> {
     let s = &r.solution;
     let stop = match s.stop {
         LocalStop::Stationary => "stationary",
@@ -216,15 +216,15 @@ fn describe_local(r: &GeneralLocalOptimized) -> Description {
 
 /// [`describe`] of a gait of phases: the phase MILP's optimum (status, gap, bound), or the
 /// gait of a crawler's method on the problem's chain (no global claim).
-fn describe_phase(r: &GeneralPhaseOptimized) -> Description {
-    if r.method != "phase" {
+fn describe_phase(r: &GeneralPhaseOptimized) -> Description<'_> {
+    if r.head.method != "phase" {
         return (
             "Gait",
-            r.method,
+            &r.head.method,
             format!(
                 "the crawler's {} method on the problem's chain: {}",
-                r.method,
-                r.status.as_str()
+                r.head.method,
+                r.head.status.as_str()
             ),
             (
                 "local".to_string(),

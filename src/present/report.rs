@@ -234,22 +234,22 @@ fn page(
 
 /// What the certificate claims (its kind in words) and the solver's status in words.
 fn claims(result: &GaitResult) -> (String, String) {
-    let c = &result.certificate;
+    let c = &result.head.certificate;
     let cert = match (c.kind.as_str(), c.phases, result.m) {
-        ("global_k_phases", Some(k), _) if result.status == MilpStatus::DominatesKPhases => {
+        ("global_k_phases", Some(k), _) if result.head.status == MilpStatus::DominatesKPhases => {
             format!("at least as good as every gait of at most {k} slip phases (it has more)")
         }
-        ("global_k_phases", Some(k), _) if !result.status.is_optimal() => {
+        ("global_k_phases", Some(k), _) if !result.head.status.is_optimal() => {
             format!("not proven: the bound is over gaits of at most {k} slip phases")
         }
         ("global_k_phases", Some(k), _) => {
             format!("globally optimal among gaits of at most {k} slip phases")
         }
         ("global", _, Some(m)) => format!("globally optimal for P_{m} ({} steps)", 1u64 << m),
-        ("local", _, Some(m)) if result.status == MilpStatus::Stationary => {
+        ("local", _, Some(m)) if result.head.status == MilpStatus::Stationary => {
             format!("locally optimal for P_{m} ({} steps)", 1u64 << m)
         }
-        ("local", Some(k), None) if result.status == MilpStatus::Stationary => format!(
+        ("local", Some(k), None) if result.head.status == MilpStatus::Stationary => format!(
             "locally optimal: no change of one slip mode in its sequence of {k} improves it"
         ),
         ("local", _, _) if result.structured.is_some() => {
@@ -270,7 +270,7 @@ fn claims(result: &GaitResult) -> (String, String) {
         c.phases.unwrap_or_default(),
         result.gait.slip_phases()
     );
-    let status = match result.status {
+    let status = match result.head.status {
         MilpStatus::Optimal => "solved to optimality",
         MilpStatus::OptimalAmongKPhases => among.as_str(),
         MilpStatus::DominatesKPhases => dominates.as_str(),
@@ -288,11 +288,11 @@ fn claims(result: &GaitResult) -> (String, String) {
 /// bound and the necessary conditions' verdict when there are.
 fn key_numbers(h: &mut String, result: &GaitResult, ctx: &ReportContext<'_>, cert: &str) {
     let source = ctx.source;
-    let c = &result.certificate;
+    let c = &result.head.certificate;
     h.push_str("<div class=\"kpi\">\n");
     h.push_str(&format!(
         "<div><span>objective J</span><b id=\"objective\">{}</b><span>displacement − cost per period [length]</span></div>\n",
-        num(result.objective)
+        num(result.head.objective)
     ));
     h.push_str(&format!(
         "<div><span>displacement per period</span><b id=\"displacement-per-period\" data-value=\"{}\">{}</b><span>verified by simulation [length]</span></div>\n",
@@ -327,7 +327,7 @@ fn key_numbers(h: &mut String, result: &GaitResult, ctx: &ReportContext<'_>, cer
             num(ub.value),
             esc(&ub.method),
             esc(&ub.resolution_text()),
-            100.0 * ub.within(result.objective, super::text::GaitScales::of(result).length)
+            100.0 * ub.within(result.head.objective, super::text::GaitScales::of(result).length)
         ));
     }
     if let Some(nc) = ctx.certificate {
@@ -477,7 +477,7 @@ fn gait_section(h: &mut String, result: &GaitResult, n: usize, cert: &str, statu
     h.push_str(&format!(
         "<h2 id=\"gait\">The optimal gait</h2>\n<p>Method <code>{}</code>, {status}; {}. \
          Displacement per period {} (simulator) against {} (solver); actuation cost {}.</p>\n",
-        esc(&result.method),
+        esc(&result.head.method),
         esc(cert),
         num(result.verified_displacement),
         num(result.solver_objective),

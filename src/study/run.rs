@@ -169,13 +169,13 @@ fn compute(
             let (crawler, problem) = api::gait_problem(&model)?;
             let o = api::optimize(&crawler, &problem, settings, hooks())?;
             let r = &o.result;
-            row.objective = Some(r.objective);
+            row.objective = Some(r.head.objective);
             row.displacement_per_period = Some(r.displacement_per_period);
-            row.method = Some(r.method.clone());
-            row.certificate = Some(r.certificate.kind.clone());
-            row.gap = r.certificate.gap;
-            row.bound = r.certificate.bound;
-            row.status = r.status.as_str().into();
+            row.method = Some(r.head.method.clone());
+            row.certificate = Some(r.head.certificate.kind.clone());
+            row.gap = r.head.certificate.gap;
+            row.bound = r.head.certificate.bound;
+            row.status = r.head.status.as_str().into();
             row.verdict = o
                 .necessary_conditions
                 .as_ref()
@@ -236,13 +236,13 @@ fn compute_general(
             let answer = api::optimize_general_plan(file, &plan, settings.naming, hooks)?;
             // The envelope's claim, the same for every method: `global`, `global_k_phases` or
             // `local` (no bound, no gap), what was proven, and the verdict when certified.
-            let c = answer.certificate();
-            row.objective = Some(answer.objective());
-            row.method = Some(answer.method().into());
+            let c = &answer.head().certificate;
+            row.objective = Some(answer.head().objective);
+            row.method = Some(answer.head().method.clone());
             row.certificate = Some(c.kind.clone());
             row.gap = c.gap;
             row.bound = c.bound;
-            row.status = answer.status().as_str().into();
+            row.status = answer.head().status.as_str().into();
             row.verdict = answer.necessary_conditions().and_then(|n| word(&n.verdict));
             Ok(full.then(|| to_json(&answer)).flatten())
         }

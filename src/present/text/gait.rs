@@ -11,7 +11,7 @@ pub fn gait_summary(r: &GaitResult) -> String {
     let length = GaitScales::of(r).length;
     format!(
         "objective J = {}, displacement per period {}",
-        num(r.objective, length),
+        num(r.head.objective, length),
         num(r.displacement_per_period, length)
     )
 }
@@ -29,8 +29,8 @@ pub fn gait_result(r: &GaitResult) -> String {
             wln!(out, "kept instead of the method's answer: {why}");
         }
     }
-    if let Some(ub) = &r.certificate.upper_bound {
-        upper_bound_line(&mut out, ub, (r.objective, sc.length), &len);
+    if let Some(ub) = &r.head.certificate.upper_bound {
+        upper_bound_line(&mut out, ub, (r.head.objective, sc.length), &len);
     }
     wln!(
         out,
@@ -73,9 +73,9 @@ pub fn gait_result(r: &GaitResult) -> String {
 /// The first lines of [`gait_result`]: the method and its status, the objective, and that
 /// the crawler stays idle when the proven optimum is 0.
 fn head(out: &mut String, r: &GaitResult, sc: &GaitScales) {
-    let c = &r.certificate;
+    let c = &r.head.certificate;
     let len = |v: f64| num(v, sc.length);
-    match (r.status, c.phases) {
+    match (r.head.status, c.phases) {
         (
             MilpStatus::OptimalAmongKPhases | MilpStatus::DominatesKPhases | MilpStatus::TimeLimit,
             Some(k),
@@ -83,23 +83,28 @@ fn head(out: &mut String, r: &GaitResult, sc: &GaitScales) {
             wln!(
                 out,
                 "method {}: {} (K = {k})",
-                r.method,
-                status_word(r.status)
+                r.head.method,
+                status_word(r.head.status)
             )
         }
-        _ => wln!(out, "method {}: {}", r.method, status_word(r.status)),
+        _ => wln!(
+            out,
+            "method {}: {}",
+            r.head.method,
+            status_word(r.head.status)
+        ),
     }
     wln!(
         out,
         "objective J = {} (displacement per period {}, actuation cost {})",
-        len(r.objective),
+        len(r.head.objective),
         len(r.displacement_per_period),
         len(r.actuation_cost)
     );
-    let proven = r.status.is_optimal() && c.gap.is_some_and(|g| g <= 1e-6);
+    let proven = r.head.status.is_optimal() && c.gap.is_some_and(|g| g <= 1e-6);
     // Zero as the text shows it (below the snap of the length scale).
     let zero = |v: f64| v.abs() < text::SNAP * sc.length;
-    if proven && zero(r.objective) && zero(r.displacement_per_period) {
+    if proven && zero(r.head.objective) && zero(r.displacement_per_period) {
         wln!(
             out,
             "no gait of this class moves the crawler forward: the optimum is 0 (stay idle)"
@@ -110,14 +115,14 @@ fn head(out: &mut String, r: &GaitResult, sc: &GaitScales) {
 /// The certificate's line: global (over which class of gaits), local or not proven, with the
 /// gap and the bound when there are, the values written by `len`.
 fn certificate_line(out: &mut String, r: &GaitResult, len: &dyn Fn(f64) -> String) {
-    let c = &r.certificate;
+    let c = &r.head.certificate;
     let scope = match (c.kind.as_str(), c.phases, r.m) {
         ("global_k_phases", Some(k), _) => format!("gaits of at most {k} slip phases"),
         ("global", _, Some(m)) => format!("P_{m} ({} steps)", 1u64 << m),
         (kind, _, _) => kind.to_string(),
     };
-    let what = match (r.status, c.kind.as_str()) {
-        (_, "local") => format!("local ({})", status_word(r.status)),
+    let what = match (r.head.status, c.kind.as_str()) {
+        (_, "local") => format!("local ({})", status_word(r.head.status)),
         (MilpStatus::DominatesKPhases, _) => format!(
             "proven at least as good as all {scope} (this gait has {})",
             r.gait.slip_phases()

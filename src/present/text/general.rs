@@ -229,7 +229,7 @@ pub fn general_optimum(r: &GeneralOptimized) -> String {
             super::polish_line(p, "face pattern", |v| num(v, scale))
         );
     }
-    if let Some(ub) = &r.certificate.upper_bound {
+    if let Some(ub) = &r.head.certificate.upper_bound {
         super::gait::upper_bound_line(&mut out, ub, (s.objective, scale), &|v| num(v, scale));
     }
     if let Some(table) = &r.convergence {
@@ -258,7 +258,7 @@ pub fn general_phase(r: &GeneralPhaseOptimized) -> String {
     let mut out = String::new();
     let s = &r.solution;
     let c = &s.certificate;
-    let local = r.method != "phase";
+    let local = r.head.method != "phase";
     let scale = if local {
         s.objective.abs().max(1e-300)
     } else {
@@ -304,7 +304,7 @@ pub fn general_phase(r: &GeneralPhaseOptimized) -> String {
         .flatten()
         .fold(0.0_f64, |m, v| m.max(v.abs()))
         .max(1e-300);
-    if let Some(ub) = &r.certificate.upper_bound {
+    if let Some(ub) = &r.head.certificate.upper_bound {
         super::gait::upper_bound_line(&mut out, ub, (s.objective, scale), &|v| num(v, scale));
     }
     if let Some(pg) = &r.phase_growth {
@@ -335,7 +335,7 @@ fn phase_head(out: &mut String, r: &GeneralPhaseOptimized, local: bool) {
             "exact gait of {} phases by the crawler's {} method on the problem's chain (the \
              problem is a crawler's) (T = {}), no global claim: {}",
             s.durations.len(),
-            r.method,
+            r.head.method,
             num(r.period, 0.0),
             super::status_word(c.status),
         ),

@@ -38,7 +38,7 @@ pub fn general_summary(objective: f64) -> String {
 pub fn result_file_summary(r: &crate::io::ResultFile) -> String {
     match r {
         crate::io::ResultFile::Crawler(g) => gait_summary(g),
-        crate::io::ResultFile::General(_) => general_summary(r.objective()),
+        crate::io::ResultFile::General(_) => general_summary(r.head().objective),
     }
 }
 
