@@ -251,3 +251,57 @@ fn a_phase_claim_at_a_large_length_unit_reads_back() {
     assert!(gap <= 1e-6, "gap {gap}");
     common::certify_written(dir.path(), &v);
 }
+
+/// Exact twins of the three-block phase optimum (forces times `f`, time times `t`, lengths times
+/// `l`) get one certificate: the same verdict, the phase LP stationary in the durations to
+/// rounding, and all 8 branch LPs through its biactive pairs at `J`. With the Hamiltonian
+/// counted in units of one, the twin in forces 1e6, time 1e-6 and lengths 1e6 `failed` its
+/// duration stationarity at `1.2e-4` (the rounding of Hamiltonians of size `1e12`), and at
+/// periods of `1e-5` no branch LP was solved (HiGHS's absolute tolerances against durations of
+/// `1e-7`); the crawler in units of one is `degenerate` with all 8.
+#[test]
+fn exact_twins_of_the_three_block_optimum_get_one_certificate() {
+    use crawlopt::api::{self, GaitMethod, Hooks, OptimizeSettings};
+    use crawlopt::certify::{certify_result, Verdict};
+    let certified = |f: f64, t: f64, l: f64| {
+        let c = Crawler::uniform(3, f / l, f, 1.5 * f).unwrap();
+        let p = GaitProblem::new(&c, 10.0 * t, &[l / t; 2], Cost::None, None).unwrap();
+        let settings = OptimizeSettings {
+            method: GaitMethod::Phase,
+            phases: Some(6),
+            ..Default::default()
+        };
+        let r = api::optimize(&c, &p, &settings, Hooks::default())
+            .unwrap()
+            .result;
+        assert!(
+            (r.head.objective / l - 2.6).abs() < 1e-9,
+            "{f} {t} {l}: J = {}",
+            r.head.objective
+        );
+        certify_result(&r, "twin").unwrap()
+    };
+    for (f, t, l) in [
+        (1.0, 1.0, 1.0),
+        (1e6, 1e-6, 1e6),
+        (1.0, 1e-6, 1.0),
+        (1e6, 1.0, 1.0),
+        (1.0, 1.0, 1e6),
+    ] {
+        let nc = certified(f, t, l);
+        let at = format!("forces x{f}, time x{t}, lengths x{l}");
+        assert_eq!(nc.verdict, Verdict::Degenerate, "{at}: {}", nc.reason);
+        let d = nc
+            .conditions
+            .iter()
+            .find(|c| c.name == "duration_stationarity")
+            .expect("a phase gait's duration condition");
+        assert!(d.holds && d.residual < 1e-12, "{at}: {}", d.residual);
+        let b = nc
+            .branch_lp
+            .as_ref()
+            .unwrap_or_else(|| panic!("{at}: no branch LP"));
+        assert_eq!(b.branches, 8, "{at}");
+        assert!(b.improvement.abs() <= 1e-9 * l, "{at}: {}", b.improvement);
+    }
+}

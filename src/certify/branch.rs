@@ -146,6 +146,38 @@ pub(crate) fn branch_lp(
     ))
 }
 
+/// The branch LPs through one process, solved in (P)'s units of order one
+/// ([`crate::optimal::general::Units`]: states in C's scale, controls in U's, time in the
+/// crossing time) and their optima converted back (`J = s_x J'`; the durations become
+/// `tau / t_0`, the structure is otherwise the same). In the problem's own units HiGHS's
+/// absolute tolerances failed them at short periods: the three-block crawler's phase
+/// optimum with its period 1e-5 (and its rates 1e6) had no branch LP, where the same gait
+/// at period 10 has all 8.
+pub(crate) struct BranchLps {
+    p: GeneralProblem,
+    st: GeneralStructure,
+    j_unit: f64,
+}
+
+impl BranchLps {
+    /// The branch LPs of the process whose structure is `st` on `p`.
+    pub(crate) fn new(p: &GeneralProblem, st: &GeneralStructure) -> Self {
+        let units = crate::optimal::general::Units::of(p);
+        let mut st = st.clone();
+        st.tau = st.tau.iter().map(|t| t / units.time).collect();
+        BranchLps {
+            p: units.problem(p),
+            st,
+            j_unit: units.state,
+        }
+    }
+
+    /// The optimum of the branch `choice` ([`branch_lp`]), in the problem's units.
+    pub(crate) fn optimum(&self, choice: &[bool]) -> Option<f64> {
+        branch_lp(&self.p, &self.st, choice).map(|(j, _)| j * self.j_unit)
+    }
+}
+
 /// The columns of the largest branch LP through the process (states and controls per piece,
 /// and every face that may react: all biactive pairs reacting), the size the budget of
 /// [`super::records::best_branch`] counts, for (P) and its instances alike.

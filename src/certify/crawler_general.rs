@@ -86,10 +86,19 @@ impl AsGeneral {
         gst.margin_off_vertex = true;
         gst.switching_unit = 1.0 / (nb * k.iter().fold(0.0_f64, |m, &k| m.max(k)));
         gst.margin_cap = 10.0 / (nb * k.iter().fold(f64::INFINITY, |m, &k| m.min(k)));
-        // The slacks in the instance's C (forces over `s_b`); `psi` and the Hamiltonian in the
-        // crawler's own units, as `state_scale` and `switching_unit` count them.
+        // The slacks in the instance's C (forces over `s_b`); `psi` in the crawler's own units,
+        // as `state_scale` and `switching_unit` count them. `p` is a length per force, of unit
+        // `1 / k_max`, and the Hamiltonian `sum_l a_l |psi_l|` is counted in units of
+        // `max_l a_l / k_max` (both 1 for a crawler of unit stiffness and rates): with the
+        // Hamiltonian counted in units of one, the three-block optimum's twin in forces times
+        // 1e6, time times 1e-6 and lengths times 1e6 failed its duration stationarity at
+        // 1.2e-4, the rounding of Hamiltonians of size 1e12, where the crawler in units of
+        // one holds it to 4e-15.
+        let k_max = k.iter().fold(0.0_f64, |m, &k| m.max(k));
+        let a_max = pr.problem.rate_bound.iter().fold(0.0_f64, |m, &a| m.max(a));
         gst.units.psi = 1.0;
-        gst.units.speed = 1.0;
+        gst.units.p = 1.0 / k_max;
+        gst.units.speed = a_max / k_max;
         Ok(AsGeneral {
             s_b,
             inst,

@@ -187,8 +187,7 @@ pub(super) fn certify_structured(
             )?
             .0
         };
-        let r = kkt_residual(p, st, &raw, drift_term, true)
-            / scaled_sup(&raw.p, &st.state_scale).max(1.0);
+        let r = duration_residual(p, st, &raw, drift_term);
         rep.add_duration_condition(words.hamiltonian, r, opts.tol);
         if p.cost != GeneralCost::None {
             rep.note_approximate_cost();
@@ -199,11 +198,37 @@ pub(super) fn certify_structured(
     // failure that they do not show suboptimal says so (a phase gait's fix its durations).
     let biactive = st.reacting.iter().flatten().filter(|(_, r)| !r).count();
     let columns = super::branch::columns(st);
+    let lps = super::branch::BranchLps::new(p, st);
     let branch = super::records::best_branch(biactive, columns, pr.objective(p), |choice| {
-        Ok(super::branch::branch_lp(p, st, choice).map(|(optimum, _)| optimum))
+        Ok(lps.optimum(choice))
     })?;
     rep.set_branch_lp(branch, !st.phase, opts.tol);
     Ok((rep, chosen.0))
+}
+
+/// The residual of the KKT system with the durations free: each residual relative to
+/// `max(1, ||p||)`, the Hamiltonian's spread (in units of `speed` times `p`'s unit,
+/// [`super::general_kkt::ResidualUnits`]) relative to `max(p_unit, ||p||) / p_unit`, so that a
+/// crawler's verdict is the same in any units (for (P), `p_unit = 1`: both alike).
+fn duration_residual(
+    p: &GeneralProblem,
+    st: &GeneralStructure,
+    raw: &GeneralRaw,
+    drift: bool,
+) -> f64 {
+    let sup = scaled_sup(&raw.p, &st.state_scale);
+    let unit = st.units.p;
+    residuals(p, st, raw, drift, true)
+        .iter()
+        .filter(|(name, _, _)| *name != "sign")
+        .map(|&(name, _, r)| {
+            if name == "duration_stationarity" {
+                r * unit / sup.max(unit)
+            } else {
+                r / sup.max(1.0)
+            }
+        })
+        .fold(0.0_f64, f64::max)
 }
 
 /// The largest residual of the branch LP's KKT system (all discrete conditions but the sign;

@@ -27,6 +27,7 @@ pub(crate) fn cost_hessian(cost: &GeneralCost, m: usize) -> Vec<Vec<f64>> {
 }
 
 /// What the KKT system needs besides the numbers.
+#[derive(Clone)]
 pub(crate) struct GeneralStructure {
     /// States `n`, controls `m`, pieces `P` (`2^m` steps of P_m, or a gait's phases).
     pub n: usize,
@@ -112,6 +113,11 @@ pub struct ResidualUnits {
     /// `max_i (sum_j |B_ij| u_unit + |b_i|)` with `u_unit` U's largest scale (the duration
     /// stationarity counts `(max H - min H) / 2 / speed`).
     pub speed: f64,
+    /// The unit of `p` itself: 1 for (P), whose `p` is `J` per state and so does not change
+    /// with the units; a crawler's `p` is a length per force, and its unit `1 / k_max` (the
+    /// duration stationarity is relative to `max(p_unit, ||p||)`, so that it is the same for
+    /// a crawler in any units).
+    pub p: f64,
 }
 
 impl ResidualUnits {
@@ -129,6 +135,7 @@ impl ResidualUnits {
             slack: p.c.scale(),
             psi: psi.max(1e-300),
             speed: speed.max(1e-300),
+            p: 1.0,
         }
     }
 }

@@ -331,7 +331,8 @@ pub(crate) fn best_branch(
 }
 
 /// The phase LP's stationarity in the durations (a phase gait's condition
-/// `duration_stationarity`, group "6.2"), with its residual `r` (relative to `max(1, ||p||)`)
+/// `duration_stationarity`, group "6.2"), with its residual `r` (relative to `max(1, ||p||)`;
+/// the Hamiltonian's own spread relative to its unit, `certify::general`'s `duration_residual`)
 /// from multipliers of its own: inserted after the five conditions with the durations fixed,
 /// and a verdict that held turned into `fails` when it does not hold. `hamiltonian` states the
 /// phase's maximised Hamiltonian `H_k` in the problem's terms.
@@ -352,7 +353,7 @@ fn duration_condition(
                 "the phase LP is stationary in the durations too: multipliers (of their own) \
                  satisfying the conditions above with {hamiltonian} equal on every phase (the \
                  maximised Hamiltonian is constant); residual of the KKT system with it, \
-                 relative to max(1, ||p||_inf)"
+                 relative to max(1, ||p||_inf), the Hamiltonian's spread to its own unit"
             ),
             residual: r,
             tolerance: tol,

@@ -43,3 +43,4 @@ pub(crate) use pm_milp::{solve_pm_milp, PmOptions, PmStart};
 pub(crate) use polish::{pm_on_pattern, PmColumns};
 pub use projection::{project_polyhedron, ProjectedVertex, MAX_PROJECTED_VERTICES};
 pub use units::control_and_speed;
+pub(crate) use units::Units;
