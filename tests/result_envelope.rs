@@ -99,6 +99,23 @@ fn general_results_carry_the_envelope_and_read_back() {
         // Written again, it reads back to the same answer.
         let again = crawlopt::io::json::to_string(&answer).unwrap();
         assert_eq!(GeneralAnswer::from_json(&again, "again").unwrap(), *answer);
+        // The head as the variant has it: a record read directly (not through `ResultFile`)
+        // whose kind or method is another's is refused naming the field.
+        fn head(a: &mut GeneralAnswer) -> &mut crawlopt::optimal::envelope::ResultHead {
+            match a {
+                GeneralAnswer::Discrete(r) => &mut r.head,
+                GeneralAnswer::Local(r) => &mut r.head,
+                GeneralAnswer::Phase(r) => &mut r.head,
+            }
+        }
+        let mut other = (*answer).clone();
+        head(&mut other).method = if method == "local" { "phase" } else { "local" }.into();
+        let e = other.check_consistent("d.json").unwrap_err();
+        assert!(e.to_string().starts_with("d.json: method"), "{e}");
+        let mut other = (*answer).clone();
+        head(&mut other).kind = ResultKind::Crawler;
+        let e = other.check_consistent("d.json").unwrap_err();
+        assert!(e.to_string().starts_with("d.json: kind"), "{e}");
         // Version 1 of a general result had the same shape: it reads to the same answer.
         let mut v1 = v.clone();
         v1["version"] = json!(1);

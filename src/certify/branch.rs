@@ -148,7 +148,7 @@ pub(crate) fn branch_lp(
 
 /// The branch LPs through one process, solved in (P)'s units of order one
 /// ([`crate::optimal::general::Units`]: states in C's scale, controls in U's, time in the
-/// crossing time) and their optima converted back (`J = s_x J'`; the durations become
+/// time the fastest state crosses C or the period where that is shorter) and their optima converted back (`J = s_x J'`; the durations become
 /// `tau / t_0`, the structure is otherwise the same). In the problem's own units HiGHS's
 /// absolute tolerances failed them at short periods: the three-block crawler's phase
 /// optimum with its period 1e-5 (and its rates 1e6) had no branch LP, where the same gait

@@ -72,8 +72,9 @@ impl AsGeneral {
     /// - the margin taken on every rate at its bound, as its margin `min |p + omega|` reads;
     /// - the switching function's unit `1 / (N k_max)` (its `p` is `lambda / N` per `K nu_b`
     ///   while block `b` slips), and the margin's cap ten times `1 / (N k_min)`;
-    /// - the slacks in units of the instance's C, `psi` and the Hamiltonian in the crawler's
-    ///   own ([`super::general_kkt::ResidualUnits`]).
+    /// - the slacks in units of the instance's C, `psi` in the crawler's own units, `p` in
+    ///   units of `1 / k_max` and the Hamiltonian in units of `max_l a_l / k_max`, its value at
+    ///   `|p|` of that unit ([`super::general_kkt::ResidualUnits`]).
     pub fn of(pr: &Process, tol: f64) -> Result<Self> {
         let inst = pr.problem.instance(&pr.crawler)?;
         let k = pr.crawler.stiffness();
@@ -84,7 +85,8 @@ impl AsGeneral {
         gst.face_scale = s_b.iter().flat_map(|&s| [s, s]).collect();
         gst.state_scale = inst.sqrt_k.iter().map(|s| 1.0 / s).collect();
         gst.margin_off_vertex = true;
-        gst.switching_unit = 1.0 / (nb * k.iter().fold(0.0_f64, |m, &k| m.max(k)));
+        let k_max = k.iter().fold(0.0_f64, |m, &k| m.max(k));
+        gst.switching_unit = 1.0 / (nb * k_max);
         gst.margin_cap = 10.0 / (nb * k.iter().fold(f64::INFINITY, |m, &k| m.min(k)));
         // The slacks in the instance's C (forces over `s_b`); `psi` in the crawler's own units,
         // as `state_scale` and `switching_unit` count them. `p` is a length per force, of unit
@@ -94,7 +96,6 @@ impl AsGeneral {
         // 1e6, time times 1e-6 and lengths times 1e6 failed its duration stationarity at
         // 1.2e-4, the rounding of Hamiltonians of size 1e12, where the crawler in units of
         // one holds it to 4e-15.
-        let k_max = k.iter().fold(0.0_f64, |m, &k| m.max(k));
         let a_max = pr.problem.rate_bound.iter().fold(0.0_f64, |m, &a| m.max(a));
         gst.units.psi = 1.0;
         gst.units.p = 1.0 / k_max;

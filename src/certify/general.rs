@@ -187,7 +187,8 @@ pub(super) fn certify_structured(
             )?
             .0
         };
-        let r = duration_residual(p, st, &raw, drift_term);
+        let r = kkt_residual(p, st, &raw, drift_term, true)
+            / scaled_sup(&raw.p, &st.state_scale).max(1.0);
         rep.add_duration_condition(words.hamiltonian, r, opts.tol);
         if p.cost != GeneralCost::None {
             rep.note_approximate_cost();
@@ -206,33 +207,13 @@ pub(super) fn certify_structured(
     Ok((rep, chosen.0))
 }
 
-/// The residual of the KKT system with the durations free: each residual relative to
-/// `max(1, ||p||)`, the Hamiltonian's spread (in units of `speed` times `p`'s unit,
-/// [`super::general_kkt::ResidualUnits`]) relative to `max(p_unit, ||p||) / p_unit`, so that a
-/// crawler's verdict is the same in any units (for (P), `p_unit = 1`: both alike).
-fn duration_residual(
-    p: &GeneralProblem,
-    st: &GeneralStructure,
-    raw: &GeneralRaw,
-    drift: bool,
-) -> f64 {
-    let sup = scaled_sup(&raw.p, &st.state_scale);
-    let unit = st.units.p;
-    residuals(p, st, raw, drift, true)
-        .iter()
-        .filter(|(name, _, _)| *name != "sign")
-        .map(|&(name, _, r)| {
-            if name == "duration_stationarity" {
-                r * unit / sup.max(unit)
-            } else {
-                r / sup.max(1.0)
-            }
-        })
-        .fold(0.0_f64, f64::max)
-}
-
 /// The largest residual of the branch LP's KKT system (all discrete conditions but the sign;
-/// with `durations_free`, the stationarity in the durations too).
+/// with `durations_free`, the stationarity in the durations too), which the search and the
+/// report divide by `max(1, ||p||)`. The Hamiltonian's spread is counted in units of `speed`
+/// (the Hamiltonian at `|p|` of `p`'s unit, [`super::general_kkt::ResidualUnits`]) and relative
+/// to `max(p_unit, ||p||) / p_unit`, so that after that division it is
+/// `(max H - min H) / 2 / (speed max(p_unit, ||p||) / p_unit)`, the same for a crawler in any
+/// units; for (P), `p_unit = 1` and the factor is 1.
 fn kkt_residual(
     p: &GeneralProblem,
     st: &GeneralStructure,
@@ -240,10 +221,19 @@ fn kkt_residual(
     drift: bool,
     durations_free: bool,
 ) -> f64 {
+    let sup = scaled_sup(&raw.p, &st.state_scale);
+    let unit = st.units.p;
     residuals(p, st, raw, drift, durations_free)
         .iter()
         .filter(|(name, _, _)| *name != "sign")
-        .fold(0.0_f64, |m, (_, _, r)| m.max(*r))
+        .map(|&(name, _, r)| {
+            if name == "duration_stationarity" {
+                r * unit * sup.max(1.0) / sup.max(unit)
+            } else {
+                r
+            }
+        })
+        .fold(0.0_f64, f64::max)
 }
 
 #[cfg(test)]

@@ -109,9 +109,10 @@ pub struct ResidualUnits {
     /// unit of `p`: `max |B_ij|` (weak maximality counts `|psi - cone| / psi`, the switching
     /// function's floor is `max |w| psi`).
     pub psi: f64,
-    /// The unit of the maximised Hamiltonian per unit of `p`, the fastest rate of a state,
-    /// `max_i (sum_j |B_ij| u_unit + |b_i|)` with `u_unit` U's largest scale (the duration
-    /// stationarity counts `(max H - min H) / 2 / speed`).
+    /// The unit of the maximised Hamiltonian at `|p|` of `p`'s unit: for (P) the fastest rate
+    /// of a state, `max_i (sum_j |B_ij| u_unit + |b_i|)` with `u_unit` U's largest scale; for a
+    /// crawler `max_l a_l / k_max` (the duration stationarity counts
+    /// `(max H - min H) / 2 / speed`, relative to `max(p_unit, ||p||) / p_unit`).
     pub speed: f64,
     /// The unit of `p` itself: 1 for (P), whose `p` is `J` per state and so does not change
     /// with the units; a crawler's `p` is a length per force, and its unit `1 / k_max` (the

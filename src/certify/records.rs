@@ -332,7 +332,7 @@ pub(crate) fn best_branch(
 
 /// The phase LP's stationarity in the durations (a phase gait's condition
 /// `duration_stationarity`, group "6.2"), with its residual `r` (relative to `max(1, ||p||)`;
-/// the Hamiltonian's own spread relative to its unit, `certify::general`'s `duration_residual`)
+/// the Hamiltonian's own spread relative to its unit, `certify::general`'s `kkt_residual`)
 /// from multipliers of its own: inserted after the five conditions with the durations fixed,
 /// and a verdict that held turned into `fails` when it does not hold. `hamiltonian` states the
 /// phase's maximised Hamiltonian `H_k` in the problem's terms.

@@ -24,7 +24,7 @@ use crate::optimal::general::{
     replay_phases, simulate_grid, MAX_GENERAL_LOCAL_M, MAX_GENERAL_M, MAX_GENERAL_PHASES,
 };
 use crate::optimal::process::{max_diff, Fault, FieldNames, ProcessKind, ProcessRows};
-use crate::optimal::{local_status, MilpStatus};
+use crate::optimal::{local_status, MilpStatus, ResultKind};
 
 /// The problem of a stored file, its errors naming `{what}: problem.<field>`.
 fn stored_problem(file: &GeneralFile, what: &str) -> Result<GeneralProblem> {
@@ -75,6 +75,30 @@ impl Close {
 impl GeneralAnswer {
     /// Checks that a general result is what it says (module docs); `what` names the source.
     pub fn check_consistent(&self, what: &str) -> Result<()> {
+        // The head as the variant has it (a record deserialised directly, not through
+        // `ResultFile::from_json`, has not had its kind and method read yet).
+        let head = self.head();
+        if head.kind != ResultKind::General {
+            return Err(bad(
+                what,
+                "kind",
+                head.kind.as_str(),
+                "a general problem's answer is of kind \"general\"",
+            ));
+        }
+        let methods: &[&str] = match self {
+            GeneralAnswer::Discrete(_) => &["discrete"],
+            GeneralAnswer::Local(_) => &["local"],
+            GeneralAnswer::Phase(_) => &["phase", "sequence", "chain"],
+        };
+        if !methods.contains(&head.method.as_str()) {
+            return Err(bad(
+                what,
+                "method",
+                &head.method,
+                format!("is not a method of this answer ({methods:?})"),
+            ));
+        }
         let p = stored_problem(self.problem(), what)?;
         let period = match self {
             GeneralAnswer::Discrete(r) => r.period,
