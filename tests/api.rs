@@ -331,3 +331,53 @@ fn a_tolerance_beyond_max_tol_is_refused_naming_tol() {
     let j = s.displacement_per_period.unwrap();
     assert!((j - 1.914213562).abs() < 1e-8, "J = {j}");
 }
+
+/// The settings as a table of keys (a sweep file's `[settings]`, Python's keywords) are the
+/// struct's own fields: every key read into its field, the flags' dashed spellings of
+/// `max_phases` and `time_limit` too; a refused value names its key and shows it; a key of no
+/// setting (and `start`, `naming`, `bound`, which the caller sets) names `settings`.
+#[test]
+fn settings_from_keys_are_the_fields() {
+    use crawlopt::api::PhaseFormulation;
+    let keys = |text: &str| -> toml::Table { toml::from_str(text).unwrap() };
+    let all = keys(
+        "method = \"phase\"\nphases = 3\npatience = 2\nmax-phases = 7\nm = 4\nconvergence = true\n\
+         shifts = 5\ntime-limit = 2.5\ncertify = true\npolish = false\nformulation = \"general\"",
+    );
+    let by_hand = OptimizeSettings {
+        method: GaitMethod::Phase,
+        phases: Some(3),
+        patience: Some(2),
+        max_phases: Some(7),
+        m: Some(4),
+        convergence: true,
+        shifts: Some(5),
+        time_limit: Some(2.5),
+        certify: true,
+        polish: Some(false),
+        formulation: Some(PhaseFormulation::General),
+        ..Default::default()
+    };
+    assert_eq!(OptimizeSettings::from_keys(&all).unwrap(), by_hand);
+    assert_eq!(
+        OptimizeSettings::from_keys(&toml::Table::new()).unwrap(),
+        OptimizeSettings::default()
+    );
+    for (text, field, value) in [
+        ("m = -3", "m", "-3"),
+        ("m = \"a\"", "m", "\"a\""),
+        ("method = \"fast\"", "method", "\"fast\""),
+        ("formulation = \"best\"", "formulation", "\"best\""),
+        ("certify = 1", "certify", "1"),
+        ("mm = 3", "settings", "the table given"),
+        ("start = \"r.json\"", "settings", "the table given"),
+        ("bound = {}", "settings", "the table given"),
+    ] {
+        match OptimizeSettings::from_keys(&keys(text)) {
+            Err(Error::InvalidParameter {
+                field: f, value: v, ..
+            }) => assert_eq!((f.as_str(), v.as_str()), (field, value), "{text}"),
+            other => panic!("{text}: {other:?}"),
+        }
+    }
+}

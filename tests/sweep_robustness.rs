@@ -220,6 +220,9 @@ fn job_settings_are_refused_up_front() {
         ("optimize", "time-limit = inf", "settings.time_limit"),
         ("optimize", "time_limit = nan", "settings.time_limit"),
         ("optimize", "method = \"nope\"", "settings.method"),
+        ("optimize", "m = \"a\"", "settings.m"),
+        ("optimize", "formulation = \"nope\"", "settings.formulation"),
+        ("optimize", "start = 3", "settings.start"),
         // Options that do not apply to the method the settings decide.
         ("optimize", "m = 3", "settings.m"),
         ("optimize", "shifts = 3", "settings.shifts"),

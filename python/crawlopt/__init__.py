@@ -30,6 +30,7 @@ from ._convert import (
     _input_error,
     _instance,
     _numbers,
+    _settings,
     _vector,
     require,
 )
@@ -744,21 +745,24 @@ def optimize(
     _instance(problem, GaitProblem, "problem")
     if start is not None:
         _instance(start, GaitResult, "start")
+    keys = _settings(
+        method=method,
+        phases=_count(phases, "phases"),
+        patience=_count(patience, "patience"),
+        max_phases=_count(max_phases, "max_phases"),
+        m=_count(m, "m", 32),
+        convergence=convergence,
+        shifts=_count(shifts, "shifts"),
+        time_limit=time_limit,
+        certify=certify,
+        polish=polish,
+    )
     inner, conditions, notes = _rs.optimize(
         crawler._inner,
         problem._for(crawler),
-        method,
-        _count(phases, "phases"),
-        _count(patience, "patience"),
-        _count(max_phases, "max_phases"),
-        _count(m, "m", 32),
-        convergence,
+        keys,
         None if start is None else start._inner,
-        _count(shifts, "shifts"),
-        time_limit,
-        certify,
         _bound_settings(bound),
         progress_callback(progress),
-        polish,
     )
     return GaitResult(inner, None if conditions is None else json.loads(conditions), notes)

@@ -83,6 +83,13 @@ def require(module: str, purpose: str):
         ) from e
 
 
+def _settings(**keys: Any) -> dict:
+    """An optimisation's settings as the extension takes them: the keywords given, by the
+    library's own names (``max_phases``), those at None (the library's default) left out. The
+    library reads them and names the key of a value it refuses."""
+    return {k: v for k, v in keys.items() if v is not None}
+
+
 def _bound_settings(bound) -> Union[tuple, None]:
     """``optimize``'s ``bound`` as the extension takes it (None: no bound)."""
     if bound is None or bound is False:

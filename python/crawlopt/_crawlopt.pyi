@@ -144,20 +144,10 @@ class GeneralProblem:
     ) -> tuple[dict[str, Any], GeneralRecord]: ...
     def optimize(
         self,
-        method: str,
-        m: Optional[int],
-        shifts: Optional[int],
-        time_limit: Optional[float],
-        certify: bool,
+        keys: dict[str, Any],
+        start: Optional[str],
+        bound: Optional[tuple],
         progress: Optional[Callable[[str], None]],
-        max_phases: Optional[int],
-        polish: Optional[bool] = None,
-        phases: Optional[int] = None,
-        patience: Optional[int] = None,
-        convergence: bool = False,
-        bound: Optional[tuple] = None,
-        formulation: Optional[str] = None,
-        start: Optional[str] = None,
     ) -> tuple[dict[str, Any], GeneralRecord, list[str]]: ...
 
 class GeneralRecord:
@@ -211,19 +201,10 @@ def simulate(
 def optimize(
     crawler: Crawler,
     problem: GaitProblem,
-    method: str,
-    phases: Optional[int],
-    patience: Optional[int],
-    max_phases: Optional[int],
-    m: Optional[int],
-    convergence: bool,
+    keys: dict[str, Any],
     start: Optional[GaitResult],
-    shifts: Optional[int],
-    time_limit: Optional[float],
-    certify: bool,
     bound: Optional[tuple[Optional[int], Optional[int], Optional[float], Optional[int]]],
     progress: Optional[Callable[[str], None]],
-    polish: Optional[bool] = None,
 ) -> tuple[GaitResult, Optional[str], list[str]]: ...
 def fit(
     t: list[float],

@@ -10,7 +10,14 @@ from typing import Any, Callable, Optional, Union
 import numpy as np
 
 from . import _crawlopt as _rs
-from ._convert import NotConvergedWarning, _array, _bound_settings, _count, _input_error
+from ._convert import (
+    NotConvergedWarning,
+    _array,
+    _bound_settings,
+    _count,
+    _input_error,
+    _settings,
+)
 from ._documents import GeneralAnalysis, GeneralResult, GeneralSimulation
 from ._progress import progress_callback
 
@@ -265,20 +272,20 @@ class GeneralProblem:
         (K slots of a free transition and a phase, as strong as the chain's where measured) or
         "chain" (a crawler's gait problem only); None: the chain's on a crawler's chain, the
         transitions elsewhere."""
+        keys = _settings(
+            method=method,
+            m=_count(m, "m", 32),
+            shifts=_count(shifts, "shifts"),
+            time_limit=time_limit,
+            certify=certify,
+            max_phases=_count(max_phases, "max_phases"),
+            polish=polish,
+            phases=_count(phases, "phases"),
+            patience=_count(patience, "patience"),
+            convergence=convergence,
+            formulation=formulation,
+        )
         d, record, notes = self._inner.optimize(
-            method,
-            _count(m, "m", 32),
-            _count(shifts, "shifts"),
-            time_limit,
-            certify,
-            progress_callback(progress),
-            _count(max_phases, "max_phases"),
-            polish,
-            _count(phases, "phases"),
-            _count(patience, "patience"),
-            convergence,
-            _bound_settings(bound),
-            formulation,
-            _start_json(start),
+            keys, _start_json(start), _bound_settings(bound), progress_callback(progress)
         )
         return GeneralResult(d, record, notes)

@@ -5,7 +5,7 @@
 
 use crate::errors::to_py;
 use crate::run::run;
-use crawlopt::api::{self, GaitMethod, Naming, OptimizeSettings};
+use crawlopt::api::{self, OptimizeSettings};
 use crawlopt::integrate::{GeneralMethod, GeneralSimOptions};
 use crawlopt::io::{GeneralFile, ProblemFile};
 use crawlopt::present::{self, GeneralReportInput};
@@ -122,44 +122,24 @@ impl GeneralProblem {
         ))
     }
 
-    /// P_m of the problem (`crawlopt optimize --json`): `method` "discrete" (global MILP) or
-    /// "local" (the LPCC active-set method, `shifts` rotations of each start, from `start`, a
-    /// general result's JSON, when given); None takes the
-    /// library's default; "phase" (exact gaits where `A = 0`, globally among those of at most
-    /// `phases` phases, or `K` grown to `max_phases` until `patience` K bring no gain).
-    /// Cancellable (Ctrl-C); `progress` receives the events. Returns the document and
-    /// the record the library draws and reports.
-    #[pyo3(signature = (
-        method, m, shifts, time_limit, certify, progress, max_phases, polish = None,
-        phases = None, patience = None, convergence = false, bound = None, formulation = None,
-        start = None
-    ))]
-    #[allow(clippy::too_many_arguments)]
+    /// P_m of the problem (`crawlopt optimize --json`) with the settings `keys` (a dict of
+    /// the settings' own names, `crate::jobs::optimize_settings`): `method` "discrete"
+    /// (global MILP) or "local" (the LPCC active-set method, `shifts` rotations of each start,
+    /// from `start`, a general result's JSON, when given); "phase" (exact gaits where `A = 0`,
+    /// globally among those of at most `phases` phases, or `K` grown to `max_phases` until
+    /// `patience` K bring no gain); None takes the library's default. Cancellable (Ctrl-C);
+    /// `progress` receives the events. Returns the document and the record the library draws
+    /// and reports.
+    #[pyo3(signature = (keys, start, bound, progress))]
     fn optimize<'py>(
         &self,
         py: Python<'py>,
-        method: &str,
-        m: Option<u32>,
-        shifts: Option<usize>,
-        time_limit: Option<f64>,
-        certify: bool,
-        progress: Option<PyObject>,
-        max_phases: Option<usize>,
-        polish: Option<bool>,
-        phases: Option<usize>,
-        patience: Option<usize>,
-        convergence: bool,
-        bound: Option<crate::bound::BoundTuple>,
-        formulation: Option<&str>,
+        keys: &Bound<'py, pyo3::types::PyDict>,
         start: Option<&str>,
+        bound: Option<crate::bound::BoundTuple>,
+        progress: Option<PyObject>,
     ) -> PyResult<(Bound<'py, PyAny>, GeneralRecord, Vec<String>)> {
         let f = self.inner.clone();
-        // The library decides what applies to a general problem, with its defaults.
-        let method = GaitMethod::from_name(method).map_err(|e| to_py(py, e))?;
-        let formulation = formulation
-            .map(api::PhaseFormulation::from_name)
-            .transpose()
-            .map_err(|e| to_py(py, e))?;
         // A start is a general result's document, read and checked as `certify` reads it.
         let start = start
             .map(|text| crawlopt::io::GeneralAnswer::from_json(text, "start"))
@@ -169,21 +149,11 @@ impl GeneralProblem {
                 answer: Box::new(answer),
                 name: "start".into(),
             });
+        // The library decides what applies to a general problem, with its defaults.
         let settings = OptimizeSettings {
-            method,
-            m,
             start,
-            shifts,
-            time_limit,
-            certify,
-            polish,
-            max_phases,
-            phases,
-            patience,
-            convergence,
             bound: crate::bound::bound_settings(bound),
-            formulation,
-            naming: Naming::Keywords,
+            ..crate::jobs::optimize_settings(py, keys)?
         };
         // The one optimisation of a problem file, as the command line runs it.
         let file = ProblemFile::General(Box::new(f));

@@ -6,7 +6,7 @@ use crate::errors::to_py;
 use crate::model::{Actuation, Crawler, GaitProblem};
 use crate::results::GaitResult;
 use crate::run::run;
-use crawlopt::api::{self, GaitMethod, Naming, OptimizeSettings, Start};
+use crawlopt::api::{self, OptimizeSettings, Start};
 use crawlopt::integrate::{Method, SimOptions, Simulation};
 use numpy::{PyArray1, PyArray2, PyArrayMethods};
 use pyo3::prelude::*;
@@ -99,49 +99,59 @@ pub fn simulate<'py>(
     simulation_out(py, s, c.links(), c.blocks())
 }
 
-/// An optimal gait of `problem` for `crawler` (`crawlopt::api::optimize`); see
+/// The settings of an optimisation from Python's keyword arguments, a dict of the settings'
+/// own names (those left at None left out): each value converted as it is (a number, a
+/// boolean, a word) and the dict read by the library ([`OptimizeSettings::from_keys`]), which
+/// names the key of a value it refuses (a `TypeError` for a value of the wrong type). A value
+/// that is not a number, a boolean or a word is an `InputError` naming its key.
+pub(crate) fn optimize_settings(
+    py: Python<'_>,
+    keys: &Bound<'_, PyDict>,
+) -> PyResult<OptimizeSettings> {
+    let mut table = toml::Table::new();
+    for (key, value) in keys.iter() {
+        let key: String = key.extract()?;
+        let v: toml::Value = pythonize::depythonize(&value).map_err(|e| {
+            let shown = value.repr().map(|r| r.to_string()).unwrap_or_default();
+            to_py(
+                py,
+                crawlopt::Error::invalid(key.as_str(), shown, e.to_string()),
+            )
+        })?;
+        table.insert(key, v);
+    }
+    OptimizeSettings::from_keys(&table).map_err(|e| match e {
+        // A value of the wrong type (`m="three"`) is Python's TypeError, naming the key.
+        crawlopt::Error::InvalidParameter { field, reason, .. }
+            if reason.starts_with("invalid type") =>
+        {
+            pyo3::exceptions::PyTypeError::new_err(format!("{field}: {reason}"))
+        }
+        e => to_py(py, e),
+    })
+}
+
+/// An optimal gait of `problem` for `crawler` (`crawlopt::api::optimize`) with the settings
+/// `keys` ([`optimize_settings`]), the gait `start` and the upper bound `bound`; see
 /// `crawlopt.optimize` for the arguments.
 #[pyfunction]
-#[pyo3(signature = (crawler, problem, method, phases, patience, max_phases, m, convergence, start, shifts, time_limit, certify, bound, progress, polish = None))]
-#[allow(clippy::too_many_arguments)]
+#[pyo3(signature = (crawler, problem, keys, start, bound, progress))]
 pub fn optimize(
     py: Python<'_>,
     crawler: &Crawler,
     problem: &GaitProblem,
-    method: &str,
-    phases: Option<usize>,
-    patience: Option<usize>,
-    max_phases: Option<usize>,
-    m: Option<u32>,
-    convergence: bool,
+    keys: &Bound<'_, PyDict>,
     start: Option<&GaitResult>,
-    shifts: Option<usize>,
-    time_limit: Option<f64>,
-    certify: bool,
     bound: Option<BoundTuple>,
     progress: Option<PyObject>,
-    polish: Option<bool>,
 ) -> PyResult<(GaitResult, Option<String>, Vec<String>)> {
-    let bound = bound_settings(bound);
     let settings = OptimizeSettings {
-        method: GaitMethod::from_name(method).map_err(|e| to_py(py, e))?,
-        phases,
-        patience,
-        max_phases,
-        m,
-        convergence,
         start: start.map(|r| Start::Result {
             result: Box::new(r.inner.clone()),
             name: "start".into(),
         }),
-        shifts,
-        time_limit,
-        certify,
-        polish,
-        // A crawler's phase MILP has its own formulation (the library refuses the setting).
-        formulation: None,
-        naming: Naming::Keywords,
-        bound,
+        bound: bound_settings(bound),
+        ..optimize_settings(py, keys)?
     };
     let (c, p) = (crawler.inner.clone(), problem.inner.clone());
     let done = run(py, progress, |hooks| {

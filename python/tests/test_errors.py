@@ -171,3 +171,24 @@ def test_a_tolerance_beyond_its_range_is_refused():
         with pytest.raises(co.InputError) as e:
             co.simulate(m.crawler, m.actuation, tol=tol)
         assert e.value.field == "tol" and "(0, 1e-3]" in str(e.value)
+
+
+def test_settings_reach_the_library_by_their_names():
+    # The keywords are read by the library's one settings struct: a refused value names its
+    # keyword (a wrong type is a TypeError), on a crawler and on a general problem alike.
+    m = co.load("examples/three_blocks_gait.toml")
+    general = co.load("examples/general_one_link.toml")
+    with pytest.raises(TypeError) as e:
+        co.optimize(m.crawler, m.gait_problem, method="discrete", m="three")
+    assert str(e.value).startswith("m: invalid type")
+    with pytest.raises(TypeError) as e:
+        general.optimize(method="phase", certify="yes")
+    assert str(e.value).startswith("certify: invalid type")
+    for call, field in [
+        (lambda: co.optimize(m.crawler, m.gait_problem, time_limit=float("nan")), "time_limit"),
+        (lambda: general.optimize(method="phase", formulation="best"), "formulation"),
+        (lambda: general.optimize(method="fastest"), "method"),
+    ]:
+        with pytest.raises(co.InputError) as e:
+            call()
+        assert e.value.field == field, str(e.value)

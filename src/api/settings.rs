@@ -189,7 +189,12 @@ pub enum Start {
 /// let s = OptimizeSettings { method: GaitMethod::Discrete, m: Some(4), ..Default::default() };
 /// assert_eq!(s.time_limit, None);
 /// ```
-#[derive(Clone, Debug, Default, PartialEq)]
+///
+/// The settings read from a table of keys ([`OptimizeSettings::from_keys`]: a sweep file's
+/// `[settings]`, Python's keyword arguments) are these fields by their names; `start`,
+/// `naming` and `bound` are the caller's to set.
+#[derive(Clone, Debug, Default, PartialEq, Deserialize)]
+#[serde(default, deny_unknown_fields)]
 pub struct OptimizeSettings {
     /// The method (default [`GaitMethod::Auto`]).
     pub method: GaitMethod,
@@ -205,6 +210,7 @@ pub struct OptimizeSettings {
     /// Largest K tried when K grows (default [`DEFAULT_MAX_PHASES`]; checked by
     /// [`OptimizeSettings::check_values`], in `1..=MAX_PHASES` and not below the first K). The
     /// sequence method's default start grows K to at most `phases` when that is given.
+    #[serde(alias = "max-phases")]
     pub max_phases: Option<usize>,
     /// The grid of P_m has 2^m steps (discrete: default [`DEFAULT_M_DISCRETE`]; local: default
     /// [`DEFAULT_M_LOCAL`]).
@@ -214,10 +220,12 @@ pub struct OptimizeSettings {
     /// A start gait (local, sequence, discrete). Default: the phase optimum with K grown to the
     /// first K without a gain (local, sequence), or under a time limit the local method's gait
     /// on the same grid (discrete).
+    #[serde(skip)]
     pub start: Option<Start>,
     /// Time shifts of the start tried by the local method (default [`DEFAULT_SHIFTS`]).
     pub shifts: Option<usize>,
     /// Wall-clock limit, seconds: the best gait found is returned with its gap.
+    #[serde(alias = "time-limit")]
     pub time_limit: Option<f64>,
     /// Also check the necessary conditions (Theorem 2.2) on the answer.
     pub certify: bool,
@@ -232,15 +240,19 @@ pub struct OptimizeSettings {
     /// phase MILP has its own.
     pub formulation: Option<PhaseFormulation>,
     /// How messages name the settings.
+    #[serde(skip)]
     pub naming: Naming,
     /// Also prove an upper bound over all periodic gaits ([`crate::certify::bound`]), recorded
     /// as `certificate.upper_bound` (default: none).
+    #[serde(skip)]
     pub bound: Option<crate::certify::bound::BoundSettings>,
 }
 
 /// A formulation of the phase MILP of a general problem
-/// ([`GeneralPhaseSettings::formulation`](super::GeneralPhaseSettings::formulation)).
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+/// ([`GeneralPhaseSettings::formulation`](super::GeneralPhaseSettings::formulation)), read by
+/// its [name](PhaseFormulation::name).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
+#[serde(rename_all = "snake_case")]
 pub enum PhaseFormulation {
     /// `K` phases of constant control and held faces (`optimal::general::phase`): any (P)
     /// with `A = 0`.
@@ -299,6 +311,39 @@ pub struct Plan {
 }
 
 impl OptimizeSettings {
+    /// The settings given as a table of keys, the fields' own names (`max_phases`, with
+    /// `max-phases` and `time-limit` also read as a flag spells them; `method = "phase"`,
+    /// `formulation = "general"`), every key left out at its default: how a sweep file's
+    /// `[settings]` and Python's keyword arguments reach the one settings struct, so that a
+    /// setting is declared once, here. `start`, `naming` and `bound` are not keys (a start is
+    /// a file or a result, a bound its own table): the caller sets them.
+    ///
+    /// An error names the key (`m`, for `m = "a"` or `m = -3`) and shows its value; a key that
+    /// is not a setting is refused naming `settings`. Values are only read here: what they
+    /// mean to a method is [`OptimizeSettings::plan`]'s to check.
+    ///
+    /// ```
+    /// use crawlopt::api::{GaitMethod, OptimizeSettings};
+    /// let keys: toml::Table = toml::from_str("method = \"phase\"\nmax_phases = 4").unwrap();
+    /// let s = OptimizeSettings::from_keys(&keys).unwrap();
+    /// assert_eq!((s.method, s.max_phases, s.m), (GaitMethod::Phase, Some(4), None));
+    /// let bad: toml::Table = toml::from_str("m = -3").unwrap();
+    /// let e = OptimizeSettings::from_keys(&bad).unwrap_err();
+    /// assert!(matches!(e, crawlopt::Error::InvalidParameter { ref field, .. } if field == "m"));
+    /// ```
+    pub fn from_keys(keys: &toml::Table) -> Result<Self> {
+        serde_path_to_error::deserialize(toml::Value::Table(keys.clone())).map_err(|e| {
+            let key = e.path().to_string();
+            let reason = crate::io::escape_controls(e.inner().message().trim());
+            // serde's words for a key of no field (its path is that key).
+            let unknown = reason.starts_with("unknown field");
+            match keys.get(key.as_str()) {
+                Some(value) if !unknown => Error::invalid(key, value, reason),
+                _ => Error::invalid("settings", "the table given", reason),
+            }
+        })
+    }
+
     /// Resolves the method, checks that every option given applies to it and has a usable
     /// value, and the size of the model, before any solve: so that a bad value is not found
     /// after a start gait was computed, or turned into a note by a start policy.

@@ -2,31 +2,11 @@
 //! into the library's settings ([`OptimizeSettings`], [`SimOptions`]); their errors named
 //! `settings.KEY`.
 
-use crate::api::{rename_fields, GaitMethod, Naming, OptimizeSettings, Start};
+use crate::api::{rename_fields, OptimizeSettings, Start};
 use crate::error::{Error, Result};
 use crate::integrate::{GeneralMethod, GeneralSimOptions, Method, SimOptions};
 use serde::Deserialize;
 use std::path::Path;
-
-#[derive(Deserialize, Default)]
-#[serde(deny_unknown_fields)]
-struct OptimizeKeys {
-    method: Option<String>,
-    phases: Option<usize>,
-    patience: Option<usize>,
-    #[serde(alias = "max-phases")]
-    max_phases: Option<usize>,
-    m: Option<u32>,
-    #[serde(default)]
-    convergence: bool,
-    start: Option<String>,
-    shifts: Option<usize>,
-    #[serde(alias = "time-limit")]
-    time_limit: Option<f64>,
-    #[serde(default)]
-    certify: bool,
-    formulation: Option<String>,
-}
 
 #[derive(Deserialize, Default)]
 #[serde(deny_unknown_fields)]
@@ -50,39 +30,23 @@ fn in_settings(e: Error, keys: &[&str]) -> Error {
 }
 
 /// The settings of `job = "optimize"`, named as `crawlopt optimize`'s flags (`time_limit` or
-/// `time-limit`).
-pub(super) fn optimize_settings(t: toml::Table, dir: &Path) -> Result<OptimizeSettings> {
-    let k: OptimizeKeys = toml::Value::Table(t)
-        .try_into()
-        .map_err(|e| toml_err("settings", e))?;
-    let method = match &k.method {
-        Some(m) => GaitMethod::from_name(m).map_err(|e| in_settings(e, &["method"]))?,
-        None => GaitMethod::Auto,
+/// `time-limit`): the library reads them ([`OptimizeSettings::from_keys`]), but for `start`, a
+/// result file's path relative to the sweep file. The upper bound over all gaits is not a
+/// sweep setting (yet): its grid and LP are a study of their own.
+pub(super) fn optimize_settings(mut t: toml::Table, dir: &Path) -> Result<OptimizeSettings> {
+    let start = match t.remove("start") {
+        None => None,
+        Some(toml::Value::String(p)) => Some(Start::File(dir.join(p))),
+        Some(other) => {
+            return Err(Error::invalid(
+                "settings.start",
+                other,
+                "must be the path of a result file",
+            ))
+        }
     };
-    let formulation = k
-        .formulation
-        .as_deref()
-        .map(crate::api::PhaseFormulation::from_name)
-        .transpose()
-        .map_err(|e| in_settings(e, &["formulation"]))?;
-    Ok(OptimizeSettings {
-        method,
-        phases: k.phases,
-        patience: k.patience,
-        max_phases: k.max_phases,
-        m: k.m,
-        convergence: k.convergence,
-        start: k.start.map(|p| Start::File(dir.join(p))),
-        shifts: k.shifts,
-        time_limit: k.time_limit,
-        certify: k.certify,
-        polish: None,
-        // The upper bound over all gaits is not a sweep setting (yet): its grid and LP are
-        // a study of their own.
-        bound: None,
-        formulation,
-        naming: Naming::Keywords,
-    })
+    let settings = OptimizeSettings::from_keys(&t).map_err(setting_error)?;
+    Ok(OptimizeSettings { start, ..settings })
 }
 
 /// The keys of `job = "simulate"` and its method.
@@ -170,6 +134,7 @@ pub(crate) const SETTING_KEYS: &[&str] = &[
     "time_limit",
     "certify",
     "formulation",
+    "polish",
     "steps_per_period",
     "max_periods",
     "tol",
