@@ -305,3 +305,91 @@ fn exact_twins_of_the_three_block_optimum_get_one_certificate() {
         assert!(b.improvement.abs() <= 1e-9 * l, "{at}: {}", b.improvement);
     }
 }
+
+/// The three-block P_2 answer of a quadratic cost, unpolished (its rates off their bounds only
+/// as accurate as the MILP's outer approximation), is no KKT point: in forces of order one its
+/// slip stationarity fails by `2e-4`. Its exact twins in the unit of force (the same controls
+/// times the unit, simulated on their periodic orbit) get that one certificate (the
+/// certificate counts forces in units of the stiffest spring): the same verdict and residuals,
+/// the margin and the multipliers `p` in lengths per force (times the force unit, the same
+/// numbers). Before, the twin in forces times `1e6` (its `p` of order `1e-7`, every residual
+/// under `tol max(1, ||p||)`) was certified `holds`, and the twin in forces times `1e-6`
+/// failed by `2e2`.
+#[test]
+fn exact_twins_in_force_of_an_unpolished_answer_get_one_verdict() {
+    use crawlopt::api::{self, GaitMethod, Hooks, OptimizeSettings};
+    use crawlopt::certify::{certify, CertifyOptions, NecessaryConditions, Process, Verdict};
+    let twin = |f: f64| {
+        let c = Crawler::uniform(3, f, f, 1.5 * f).unwrap();
+        let cost = Cost::Quadratic {
+            weight: 0.2 / (f * f),
+        };
+        let p = GaitProblem::new(&c, 10.0, &[1.0; 2], cost, None).unwrap();
+        (c, p)
+    };
+    let (c, p) = twin(1.0);
+    let settings = OptimizeSettings {
+        method: GaitMethod::Discrete,
+        m: Some(2),
+        polish: Some(false),
+        ..Default::default()
+    };
+    let r = api::optimize(&c, &p, &settings, Hooks::default())
+        .unwrap()
+        .result;
+    let certified = |f: f64| -> NecessaryConditions {
+        let (c, p) = twin(f);
+        let u: Vec<Vec<f64>> = r
+            .gait
+            .controls
+            .iter()
+            .map(|u| u.iter().map(|v| v * f).collect())
+            .collect();
+        let pr = Process::discrete_from_controls(&c, &p, 2, &u).unwrap();
+        certify(&pr, &CertifyOptions::default()).unwrap()
+    };
+    let one = certified(1.0);
+    assert_eq!(one.verdict, Verdict::Fails, "{}", one.reason);
+    let slip = one
+        .conditions
+        .iter()
+        .find(|c| c.name == "slip_stationarity")
+        .unwrap();
+    assert!(!slip.holds && slip.residual > 1e-5, "{}", slip.residual);
+    let close = |a: f64, b: f64| (a - b).abs() <= 1e-6 * a.abs().max(b.abs()) + 1e-12;
+    let sup = |c: &NecessaryConditions| {
+        c.multipliers
+            .p
+            .iter()
+            .flatten()
+            .fold(0.0_f64, |m, v| m.max(v.abs()))
+    };
+    for f in [1e6, 1e-6] {
+        let nc = certified(f);
+        assert!(close(nc.objective, one.objective), "forces x{f}");
+        assert_eq!(nc.verdict, one.verdict, "forces x{f}: {}", nc.reason);
+        assert_eq!(nc.conditions.len(), one.conditions.len());
+        for (a, b) in nc.conditions.iter().zip(&one.conditions) {
+            assert_eq!((&a.name, a.holds), (&b.name, b.holds), "forces x{f}");
+            assert!(
+                close(a.residual, b.residual),
+                "forces x{f}: {} {} vs {}",
+                a.name,
+                a.residual,
+                b.residual
+            );
+        }
+        assert!(
+            close(nc.nondegeneracy_margin * f, one.nondegeneracy_margin),
+            "forces x{f}: margin {} vs {}",
+            nc.nondegeneracy_margin,
+            one.nondegeneracy_margin
+        );
+        assert!(
+            close(sup(&nc) * f, sup(&one)),
+            "forces x{f}: sup |p| {} vs {}",
+            sup(&nc),
+            sup(&one)
+        );
+    }
+}

@@ -110,10 +110,20 @@ impl AsGeneral {
 
     /// The one certificate ([`certify_structured`]) of the process on its instance, in the
     /// crawler's units and words ([`crawler_words`]): (P)'s report, and the multipliers it
-    /// states read back in the crawler's names ([`Self::back`]).
-    pub fn certify(&self, opts: &CertifyOptions) -> Result<(GeneralNecessaryConditions, Raw)> {
+    /// states read back in the crawler's names ([`Self::back`]). `forces_scaled`: the process
+    /// has its forces in units of its stiffest spring (`super::crawler_units`), so that the
+    /// switching function a reason quotes is `k_max (p + omega)`.
+    pub fn certify(
+        &self,
+        opts: &CertifyOptions,
+        forces_scaled: bool,
+    ) -> Result<(GeneralNecessaryConditions, Raw)> {
         let words = Words {
-            switching: "p + omega",
+            switching: if forces_scaled {
+                "k_max (p + omega)"
+            } else {
+                "p + omega"
+            },
             component: "link",
             condition: crawler_words,
             hamiltonian: "H_k = sum_l a_l |psi_{k,l}| over the rates at their bound + lambda \

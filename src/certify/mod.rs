@@ -184,6 +184,7 @@
 pub mod bound;
 mod branch;
 mod crawler_general;
+mod crawler_units;
 mod crawler_words;
 pub mod general;
 mod general_conditions;
@@ -218,10 +219,17 @@ pub fn certify_result(r: &GaitResult, what: &str) -> Result<NecessaryConditions>
 
 /// Computes multipliers of a process and checks the necessary conditions (module docs): (P)'s
 /// one certificate ([`general`]) of the process on the crawler's instance, counted in the
-/// crawler's units, and read back in its names.
+/// crawler's units with forces in units of its stiffest spring (`crawler_units`: so that
+/// twins in another unit of force get the same verdict), and read back in its names and
+/// forces.
 pub fn certify(pr: &Process, opts: &CertifyOptions) -> Result<NecessaryConditions> {
     pr.check("process", opts.structure_tol)?;
-    let general = crawler_general::AsGeneral::of(pr, opts.structure_tol)?;
-    let (rep, raw) = general.certify(opts)?;
-    Ok(report::report(pr, rep, raw))
+    let unit = crawler_units::force_unit(pr);
+    let scaled = crawler_units::with_forces_in(pr, unit)?;
+    let general = crawler_general::AsGeneral::of(&scaled, opts.structure_tol)?;
+    let (rep, raw) = general.certify(opts, unit != 1.0)?;
+    let mut c = crawler_units::to_forces(report::report(&scaled, rep, raw), unit);
+    // `J` of the process as given (lengths and times are unchanged: the same number).
+    c.objective = report::process_objective(pr);
+    Ok(c)
 }

@@ -103,7 +103,8 @@ fn margin_required_before() -> bool {
     true
 }
 
-/// The normalisation constants (module docs).
+/// The normalisation constants (module docs); a crawler's count `p` with forces in units of
+/// its stiffest spring (`super::crawler_units`), the same for its twins in any unit of force.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Normalisation {
     /// How the reported multipliers are scaled: `"lambda = 1"`, or for `lambda = 0` the
@@ -175,8 +176,9 @@ pub struct NecessaryConditions<M = MultiplierData> {
     pub nondegeneracy_margin: f64,
     /// The resolution at which the margin is known: the conditions' tolerance times the
     /// adjoint's scale `max(1, ||p||_inf)`, that of every other residual, times the unit of the
-    /// switching function per unit of `p` (`max |B_ij|` for (P); 1 for a crawler). (Absent, 0,
-    /// in files of earlier builds.)
+    /// switching function per unit of `p` (`max |B_ij|` for (P); 1 for a crawler, whose margin
+    /// and resolution are then divided by `k_max`, as its `p`: `super::crawler_units`).
+    /// (Absent, 0, in files of earlier builds.)
     #[serde(default)]
     pub nondegeneracy_resolution: f64,
     /// Whether the verdict requires that margin: unless `f2` is strictly convex and
