@@ -123,7 +123,7 @@ impl GeneralProblem {
     }
 
     /// P_m of the problem (`crawlopt optimize --json`) with the settings `keys` (a dict of
-    /// the settings' own names, `crate::jobs::optimize_settings`): `method` "discrete"
+    /// the settings' own names, `crate::settings::optimize_settings`): `method` "discrete"
     /// (global MILP) or "local" (the LPCC active-set method, `shifts` rotations of each start,
     /// from `start`, a general result's JSON, when given); "phase" (exact gaits where `A = 0`,
     /// globally among those of at most `phases` phases, or `K` grown to `max_phases` until
@@ -153,7 +153,7 @@ impl GeneralProblem {
         let settings = OptimizeSettings {
             start,
             bound: crate::bound::bound_settings(bound),
-            ..crate::jobs::optimize_settings(py, keys)?
+            ..crate::settings::optimize_settings(py, keys)?
         };
         // The one optimisation of a problem file, as the command line runs it.
         let file = ProblemFile::General(Box::new(f));

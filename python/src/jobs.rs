@@ -6,6 +6,7 @@ use crate::errors::to_py;
 use crate::model::{Actuation, Crawler, GaitProblem};
 use crate::results::GaitResult;
 use crate::run::run;
+use crate::settings::optimize_settings;
 use crawlopt::api::{self, OptimizeSettings, Start};
 use crawlopt::integrate::{Method, SimOptions, Simulation};
 use numpy::{PyArray1, PyArray2, PyArrayMethods};
@@ -97,38 +98,6 @@ pub fn simulate<'py>(
     let a = actuation.bound(c.links()).map_err(|e| to_py(py, e))?;
     let s = run(py, progress, |hooks| api::simulate(&c, &a, &opts, hooks))?;
     simulation_out(py, s, c.links(), c.blocks())
-}
-
-/// The settings of an optimisation from Python's keyword arguments, a dict of the settings'
-/// own names (those left at None left out): each value converted as it is (a number, a
-/// boolean, a word) and the dict read by the library ([`OptimizeSettings::from_keys`]), which
-/// names the key of a value it refuses (a `TypeError` for a value of the wrong type). A value
-/// that is not a number, a boolean or a word is an `InputError` naming its key.
-pub(crate) fn optimize_settings(
-    py: Python<'_>,
-    keys: &Bound<'_, PyDict>,
-) -> PyResult<OptimizeSettings> {
-    let mut table = toml::Table::new();
-    for (key, value) in keys.iter() {
-        let key: String = key.extract()?;
-        let v: toml::Value = pythonize::depythonize(&value).map_err(|e| {
-            let shown = value.repr().map(|r| r.to_string()).unwrap_or_default();
-            to_py(
-                py,
-                crawlopt::Error::invalid(key.as_str(), shown, e.to_string()),
-            )
-        })?;
-        table.insert(key, v);
-    }
-    OptimizeSettings::from_keys(&table).map_err(|e| match e {
-        // A value of the wrong type (`m="three"`) is Python's TypeError, naming the key.
-        crawlopt::Error::InvalidParameter { field, reason, .. }
-            if reason.starts_with("invalid type") =>
-        {
-            pyo3::exceptions::PyTypeError::new_err(format!("{field}: {reason}"))
-        }
-        e => to_py(py, e),
-    })
 }
 
 /// An optimal gait of `problem` for `crawler` (`crawlopt::api::optimize`) with the settings

@@ -12,6 +12,7 @@ mod jobs;
 mod model;
 mod results;
 mod run;
+mod settings;
 mod sweep;
 
 use pyo3::prelude::*;
