@@ -380,4 +380,27 @@ fn settings_from_keys_are_the_fields() {
             other => panic!("{text}: {other:?}"),
         }
     }
+    // One reader of the names: a table refuses an unknown method or formulation in the words
+    // of `from_name`, which the command line's `--formulation` uses.
+    let reason = |e: Error| match e {
+        Error::InvalidParameter { reason, .. } => reason,
+        other => panic!("{other:?}"),
+    };
+    for (text, by_name) in [
+        (
+            "method = \"fast\"",
+            GaitMethod::from_name("fast").unwrap_err(),
+        ),
+        (
+            "formulation = \"best\"",
+            PhaseFormulation::from_name("best").unwrap_err(),
+        ),
+    ] {
+        let e = OptimizeSettings::from_keys(&keys(text)).unwrap_err();
+        assert_eq!(reason(e), reason(by_name), "{text}");
+    }
+    // A key of no setting is named in the refusal, which lists the settings.
+    let e = reason(OptimizeSettings::from_keys(&keys("mm = 3")).unwrap_err());
+    assert!(e.contains("`mm` is not a setting"), "{e}");
+    assert!(e.contains("max_phases") && !e.contains("max-phases"), "{e}");
 }

@@ -21,9 +21,11 @@ pub const DEFAULT_M_LOCAL: u32 = 10;
 /// Time shifts of the start tried by the local method unless given.
 pub const DEFAULT_SHIFTS: usize = 8;
 
-/// The method of an optimisation.
+/// The method of an optimisation, read by its [name](GaitMethod::name) (serde reads it through
+/// [`GaitMethod::from_name`], so that a table of keys and a front end refuse an unknown name in
+/// one wording).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "snake_case")]
+#[serde(rename_all = "snake_case", try_from = "String")]
 pub enum GaitMethod {
     /// Phase gaits with K grown until no gain; the discrete P_m when the problem bounds TV(u),
     /// which phase gaits cannot express.
@@ -70,13 +72,31 @@ impl GaitMethod {
         ]
         .into_iter()
         .find(|m| m.name() == name)
-        .ok_or_else(|| {
-            Error::invalid(
-                "method",
-                name,
-                "must be one of auto, discrete, local, phase, sequence, chain",
-            )
-        })
+        .ok_or_else(|| Error::invalid("method", name, METHOD_NAMES))
+    }
+}
+
+/// Why a name is no [`GaitMethod`].
+const METHOD_NAMES: &str = "must be one of auto, discrete, local, phase, sequence, chain";
+
+/// Why a name is no [`PhaseFormulation`].
+const FORMULATION_NAMES: &str = "must be \"general\", \"transitions\" or \"chain\"";
+
+impl TryFrom<String> for GaitMethod {
+    type Error = &'static str;
+
+    /// [`GaitMethod::from_name`], its refusal's reason for serde to report at the key.
+    fn try_from(name: String) -> std::result::Result<Self, Self::Error> {
+        Self::from_name(&name).map_err(|_| METHOD_NAMES)
+    }
+}
+
+impl TryFrom<String> for PhaseFormulation {
+    type Error = &'static str;
+
+    /// [`PhaseFormulation::from_name`], its refusal's reason for serde to report at the key.
+    fn try_from(name: String) -> std::result::Result<Self, Self::Error> {
+        Self::from_name(&name).map_err(|_| FORMULATION_NAMES)
     }
 }
 
@@ -250,9 +270,9 @@ pub struct OptimizeSettings {
 
 /// A formulation of the phase MILP of a general problem
 /// ([`GeneralPhaseSettings::formulation`](super::GeneralPhaseSettings::formulation)), read by
-/// its [name](PhaseFormulation::name).
+/// its [name](PhaseFormulation::name) (serde reads it through [`PhaseFormulation::from_name`]).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
-#[serde(rename_all = "snake_case")]
+#[serde(try_from = "String")]
 pub enum PhaseFormulation {
     /// `K` phases of constant control and held faces (`optimal::general::phase`): any (P)
     /// with `A = 0`.
@@ -284,13 +304,7 @@ impl PhaseFormulation {
         [Self::General, Self::Transitions, Self::Chain]
             .into_iter()
             .find(|f| f.name() == name)
-            .ok_or_else(|| {
-                crate::Error::invalid(
-                    "formulation",
-                    name,
-                    "must be \"general\", \"transitions\" or \"chain\"",
-                )
-            })
+            .ok_or_else(|| crate::Error::invalid("formulation", name, FORMULATION_NAMES))
     }
 }
 
@@ -332,14 +346,26 @@ impl OptimizeSettings {
     /// assert!(matches!(e, crawlopt::Error::InvalidParameter { ref field, .. } if field == "m"));
     /// ```
     pub fn from_keys(keys: &toml::Table) -> Result<Self> {
+        // The keys serde reads, aliases included, from the derived impl itself.
+        let names = serde_aux::serde_introspection::serde_introspect::<Self>();
+        if let Some(key) = keys.keys().find(|k| !names.contains(&k.as_str())) {
+            let settings: Vec<&str> = names.iter().copied().filter(|n| !n.contains('-')).collect();
+            return Err(Error::invalid(
+                "settings",
+                "the table given",
+                format!(
+                    "`{}` is not a setting (the settings are {})",
+                    crate::io::escape_controls(key),
+                    settings.join(", ")
+                ),
+            ));
+        }
         serde_path_to_error::deserialize(toml::Value::Table(keys.clone())).map_err(|e| {
             let key = e.path().to_string();
             let reason = crate::io::escape_controls(e.inner().message().trim());
-            // serde's words for a key of no field (its path is that key).
-            let unknown = reason.starts_with("unknown field");
             match keys.get(key.as_str()) {
-                Some(value) if !unknown => Error::invalid(key, value, reason),
-                _ => Error::invalid("settings", "the table given", reason),
+                Some(value) => Error::invalid(key, value, reason),
+                None => Error::invalid("settings", "the table given", reason),
             }
         })
     }
