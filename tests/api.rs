@@ -335,7 +335,8 @@ fn a_tolerance_beyond_max_tol_is_refused_naming_tol() {
 /// The settings as a table of keys (a sweep file's `[settings]`, Python's keywords) are the
 /// struct's own fields: every key read into its field, the flags' dashed spellings of
 /// `max_phases` and `time_limit` too; a refused value names its key and shows it; a key of no
-/// setting (and `start`, `naming`, `bound`, which the caller sets) names `settings`.
+/// setting (and `start`, `naming`, which the caller sets) names `settings`; `bound` is `true`,
+/// `false` or a table of the bound's settings, each named by its path.
 #[test]
 fn settings_from_keys_are_the_fields() {
     use crawlopt::api::PhaseFormulation;
@@ -363,6 +364,26 @@ fn settings_from_keys_are_the_fields() {
         OptimizeSettings::from_keys(&toml::Table::new()).unwrap(),
         OptimizeSettings::default()
     );
+    // The bound: true (its defaults), false (none), or a table of its settings.
+    use crawlopt::certify::bound::BoundSettings;
+    for (text, bound) in [
+        ("bound = true", Some(BoundSettings::default())),
+        ("bound = false", None),
+        (
+            "bound = { resolution = 16, time_limit = 5 }",
+            Some(BoundSettings {
+                resolution: Some(16),
+                time_limit: Some(5.0),
+                ..Default::default()
+            }),
+        ),
+    ] {
+        assert_eq!(
+            OptimizeSettings::from_keys(&keys(text)).unwrap().bound,
+            bound,
+            "{text}"
+        );
+    }
     for (text, field, value) in [
         ("m = -3", "m", "-3"),
         ("m = \"a\"", "m", "\"a\""),
@@ -371,7 +392,9 @@ fn settings_from_keys_are_the_fields() {
         ("certify = 1", "certify", "1"),
         ("mm = 3", "settings", "the table given"),
         ("start = \"r.json\"", "settings", "the table given"),
-        ("bound = {}", "settings", "the table given"),
+        ("bound = 3", "bound", "3"),
+        ("bound = { grid = 4 }", "bound.grid", "4"),
+        ("bound = { resolution = -1 }", "bound.resolution", "-1"),
     ] {
         match OptimizeSettings::from_keys(&keys(text)) {
             Err(Error::InvalidParameter {

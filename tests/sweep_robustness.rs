@@ -223,6 +223,7 @@ fn job_settings_are_refused_up_front() {
         ("optimize", "m = \"a\"", "settings.m"),
         ("optimize", "formulation = \"nope\"", "settings.formulation"),
         ("optimize", "start = 3", "settings.start"),
+        ("optimize", "bound = true", "settings.bound"),
         // Options that do not apply to the method the settings decide.
         ("optimize", "m = 3", "settings.m"),
         ("optimize", "shifts = 3", "settings.shifts"),

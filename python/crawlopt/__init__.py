@@ -25,7 +25,6 @@ from ._convert import (
     NotConvergedWarning,
     Numbers,
     _array,
-    _bound_settings,
     _count,
     _input_error,
     _instance,
@@ -756,13 +755,13 @@ def optimize(
         time_limit=time_limit,
         certify=certify,
         polish=polish,
+        bound=bound,
     )
     inner, conditions, notes = _rs.optimize(
         crawler._inner,
         problem._for(crawler),
         keys,
         None if start is None else start._inner,
-        _bound_settings(bound),
         progress_callback(progress),
     )
     return GaitResult(inner, None if conditions is None else json.loads(conditions), notes)

@@ -88,22 +88,3 @@ def _settings(**keys: Any) -> dict:
     library's own names (``max_phases``), those at None (the library's default) left out. The
     library reads them and names the key of a value it refuses."""
     return {k: v for k, v in keys.items() if v is not None}
-
-
-def _bound_settings(bound) -> Union[tuple, None]:
-    """``optimize``'s ``bound`` as the extension takes it (None: no bound)."""
-    if bound is None or bound is False:
-        return None
-    if bound is True:
-        return (None, None, None, None)
-    if not isinstance(bound, dict):
-        raise _input_error("bound", repr(bound), "must be True, False, None or a dict")
-    keys = ("resolution", "box_resolution", "time_limit", "cost_tangents")
-    for k in bound:
-        if k not in keys:
-            raise _input_error(
-                f"bound.{k}", repr(bound[k]), f"unknown setting (known: {', '.join(keys)})"
-            )
-    return tuple(
-        bound.get(k) if k == "time_limit" else _count(bound.get(k), f"bound.{k}") for k in keys
-    )

@@ -146,7 +146,6 @@ class GeneralProblem:
         self,
         keys: dict[str, Any],
         start: Optional[str],
-        bound: Optional[tuple],
         progress: Optional[Callable[[str], None]],
     ) -> tuple[dict[str, Any], GeneralRecord, list[str]]: ...
 
@@ -203,7 +202,6 @@ def optimize(
     problem: GaitProblem,
     keys: dict[str, Any],
     start: Optional[GaitResult],
-    bound: Optional[tuple[Optional[int], Optional[int], Optional[float], Optional[int]]],
     progress: Optional[Callable[[str], None]],
 ) -> tuple[GaitResult, Optional[str], list[str]]: ...
 def fit(

@@ -13,7 +13,6 @@ from . import _crawlopt as _rs
 from ._convert import (
     NotConvergedWarning,
     _array,
-    _bound_settings,
     _count,
     _input_error,
     _settings,
@@ -284,8 +283,9 @@ class GeneralProblem:
             patience=_count(patience, "patience"),
             convergence=convergence,
             formulation=formulation,
+            bound=bound,
         )
         d, record, notes = self._inner.optimize(
-            keys, _start_json(start), _bound_settings(bound), progress_callback(progress)
+            keys, _start_json(start), progress_callback(progress)
         )
         return GeneralResult(d, record, notes)

@@ -130,13 +130,12 @@ impl GeneralProblem {
     /// `patience` K bring no gain); None takes the library's default. Cancellable (Ctrl-C);
     /// `progress` receives the events. Returns the document and the record the library draws
     /// and reports.
-    #[pyo3(signature = (keys, start, bound, progress))]
+    #[pyo3(signature = (keys, start, progress))]
     fn optimize<'py>(
         &self,
         py: Python<'py>,
         keys: &Bound<'py, pyo3::types::PyDict>,
         start: Option<&str>,
-        bound: Option<crate::bound::BoundTuple>,
         progress: Option<PyObject>,
     ) -> PyResult<(Bound<'py, PyAny>, GeneralRecord, Vec<String>)> {
         let f = self.inner.clone();
@@ -152,7 +151,6 @@ impl GeneralProblem {
         // The library decides what applies to a general problem, with its defaults.
         let settings = OptimizeSettings {
             start,
-            bound: crate::bound::bound_settings(bound),
             ..crate::settings::optimize_settings(py, keys)?
         };
         // The one optimisation of a problem file, as the command line runs it.

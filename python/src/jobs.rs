@@ -1,7 +1,6 @@
 //! The jobs: `simulate` and `optimize`, their keyword arguments turned into the library's
 //! settings, run through [`crate::run::run`].
 
-use crate::bound::{bound_settings, BoundTuple};
 use crate::errors::to_py;
 use crate::model::{Actuation, Crawler, GaitProblem};
 use crate::results::GaitResult;
@@ -101,17 +100,16 @@ pub fn simulate<'py>(
 }
 
 /// An optimal gait of `problem` for `crawler` (`crawlopt::api::optimize`) with the settings
-/// `keys` ([`optimize_settings`]), the gait `start` and the upper bound `bound`; see
+/// `keys` ([`optimize_settings`], the upper bound's `bound` among them) and the gait `start`; see
 /// `crawlopt.optimize` for the arguments.
 #[pyfunction]
-#[pyo3(signature = (crawler, problem, keys, start, bound, progress))]
+#[pyo3(signature = (crawler, problem, keys, start, progress))]
 pub fn optimize(
     py: Python<'_>,
     crawler: &Crawler,
     problem: &GaitProblem,
     keys: &Bound<'_, PyDict>,
     start: Option<&GaitResult>,
-    bound: Option<BoundTuple>,
     progress: Option<PyObject>,
 ) -> PyResult<(GaitResult, Option<String>, Vec<String>)> {
     let settings = OptimizeSettings {
@@ -119,7 +117,6 @@ pub fn optimize(
             result: Box::new(r.inner.clone()),
             name: "start".into(),
         }),
-        bound: bound_settings(bound),
         ..optimize_settings(py, keys)?
     };
     let (c, p) = (crawler.inner.clone(), problem.inner.clone());

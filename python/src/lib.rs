@@ -4,7 +4,6 @@
 //! (NumPy arrays for series, JSON text for documents, which `crawlopt/__init__.py` wraps in
 //! Python classes). No decision is taken here.
 
-mod bound;
 mod errors;
 mod fit;
 mod general;

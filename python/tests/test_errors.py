@@ -184,6 +184,13 @@ def test_settings_reach_the_library_by_their_names():
     with pytest.raises(TypeError) as e:
         general.optimize(method="phase", certify="yes")
     assert str(e.value).startswith("certify: invalid type")
+    # The bound's dict is a table of keys inside them, each named by its path.
+    with pytest.raises(TypeError) as e:
+        co.optimize(m.crawler, m.gait_problem, bound=3)
+    assert str(e.value).startswith("bound: invalid type")
+    with pytest.raises(TypeError) as e:
+        co.optimize(m.crawler, m.gait_problem, bound={"resolution": "fine"})
+    assert str(e.value).startswith("bound.resolution: invalid type")
     for call, field in [
         (lambda: co.optimize(m.crawler, m.gait_problem, time_limit=float("nan")), "time_limit"),
         (lambda: general.optimize(method="phase", formulation="best"), "formulation"),

@@ -2,6 +2,7 @@
 //! which method runs, which options apply to it, their defaults, and what is checked before any
 //! solve.
 
+use crate::certify::bound::BoundSettings;
 use crate::error::{Error, Result};
 use crate::model::Crawler;
 use crate::optimal::{
@@ -9,7 +10,7 @@ use crate::optimal::{
     GrowOptions, MAX_LOCAL_M, MAX_M, MAX_PHASES,
 };
 pub use crate::optimal::{DEFAULT_MAX_PHASES, DEFAULT_PATIENCE};
-use serde::{Deserialize, Serialize};
+use serde::{Deserialize, Deserializer, Serialize};
 use std::path::PathBuf;
 
 /// `m` of the discrete method unless given (8 steps).
@@ -211,8 +212,8 @@ pub enum Start {
 /// ```
 ///
 /// The settings read from a table of keys ([`OptimizeSettings::from_keys`]: a sweep file's
-/// `[settings]`, Python's keyword arguments) are these fields by their names; `start`,
-/// `naming` and `bound` are the caller's to set.
+/// `[settings]`, Python's keyword arguments) are these fields by their names; `start` and
+/// `naming` are the caller's to set.
 #[derive(Clone, Debug, Default, PartialEq, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct OptimizeSettings {
@@ -263,9 +264,39 @@ pub struct OptimizeSettings {
     #[serde(skip)]
     pub naming: Naming,
     /// Also prove an upper bound over all periodic gaits ([`crate::certify::bound`]), recorded
-    /// as `certificate.upper_bound` (default: none).
-    #[serde(skip)]
-    pub bound: Option<crate::certify::bound::BoundSettings>,
+    /// as `certificate.upper_bound` (default: none). As a key: `true` (the bound's defaults),
+    /// `false` (none) or a table of [`BoundSettings`]' fields (`bound = { resolution = 16 }`).
+    #[serde(deserialize_with = "bound_key")]
+    pub bound: Option<BoundSettings>,
+}
+
+/// The key `bound` of [`OptimizeSettings`]: `true` is the bound with its defaults, `false` no
+/// bound, a table its settings (each key of the table reached by its path, `bound.resolution`,
+/// so that a refusal names it).
+fn bound_key<'de, D: Deserializer<'de>>(
+    d: D,
+) -> std::result::Result<Option<BoundSettings>, D::Error> {
+    struct Key;
+    impl<'de> serde::de::Visitor<'de> for Key {
+        type Value = Option<BoundSettings>;
+
+        fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+            f.write_str("true, false or a table of the bound's settings")
+        }
+
+        fn visit_bool<E: serde::de::Error>(self, on: bool) -> std::result::Result<Self::Value, E> {
+            Ok(on.then(BoundSettings::default))
+        }
+
+        fn visit_map<A: serde::de::MapAccess<'de>>(
+            self,
+            map: A,
+        ) -> std::result::Result<Self::Value, A::Error> {
+            let table = serde::de::value::MapAccessDeserializer::new(map);
+            BoundSettings::deserialize(table).map(Some)
+        }
+    }
+    d.deserialize_any(Key)
 }
 
 /// A formulation of the phase MILP of a general problem
@@ -329,8 +360,9 @@ impl OptimizeSettings {
     /// `max-phases` and `time-limit` also read as a flag spells them; `method = "phase"`,
     /// `formulation = "general"`), every key left out at its default: how a sweep file's
     /// `[settings]` and Python's keyword arguments reach the one settings struct, so that a
-    /// setting is declared once, here. `start`, `naming` and `bound` are not keys (a start is
-    /// a file or a result, a bound its own table): the caller sets them.
+    /// setting is declared once, here. `bound` is `true`, `false` or a table of the bound's
+    /// settings. `start` and `naming` are not keys (a start is a file or a result): the caller
+    /// sets them.
     ///
     /// An error names the key (`m`, for `m = "a"` or `m = -3`) and shows its value; a key that
     /// is not a setting is refused naming `settings`. Values are only read here: what they
@@ -363,7 +395,13 @@ impl OptimizeSettings {
         serde_path_to_error::deserialize(toml::Value::Table(keys.clone())).map_err(|e| {
             let key = e.path().to_string();
             let reason = crate::io::escape_controls(e.inner().message().trim());
-            match keys.get(key.as_str()) {
+            // The value at the key's path (`bound.resolution` inside the table `bound`).
+            let value = key
+                .split('.')
+                .try_fold(None, |at: Option<&toml::Value>, k| {
+                    at.map_or_else(|| keys.get(k), |v| v.get(k)).map(Some)
+                });
+            match value.flatten() {
                 Some(value) => Error::invalid(key, value, reason),
                 None => Error::invalid("settings", "the table given", reason),
             }

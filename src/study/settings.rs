@@ -31,9 +31,17 @@ fn in_settings(e: Error, keys: &[&str]) -> Error {
 
 /// The settings of `job = "optimize"`, named as `crawlopt optimize`'s flags (`time_limit` or
 /// `time-limit`): the library reads them ([`OptimizeSettings::from_keys`]), but for `start`, a
-/// result file's path relative to the sweep file. The upper bound over all gaits is not a
-/// sweep setting (yet): its grid and LP are a study of their own.
+/// result file's path relative to the sweep file. The upper bound over all gaits (`bound`) is
+/// refused: a sweep's table has no column for it, and its grid and LP are a study of their own.
 pub(super) fn optimize_settings(mut t: toml::Table, dir: &Path) -> Result<OptimizeSettings> {
+    if let Some(bound) = t.get("bound") {
+        return Err(Error::invalid(
+            "settings.bound",
+            bound,
+            "is not a sweep setting: a sweep's table has no column for the upper bound over all \
+             gaits (run `crawlopt optimize --bound` on one point's model)",
+        ));
+    }
     let start = match t.remove("start") {
         None => None,
         Some(toml::Value::String(p)) => Some(Start::File(dir.join(p))),
