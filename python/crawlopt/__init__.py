@@ -746,12 +746,12 @@ def optimize(
         _instance(start, GaitResult, "start")
     keys = _settings(
         method=method,
-        phases=_count(phases, "phases"),
-        patience=_count(patience, "patience"),
-        max_phases=_count(max_phases, "max_phases"),
-        m=_count(m, "m", 32),
+        phases=phases,
+        patience=patience,
+        max_phases=max_phases,
+        m=m,
         convergence=convergence,
-        shifts=_count(shifts, "shifts"),
+        shifts=shifts,
         time_limit=time_limit,
         certify=certify,
         polish=polish,

@@ -39,7 +39,13 @@ fn table(py: Python<'_>, keys: &Bound<'_, PyDict>, prefix: &str) -> PyResult<tom
             Ok(dict) => toml::Value::Table(table(py, dict, &format!("{path}."))?),
             Err(_) => pythonize::depythonize(&value).map_err(|e| {
                 let shown = value.repr().map(|r| r.to_string()).unwrap_or_default();
-                to_py(py, crawlopt::Error::invalid(path, shown, e.to_string()))
+                // A Python int beyond 64 bits, which no setting reaches.
+                let reason = if value.is_instance_of::<pyo3::types::PyInt>() {
+                    "is beyond the range of a 64-bit integer".to_string()
+                } else {
+                    e.to_string()
+                };
+                to_py(py, crawlopt::Error::invalid(path, shown, reason))
             })?,
         };
         out.insert(key, v);
