@@ -393,3 +393,128 @@ fn exact_twins_in_force_of_an_unpolished_answer_get_one_verdict() {
         );
     }
 }
+
+/// Exact twins in units of force, time and length get one certificate: the unpolished P_2
+/// answer of a quadratic cost and the phase optimum at `K = 4` (no cost) of the three-block
+/// crawler, rebuilt by simulation with forces times `F`, times times `T` and lengths times `L`
+/// (`k F / L`, `mu F`, `T`, rate bounds `F / T`, the cost's weight `c L T / F^2`, controls `F /
+/// T`), get the verdict and residuals of the crawler in units of one, its `J` times `L`, its
+/// margin and `sup |p|` times `L / F`, its knot times and Theorem 2.2's weak maximality (an
+/// integral over time) times `T`. Before, the certificate was
+/// computed with forces in units of the stiffest spring but times and lengths as given: at
+/// `(1e6, 1e-6, 1e6)` (rates of `1e12`) the phase optimum's multiplier LP ended in HiGHS's status
+/// unknown.
+#[test]
+fn exact_twins_in_force_time_and_length_get_one_certificate() {
+    use crawlopt::api::{self, GaitMethod, Hooks, OptimizeSettings};
+    use crawlopt::certify::{
+        certify, CertifyOptions, ConditionCheck, NecessaryConditions, Process,
+    };
+    let twin = |(f, t, l): (f64, f64, f64), cost: bool| {
+        let c = Crawler::uniform(3, f / l, f, 1.5 * f).unwrap();
+        let cost = if cost {
+            Cost::Quadratic {
+                weight: 0.2 * l * t / (f * f),
+            }
+        } else {
+            Cost::None
+        };
+        let p = GaitProblem::new(&c, 10.0 * t, &[l / t; 2], cost, None).unwrap();
+        (c, p)
+    };
+    let one = (1.0, 1.0, 1.0);
+    let optimum = |method: GaitMethod, cost: bool| {
+        let (c, p) = twin(one, cost);
+        let settings = OptimizeSettings {
+            method,
+            m: (method == GaitMethod::Discrete).then_some(2),
+            phases: (method == GaitMethod::Phase).then_some(4),
+            polish: (method == GaitMethod::Discrete).then_some(false),
+            ..Default::default()
+        };
+        api::optimize(&c, &p, &settings, Hooks::default())
+            .unwrap()
+            .result
+    };
+    let close = |a: f64, b: f64| (a - b).abs() <= 1e-6 * a.abs().max(b.abs()) + 1e-12;
+    let sup = |c: &NecessaryConditions| {
+        c.multipliers
+            .p
+            .iter()
+            .flatten()
+            .fold(0.0_f64, |m, v| m.max(v.abs()))
+    };
+    for (method, cost) in [(GaitMethod::Discrete, true), (GaitMethod::Phase, false)] {
+        let r = optimum(method, cost);
+        let certified = |(f, t, l): (f64, f64, f64)| -> NecessaryConditions {
+            let (c, p) = twin((f, t, l), cost);
+            let u: Vec<Vec<f64>> = r
+                .gait
+                .controls
+                .iter()
+                .map(|u| u.iter().map(|v| v * f / t).collect())
+                .collect();
+            let pr = match method {
+                GaitMethod::Discrete => Process::discrete_from_controls(&c, &p, 2, &u),
+                _ => {
+                    let d: Vec<f64> = r.gait.durations.iter().map(|d| d * t).collect();
+                    Process::phase_from_controls(&c, &p, &d, &u)
+                }
+            }
+            .unwrap();
+            certify(&pr, &CertifyOptions::default())
+                .unwrap_or_else(|e| panic!("{method:?} at {:?}: {e}", (f, t, l)))
+        };
+        let base = certified(one);
+        for units in [
+            (1e6, 1e-6, 1e6),
+            (1.0, 1e-6, 1.0),
+            (1.0, 1.0, 1e6),
+            (1e-6, 1e6, 1e-6),
+            (3.0, 0.5, 7.0),
+        ] {
+            let (f, t, l) = units;
+            let nc = certified(units);
+            let what = format!("{method:?} at {units:?}");
+            assert!(close(nc.objective, base.objective * l), "{what}");
+            assert_eq!(nc.verdict, base.verdict, "{what}: {}", nc.reason);
+            assert_eq!(nc.conditions.len(), base.conditions.len(), "{what}");
+            for (a, b) in nc.conditions.iter().zip(&base.conditions) {
+                assert_eq!((&a.name, a.holds), (&b.name, b.holds), "{what}");
+                // Theorem 2.2's weak maximality is an integral over time, in the user's time.
+                let per_time =
+                    if (a.name.as_str(), a.theorem.as_str()) == ("weak_maximality", "2.2") {
+                        t
+                    } else {
+                        1.0
+                    };
+                let a = ConditionCheck {
+                    residual: a.residual / per_time,
+                    ..a.clone()
+                };
+                assert!(
+                    close(a.residual, b.residual) || a.residual.max(b.residual) < 1e-9,
+                    "{what}: {} {} vs {}",
+                    a.name,
+                    a.residual,
+                    b.residual
+                );
+            }
+            let per_force = l / f;
+            assert!(
+                close(
+                    nc.nondegeneracy_margin,
+                    base.nondegeneracy_margin * per_force
+                ),
+                "{what}: margin"
+            );
+            assert!(close(sup(&nc), sup(&base) * per_force), "{what}: sup |p|");
+            let (a, b) = (&nc.multipliers.times, &base.multipliers.times);
+            assert_eq!(a.len(), b.len(), "{what}");
+            assert!(
+                a.iter().zip(b).all(|(x, y)| close(*x, y * t)),
+                "{what}: times"
+            );
+        }
+    }
+}

@@ -111,8 +111,9 @@ impl AsGeneral {
     /// The one certificate ([`certify_structured`]) of the process on its instance, in the
     /// crawler's units and words ([`crawler_words`]): (P)'s report, and the multipliers it
     /// states read back in the crawler's names ([`Self::back`]). `forces_scaled`: the process
-    /// has its forces in units of its stiffest spring (`super::crawler_units`), so that the
-    /// switching function a reason quotes is `k_max (p + omega)`.
+    /// is in units where its stiffest spring has `k = 1` and the user's did not
+    /// (`super::crawler_units`), so that the switching function a reason quotes is
+    /// `k_max (p + omega)`.
     pub fn certify(
         &self,
         opts: &CertifyOptions,

@@ -219,17 +219,18 @@ pub fn certify_result(r: &GaitResult, what: &str) -> Result<NecessaryConditions>
 
 /// Computes multipliers of a process and checks the necessary conditions (module docs): (P)'s
 /// one certificate ([`general`]) of the process on the crawler's instance, counted in the
-/// crawler's units with forces in units of its stiffest spring (`crawler_units`: so that
-/// twins in another unit of force get the same verdict), and read back in its names and
-/// forces.
+/// crawler's units of its own scales (`crawler_units`: force `mu_max`, length
+/// `mu_max / k_max`, time the period, so that twins in other units get the same verdict), and
+/// read back in its names and units.
 pub fn certify(pr: &Process, opts: &CertifyOptions) -> Result<NecessaryConditions> {
     pr.check("process", opts.structure_tol)?;
-    let unit = crawler_units::force_unit(pr);
-    let scaled = crawler_units::with_forces_in(pr, unit)?;
+    let units = crawler_units::Scales::of(pr);
+    let scaled = crawler_units::in_units(pr, units)?;
     let general = crawler_general::AsGeneral::of(&scaled, opts.structure_tol)?;
-    let (rep, raw) = general.certify(opts, unit != 1.0)?;
-    let mut c = crawler_units::to_forces(report::report(&scaled, rep, raw), unit);
-    // `J` of the process as given (lengths and times are unchanged: the same number).
+    let forces_scaled = units.force != units.length;
+    let (rep, raw) = general.certify(opts, forces_scaled)?;
+    let mut c = crawler_units::to_user(report::report(&scaled, rep, raw), units);
+    // `J` of the process as given.
     c.objective = report::process_objective(pr);
     Ok(c)
 }

@@ -104,7 +104,8 @@ fn margin_required_before() -> bool {
 }
 
 /// The normalisation constants (module docs); a crawler's count `p` with forces in units of
-/// its stiffest spring (`super::crawler_units`), the same for its twins in any unit of force.
+/// its stiffest spring and time in periods (`super::crawler_units`), the same for its twins in
+/// any units.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Normalisation {
     /// How the reported multipliers are scaled: `"lambda = 1"`, or for `lambda = 0` the
