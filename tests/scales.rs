@@ -356,14 +356,6 @@ fn exact_twins_in_force_of_an_unpolished_answer_get_one_verdict() {
         .find(|c| c.name == "slip_stationarity")
         .unwrap();
     assert!(!slip.holds && slip.residual > 1e-5, "{}", slip.residual);
-    let close = |a: f64, b: f64| (a - b).abs() <= 1e-6 * a.abs().max(b.abs()) + 1e-12;
-    let sup = |c: &NecessaryConditions| {
-        c.multipliers
-            .p
-            .iter()
-            .flatten()
-            .fold(0.0_f64, |m, v| m.max(v.abs()))
-    };
     for f in [1e6, 1e-6] {
         let nc = certified(f);
         assert!(close(nc.objective, one.objective), "forces x{f}");
@@ -435,14 +427,6 @@ fn exact_twins_in_force_time_and_length_get_one_certificate() {
         api::optimize(&c, &p, &settings, Hooks::default())
             .unwrap()
             .result
-    };
-    let close = |a: f64, b: f64| (a - b).abs() <= 1e-6 * a.abs().max(b.abs()) + 1e-12;
-    let sup = |c: &NecessaryConditions| {
-        c.multipliers
-            .p
-            .iter()
-            .flatten()
-            .fold(0.0_f64, |m, v| m.max(v.abs()))
     };
     for (method, cost) in [(GaitMethod::Discrete, true), (GaitMethod::Phase, false)] {
         let r = optimum(method, cost);
@@ -517,4 +501,18 @@ fn exact_twins_in_force_time_and_length_get_one_certificate() {
             );
         }
     }
+}
+
+/// `a` and `b` equal to `1e-6` relative (`1e-12` absolute): twins' numbers, rounding apart.
+fn close(a: f64, b: f64) -> bool {
+    (a - b).abs() <= 1e-6 * a.abs().max(b.abs()) + 1e-12
+}
+
+/// `sup |p|` of a certificate's multipliers.
+fn sup(c: &crawlopt::certify::NecessaryConditions) -> f64 {
+    c.multipliers
+        .p
+        .iter()
+        .flatten()
+        .fold(0.0_f64, |m, v| m.max(v.abs()))
 }

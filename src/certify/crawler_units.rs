@@ -13,7 +13,7 @@
 //!   times `1e6` (rates of `1e12`) was not certified at all: its multiplier LP ended in HiGHS's
 //!   status unknown.
 //!
-//! The certificate is computed in the units (`Scales::of`)
+//! The certificate is computed in the units ([`units_of`], as the optimisers' `Units`)
 //! - force `F`: the largest friction threshold `mu_max`,
 //! - length `L = mu_max / k_max` (so the stiffest spring has `k = F / L = 1`: the unit of `p`,
 //!   a length per force, is `1 / k_max` as before),
@@ -34,77 +34,44 @@
 use super::process::Process;
 use super::records::NecessaryConditions;
 use crate::error::Result;
-use crate::model::Crawler;
-use crate::optimal::{Cost, GaitProblem};
+use crate::optimal::units::{scale_all, scale_rows, Units};
 
-/// The certificate's units (module docs): the user's force, length and time units in them.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub(super) struct Scales {
-    pub force: f64,
-    pub length: f64,
-    pub time: f64,
-}
-
-impl Scales {
-    /// The units of `pr` (module docs): `mu_max`, `mu_max / k_max` and the period.
-    pub fn of(pr: &Process) -> Self {
-        let max = |v: &[f64]| v.iter().fold(0.0_f64, |m, &x| m.max(x));
-        let c = &pr.crawler;
-        let force = max(c.mu_forward()).max(max(c.mu_backward()));
-        Scales {
-            force,
-            length: force / max(c.stiffness()),
-            time: pr.problem.period,
-        }
-    }
-
-    /// Whether these are the units of the numbers given (all three one).
-    pub fn is_one(&self) -> bool {
-        (self.force, self.length, self.time) == (1.0, 1.0, 1.0)
-    }
-}
-
-/// The process `pr` in the units `u` (module docs): the same process of the same crawler.
-pub(super) fn in_units(pr: &Process, u: Scales) -> Result<Process> {
-    let times = |v: &[f64], f: f64| -> Vec<f64> { v.iter().map(|x| x * f).collect() };
-    let rows =
-        |v: &[Vec<f64>], f: f64| -> Vec<Vec<f64>> { v.iter().map(|r| times(r, f)).collect() };
-    let (f, l, t) = (u.force, u.length, u.time);
+/// The certificate's units of `pr` (module docs): force `mu_max`, length `mu_max / k_max`, time
+/// the period, as the optimisers' [`Units`] (their conversions of the crawler and the problem).
+pub(super) fn units_of(pr: &Process) -> Units {
+    let max = |v: &[f64]| v.iter().fold(0.0_f64, |m, &x| m.max(x));
     let c = &pr.crawler;
-    let crawler = Crawler::new(
-        times(c.stiffness(), l / f),
-        times(c.mu_forward(), 1.0 / f),
-        times(c.mu_backward(), 1.0 / f),
-    )?;
-    let problem = GaitProblem {
-        period: pr.problem.period / t,
-        rate_bound: times(&pr.problem.rate_bound, t / f),
-        cost: match pr.problem.cost {
-            Cost::None => Cost::None,
-            Cost::Quadratic { weight } => Cost::Quadratic {
-                weight: weight * f * f / (t * l),
-            },
-        },
-        max_total_variation: pr.problem.max_total_variation.map(|v| v * t / f),
-    };
+    let force = max(c.mu_forward()).max(max(c.mu_backward()));
+    Units {
+        force,
+        time: pr.problem.period,
+        length: force / max(c.stiffness()),
+    }
+}
+
+/// The process `pr` in the units `u` (module docs): the same process of the same crawler
+/// ([`Units::crawler`], [`Units::problem`]), its durations, rates, states and displacements
+/// converted.
+pub(super) fn in_units(pr: &Process, u: Units) -> Result<Process> {
+    let (f, t, l) = u.factors(false);
     Ok(Process {
-        crawler,
-        problem,
+        crawler: u.crawler(&pr.crawler)?,
+        problem: u.problem(&pr.problem),
         kind: pr.kind,
-        durations: times(&pr.durations, 1.0 / t),
-        controls: rows(&pr.controls, t / f),
-        states: rows(&pr.states, 1.0 / f),
-        block_displacements: rows(&pr.block_displacements, 1.0 / l),
+        durations: scale_all(&pr.durations, t),
+        controls: scale_rows(&pr.controls, f / t),
+        states: scale_rows(&pr.states, f),
+        block_displacements: scale_rows(&pr.block_displacements, l),
     })
 }
 
 /// The certificate `c` of the process in the units `u` with its numbers converted back to the
 /// user's (module docs).
-pub(super) fn to_user(mut c: NecessaryConditions, u: Scales) -> NecessaryConditions {
-    if u.is_one() {
+pub(super) fn to_user(mut c: NecessaryConditions, u: Units) -> NecessaryConditions {
+    let (f, t, l) = u.factors(true);
+    if (f, t, l) == (1.0, 1.0, 1.0) {
         return c;
     }
-    let (f, l, t) = (u.force, u.length, u.time);
     let per_force = l / f;
     let scale = |rows: &mut Vec<Vec<f64>>, by: f64| {
         rows.iter_mut().flatten().for_each(|v| *v *= by);

@@ -224,9 +224,10 @@ pub fn certify_result(r: &GaitResult, what: &str) -> Result<NecessaryConditions>
 /// read back in its names and units.
 pub fn certify(pr: &Process, opts: &CertifyOptions) -> Result<NecessaryConditions> {
     pr.check("process", opts.structure_tol)?;
-    let units = crawler_units::Scales::of(pr);
+    let units = crawler_units::units_of(pr);
     let scaled = crawler_units::in_units(pr, units)?;
     let general = crawler_general::AsGeneral::of(&scaled, opts.structure_tol)?;
+    // `F / L` is `k_max`: `p` is counted in `1 / k_max` where the stiffest spring is not 1.
     let forces_scaled = units.force != units.length;
     let (rep, raw) = general.certify(opts, forces_scaled)?;
     let mut c = crawler_units::to_user(report::report(&scaled, rep, raw), units);
