@@ -516,3 +516,69 @@ fn sup(c: &crawlopt::certify::NecessaryConditions) -> f64 {
         .flatten()
         .fold(0.0_f64, |m, v| m.max(v.abs()))
 }
+
+/// A crawler certified in periods states its numbers in its own time: the time a degenerate
+/// reason quotes is its piece's knot time (the P_2 optimum of the four-block crawler, `mu^- =
+/// 1.6`, `T = 10`, its steps rotated so that the place the reason names is not at `t = 0`), and
+/// the paper's norm's `sum_k tau_k |psi_k|` is in its time: twins in time by `s` have the norm
+/// `A + s B`, affine in `s` (in periods it was the same for every `s`).
+#[test]
+fn a_certificate_in_periods_states_its_times_in_the_crawlers_time() {
+    use crawlopt::api::{self, GaitMethod, Hooks, OptimizeSettings};
+    use crawlopt::certify::{certify, CertifyOptions, NecessaryConditions, Process, Verdict};
+    let certified = |s: f64, u: &[Vec<f64>]| -> NecessaryConditions {
+        let c = Crawler::uniform(4, 1.0, 1.0, 1.6).unwrap();
+        let p = GaitProblem::new(&c, 10.0 * s, &[1.0 / s; 3], Cost::None, None).unwrap();
+        let u: Vec<Vec<f64>> = u
+            .iter()
+            .map(|r| r.iter().map(|v| v / s).collect())
+            .collect();
+        let pr = Process::discrete_from_controls(&c, &p, 2, &u).unwrap();
+        certify(&pr, &CertifyOptions::default()).unwrap()
+    };
+    let c = Crawler::uniform(4, 1.0, 1.0, 1.6).unwrap();
+    let p = GaitProblem::new(&c, 10.0, &[1.0; 3], Cost::None, None).unwrap();
+    let settings = OptimizeSettings {
+        method: GaitMethod::Discrete,
+        m: Some(2),
+        ..Default::default()
+    };
+    let r = api::optimize(&c, &p, &settings, Hooks::default())
+        .unwrap()
+        .result;
+    let steps = r.gait.controls.len();
+    let mut later = None;
+    for rotate in 0..steps {
+        let u: Vec<Vec<f64>> = (0..steps)
+            .map(|i| r.gait.controls[(i + rotate) % steps].clone())
+            .collect();
+        let nc = certified(1.0, &u);
+        assert_eq!(nc.verdict, Verdict::Degenerate, "{}", nc.reason);
+        // "... on piece j (t = X), link l ..."
+        let after = |key: &str| -> &str {
+            let at = nc.reason.find(key).unwrap() + key.len();
+            let rest = &nc.reason[at..];
+            &rest[..rest.find([' ', ')', ',']).unwrap()]
+        };
+        let j: usize = after("on piece ").parse().unwrap();
+        let t: f64 = after("(t = ").parse().unwrap();
+        let knot = nc.multipliers.times[j];
+        assert!(
+            (t - knot).abs() < 1e-6,
+            "{}: t = {t}, knot {knot}",
+            nc.reason
+        );
+        if knot > 0.0 {
+            later = Some(u);
+        }
+    }
+    let u = later.expect("a rotation puts the degenerate place after t = 0");
+    // Twins in time: the paper's norm is affine in the time unit.
+    let norms: Vec<f64> = [1.0, 2.0, 4.0]
+        .iter()
+        .map(|&s| certified(s, &u).normalisation.paper_norm)
+        .collect();
+    let (a, b, c4) = (norms[0], norms[1], norms[2]);
+    assert!(b > a * (1.0 + 1e-9), "{norms:?}");
+    assert!(close(c4 - b, 2.0 * (b - a)), "{norms:?}");
+}

@@ -75,7 +75,10 @@ impl AsGeneral {
     /// - the slacks in units of the instance's C, `psi` in the crawler's own units, `p` in
     ///   units of `1 / k_max` and the Hamiltonian in units of `max_l a_l / k_max`, its value at
     ///   `|p|` of that unit ([`super::general_kkt::ResidualUnits`]).
-    pub fn of(pr: &Process, tol: f64) -> Result<Self> {
+    ///
+    /// `time_unit` is the user's unit of time in `pr`'s (its period where `pr` is in periods,
+    /// `super::crawler_units`), for the times a reason states and the paper's norm.
+    pub fn of(pr: &Process, tol: f64, time_unit: f64) -> Result<Self> {
         let inst = pr.problem.instance(&pr.crawler)?;
         let k = pr.crawler.stiffness();
         let s_b = crate::model::crawler_row_norms(k);
@@ -98,6 +101,7 @@ impl AsGeneral {
         // one holds it to 4e-15.
         let a_max = pr.problem.rate_bound.iter().fold(0.0_f64, |m, &a| m.max(a));
         gst.units.psi = 1.0;
+        gst.units.time = time_unit;
         gst.units.p = 1.0 / k_max;
         gst.units.speed = a_max / k_max;
         Ok(AsGeneral {
@@ -207,7 +211,7 @@ mod tests {
             let s = solve_discrete_global(&c, &pb, m).unwrap();
             let r = GaitResult::from_discrete(&c, &pb, &s);
             let pr = Process::from_result(&r, "test").unwrap();
-            let general = AsGeneral::of(&pr, INPUT_TOL).unwrap();
+            let general = AsGeneral::of(&pr, INPUT_TOL, 1.0).unwrap();
             let (p, gst) = (&general.inst.problem, &general.gst);
             let biactive = gst.reacting.iter().flatten().filter(|f| !f.1).count();
             assert!(biactive <= 12, "N = {nb}: {biactive} biactive pairs");

@@ -24,12 +24,14 @@
 //! displacements `/ L`, the cost's weight `c F^2 / (T L)`, `J / L`), and every twin that
 //! differs in units is the same crawler there. Its numbers are converted back ([`to_user`]):
 //! `p`, `p + omega`, `psi`, `omega`, `dxi` and the non-degeneracy margin and resolution (in
-//! `p`'s units) times `L / F = 1 / k_max`; the rates `u` times `F / T`; times (knots, switches,
-//! arcs) times `T`; `C = [alpha, beta]` times `F`; the branch LP's values (`J`s) times `L`.
+//! `p`'s units) times `L / F = 1 / k_max`; the rates `u` times `F / T`; times (switches, arcs)
+//! times `T` (the knot times, the time a degenerate reason quotes and the paper's norm's
+//! `sum tau |psi|` are stated in the crawler's time by (P)'s report itself,
+//! `ResidualUnits::time`); `C = [alpha, beta]` times `F`; the branch LP's values (`J`s) times `L`.
 //! The verdict, the residuals and the normalisation constants are those of these units (the
 //! residuals are relative, but for Theorem 2.2's weak maximality, an integral over time,
 //! converted back with its tolerance `tol T`; the normalisation constants count `p` in lengths
-//! per `k_max` force as before, and the time integrals of the paper's norm in periods).
+//! per `k_max` force as before, and its time integral in the crawler's time).
 
 use super::process::Process;
 use super::records::NecessaryConditions;
@@ -77,15 +79,12 @@ pub(super) fn to_user(mut c: NecessaryConditions, u: Units) -> NecessaryConditio
         rows.iter_mut().flatten().for_each(|v| *v *= by);
     };
     let m = &mut c.multipliers;
-    m.times.iter_mut().for_each(|v| *v *= t);
     scale(&mut m.p, per_force);
     scale(&mut m.p_plus_omega, per_force);
     scale(&mut m.psi, per_force);
     m.omega.iter_mut().for_each(|v| *v *= per_force);
-    m.xi.iter_mut().for_each(|x| {
-        x.value *= per_force;
-        x.time *= t;
-    });
+    // (Knot times are stated in the crawler's time already: `ResidualUnits::time`.)
+    m.xi.iter_mut().for_each(|x| x.value *= per_force);
     scale(&mut m.u, f / t);
     c.nondegeneracy_margin *= per_force;
     c.nondegeneracy_resolution *= per_force;

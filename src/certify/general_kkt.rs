@@ -119,6 +119,10 @@ pub struct ResidualUnits {
     /// duration stationarity is relative to `max(p_unit, ||p||)`, so that it is the same for
     /// a crawler in any units).
     pub p: f64,
+    /// The user's unit of time in the process's: 1 for (P); a crawler is certified with time in
+    /// periods (`super::crawler_units`), and the times a reason states and the paper's norm's
+    /// `sum_k tau_k |psi_k|` are in its own time.
+    pub time: f64,
 }
 
 impl ResidualUnits {
@@ -137,6 +141,7 @@ impl ResidualUnits {
             psi: psi.max(1e-300),
             speed: speed.max(1e-300),
             p: 1.0,
+            time: 1.0,
         }
     }
 }

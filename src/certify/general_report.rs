@@ -113,7 +113,8 @@ pub(crate) fn report(
     // The verdict reads the discrete group; a phase gait, an exact process of (P), must also
     // meet Theorem 2.2 itself (sign, support, L^1 maximality, ...; not the non-degeneracy,
     // which makes a verdict degenerate, nor the control law, which is reported only).
-    let times = pr.times();
+    // Times as the user states them (a crawler is certified in periods).
+    let times: Vec<f64> = pr.times().iter().map(|t| t * st.units.time).collect();
     let holds = holds_reason(margin_required, is_box(&p.control), words);
     let (verdict, reason) = verdict(&conditions, discrete, raw.lambda, nondeg, &holds, || {
         degenerate_reason(p, words, &switching, margin, resolution, &times)
@@ -465,7 +466,7 @@ fn paper_norm(
                 *vl += raw.xi[k][fi] * p.c.normals[f][l];
             }
         }
-        paper += norm2(&in_units(&v)) + st.tau[k] * norm2(&psi[k]);
+        paper += norm2(&in_units(&v)) + st.tau[k] * st.units.time * norm2(&psi[k]);
     }
     paper
 }
