@@ -20,6 +20,7 @@ use super::process::Process;
 use super::CertifyOptions;
 use crate::error::Result;
 use crate::model::CrawlerInstance;
+use crate::optimal::units::Units;
 
 /// A face of C: block `b` (0-based) and side `s` (`+1`: `F_b <= mu_b^+`, outer normal `nu_b`;
 /// `-1`: `-F_b <= mu_b^-`, outer normal `-nu_b`).
@@ -59,6 +60,9 @@ pub(crate) struct AsGeneral {
     /// The process on the instance ([`GeneralProcess::of_crawler`]).
     process: GeneralProcess,
     s_b: Vec<f64>,
+    /// The switching function as a reason quotes it: `k_max (p + omega)` where `pr` is in units
+    /// whose stiffest spring has `k = 1` and the user's did not (`super::crawler_units`).
+    switching: &'static str,
 }
 
 impl AsGeneral {
@@ -76,9 +80,11 @@ impl AsGeneral {
     ///   units of `1 / k_max` and the Hamiltonian in units of `max_l a_l / k_max`, its value at
     ///   `|p|` of that unit ([`super::general_kkt::ResidualUnits`]).
     ///
-    /// `time_unit` is the user's unit of time in `pr`'s (its period where `pr` is in periods,
-    /// `super::crawler_units`), for the times a reason states and the paper's norm.
-    pub fn of(pr: &Process, tol: f64, time_unit: f64) -> Result<Self> {
+    /// `user` is the user's units in `pr`'s (`super::crawler_units`; one each where `pr` is as
+    /// the user gave it): its time, the period where `pr` is in periods, is the unit of the
+    /// times a reason states, of the weak maximality and of the paper's norm; its force per
+    /// length, `k_max`, the factor of the switching function a reason quotes.
+    pub fn of(pr: &Process, tol: f64, user: Units) -> Result<Self> {
         let inst = pr.problem.instance(&pr.crawler)?;
         let k = pr.crawler.stiffness();
         let s_b = crate::model::crawler_row_norms(k);
@@ -101,7 +107,7 @@ impl AsGeneral {
         // one holds it to 4e-15.
         let a_max = pr.problem.rate_bound.iter().fold(0.0_f64, |m, &a| m.max(a));
         gst.units.psi = 1.0;
-        gst.units.time = time_unit;
+        gst.units.time = user.time;
         gst.units.p = 1.0 / k_max;
         gst.units.speed = a_max / k_max;
         Ok(AsGeneral {
@@ -109,26 +115,22 @@ impl AsGeneral {
             inst,
             gst,
             process,
+            // `F / L` is `k_max`: `p` is counted in `1 / k_max` where the stiffest spring is
+            // not 1.
+            switching: if user.force != user.length {
+                "k_max (p + omega)"
+            } else {
+                "p + omega"
+            },
         })
     }
 
     /// The one certificate ([`certify_structured`]) of the process on its instance, in the
     /// crawler's units and words ([`crawler_words`]): (P)'s report, and the multipliers it
-    /// states read back in the crawler's names ([`Self::back`]). `forces_scaled`: the process
-    /// is in units where its stiffest spring has `k = 1` and the user's did not
-    /// (`super::crawler_units`), so that the switching function a reason quotes is
-    /// `k_max (p + omega)`.
-    pub fn certify(
-        &self,
-        opts: &CertifyOptions,
-        forces_scaled: bool,
-    ) -> Result<(GeneralNecessaryConditions, Raw)> {
+    /// states read back in the crawler's names ([`Self::back`]).
+    pub fn certify(&self, opts: &CertifyOptions) -> Result<(GeneralNecessaryConditions, Raw)> {
         let words = Words {
-            switching: if forces_scaled {
-                "k_max (p + omega)"
-            } else {
-                "p + omega"
-            },
+            switching: self.switching,
             component: "link",
             condition: crawler_words,
             hamiltonian: "H_k = sum_l a_l |psi_{k,l}| over the rates at their bound + lambda \
@@ -211,7 +213,7 @@ mod tests {
             let s = solve_discrete_global(&c, &pb, m).unwrap();
             let r = GaitResult::from_discrete(&c, &pb, &s);
             let pr = Process::from_result(&r, "test").unwrap();
-            let general = AsGeneral::of(&pr, INPUT_TOL, 1.0).unwrap();
+            let general = AsGeneral::of(&pr, INPUT_TOL, Units::ONE).unwrap();
             let (p, gst) = (&general.inst.problem, &general.gst);
             let biactive = gst.reacting.iter().flatten().filter(|f| !f.1).count();
             assert!(biactive <= 12, "N = {nb}: {biactive} biactive pairs");

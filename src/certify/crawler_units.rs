@@ -29,9 +29,10 @@
 //! `sum tau |psi|` are stated in the crawler's time by (P)'s report itself,
 //! `ResidualUnits::time`); `C = [alpha, beta]` times `F`; the branch LP's values (`J`s) times `L`.
 //! The verdict, the residuals and the normalisation constants are those of these units (the
-//! residuals are relative, but for Theorem 2.2's weak maximality, an integral over time,
-//! converted back with its tolerance `tol T`; the normalisation constants count `p` in lengths
-//! per `k_max` force as before, and its time integral in the crawler's time).
+//! residuals are relative, but for Theorem 2.2's weak maximality, an integral over time, which
+//! (P)'s report states in the crawler's time with its tolerance `tol T`; the normalisation
+//! constants count `p` in lengths per `k_max` force as before, and its time integral in the
+//! crawler's time).
 
 use super::process::Process;
 use super::records::NecessaryConditions;
@@ -70,10 +71,10 @@ pub(super) fn in_units(pr: &Process, u: Units) -> Result<Process> {
 /// The certificate `c` of the process in the units `u` with its numbers converted back to the
 /// user's (module docs).
 pub(super) fn to_user(mut c: NecessaryConditions, u: Units) -> NecessaryConditions {
-    let (f, t, l) = u.factors(true);
-    if (f, t, l) == (1.0, 1.0, 1.0) {
+    if u == Units::ONE {
         return c;
     }
+    let (f, t, l) = u.factors(true);
     let per_force = l / f;
     let scale = |rows: &mut Vec<Vec<f64>>, by: f64| {
         rows.iter_mut().flatten().for_each(|v| *v *= by);
@@ -83,7 +84,8 @@ pub(super) fn to_user(mut c: NecessaryConditions, u: Units) -> NecessaryConditio
     scale(&mut m.p_plus_omega, per_force);
     scale(&mut m.psi, per_force);
     m.omega.iter_mut().for_each(|v| *v *= per_force);
-    // (Knot times are stated in the crawler's time already: `ResidualUnits::time`.)
+    // (Knot times and Theorem 2.2's weak maximality, an integral over time, are stated in the
+    // crawler's time already: `ResidualUnits::time`.)
     m.xi.iter_mut().for_each(|x| x.value *= per_force);
     scale(&mut m.u, f / t);
     c.nondegeneracy_margin *= per_force;
@@ -94,16 +96,6 @@ pub(super) fn to_user(mut c: NecessaryConditions, u: Units) -> NecessaryConditio
         o.switch_times.iter_mut().for_each(|v| *v *= t);
         o.interior_arcs.iter_mut().for_each(|v| *v *= t);
         o.expected_arc *= t;
-    }
-    // Theorem 2.2's weak maximality is an integral over time (its tolerance `tol T` too): in
-    // the user's time, as (P)'s certificate states it (`h / 4` on the one-link P_m optimum).
-    for k in c
-        .conditions
-        .iter_mut()
-        .filter(|k| (k.name.as_str(), k.theorem.as_str()) == ("weak_maximality", "2.2"))
-    {
-        k.residual *= t;
-        k.tolerance *= t;
     }
     if let Some(b) = c.branch_lp.as_mut() {
         b.optimum *= l;

@@ -92,12 +92,14 @@ pub(crate) fn report(
     let margin_required = !(strictly_convex(&p.cost, m) && raw.lambda > 0.0);
     let nondeg = !margin_required || margin > nd_tol;
     let law = control_law_residual(p, &pr.u, raw.lambda, &switching, nd_tol);
-    let l1 = l1_maximality(p, st, raw, &psi).map(|v| v / st.units.psi);
+    // An integral over time: in the user's time (`ResidualUnits::time`), as its tolerance.
+    let l1 = l1_maximality(p, st, raw, &psi).map(|v| v / st.units.psi * st.units.time);
     let continuous = ContinuousGroup {
         adj,
         sign,
         misplaced,
         l1,
+        period: p.period * st.units.time,
         nontrivial: raw.lambda + sup_p,
         nondegenerate: margin > nd_tol,
         law,
@@ -363,7 +365,10 @@ struct ContinuousGroup {
     adj: f64,
     sign: f64,
     misplaced: f64,
+    /// Theorem 2.2's weak maximality, an integral over time, in the user's time.
     l1: Option<f64>,
+    /// The period in the user's time: the weak maximality's tolerance is `ptol T`.
+    period: f64,
     nontrivial: f64,
     nondegenerate: bool,
     law: Option<f64>,
@@ -405,7 +410,7 @@ impl ContinuousGroup {
                 "int_0^T dist(psi(t), N_U(u(t))) dt, psi = -B^T p - omega - lambda Df2(u), p \
                  piecewise linear, in units of max |B_ij| (Thm 2.2; O(h) on P_m grids)",
                 l1,
-                ptol * p.period,
+                ptol * self.period,
             ));
         }
         conditions.push(check(

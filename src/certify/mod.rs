@@ -226,10 +226,8 @@ pub fn certify(pr: &Process, opts: &CertifyOptions) -> Result<NecessaryCondition
     pr.check("process", opts.structure_tol)?;
     let units = crawler_units::units_of(pr);
     let scaled = crawler_units::in_units(pr, units)?;
-    let general = crawler_general::AsGeneral::of(&scaled, opts.structure_tol, units.time)?;
-    // `F / L` is `k_max`: `p` is counted in `1 / k_max` where the stiffest spring is not 1.
-    let forces_scaled = units.force != units.length;
-    let (rep, raw) = general.certify(opts, forces_scaled)?;
+    let general = crawler_general::AsGeneral::of(&scaled, opts.structure_tol, units)?;
+    let (rep, raw) = general.certify(opts)?;
     let mut c = crawler_units::to_user(report::report(&scaled, rep, raw), units);
     // `J` of the process as given.
     c.objective = report::process_objective(pr);

@@ -38,6 +38,13 @@ pub(crate) fn scale_all(v: &[f64], f: f64) -> Vec<f64> {
 }
 
 impl Units {
+    /// The user's own units: each factor 1.
+    pub(crate) const ONE: Units = Units {
+        force: 1.0,
+        time: 1.0,
+        length: 1.0,
+    };
+
     /// The internal units of a problem (module docs).
     pub fn of(crawler: &Crawler, problem: &GaitProblem) -> Self {
         let mus = crawler.friction_thresholds();
