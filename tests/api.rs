@@ -151,6 +151,18 @@ fn options_that_do_not_apply_are_refused_in_the_caller_s_naming() {
         GaitMethod::Sequence
     );
     assert!(GaitMethod::from_name("fast").is_err());
+    // Every method is read back from its name, and a refusal lists every name in the order
+    // front ends list them (the command line's `--method` values are these names).
+    for m in GaitMethod::ALL {
+        assert_eq!(GaitMethod::from_name(m.name()).unwrap(), m);
+        assert!(!m.summary().is_empty(), "{}", m.name());
+    }
+    let names: Vec<&str> = GaitMethod::ALL.iter().map(|m| m.name()).collect();
+    let refusal = GaitMethod::from_name("fast").unwrap_err().to_string();
+    assert!(
+        refusal.contains(&format!("must be one of {}", names.join(", "))),
+        "{refusal}"
+    );
 }
 
 #[test]

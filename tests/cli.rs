@@ -839,3 +839,24 @@ fn plot_and_report_refuse_bad_input_with_nothing_written() {
         "nothing half-written"
     );
 }
+
+#[test]
+fn optimize_lists_the_librarys_methods_and_refuses_another() {
+    // `--method` takes the library's names, each with the library's summary in `--help`.
+    let help = crawlopt(&["optimize", "--help"]);
+    assert!(help.status.success(), "{}", stderr(&help));
+    let help = String::from_utf8_lossy(&help.stdout);
+    for m in crawlopt::api::GaitMethod::ALL {
+        let line = format!("{}:", m.name());
+        assert!(help.contains(&line), "{line} in {help}");
+        assert!(help.contains(m.summary()), "{} in {help}", m.summary());
+    }
+    let out = crawlopt(&[
+        "optimize",
+        "examples/three_blocks_gait.toml",
+        "--method",
+        "fast",
+    ]);
+    assert_refused(&out, "invalid value 'fast' for '--method <METHOD>'");
+    assert!(stderr(&out).contains("auto, discrete, local, phase, sequence, chain"));
+}

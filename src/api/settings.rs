@@ -61,23 +61,57 @@ impl GaitMethod {
         }
     }
 
+    /// One line on what the method does, for a front end's list of methods (the command
+    /// line's `--help`); both kinds of problem run it, where it applies.
+    pub fn summary(self) -> &'static str {
+        match self {
+            GaitMethod::Auto => {
+                "Phase gaits with K grown until no gain; the discrete P_m when the problem bounds \
+                 TV(u)"
+            }
+            GaitMethod::Discrete => {
+                "The paper's discrete problem P_m on 2^m steps, solved globally (MILP)"
+            }
+            GaitMethod::Local => {
+                "P_m on 2^m steps by the local LPCC active-set method, from a phase gait or a \
+                 start"
+            }
+            GaitMethod::Phase => {
+                "Exact continuous-time gaits of at most K slip phases, solved globally (MILP)"
+            }
+            GaitMethod::Sequence => {
+                "Local search over the slip-mode sequences of phase gaits (each optimal for its \
+                 sequence; no global claim), from a phase gait or a start, for K where the MILP \
+                 is too slow (crawlers, and (P) where it is a crawler's)"
+            }
+            GaitMethod::Chain => {
+                "Long chains: the best structured gait (travelling, alternating, grouped waves) \
+                 improved by a pattern search over per-link ramp gaits, simulated exactly (no \
+                 global claim; never below its start; crawlers, and (P) where it is a crawler's)"
+            }
+        }
+    }
+
+    /// Every method, in the order front ends list them.
+    pub const ALL: [GaitMethod; 6] = [
+        Self::Auto,
+        Self::Discrete,
+        Self::Local,
+        Self::Phase,
+        Self::Sequence,
+        Self::Chain,
+    ];
+
     /// The method of a name ([`GaitMethod::name`]).
     pub fn from_name(name: &str) -> Result<Self> {
-        [
-            Self::Auto,
-            Self::Discrete,
-            Self::Local,
-            Self::Phase,
-            Self::Sequence,
-            Self::Chain,
-        ]
-        .into_iter()
-        .find(|m| m.name() == name)
-        .ok_or_else(|| Error::invalid("method", name, METHOD_NAMES))
+        Self::ALL
+            .into_iter()
+            .find(|m| m.name() == name)
+            .ok_or_else(|| Error::invalid("method", name, METHOD_NAMES))
     }
 }
 
-/// Why a name is no [`GaitMethod`].
+/// Why a name is no [`GaitMethod`] (the names of [`GaitMethod::ALL`]).
 const METHOD_NAMES: &str = "must be one of auto, discrete, local, phase, sequence, chain";
 
 /// Why a name is no [`PhaseFormulation`].

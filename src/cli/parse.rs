@@ -1,5 +1,18 @@
 //! Value parsers of the flags: messages that say why a value is refused.
 
+use clap::builder::{PossibleValue, PossibleValuesParser, TypedValueParser};
+use crawlopt::api::GaitMethod;
+
+/// `--method`: one of the library's methods ([`GaitMethod::ALL`]), by its name, listed in
+/// `--help` with the library's summary of each (clap names the flag and the values where one
+/// is refused).
+pub fn method() -> impl TypedValueParser<Value = GaitMethod> {
+    PossibleValuesParser::new(
+        GaitMethod::ALL.map(|m| PossibleValue::new(m.name()).help(m.summary())),
+    )
+    .try_map(|name| GaitMethod::from_name(&name))
+}
+
 /// A count flag (`--m`, `--phases`, `--periods`, ...): a whole number, 0 or more. Parsed here
 /// so that the message says why a value is refused (std's "invalid digit found in string" for
 /// `-1` does not); clap names the flag.

@@ -4,37 +4,15 @@
 //! answer.
 
 use crate::output::{file_name, json_line, out, outln};
-use crate::parse::{count, count_u32};
+use crate::parse::{count, count_u32, method};
 use crate::progress::Spinner;
-use clap::{Args, ValueEnum};
+use clap::Args;
 use crawlopt::api::{self, GaitMethod, Hooks, Naming, OptimizeSettings, Start};
 use crawlopt::io::{AtomicFile, ProblemFile};
 use crawlopt::present::{self, report, write_figures};
 use crawlopt::Error;
 use std::path::PathBuf;
 use std::process::ExitCode;
-
-#[derive(Clone, Copy, PartialEq, ValueEnum)]
-pub enum OptimizeMethod {
-    /// Phase gaits with K grown until no gain; discrete when TV(u) is bounded.
-    Auto,
-    /// The paper's discrete problem P_m on 2^m steps, solved globally (MILP).
-    Discrete,
-    /// P_m on 2^m steps by the local LPCC active-set method, from a phase gait or --start.
-    Local,
-    /// Exact continuous-time gaits of at most K slip phases, solved globally (MILP).
-    Phase,
-    /// Local search over the slip-mode sequences of phase gaits (exact gaits, each optimal
-    /// for its sequence; no global claim), from a phase gait or --start: for crawlers or K
-    /// where the MILP is too slow; on a general problem file that is a crawler's, the
-    /// crawler's.
-    Sequence,
-    /// Long chains: the best structured gait (travelling, alternating, grouped waves)
-    /// improved by a pattern search over per-link ramp gaits, simulated exactly (no global
-    /// claim; never below its start); on a general problem file that is a crawler's, the
-    /// crawler's.
-    Chain,
-}
 
 #[derive(Args)]
 pub struct OptimizeArgs {
@@ -43,8 +21,8 @@ pub struct OptimizeArgs {
     pub file: PathBuf,
     /// Formulation; auto: phase gaits with K grown until the value stops improving (the
     /// discrete P_m when the problem bounds TV(u), which phase gaits cannot express).
-    #[arg(long, value_enum, default_value = "auto")]
-    pub method: OptimizeMethod,
+    #[arg(long, default_value = "auto", value_parser = method())]
+    pub method: GaitMethod,
     /// Slip phases allowed in a phase gait (all-stick transitions between them are free; for
     /// a general problem file, slots of a free transition and a phase of constant control by
     /// default, phases with --formulation general, or slip phases where it is a crawler's);
@@ -128,24 +106,11 @@ pub struct OptimizeArgs {
     pub json: bool,
 }
 
-impl From<OptimizeMethod> for GaitMethod {
-    fn from(m: OptimizeMethod) -> Self {
-        match m {
-            OptimizeMethod::Auto => GaitMethod::Auto,
-            OptimizeMethod::Discrete => GaitMethod::Discrete,
-            OptimizeMethod::Local => GaitMethod::Local,
-            OptimizeMethod::Phase => GaitMethod::Phase,
-            OptimizeMethod::Sequence => GaitMethod::Sequence,
-            OptimizeMethod::Chain => GaitMethod::Chain,
-        }
-    }
-}
-
 /// The library's settings of the flags (both kinds of problem file take the same ones; the
 /// library decides which apply).
 fn settings_of(a: &OptimizeArgs) -> Result<OptimizeSettings, Error> {
     Ok(OptimizeSettings {
-        method: a.method.into(),
+        method: a.method,
         phases: a.phases,
         patience: a.patience,
         max_phases: a.max_phases,
