@@ -157,6 +157,24 @@ fn options_that_do_not_apply_are_refused_in_the_caller_s_naming() {
         assert_eq!(GaitMethod::from_name(m.name()).unwrap(), m);
         assert!(!m.summary().is_empty(), "{}", m.name());
     }
+    // One reader of an integration method's name for every front end (Python's spelling
+    // `catching_up` too), refusing another naming `method`.
+    use crawlopt::integrate::Method;
+    for m in Method::ALL {
+        assert_eq!(Method::from_name(m.name()).unwrap(), m);
+        assert_eq!(m.to_string(), m.name());
+    }
+    assert_eq!(
+        Method::from_name("catching_up").unwrap(),
+        Method::CatchingUp
+    );
+    match Method::from_name("rk4").unwrap_err() {
+        Error::InvalidParameter { field, reason, .. } => {
+            assert_eq!(field, "method");
+            assert_eq!(reason, "must be \"exact\" or \"catching-up\"");
+        }
+        other => panic!("{other:?}"),
+    }
     let names: Vec<&str> = GaitMethod::ALL.iter().map(|m| m.name()).collect();
     let refusal = GaitMethod::from_name("fast").unwrap_err().to_string();
     assert!(

@@ -841,7 +841,7 @@ fn plot_and_report_refuse_bad_input_with_nothing_written() {
 }
 
 #[test]
-fn optimize_lists_the_librarys_methods_and_refuses_another() {
+fn optimize_and_simulate_list_the_librarys_methods_and_refuse_another() {
     // `--method` takes the library's names, each with the library's summary in `--help`.
     let help = crawlopt(&["optimize", "--help"]);
     assert!(help.status.success(), "{}", stderr(&help));
@@ -859,4 +859,19 @@ fn optimize_lists_the_librarys_methods_and_refuses_another() {
     ]);
     assert_refused(&out, "invalid value 'fast' for '--method <METHOD>'");
     assert!(stderr(&out).contains("auto, discrete, local, phase, sequence, chain"));
+    // `simulate --method` likewise takes the library's integration methods.
+    let help = crawlopt(&["simulate", "--help"]);
+    let help = String::from_utf8_lossy(&help.stdout);
+    for m in crawlopt::integrate::Method::ALL {
+        let line = format!("{}:", m.name());
+        assert!(help.contains(&line), "{line} in {help}");
+        assert!(help.contains(m.summary()), "{} in {help}", m.summary());
+    }
+    let out = crawlopt(&[
+        "simulate",
+        "examples/three_blocks_gait.toml",
+        "--method",
+        "rk4",
+    ]);
+    assert_refused(&out, "[possible values: exact, catching-up]");
 }

@@ -6,7 +6,7 @@
 use crate::errors::to_py;
 use crate::run::run;
 use crawlopt::api::{self, OptimizeSettings};
-use crawlopt::integrate::{GeneralMethod, GeneralSimOptions};
+use crawlopt::integrate::{GeneralMethod, GeneralSimOptions, Method};
 use crawlopt::io::{GeneralFile, ProblemFile};
 use crawlopt::present::{self, GeneralReportInput};
 use pyo3::prelude::*;
@@ -93,18 +93,7 @@ impl GeneralProblem {
         tol: Option<f64>,
     ) -> PyResult<(Bound<'py, PyAny>, GeneralRecord)> {
         let d = GeneralSimOptions::DEFAULT;
-        let method = match method {
-            "exact" => GeneralMethod::Auto,
-            "catching-up" | "catching_up" => GeneralMethod::CatchingUp,
-            other => {
-                let e = crawlopt::Error::invalid(
-                    "method",
-                    other,
-                    "must be \"exact\" or \"catching_up\"",
-                );
-                return Err(to_py(py, e));
-            }
-        };
+        let method: GeneralMethod = Method::from_name(method).map_err(|e| to_py(py, e))?.into();
         let opts = GeneralSimOptions {
             method,
             steps_per_period: steps_per_period.unwrap_or(d.steps_per_period),

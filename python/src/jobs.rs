@@ -69,15 +69,7 @@ pub fn simulate<'py>(
     newton: bool,
     increment_budget: Option<usize>,
 ) -> PyResult<(Bound<'py, PyAny>, Bound<'py, PyDict>)> {
-    let method = match method {
-        "exact" => Method::Exact,
-        "catching-up" | "catching_up" => Method::CatchingUp,
-        other => {
-            let e =
-                crawlopt::Error::invalid("method", other, "must be \"exact\" or \"catching_up\"");
-            return Err(to_py(py, e));
-        }
-    };
+    let method = Method::from_name(method).map_err(|e| to_py(py, e))?;
     // None: the library's default.
     let d = SimOptions::DEFAULT;
     let opts = SimOptions {
@@ -144,15 +136,7 @@ pub fn simulation_figures(
     orbit_state: Vec<f64>,
     periods: usize,
 ) -> PyResult<Vec<(String, String, String)>> {
-    let method = match method {
-        "exact" => Method::Exact,
-        "catching-up" | "catching_up" => Method::CatchingUp,
-        other => {
-            let e =
-                crawlopt::Error::invalid("method", other, "must be \"exact\" or \"catching_up\"");
-            return Err(to_py(py, e));
-        }
-    };
+    let method = Method::from_name(method).map_err(|e| to_py(py, e))?;
     let c = crawler.inner.clone();
     let a = actuation.bound(c.links()).map_err(|e| to_py(py, e))?;
     let opts = SimOptions {

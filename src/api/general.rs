@@ -3,9 +3,7 @@
 
 use crate::certify::bound::BoundSettings;
 use crate::error::{Error, Result};
-use crate::integrate::{
-    simulate_general_on as integrate_general, GeneralMethod, GeneralSimOptions, Method, SimOptions,
-};
+use crate::integrate::{simulate_general_on as integrate_general, GeneralSimOptions, SimOptions};
 use crate::io::GeneralFile;
 pub use crate::io::{Check, CheckStatus, GeneralAnalysis, GeneralOptimized, GeneralSimulated};
 use crate::model::general::{ControlSet, GeneralProblem, Reward};
@@ -349,10 +347,7 @@ pub fn general_sim_options(o: &SimOptions) -> Result<GeneralSimOptions> {
         ));
     }
     Ok(GeneralSimOptions {
-        method: match o.method {
-            Method::Exact => GeneralMethod::Auto,
-            Method::CatchingUp => GeneralMethod::CatchingUp,
-        },
+        method: o.method.into(),
         steps_per_period: o.steps_per_period,
         max_periods: o.max_periods,
         tol: o.tol,

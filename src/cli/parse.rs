@@ -2,6 +2,7 @@
 
 use clap::builder::{PossibleValue, PossibleValuesParser, TypedValueParser};
 use crawlopt::api::GaitMethod;
+use crawlopt::integrate::Method;
 
 /// `--method`: one of the library's methods ([`GaitMethod::ALL`]), by its name, listed in
 /// `--help` with the library's summary of each (clap names the flag and the values where one
@@ -11,6 +12,13 @@ pub fn method() -> impl TypedValueParser<Value = GaitMethod> {
         GaitMethod::ALL.map(|m| PossibleValue::new(m.name()).help(m.summary())),
     )
     .try_map(|name| GaitMethod::from_name(&name))
+}
+
+/// `simulate --method`: one of the library's integration methods ([`Method::ALL`]), as
+/// [`method`].
+pub fn sim_method() -> impl TypedValueParser<Value = Method> {
+    PossibleValuesParser::new(Method::ALL.map(|m| PossibleValue::new(m.name()).help(m.summary())))
+        .try_map(|name| Method::from_name(&name))
 }
 
 /// A count flag (`--m`, `--phases`, `--periods`, ...): a whole number, 0 or more. Parsed here

@@ -178,6 +178,16 @@ pub enum GeneralMethod {
     CatchingUp,
 }
 
+impl From<super::Method> for GeneralMethod {
+    /// The crawler's method's name on (P): exact where it applies, else catching-up.
+    fn from(m: super::Method) -> Self {
+        match m {
+            super::Method::Exact => GeneralMethod::Auto,
+            super::Method::CatchingUp => GeneralMethod::CatchingUp,
+        }
+    }
+}
+
 /// How [`simulate_general`] steps the drift `A x` (module docs).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
 #[serde(rename_all = "kebab-case")]

@@ -51,12 +51,48 @@ pub enum Method {
     CatchingUp,
 }
 
-impl std::fmt::Display for Method {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str(match self {
+impl Method {
+    /// Every method, in the order front ends list them.
+    pub const ALL: [Method; 2] = [Method::Exact, Method::CatchingUp];
+
+    /// Its name, as the command line, result files and sweep files spell it (`"catching-up"`).
+    pub fn name(self) -> &'static str {
+        match self {
             Method::Exact => "exact",
             Method::CatchingUp => "catching-up",
-        })
+        }
+    }
+
+    /// One line on what the method does, for a front end's list of methods (the command
+    /// line's `--help`).
+    pub fn summary(self) -> &'static str {
+        match self {
+            Method::Exact => {
+                "Event-driven, exact for piecewise-linear actuation (a general problem: where A = 0 \
+                 and the input is piecewise constant, else catching-up)"
+            }
+            Method::CatchingUp => "Implicit catching-up on a uniform grid of the steps per period",
+        }
+    }
+
+    /// The method of a name ([`Method::name`]; Python's `"catching_up"` too): one reader, so
+    /// that every front end refuses another name in the same words, naming `method`.
+    pub fn from_name(name: &str) -> Result<Self> {
+        match name {
+            "catching_up" => Ok(Method::CatchingUp),
+            _ => Self::ALL
+                .into_iter()
+                .find(|m| m.name() == name)
+                .ok_or_else(|| {
+                    crate::Error::invalid("method", name, "must be \"exact\" or \"catching-up\"")
+                }),
+        }
+    }
+}
+
+impl std::fmt::Display for Method {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.name())
     }
 }
 

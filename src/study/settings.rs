@@ -4,7 +4,7 @@
 
 use crate::api::{rename_fields, OptimizeSettings, Start};
 use crate::error::{Error, Result};
-use crate::integrate::{GeneralMethod, GeneralSimOptions, Method, SimOptions};
+use crate::integrate::{GeneralSimOptions, Method, SimOptions};
 use serde::Deserialize;
 use std::path::Path;
 
@@ -63,15 +63,8 @@ fn simulate_keys(t: toml::Table) -> Result<(SimulateKeys, Method)> {
         .try_into()
         .map_err(|e| toml_err("settings", e))?;
     let method = match k.method.as_deref() {
-        None | Some("exact") => Method::Exact,
-        Some("catching-up" | "catching_up") => Method::CatchingUp,
-        Some(other) => {
-            return Err(Error::invalid(
-                "settings.method",
-                format!("\"{other}\""),
-                "must be exact or catching-up",
-            ))
-        }
+        None => Method::Exact,
+        Some(name) => Method::from_name(name).map_err(|e| in_settings(e, &["method"]))?,
     };
     Ok((k, method))
 }
@@ -97,10 +90,7 @@ pub(super) fn general_simulate_options(t: toml::Table) -> Result<GeneralSimOptio
     }
     let d = GeneralSimOptions::DEFAULT;
     Ok(GeneralSimOptions {
-        method: match method {
-            Method::Exact => GeneralMethod::Auto,
-            Method::CatchingUp => GeneralMethod::CatchingUp,
-        },
+        method: method.into(),
         steps_per_period: k.steps_per_period.unwrap_or(d.steps_per_period),
         max_periods: k.max_periods.unwrap_or(d.max_periods),
         tol: k.tol.unwrap_or(d.tol),

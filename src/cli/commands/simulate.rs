@@ -2,8 +2,8 @@
 //! the trajectory as CSV and the figures written only once the periodic regime is reached.
 
 use crate::output::{json_line, out};
-use crate::parse::count;
-use clap::{Args, ValueEnum};
+use crate::parse::{count, sim_method};
+use clap::Args;
 use crawlopt::api::{self, rename_fields, Hooks};
 use crawlopt::integrate::{Method, SimOptions};
 use crawlopt::io::{AtomicFile, ProblemFile};
@@ -24,12 +24,6 @@ const DEFAULT_ACCELERATE_AFTER: usize = match SimOptions::DEFAULT.accelerate_aft
 /// Exit status of a simulation whose periodic regime was not reached.
 const EXIT_NOT_CONVERGED: u8 = 3;
 
-#[derive(Clone, Copy, ValueEnum)]
-pub enum MethodArg {
-    Exact,
-    CatchingUp,
-}
-
 #[derive(Args)]
 pub struct SimulateArgs {
     /// Problem file (TOML): a crawler's model file with an [actuation] section, or a general
@@ -48,8 +42,8 @@ pub struct SimulateArgs {
     )]
     pub steps_per_period: usize,
     /// Integration method.
-    #[arg(long, value_enum, default_value = "exact")]
-    pub method: MethodArg,
+    #[arg(long, default_value = "exact", value_parser = sim_method())]
+    pub method: Method,
     /// Give up the search for the periodic regime after this many periods.
     #[arg(
         long = "max-periods",
@@ -193,10 +187,7 @@ fn unwritten(a: &SimulateArgs) -> String {
 /// crawler's initial state comes from its file, [`api::simulate_file`]).
 fn sim_options(a: &SimulateArgs) -> SimOptions {
     SimOptions {
-        method: match a.method {
-            MethodArg::Exact => Method::Exact,
-            MethodArg::CatchingUp => Method::CatchingUp,
-        },
+        method: a.method,
         steps_per_period: a.steps_per_period,
         record_periods: a.periods,
         max_periods: a.max_periods,
