@@ -19,6 +19,19 @@ pub enum Error {
         reason: String,
     },
 
+    /// A parameter has a value of the wrong type (a word where a number is read), as serde
+    /// reading a table of keys found it (a sweep file's `[settings]`, Python's keywords, where
+    /// it is a `TypeError`); said in the words of [`Error::InvalidParameter`].
+    #[error("{field}: {reason} (got {value})")]
+    WrongType {
+        /// Path of the field, e.g. `bound.resolution`.
+        field: String,
+        /// The value as given.
+        value: String,
+        /// What type was expected (serde's words).
+        reason: String,
+    },
+
     /// The uniqueness condition (theory §2, paper eq. 3.6) fails for the subset `subset`
     /// (1-based block numbers): a group of blocks can slide rigidly against the rest.
     #[error(
@@ -126,7 +139,7 @@ fn sum_text(v: &f64) -> String {
 
 /// A value as given, except a number that `{}` wrote out in tens or hundreds of digits
 /// (`1e-300` as 0.000...0001): that one in exponent form, which is exact (`1e-300`).
-fn shown(value: String) -> String {
+pub(crate) fn shown(value: String) -> String {
     match value.parse::<f64>() {
         Ok(v) if value.len() > 24 && v.is_finite() => format!("{v:e}"),
         _ => value,

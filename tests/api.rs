@@ -414,22 +414,57 @@ fn settings_from_keys_are_the_fields() {
             "{text}"
         );
     }
-    for (text, field, value) in [
-        ("m = -3", "m", "-3"),
-        ("m = \"a\"", "m", "\"a\""),
-        ("method = \"fast\"", "method", "\"fast\""),
-        ("formulation = \"best\"", "formulation", "\"best\""),
-        ("certify = 1", "certify", "1"),
-        ("mm = 3", "settings", "the table given"),
-        ("start = \"r.json\"", "settings", "the table given"),
-        ("bound = 3", "bound", "3"),
-        ("bound = { grid = 4 }", "bound.grid", "4"),
-        ("bound = { resolution = -1 }", "bound.resolution", "-1"),
+    // A value of the wrong type is an `Error::WrongType` (Python's TypeError), as serde found
+    // it; any other refusal an `InvalidParameter`. Both name the key and show its value.
+    for (text, field, value, wrong_type) in [
+        ("m = -3", "m", "-3", false),
+        ("m = \"a\"", "m", "\"a\"", true),
+        ("method = \"fast\"", "method", "\"fast\"", false),
+        ("method = 3", "method", "3", true),
+        ("formulation = \"best\"", "formulation", "\"best\"", false),
+        ("certify = 1", "certify", "1", true),
+        ("time_limit = \"1s\"", "time_limit", "\"1s\"", true),
+        ("mm = 3", "settings", "the table given", false),
+        ("start = \"r.json\"", "settings", "the table given", false),
+        ("bound = 3", "bound", "3", true),
+        ("bound = { grid = 4 }", "bound.grid", "4", false),
+        (
+            "bound = { resolution = -1 }",
+            "bound.resolution",
+            "-1",
+            false,
+        ),
+        (
+            "bound = { resolution = \"fine\" }",
+            "bound.resolution",
+            "\"fine\"",
+            true,
+        ),
     ] {
-        match OptimizeSettings::from_keys(&keys(text)) {
-            Err(Error::InvalidParameter {
-                field: f, value: v, ..
-            }) => assert_eq!((f.as_str(), v.as_str()), (field, value), "{text}"),
+        let e = OptimizeSettings::from_keys(&keys(text)).unwrap_err();
+        match (&e, wrong_type) {
+            (
+                Error::WrongType {
+                    field: f,
+                    value: v,
+                    reason,
+                },
+                true,
+            ) => {
+                assert_eq!((f.as_str(), v.as_str()), (field, value), "{text}");
+                assert!(reason.starts_with("invalid type: "), "{text}: {reason}");
+                assert!(e
+                    .to_string()
+                    .starts_with(&format!("{field}: invalid type: ")));
+            }
+            (
+                Error::InvalidParameter {
+                    field: f, value: v, ..
+                },
+                false,
+            ) => {
+                assert_eq!((f.as_str(), v.as_str()), (field, value), "{text}")
+            }
             other => panic!("{text}: {other:?}"),
         }
     }

@@ -2,7 +2,7 @@
 //! and its fields as attributes.
 
 use crawlopt::Error;
-use pyo3::exceptions::{PyKeyboardInterrupt, PyRuntimeError, PyValueError};
+use pyo3::exceptions::{PyKeyboardInterrupt, PyRuntimeError, PyTypeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::IntoPyObjectExt;
 
@@ -70,6 +70,10 @@ pub fn to_py(py: Python<'_>, e: Error) -> PyErr {
     let (err, attrs): (PyErr, Vec<(&str, PyObject)>) = match e {
         Error::InvalidParameter { field, value, .. } => (
             InputError::new_err(msg),
+            vec![("field", obj(py, field)), ("value", obj(py, value))],
+        ),
+        Error::WrongType { field, value, .. } => (
+            PyTypeError::new_err(msg),
             vec![("field", obj(py, field)), ("value", obj(py, value))],
         ),
         Error::NonUnique {

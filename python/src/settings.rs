@@ -17,15 +17,8 @@ pub(crate) fn optimize_settings(
     keys: &Bound<'_, PyDict>,
 ) -> PyResult<OptimizeSettings> {
     let table = table(py, keys, "")?;
-    OptimizeSettings::from_keys(&table).map_err(|e| match e {
-        // A value of the wrong type (`m="three"`) is Python's TypeError, naming the key.
-        crawlopt::Error::InvalidParameter { field, reason, .. }
-            if reason.starts_with("invalid type") =>
-        {
-            pyo3::exceptions::PyTypeError::new_err(format!("{field}: {reason}"))
-        }
-        e => to_py(py, e),
-    })
+    // A value of the wrong type (`m="three"`) is the library's `WrongType`: Python's TypeError.
+    OptimizeSettings::from_keys(&table).map_err(|e| to_py(py, e))
 }
 
 /// A dict of keys as a table, each value converted on its own so that a refusal names its

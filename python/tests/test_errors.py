@@ -191,6 +191,8 @@ def test_settings_reach_the_library_by_their_names():
     with pytest.raises(TypeError) as e:
         co.optimize(m.crawler, m.gait_problem, bound={"resolution": "fine"})
     assert str(e.value).startswith("bound.resolution: invalid type")
+    # The library's typed error (not its wording) makes it a TypeError, its key and value kept.
+    assert (e.value.field, e.value.value) == ("bound.resolution", '"fine"')
     for call, field in [
         (lambda: co.optimize(m.crawler, m.gait_problem, time_limit=float("nan")), "time_limit"),
         (lambda: general.optimize(method="phase", formulation="best"), "formulation"),

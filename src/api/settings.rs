@@ -398,8 +398,9 @@ impl OptimizeSettings {
     /// settings. `start` and `naming` are not keys (a start is a file or a result): the caller
     /// sets them.
     ///
-    /// An error names the key (`m`, for `m = "a"` or `m = -3`) and shows its value; a key that
-    /// is not a setting is refused naming `settings`. Values are only read here: what they
+    /// An error names the key (`m`, for `m = "a"` or `m = -3`) and shows its value (a value of
+    /// the wrong type, `m = "a"`, is an [`Error::WrongType`]); a key that is not a setting is
+    /// refused naming `settings`, listing the settings. Values are only read here: what they
     /// mean to a method is [`OptimizeSettings::plan`]'s to check.
     ///
     /// ```
@@ -412,34 +413,7 @@ impl OptimizeSettings {
     /// assert!(matches!(e, crawlopt::Error::InvalidParameter { ref field, .. } if field == "m"));
     /// ```
     pub fn from_keys(keys: &toml::Table) -> Result<Self> {
-        // The keys serde reads, aliases included, from the derived impl itself.
-        let names = serde_aux::serde_introspection::serde_introspect::<Self>();
-        if let Some(key) = keys.keys().find(|k| !names.contains(&k.as_str())) {
-            let settings: Vec<&str> = names.iter().copied().filter(|n| !n.contains('-')).collect();
-            return Err(Error::invalid(
-                "settings",
-                "the table given",
-                format!(
-                    "`{}` is not a setting (the settings are {})",
-                    crate::io::escape_controls(key),
-                    settings.join(", ")
-                ),
-            ));
-        }
-        serde_path_to_error::deserialize(toml::Value::Table(keys.clone())).map_err(|e| {
-            let key = e.path().to_string();
-            let reason = crate::io::escape_controls(e.inner().message().trim());
-            // The value at the key's path (`bound.resolution` inside the table `bound`).
-            let value = key
-                .split('.')
-                .try_fold(None, |at: Option<&toml::Value>, k| {
-                    at.map_or_else(|| keys.get(k), |v| v.get(k)).map(Some)
-                });
-            match value.flatten() {
-                Some(value) => Error::invalid(key, value, reason),
-                None => Error::invalid("settings", "the table given", reason),
-            }
-        })
+        super::keys::read_keys(keys)
     }
 
     /// Resolves the method, checks that every option given applies to it and has a usable
@@ -751,23 +725,33 @@ impl OptimizeSettings {
 /// `e` with the field of an [`Error::InvalidParameter`] renamed by `names` (`(field, name)`; a
 /// field matches itself and its indexed entries `field[i]`).
 pub fn rename_fields(e: Error, names: &[(&str, String)]) -> Error {
+    let rename = |field: String| {
+        let to = names.iter().find(|(name, _)| {
+            field
+                .strip_prefix(name)
+                .is_some_and(|rest| rest.is_empty() || rest.starts_with('['))
+        });
+        to.map_or(field, |(_, f)| f.clone())
+    };
     match e {
         Error::InvalidParameter {
             field,
             value,
             reason,
-        } => {
-            let to = names.iter().find(|(name, _)| {
-                field
-                    .strip_prefix(name)
-                    .is_some_and(|rest| rest.is_empty() || rest.starts_with('['))
-            });
-            Error::InvalidParameter {
-                field: to.map_or(field, |(_, f)| f.clone()),
-                value,
-                reason,
-            }
-        }
+        } => Error::InvalidParameter {
+            field: rename(field),
+            value,
+            reason,
+        },
+        Error::WrongType {
+            field,
+            value,
+            reason,
+        } => Error::WrongType {
+            field: rename(field),
+            value,
+            reason,
+        },
         other => other,
     }
 }
