@@ -109,6 +109,15 @@ impl Error {
             reason: reason.into(),
         }
     }
+
+    /// Shorthand for [`Error::WrongType`], its value shown as [`Error::invalid`] shows one.
+    pub(crate) fn wrong_type(field: String, value: impl ToString, reason: String) -> Self {
+        Error::WrongType {
+            field,
+            value: shown(value.to_string()),
+            reason,
+        }
+    }
 }
 
 /// A friction sum of [`Error::NonUnique`], as text output shows numbers (no snapping: these are
@@ -139,7 +148,7 @@ fn sum_text(v: &f64) -> String {
 
 /// A value as given, except a number that `{}` wrote out in tens or hundreds of digits
 /// (`1e-300` as 0.000...0001): that one in exponent form, which is exact (`1e-300`).
-pub(crate) fn shown(value: String) -> String {
+fn shown(value: String) -> String {
     match value.parse::<f64>() {
         Ok(v) if value.len() > 24 && v.is_finite() => format!("{v:e}"),
         _ => value,

@@ -40,11 +40,7 @@ pub(crate) fn read_keys<T: DeserializeOwned>(keys: &toml::Table) -> Result<T> {
             })
             .flatten();
         match value {
-            Some(value) if inner.wrong_type => Error::WrongType {
-                field: key,
-                value: crate::error::shown(value.to_string()),
-                reason,
-            },
+            Some(value) if inner.wrong_type => Error::wrong_type(key, value, reason),
             Some(value) => Error::invalid(key, value, reason),
             None => Error::invalid("settings", "the table given", reason),
         }

@@ -107,22 +107,25 @@ impl GaitMethod {
         Self::ALL
             .into_iter()
             .find(|m| m.name() == name)
-            .ok_or_else(|| Error::invalid("method", name, METHOD_NAMES))
+            .ok_or_else(|| Error::invalid("method", name, method_names()))
     }
 }
 
-/// Why a name is no [`GaitMethod`] (the names of [`GaitMethod::ALL`]).
-const METHOD_NAMES: &str = "must be one of auto, discrete, local, phase, sequence, chain";
+/// Why a name is no [`GaitMethod`]: the names of [`GaitMethod::ALL`].
+fn method_names() -> String {
+    let names: Vec<&str> = GaitMethod::ALL.iter().map(|m| m.name()).collect();
+    format!("must be one of {}", names.join(", "))
+}
 
 /// Why a name is no [`PhaseFormulation`].
 const FORMULATION_NAMES: &str = "must be \"general\", \"transitions\" or \"chain\"";
 
 impl TryFrom<String> for GaitMethod {
-    type Error = &'static str;
+    type Error = String;
 
     /// [`GaitMethod::from_name`], its refusal's reason for serde to report at the key.
     fn try_from(name: String) -> std::result::Result<Self, Self::Error> {
-        Self::from_name(&name).map_err(|_| METHOD_NAMES)
+        Self::from_name(&name).map_err(|_| method_names())
     }
 }
 
