@@ -41,7 +41,7 @@ fn the_one_link_table_is_the_closed_form_at_every_m() {
         );
         assert_eq!(row.status, MilpStatus::Optimal);
     }
-    assert_eq!(r.solution.m, 4);
+    assert_eq!(r.solution.as_pm().unwrap().m, 4);
     assert!((r.head.objective - 3.0).abs() < 1e-9);
     // Without the flag, one MILP and no table.
     let one = optimize_general(&one_link(), &GeneralPmSettings::default()).unwrap();

@@ -240,9 +240,7 @@ fn the_report_shows_the_optimiser_s_objective_and_the_problem() {
     };
     let plan = settings.plan_general(&[]).unwrap();
     let a = api::optimize_general_plan(&file, &plan, settings.naming, Hooks::default()).unwrap();
-    let GeneralAnswer::Discrete(r) = &a else {
-        panic!("discrete")
-    };
+    let r = a.solution.as_pm().expect("discrete");
     let html = build_general_report(
         &p,
         GeneralReportInput::Answer(&a),
@@ -250,7 +248,7 @@ fn the_report_shows_the_optimiser_s_objective_and_the_problem() {
         "crawlopt optimize general_drift.toml --report r.html",
     )
     .unwrap();
-    let want = format!("id=\"objective\" data-value=\"{}\"", r.solution.objective);
+    let want = format!("id=\"objective\" data-value=\"{}\"", r.objective);
     assert!(html.contains(&want), "{want}");
     for part in [
         "<table id=\"faces\">",

@@ -228,8 +228,15 @@ fn the_api_job_reports_its_starts_and_can_be_cancelled() {
         cancel: None,
     };
     let r = optimize_general_local(&file, &settings, hooks).unwrap();
-    assert_eq!((r.start_from, r.starts_tried, stages), ("input", 3, 3));
-    assert!((r.solution.objective - 3.0).abs() < 1e-9);
+    assert_eq!(
+        (
+            r.starts.unwrap().start_from,
+            r.starts.unwrap().starts_tried,
+            stages
+        ),
+        ("input", 3, 3)
+    );
+    assert!((r.solution.objective() - 3.0).abs() < 1e-9);
     let cancel = Cancel::new();
     cancel.cancel();
     let hooks = Hooks {
@@ -256,7 +263,7 @@ fn the_local_method_starts_from_the_phase_optimum_where_a_is_zero() {
     assert!(file.input.is_none());
     let r =
         optimize_general_local(&file, &GeneralLocalSettings::default(), Hooks::default()).unwrap();
-    assert_eq!(r.start_from, "phase");
+    assert_eq!(r.starts.unwrap().start_from, "phase");
     // The crawler's local method from its phase start (the default policy of `optimize
     // --method local` on the crawler's file).
     let c = crawlopt::Crawler::uniform(3, 1.0, 1.0, 1.5).unwrap();
@@ -291,7 +298,7 @@ fn the_local_method_starts_from_the_phase_optimum_where_a_is_zero() {
         ..GeneralLocalSettings::default()
     };
     let r = optimize_general_local(&short, &s, Hooks::default()).unwrap();
-    assert_eq!(r.start_from, "phase");
+    assert_eq!(r.starts.unwrap().start_from, "phase");
     assert!(r.head.objective.abs() < 1e-12, "{}", r.head.objective);
     // A drift: the square waves.
     let drift = GeneralFile::parse(
@@ -307,7 +314,10 @@ fn the_local_method_starts_from_the_phase_optimum_where_a_is_zero() {
         start: None,
     };
     let r = optimize_general_local(&drift, &s, Hooks::default()).unwrap();
-    assert_eq!((r.start_from, r.starts_tried), ("square_waves", 2));
+    assert_eq!(
+        (r.starts.unwrap().start_from, r.starts.unwrap().starts_tried),
+        ("square_waves", 2)
+    );
 }
 
 /// A general job's notes reach its answer, as a crawler's do (`OptimizedFile::notes`, printed
@@ -322,7 +332,7 @@ fn the_local_method_starts_from_the_phase_optimum_where_a_is_zero() {
 #[test]
 fn a_general_jobs_notes_reach_its_answer() {
     use crawlopt::api::{optimize_file, GaitMethod, Hooks, OptimizeSettings, OptimizedFile};
-    use crawlopt::io::{GeneralAnswer, GeneralFile, ProblemFile};
+    use crawlopt::io::{GeneralFile, ProblemFile};
     let run = |file: GeneralFile, settings: &OptimizeSettings, seen: &mut Vec<String>| {
         let mut watch = |e: &crawlopt::api::Event, _: f64| {
             if let crawlopt::api::Event::Note(n) = e {
@@ -374,10 +384,9 @@ fn a_general_jobs_notes_reach_its_answer() {
     let OptimizedFile::General { answer, .. } = &done else {
         panic!("a general answer")
     };
-    let GeneralAnswer::Local(r) = answer.as_ref() else {
-        panic!("the local method's answer")
-    };
-    assert_eq!(r.start_from, "phase", "{:?}", done.notes());
+    let r = answer.as_ref();
+    assert!(r.solution.as_local().is_some(), "the local method's answer");
+    assert_eq!(r.starts.unwrap().start_from, "phase", "{:?}", done.notes());
     assert!(done.notes().is_empty() && seen.is_empty(), "{seen:?}");
 }
 
@@ -393,7 +402,7 @@ fn the_local_method_starts_from_a_given_result() {
         optimize_general_local, optimize_general_phase, GeneralLocalSettings, GeneralPhaseSettings,
         Hooks, Start,
     };
-    use crawlopt::io::{GeneralAnswer, GeneralFile};
+    use crawlopt::io::GeneralFile;
     let file = GeneralFile::load_if_general("examples/general_three_blocks.toml".as_ref())
         .unwrap()
         .unwrap();
@@ -406,14 +415,17 @@ fn the_local_method_starts_from_a_given_result() {
     let again = GeneralLocalSettings {
         shifts: 1,
         start: Some(Start::General {
-            answer: Box::new(GeneralAnswer::Local(Box::new(first.clone()))),
+            answer: Box::new(first.clone()),
             name: "first".into(),
         }),
         ..s.clone()
     };
     let r = optimize_general_local(&file, &again, Hooks::default()).unwrap();
-    assert_eq!((r.start_from, r.starts_tried), ("start", 1));
-    assert!((r.solution.start_objective - first.head.objective).abs() < 1e-9);
+    assert_eq!(
+        (r.starts.unwrap().start_from, r.starts.unwrap().starts_tried),
+        ("start", 1)
+    );
+    assert!((r.solution.as_local().unwrap().start_objective - first.head.objective).abs() < 1e-9);
     assert!(
         (r.head.objective - first.head.objective).abs() < 1e-9,
         "{}",
@@ -437,15 +449,16 @@ fn the_local_method_starts_from_a_given_result() {
         ..s.clone()
     };
     let r = optimize_general_local(&file, &from_file, Hooks::default()).unwrap();
-    assert_eq!(r.start_from, "start");
-    assert!(r.head.objective >= r.solution.start_objective - 1e-9);
+    assert_eq!(r.starts.unwrap().start_from, "start");
+    assert!(r.head.objective >= r.solution.as_local().unwrap().start_objective - 1e-9);
     // The start is the phase gait averaged on 64 steps (J = 2.125 there for the phase's
     // 2.1667; the local answer 2.1875).
     assert!(
-        (r.solution.start_objective - phase.head.objective).abs() < 0.05 * phase.head.objective,
+        (r.solution.as_local().unwrap().start_objective - phase.head.objective).abs()
+            < 0.05 * phase.head.objective,
         "phase J = {}, its start on the grid {}",
         phase.head.objective,
-        r.solution.start_objective
+        r.solution.as_local().unwrap().start_objective
     );
     // Another shape: the one-link problem's own answer on the three-block problem.
     let one = GeneralFile::load_if_general("examples/general_one_link.toml".as_ref())
@@ -453,7 +466,7 @@ fn the_local_method_starts_from_a_given_result() {
         .unwrap();
     let wrong = GeneralLocalSettings {
         start: Some(Start::General {
-            answer: Box::new(GeneralAnswer::Local(Box::new(first))),
+            answer: Box::new(first),
             name: "three.json".into(),
         }),
         ..s.clone()

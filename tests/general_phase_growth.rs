@@ -94,9 +94,9 @@ fn patience_ends_the_growth_on_a_plateau_and_the_claim_is_the_last_k() {
     assert_eq!(g.stop, GrowthStop::NoGain);
     assert_eq!(g.table.len(), 6);
     assert_eq!(r.head.certificate.phases, Some(6));
-    assert_eq!(r.solution.max_phases, 6);
+    assert_eq!(r.solution.as_phase().unwrap().max_phases, 6);
     assert!((r.head.objective - 3.0).abs() < 1e-9);
-    assert!(r.solution.certificate.bound >= r.head.objective - 1e-9);
+    assert!(r.solution.as_phase().unwrap().certificate.bound >= r.head.objective - 1e-9);
 }
 
 #[test]
@@ -254,7 +254,7 @@ fn free_transitions_reach_the_one_link_optimum_at_two_slots() {
     });
     let two = optimize_general_phase(&one_link(t), &fixed, Hooks::default()).unwrap();
     assert!((two.head.objective - want).abs() < 1e-9);
-    assert_eq!(two.solution.durations.len(), 4);
+    assert_eq!(two.solution.as_phase().unwrap().durations.len(), 4);
     let verdict = two.necessary_conditions.as_ref().map(|c| c.verdict);
     assert_eq!(verdict, Some(crawlopt::certify::Verdict::Holds));
     let text = serde_json::to_string(&two).unwrap();

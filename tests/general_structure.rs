@@ -290,7 +290,7 @@ fn a_chain_takes_the_chains_phase_formulation() {
         "{}",
         chain.head.objective
     );
-    assert!(chain.solution.durations.len() <= 8);
+    assert!(chain.solution.as_phase().unwrap().durations.len() <= 8);
     let general = optimize_general_phase(
         &file,
         &settings(Some(PhaseFormulation::General)),
@@ -303,7 +303,7 @@ fn a_chain_takes_the_chains_phase_formulation() {
         "{}",
         general.head.objective
     );
-    assert!(chain.solution.certificate.bound >= general.head.objective);
+    assert!(chain.solution.as_phase().unwrap().certificate.bound >= general.head.objective);
     // The general formulation reaches it with 8 phases.
     let eight = optimize_general_phase(
         &file,
@@ -329,7 +329,7 @@ fn a_chain_takes_the_chains_phase_formulation() {
         1.0 / 3.0,
         -1.0 / 3.0,
     ];
-    let s = &chain.solution;
+    let s = chain.solution.as_phase().unwrap();
     let mut reward = 0.0;
     for (j, tau) in s.durations.iter().enumerate() {
         for (f, r) in s.reactions[j].iter().enumerate() {
@@ -440,7 +440,9 @@ fn with_any_stiffness_the_chain_is_the_crawlers_problem() {
             Hooks::default(),
         )
         .unwrap();
-        assert!(general.head.objective <= chain.solution.certificate.bound + 1e-7);
+        assert!(
+            general.head.objective <= chain.solution.as_phase().unwrap().certificate.bound + 1e-7
+        );
         let b = BoundSettings {
             resolution: Some(4),
             box_resolution: Some(4),

@@ -44,7 +44,7 @@ fn the_drift_example_certifies_after_polishing() {
     };
     assert!(s.polish, "polishing is the default");
     let r = optimize_general(&file, &s).unwrap();
-    let pm = &r.solution;
+    let pm = r.solution.as_pm().unwrap();
     let rec = pm.polish.as_ref().expect("a quadratic cost is polished");
     assert!(rec.applied, "{rec:?}");
     assert_eq!(pm.certificate.status, MilpStatus::Optimal);
@@ -74,9 +74,10 @@ fn the_drift_example_certifies_after_polishing() {
         },
     )
     .unwrap();
-    assert!(raw.solution.polish.is_none());
-    assert_eq!(raw.solution.objective, rec.objective_before);
-    assert!(pm.objective >= raw.solution.objective);
+    let raw_pm = raw.solution.as_pm().unwrap();
+    assert!(raw_pm.polish.is_none());
+    assert_eq!(raw_pm.objective, rec.objective_before);
+    assert!(pm.objective >= raw_pm.objective);
     let raw_nc = raw.necessary_conditions.as_ref().unwrap();
     assert_eq!(raw_nc.verdict, Verdict::Fails);
 

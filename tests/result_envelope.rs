@@ -102,11 +102,7 @@ fn general_results_carry_the_envelope_and_read_back() {
         // The head as the variant has it: a record read directly (not through `ResultFile`)
         // whose kind or method is another's is refused naming the field.
         fn head(a: &mut GeneralAnswer) -> &mut crawlopt::optimal::envelope::ResultHead {
-            match a {
-                GeneralAnswer::Discrete(r) => &mut r.head,
-                GeneralAnswer::Local(r) => &mut r.head,
-                GeneralAnswer::Phase(r) => &mut r.head,
-            }
+            &mut a.head
         }
         let mut other = (*answer).clone();
         head(&mut other).method = if method == "local" { "phase" } else { "local" }.into();
@@ -456,9 +452,26 @@ fn tampered_general_results_are_refused_naming_the_field() {
     let mut w = v.clone();
     set(&mut w, "/status", json!("optimal"));
     refused(&w, "status");
-    let mut w = v;
+    let mut w = v.clone();
     set(&mut w, "/best_start", json!(4));
     refused(&w, "best_start");
+    // One answer type for every method: a local answer without its starts, or with a MILP's
+    // objective, and a global answer with starts, are refused naming the field; a solution of
+    // another method's shape is refused naming what it lacks.
+    let mut w = v.clone();
+    w.as_object_mut().unwrap().remove("best_start");
+    refused(&w, "start_from: a local answer records its starts");
+    let mut w = v.clone();
+    w["solver_objective"] = json!(1.0);
+    refused(&w, "solver_objective: the local method solves no MILP");
+    let mut w = v.clone();
+    set(&mut w, "/method", json!("phase"));
+    refused(&w, "malformed general result: missing field `max_phases`");
+    let (_, mut w) = optimize(ONE_LINK, &["--m", "2"]);
+    w["start_from"] = json!("input");
+    w["starts_tried"] = json!(1);
+    w["best_start"] = json!(0);
+    refused(&w, "start_from: only the local method records its starts");
     // Through the command line: exit 2, the field named.
     let dir = tempfile::tempdir().unwrap();
     let (_, mut v) = optimize(ONE_LINK, &["--m", "2"]);

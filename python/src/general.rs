@@ -160,7 +160,7 @@ impl GeneralProblem {
         let doc = pythonize::pythonize(py, &answer)?;
         Ok((
             doc,
-            GeneralRecord::new(*problem, Record::Answer(*answer)),
+            GeneralRecord::new(*problem, Record::Answer(answer)),
             notes,
         ))
     }
@@ -169,7 +169,7 @@ impl GeneralProblem {
 /// What a [`GeneralRecord`] holds.
 pub(crate) enum Record {
     Simulated(Box<crawlopt::io::GeneralSimulated>),
-    Answer(crawlopt::io::GeneralAnswer),
+    Answer(Box<crawlopt::io::GeneralAnswer>),
 }
 
 /// A simulation or an optimum of a general problem as the library returned it, with its
@@ -185,8 +185,8 @@ impl GeneralRecord {
     /// The record of a general result read back from its document (the problem its envelope
     /// stores), so that a result file draws and reports as the object `optimize` returned.
     pub(crate) fn of_answer(r: crawlopt::io::GeneralAnswer) -> crawlopt::Result<Self> {
-        let problem = r.problem().problem()?;
-        Ok(GeneralRecord::new(problem, Record::Answer(r)))
+        let problem = r.problem.problem()?;
+        Ok(GeneralRecord::new(problem, Record::Answer(Box::new(r))))
     }
 
     pub(crate) fn new(problem: crawlopt::model::general::GeneralProblem, record: Record) -> Self {

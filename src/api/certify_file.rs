@@ -7,7 +7,7 @@
 //! the chain formulation's), on its own phases.
 
 use crate::certify::{
-    certify_general, certify_result, CertifyOptions, GeneralNecessaryConditions, GeneralProcess,
+    certify_general, certify_result, CertifyOptions, GeneralNecessaryConditions,
     NecessaryConditions,
 };
 use crate::error::{Error, Result};
@@ -40,12 +40,8 @@ pub fn certify_result_file(r: &ResultFile, what: &str) -> Result<Certified> {
 /// are certified; a Cauchy problem is refused naming `problem.periodic` (the conditions are
 /// stated for periodic problems).
 pub fn certify_general_answer(r: &GeneralAnswer, what: &str) -> Result<GeneralNecessaryConditions> {
-    let (p, _) = super::general_problem(r.problem())?;
-    let pr = match r {
-        GeneralAnswer::Discrete(r) => GeneralProcess::from_pm(&p, &r.solution),
-        GeneralAnswer::Local(r) => GeneralProcess::from_local(&p, &r.solution),
-        GeneralAnswer::Phase(r) => GeneralProcess::from_phase(&r.solution),
-    };
+    let (p, _) = super::general_problem(&r.problem)?;
+    let pr = r.solution.process(&p);
     // Checked first as the file's solution, so that a message names the file and its field.
     let at = format!("{what}: solution");
     pr.check_as(
@@ -67,7 +63,7 @@ pub fn certified_figures(r: &ResultFile, cert: &Certified) -> Result<Vec<Figure>
             Ok(figs)
         }
         (ResultFile::General(a), Certified::General(c)) => {
-            let p = a.problem().problem()?;
+            let p = a.problem.problem()?;
             let mut figs = present::general_answer_figures(&p, a)?;
             figs.extend(present::general_adjoint_figure(&p, c)?);
             Ok(figs)

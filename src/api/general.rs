@@ -4,8 +4,9 @@
 use crate::certify::bound::BoundSettings;
 use crate::error::{Error, Result};
 use crate::integrate::{simulate_general_on as integrate_general, GeneralSimOptions, SimOptions};
+use crate::io::GeneralAnswer;
 use crate::io::GeneralFile;
-pub use crate::io::{Check, CheckStatus, GeneralAnalysis, GeneralOptimized, GeneralSimulated};
+pub use crate::io::{Check, CheckStatus, GeneralAnalysis, GeneralSimulated};
 use crate::model::general::{ControlSet, GeneralProblem, Reward};
 use crate::model::ChainView;
 use crate::optimal::general::{analyze_polyhedron, check_with, Geometry};
@@ -396,7 +397,7 @@ impl Default for GeneralPmSettings {
 /// The global optimum of P_m for a problem file ([`crate::optimal::general::discrete`]),
 /// re-verified by the general simulator, with its necessary conditions when asked; with
 /// `convergence`, the table of P_1..P_m too.
-pub fn optimize_general(file: &GeneralFile, s: &GeneralPmSettings) -> Result<GeneralOptimized> {
+pub fn optimize_general(file: &GeneralFile, s: &GeneralPmSettings) -> Result<GeneralAnswer> {
     super::events::run_with(super::Hooks::default(), |em| pm_job(file, s, em))
 }
 
@@ -406,7 +407,7 @@ pub(super) fn pm_job(
     file: &GeneralFile,
     s: &GeneralPmSettings,
     em: &super::events::Emitter<'_>,
-) -> Result<GeneralOptimized> {
+) -> Result<GeneralAnswer> {
     let (p, g) = general_problem(file)?;
     let chain = chain_for_bound(&p, s.bound.as_ref())?;
     crate::optimal::check_time_limit(s.time_limit)?;
@@ -434,7 +435,8 @@ pub(super) fn pm_job(
     } else {
         None
     };
-    let mut r = GeneralOptimized::new(file, p.period, solution, necessary_conditions);
+    let mut r = GeneralAnswer::discrete(file, p.period, solution);
+    r.necessary_conditions = necessary_conditions;
     r.convergence = convergence;
     if let (Some(view), Some(b)) = (&chain, &s.bound) {
         em.stage("proving an upper bound over all periodic gaits (the chain's)");

@@ -12,7 +12,7 @@
 use super::events::Hooks;
 use super::settings::{GaitMethod, OptimizeSettings};
 use crate::error::{Error, Result};
-use crate::io::{GeneralFile, GeneralPhaseOptimized};
+use crate::io::{GeneralAnswer, GeneralFile};
 use crate::optimal::general::{chain_gait, chain_gait_problem, ChainPieces};
 use crate::optimal::ResultCertificate;
 
@@ -50,7 +50,7 @@ pub fn optimize_general_on_chain(
     file: &GeneralFile,
     s: &GeneralChainSettings,
     hooks: Hooks<'_>,
-) -> Result<GeneralPhaseOptimized> {
+) -> Result<GeneralAnswer> {
     let method = s.crawler.method;
     if !matches!(method, GaitMethod::Sequence | GaitMethod::Chain) {
         return Err(Error::invalid(
@@ -97,14 +97,14 @@ pub fn optimize_general_on_chain(
     };
     let mut gait = chain_gait(&p, &view, pieces)?;
     gait.certificate.status = r.head.status;
-    let mut answer = GeneralPhaseOptimized::new(file, p.period, gait);
+    let mut answer = GeneralAnswer::phase(file, p.period, gait);
     answer.head.method = method.name().into();
     answer.head.status = r.head.status;
     answer.head.certificate = ResultCertificate::local(None);
     answer.formulation = Some("chain".into());
     answer.structured = r.structured.clone();
     if s.certify {
-        let pr = crate::certify::GeneralProcess::from_phase(&answer.solution);
+        let pr = answer.solution.process(&p);
         answer.necessary_conditions = Some(crate::certify::certify_general(
             &p,
             &pr,

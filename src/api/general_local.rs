@@ -7,8 +7,7 @@
 use super::events::{run_with, Emitter, Event, Hooks};
 use super::settings::{DEFAULT_M_LOCAL, DEFAULT_SHIFTS};
 use crate::error::{Error, Result};
-use crate::io::GeneralFile;
-pub use crate::io::GeneralLocalOptimized;
+use crate::io::{GeneralAnswer, GeneralFile, LocalStarts};
 use crate::model::general::GeneralProblem;
 use crate::optimal::general::{
     check_general_local, default_starts, grid_controls, phase_grid, rotated, solve_general_local,
@@ -21,7 +20,7 @@ pub fn optimize_general_with_hooks(
     file: &GeneralFile,
     s: &super::GeneralPmSettings,
     hooks: Hooks<'_>,
-) -> Result<super::GeneralOptimized> {
+) -> Result<GeneralAnswer> {
     run_with(hooks, |em| {
         em.stage(if s.convergence {
             format!("P_1..P_{} of the general problem, global MILPs", s.m)
@@ -70,7 +69,7 @@ pub fn optimize_general_local(
     file: &GeneralFile,
     s: &GeneralLocalSettings,
     hooks: Hooks<'_>,
-) -> Result<GeneralLocalOptimized> {
+) -> Result<GeneralAnswer> {
     let (p, g) = super::general::general_problem(file)?;
     check_general_local(&p, &g, s.m)?;
     crate::optimal::check_shifts(s.shifts)?;
@@ -98,12 +97,12 @@ pub fn optimize_general_local(
                 other => (other?, start_from),
             };
             let (solution, best_start, tried) = answer;
-            Ok(GeneralLocalOptimized::new(
-                file,
-                p.period,
-                (start_from, tried, best_start),
-                solution,
-            ))
+            let starts = LocalStarts {
+                start_from,
+                starts_tried: tried,
+                best_start,
+            };
+            Ok(GeneralAnswer::local(file, p.period, starts, solution))
         })
     })
 }
@@ -162,7 +161,7 @@ fn given_start(start: &super::Start, p: &GeneralProblem, m: u32) -> Result<Vec<V
         super::Start::File(path) => {
             let name = path.display().to_string();
             let text = crate::io::read_input_text(path, crate::io::MAX_RESULT_BYTES)?;
-            read = crate::io::GeneralAnswer::from_json(&text, &name)?;
+            read = GeneralAnswer::from_json(&text, &name)?;
             (&read, name)
         }
         super::Start::General { answer, name } => {
@@ -176,7 +175,7 @@ fn given_start(start: &super::Start, p: &GeneralProblem, m: u32) -> Result<Vec<V
             )
         }
     };
-    let q = answer.problem().problem()?;
+    let q = answer.problem.problem()?;
     if (q.states(), q.controls()) != (p.states(), p.controls()) || q.period != p.period {
         return refuse(
             &name,

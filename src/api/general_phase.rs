@@ -6,8 +6,7 @@
 use super::events::{run_with, Event, Hooks};
 use super::settings::PhaseFormulation;
 use crate::error::Result;
-use crate::io::GeneralFile;
-pub use crate::io::GeneralPhaseOptimized;
+use crate::io::{GeneralAnswer, GeneralFile};
 use crate::model::general::GeneralProblem;
 use crate::model::ChainView;
 use crate::optimal::general::{
@@ -173,7 +172,7 @@ pub fn optimize_general_phase(
     file: &GeneralFile,
     s: &GeneralPhaseSettings,
     hooks: Hooks<'_>,
-) -> Result<GeneralPhaseOptimized> {
+) -> Result<GeneralAnswer> {
     if s.patience == 0 {
         return Err(crate::Error::invalid("patience", 0, "must be at least 1"));
     }
@@ -216,7 +215,7 @@ pub fn optimize_general_phase(
             grow(&p, &g, chain.as_ref(), transitions, range, &mut progress)
         })
         .map_err(named)?;
-        let mut r = GeneralPhaseOptimized::new(file, p.period, grown.best);
+        let mut r = GeneralAnswer::phase(file, p.period, grown.best);
         if chain.is_some() {
             r.formulation = Some(PhaseFormulation::Chain.name().into());
         } else if transitions {
@@ -236,7 +235,7 @@ pub fn optimize_general_phase(
         }
         if s.certify {
             em.stage("checking the necessary conditions (Theorem 2.2) on the gait");
-            let pr = crate::certify::GeneralProcess::from_phase(&r.solution);
+            let pr = r.solution.process(&p);
             r.necessary_conditions = Some(crate::certify::certify_general(
                 &p,
                 &pr,

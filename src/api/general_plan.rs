@@ -308,17 +308,10 @@ pub fn optimize_general_plan(
 ) -> Result<GeneralAnswer> {
     let named = |e| naming.name_settings(e);
     match plan {
-        GeneralPlan::Discrete(s) => optimize_general_with_hooks(file, s, hooks)
-            .map(|r| GeneralAnswer::Discrete(Box::new(r)))
-            .map_err(named),
-        GeneralPlan::Local(s) => optimize_general_local(file, s, hooks)
-            .map(|r| GeneralAnswer::Local(Box::new(r)))
-            .map_err(named),
-        GeneralPlan::Phase(s) => optimize_general_phase(file, s, hooks)
-            .map(|r| GeneralAnswer::Phase(Box::new(r)))
-            .map_err(named),
-        GeneralPlan::OnChain(s) => optimize_general_on_chain(file, s, hooks)
-            .map(|r| GeneralAnswer::Phase(Box::new(r)))
-            .map_err(named),
+        GeneralPlan::Discrete(s) => optimize_general_with_hooks(file, s, hooks),
+        GeneralPlan::Local(s) => optimize_general_local(file, s, hooks),
+        GeneralPlan::Phase(s) => optimize_general_phase(file, s, hooks),
+        GeneralPlan::OnChain(s) => optimize_general_on_chain(file, s, hooks),
     }
+    .map_err(named)
 }

@@ -61,22 +61,20 @@ mod optimize_file;
 mod problem_file;
 mod settings;
 
+pub use crate::io::{GeneralSolution, LocalStarts};
 pub use bench::{bench, BenchCase, BenchSettings};
 pub use certify_file::{certified_figures, certify_general_answer, certify_result_file, Certified};
 pub use events::{Event, Hooks, Observer};
 pub use fit::fit;
 pub use general::{
     analyze_general, general_problem, general_sim_options, optimize_general, simulate_general,
-    GeneralAnalysis, GeneralOptimized, GeneralPmSettings, GeneralSimulated,
+    GeneralAnalysis, GeneralPmSettings, GeneralSimulated,
 };
 pub use general_chain::{optimize_general_on_chain, GeneralChainSettings};
 pub use general_local::{
-    optimize_general_local, optimize_general_with_hooks, GeneralLocalOptimized,
-    GeneralLocalSettings,
+    optimize_general_local, optimize_general_with_hooks, GeneralLocalSettings,
 };
-pub use general_phase::{
-    optimize_general_phase, GeneralPhaseOptimized, GeneralPhaseSettings, DEFAULT_GENERAL_PHASES,
-};
+pub use general_phase::{optimize_general_phase, GeneralPhaseSettings, DEFAULT_GENERAL_PHASES};
 pub use general_plan::{optimize_general_plan, GeneralAnswer, GeneralPlan};
 pub use optimize::{optimize, Optimized};
 pub use optimize_file::{

@@ -7,10 +7,11 @@
 //! `m`, and an upper bound only on a chain. A claim that does not follow is refused naming its
 //! field.
 
-use super::GeneralPhaseOptimized;
+use super::GeneralAnswer;
 use crate::error::{Error, Result};
 use crate::model::general::GeneralProblem;
 use crate::optimal::consistency::{check_claim, Claim, INPUT_TOL};
+use crate::optimal::general::GeneralPhaseGait;
 use crate::optimal::{Certificate, MilpStatus, ResultCertificate};
 
 /// An error naming `field` of the result `what`.
@@ -21,7 +22,7 @@ pub(super) fn bad(what: &str, field: &str, got: impl ToString, reason: impl Into
 /// The phases of a free-transition answer fit its `K` slots: each phase that holds a face takes
 /// a slot, with at most one free phase before it; a free phase not followed by one that holds
 /// a face takes a slot of its own (the fewest slots, counted greedily in time order).
-pub(super) fn check_slots(s: &crate::optimal::general::GeneralPhaseGait, what: &str) -> Result<()> {
+pub(super) fn check_slots(s: &GeneralPhaseGait, what: &str) -> Result<()> {
     let mut slots = 0;
     let mut j = 0;
     while j < s.held.len() {
@@ -48,7 +49,7 @@ pub(super) fn check_slots(s: &crate::optimal::general::GeneralPhaseGait, what: &
 /// (`dominates_k_phases`, its class and gap are [`check_claim`]'s): only the chain's
 /// formulation makes it, keeping its structured start (`structured`) when that start is
 /// outside the class.
-pub(super) fn check_dominates(r: &GeneralPhaseOptimized, chain: bool, what: &str) -> Result<()> {
+pub(super) fn check_dominates(r: &GeneralAnswer, chain: bool, what: &str) -> Result<()> {
     let reason = if !chain {
         "is claimed only by the chain's formulation (formulation \"chain\")"
     } else if r.structured.is_none() {
@@ -76,8 +77,7 @@ pub(super) fn check_local_certificate(what: &str, cert: &ResultCertificate) -> R
 /// The claims of a local method's phase gait on a chain (`sequence`, `chain`): a local status
 /// (`stationary`, `stalled`, `time_limit`) that is the solution's, the certificate `local`
 /// without bound or gap, no bound in the solution, no growth table and no upper bound.
-pub(super) fn check_local_phase(what: &str, r: &crate::io::GeneralPhaseOptimized) -> Result<()> {
-    let s = &r.solution;
+pub(super) fn check_local_phase(what: &str, r: &GeneralAnswer, s: &GeneralPhaseGait) -> Result<()> {
     let allowed = [
         MilpStatus::Stationary,
         MilpStatus::Stalled,

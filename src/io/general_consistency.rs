@@ -13,15 +13,14 @@ use super::general_claims::{
     bad, check_dominates, check_global, check_local_certificate, check_local_phase, check_slots,
     check_table, check_upper_bound,
 };
-use super::{
-    GeneralAnswer, GeneralFile, GeneralLocalOptimized, GeneralOptimized, GeneralPhaseOptimized,
-};
+use super::{GeneralAnswer, GeneralFile, GeneralSolution};
 use crate::certify::GeneralProcess;
 use crate::error::{Error, Result};
 use crate::model::general::GeneralProblem;
 use crate::optimal::consistency::INPUT_TOL;
 use crate::optimal::general::{
-    replay_phases, simulate_grid, MAX_GENERAL_LOCAL_M, MAX_GENERAL_M, MAX_GENERAL_PHASES,
+    replay_phases, simulate_grid, GeneralLocal, GeneralPhaseGait, GeneralPm, MAX_GENERAL_LOCAL_M,
+    MAX_GENERAL_M, MAX_GENERAL_PHASES,
 };
 use crate::optimal::process::{max_diff, Fault, FieldNames, ProcessKind, ProcessRows};
 use crate::optimal::{local_status, MilpStatus, ResultKind};
@@ -77,7 +76,7 @@ impl GeneralAnswer {
     pub fn check_consistent(&self, what: &str) -> Result<()> {
         // The head as the variant has it (a record deserialised directly, not through
         // `ResultFile::from_json`, has not had its kind and method read yet).
-        let head = self.head();
+        let head = &self.head;
         if head.kind != ResultKind::General {
             return Err(bad(
                 what,
@@ -86,11 +85,7 @@ impl GeneralAnswer {
                 "a general problem's answer is of kind \"general\"",
             ));
         }
-        let methods: &[&str] = match self {
-            GeneralAnswer::Discrete(_) => &["discrete"],
-            GeneralAnswer::Local(_) => &["local"],
-            GeneralAnswer::Phase(_) => &["phase", "sequence", "chain"],
-        };
+        let methods = self.solution.methods();
         if !methods.contains(&head.method.as_str()) {
             return Err(bad(
                 what,
@@ -99,35 +94,61 @@ impl GeneralAnswer {
                 format!("is not a method of this answer ({methods:?})"),
             ));
         }
-        let p = stored_problem(self.problem(), what)?;
-        let period = match self {
-            GeneralAnswer::Discrete(r) => r.period,
-            GeneralAnswer::Local(r) => r.period,
-            GeneralAnswer::Phase(r) => r.period,
-        };
-        if period != p.period {
+        if self.starts.is_some() && !matches!(self.solution, GeneralSolution::Local(_)) {
+            return Err(bad(
+                what,
+                "start_from",
+                &head.method,
+                "only the local method records its starts",
+            ));
+        }
+        let p = stored_problem(&self.problem, what)?;
+        if self.period != p.period {
             return Err(bad(
                 what,
                 "period",
-                period,
+                self.period,
                 format!("differs from the problem's period {}", p.period),
             ));
         }
-        match self {
-            GeneralAnswer::Discrete(r) => check_discrete_answer(r, &p, what),
-            GeneralAnswer::Local(r) => check_local_answer(r, &p, what),
-            GeneralAnswer::Phase(r) => check_phase_answer(r, &p, what),
+        match &self.solution {
+            GeneralSolution::Pm(s) => check_discrete_answer(self, s, &p, what),
+            GeneralSolution::Local(s) => check_local_answer(self, s, &p, what),
+            GeneralSolution::Phase(s) => check_phase_answer(self, s, &p, what),
         }
+    }
+
+    /// The MILP's own objective, which every method but the local one records.
+    fn solver_objective(&self, what: &str) -> Result<f64> {
+        self.solver_objective.ok_or_else(|| {
+            bad(
+                what,
+                "solver_objective",
+                "nothing",
+                format!(
+                    "the {} method records its MILP's objective",
+                    self.head.method
+                ),
+            )
+        })
     }
 }
 
 /// A P_m answer of the global method: its process replayed, its objective, its convergence
 /// table, its upper bound and its global certificate.
-fn check_discrete_answer(r: &GeneralOptimized, p: &GeneralProblem, what: &str) -> Result<()> {
-    let s = &r.solution;
+fn check_discrete_answer(
+    r: &GeneralAnswer,
+    s: &GeneralPm,
+    p: &GeneralProblem,
+    what: &str,
+) -> Result<()> {
     let j = check_pm(p, MAX_GENERAL_M, &GeneralProcess::from_pm(p, s), what)?;
     objectives(what, j, s.objective, r.head.objective)?;
-    solver_objective(what, r.solver_objective, s.certificate.milp_objective)?;
+    solver_objective(
+        what,
+        r.solver_objective(what)?,
+        s.certificate.milp_objective,
+    )?;
     if let Some(table) = &r.convergence {
         let rows: Vec<_> = table
             .iter()
@@ -157,8 +178,12 @@ fn check_discrete_answer(r: &GeneralOptimized, p: &GeneralProblem, what: &str) -
 
 /// A P_m answer of the local method: its process replayed, its objective, its status against
 /// its stop, its local certificate and its start record.
-fn check_local_answer(r: &GeneralLocalOptimized, p: &GeneralProblem, what: &str) -> Result<()> {
-    let s = &r.solution;
+fn check_local_answer(
+    r: &GeneralAnswer,
+    s: &GeneralLocal,
+    p: &GeneralProblem,
+    what: &str,
+) -> Result<()> {
     let j = check_pm(
         p,
         MAX_GENERAL_LOCAL_M,
@@ -186,12 +211,28 @@ fn check_local_answer(r: &GeneralLocalOptimized, p: &GeneralProblem, what: &str)
             return Err(bad(what, field, v, "must be finite"));
         }
     }
-    if r.starts_tried == 0 || r.best_start >= r.starts_tried {
+    if let Some(j) = r.solver_objective {
+        return Err(bad(
+            what,
+            "solver_objective",
+            j,
+            "the local method solves no MILP",
+        ));
+    }
+    let Some(st) = r.starts else {
+        return Err(bad(
+            what,
+            "start_from",
+            "nothing",
+            "a local answer records its starts (start_from, starts_tried, best_start)",
+        ));
+    };
+    if st.starts_tried == 0 || st.best_start >= st.starts_tried {
         return Err(bad(
             what,
             "best_start",
-            r.best_start,
-            format!("must be below starts_tried ({})", r.starts_tried),
+            st.best_start,
+            format!("must be below starts_tried ({})", st.starts_tried),
         ));
     }
     Ok(())
@@ -200,8 +241,12 @@ fn check_local_answer(r: &GeneralLocalOptimized, p: &GeneralProblem, what: &str)
 /// An answer of exact phase gaits (the general MILP, or the crawler's local methods on a
 /// chain): its formulation, its gait replayed, its objective, then its growth table, upper
 /// bound and global certificate, or its local record.
-fn check_phase_answer(r: &GeneralPhaseOptimized, p: &GeneralProblem, what: &str) -> Result<()> {
-    let s = &r.solution;
+fn check_phase_answer(
+    r: &GeneralAnswer,
+    s: &GeneralPhaseGait,
+    p: &GeneralProblem,
+    what: &str,
+) -> Result<()> {
     // The crawler's local methods on the chain (`sequence`, `chain`).
     let local = r.head.method != "phase";
     // A transition before each of the K phases: the chain's formulation and "transitions".
@@ -241,7 +286,11 @@ fn check_phase_answer(r: &GeneralPhaseOptimized, p: &GeneralProblem, what: &str)
     }
     let j = check_phase(p, s, chain || transitions, local, what)?;
     objectives(what, j, s.objective, r.head.objective)?;
-    solver_objective(what, r.solver_objective, s.certificate.milp_objective)?;
+    solver_objective(
+        what,
+        r.solver_objective(what)?,
+        s.certificate.milp_objective,
+    )?;
     if transitions {
         check_slots(s, what)?;
     }
@@ -249,7 +298,7 @@ fn check_phase_answer(r: &GeneralPhaseOptimized, p: &GeneralProblem, what: &str)
         check_dominates(r, chain, what)?;
     }
     if local {
-        return check_local_phase(what, r);
+        return check_local_phase(what, r, s);
     }
     if let Some(g) = &r.phase_growth {
         let rows: Vec<_> = g

@@ -11,6 +11,7 @@
 //! ([`GeneralAnswer::check_consistent`]).
 
 use super::GeneralFile;
+use crate::certify::GeneralProcess;
 use crate::error::Error;
 use crate::integrate::{ControlInput, GeneralSimulation};
 use crate::model::general::GeneralProblem;
@@ -121,143 +122,156 @@ fn stored_problem(file: &GeneralFile) -> GeneralFile {
     }
 }
 
-/// [`crate::api::optimize_general`]'s answer.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct GeneralOptimized {
-    /// The envelope ([`ResultHead`]): kind `"general"`, method `"discrete"` (the paper's P_m,
-    /// globally), `J` re-verified by simulation, what was proven, and the certificate
-    /// `"global"` with the MILP's bound and gap.
-    #[serde(flatten)]
-    pub head: ResultHead,
-    /// The problem (P) in the file's form (module docs).
-    pub problem: GeneralFile,
-    /// The MILP's own objective, before re-verification (as a crawler's result has it).
-    pub solver_objective: f64,
-    /// The period (not written: it is the problem's `[problem] period`; filled from it on
-    /// reading).
-    #[serde(skip_serializing)]
-    pub period: f64,
-    /// The verified optimum of P_m with its certificate.
-    pub solution: GeneralPm,
-    /// The necessary conditions on it, when asked ([`crate::api::GeneralPmSettings::certify`]);
-    /// not read back from a file (`crawlopt certify` recomputes them).
-    #[serde(skip_serializing_if = "Option::is_none", skip_deserializing)]
-    pub necessary_conditions: Option<crate::certify::GeneralNecessaryConditions>,
-    /// The table of `J_m` for `m` up to the solution's, when asked
-    /// ([`crate::api::GeneralPmSettings::convergence`]), as for crawlers.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub convergence: Option<Vec<ConvergenceRow>>,
-}
-
-impl GeneralOptimized {
-    /// The answer of `solution` for the problem of `file`, with its envelope.
-    pub fn new(
-        file: &GeneralFile,
-        period: f64,
-        solution: GeneralPm,
-        necessary_conditions: Option<crate::certify::GeneralNecessaryConditions>,
-    ) -> Self {
-        GeneralOptimized {
-            head: ResultHead::new(
-                ResultKind::General,
-                "discrete",
-                solution.objective,
-                solution.certificate.status,
-                ResultCertificate::of_milp(&solution.certificate, None),
-            ),
-            problem: stored_problem(file),
-            solver_objective: solution.certificate.milp_objective,
-            period,
-            solution,
-            necessary_conditions,
-            convergence: None,
-        }
-    }
-}
-
-/// [`crate::api::optimize_general_local`]'s answer.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct GeneralLocalOptimized {
-    /// The envelope ([`ResultHead`]): kind `"general"`, method `"local"` (the paper's P_m by
-    /// the active-set method on its LPCC), `J` re-verified by simulation, how the method
-    /// stopped ([`local_status`] of `solution.stop`: `stationary`, `stalled` or `time_limit`)
-    /// and the certificate `"local"` (no bound, no gap).
-    #[serde(flatten)]
-    pub head: ResultHead,
-    /// The problem (P) in the file's form (module docs).
-    pub problem: GeneralFile,
-    /// The period (not written: it is the problem's `[problem] period`; filled from it on
-    /// reading).
-    #[serde(skip_serializing)]
-    pub period: f64,
-    /// Where the starts came from: `"start"` (a given result, `--start`), `"input"` (the file's
-    /// `[input]`), `"phase"` (the phase optimum, where `A = 0`) or `"square_waves"`.
+/// Where the starts of (P)'s local method came from and which gave the answer (written only
+/// by the local method, flattened into the answer: `start_from`, `starts_tried`,
+/// `best_start`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+pub struct LocalStarts {
+    /// `"start"` (a given result, `--start`), `"input"` (the file's `[input]`), `"phase"` (the
+    /// phase optimum, where `A = 0`) or `"square_waves"`.
     #[serde(deserialize_with = "start_word")]
     pub start_from: Word,
     /// Starts solved from (all of them unless the time limit ended the search).
     pub starts_tried: usize,
     /// Which of them gave the answer (0-based, the first of equals).
     pub best_start: usize,
-    /// The best local solution, re-verified by simulation.
-    pub solution: GeneralLocal,
 }
 
-impl GeneralLocalOptimized {
-    /// The answer of `solution` for the problem of `file`, with its envelope; the starts
-    /// as [`GeneralLocalOptimized::start_from`] and the following fields say.
-    pub fn new(
-        file: &GeneralFile,
-        period: f64,
-        (start_from, starts_tried, best_start): (&'static str, usize, usize),
-        solution: GeneralLocal,
-    ) -> Self {
-        GeneralLocalOptimized {
-            head: ResultHead::new(
-                ResultKind::General,
-                "local",
-                solution.objective,
-                local_status(solution.stop),
-                ResultCertificate::local(None),
-            ),
-            problem: stored_problem(file),
-            period,
-            start_from,
-            starts_tried,
-            best_start,
-            solution,
+/// The solution of an answer on (P), by the kind of method that found it. Written bare (the
+/// answer's `method` says which); read back by its shape: a phase gait has `durations`, a
+/// local P_m process `lp_objective`, a global one neither.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+#[serde(untagged)]
+pub enum GeneralSolution {
+    /// The paper's P_m, solved globally (method `discrete`).
+    Pm(GeneralPm),
+    /// P_m by the active-set method on its LPCC (method `local`).
+    Local(GeneralLocal),
+    /// An exact gait (methods `phase`, `sequence`, `chain`).
+    Phase(GeneralPhaseGait),
+}
+
+impl GeneralSolution {
+    /// The methods whose answer has this kind of solution.
+    pub fn methods(&self) -> &'static [&'static str] {
+        match self {
+            GeneralSolution::Pm(_) => &["discrete"],
+            GeneralSolution::Local(_) => &["local"],
+            GeneralSolution::Phase(_) => &["phase", "sequence", "chain"],
         }
+    }
+
+    /// The global P_m process, if the solution is one.
+    pub fn as_pm(&self) -> Option<&GeneralPm> {
+        match self {
+            GeneralSolution::Pm(s) => Some(s),
+            _ => None,
+        }
+    }
+
+    /// The local P_m process, if the solution is one.
+    pub fn as_local(&self) -> Option<&GeneralLocal> {
+        match self {
+            GeneralSolution::Local(s) => Some(s),
+            _ => None,
+        }
+    }
+
+    /// The phase gait, if the solution is one.
+    pub fn as_phase(&self) -> Option<&GeneralPhaseGait> {
+        match self {
+            GeneralSolution::Phase(s) => Some(s),
+            _ => None,
+        }
+    }
+
+    /// `J`, re-verified by simulation.
+    pub fn objective(&self) -> f64 {
+        match self {
+            GeneralSolution::Pm(s) => s.objective,
+            GeneralSolution::Local(s) => s.objective,
+            GeneralSolution::Phase(s) => s.objective,
+        }
+    }
+
+    /// The process of the solution on the problem `p` it solves: what (P)'s checks and the
+    /// necessary conditions (Theorem 2.2) read.
+    pub fn process(&self, p: &GeneralProblem) -> GeneralProcess {
+        match self {
+            GeneralSolution::Pm(s) => GeneralProcess::from_pm(p, s),
+            GeneralSolution::Local(s) => GeneralProcess::from_local(p, s),
+            GeneralSolution::Phase(s) => GeneralProcess::from_phase(s),
+        }
+    }
+
+    /// The method whose kind of solution a solution's JSON object has, told by its keys (a
+    /// phase gait's `durations`, a local process's `lp_objective`, else a global P_m process).
+    pub(super) fn shape(v: &serde_json::Value) -> &'static str {
+        if v.get("durations").is_some() {
+            "phase"
+        } else if v.get("lp_objective").is_some() {
+            "local"
+        } else {
+            "discrete"
+        }
+    }
+
+    /// Reads the solution of an answer of `method` (its kind, [`GeneralSolution::methods`]).
+    pub(super) fn from_value(v: serde_json::Value, method: &str) -> serde_json::Result<Self> {
+        Ok(match method {
+            "discrete" => GeneralSolution::Pm(serde_json::from_value(v)?),
+            "local" => GeneralSolution::Local(serde_json::from_value(v)?),
+            _ => GeneralSolution::Phase(serde_json::from_value(v)?),
+        })
     }
 }
 
-/// [`crate::api::optimize_general_phase`]'s answer.
+impl<'de> Deserialize<'de> for GeneralSolution {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> std::result::Result<Self, D::Error> {
+        let v = serde_json::Value::deserialize(d)?;
+        let shape = GeneralSolution::shape(&v);
+        GeneralSolution::from_value(v, shape).map_err(serde::de::Error::custom)
+    }
+}
+
+/// The answer of every method on (P) ([`crate::api::optimize_general_plan`] and the per-method
+/// calls): the envelope, the problem, the solution and the records the method keeps.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct GeneralPhaseOptimized {
-    /// The envelope ([`ResultHead`]): kind `"general"`, method `"phase"` (exact gaits of at
-    /// most `K` phases, globally) or `"sequence"` or `"chain"` (the crawler's local method on
-    /// the problem's chain, [`crate::api::optimize_general_on_chain`], an exact gait without a
-    /// global claim), `J` re-verified by the exact simulation, what was proven
-    /// (`optimal_among_k_phases`, ...) and the certificate (`"global_k_phases"` with
-    /// `phases = K`, the MILP's bound and gap).
+pub struct GeneralAnswer {
+    /// The envelope ([`ResultHead`]): kind `"general"`; method `"discrete"` (the paper's P_m,
+    /// globally), `"local"` (P_m by the active-set method on its LPCC), `"phase"` (exact gaits
+    /// of at most `K` phases, globally) or `"sequence"` or `"chain"` (the crawler's local
+    /// methods on the problem's chain, [`crate::api::optimize_general_on_chain`], an exact gait
+    /// without a global claim); `J` re-verified by simulation; what was proven (for the local
+    /// method [`local_status`] of its stop: `stationary`, `stalled` or `time_limit`); and the
+    /// certificate (`"global"`, `"global_k_phases"` with `phases = K`, with the MILP's bound
+    /// and gap, or `"local"`).
     #[serde(flatten)]
     pub head: ResultHead,
     /// The problem (P) in the file's form (module docs).
     pub problem: GeneralFile,
     /// The MILP's own objective, before re-verification (of the crawler's methods on a chain:
-    /// the crawler's, in this problem's units; as a crawler's result has it).
-    pub solver_objective: f64,
+    /// the crawler's, in this problem's units; as a crawler's result has it); absent for the
+    /// local method, which solves no MILP.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub solver_objective: Option<f64>,
     /// The period (not written: it is the problem's `[problem] period`; filled from it on
     /// reading).
     #[serde(skip_serializing)]
     pub period: f64,
-    /// The verified optimum with its certificate.
-    pub solution: GeneralPhaseGait,
-    /// How `K` was grown (absent for a fixed `K`): one row per `K` solved and why the growth
-    /// stopped, as for crawlers.
+    /// The local method's starts (absent for the other methods).
+    #[serde(flatten)]
+    pub starts: Option<LocalStarts>,
+    /// The verified solution (with the MILP's certificate where one was solved).
+    pub solution: GeneralSolution,
+    /// How `K` was grown (phase gaits; absent for a fixed `K`): one row per `K` solved and why
+    /// the growth stopped, as for crawlers.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub phase_growth: Option<PhaseGrowthRecord>,
-    /// `"chain"` when the problem is a crawler's gait problem and the chain's formulation ran
-    /// (`K` slip phases, transitions free: the gait may have up to `2K` phases); absent for
-    /// the general formulation.
+    /// `"chain"` when the problem is a crawler's gait problem and the chain's phase formulation
+    /// ran (`K` slip phases, transitions free: the gait may have up to `2K` phases),
+    /// `"transitions"` for the general one with a free transition before each phase; absent
+    /// for the general formulation and for P_m.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub formulation: Option<String>,
     /// The crawler job's record of a best structured gait that is the answer (methods
@@ -266,86 +280,98 @@ pub struct GeneralPhaseOptimized {
     /// in the crawler's units.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub structured: Option<crate::optimal::StructuredRecord>,
-    /// The necessary conditions on the gait, when asked
-    /// ([`crate::api::GeneralPhaseSettings::certify`]); not read back from a file (`crawlopt
+    /// The necessary conditions on the solution, when asked (a global P_m optimum's or a
+    /// phase gait's, [`crate::api::GeneralPmSettings::certify`],
+    /// [`crate::api::GeneralPhaseSettings::certify`]); not read back from a file (`crawlopt
     /// certify` recomputes them).
     #[serde(skip_serializing_if = "Option::is_none", skip_deserializing)]
     pub necessary_conditions: Option<crate::certify::GeneralNecessaryConditions>,
+    /// The table of `J_m` for `m` up to the solution's (global P_m), when asked
+    /// ([`crate::api::GeneralPmSettings::convergence`]), as for crawlers.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub convergence: Option<Vec<ConvergenceRow>>,
 }
 
-impl GeneralPhaseOptimized {
-    /// The answer of `solution` for the problem of `file`, with its envelope.
-    pub fn new(file: &GeneralFile, period: f64, solution: GeneralPhaseGait) -> Self {
-        GeneralPhaseOptimized {
-            head: ResultHead::new(
-                ResultKind::General,
-                "phase",
-                solution.objective,
-                solution.certificate.status,
-                ResultCertificate::of_milp(&solution.certificate, Some(solution.max_phases)),
-            ),
+impl GeneralAnswer {
+    /// The answer of `solution`, of `method`, for the problem of `file`, with its envelope;
+    /// the records are empty.
+    fn with(
+        file: &GeneralFile,
+        period: f64,
+        head: ResultHead,
+        solver_objective: Option<f64>,
+        solution: GeneralSolution,
+    ) -> Self {
+        GeneralAnswer {
+            head,
             problem: stored_problem(file),
-            solver_objective: solution.certificate.milp_objective,
+            solver_objective,
             period,
+            starts: None,
             solution,
             phase_growth: None,
             formulation: None,
             structured: None,
             necessary_conditions: None,
-        }
-    }
-}
-
-/// The answer of [`crate::api::optimize_general_plan`]: one of the three methods' (serialised as that
-/// answer, whose `method` says which).
-#[derive(Debug, Clone, PartialEq, Serialize)]
-#[serde(untagged)]
-pub enum GeneralAnswer {
-    /// P_m globally, with its necessary conditions when asked.
-    Discrete(Box<GeneralOptimized>),
-    /// P_m locally.
-    Local(Box<GeneralLocalOptimized>),
-    /// Exact gaits of at most `K` phases.
-    Phase(Box<GeneralPhaseOptimized>),
-}
-
-impl GeneralAnswer {
-    /// The necessary conditions computed with the answer (`certify`), if any: a global P_m
-    /// optimum's or a phase gait's.
-    pub fn necessary_conditions(&self) -> Option<&crate::certify::GeneralNecessaryConditions> {
-        match self {
-            GeneralAnswer::Discrete(r) => r.necessary_conditions.as_ref(),
-            GeneralAnswer::Local(_) => None,
-            GeneralAnswer::Phase(r) => r.necessary_conditions.as_ref(),
+            convergence: None,
         }
     }
 
-    /// The envelope: kind, method, `J`, status and certificate ([`ResultHead`]).
-    pub fn head(&self) -> &ResultHead {
-        match self {
-            GeneralAnswer::Discrete(r) => &r.head,
-            GeneralAnswer::Local(r) => &r.head,
-            GeneralAnswer::Phase(r) => &r.head,
-        }
+    /// The global P_m optimum `solution` (method `discrete`, certificate `"global"`).
+    pub fn discrete(file: &GeneralFile, period: f64, solution: GeneralPm) -> Self {
+        let c = &solution.certificate;
+        let head = ResultHead::new(
+            ResultKind::General,
+            "discrete",
+            solution.objective,
+            c.status,
+            ResultCertificate::of_milp(c, None),
+        );
+        let j = Some(c.milp_objective);
+        Self::with(file, period, head, j, GeneralSolution::Pm(solution))
+    }
+
+    /// The local P_m `solution` (method `local`, certificate `"local"`) from `starts`.
+    pub fn local(
+        file: &GeneralFile,
+        period: f64,
+        starts: LocalStarts,
+        solution: GeneralLocal,
+    ) -> Self {
+        let head = ResultHead::new(
+            ResultKind::General,
+            "local",
+            solution.objective,
+            local_status(solution.stop),
+            ResultCertificate::local(None),
+        );
+        let mut a = Self::with(file, period, head, None, GeneralSolution::Local(solution));
+        a.starts = Some(starts);
+        a
+    }
+
+    /// The phase gait `solution` (method `phase`, certificate `"global_k_phases"`).
+    pub fn phase(file: &GeneralFile, period: f64, solution: GeneralPhaseGait) -> Self {
+        let c = &solution.certificate;
+        let head = ResultHead::new(
+            ResultKind::General,
+            "phase",
+            solution.objective,
+            c.status,
+            ResultCertificate::of_milp(c, Some(solution.max_phases)),
+        );
+        let j = Some(c.milp_objective);
+        Self::with(file, period, head, j, GeneralSolution::Phase(solution))
     }
 
     /// The answer's control as pieces `(durations, controls)`: a P_m answer's `2^m` equal steps,
     /// a phase gait's phases (how a result starts (P)'s local method, `--start`).
     pub fn pieces(&self) -> (Vec<f64>, &[Vec<f64>]) {
-        let steps = |period: f64, u: &[Vec<f64>]| vec![period / u.len().max(1) as f64; u.len()];
-        match self {
-            GeneralAnswer::Discrete(r) => (steps(r.period, &r.solution.u), &r.solution.u),
-            GeneralAnswer::Local(r) => (steps(r.period, &r.solution.u), &r.solution.u),
-            GeneralAnswer::Phase(r) => (r.solution.durations.clone(), &r.solution.controls),
-        }
-    }
-
-    /// The problem (P) in the file's form.
-    pub fn problem(&self) -> &GeneralFile {
-        match self {
-            GeneralAnswer::Discrete(r) => &r.problem,
-            GeneralAnswer::Local(r) => &r.problem,
-            GeneralAnswer::Phase(r) => &r.problem,
+        let steps = |u: &[Vec<f64>]| vec![self.period / u.len().max(1) as f64; u.len()];
+        match &self.solution {
+            GeneralSolution::Pm(s) => (steps(&s.u), &s.u),
+            GeneralSolution::Local(s) => (steps(&s.u), &s.u),
+            GeneralSolution::Phase(s) => (s.durations.clone(), &s.controls),
         }
     }
 }

@@ -47,8 +47,8 @@ pub use config::{
 pub use csv_io::{read_actuation_csv, remove_staged_files, write_trajectory_csv, AtomicFile};
 pub use general::{write_general_csv, GeneralFile};
 pub use general_results::{
-    Check, CheckStatus, GeneralAnalysis, GeneralAnswer, GeneralLocalOptimized, GeneralOptimized,
-    GeneralPhaseOptimized, GeneralSimulated,
+    Check, CheckStatus, GeneralAnalysis, GeneralAnswer, GeneralSimulated, GeneralSolution,
+    LocalStarts,
 };
 pub use model_toml::{crawler_toml, read_fit_csv, write_text, MAX_FIT_CSV_BYTES};
 pub use result_file::ResultFile;

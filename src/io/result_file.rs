@@ -4,7 +4,7 @@
 //! crawler's by [`GaitResult`]'s reader, a general problem's by [`GeneralAnswer`]'s
 //! ([`GeneralAnswer::check_consistent`]). Errors name the source and the field.
 
-use super::{GeneralAnswer, GeneralLocalOptimized, GeneralOptimized, GeneralPhaseOptimized};
+use super::{GeneralAnswer, GeneralSolution};
 use crate::error::{Error, Result};
 use crate::optimal::envelope::ResultHead;
 use crate::optimal::{read_envelope, GaitResult, ResultKind};
@@ -41,7 +41,7 @@ impl ResultFile {
     pub fn head(&self) -> &ResultHead {
         match self {
             ResultFile::Crawler(r) => &r.head,
-            ResultFile::General(r) => r.head(),
+            ResultFile::General(r) => &r.head,
         }
     }
 }
@@ -63,25 +63,20 @@ impl GeneralAnswer {
     /// The answer of a document whose envelope [`read_envelope`] has checked (kind general),
     /// told apart by its `method`; its shape checked (not yet its consistency).
     pub fn from_checked_envelope(v: serde_json::Value, what: &str) -> Result<Self> {
-        fn parse<T: serde::de::DeserializeOwned>(v: serde_json::Value, what: &str) -> Result<T> {
-            serde_json::from_value(v).map_err(|e| Error::Io {
+        fn malformed(e: serde_json::Error, what: &str) -> Error {
+            Error::Io {
                 path: what.into(),
                 reason: format!("malformed general result: {e}"),
-            })
+            }
+        }
+        fn parse<T: serde::de::DeserializeOwned>(v: serde_json::Value, what: &str) -> Result<T> {
+            serde_json::from_value(v).map_err(|e| malformed(e, what))
         }
         let method = v.get("method").and_then(|m| m.as_str()).map(String::from);
-        let v = with_repeated_fields(v);
-        Ok(match method.as_deref() {
-            Some("discrete") => {
-                GeneralAnswer::Discrete(Box::new(parse::<GeneralOptimized>(v, what)?))
-            }
-            Some("local") => {
-                GeneralAnswer::Local(Box::new(parse::<GeneralLocalOptimized>(v, what)?))
-            }
-            // Exact gaits: of the phase MILPs, or of the crawler's local methods on a chain.
-            Some("phase" | "sequence" | "chain") => {
-                GeneralAnswer::Phase(Box::new(parse::<GeneralPhaseOptimized>(v, what)?))
-            }
+        let method = match method.as_deref() {
+            // P_m globally or locally; exact gaits, of the phase MILPs or of the crawler's
+            // local methods on a chain.
+            Some(m @ ("discrete" | "local" | "phase" | "sequence" | "chain")) => m,
             other => {
                 return Err(Error::invalid(
                     format!("{what}: method"),
@@ -90,7 +85,22 @@ impl GeneralAnswer {
                      \"sequence\" or \"chain\"",
                 ))
             }
-        })
+        };
+        let v = with_repeated_fields(v);
+        // The solution is read as the method's kind, so that a solution of another shape is
+        // refused naming what it lacks.
+        let solution = match v.get("solution") {
+            Some(s) if GeneralSolution::shape(s) != method => {
+                let kind = GeneralSolution::from_value(s.clone(), method);
+                Some(kind.map_err(|e| malformed(e, what))?)
+            }
+            _ => None,
+        };
+        let mut answer = parse::<GeneralAnswer>(v, what)?;
+        if let Some(s) = solution {
+            answer.solution = s;
+        }
+        Ok(answer)
     }
 }
 

@@ -21,7 +21,7 @@ use super::figures::{
     SeriesLine, StatePanel, StateSpace, TimeSeries,
 };
 use crate::error::{Error, Result};
-use crate::io::{GeneralAnalysis, GeneralAnswer, GeneralSimulated};
+use crate::io::{GeneralAnalysis, GeneralAnswer, GeneralSimulated, GeneralSolution};
 use crate::model::general::{Boundary, ControlSet, GeneralCost, GeneralProblem, Polyhedron};
 use crate::optimal::general::{analyze_polyhedron, project_polyhedron, Geometry};
 
@@ -81,17 +81,10 @@ impl GeneralPath {
                 j,
             )
         };
-        match a {
-            GeneralAnswer::Discrete(r) => {
-                let s = &r.solution;
-                pm(r.period, &s.x, &s.u, &s.lambda, s.objective)
-            }
-            GeneralAnswer::Local(r) => {
-                let s = &r.solution;
-                pm(r.period, &s.x, &s.u, &s.lambda, s.objective)
-            }
-            GeneralAnswer::Phase(r) => {
-                let s = &r.solution;
+        match &a.solution {
+            GeneralSolution::Pm(s) => pm(a.period, &s.x, &s.u, &s.lambda, s.objective),
+            GeneralSolution::Local(s) => pm(a.period, &s.x, &s.u, &s.lambda, s.objective),
+            GeneralSolution::Phase(s) => {
                 let mut t = vec![0.0];
                 for d in &s.durations {
                     t.push(t[t.len() - 1] + d);
@@ -551,16 +544,14 @@ pub(super) fn answer_figures_with(
     a: &GeneralAnswer,
 ) -> Result<Vec<Figure>> {
     let mut figs = general_path_figures(p, g, path)?;
-    if let Some(nc) = a.necessary_conditions() {
+    if let Some(nc) = a.necessary_conditions.as_ref() {
         figs.extend(general_adjoint_figure(p, nc)?);
     }
-    if let GeneralAnswer::Discrete(r) = a {
-        // J_m against m with a convergence table (`optimize --convergence`), as for crawlers.
-        if let Some(table) = &r.convergence {
-            let m: Vec<u32> = table.iter().map(|r| r.m).collect();
-            let values: Vec<f64> = table.iter().map(|r| r.objective).collect();
-            figs.push(super::figures::jm_figure(&m, &values, None)?);
-        }
+    // J_m against m with a convergence table (`optimize --convergence`), as for crawlers.
+    if let Some(table) = &a.convergence {
+        let m: Vec<u32> = table.iter().map(|r| r.m).collect();
+        let values: Vec<f64> = table.iter().map(|r| r.objective).collect();
+        figs.push(super::figures::jm_figure(&m, &values, None)?);
     }
     Ok(figs)
 }

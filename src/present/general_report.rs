@@ -8,11 +8,11 @@
 use super::general::{answer_figures_with, general_path_figures, GeneralPath};
 use super::report::{conditions_rows, esc, figures_section, footer, num, nums, open_page};
 use crate::error::Result;
-use crate::io::{
-    GeneralAnswer, GeneralLocalOptimized, GeneralOptimized, GeneralPhaseOptimized, GeneralSimulated,
-};
+use crate::io::{GeneralAnswer, GeneralSimulated, GeneralSolution};
 use crate::model::general::{Boundary, ControlSet, GeneralCost, GeneralProblem, Reward};
-use crate::optimal::general::{analyze_polyhedron, Geometry};
+use crate::optimal::general::{
+    analyze_polyhedron, GeneralLocal, GeneralPhaseGait, GeneralPm, Geometry,
+};
 use crate::optimal::LocalStop;
 
 /// What a report of the general problem shows: a simulation or an optimum.
@@ -83,7 +83,7 @@ pub fn build_general_report(
         }
     ));
     let nc = match input {
-        GeneralReportInput::Answer(a) => a.necessary_conditions(),
+        GeneralReportInput::Answer(a) => a.necessary_conditions.as_ref(),
         _ => None,
     };
     if let Some(nc) = nc {
@@ -133,9 +133,11 @@ type Description<'a> = (&'static str, &'a str, String, (String, String));
 fn describe(input: GeneralReportInput<'_>) -> Description<'_> {
     match input {
         GeneralReportInput::Simulation(r) => describe_simulation(r),
-        GeneralReportInput::Answer(GeneralAnswer::Discrete(r)) => describe_discrete(r),
-        GeneralReportInput::Answer(GeneralAnswer::Local(r)) => describe_local(r),
-        GeneralReportInput::Answer(GeneralAnswer::Phase(r)) => describe_phase(r),
+        GeneralReportInput::Answer(r) => match &r.solution {
+            GeneralSolution::Pm(s) => describe_discrete(s),
+            GeneralSolution::Local(s) => describe_local(r, s),
+            GeneralSolution::Phase(s) => describe_phase(r, s),
+        },
     }
 }
 
@@ -161,15 +163,15 @@ fn describe_simulation(r: &GeneralSimulated) -> Description<'_> {
 }
 
 /// [`describe`] of a global P_m optimum: the MILP's status, gap and bound.
-fn describe_discrete(r: &GeneralOptimized) -> Description<'_> {
-    let c = &r.solution.certificate;
+fn describe_discrete(s: &GeneralPm) -> Description<'_> {
+    let c = &s.certificate;
     (
         "Optimum",
         "discrete",
         format!(
             "P_{} on {} steps, global MILP: {}",
-            r.solution.m,
-            r.solution.u.len(),
+            s.m,
+            s.u.len(),
             c.status.as_str()
         ),
         (
@@ -177,7 +179,7 @@ fn describe_discrete(r: &GeneralOptimized) -> Description<'_> {
             format!(
                 "MILP bound {} on J over P_{} (MILP objective {})",
                 num(c.bound),
-                r.solution.m,
+                s.m,
                 num(c.milp_objective)
             ),
         ),
@@ -185,8 +187,7 @@ fn describe_discrete(r: &GeneralOptimized) -> Description<'_> {
 }
 
 /// [`describe`] of a local P_m optimum: why the active-set method stopped, and its starts.
-fn describe_local(r: &GeneralLocalOptimized) -> Description<'_> {
-    let s = &r.solution;
+fn describe_local<'a>(r: &'a GeneralAnswer, s: &GeneralLocal) -> Description<'a> {
     let stop = match s.stop {
         LocalStop::Stationary => "stationary",
         LocalStop::Stalled => "stalled",
@@ -205,9 +206,12 @@ fn describe_local(r: &GeneralLocalOptimized) -> Description<'_> {
         (
             "local".into(),
             format!(
-                "no global claim; best of {} starts ({}), from J = {}",
-                r.starts_tried,
-                r.start_from.replace('_', " "),
+                "no global claim; {}from J = {}",
+                r.starts.map_or_else(String::new, |st| format!(
+                    "best of {} starts ({}), ",
+                    st.starts_tried,
+                    st.start_from.replace('_', " ")
+                )),
                 num(s.start_objective)
             ),
         ),
@@ -216,7 +220,7 @@ fn describe_local(r: &GeneralLocalOptimized) -> Description<'_> {
 
 /// [`describe`] of a gait of phases: the phase MILP's optimum (status, gap, bound), or the
 /// gait of a crawler's method on the problem's chain (no global claim).
-fn describe_phase(r: &GeneralPhaseOptimized) -> Description<'_> {
+fn describe_phase<'a>(r: &'a GeneralAnswer, s: &GeneralPhaseGait) -> Description<'a> {
     if r.head.method != "phase" {
         return (
             "Gait",
@@ -230,18 +234,18 @@ fn describe_phase(r: &GeneralPhaseOptimized) -> Description<'_> {
                 "local".to_string(),
                 format!(
                     "no global claim; an exact gait of {} phases",
-                    r.solution.durations.len()
+                    s.durations.len()
                 ),
             ),
         );
     }
-    let c = &r.solution.certificate;
+    let c = &s.certificate;
     (
         "Optimum",
         "phase",
         format!(
             "exact gaits of at most {} phases, global MILP: {}",
-            r.solution.max_phases,
+            s.max_phases,
             c.status.as_str()
         ),
         (
@@ -249,7 +253,7 @@ fn describe_phase(r: &GeneralPhaseOptimized) -> Description<'_> {
             format!(
                 "MILP bound {} on J over gaits of at most {} phases",
                 num(c.bound),
-                r.solution.max_phases
+                s.max_phases
             ),
         ),
     )
@@ -414,7 +418,7 @@ pub fn build_result_report(r: &crate::io::ResultFile, source: &str) -> Result<St
     match r {
         crate::io::ResultFile::Crawler(g) => super::report::build_report(g, source),
         crate::io::ResultFile::General(a) => build_general_report(
-            &a.problem().problem()?,
+            &a.problem.problem()?,
             GeneralReportInput::Answer(a),
             source,
             &format!("crawlopt report {source}"),

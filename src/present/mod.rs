@@ -440,7 +440,7 @@ impl PlotInput {
     pub fn figures(&self) -> Result<Vec<Figure>> {
         match self {
             PlotInput::Gait(r) => gait_figures(r),
-            PlotInput::General(a) => general_answer_figures(&a.problem().problem()?, a),
+            PlotInput::General(a) => general_answer_figures(&a.problem.problem()?, a),
             PlotInput::Jm(t) => Ok(vec![figures::jm_figure(&t.m, &t.values, t.continuous)?]),
         }
     }

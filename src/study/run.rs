@@ -236,14 +236,17 @@ fn compute_general(
             let answer = api::optimize_general_plan(file, &plan, settings.naming, hooks)?;
             // The envelope's claim, the same for every method: `global`, `global_k_phases` or
             // `local` (no bound, no gap), what was proven, and the verdict when certified.
-            let c = &answer.head().certificate;
-            row.objective = Some(answer.head().objective);
-            row.method = Some(answer.head().method.clone());
+            let c = &answer.head.certificate;
+            row.objective = Some(answer.head.objective);
+            row.method = Some(answer.head.method.clone());
             row.certificate = Some(c.kind.clone());
             row.gap = c.gap;
             row.bound = c.bound;
-            row.status = answer.head().status.as_str().into();
-            row.verdict = answer.necessary_conditions().and_then(|n| word(&n.verdict));
+            row.status = answer.head.status.as_str().into();
+            row.verdict = answer
+                .necessary_conditions
+                .as_ref()
+                .and_then(|n| word(&n.verdict));
             Ok(full.then(|| to_json(&answer)).flatten())
         }
     }

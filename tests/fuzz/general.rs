@@ -275,7 +275,7 @@ fn general_answers(s: &Steps, file: &crawlopt::io::GeneralFile) {
     };
     s.step("api::optimize_general (finite answer)", || {
         let r = api::optimize_general(file, &pm)?;
-        let o = r.solution.objective;
+        let o = r.solution.objective();
         assert!(o.is_finite(), "P_m's J = {o}");
         Ok::<_, crawlopt::Error>(())
     });

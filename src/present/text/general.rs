@@ -3,11 +3,9 @@
 //! scaling; computed states at C's scale (the largest `|c_j|`).
 
 use super::{list, max_abs, num, wln};
-use crate::io::{
-    CheckStatus, GeneralAnalysis, GeneralAnswer, GeneralLocalOptimized, GeneralOptimized,
-    GeneralPhaseOptimized, GeneralSimulated,
-};
+use crate::io::{CheckStatus, GeneralAnalysis, GeneralAnswer, GeneralSimulated, GeneralSolution};
 use crate::model::general::{Boundary, ControlSet, GeneralCost, GeneralProblem, Reward};
+use crate::optimal::general::{GeneralLocal, GeneralPhaseGait, GeneralPm};
 use crate::optimal::{Certificate, LocalStop};
 
 /// The human form of [`crate::api::analyze_general`].
@@ -207,10 +205,10 @@ pub fn general_simulation(r: &GeneralSimulated) -> String {
     out
 }
 
-/// The human form of [`crate::api::optimize_general`].
-pub fn general_optimum(r: &GeneralOptimized) -> String {
+/// The human form of a global P_m optimum `s`, the solution of `r`
+/// ([`crate::api::optimize_general`]).
+fn general_optimum(r: &GeneralAnswer, s: &GeneralPm) -> String {
     let mut out = String::new();
-    let s = &r.solution;
     let c = &s.certificate;
     let scale = s.objective.abs().max(c.bound.abs()).max(1e-300);
     wln!(
@@ -254,9 +252,8 @@ fn milp_line(out: &mut String, j: f64, c: &Certificate, verified_by: &str, scale
 
 /// The exact gait of at most `K` phases ([`crate::api::optimize_general_phase`]): the
 /// certificate, the table of the `K` solved when `K` was grown, then per phase its duration, start state, control and held faces.
-pub fn general_phase(r: &GeneralPhaseOptimized) -> String {
+fn general_phase(r: &GeneralAnswer, s: &GeneralPhaseGait) -> String {
     let mut out = String::new();
-    let s = &r.solution;
     let c = &s.certificate;
     let local = r.head.method != "phase";
     let scale = if local {
@@ -264,7 +261,7 @@ pub fn general_phase(r: &GeneralPhaseOptimized) -> String {
     } else {
         s.objective.abs().max(c.bound.abs()).max(1e-300)
     };
-    phase_head(&mut out, r, local);
+    phase_head(&mut out, r, s, local);
     if let Some(st) = &r.structured {
         wln!(out, "gait: {}", st.origin);
         if let Some(why) = &st.replaced {
@@ -326,8 +323,7 @@ pub fn general_phase(r: &GeneralPhaseOptimized) -> String {
 
 /// The first line of a phase answer: the gait, the class its claim is over (by the
 /// formulation that ran, `formulation`) and the status.
-fn phase_head(out: &mut String, r: &GeneralPhaseOptimized, local: bool) {
-    let s = &r.solution;
+fn phase_head(out: &mut String, r: &GeneralAnswer, s: &GeneralPhaseGait, local: bool) {
     let c = &s.certificate;
     match r.formulation.as_deref() {
         _ if local => wln!(
@@ -378,9 +374,8 @@ fn phase_head(out: &mut String, r: &GeneralPhaseOptimized, local: bool) {
 }
 
 /// A local optimum of the general P_m ([`crate::api::optimize_general_local`]).
-pub fn general_local(r: &GeneralLocalOptimized) -> String {
+fn general_local(r: &GeneralAnswer, s: &GeneralLocal) -> String {
     let mut out = String::new();
-    let s = &r.solution;
     let scale = s.objective.abs().max(s.start_objective.abs()).max(1e-300);
     wln!(
         out,
@@ -399,12 +394,18 @@ pub fn general_local(r: &GeneralLocalOptimized) -> String {
     );
     wln!(
         out,
-        "J = {}   (verified by simulation; a local optimum, no global claim; from start {} of \
-         {} ({}), whose J = {})",
+        "J = {}   (verified by simulation; a local optimum, no global claim; from {}, whose J \
+         = {})",
         num(s.objective, scale),
-        r.best_start + 1,
-        r.starts_tried,
-        r.start_from.replace('_', " "),
+        r.starts.map_or_else(
+            || "its start".to_string(),
+            |st| format!(
+                "start {} of {} ({})",
+                st.best_start + 1,
+                st.starts_tried,
+                st.start_from.replace('_', " ")
+            )
+        ),
         num(s.start_objective, scale)
     );
     steps(&mut out, &s.x, &s.u);
@@ -430,12 +431,12 @@ fn steps(out: &mut String, x: &[Vec<f64>], u: &[Vec<f64>]) {
 /// The text of any of the general `optimize` answers ([`GeneralAnswer`]): the optimum and, when
 /// asked, its necessary conditions; the local answer; the phase gait.
 pub fn general_answer(r: &GeneralAnswer) -> String {
-    let mut s = match r {
-        GeneralAnswer::Discrete(r) => general_optimum(r),
-        GeneralAnswer::Local(r) => general_local(r),
-        GeneralAnswer::Phase(r) => general_phase(r),
+    let mut s = match &r.solution {
+        GeneralSolution::Pm(s) => general_optimum(r, s),
+        GeneralSolution::Local(s) => general_local(r, s),
+        GeneralSolution::Phase(s) => general_phase(r, s),
     };
-    if let Some(c) = r.necessary_conditions() {
+    if let Some(c) = r.necessary_conditions.as_ref() {
         s.push_str(&super::general_certificate(c));
     }
     s

@@ -21,10 +21,7 @@ pub use analysis::{analysis, gait_problem};
 pub use fit::fit;
 pub(crate) use gait::margin_text;
 pub use gait::{certificate, gait_result, gait_summary, phase_step};
-pub use general::{
-    general_analysis, general_answer, general_local, general_optimum, general_phase,
-    general_simulation,
-};
+pub use general::{general_analysis, general_answer, general_simulation};
 pub use general_certify::general_certificate;
 pub use simulation::simulation;
 
