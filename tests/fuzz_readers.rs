@@ -378,7 +378,9 @@ fn general_chain(s: &Steps, file: &crawlopt::io::GeneralFile) {
         certify: true,
         ..Default::default()
     };
-    s.step("api::optimize_general", || api::optimize_general(file, &pm));
+    s.step("api::optimize_general", || {
+        api::optimize_general(file, &pm, crawlopt::api::Hooks::default())
+    });
 }
 
 /// Model files: every mutation through the in-process chain and `analyze` + `simulate`.

@@ -3,9 +3,7 @@
 //! against the §4 closed form, against the crawler's table on a crawler instance, its first
 //! row on a stiff drift, its events, and its consistency when a result file is read back.
 
-use crawlopt::api::{
-    optimize_general, optimize_general_with_hooks, Event, GeneralPmSettings, Hooks,
-};
+use crawlopt::api::{optimize_general, Event, GeneralPmSettings, Hooks};
 use crawlopt::io::{GeneralFile, ResultFile};
 use crawlopt::model::general::GeneralCost;
 use crawlopt::model::{crawler_as_general, Crawler};
@@ -28,7 +26,7 @@ fn settings(m: u32) -> GeneralPmSettings {
 #[test]
 fn the_one_link_table_is_the_closed_form_at_every_m() {
     // The optimal square wave (u = 1 for T/2, then -1) lies on every grid, so J_m = J* = 3.
-    let r = optimize_general(&one_link(), &settings(4)).unwrap();
+    let r = optimize_general(&one_link(), &settings(4), Hooks::default()).unwrap();
     let table = r.convergence.as_ref().expect("a table was asked");
     assert_eq!(table.iter().map(|r| r.m).collect::<Vec<_>>(), [1, 2, 3, 4]);
     for row in table {
@@ -44,7 +42,8 @@ fn the_one_link_table_is_the_closed_form_at_every_m() {
     assert_eq!(r.solution.as_pm().unwrap().m, 4);
     assert!((r.head.objective - 3.0).abs() < 1e-9);
     // Without the flag, one MILP and no table.
-    let one = optimize_general(&one_link(), &GeneralPmSettings::default()).unwrap();
+    let one =
+        optimize_general(&one_link(), &GeneralPmSettings::default(), Hooks::default()).unwrap();
     assert!(one.convergence.is_none());
 }
 
@@ -80,10 +79,10 @@ fn a_stiff_drift_starts_the_table_at_its_first_stable_grid() {
     // P_2's is not (tests/cli_general.rs), so the table starts at m = 2.
     let f = GeneralFile::parse(&std::fs::read_to_string("examples/general_drift.toml").unwrap())
         .unwrap();
-    let r = optimize_general(&f, &settings(3)).unwrap();
+    let r = optimize_general(&f, &settings(3), Hooks::default()).unwrap();
     let ms: Vec<u32> = r.convergence.unwrap().iter().map(|r| r.m).collect();
     assert_eq!(ms, [2, 3]);
-    match optimize_general(&f, &settings(1)) {
+    match optimize_general(&f, &settings(1), Hooks::default()) {
         Err(Error::InvalidParameter { field, .. }) => assert_eq!(field, "m"),
         other => panic!("not refused: {other:?}"),
     }
@@ -101,14 +100,14 @@ fn each_row_is_an_event() {
         events: Some(&mut on),
         cancel: None,
     };
-    let r = optimize_general_with_hooks(&one_link(), &settings(3), hooks).unwrap();
+    let r = optimize_general(&one_link(), &settings(3), hooks).unwrap();
     assert_eq!(rows, [1, 2, 3]);
     assert_eq!(r.convergence.unwrap().len(), 3);
 }
 
 #[test]
 fn a_result_file_with_a_changed_table_is_refused() {
-    let r = optimize_general(&one_link(), &settings(3)).unwrap();
+    let r = optimize_general(&one_link(), &settings(3), Hooks::default()).unwrap();
     let text = serde_json::to_string(&r).unwrap();
     assert!(ResultFile::from_json(&text, "r").is_ok());
     let edit = |f: &dyn Fn(&mut serde_json::Value)| {
@@ -143,7 +142,7 @@ fn a_bad_time_limit_is_refused_by_the_job() {
                 convergence,
                 ..settings(3)
             };
-            match optimize_general(&one_link(), &s) {
+            match optimize_general(&one_link(), &s, Hooks::default()) {
                 Err(Error::InvalidParameter { field, .. }) => assert_eq!(field, "time_limit"),
                 other => panic!("{t} not refused: {other:?}"),
             }

@@ -201,6 +201,7 @@ fn p_m_refuses_a_step_beyond_the_explicit_limit() {
     let e = err_of(api::optimize_general(
         &file(&stiff),
         &GeneralPmSettings::default(),
+        crawlopt::api::Hooks::default(),
     ));
     assert!(e.starts_with("m:") && e.contains("stability limit"), "{e}");
     let e = err_of(api::optimize_general_local(
@@ -222,7 +223,7 @@ fn p_m_refuses_a_step_beyond_the_explicit_limit() {
         m: 3,
         ..Default::default()
     };
-    assert!(api::optimize_general(&file(&mild), &s).is_ok());
+    assert!(api::optimize_general(&file(&mild), &s, crawlopt::api::Hooks::default()).is_ok());
 }
 
 /// A regular polygon of `k` faces around the origin (inradius 1), `f1` by reaction weights.
@@ -322,7 +323,11 @@ fn p_m_at_extreme_scales_names_the_field() {
         (&heavy, "objective.face_weights"),
     ] {
         let f = file(text);
-        let e = err_of(api::optimize_general(&f, &GeneralPmSettings::default()));
+        let e = err_of(api::optimize_general(
+            &f,
+            &GeneralPmSettings::default(),
+            crawlopt::api::Hooks::default(),
+        ));
         assert!(e.starts_with(field) && e.contains("P_m's solver"), "{e}");
         let e = err_of(api::optimize_general_local(
             &f,

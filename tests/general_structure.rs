@@ -235,7 +235,7 @@ fn the_chain_bound_of_a_general_problem_is_the_crawlers() {
                 *v *= scale;
             }
         }
-        let r = optimize_general(&file, &s).unwrap();
+        let r = optimize_general(&file, &s, crawlopt::api::Hooks::default()).unwrap();
         let ub = r
             .head
             .certificate
@@ -263,7 +263,7 @@ fn the_chain_bound_of_a_general_problem_is_the_crawlers() {
     }
     let one_link = std::fs::read_to_string("examples/general_one_link.toml").unwrap();
     let file = crawlopt::io::GeneralFile::parse(&one_link).unwrap();
-    match optimize_general(&file, &s) {
+    match optimize_general(&file, &s, crawlopt::api::Hooks::default()) {
         Err(crawlopt::Error::InvalidParameter { field, .. }) => assert_eq!(field, "bound"),
         other => panic!("not refused: {other:?}"),
     }
@@ -453,7 +453,7 @@ fn with_any_stiffness_the_chain_is_the_crawlers_problem() {
             bound: Some(b),
             ..GeneralPmSettings::default()
         };
-        let r = optimize_general(&file, &s).unwrap();
+        let r = optimize_general(&file, &s, Hooks::default()).unwrap();
         let got = r.head.certificate.upper_bound.unwrap().value;
         let crawler = upper_bound(&c, &gp, &b).unwrap().value;
         // The same LP up to the last bit of its data (a_l / k_l * k_l): equal to its tolerance.

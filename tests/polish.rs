@@ -43,7 +43,7 @@ fn the_drift_example_certifies_after_polishing() {
         ..Default::default()
     };
     assert!(s.polish, "polishing is the default");
-    let r = optimize_general(&file, &s).unwrap();
+    let r = optimize_general(&file, &s, crawlopt::api::Hooks::default()).unwrap();
     let pm = r.solution.as_pm().unwrap();
     let rec = pm.polish.as_ref().expect("a quadratic cost is polished");
     assert!(rec.applied, "{rec:?}");
@@ -72,6 +72,7 @@ fn the_drift_example_certifies_after_polishing() {
             polish: false,
             ..s.clone()
         },
+        crawlopt::api::Hooks::default(),
     )
     .unwrap();
     let raw_pm = raw.solution.as_pm().unwrap();

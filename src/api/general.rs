@@ -396,14 +396,30 @@ impl Default for GeneralPmSettings {
 
 /// The global optimum of P_m for a problem file ([`crate::optimal::general::discrete`]),
 /// re-verified by the general simulator, with its necessary conditions when asked; with
-/// `convergence`, the table of P_1..P_m too.
-pub fn optimize_general(file: &GeneralFile, s: &GeneralPmSettings) -> Result<GeneralAnswer> {
-    super::events::run_with(super::Hooks::default(), |em| pm_job(file, s, em))
+/// `convergence`, the table of P_1..P_m too. Cancellable through `hooks` (within a HiGHS
+/// callback); reports its stage, the MILP's incumbent and bound, and a `DiscreteSolved` event
+/// per row of a convergence table.
+pub fn optimize_general(
+    file: &GeneralFile,
+    s: &GeneralPmSettings,
+    hooks: super::Hooks<'_>,
+) -> Result<GeneralAnswer> {
+    super::events::run_with(hooks, |em| {
+        em.stage(if s.convergence {
+            format!("P_1..P_{} of the general problem, global MILPs", s.m)
+        } else {
+            format!(
+                "P_{} of the general problem ({} steps), global MILP",
+                s.m,
+                1u64 << s.m.min(63)
+            )
+        });
+        pm_job(file, s, em)
+    })
 }
 
-/// [`optimize_general`] reporting to `em`: a `DiscreteSolved` event per row of a convergence
-/// table.
-pub(super) fn pm_job(
+/// [`optimize_general`] reporting to `em`.
+fn pm_job(
     file: &GeneralFile,
     s: &GeneralPmSettings,
     em: &super::events::Emitter<'_>,

@@ -2,7 +2,7 @@
 //! policy (a given result, `--start`; else the file's `[input]`; else, where `A = 0`, the phase
 //! optimum as a crawler's local method starts from it; else square waves along each control
 //! axis; each at several time shifts), the time budget across starts, progress and
-//! cancellation; and the global job with hooks ([`optimize_general_with_hooks`]).
+//! cancellation.
 
 use super::events::{run_with, Emitter, Event, Hooks};
 use super::settings::{DEFAULT_M_LOCAL, DEFAULT_SHIFTS};
@@ -13,27 +13,6 @@ use crate::optimal::general::{
     check_general_local, default_starts, grid_controls, phase_grid, rotated, solve_general_local,
     GeneralLocal, Geometry,
 };
-
-/// [`super::optimize_general`] with `hooks`: cancellable (within a HiGHS callback) and
-/// reporting its stage and the MILP's incumbent and bound as events.
-pub fn optimize_general_with_hooks(
-    file: &GeneralFile,
-    s: &super::GeneralPmSettings,
-    hooks: Hooks<'_>,
-) -> Result<GeneralAnswer> {
-    run_with(hooks, |em| {
-        em.stage(if s.convergence {
-            format!("P_1..P_{} of the general problem, global MILPs", s.m)
-        } else {
-            format!(
-                "P_{} of the general problem ({} steps), global MILP",
-                s.m,
-                1u64 << s.m.min(63)
-            )
-        });
-        super::general::pm_job(file, s, em)
-    })
-}
 
 /// Settings of [`optimize_general_local`].
 #[derive(Debug, Clone, PartialEq)]

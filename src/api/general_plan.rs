@@ -6,9 +6,10 @@
 //! the caller spelled them ([`Naming`]).
 
 use super::events::Hooks;
+use super::general::optimize_general;
 use super::general::GeneralPmSettings;
 use super::general_chain::{optimize_general_on_chain, GeneralChainSettings};
-use super::general_local::{optimize_general_local, optimize_general_with_hooks};
+use super::general_local::optimize_general_local;
 use super::general_phase::{optimize_general_phase, GeneralPhaseSettings};
 use super::settings::{GaitMethod, Naming, OptimizeSettings};
 use super::GeneralLocalSettings;
@@ -308,7 +309,7 @@ pub fn optimize_general_plan(
 ) -> Result<GeneralAnswer> {
     let named = |e| naming.name_settings(e);
     match plan {
-        GeneralPlan::Discrete(s) => optimize_general_with_hooks(file, s, hooks),
+        GeneralPlan::Discrete(s) => optimize_general(file, s, hooks),
         GeneralPlan::Local(s) => optimize_general_local(file, s, hooks),
         GeneralPlan::Phase(s) => optimize_general_phase(file, s, hooks),
         GeneralPlan::OnChain(s) => optimize_general_on_chain(file, s, hooks),

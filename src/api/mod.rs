@@ -71,9 +71,7 @@ pub use general::{
     GeneralAnalysis, GeneralPmSettings, GeneralSimulated,
 };
 pub use general_chain::{optimize_general_on_chain, GeneralChainSettings};
-pub use general_local::{
-    optimize_general_local, optimize_general_with_hooks, GeneralLocalSettings,
-};
+pub use general_local::{optimize_general_local, GeneralLocalSettings};
 pub use general_phase::{optimize_general_phase, GeneralPhaseSettings, DEFAULT_GENERAL_PHASES};
 pub use general_plan::{optimize_general_plan, GeneralAnswer, GeneralPlan};
 pub use optimize::{optimize, Optimized};

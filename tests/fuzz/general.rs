@@ -274,7 +274,7 @@ fn general_answers(s: &Steps, file: &crawlopt::io::GeneralFile) {
         ..api::GeneralPmSettings::default()
     };
     s.step("api::optimize_general (finite answer)", || {
-        let r = api::optimize_general(file, &pm)?;
+        let r = api::optimize_general(file, &pm, crawlopt::api::Hooks::default())?;
         let o = r.solution.objective();
         assert!(o.is_finite(), "P_m's J = {o}");
         Ok::<_, crawlopt::Error>(())
