@@ -119,7 +119,7 @@ impl GeneralAnswer {
     }
 
     /// The MILP's own objective, which every method but the local one records.
-    fn solver_objective(&self, what: &str) -> Result<f64> {
+    fn recorded_solver_objective(&self, what: &str) -> Result<f64> {
         self.solver_objective.ok_or_else(|| {
             bad(
                 what,
@@ -146,7 +146,7 @@ fn check_discrete_answer(
     objectives(what, j, s.objective, r.head.objective)?;
     solver_objective(
         what,
-        r.solver_objective(what)?,
+        r.recorded_solver_objective(what)?,
         s.certificate.milp_objective,
     )?;
     if let Some(table) = &r.convergence {
@@ -288,7 +288,7 @@ fn check_phase_answer(
     objectives(what, j, s.objective, r.head.objective)?;
     solver_objective(
         what,
-        r.solver_objective(what)?,
+        r.recorded_solver_objective(what)?,
         s.certificate.milp_objective,
     )?;
     if transitions {

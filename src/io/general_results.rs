@@ -204,8 +204,21 @@ impl GeneralSolution {
         }
     }
 
-    /// The method whose kind of solution a solution's JSON object has, told by its keys (a
-    /// phase gait's `durations`, a local process's `lp_objective`, else a global P_m process).
+    /// The kind of solution (`"discrete"`, `"local"` or `"phase"`, the first of its
+    /// [`GeneralSolution::methods`]) that an answer of `method` has; `None` for a word that is
+    /// no method on (P).
+    pub fn kind_of(method: &str) -> Option<&'static str> {
+        match method {
+            "discrete" => Some("discrete"),
+            "local" => Some("local"),
+            "phase" | "sequence" | "chain" => Some("phase"),
+            _ => None,
+        }
+    }
+
+    /// The kind of solution ([`GeneralSolution::kind_of`]) a solution's JSON object has, told
+    /// by its keys (a phase gait's `durations`, a local process's `lp_objective`, else a
+    /// global P_m process).
     pub(super) fn shape(v: &serde_json::Value) -> &'static str {
         if v.get("durations").is_some() {
             "phase"
@@ -216,9 +229,9 @@ impl GeneralSolution {
         }
     }
 
-    /// Reads the solution of an answer of `method` (its kind, [`GeneralSolution::methods`]).
-    pub(super) fn from_value(v: serde_json::Value, method: &str) -> serde_json::Result<Self> {
-        Ok(match method {
+    /// Reads a solution of the kind `kind` ([`GeneralSolution::kind_of`]).
+    pub(super) fn from_value(v: serde_json::Value, kind: &str) -> serde_json::Result<Self> {
+        Ok(match kind {
             "discrete" => GeneralSolution::Pm(serde_json::from_value(v)?),
             "local" => GeneralSolution::Local(serde_json::from_value(v)?),
             _ => GeneralSolution::Phase(serde_json::from_value(v)?),
@@ -293,8 +306,8 @@ pub struct GeneralAnswer {
 }
 
 impl GeneralAnswer {
-    /// The answer of `solution`, of `method`, for the problem of `file`, with its envelope;
-    /// the records are empty.
+    /// The answer of `solution` for the problem of `file` under the envelope `head`; the
+    /// records are empty.
     fn with(
         file: &GeneralFile,
         period: f64,

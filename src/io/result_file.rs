@@ -72,27 +72,22 @@ impl GeneralAnswer {
         fn parse<T: serde::de::DeserializeOwned>(v: serde_json::Value, what: &str) -> Result<T> {
             serde_json::from_value(v).map_err(|e| malformed(e, what))
         }
-        let method = v.get("method").and_then(|m| m.as_str()).map(String::from);
-        let method = match method.as_deref() {
-            // P_m globally or locally; exact gaits, of the phase MILPs or of the crawler's
-            // local methods on a chain.
-            Some(m @ ("discrete" | "local" | "phase" | "sequence" | "chain")) => m,
-            other => {
-                return Err(Error::invalid(
-                    format!("{what}: method"),
-                    other.unwrap_or("nothing"),
-                    "a general result's method is \"discrete\", \"local\", \"phase\", \
-                     \"sequence\" or \"chain\"",
-                ))
-            }
+        let method = v.get("method").and_then(|m| m.as_str());
+        let Some(kind) = method.and_then(GeneralSolution::kind_of) else {
+            return Err(Error::invalid(
+                format!("{what}: method"),
+                method.unwrap_or("nothing"),
+                "a general result's method is \"discrete\", \"local\", \"phase\", \
+                 \"sequence\" or \"chain\"",
+            ));
         };
         let v = with_repeated_fields(v);
         // The solution is read as the method's kind, so that a solution of another shape is
         // refused naming what it lacks.
         let solution = match v.get("solution") {
-            Some(s) if GeneralSolution::shape(s) != method => {
-                let kind = GeneralSolution::from_value(s.clone(), method);
-                Some(kind.map_err(|e| malformed(e, what))?)
+            Some(s) if GeneralSolution::shape(s) != kind => {
+                let read = GeneralSolution::from_value(s.clone(), kind);
+                Some(read.map_err(|e| malformed(e, what))?)
             }
             _ => None,
         };
