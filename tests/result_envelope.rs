@@ -718,3 +718,55 @@ fn a_gait_that_barely_moves_reads_back() {
         }
     }
 }
+
+/// One table of methods for the result files of both kinds: every method the API runs but
+/// `auto` (which answers as the method it chose) is a result's method, with the kind of
+/// solution its answer has; the refusal of any other word lists them all, the same for a
+/// crawler's file and for (P)'s.
+#[test]
+fn one_table_of_result_methods() {
+    use crawlopt::api::GaitMethod;
+    use crawlopt::optimal::envelope::{SolutionKind, RESULT_METHODS};
+    let run: Vec<&str> = GaitMethod::ALL
+        .iter()
+        .filter(|m| **m != GaitMethod::Auto)
+        .map(|m| m.name())
+        .collect();
+    let written: Vec<&str> = RESULT_METHODS.iter().map(|(m, _)| *m).collect();
+    assert_eq!(run, written);
+    assert_eq!(SolutionKind::Discrete.methods(), ["discrete"]);
+    assert_eq!(SolutionKind::Local.methods(), ["local"]);
+    assert_eq!(
+        SolutionKind::Phase.methods(),
+        ["phase", "sequence", "chain"]
+    );
+    assert_eq!(SolutionKind::of_method("auto"), None);
+    let want = "r.json: method: must be \"discrete\", \"local\", \"phase\", \"sequence\" or \
+                \"chain\" (got simplex)";
+    let e = SolutionKind::of_result(Some("simplex"), "r.json").unwrap_err();
+    assert_eq!(e.to_string(), want);
+    // A crawler's file and (P)'s refuse an unknown method alike.
+    let crawler = crawlopt(&[
+        "optimize",
+        "examples/three_blocks_gait.toml",
+        "--phases",
+        "2",
+        "--json",
+    ]);
+    let general = crawlopt(&[
+        "optimize",
+        "examples/general_one_link.toml",
+        "--method",
+        "phase",
+        "--phases",
+        "2",
+        "--json",
+    ]);
+    for out in [crawler, general] {
+        assert!(out.status.success(), "{}", stderr(&out));
+        let mut v: Value = serde_json::from_slice(&out.stdout).unwrap();
+        v["method"] = json!("simplex");
+        let e = ResultFile::from_json(&v.to_string(), "r.json").unwrap_err();
+        assert_eq!(e.to_string(), want);
+    }
+}

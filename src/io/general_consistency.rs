@@ -85,7 +85,7 @@ impl GeneralAnswer {
                 "a general problem's answer is of kind \"general\"",
             ));
         }
-        let methods = self.solution.methods();
+        let methods = self.solution.kind().methods();
         if !methods.contains(&head.method.as_str()) {
             return Err(bad(
                 what,

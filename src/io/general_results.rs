@@ -15,7 +15,7 @@ use crate::certify::GeneralProcess;
 use crate::error::Error;
 use crate::integrate::{ControlInput, GeneralSimulation};
 use crate::model::general::GeneralProblem;
-use crate::optimal::envelope::ResultHead;
+use crate::optimal::envelope::{ResultHead, SolutionKind};
 use crate::optimal::general::{GeneralLocal, GeneralPhaseGait, GeneralPm, Geometry};
 use crate::optimal::{
     local_status, ConvergenceRow, PhaseGrowthRecord, ResultCertificate, ResultKind,
@@ -152,12 +152,13 @@ pub enum GeneralSolution {
 }
 
 impl GeneralSolution {
-    /// The methods whose answer has this kind of solution.
-    pub fn methods(&self) -> &'static [&'static str] {
+    /// The kind of this solution ([`SolutionKind`]), which names the methods that answer with
+    /// it ([`SolutionKind::methods`]).
+    pub fn kind(&self) -> SolutionKind {
         match self {
-            GeneralSolution::Pm(_) => &["discrete"],
-            GeneralSolution::Local(_) => &["local"],
-            GeneralSolution::Phase(_) => &["phase", "sequence", "chain"],
+            GeneralSolution::Pm(_) => SolutionKind::Discrete,
+            GeneralSolution::Local(_) => SolutionKind::Local,
+            GeneralSolution::Phase(_) => SolutionKind::Phase,
         }
     }
 
@@ -204,37 +205,24 @@ impl GeneralSolution {
         }
     }
 
-    /// The kind of solution (`"discrete"`, `"local"` or `"phase"`, the first of its
-    /// [`GeneralSolution::methods`]) that an answer of `method` has; `None` for a word that is
-    /// no method on (P).
-    pub fn kind_of(method: &str) -> Option<&'static str> {
-        match method {
-            "discrete" => Some("discrete"),
-            "local" => Some("local"),
-            "phase" | "sequence" | "chain" => Some("phase"),
-            _ => None,
-        }
-    }
-
-    /// The kind of solution ([`GeneralSolution::kind_of`]) a solution's JSON object has, told
-    /// by its keys (a phase gait's `durations`, a local process's `lp_objective`, else a
-    /// global P_m process).
-    pub(super) fn shape(v: &serde_json::Value) -> &'static str {
+    /// The kind of solution a solution's JSON object has, told by its keys (a phase gait's
+    /// `durations`, a local process's `lp_objective`, else a global P_m process).
+    pub(super) fn shape(v: &serde_json::Value) -> SolutionKind {
         if v.get("durations").is_some() {
-            "phase"
+            SolutionKind::Phase
         } else if v.get("lp_objective").is_some() {
-            "local"
+            SolutionKind::Local
         } else {
-            "discrete"
+            SolutionKind::Discrete
         }
     }
 
-    /// Reads a solution of the kind `kind` ([`GeneralSolution::kind_of`]).
-    pub(super) fn from_value(v: serde_json::Value, kind: &str) -> serde_json::Result<Self> {
+    /// Reads a solution of the kind `kind`.
+    pub(super) fn from_value(v: serde_json::Value, kind: SolutionKind) -> serde_json::Result<Self> {
         Ok(match kind {
-            "discrete" => GeneralSolution::Pm(serde_json::from_value(v)?),
-            "local" => GeneralSolution::Local(serde_json::from_value(v)?),
-            _ => GeneralSolution::Phase(serde_json::from_value(v)?),
+            SolutionKind::Discrete => GeneralSolution::Pm(serde_json::from_value(v)?),
+            SolutionKind::Local => GeneralSolution::Local(serde_json::from_value(v)?),
+            SolutionKind::Phase => GeneralSolution::Phase(serde_json::from_value(v)?),
         })
     }
 }

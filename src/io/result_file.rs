@@ -6,7 +6,7 @@
 
 use super::{GeneralAnswer, GeneralSolution};
 use crate::error::{Error, Result};
-use crate::optimal::envelope::ResultHead;
+use crate::optimal::envelope::{ResultHead, SolutionKind};
 use crate::optimal::{read_envelope, GaitResult, ResultKind};
 
 /// A result of either kind ([`ResultFile::from_json`]).
@@ -73,14 +73,7 @@ impl GeneralAnswer {
             serde_json::from_value(v).map_err(|e| malformed(e, what))
         }
         let method = v.get("method").and_then(|m| m.as_str());
-        let Some(kind) = method.and_then(GeneralSolution::kind_of) else {
-            return Err(Error::invalid(
-                format!("{what}: method"),
-                method.unwrap_or("nothing"),
-                "a general result's method is \"discrete\", \"local\", \"phase\", \
-                 \"sequence\" or \"chain\"",
-            ));
-        };
+        let kind = SolutionKind::of_result(method, what)?;
         let v = with_repeated_fields(v);
         // The solution is read as the method's kind, so that a solution of another shape is
         // refused naming what it lacks.

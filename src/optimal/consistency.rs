@@ -11,6 +11,7 @@ pub(crate) use super::gait_process::check_durations;
 pub use super::gait_process::ProcessView;
 use crate::error::Result;
 use crate::model::Crawler;
+use crate::optimal::envelope::SolutionKind;
 use crate::optimal::milp::control_knots;
 use crate::optimal::process::max_diff;
 pub use crate::optimal::process::ProcessKind;
@@ -230,31 +231,26 @@ impl GaitResult {
         Ok(())
     }
 
-    /// The process kind of the method (and `m`) a result names.
+    /// The process kind of the method (and `m`) a result names ([`SolutionKind::of_result`]).
     pub(crate) fn process_kind(&self, what: &str) -> Result<ProcessKind> {
-        match (self.head.method.as_str(), self.m) {
-            ("discrete" | "local", Some(m)) if (1..=super::MAX_M).contains(&m) => {
+        let kind = SolutionKind::of_result(Some(&self.head.method), what)?;
+        match (kind, self.m) {
+            (SolutionKind::Discrete | SolutionKind::Local, Some(m))
+                if (1..=super::MAX_M).contains(&m) =>
+            {
                 Ok(ProcessKind::Discrete { m })
             }
-            ("discrete" | "local", Some(m)) => Err(bad(
+            (SolutionKind::Discrete | SolutionKind::Local, Some(m)) => Err(bad(
                 what,
                 "m",
                 m,
                 format!("must be in 1..={}", super::MAX_M),
             )),
-            ("discrete" | "local", None) => {
+            (SolutionKind::Discrete | SolutionKind::Local, None) => {
                 Err(bad(what, "m", "nothing", "a discrete (P_m) result needs m"))
             }
-            ("phase" | "sequence" | "chain", None) => Ok(ProcessKind::Phase),
-            ("phase" | "sequence" | "chain", Some(m)) => {
-                Err(bad(what, "m", m, "a phase gait has no grid m"))
-            }
-            (other, _) => Err(bad(
-                what,
-                "method",
-                other,
-                "must be \"discrete\", \"local\", \"phase\", \"sequence\" or \"chain\"",
-            )),
+            (SolutionKind::Phase, None) => Ok(ProcessKind::Phase),
+            (SolutionKind::Phase, Some(m)) => Err(bad(what, "m", m, "a phase gait has no grid m")),
         }
     }
 

@@ -49,6 +49,68 @@ impl ResultKind {
     }
 }
 
+/// What a result's solution is, by the method that found it: a process on the grid of the
+/// paper's P_m (§6) found globally (`Discrete`) or by the local active-set method (`Local`), or
+/// an exact gait of slip phases (`Phase`). A crawler's result stores both grid kinds in one
+/// shape (its gait with `m`); (P)'s stores each in its own.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum SolutionKind {
+    /// P_m solved globally (method `discrete`).
+    Discrete,
+    /// P_m by the active-set method on its LPCC (method `local`).
+    Local,
+    /// An exact gait of slip phases (methods `phase`, `sequence` and `chain`).
+    Phase,
+}
+
+/// Every method a result names, for both kinds of problem, with the kind of its solution: the
+/// one table that the readers accept methods from, that the consistency checks compare a
+/// solution with, and that the refusal of an unknown method lists.
+pub const RESULT_METHODS: [(&str, SolutionKind); 5] = [
+    ("discrete", SolutionKind::Discrete),
+    ("local", SolutionKind::Local),
+    ("phase", SolutionKind::Phase),
+    ("sequence", SolutionKind::Phase),
+    ("chain", SolutionKind::Phase),
+];
+
+impl SolutionKind {
+    /// The kind of solution a result of `method` has ([`RESULT_METHODS`]); `None` for a word
+    /// that names no method.
+    pub fn of_method(method: &str) -> Option<Self> {
+        RESULT_METHODS
+            .iter()
+            .find(|(name, _)| *name == method)
+            .map(|(_, kind)| *kind)
+    }
+
+    /// The methods whose results have this kind of solution ([`RESULT_METHODS`]).
+    pub fn methods(self) -> Vec<&'static str> {
+        RESULT_METHODS
+            .iter()
+            .filter(|(_, kind)| *kind == self)
+            .map(|(name, _)| *name)
+            .collect()
+    }
+
+    /// The kind of solution of a result's `method`, or the refusal (field `method`, under the
+    /// source `what`) listing the methods of [`RESULT_METHODS`].
+    pub fn of_result(method: Option<&str>, what: &str) -> Result<Self> {
+        method.and_then(SolutionKind::of_method).ok_or_else(|| {
+            let names: Vec<String> = RESULT_METHODS
+                .iter()
+                .map(|(name, _)| format!("\"{name}\""))
+                .collect();
+            let (last, rest) = names.split_last().expect("the table is not empty");
+            Error::invalid(
+                format!("{what}: method"),
+                method.unwrap_or("nothing"),
+                format!("must be {} or {last}", rest.join(", ")),
+            )
+        })
+    }
+}
+
 /// What is proven about the returned gait.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct ResultCertificate {
