@@ -205,10 +205,7 @@ impl Naming {
                 Naming::Flags => m.name().to_string(),
             })
             .collect();
-        let list = match names.split_last() {
-            Some((last, rest)) if !rest.is_empty() => format!("{} and {last}", rest.join(", ")),
-            _ => names.join(""),
-        };
+        let list = crate::optimal::envelope::in_words(&names, "and");
         match self {
             Naming::Keywords => format!("method={list}"),
             Naming::Flags => format!("--method {list}"),

@@ -101,11 +101,10 @@ impl SolutionKind {
                 .iter()
                 .map(|(name, _)| format!("\"{name}\""))
                 .collect();
-            let (last, rest) = names.split_last().expect("the table is not empty");
             Error::invalid(
                 format!("{what}: method"),
                 method.unwrap_or("nothing"),
-                format!("must be {} or {last}", rest.join(", ")),
+                format!("must be {}", in_words(&names, "or")),
             )
         })
     }
@@ -328,9 +327,14 @@ fn versions_read() -> String {
     let all: Vec<String> = (RESULT_VERSION_READ_FROM..=RESULT_VERSION)
         .map(|v| v.to_string())
         .collect();
-    match all.split_last() {
-        Some((last, rest)) if !rest.is_empty() => format!("{} and {last}", rest.join(", ")),
-        _ => all.join(""),
+    in_words(&all, "and")
+}
+
+/// A list for a message: `a, b and c` (with `word` = `"and"`), `a` alone, nothing for none.
+pub(crate) fn in_words(items: &[String], word: &str) -> String {
+    match items.split_last() {
+        Some((last, rest)) if !rest.is_empty() => format!("{} {word} {last}", rest.join(", ")),
+        _ => items.join(""),
     }
 }
 
