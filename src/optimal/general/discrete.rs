@@ -38,7 +38,10 @@
 //! never weaker, and it combines one component's tangent with another's). C and U bounded.
 
 use super::discrete_rows as rows;
-pub(super) use super::discrete_rows::{branch_bounds, cost_epigraphs, cost_matrix, BigM, Form};
+pub(super) use super::discrete_rows::{
+    branch_bounds, cost_epigraphs, cost_matrix, holds_a_pair, opposite_faces, pair_bounds, BigM,
+    Form,
+};
 use super::geometry::{into_u, Geometry};
 use crate::error::{Error, Result};
 use crate::integrate::{simulate_general, ControlInput, GeneralSimOptions, InputKind};
@@ -358,8 +361,9 @@ pub(super) struct Layout {
     pub u: Vec<Vec<Col>>,
     /// Multipliers `mu^i_j`.
     pub mu: Vec<Vec<Col>>,
-    /// Slacks `s^i_j = c_j - <x*_j, x^(i+1)>` (branch LPs only; empty for the MILP).
-    pub s: Vec<Vec<Col>>,
+    /// Slacks `s^i_j = c_j - <x*_j, x^(i+1)>`, each read from its column
+    /// ([`rows::Slack`]; branch LPs only, empty for the MILP).
+    pub s: Vec<Vec<rows::Slack>>,
     /// Binaries `z^i_j` (the MILP only; empty for a branch LP).
     pub z: Vec<Vec<Col>>,
     /// A quadratic cost's epigraph columns, per step and epigraph ([`rows::cost_epigraphs`]).
@@ -374,6 +378,22 @@ pub(super) fn build(
     m: u32,
     form: Form<'_>,
     cuts: &[Vec<f64>],
+) -> (RowProblem, Layout) {
+    let partner = match form {
+        Form::Branches(_) => opposite_faces(p),
+        Form::Milp(_) => Vec::new(),
+    };
+    build_paired(p, m, form, cuts, &partner)
+}
+
+/// [`build`] with a branch LP's opposite faces given (`partner`, [`opposite_faces`]; none
+/// paired, each face's slack a column of its own, in the tests that compare the two).
+fn build_paired(
+    p: &GeneralProblem,
+    m: u32,
+    form: Form<'_>,
+    cuts: &[Vec<f64>],
+    partner: &[Option<usize>],
 ) -> (RowProblem, Layout) {
     let mm = 1usize << m;
     let h = p.period / mm as f64;
@@ -394,26 +414,32 @@ pub(super) fn build(
             pb.add_integer_column(0.0, 0..=1)
         })
     });
-    let mut per_face: Vec<Vec<Col>> = Vec::new();
+    let (mut s, mut z) = (Vec::new(), Vec::new());
     for i in 0..mm {
         rows::add_control_rows(&mut pb, p, &us[i]);
         rows::add_dynamics_rows(&mut pb, p, h, (x_at(i), x_at(i + 1)), (&us[i], &mus[i]));
-        let made_i = made.as_ref().map(|z| &z[i][..]);
-        rows::add_face_rows(
-            &mut pb,
-            p,
-            form,
-            (i, x_at(i + 1), &mus[i]),
-            (made_i, &mut per_face),
-        );
+        match form {
+            Form::Branches(b) => s.push(rows::add_branch_rows(
+                &mut pb,
+                p,
+                (&b[i], partner),
+                x_at(i + 1),
+            )),
+            Form::Milp(bm) => {
+                let made_i = made.as_ref().map(|z| &z[i][..]);
+                z.push(rows::add_face_rows(
+                    &mut pb,
+                    p,
+                    bm,
+                    (x_at(i + 1), &mus[i]),
+                    made_i,
+                ));
+            }
+        }
     }
     let e = rows::add_cost_cuts(&mut pb, p, h, &us, cuts);
     rows::add_zero_mean_rows(&mut pb, p, &us);
     let x = (0..=mm).map(|i| x_at(i).clone()).collect();
-    let (s, z) = match form {
-        Form::Branches(_) => (per_face, Vec::new()),
-        Form::Milp(_) => (Vec::new(), per_face),
-    };
     (
         pb,
         Layout {
@@ -513,7 +539,8 @@ pub(super) fn initial_cuts(p: &GeneralProblem) -> Result<Vec<Vec<f64>>> {
 }
 
 /// The optimum of P_m on fixed complementarity branches (an LP; `None` when infeasible):
-/// `active[i][j]` holds face `j` at `x^(i+1)` and lets `mu^i_j` be positive.
+/// `active[i][j]` holds face `j` at `x^(i+1)` and lets `mu^i_j` be positive. Refused (field
+/// `active`) without `2^m` rows of one branch per face.
 pub fn solve_general_branch(
     p: &GeneralProblem,
     m: u32,
@@ -525,6 +552,17 @@ pub fn solve_general_branch(
             "a quadratic cost",
             "the branch LP of P_m is linear: f2 = none",
         ));
+    }
+    let sigma = p.c.faces();
+    if 1usize.checked_shl(m) != Some(active.len()) || active.iter().any(|row| row.len() != sigma) {
+        return Err(Error::invalid(
+            "active",
+            format!("{} rows", active.len()),
+            format!("needs 2^m = 2^{m} rows of one branch per face ({sigma} each)"),
+        ));
+    }
+    if holds_a_pair(&opposite_faces(p), active) {
+        return Ok(None);
     }
     let (pb, _) = build(p, m, Form::Branches(active), &[]);
     let a = Highs::new(pb, Sense::Maximise, "a branch LP of P_m")?.solve()?;
@@ -556,15 +594,31 @@ pub(super) fn replay(
     cols: &[f64],
     what: &str,
 ) -> Result<Replayed> {
+    replay_in(p, (1.0, 1.0), (m, lay, cols), what)
+}
+
+/// [`replay`] of a solution of `p` in other units, states and multipliers (so `J`) measured in
+/// `s_x` and controls in `s_u` (`units`, [`super::units::Units`]): `x = s_x x'`, `u = s_u u'`.
+pub(super) fn replay_in(
+    p: &GeneralProblem,
+    (s_x, s_u): (f64, f64),
+    (m, lay, cols): (u32, &Layout, &[f64]),
+    what: &str,
+) -> Result<Replayed> {
     let val = |c: &Col| cols[c.index()];
-    let x0: Vec<f64> = lay.x[0].iter().map(val).collect();
-    let u: Vec<Vec<f64>> = lay.u.iter().map(|r| r.iter().map(val).collect()).collect();
-    let w = p.face_weights();
-    let lp_reward: f64 = lay
-        .mu
+    let x0: Vec<f64> = lay.x[0].iter().map(|c| s_x * val(c)).collect();
+    let u: Vec<Vec<f64>> = lay
+        .u
         .iter()
-        .map(|r| r.iter().zip(&w).map(|(c, w)| w * val(c)).sum::<f64>())
-        .sum();
+        .map(|r| r.iter().map(|c| s_u * val(c)).collect())
+        .collect();
+    let w = p.face_weights();
+    let lp_reward: f64 = s_x
+        * lay
+            .mu
+            .iter()
+            .map(|r| r.iter().zip(&w).map(|(c, w)| w * val(c)).sum::<f64>())
+            .sum::<f64>();
     replay_controls(p, m, &x0, u, lp_reward, what)
 }
 
@@ -652,4 +706,94 @@ pub(crate) fn run_on_grid(
         ..GeneralSimOptions::DEFAULT
     };
     simulate_general(p, &input, x0, &opts)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::model::{crawler_as_general, Crawler};
+
+    /// A branch LP pairs opposite faces into one value column ([`Form::Branches`]); it is the
+    /// same LP as with a slack column per face: on the three-block crawler's instance (three
+    /// pairs), the branch sets read off square waves' processes and their random switches (a
+    /// face on or off, never both of a pair) have the same optimum either way, or are
+    /// infeasible either way.
+    #[test]
+    fn paired_faces_make_the_same_branch_lp() {
+        let crawler = Crawler::new(vec![1.0, 1.0], vec![1.0; 3], vec![1.5; 3]).unwrap();
+        let inst = crawler_as_general(&crawler, 10.0, &[1.0, 1.0], GeneralCost::None).unwrap();
+        let p = &inst.problem;
+        let partner = opposite_faces(p);
+        assert_eq!(
+            partner,
+            [Some(1), Some(0), Some(3), Some(2), Some(5), Some(4)]
+        );
+        let m = 3;
+        let mm = 1usize << m;
+        let solve = |active: &[Vec<bool>], paired: bool| {
+            let none = vec![None; p.c.faces()];
+            let pairs = if paired { &partner[..] } else { &none[..] };
+            let (pb, _) = build_paired(p, m, Form::Branches(active), &[], pairs);
+            let mut lp = Highs::new(pb, Sense::Maximise, "a branch LP").unwrap();
+            let a = lp.solve().unwrap();
+            matches!(a.status, SolveStatus::Optimal).then_some(a.objective)
+        };
+        let mut seed = 7u64;
+        let mut rng = move |n: usize| {
+            seed = seed
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (seed >> 33) as usize % n
+        };
+        let (mut feasible, mut cases) = (0, 0);
+        for k in 0..2 {
+            for shift in 0..mm {
+                let mut wave: Vec<Vec<f64>> = (0..mm)
+                    .map(|i| {
+                        let mut u = vec![0.0; 2];
+                        u[k] = if i < mm / 2 { 1.0 } else { -1.0 };
+                        u
+                    })
+                    .collect();
+                wave.rotate_right(shift);
+                let sim = run_on_grid(p, &[0.0, 0.0], &wave, "start").unwrap();
+                let read: Vec<Vec<bool>> = sim
+                    .lambda
+                    .iter()
+                    .map(|l| l.iter().map(|&l| l > 0.0).collect())
+                    .collect();
+                for flips in 0..4 {
+                    let mut active = read.clone();
+                    for _ in 0..flips {
+                        let (i, j) = (rng(mm), rng(6));
+                        let k = partner[j].unwrap();
+                        active[i][j] = !active[i][j];
+                        active[i][k] &= !active[i][j];
+                    }
+                    let (a, b) = (solve(&active, true), solve(&active, false));
+                    cases += 1;
+                    match (a, b) {
+                        (Some(a), Some(b)) => {
+                            feasible += 1;
+                            assert!((a - b).abs() < 1e-9, "{a} vs {b} on {active:?}");
+                        }
+                        (None, None) => {}
+                        _ => panic!("{a:?} vs {b:?} on {active:?}"),
+                    }
+                }
+            }
+        }
+        assert!(feasible * 4 >= cases, "{feasible} of {cases} feasible");
+        // Both faces of a pair held: no point of C is on both, so no LP is built.
+        let mut both = vec![vec![false; 6]; mm];
+        both[2][2] = true;
+        both[2][3] = true;
+        assert_eq!(solve_general_branch(p, m, &both).unwrap(), None);
+        // A branch set of the wrong shape is refused, naming it.
+        let e = solve_general_branch(p, m, &both[1..]).unwrap_err();
+        assert!(e.to_string().starts_with("active:"), "{e}");
+        both[0].pop();
+        let e = solve_general_branch(p, m, &both).unwrap_err();
+        assert!(e.to_string().starts_with("active:"), "{e}");
+    }
 }

@@ -19,11 +19,89 @@ pub(super) struct BigM {
 pub(super) enum Form<'a> {
     /// The MILP: a binary per step and face, big-M rows.
     Milp(&'a BigM),
-    /// The LP of fixed complementarity branches: a slack column `s^i_j` per step and face
-    /// (`<x*_j, x^(i+1)> + s^i_j = c_j`) and, on branch `active[i][j]`, `s^i_j = 0` and
-    /// `mu^i_j >= 0`, off it `mu^i_j = 0` and `s^i_j >= 0`: the branches are column bounds
-    /// ([`branch_bounds`]), which the local method changes between solves.
+    /// The LP of fixed complementarity branches: on branch `active[i][j]`, `s^i_j = 0` and
+    /// `mu^i_j >= 0`, off it `mu^i_j = 0` and `s^i_j >= 0`, the slack being
+    /// `s^i_j = c_j - <x*_j, x^(i+1)>`. The branches are column bounds ([`branch_bounds`],
+    /// [`pair_bounds`]), which the local method changes between solves. A face's slack is a
+    /// column of its own (`<x*_j, x^(i+1)> + s^i_j = c_j`), except for two opposite faces
+    /// ([`opposite_faces`]): they share one value column `f = <x*_j, x^(i+1)>`, within
+    /// `[-c_k, c_j]`, and one row, as a crawler's block has one force column between its two
+    /// friction bounds. Per step that is one row and one column fewer a pair (three blocks:
+    /// 13 columns and 5 rows a step, not 16 and 8), the same LP.
     Branches(&'a [Vec<bool>]),
+}
+
+/// The slack of face `j` at step `i` in a branch LP ([`Form::Branches`]): the value
+/// `offset + sign * col`, with `col` its own slack column (`sign = 1`, `offset = 0`) or the
+/// value column `f` of its pair of opposite faces (`c_j - f` for the pair's first face,
+/// `c_k + f` for the second).
+#[derive(Debug, Clone, Copy)]
+pub(super) struct Slack {
+    /// The column the slack is read from.
+    pub(super) col: Col,
+    /// `ds / d(col)`: `1` for a face's own slack, `-1` and `1` for a pair's first and second.
+    pub(super) sign: f64,
+    /// The slack where the column is 0.
+    pub(super) offset: f64,
+    /// The opposite face sharing the column, if any.
+    pub(super) partner: Option<usize>,
+}
+
+impl Slack {
+    /// The slack's value in the solution `cols`.
+    pub(super) fn value(&self, cols: &[f64]) -> f64 {
+        self.offset + self.sign * cols[self.col.index()]
+    }
+}
+
+/// Each face's opposite face, if C has one: `x*_k = -x*_j` exactly, with `c_j + c_k > 0` (C is
+/// a slab of positive width between them, so no point lies on both). Each face is paired at
+/// most once, with the first such face.
+pub(super) fn opposite_faces(p: &GeneralProblem) -> Vec<Option<usize>> {
+    let sigma = p.c.faces();
+    let mut partner = vec![None; sigma];
+    for j in 0..sigma {
+        if partner[j].is_some() {
+            continue;
+        }
+        let opposite = (j + 1..sigma).find(|&k| {
+            partner[k].is_none()
+                && p.c.offsets[j] + p.c.offsets[k] > 0.0
+                && p.c.normals[k]
+                    .iter()
+                    .zip(&p.c.normals[j])
+                    .all(|(a, b)| *a == -*b)
+        });
+        if let Some(k) = opposite {
+            partner[j] = Some(k);
+            partner[k] = Some(j);
+        }
+    }
+    partner
+}
+
+/// The bounds of a pair's value column `f = <x*_j, x>` (`j < k` opposite faces, offsets `c_j`
+/// and `c_k`) on branches `on_j`, `on_k`: `c_j` on face `j`, `-c_k` on face `k`, `[-c_k, c_j]`
+/// off both. Both faces held at once is infeasible (the slab has positive width,
+/// [`opposite_faces`]); `None` then, which the callers refuse before they build.
+pub(super) fn pair_bounds((c_j, c_k): (f64, f64), on_j: bool, on_k: bool) -> Option<(f64, f64)> {
+    match (on_j, on_k) {
+        (true, true) => None,
+        (true, false) => Some((c_j, c_j)),
+        (false, true) => Some((-c_k, -c_k)),
+        (false, false) => Some((-c_k, c_j)),
+    }
+}
+
+/// Whether `active` holds both faces of a pair of opposite faces at some step (no point of C
+/// does: that branch LP is infeasible).
+pub(super) fn holds_a_pair(partner: &[Option<usize>], active: &[Vec<bool>]) -> bool {
+    active.iter().any(|row| {
+        partner
+            .iter()
+            .enumerate()
+            .any(|(j, k)| k.is_some_and(|k| row[j] && row[k]))
+    })
 }
 
 /// The bounds of `(mu^i_j, s^i_j)` on branch `active` (see [`Form::Branches`]).
@@ -183,51 +261,97 @@ pub(super) fn add_dynamics_rows(
     }
 }
 
-/// The complementarity of step `i`, face by face, at `x^(i+1)`: for a branch LP a slack column
-/// `s^i_j` with `<x*_j, x^(i+1)> + s^i_j = c_j`; for the MILP a binary `z^i_j` (made here, or
-/// the step's row of `made`, [`face_classes`]) with `mu <= M_mu z`, `c - <x*, x> <= S (1 - z)`
-/// and `<x*_j, x^(i+1)> <= c_j`. The step's row of per-face columns (slacks or binaries) is
-/// pushed onto `per_face`.
-pub(super) fn add_face_rows(
+/// The complementarity of step `i` of a branch LP, face by face, at `x^(i+1)`
+/// ([`Form::Branches`]): a slack column `s^i_j` with `<x*_j, x^(i+1)> + s^i_j = c_j`, or for
+/// two opposite faces (`partner`, [`opposite_faces`]) one value column
+/// `f = <x*_j, x^(i+1)>` within [`pair_bounds`]. Returns the step's slacks.
+pub(super) fn add_branch_rows(
     pb: &mut RowProblem,
     p: &GeneralProblem,
-    form: Form<'_>,
-    (i, x_next, mu_i): (usize, &[Col], &[Col]),
-    (made, per_face): (Option<&[Col]>, &mut Vec<Vec<Col>>),
-) {
+    (active, partner): (&[bool], &[Option<usize>]),
+    x_next: &[Col],
+) -> Vec<Slack> {
     let sigma = p.c.faces();
-    per_face.push(Vec::with_capacity(sigma));
+    let mut slacks: Vec<Option<Slack>> = vec![None; sigma];
     for j in 0..sigma {
-        let face: Vec<_> = x_next
+        if slacks[j].is_some() {
+            continue;
+        }
+        let mut row: Vec<_> = x_next
             .iter()
             .zip(&p.c.normals[j])
             .map(|(&c, &a)| (c, a))
             .collect();
         let c = p.c.offsets[j];
-        match form {
-            Form::Branches(b) => {
-                let (lo, hi) = branch_bounds(b[i][j])[1];
+        match partner[j] {
+            Some(k) => {
+                let cs = (c, p.c.offsets[k]);
+                // Both held is refused before building; then the column is left free.
+                let (lo, hi) = pair_bounds(cs, active[j], active[k])
+                    .unwrap_or((f64::NEG_INFINITY, f64::INFINITY));
+                let f = pb.add_column(0.0, lo..=hi);
+                row.push((f, -1.0));
+                pb.add_row(0.0..=0.0, row);
+                let slack = |sign, offset, partner| Slack {
+                    col: f,
+                    sign,
+                    offset,
+                    partner: Some(partner),
+                };
+                slacks[j] = Some(slack(-1.0, cs.0, k));
+                slacks[k] = Some(slack(1.0, cs.1, j));
+            }
+            None => {
+                let (lo, hi) = branch_bounds(active[j])[1];
                 let s = pb.add_column(0.0, lo..=hi);
-                per_face.last_mut().expect("pushed above").push(s);
-                let mut row = face;
                 row.push((s, 1.0));
                 pb.add_row(c..=c, row);
-            }
-            Form::Milp(bm) => {
-                // mu <= M_mu z and c - <x*, x> <= S (1 - z), i.e. <x*, x> - S z >= c - S.
-                let z = match made {
-                    Some(z) => z[j],
-                    None => pb.add_integer_column(0.0, 0..=1),
-                };
-                per_face.last_mut().expect("pushed above").push(z);
-                pb.add_row(..=0.0, [(mu_i[j], 1.0), (z, -bm.multiplier)]);
-                let mut row = face.clone();
-                row.push((z, -bm.slack[j]));
-                pb.add_row(c - bm.slack[j]..=f64::INFINITY, row);
-                pb.add_row(..=c, face);
+                slacks[j] = Some(Slack {
+                    col: s,
+                    sign: 1.0,
+                    offset: 0.0,
+                    partner: None,
+                });
             }
         }
     }
+    slacks
+        .into_iter()
+        .map(|s| s.expect("every face has its slack"))
+        .collect()
+}
+
+/// The complementarity of step `i` of the MILP, face by face, at `x^(i+1)`: a binary `z^i_j`
+/// (made here, or the step's row of `made`, [`face_classes`]) with `mu <= M_mu z`,
+/// `c - <x*, x> <= S (1 - z)` and `<x*_j, x^(i+1)> <= c_j`. Returns the step's binaries.
+pub(super) fn add_face_rows(
+    pb: &mut RowProblem,
+    p: &GeneralProblem,
+    bm: &BigM,
+    (x_next, mu_i): (&[Col], &[Col]),
+    made: Option<&[Col]>,
+) -> Vec<Col> {
+    (0..p.c.faces())
+        .map(|j| {
+            let face: Vec<_> = x_next
+                .iter()
+                .zip(&p.c.normals[j])
+                .map(|(&c, &a)| (c, a))
+                .collect();
+            let c = p.c.offsets[j];
+            // mu <= M_mu z and c - <x*, x> <= S (1 - z), i.e. <x*, x> - S z >= c - S.
+            let z = match made {
+                Some(z) => z[j],
+                None => pb.add_integer_column(0.0, 0..=1),
+            };
+            pb.add_row(..=0.0, [(mu_i[j], 1.0), (z, -bm.multiplier)]);
+            let mut row = face.clone();
+            row.push((z, -bm.slack[j]));
+            pb.add_row(c - bm.slack[j]..=f64::INFINITY, row);
+            pb.add_row(..=c, face);
+            z
+        })
+        .collect()
 }
 
 /// The diagonal of `R` when `f2` is separable (`R` diagonal: a `quadratic` cost, or a diagonal

@@ -20,7 +20,8 @@
 //! the normal cone being a cone, and `J = s_x J'` with `f1`'s weights unchanged (a reaction's
 //! integral is a length). So an optimum of one is the optimum of the other, a bound a bound,
 //! and a grid's `h' = h / t_0` makes P_m of one P_m of the other: only the numbers change. The
-//! phase MILP measures its columns in these units; P_m is solved on the problem in these units,
+//! phase MILP measures its columns in these units; the local method's branch LPs are solved on
+//! the problem in these units ([`super::local`]); P_m is solved on the problem in these units,
 //! where the problem's own are not these already ([`Units::needed`]) and its caller has
 //! not chosen the units itself (a crawler's instance), and its answer converted back
 //! ([`super::pm_milp`]). Either is then re-verified in the problem's own units,
