@@ -33,15 +33,16 @@
 //!
 //! Why the crawler keeps this LPCC beside (P)'s ([`crate::optimal::general::local`]) on its
 //! instance ([`crate::model::crawler_as_general`]): run there, with (P)'s pivoting limited to
-//! the reduced-cost switches made here, (P)'s method reached the same `J` from the phase
+//! the reduced-cost switches made here, (P)'s method reaches the same `J` from the phase
 //! optimum (three blocks, `m` = 6, 8, 10; four blocks of varied friction, `m = 10`), but the
 //! whole `optimize --method local --m 10` (8 time shifts) took 1.55 times as long on three
-//! blocks (median of 5 paired runs; 0.96 at `m = 8`, 1.07 on four blocks, where the phase
-//! start dominates). Nearly all of the time is HiGHS's: (P)'s LP has a multiplier and a slack
-//! column per face and a row per face (16 columns and 8 rows a step for three blocks), this one
-//! a displacement and a force column per block and a force row per block (10 and 5). Folding
-//! the two needs (P)'s branch LP made as small for a polytope whose faces come in opposite
-//! pairs (a slab per block: one force column `<x*, x>` bounded by both offsets, as here).
+//! blocks (median of 5 paired runs) while (P)'s LP had a multiplier and a slack column and a
+//! row per face (16 columns and 8 rows a step for three blocks, against 10 and 5 here). Since
+//! (P)'s branch LP gives two opposite faces one value column and one row (13 columns and 5
+//! rows) and is solved in units of order one, the same fold takes 1.14 times as long at
+//! `m = 10` and 1.00 at `m = 8`. Nearly all of the time is HiGHS's; the gap left is a
+//! multiplier column per face where this LP has one signed displacement per block, which (P)'s
+//! could have with the column's cost switched with the branch.
 
 use super::active_set;
 use super::solver::Highs;
