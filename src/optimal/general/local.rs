@@ -13,7 +13,8 @@
 //! P_m's MILP is, and their answer converted back and replayed on the problem itself. The
 //! branches are the same in any units, so exact twins (the same problem in other units) solve
 //! the same LPs: the three-block instance with its controls a million times larger
-//! (`B = 1e-6 I`) ended with HiGHS's status `unknown` at `m = 10` when solved in its own units.
+//! (`B = 1e-6 I`), its opposite faces paired (below) and solved in its own units, ended with
+//! HiGHS's status `unknown` at `m = 10`; in units of order one it gives the `J` of scale 1.
 //!
 //! The LP has one column for each face's slack, except that two opposite faces (a slab, such as
 //! a crawler block's two friction bounds) share one value column `<x*_j, x>` between their
@@ -24,8 +25,9 @@
 //!
 //! Pivoting (maximising `J`): at the LP optimum a pair is degenerate when `mu = s = 0`; its
 //! other branch keeps the point feasible. An on-face pair with `mu = 0` whose slack has a
-//! positive reduced cost (its column's, signed: leaving the face pays) goes off; an off-face pair with `s = 0` whose
-//! multiplier column has a positive reduced cost (pushing on the face pays) goes on. All such
+//! positive reduced cost (its column's, signed: leaving the face pays) goes off; an off-face
+//! pair with `s = 0` whose multiplier column has a positive reduced cost (pushing on the face
+//! pays) goes on. All such
 //! switches are made at once, as for crawlers. Where none pays, the reduced costs of a
 //! degenerate LP being those of one of its optimal bases, each degenerate pair's neighbouring
 //! LP (that pair switched) is solved from the current basis and the first that gains is
