@@ -39,10 +39,12 @@
 //! blocks (median of 5 paired runs) while (P)'s LP had a multiplier and a slack column and a
 //! row per face (16 columns and 8 rows a step for three blocks, against 10 and 5 here). Since
 //! (P)'s branch LP gives two opposite faces one value column and one row (13 columns and 5
-//! rows) and is solved in units of order one, the same fold takes 1.14 times as long at
-//! `m = 10` and 1.00 at `m = 8`. Nearly all of the time is HiGHS's; the gap left is a
-//! multiplier column per face where this LP has one signed displacement per block, which (P)'s
-//! could have with the column's cost switched with the branch.
+//! rows) and is solved in units of order one, the same fold took 1.14 times as long at
+//! `m = 10` and 1.00 at `m = 8`; with its pair's multipliers as one signed column (10 columns
+//! and 5 rows, this LP's size) 1.10 at `m = 10` (5 paired runs, from 0.93 to 1.26). It also
+//! pivots otherwise: from the small rise and fall of one link at `m = 2` it stopped at its
+//! start's `J = 0.5` where this method reaches 3 (`tests/local.rs`), so the fold waits for
+//! the reason.
 
 use super::active_set;
 use super::solver::Highs;

@@ -134,6 +134,29 @@ impl Highs {
         Ok(())
     }
 
+    /// Changes the objective coefficient of a column (finite).
+    pub fn set_cost(&mut self, col: Col, cost: f64) -> Result<()> {
+        if !cost.is_finite() {
+            return Err(Error::Numerical(format!(
+                "{}: invalid column cost {cost}",
+                self.what
+            )));
+        }
+        let idx = HighsInt::try_from(col.index())
+            .map_err(|_| Error::Numerical(format!("{}: too many columns", self.what)))?;
+        // SAFETY: as in `set_bounds`: the live HiGHS instance owned by `self.model`, and a
+        // column of it.
+        let st = unsafe { highs_sys::Highs_changeColCost(self.model.as_mut_ptr(), idx, cost) };
+        if st == highs_sys::STATUS_ERROR {
+            return Err(Error::Numerical(format!(
+                "{}: HiGHS refused the cost {cost} of column {}",
+                self.what,
+                col.index()
+            )));
+        }
+        Ok(())
+    }
+
     /// Offers a start point (all columns). A start HiGHS does not take is only a lost hint,
     /// never a wrong answer, so its refusal is reported as `false`, not as an error.
     pub fn start(&mut self, columns: &[f64]) -> bool {

@@ -39,8 +39,8 @@
 
 use super::discrete_rows as rows;
 pub(super) use super::discrete_rows::{
-    branch_bounds, cost_epigraphs, cost_matrix, holds_a_pair, opposite_faces, pair_bounds, BigM,
-    Form,
+    branch_bounds, cost_epigraphs, cost_matrix, holds_a_pair, opposite_faces, pair_bounds,
+    pair_multiplier, BigM, Form,
 };
 use super::geometry::{into_u, Geometry};
 use crate::error::{Error, Result};
@@ -359,8 +359,12 @@ pub(super) struct Layout {
     pub x: Vec<Vec<Col>>,
     /// Controls `u^0..u^(M-1)`.
     pub u: Vec<Vec<Col>>,
-    /// Multipliers `mu^i_j`.
+    /// Multipliers `mu^i_j`, by their columns ([`Layout::multiplier`] reads them): a pair of
+    /// opposite faces' two entries are its one signed column in a branch LP.
     pub mu: Vec<Vec<Col>>,
+    /// Each face's opposite face where a branch LP pairs them ([`opposite_faces`]; empty for
+    /// the MILP).
+    pub partner: Vec<Option<usize>>,
     /// Slacks `s^i_j = c_j - <x*_j, x^(i+1)>`, each read from its column
     /// ([`rows::Slack`]; branch LPs only, empty for the MILP).
     pub s: Vec<Vec<rows::Slack>>,
@@ -368,6 +372,19 @@ pub(super) struct Layout {
     pub z: Vec<Vec<Col>>,
     /// A quadratic cost's epigraph columns, per step and epigraph ([`rows::cost_epigraphs`]).
     pub e: Vec<Vec<Col>>,
+}
+
+impl Layout {
+    /// `mu^i_j` in the solution `cols`: its column, or for a pair's signed column
+    /// `nu = mu_j - mu_k` its positive part for the first face and negative part for the second.
+    pub fn multiplier(&self, i: usize, j: usize, cols: &[f64]) -> f64 {
+        let v = cols[self.mu[i][j].index()];
+        match self.partner.get(j).copied().flatten() {
+            Some(k) if j < k => v.max(0.0),
+            Some(_) => (-v).max(0.0),
+            None => v,
+        }
+    }
 }
 
 /// Builds P_m in `form` (the objective `J`, to be maximised): the states, controls and
@@ -408,7 +425,7 @@ fn build_paired(
         Form::Milp(_) => rows::face_classes(p),
         Form::Branches(_) => None,
     };
-    let mus = rows::add_multiplier_columns(&mut pb, p, mm, (form, classes.as_deref()), &w);
+    let mus = rows::add_multiplier_columns(&mut pb, p, mm, (form, classes.as_deref()), partner, &w);
     let made = classes.map(|c| {
         rows::per_face_columns(&mut pb, (mm, p.c.faces()), &c, |pb, _, _| {
             pb.add_integer_column(0.0, 0..=1)
@@ -417,7 +434,13 @@ fn build_paired(
     let (mut s, mut z) = (Vec::new(), Vec::new());
     for i in 0..mm {
         rows::add_control_rows(&mut pb, p, &us[i]);
-        rows::add_dynamics_rows(&mut pb, p, h, (x_at(i), x_at(i + 1)), (&us[i], &mus[i]));
+        rows::add_dynamics_rows(
+            &mut pb,
+            p,
+            h,
+            (x_at(i), x_at(i + 1)),
+            (&us[i], &mus[i], partner),
+        );
         match form {
             Form::Branches(b) => s.push(rows::add_branch_rows(
                 &mut pb,
@@ -446,6 +469,7 @@ fn build_paired(
             x,
             u: us,
             mu: mus,
+            partner: partner.to_vec(),
             s,
             z,
             e,
@@ -614,10 +638,12 @@ pub(super) fn replay_in(
         .collect();
     let w = p.face_weights();
     let lp_reward: f64 = s_x
-        * lay
-            .mu
-            .iter()
-            .map(|r| r.iter().zip(&w).map(|(c, w)| w * val(c)).sum::<f64>())
+        * (0..lay.mu.len())
+            .map(|i| {
+                (0..w.len())
+                    .map(|j| w[j] * lay.multiplier(i, j, cols))
+                    .sum::<f64>()
+            })
             .sum::<f64>();
     replay_controls(p, m, &x0, u, lp_reward, what)
 }

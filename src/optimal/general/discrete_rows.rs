@@ -26,8 +26,9 @@ pub(super) enum Form<'a> {
     /// column of its own (`<x*_j, x^(i+1)> + s^i_j = c_j`), except for two opposite faces
     /// ([`opposite_faces`]): they share one value column `f = <x*_j, x^(i+1)>`, within
     /// `[-c_k, c_j]`, and one row, as a crawler's block has one force column between its two
-    /// friction bounds. Per step that is one row and one column fewer a pair (three blocks:
-    /// 13 columns and 5 rows a step, not 16 and 8), the same LP.
+    /// friction bounds, and one signed multiplier column ([`pair_multiplier`]), as the block
+    /// has one displacement. Per step that is one row and two columns fewer a pair (three
+    /// blocks: 10 columns and 5 rows a step, not 16 and 8), the same LP.
     Branches(&'a [Vec<bool>]),
 }
 
@@ -190,26 +191,66 @@ pub(super) fn per_face_columns(
 
 /// The multiplier columns `mu^i_j` with the objective weights `w_j`: within `[0, M_mu]` for the
 /// MILP (in the order of `classes`, [`face_classes`], if given), within the branch's bounds
-/// ([`branch_bounds`]) for a branch LP; step by step, face by face by default.
+/// ([`branch_bounds`]) for a branch LP, step by step, face by face, where two opposite faces
+/// (`partner`, [`opposite_faces`]) share one signed column `nu = mu_j - mu_k`
+/// ([`pair_multiplier`]): both faces' entries are that column.
 pub(super) fn add_multiplier_columns(
     pb: &mut RowProblem,
     p: &GeneralProblem,
     mm: usize,
     (form, classes): (Form<'_>, Option<&[Vec<usize>]>),
+    partner: &[Option<usize>],
     w: &[f64],
 ) -> Vec<Vec<Col>> {
-    let all = [(0..p.c.faces()).collect::<Vec<_>>()];
-    let classes = match (form, classes) {
-        (Form::Milp(_), Some(c)) => c,
-        _ => &all[..],
-    };
-    per_face_columns(pb, (mm, p.c.faces()), classes, |pb, i, j| match form {
-        Form::Milp(bm) => pb.add_column(w[j], 0.0..=bm.multiplier),
+    let sigma = p.c.faces();
+    let bm = match form {
+        Form::Milp(bm) => bm,
         Form::Branches(b) => {
-            let (lo, hi) = branch_bounds(b[i][j])[0];
-            pb.add_column(w[j], lo..=hi)
+            return (0..mm)
+                .map(|i| {
+                    let mut row: Vec<Option<Col>> = vec![None; sigma];
+                    for j in 0..sigma {
+                        if row[j].is_some() {
+                            continue;
+                        }
+                        row[j] = Some(match partner.get(j).copied().flatten() {
+                            Some(k) => {
+                                let (cost, lo, hi) =
+                                    pair_multiplier((w[j], w[k]), b[i][j], b[i][k]);
+                                let nu = pb.add_column(cost, lo..=hi);
+                                row[k] = Some(nu);
+                                nu
+                            }
+                            None => {
+                                let (lo, hi) = branch_bounds(b[i][j])[0];
+                                pb.add_column(w[j], lo..=hi)
+                            }
+                        });
+                    }
+                    row.into_iter()
+                        .map(|c| c.expect("every face has its multiplier"))
+                        .collect()
+                })
+                .collect();
         }
+    };
+    let all = [(0..sigma).collect::<Vec<_>>()];
+    let classes = classes.unwrap_or(&all[..]);
+    per_face_columns(pb, (mm, sigma), classes, |pb, _, j| {
+        pb.add_column(w[j], 0.0..=bm.multiplier)
     })
+}
+
+/// The cost and bounds of a pair's signed multiplier column `nu = mu_j - mu_k` (`j < k`
+/// opposite faces of weights `w_j`, `w_k`) on branches `on_j`, `on_k`: on face `j`,
+/// `nu = mu_j >= 0` with cost `w_j`; on face `k`, `nu = -mu_k <= 0` with cost `-w_k`; off both
+/// (or, refused before, on both), `nu = 0`. The dynamics see `nu x*_j = mu_j x*_j + mu_k x*_k`.
+pub(super) fn pair_multiplier((w_j, w_k): (f64, f64), on_j: bool, on_k: bool) -> (f64, f64, f64) {
+    match (on_j, on_k) {
+        (true, false) => (w_j, 0.0, f64::INFINITY),
+        (false, true) => (-w_k, f64::NEG_INFINITY, 0.0),
+        _ => (0.0, 0.0, 0.0),
+    }
 }
 
 /// `u^i in U` for a polytope U: `G u^i <= h` (a box U is in the columns' bounds).
@@ -227,13 +268,14 @@ pub(super) fn add_control_rows(pb: &mut RowProblem, p: &GeneralProblem, u_i: &[C
 }
 
 /// The catching-up step from `x^i` to `x^(i+1)` of step `h`, one row per state component:
-/// `x^(i+1) - (I + h A) x^i - h B u^i + sum_j mu_j x*_j = h b`.
+/// `x^(i+1) - (I + h A) x^i - h B u^i + sum_j mu_j x*_j = h b` (a pair of opposite faces,
+/// `partner`, by its signed column: `nu x*_j`).
 pub(super) fn add_dynamics_rows(
     pb: &mut RowProblem,
     p: &GeneralProblem,
     h: f64,
     (x_i, x_next): (&[Col], &[Col]),
-    (u_i, mu_i): (&[Col], &[Col]),
+    (u_i, mu_i, partner): (&[Col], &[Col], &[Option<usize>]),
 ) {
     let n = p.states();
     for r in 0..n {
@@ -251,6 +293,10 @@ pub(super) fn add_dynamics_rows(
             }
         }
         for j in 0..p.c.faces() {
+            // A pair's second face: its signed column is in the row through the first.
+            if partner.get(j).copied().flatten().is_some_and(|k| k < j) {
+                continue;
+            }
             let a = p.c.normals[j][r];
             if a != 0.0 {
                 row.push((mu_i[j], a));

@@ -16,19 +16,22 @@
 //! (`B = 1e-6 I`), its opposite faces paired (below) and solved in its own units, ended with
 //! HiGHS's status `unknown` at `m = 10`; in units of order one it gives the `J` of scale 1.
 //!
-//! The LP has one column for each face's slack, except that two opposite faces (a slab, such as
-//! a crawler block's two friction bounds) share one value column `<x*_j, x>` between their
-//! offsets (`Form::Branches` in `optimal::general::discrete_rows`): for the three-block
-//! crawler's instance 13 columns and 5 rows a step instead of 16 and 8. With both,
-//! `optimize general_three_blocks.toml --method local --m 10` takes 0.82 of the time it took
-//! (median of 5 paired runs; 0.92 at `m = 8`), with the same `J`.
+//! The LP has a multiplier and a slack column for each face, except that two opposite faces (a
+//! slab, such as a crawler block's two friction bounds) share one signed multiplier column
+//! `nu = mu_j - mu_k`, its cost switched with the branch, and one value column `<x*_j, x>`
+//! between their offsets (`Form::Branches` in `optimal::general::discrete_rows`): for the
+//! three-block crawler's instance 10 columns and 5 rows a step instead of 16 and 8, the LP the
+//! crawler's own local method has. With the units above, `optimize general_three_blocks.toml
+//! --method local --m 10` takes 0.82 of the time it took with a multiplier and a slack column
+//! per face, and the signed column 0.92 of that again (medians of 5 paired runs; 0.96 at
+//! `m = 8`), with the same `J`.
 //!
 //! Pivoting (maximising `J`): at the LP optimum a pair is degenerate when `mu = s = 0`; its
 //! other branch keeps the point feasible. An on-face pair with `mu = 0` whose slack has a
 //! positive reduced cost (its column's, signed: leaving the face pays) goes off; an off-face
-//! pair with `s = 0` whose multiplier column has a positive reduced cost (pushing on the face
-//! pays) goes on. All such
-//! switches are made at once, as for crawlers. Where none pays, the reduced costs of a
+//! pair with `s = 0` whose multiplier has a positive reduced cost (pushing on the face pays;
+//! a pair's signed column's reduced cost, signed, plus the face's weight, its cost while both
+//! faces are off being 0) goes on. All such switches are made at once, as for crawlers. Where none pays, the reduced costs of a
 //! degenerate LP being those of one of its optimal bases, each degenerate pair's neighbouring
 //! LP (that pair switched) is solved from the current basis and the first that gains is
 //! taken; when none gains the point is stationary for every single switch (status
@@ -45,8 +48,8 @@
 //! replaying its controls through the general simulator ([`super::discrete`]'s replay).
 
 use super::discrete::{
-    branch_bounds, build, check_sets, holds_a_pair, opposite_faces, pair_bounds, replay_in,
-    run_on_grid, Form, Layout,
+    branch_bounds, build, check_sets, holds_a_pair, opposite_faces, pair_bounds, pair_multiplier,
+    replay_in, run_on_grid, Form, Layout,
 };
 use super::geometry::Geometry;
 use super::units::Units;
@@ -330,39 +333,61 @@ fn solve_from(
     // degenerate LP are those of one of its bases), each degenerate pair's neighbouring LP is
     // solved and the first flip that gains is taken.
     let mut trials = 0;
+    let w = q.face_weights();
+    // The branch bounds of face `j`'s columns at step `i` (and a pair's multiplier cost).
+    let set_branch = |model: &mut Highs, active: &[Vec<bool>], i: usize, j: usize| {
+        let slack = lay.s[i][j];
+        let Some(k) = slack.partner else {
+            let [bm, bs] = branch_bounds(active[i][j]);
+            model.set_bounds(lay.mu[i][j], bm.0, bm.1)?;
+            return model.set_bounds(slack.col, bs.0, bs.1);
+        };
+        // The pair's signed multiplier and value column, bounded by both branches (`a < b`).
+        let (a, b) = (j.min(k), j.max(k));
+        let (on_a, on_b) = (active[i][a], active[i][b]);
+        let (lo, hi) =
+            pair_bounds((q.c.offsets[a], q.c.offsets[b]), on_a, on_b).ok_or_else(|| {
+                Error::Numerical(format!(
+                    "{what}: a switch held two opposite faces, {} and {}",
+                    a + 1,
+                    b + 1
+                ))
+            })?;
+        let (cost, nu_lo, nu_hi) = pair_multiplier((w[a], w[b]), on_a, on_b);
+        model.set_bounds(lay.mu[i][j], nu_lo, nu_hi)?;
+        model.set_cost(lay.mu[i][j], cost)?;
+        model.set_bounds(slack.col, lo, hi)
+    };
     let flip = |model: &mut Highs, active: &mut [Vec<bool>], i: usize, j: usize| -> Result<()> {
         active[i][j] = !active[i][j];
-        let [bm, bs] = branch_bounds(active[i][j]);
-        model.set_bounds(lay.mu[i][j], bm.0, bm.1)?;
-        let slack = lay.s[i][j];
-        let (lo, hi) = match slack.partner {
-            None => bs,
-            Some(k) => {
-                // The pair's value column, bounded by both branches (`j < k` its order).
-                let (a, b) = (j.min(k), j.max(k));
-                let offsets = (q.c.offsets[a], q.c.offsets[b]);
-                pair_bounds(offsets, active[i][a], active[i][b]).ok_or_else(|| {
-                    Error::Numerical(format!(
-                        "{what}: a switch held two opposite faces, {} and {}",
-                        a + 1,
-                        b + 1
-                    ))
-                })?
-            }
-        };
-        model.set_bounds(slack.col, lo, hi)
+        set_branch(model, active, i, j)
     };
     let pivot = |model: &mut Highs, cols: &[f64], red: &[f64], j_now: f64| -> Result<usize> {
         let mut changed = 0;
         let mut degenerate = Vec::new();
         for i in 0..mm {
             for j in 0..sigma {
-                let (mu, s) = (lay.mu[i][j].index(), lay.s[i][j]);
-                // The rate of J as the slack rises from 0: its column's reduced cost, signed.
+                let s = lay.s[i][j];
+                // A face whose opposite face is held stays off (no point is on both).
+                if s.partner.is_some_and(|k| active[i][k]) {
+                    continue;
+                }
+                let red_mu = red[lay.mu[i][j].index()];
+                // The rate of J as the slack rises from 0: its column's reduced cost, signed;
+                // as the multiplier does: its column's, or for a pair's signed column (cost 0
+                // while both are off) with the face's weight, signed.
                 let (zero, rate) = if active[i][j] {
-                    (cols[mu] <= tol_x, s.sign * red[s.col.index()])
+                    (
+                        lay.multiplier(i, j, cols) <= tol_x,
+                        s.sign * red[s.col.index()],
+                    )
                 } else {
-                    (s.value(cols) <= tol_x, red[mu])
+                    let rate = match s.partner {
+                        None => red_mu,
+                        Some(k) if j < k => red_mu + w[j],
+                        Some(_) => w[j] - red_mu,
+                    };
+                    (s.value(cols) <= tol_x, rate)
                 };
                 if !zero {
                     continue;
