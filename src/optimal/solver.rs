@@ -119,19 +119,10 @@ impl Highs {
                 self.what
             )));
         }
-        let idx = HighsInt::try_from(col.index())
-            .map_err(|_| Error::Numerical(format!("{}: too many columns", self.what)))?;
-        // SAFETY: the pointer is the live HiGHS instance owned by `self.model`; the index is a
-        // column of that instance (a `Col` handed out when the problem was built).
-        let st = unsafe { highs_sys::Highs_changeColBounds(self.model.as_mut_ptr(), idx, lo, hi) };
-        if st == highs_sys::STATUS_ERROR {
-            return Err(Error::Numerical(format!(
-                "{}: HiGHS refused the bounds [{lo}, {hi}] of column {}",
-                self.what,
-                col.index()
-            )));
-        }
-        Ok(())
+        self.change_column(col, &format!("bounds [{lo}, {hi}]"), |ptr, idx| {
+            // SAFETY: see `change_column`.
+            unsafe { highs_sys::Highs_changeColBounds(ptr, idx, lo, hi) }
+        })
     }
 
     /// Changes the objective coefficient of a column (finite).
@@ -142,14 +133,26 @@ impl Highs {
                 self.what
             )));
         }
+        self.change_column(col, &format!("cost {cost}"), |ptr, idx| {
+            // SAFETY: see `change_column`.
+            unsafe { highs_sys::Highs_changeColCost(ptr, idx, cost) }
+        })
+    }
+
+    /// One change of column `col` (`what_changed` names it in errors) by `change`, called with
+    /// the live HiGHS instance owned by `self.model` and the index of a column of that instance
+    /// (a `Col` handed out when the problem was built), which is what makes its call safe.
+    fn change_column(
+        &mut self,
+        col: Col,
+        what_changed: &str,
+        change: impl FnOnce(*mut std::ffi::c_void, HighsInt) -> HighsInt,
+    ) -> Result<()> {
         let idx = HighsInt::try_from(col.index())
             .map_err(|_| Error::Numerical(format!("{}: too many columns", self.what)))?;
-        // SAFETY: as in `set_bounds`: the live HiGHS instance owned by `self.model`, and a
-        // column of it.
-        let st = unsafe { highs_sys::Highs_changeColCost(self.model.as_mut_ptr(), idx, cost) };
-        if st == highs_sys::STATUS_ERROR {
+        if change(self.model.as_mut_ptr(), idx) == highs_sys::STATUS_ERROR {
             return Err(Error::Numerical(format!(
-                "{}: HiGHS refused the cost {cost} of column {}",
+                "{}: HiGHS refused the {what_changed} of column {}",
                 self.what,
                 col.index()
             )));

@@ -375,11 +375,16 @@ pub(super) struct Layout {
 }
 
 impl Layout {
+    /// The face opposite face `j` that a branch LP pairs it with, if any.
+    pub fn partner_of(&self, j: usize) -> Option<usize> {
+        self.partner.get(j).copied().flatten()
+    }
+
     /// `mu^i_j` in the solution `cols`: its column, or for a pair's signed column
     /// `nu = mu_j - mu_k` its positive part for the first face and negative part for the second.
     pub fn multiplier(&self, i: usize, j: usize, cols: &[f64]) -> f64 {
         let v = cols[self.mu[i][j].index()];
-        match self.partner.get(j).copied().flatten() {
+        match self.partner_of(j) {
             Some(k) if j < k => v.max(0.0),
             Some(_) => (-v).max(0.0),
             None => v,

@@ -44,8 +44,6 @@ pub(super) struct Slack {
     pub(super) sign: f64,
     /// The slack where the column is 0.
     pub(super) offset: f64,
-    /// The opposite face sharing the column, if any.
-    pub(super) partner: Option<usize>,
 }
 
 impl Slack {
@@ -338,14 +336,13 @@ pub(super) fn add_branch_rows(
                 let f = pb.add_column(0.0, lo..=hi);
                 row.push((f, -1.0));
                 pb.add_row(0.0..=0.0, row);
-                let slack = |sign, offset, partner| Slack {
+                let slack = |sign, offset| Slack {
                     col: f,
                     sign,
                     offset,
-                    partner: Some(partner),
                 };
-                slacks[j] = Some(slack(-1.0, cs.0, k));
-                slacks[k] = Some(slack(1.0, cs.1, j));
+                slacks[j] = Some(slack(-1.0, cs.0));
+                slacks[k] = Some(slack(1.0, cs.1));
             }
             None => {
                 let (lo, hi) = branch_bounds(active[j])[1];
@@ -356,7 +353,6 @@ pub(super) fn add_branch_rows(
                     col: s,
                     sign: 1.0,
                     offset: 0.0,
-                    partner: None,
                 });
             }
         }

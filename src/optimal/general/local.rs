@@ -337,7 +337,7 @@ fn solve_from(
     // The branch bounds of face `j`'s columns at step `i` (and a pair's multiplier cost).
     let set_branch = |model: &mut Highs, active: &[Vec<bool>], i: usize, j: usize| {
         let slack = lay.s[i][j];
-        let Some(k) = slack.partner else {
+        let Some(k) = lay.partner_of(j) else {
             let [bm, bs] = branch_bounds(active[i][j]);
             model.set_bounds(lay.mu[i][j], bm.0, bm.1)?;
             return model.set_bounds(slack.col, bs.0, bs.1);
@@ -369,7 +369,7 @@ fn solve_from(
             for j in 0..sigma {
                 let s = lay.s[i][j];
                 // A face whose opposite face is held stays off (no point is on both).
-                if s.partner.is_some_and(|k| active[i][k]) {
+                if lay.partner_of(j).is_some_and(|k| active[i][k]) {
                     continue;
                 }
                 let red_mu = red[lay.mu[i][j].index()];
@@ -382,7 +382,7 @@ fn solve_from(
                         s.sign * red[s.col.index()],
                     )
                 } else {
-                    let rate = match s.partner {
+                    let rate = match lay.partner_of(j) {
                         None => red_mu,
                         Some(k) if j < k => red_mu + w[j],
                         Some(_) => w[j] - red_mu,
