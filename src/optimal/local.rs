@@ -1,61 +1,50 @@
-//! The local method for P_m (theory §6): an active-set method on the LPCC, for grids far beyond
-//! the reach of the global MILP (`2^m ~ 10^3` steps and more, several blocks).
+//! The local method for P_m (theory §6) of a crawler, for grids far beyond the reach of the
+//! global MILP (`2^m ~ 10^3` steps and more, several blocks): (P)'s active-set method on the
+//! LPCC of P_m ([`crate::optimal::general::local`]) on the crawler's instance
+//! ([`crate::model::crawler_as_general`]: `x~ = K^(-1/2) x`, a pair of faces per block), with
+//! what a crawler adds: a start given as a continuous-time gait (its knots), sampled on the
+//! grid ([`sample_increments`]) and tried at several time shifts ([`shift_knots`],
+//! [`solve_discrete_local_shifted`]), and the answer in the crawler's terms.
 //!
-//! Every complementarity condition of P_m is a three-way choice per step `i` and block `b`
-//! (its *mode*): stick (`D^i_b = 0`, `F_b(x^{i+1})` anywhere in its range), slip+
-//! (`F_b(x^{i+1}) = mu_b^+`, `D^i_b >= 0`) or slip- (`F_b(x^{i+1}) = -mu_b^-`, `D^i_b <= 0`).
-//! With the modes fixed, P_m is a linear program, and every feasible point of it is a
-//! catching-up trajectory (the modes make the KKT system of the projection hold). With the
-//! face values as columns `f^i_b` (`f^i_b = F_b(x^{i+1})`), a mode is nothing but column bounds:
+//! In the crawler's words, every complementarity condition of P_m is a three-way choice per
+//! step `i` and block `b` (its *mode*): stick (`D^i_b = 0`, `F_b(x^{i+1})` anywhere in its
+//! range), slip+ (`F_b(x^{i+1}) = mu_b^+`, `D^i_b >= 0`) or slip- (`F_b(x^{i+1}) = -mu_b^-`,
+//! `D^i_b <= 0`). On the instance a block's modes are the branches of its pair of faces:
+//! stick is both faces off, slip+ its forward face on, slip- its backward face on (both on at
+//! once is impossible, `mu_b^+ + mu_b^- > 0`). (P)'s branch LP gives such a pair one signed
+//! multiplier column (the block's displacement, up to its scale) and one value column (the
+//! block's force), so it is the LP the crawler had of its own, with the modes as column bounds:
+//! 10 columns and 5 rows a step for three blocks. It is re-solved from its previous basis after
+//! each switch; the switches that pay by their reduced costs are made at once, and the method
+//! stops where none pays ([`Pivoting::ReducedCosts`]): `stationary` means, as it always did
+//! for a crawler, that no single switch pays by the reduced costs of the last basis (a
+//! first-order test; (P)'s own default also tries each degenerate pair's neighbouring LP). The
+//! answer is a `local` certificate, never a global one.
 //!
-//! ```text
-//! stick: D in [0, 0],      f in [-mu^-, mu^+]
-//! slip+: D in [0, Md],     f in [mu^+, mu^+]
-//! slip-: D in [-Md, 0],    f in [-mu^-, -mu^-]
-//! ```
+//! The start's modes are read off its process as they always were: a block whose force is on
+//! a friction bound slips, even at rest (its face held with a zero multiplier), so that the
+//! first LP may already move it ((P)'s default holds only the faces with a positive reaction;
+//! from one link's small rise and fall at `m = 2` the reduced costs of that first basis see no
+//! paying switch, and the method would stop at its start's `J = 0.5`, not at 3).
 //!
-//! so one HiGHS model is re-solved from its previous basis after each change of modes.
+//! Until this method ran on (P)'s, the crawler had that LPCC as a copy of its own. Run on
+//! (P)'s, `optimize --method local` (8 time shifts of the phase optimum) reaches the same `J`
+//! at `m = 8` (2.5859375) and `m = 10` (2.595703125) on three blocks and at `m = 10` on four
+//! blocks of varied friction (6.5751605), and more at `m = 6`: 2.5625, where the copy stopped
+//! at 2.46875. It takes 1.04 of the copy's time at `m = 10`, 1.01 at `m = 8` and 0.96 on the
+//! four blocks (medians of 7 paired runs; nearly all of it HiGHS's).
 //!
-//! Pivoting (minimising `-J`): at the LP optimum a pair is *degenerate* when both sides of its
-//! complementarity are zero (a sticking block whose face is reached, or a slipping block that
-//! does not move); switching its mode keeps the current point feasible, so the next LP is at
-//! least as good. The reduced costs say which switches pay: a sticking block on its `+` face
-//! with `d(D) < 0` (moving it forward lowers `-J`) becomes slip+; on its `-` face with
-//! `d(D) > 0` slip-; a slip+ block at rest with `d(f) > 0` (lowering its force pays) and a
-//! slip- block at rest with `d(f) < 0` stick. All profitable switches are made at once. When
-//! none remains the point is B-stationary as far as these first-order tests see (each single
-//! switch is tested by its reduced cost, not by solving the neighbouring LP), and the result is
-//! reported as a `local` certificate, never as a global one.
-//!
-//! The start is any gait on the same period (typically the phase optimum): its actuation is
-//! sampled on the grid, simulated by catching-up to the periodic orbit, and the modes are read
-//! off that orbit. Every answer is re-verified by replaying it through the simulator.
-//!
-//! Why the crawler keeps this LPCC beside (P)'s ([`crate::optimal::general::local`]) on its
-//! instance ([`crate::model::crawler_as_general`]): run there, with (P)'s pivoting limited to
-//! the reduced-cost switches made here, (P)'s method reaches the same `J` from the phase
-//! optimum (three blocks, `m` = 6, 8, 10; four blocks of varied friction, `m = 10`), but the
-//! whole `optimize --method local --m 10` (8 time shifts) took 1.55 times as long on three
-//! blocks (median of 5 paired runs) while (P)'s LP had a multiplier and a slack column and a
-//! row per face (16 columns and 8 rows a step for three blocks, against 10 and 5 here). Since
-//! (P)'s branch LP gives two opposite faces one value column and one row (13 columns and 5
-//! rows) and is solved in units of order one, the same fold took 1.14 times as long at
-//! `m = 10` and 1.00 at `m = 8`; with its pair's multipliers as one signed column (10 columns
-//! and 5 rows, this LP's size) 1.10 at `m = 10` (5 paired runs, from 0.93 to 1.26). It also
-//! pivots otherwise: from the small rise and fall of one link at `m = 2` it stopped at its
-//! start's `J = 0.5` where this method reaches 3 (`tests/local.rs`), so the fold waits for
-//! the reason.
+//! Every answer is re-verified by the crawler's own simulator: the returned increments are
+//! played by catching-up from the returned initial state until the periodic regime, and the
+//! verified displacement is the one reported.
 
-use super::active_set;
-use super::solver::Highs;
 use crate::error::{Error, Result};
 use crate::model::Crawler;
-use crate::optimal::milp::{
-    block_speed_bound, check_verified, force, replay_grid, GridColumns, GridReplay,
-};
+use crate::optimal::general::geometry::analyze_polyhedron;
+use crate::optimal::general::{solve_general_local, Pivoting};
+use crate::optimal::milp::{check_verified, replay_grid};
 use crate::optimal::units::{scale_all, scale_rows, Units};
 use crate::optimal::{Cost, GaitProblem};
-use highs::{Col, RowProblem, Sense};
 use serde::Serialize;
 
 /// Largest `m` of the local method (`2^m` steps).
@@ -158,13 +147,6 @@ fn length_at(times: &[f64], lengths: &[Vec<f64>], t: f64) -> Vec<f64> {
         .collect()
 }
 
-#[derive(Clone, Copy, PartialEq, Eq)]
-enum Mode {
-    Stick,
-    Plus,
-    Minus,
-}
-
 /// Refuses what the local method cannot solve: `m` outside `1..=MAX_LOCAL_M`, or a quadratic
 /// cost (the method handles `f2 = 0` only). Cheap, so callers can check before computing a
 /// start.
@@ -208,7 +190,9 @@ pub fn solve_discrete_local(
     Ok(units.local(&s))
 }
 
-/// [`solve_discrete_local`] in internal units, arguments checked.
+/// [`solve_discrete_local`] in internal units, arguments checked: (P)'s local method on the
+/// crawler's instance from the start sampled on the grid, its answer replayed by the crawler's
+/// simulator (module docs).
 fn solve_local_in(
     crawler: &Crawler,
     problem: &GaitProblem,
@@ -216,207 +200,46 @@ fn solve_local_in(
     start_times: &[f64],
     start_lengths: &[Vec<f64>],
 ) -> Result<LocalSolution> {
-    let (n, nb) = (crawler.links(), crawler.blocks());
-    let (k, mp, mm) = (
-        crawler.stiffness(),
-        crawler.mu_forward(),
-        crawler.mu_backward(),
-    );
     let big_m = 1usize << m;
     let t = problem.period;
     let h = t / big_m as f64;
-    let a = &problem.rate_bound;
     let what = format!("P_{m} (local)");
-    let md = h * block_speed_bound(crawler, problem);
-
-    // The start on this grid, on its periodic orbit.
-    let incs = sample_increments(start_times, start_lengths, k, a, t, big_m);
-    let start = replay_grid(crawler, t, &incs, &vec![0.0; n], &what)?;
-    let start_objective = start.verified;
-    let tol_f = 1e-9 * mp.iter().chain(mm).fold(0.0f64, |s, v| s.max(*v));
-    let tol_d = 1e-12 * md.max(1e-300);
-    let mut modes = start_modes(crawler, &start, big_m, tol_f, tol_d);
-
-    // One LP for every choice of modes; modes are column bounds.
-    let (pb, grid, ds, fs) = mode_lp(crawler, problem, big_m, md);
-    let mut model = Highs::new(pb, Sense::Minimise, &what)?;
-    model.option("primal_feasibility_tolerance", 1e-10)?;
-    model.option("dual_feasibility_tolerance", 1e-10)?;
-    let set_bounds = |model: &mut Highs, i: usize, b: usize, mode: Mode| match mode {
-        Mode::Stick => {
-            model.set_bounds(ds[i][b], 0.0, 0.0)?;
-            model.set_bounds(fs[i][b], -mm[b], mp[b])
-        }
-        Mode::Plus => {
-            model.set_bounds(ds[i][b], 0.0, md)?;
-            model.set_bounds(fs[i][b], mp[b], mp[b])
-        }
-        Mode::Minus => {
-            model.set_bounds(ds[i][b], -md, 0.0)?;
-            model.set_bounds(fs[i][b], -mm[b], -mm[b])
-        }
-    };
-    for i in 0..big_m {
-        for b in 0..nb {
-            set_bounds(&mut model, i, b, modes[i][b])?;
-        }
-    }
-
-    // Profitable switches at degenerate pairs (module docs).
-    let tol_red = 1e-9;
-    let pivot = |model: &mut Highs, cols: &[f64], red: &[f64], _: f64| -> Result<usize> {
-        let mut changed = 0;
-        for i in 0..big_m {
-            for b in 0..nb {
-                let (d, f) = (cols[ds[i][b].index()], cols[fs[i][b].index()]);
-                let (rd, rf) = (red[ds[i][b].index()], red[fs[i][b].index()]);
-                let new = match modes[i][b] {
-                    Mode::Stick if (f - mp[b]).abs() <= tol_f && rd < -tol_red => Mode::Plus,
-                    Mode::Stick if (f + mm[b]).abs() <= tol_f && rd > tol_red => Mode::Minus,
-                    Mode::Plus if d.abs() <= tol_d && rf > tol_red => Mode::Stick,
-                    Mode::Minus if d.abs() <= tol_d && rf < -tol_red => Mode::Stick,
-                    same => same,
-                };
-                if new != modes[i][b] {
-                    modes[i][b] = new;
-                    set_bounds(model, i, b, new)?;
-                    changed += 1;
-                }
-            }
-        }
-        Ok(changed)
-    };
-    // In internal units, the floor of `J` is 1.
-    let run = active_set::run(&mut model, -1.0, 20 * big_m * nb, 3, 1.0, &what, pivot)?;
-    reverified(crawler, problem, m, &grid, run, start_objective, &what)
-}
-
-/// The modes of the start's steps: a block slipping forward (`Plus`) or backward (`Minus`)
-/// where its force is on the friction bound, to `tol_f`, and it does not move against it, to
-/// `tol_d`; else `Stick`. The active set the local method starts from.
-fn start_modes(
-    crawler: &Crawler,
-    start: &GridReplay,
-    big_m: usize,
-    tol_f: f64,
-    tol_d: f64,
-) -> Vec<Vec<Mode>> {
-    let nb = crawler.blocks();
-    let (mp, mm) = (crawler.mu_forward(), crawler.mu_backward());
-    (0..big_m)
-        .map(|i| {
-            let x = &start.states[i + 1];
-            (0..nb)
-                .map(|b| {
-                    let f = force(x, b);
-                    let d = start.block_displacements[i][b];
-                    if (f - mp[b]).abs() <= tol_f && d >= -tol_d {
-                        Mode::Plus
-                    } else if (f + mm[b]).abs() <= tol_f && d <= tol_d {
-                        Mode::Minus
-                    } else {
-                        Mode::Stick
-                    }
-                })
-                .collect()
-        })
-        .collect()
-}
-
-/// The LP of P_m with the modes left to column bounds (module docs): the grid's columns, block
-/// displacements `d^i_b` (objective `-1/N` each, `|d| <= md`) and forces `f^i_b` in
-/// `[-mu-_b, mu+_b]`, the dynamics `x^{i+1} - x^i - U^i + k (d_{l+1} - d_l) = 0`, the forces
-/// `f = F_b(x^{i+1})` and the rows on the control alone. Returns the problem, the grid
-/// columns and the `d` and `f` columns per step and block.
-fn mode_lp(
-    crawler: &Crawler,
-    problem: &GaitProblem,
-    big_m: usize,
-    md: f64,
-) -> (RowProblem, GridColumns, Vec<Vec<Col>>, Vec<Vec<Col>>) {
-    let (n, nb) = (crawler.links(), crawler.blocks());
-    let (k, mp, mm) = (
+    let inst = problem.instance(crawler)?;
+    let geometry = analyze_polyhedron(&inst.problem.c)?;
+    let start: Vec<Vec<f64>> = sample_increments(
+        start_times,
+        start_lengths,
         crawler.stiffness(),
-        crawler.mu_forward(),
-        crawler.mu_backward(),
-    );
-    let mut pb = RowProblem::default();
-    let grid = GridColumns::new(&mut pb, crawler, problem, big_m);
-    let (xs, us) = (&grid.xs, &grid.us);
-    let inv_n = 1.0 / nb as f64;
-    let ds: Vec<Vec<Col>> = (0..big_m)
-        .map(|_| (0..nb).map(|_| pb.add_column(-inv_n, -md..=md)).collect())
-        .collect();
-    let fs: Vec<Vec<Col>> = (0..big_m)
-        .map(|_| {
-            (0..nb)
-                .map(|b| pb.add_column(0.0, -mm[b]..=mp[b]))
-                .collect()
-        })
-        .collect();
-    for i in 0..big_m {
-        let next = &xs[(i + 1) % big_m];
-        for l in 0..n {
-            pb.add_row(
-                0.0..=0.0,
-                [
-                    (next[l], 1.0),
-                    (xs[i][l], -1.0),
-                    (us[i][l], -1.0),
-                    (ds[i][l + 1], k[l]),
-                    (ds[i][l], -k[l]),
-                ],
-            );
-        }
-        for b in 0..nb {
-            // f = F_b(x^{i+1}) = x_{b-1} - x_b.
-            let mut row = vec![(fs[i][b], -1.0)];
-            if b > 0 {
-                row.push((next[b - 1], 1.0));
-            }
-            if b < n {
-                row.push((next[b], -1.0));
-            }
-            pb.add_row(0.0..=0.0, row);
-        }
-    }
-    grid.add_control_rows(&mut pb, problem);
-    (pb, grid, ds, fs)
-}
-
-/// Re-verification: the LP's increments played by catching-up from its x^0, checked against
-/// the LP's objective; the verified displacement is the one reported (module docs).
-fn reverified(
-    crawler: &Crawler,
-    problem: &GaitProblem,
-    m: u32,
-    grid: &GridColumns,
-    run: active_set::Outcome,
-    start_objective: f64,
-    what: &str,
-) -> Result<LocalSolution> {
-    let t = problem.period;
-    let h = t / (1usize << m) as f64;
-    let (cols, lp_objective) = (run.cols, run.objective);
-    let rows = grid.increments(&cols);
-    let x0: Vec<f64> = grid.xs[0].iter().map(|c| cols[c.index()]).collect();
-    let g = replay_grid(crawler, t, &rows, &x0, what)?;
+        &problem.rate_bound,
+        t,
+        big_m,
+    )
+    .iter()
+    .map(|u| u.iter().map(|v| v / h).collect())
+    .collect();
+    let s = solve_general_local(&inst.problem, &geometry, m, &start, Pivoting::ReducedCosts)?;
+    let incs: Vec<Vec<f64>> =
+        s.u.iter()
+            .map(|u| u.iter().map(|v| v * h).collect())
+            .collect();
+    let x0 = inst.to_crawler(&s.x[0]);
+    let g = replay_grid(crawler, t, &incs, &x0, &what)?;
     check_verified(
-        what,
-        lp_objective,
+        &what,
+        s.lp_objective,
         g.verified,
         problem.length_scale(crawler),
     )?;
     Ok(LocalSolution {
         m,
         step: h,
-        start_objective,
-        lp_objective,
+        start_objective: s.start_objective,
+        lp_objective: s.lp_objective,
         verified_displacement: g.verified,
         actuation_cost: 0.0,
-        lp_solves: run.lp_solves,
-        switches: run.switches,
-        stop: run.stop,
+        lp_solves: s.lp_solves,
+        switches: s.switches,
+        stop: s.stop,
         initial_state: g.initial_state,
         block_displacements: g.block_displacements,
         states: g.states,
@@ -455,9 +278,9 @@ pub fn shift_knots(
 /// 0..shifts`, see [`shift_knots`]), keeping the best answer (the first of equals), within the
 /// job's deadline ([`crate::progress::within`]) in all: the local search ends where its start
 /// leads, and on a grid the phase at which a continuous-time start is sampled decides which
-/// discrete gait it becomes (three blocks, 64 steps: 2.4688 from the phase optimum as it is, 2.5625
-/// from 6 of 32 shifts, among them 2 of the 8 shifts tried by default). Also returns the shift of
-/// the best.
+/// discrete gait it becomes (three blocks of `examples/three_blocks_gait.toml`, 64 steps, 2.5625
+/// from the phase optimum as it is; before this method ran on (P)'s, 2.4688 from it and from the
+/// best of 8 shifts, 2.5625 from the best of 32). Also returns the shift of the best.
 pub fn solve_discrete_local_shifted(
     crawler: &Crawler,
     problem: &GaitProblem,

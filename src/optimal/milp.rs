@@ -273,88 +273,6 @@ pub(crate) fn replay(
     Ok(sim)
 }
 
-/// The columns every grid formulation of P_m shares: states `x^i` (bounded by the link-force
-/// ranges of C) and increments `U^i = h u^i` (`|U^i_l| <= a_l h`), `i = 0..steps`.
-pub(crate) struct GridColumns {
-    pub xs: Vec<Vec<Col>>,
-    pub us: Vec<Vec<Col>>,
-}
-
-impl GridColumns {
-    /// Adds the columns.
-    pub fn new(
-        pb: &mut RowProblem,
-        crawler: &Crawler,
-        problem: &GaitProblem,
-        steps: usize,
-    ) -> Self {
-        let h = problem.period / steps as f64;
-        let ranges = crawler.link_force_ranges();
-        let xs = (0..steps)
-            .map(|_| {
-                ranges
-                    .iter()
-                    .map(|r| pb.add_column(0.0, r[0]..=r[1]))
-                    .collect()
-            })
-            .collect();
-        let us = (0..steps)
-            .map(|_| {
-                problem
-                    .rate_bound
-                    .iter()
-                    .map(|&al| pb.add_column(0.0, -al * h..=al * h))
-                    .collect()
-            })
-            .collect();
-        GridColumns { xs, us }
-    }
-
-    /// Adds the rows on the control alone: zero mean `sum_i U^i = 0` and, with a bound `V` on
-    /// `TV(u)`, `|U^{i+1}_l - U^i_l| <= s^i_l` (periodic), `sum s <= h V`; returns the columns
-    /// `s^i_l` (none without the bound).
-    pub fn add_control_rows(&self, pb: &mut RowProblem, problem: &GaitProblem) -> Vec<Vec<Col>> {
-        let steps = self.us.len();
-        let n = problem.rate_bound.len();
-        let h = problem.period / steps as f64;
-        for l in 0..n {
-            let row: Vec<(Col, f64)> = self.us.iter().map(|u| (u[l], 1.0)).collect();
-            pb.add_row(0.0..=0.0, row);
-        }
-        let Some(v) = problem.max_total_variation else {
-            return Vec::new();
-        };
-        let mut jumps = Vec::with_capacity(steps);
-        let mut total = Vec::with_capacity(steps * n);
-        for i in 0..steps {
-            let mut row = Vec::with_capacity(n);
-            for l in 0..n {
-                let s = pb.add_column(0.0, 0.0..);
-                let (u0, u1) = (self.us[i][l], self.us[(i + 1) % steps][l]);
-                pb.add_row(0.0.., [(s, 1.0), (u1, -1.0), (u0, 1.0)]);
-                pb.add_row(0.0.., [(s, 1.0), (u1, 1.0), (u0, -1.0)]);
-                total.push((s, 1.0));
-                row.push(s);
-            }
-            jumps.push(row);
-        }
-        pb.add_row(..=h * v, total);
-        jumps
-    }
-
-    /// The increments of a solution, shifted to an exact zero mean (the solver's is within its
-    /// tolerance), one row per step.
-    pub fn increments(&self, cols: &[f64]) -> Vec<Vec<f64>> {
-        let mut rows: Vec<Vec<f64>> = self
-            .us
-            .iter()
-            .map(|u| u.iter().map(|c| cols[c.index()]).collect())
-            .collect();
-        shift_to_zero_mean(&mut rows);
-        rows
-    }
-}
-
 /// Shifts each column of equal-step increments (one row per step) by its mean, to an exact zero
 /// mean: a solver's increments have theirs only within its tolerance.
 pub(crate) fn shift_to_zero_mean(rows: &mut [Vec<f64>]) {
@@ -414,13 +332,6 @@ pub(crate) fn replay_grid(
             .map(|r| r.iter().map(|v| v / h).collect())
             .collect(),
     })
-}
-
-/// `F_b(x) = x_{b-1} - x_b` (`x_{-1} = x_n = 0`).
-pub(crate) fn force(x: &[f64], b: usize) -> f64 {
-    let left = if b > 0 { x[b - 1] } else { 0.0 };
-    let right = if b < x.len() { x[b] } else { 0.0 };
-    left - right
 }
 
 /// `F_b(x) = x_{b-1} - x_b` as `(column, coefficient)` pairs (`x_{-1} = x_n = 0`).

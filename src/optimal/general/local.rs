@@ -21,7 +21,7 @@
 //! `nu = mu_j - mu_k`, its cost switched with the branch, and one value column `<x*_j, x>`
 //! between their offsets (`Form::Branches` in `optimal::general::discrete_rows`): for the
 //! three-block crawler's instance 10 columns and 5 rows a step instead of 16 and 8, the LP the
-//! crawler's own local method has. With the units above, `optimize general_three_blocks.toml
+//! crawler's own local method had. With the units above, `optimize general_three_blocks.toml
 //! --method local --m 10` takes 0.82 of the time it took with a multiplier and a slack column
 //! per face, and the signed column 0.92 of that again (medians of 5 paired runs; 0.96 at
 //! `m = 8`), with the same `J`.
@@ -31,7 +31,8 @@
 //! positive reduced cost (its column's, signed: leaving the face pays) goes off; an off-face
 //! pair with `s = 0` whose multiplier has a positive reduced cost (pushing on the face pays;
 //! a pair's signed column's reduced cost, signed, plus the face's weight, its cost while both
-//! faces are off being 0) goes on. All such switches are made at once, as for crawlers. Where none pays, the reduced costs of a
+//! faces are off being 0) goes on. All such switches are made at once, as for crawlers. Where
+//! none pays, the reduced costs of a
 //! degenerate LP being those of one of its optimal bases, each degenerate pair's neighbouring
 //! LP (that pair switched) is solved from the current basis and the first that gains is
 //! taken; when none gains the point is stationary for every single switch (status
@@ -41,7 +42,8 @@
 //!
 //! The start is a control on the grid (one row per step), simulated by catching-up to its
 //! periodic regime (or over the horizon of a Cauchy problem); the branches are read off that
-//! process: on face where the projection's multiplier is positive. [`default_starts`] gives
+//! process: on face where the projection's multiplier is positive (with
+//! [`Pivoting::ReducedCosts`] also where the process touches the face at rest). [`default_starts`] gives
 //! square waves along each control axis, at several time shifts ([`rotated`]); the job
 //! (`crawlopt::api::optimize_general_local`) starts from the phase optimum instead where
 //! `A = 0`. Every answer is re-verified by
@@ -279,18 +281,37 @@ pub fn grid_controls(input: &ControlInput, m: u32) -> Vec<Vec<f64>> {
         .collect()
 }
 
-/// Solves P_m locally from `start` (one control per step of `2^m`; module docs), within the job's
-/// deadline ([`crate::progress::within`]). The start is refused (field `start`) when it does not
-/// have one row in U per step, or a non-zero mean under the zero-mean constraint, or when its
-/// periodic regime is not reached.
+/// Which switches the local method tests before it stops (module docs).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Pivoting {
+    /// The switches that pay by their reduced costs, then, where none does, each degenerate
+    /// pair's neighbouring LP: `stationary` means that no single switch gains. (P)'s default.
+    #[default]
+    Neighbours,
+    /// The switches that pay by their reduced costs only: `stationary` means that none pays by
+    /// the reduced costs of the last basis (a first-order test; a degenerate LP has other
+    /// bases). The start also holds every face its process touches at rest (a zero multiplier
+    /// on the face), so that the first LP can already push on it: without that, one link's
+    /// small rise and fall at `m = 2` stops at its start's `J = 0.5`, the reduced costs of the
+    /// first basis seeing no paying switch (`tests/local.rs`; with it, 3, the optimum). A
+    /// crawler's local method pivots so; a fine grid has many degenerate pairs whose
+    /// neighbouring LPs each cost a solve.
+    ReducedCosts,
+}
+
+/// Solves P_m locally from `start` (one control per step of `2^m`; module docs), testing the
+/// switches `pivoting` says, within the job's deadline ([`crate::progress::within`]). The start
+/// is refused (field `start`) when it does not have one row in U per step, or a non-zero mean
+/// under the zero-mean constraint, or when its periodic regime is not reached.
 pub fn solve_general_local(
     p: &GeneralProblem,
     g: &Geometry,
     m: u32,
     start: &[Vec<f64>],
+    pivoting: Pivoting,
 ) -> Result<GeneralLocal> {
     check_general_local(p, g, m)?;
-    solve_from(p, g, m, start)
+    solve_from(p, g, m, start, pivoting)
 }
 
 /// [`solve_general_local`], arguments checked, within the current deadline.
@@ -299,11 +320,12 @@ fn solve_from(
     g: &Geometry,
     m: u32,
     start: &[Vec<f64>],
+    pivoting: Pivoting,
 ) -> Result<GeneralLocal> {
     let mm = 1usize << m;
     let what = format!("P_{m} of the general problem (local)");
     check_start(p, mm, start)?;
-    let (start_objective, mut active) = start_branches(p, g, start)?;
+    let (start_objective, mut active) = start_branches(p, g, start, pivoting)?;
     if holds_a_pair(&opposite_faces(p), &active) {
         return Err(Error::Numerical(format!(
             "{what}: the start's process holds two opposite faces at once"
@@ -400,7 +422,7 @@ fn solve_from(
                 }
             }
         }
-        if changed > 0 {
+        if changed > 0 || pivoting == Pivoting::ReducedCosts {
             return Ok(changed);
         }
         for (i, j) in degenerate {
@@ -455,12 +477,15 @@ fn check_start(p: &GeneralProblem, mm: usize, start: &[Vec<f64>]) -> Result<()> 
 
 /// The start's process on this grid (module docs): the start control simulated by catching-up
 /// to its periodic regime (or over the horizon of a Cauchy problem); returns its `J` and the
-/// branches read off it, on face where the projection's multiplier is positive. Refused (field
+/// branches read off it, on face where the projection's multiplier is positive and, under
+/// [`Pivoting::ReducedCosts`], also where its state lies on the face (to `1e-9` of C's scale)
+/// with a zero multiplier. Refused (field
 /// `start`) when the control is not in U or the periodic regime is not reached.
 fn start_branches(
     p: &GeneralProblem,
     g: &Geometry,
     start: &[Vec<f64>],
+    pivoting: Pivoting,
 ) -> Result<(f64, Vec<Vec<bool>>)> {
     let x0 = match &p.boundary {
         Boundary::Initial(x0) => x0.clone(),
@@ -480,10 +505,18 @@ fn start_branches(
             ),
         )
     })?;
+    // Under `ReducedCosts` a face the process touches at rest is held too (module docs).
+    let touched = pivoting == Pivoting::ReducedCosts;
+    let tol = 1e-9 * p.c.scale();
     let active: Vec<Vec<bool>> = sim
         .lambda
         .iter()
-        .map(|l| l.iter().map(|&l| l > 0.0).collect())
+        .zip(&sim.x[1..])
+        .map(|(l, x)| {
+            (0..l.len())
+                .map(|j| l[j] > 0.0 || (touched && p.c.slack(j, x) >= -tol))
+                .collect()
+        })
         .collect();
     Ok((start_objective, active))
 }
