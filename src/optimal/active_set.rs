@@ -1,6 +1,6 @@
-//! The active-set loop on an LPCC shared by the local methods for P_m (theory §6): the crawler's
-//! ([`crate::optimal::local`], three modes per block) and the general problem's
-//! ([`crate::optimal::general::local`], two branches per step and face).
+//! The active-set loop on the LPCC of P_m (theory §6), that of (P)'s local method
+//! ([`crate::optimal::general::local`], two branches per step and face), which a crawler's
+//! ([`crate::optimal::local`]) runs on the crawler's instance.
 //!
 //! With every complementarity pair on a fixed branch, P_m is a linear program whose branches
 //! are column bounds, so one HiGHS model is re-solved from its previous basis after each
@@ -22,7 +22,9 @@ use serde::{Deserialize, Serialize};
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum LocalStop {
-    /// No profitable switch of modes remains (B-stationary by the reduced-cost test).
+    /// No switch gains by the pivoting's test (`optimal::general::Pivoting`): by the reduced
+    /// costs of the last basis (`ReducedCosts`, a crawler's), or by those and then by solving
+    /// each degenerate pair's neighbouring LP (`Neighbours`, (P)'s default).
     Stationary,
     /// Switches no longer improved the objective (degenerate cycling guard).
     Stalled,
@@ -36,7 +38,7 @@ pub enum LocalStop {
 pub(crate) struct Outcome {
     /// The columns of the last LP optimum (the best one kept on a time limit).
     pub cols: Vec<f64>,
-    /// Its objective, in the maximised sense (`J`).
+    /// Its objective, `J`.
     pub objective: f64,
     /// Why the loop stopped.
     pub stop: LocalStop,
@@ -46,17 +48,14 @@ pub(crate) struct Outcome {
     pub switches: usize,
 }
 
-/// Runs the active-set loop (module docs) on `model`, whose branches the caller has set.
-/// `sign` turns the model's objective into the maximised `J` (`-1` for a model that minimises
-/// `-J`, `1` for one that maximises `J`); `pivot(model, columns, reduced_costs, J)` moves the
+/// Runs the active-set loop (module docs) on `model`, which maximises `J` and whose branches
+/// the caller has set; `pivot(model, columns, reduced_costs, J)` moves the
 /// profitable degenerate pairs and returns how many; `max_stalls` consecutive LPs without a gain
 /// (by `1e-12` of `J`, or of `j_floor`, the problem's floor of `J`, where `|J|` is below it)
 /// end the loop ([`LocalStop::Stalled`]); the job's deadline ([`crate::progress`]) ends it with
 /// the last LP's answer ([`LocalStop::TimeLimit`]). `what` names P_m in errors.
-#[allow(clippy::too_many_arguments)]
 pub(crate) fn run(
     model: &mut Highs,
-    sign: f64,
     max_rounds: usize,
     max_stalls: usize,
     j_floor: f64,
@@ -106,7 +105,7 @@ pub(crate) fn run(
             }
         }
         let cols = solved.columns;
-        let objective = sign * solved.objective;
+        let objective = solved.objective;
         if !best.is_finite() || objective > best + 1e-12 * best.abs().max(j_floor) {
             best = objective;
             stalls = 0;

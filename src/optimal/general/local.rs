@@ -1,6 +1,6 @@
 //! The paper's P_m (§6, theory §11) for the general problem (P), locally: the active-set method on
-//! its LPCC (`crate::optimal::active_set`, shared with the crawler's local method), for grids
-//! beyond the reach of the global MILP ([`super::discrete`]).
+//! its LPCC (`crate::optimal::active_set`), for grids beyond the reach of the global MILP
+//! ([`super::discrete`]). A crawler's local method is this one on the crawler's instance.
 //!
 //! P_m's complementarity is, per step `i` and face `j`, `0 <= mu^i_j ⊥ s^i_j >= 0` with the
 //! slack `s^i_j = c_j - <x*_j, x^(i+1)>` of the catching-up step's KKT system (the module docs
@@ -444,7 +444,7 @@ fn solve_from(
     let floor = q.j_floor();
     // HiGHS's progress is of the scaled objective: reported times `s_x`.
     let run = crate::progress::with_objective_factor(units.state, || {
-        active_set::run(&mut model, 1.0, 20 * mm * sigma, 3, floor, &what, pivot)
+        active_set::run(&mut model, 20 * mm * sigma, 3, floor, &what, pivot)
     })?;
     reverified(p, (&units, m, &lay), run, trials, start_objective, &what)
 }
