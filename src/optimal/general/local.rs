@@ -265,20 +265,7 @@ fn to_zero_mean(u: &ControlSet, grid: &mut [Vec<f64>]) {
 
 /// The controls of `input` on `2^m` steps: the mean over each step.
 pub fn grid_controls(input: &ControlInput, m: u32) -> Vec<Vec<f64>> {
-    let mm = 1usize << m;
-    let h = input.period / mm as f64;
-    (0..mm)
-        .map(|i| {
-            let t1 = if i + 1 == mm {
-                input.period
-            } else {
-                (i + 1) as f64 * h
-            };
-            let mut u = vec![0.0; input.values[0].len()];
-            input.mean(i as f64 * h, t1, &mut u);
-            u
-        })
-        .collect()
+    input.step_means(1usize << m)
 }
 
 /// Which switches the local method tests before it stops (module docs).
