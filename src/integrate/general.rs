@@ -126,15 +126,15 @@ impl ControlInput {
         })
     }
 
+    /// The end of knot interval `s`: the next knot, or `T` after the last.
+    fn interval_end(&self, s: usize) -> f64 {
+        self.times.get(s + 1).copied().unwrap_or(self.period)
+    }
+
     /// Adds `int_a^e u` over knot interval `s` (`[a, b)`, `a < e <= b`) to `out`.
     fn add_interval(&self, s: usize, e: f64, out: &mut [f64]) {
         let k = self.times.len();
-        let a = self.times[s];
-        let b = if s + 1 < k {
-            self.times[s + 1]
-        } else {
-            self.period
-        };
+        let (a, b) = (self.times[s], self.interval_end(s));
         let next = &self.values[(s + 1) % k];
         for (i, o) in out.iter_mut().enumerate() {
             let u0 = self.values[s][i];
@@ -156,12 +156,7 @@ impl ControlInput {
             if t <= self.times[s] {
                 break;
             }
-            let b = if s + 1 < k {
-                self.times[s + 1]
-            } else {
-                self.period
-            };
-            self.add_interval(s, t.min(b), out);
+            self.add_interval(s, t.min(self.interval_end(s)), out);
         }
     }
 
@@ -201,11 +196,7 @@ impl ControlInput {
                     s += 1;
                 }
                 now.copy_from_slice(&whole);
-                self.add_interval(
-                    s,
-                    t1.min(self.times.get(s + 1).copied().unwrap_or(self.period)),
-                    &mut now,
-                );
+                self.add_interval(s, t1.min(self.interval_end(s)), &mut now);
                 let row = now
                     .iter()
                     .zip(&before)
