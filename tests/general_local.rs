@@ -11,7 +11,7 @@ use crawlopt::integrate::{
 use crawlopt::model::general::{Boundary, GeneralCost};
 use crawlopt::optimal::general::{
     analyze_polyhedron, check_problem, default_starts, solve_general_local, solve_general_pm,
-    Pivoting,
+    LocalRules,
 };
 use crawlopt::optimal::LocalStop;
 
@@ -43,7 +43,7 @@ fn the_one_link_problem_reaches_its_closed_form_from_reasonable_starts() {
     let g = check_problem(&p).unwrap();
     for m in 3..=5 {
         for (name, start) in [("sine", sine(m)), ("square 0.8", square(m, 0.8, 1))] {
-            let s = solve_general_local(&p, &g, m, &start, Pivoting::Neighbours).unwrap();
+            let s = solve_general_local(&p, &g, m, &start, LocalRules::default()).unwrap();
             assert_eq!(s.stop, LocalStop::Stationary);
             assert!(s.start_objective < 2.0 + 1e-9, "{}", s.start_objective);
             assert!(
@@ -57,14 +57,14 @@ fn the_one_link_problem_reaches_its_closed_form_from_reasonable_starts() {
     // The default starts (full-amplitude square waves at shifts) are optimal themselves here.
     for m in [2, 6] {
         for start in default_starts(&p, m, 4) {
-            let s = solve_general_local(&p, &g, m, &start, Pivoting::Neighbours).unwrap();
+            let s = solve_general_local(&p, &g, m, &start, LocalRules::default()).unwrap();
             assert!((s.objective - 3.0).abs() < 1e-7, "m = {m}: {}", s.objective);
         }
     }
     // Local, not global: from the square wave of amplitude 0.5 on 16 steps (J = 0.5) the
     // method stops at a stationary point of P_4 below J* (J = 1.75 on a plateau of J: the
     // gain needs two branches switched at once), never above it.
-    let s = solve_general_local(&p, &g, 4, &square(4, 0.5, 0), Pivoting::Neighbours).unwrap();
+    let s = solve_general_local(&p, &g, 4, &square(4, 0.5, 0), LocalRules::default()).unwrap();
     assert!((s.start_objective - 0.5).abs() < 1e-9);
     assert_eq!(s.stop, LocalStop::Stationary);
     assert!(
@@ -85,7 +85,7 @@ fn random_instances_never_above_the_global_optimum_and_true_processes() {
             let g = analyze_polyhedron(&p.c).unwrap();
             let global = solve_general_pm(&p, &g, m).unwrap();
             for start in default_starts(&p, m, 2) {
-                let s = solve_general_local(&p, &g, m, &start, Pivoting::Neighbours).unwrap();
+                let s = solve_general_local(&p, &g, m, &start, LocalRules::default()).unwrap();
                 cases += 1;
                 let tol = 1e-7 * (1.0 + global.objective.abs());
                 assert!(
@@ -139,20 +139,20 @@ fn random_instances_never_above_the_global_optimum_and_true_processes() {
 fn the_local_method_refuses_what_it_cannot_solve() {
     let mut p = one_link_problem(-1.0, 1.0, 10.0);
     let g = check_problem(&p).unwrap();
-    let e = solve_general_local(&p, &g, 0, &square(1, 1.0, 0), Pivoting::Neighbours).unwrap_err();
+    let e = solve_general_local(&p, &g, 0, &square(1, 1.0, 0), LocalRules::default()).unwrap_err();
     assert!(e.to_string().starts_with("m:"), "{e}");
-    let e = solve_general_local(&p, &g, 15, &square(1, 1.0, 0), Pivoting::Neighbours).unwrap_err();
+    let e = solve_general_local(&p, &g, 15, &square(1, 1.0, 0), LocalRules::default()).unwrap_err();
     assert!(e.to_string().starts_with("m:"), "{e}");
-    let e = solve_general_local(&p, &g, 3, &square(2, 1.0, 0), Pivoting::Neighbours).unwrap_err();
+    let e = solve_general_local(&p, &g, 3, &square(2, 1.0, 0), LocalRules::default()).unwrap_err();
     assert!(e.to_string().starts_with("start:"), "{e}");
     let mut biased = square(3, 1.0, 0);
     biased[0][0] = 0.5;
-    let e = solve_general_local(&p, &g, 3, &biased, Pivoting::Neighbours).unwrap_err();
+    let e = solve_general_local(&p, &g, 3, &biased, LocalRules::default()).unwrap_err();
     assert!(e.to_string().starts_with("start[1]:"), "{e}");
     let mut outside = square(3, 1.0, 0);
     outside[0][0] = 2.0;
     outside[7][0] = -2.0;
-    let e = solve_general_local(&p, &g, 3, &outside, Pivoting::Neighbours).unwrap_err();
+    let e = solve_general_local(&p, &g, 3, &outside, LocalRules::default()).unwrap_err();
     assert!(e.to_string().starts_with("start.values[1]"), "{e}");
     // A bad time limit is the job's setting, refused by the API naming it.
     let file =
@@ -168,7 +168,7 @@ fn the_local_method_refuses_what_it_cannot_solve() {
         .unwrap_err();
     assert!(e.to_string().starts_with("time_limit:"), "{e}");
     p.cost = GeneralCost::Quadratic { weight: 1.0 };
-    let e = solve_general_local(&p, &g, 3, &square(3, 1.0, 0), Pivoting::Neighbours).unwrap_err();
+    let e = solve_general_local(&p, &g, 3, &square(3, 1.0, 0), LocalRules::default()).unwrap_err();
     assert!(e.to_string().starts_with("objective.cost:"), "{e}");
 }
 
@@ -181,7 +181,7 @@ fn a_spent_time_limit_ends_the_local_method_and_a_cancel_wins_over_it() {
     let p = one_link_problem(-1.0, 1.0, 10.0);
     let g = check_problem(&p).unwrap();
     let e = crawlopt::progress::within(Some(1e-9), || {
-        solve_general_local(&p, &g, 3, &square(3, 1.0, 0), Pivoting::Neighbours)
+        solve_general_local(&p, &g, 3, &square(3, 1.0, 0), LocalRules::default())
     })
     .unwrap_err();
     assert!(matches!(e, crawlopt::Error::TimeLimit(_)), "{e}");

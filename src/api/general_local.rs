@@ -11,7 +11,7 @@ use crate::io::{GeneralAnswer, GeneralFile, LocalStarts};
 use crate::model::general::GeneralProblem;
 use crate::optimal::general::{
     check_general_local, default_starts, grid_controls, phase_grid, rotated, solve_general_local,
-    GeneralLocal, Geometry, Pivoting,
+    GeneralLocal, Geometry, LocalRules,
 };
 
 /// Settings of [`optimize_general_local`].
@@ -208,7 +208,7 @@ fn best_of(
             1usize << s.m,
             k + 1
         ));
-        let sol = match solve_general_local(p, g, s.m, start, Pivoting::Neighbours) {
+        let sol = match solve_general_local(p, g, s.m, start, LocalRules::default()) {
             Ok(sol) => sol,
             Err(Error::TimeLimit(_)) if best.is_some() => break,
             Err(e) => return Err(e),

@@ -22,9 +22,10 @@ use serde::{Deserialize, Serialize};
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum LocalStop {
-    /// No switch gains by the pivoting's test (`optimal::general::Pivoting`): by the reduced
-    /// costs of the last basis (`ReducedCosts`, a crawler's), or by those and then by solving
-    /// each degenerate pair's neighbouring LP (`Neighbours`, (P)'s default).
+    /// No switch gains by the pivoting's test (`optimal::general::Pivoting`). Every answer a
+    /// job reports, a crawler's (`Finish`) or (P)'s (`Neighbours`), passed the same test: no
+    /// single switch gains, by the reduced costs of the last basis nor by a neighbouring LP
+    /// (each that can gain). Under `ReducedCosts`, a screen of many starts, only the former.
     Stationary,
     /// Switches no longer improved the objective (degenerate cycling guard).
     Stalled,

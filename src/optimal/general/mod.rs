@@ -29,7 +29,7 @@ pub use geometry::{
 };
 pub use local::{
     check_general_local, default_starts, grid_controls, phase_grid, rotated, solve_general_local,
-    GeneralLocal, Pivoting, MAX_GENERAL_LOCAL_M,
+    GeneralLocal, LocalRules, Pivoting, StartFaces, MAX_GENERAL_LOCAL_M,
 };
 pub use phase::{
     check_general_phase, solve_general_phase, solve_general_transitions, GeneralPhaseGait,

@@ -1,0 +1,120 @@
+//! Tests of [`super`]: the neighbours' test pruned to the switches that can gain (module
+//! docs). With every degenerate pair tried, no switch the pruning would skip ever gains.
+
+use super::*;
+use crate::model::general::GeneralParts;
+use crate::model::{crawler_as_general, Crawler};
+use crate::optimal::general::analyze_polyhedron;
+use proptest::prelude::*;
+use std::cell::Cell;
+
+thread_local! {
+    /// Tries every degenerate pair's neighbouring LP (the pruning off) while set.
+    pub(super) static EVERY_NEIGHBOUR: Cell<bool> = const { Cell::new(false) };
+    /// Switches the pruning would skip: how many were tried, and how many of them gained.
+    pub(super) static PRUNED_TRIALS: Cell<(usize, usize)> = const { Cell::new((0, 0)) };
+}
+
+/// P_m locally from each square-wave start by `rules` with every neighbour tried: returns how
+/// many of the switches the pruning would skip were tried, asserting that none gained; the
+/// answers are asserted to be at least their start.
+fn pruned_switches_never_gain(p: &GeneralProblem, m: u32, rules: LocalRules) -> usize {
+    let g = analyze_polyhedron(&p.c).unwrap();
+    EVERY_NEIGHBOUR.with(|e| e.set(true));
+    PRUNED_TRIALS.with(|n| n.set((0, 0)));
+    for start in default_starts(p, m, 2) {
+        if let Ok(s) = solve_general_local(p, &g, m, &start, rules) {
+            assert!(s.objective >= s.start_objective - 1e-9 * (1.0 + s.objective.abs()));
+        }
+    }
+    EVERY_NEIGHBOUR.with(|e| e.set(false));
+    let (tried, gains) = PRUNED_TRIALS.with(|n| n.get());
+    assert_eq!(
+        gains, 0,
+        "{gains} of {tried} switches the pruning skips gained"
+    );
+    tried
+}
+
+/// A random polygon, no two faces opposite: every switch the pruning skips is of an unpaired
+/// face, whose neighbour never gains where its rate does not pay.
+fn polygon(sigma: usize, numbers: &[f64]) -> GeneralProblem {
+    let r = |k: usize| numbers[k % numbers.len()];
+    GeneralProblem::new(GeneralParts {
+        normals: (0..sigma)
+            .map(|k| {
+                let th = std::f64::consts::TAU * (k as f64 + 0.4 * r(k)) / sigma as f64;
+                vec![th.cos(), th.sin()]
+            })
+            .collect(),
+        offsets: (0..sigma).map(|k| 0.5 + 2.0 * r(k + 7).abs()).collect(),
+        a: Some(vec![vec![r(1), r(2)], vec![r(3), r(4)]]),
+        b: vec![vec![1.0 + r(5), r(6)], vec![r(8), 1.0 + r(9)]],
+        drift: Some(vec![0.2 * r(10), 0.2 * r(11)]),
+        lower: Some(vec![-1.0, -1.0]),
+        upper: Some(vec![1.0, 1.0]),
+        zero_mean: true,
+        face_weights: Some((0..sigma).map(|k| 0.4 + 1.2 * r(k + 12)).collect()),
+        period: 4.0 + 8.0 * r(13).abs(),
+        periodic: true,
+        ..Default::default()
+    })
+    .unwrap()
+}
+
+/// A crawler's instance (every face paired, a block's friction bound), `None` where the
+/// numbers break the uniqueness condition.
+fn crawler_instance(blocks: usize, numbers: &[f64]) -> Option<GeneralProblem> {
+    let r = |k: usize| numbers[k % numbers.len()];
+    let crawler = Crawler::new(
+        (0..blocks - 1).map(r).collect(),
+        (0..blocks).map(|b| r(b + 3)).collect(),
+        (0..blocks).map(|b| r(b + 7) + 0.6).collect(),
+    )
+    .ok()
+    .filter(|c| c.require_unique().is_ok())?;
+    let rates = vec![1.0; blocks - 1];
+    let inst = crawler_as_general(&crawler, 10.0, &rates, GeneralCost::None).unwrap();
+    Some(inst.problem)
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(32))]
+
+    #[test]
+    fn no_pruned_switch_gains_on_polygons(
+        sigma in 3usize..=6,
+        m in 2u32..=3,
+        numbers in prop::collection::vec(-0.5f64..0.5, 19),
+    ) {
+        pruned_switches_never_gain(&polygon(sigma, &numbers), m, LocalRules::default());
+    }
+
+    #[test]
+    fn no_pruned_switch_gains_on_crawlers(
+        blocks in 2usize..=4,
+        m in 2u32..=5,
+        numbers in prop::collection::vec(0.5f64..1.5, 12),
+        touched in any::<bool>(),
+    ) {
+        if let Some(p) = crawler_instance(blocks, &numbers) {
+            let start = if touched { StartFaces::Touched } else { StartFaces::Reacting };
+            for pivoting in [Pivoting::Neighbours, Pivoting::Finish] {
+                pruned_switches_never_gain(&p, m, LocalRules { pivoting, start });
+            }
+        }
+    }
+}
+
+/// The pruning has work to do: on the three-block crawler, and on a polygon, the neighbours'
+/// test meets switches it skips (and none of them gains).
+#[test]
+fn the_pruning_skips_switches_on_three_blocks_and_a_polygon() {
+    let numbers = [0.5, 0.7, 0.9, 1.1, 1.3, 1.0, 0.8, 1.2, 0.6, 1.4, 1.0, 0.9];
+    let three = crawler_instance(3, &[1.0, 1.0, 1.0, 1.0, 1.0, 1.0, 1.0, 0.9, 0.9, 0.9]);
+    let skipped = pruned_switches_never_gain(&three.unwrap(), 4, LocalRules::default());
+    assert!(skipped > 0, "no switch skipped on three blocks");
+    let shape: Vec<f64> = numbers.iter().map(|v| v - 1.0).collect();
+    let skipped = pruned_switches_never_gain(&polygon(5, &shape), 3, LocalRules::default());
+    assert!(skipped > 0, "no switch skipped on a polygon");
+}
