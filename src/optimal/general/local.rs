@@ -391,33 +391,9 @@ fn solve_from(
     // solved and the first flip that gains is taken.
     let mut trials = 0;
     let w = q.face_weights();
-    // The branch bounds of face `j`'s columns at step `i` (and a pair's multiplier cost).
-    let set_branch = |model: &mut Highs, active: &[Vec<bool>], i: usize, j: usize| {
-        let slack = lay.s[i][j];
-        let Some(k) = lay.partner_of(j) else {
-            let [bm, bs] = branch_bounds(active[i][j]);
-            model.set_bounds(lay.mu[i][j], bm.0, bm.1)?;
-            return model.set_bounds(slack.col, bs.0, bs.1);
-        };
-        // The pair's signed multiplier and value column, bounded by both branches (`a < b`).
-        let (a, b) = (j.min(k), j.max(k));
-        let (on_a, on_b) = (active[i][a], active[i][b]);
-        let (lo, hi) =
-            pair_bounds((q.c.offsets[a], q.c.offsets[b]), on_a, on_b).ok_or_else(|| {
-                Error::Numerical(format!(
-                    "{what}: a switch held two opposite faces, {} and {}",
-                    a + 1,
-                    b + 1
-                ))
-            })?;
-        let (cost, nu_lo, nu_hi) = pair_multiplier((w[a], w[b]), on_a, on_b);
-        model.set_bounds(lay.mu[i][j], nu_lo, nu_hi)?;
-        model.set_cost(lay.mu[i][j], cost)?;
-        model.set_bounds(slack.col, lo, hi)
-    };
     let flip = |model: &mut Highs, active: &mut [Vec<bool>], i: usize, j: usize| -> Result<()> {
         active[i][j] = !active[i][j];
-        set_branch(model, active, i, j)
+        set_branch(model, (q, &lay, &w), active, (i, j), &what)
     };
     // The objective of the previous round, for `Pivoting::Finish`.
     let mut last_j: Option<f64> = None;
@@ -499,6 +475,38 @@ fn solve_from(
         active_set::run(&mut model, 20 * mm * sigma, 3, floor, &what, pivot)
     })?;
     reverified(p, (&units, m, &lay), run, trials, start_objective, &what)
+}
+
+/// Sets the bounds of face `j`'s columns at step `i` to its branch in `active` (and, for a
+/// pair of opposite faces, their signed multiplier column's bounds and cost), on `q`'s LP of
+/// layout `lay` and face weights `w`.
+fn set_branch(
+    model: &mut Highs,
+    (q, lay, w): (&GeneralProblem, &Layout, &[f64]),
+    active: &[Vec<bool>],
+    (i, j): (usize, usize),
+    what: &str,
+) -> Result<()> {
+    let slack = lay.s[i][j];
+    let Some(k) = lay.partner_of(j) else {
+        let [bm, bs] = branch_bounds(active[i][j]);
+        model.set_bounds(lay.mu[i][j], bm.0, bm.1)?;
+        return model.set_bounds(slack.col, bs.0, bs.1);
+    };
+    // The pair's signed multiplier and value column, bounded by both branches (`a < b`).
+    let (a, b) = (j.min(k), j.max(k));
+    let (on_a, on_b) = (active[i][a], active[i][b]);
+    let (lo, hi) = pair_bounds((q.c.offsets[a], q.c.offsets[b]), on_a, on_b).ok_or_else(|| {
+        Error::Numerical(format!(
+            "{what}: a switch held two opposite faces, {} and {}",
+            a + 1,
+            b + 1
+        ))
+    })?;
+    let (cost, nu_lo, nu_hi) = pair_multiplier((w[a], w[b]), on_a, on_b);
+    model.set_bounds(lay.mu[i][j], nu_lo, nu_hi)?;
+    model.set_cost(lay.mu[i][j], cost)?;
+    model.set_bounds(slack.col, lo, hi)
 }
 
 /// Refuses a start (field `start`) without one control per step of the grid, or, under the
