@@ -54,7 +54,7 @@ use crate::error::{Error, Result};
 use crate::model::Crawler;
 use crate::optimal::general::geometry::analyze_polyhedron;
 use crate::optimal::general::{solve_general_local, LocalRules, Pivoting, StartFaces};
-use crate::optimal::milp::{check_verified, replay_grid};
+use crate::optimal::milp::{check_verified, control_knots, replay_grid};
 use crate::optimal::units::{scale_all, scale_rows, Units};
 use crate::optimal::{Cost, GaitProblem};
 use serde::Serialize;
@@ -378,7 +378,11 @@ fn finished(
     if best.stop == LocalStop::TimeLimit {
         return Ok(best);
     }
-    let (times, lengths) = grid_knots(crawler, problem.period, &best.controls);
+    // Knots of the grid gait, which `sample_increments` on the same grid turns back into its
+    // controls.
+    let h = problem.period / best.controls.len() as f64;
+    let durations = vec![h; best.controls.len()];
+    let (times, lengths) = control_knots(&durations, &best.controls, crawler.stiffness());
     let f = match solve_by(crawler, problem, best.m, (&times, &lengths), FULL) {
         Ok(f) => f,
         Err(Error::TimeLimit(_)) => return Ok(best),
@@ -394,22 +398,6 @@ fn finished(
         switches: best.switches + f.switches,
         ..f
     })
-}
-
-/// The knots of a grid gait: `t_i = i h`, actuator lengths from 0 by the increments
-/// `h u^i / k_l` (`u = K L'`), so that [`sample_increments`] on the same grid gives the
-/// controls back.
-fn grid_knots(crawler: &Crawler, period: f64, controls: &[Vec<f64>]) -> (Vec<f64>, Vec<Vec<f64>>) {
-    let h = period / controls.len() as f64;
-    let k = crawler.stiffness();
-    let times = (0..=controls.len()).map(|i| i as f64 * h).collect();
-    let mut lengths = vec![vec![0.0; k.len()]];
-    for u in controls {
-        let last = &lengths[lengths.len() - 1];
-        let next = (0..k.len()).map(|l| last[l] + h * u[l] / k[l]).collect();
-        lengths.push(next);
-    }
-    (times, lengths)
 }
 
 /// A local P_m solution's conversion between unit systems ([`Units`]): here, beside the
