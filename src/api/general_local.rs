@@ -10,8 +10,8 @@ use crate::error::{Error, Result};
 use crate::io::{GeneralAnswer, GeneralFile, LocalStarts};
 use crate::model::general::GeneralProblem;
 use crate::optimal::general::{
-    check_general_local, default_starts, grid_controls, phase_grid, rotated, solve_general_local,
-    GeneralLocal, Geometry, LocalRules,
+    check_general_local, default_starts, grid_controls, phase_grid, rotated,
+    solve_general_local_best, GeneralLocal, Geometry, MultiStart,
 };
 
 /// Settings of [`optimize_general_local`].
@@ -186,8 +186,8 @@ fn given_start(start: &super::Start, p: &GeneralProblem, m: u32) -> Result<Vec<V
 }
 
 /// Solves P_m locally from each of `starts` in turn, within the job's deadline, and keeps the
-/// best verified answer: `(answer, its start, starts tried)`. A start's refusal before any
-/// answer is held is the error returned; the time limit after one ends the search.
+/// best verified answer ([`solve_general_local_best`], each start by (P)'s rules):
+/// `(answer, its start, starts tried)`; a stage event per start.
 fn best_of(
     p: &GeneralProblem,
     g: &Geometry,
@@ -196,38 +196,16 @@ fn best_of(
     em: &Emitter<'_>,
 ) -> Result<(GeneralLocal, usize, usize)> {
     let n = starts.len();
-    let mut best: Option<(GeneralLocal, usize)> = None;
-    let mut tried = 0;
-    for (k, start) in starts.iter().enumerate() {
-        if best.is_some() && crate::progress::out_of_time()? {
-            break;
-        }
+    let mut on_start = |k: usize| {
         em.stage(format!(
             "local LPCC method on P_{} ({} steps), start {} of {n}",
             s.m,
             1usize << s.m,
             k + 1
-        ));
-        let sol = match solve_general_local(p, g, s.m, start, LocalRules::default()) {
-            Ok(sol) => sol,
-            Err(Error::TimeLimit(_)) if best.is_some() => break,
-            Err(e) => return Err(e),
-        };
-        tried += 1;
-        let out_of_time = sol.stop == crate::optimal::LocalStop::TimeLimit;
-        if best
-            .as_ref()
-            .is_none_or(|(b, _)| sol.objective > b.objective + 1e-9 * (1.0 + b.objective.abs()))
-        {
-            best = Some((sol, k));
-        }
-        if out_of_time {
-            break;
-        }
-    }
-    // The first start either stores its answer or returns its error.
-    let (solution, k) = best.expect("the first start solved or an error returned");
-    Ok((solution, k, tried))
+        ))
+    };
+    let best = solve_general_local_best(p, g, s.m, starts, MultiStart::default(), &mut on_start)?;
+    Ok((best.solution, best.best_start, best.tried))
 }
 
 /// The square-wave starts ([`default_starts`]); refused, naming `control`, where U holds no

@@ -66,18 +66,13 @@
 //! optimum instead where `A = 0`. Every answer is re-verified by replaying its controls
 //! through the general simulator ([`super::discrete`]'s replay).
 
-use super::discrete::{
-    branch_bounds, build, check_sets, holds_a_pair, opposite_faces, pair_bounds, pair_multiplier,
-    replay_in, run_on_grid, Form, Layout,
-};
+use super::branch_lp::BranchLp;
+use super::discrete::{check_sets, run_on_grid};
 use super::geometry::Geometry;
-use super::units::Units;
 use crate::error::{Error, Result};
 use crate::integrate::{ControlInput, GeneralSimOptions, InputKind};
-use crate::model::general::{Boundary, ControlSet, GeneralCost, GeneralProblem, Reward};
-use crate::optimal::active_set::{self, LocalStop};
-use crate::optimal::solver::{Highs, SolveStatus};
-use highs::Sense;
+use crate::model::general::{Boundary, ControlSet, GeneralCost, GeneralProblem};
+use crate::optimal::active_set::LocalStop;
 use serde::{Deserialize, Serialize};
 
 /// Largest `m` (`2^m` steps) of the general local method.
@@ -303,10 +298,9 @@ pub enum Pivoting {
     /// As `Neighbours`, except that after an LP that gained nothing the next round tests the
     /// neighbouring LPs alone (taking a switch only where its LP gains), so that degenerate
     /// switches by the reduced costs cannot cycle: the method ends `stationary` (or at a
-    /// limit), never `stalled`. The finish of a screen's best start, whose branches, read
-    /// afresh off its process, give the first LP another basis than the screen's last: on
-    /// three blocks at `m = 3` and `m = 9` (one start) the finish under `Neighbours` ended
-    /// `stalled`.
+    /// limit), never `stalled`. A crawler's test, for its one start and for the finish of
+    /// a screen's best (from the basis the screen ended on): on three blocks at `m = 3` and
+    /// `m = 9` (one start, its branches read off its process) `Neighbours` ended `stalled`.
     Finish,
 }
 
@@ -334,6 +328,29 @@ pub struct LocalRules {
     pub start: StartFaces,
 }
 
+/// How a search from several starts runs: each start by `rules`, then, with `finish`, the
+/// best continued under that pivoting from the basis it ended on (`super::branch_lp`) (a screen's best,
+/// finished: a crawler's shifted starts, `crate::optimal::solve_discrete_local_shifted`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct MultiStart {
+    /// The rules of every start.
+    pub rules: LocalRules,
+    /// The pivoting of the best start's finish, if any.
+    pub finish: Option<Pivoting>,
+}
+
+/// The answer of [`solve_general_local_best`]: the best verified answer, the index of its
+/// start and how many starts were solved.
+#[derive(Debug, Clone, PartialEq)]
+pub struct BestLocal {
+    /// The best answer (finished where the search asks it).
+    pub solution: GeneralLocal,
+    /// The index of its start.
+    pub best_start: usize,
+    /// The starts solved (the time limit may end the search before the last).
+    pub tried: usize,
+}
+
 /// Solves P_m locally from `start` (one control per step of `2^m`; module docs) by `rules`,
 /// within the job's deadline ([`crate::progress::within`]). The start
 /// is refused (field `start`) when it does not have one row in U per step, or a non-zero mean
@@ -345,168 +362,113 @@ pub fn solve_general_local(
     start: &[Vec<f64>],
     rules: LocalRules,
 ) -> Result<GeneralLocal> {
-    check_general_local(p, g, m)?;
-    solve_from(p, g, m, start, rules)
+    let plan = MultiStart {
+        rules,
+        finish: None,
+    };
+    let best = solve_general_local_best(p, g, m, &[start.to_vec()], plan, &mut |_| {})?;
+    Ok(best.solution)
 }
 
-/// [`solve_general_local`], arguments checked, within the current deadline.
-fn solve_from(
+/// Solves P_m locally from each of `starts` in turn by `plan`, within the job's deadline, and
+/// keeps the best verified answer (the first of equals, to `1e-9` of its `J`), finished where
+/// `plan` asks it; `on_start` is told each start's index before it is solved. A start's refusal before any
+/// answer is held is the error returned (each start is checked as [`solve_general_local`]
+/// checks it); the time limit after one ends the search, and a finish that runs out of time
+/// before its first LP, or ends below it (a numerical oddity: its first LP is the best's
+/// last), leaves the best as it was.
+pub fn solve_general_local_best(
+    p: &GeneralProblem,
+    g: &Geometry,
+    m: u32,
+    starts: &[Vec<Vec<f64>>],
+    plan: MultiStart,
+    on_start: &mut dyn FnMut(usize),
+) -> Result<BestLocal> {
+    check_general_local(p, g, m)?;
+    let mut best: Option<(GeneralLocal, usize, Option<BranchLp>)> = None;
+    let mut tried = 0;
+    for (k, start) in starts.iter().enumerate() {
+        if best.is_some() && crate::progress::out_of_time()? {
+            break;
+        }
+        on_start(k);
+        let (sol, lp) = match one_start(p, g, m, start, plan.rules) {
+            Ok(solved) => solved,
+            Err(Error::TimeLimit(_)) if best.is_some() => break,
+            Err(e) => return Err(e),
+        };
+        tried += 1;
+        let out_of_time = sol.stop == LocalStop::TimeLimit;
+        if best
+            .as_ref()
+            .is_none_or(|(b, ..)| sol.objective > b.objective + 1e-9 * (1.0 + b.objective.abs()))
+        {
+            // Its model, at the basis it ended on, is kept for its finish.
+            best = Some((sol, k, plan.finish.map(|_| lp)));
+        }
+        if out_of_time {
+            break;
+        }
+    }
+    // The first start either stores its answer or returns its error.
+    let (solution, best_start, lp) = best.expect("the first start solved or an error returned");
+    let solution = match (plan.finish, lp) {
+        (Some(pivoting), Some(mut lp)) => finished(p, &mut lp, solution, pivoting)?,
+        _ => solution,
+    };
+    Ok(BestLocal {
+        solution,
+        best_start,
+        tried,
+    })
+}
+
+/// One start (checked) solved by `rules` on a branch LP of its own, which is returned with
+/// the answer at the basis it ended on.
+fn one_start(
     p: &GeneralProblem,
     g: &Geometry,
     m: u32,
     start: &[Vec<f64>],
     rules: LocalRules,
-) -> Result<GeneralLocal> {
-    let mm = 1usize << m;
-    let what = format!("P_{m} of the general problem (local)");
-    check_start(p, mm, start)?;
-    let (start_objective, mut active) = start_branches(p, g, start, rules.start)?;
-    if holds_a_pair(&opposite_faces(p), &active) {
-        return Err(Error::Numerical(format!(
-            "{what}: the start's process holds two opposite faces at once"
-        )));
-    }
-    // The LPs in units of order one (module docs), where the branches are the same.
-    let units = Units::of(p);
-    let q = &units.problem(p);
-    let scale = q.c.scale();
-
-    // One LP for every choice of branches; branches are column bounds.
-    let (pb, lay) = build(q, m, Form::Branches(&active), &[]);
-    let mut model = Highs::new(pb, Sense::Maximise, &what)?;
-    model.option("primal_feasibility_tolerance", 1e-10)?;
-    model.option("dual_feasibility_tolerance", 1e-10)?;
-    let tol_x = 1e-9 * scale;
-    let w_max = match &q.reward {
-        Reward::FaceWeights(w) | Reward::ReactionWeights(w) => {
-            w.iter().fold(0.0_f64, |s, v| s.max(v.abs()))
-        }
-    };
-    let tol_red = 1e-9 * w_max.max(1e-300);
-    let tol_j = 1e-9 * (w_max * scale).max(1e-300);
-    let sigma = q.c.faces();
-    // Switches at degenerate pairs (module docs): the reduced cost of a column is the rate at
-    // which J changes as it rises from its bound; where none pays (the reduced costs of a
-    // degenerate LP are those of one of its bases), each degenerate pair's neighbouring LP is
-    // solved and the first flip that gains is taken.
-    let mut trials = 0;
-    let w = q.face_weights();
-    let flip = |model: &mut Highs, active: &mut [Vec<bool>], i: usize, j: usize| -> Result<()> {
-        active[i][j] = !active[i][j];
-        set_branch(model, (q, &lay, &w), active, (i, j), &what)
-    };
-    // The objective of the previous round, for `Pivoting::Finish`.
-    let mut last_j: Option<f64> = None;
-    let pivot = |model: &mut Highs, cols: &[f64], red: &[f64], j_now: f64| -> Result<usize> {
-        let neighbours_only = rules.pivoting == Pivoting::Finish
-            && last_j.is_some_and(|last: f64| j_now <= last + tol_j);
-        last_j = Some(j_now);
-        let mut changed = 0;
-        let mut degenerate = Vec::new();
-        for i in 0..mm {
-            for j in 0..sigma {
-                let s = lay.s[i][j];
-                // A face whose opposite face is held stays off (no point is on both).
-                if lay.partner_of(j).is_some_and(|k| active[i][k]) {
-                    continue;
-                }
-                let red_mu = red[lay.mu[i][j].index()];
-                // The rate of J as the slack rises from 0: its column's reduced cost, signed;
-                // as the multiplier does: its column's, or for a pair's signed column (cost 0
-                // while both are off) with the face's weight, signed.
-                let (zero, rate) = if active[i][j] {
-                    (
-                        lay.multiplier(i, j, cols) <= tol_x,
-                        s.sign * red[s.col.index()],
-                    )
-                } else {
-                    let rate = match lay.partner_of(j) {
-                        None => red_mu,
-                        Some(k) if j < k => red_mu + w[j],
-                        Some(_) => w[j] - red_mu,
-                    };
-                    (s.value(cols) <= tol_x, rate)
-                };
-                if !zero {
-                    continue;
-                }
-                if rate > tol_red && !neighbours_only {
-                    flip(model, &mut active, i, j)?;
-                    changed += 1;
-                } else {
-                    // Only these neighbours can gain (module docs): a switch that does not pay
-                    // by its rate keeps the basis optimal, unless it changes the cost of a
-                    // basic column, a pair's signed column (a basic column's reduced cost is 0).
-                    let can_gain =
-                        rate > tol_red || lay.partner_of(j).is_some() && red_mu.abs() <= tol_red;
-                    degenerate.push((i, j, can_gain));
-                }
-            }
-        }
-        if changed > 0 || rules.pivoting == Pivoting::ReducedCosts {
-            return Ok(changed);
-        }
-        for (i, j, can_gain) in degenerate {
-            if !can_gain && !every_neighbour() {
-                continue;
-            }
-            flip(model, &mut active, i, j)?;
-            trials += 1;
-            let a = model.solve()?;
-            flip(model, &mut active, i, j)?;
-            let gains = matches!(a.status, SolveStatus::Optimal) && a.objective > j_now + tol_j;
-            if !can_gain {
-                pruned_trial(gains);
-            }
-            match a.status {
-                SolveStatus::Optimal if gains => {
-                    flip(model, &mut active, i, j)?;
-                    return Ok(1);
-                }
-                SolveStatus::TimeLimit { .. } => return Ok(0),
-                _ => {}
-            }
-        }
-        Ok(0)
-    };
-    let floor = q.j_floor();
-    // HiGHS's progress is of the scaled objective: reported times `s_x`.
-    let run = crate::progress::with_objective_factor(units.state, || {
-        active_set::run(&mut model, 20 * mm * sigma, 3, floor, &what, pivot)
-    })?;
-    reverified(p, (&units, m, &lay), run, trials, start_objective, &what)
+) -> Result<(GeneralLocal, BranchLp)> {
+    check_start(p, 1usize << m, start)?;
+    let (start_objective, active) = start_branches(p, g, start, rules.start)?;
+    let mut lp = BranchLp::new(p, m, active)?;
+    let run = lp.run(rules.pivoting)?;
+    Ok((lp.answer(p, run, start_objective)?, lp))
 }
 
-/// Sets the bounds of face `j`'s columns at step `i` to its branch in `active` (and, for a
-/// pair of opposite faces, their signed multiplier column's bounds and cost), on `q`'s LP of
-/// layout `lay` and face weights `w`.
-fn set_branch(
-    model: &mut Highs,
-    (q, lay, w): (&GeneralProblem, &Layout, &[f64]),
-    active: &[Vec<bool>],
-    (i, j): (usize, usize),
-    what: &str,
-) -> Result<()> {
-    let slack = lay.s[i][j];
-    let Some(k) = lay.partner_of(j) else {
-        let [bm, bs] = branch_bounds(active[i][j]);
-        model.set_bounds(lay.mu[i][j], bm.0, bm.1)?;
-        return model.set_bounds(slack.col, bs.0, bs.1);
+/// The best answer of a search continued by `pivoting` on its own branch LP `lp`, from the
+/// basis it ended on: its LPs and switches add to the best's, its start is the best's. A best
+/// cut short by the time limit is returned as it is, and so is the best when the finish runs
+/// out of time before its first LP or ends below it (a numerical oddity: its first LP is the
+/// best's last).
+fn finished(
+    p: &GeneralProblem,
+    lp: &mut BranchLp,
+    best: GeneralLocal,
+    pivoting: Pivoting,
+) -> Result<GeneralLocal> {
+    if best.stop == LocalStop::TimeLimit {
+        return Ok(best);
+    }
+    let run = match lp.run(pivoting) {
+        Ok(run) => run,
+        Err(Error::TimeLimit(_)) => return Ok(best),
+        Err(e) => return Err(e),
     };
-    // The pair's signed multiplier and value column, bounded by both branches (`a < b`).
-    let (a, b) = (j.min(k), j.max(k));
-    let (on_a, on_b) = (active[i][a], active[i][b]);
-    let (lo, hi) = pair_bounds((q.c.offsets[a], q.c.offsets[b]), on_a, on_b).ok_or_else(|| {
-        Error::Numerical(format!(
-            "{what}: a switch held two opposite faces, {} and {}",
-            a + 1,
-            b + 1
-        ))
-    })?;
-    let (cost, nu_lo, nu_hi) = pair_multiplier((w[a], w[b]), on_a, on_b);
-    model.set_bounds(lay.mu[i][j], nu_lo, nu_hi)?;
-    model.set_cost(lay.mu[i][j], cost)?;
-    model.set_bounds(slack.col, lo, hi)
+    let f = lp.answer(p, run, best.start_objective)?;
+    let tol = 1e-9 * best.objective.abs().max(p.j_floor());
+    if f.objective < best.objective - tol {
+        return Ok(best);
+    }
+    Ok(GeneralLocal {
+        lp_solves: best.lp_solves + f.lp_solves,
+        switches: best.switches + f.switches,
+        ..f
+    })
 }
 
 /// Refuses a start (field `start`) without one control per step of the grid, or, under the
@@ -581,56 +543,22 @@ fn start_branches(
     Ok((start_objective, active))
 }
 
-/// Re-verification (module docs): the LP's controls, solved in `units` and converted back
-/// (`x = s_x x'`, `u = s_u u'`, `J = s_x J'`), replayed through the general simulator on `p`
-/// itself, whose `J` must agree with the LP's; the replayed process is the one reported.
-fn reverified(
-    p: &GeneralProblem,
-    (units, m, lay): (&Units, u32, &Layout),
-    run: active_set::Outcome,
-    trials: usize,
-    start_objective: f64,
-    what: &str,
-) -> Result<GeneralLocal> {
-    let scale = p.c.scale();
-    let r = replay_in(p, (units.state, units.control), (m, lay, &run.cols), what)?;
-    let lp_objective = units.state * run.objective;
-    if (r.objective - lp_objective).abs() > 1e-6 * (scale + r.objective.abs()) {
-        return Err(Error::Numerical(format!(
-            "{what}: the controls give J = {} when simulated, not {lp_objective}",
-            r.objective
-        )));
-    }
-    Ok(GeneralLocal {
-        m,
-        objective: r.objective,
-        lp_objective,
-        start_objective,
-        lp_solves: run.lp_solves + trials,
-        switches: run.switches,
-        stop: run.stop,
-        x: r.x,
-        u: r.u,
-        lambda: r.lambda,
-    })
-}
-
 /// Whether the neighbours' test tries every degenerate pair, the pruning of the module docs
 /// off: only in unit tests, which count the pruned switches that gain ([`pruned_trial`]).
 #[cfg(test)]
-fn every_neighbour() -> bool {
+pub(super) fn every_neighbour() -> bool {
     tests::EVERY_NEIGHBOUR.with(|e| e.get())
 }
 
 #[cfg(not(test))]
-fn every_neighbour() -> bool {
+pub(super) fn every_neighbour() -> bool {
     false
 }
 
 /// A switch the pruning skips was tried, and whether it gained (never, by the module docs;
 /// counted in unit tests).
 #[cfg(test)]
-fn pruned_trial(gained: bool) {
+pub(super) fn pruned_trial(gained: bool) {
     tests::PRUNED_TRIALS.with(|n| {
         let (tried, gains) = n.get();
         n.set((tried + 1, gains + usize::from(gained)));
@@ -638,7 +566,7 @@ fn pruned_trial(gained: bool) {
 }
 
 #[cfg(not(test))]
-fn pruned_trial(_: bool) {}
+pub(super) fn pruned_trial(_: bool) {}
 
 #[cfg(test)]
 #[path = "local_tests.rs"]

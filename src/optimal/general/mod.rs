@@ -5,6 +5,7 @@
 //! continuous-time gaits of at most `K` phases globally ([`phase`]), re-verified by the exact
 //! simulator.
 
+mod branch_lp;
 mod chain_phase;
 pub mod discrete;
 mod discrete_rows;
@@ -29,7 +30,8 @@ pub use geometry::{
 };
 pub use local::{
     check_general_local, default_starts, grid_controls, phase_grid, rotated, solve_general_local,
-    GeneralLocal, LocalRules, Pivoting, StartFaces, MAX_GENERAL_LOCAL_M,
+    solve_general_local_best, BestLocal, GeneralLocal, LocalRules, MultiStart, Pivoting,
+    StartFaces, MAX_GENERAL_LOCAL_M,
 };
 pub use phase::{
     check_general_phase, solve_general_phase, solve_general_transitions, GeneralPhaseGait,
