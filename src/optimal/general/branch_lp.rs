@@ -10,13 +10,69 @@
 use super::discrete::{
     build, holds_a_pair, opposite_faces, pair_bounds, pair_multiplier, replay_in, Form, Layout,
 };
-use super::local::{every_neighbour, pruned_trial, GeneralLocal, Pivoting};
 use super::units::Units;
 use crate::error::{Error, Result};
 use crate::model::general::{GeneralProblem, Reward};
-use crate::optimal::active_set::{self, Outcome};
+use crate::optimal::active_set::{self, LocalStop, Outcome};
 use crate::optimal::solver::{Highs, SolveStatus};
 use highs::Sense;
+use serde::{Deserialize, Serialize};
+
+/// A local solution of the general P_m, re-verified.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct GeneralLocal {
+    /// `m`.
+    pub m: u32,
+    /// `J` of the controls, as the simulator replays them (written once, as the result's
+    /// `objective`; filled from it on reading).
+    #[serde(skip_serializing)]
+    pub objective: f64,
+    /// `J` of the last LP.
+    pub lp_objective: f64,
+    /// `J` of the start (its simulated process on this grid).
+    pub start_objective: f64,
+    /// LPs solved.
+    pub lp_solves: usize,
+    /// Branches switched in all.
+    pub switches: usize,
+    /// Why the method stopped.
+    pub stop: LocalStop,
+    /// States `x^0..x^M` (`states`, as every result's solution names them; `x` in version 2).
+    #[serde(rename = "states", alias = "x")]
+    pub x: Vec<Vec<f64>>,
+    /// Controls `u^0..u^(M-1)` (`controls`; `u` in version 2).
+    #[serde(rename = "controls", alias = "u")]
+    pub u: Vec<Vec<f64>>,
+    /// Reaction rates `lambda^i = mu^i / h` per step and face (`reactions`, as a phase gait's;
+    /// `lambda` in version 2).
+    #[serde(rename = "reactions", alias = "lambda")]
+    pub lambda: Vec<Vec<f64>>,
+}
+
+/// Which switches the local method tests before it stops (module docs of [`super::local`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Pivoting {
+    /// The switches that pay by their reduced costs, then, where none does, each degenerate
+    /// pair's neighbouring LP: `stationary` means that no single switch gains, as it does
+    /// under `Finish`, the test of a crawler's answers. (P)'s default.
+    #[default]
+    Neighbours,
+    /// The switches that pay by their reduced costs only: the method stops where none pays by
+    /// the reduced costs of the last basis (a first-order test; a degenerate LP has other
+    /// bases), which costs no LP beyond the pivots. A screen for many starts, whose best is
+    /// then finished under [`Pivoting::Finish`] (a crawler's shifted starts,
+    /// `crate::optimal::solve_discrete_local_shifted`): a fine grid has many degenerate pairs,
+    /// each neighbouring LP that can gain a solve (module docs of
+    /// [`super::local`]).
+    ReducedCosts,
+    /// As `Neighbours`, except that after an LP that gained nothing the next round tests the
+    /// neighbouring LPs alone (taking a switch only where its LP gains), so that degenerate
+    /// switches by the reduced costs cannot cycle: the method ends `stationary` (or at a
+    /// limit), never `stalled`. A crawler's test, for its one start and for the finish of
+    /// a screen's best (from the basis the screen ended on): on three blocks at `m = 3` and
+    /// `m = 9` (one start, its branches read off its process) `Neighbours` ended `stalled`.
+    Finish,
+}
 
 /// The branch LP of P_m on a problem, in units of order one (module docs of
 /// [`super::local`]), with the branches it holds now.
@@ -137,7 +193,7 @@ impl BranchLp {
                         flip(model, active, i, j)?;
                         changed += 1;
                     } else {
-                        // Only these neighbours can gain (module docs): a switch that does not
+                        // Only these neighbours can gain (`super::local`): a switch that does not
                         // pay by its rate keeps the basis optimal, unless it changes the cost of
                         // a basic column, a pair's signed column (a basic column's reduced cost
                         // is 0).
@@ -263,3 +319,37 @@ fn set_branch(
     model.set_cost(lay.mu[i][j], cost)?;
     model.set_bounds(slack.col, lo, hi)
 }
+
+#[cfg(test)]
+thread_local! {
+    /// Tries every degenerate pair's neighbouring LP (the pruning off) while set.
+    pub(super) static EVERY_NEIGHBOUR: std::cell::Cell<bool> = const { std::cell::Cell::new(false) };
+    /// Switches the pruning would skip: how many were tried, and how many of them gained.
+    pub(super) static PRUNED_TRIALS: std::cell::Cell<(usize, usize)> =
+        const { std::cell::Cell::new((0, 0)) };
+}
+
+/// Whether the neighbours' test tries every degenerate pair, the pruning of `super::local`
+/// off: only in unit tests, which count the pruned switches that gain ([`pruned_trial`]).
+#[cfg(test)]
+fn every_neighbour() -> bool {
+    EVERY_NEIGHBOUR.with(|e| e.get())
+}
+
+#[cfg(not(test))]
+fn every_neighbour() -> bool {
+    false
+}
+
+/// A switch the pruning skips was tried, and whether it gained (never, by the module docs
+/// of [`super::local`]; counted in unit tests).
+#[cfg(test)]
+fn pruned_trial(gained: bool) {
+    PRUNED_TRIALS.with(|n| {
+        let (tried, gains) = n.get();
+        n.set((tried + 1, gains + usize::from(gained)));
+    });
+}
+
+#[cfg(not(test))]
+fn pruned_trial(_: bool) {}

@@ -67,47 +67,16 @@
 //! through the general simulator ([`super::discrete`]'s replay).
 
 use super::branch_lp::BranchLp;
+pub use super::branch_lp::{GeneralLocal, Pivoting};
 use super::discrete::{check_sets, run_on_grid};
 use super::geometry::Geometry;
 use crate::error::{Error, Result};
 use crate::integrate::{ControlInput, GeneralSimOptions, InputKind};
 use crate::model::general::{Boundary, ControlSet, GeneralCost, GeneralProblem};
 use crate::optimal::active_set::LocalStop;
-use serde::{Deserialize, Serialize};
 
 /// Largest `m` (`2^m` steps) of the general local method.
 pub const MAX_GENERAL_LOCAL_M: u32 = 14;
-
-/// A local solution of the general P_m, re-verified.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct GeneralLocal {
-    /// `m`.
-    pub m: u32,
-    /// `J` of the controls, as the simulator replays them (written once, as the result's
-    /// `objective`; filled from it on reading).
-    #[serde(skip_serializing)]
-    pub objective: f64,
-    /// `J` of the last LP.
-    pub lp_objective: f64,
-    /// `J` of the start (its simulated process on this grid).
-    pub start_objective: f64,
-    /// LPs solved.
-    pub lp_solves: usize,
-    /// Branches switched in all.
-    pub switches: usize,
-    /// Why the method stopped.
-    pub stop: LocalStop,
-    /// States `x^0..x^M` (`states`, as every result's solution names them; `x` in version 2).
-    #[serde(rename = "states", alias = "x")]
-    pub x: Vec<Vec<f64>>,
-    /// Controls `u^0..u^(M-1)` (`controls`; `u` in version 2).
-    #[serde(rename = "controls", alias = "u")]
-    pub u: Vec<Vec<f64>>,
-    /// Reaction rates `lambda^i = mu^i / h` per step and face (`reactions`, as a phase gait's;
-    /// `lambda` in version 2).
-    #[serde(rename = "reactions", alias = "lambda")]
-    pub lambda: Vec<Vec<f64>>,
-}
 
 /// Refuses what the local method cannot solve (cheap, before any start is simulated): `m`
 /// outside `1..=MAX_GENERAL_LOCAL_M`, a quadratic cost (the branch problems are LPs), and what
@@ -278,30 +247,6 @@ fn to_zero_mean(u: &ControlSet, grid: &mut [Vec<f64>]) {
 /// The controls of `input` on `2^m` steps: the mean over each step.
 pub fn grid_controls(input: &ControlInput, m: u32) -> Vec<Vec<f64>> {
     input.step_means(1usize << m)
-}
-
-/// Which switches the local method tests before it stops (module docs).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
-pub enum Pivoting {
-    /// The switches that pay by their reduced costs, then, where none does, each degenerate
-    /// pair's neighbouring LP: `stationary` means that no single switch gains, as it does
-    /// under `Finish`, the test of a crawler's answers. (P)'s default.
-    #[default]
-    Neighbours,
-    /// The switches that pay by their reduced costs only: the method stops where none pays by
-    /// the reduced costs of the last basis (a first-order test; a degenerate LP has other
-    /// bases), which costs no LP beyond the pivots. A screen for many starts, whose best is
-    /// then finished under [`Pivoting::Finish`] (a crawler's shifted starts,
-    /// `crate::optimal::solve_discrete_local_shifted`): a fine grid has many degenerate pairs,
-    /// each neighbouring LP that can gain a solve (module docs).
-    ReducedCosts,
-    /// As `Neighbours`, except that after an LP that gained nothing the next round tests the
-    /// neighbouring LPs alone (taking a switch only where its LP gains), so that degenerate
-    /// switches by the reduced costs cannot cycle: the method ends `stationary` (or at a
-    /// limit), never `stalled`. A crawler's test, for its one start and for the finish of
-    /// a screen's best (from the basis the screen ended on): on three blocks at `m = 3` and
-    /// `m = 9` (one start, its branches read off its process) `Neighbours` ended `stalled`.
-    Finish,
 }
 
 /// Which faces the start's branches hold (module docs).
@@ -542,31 +487,6 @@ fn start_branches(
         .collect();
     Ok((start_objective, active))
 }
-
-/// Whether the neighbours' test tries every degenerate pair, the pruning of the module docs
-/// off: only in unit tests, which count the pruned switches that gain ([`pruned_trial`]).
-#[cfg(test)]
-pub(super) fn every_neighbour() -> bool {
-    tests::EVERY_NEIGHBOUR.with(|e| e.get())
-}
-
-#[cfg(not(test))]
-pub(super) fn every_neighbour() -> bool {
-    false
-}
-
-/// A switch the pruning skips was tried, and whether it gained (never, by the module docs;
-/// counted in unit tests).
-#[cfg(test)]
-pub(super) fn pruned_trial(gained: bool) {
-    tests::PRUNED_TRIALS.with(|n| {
-        let (tried, gains) = n.get();
-        n.set((tried + 1, gains + usize::from(gained)));
-    });
-}
-
-#[cfg(not(test))]
-pub(super) fn pruned_trial(_: bool) {}
 
 #[cfg(test)]
 #[path = "local_tests.rs"]

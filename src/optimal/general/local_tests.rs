@@ -1,19 +1,12 @@
 //! Tests of [`super`]: the neighbours' test pruned to the switches that can gain (module
 //! docs). With every degenerate pair tried, no switch the pruning would skip ever gains.
 
+use super::super::branch_lp::{EVERY_NEIGHBOUR, PRUNED_TRIALS};
 use super::*;
 use crate::model::general::GeneralParts;
 use crate::model::{crawler_as_general, Crawler};
 use crate::optimal::general::analyze_polyhedron;
 use proptest::prelude::*;
-use std::cell::Cell;
-
-thread_local! {
-    /// Tries every degenerate pair's neighbouring LP (the pruning off) while set.
-    pub(super) static EVERY_NEIGHBOUR: Cell<bool> = const { Cell::new(false) };
-    /// Switches the pruning would skip: how many were tried, and how many of them gained.
-    pub(super) static PRUNED_TRIALS: Cell<(usize, usize)> = const { Cell::new((0, 0)) };
-}
 
 /// P_m locally from each square-wave start by `rules` with every neighbour tried: returns how
 /// many of the switches the pruning would skip were tried, asserting that none gained; the
