@@ -202,7 +202,7 @@ const ONE: MultiStart = MultiStart {
 };
 
 /// A screen of many starts ([`solve_discrete_local_shifted`]): reduced costs only, the best
-/// start then finished under [`FULL`]'s pivoting from the branches it ended on.
+/// start then finished under [`FULL`]'s pivoting from the basis its screen ended on.
 const SCREENED: MultiStart = MultiStart {
     rules: LocalRules {
         pivoting: Pivoting::ReducedCosts,

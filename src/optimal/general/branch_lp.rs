@@ -321,12 +321,14 @@ fn set_branch(
 }
 
 #[cfg(test)]
+use std::cell::Cell;
+
+#[cfg(test)]
 thread_local! {
     /// Tries every degenerate pair's neighbouring LP (the pruning off) while set.
-    pub(super) static EVERY_NEIGHBOUR: std::cell::Cell<bool> = const { std::cell::Cell::new(false) };
+    pub(super) static EVERY_NEIGHBOUR: Cell<bool> = const { Cell::new(false) };
     /// Switches the pruning would skip: how many were tried, and how many of them gained.
-    pub(super) static PRUNED_TRIALS: std::cell::Cell<(usize, usize)> =
-        const { std::cell::Cell::new((0, 0)) };
+    pub(super) static PRUNED_TRIALS: Cell<(usize, usize)> = const { Cell::new((0, 0)) };
 }
 
 /// Whether the neighbours' test tries every degenerate pair, the pruning of `super::local`

@@ -274,8 +274,9 @@ pub struct LocalRules {
 }
 
 /// How a search from several starts runs: each start by `rules`, then, with `finish`, the
-/// best continued under that pivoting from the basis it ended on (`super::branch_lp`) (a screen's best,
-/// finished: a crawler's shifted starts, `crate::optimal::solve_discrete_local_shifted`).
+/// best continued under that pivoting from the basis it ended on (`super::branch_lp`): a
+/// screen's best, finished (a crawler's shifted starts,
+/// `crate::optimal::solve_discrete_local_shifted`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub struct MultiStart {
     /// The rules of every start.
@@ -315,13 +316,14 @@ pub fn solve_general_local(
     Ok(best.solution)
 }
 
-/// Solves P_m locally from each of `starts` in turn by `plan`, within the job's deadline, and
-/// keeps the best verified answer (the first of equals, to `1e-9` of its `J`), finished where
-/// `plan` asks it; `on_start` is told each start's index before it is solved. A start's refusal before any
-/// answer is held is the error returned (each start is checked as [`solve_general_local`]
-/// checks it); the time limit after one ends the search, and a finish that runs out of time
-/// before its first LP, or ends below it (a numerical oddity: its first LP is the best's
-/// last), leaves the best as it was.
+/// Solves P_m locally from each of `starts` in turn by `plan`, within the job's deadline,
+/// and keeps the best verified answer (the first of equals, to `1e-9` of its `J`), finished
+/// where `plan` asks it; `on_start` is told each start's index before it is solved. No start
+/// is refused naming `start`; a start's refusal before any answer is held is the error
+/// returned (each start is checked as [`solve_general_local`] checks it); the time limit
+/// after one ends the search, and a finish that runs out of time before its first LP, or
+/// ends below it (a numerical oddity: its first LP is the best's last), leaves the best as it
+/// was.
 pub fn solve_general_local_best(
     p: &GeneralProblem,
     g: &Geometry,
@@ -331,6 +333,13 @@ pub fn solve_general_local_best(
     on_start: &mut dyn FnMut(usize),
 ) -> Result<BestLocal> {
     check_general_local(p, g, m)?;
+    if starts.is_empty() {
+        return Err(Error::invalid(
+            "start",
+            "no start",
+            "the search needs a start",
+        ));
+    }
     let mut best: Option<(GeneralLocal, usize, Option<BranchLp>)> = None;
     let mut tried = 0;
     for (k, start) in starts.iter().enumerate() {
@@ -356,7 +365,7 @@ pub fn solve_general_local_best(
             break;
         }
     }
-    // The first start either stores its answer or returns its error.
+    // There is a start, and the first either stores its answer or returns its error.
     let (solution, best_start, lp) = best.expect("the first start solved or an error returned");
     let solution = match (plan.finish, lp) {
         (Some(pivoting), Some(mut lp)) => finished(p, &mut lp, solution, pivoting)?,

@@ -111,3 +111,53 @@ fn the_pruning_skips_switches_on_three_blocks_and_a_polygon() {
     let skipped = pruned_switches_never_gain(&polygon(5, &shape), 3, LocalRules::default());
     assert!(skipped > 0, "no switch skipped on a polygon");
 }
+
+/// A search from several starts keeps the best of them, each solved as it is alone, and its
+/// finish (from the basis the best start ended on) ends `stationary` at least as high; a search
+/// without a start is refused naming `start`, not a panic.
+#[test]
+fn a_search_keeps_the_best_start_and_its_finish_does_not_lose() {
+    let p = crawler_instance(3, &[1.0, 1.0, 1.0, 1.0, 1.0, 1.0, 1.0, 0.9, 0.9, 0.9]).unwrap();
+    let g = analyze_polyhedron(&p.c).unwrap();
+    let m = 4;
+    let starts = default_starts(&p, m, 4);
+    let screen = LocalRules {
+        pivoting: Pivoting::ReducedCosts,
+        start: StartFaces::Touched,
+    };
+    let alone: Vec<f64> = starts
+        .iter()
+        .map(|s| solve_general_local(&p, &g, m, s, screen).unwrap().objective)
+        .collect();
+    let mut told = Vec::new();
+    let plan = MultiStart {
+        rules: screen,
+        finish: None,
+    };
+    let best = solve_general_local_best(&p, &g, m, &starts, plan, &mut |k| told.push(k)).unwrap();
+    assert_eq!(told, (0..starts.len()).collect::<Vec<_>>());
+    assert_eq!(best.tried, starts.len());
+    let top = alone.iter().cloned().fold(f64::NEG_INFINITY, f64::max);
+    assert_eq!(best.solution.objective, alone[best.best_start]);
+    assert!(best.solution.objective >= top - 1e-9 * (1.0 + top.abs()));
+    // The first of equals: no start before the kept one was better.
+    let kept = best.solution.objective;
+    assert!(alone[..best.best_start]
+        .iter()
+        .all(|&j| j <= kept + 1e-9 * (1.0 + kept.abs())));
+    let plan = MultiStart {
+        rules: screen,
+        finish: Some(Pivoting::Finish),
+    };
+    let finished = solve_general_local_best(&p, &g, m, &starts, plan, &mut |_| {}).unwrap();
+    assert_eq!(finished.best_start, best.best_start);
+    assert_eq!(finished.solution.stop, LocalStop::Stationary);
+    let j = finished.solution.objective;
+    assert!(
+        j >= top - 1e-9 * (1.0 + top.abs()),
+        "{j} below the screen's {top}"
+    );
+    assert!(finished.solution.lp_solves >= best.solution.lp_solves);
+    let none = solve_general_local_best(&p, &g, m, &[], plan, &mut |_| {});
+    assert!(matches!(none, Err(Error::InvalidParameter { field, .. }) if field == "start"));
+}
