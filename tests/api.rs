@@ -213,7 +213,7 @@ fn the_three_block_optimum_with_its_events() {
             _ => None,
         })
         .collect();
-    let growth = best.result.phase_growth.as_ref().unwrap();
+    let growth = best.result.records.phase_growth.as_ref().unwrap();
     assert_eq!(solved.len(), growth.table.len());
     assert_eq!(solved, (1..=solved.len()).collect::<Vec<_>>());
     // Events come in time order, each stamped with the seconds since the job began.

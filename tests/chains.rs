@@ -96,7 +96,7 @@ fn optimize_is_never_below_the_best_structured_gait() {
     assert!(r.head.objective >= want - 1e-9, "{}", r.head.objective);
     // Either the phase MILPs, started from the wave (their incumbent or cutoff), return it as
     // their own answer, or the floor replaces a lower answer and records what the method found.
-    match r.structured.as_ref() {
+    match r.records.structured.as_ref() {
         Some(s) => {
             assert!(
                 s.origin.starts_with("structured: alternating triangle"),
@@ -222,7 +222,11 @@ fn the_peers_instances_keep_their_known_optima() {
         );
         // Not replaced by the floor (the answer may be the structured gait itself, the MILP's
         // start kept at its K, which `structured` then names).
-        let replaced = auto.structured.as_ref().and_then(|s| s.replaced.as_ref());
+        let replaced = auto
+            .records
+            .structured
+            .as_ref()
+            .and_then(|s| s.replaced.as_ref());
         assert!(replaced.is_none(), "N = {nb}: {replaced:?}");
         let s = best_structured(&c, &p, &StructuredOptions::default())
             .unwrap()

@@ -57,8 +57,8 @@ fn the_one_link_problem_matches_the_crawler_certificate() {
 
     let crawler = Crawler::uniform(2, 1.0, 1.0, 2.0).unwrap();
     let gp = GaitProblem::new(&crawler, 10.0, &[1.0], Cost::None, None).unwrap();
-    let cp = Process::discrete_from_controls(&crawler, &gp, m, &s.u).unwrap();
-    assert!(max_diff(&cp.states, &s.x) < 1e-12);
+    let cp = Process::discrete_from_controls(&crawler, &gp, m, &s.path.u).unwrap();
+    assert!(max_diff(&cp.states, &s.path.x) < 1e-12);
     let cc = certify::certify(&cp, &CertifyOptions::default()).unwrap();
     assert_eq!(cc.verdict, c.verdict);
     let (cm, gm) = (&cc.multipliers, &c.multipliers);
@@ -494,7 +494,10 @@ fn a_two_dimensional_problem_with_drift_derived_by_hand() {
     assert_eq!(s.certificate.status, MilpStatus::Optimal);
     assert!((s.objective - want).abs() < 1e-7, "{}", s.objective);
     for l in 0..2 {
-        assert!((s.u[0][l].abs() - 1.0).abs() < 1e-9 && (s.u[0][l] + s.u[1][l]).abs() < 1e-12);
+        assert!(
+            (s.path.u[0][l].abs() - 1.0).abs() < 1e-9
+                && (s.path.u[0][l] + s.path.u[1][l]).abs() < 1e-12
+        );
     }
     let c0 = certify_general(
         &p,

@@ -27,7 +27,7 @@ fn settings(m: u32) -> GeneralPmSettings {
 fn the_one_link_table_is_the_closed_form_at_every_m() {
     // The optimal square wave (u = 1 for T/2, then -1) lies on every grid, so J_m = J* = 3.
     let r = optimize_general(&one_link(), &settings(4), Hooks::default()).unwrap();
-    let table = r.convergence.as_ref().expect("a table was asked");
+    let table = r.records.convergence.as_ref().expect("a table was asked");
     assert_eq!(table.iter().map(|r| r.m).collect::<Vec<_>>(), [1, 2, 3, 4]);
     for row in table {
         assert_eq!(row.steps, 1 << row.m);
@@ -44,7 +44,7 @@ fn the_one_link_table_is_the_closed_form_at_every_m() {
     // Without the flag, one MILP and no table.
     let one =
         optimize_general(&one_link(), &GeneralPmSettings::default(), Hooks::default()).unwrap();
-    assert!(one.convergence.is_none());
+    assert!(one.records.convergence.is_none());
 }
 
 /// On a crawler instance the general table is the crawler's, row by row: one loop over two
@@ -80,7 +80,7 @@ fn a_stiff_drift_starts_the_table_at_its_first_stable_grid() {
     let f = GeneralFile::parse(&std::fs::read_to_string("examples/general_drift.toml").unwrap())
         .unwrap();
     let r = optimize_general(&f, &settings(3), Hooks::default()).unwrap();
-    let ms: Vec<u32> = r.convergence.unwrap().iter().map(|r| r.m).collect();
+    let ms: Vec<u32> = r.records.convergence.unwrap().iter().map(|r| r.m).collect();
     assert_eq!(ms, [2, 3]);
     match optimize_general(&f, &settings(1), Hooks::default()) {
         Err(Error::InvalidParameter { field, .. }) => assert_eq!(field, "m"),
@@ -102,7 +102,7 @@ fn each_row_is_an_event() {
     };
     let r = optimize_general(&one_link(), &settings(3), hooks).unwrap();
     assert_eq!(rows, [1, 2, 3]);
-    assert_eq!(r.convergence.unwrap().len(), 3);
+    assert_eq!(r.records.convergence.unwrap().len(), 3);
 }
 
 #[test]

@@ -103,30 +103,30 @@ fn random_instances_never_above_the_global_optimum_and_true_processes() {
                     InputKind::PiecewiseConstant,
                     p.period,
                     (0..mm).map(|i| i as f64 * h).collect(),
-                    s.u.clone(),
+                    s.path.u.clone(),
                     &p.control,
                     "u",
                 )
                 .unwrap();
                 let mut cauchy = p.clone();
-                cauchy.boundary = Boundary::Initial(s.x[0].clone());
+                cauchy.boundary = Boundary::Initial(s.path.x[0].clone());
                 // P_m's explicit step (the simulator's default steps a damping implicitly).
                 let opts = GeneralSimOptions {
                     steps_per_period: mm,
                     drift: DriftStep::Explicit,
                     ..Default::default()
                 };
-                let sim = simulate_general(&cauchy, &input, &s.x[0], &opts).unwrap();
+                let sim = simulate_general(&cauchy, &input, &s.path.x[0], &opts).unwrap();
                 let dx = sim
                     .x
                     .iter()
                     .flatten()
-                    .zip(s.x.iter().flatten())
+                    .zip(s.path.x.iter().flatten())
                     .fold(0.0_f64, |d, (a, b)| d.max((a - b).abs()));
                 assert!(dx < 1e-9, "states differ by {dx}");
                 assert!((sim.objective.unwrap() - s.objective).abs() < 1e-9);
-                assert!((s.x[mm].iter().zip(&s.x[0])).all(|(a, b)| (a - b).abs() < 1e-7));
-                let sum: f64 = s.u.iter().map(|u| u[0]).sum();
+                assert!((s.path.x[mm].iter().zip(&s.path.x[0])).all(|(a, b)| (a - b).abs() < 1e-7));
+                let sum: f64 = s.path.u.iter().map(|u| u[0]).sum();
                 assert!(sum.abs() < 1e-7, "mean {sum}");
             }
         }

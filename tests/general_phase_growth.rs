@@ -48,7 +48,7 @@ fn the_growth_reaches_the_one_link_closed_form_at_four_phases() {
         "{}",
         r.head.objective
     );
-    let g = r.phase_growth.as_ref().expect("K was grown");
+    let g = r.records.phase_growth.as_ref().expect("K was grown");
     let js: Vec<f64> = g.table.iter().map(|s| s.objective).collect();
     assert_eq!(g.table.len(), 4, "{js:?}");
     for (k, j) in js.iter().enumerate() {
@@ -66,7 +66,7 @@ fn the_growth_reaches_the_one_link_closed_form_at_four_phases() {
     )
     .unwrap();
     assert!((four.head.objective - want).abs() < 1e-9);
-    assert!(four.phase_growth.is_none());
+    assert!(four.records.phase_growth.is_none());
     let three = optimize_general_phase(
         &one_link(t),
         &settings(|s| s.phases = Some(3)),
@@ -90,7 +90,7 @@ fn patience_ends_the_growth_on_a_plateau_and_the_claim_is_the_last_k() {
         s.patience = 2;
     });
     let r = optimize_general_phase(&one_link(10.0), &s, Hooks::default()).unwrap();
-    let g = r.phase_growth.as_ref().unwrap();
+    let g = r.records.phase_growth.as_ref().unwrap();
     assert_eq!(g.stop, GrowthStop::NoGain);
     assert_eq!(g.table.len(), 6);
     assert_eq!(r.head.certificate.phases, Some(6));
@@ -118,7 +118,7 @@ fn each_k_is_an_event_and_a_cancelled_job_stops() {
     let r = optimize_general_phase(&one_link(10.0), &settings(|_| {}), hooks).unwrap();
     assert_eq!(solved, vec![1, 2, 3, 4]);
     assert_eq!(stages, 1);
-    assert_eq!(r.phase_growth.unwrap().table.len(), solved.len());
+    assert_eq!(r.records.phase_growth.unwrap().table.len(), solved.len());
     let cancel = Cancel::new();
     cancel.cancel();
     let hooks = Hooks {
@@ -228,7 +228,7 @@ fn free_transitions_reach_the_one_link_optimum_at_two_slots() {
         r.head.objective
     );
     assert_eq!(r.formulation.as_deref(), Some("transitions"));
-    let g = r.phase_growth.as_ref().expect("K was grown");
+    let g = r.records.phase_growth.as_ref().expect("K was grown");
     let js: Vec<f64> = g.table.iter().map(|s| s.objective).collect();
     assert!(js[0].abs() < 1e-9 && (js[1] - want).abs() < 1e-9, "{js:?}");
     let default = optimize_general_phase(
@@ -239,6 +239,7 @@ fn free_transitions_reach_the_one_link_optimum_at_two_slots() {
     .unwrap();
     assert_eq!(default.formulation.as_deref(), Some("transitions"));
     let default_js: Vec<f64> = default
+        .records
         .phase_growth
         .as_ref()
         .unwrap()

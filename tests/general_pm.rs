@@ -214,9 +214,9 @@ fn a_quadratic_cost_by_outer_approximation() {
         assert!((s.objective - 3.0).abs() < 1e-5, "m = {m}: {}", s.objective);
         assert!(s.certificate.bound >= s.objective - 1e-9);
         assert!(
-            s.u.iter().all(|u| (u[0].abs() - 0.5).abs() < 1e-3),
+            s.path.u.iter().all(|u| (u[0].abs() - 0.5).abs() < 1e-3),
             "{:?}",
-            s.u
+            s.path.u
         );
     }
     // A crawler instance with a quadratic cost against the crawler's P_m.

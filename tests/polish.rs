@@ -56,7 +56,11 @@ fn the_drift_example_certifies_after_polishing() {
         pm.objective
     );
     assert!(pm.certificate.gap <= 1e-12, "{:?}", pm.certificate);
-    assert!(pm.u.iter().all(|u| u[1].abs() <= 1e-12), "{:?}", pm.u);
+    assert!(
+        pm.path.u.iter().all(|u| u[1].abs() <= 1e-12),
+        "{:?}",
+        pm.path.u
+    );
     let nc = r.necessary_conditions.as_ref().unwrap();
     assert_eq!(nc.verdict, Verdict::Holds, "{}", nc.reason);
     assert!(
@@ -85,26 +89,26 @@ fn the_drift_example_certifies_after_polishing() {
     // The polished controls, replayed by the general simulator from the answer's x^0, give the
     // objective reported.
     let (p, _) = general_problem(&file).unwrap();
-    let steps = pm.u.len();
+    let steps = pm.path.u.len();
     let h = p.period / steps as f64;
     let input = ControlInput::new(
         InputKind::PiecewiseConstant,
         p.period,
         (0..steps).map(|i| i as f64 * h).collect(),
-        pm.u.clone(),
+        pm.path.u.clone(),
         &p.control,
         "u",
     )
     .unwrap();
     let mut cauchy = p.clone();
-    cauchy.boundary = Boundary::Initial(pm.x[0].clone());
+    cauchy.boundary = Boundary::Initial(pm.path.x[0].clone());
     // P_m's explicit step (the simulator's default treats the damping implicitly).
     let opts = GeneralSimOptions {
         steps_per_period: steps,
         drift: DriftStep::Explicit,
         ..GeneralSimOptions::DEFAULT
     };
-    let sim = simulate_general(&cauchy, &input, &pm.x[0], &opts).unwrap();
+    let sim = simulate_general(&cauchy, &input, &pm.path.x[0], &opts).unwrap();
     let j = sim.objective.unwrap();
     assert!((j - pm.objective).abs() <= 1e-12, "{j} vs {}", pm.objective);
 }

@@ -216,7 +216,7 @@ fn a_convergence_table_may_fall_with_m() {
         .iter()
         .all(|r| r.status == crawlopt::optimal::MilpStatus::Optimal));
     let mut r = GaitResult::from_discrete(&c, &p, &s);
-    r.convergence = Some(rows);
+    r.records.convergence = Some(rows);
     let mut v = serde_json::to_value(&r).unwrap();
     read(&v).unwrap();
     let last = v["convergence"][1]["objective"].as_f64().unwrap();

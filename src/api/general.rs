@@ -453,7 +453,7 @@ fn pm_job(
     };
     let mut r = GeneralAnswer::discrete(file, p.period, solution);
     r.necessary_conditions = necessary_conditions;
-    r.convergence = convergence;
+    r.records.convergence = convergence;
     if let (Some(view), Some(b)) = (&chain, &s.bound) {
         em.stage("proving an upper bound over all periodic gaits (the chain's)");
         r.head.certificate.upper_bound = Some(chain_upper_bound(&p, view, b, r.head.objective)?);

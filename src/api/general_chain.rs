@@ -102,7 +102,7 @@ pub fn optimize_general_on_chain(
     answer.head.status = r.head.status;
     answer.head.certificate = ResultCertificate::local(None);
     answer.formulation = Some("chain".into());
-    answer.structured = r.structured.clone();
+    answer.records.structured = r.records.structured.clone();
     if s.certify {
         let pr = answer.solution.process(&p);
         answer.necessary_conditions = Some(crate::certify::certify_general(

@@ -221,9 +221,9 @@ pub fn optimize_general_phase(
         } else if transitions {
             r.formulation = Some(PhaseFormulation::Transitions.name().into());
         }
-        r.structured = structured;
+        r.records.structured = structured;
         if s.phases.is_none() {
-            r.phase_growth = Some(PhaseGrowthRecord {
+            r.records.phase_growth = Some(PhaseGrowthRecord {
                 table: grown.table,
                 stop: grown.stop,
             });

@@ -129,7 +129,7 @@ fn solve(
         if let Some(f) = floor {
             let mut r = floor_answer(f, plan);
             r.head.status = MilpStatus::TimeLimit;
-            if let Some(s) = r.structured.as_mut() {
+            if let Some(s) = r.records.structured.as_mut() {
                 s.replaced = Some("the time limit was spent on the structured gaits".into());
             }
             return Ok(r);
@@ -147,7 +147,7 @@ fn solve(
         Err(Error::TimeLimit(e)) => {
             let mut r = floor_answer(f, plan);
             r.head.status = MilpStatus::TimeLimit;
-            if let Some(s) = r.structured.as_mut() {
+            if let Some(s) = r.records.structured.as_mut() {
                 s.replaced = Some(format!("the method found no gait: {e}"));
             }
             return Ok(r);
@@ -195,7 +195,7 @@ fn solve(
             r.head.status.as_str()
         ),
     };
-    if let Some(s) = out.structured.as_mut() {
+    if let Some(s) = out.records.structured.as_mut() {
         s.replaced = Some(format!("{what}, below the structured gait"));
     }
     Ok(out)
@@ -237,7 +237,7 @@ fn at_least_idle(
     if r.head.status == MilpStatus::TimeLimit {
         idle.head.status = MilpStatus::TimeLimit;
     }
-    if let Some(s) = idle.structured.as_mut() {
+    if let Some(s) = idle.records.structured.as_mut() {
         s.replaced = Some(format!(
             "{}: J = {} (status {}), below the idle gait",
             r.head.method,
@@ -307,7 +307,7 @@ fn solve_method(
             // The MILPs kept their start: the answer is the structured gait, said so.
             if let (Some(f), Some(p)) = (floor, &start) {
                 if r.gait.durations == p.durations && r.gait.states == p.states {
-                    r.structured = Some(StructuredRecord {
+                    r.records.structured = Some(StructuredRecord {
                         origin: f.best.origin.clone(),
                         replaced: None,
                     });
@@ -321,7 +321,7 @@ fn solve_method(
                 em.send(Event::DiscreteSolved(row.clone()))
             })?;
             let mut r = GaitResult::from_discrete(crawler, problem, &s);
-            r.convergence = Some(table);
+            r.records.convergence = Some(table);
             Ok(r)
         }
         GaitMethod::Discrete => {
@@ -583,7 +583,11 @@ mod tests {
         let r = at_least_idle(&c, &p, &plan, costly, &Emitter::new(None)).unwrap();
         assert_eq!(r.head.objective, 0.0);
         assert_eq!(r.head.status, MilpStatus::TimeLimit);
-        let why = r.structured.as_ref().and_then(|s| s.replaced.clone());
+        let why = r
+            .records
+            .structured
+            .as_ref()
+            .and_then(|s| s.replaced.clone());
         assert!(why.is_some_and(|w| w.contains("below the idle gait")));
         GaitResult::from_json(&serde_json::to_string(&r).unwrap(), "idle").unwrap();
     }

@@ -8,7 +8,7 @@ use super::process::Process;
 use crate::error::{Error, Result};
 use crate::integrate::{simulate_general, ControlInput, GeneralSimOptions, InputKind};
 use crate::model::general::{Boundary, GeneralProblem};
-use crate::optimal::general::{GeneralPhaseGait, GeneralPm};
+use crate::optimal::general::{GeneralLocal, GeneralPhaseGait, GeneralPm, PmPath};
 pub use crate::optimal::process::ProcessKind;
 use crate::optimal::process::{FieldNames, ProcessRows};
 
@@ -38,32 +38,26 @@ pub struct GeneralProcess {
 }
 
 impl GeneralProcess {
-    /// A P_m process on `2^m` steps of a problem of period `period`.
-    pub fn pm(
-        m: u32,
-        period: f64,
-        x: Vec<Vec<f64>>,
-        u: Vec<Vec<f64>>,
-        lambda: Vec<Vec<f64>>,
-    ) -> Self {
+    /// A P_m process `path` on `2^m` steps of a problem of period `period`.
+    pub fn pm(m: u32, period: f64, path: PmPath) -> Self {
         let steps = 1usize << m.min(crate::optimal::general::MAX_GENERAL_LOCAL_M + 1);
         GeneralProcess {
             kind: ProcessKind::Discrete { m },
             durations: vec![period / steps as f64; steps],
-            x,
-            u,
-            lambda,
+            x: path.x,
+            u: path.u,
+            lambda: path.lambda,
         }
     }
 
     /// The process of a P_m optimum of `p`.
     pub fn from_pm(p: &GeneralProblem, s: &GeneralPm) -> Self {
-        Self::pm(s.m, p.period, s.x.clone(), s.u.clone(), s.lambda.clone())
+        Self::pm(s.m, p.period, s.path.clone())
     }
 
     /// The process of a local P_m answer of `p`.
-    pub fn from_local(p: &GeneralProblem, s: &crate::optimal::general::GeneralLocal) -> Self {
-        Self::pm(s.m, p.period, s.x.clone(), s.u.clone(), s.lambda.clone())
+    pub fn from_local(p: &GeneralProblem, s: &GeneralLocal) -> Self {
+        Self::pm(s.m, p.period, s.path.clone())
     }
 
     /// The process of an exact phase gait (general or chain formulation): its phases as
@@ -179,7 +173,15 @@ impl GeneralProcess {
                 "its catching-up process reached no periodic regime",
             ));
         }
-        Ok(Self::pm(m, p.period, sim.x, sim.u, sim.lambda))
+        Ok(Self::pm(
+            m,
+            p.period,
+            PmPath {
+                x: sim.x,
+                u: sim.u,
+                lambda: sim.lambda,
+            },
+        ))
     }
 
     /// Checks that this is a periodic process of `p` within the relative tolerance `tol`:

@@ -12,7 +12,7 @@ use crate::error::{Error, Result};
 use crate::model::general::GeneralProblem;
 use crate::optimal::consistency::{check_claim, Claim, INPUT_TOL};
 use crate::optimal::general::GeneralPhaseGait;
-use crate::optimal::{Certificate, MilpStatus, ResultCertificate};
+use crate::optimal::{Certificate, MilpStatus, ResultCertificate, ResultRecords};
 
 /// An error naming `field` of the result `what`.
 pub(super) fn bad(what: &str, field: &str, got: impl ToString, reason: impl Into<String>) -> Error {
@@ -52,7 +52,7 @@ pub(super) fn check_slots(s: &GeneralPhaseGait, what: &str) -> Result<()> {
 pub(super) fn check_dominates(r: &GeneralAnswer, chain: bool, what: &str) -> Result<()> {
     let reason = if !chain {
         "is claimed only by the chain's formulation (formulation \"chain\")"
-    } else if r.structured.is_none() {
+    } else if r.records.structured.is_none() {
         "is claimed only for the chain's structured start, recorded as `structured`"
     } else {
         return Ok(());
@@ -104,7 +104,7 @@ pub(super) fn check_local_phase(what: &str, r: &GeneralAnswer, s: &GeneralPhaseG
             "a local method proves no bound (null)",
         ));
     }
-    if r.phase_growth.is_some() {
+    if r.records.phase_growth.is_some() {
         return Err(bad(
             what,
             "phase_growth",
@@ -115,19 +115,18 @@ pub(super) fn check_local_phase(what: &str, r: &GeneralAnswer, s: &GeneralPhaseG
     Ok(())
 }
 
-/// [`crate::optimal::consistency::check_table`] with a general reader's equality of
+/// [`crate::optimal::consistency::check_records`] with a general reader's equality of
 /// objectives (relative [`INPUT_TOL`], below the problem's floor of `J` `floor` in units of it).
-pub(super) fn check_table(
+pub(super) fn check_records(
     what: &str,
-    field: &str,
-    rows: &[(usize, f64, f64)],
-    last: usize,
+    records: &ResultRecords,
+    phases: Option<usize>,
+    m: Option<usize>,
     j: f64,
-    growth: bool,
     floor: f64,
 ) -> Result<()> {
     let close = |a: f64, b: f64| (a - b).abs() <= INPUT_TOL * a.abs().max(b.abs()).max(floor);
-    crate::optimal::consistency::check_table(what, field, rows, Some(last), j, growth, close)
+    crate::optimal::consistency::check_records(what, records, phases, m, j, close)
 }
 
 /// An upper bound recorded with a global answer: only for a problem that is a crawler's gait

@@ -10,8 +10,8 @@
 //! elsewhere: a number that disagrees is refused naming its field.
 
 use super::general_claims::{
-    bad, check_dominates, check_global, check_local_certificate, check_local_phase, check_slots,
-    check_table, check_upper_bound,
+    bad, check_dominates, check_global, check_local_certificate, check_local_phase, check_records,
+    check_slots, check_upper_bound,
 };
 use super::{GeneralAnswer, GeneralFile, GeneralSolution};
 use crate::certify::GeneralProcess;
@@ -149,21 +149,7 @@ fn check_discrete_answer(
         r.recorded_solver_objective(what)?,
         s.certificate.milp_objective,
     )?;
-    if let Some(table) = &r.convergence {
-        let rows: Vec<_> = table
-            .iter()
-            .map(|row| (row.m as usize, row.objective, row.bound))
-            .collect();
-        check_table(
-            what,
-            "convergence",
-            &rows,
-            s.m as usize,
-            j,
-            false,
-            p.j_floor(),
-        )?;
-    }
+    check_records(what, &r.records, None, Some(s.m as usize), j, p.j_floor())?;
     check_upper_bound(what, p, &r.head.certificate)?;
     check_global(
         what,
@@ -300,23 +286,7 @@ fn check_phase_answer(
     if local {
         return check_local_phase(what, r, s);
     }
-    if let Some(g) = &r.phase_growth {
-        let rows: Vec<_> = g
-            .table
-            .iter()
-            .map(|row| (row.phases, row.objective, row.bound))
-            .collect();
-        let floor = p.j_floor();
-        check_table(
-            what,
-            "phase_growth.table",
-            &rows,
-            s.max_phases,
-            j,
-            true,
-            floor,
-        )?;
-    }
+    check_records(what, &r.records, Some(s.max_phases), None, j, p.j_floor())?;
     let holding = s.held.iter().filter(|h| !h.is_empty()).count();
     let k = Some((s.max_phases, holding));
     check_upper_bound(what, p, &r.head.certificate)?;

@@ -17,9 +17,7 @@ use crate::integrate::{ControlInput, GeneralSimulation};
 use crate::model::general::GeneralProblem;
 use crate::optimal::envelope::{ResultHead, SolutionKind};
 use crate::optimal::general::{GeneralLocal, GeneralPhaseGait, GeneralPm, Geometry};
-use crate::optimal::{
-    local_status, ConvergenceRow, PhaseGrowthRecord, ResultCertificate, ResultKind,
-};
+use crate::optimal::{local_status, ResultCertificate, ResultKind, ResultRecords};
 use serde::{Deserialize, Deserializer, Serialize};
 
 /// How a check came out.
@@ -265,32 +263,26 @@ pub struct GeneralAnswer {
     pub starts: Option<LocalStarts>,
     /// The verified solution (with the MILP's certificate where one was solved).
     pub solution: GeneralSolution,
-    /// How `K` was grown (phase gaits; absent for a fixed `K`): one row per `K` solved and why
-    /// the growth stopped, as for crawlers.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub phase_growth: Option<PhaseGrowthRecord>,
+    /// The records beside the solution ([`ResultRecords`], as a crawler's result has them):
+    /// how `K` was grown (phase gaits; absent for a fixed `K`), the table of `J_m` for `m` up
+    /// to the solution's (global P_m, [`crate::api::GeneralPmSettings::convergence`]), and the
+    /// crawler job's structured gait when it is the answer (methods `sequence` and `chain`:
+    /// the method's own gait was below it, or it was the start of a search the time limit cut
+    /// short), its `J` in the crawler's units.
+    #[serde(flatten)]
+    pub records: ResultRecords,
     /// `"chain"` when the problem is a crawler's gait problem and the chain's phase formulation
     /// ran (`K` slip phases, transitions free: the gait may have up to `2K` phases),
     /// `"transitions"` for the general one with a free transition before each phase; absent
     /// for the general formulation and for P_m.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub formulation: Option<String>,
-    /// The crawler job's record of a best structured gait that is the answer (methods
-    /// `sequence` and `chain`: the method's own gait was below it, or it was the start of a
-    /// search the time limit cut short; [`crate::optimal::GaitResult::structured`]), its `J`
-    /// in the crawler's units.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub structured: Option<crate::optimal::StructuredRecord>,
     /// The necessary conditions on the solution, when asked (a global P_m optimum's or a
     /// phase gait's, [`crate::api::GeneralPmSettings::certify`],
     /// [`crate::api::GeneralPhaseSettings::certify`]); not read back from a file (`crawlopt
     /// certify` recomputes them).
     #[serde(skip_serializing_if = "Option::is_none", skip_deserializing)]
     pub necessary_conditions: Option<crate::certify::GeneralNecessaryConditions>,
-    /// The table of `J_m` for `m` up to the solution's (global P_m), when asked
-    /// ([`crate::api::GeneralPmSettings::convergence`]), as for crawlers.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub convergence: Option<Vec<ConvergenceRow>>,
 }
 
 impl GeneralAnswer {
@@ -310,11 +302,9 @@ impl GeneralAnswer {
             period,
             starts: None,
             solution,
-            phase_growth: None,
+            records: ResultRecords::default(),
             formulation: None,
-            structured: None,
             necessary_conditions: None,
-            convergence: None,
         }
     }
 
@@ -370,8 +360,8 @@ impl GeneralAnswer {
     pub fn pieces(&self) -> (Vec<f64>, &[Vec<f64>]) {
         let steps = |u: &[Vec<f64>]| vec![self.period / u.len().max(1) as f64; u.len()];
         match &self.solution {
-            GeneralSolution::Pm(s) => (steps(&s.u), &s.u),
-            GeneralSolution::Local(s) => (steps(&s.u), &s.u),
+            GeneralSolution::Pm(s) => (steps(&s.path.u), &s.path.u),
+            GeneralSolution::Local(s) => (steps(&s.path.u), &s.path.u),
             GeneralSolution::Phase(s) => (s.durations.clone(), &s.controls),
         }
     }

@@ -15,7 +15,9 @@ use crate::optimal::envelope::SolutionKind;
 use crate::optimal::milp::control_knots;
 use crate::optimal::process::max_diff;
 pub use crate::optimal::process::ProcessKind;
-use crate::optimal::{replay, Certificate, GaitResult, MilpStatus, ResultCertificate};
+use crate::optimal::{
+    replay, Certificate, GaitResult, MilpStatus, ResultCertificate, ResultRecords,
+};
 
 /// Default relative tolerance on the consistency of an input process (states in C, periodicity,
 /// zero mean, dynamics): relative to the size of C, the rate bounds and the period. Loose enough
@@ -132,7 +134,14 @@ impl GaitResult {
             ));
         }
         self.check_certificate(&crawler, what, close)?;
-        self.check_tables(what, close)
+        check_records(
+            what,
+            &self.records,
+            self.head.certificate.phases,
+            self.m.map(|m| m as usize),
+            self.head.objective,
+            close,
+        )
     }
 
     /// The records that repeat the gait: knot times (the durations summed), the initial state
@@ -281,52 +290,43 @@ impl GaitResult {
         };
         check_claim(what, &claim, close)
     }
+}
 
-    /// The phase-growth and convergence tables ([`check_table`]): the growth's last `K` is the
-    /// certificate's, the convergence's last `m` the result's.
-    fn check_tables(&self, what: &str, close: impl Fn(f64, f64) -> bool) -> Result<()> {
-        match (&self.phase_growth, &self.convergence) {
-            (Some(g), None) => {
-                let rows: Vec<_> = g
-                    .table
-                    .iter()
-                    .map(|r| (r.phases, r.objective, r.bound))
-                    .collect();
-                let last = self.head.certificate.phases;
-                check_table(
-                    what,
-                    "phase_growth.table",
-                    &rows,
-                    last,
-                    self.head.objective,
-                    true,
-                    close,
-                )
-            }
-            (None, Some(c)) => {
-                let rows: Vec<_> = c
-                    .iter()
-                    .map(|r| (r.m as usize, r.objective, r.bound))
-                    .collect();
-                let last = self.m.map(|m| m as usize);
-                check_table(
-                    what,
-                    "convergence",
-                    &rows,
-                    last,
-                    self.head.objective,
-                    false,
-                    close,
-                )
-            }
-            (None, None) => Ok(()),
-            (Some(_), Some(_)) => Err(bad(
-                what,
-                "convergence",
-                "a table",
-                "a result has a phase growth or a convergence table, not both",
-            )),
+/// The tables a result may carry ([`ResultRecords`]), a crawler's and (P)'s alike, each
+/// through [`check_table`]: a phase growth's last `K` must be `phases` (the certificate's) and
+/// a convergence table's last `m` the answer's `m`, where the result has them; a result has
+/// one table at most. `j` is its verified `J`; `close` its reader's equality of objectives.
+pub(crate) fn check_records(
+    what: &str,
+    records: &ResultRecords,
+    phases: Option<usize>,
+    m: Option<usize>,
+    j: f64,
+    close: impl Fn(f64, f64) -> bool,
+) -> Result<()> {
+    match (&records.phase_growth, &records.convergence) {
+        (Some(g), None) => {
+            let rows: Vec<_> = g
+                .table
+                .iter()
+                .map(|r| (r.phases, r.objective, r.bound))
+                .collect();
+            check_table(what, "phase_growth.table", &rows, phases, j, true, close)
         }
+        (None, Some(c)) => {
+            let rows: Vec<_> = c
+                .iter()
+                .map(|r| (r.m as usize, r.objective, r.bound))
+                .collect();
+            check_table(what, "convergence", &rows, m, j, false, close)
+        }
+        (None, None) => Ok(()),
+        (Some(_), Some(_)) => Err(bad(
+            what,
+            "convergence",
+            "a table",
+            "a result has a phase growth or a convergence table, not both",
+        )),
     }
 }
 

@@ -287,11 +287,13 @@ fn solve_local_in(
         .collect();
     let best = solve_general_local_best(&inst.problem, &geometry, m, &grids, plan, &mut |_| {})?;
     let s = best.solution;
-    let incs: Vec<Vec<f64>> =
-        s.u.iter()
-            .map(|u| u.iter().map(|v| v * h).collect())
-            .collect();
-    let x0 = inst.to_crawler(&s.x[0]);
+    let incs: Vec<Vec<f64>> = s
+        .path
+        .u
+        .iter()
+        .map(|u| u.iter().map(|v| v * h).collect())
+        .collect();
+    let x0 = inst.to_crawler(&s.path.x[0]);
     let g = replay_grid(crawler, t, &incs, &x0, &what)?;
     check_verified(
         &what,

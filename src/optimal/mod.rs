@@ -24,6 +24,7 @@ mod phase;
 pub mod polish;
 mod problem;
 pub mod process;
+mod records;
 pub mod refinement;
 mod result;
 pub(crate) mod solver;
@@ -54,8 +55,9 @@ pub use phase::{
     DEFAULT_PATIENCE, DISSIPATION_ROW_BLOCKS, MAX_PHASES,
 };
 pub use problem::{Cost, GaitProblem, MAX_COST_RATIO, MAX_RATIO, MAX_SWEEP};
+pub use records::{PhaseGrowthRecord, ResultRecords, StructuredRecord};
 pub use result::{
-    CrawlerParams, GaitData, GaitResult, LocalRecord, PhaseGrowthRecord, StartRecord,
-    StructuredPieces, StructuredRecord, RESULT_FORMAT, RESULT_VERSION,
+    CrawlerParams, GaitData, GaitResult, LocalRecord, StartRecord, StructuredPieces, RESULT_FORMAT,
+    RESULT_VERSION,
 };
 pub use start::{discrete_start, phase_start, shifted_origin, StartEvent, StartGait};

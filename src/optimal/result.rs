@@ -9,13 +9,14 @@ use crate::integrate::{slip_of, Method};
 use crate::model::Crawler;
 use crate::optimal::milp::control_knots;
 use crate::optimal::{
-    ConvergenceRow, DiscreteSolution, GaitProblem, GrowthStop, LocalSolution, LocalStop,
-    MilpStatus, PhaseGrowth, PhaseSolution, PhaseStep, SequenceSearch,
+    DiscreteSolution, GaitProblem, LocalSolution, LocalStop, MilpStatus, PhaseGrowth,
+    PhaseSolution, SequenceSearch,
 };
 use serde::{Deserialize, Serialize};
 
 use super::envelope::{local_status, read_envelope, ResultCertificate, ResultHead, ResultKind};
 pub use super::envelope::{RESULT_FORMAT, RESULT_VERSION};
+use super::records::{PhaseGrowthRecord, ResultRecords, StructuredRecord};
 
 /// The crawler's parameters, as stored in a result (per link / per block, expanded).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -150,12 +151,11 @@ pub struct GaitResult {
     /// The gait: the envelope's `solution` (`gait` in version 1 files, read as well).
     #[serde(rename = "solution")]
     pub gait: GaitData,
-    /// The growth of `K` that led to a phase gait, when `K` was grown.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub phase_growth: Option<PhaseGrowthRecord>,
-    /// The table of `J_m`, `m = 1..`, when asked for (`--convergence`).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub convergence: Option<Vec<ConvergenceRow>>,
+    /// The records beside the solution ([`ResultRecords`]): the growth of `K` that led to a
+    /// phase gait, the table of `J_m` when asked (`--convergence`), the structured gait kept
+    /// as the answer.
+    #[serde(flatten)]
+    pub records: ResultRecords,
     /// How the local method ran (method `local`).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub local: Option<LocalRecord>,
@@ -166,27 +166,10 @@ pub struct GaitResult {
     /// ([`crate::optimal::polish`]).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub polish: Option<crate::optimal::polish::PolishRecord>,
-    /// The best structured gait ([`crate::optimal::structured`]) when it is the answer: the
-    /// method's own gait was below it (the floor of every answer; `replaced` says what the
-    /// method found), it was the start of a local method that did not improve on it, or the
-    /// phase MILPs kept it as their start (no gait of at most `K` slip phases beats it).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub structured: Option<StructuredRecord>,
 }
 
 /// The methods whose answer is an exact phase gait.
 pub const PHASE_GAIT_METHODS: [&str; 3] = ["phase", "sequence", "chain"];
-
-/// Why a structured gait is the answer ([`GaitResult::structured`]).
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct StructuredRecord {
-    /// The gait, in words (e.g. `structured: alternating triangle wave (odd links against even
-    /// links)`).
-    pub origin: String,
-    /// What the method itself found and why it was not kept (e.g. `phase growth: J = 3.8889
-    /// (K = 2), below the structured gait`).
-    pub replaced: Option<String>,
-}
 
 /// A gait on the exact simulator's pieces (one control and one slip pattern per piece):
 /// the record of a structured gait ([`GaitResult::from_structured`]).
@@ -233,15 +216,6 @@ pub struct LocalRecord {
     pub stop: LocalStop,
 }
 
-/// How `K` was grown ([`grow_phases`](crate::optimal::grow_phases)).
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct PhaseGrowthRecord {
-    /// One row per `K` solved.
-    pub table: Vec<PhaseStep>,
-    /// Why the growth stopped.
-    pub stop: GrowthStop,
-}
-
 fn knots(crawler: &Crawler, durations: &[f64], controls: &[Vec<f64>]) -> GaitKnots {
     control_knots(durations, controls, crawler.stiffness())
 }
@@ -286,12 +260,10 @@ impl GaitResult {
             verified_displacement: verified,
             solver_objective,
             gait,
-            phase_growth: None,
-            convergence: None,
+            records: ResultRecords::default(),
             local: None,
             discrete_start: None,
             polish: None,
-            structured: None,
         }
     }
 
@@ -299,7 +271,7 @@ impl GaitResult {
     /// simulator's pieces: a continuous-time gait of constant controls per piece, replayed
     /// exactly like a phase gait (method `"phase"`), with no claim of optimality (certificate
     /// `"local"` without bound or gap, status `"stalled"`: nothing improved on it) and its
-    /// origin in [`GaitResult::structured`].
+    /// origin in [`ResultRecords::structured`].
     pub fn from_structured(
         crawler: &Crawler,
         problem: &GaitProblem,
@@ -333,7 +305,7 @@ impl GaitResult {
             certificate,
             gait,
         );
-        r.structured = Some(StructuredRecord {
+        r.records.structured = Some(StructuredRecord {
             origin: origin.into(),
             replaced: None,
         });
@@ -409,7 +381,7 @@ impl GaitResult {
     /// The record of a phase gait found by growing `K`, with the growth's table.
     pub fn from_growth(crawler: &Crawler, problem: &GaitProblem, g: &PhaseGrowth) -> Self {
         let mut r = GaitResult::from_phase(crawler, problem, &g.best);
-        r.phase_growth = Some(PhaseGrowthRecord {
+        r.records.phase_growth = Some(PhaseGrowthRecord {
             table: g.table.clone(),
             stop: g.stop,
         });

@@ -32,7 +32,7 @@ pub use general::{
     general_polytope_figure, time_series_figure, IntervalEndData, SeriesLine, StatePanel,
     StateSpace, TimeSeries,
 };
-pub use jm::{jm_figure, JmSeries};
+pub use jm::{convergence_figure, jm_figure, JmSeries};
 pub use kit::{sub, Figure, BACKWARD, FIGURE_SIZE, FONT, FORWARD, PNG_SCALE};
 // The kit for the figures' modules (`super::chart`, ...).
 use kit::*;

@@ -82,8 +82,12 @@ impl GeneralPath {
             )
         };
         match &a.solution {
-            GeneralSolution::Pm(s) => pm(a.period, &s.x, &s.u, &s.lambda, s.objective),
-            GeneralSolution::Local(s) => pm(a.period, &s.x, &s.u, &s.lambda, s.objective),
+            GeneralSolution::Pm(s) => {
+                pm(a.period, &s.path.x, &s.path.u, &s.path.lambda, s.objective)
+            }
+            GeneralSolution::Local(s) => {
+                pm(a.period, &s.path.x, &s.path.u, &s.path.lambda, s.objective)
+            }
             GeneralSolution::Phase(s) => {
                 let mut t = vec![0.0];
                 for d in &s.durations {
@@ -548,10 +552,8 @@ pub(super) fn answer_figures_with(
         figs.extend(general_adjoint_figure(p, nc)?);
     }
     // J_m against m with a convergence table (`optimize --convergence`), as for crawlers.
-    if let Some(table) = &a.convergence {
-        let m: Vec<u32> = table.iter().map(|r| r.m).collect();
-        let values: Vec<f64> = table.iter().map(|r| r.objective).collect();
-        figs.push(super::figures::jm_figure(&m, &values, None)?);
+    if let Some(table) = &a.records.convergence {
+        figs.push(super::figures::convergence_figure(table)?);
     }
     Ok(figs)
 }

@@ -171,7 +171,7 @@ fn describe_discrete(s: &GeneralPm) -> Description<'_> {
         format!(
             "P_{} on {} steps, global MILP: {}",
             s.m,
-            s.u.len(),
+            s.path.u.len(),
             c.status.as_str()
         ),
         (
@@ -200,7 +200,7 @@ fn describe_local<'a>(r: &'a GeneralAnswer, s: &GeneralLocal) -> Description<'a>
         format!(
             "P_{} on {} steps, active-set method on its LPCC: {stop} after {} LPs",
             s.m,
-            s.u.len(),
+            s.path.u.len(),
             s.lp_solves
         ),
         (

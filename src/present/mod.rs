@@ -240,10 +240,8 @@ pub fn gait_figures_from(
         v.push(figures::vm_figure(crawler)?);
     }
     // J_m against m when the result carries a convergence table (`optimize --convergence`).
-    if let Some(table) = &result.convergence {
-        let m: Vec<u32> = table.iter().map(|r| r.m).collect();
-        let values: Vec<f64> = table.iter().map(|r| r.objective).collect();
-        v.push(figures::jm_figure(&m, &values, None)?);
+    if let Some(table) = &result.records.convergence {
+        v.push(figures::convergence_figure(table)?);
     }
     Ok(v)
 }

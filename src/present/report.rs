@@ -252,7 +252,7 @@ fn claims(result: &GaitResult) -> (String, String) {
         ("local", Some(k), None) if result.head.status == MilpStatus::Stationary => format!(
             "locally optimal: no change of one slip mode in its sequence of {k} improves it"
         ),
-        ("local", _, _) if result.structured.is_some() => {
+        ("local", _, _) if result.records.structured.is_some() => {
             "a structured gait, or the chain method's improvement of one (no optimality claim)"
                 .into()
         }
@@ -483,7 +483,7 @@ fn gait_section(h: &mut String, result: &GaitResult, n: usize, cert: &str, statu
         num(result.solver_objective),
         num(result.actuation_cost)
     ));
-    if let Some(st) = &result.structured {
+    if let Some(st) = &result.records.structured {
         h.push_str(&format!(
             "<p id=\"structured\">The gait: {}.",
             esc(&st.origin)

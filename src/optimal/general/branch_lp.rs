@@ -9,6 +9,7 @@
 
 use super::discrete::{
     build, holds_a_pair, opposite_faces, pair_bounds, pair_multiplier, replay_in, Form, Layout,
+    PmPath,
 };
 use super::units::Units;
 use crate::error::{Error, Result};
@@ -37,16 +38,9 @@ pub struct GeneralLocal {
     pub switches: usize,
     /// Why the method stopped.
     pub stop: LocalStop,
-    /// States `x^0..x^M` (`states`, as every result's solution names them; `x` in version 2).
-    #[serde(rename = "states", alias = "x")]
-    pub x: Vec<Vec<f64>>,
-    /// Controls `u^0..u^(M-1)` (`controls`; `u` in version 2).
-    #[serde(rename = "controls", alias = "u")]
-    pub u: Vec<Vec<f64>>,
-    /// Reaction rates `lambda^i = mu^i / h` per step and face (`reactions`, as a phase gait's;
-    /// `lambda` in version 2).
-    #[serde(rename = "reactions", alias = "lambda")]
-    pub lambda: Vec<Vec<f64>>,
+    /// The process on the grid ([`PmPath`]).
+    #[serde(flatten)]
+    pub path: PmPath,
 }
 
 /// Which switches the local method tests before it stops (module docs of [`super::local`]).
@@ -271,9 +265,11 @@ impl BranchLp {
             lp_solves: run.lp_solves + trials,
             switches: run.switches,
             stop: run.stop,
-            x: r.x,
-            u: r.u,
-            lambda: r.lambda,
+            path: PmPath {
+                x: r.x,
+                u: r.u,
+                lambda: r.lambda,
+            },
         })
     }
 }

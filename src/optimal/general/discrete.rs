@@ -56,6 +56,23 @@ use serde::{Deserialize, Serialize};
 /// Largest `m` (`2^m` steps) of the general P_m.
 pub const MAX_GENERAL_M: u32 = 10;
 
+/// A process of P_m on its grid of `M = 2^m` steps, as every P_m answer carries it (the global
+/// method's [`GeneralPm`] and the local method's
+/// [`GeneralLocal`](super::GeneralLocal)), flattened into the answer's solution.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct PmPath {
+    /// States `x^0..x^M` (`states`, as every result's solution names them; `x` in version 2).
+    #[serde(rename = "states", alias = "x")]
+    pub x: Vec<Vec<f64>>,
+    /// Controls `u^0..u^(M-1)` (`controls`; `u` in version 2).
+    #[serde(rename = "controls", alias = "u")]
+    pub u: Vec<Vec<f64>>,
+    /// Reaction rates `lambda^i = mu^i / h` per step and face (`reactions`, as a phase gait's;
+    /// `lambda` in version 2).
+    #[serde(rename = "reactions", alias = "lambda")]
+    pub lambda: Vec<Vec<f64>>,
+}
+
 /// The global optimum of P_m for a general problem, re-verified.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct GeneralPm {
@@ -69,16 +86,9 @@ pub struct GeneralPm {
     /// `solver_objective` and `certificate`; filled from them on reading).
     #[serde(skip_serializing)]
     pub certificate: Certificate,
-    /// States `x^0..x^M` (`states`, as every result's solution names them; `x` in version 2).
-    #[serde(rename = "states", alias = "x")]
-    pub x: Vec<Vec<f64>>,
-    /// Controls `u^0..u^(M-1)` (`controls`; `u` in version 2).
-    #[serde(rename = "controls", alias = "u")]
-    pub u: Vec<Vec<f64>>,
-    /// Reaction rates `lambda^i = mu^i / h` per step and face (`reactions`, as a phase gait's;
-    /// `lambda` in version 2).
-    #[serde(rename = "reactions", alias = "lambda")]
-    pub lambda: Vec<Vec<f64>>,
+    /// The process on the grid ([`PmPath`]).
+    #[serde(flatten)]
+    pub path: PmPath,
     /// What polishing on the fixed face pattern did ([`crate::optimal::polish`]); `None`
     /// without a quadratic cost (the MILP's answer is then exact) or with polishing off.
     #[serde(default, skip_serializing_if = "Option::is_none")]

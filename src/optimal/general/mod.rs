@@ -24,7 +24,9 @@ mod units;
 pub use chain_phase::{
     chain_gait, chain_gait_problem, chain_phase_gait, grow_chain_phases, ChainPieces,
 };
-pub use discrete::{simulate_grid, solve_general_branch, GeneralPm, MAX_GENERAL_M, PM_DATA_RANGE};
+pub use discrete::{
+    simulate_grid, solve_general_branch, GeneralPm, PmPath, MAX_GENERAL_M, PM_DATA_RANGE,
+};
 pub use geometry::{
     analyze_polyhedron, check_problem, check_with, Geometry, Vertex, MAX_VERTEX_SUBSETS,
 };

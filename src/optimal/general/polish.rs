@@ -9,7 +9,7 @@
 //! catching-up process, and the MILP's answer is one. The QP maximises
 //! `sum_i [f1(mu^i) - h f2(u^i)]` with the quadratic `f2` exactly.
 
-use super::discrete::{cost_matrix, replay_controls, GeneralPm};
+use super::discrete::{cost_matrix, replay_controls, GeneralPm, PmPath};
 use crate::error::Result;
 use crate::model::general::{Boundary, ControlSet, GeneralProblem};
 use crate::optimal::milp::Certificate;
@@ -123,7 +123,7 @@ pub(super) fn polish(p: &GeneralProblem, sol: GeneralPm) -> GeneralPm {
     match polished(p, &sol) {
         Ok(Ok(mut better)) => {
             if let Some(rec) = better.polish.as_mut() {
-                rec.control_change = max_diff(&better.u, &sol.u);
+                rec.control_change = max_diff(&better.path.u, &sol.path.u);
             }
             better
         }
@@ -142,12 +142,14 @@ pub(super) fn polish(p: &GeneralProblem, sol: GeneralPm) -> GeneralPm {
 fn polished(p: &GeneralProblem, sol: &GeneralPm) -> Result<std::result::Result<GeneralPm, String>> {
     let m = sol.m;
     let largest = sol
+        .path
         .lambda
         .iter()
         .flatten()
         .fold(0.0_f64, |a, l| a.max(l.abs()));
     let tol = 1e-9 * largest.max(1e-300);
     let active: Vec<Vec<bool>> = sol
+        .path
         .lambda
         .iter()
         .map(|r| r.iter().map(|l| *l > tol).collect())
@@ -192,9 +194,11 @@ fn polished(p: &GeneralProblem, sol: &GeneralPm) -> Result<std::result::Result<G
             gap: Certificate::gap_of(sol.certificate.bound, r.objective, p.j_floor()),
             ..sol.certificate.clone()
         },
-        x: r.x,
-        u: r.u,
-        lambda: r.lambda,
+        path: PmPath {
+            x: r.x,
+            u: r.u,
+            lambda: r.lambda,
+        },
         polish: Some(PolishRecord {
             applied: true,
             objective_before: sol.objective,

@@ -4,6 +4,7 @@ use super::kit::*;
 // The kit's alias, not the prelude's.
 use super::kit::DrawResult;
 use crate::error::{Error, Result};
+use crate::optimal::ConvergenceRow;
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
@@ -97,3 +98,11 @@ pub fn jm_figure(m: &[u32], values: &[f64], continuous: Option<f64>) -> Result<F
 
 // ---------------------------------------------------------------------------------------------
 // Adjoint of a certificate
+
+/// Figure `jm` of a result's convergence table (`optimize --convergence`, a crawler's or (P)'s
+/// alike), without a continuous-time line: the table knows none.
+pub fn convergence_figure(table: &[ConvergenceRow]) -> Result<Figure> {
+    let m: Vec<u32> = table.iter().map(|r| r.m).collect();
+    let values: Vec<f64> = table.iter().map(|r| r.objective).collect();
+    jm_figure(&m, &values, None)
+}

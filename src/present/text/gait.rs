@@ -2,7 +2,7 @@
 
 use super::{list, num, status_word, wln, GaitScales};
 use crate::certify::NecessaryConditions;
-use crate::optimal::{GaitResult, GrowthStop, MilpStatus, PhaseStep};
+use crate::optimal::{GaitResult, GrowthStop, MilpStatus, PhaseStep, StructuredRecord};
 use crate::present::text;
 
 /// An optimal-gait result's key numbers in one line (as `crawlopt report` says it wrote the
@@ -23,11 +23,8 @@ pub fn gait_result(r: &GaitResult) -> String {
     let len = |v: f64| num(v, sc.length);
     head(&mut out, r, &sc);
     certificate_line(&mut out, r, &len);
-    if let Some(st) = &r.structured {
-        wln!(out, "gait: {}", st.origin);
-        if let Some(why) = &st.replaced {
-            wln!(out, "kept instead of the method's answer: {why}");
-        }
+    if let Some(st) = &r.records.structured {
+        structured_lines(&mut out, st, "");
     }
     if let Some(ub) = &r.head.certificate.upper_bound {
         upper_bound_line(&mut out, ub, (r.head.objective, sc.length), &len);
@@ -41,7 +38,7 @@ pub fn gait_result(r: &GaitResult) -> String {
     if let Some(p) = &r.polish {
         wln!(out, "{}", super::polish_line(p, "slip pattern", len));
     }
-    if let Some(pg) = &r.phase_growth {
+    if let Some(pg) = &r.records.phase_growth {
         growth_table(&mut out, pg, &len);
     }
     if let Some(st) = &r.discrete_start {
@@ -53,7 +50,7 @@ pub fn gait_result(r: &GaitResult) -> String {
         );
     }
     search_line(&mut out, r, &len);
-    if let Some(table) = &r.convergence {
+    if let Some(table) = &r.records.convergence {
         convergence_table(&mut out, table, &len);
     }
     let g = &r.gait;
@@ -276,6 +273,16 @@ pub(super) fn upper_bound_line(
             ""
         }
     );
+}
+
+/// The lines of a structured gait kept as the answer ([`StructuredRecord`]): what it is and,
+/// where the method found a gait below it, what was replaced; `units` follows that (e.g. ` (the
+/// crawler's J)` where the answer is in other units than the record).
+pub(super) fn structured_lines(out: &mut String, st: &StructuredRecord, units: &str) {
+    wln!(out, "gait: {}", st.origin);
+    if let Some(why) = &st.replaced {
+        wln!(out, "kept instead of the method's answer: {why}{units}");
+    }
 }
 
 /// The table of `J_m` over `m`, crawler or general, the values written by `len`.

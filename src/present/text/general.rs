@@ -215,8 +215,8 @@ fn general_optimum(r: &GeneralAnswer, s: &GeneralPm) -> String {
         out,
         "P_{} ({} steps of h = {}), global MILP: {}",
         s.m,
-        s.u.len(),
-        num(r.period / s.u.len() as f64, 0.0),
+        s.path.u.len(),
+        num(r.period / s.path.u.len() as f64, 0.0),
         super::status_word(c.status)
     );
     milp_line(&mut out, s.objective, c, "simulation", scale);
@@ -230,10 +230,10 @@ fn general_optimum(r: &GeneralAnswer, s: &GeneralPm) -> String {
     if let Some(ub) = &r.head.certificate.upper_bound {
         super::gait::upper_bound_line(&mut out, ub, (s.objective, scale), &|v| num(v, scale));
     }
-    if let Some(table) = &r.convergence {
+    if let Some(table) = &r.records.convergence {
         super::gait::convergence_table(&mut out, table, &|v| num(v, scale));
     }
-    steps(&mut out, &s.x, &s.u);
+    steps(&mut out, &s.path.x, &s.path.u);
     out
 }
 
@@ -262,14 +262,8 @@ fn general_phase(r: &GeneralAnswer, s: &GeneralPhaseGait) -> String {
         s.objective.abs().max(c.bound.abs()).max(1e-300)
     };
     phase_head(&mut out, r, s, local);
-    if let Some(st) = &r.structured {
-        wln!(out, "gait: {}", st.origin);
-        if let Some(why) = &st.replaced {
-            wln!(
-                out,
-                "kept instead of the method's answer: {why} (the crawler's J)"
-            );
-        }
+    if let Some(st) = &r.records.structured {
+        super::gait::structured_lines(&mut out, st, " (the crawler's J)");
     }
     if local {
         wln!(
@@ -304,7 +298,7 @@ fn general_phase(r: &GeneralAnswer, s: &GeneralPhaseGait) -> String {
     if let Some(ub) = &r.head.certificate.upper_bound {
         super::gait::upper_bound_line(&mut out, ub, (s.objective, scale), &|v| num(v, scale));
     }
-    if let Some(pg) = &r.phase_growth {
+    if let Some(pg) = &r.records.phase_growth {
         super::gait::growth_table(&mut out, pg, &|v| num(v, scale));
     }
     for (j, u) in s.controls.iter().enumerate() {
@@ -381,8 +375,8 @@ fn general_local(r: &GeneralAnswer, s: &GeneralLocal) -> String {
         out,
         "P_{} ({} steps of h = {}), local LPCC method: {} after {} LPs, {} branch switches",
         s.m,
-        s.u.len(),
-        num(r.period / s.u.len() as f64, 0.0),
+        s.path.u.len(),
+        num(r.period / s.path.u.len() as f64, 0.0),
         match s.stop {
             LocalStop::Stationary => "stationary",
             LocalStop::Stalled => "stalled",
@@ -408,7 +402,7 @@ fn general_local(r: &GeneralAnswer, s: &GeneralLocal) -> String {
         ),
         num(s.start_objective, scale)
     );
-    steps(&mut out, &s.x, &s.u);
+    steps(&mut out, &s.path.x, &s.path.u);
     out
 }
 
