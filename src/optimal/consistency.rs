@@ -488,7 +488,7 @@ fn check_phase_claim(what: &str, claim: &Claim) -> Result<()> {
 /// `x + v` is not in general that of its projection of `x + v/2` plus `v/2`), so P_m's
 /// processes are not P_(m+1)'s, and a drift makes the explicit step differ too. `close` is the
 /// reader's equality of objectives.
-pub(crate) fn check_table(
+fn check_table(
     what: &str,
     field: &str,
     rows: &[(usize, f64, f64)],

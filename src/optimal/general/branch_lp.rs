@@ -265,11 +265,7 @@ impl BranchLp {
             lp_solves: run.lp_solves + trials,
             switches: run.switches,
             stop: run.stop,
-            path: PmPath {
-                x: r.x,
-                u: r.u,
-                lambda: r.lambda,
-            },
+            path: r.path,
         })
     }
 }

@@ -617,12 +617,9 @@ pub fn solve_general_branch(
 pub(super) struct Replayed {
     /// `J` as simulated.
     pub objective: f64,
-    /// States `x^0..x^M`, simulated.
-    pub x: Vec<Vec<f64>>,
-    /// Controls (moved into U against the solver's feasibility tolerance, [`into_u`]).
-    pub u: Vec<Vec<f64>>,
-    /// Reactions `lambda^i`, simulated.
-    pub lambda: Vec<Vec<f64>>,
+    /// The simulated process: states `x^0..x^M`, the controls (moved into U against the
+    /// solver's feasibility tolerance, [`into_u`]) and the reactions `lambda^i`.
+    pub path: PmPath,
 }
 
 /// See [`Replayed`].
@@ -697,9 +694,11 @@ pub(super) fn replay_controls(
     )?;
     Ok(Replayed {
         objective: sim.objective.unwrap_or(f64::NAN),
-        x: sim.x,
-        u,
-        lambda: sim.lambda,
+        path: PmPath {
+            x: sim.x,
+            u,
+            lambda: sim.lambda,
+        },
     })
 }
 

@@ -3,7 +3,7 @@
 //! the fixed face pattern (`super::polish`). Above both, so that neither calls the other. And
 //! the convergence table of P_m over `m` ([`general_convergence`]).
 
-use super::discrete::{GeneralPm, PmPath};
+use super::discrete::GeneralPm;
 use super::geometry::Geometry;
 use super::pm_milp::{solve_pm_milp, PmOptions, PmRun};
 use crate::error::Result;
@@ -101,11 +101,7 @@ fn verified(p: &GeneralProblem, m: u32, run: &PmRun, what: &str) -> Result<Gener
             bound: run.bound,
             gap: Certificate::gap_of(run.bound, r.objective, p.j_floor()),
         },
-        path: PmPath {
-            x: r.x,
-            u: r.u,
-            lambda: r.lambda,
-        },
+        path: r.path,
         polish: None,
     })
 }

@@ -9,7 +9,7 @@
 //! catching-up process, and the MILP's answer is one. The QP maximises
 //! `sum_i [f1(mu^i) - h f2(u^i)]` with the quadratic `f2` exactly.
 
-use super::discrete::{cost_matrix, replay_controls, GeneralPm, PmPath};
+use super::discrete::{cost_matrix, replay_controls, GeneralPm};
 use crate::error::Result;
 use crate::model::general::{Boundary, ControlSet, GeneralProblem};
 use crate::optimal::milp::Certificate;
@@ -169,7 +169,7 @@ fn polished(p: &GeneralProblem, sol: &GeneralPm) -> Result<std::result::Result<G
     let r = replay_controls(p, m, &x0, u, reward, &what)?;
     let qp_x: Vec<Vec<f64>> = cols.x.iter().map(|r| r.iter().map(val).collect()).collect();
     let scale = p.c.scale();
-    let moved = max_diff(&r.x, &qp_x);
+    let moved = max_diff(&r.path.x, &qp_x);
     if moved > 1e-7 * scale {
         return Ok(Err(format!(
             "the polished controls' process leaves the QP's by {moved:e}: the pattern does not \
@@ -194,11 +194,7 @@ fn polished(p: &GeneralProblem, sol: &GeneralPm) -> Result<std::result::Result<G
             gap: Certificate::gap_of(sol.certificate.bound, r.objective, p.j_floor()),
             ..sol.certificate.clone()
         },
-        path: PmPath {
-            x: r.x,
-            u: r.u,
-            lambda: r.lambda,
-        },
+        path: r.path,
         polish: Some(PolishRecord {
             applied: true,
             objective_before: sol.objective,
