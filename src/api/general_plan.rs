@@ -16,6 +16,7 @@ use super::GeneralLocalSettings;
 use crate::error::{Error, Result};
 pub use crate::io::GeneralAnswer;
 use crate::io::GeneralFile;
+use crate::optimal::envelope::in_words;
 
 /// What [`OptimizeSettings::plan_general`] decides: the method that runs on a general problem
 /// and its settings, defaults filled in.
@@ -41,7 +42,6 @@ impl OptimizeSettings {
     /// given; they are refused alike (the command line's `--plot` and `--report` apply to both
     /// kinds of file and are not listed).
     pub fn plan_general(&self, front_end: &[(&str, bool)]) -> Result<GeneralPlan> {
-        let n = self.naming;
         let method = self.method;
         if method == GaitMethod::Sequence || method == GaitMethod::Chain {
             return self.plan_on_chain(front_end);
@@ -49,19 +49,8 @@ impl OptimizeSettings {
         let local = method == GaitMethod::Local;
         let phase = method == GaitMethod::Phase;
         self.check_fixed_k(phase)?;
-        // Every setting of a crawler's optimisation that a general problem does not take, in
-        // the order the messages check them (the first one given is named).
-        let refused = match n {
-            Naming::Flags => self.refused_flags(phase, local, front_end),
-            Naming::Keywords => self.refused_keywords(phase, local, front_end),
-        };
-        if let Some((name, _, reason)) = refused.into_iter().find(|(_, g, _)| *g) {
-            let value = if name == "certify" && n == Naming::Keywords && local {
-                "true"
-            } else {
-                "given"
-            };
-            return Err(Error::invalid(n.setting(name), value, reason));
+        if let Some((name, value, reason)) = self.refused(phase, local, front_end) {
+            return Err(Error::invalid(self.naming.setting(name), value, reason));
         }
         Ok(self.general_settings(phase, local))
     }
@@ -87,132 +76,73 @@ impl OptimizeSettings {
         Ok(())
     }
 
-    /// The CLI's refusals on a general problem file: `(setting, given, reason)` in the order
-    /// they are checked.
-    fn refused_flags<'a>(
+    /// The first setting given that the general method planned (P_m globally, P_m locally,
+    /// or the phase method) does not take, as `(setting, value, reason)`: the rules are
+    /// written once, their messages naming settings and methods as the caller spells them
+    /// ([`Naming`]). A front end's own options (`front_end`) are refused alike.
+    fn refused<'a>(
         &self,
         phase: bool,
         local: bool,
         front_end: &[(&'a str, bool)],
-    ) -> Vec<(&'a str, bool, String)> {
-        let polish = ("polish", self.polish.is_some());
-        let reason = if phase {
-            "does not apply to --method phase on a general problem file (--phases, \
-             --max-phases, --patience, --time-limit, --certify, --bound on a crawler's \
-             problem, --json)"
-        } else {
-            "does not apply to a general problem file with this method (--certify with \
-             the global P_m or phase, --convergence with the global P_m, --shifts with \
-             --method local, --bound with --method discrete or phase on a crawler's \
-             problem)"
+    ) -> Option<(&'a str, String, String)> {
+        use GaitMethod::{Discrete, Local, Phase};
+        let n = self.naming;
+        let discrete = !phase && !local;
+        let only = |methods: &[GaitMethod]| {
+            format!(
+                "applies to {} only on a general problem",
+                n.methods(methods)
+            )
         };
-        // The growth's settings name the method they belong to.
-        let only_phase = "applies to --method phase only on a general problem file (--phases \
-                          and --max-phases also to sequence where the problem is a crawler's)";
-        let mut given = vec![
-            ("phases", self.phases.is_some() && !phase, only_phase),
-            ("patience", self.patience.is_some() && !phase, only_phase),
-            if phase {
-                ("m", self.m.is_some(), reason)
-            } else {
-                ("max_phases", self.max_phases.is_some(), only_phase)
-            },
-            ("convergence", self.convergence && (local || phase), reason),
-            (
-                "start",
-                self.start.is_some() && !local,
-                "applies to --method local only on a general problem file",
-            ),
-            ("shifts", self.shifts.is_some() && !local, reason),
-            ("certify", self.certify && local, reason),
-            ("no_polish", polish.1 && (local || phase), reason),
-            ("bound", self.bound.is_some() && local, reason),
-            (
-                "formulation",
-                self.formulation.is_some() && !phase,
-                "applies to --method phase only on a general problem file",
-            ),
-        ];
-        given.extend(front_end.iter().map(|&(name, g)| (name, g, reason)));
-        given
-            .into_iter()
-            .map(|(name, g, why)| (name, g, why.to_string()))
-            .collect()
-    }
-
-    /// Python's refusals on a general problem: `(setting, given, reason)` in the order they
-    /// are checked.
-    fn refused_keywords<'a>(
-        &self,
-        phase: bool,
-        local: bool,
-        front_end: &[(&'a str, bool)],
-    ) -> Vec<(&'a str, bool, String)> {
-        let polish = ("polish", self.polish.is_some());
-        let discrete = "applies to method=\"discrete\" only (the global P_m optimum)";
-        let global = "applies to the global methods (\"discrete\", \"phase\") only";
-        let not_general = "does not apply to a general problem";
-        let only_phase = "applies to method=\"phase\" only on a general problem";
-        let in_phase = "does not apply to method=\"phase\" (phases, max_phases, patience, \
-                        time_limit, certify)";
-        let mut given = vec![
-            ("polish", polish.1 && (local || phase), discrete.to_string()),
-            (
-                "max_phases",
-                self.max_phases.is_some() && !phase,
-                "applies to method=\"phase\" only".to_string(),
-            ),
-            (
-                "phases",
-                self.phases.is_some() && !phase,
-                only_phase.to_string(),
-            ),
-            (
-                "patience",
-                self.patience.is_some() && !phase,
-                only_phase.to_string(),
-            ),
-            (
-                "formulation",
-                self.formulation.is_some() && !phase,
-                "applies to method=\"phase\" only on a general problem".to_string(),
-            ),
-            (
-                "convergence",
-                self.convergence && (local || phase),
-                discrete.to_string(),
-            ),
-            (
-                "start",
-                self.start.is_some() && !local,
-                "applies to method=\"local\" only on a general problem".to_string(),
-            ),
-            (
-                "bound",
-                self.bound.is_some() && local,
-                "applies to the global methods on a general problem".to_string(),
-            ),
-        ];
-        if phase {
-            given.extend([
-                ("m", self.m.is_some(), in_phase.to_string()),
-                ("shifts", self.shifts.is_some(), in_phase.to_string()),
-            ]);
-        } else if local {
-            given.push(("certify", self.certify, global.to_string()));
-        } else {
-            given.push((
-                "shifts",
-                self.shifts.is_some(),
-                "applies to method=\"local\" only".to_string(),
-            ));
-        }
-        given.extend(
-            front_end
-                .iter()
-                .map(|&(name, g)| (name, g, not_general.to_string())),
+        let global = format!(
+            "applies to the global methods ({}) only on a general problem",
+            n.methods(&[Discrete, Phase])
         );
-        given
+        let taken: Vec<String> = [
+            "phases",
+            "max_phases",
+            "patience",
+            "time_limit",
+            "formulation",
+            "certify",
+            "bound",
+        ]
+        .iter()
+        .map(|s| n.setting(s))
+        .collect();
+        let in_phase = format!(
+            "does not apply to {} on a general problem (it takes {})",
+            n.methods(&[Phase]),
+            in_words(&taken, "and")
+        );
+        // In the order they are checked: the first one given is named.
+        let rules: [(&str, bool, String); 11] = [
+            ("phases", !phase, only(&[Phase])),
+            ("max_phases", !phase, only(&[Phase])),
+            ("patience", !phase, only(&[Phase])),
+            ("formulation", !phase, only(&[Phase])),
+            ("m", phase, in_phase),
+            ("shifts", !local, only(&[Local])),
+            ("start", !local, only(&[Local])),
+            ("convergence", !discrete, only(&[Discrete])),
+            ("polish", !discrete, only(&[Discrete])),
+            ("certify", local, global.clone()),
+            ("bound", local, global),
+        ];
+        let refused = rules.into_iter().find_map(|(name, refuses, why)| {
+            let value = self.given(name).filter(|_| refuses)?;
+            Some((name, value, why))
+        });
+        refused.or_else(|| {
+            front_end.iter().find(|(_, g)| *g).map(|&(name, _)| {
+                (
+                    name,
+                    "given".to_string(),
+                    "applies to a crawler's problem only".to_string(),
+                )
+            })
+        })
     }
 
     /// The settings of the general method planned, each unset one the method's default.
@@ -256,31 +186,31 @@ impl OptimizeSettings {
     /// are refused naming the first one given.
     fn plan_on_chain(&self, front_end: &[(&str, bool)]) -> Result<GeneralPlan> {
         let n = self.naming;
-        let polish = match n {
-            Naming::Flags => "no_polish",
-            Naming::Keywords => "polish",
-        };
-        let reason = match n {
-            Naming::Flags => {
-                "does not apply to --method sequence or chain on a general problem file \
-                 (--time-limit, --certify, --json; --phases and --max-phases with sequence, as \
-                 for crawlers)"
-            }
-            Naming::Keywords => {
-                "does not apply to method=\"sequence\" or \"chain\" on a general problem \
-                 (time_limit, certify; phases and max_phases with sequence, as for crawlers)"
-            }
-        };
-        let given = [
-            ("m", self.m.is_some()),
-            ("convergence", self.convergence),
-            ("start", self.start.is_some()),
-            ("shifts", self.shifts.is_some()),
-            (polish, self.polish.is_some()),
-            ("bound", self.bound.is_some()),
-            ("formulation", self.formulation.is_some()),
+        let takes: Vec<String> = ["time_limit", "certify"]
+            .iter()
+            .map(|s| n.setting(s))
+            .collect();
+        let reason = format!(
+            "does not apply to the crawler's methods on a general problem ({} take {}; {} \
+             and {} too with sequence, as for crawlers)",
+            n.methods(&[GaitMethod::Sequence, GaitMethod::Chain]),
+            in_words(&takes, "and"),
+            n.setting("phases"),
+            n.setting("max_phases")
+        );
+        let names = [
+            "m",
+            "convergence",
+            "start",
+            "shifts",
+            "polish",
+            "bound",
+            "formulation",
         ];
-        if let Some((name, _)) = given.iter().chain(front_end).find(|(_, g)| *g) {
+        if let Some((name, value)) = names.iter().find_map(|&s| Some((s, self.given(s)?))) {
+            return Err(Error::invalid(n.setting(name), value, reason));
+        }
+        if let Some((name, _)) = front_end.iter().find(|(_, g)| *g) {
             return Err(Error::invalid(n.setting(name), "given", reason));
         }
         Ok(GeneralPlan::OnChain(GeneralChainSettings {

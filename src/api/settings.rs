@@ -649,14 +649,33 @@ impl OptimizeSettings {
         Ok(())
     }
 
+    /// The value of the setting `name` as a refusal shows it, when it is given (`None` when it
+    /// is left at its default, or is not one of the settings a method may refuse).
+    pub(super) fn given(&self, name: &str) -> Option<String> {
+        match name {
+            "phases" => self.phases.map(|k| k.to_string()),
+            "max_phases" => self.max_phases.map(|k| k.to_string()),
+            "patience" => self.patience.map(|k| k.to_string()),
+            "formulation" => self.formulation.map(|f| f.name().to_string()),
+            "m" => self.m.map(|m| m.to_string()),
+            "shifts" => self.shifts.map(|k| k.to_string()),
+            "start" => self.start.as_ref().map(|_| "a file".into()),
+            "convergence" => self.convergence.then(|| "set".into()),
+            "polish" => self.polish.map(|v| v.to_string()),
+            "certify" => self.certify.then(|| "true".into()),
+            "bound" => self.bound.as_ref().map(|_| "set".into()),
+            _ => None,
+        }
+    }
+
     /// The options that belong to one method only.
     fn check_method_options(&self, method: GaitMethod, m: u32) -> Result<()> {
         use GaitMethod::*;
         let n = self.naming;
         let set = |name: &str| n.setting(name);
         // The option given is named (a sweep renames it `settings.KEY`).
-        let given = |name: &str, value: Option<String>| -> Result<()> {
-            match value {
+        let given = |name: &str| -> Result<()> {
+            match self.given(name) {
                 Some(v) => Err(Error::invalid(
                     set(name),
                     v,
@@ -665,20 +684,19 @@ impl OptimizeSettings {
                 None => Ok(()),
             }
         };
-        let convergence = self.convergence.then(|| "set".to_string());
         match method {
             Local if self.phases.is_some() || self.convergence => {
-                given("phases", self.phases.map(|k| k.to_string()))?;
-                given("convergence", convergence)
+                given("phases")?;
+                given("convergence")
             }
             Sequence if self.m.is_some() || self.convergence => {
-                given("m", self.m.map(|m| m.to_string()))?;
-                given("convergence", convergence)
+                given("m")?;
+                given("convergence")
             }
             Chain => {
-                given("phases", self.phases.map(|k| k.to_string()))?;
-                given("m", self.m.map(|m| m.to_string()))?;
-                given("convergence", convergence)
+                given("phases")?;
+                given("m")?;
+                given("convergence")
             }
             Phase | Auto => {
                 let only = format!("applies to {} only", n.methods(&[Discrete]));
