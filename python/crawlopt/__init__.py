@@ -397,7 +397,9 @@ class GaitProblem:
 class Model:
     """A model: ``crawler``, ``actuation`` and ``gait_problem`` (None where absent), and
     ``initial_state`` (of ``[simulation]``) — what a model file holds. ``load`` reads one;
-    ``to_toml`` and ``save`` write one that ``load`` and the command line read back."""
+    ``to_toml`` and ``save`` write one that ``load`` and the command line read back.
+    ``analyze()``, ``simulate()`` and ``optimize()`` run the jobs on it, as on the
+    ``GeneralProblem`` that ``load`` returns for a general problem file."""
 
     def __init__(
         self,
@@ -432,6 +434,36 @@ class Model:
         text = self.to_toml()
         with open(path, "w", encoding="utf-8") as f:
             f.write(text)
+
+    def analyze(self) -> Analysis:
+        """The crawler's analysis (``crawler.analyze()``; ``crawlopt analyze`` of the file),
+        as ``GeneralProblem.analyze()`` is a general problem's: so that code can call one
+        method on whatever ``load`` returned."""
+        return self.crawler.analyze()
+
+    def simulate(self, **settings) -> Simulation:
+        """The model's ``actuation`` played on its ``crawler`` (``simulate``, with every keyword
+        of it; ``initial_state`` defaults to the model's own, the file's ``[simulation]``), as
+        ``crawlopt simulate FILE`` does and ``GeneralProblem.simulate()`` for a general
+        problem. A model without an actuation raises InputError naming ``actuation``."""
+        if self.actuation is None:
+            raise _input_error(
+                "actuation", "nothing", "the model has no actuation ([actuation]) to simulate"
+            )
+        if self.initial_state is not None:
+            settings.setdefault("initial_state", self.initial_state)
+        return simulate(self.crawler, self.actuation, **settings)
+
+    def optimize(self, **settings) -> GaitResult:
+        """An optimal gait of the model's ``gait_problem`` for its ``crawler`` (``optimize``, with
+        every keyword of it and its defaults), as ``crawlopt optimize FILE`` does and
+        ``GeneralProblem.optimize()`` for a general problem. A model without a gait problem
+        raises InputError naming ``gait_problem``."""
+        if self.gait_problem is None:
+            raise _input_error(
+                "gait_problem", "nothing", "the model poses no gait problem ([gait]) to optimize"
+            )
+        return optimize(self.crawler, self.gait_problem, **settings)
 
     def __eq__(self, other: object) -> bool:
         if not isinstance(other, Model):

@@ -282,6 +282,34 @@ def test_typed_results_of_both_kinds():
     assert isinstance(cert, co.NecessaryConditions) and cert["verdict"] == cert.verdict
 
 
+def test_a_file_of_either_kind_runs_its_jobs_by_the_same_methods():
+    # Whatever load returns takes analyze(), simulate() and optimize(): a crawler's model
+    # answers as the free functions do, and its general form (the same three blocks as (P))
+    # reaches the same J by (P)'s own phase method.
+    m = co.load("examples/three_blocks_gait.toml")
+    g = co.load("examples/general_three_blocks.toml")
+    assert m.analyze().to_dict() == m.crawler.analyze().to_dict()
+    assert g.analyze().check("structure")["detail"].startswith("a chain")
+    a = m.optimize(method="phase", phases=2)
+    b = co.optimize(m.crawler, m.gait_problem, method="phase", phases=2)
+    assert isinstance(a, co.GaitResult) and a == b
+    general = g.optimize(method="phase", phases=2)
+    assert isinstance(general, co.GeneralResult)
+    assert general.objective == pytest.approx(a.objective, rel=1e-9)
+    sine = co.load("examples/three_blocks_sine.toml")
+    s = sine.simulate(periods=1)
+    t = co.simulate(sine.crawler, sine.actuation, periods=1, initial_state=sine.initial_state)
+    assert s.displacement_per_period == t.displacement_per_period
+    assert np.array_equal(s.x, t.x)
+    # A model lacking the part a job needs is refused naming it, as the command line does.
+    with pytest.raises(co.InputError) as e:
+        m.simulate()
+    assert e.value.field == "actuation"
+    with pytest.raises(co.InputError) as e:
+        sine.optimize()
+    assert e.value.field == "gait_problem"
+
+
 def test_pandas_and_matplotlib_are_optional(monkeypatch):
     import sys
 
