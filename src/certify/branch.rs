@@ -40,56 +40,10 @@ pub(crate) fn branch_lp(
         return None;
     }
     let reacts = reacting_faces(st, choice);
-    let mut pb = RowProblem::default();
-    let cols = Columns::add(&mut pb, p, st, &reacts);
-    let mut row = 0usize;
-    let mut add = |pb: &mut RowProblem, lo: f64, hi: f64, coeffs: BTreeMap<usize, (Col, f64)>| {
-        pb.add_row(lo..=hi, coeffs.into_values().collect::<Vec<_>>());
-        row += 1;
-        row - 1
-    };
-    let (n, steps) = (st.n, st.steps);
-    let d = &p.dynamics;
-    // The dynamics, one row per piece and state (a one-piece process's x_1 is its x_0: the
-    // coefficients of a column met twice are summed).
-    let mut dyn_rows = vec![vec![0usize; n]; steps];
-    for i in 0..steps {
-        let tau = st.tau[i];
-        let next = &cols.x[(i + 1) % steps];
-        for r in 0..n {
-            let mut c = BTreeMap::new();
-            let mut put = |col: Col, v: f64| c.entry(col.index()).or_insert((col, 0.0)).1 += v;
-            put(next[r], 1.0);
-            for k in 0..n {
-                put(
-                    cols.x[i][k],
-                    -(f64::from(u8::from(k == r)) + tau * d.a[r][k]),
-                );
-            }
-            for (k, &u) in cols.u[i].iter().enumerate() {
-                put(u, -tau * d.b[r][k]);
-            }
-            for &(f, l) in &cols.l[i] {
-                put(l, p.c.normals[f][r]);
-            }
-            let rhs = tau * d.drift[r];
-            dyn_rows[i][r] = add(&mut pb, rhs, rhs, c);
-        }
-    }
-    // The faces of C at every knot; held as equalities where this branch reacts on them.
-    let mut face_rows = vec![Vec::new(); steps];
-    for k in 0..steps {
-        let prev = (k + steps - 1) % steps;
-        for f in 0..p.c.faces() {
-            let held = reacts[prev].contains(&f) || (st.phase && reacts[k].contains(&f));
-            let c: BTreeMap<_, _> = (0..n)
-                .map(|r| (cols.x[k][r].index(), (cols.x[k][r], p.c.normals[f][r])))
-                .collect();
-            let cf = p.c.offsets[f];
-            let lo = if held { cf } else { f64::NEG_INFINITY };
-            face_rows[k].push(add(&mut pb, lo, cf, c));
-        }
-    }
+    let mut rows = Rows::default();
+    let cols = Columns::add(&mut rows.pb, p, st, &reacts);
+    let dyn_rows = rows.dynamics(p, st, &cols);
+    let face_rows = rows.faces(p, st, &cols, &reacts);
     // A polytope U's rows (a box is the columns' bounds).
     if let ControlSet::Polytope(u) = &p.control {
         for us in &cols.u {
@@ -99,23 +53,23 @@ pub(crate) fn branch_lp(
                     .zip(g)
                     .map(|(&c, &v)| (c.index(), (c, v)))
                     .collect();
-                add(&mut pb, f64::NEG_INFINITY, h, c);
+                rows.add(f64::NEG_INFINITY, h, c);
             }
         }
     }
     let mean_rows: Vec<usize> = if p.zero_mean {
         (0..st.m)
             .map(|k| {
-                let c = (0..steps)
+                let c = (0..st.steps)
                     .map(|i| (cols.u[i][k].index(), (cols.u[i][k], st.tau[i])))
                     .collect();
-                add(&mut pb, 0.0, 0.0, c)
+                rows.add(0.0, 0.0, c)
             })
             .collect()
     } else {
         Vec::new()
     };
-    let (objective, y) = solve(pb)?;
+    let (objective, y) = solve(rows.pb)?;
     // HiGHS's row duals y satisfy c = A^T y + (column duals) for either sense, so the
     // Lagrangian multiplier of "row = rhs" in the module's convention is y: q_i = y(dyn_i),
     // face dual = y(face); p = -q, xi = -(face dual), omega = y(mean).
@@ -144,6 +98,86 @@ pub(crate) fn branch_lp(
             rho: Vec::new(),
         },
     ))
+}
+
+/// The rows of a branch LP as they are added, each given its index.
+#[derive(Default)]
+struct Rows {
+    pb: RowProblem,
+    count: usize,
+}
+
+impl Rows {
+    /// Adds the row `lo <= sum coeffs <= hi` and returns its index.
+    fn add(&mut self, lo: f64, hi: f64, coeffs: BTreeMap<usize, (Col, f64)>) -> usize {
+        self.pb
+            .add_row(lo..=hi, coeffs.into_values().collect::<Vec<_>>());
+        self.count += 1;
+        self.count - 1
+    }
+
+    /// The dynamics, one row per piece and state (a one-piece process's `x_1` is its `x_0`:
+    /// the coefficients of a column met twice are summed); their indices per piece.
+    fn dynamics(
+        &mut self,
+        p: &GeneralProblem,
+        st: &GeneralStructure,
+        cols: &Columns,
+    ) -> Vec<Vec<usize>> {
+        let (n, steps) = (st.n, st.steps);
+        let d = &p.dynamics;
+        let mut dyn_rows = vec![vec![0usize; n]; steps];
+        for i in 0..steps {
+            let tau = st.tau[i];
+            let next = &cols.x[(i + 1) % steps];
+            for r in 0..n {
+                let mut c = BTreeMap::new();
+                let mut put = |col: Col, v: f64| c.entry(col.index()).or_insert((col, 0.0)).1 += v;
+                put(next[r], 1.0);
+                for k in 0..n {
+                    put(
+                        cols.x[i][k],
+                        -(f64::from(u8::from(k == r)) + tau * d.a[r][k]),
+                    );
+                }
+                for (k, &u) in cols.u[i].iter().enumerate() {
+                    put(u, -tau * d.b[r][k]);
+                }
+                for &(f, l) in &cols.l[i] {
+                    put(l, p.c.normals[f][r]);
+                }
+                let rhs = tau * d.drift[r];
+                dyn_rows[i][r] = self.add(rhs, rhs, c);
+            }
+        }
+        dyn_rows
+    }
+
+    /// The faces of C at every knot, held as equalities where the branch `reacts` on them;
+    /// their indices per knot and face.
+    fn faces(
+        &mut self,
+        p: &GeneralProblem,
+        st: &GeneralStructure,
+        cols: &Columns,
+        reacts: &[Vec<usize>],
+    ) -> Vec<Vec<usize>> {
+        let (n, steps) = (st.n, st.steps);
+        let mut face_rows = vec![Vec::new(); steps];
+        for k in 0..steps {
+            let prev = (k + steps - 1) % steps;
+            for f in 0..p.c.faces() {
+                let held = reacts[prev].contains(&f) || (st.phase && reacts[k].contains(&f));
+                let c: BTreeMap<_, _> = (0..n)
+                    .map(|r| (cols.x[k][r].index(), (cols.x[k][r], p.c.normals[f][r])))
+                    .collect();
+                let cf = p.c.offsets[f];
+                let lo = if held { cf } else { f64::NEG_INFINITY };
+                face_rows[k].push(self.add(lo, cf, c));
+            }
+        }
+        face_rows
+    }
 }
 
 /// The branch LPs through one process, solved in (P)'s units of order one

@@ -90,7 +90,6 @@ impl ProcessView<'_> {
     /// block `b`'s forward threshold, `2 b + 1` its backward one; the instance's states are the
     /// crawler's `solution.states`, its reactions the block displacements.
     fn in_words(&self, fault: &Fault, what: &str) -> Error {
-        let c = self.crawler;
         let np = self.durations.len();
         let a = &self.problem.rate_bound;
         let worst = |v: &[f64]| {
@@ -117,30 +116,7 @@ impl ProcessView<'_> {
                 format!("{:?}", self.states[0]),
                 "must be the initial state",
             ),
-            Fault::Outside { k, face, .. } => {
-                let (b, x) = (face / 2, &self.states[k]);
-                let f = c.block_forces(x)[b];
-                let detail = if face % 2 == 0 {
-                    let mu = c.mu_forward()[b];
-                    format!(
-                        "spring force on block {} is {f} > mu_forward = {mu} (by {:.3e})",
-                        b + 1,
-                        f - mu
-                    )
-                } else {
-                    let mu = c.mu_backward()[b];
-                    format!(
-                        "spring force on block {} is {f} < -mu_backward = {} (by {:.3e})",
-                        b + 1,
-                        -mu,
-                        -mu - f
-                    )
-                };
-                Error::Inadmissible {
-                    what: format!("{what}: solution.states[{k}]"),
-                    detail,
-                }
-            }
+            Fault::Outside { k, face, .. } => self.outside_words(k, face, what),
             Fault::ControlOutside { i } => {
                 let l = worst(&self.controls[i]);
                 bad(
@@ -160,60 +136,98 @@ impl ProcessView<'_> {
                 )
             }
             Fault::Negative { i, face } | Fault::Inactive { i, face } => {
-                let b = face / 2;
-                let reason = if matches!(fault, Fault::Negative { .. }) {
-                    format!(
-                        "block {} has a negative displacement rate on piece {i}",
-                        b + 1
-                    )
-                } else {
-                    format!(
-                        "block {} moves on piece {i} but its friction threshold is not \
-                         reached{} (flow rule, theory §2)",
-                        b + 1,
-                        match self.kind {
-                            ProcessKind::Discrete { .. } => " at the step's end",
-                            ProcessKind::Phase => {
-                                " at both ends of the phase (split phases where a face is \
-                                 reached or left)"
-                            }
-                        }
-                    )
-                };
-                bad(
-                    what,
-                    &format!("solution.block_displacements[{i}][{b}]"),
-                    self.block_displacements[i][b],
-                    reason,
-                )
+                self.flow_words(i, face, matches!(fault, Fault::Negative { .. }), what)
             }
-            Fault::Step { i, .. } => {
-                // x1 - x0 - tau u + k_l (D_{l+1} - D_l) (K sum_b D_b nu_b, nu_b = e_{b-1} - e_b).
-                let (x0, x1) = (&self.states[i], &self.states[i + 1]);
-                let (u, d, k) = (
-                    &self.controls[i],
-                    &self.block_displacements[i],
-                    c.stiffness(),
-                );
-                let r: Vec<f64> = (0..c.links())
-                    .map(|l| x1[l] - x0[l] - self.durations[i] * u[l] + k[l] * (d[l + 1] - d[l]))
-                    .collect();
-                let l = (0..r.len())
-                    .max_by(|&p, &q| r[p].abs().total_cmp(&r[q].abs()))
-                    .unwrap_or(0);
-                bad(
-                    what,
-                    &format!("solution.states[{}]", i + 1),
-                    format!("{:?}", x1),
-                    format!(
-                        "does not follow from solution.states[{i}], the control and the block \
-                         displacements of piece {i} (link {}: residual {:.3e})",
-                        l + 1,
-                        r[l]
-                    ),
-                )
-            }
+            Fault::Step { i, .. } => self.step_words(i, what),
         }
+    }
+
+    /// [`Self::in_words`] of a state outside C: the block whose force passes its threshold.
+    fn outside_words(&self, k: usize, face: usize, what: &str) -> Error {
+        let c = self.crawler;
+        let (b, x) = (face / 2, &self.states[k]);
+        let f = c.block_forces(x)[b];
+        let detail = if face % 2 == 0 {
+            let mu = c.mu_forward()[b];
+            format!(
+                "spring force on block {} is {f} > mu_forward = {mu} (by {:.3e})",
+                b + 1,
+                f - mu
+            )
+        } else {
+            let mu = c.mu_backward()[b];
+            format!(
+                "spring force on block {} is {f} < -mu_backward = {} (by {:.3e})",
+                b + 1,
+                -mu,
+                -mu - f
+            )
+        };
+        Error::Inadmissible {
+            what: format!("{what}: solution.states[{k}]"),
+            detail,
+        }
+    }
+
+    /// [`Self::in_words`] of a block displacement against the flow rule on piece `i`: of the
+    /// wrong sign (`negative`), or with its threshold not reached.
+    fn flow_words(&self, i: usize, face: usize, negative: bool, what: &str) -> Error {
+        let b = face / 2;
+        let reason = if negative {
+            format!(
+                "block {} has a negative displacement rate on piece {i}",
+                b + 1
+            )
+        } else {
+            format!(
+                "block {} moves on piece {i} but its friction threshold is not \
+                 reached{} (flow rule, theory §2)",
+                b + 1,
+                match self.kind {
+                    ProcessKind::Discrete { .. } => " at the step's end",
+                    ProcessKind::Phase => {
+                        " at both ends of the phase (split phases where a face is \
+                         reached or left)"
+                    }
+                }
+            )
+        };
+        bad(
+            what,
+            &format!("solution.block_displacements[{i}][{b}]"),
+            self.block_displacements[i][b],
+            reason,
+        )
+    }
+
+    /// [`Self::in_words`] of a state that does not follow from the previous one, the control
+    /// and the block displacements of piece `i`: the link of the largest residual.
+    fn step_words(&self, i: usize, what: &str) -> Error {
+        let c = self.crawler;
+        // x1 - x0 - tau u + k_l (D_{l+1} - D_l) (K sum_b D_b nu_b, nu_b = e_{b-1} - e_b).
+        let (x0, x1) = (&self.states[i], &self.states[i + 1]);
+        let (u, d, k) = (
+            &self.controls[i],
+            &self.block_displacements[i],
+            c.stiffness(),
+        );
+        let r: Vec<f64> = (0..c.links())
+            .map(|l| x1[l] - x0[l] - self.durations[i] * u[l] + k[l] * (d[l + 1] - d[l]))
+            .collect();
+        let l = (0..r.len())
+            .max_by(|&p, &q| r[p].abs().total_cmp(&r[q].abs()))
+            .unwrap_or(0);
+        bad(
+            what,
+            &format!("solution.states[{}]", i + 1),
+            format!("{:?}", x1),
+            format!(
+                "does not follow from solution.states[{i}], the control and the block \
+                 displacements of piece {i} (link {}: residual {:.3e})",
+                l + 1,
+                r[l]
+            ),
+        )
     }
 
     /// The shapes of the process's rows, finite values, and its grid: positive durations
