@@ -90,8 +90,9 @@ fn settings_that_do_not_apply_are_refused_naming_them() {
         (with(Auto, f, &|s| s.max_phases = Some(2)), "--max-phases"),
         (with(Local, f, &|s| s.convergence = true), "--convergence"),
         (with(Phase, k, &|s| s.convergence = true), "convergence"),
+        // A start applies to the local method and to P_m globally (auto), not to the phase's.
         (
-            with(Auto, f, &|s| s.start = Some(Start::File("a.json".into()))),
+            with(Phase, f, &|s| s.start = Some(Start::File("a.json".into()))),
             "--start",
         ),
         (with(Discrete, f, &|s| s.shifts = Some(2)), "--shifts"),

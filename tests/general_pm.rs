@@ -237,3 +237,102 @@ fn a_quadratic_cost_by_outer_approximation() {
     let j = want.verified_displacement - want.actuation_cost;
     assert!((got.objective - j).abs() < 1e-5, "{} vs {j}", got.objective);
 }
+
+/// (P)'s global P_m starts from a given general result (`GeneralPmSettings::start`, `--start`),
+/// as a crawler's P_m starts from a gait: its process on the grid is the MILP's first
+/// incumbent, recorded as `discrete_start` with its `J`. From the local optimum of the
+/// three-block crawler written as (P) the MILP still reaches the global optimum of P_3 (the
+/// crawler's own, 2); the answer is never below its start's `J`, reads back as `certify` reads
+/// it, and records where it started. Refused naming `start`: with the phase method, with the
+/// convergence table, a crawler's gait result, and a result of another problem.
+#[test]
+fn the_global_p_m_starts_from_a_given_result() {
+    use crawlopt::api::{
+        optimize_general, optimize_general_local, GaitMethod, GeneralLocalSettings,
+        GeneralPmSettings, Hooks, OptimizeSettings, Start,
+    };
+    use crawlopt::io::{GeneralFile, ResultFile};
+    let load = |path: &str| {
+        GeneralFile::load_if_general(path.as_ref())
+            .unwrap()
+            .unwrap()
+    };
+    let file = load("examples/general_three_blocks.toml");
+    let local = GeneralLocalSettings {
+        m: 3,
+        ..GeneralLocalSettings::default()
+    };
+    let start = optimize_general_local(&file, &local, Hooks::default()).unwrap();
+    let from = |start: Start| GeneralPmSettings {
+        m: 3,
+        start: Some(start),
+        ..GeneralPmSettings::default()
+    };
+    let given = Start::General {
+        answer: Box::new(start.clone()),
+        name: "local.json".into(),
+    };
+    let r = optimize_general(&file, &from(given.clone()), Hooks::default()).unwrap();
+    let st = r.discrete_start.as_ref().expect("the start is recorded");
+    assert_eq!(st.start, "local.json");
+    assert!(
+        (st.start_objective - start.head.objective).abs() < 1e-9,
+        "the start's J on its own grid: {} against {}",
+        st.start_objective,
+        start.head.objective
+    );
+    assert!(r.head.objective >= st.start_objective - 1e-9);
+    assert_eq!(r.head.status, MilpStatus::Optimal);
+    let c = Crawler::uniform(3, 1.0, 1.0, 1.5).unwrap();
+    let pb = GaitProblem::new(&c, 10.0, &[1.0, 1.0], Cost::None, None).unwrap();
+    let crawler = solve_discrete_global(&c, &pb, 3).unwrap();
+    assert!(
+        (r.head.objective - crawler.objective()).abs() < 1e-7,
+        "(P) from a start {} against the crawler's P_3 {}",
+        r.head.objective,
+        crawler.objective()
+    );
+    let text = serde_json::to_string(&r).unwrap();
+    let ResultFile::General(back) = ResultFile::from_json(&text, "r.json").unwrap() else {
+        panic!("a general result")
+    };
+    assert_eq!(back.discrete_start, r.discrete_start);
+    // What does not take a start, named.
+    let refused = |s: OptimizeSettings| match s.plan_general(&[]) {
+        Err(crawlopt::Error::InvalidParameter { field, .. }) => field,
+        other => panic!("{other:?}"),
+    };
+    let with_start = OptimizeSettings {
+        start: Some(given.clone()),
+        ..Default::default()
+    };
+    let phase = OptimizeSettings {
+        method: GaitMethod::Phase,
+        ..with_start.clone()
+    };
+    assert_eq!(refused(phase), "start");
+    let table = OptimizeSettings {
+        convergence: true,
+        ..with_start.clone()
+    };
+    assert_eq!(refused(table), "start");
+    // A crawler's gait result, and a result of another problem.
+    let g = crawlopt::optimal::GaitResult::from_discrete(&c, &pb, &crawler);
+    let e = optimize_general(
+        &file,
+        &from(Start::Result {
+            result: Box::new(g),
+            name: "crawler.json".into(),
+        }),
+        Hooks::default(),
+    )
+    .unwrap_err();
+    assert!(e.to_string().starts_with("start: "), "{e}");
+    let one = load("examples/general_one_link.toml");
+    let e = optimize_general(&one, &from(given), Hooks::default()).unwrap_err();
+    assert!(
+        e.to_string()
+            .starts_with("start: is a result of a problem with 2 states"),
+        "{e}"
+    );
+}

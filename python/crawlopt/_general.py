@@ -267,6 +267,9 @@ class GeneralProblem:
         "stationary" or "stalled", ``certificate["kind"]`` "local"). ``polish`` (discrete only;
         default True): a quadratic cost's answer is polished on its fixed face pattern before it
         is certified (``--no-polish`` is ``polish=False``); ``solution["polish"]`` records it.
+        ``start`` with "discrete" (not with ``convergence``): the MILP's first incumbent is the
+        start's process on the grid, so the answer is never below it (and a time limit returns
+        at least it), recorded as ``discrete_start``.
         ``formulation`` ("phase" only; ``--formulation``): "general" (K phases), "transitions"
         (K slots of a free transition and a phase, as strong as the chain's where measured) or
         "chain" (a crawler's gait problem only); None: the chain's on a crawler's chain, the

@@ -356,7 +356,7 @@ def test_a_general_jobs_notes_reach_its_result():
 def test_the_local_method_starts_from_a_given_result():
     # As `crawlopt optimize --method local --start R.json`: a local optimum started from itself
     # is stationary (its J, which is its start's); a crawler's result or another object is
-    # refused naming start.
+    # refused naming start. The global P_m starts from it as well.
     p = co.load(example("general_three_blocks.toml"))
     first = p.optimize(method="local", m=6, shifts=2)
     again = p.optimize(method="local", m=6, shifts=1, start=first)
@@ -367,8 +367,13 @@ def test_the_local_method_starts_from_a_given_result():
         p.optimize(method="local", m=6, start="first.json")
     with pytest.raises(co.InputError, match="start"):
         co.load(ONE_LINK).optimize(method="local", m=6, start=first)
+    # The global P_m takes a start too (its process on the grid the MILP's first incumbent),
+    # as a crawler's does; the phase method does not.
+    pm = p.optimize(method="discrete", m=3, start=first)
+    assert pm["discrete_start"]["start"] == "start"
+    assert pm["discrete_start"]["start_objective"] <= pm.objective + 1e-9
     with pytest.raises(co.InputError, match="start"):
-        p.optimize(method="discrete", m=3, start=first)
+        p.optimize(method="phase", start=first)
     # A start of a problem with a larger U is no gait of this one: refused naming start and
     # the start's own field.
     narrow = co.load(ONE_LINK)

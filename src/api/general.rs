@@ -10,6 +10,7 @@ pub use crate::io::{Check, CheckStatus, GeneralAnalysis, GeneralSimulated};
 use crate::model::general::{ControlSet, GeneralProblem, Reward};
 use crate::model::ChainView;
 use crate::optimal::general::{analyze_polyhedron, check_with, Geometry};
+use crate::optimal::StartRecord;
 
 /// The problem of a file with every check: those of [`GeneralFile::problem`] and those that
 /// need C's geometry ([`crate::optimal::general::check_problem`]). Returns C's geometry too.
@@ -379,6 +380,13 @@ pub struct GeneralPmSettings {
     /// of U is only as accurate as the MILP's outer approximation (about 1e-3), and the
     /// necessary conditions fail at that size.
     pub polish: bool,
+    /// A start (default `None`: none), as a crawler's P_m takes one: a general result of the
+    /// same numbers of states and controls and the same period, its control averaged on the
+    /// grid (as [`crate::api::GeneralLocalSettings::start`] reads it), whose process on the
+    /// grid is the MILP's first incumbent ([`crate::optimal::general::solve_general_pm_from`]):
+    /// the answer is never below it, and a time limit returns at least it. Recorded as the
+    /// answer's `discrete_start`. Not with `convergence` (each `m` is solved afresh).
+    pub start: Option<super::Start>,
 }
 
 impl Default for GeneralPmSettings {
@@ -390,6 +398,7 @@ impl Default for GeneralPmSettings {
             convergence: false,
             bound: None,
             polish: crate::optimal::polish::POLISH_DEFAULT,
+            start: None,
         }
     }
 }
@@ -427,6 +436,14 @@ fn pm_job(
     let (p, g) = general_problem(file)?;
     let chain = chain_for_bound(&p, s.bound.as_ref())?;
     crate::optimal::check_time_limit(s.time_limit)?;
+    if s.convergence && s.start.is_some() {
+        return Err(Error::invalid(
+            "start",
+            "given",
+            "does not apply to convergence (each m is solved afresh)",
+        ));
+    }
+    let mut started = None;
     let (solution, convergence) = if s.convergence {
         let mut progress = |row: &crate::optimal::ConvergenceRow| {
             em.send(super::Event::DiscreteSolved(row.clone()))
@@ -435,6 +452,17 @@ fn pm_job(
             crate::optimal::general::general_convergence(&p, &g, s.m, s.polish, &mut progress)
         })?;
         (finest, Some(table))
+    } else if let Some(start) = &s.start {
+        let grid = super::general_start::given_start(start, &p, s.m)?;
+        em.stage(format!("P_{} from the start {}", s.m, start.name()));
+        let (sol, j) = crate::progress::within(s.time_limit, || {
+            crate::optimal::general::solve_general_pm_from(&p, &g, s.m, s.polish, &grid)
+        })?;
+        started = Some(StartRecord {
+            start: start.name(),
+            start_objective: j,
+        });
+        (sol, None)
     } else {
         let sol = crate::progress::within(s.time_limit, || {
             crate::optimal::general::solve_general_pm_with(&p, &g, s.m, s.polish)
@@ -454,6 +482,7 @@ fn pm_job(
     let mut r = GeneralAnswer::discrete(file, p.period, solution);
     r.necessary_conditions = necessary_conditions;
     r.records.convergence = convergence;
+    r.discrete_start = started;
     if let (Some(view), Some(b)) = (&chain, &s.bound) {
         em.stage("proving an upper bound over all periodic gaits (the chain's)");
         r.head.certificate.upper_bound = Some(chain_upper_bound(&p, view, b, r.head.objective)?);

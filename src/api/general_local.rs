@@ -5,6 +5,7 @@
 //! cancellation.
 
 use super::events::{run_with, Emitter, Event, Hooks};
+use super::general_start::given_start;
 use super::settings::{DEFAULT_M_LOCAL, DEFAULT_SHIFTS};
 use crate::error::{Error, Result};
 use crate::io::{GeneralAnswer, GeneralFile, LocalStarts};
@@ -126,63 +127,6 @@ fn starts(
         }
     }
     Ok((square_waves(p, s)?, "square_waves"))
-}
-
-/// A given start on `2^m` steps: a general result (read and checked as `certify` reads it, for
-/// a file) of the same numbers of states and controls and the same period as `p`, its control
-/// averaged over each step and moved to an exact zero mean within U where `p` asks it
-/// ([`phase_grid`]); a crawler's gait result, a result of another shape, or one whose control
-/// leaves this problem's U (a result of a problem with a larger U), is refused naming `start`.
-fn given_start(start: &super::Start, p: &GeneralProblem, m: u32) -> Result<Vec<Vec<f64>>> {
-    let refuse = |name: &str, why: String| Err(Error::invalid("start", name, why));
-    let read;
-    let (answer, name) = match start {
-        super::Start::File(path) => {
-            let name = path.display().to_string();
-            let text = crate::io::read_input_text(path, crate::io::MAX_RESULT_BYTES)?;
-            read = GeneralAnswer::from_json(&text, &name)?;
-            (&read, name)
-        }
-        super::Start::General { answer, name } => {
-            answer.check_consistent(name)?;
-            (answer.as_ref(), name.clone())
-        }
-        super::Start::Result { name, .. } => {
-            return refuse(
-                name,
-                "is a crawler's gait result; a general problem starts from a general result".into(),
-            )
-        }
-    };
-    let q = answer.problem.problem()?;
-    if (q.states(), q.controls()) != (p.states(), p.controls()) || q.period != p.period {
-        return refuse(
-            &name,
-            format!(
-                "is a result of a problem with {} states, {} controls and period {}; this one \
-                 has {}, {} and {}",
-                q.states(),
-                q.controls(),
-                q.period,
-                p.states(),
-                p.controls(),
-                p.period
-            ),
-        );
-    }
-    let (durations, controls) = answer.pieces();
-    let field = "solution.controls";
-    // Each component to its own bound, as a result is read back.
-    let scales = crate::optimal::process::control_scales(&p.control);
-    let tol = crate::optimal::consistency::INPUT_TOL;
-    let inside = |u: &[f64]| crate::optimal::process::in_u(&p.control, &scales, u, tol);
-    if let Some((j, u)) = controls.iter().enumerate().find(|(_, u)| !inside(u)) {
-        return refuse(
-            &name,
-            format!("its control {field}[{j}] = {u:?} lies outside this problem's U"),
-        );
-    }
-    phase_grid(p, &durations, controls, m)
 }
 
 /// Solves P_m locally from each of `starts` in turn, within the job's deadline, and keeps the

@@ -117,14 +117,22 @@ impl OptimizeSettings {
             in_words(&taken, "and")
         );
         // In the order they are checked: the first one given is named.
-        let rules: [(&str, bool, String); 11] = [
+        let rules: [(&str, bool, String); 12] = [
             ("phases", !phase, only(&[Phase])),
             ("max_phases", !phase, only(&[Phase])),
             ("patience", !phase, only(&[Phase])),
             ("formulation", !phase, only(&[Phase])),
             ("m", phase, in_phase),
             ("shifts", !local, only(&[Local])),
-            ("start", !local, only(&[Local])),
+            ("start", phase, only(&[Local, Discrete])),
+            (
+                "start",
+                discrete && self.convergence,
+                format!(
+                    "does not apply to {} (each m is solved afresh)",
+                    n.setting("convergence")
+                ),
+            ),
             ("convergence", !discrete, only(&[Discrete])),
             ("polish", !discrete, only(&[Discrete])),
             ("certify", local, global.clone()),
@@ -175,6 +183,7 @@ impl OptimizeSettings {
                 convergence: self.convergence,
                 bound: self.bound,
                 polish: self.polish.unwrap_or(d.polish),
+                start: self.start.clone(),
             })
         }
     }

@@ -55,6 +55,7 @@ mod general_chain;
 mod general_local;
 mod general_phase;
 mod general_plan;
+mod general_start;
 mod keys;
 mod optimize;
 mod optimize_file;

@@ -235,6 +235,17 @@ pub enum Start {
     },
 }
 
+impl Start {
+    /// What messages and records call the start: the file's path, or the name given with a
+    /// result in memory.
+    pub fn name(&self) -> String {
+        match self {
+            Start::File(path) => path.display().to_string(),
+            Start::Result { name, .. } | Start::General { name, .. } => name.clone(),
+        }
+    }
+}
+
 /// Everything an optimisation can be told. Every field has a default (`None`: the method's
 /// own, documented at the field); [`OptimizeSettings::plan`] checks them against the method and
 /// the problem before any solve.

@@ -277,6 +277,11 @@ pub struct GeneralAnswer {
     /// for the general formulation and for P_m.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub formulation: Option<String>,
+    /// The start a global P_m MILP took as its first incumbent, when it was given one
+    /// ([`crate::api::GeneralPmSettings::start`]), as a crawler's result records it: where it
+    /// came from and `J` of its process on the grid.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub discrete_start: Option<crate::optimal::StartRecord>,
     /// The necessary conditions on the solution, when asked (a global P_m optimum's or a
     /// phase gait's, [`crate::api::GeneralPmSettings::certify`],
     /// [`crate::api::GeneralPhaseSettings::certify`]); not read back from a file (`crawlopt
@@ -304,6 +309,7 @@ impl GeneralAnswer {
             solution,
             records: ResultRecords::default(),
             formulation: None,
+            discrete_start: None,
             necessary_conditions: None,
         }
     }

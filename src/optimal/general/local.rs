@@ -451,18 +451,42 @@ fn check_start(p: &GeneralProblem, mm: usize, start: &[Vec<f64>]) -> Result<()> 
     Ok(())
 }
 
-/// The start's process on this grid (module docs): the start control simulated by catching-up
-/// to its periodic regime (or over the horizon of a Cauchy problem); returns its `J` and the
-/// branches read off it, on face where the projection's multiplier is positive and, with
-/// [`StartFaces::Touched`], also where its state lies on the face (to `1e-9` of C's scale)
-/// with a zero multiplier. Refused (field
-/// `start`) when the control is not in U or the periodic regime is not reached.
+/// The start's process on this grid (module docs): its `J` and the branches read off it, on
+/// face where the projection's multiplier is positive and, with [`StartFaces::Touched`], also
+/// where its state lies on the face (to `1e-9` of C's scale) with a zero multiplier. Refused
+/// (field `start`) as [`start_process`] refuses it.
 fn start_branches(
     p: &GeneralProblem,
     g: &Geometry,
     start: &[Vec<f64>],
     faces: StartFaces,
 ) -> Result<(f64, Vec<Vec<bool>>)> {
+    let (start_objective, sim) = start_process(p, g, start)?;
+    // With `Touched`, a face the process touches at rest is held too (module docs).
+    let touched = faces == StartFaces::Touched;
+    let tol = 1e-9 * p.c.scale();
+    let active: Vec<Vec<bool>> = sim
+        .lambda
+        .iter()
+        .zip(&sim.x[1..])
+        .map(|(l, x)| {
+            (0..l.len())
+                .map(|j| l[j] > 0.0 || (touched && p.c.slack(j, x) >= -tol))
+                .collect()
+        })
+        .collect();
+    Ok((start_objective, active))
+}
+
+/// The P_m process of a start control on this grid: the control (one row per step, in U)
+/// simulated by catching-up to its periodic regime from C's Chebyshev centre (or from 0 when 0
+/// is in C), or over the horizon of a Cauchy problem; returns its `J` and the process. Refused
+/// (field `start`) when the control is not in U or the periodic regime is not reached.
+pub(crate) fn start_process(
+    p: &GeneralProblem,
+    g: &Geometry,
+    start: &[Vec<f64>],
+) -> Result<(f64, crate::integrate::GeneralSimulation)> {
     let x0 = match &p.boundary {
         Boundary::Initial(x0) => x0.clone(),
         Boundary::Periodic if p.c.violation(&vec![0.0; p.states()], 0.0).is_none() => {
@@ -481,20 +505,7 @@ fn start_branches(
             ),
         )
     })?;
-    // With `Touched`, a face the process touches at rest is held too (module docs).
-    let touched = faces == StartFaces::Touched;
-    let tol = 1e-9 * p.c.scale();
-    let active: Vec<Vec<bool>> = sim
-        .lambda
-        .iter()
-        .zip(&sim.x[1..])
-        .map(|(l, x)| {
-            (0..l.len())
-                .map(|j| l[j] > 0.0 || (touched && p.c.slack(j, x) >= -tol))
-                .collect()
-        })
-        .collect();
-    Ok((start_objective, active))
+    Ok((start_objective, sim))
 }
 
 #[cfg(test)]

@@ -42,7 +42,7 @@ pub use phase::{
 pub use phase_growth::{grow_general_phases, grow_general_transitions};
 pub(crate) use phase_polish::{polish_phases_within, MilpPhases};
 pub use phase_replay::replay_phases;
-pub use pm::{general_convergence, solve_general_pm, solve_general_pm_with};
+pub use pm::{general_convergence, solve_general_pm, solve_general_pm_from, solve_general_pm_with};
 pub(crate) use pm_milp::{solve_pm_milp, PmOptions, PmStart};
 pub(crate) use polish::{pm_on_pattern, PmColumns};
 pub use projection::{project_polyhedron, ProjectedVertex, MAX_PROJECTED_VERTICES};

@@ -1,12 +1,14 @@
 //! P_m of a general problem globally, as a job of two steps: the MILP with its outer
 //! approximation ([`super::discrete`]), then, for a quadratic cost, the polish of its answer on
 //! the fixed face pattern (`super::polish`). Above both, so that neither calls the other. And
-//! the convergence table of P_m over `m` ([`general_convergence`]).
+//! the convergence table of P_m over `m` ([`general_convergence`]). A start, as a crawler's P_m
+//! takes one: the process of a control on the grid as HiGHS's first incumbent
+//! ([`solve_general_pm_from`]).
 
 use super::discrete::GeneralPm;
 use super::geometry::Geometry;
-use super::pm_milp::{solve_pm_milp, PmOptions, PmRun};
-use crate::error::Result;
+use super::pm_milp::{solve_pm_milp, PmOptions, PmRun, PmStart};
+use crate::error::{Error, Result};
 use crate::model::general::{GeneralCost, GeneralProblem};
 use crate::optimal::milp::Certificate;
 use crate::optimal::polish::POLISH_DEFAULT;
@@ -28,12 +30,59 @@ pub fn solve_general_pm_with(
     m: u32,
     polish: bool,
 ) -> Result<GeneralPm> {
-    let sol = solve_milp(p, g, m)?;
-    Ok(if polish && p.cost != GeneralCost::None {
+    let sol = solve_milp(p, g, m, &PmOptions::default())?;
+    Ok(polished(p, sol, polish))
+}
+
+/// [`solve_general_pm_with`] from a start, as a crawler's P_m starts from a gait: `start` holds
+/// one control per step of the `2^m` (in U, with zero mean where the problem asks it), whose
+/// process on the grid (`local::start_process`, its periodic regime) is HiGHS's first
+/// incumbent, so that the answer is never below it and a time limit returns at least it.
+/// Returns the answer and `J` of the start's process. A start that is no process of the grid
+/// (a control outside U, no periodic regime, another number of steps) is refused naming
+/// `start`.
+pub fn solve_general_pm_from(
+    p: &GeneralProblem,
+    g: &Geometry,
+    m: u32,
+    polish: bool,
+    start: &[Vec<f64>],
+) -> Result<(GeneralPm, f64)> {
+    super::discrete::check(p, g, m)?;
+    let steps = 1usize << m;
+    if start.len() != steps {
+        return Err(Error::invalid(
+            "start",
+            format!("{} steps", start.len()),
+            format!("needs one control per step of P_{m} ({steps})"),
+        ));
+    }
+    let (start_objective, sim) = super::local::start_process(p, g, start)?;
+    let h = p.period / steps as f64;
+    let opts = PmOptions {
+        start: Some(PmStart {
+            x: sim.x,
+            u: start.to_vec(),
+            // The step's multipliers are its reactions' rates times the step.
+            mu: sim
+                .lambda
+                .iter()
+                .map(|l| l.iter().map(|v| v * h).collect())
+                .collect(),
+        }),
+        ..PmOptions::default()
+    };
+    let sol = solve_milp(p, g, m, &opts)?;
+    Ok((polished(p, sol, polish), start_objective))
+}
+
+/// `sol` polished on its fixed face pattern where `polish` asks it and the cost is quadratic.
+fn polished(p: &GeneralProblem, sol: GeneralPm, polish: bool) -> GeneralPm {
+    if polish && p.cost != GeneralCost::None {
         super::polish::polish(p, sol)
     } else {
         sol
-    })
+    }
 }
 
 /// The general problem's P_m as a [`PmFamily`]: each `m` solved from scratch, polished as
@@ -79,12 +128,12 @@ pub fn general_convergence(
     converge(&family, first..=max_m, progress)
 }
 
-/// The MILP's answer of [`solve_general_pm`], with its outer approximation
-/// ([`super::pm_milp`]), unpolished and re-verified; within the current deadline.
-fn solve_milp(p: &GeneralProblem, g: &Geometry, m: u32) -> Result<GeneralPm> {
+/// The MILP's answer of [`solve_general_pm`] (from the start of `opts`, if any), with its outer
+/// approximation ([`super::pm_milp`]), unpolished and re-verified; within the current deadline.
+fn solve_milp(p: &GeneralProblem, g: &Geometry, m: u32, opts: &PmOptions) -> Result<GeneralPm> {
     super::discrete::check(p, g, m)?;
     let what = format!("P_{m} of the general problem");
-    let run = solve_pm_milp(p, g, m, &PmOptions::default(), &what)?;
+    let run = solve_pm_milp(p, g, m, opts, &what)?;
     verified(p, m, &run, &what)
 }
 

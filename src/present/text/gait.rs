@@ -42,12 +42,7 @@ pub fn gait_result(r: &GaitResult) -> String {
         growth_table(&mut out, pg, &len);
     }
     if let Some(st) = &r.discrete_start {
-        wln!(
-            out,
-            "the MILP started from {} (J = {} on this grid)",
-            st.start,
-            len(st.start_objective)
-        );
+        start_line(&mut out, st, &len);
     }
     search_line(&mut out, r, &len);
     if let Some(table) = &r.records.convergence {
@@ -376,5 +371,19 @@ pub(super) fn conditions_head(
         n.scaled_by,
         num(n.lambda_plus_sup_p, 0.0),
         num(n.paper_norm, 0.0)
+    );
+}
+
+/// The line of the start a P_m MILP took as its first incumbent (a crawler's or (P)'s).
+pub(super) fn start_line(
+    out: &mut String,
+    st: &crate::optimal::StartRecord,
+    len: &dyn Fn(f64) -> String,
+) {
+    wln!(
+        out,
+        "the MILP started from {} (J = {} on this grid)",
+        st.start,
+        len(st.start_objective)
     );
 }

@@ -220,6 +220,9 @@ fn general_optimum(r: &GeneralAnswer, s: &GeneralPm) -> String {
         super::status_word(c.status)
     );
     milp_line(&mut out, s.objective, c, "simulation", scale);
+    if let Some(st) = &r.discrete_start {
+        super::gait::start_line(&mut out, st, &|v| num(v, scale));
+    }
     if let Some(p) = &s.polish {
         wln!(
             out,
