@@ -336,3 +336,68 @@ fn the_global_p_m_starts_from_a_given_result() {
         "{e}"
     );
 }
+
+/// A start is the MILP's first incumbent: under a time limit far too short for the MILP alone
+/// (P_4 of the three-block crawler as (P) in 0.05 s, where alone it returns J = 0.125, and
+/// 0.042 as a Cauchy problem from 0), the answer is at least the start's `J`, on the periodic
+/// problem and on the Cauchy problem (whose last state has a column of its own, filled from the
+/// start's last state). An `m` beyond P_m's range is refused naming `m` before
+/// the start is averaged on its grid.
+#[test]
+fn a_start_is_the_first_incumbent_under_a_time_limit() {
+    use crawlopt::api::{
+        optimize_general, optimize_general_local, GeneralLocalSettings, GeneralPmSettings, Hooks,
+        Start,
+    };
+    use crawlopt::io::GeneralFile;
+    use crawlopt::model::general::Boundary;
+    use crawlopt::optimal::general::solve_general_pm_from;
+    let file = GeneralFile::load_if_general("examples/general_three_blocks.toml".as_ref())
+        .unwrap()
+        .unwrap();
+    let local = GeneralLocalSettings {
+        m: 4,
+        ..GeneralLocalSettings::default()
+    };
+    let start = optimize_general_local(&file, &local, Hooks::default()).unwrap();
+    let given = Start::General {
+        answer: Box::new(start.clone()),
+        name: "local".into(),
+    };
+    let s = GeneralPmSettings {
+        m: 4,
+        time_limit: Some(0.05),
+        start: Some(given.clone()),
+        ..GeneralPmSettings::default()
+    };
+    let r = optimize_general(&file, &s, Hooks::default()).unwrap();
+    let st = r.discrete_start.as_ref().unwrap();
+    assert!(
+        r.head.objective >= st.start_objective - 1e-9 && st.start_objective > 2.5,
+        "J = {} from a start of J = {}",
+        r.head.objective,
+        st.start_objective
+    );
+    // The same start on the problem as a Cauchy problem from x(0) = 0.
+    let mut p = file.problem().unwrap();
+    p.boundary = Boundary::Initial(vec![0.0; p.states()]);
+    let g = check_problem(&p).unwrap();
+    let u = start.solution.as_local().unwrap().path.u.clone();
+    let (sol, j) =
+        crawlopt::progress::within(Some(0.05), || solve_general_pm_from(&p, &g, 4, true, &u))
+            .unwrap();
+    assert!(
+        sol.objective >= j - 1e-9 && j > 0.0,
+        "Cauchy: J = {} from a start of J = {j}",
+        sol.objective
+    );
+    let beyond = GeneralPmSettings {
+        m: 40,
+        start: Some(given),
+        ..GeneralPmSettings::default()
+    };
+    match optimize_general(&file, &beyond, Hooks::default()) {
+        Err(crawlopt::Error::InvalidParameter { field, .. }) => assert_eq!(field, "m"),
+        other => panic!("{other:?}"),
+    }
+}

@@ -113,8 +113,9 @@ impl GeneralProblem {
 
     /// P_m of the problem (`crawlopt optimize --json`) with the settings `keys` (a dict of
     /// the settings' own names, `crate::settings::optimize_settings`): `method` "discrete"
-    /// (global MILP) or "local" (the LPCC active-set method, `shifts` rotations of each start,
-    /// from `start`, a general result's JSON, when given); "phase" (exact gaits where `A = 0`,
+    /// (global MILP, its first incumbent the process of `start` when given) or "local" (the
+    /// LPCC active-set method, `shifts` rotations of each start, from `start` when given;
+    /// `start` a general result's JSON); "phase" (exact gaits where `A = 0`,
     /// globally among those of at most `phases` phases, or `K` grown to `max_phases` until
     /// `patience` K bring no gain); None takes the library's default. Cancellable (Ctrl-C);
     /// `progress` receives the events. Returns the document and the record the library draws

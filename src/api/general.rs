@@ -453,6 +453,8 @@ fn pm_job(
         })?;
         (finest, Some(table))
     } else if let Some(start) = &s.start {
+        // `m` first: the start is averaged on a grid of `2^m` steps.
+        crate::optimal::general::check_general_pm(&p, &g, s.m)?;
         let grid = super::general_start::given_start(start, &p, s.m)?;
         em.stage(format!("P_{} from the start {}", s.m, start.name()));
         let (sol, j) = crate::progress::within(s.time_limit, || {

@@ -214,7 +214,8 @@ impl Naming {
 }
 
 /// A start gait for the local methods and the P_m MILP: a crawler's gait result for a
-/// crawler's problem; a general result (a file, or [`Start::General`]) for (P)'s local method.
+/// crawler's problem; a general result (a file, or [`Start::General`]) for (P)'s local method
+/// and its global P_m.
 #[derive(Clone, Debug, PartialEq)]
 pub enum Start {
     /// A result file of `optimize` (read only when the method takes a start).
@@ -226,7 +227,8 @@ pub enum Start {
         /// What to call it (e.g. `start.json`).
         name: String,
     },
-    /// A general problem's result in memory (for (P)'s local method), and a name for messages.
+    /// A general problem's result in memory (for (P)'s local method and global P_m), and a name
+    /// for messages.
     General {
         /// The result.
         answer: Box<crate::io::GeneralAnswer>,
@@ -670,12 +672,15 @@ impl OptimizeSettings {
             "formulation" => self.formulation.map(|f| f.name().to_string()),
             "m" => self.m.map(|m| m.to_string()),
             "shifts" => self.shifts.map(|k| k.to_string()),
-            "start" => self.start.as_ref().map(|_| "a file".into()),
+            "start" => self.start.as_ref().map(Start::name),
             "convergence" => self.convergence.then(|| "set".into()),
             "polish" => self.polish.map(|v| v.to_string()),
             "certify" => self.certify.then(|| "true".into()),
             "bound" => self.bound.as_ref().map(|_| "set".into()),
-            _ => None,
+            other => {
+                debug_assert!(false, "{other} is not a setting a method refuses");
+                None
+            }
         }
     }
 

@@ -68,9 +68,9 @@ pub struct OptimizeArgs {
     /// (default: the phase optimum with K grown to the first K without a gain, within half
     /// the time limit), and for --method discrete (default under --time-limit: the local
     /// method's gait on the same grid; see the README), whose MILP takes it, sampled on its
-    /// grid, as the first incumbent. On a general problem file, for --method local and
-    /// discrete (no default there): a general result of the same shape and period, its control
-    /// averaged on the grid.
+    /// grid, as the first incumbent. On a general problem file, for --method local, and for
+    /// discrete or auto (no default there): a general result of the same shape and period, its
+    /// control averaged on the grid.
     #[arg(long)]
     pub start: Option<PathBuf>,
     /// Time shifts of the start tried by the local method (--method local, and the default

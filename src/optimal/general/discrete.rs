@@ -279,8 +279,9 @@ pub(super) fn check_solver_range(p: &GeneralProblem, h: f64, bm: Option<&BigM>) 
     Ok(())
 }
 
-/// Checks that P_m's global method applies to `p`.
-pub(super) fn check(p: &GeneralProblem, g: &Geometry, m: u32) -> Result<()> {
+/// Checks that P_m's global method applies to `p` at this `m` (its range first, naming `m`),
+/// before any work on a grid of `2^m` steps.
+pub fn check(p: &GeneralProblem, g: &Geometry, m: u32) -> Result<()> {
     if m == 0 {
         // One step with zero-mean controls is u = 0: no model, only a degenerate one.
         return Err(Error::invalid(

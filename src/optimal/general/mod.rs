@@ -24,6 +24,7 @@ mod units;
 pub use chain_phase::{
     chain_gait, chain_gait_problem, chain_phase_gait, grow_chain_phases, ChainPieces,
 };
+pub use discrete::check as check_general_pm;
 pub use discrete::{
     simulate_grid, solve_general_branch, GeneralPm, PmPath, MAX_GENERAL_M, PM_DATA_RANGE,
 };

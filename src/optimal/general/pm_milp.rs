@@ -359,10 +359,14 @@ fn start_columns(
     let mm = lay.u.len();
     let epigraphs = cost_epigraphs(p, cuts);
     let tol = 1e-10 * p.c.scale();
-    for i in 0..mm {
-        for (c, v) in lay.x[i].iter().zip(&s.x[i]) {
+    // Every state column: a periodic process's `x^M` is its `x^0`'s column, a Cauchy
+    // problem's its own.
+    for (cs, x) in lay.x.iter().zip(&s.x) {
+        for (c, v) in cs.iter().zip(x) {
             cols[c.index()] = *v;
         }
+    }
+    for i in 0..mm {
         for (c, v) in lay.u[i].iter().zip(&s.u[i]) {
             cols[c.index()] = *v;
         }
