@@ -401,3 +401,43 @@ fn a_start_is_the_first_incumbent_under_a_time_limit() {
         other => panic!("{other:?}"),
     }
 }
+
+/// Under a time limit (and no start given) (P)'s global P_m starts from the local method's
+/// answer on the same grid, as a crawler's P_m does: the local method from its own start (the
+/// phase optimum where `A = 0`, the file's `[input]` where there is one), recorded as
+/// `discrete_start`, the MILP still proving its optimum. Not without a time limit, and not
+/// with a quadratic cost (the local method takes none).
+#[test]
+fn under_a_time_limit_p_m_starts_from_the_local_answer() {
+    use crawlopt::api::{optimize_general, GeneralPmSettings, Hooks};
+    use crawlopt::io::GeneralFile;
+    let run = |path: &str, time_limit: Option<f64>| {
+        let file = GeneralFile::load_if_general(path.as_ref())
+            .unwrap()
+            .unwrap();
+        let s = GeneralPmSettings {
+            m: 3,
+            time_limit,
+            ..GeneralPmSettings::default()
+        };
+        optimize_general(&file, &s, Hooks::default()).unwrap()
+    };
+    for (path, from, j) in [
+        ("examples/general_three_blocks.toml", "local (phase)", 2.0),
+        ("examples/general_one_link.toml", "local (input)", 3.0),
+    ] {
+        let r = run(path, Some(120.0));
+        let st = r.discrete_start.as_ref().expect("a default start");
+        assert_eq!(st.start, from);
+        assert!(st.start_objective <= r.head.objective + 1e-9);
+        assert_eq!(r.head.status, MilpStatus::Optimal);
+        assert!(
+            (r.head.objective - j).abs() < 1e-6,
+            "{path}: {}",
+            r.head.objective
+        );
+        assert!(run(path, None).discrete_start.is_none());
+    }
+    let quadratic = run("examples/general_drift.toml", Some(120.0));
+    assert!(quadratic.discrete_start.is_none());
+}

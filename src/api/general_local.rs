@@ -9,7 +9,7 @@ use super::general_start::given_start;
 use super::settings::{DEFAULT_M_LOCAL, DEFAULT_SHIFTS};
 use crate::error::{Error, Result};
 use crate::io::{GeneralAnswer, GeneralFile, LocalStarts};
-use crate::model::general::GeneralProblem;
+use crate::model::general::{GeneralCost, GeneralProblem};
 use crate::optimal::general::{
     check_general_local, default_starts, grid_controls, phase_grid, rotated,
     solve_general_local_best, GeneralLocal, Geometry, MultiStart,
@@ -85,6 +85,54 @@ pub fn optimize_general_local(
             Ok(GeneralAnswer::local(file, p.period, starts, solution))
         })
     })
+}
+
+/// The default start of (P)'s global P_m on `2^m` steps under a time limit, as a crawler's P_m
+/// has one ([`crate::optimal::discrete_start`]), within half of the time left: the local
+/// method's answer on the same grid from its own starts ([`starts`]: the file's `[input]`, else
+/// where `A = 0` the phase optimum within half of that half, else square waves), as the grid's
+/// controls and where they came from (`"local (phase)"`). `None`, with a note saying why,
+/// where the local method does not apply (a quadratic cost, a grid beyond it) or found no
+/// answer in time; a cancelled job ends.
+pub(super) fn pm_default_start(
+    file: &GeneralFile,
+    p: &GeneralProblem,
+    g: &Geometry,
+    m: u32,
+    em: &Emitter<'_>,
+) -> Result<Option<(Vec<Vec<f64>>, String)>> {
+    if p.cost != GeneralCost::None {
+        em.send(Event::Note(format!(
+            "no start for P_{m} (the local method that makes it takes no cost f2); solving \
+             it without one"
+        )));
+        return Ok(None);
+    }
+    if let Err(e) = check_general_local(p, g, m) {
+        em.send(Event::Note(format!(
+            "no start for P_{m} ({e}); solving it without one"
+        )));
+        return Ok(None);
+    }
+    let s = GeneralLocalSettings {
+        m,
+        ..GeneralLocalSettings::default()
+    };
+    let found = crate::progress::share(0.5, || {
+        let (starts, from) = starts(file, p, g, &s, em)?;
+        let (answer, _, _) = best_of(p, g, &s, &starts, em)?;
+        Ok((answer.path.u, format!("local ({})", from.replace('_', " "))))
+    });
+    match found {
+        Ok(start) => Ok(Some(start)),
+        Err(Error::Cancelled) => Err(Error::Cancelled),
+        Err(e) => {
+            em.send(Event::Note(format!(
+                "no start for P_{m} ({e}); solving it without one"
+            )));
+            Ok(None)
+        }
+    }
 }
 
 /// The starts of [`optimize_general_local`] (module docs) on `2^m` steps, each at

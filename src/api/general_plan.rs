@@ -6,11 +6,11 @@
 //! the caller spelled them ([`Naming`]).
 
 use super::events::Hooks;
-use super::general::optimize_general;
-use super::general::GeneralPmSettings;
 use super::general_chain::{optimize_general_on_chain, GeneralChainSettings};
 use super::general_local::optimize_general_local;
 use super::general_phase::{optimize_general_phase, GeneralPhaseSettings};
+use super::general_pm::optimize_general;
+use super::general_pm::GeneralPmSettings;
 use super::settings::{GaitMethod, Naming, OptimizeSettings};
 use super::GeneralLocalSettings;
 use crate::error::{Error, Result};

@@ -55,6 +55,7 @@ mod general_chain;
 mod general_local;
 mod general_phase;
 mod general_plan;
+mod general_pm;
 mod general_start;
 mod keys;
 mod optimize;
@@ -68,13 +69,14 @@ pub use certify_file::{certified_figures, certify_general_answer, certify_result
 pub use events::{Event, Hooks, Observer};
 pub use fit::fit;
 pub use general::{
-    analyze_general, general_problem, general_sim_options, optimize_general, simulate_general,
-    GeneralAnalysis, GeneralPmSettings, GeneralSimulated,
+    analyze_general, general_problem, general_sim_options, simulate_general, GeneralAnalysis,
+    GeneralSimulated,
 };
 pub use general_chain::{optimize_general_on_chain, GeneralChainSettings};
 pub use general_local::{optimize_general_local, GeneralLocalSettings};
 pub use general_phase::{optimize_general_phase, GeneralPhaseSettings, DEFAULT_GENERAL_PHASES};
 pub use general_plan::{optimize_general_plan, GeneralAnswer, GeneralPlan};
+pub use general_pm::{optimize_general, GeneralPmSettings};
 pub use optimize::{optimize, Optimized};
 pub use optimize_file::{
     optimize_file, report_file, report_result, OptimizeJob, OptimizedFile, ReportSettings,

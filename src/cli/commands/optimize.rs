@@ -69,8 +69,9 @@ pub struct OptimizeArgs {
     /// the time limit), and for --method discrete (default under --time-limit: the local
     /// method's gait on the same grid; see the README), whose MILP takes it, sampled on its
     /// grid, as the first incumbent. On a general problem file, for --method local, and for
-    /// discrete or auto (no default there): a general result of the same shape and period, its
-    /// control averaged on the grid.
+    /// discrete or auto (default under --time-limit: the local method's answer on the same grid,
+    /// without a cost f2): a general result of the same shape and period, its control averaged
+    /// on the grid.
     #[arg(long)]
     pub start: Option<PathBuf>,
     /// Time shifts of the start tried by the local method (--method local, and the default

@@ -1,0 +1,167 @@
+//! P_m of a general problem globally as a job ([`optimize_general`]): its settings, the
+//! convergence table, a given start or, under a time limit, the default start (the local
+//! method's answer on the same grid, as a crawler's P_m starts), the necessary conditions and
+//! the chain's upper bound when asked.
+
+use super::general::{chain_for_bound, chain_upper_bound, general_problem};
+use super::general_local::pm_default_start;
+use crate::certify::bound::BoundSettings;
+use crate::error::{Error, Result};
+use crate::io::{GeneralAnswer, GeneralFile};
+use crate::optimal::StartRecord;
+
+/// Settings of [`optimize_general`].
+#[derive(Debug, Clone, PartialEq)]
+pub struct GeneralPmSettings {
+    /// `m`: P_m on `2^m` steps (default [`crate::api::DEFAULT_M_DISCRETE`]).
+    pub m: u32,
+    /// Seconds for the job (`None`: no limit). Under a limit, without `start` or
+    /// `convergence`, the first half of it goes to a default start: the local method's answer
+    /// on the same grid, as a crawler's P_m starts (none with a quadratic cost, which the local
+    /// method does not take).
+    pub time_limit: Option<f64>,
+    /// Also check the necessary conditions on the optimum ([`crate::certify::general`];
+    /// default false).
+    pub certify: bool,
+    /// Solve P_1, ..., P_m in turn and keep the table of `J_m`
+    /// ([`crate::optimal::general::general_convergence`]; default false): the answer is the
+    /// finest P_m solved, all within `time_limit`.
+    pub convergence: bool,
+    /// Also prove the crawler's upper bound over all periodic gaits (`chain_upper_bound`;
+    /// default none): only for a problem that is a crawler's gait problem.
+    pub bound: Option<BoundSettings>,
+    /// Polish the answer of a quadratic cost on its fixed face pattern, a QP solved to the
+    /// solvers' resolution ([`crate::optimal::polish`]; default
+    /// [`crate::optimal::polish::POLISH_DEFAULT`], on): without it a control off the bounds
+    /// of U is only as accurate as the MILP's outer approximation (about 1e-3), and the
+    /// necessary conditions fail at that size.
+    pub polish: bool,
+    /// A start (default `None`: none, or under `time_limit` the local method's answer), as a
+    /// crawler's P_m takes one: a general result of the
+    /// same numbers of states and controls and the same period, its control averaged on the
+    /// grid (as [`crate::api::GeneralLocalSettings::start`] reads it), whose process on the
+    /// grid is the MILP's first incumbent ([`crate::optimal::general::solve_general_pm_from`]):
+    /// the answer is never below it, and a time limit returns at least it. Recorded as the
+    /// answer's `discrete_start`. Not with `convergence` (each `m` is solved afresh).
+    pub start: Option<super::Start>,
+}
+
+impl Default for GeneralPmSettings {
+    fn default() -> Self {
+        GeneralPmSettings {
+            m: crate::api::DEFAULT_M_DISCRETE,
+            time_limit: None,
+            certify: false,
+            convergence: false,
+            bound: None,
+            polish: crate::optimal::polish::POLISH_DEFAULT,
+            start: None,
+        }
+    }
+}
+
+/// The global optimum of P_m for a problem file ([`crate::optimal::general::discrete`]),
+/// re-verified by the general simulator, with its necessary conditions when asked; with
+/// `convergence`, the table of P_1..P_m too. Cancellable through `hooks` (within a HiGHS
+/// callback); reports its stage, the MILP's incumbent and bound, and a `DiscreteSolved` event
+/// per row of a convergence table.
+pub fn optimize_general(
+    file: &GeneralFile,
+    s: &GeneralPmSettings,
+    hooks: super::Hooks<'_>,
+) -> Result<GeneralAnswer> {
+    super::events::run_with(hooks, |em| {
+        em.stage(if s.convergence {
+            format!("P_1..P_{} of the general problem, global MILPs", s.m)
+        } else {
+            format!(
+                "P_{} of the general problem ({} steps), global MILP",
+                s.m,
+                1u64 << s.m.min(63)
+            )
+        });
+        pm_job(file, s, em)
+    })
+}
+
+/// [`optimize_general`] reporting to `em`.
+fn pm_job(
+    file: &GeneralFile,
+    s: &GeneralPmSettings,
+    em: &super::events::Emitter<'_>,
+) -> Result<GeneralAnswer> {
+    let (p, g) = general_problem(file)?;
+    let chain = chain_for_bound(&p, s.bound.as_ref())?;
+    crate::optimal::check_time_limit(s.time_limit)?;
+    if s.convergence && s.start.is_some() {
+        return Err(Error::invalid(
+            "start",
+            "given",
+            "does not apply to convergence (each m is solved afresh)",
+        ));
+    }
+    let mut started = None;
+    let (solution, convergence) = if s.convergence {
+        let mut progress = |row: &crate::optimal::ConvergenceRow| {
+            em.send(super::Event::DiscreteSolved(row.clone()))
+        };
+        let (table, finest) = crate::progress::within(s.time_limit, || {
+            crate::optimal::general::general_convergence(&p, &g, s.m, s.polish, &mut progress)
+        })?;
+        (finest, Some(table))
+    } else if let Some(start) = &s.start {
+        // `m` first: the start is averaged on a grid of `2^m` steps.
+        crate::optimal::general::check_general_pm(&p, &g, s.m)?;
+        let grid = super::general_start::given_start(start, &p, s.m)?;
+        em.stage(format!("P_{} from the start {}", s.m, start.name()));
+        let (sol, j) = crate::progress::within(s.time_limit, || {
+            crate::optimal::general::solve_general_pm_from(&p, &g, s.m, s.polish, &grid)
+        })?;
+        started = Some(StartRecord {
+            start: start.name(),
+            start_objective: j,
+        });
+        (sol, None)
+    } else {
+        // Under a time limit, the default start (the local method's answer on this grid)
+        // within the first half of it.
+        crate::optimal::general::check_general_pm(&p, &g, s.m)?;
+        let sol = crate::progress::within(s.time_limit, || {
+            let start = match s.time_limit {
+                Some(_) => pm_default_start(file, &p, &g, s.m, em)?,
+                None => None,
+            };
+            let Some((grid, name)) = start else {
+                return crate::optimal::general::solve_general_pm_with(&p, &g, s.m, s.polish);
+            };
+            em.stage(format!("P_{} from the start {name}", s.m));
+            let (sol, j) =
+                crate::optimal::general::solve_general_pm_from(&p, &g, s.m, s.polish, &grid)?;
+            started = Some(StartRecord {
+                start: name,
+                start_objective: j,
+            });
+            Ok(sol)
+        })?;
+        (sol, None)
+    };
+    let necessary_conditions = if s.certify {
+        let pr = crate::certify::GeneralProcess::from_pm(&p, &solution);
+        Some(crate::certify::certify_general(
+            &p,
+            &pr,
+            &crate::certify::CertifyOptions::default(),
+        )?)
+    } else {
+        None
+    };
+    let mut r = GeneralAnswer::discrete(file, p.period, solution);
+    r.necessary_conditions = necessary_conditions;
+    r.records.convergence = convergence;
+    r.discrete_start = started;
+    if let (Some(view), Some(b)) = (&chain, &s.bound) {
+        em.stage("proving an upper bound over all periodic gaits (the chain's)");
+        r.head.certificate.upper_bound = Some(chain_upper_bound(&p, view, b, r.head.objective)?);
+    }
+    Ok(r)
+}
