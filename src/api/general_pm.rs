@@ -5,6 +5,7 @@
 
 use super::general::{chain_for_bound, chain_upper_bound, general_problem};
 use super::general_local::pm_default_start;
+use super::general_start::given_start;
 use crate::certify::bound::BoundSettings;
 use crate::error::{Error, Result};
 use crate::io::{GeneralAnswer, GeneralFile};
@@ -109,27 +110,16 @@ fn pm_job(
             crate::optimal::general::general_convergence(&p, &g, s.m, s.polish, &mut progress)
         })?;
         (finest, Some(table))
-    } else if let Some(start) = &s.start {
-        // `m` first: the start is averaged on a grid of `2^m` steps.
-        crate::optimal::general::check_general_pm(&p, &g, s.m)?;
-        let grid = super::general_start::given_start(start, &p, s.m)?;
-        em.stage(format!("P_{} from the start {}", s.m, start.name()));
-        let (sol, j) = crate::progress::within(s.time_limit, || {
-            crate::optimal::general::solve_general_pm_from(&p, &g, s.m, s.polish, &grid)
-        })?;
-        started = Some(StartRecord {
-            start: start.name(),
-            start_objective: j,
-        });
-        (sol, None)
     } else {
-        // Under a time limit, the default start (the local method's answer on this grid)
-        // within the first half of it.
+        // `m` first: a start is averaged on a grid of `2^m` steps.
         crate::optimal::general::check_general_pm(&p, &g, s.m)?;
         let sol = crate::progress::within(s.time_limit, || {
-            let start = match s.time_limit {
-                Some(_) => pm_default_start(file, &p, &g, s.m, em)?,
-                None => None,
+            // The start given, else under a time limit the default one (the local method's
+            // answer on this grid, within the first half of the limit).
+            let start = match (&s.start, s.time_limit) {
+                (Some(st), _) => Some((given_start(st, &p, s.m)?, st.name())),
+                (None, Some(_)) => pm_default_start(file, &p, &g, s.m, em)?,
+                (None, None) => None,
             };
             let Some((grid, name)) = start else {
                 return crate::optimal::general::solve_general_pm_with(&p, &g, s.m, s.polish);
