@@ -124,7 +124,7 @@ fn main() -> Result<(), crawlopt::Error> {
     let act = crawlopt::present::gait_actuation(&best.result)?;
     println!(
         "optimal displacement on the fitted model: {:.6}",
-        best.result.verified_displacement
+        best.result.displacement_per_period
     );
     // Corners of the interval box (the fixed stiffness[1] stays 1; an unbounded parameter
     // takes its lower end and the model value).

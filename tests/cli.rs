@@ -284,7 +284,8 @@ fn optimize_discrete_returns_a_verified_certified_gait() {
     assert!(out.status.success(), "{}", stderr(&out));
     let v = json(&out);
     assert!((v["objective"].as_f64().unwrap() - 3.0).abs() < 1e-8);
-    assert_eq!(v["verified_displacement"], v["displacement_per_period"]);
+    assert_eq!(v["solution"]["displacement_per_period"], v["objective"]);
+    assert!(v.get("verified_displacement").is_none(), "written once");
     assert_eq!(v["certificate"]["kind"], "global");
     assert!(v["certificate"]["gap"].as_f64().unwrap() < 1e-6);
     assert_eq!(v["solution"]["controls"].as_array().unwrap().len(), 8);
@@ -335,7 +336,7 @@ fn optimize_discrete_returns_a_verified_certified_gait() {
     for row in table {
         assert!((row["objective"].as_f64().unwrap() - 3.0).abs() < 1e-8);
     }
-    assert_eq!(v["m"], 3);
+    assert_eq!(v["solution"]["m"], 3);
     // The local method from a result file, and its refusals.
     let dir = tempfile::tempdir().unwrap();
     let start = dir.path().join("start.json");
@@ -474,8 +475,10 @@ fn optimize_discrete_returns_a_verified_certified_gait() {
     assert_eq!(v["certificate"]["phases"], 4);
     assert_eq!(v["status"], "stationary");
     assert!((v["objective"].as_f64().unwrap() - 2.6).abs() < 1e-8);
-    assert!((v["local"]["start_objective"].as_f64().unwrap() - 13.0 / 6.0).abs() < 1e-8);
-    assert!(v["local"]["switches"].as_u64().unwrap() >= 1);
+    assert!(
+        (v["solution"]["local"]["start_objective"].as_f64().unwrap() - 13.0 / 6.0).abs() < 1e-8
+    );
+    assert!(v["solution"]["local"]["switches"].as_u64().unwrap() >= 1);
     let out = crawlopt(&[
         "optimize",
         "examples/three_blocks_gait.toml",
@@ -778,13 +781,13 @@ fn plot_and_report_refuse_bad_input_with_nothing_written() {
     let other = write(
         dir.path(),
         "v.json",
-        &text.replace("\"version\":3", "\"version\":9"),
+        &text.replace("\"version\":4", "\"version\":9"),
     );
     let good = write(dir.path(), "r.json", &text);
     // Absurd but finite rate bounds: refused by the reader (the sweep ratio a T / w is beyond
     // what any optimiser resolves), not drawn and not a hang.
     let mut huge: serde_json::Value = serde_json::from_str(&text).unwrap();
-    huge["problem"]["rate_bound"] = serde_json::json!([1e308]);
+    huge["problem"]["gait"]["rate_bound"] = serde_json::json!([1e308]);
     let huge = write(dir.path(), "h.json", &huge.to_string());
     let blocker = write(dir.path(), "file", "x");
     let cases: [(&[&str], &str); 6] = [

@@ -107,7 +107,7 @@ fn inconsistent_result_files_are_refused_with_one_line() {
     let cases: Vec<(&str, Edit, &str)> = vec![
         (
             "grid",
-            Box::new(|v| v["m"] = serde_json::json!(4)),
+            Box::new(|v| v["solution"]["m"] = serde_json::json!(4)),
             "dyadic grid",
         ),
         (
@@ -190,7 +190,7 @@ fn a_phase_answer_with_a_very_short_piece_keeps_its_rates_within_the_bound() {
     let v = common::optimize_json(&model, &["--phases", "3"]);
     // J_3 of this crawler, as tests/general_phase.rs finds it with the chain's formulation.
     assert!((v["objective"].as_f64().unwrap() - 3.0666666667).abs() < 1e-7);
-    let bound: Vec<f64> = v["problem"]["rate_bound"]
+    let bound: Vec<f64> = v["problem"]["gait"]["rate_bound"]
         .as_array()
         .unwrap()
         .iter()

@@ -266,7 +266,7 @@ fn a_version_of_the_wrong_type_is_named() {
     let mut v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
     for (version, want) in [
         (serde_json::json!("1"), r#"(got "1" (a string))"#),
-        (serde_json::json!(4), "(got 4)"),
+        (serde_json::json!(5), "(got 5)"),
         (serde_json::json!(1.5), "(got 1.5)"),
         (serde_json::json!(null), "(got null)"),
         (serde_json::json!([1]), "(got [1] (an array))"),
@@ -285,7 +285,7 @@ fn a_version_of_the_wrong_type_is_named() {
             assert_refused(
                 &out,
                 &[
-                    "r.json: version: this build reads versions 1, 2 and 3 only",
+                    "r.json: version: this build reads versions 1, 2, 3 and 4 only",
                     want,
                 ],
             );

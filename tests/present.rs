@@ -95,13 +95,13 @@ fn bad_result_files_are_refused() {
         e.to_string().contains("not a complete JSON document"),
         "{e}"
     );
-    let e = PlotInput::from_json(&text.replace("\"version\":3", "\"version\":7"), "r.json")
+    let e = PlotInput::from_json(&text.replace("\"version\":4", "\"version\":7"), "r.json")
         .unwrap_err();
     assert!(e.to_string().contains("version"), "{e}");
     assert!(PlotInput::from_json("{}", "r.json").is_err());
     // A result whose gait does not do what it claims is not pictured.
     let mut edited = r;
-    edited.verified_displacement = 5.0;
+    edited.displacement_per_period = 5.0;
     let e = present::gait_figures(&edited).unwrap_err();
     assert!(e.to_string().contains("when replayed"), "{e}");
     assert!(report::build_report(&edited, "r.json").is_err());

@@ -102,10 +102,12 @@ fn optimiser_results_pass_and_mutations_are_refused_by_field() {
             }
         }
         refused(&v, "objective", |w| w["objective"] = json!(7.5));
-        refused(&v, "displacement_per_period", |w| {
-            w["displacement_per_period"] = json!(7.5)
+        refused(&v, "solution.displacement_per_period", |w| {
+            w[g]["displacement_per_period"] = json!(7.5)
         });
-        refused(&v, "actuation_cost", |w| w["actuation_cost"] = json!(1.0));
+        refused(&v, "solution.actuation_cost", |w| {
+            w[g]["actuation_cost"] = json!(1.0)
+        });
         // The gait itself: a displacement, a state outside C, a control beyond a = 1, a
         // non-zero mean, a negative duration, another crawler's friction.
         refused(&v, "solution.", |w| {
@@ -125,11 +127,11 @@ fn optimiser_results_pass_and_mutations_are_refused_by_field() {
             w[g]["durations"][0] = json!(-1.0)
         });
         refused(&v, "solution.", |w| {
-            w["crawler"]["mu_forward"] = json!([0.5, 0.5, 0.5])
+            w["problem"]["crawler"]["mu_forward"] = json!([0.5, 0.5, 0.5])
         });
         // Method, grid, certificate.
         refused(&v, "method", |w| w["method"] = json!("bogus"));
-        refused(&v, "m", |w| w["m"] = json!(40));
+        refused(&v, "solution.m", |w| w[g]["m"] = json!(40));
         refused(&v, "certificate", |w| {
             w["certificate"]["kind"] = json!("global_everything")
         });

@@ -58,7 +58,7 @@ fn general_results_carry_the_envelope_and_read_back() {
     ] {
         let (text, v) = optimize(ONE_LINK, args);
         assert_eq!(v["format"], "crawlopt-gait-result");
-        assert_eq!(v["version"], 3);
+        assert_eq!(v["version"], 4);
         assert_eq!(v["kind"], "general");
         assert_eq!(v["method"], method);
         assert_eq!(v["status"], status);
@@ -342,7 +342,7 @@ fn tampered_general_results_are_refused_naming_the_field() {
         // Not a general result's method ("sequence" is one since it runs on a chain).
         ("/method", json!("simplex"), "method"),
         ("/kind", json!("robot"), "kind"),
-        ("/version", json!(4), "version"),
+        ("/version", json!(5), "version"),
         ("/solution/m", json!(11), "solution.m"),
         // The MILP's incumbent above its own bound.
         ("/solver_objective", json!(j + 1.0), "solver_objective"),
@@ -486,21 +486,47 @@ fn tampered_general_results_are_refused_naming_the_field() {
     );
 }
 
-/// Crawler results: the envelope of version 3 (`kind`, the gait under `solution`; version 2
+/// Crawler results: the envelope of version 4 (`kind`, the gait under `solution`; version 2
 /// had the same shape and reads to the same result), and a file of version 1 (the gait under `gait`, `kind` possibly absent, as the files the docs shipped)
 /// still reads, to the same result; a version 2 file without `kind`, or with its gait under
 /// `gait`, is refused naming the field, and one claiming to be a general result is refused.
+/// Version 4 has (P)'s places: the crawler and its gait problem under `problem`, the gait's own
+/// numbers in `solution`, the displacement once; versions 1 to 3 read to the same result.
 #[test]
 fn crawler_results_read_in_version_2_and_in_version_1() {
     let (text, v) = optimize("examples/one_link_gait.toml", &["--phases", "4"]);
     assert_eq!(v["kind"], "crawler");
     assert_eq!(v["format"], "crawlopt-gait-result");
-    assert_eq!(v["version"], 3);
+    assert_eq!(v["version"], 4);
     assert!(
         v["solution"]["durations"].is_array() && v.get("gait").is_none(),
         "{v}"
     );
-    let mut v2 = v.clone();
+    assert_eq!(v["problem"]["crawler"]["blocks"], 2);
+    assert_eq!(v["problem"]["gait"]["period"], 10.0);
+    assert_eq!(v["solution"]["displacement_per_period"], v["objective"]);
+    for old_place in [
+        "crawler",
+        "m",
+        "displacement_per_period",
+        "verified_displacement",
+    ] {
+        assert!(v.get(old_place).is_none(), "{old_place}: {v}");
+    }
+    let v3 = as_version_3(&v);
+    assert_eq!(
+        GaitResult::from_json(&v3.to_string(), "v3.json").unwrap(),
+        GaitResult::from_json(&text, "r.json").unwrap()
+    );
+    // Its two displacements must agree.
+    let mut twice = v3.clone();
+    twice["verified_displacement"] = json!(2.5);
+    let e = GaitResult::from_json(&twice.to_string(), "v3.json").unwrap_err();
+    assert!(
+        e.to_string().starts_with("v3.json: verified_displacement"),
+        "{e}"
+    );
+    let mut v2 = v3.clone();
     v2["version"] = json!(2);
     assert_eq!(
         GaitResult::from_json(&v2.to_string(), "v2.json").unwrap(),
@@ -511,7 +537,7 @@ fn crawler_results_read_in_version_2_and_in_version_1() {
     assert!((r.head().objective - v["objective"].as_f64().unwrap()).abs() == 0.0);
     assert_eq!(r.head().certificate.kind, "global_k_phases");
     // Version 1: the gait under `gait`, no `kind`.
-    let mut old = v.clone();
+    let mut old = v3.clone();
     let o = old.as_object_mut().unwrap();
     o.remove("kind");
     let gait = o.remove("solution").unwrap();
@@ -551,7 +577,8 @@ fn crawler_results_read_in_version_2_and_in_version_1() {
         assert_eq!(old.head.objective, v["objective"].as_f64().unwrap());
     }
     // Version 2 needs its kind and its solution.
-    let mut no_kind = v.clone();
+    let mut no_kind = v3.clone();
+    no_kind["version"] = json!(2);
     no_kind.as_object_mut().unwrap().remove("kind");
     let e = ResultFile::from_json(&no_kind.to_string(), "r.json").unwrap_err();
     assert!(e.to_string().starts_with("r.json: kind"), "{e}");
@@ -570,6 +597,97 @@ fn crawler_results_read_in_version_2_and_in_version_1() {
     let c = json_of(&crawlopt(&["certify", f.to_str().unwrap(), "--json"]));
     assert_eq!(c["format"], "crawlopt-necessary-conditions");
     assert_eq!(c["verdict"], "holds");
+}
+
+/// A version 4 crawler's document in the shape versions 1 to 3 wrote (the inverse of the
+/// reader's upgrade): the crawler at the top level, the gait problem as `problem`, the
+/// solution's numbers and records at the top level, the displacement twice.
+fn as_version_3(v: &Value) -> Value {
+    let mut old = v.clone();
+    let o = old.as_object_mut().unwrap();
+    let problem = o.remove("problem").unwrap();
+    o.insert("crawler".into(), problem["crawler"].clone());
+    o.insert("problem".into(), problem["gait"].clone());
+    let s = o["solution"].as_object_mut().unwrap();
+    let moved: Vec<(String, Value)> = [
+        "m",
+        "displacement_per_period",
+        "actuation_cost",
+        "local",
+        "polish",
+    ]
+    .iter()
+    .filter_map(|k| s.remove(*k).map(|x| (k.to_string(), x)))
+    .collect();
+    o.extend(moved);
+    let d = o["displacement_per_period"].clone();
+    o.insert("verified_displacement".into(), d);
+    o.insert("version".into(), json!(3));
+    old
+}
+
+/// Files the build before version 4 wrote (`tests/data/v3_*.json`: a local P_m answer of one
+/// link at m = 3, a polished P_m answer of a quadratic cost, a sequence search's gait of three
+/// blocks) read to what this build writes for the same command: the same result, the local
+/// record and the polishing record now in the solution; the sequence search's, cut by a time
+/// limit, read with its numbers where they were.
+#[test]
+fn version_3_files_of_the_build_before_read_as_this_build_writes_them() {
+    let dir = tempfile::tempdir().unwrap();
+    let quadratic = write(
+        dir.path(),
+        "quadratic.toml",
+        "[crawler]\nblocks = 2\nstiffness = 1.0\nmu_forward = 1.0\nmu_backward = 2.0\n\n\
+         [gait]\nperiod = 10.0\nmax_actuator_speed = 1.0\n\
+         cost = { kind = \"quadratic\", weight = 0.6 }\n",
+    );
+    let quadratic = quadratic.to_str().unwrap();
+    let read = |name: &str| {
+        let text = std::fs::read_to_string(format!("tests/data/{name}")).unwrap();
+        let v: Value = serde_json::from_str(&text).unwrap();
+        assert_eq!(v["version"], 3, "{name}");
+        (GaitResult::from_json(&text, name).unwrap(), v)
+    };
+    for (name, model, args) in [
+        (
+            "v3_local.json",
+            "examples/one_link_gait.toml",
+            &["--method", "local", "--m", "3"][..],
+        ),
+        (
+            "v3_polished.json",
+            quadratic,
+            &["--method", "discrete", "--m", "3"][..],
+        ),
+    ] {
+        let (old, v3) = read(name);
+        let (text, v4) = optimize(model, args);
+        assert_eq!(
+            old,
+            GaitResult::from_json(&text, "r.json").unwrap(),
+            "{name}"
+        );
+        assert_eq!(v4["solution"]["m"], v3["m"]);
+        for record in ["local", "polish"] {
+            assert_eq!(
+                v4["solution"].get(record),
+                v3.get(record),
+                "{name}: {record}"
+            );
+        }
+        assert_eq!(serde_json::to_value(&old).unwrap(), v4, "{name}");
+    }
+    let (seq, v3) = read("v3_sequence.json");
+    assert_eq!(seq.head.method, "sequence");
+    assert_eq!(seq.displacement_per_period, v3["verified_displacement"]);
+    assert_eq!(seq.crawler.blocks, 3);
+    assert_eq!(seq.problem.period, v3["problem"]["period"]);
+    let v4 = serde_json::to_value(&seq).unwrap();
+    assert_eq!(v4["solution"]["local"], v3["local"]);
+    assert_eq!(
+        GaitResult::from_json(&v4.to_string(), "v4.json").unwrap(),
+        seq
+    );
 }
 
 /// A general simulation's objective at the top level, beside the nested one.

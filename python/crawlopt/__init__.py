@@ -582,10 +582,18 @@ def simulate(
     return sim
 
 
+# The numbers and records a result keeps in its solution beside the gait's arrays (result
+# version 4), attributes of a GaitResult as its top-level fields are.
+_SOLUTION_NUMBERS = ("displacement_per_period", "actuation_cost", "m", "local", "polish")
+
+
 class GaitResult:
     """An optimal gait with its certificate (what ``crawlopt optimize --json`` writes): every
-    field of that document is an attribute (``objective``, ``displacement_per_period``,
-    ``status``, ``certificate``, ``phase_growth``, ``convergence``, ...); ``status`` is what was
+    top-level field of that document is an attribute (``objective``, ``status``,
+    ``certificate``, ``problem`` with its ``crawler`` and ``gait``, ``phase_growth``,
+    ``convergence``, ...), and so are the solution's own numbers and records
+    (``displacement_per_period``, ``actuation_cost``, ``m``, ``local``, ``polish``; None where
+    the document has none); ``status`` is what was
     proven: "optimal" (P_m), "optimal_among_k_phases" (K in ``certificate["phases"]``),
     "dominates_k_phases" (a gait of more than K slip phases, e.g. the structured gait named in
     ``structured``, that no gait of at most K slip phases beats), "time_limit",
@@ -599,6 +607,8 @@ class GaitResult:
         for k, v in self._doc.items():
             if k != "solution":
                 setattr(self, k, v)
+        for k in _SOLUTION_NUMBERS:
+            setattr(self, k, self._doc["solution"].get(k))
         self.gait = _Gait(self._doc["solution"])
         self.solution = self.gait
         self.necessary_conditions = (

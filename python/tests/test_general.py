@@ -181,10 +181,10 @@ def test_polish_of_a_crawler_p_m_with_an_interior_rate():
     c = co.Crawler(blocks=2, stiffness=1.0, mu_forward=1.0, mu_backward=2.0)
     g = co.GaitProblem(period=10.0, max_actuator_speed=1.0, cost=co.Quadratic(0.6))
     r = co.optimize(c, g, method="discrete", m=3)
-    assert r.to_dict()["polish"]["applied"]
+    assert r.to_dict()["solution"]["polish"]["applied"]
     assert r.objective == pytest.approx(1 / 12, abs=1e-12)
     raw = co.optimize(c, g, method="discrete", m=3, polish=False)
-    assert raw.to_dict().get("polish") is None
+    assert raw.to_dict()["solution"].get("polish") is None
     assert raw.objective < 1 / 12
     with pytest.raises(co.InputError) as e:
         co.optimize(c, g, method="phase", polish=False)
@@ -196,7 +196,7 @@ def test_general_results_read_back_and_certify(tmp_path):
     # rebuilt from it, the solution replayed) and certified: the numbers of optimize(certify=True).
     g = co.load(ONE_LINK)
     r = g.optimize(m=3, certify=True)
-    assert r.kind == "general" and r.format == "crawlopt-gait-result" and r.version == 3
+    assert r.kind == "general" and r.format == "crawlopt-gait-result" and r.version == 4
     assert r.status == "optimal" and r.certificate["kind"] == "global"
     assert r.problem["problem"]["period"] == 10.0 and "input" not in r.problem
     path = tmp_path / "r.json"

@@ -42,7 +42,7 @@ def test_three_blocks_optimum_with_its_certificate():
     table = r.phase_growth["table"]
     assert [row["phases"] for row in table][:4] == [1, 2, 3, 4]
     assert table[2]["objective"] == pytest.approx(13 / 6, abs=1e-8)
-    assert r.verified_displacement == pytest.approx(2.6, abs=1e-8)
+    assert r.displacement_per_period == pytest.approx(2.6, abs=1e-8)
 
 
 def test_same_problem_built_in_python_and_read_from_the_file():
@@ -114,12 +114,19 @@ def test_results_round_trip_with_the_command_line(cli, tmp_path):
 
 
 def test_version_1_results_read_as_the_current_version(cli, tmp_path):
-    # A result of version 1 (the gait under "gait", no "kind") reads to the same result, with
-    # the same certificate; errors on it say that its gait was read as the solution.
+    # A result of version 1 (the gait under "gait", no "kind"; the crawler, its gait problem
+    # and the solution's numbers at the top level, as up to version 3) reads to the same
+    # result, with the same certificate; errors on it say that its gait was read as the
+    # solution.
     out = _optimize_json(cli, "examples/three_blocks_gait.toml")
     doc = json.loads(out)
-    assert doc["version"] == 3 and "solution" in doc and "gait" not in doc
-    old = dict(doc, version=1, gait=doc["solution"])
+    assert doc["version"] == 4 and "solution" in doc and "gait" not in doc
+    gait = dict(doc["solution"])
+    numbers = ("m", "displacement_per_period", "actuation_cost", "local", "polish")
+    moved = {k: gait.pop(k) for k in numbers if k in gait}
+    old = dict(doc, version=1, gait=gait, **moved)
+    old.update(crawler=doc["problem"]["crawler"], problem=doc["problem"]["gait"])
+    old["verified_displacement"] = moved["displacement_per_period"]
     del old["solution"], old["kind"]
     path = tmp_path / "old.json"
     path.write_text(json.dumps(old))

@@ -104,13 +104,12 @@ impl GaitResult {
         let close = |a: f64, b: f64| (a - b).abs() <= INPUT_TOL * j_scale;
         for (field, got, want) in [
             (
-                "displacement_per_period",
+                "solution.displacement_per_period",
                 self.displacement_per_period,
                 moved,
             ),
-            ("verified_displacement", self.verified_displacement, moved),
-            ("displacement_per_period", replayed, moved),
-            ("actuation_cost", self.actuation_cost, cost),
+            ("solution.displacement_per_period", replayed, moved),
+            ("solution.actuation_cost", self.actuation_cost, cost),
             ("objective", self.head.objective, moved - cost),
         ] {
             if !close(got, want) {
@@ -251,15 +250,20 @@ impl GaitResult {
             }
             (SolutionKind::Discrete | SolutionKind::Local, Some(m)) => Err(bad(
                 what,
-                "m",
+                "solution.m",
                 m,
                 format!("must be in 1..={}", super::MAX_M),
             )),
-            (SolutionKind::Discrete | SolutionKind::Local, None) => {
-                Err(bad(what, "m", "nothing", "a discrete (P_m) result needs m"))
-            }
+            (SolutionKind::Discrete | SolutionKind::Local, None) => Err(bad(
+                what,
+                "solution.m",
+                "nothing",
+                "a discrete (P_m) result needs m",
+            )),
             (SolutionKind::Phase, None) => Ok(ProcessKind::Phase),
-            (SolutionKind::Phase, Some(m)) => Err(bad(what, "m", m, "a phase gait has no grid m")),
+            (SolutionKind::Phase, Some(m)) => {
+                Err(bad(what, "solution.m", m, "a phase gait has no grid m"))
+            }
         }
     }
 

@@ -19,10 +19,16 @@ pub const RESULT_FORMAT: &str = "crawlopt-gait-result";
 /// longer repeats `objective` and the MILP's `certificate` (now the envelope's `status`,
 /// `certificate` and `solver_objective`), its period is the problem's (no top-level
 /// `period`), and a P_m process's `x`, `u`, `lambda` are `states`, `controls`, `reactions`,
-/// as a phase gait's and a crawler's; a crawler's result is unchanged. Versions 1 to 3 are
-/// read ([`read_envelope`] upgrades a version 1 document; a version 2 general document reads
-/// as it is, its repeated numbers checked); others are refused.
-pub const RESULT_VERSION: u32 = 3;
+/// as a phase gait's and a crawler's; a crawler's result is unchanged. Version 4 gives a
+/// crawler's result the same places: its `problem` is `{crawler, gait}` (the model file's
+/// sections, as (P)'s `problem` is its file's) where versions 1 to 3 had the crawler at the top
+/// level and the gait problem as `problem`, and its solution's own numbers (`m`,
+/// `displacement_per_period`, `actuation_cost`) and the records of how it was reached
+/// (`local`, `polish`) are in `solution`, as (P)'s are, each written once (the displacement
+/// was also written as `verified_displacement`); a general result is unchanged. Versions 1 to
+/// 4 are read ([`read_envelope`] moves an older crawler's fields to their places; a version 2
+/// general document reads as it is, its repeated numbers checked); others are refused.
+pub const RESULT_VERSION: u32 = 4;
 
 /// The oldest result version this build reads.
 pub const RESULT_VERSION_READ_FROM: u32 = 1;
@@ -300,29 +306,75 @@ pub fn read_envelope(text: &str, what: &str) -> Result<(serde_json::Value, Resul
     } else {
         format!("{what} (version {version}, its {key} read as solution)")
     };
-    Ok((upgraded(v, version, kind), kind, label))
+    Ok((upgraded(v, version, kind, &label)?, kind, label))
 }
 
-/// A document of `version` in the shape of [`RESULT_VERSION`]: version 1 wrote a crawler's
-/// solution under `gait`; the version becomes the current one. A version 1 document that has
-/// no `gait` keeps its fields, and its reader names what is missing (`solution`).
-fn upgraded(mut v: serde_json::Value, version: u64, kind: ResultKind) -> serde_json::Value {
+/// The fields a crawler's result of versions 1 to 3 kept at the top level and version 4 keeps
+/// in its `solution`.
+const MOVED_INTO_SOLUTION: [&str; 5] = [
+    "m",
+    "displacement_per_period",
+    "actuation_cost",
+    "local",
+    "polish",
+];
+
+/// A document of `version` in the shape of [`RESULT_VERSION`], the version becoming the
+/// current one. A crawler's of version 1 wrote its solution under `gait`; one of versions 1
+/// to 3 had the crawler at the top level beside its gait problem `problem` (both now under
+/// `problem`, as `crawler` and `gait`), and its solution's numbers and records at the top
+/// level ([`MOVED_INTO_SOLUTION`]), the displacement twice: `verified_displacement` is
+/// dropped once it is found equal to `displacement_per_period` (an older file that disagrees
+/// with itself is refused naming it, as its reader then did). A field that is missing stays
+/// missing, and the reader names it at its new place.
+fn upgraded(
+    mut v: serde_json::Value,
+    version: u64,
+    kind: ResultKind,
+    what: &str,
+) -> Result<serde_json::Value> {
     if version == u64::from(RESULT_VERSION) {
-        return v;
+        return Ok(v);
     }
     if let Some(o) = v.as_object_mut() {
         if kind == ResultKind::Crawler {
             if let Some(g) = o.remove("gait") {
                 o.insert("solution".to_string(), g);
             }
+            if let Some(d) = o.remove("verified_displacement") {
+                if o.get("displacement_per_period") != Some(&d) {
+                    return Err(Error::invalid(
+                        format!("{what}: verified_displacement"),
+                        d,
+                        "differs from displacement_per_period (a result of versions 1 to 3 \
+                         writes the one displacement twice)",
+                    ));
+                }
+            }
+            let mut problem = serde_json::Map::new();
+            for (from, to) in [("crawler", "crawler"), ("problem", "gait")] {
+                if let Some(x) = o.remove(from) {
+                    problem.insert(to.to_string(), x);
+                }
+            }
+            o.insert("problem".to_string(), problem.into());
+            let moved: Vec<(&str, serde_json::Value)> = MOVED_INTO_SOLUTION
+                .iter()
+                .filter_map(|k| o.remove(*k).map(|x| (*k, x)))
+                .collect();
+            if let Some(solution) = o.get_mut("solution").and_then(|s| s.as_object_mut()) {
+                for (k, x) in moved {
+                    solution.insert(k.to_string(), x);
+                }
+            }
         }
         o.insert("kind".to_string(), kind.as_str().into());
         o.insert("version".to_string(), RESULT_VERSION.into());
     }
-    v
+    Ok(v)
 }
 
-/// The versions read, in words: `1, 2 and 3`.
+/// The versions read, in words: `1, 2, 3 and 4`.
 fn versions_read() -> String {
     let all: Vec<String> = (RESULT_VERSION_READ_FROM..=RESULT_VERSION)
         .map(|v| v.to_string())
@@ -397,10 +449,10 @@ mod tests {
             let e = read_envelope(&doc, "r").unwrap_err();
             assert!(e.to_string().contains("is not a field of a version"), "{e}");
         }
-        let v4 = r#"{"format": "crawlopt-gait-result", "version": 4, "kind": "crawler"}"#;
-        let e = read_envelope(v4, "r").unwrap_err();
+        let v5 = r#"{"format": "crawlopt-gait-result", "version": 5, "kind": "crawler"}"#;
+        let e = read_envelope(v5, "r").unwrap_err();
         assert!(
-            e.to_string().contains("reads versions 1, 2 and 3 only"),
+            e.to_string().contains("reads versions 1, 2, 3 and 4 only"),
             "{e}"
         );
     }

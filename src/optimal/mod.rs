@@ -27,6 +27,7 @@ pub mod process;
 mod records;
 pub mod refinement;
 mod result;
+mod result_wire;
 pub(crate) mod solver;
 mod start;
 pub mod structured;

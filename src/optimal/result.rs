@@ -120,8 +120,11 @@ impl GaitData {
     }
 }
 
-/// One optimal-gait result (module docs).
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+/// One optimal-gait result (module docs). Written and read in the shape of
+/// `crate::optimal::result_wire` (result version 4: the crawler and its gait problem under
+/// `problem`, the gait's own numbers, `m`, `local` and `polish` in `solution`), in
+/// `result_wire`.
+#[derive(Debug, Clone, PartialEq)]
 pub struct GaitResult {
     /// The envelope every result opens with ([`ResultHead`]): format, version, kind
     /// (`"crawler"`), method (`"phase"`, `"sequence"` or `"chain"`, an exact phase gait, for
@@ -132,39 +135,33 @@ pub struct GaitResult {
     /// slip phases that none of at most `K` beats, `"time_limit"` (see the gap and bound),
     /// `"approximation_limit"`, or the local methods' `"stationary"` / `"stalled"`) and the
     /// certificate.
-    #[serde(flatten)]
     pub head: ResultHead,
-    /// The crawler.
+    /// The crawler (`problem.crawler`).
     pub crawler: CrawlerParams,
-    /// The gait problem.
+    /// The gait problem (`problem.gait`).
     pub problem: GaitProblem,
-    /// `m` of P_m (discrete only).
+    /// `m` of P_m (`solution.m`; P_m answers only).
     pub m: Option<u32>,
-    /// Displacement per period (verified).
+    /// Displacement per period, found by replaying the gait in the simulator that verifies it
+    /// (`solution.displacement_per_period`; versions 1 to 3 wrote it twice, also as
+    /// `verified_displacement`).
     pub displacement_per_period: f64,
-    /// `int_0^T f2(u) dt` of the gait.
+    /// `int_0^T f2(u) dt` of the gait (`solution.actuation_cost`).
     pub actuation_cost: f64,
-    /// The displacement per period found by replaying the gait in the simulator.
-    pub verified_displacement: f64,
     /// The solver's own objective (before re-verification).
     pub solver_objective: f64,
     /// The gait: the envelope's `solution` (`gait` in version 1 files, read as well).
-    #[serde(rename = "solution")]
     pub gait: GaitData,
     /// The records beside the solution ([`ResultRecords`]): the growth of `K` that led to a
     /// phase gait, the table of `J_m` when asked (`--convergence`), the structured gait kept
     /// as the answer.
-    #[serde(flatten)]
     pub records: ResultRecords,
-    /// How the local method ran (method `local`).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
+    /// How the local method ran (methods `local` and `sequence`; `solution.local`).
     pub local: Option<LocalRecord>,
     /// The start a P_m MILP took as its first incumbent, when it had one.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub discrete_start: Option<StartRecord>,
     /// What polishing on the fixed slip pattern did to a P_m answer of a quadratic cost
-    /// ([`crate::optimal::polish`]).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
+    /// ([`crate::optimal::polish`]; `solution.polish`).
     pub polish: Option<crate::optimal::polish::PolishRecord>,
 }
 
@@ -257,7 +254,6 @@ impl GaitResult {
             m,
             displacement_per_period: verified,
             actuation_cost: cost,
-            verified_displacement: verified,
             solver_objective,
             gait,
             records: ResultRecords::default(),
@@ -568,7 +564,7 @@ mod tests {
             e.to_string().contains("not a complete JSON document"),
             "{e}"
         );
-        let other = text.replace("\"version\":3", "\"version\":4");
+        let other = text.replace("\"version\":4", "\"version\":5");
         let e = GaitResult::from_json(&other, "r.json").unwrap_err();
         assert!(e.to_string().contains("version"), "{e}");
         let e = GaitResult::from_json("{\"objective\": 1}", "r.json").unwrap_err();

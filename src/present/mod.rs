@@ -69,10 +69,10 @@ pub fn replay_gait(result: &GaitResult, periods: usize) -> Result<(Crawler, Simu
     let d = sim.displacement_per_period.ok_or_else(|| {
         Error::Numerical("the gait of the result did not reach a periodic regime".into())
     })?;
-    let want = result.verified_displacement;
+    let want = result.displacement_per_period;
     if (d - want).abs() > 1e-6 * (1.0 + want.abs()) {
         return Err(Error::invalid(
-            "verified_displacement",
+            "solution.displacement_per_period",
             want,
             format!("the result's gait moves the crawler {d} per period when replayed"),
         ));

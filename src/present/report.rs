@@ -479,7 +479,7 @@ fn gait_section(h: &mut String, result: &GaitResult, n: usize, cert: &str, statu
          Displacement per period {} (simulator) against {} (solver); actuation cost {}.</p>\n",
         esc(&result.head.method),
         esc(cert),
-        num(result.verified_displacement),
+        num(result.displacement_per_period),
         num(result.solver_objective),
         num(result.actuation_cost)
     ));

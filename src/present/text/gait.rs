@@ -32,7 +32,7 @@ pub fn gait_result(r: &GaitResult) -> String {
     wln!(
         out,
         "verified by simulation: {} (solver: {})",
-        len(r.verified_displacement),
+        len(r.displacement_per_period),
         len(r.solver_objective)
     );
     if let Some(p) = &r.polish {
