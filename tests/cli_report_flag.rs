@@ -118,3 +118,44 @@ fn a_directory_as_the_report_is_refused_before_any_work() {
     // The optimum takes seconds (4 s on the 2-core machine); the refusal comes before it.
     assert!(t.elapsed().as_secs_f64() < 2.0, "{:?}", t.elapsed());
 }
+
+/// A P_m answer that took a start says so in its HTML report, as its text does, for a crawler
+/// and for a general problem (P): where the start came from and its `J` on the grid, the same
+/// words as the text's line.
+#[test]
+fn a_report_names_the_start_of_a_p_m_answer() {
+    let dir = tempfile::tempdir().unwrap();
+    for model in [
+        "examples/one_link_gait.toml",
+        "examples/general_three_blocks.toml",
+    ] {
+        let start = dir.path().join("start.json");
+        let out = crawlopt(&["optimize", model, "--method", "local", "--m", "3", "--json"]);
+        assert_eq!(out.status.code(), Some(0), "{model}");
+        std::fs::write(&start, &out.stdout).unwrap();
+        let html = dir.path().join("r.html");
+        let (start, html_path) = (start.to_str().unwrap(), html.to_str().unwrap());
+        let out = crawlopt(&[
+            "optimize", model, "--method", "discrete", "--m", "3", "--start", start, "--report",
+            html_path,
+        ]);
+        assert_eq!(out.status.code(), Some(0), "{model}");
+        let stdout = String::from_utf8_lossy(&out.stdout);
+        let line = stdout
+            .lines()
+            .find(|l| l.starts_with("the MILP started from "))
+            .unwrap_or_else(|| panic!("{model}: no start in the text: {stdout}"));
+        let page = std::fs::read_to_string(&html).unwrap();
+        // The line's words up to its J (the report formats numbers its own way).
+        let words = &line["the MILP ".len()..line.find(" (J = ").unwrap() + " (J = ".len()];
+        assert!(words.contains("start.json"), "{model}: {line}");
+        assert!(page.contains(words), "{model}: the report lacks {words:?}");
+        // Without a start, no such words.
+        let out = crawlopt(&[
+            "optimize", model, "--method", "discrete", "--m", "3", "--report", html_path,
+        ]);
+        assert_eq!(out.status.code(), Some(0), "{model}");
+        let page = std::fs::read_to_string(&html).unwrap();
+        assert!(!page.contains("started from"), "{model}");
+    }
+}

@@ -134,7 +134,7 @@ fn describe(input: GeneralReportInput<'_>) -> Description<'_> {
     match input {
         GeneralReportInput::Simulation(r) => describe_simulation(r),
         GeneralReportInput::Answer(r) => match &r.solution {
-            GeneralSolution::Pm(s) => describe_discrete(s),
+            GeneralSolution::Pm(s) => describe_discrete(r, s),
             GeneralSolution::Local(s) => describe_local(r, s),
             GeneralSolution::Phase(s) => describe_phase(r, s),
         },
@@ -162,8 +162,9 @@ fn describe_simulation(r: &GeneralSimulated) -> Description<'_> {
     )
 }
 
-/// [`describe`] of a global P_m optimum: the MILP's status, gap and bound.
-fn describe_discrete(s: &GeneralPm) -> Description<'_> {
+/// [`describe`] of a global P_m optimum: the MILP's status, gap and bound, and the start it
+/// took, if any.
+fn describe_discrete<'a>(r: &'a GeneralAnswer, s: &GeneralPm) -> Description<'a> {
     let c = &s.certificate;
     (
         "Optimum",
@@ -177,10 +178,16 @@ fn describe_discrete(s: &GeneralPm) -> Description<'_> {
         (
             format!("gap {:.1e}", c.gap),
             format!(
-                "MILP bound {} on J over P_{} (MILP objective {})",
+                "MILP bound {} on J over P_{} (MILP objective {}){}",
                 num(c.bound),
                 s.m,
-                num(c.milp_objective)
+                num(c.milp_objective),
+                r.discrete_start
+                    .as_ref()
+                    .map_or_else(String::new, |st| format!(
+                        "; {}",
+                        super::text::start_words(st, &|v| num(v))
+                    ))
             ),
         ),
     )

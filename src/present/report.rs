@@ -496,6 +496,12 @@ fn gait_section(h: &mut String, result: &GaitResult, n: usize, cert: &str, statu
         }
         h.push_str("</p>\n");
     }
+    if let Some(st) = &result.discrete_start {
+        h.push_str(&format!(
+            "<p id=\"start\">{}.</p>\n",
+            esc(&sentence(super::text::start_words(st, &|v| num(v))))
+        ));
+    }
     // Pieces are numbered from 0, as in the text of `crawlopt optimize` and its certificate
     // ("piece 1" is the second piece there too).
     h.push_str("<div class=\"scroll\">\n<table id=\"pieces\">\n<tr><th>piece</th><th>from t</th><th>to t</th>");
@@ -612,6 +618,15 @@ pub(super) fn footer(h: &mut String, command: &str, figures_by: &str) {
         env!("CARGO_PKG_VERSION"),
         esc(command)
     ));
+}
+
+/// `words` as a sentence: its first letter capitalised.
+fn sentence(mut words: String) -> String {
+    if let Some(first) = words.get(..1) {
+        let upper = first.to_uppercase();
+        words.replace_range(..1, &upper);
+    }
+    words
 }
 
 fn yes(v: Option<bool>) -> &'static str {

@@ -380,10 +380,15 @@ pub(super) fn start_line(
     st: &crate::optimal::StartRecord,
     len: &dyn Fn(f64) -> String,
 ) {
-    wln!(
-        out,
+    wln!(out, "{}", start_words(st, len));
+}
+
+/// The start a P_m MILP took as its first incumbent, in words, for the text and the HTML
+/// reports of both kinds: where it came from and its `J` on the grid (`len` formats it).
+pub(crate) fn start_words(st: &crate::optimal::StartRecord, len: &dyn Fn(f64) -> String) -> String {
+    format!(
         "the MILP started from {} (J = {} on this grid)",
         st.start,
         len(st.start_objective)
-    );
+    )
 }

@@ -19,8 +19,8 @@ mod simulation;
 
 pub use analysis::{analysis, gait_problem};
 pub use fit::fit;
-pub(crate) use gait::margin_text;
 pub use gait::{certificate, gait_result, gait_summary, phase_step};
+pub(crate) use gait::{margin_text, start_words};
 pub use general::{general_analysis, general_answer, general_simulation};
 pub use general_certify::general_certificate;
 pub use simulation::simulation;
