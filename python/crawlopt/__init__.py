@@ -43,7 +43,13 @@ from ._crawlopt import (
     NumericalError,
     TimeLimitError,
 )
-from ._documents import GeneralAnalysis, GeneralResult, GeneralSimulation, NecessaryConditions
+from ._documents import (
+    Fields,
+    GeneralAnalysis,
+    GeneralResult,
+    GeneralSimulation,
+    NecessaryConditions,
+)
 from ._fit import FitResult, fit
 from ._general import GeneralProblem
 from ._progress import progress_callback
@@ -587,7 +593,7 @@ def simulate(
 _SOLUTION_NUMBERS = ("displacement_per_period", "actuation_cost", "m", "local", "polish")
 
 
-class GaitResult:
+class GaitResult(Fields):
     """An optimal gait with its certificate (what ``crawlopt optimize --json`` writes): every
     top-level field of that document is an attribute (``objective``, ``status``,
     ``certificate``, ``problem`` with its ``crawler`` and ``gait``, ``phase_growth``,
@@ -597,7 +603,8 @@ class GaitResult:
     proven: "optimal" (P_m), "optimal_among_k_phases" (K in ``certificate["phases"]``),
     "dominates_k_phases" (a gait of more than K slip phases, e.g. the structured gait named in
     ``structured``, that no gait of at most K slip phases beats), "time_limit",
-    "approximation_limit", or a local method's "stationary" / "stalled"; ``gait`` (also
+    "approximation_limit", or a local method's "stationary" / "stalled"; ``d["solution"]``
+    and the other fields read as from a dict, as a ``GeneralResult``'s; ``gait`` (also
     ``solution``, the document's name for it) has the arrays ``t`` (knot times), ``L``
     (actuator lengths at the knots), ``u`` (controls per piece), ``x`` (states), ``slip``."""
 

@@ -67,19 +67,13 @@ def figure_svg(fig) -> str:
     return buf.getvalue()
 
 
-class Document:
-    """A JSON document of the library: each field an attribute; ``d["field"]`` reads it too
-    (as the dict it used to be)."""
+class Fields:
+    """A document's fields read by name, as from a dict: ``d["field"]``, ``"field" in d``,
+    ``d.get("field")``, ``d.keys()``. Every document of the library has them, a crawler's
+    ``GaitResult`` as a ``GeneralResult`` (the one envelope of every result: ``d["problem"]``,
+    ``d["solution"]``, ...)."""
 
-    def __init__(self, doc: dict):
-        self._doc = doc
-        for k, v in doc.items():
-            if k.isidentifier() and not hasattr(type(self), k):
-                setattr(self, k, v)
-
-    def to_dict(self) -> dict:
-        """The fields of the document as a dict (series as NumPy arrays)."""
-        return dict(self._doc)
+    _doc: dict
 
     def __getitem__(self, key: str) -> Any:
         return self._doc[key]
@@ -94,6 +88,21 @@ class Document:
     def keys(self):
         """The document's fields."""
         return self._doc.keys()
+
+
+class Document(Fields):
+    """A JSON document of the library: each field an attribute; ``d["field"]`` reads it too
+    (as the dict it used to be)."""
+
+    def __init__(self, doc: dict):
+        self._doc = doc
+        for k, v in doc.items():
+            if k.isidentifier() and not hasattr(type(self), k):
+                setattr(self, k, v)
+
+    def to_dict(self) -> dict:
+        """The fields of the document as a dict (series as NumPy arrays)."""
+        return dict(self._doc)
 
     def __eq__(self, other: object) -> bool:
         if type(other) is not type(self):
@@ -305,7 +314,7 @@ class GeneralResult(_LibraryFigures, Document):
     ``status`` (what was proven), ``certificate`` (``kind`` global, global_k_phases or local,
     ``bound``, ``gap``, as a crawler's), ``necessary_conditions`` (a NecessaryConditions, with
     ``certify=True``), ``solver_objective`` (the MILP methods'), and the gait as arrays named
-    alike for every method (result version 3): ``states`` (one row per knot), ``controls`` and
+    alike for every method (since result version 3): ``states`` (one row per knot), ``controls`` and
     ``reactions`` (one row per step of P_m or per phase), with ``durations`` and ``held`` per
     phase for methods "phase", "sequence" and "chain"; ``x`` and ``u`` are the same arrays as
     ``states`` and ``controls`` (a crawler's gait names them so). ``d["solution"]`` is the

@@ -249,6 +249,13 @@ def test_general_results_read_back_and_certify(tmp_path):
     cp.write_text(cr.to_json())
     back = co.read_result(cp)
     assert isinstance(back, co.GaitResult) and back.to_dict() == cr.to_dict()
+    # Either kind's result reads its fields as from a dict, in the one envelope (version 4): a
+    # crawler's problem is its file's sections, its solution has its numbers.
+    for r in (cr, ph):
+        assert set(r.keys()) == set(r.to_dict()) and "solution" in r and r.get("nothing") is None
+        assert (r["format"], r["version"], r["objective"]) == (r.format, 4, r.objective)
+    assert set(cr["problem"]) == {"crawler", "gait"}
+    assert cr["solution"]["displacement_per_period"] == cr.displacement_per_period == cr.objective
     with pytest.raises(co.InputError) as e:
         co.GeneralResult.from_json(cr.to_json())
     assert e.value.field == "result: kind"

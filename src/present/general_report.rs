@@ -186,7 +186,7 @@ fn describe_discrete<'a>(r: &'a GeneralAnswer, s: &GeneralPm) -> Description<'a>
                     .as_ref()
                     .map_or_else(String::new, |st| format!(
                         "; {}",
-                        super::text::start_words(st, &|v| num(v))
+                        super::text::start_words(st, &num)
                     ))
             ),
         ),

@@ -499,7 +499,7 @@ fn gait_section(h: &mut String, result: &GaitResult, n: usize, cert: &str, statu
     if let Some(st) = &result.discrete_start {
         h.push_str(&format!(
             "<p id=\"start\">{}.</p>\n",
-            esc(&sentence(super::text::start_words(st, &|v| num(v))))
+            esc(&sentence(super::text::start_words(st, &num)))
         ));
     }
     // Pieces are numbered from 0, as in the text of `crawlopt optimize` and its certificate
