@@ -626,6 +626,59 @@ fn as_version_3(v: &Value) -> Value {
     old
 }
 
+/// A crawler's field at the place of another version is refused naming it, not dropped: the
+/// old top-level names in a version 4 file, a moved field inside a version 3 file's solution,
+/// a misspelt record in the solution; the displacement written twice by version 3 must be a
+/// number, equal to the other within the reader's tolerance (`3` and `3.0` are one number);
+/// an error of the crawler or the gait problem names its place under `problem`.
+#[test]
+fn a_crawlers_field_at_another_versions_place_is_refused() {
+    let (_, v) = optimize(
+        "examples/one_link_gait.toml",
+        &["--method", "local", "--m", "3"],
+    );
+    let read = |w: &Value| GaitResult::from_json(&w.to_string(), "r.json");
+    let refused = |w: &Value, want: &str| {
+        let e = read(w).unwrap_err().to_string();
+        assert!(
+            e.starts_with(&format!("r.json: {want}")),
+            "want {want}: {e}"
+        );
+    };
+    for (old, value) in [
+        ("verified_displacement", json!(99.0)),
+        ("crawler", json!(7)),
+        ("m", json!(3)),
+        ("polish", json!({})),
+        ("local", v["solution"]["local"].clone()),
+    ] {
+        let mut w = v.clone();
+        w[old] = value;
+        refused(&w, old);
+    }
+    let mut misspelt = v.clone();
+    misspelt["solution"]["polsh"] = json!({"applied": true});
+    let e = read(&misspelt).unwrap_err().to_string();
+    assert!(e.contains("unknown field `polsh`"), "{e}");
+    let v3 = as_version_3(&v);
+    let mut inside = v3.clone();
+    inside["solution"]["m"] = json!(3);
+    refused(&inside, "solution.m");
+    let mut null = v3.clone();
+    null["verified_displacement"] = Value::Null;
+    refused(&null, "verified_displacement");
+    let mut integer = v3.clone();
+    assert_eq!(v3["displacement_per_period"], 3.0);
+    integer["verified_displacement"] = json!(3);
+    assert_eq!(read(&integer).unwrap(), read(&v).unwrap());
+    let mut period = v.clone();
+    period["problem"]["gait"]["period"] = json!(-1.0);
+    refused(&period, "problem.gait.period");
+    let mut friction = v.clone();
+    friction["problem"]["crawler"]["mu_forward"] = json!([1.0, -1.0]);
+    refused(&friction, "problem.crawler.mu_forward");
+}
+
 /// Files the build before version 4 wrote (`tests/data/v3_*.json`: a local P_m answer of one
 /// link at m = 3, a polished P_m answer of a quadratic cost, a sequence search's gait of three
 /// blocks) read to what this build writes for the same command: the same result, the local

@@ -52,9 +52,10 @@ impl GaitResult {
     /// convergence tables against the objective and their own invariants. `what` names the
     /// source in errors.
     pub fn check_consistent(&self, what: &str) -> Result<()> {
-        let crawler = self.crawler.crawler()?;
+        let in_problem = |e| super::result::in_problem(e, what);
+        let crawler = self.crawler.crawler().map_err(in_problem)?;
         crawler.require_unique()?;
-        self.problem.check_scales(&crawler)?;
+        self.problem.check_scales(&crawler).map_err(in_problem)?;
         let kind = self.process_kind(what)?;
         let g = &self.gait;
         let view = ProcessView {

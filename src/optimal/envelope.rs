@@ -301,6 +301,37 @@ pub fn read_envelope(text: &str, what: &str) -> Result<(serde_json::Value, Resul
             ),
         ));
     }
+    // A crawler's fields at their places of the other versions (top level up to version 3,
+    // in the solution from version 4): refused, not dropped.
+    if kind == ResultKind::Crawler {
+        let at_top = version >= u64::from(RESULT_VERSION);
+        let (found, place, places) = if at_top {
+            let top = MOVED_INTO_SOLUTION
+                .iter()
+                .chain(&["crawler", "verified_displacement"]);
+            (
+                top.copied().find(|k| v.get(*k).is_some()),
+                "",
+                "in `solution`, the crawler in `problem`",
+            )
+        } else {
+            let solution = v.get(key);
+            let inside = MOVED_INTO_SOLUTION
+                .iter()
+                .find(|k| solution.and_then(|s| s.get(**k)).is_some());
+            (inside.copied(), "solution.", "at the top level")
+        };
+        if let Some(k) = found {
+            return Err(Error::invalid(
+                format!("{what}: {place}{k}"),
+                "given",
+                format!(
+                    "is not a field of a version {version} crawler's result here (it is \
+                     {places})"
+                ),
+            ));
+        }
+    }
     let label = if key == "solution" {
         what.to_string()
     } else {
@@ -342,14 +373,7 @@ fn upgraded(
                 o.insert("solution".to_string(), g);
             }
             if let Some(d) = o.remove("verified_displacement") {
-                if o.get("displacement_per_period") != Some(&d) {
-                    return Err(Error::invalid(
-                        format!("{what}: verified_displacement"),
-                        d,
-                        "differs from displacement_per_period (a result of versions 1 to 3 \
-                         writes the one displacement twice)",
-                    ));
-                }
+                check_twice_written(&d, o.get("displacement_per_period"), what)?;
             }
             let mut problem = serde_json::Map::new();
             for (from, to) in [("crawler", "crawler"), ("problem", "gait")] {
@@ -372,6 +396,40 @@ fn upgraded(
         o.insert("version".to_string(), RESULT_VERSION.into());
     }
     Ok(v)
+}
+
+/// A version 1 to 3 crawler's `verified_displacement` `d` against its
+/// `displacement_per_period` `once` (the same number, written twice): a number, and where the
+/// other is one too, equal within [`INPUT_TOL`](super::consistency::INPUT_TOL) (the reader of
+/// those versions compared both with the gait's displacement to that tolerance). A missing
+/// `displacement_per_period` is left to the reader, which names it at its new place.
+fn check_twice_written(
+    d: &serde_json::Value,
+    once: Option<&serde_json::Value>,
+    what: &str,
+) -> Result<()> {
+    let field = format!("{what}: verified_displacement");
+    let Some(d) = d.as_f64() else {
+        return Err(Error::invalid(
+            field,
+            described(Some(d)),
+            "must be a number",
+        ));
+    };
+    if let Some(once) = once.and_then(|x| x.as_f64()) {
+        let tol = super::consistency::INPUT_TOL * (1.0 + once.abs().max(d.abs()));
+        if (d - once).abs() > tol {
+            return Err(Error::invalid(
+                field,
+                d,
+                format!(
+                    "differs from displacement_per_period ({once}): a result of versions 1 to \
+                     3 writes the one displacement twice"
+                ),
+            ));
+        }
+    }
+    Ok(())
 }
 
 /// The versions read, in words: `1, 2, 3 and 4`.

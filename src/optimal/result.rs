@@ -213,6 +213,24 @@ pub struct LocalRecord {
     pub stop: LocalStop,
 }
 
+/// An error of a result's crawler or gait problem (named as in a model file:
+/// `crawler.stiffness[2]`, `gait.period`) named at its place in the result:
+/// `r.json: problem.crawler.stiffness[2]`.
+pub(super) fn in_problem(e: Error, what: &str) -> Error {
+    match e {
+        Error::InvalidParameter {
+            field,
+            value,
+            reason,
+        } => Error::InvalidParameter {
+            field: format!("{what}: problem.{field}"),
+            value,
+            reason,
+        },
+        other => other,
+    }
+}
+
 fn knots(crawler: &Crawler, durations: &[f64], controls: &[Vec<f64>]) -> GaitKnots {
     control_knots(durations, controls, crawler.stiffness())
 }
@@ -476,8 +494,10 @@ impl GaitResult {
 
     /// Checks the problem data, and array lengths and finiteness against the crawler.
     fn check_shape(&self, what: &str) -> Result<()> {
-        let crawler = self.crawler.crawler()?;
-        self.problem.validate(&crawler)?;
+        let crawler = self.crawler.crawler().map_err(|e| in_problem(e, what))?;
+        self.problem
+            .validate(&crawler)
+            .map_err(|e| in_problem(e, what))?;
         let (n, nb) = (crawler.links(), crawler.blocks());
         let g = &self.gait;
         let p = g.durations.len();

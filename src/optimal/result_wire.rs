@@ -89,15 +89,23 @@ struct ProblemIn {
     gait: GaitProblem,
 }
 
-/// [`SolutionOut`], read.
+/// [`SolutionOut`], read: [`GaitData`]'s fields named one by one, so that an unknown or
+/// misspelt key (`polsh`) is refused, not dropped.
 #[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
 struct SolutionIn {
     #[serde(default)]
     m: Option<u32>,
     displacement_per_period: f64,
     actuation_cost: f64,
-    #[serde(flatten)]
-    gait: GaitData,
+    times: Vec<f64>,
+    durations: Vec<f64>,
+    lengths: Vec<Vec<f64>>,
+    controls: Vec<Vec<f64>>,
+    states: Vec<Vec<f64>>,
+    block_displacements: Vec<Vec<f64>>,
+    slip: Vec<Vec<i8>>,
+    initial_state: Vec<f64>,
     #[serde(default)]
     local: Option<LocalRecord>,
     #[serde(default)]
@@ -121,19 +129,29 @@ struct ResultIn {
 impl<'de> Deserialize<'de> for GaitResult {
     fn deserialize<D: Deserializer<'de>>(d: D) -> std::result::Result<Self, D::Error> {
         let r = ResultIn::deserialize(d)?;
+        let s = r.solution;
         Ok(GaitResult {
             head: r.head,
             crawler: r.problem.crawler,
             problem: r.problem.gait,
-            m: r.solution.m,
-            displacement_per_period: r.solution.displacement_per_period,
-            actuation_cost: r.solution.actuation_cost,
+            m: s.m,
+            displacement_per_period: s.displacement_per_period,
+            actuation_cost: s.actuation_cost,
             solver_objective: r.solver_objective,
-            gait: r.solution.gait,
+            gait: GaitData {
+                times: s.times,
+                durations: s.durations,
+                lengths: s.lengths,
+                controls: s.controls,
+                states: s.states,
+                block_displacements: s.block_displacements,
+                slip: s.slip,
+                initial_state: s.initial_state,
+            },
             records: r.records,
-            local: r.solution.local,
+            local: s.local,
             discrete_start: r.discrete_start,
-            polish: r.solution.polish,
+            polish: s.polish,
         })
     }
 }
