@@ -110,6 +110,34 @@ impl Error {
         }
     }
 
+    /// This error with the field it names mapped by `f` (the field of an
+    /// [`Error::InvalidParameter`] or an [`Error::WrongType`]; other errors name no field and
+    /// are returned as they are): how a caller names a field at its own place, e.g. a result
+    /// file's `r.json: problem.gait.period` for a model's `gait.period`.
+    pub fn map_field(self, f: impl FnOnce(String) -> String) -> Self {
+        match self {
+            Error::InvalidParameter {
+                field,
+                value,
+                reason,
+            } => Error::InvalidParameter {
+                field: f(field),
+                value,
+                reason,
+            },
+            Error::WrongType {
+                field,
+                value,
+                reason,
+            } => Error::WrongType {
+                field: f(field),
+                value,
+                reason,
+            },
+            other => other,
+        }
+    }
+
     /// Shorthand for [`Error::WrongType`], its value shown as [`Error::invalid`] shows one.
     pub(crate) fn wrong_type(field: String, value: impl ToString, reason: String) -> Self {
         Error::WrongType {

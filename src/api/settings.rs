@@ -767,25 +767,5 @@ pub fn rename_fields(e: Error, names: &[(&str, String)]) -> Error {
         });
         to.map_or(field, |(_, f)| f.clone())
     };
-    match e {
-        Error::InvalidParameter {
-            field,
-            value,
-            reason,
-        } => Error::InvalidParameter {
-            field: rename(field),
-            value,
-            reason,
-        },
-        Error::WrongType {
-            field,
-            value,
-            reason,
-        } => Error::WrongType {
-            field: rename(field),
-            value,
-            reason,
-        },
-        other => other,
-    }
+    e.map_field(rename)
 }

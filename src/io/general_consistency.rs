@@ -15,7 +15,7 @@ use super::general_claims::{
 };
 use super::{GeneralAnswer, GeneralFile, GeneralSolution};
 use crate::certify::GeneralProcess;
-use crate::error::{Error, Result};
+use crate::error::Result;
 use crate::model::general::GeneralProblem;
 use crate::optimal::consistency::INPUT_TOL;
 use crate::optimal::general::{
@@ -27,18 +27,8 @@ use crate::optimal::{local_status, MilpStatus, ResultKind};
 
 /// The problem of a stored file, its errors naming `{what}: problem.<field>`.
 fn stored_problem(file: &GeneralFile, what: &str) -> Result<GeneralProblem> {
-    file.problem().map_err(|e| match e {
-        Error::InvalidParameter {
-            field,
-            value,
-            reason,
-        } => Error::InvalidParameter {
-            field: format!("{what}: problem.{field}"),
-            value,
-            reason,
-        },
-        other => other,
-    })
+    file.problem()
+        .map_err(|e| crate::optimal::envelope::in_problem(e, what))
 }
 
 /// Closeness of two values of `J`, relative to the size of its two parts.

@@ -4,19 +4,10 @@
 
 use crate::error::{Error, Result};
 
+/// `e` naming the field `to...` where it named `from...` (the file's name of a field checked
+/// under another's).
 pub(super) fn rename(e: Error, from: &str, to: &str) -> Error {
-    match e {
-        Error::InvalidParameter {
-            field,
-            value,
-            reason,
-        } => Error::InvalidParameter {
-            field: field.replacen(from, to, 1),
-            value,
-            reason,
-        },
-        other => other,
-    }
+    e.map_field(|field| field.replacen(from, to, 1))
 }
 
 pub(super) fn check_len(field: &str, v: &[f64], len: usize, what: &str) -> Result<()> {

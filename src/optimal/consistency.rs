@@ -19,11 +19,7 @@ use crate::optimal::{
     replay, Certificate, GaitResult, MilpStatus, ResultCertificate, ResultRecords,
 };
 
-/// Default relative tolerance on the consistency of an input process (states in C, periodicity,
-/// zero mean, dynamics): relative to the size of C, the rate bounds and the period. Loose enough
-/// for a gait written with ten significant digits, tight enough that the first-order conditions
-/// are meaningful at the `1e-9` level of the certificate.
-pub const INPUT_TOL: f64 = 1e-7;
+pub use super::envelope::INPUT_TOL;
 
 /// The largest gap of an `optimal_among_k_phases` or `dominates_k_phases` claim in a result
 /// file: ten times the outer approximation's tolerance on a quadratic cost (`1e-6`, within which
@@ -52,7 +48,7 @@ impl GaitResult {
     /// convergence tables against the objective and their own invariants. `what` names the
     /// source in errors.
     pub fn check_consistent(&self, what: &str) -> Result<()> {
-        let in_problem = |e| super::result::in_problem(e, what);
+        let in_problem = |e| super::envelope::in_problem(e, what);
         let crawler = self.crawler.crawler().map_err(in_problem)?;
         crawler.require_unique()?;
         self.problem.check_scales(&crawler).map_err(in_problem)?;

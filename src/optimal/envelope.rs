@@ -30,6 +30,14 @@ pub const RESULT_FORMAT: &str = "crawlopt-gait-result";
 /// general document reads as it is, its repeated numbers checked); others are refused.
 pub const RESULT_VERSION: u32 = 4;
 
+/// Default relative tolerance on the consistency of an input process (states in C, periodicity,
+/// zero mean, dynamics): relative to the size of C, the rate bounds and the period. Loose enough
+/// for a gait written with ten significant digits, tight enough that the first-order conditions
+/// are meaningful at the `1e-9` level of the certificate. Every reader of a result checks to it
+/// (here, where a document's envelope is read, so that its upgrade checks to it too; re-exported
+/// by [`super::consistency`]).
+pub const INPUT_TOL: f64 = 1e-7;
+
 /// The oldest result version this build reads.
 pub const RESULT_VERSION_READ_FROM: u32 = 1;
 
@@ -219,6 +227,13 @@ impl ResultHead {
     }
 }
 
+/// An error of a result's problem, named as in the problem's file (a crawler's
+/// `crawler.stiffness[2]`, `gait.period`; (P)'s `dynamics.B`), named at its place in the result:
+/// `r.json: problem.crawler.stiffness[2]`. Both kinds' readers name their problems so.
+pub fn in_problem(e: Error, what: &str) -> Error {
+    e.map_field(|field| format!("{what}: problem.{field}"))
+}
+
 /// The status of a local method's stop, as every result states it (crawler and general):
 /// stationary, the time limit, or stalled (its round limit included).
 pub fn local_status(stop: LocalStop) -> MilpStatus {
@@ -400,7 +415,7 @@ fn upgraded(
 
 /// A version 1 to 3 crawler's `verified_displacement` `d` against its
 /// `displacement_per_period` `once` (the same number, written twice): a number, and where the
-/// other is one too, equal within [`INPUT_TOL`](super::consistency::INPUT_TOL) (the reader of
+/// other is one too, equal within [`INPUT_TOL`] (the reader of
 /// those versions compared both with the gait's displacement to that tolerance). A missing
 /// `displacement_per_period` is left to the reader, which names it at its new place.
 fn check_twice_written(
@@ -417,7 +432,7 @@ fn check_twice_written(
         ));
     };
     if let Some(once) = once.and_then(|x| x.as_f64()) {
-        let tol = super::consistency::INPUT_TOL * (1.0 + once.abs().max(d.abs()));
+        let tol = INPUT_TOL * (1.0 + once.abs().max(d.abs()));
         if (d - once).abs() > tol {
             return Err(Error::invalid(
                 field,

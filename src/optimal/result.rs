@@ -14,7 +14,9 @@ use crate::optimal::{
 };
 use serde::{Deserialize, Serialize};
 
-use super::envelope::{local_status, read_envelope, ResultCertificate, ResultHead, ResultKind};
+use super::envelope::{
+    in_problem, local_status, read_envelope, ResultCertificate, ResultHead, ResultKind,
+};
 pub use super::envelope::{RESULT_FORMAT, RESULT_VERSION};
 use super::records::{PhaseGrowthRecord, ResultRecords, StructuredRecord};
 
@@ -211,24 +213,6 @@ pub struct LocalRecord {
     pub switches: usize,
     /// Why it stopped.
     pub stop: LocalStop,
-}
-
-/// An error of a result's crawler or gait problem (named as in a model file:
-/// `crawler.stiffness[2]`, `gait.period`) named at its place in the result:
-/// `r.json: problem.crawler.stiffness[2]`.
-pub(super) fn in_problem(e: Error, what: &str) -> Error {
-    match e {
-        Error::InvalidParameter {
-            field,
-            value,
-            reason,
-        } => Error::InvalidParameter {
-            field: format!("{what}: problem.{field}"),
-            value,
-            reason,
-        },
-        other => other,
-    }
 }
 
 fn knots(crawler: &Crawler, durations: &[f64], controls: &[Vec<f64>]) -> GaitKnots {
