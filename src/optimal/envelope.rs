@@ -316,36 +316,8 @@ pub fn read_envelope(text: &str, what: &str) -> Result<(serde_json::Value, Resul
             ),
         ));
     }
-    // A crawler's fields at their places of the other versions (top level up to version 3,
-    // in the solution from version 4): refused, not dropped.
     if kind == ResultKind::Crawler {
-        let at_top = version >= u64::from(RESULT_VERSION);
-        let (found, place, places) = if at_top {
-            let top = MOVED_INTO_SOLUTION
-                .iter()
-                .chain(&["crawler", "verified_displacement"]);
-            (
-                top.copied().find(|k| v.get(*k).is_some()),
-                "",
-                "in `solution`, the crawler in `problem`",
-            )
-        } else {
-            let solution = v.get(key);
-            let inside = MOVED_INTO_SOLUTION
-                .iter()
-                .find(|k| solution.and_then(|s| s.get(**k)).is_some());
-            (inside.copied(), "solution.", "at the top level")
-        };
-        if let Some(k) = found {
-            return Err(Error::invalid(
-                format!("{what}: {place}{k}"),
-                "given",
-                format!(
-                    "is not a field of a version {version} crawler's result here (it is \
-                     {places})"
-                ),
-            ));
-        }
+        check_crawler_places(&v, version, key, what)?;
     }
     let label = if key == "solution" {
         what.to_string()
@@ -353,6 +325,40 @@ pub fn read_envelope(text: &str, what: &str) -> Result<(serde_json::Value, Resul
         format!("{what} (version {version}, its {key} read as solution)")
     };
     Ok((upgraded(v, version, kind, &label)?, kind, label))
+}
+
+/// A crawler's fields at their places of the other versions (the top level up to version 3,
+/// the solution from version 4; [`MOVED_INTO_SOLUTION`]): refused naming them, not dropped.
+/// `key` is the version's name of the solution.
+fn check_crawler_places(v: &serde_json::Value, version: u64, key: &str, what: &str) -> Result<()> {
+    let at_top = version >= u64::from(RESULT_VERSION);
+    let (found, place, places) = if at_top {
+        let top = MOVED_INTO_SOLUTION
+            .iter()
+            .chain(&["crawler", "verified_displacement"]);
+        (
+            top.copied().find(|k| v.get(*k).is_some()),
+            "",
+            "in `solution`, the crawler in `problem`",
+        )
+    } else {
+        let solution = v.get(key);
+        let inside = MOVED_INTO_SOLUTION
+            .iter()
+            .find(|k| solution.and_then(|s| s.get(**k)).is_some());
+        (inside.copied(), "solution.", "at the top level")
+    };
+    if let Some(k) = found {
+        return Err(Error::invalid(
+            format!("{what}: {place}{k}"),
+            "given",
+            format!(
+                "is not a field of a version {version} crawler's result here (it is \
+                 {places})"
+            ),
+        ));
+    }
+    Ok(())
 }
 
 /// The fields a crawler's result of versions 1 to 3 kept at the top level and version 4 keeps
