@@ -274,7 +274,7 @@ fn the_global_p_m_starts_from_a_given_result() {
     };
     let r = optimize_general(&file, &from(given.clone()), Hooks::default()).unwrap();
     let st = r.discrete_start.as_ref().expect("the start is recorded");
-    assert_eq!(st.start, "local.json");
+    assert_eq!(st.start, "local (local.json)");
     assert!(
         (st.start_objective - start.head.objective).abs() < 1e-9,
         "the start's J on its own grid: {} against {}",

@@ -377,7 +377,7 @@ def test_the_local_method_starts_from_a_given_result():
     # The global P_m takes a start too (its process on the grid the MILP's first incumbent),
     # as a crawler's does; the phase method does not.
     pm = p.optimize(method="discrete", m=3, start=first)
-    assert pm["discrete_start"]["start"] == "start"
+    assert pm["discrete_start"]["start"] == "local (start)"
     assert pm["discrete_start"]["start_objective"] <= pm.objective + 1e-9
     with pytest.raises(co.InputError, match="start"):
         p.optimize(method="phase", start=first)

@@ -148,7 +148,7 @@ fn starts(
     em: &Emitter<'_>,
 ) -> Result<(Vec<Vec<Vec<f64>>>, &'static str)> {
     if let Some(start) = &s.start {
-        let grid = given_start(start, p, s.m)?;
+        let (grid, _) = given_start(start, p, s.m)?;
         return Ok((rotated(&grid, s.shifts), "start"));
     }
     if file.input.is_some() {

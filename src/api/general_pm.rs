@@ -117,7 +117,7 @@ fn pm_job(
             // The start given, else under a time limit the default one (the local method's
             // answer on this grid, within the first half of the limit).
             let start = match (&s.start, s.time_limit) {
-                (Some(st), _) => Some((given_start(st, &p, s.m)?, st.name())),
+                (Some(st), _) => Some(given_start(st, &p, s.m)?),
                 (None, Some(_)) => pm_default_start(file, &p, &g, s.m, em)?,
                 (None, None) => None,
             };

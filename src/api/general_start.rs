@@ -11,11 +11,14 @@ use crate::optimal::general::phase_grid;
 /// averaged over each step and moved to an exact zero mean within U where `p` asks it
 /// ([`phase_grid`]); a crawler's gait result, a result of another shape, or one whose control
 /// leaves this problem's U (a result of a problem with a larger U), is refused naming `start`.
+/// Returns the grid's controls and where they came from, named as a crawler's given start is
+/// ([`crate::optimal::StartGait::from_result`]): the start's method, then its name
+/// (`"local (start.json)"`).
 pub(super) fn given_start(
     start: &super::Start,
     p: &GeneralProblem,
     m: u32,
-) -> Result<Vec<Vec<f64>>> {
+) -> Result<(Vec<Vec<f64>>, String)> {
     let refuse = |name: &str, why: String| Err(Error::invalid("start", name, why));
     let read;
     let (answer, name) = match start {
@@ -64,5 +67,6 @@ pub(super) fn given_start(
             format!("its control {field}[{j}] = {u:?} lies outside this problem's U"),
         );
     }
-    phase_grid(p, &durations, controls, m)
+    let origin = format!("{} ({name})", answer.head.method);
+    Ok((phase_grid(p, &durations, controls, m)?, origin))
 }
