@@ -196,7 +196,8 @@ fn best_of(
             k + 1
         ))
     };
-    let best = solve_general_local_best(p, g, s.m, starts, MultiStart::default(), &mut on_start)?;
+    let plan = MultiStart::for_starts(starts.len());
+    let best = solve_general_local_best(p, g, s.m, starts, plan, &mut on_start)?;
     Ok((best.solution, best.best_start, best.tried))
 }
 

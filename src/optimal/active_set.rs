@@ -23,9 +23,10 @@ use serde::{Deserialize, Serialize};
 #[serde(rename_all = "snake_case")]
 pub enum LocalStop {
     /// No switch gains by the pivoting's test (`optimal::general::Pivoting`). Every answer a
-    /// job reports, a crawler's (`Finish`) or (P)'s (`Neighbours`), passed the same test: no
-    /// single switch gains, by the reduced costs of the last basis nor by a neighbouring LP
-    /// (each that can gain). Under `ReducedCosts`, a screen of many starts, only the former.
+    /// job reports, a crawler's or (P)'s (`Finish`, as `Neighbours` tests), passed the same
+    /// test: no single switch gains, by the reduced costs of the last basis nor by a
+    /// neighbouring LP (each that can gain). Under `ReducedCosts`, a screen of many starts,
+    /// only the former.
     Stationary,
     /// Switches no longer improved the objective (degenerate cycling guard).
     Stalled,

@@ -17,13 +17,13 @@
 //! 10 columns and 5 rows a step for three blocks. It is re-solved from its previous basis after
 //! each switch; the switches that pay by their reduced costs are made at once, and where none
 //! pays each degenerate mode's neighbouring LP that can gain is solved and the first that
-//! gains is taken ([`Pivoting::Finish`]: (P)'s test, going to the neighbours also after an LP
-//! without a gain): `stationary` means, for a crawler as for (P), that no single switch
-//! gains. The answer is a `local` certificate, never a global one.
+//! gains is taken ([`Finish`]: (P)'s test, going to the neighbours also after an LP without a
+//! gain): `stationary` means, for a crawler as for (P), that no single switch gains. The
+//! answer is a `local` certificate, never a global one.
 //!
 //! Many starts (the time shifts of [`solve_discrete_local_shifted`]) are screened by the
-//! reduced costs alone ([`Pivoting::ReducedCosts`]: no LP beyond the pivots), and only the best
-//! is finished under the neighbours' test ([`Pivoting::Finish`], which goes to the neighbours
+//! reduced costs alone ([`ReducedCosts`]: no LP beyond the pivots), and only the best is
+//! finished under the neighbours' test ([`Finish`], which goes to the neighbours
 //! after an LP without a gain, so that it never ends `stalled`), on its own LP from the basis
 //! its screen ended on (`optimal::general::branch_lp`). Until
 //! the finish, a crawler's `stationary` was the first-order test alone, and some answers ended
@@ -41,8 +41,9 @@
 //!
 //! The start's modes are read off its process as they always were: a block whose force is on
 //! a friction bound slips, even at rest (its face held with a zero multiplier), so that the
-//! first LP may already move it ((P)'s default holds only the faces with a positive reaction;
-//! from one link's small rise and fall at `m = 2` the reduced costs of that first basis see no
+//! first LP may already move it (the default for (P) too; holding only the faces with a
+//! positive reaction, (P)'s default until it took these rules, from one link's small rise and
+//! fall at `m = 2` the reduced costs of that first basis see no
 //! paying switch, and the method would stop at its start's `J = 0.5`, not at 3).
 //!
 //! Until this method ran on (P)'s, the crawler had that LPCC as a copy of its own. Run on
@@ -55,13 +56,14 @@
 //! Every answer is re-verified by the crawler's own simulator: the returned increments are
 //! played by catching-up from the returned initial state until the periodic regime, and the
 //! verified displacement is the one reported.
+//!
+//! [`Finish`]: crate::optimal::general::Pivoting::Finish
+//! [`ReducedCosts`]: crate::optimal::general::Pivoting::ReducedCosts
 
 use crate::error::{Error, Result};
 use crate::model::Crawler;
 use crate::optimal::general::geometry::analyze_polyhedron;
-use crate::optimal::general::{
-    solve_general_local_best, LocalRules, MultiStart, Pivoting, StartFaces,
-};
+use crate::optimal::general::{solve_general_local_best, MultiStart};
 use crate::optimal::milp::{check_verified, replay_grid};
 use crate::optimal::units::{scale_all, scale_rows, Units};
 use crate::optimal::{Cost, GaitProblem};
@@ -188,29 +190,6 @@ pub fn check_local(problem: &GaitProblem, m: u32) -> Result<()> {
     Ok(())
 }
 
-/// The local method's rules (module docs): the start holds the faces its process touches, and
-/// `stationary` means that no single switch gains.
-const FULL: LocalRules = LocalRules {
-    pivoting: Pivoting::Finish,
-    start: StartFaces::Touched,
-};
-
-/// One start, by [`FULL`].
-const ONE: MultiStart = MultiStart {
-    rules: FULL,
-    finish: None,
-};
-
-/// A screen of many starts ([`solve_discrete_local_shifted`]): reduced costs only, the best
-/// start then finished under [`FULL`]'s pivoting from the basis its screen ended on.
-const SCREENED: MultiStart = MultiStart {
-    rules: LocalRules {
-        pivoting: Pivoting::ReducedCosts,
-        start: StartFaces::Touched,
-    },
-    finish: Some(Pivoting::Finish),
-};
-
 /// A start gait given by its knots: times and actuator lengths.
 type Knots = (Vec<f64>, Vec<Vec<f64>>);
 
@@ -223,18 +202,18 @@ pub fn solve_discrete_local(
     start_lengths: &[Vec<f64>],
 ) -> Result<LocalSolution> {
     let start = (start_times.to_vec(), start_lengths.to_vec());
-    let (s, _) = solve_by(crawler, problem, m, &[start], ONE)?;
+    let (s, _) = solve_by(crawler, problem, m, &[start])?;
     Ok(s)
 }
 
-/// [`solve_discrete_local`] from each of `starts` by `plan`, keeping the best; also returns
-/// the index of its start.
+/// [`solve_discrete_local`] from each of `starts` (one by (P)'s rules, several screened and
+/// the best finished: [`MultiStart::for_starts`]), keeping the best; also returns the index of
+/// its start.
 fn solve_by(
     crawler: &Crawler,
     problem: &GaitProblem,
     m: u32,
     starts: &[Knots],
-    plan: MultiStart,
 ) -> Result<(LocalSolution, usize)> {
     crawler.require_unique()?;
     problem.check_scales(crawler)?;
@@ -248,7 +227,7 @@ fn solve_by(
         .map(|(times, lengths)| units.knots_in(times, lengths))
         .collect();
     let (s, k) = crate::progress::with_objective_scale(units.objective_scale(), || {
-        solve_local_in(&c, &p, m, &starts, plan)
+        solve_local_in(&c, &p, m, &starts)
     })?;
     Ok((units.local(&s), k))
 }
@@ -261,7 +240,6 @@ fn solve_local_in(
     problem: &GaitProblem,
     m: u32,
     starts: &[Knots],
-    plan: MultiStart,
 ) -> Result<(LocalSolution, usize)> {
     let big_m = 1usize << m;
     let t = problem.period;
@@ -285,6 +263,7 @@ fn solve_local_in(
             .collect()
         })
         .collect();
+    let plan = MultiStart::for_starts(grids.len());
     let best = solve_general_local_best(&inst.problem, &geometry, m, &grids, plan, &mut |_| {})?;
     let s = best.solution;
     let incs: Vec<Vec<f64>> = s
@@ -373,7 +352,7 @@ pub fn solve_discrete_local_shifted(
     let starts: Vec<Knots> = (0..shifts)
         .map(|j| shift_knots(start_times, start_lengths, shift(j), t))
         .collect();
-    let (s, k) = solve_by(crawler, problem, m, &starts, SCREENED)?;
+    let (s, k) = solve_by(crawler, problem, m, &starts)?;
     Ok((s, shift(k)))
 }
 

@@ -48,8 +48,7 @@ pub struct GeneralLocal {
 pub enum Pivoting {
     /// The switches that pay by their reduced costs, then, where none does, each degenerate
     /// pair's neighbouring LP: `stationary` means that no single switch gains, as it does
-    /// under `Finish`, the test of a crawler's answers. (P)'s default.
-    #[default]
+    /// under `Finish`; but degenerate switches by the reduced costs can cycle (`stalled`).
     Neighbours,
     /// The switches that pay by their reduced costs only: the method stops where none pays by
     /// the reduced costs of the last basis (a first-order test; a degenerate LP has other
@@ -62,9 +61,10 @@ pub enum Pivoting {
     /// As `Neighbours`, except that after an LP that gained nothing the next round tests the
     /// neighbouring LPs alone (taking a switch only where its LP gains), so that degenerate
     /// switches by the reduced costs cannot cycle: the method ends `stationary` (or at a
-    /// limit), never `stalled`. A crawler's test, for its one start and for the finish of
-    /// a screen's best (from the basis the screen ended on): on three blocks at `m = 3` and
-    /// `m = 9` (one start, its branches read off its process) `Neighbours` ended `stalled`.
+    /// limit), never `stalled`. The default, for one start and for the finish of a screen's
+    /// best (from the basis the screen ended on): on three blocks at `m = 3` and `m = 9` (one
+    /// start, its branches read off its process) `Neighbours` ended `stalled`.
+    #[default]
     Finish,
 }
 

@@ -37,7 +37,8 @@
 //! LP (that pair switched) is solved from the current basis and the first that gains is
 //! taken; when none gains the point is stationary for every single switch (status
 //! `stationary`; [`Pivoting::ReducedCosts`] stops before the neighbours, a screen of many
-//! starts whose best a caller then finishes, as a crawler's shifted starts are). That is a
+//! starts whose best is then finished: [`MultiStart::for_starts`], the one search of several
+//! starts for (P)'s rotated starts and a crawler's shifted ones alike). That is a
 //! local solution, not a global one: on the one-link problem with 16 steps, the square wave of
 //! amplitude 0.5 ends at J = 1.75 < J* = 3 (tests/general_local.rs), on a plateau of J that
 //! only two switches at once leave.
@@ -252,19 +253,24 @@ pub fn grid_controls(input: &ControlInput, m: u32) -> Vec<Vec<f64>> {
 /// Which faces the start's branches hold (module docs).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum StartFaces {
-    /// The faces with a positive reaction in the start's process. (P)'s default.
-    #[default]
+    /// The faces with a positive reaction in the start's process.
     Reacting,
     /// Also every face the start's process touches at rest (to `1e-9` of C's scale), with a
     /// zero multiplier, so that the first LP can already push on it: without that, one link's
     /// small rise and fall at `m = 2` stops at its start's `J = 0.5`, the reduced costs of the
-    /// first basis seeing no paying switch (`tests/local.rs`; with it, 3, the optimum). A
-    /// crawler's local method starts so.
+    /// first basis seeing no paying switch (`tests/local.rs`; with it, 3, the optimum). The
+    /// default, for (P) and a crawler alike.
+    #[default]
     Touched,
 }
 
 /// How the local method runs: its pivoting test and its start's faces (each type's docs).
-/// The default is (P)'s: [`Pivoting::Neighbours`] from [`StartFaces::Reacting`].
+/// The default, for (P) and for a crawler (whose local method is (P)'s on its instance), is
+/// [`Pivoting::Finish`] from [`StartFaces::Touched`]: the start holds the faces its process
+/// touches, and `stationary` means that no single switch gains (never `stalled`). Until
+/// both kinds took these rules, (P)'s default was [`Pivoting::Neighbours`] from
+/// [`StartFaces::Reacting`], a crawler's these: on the three-block crawler and its general
+/// form at `m = 6` the crawler found 2.5625 and (P) 2.46875 from the same start.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub struct LocalRules {
     /// The switches tested before the method stops.
@@ -273,16 +279,41 @@ pub struct LocalRules {
     pub start: StartFaces,
 }
 
+impl LocalRules {
+    /// A screen of many starts: reduced costs only from the faces the start touches (see
+    /// [`MultiStart::for_starts`]).
+    pub const SCREEN: LocalRules = LocalRules {
+        pivoting: Pivoting::ReducedCosts,
+        start: StartFaces::Touched,
+    };
+}
+
 /// How a search from several starts runs: each start by `rules`, then, with `finish`, the
 /// best continued under that pivoting from the basis it ended on (`super::branch_lp`): a
-/// screen's best, finished (a crawler's shifted starts,
-/// `crate::optimal::solve_discrete_local_shifted`).
+/// screen's best, finished ([`MultiStart::for_starts`]).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub struct MultiStart {
     /// The rules of every start.
     pub rules: LocalRules,
     /// The pivoting of the best start's finish, if any.
     pub finish: Option<Pivoting>,
+}
+
+impl MultiStart {
+    /// The search of `n` starts, for (P) and a crawler alike: one start by the default rules
+    /// ([`LocalRules`]); several screened by the reduced costs alone ([`LocalRules::SCREEN`],
+    /// no LP beyond the pivots) and the best finished under [`Pivoting::Finish`] from the
+    /// basis its screen ended on (a crawler's time shifts, (P)'s rotated starts).
+    pub fn for_starts(n: usize) -> MultiStart {
+        if n <= 1 {
+            MultiStart::default()
+        } else {
+            MultiStart {
+                rules: LocalRules::SCREEN,
+                finish: Some(Pivoting::Finish),
+            }
+        }
+    }
 }
 
 /// The answer of [`solve_general_local_best`]: the best verified answer, the index of its
