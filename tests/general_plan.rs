@@ -150,3 +150,53 @@ fn settings_that_do_not_apply_are_refused_naming_them() {
     assert_eq!(field(&s, &[("plot", true)]), "--plot");
     assert!(s.plan_general(&[("plot", false)]).is_ok());
 }
+
+/// `shifts` sets the rotations of the default start of P_m (under a time limit, without a
+/// start or a convergence table), as it sets a crawler's default start's time shifts; where no
+/// default start runs it is refused naming it, and its range is checked as the local method's.
+#[test]
+fn shifts_apply_to_the_default_start_of_p_m() {
+    let with = |edit: &dyn Fn(&mut OptimizeSettings)| {
+        let mut s = OptimizeSettings {
+            method: GaitMethod::Discrete,
+            naming: Naming::Flags,
+            shifts: Some(2),
+            time_limit: Some(5.0),
+            ..Default::default()
+        };
+        edit(&mut s);
+        s
+    };
+    assert_eq!(
+        with(&|_| {}).plan_general(&[]).unwrap(),
+        GeneralPlan::Discrete(GeneralPmSettings {
+            shifts: 2,
+            time_limit: Some(5.0),
+            ..Default::default()
+        })
+    );
+    let refused = [
+        with(&|s| s.time_limit = None),
+        with(&|s| s.convergence = true),
+        with(&|s| s.start = Some(Start::File("a.json".into()))),
+    ];
+    for s in &refused {
+        assert_eq!(field(s, &[]), "--shifts", "{s:?}");
+        let e = s.plan_general(&[]).unwrap_err().to_string();
+        assert!(e.contains("the default start of --method discrete"), "{e}");
+    }
+    let file =
+        crawlopt::io::GeneralFile::load_if_general("examples/general_three_blocks.toml".as_ref())
+            .unwrap()
+            .unwrap();
+    let s = GeneralPmSettings {
+        m: 2,
+        shifts: 0,
+        time_limit: Some(5.0),
+        ..Default::default()
+    };
+    match crawlopt::api::optimize_general(&file, &s, crawlopt::api::Hooks::default()) {
+        Err(crawlopt::Error::InvalidParameter { field, .. }) => assert_eq!(field, "shifts"),
+        other => panic!("expected a refusal naming shifts, got {other:?}"),
+    }
+}

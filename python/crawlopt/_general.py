@@ -270,7 +270,8 @@ class GeneralProblem:
         ``start`` with "discrete" (not with ``convergence``): the MILP's first incumbent is the
         start's process on the grid, so the answer is never below it (and a time limit returns
         at least it), recorded as ``discrete_start``; without it, under ``time_limit``, the local
-        method's answer on the same grid starts it (first half of the limit; not with a cost).
+        method's answer on the same grid starts it (first half of the limit; not with a cost;
+        ``shifts`` rotations of its starts, as for "local").
         ``formulation`` ("phase" only; ``--formulation``): "general" (K phases), "transitions"
         (K slots of a free transition and a phase, as strong as the chain's where measured) or
         "chain" (a crawler's gait problem only); None: the chain's on a crawler's chain, the

@@ -89,7 +89,8 @@ pub fn optimize_general_local(
 
 /// The default start of (P)'s global P_m on `2^m` steps under a time limit, as a crawler's P_m
 /// has one ([`crate::optimal::discrete_start`]), within half of the time left: the local
-/// method's answer on the same grid from its own starts ([`starts`]: the file's `[input]`, else
+/// method's answer on the same grid from `shifts` rotations of its own starts ([`starts`]: the
+/// file's `[input]`, else
 /// where `A = 0` the phase optimum within half of that half, else square waves), as the grid's
 /// controls and where they came from (`"local (phase)"`). `None`, with a note saying why,
 /// where the local method does not apply (a quadratic cost, a grid beyond it) or found no
@@ -99,6 +100,7 @@ pub(super) fn pm_default_start(
     p: &GeneralProblem,
     g: &Geometry,
     m: u32,
+    shifts: usize,
     em: &Emitter<'_>,
 ) -> Result<Option<(Vec<Vec<f64>>, String)>> {
     if p.cost != GeneralCost::None {
@@ -116,6 +118,7 @@ pub(super) fn pm_default_start(
     }
     let s = GeneralLocalSettings {
         m,
+        shifts,
         ..GeneralLocalSettings::default()
     };
     let found = crate::progress::share(0.5, || {

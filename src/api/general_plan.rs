@@ -116,6 +116,19 @@ impl OptimizeSettings {
             n.methods(&[Phase]),
             in_words(&taken, "and")
         );
+        // P_m's default start (the local method's answer, as a crawler's P_m has it) runs
+        // under a time limit, without a start given or a convergence table.
+        let default_start = discrete && self.time_limit.is_some() && self.start.is_none();
+        let default_start = default_start && !self.convergence;
+        let shifts = format!(
+            "applies to {} only on a general problem, or to the default start of {} (under {}, \
+             without {} or {})",
+            n.methods(&[Local]),
+            n.methods(&[Discrete]),
+            n.setting("time_limit"),
+            n.setting("start"),
+            n.setting("convergence")
+        );
         // In the order they are checked: the first one given is named.
         let rules: [(&str, bool, String); 12] = [
             ("phases", !phase, only(&[Phase])),
@@ -123,7 +136,7 @@ impl OptimizeSettings {
             ("patience", !phase, only(&[Phase])),
             ("formulation", !phase, only(&[Phase])),
             ("m", phase, in_phase),
-            ("shifts", !local, only(&[Local])),
+            ("shifts", !local && !default_start, shifts),
             ("start", phase, only(&[Local, Discrete])),
             (
                 "start",
@@ -184,6 +197,7 @@ impl OptimizeSettings {
                 bound: self.bound,
                 polish: self.polish.unwrap_or(d.polish),
                 start: self.start.clone(),
+                shifts: self.shifts.unwrap_or(d.shifts),
             })
         }
     }

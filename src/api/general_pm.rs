@@ -45,6 +45,11 @@ pub struct GeneralPmSettings {
     /// the answer is never below it, and a time limit returns at least it. Recorded as the
     /// answer's `discrete_start`. Not with `convergence` (each `m` is solved afresh).
     pub start: Option<super::Start>,
+    /// Rotations of each of the default start's own starts (default
+    /// [`crate::api::DEFAULT_SHIFTS`]), as `shifts` of a crawler's P_m sets its default start's
+    /// time shifts; read only where the default start runs (under `time_limit`, without
+    /// `start` or `convergence`).
+    pub shifts: usize,
 }
 
 impl Default for GeneralPmSettings {
@@ -57,6 +62,7 @@ impl Default for GeneralPmSettings {
             bound: None,
             polish: crate::optimal::polish::POLISH_DEFAULT,
             start: None,
+            shifts: crate::api::DEFAULT_SHIFTS,
         }
     }
 }
@@ -94,6 +100,7 @@ fn pm_job(
     let (p, g) = general_problem(file)?;
     let chain = chain_for_bound(&p, s.bound.as_ref())?;
     crate::optimal::check_time_limit(s.time_limit)?;
+    crate::optimal::check_shifts(s.shifts)?;
     if s.convergence && s.start.is_some() {
         return Err(Error::invalid(
             "start",
@@ -115,10 +122,11 @@ fn pm_job(
         crate::optimal::general::check_general_pm(&p, &g, s.m)?;
         let sol = crate::progress::within(s.time_limit, || {
             // The start given, else under a time limit the default one (the local method's
-            // answer on this grid, within the first half of the limit).
+            // answer on this grid from `shifts` rotations of its starts, within the first half
+            // of the limit).
             let start = match (&s.start, s.time_limit) {
                 (Some(st), _) => Some(given_start(st, &p, s.m)?),
-                (None, Some(_)) => pm_default_start(file, &p, &g, s.m, em)?,
+                (None, Some(_)) => pm_default_start(file, &p, &g, s.m, s.shifts, em)?,
                 (None, None) => None,
             };
             let Some((grid, name)) = start else {
