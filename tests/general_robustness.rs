@@ -788,3 +788,42 @@ fn exact_twins_of_small_scale_keep_the_start_and_state_the_gap() {
         "J / a = {j} is {short:e} below the twin's {want}, the gap stated is {gap:e}"
     );
 }
+
+/// A long C whose far face is 1e13 away (the one link's C = [-1e13, 1]): the bang-bang input
+/// moves x by 10 a period and never reaches the far face, so the periodic orbit runs from -4 up
+/// to the face x <= 1 and back, and J = 0 (the closed form `max(0, (T - 2 (b - a)) / 2)`).
+/// Both simulators and the phase method (its J verified by the exact simulator) must say so:
+/// tolerances of `1e-12` and `1e-14` of C's scale (10 and 0.1 here) held the near face as
+/// active 6 away, or kept the projection on it, and reported J = 2.5 with exit 0; the crawler
+/// with the same thresholds (`mu- = 1e13`) gave 0. At 1e300 too.
+#[test]
+fn a_far_face_does_not_blur_the_near_one() {
+    for far in ["1e13", "1e300"] {
+        let text = ONE_LINK.replace("offsets = [1.0, 1.0]", &format!("offsets = [1.0, {far}]"));
+        for method in [GeneralMethod::Auto, GeneralMethod::CatchingUp] {
+            let o = GeneralSimOptions {
+                method,
+                ..steps(1000)
+            };
+            let s = api::simulate_general(&file(&text), &o).unwrap().simulation;
+            assert!(
+                s.objective.unwrap().abs() < 1e-9,
+                "{far}, {method:?}: {:?}",
+                s.objective
+            );
+            assert!(
+                (s.x[0][0] + 4.0).abs() < 1e-6,
+                "{far}, {method:?}: x(0) = {:?}",
+                s.x[0]
+            );
+        }
+    }
+    let text = ONE_LINK.replace("offsets = [1.0, 1.0]", "offsets = [1.0, 1e13]");
+    let s = api::GeneralPhaseSettings::default();
+    let r = api::optimize_general_phase(&file(&text), &s, api::Hooks::default()).unwrap();
+    assert!(
+        r.head.objective.abs() < 1e-9,
+        "phase: J = {}",
+        r.head.objective
+    );
+}

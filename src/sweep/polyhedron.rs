@@ -69,9 +69,14 @@ impl PolyProjector {
         let budget = 20 * (sigma + n) + 100;
         // A multiplier above `-tiny` is a rounding of zero: dropping its face would let the
         // step back cross it at `alpha = 0` and cycle (a face through the answer whose
-        // multiplier is zero in exact arithmetic).
-        let tiny = 1e-14 * c.scale().max(v.iter().fold(0.0_f64, |s, a| s.max(a.abs())));
+        // multiplier is zero in exact arithmetic). The rounding is of the numbers it is made
+        // of, `v`, the point and the working faces' offsets, not of C's scale: `1e-14` of
+        // that held the face x <= 1 of C = [-1e13, 1] against a step of -0.01 inward (a
+        // multiplier of -0.01 above -0.1), and catching-up never left the face.
+        let largest = |u: &[f64]| u.iter().fold(0.0_f64, |s, a| s.max(a.abs()));
         for it in 1..=budget {
+            let offsets = w.iter().fold(0.0_f64, |s, &j| s.max(c.offsets[j].abs()));
+            let tiny = 1e-14 * offsets.max(largest(v)).max(largest(&x));
             let (z, mu) = equality_solution(c, &w, v)?;
             // The step x -> z, stopped by the first face outside W that it would cross.
             let d: Vec<f64> = z.iter().zip(&x).map(|(a, b)| a - b).collect();

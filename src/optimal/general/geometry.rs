@@ -119,10 +119,24 @@ pub fn check_problem(p: &GeneralProblem) -> Result<Geometry> {
 pub fn check_with(p: &GeneralProblem, g: &Geometry) -> Result<()> {
     let s = p.c.scale();
     if !g.has_interior(s) {
+        // A radius that is not 0 but within the LPs' tolerance of C's scale: C may have an
+        // interior, too thin for its size to be told from none (C = [-1, 1] with faces at
+        // +-1e9 beside: radius 1, scale 1e9); saying that C has none would contradict the
+        // radius shown.
+        let why = if g.chebyshev_radius > 0.0 {
+            format!(
+                "C must have a non-empty interior (the paper's PLICQ): its largest ball is \
+                 within the geometry's tolerance ({REL_TOL:e}) of C's scale {s:e} (the largest \
+                 |offset|), so an interior, if any, is too thin to be told from none; if C is \
+                 not flat, bring its offsets within about 1e8 of each other"
+            )
+        } else {
+            "C must have a non-empty interior (the paper's PLICQ)".to_string()
+        };
         return Err(Error::invalid(
             "sweeping_process",
             format!("Chebyshev radius {:e}", g.chebyshev_radius),
-            "C must have a non-empty interior (the paper's PLICQ)",
+            why,
         ));
     }
     if let crate::model::general::ControlSet::Polytope(u) = &p.control {
