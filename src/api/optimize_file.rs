@@ -240,7 +240,7 @@ impl OptimizedFile {
     pub fn summary(&self) -> String {
         match self {
             OptimizedFile::Crawler(o) => text::gait_summary(&o.result),
-            OptimizedFile::General { answer, .. } => text::general_summary(answer.head.objective),
+            OptimizedFile::General { answer, .. } => text::general_summary(answer),
         }
     }
 

@@ -205,12 +205,24 @@ pub fn general_simulation(r: &GeneralSimulated) -> String {
     out
 }
 
+/// The problem's scale of `J` ([`GeneralProblem::j_scale`]; 0 where the stored problem does not
+/// read back): a `J` below `1e-9` of it prints as 0, as a crawler's displacement below its
+/// length unit's does (P_1 of the three-block crawler's general form is 0 up to 2.6e-17).
+pub(super) fn j_scale(r: &GeneralAnswer) -> f64 {
+    r.problem.problem().map_or(0.0, |p| p.j_scale())
+}
+
 /// The human form of a global P_m optimum `s`, the solution of `r`
 /// ([`crate::api::optimize_general`]).
 fn general_optimum(r: &GeneralAnswer, s: &GeneralPm) -> String {
     let mut out = String::new();
     let c = &s.certificate;
-    let scale = s.objective.abs().max(c.bound.abs()).max(1e-300);
+    let scale = s
+        .objective
+        .abs()
+        .max(c.bound.abs())
+        .max(j_scale(r))
+        .max(1e-300);
     wln!(
         out,
         "P_{} ({} steps of h = {}), global MILP: {}",
@@ -260,10 +272,12 @@ fn general_phase(r: &GeneralAnswer, s: &GeneralPhaseGait) -> String {
     let c = &s.certificate;
     let local = r.head.method != "phase";
     let scale = if local {
-        s.objective.abs().max(1e-300)
+        s.objective.abs()
     } else {
-        s.objective.abs().max(c.bound.abs()).max(1e-300)
-    };
+        s.objective.abs().max(c.bound.abs())
+    }
+    .max(j_scale(r))
+    .max(1e-300);
     phase_head(&mut out, r, s, local);
     if let Some(st) = &r.records.structured {
         super::gait::structured_lines(&mut out, st, " (the crawler's J)");
@@ -373,7 +387,12 @@ fn phase_head(out: &mut String, r: &GeneralAnswer, s: &GeneralPhaseGait, local: 
 /// A local optimum of the general P_m ([`crate::api::optimize_general_local`]).
 fn general_local(r: &GeneralAnswer, s: &GeneralLocal) -> String {
     let mut out = String::new();
-    let scale = s.objective.abs().max(s.start_objective.abs()).max(1e-300);
+    let scale = s
+        .objective
+        .abs()
+        .max(s.start_objective.abs())
+        .max(j_scale(r))
+        .max(1e-300);
     wln!(
         out,
         "P_{} ({} steps of h = {}), local LPCC method: {} after {} LPs, {} branch switches",

@@ -25,9 +25,11 @@ pub use general::{general_analysis, general_answer, general_simulation};
 pub use general_certify::general_certificate;
 pub use simulation::simulation;
 
-/// A general answer's key number in one line: its J.
-pub fn general_summary(objective: f64) -> String {
-    format!("objective J = {}", num(objective, objective.abs()))
+/// A general answer's key number in one line: its J (0 below `1e-9` of the problem's scale of
+/// `J`, as a crawler's displacement is below its length unit's; [`general::j_scale`]).
+pub fn general_summary(r: &crate::io::GeneralAnswer) -> String {
+    let j = r.head.objective;
+    format!("objective J = {}", num(j, j.abs().max(general::j_scale(r))))
 }
 
 /// A result file's key numbers in one line, of either kind ([`gait_summary`],
@@ -35,7 +37,7 @@ pub fn general_summary(objective: f64) -> String {
 pub fn result_file_summary(r: &crate::io::ResultFile) -> String {
     match r {
         crate::io::ResultFile::Crawler(g) => gait_summary(g),
-        crate::io::ResultFile::General(_) => general_summary(r.head().objective),
+        crate::io::ResultFile::General(a) => general_summary(a),
     }
 }
 
