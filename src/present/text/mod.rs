@@ -26,7 +26,7 @@ pub use general_certify::general_certificate;
 pub use simulation::simulation;
 
 /// A general answer's key number in one line: its J (0 below `1e-9` of the problem's scale of
-/// `J`, as a crawler's displacement is below its length unit's; [`general::j_scale`]).
+/// `J`, as a crawler's displacement is below its length unit's; `GeneralProblem::j_scale`).
 pub fn general_summary(r: &crate::io::GeneralAnswer) -> String {
     let j = r.head.objective;
     format!("objective J = {}", num(j, j.abs().max(general::j_scale(r))))
