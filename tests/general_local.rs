@@ -632,3 +632,29 @@ fn a_crawler_and_its_general_form_reach_the_same_local_optimum() {
         assert_eq!(crawler.head.status, general.head.status, "m = {m}");
     }
 }
+
+/// A file's `[input]` that cannot start the local method (here a mean of 0.25 under
+/// `zero_mean = true`) is refused naming `input.values`, the field to mend, not the grid's
+/// `start[1]` it was averaged into.
+#[test]
+fn an_input_that_cannot_start_the_local_method_is_named() {
+    use crawlopt::api::{optimize_general_local, GeneralLocalSettings, Hooks};
+    let text = std::fs::read_to_string("examples/general_one_link.toml").unwrap();
+    let start = text.rfind("[input]").expect("the example has an input");
+    let text = format!(
+        "{}[input]\nkind = \"piecewise_constant\"\ntimes = [0.0, 5.0]\nvalues = [[1.0], [-0.5]]\n",
+        &text[..start]
+    );
+    let file = crawlopt::io::GeneralFile::parse(&text).unwrap();
+    let s = GeneralLocalSettings {
+        m: 3,
+        ..GeneralLocalSettings::default()
+    };
+    match optimize_general_local(&file, &s, Hooks::default()) {
+        Err(crawlopt::Error::InvalidParameter { field, reason, .. }) => {
+            assert_eq!(field, "input.values", "{reason}");
+            assert!(reason.contains("zero mean"), "{reason}");
+        }
+        other => panic!("expected a refusal naming input.values, got {other:?}"),
+    }
+}

@@ -74,6 +74,21 @@ pub fn optimize_general_local(
                         "square_waves",
                     )
                 }
+                // The file's `[input]` refused as a start (its mean, its range): the input is
+                // named, not the grid it was averaged on.
+                Err(Error::InvalidParameter {
+                    field,
+                    value,
+                    reason,
+                }) if start_from == "input" && field.starts_with("start") => {
+                    return Err(Error::InvalidParameter {
+                        field: "input.values".into(),
+                        value,
+                        reason: format!(
+                            "as the local method's start (averaged on its grid, {field}): {reason}"
+                        ),
+                    });
+                }
                 other => (other?, start_from),
             };
             let (solution, best_start, tried) = answer;

@@ -66,8 +66,8 @@ impl GaitMethod {
     pub fn summary(self) -> &'static str {
         match self {
             GaitMethod::Auto => {
-                "Phase gaits with K grown until no gain; the discrete P_m when the problem bounds \
-                 TV(u)"
+                "A crawler: phase gaits with K grown until no gain (the discrete P_m when the \
+                 problem bounds TV(u)); a general problem: the discrete P_m"
             }
             GaitMethod::Discrete => {
                 "The paper's discrete problem P_m on 2^m steps, solved globally (MILP)"

@@ -6,10 +6,13 @@
 //! `z = v - N_W^T mu` with `(N_W N_W^T) mu = N_W v - c_W`; the step toward `z` stops at the first
 //! face it would cross (added to `W`), and at `z` a face with a negative multiplier leaves `W`.
 //! A face that blocks a step is independent of `W` (the step keeps `N_W x` fixed and crosses
-//! it), so `N_W N_W^T` stays positive definite. A multiplier in `(-1e-14 s, 0)` (`s` the scale
-//! of `v` and C) counts as zero (clamped to it in the answer): dropping its face would cycle
-//! between adding and dropping a face through the answer. The answer is the solution of the KKT system of
-//! the final active set, so its residual is that of one small dense solve (the tests ask
+//! it), so `N_W N_W^T` stays positive definite. A multiplier in `(-1e-14 s, 0)` (`s` the
+//! largest of `|v|`, the point's and the working faces' offsets: the numbers it is made of, not
+//! C's scale) counts as zero (clamped to it in the answer): dropping its face would cycle
+//! between adding and dropping a face through the answer. Faces nearly parallel to each other
+//! may still cycle (a multiplier rounded beyond that margin by the ill-conditioned
+//! `N_W N_W^T`); the budget then ends it with an error, never an answer. The answer is the
+//! solution of the KKT system of the final active set, so its residual is that of one small dense solve (the tests ask
 //! `<= 1e-12` relative to `max(|v|, max_j |c_j|)`), not an interior-point tolerance.
 //!
 //! The catching-up scheme warm-starts each step from the previous point and working set: the
@@ -74,9 +77,10 @@ impl PolyProjector {
         // that held the face x <= 1 of C = [-1e13, 1] against a step of -0.01 inward (a
         // multiplier of -0.01 above -0.1), and catching-up never left the face.
         let largest = |u: &[f64]| u.iter().fold(0.0_f64, |s, a| s.max(a.abs()));
+        let v_size = largest(v);
         for it in 1..=budget {
             let offsets = w.iter().fold(0.0_f64, |s, &j| s.max(c.offsets[j].abs()));
-            let tiny = 1e-14 * offsets.max(largest(v)).max(largest(&x));
+            let tiny = 1e-14 * offsets.max(v_size).max(largest(&x));
             let (z, mu) = equality_solution(c, &w, v)?;
             // The step x -> z, stopped by the first face outside W that it would cross.
             let d: Vec<f64> = z.iter().zip(&x).map(|(a, b)| a - b).collect();

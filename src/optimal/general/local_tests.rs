@@ -80,7 +80,14 @@ proptest! {
         m in 2u32..=3,
         numbers in prop::collection::vec(-0.5f64..0.5, 19),
     ) {
-        pruned_switches_never_gain(&polygon(sigma, &numbers), m, LocalRules::default());
+        // The default rules (a crawler's, since both kinds share them) and (P)'s former ones.
+        let former = LocalRules {
+            pivoting: Pivoting::Neighbours,
+            start: StartFaces::Reacting,
+        };
+        for rules in [LocalRules::default(), former] {
+            pruned_switches_never_gain(&polygon(sigma, &numbers), m, rules);
+        }
     }
 
     #[test]

@@ -205,11 +205,13 @@ pub fn general_simulation(r: &GeneralSimulated) -> String {
     out
 }
 
-/// The problem's scale of `J` ([`GeneralProblem::j_scale`]; 0 where the stored problem does not
-/// read back): a `J` below `1e-9` of it prints as 0, as a crawler's displacement below its
-/// length unit's does (P_1 of the three-block crawler's general form is 0 up to 2.6e-17).
+/// The problem's floor of `J` ([`GeneralProblem::j_floor`], the scale its MILPs state gaps
+/// over, at most 1; 0 where the stored problem does not read back): a `J` below `1e-9` of it
+/// prints as 0, as a crawler's displacement below its length unit's does (P_1 of the
+/// three-block crawler's general form is 0 up to 2.6e-17). Not `J`'s scale itself, the
+/// largest weight times C's scale: with a face at 1e13 that hid every `J` below 5000.
 pub(super) fn j_scale(r: &GeneralAnswer) -> f64 {
-    r.problem.problem().map_or(0.0, |p| p.j_scale())
+    r.problem.problem().map_or(0.0, |p| p.j_floor())
 }
 
 /// The human form of a global P_m optimum `s`, the solution of `r`

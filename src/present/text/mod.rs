@@ -25,8 +25,8 @@ pub use general::{general_analysis, general_answer, general_simulation};
 pub use general_certify::general_certificate;
 pub use simulation::simulation;
 
-/// A general answer's key number in one line: its J (0 below `1e-9` of the problem's scale of
-/// `J`, as a crawler's displacement is below its length unit's; `GeneralProblem::j_scale`).
+/// A general answer's key number in one line: its J (0 below `1e-9` of the problem's floor of
+/// `J`, as a crawler's displacement is below its length unit's; `GeneralProblem::j_floor`).
 pub fn general_summary(r: &crate::io::GeneralAnswer) -> String {
     let j = r.head.objective;
     format!("objective J = {}", num(j, j.abs().max(general::j_scale(r))))
