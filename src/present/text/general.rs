@@ -214,17 +214,21 @@ pub(super) fn j_scale(r: &GeneralAnswer) -> f64 {
     r.problem.problem().map_or(0.0, |p| p.j_floor())
 }
 
+/// The scale the numbers of `J` in the text of `r` snap against: the largest of `values` and
+/// the problem's floor of `J` ([`j_scale`]).
+fn text_scale(r: &GeneralAnswer, values: &[f64]) -> f64 {
+    values
+        .iter()
+        .fold(j_scale(r), |m, v| m.max(v.abs()))
+        .max(1e-300)
+}
+
 /// The human form of a global P_m optimum `s`, the solution of `r`
 /// ([`crate::api::optimize_general`]).
 fn general_optimum(r: &GeneralAnswer, s: &GeneralPm) -> String {
     let mut out = String::new();
     let c = &s.certificate;
-    let scale = s
-        .objective
-        .abs()
-        .max(c.bound.abs())
-        .max(j_scale(r))
-        .max(1e-300);
+    let scale = text_scale(r, &[s.objective, c.bound]);
     wln!(
         out,
         "P_{} ({} steps of h = {}), global MILP: {}",
@@ -273,13 +277,8 @@ fn general_phase(r: &GeneralAnswer, s: &GeneralPhaseGait) -> String {
     let mut out = String::new();
     let c = &s.certificate;
     let local = r.head.method != "phase";
-    let scale = if local {
-        s.objective.abs()
-    } else {
-        s.objective.abs().max(c.bound.abs())
-    }
-    .max(j_scale(r))
-    .max(1e-300);
+    let bound = if local { 0.0 } else { c.bound };
+    let scale = text_scale(r, &[s.objective, bound]);
     phase_head(&mut out, r, s, local);
     if let Some(st) = &r.records.structured {
         super::gait::structured_lines(&mut out, st, " (the crawler's J)");
@@ -389,12 +388,7 @@ fn phase_head(out: &mut String, r: &GeneralAnswer, s: &GeneralPhaseGait, local: 
 /// A local optimum of the general P_m ([`crate::api::optimize_general_local`]).
 fn general_local(r: &GeneralAnswer, s: &GeneralLocal) -> String {
     let mut out = String::new();
-    let scale = s
-        .objective
-        .abs()
-        .max(s.start_objective.abs())
-        .max(j_scale(r))
-        .max(1e-300);
+    let scale = text_scale(r, &[s.objective, s.start_objective]);
     wln!(
         out,
         "P_{} ({} steps of h = {}), local LPCC method: {} after {} LPs, {} branch switches",
