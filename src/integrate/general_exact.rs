@@ -57,10 +57,8 @@ fn period(
     // normals): `1e-12` of C's scale held a face 6 away as active on C = [-1e13, 1] (a
     // tolerance of 10, where x moves by 10 in a period), and its reaction gave J = 2.5 where
     // the answer is 0.
-    let active_at = |j: usize, x: &[f64]| {
-        let norm = x.iter().map(|v| v * v).sum::<f64>().sqrt();
-        c.slack(j, x) >= -1e-12 * (c.offsets[j].abs() + norm)
-    };
+    let active_at =
+        |j: usize, x: &[f64], norm: f64| c.slack(j, x) >= -1e-12 * (c.offsets[j].abs() + norm);
     let mut g = vec![0.0; n];
     let zero = vec![0.0; n];
     let mut events = 0;
@@ -77,7 +75,8 @@ fn period(
                 )));
             }
             // The tangent cone at x: the faces active there, with offset 0.
-            let active: Vec<usize> = (0..sigma).filter(|&j| active_at(j, x)).collect();
+            let norm = x.iter().map(|v| v * v).sum::<f64>().sqrt();
+            let active: Vec<usize> = (0..sigma).filter(|&j| active_at(j, x, norm)).collect();
             let (w, lambda, residual) = if active.is_empty() {
                 (g.clone(), vec![0.0; sigma], 0.0)
             } else {

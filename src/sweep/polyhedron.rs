@@ -12,8 +12,9 @@
 //! between adding and dropping a face through the answer. Faces nearly parallel to each other
 //! may still cycle (a multiplier rounded beyond that margin by the ill-conditioned
 //! `N_W N_W^T`); the budget then ends it with an error, never an answer. The answer is the
-//! solution of the KKT system of the final active set, so its residual is that of one small dense solve (the tests ask
-//! `<= 1e-12` relative to `max(|v|, max_j |c_j|)`), not an interior-point tolerance.
+//! solution of the KKT system of the final active set, so its residual is that of one small
+//! dense solve (the tests ask `<= 1e-12` relative to `max(|v|, max_j |c_j|)`), not an
+//! interior-point tolerance.
 //!
 //! The catching-up scheme warm-starts each step from the previous point and working set: the
 //! previous projection is feasible and lies on those faces.
