@@ -221,6 +221,7 @@ fn the_api_job_reports_its_starts_and_can_be_cancelled() {
         shifts: 3,
         time_limit: None,
         start: None,
+        max_phases: None,
     };
     let mut stages = 0;
     let mut count = |e: &Event, _: f64| stages += usize::from(matches!(e, Event::Stage(_)));
@@ -313,6 +314,7 @@ fn the_local_method_starts_from_the_phase_optimum_where_a_is_zero() {
         shifts: 2,
         time_limit: None,
         start: None,
+        max_phases: None,
     };
     let r = optimize_general_local(&drift, &s, Hooks::default()).unwrap();
     assert_eq!(

@@ -200,3 +200,73 @@ fn shifts_apply_to_the_default_start_of_p_m() {
         other => panic!("expected a refusal naming shifts, got {other:?}"),
     }
 }
+
+/// `max_phases` bounds the phase gait that starts the local method and P_m's default start on
+/// a general problem, as it bounds a crawler's phase start; where no phase gait is grown (a
+/// start given, no default start, the file's `[input]` or `A != 0`) it is refused naming it,
+/// and its range is the phase method's.
+#[test]
+fn max_phases_bounds_the_phase_start_of_a_general_problem() {
+    use crawlopt::api::{optimize_general_local, GeneralLocalSettings, Hooks};
+    let with = |method: GaitMethod, edit: &dyn Fn(&mut OptimizeSettings)| {
+        let mut s = OptimizeSettings {
+            method,
+            naming: Naming::Flags,
+            max_phases: Some(2),
+            ..Default::default()
+        };
+        edit(&mut s);
+        s
+    };
+    assert_eq!(
+        with(GaitMethod::Local, &|_| {}).plan_general(&[]).unwrap(),
+        GeneralPlan::Local(GeneralLocalSettings {
+            max_phases: Some(2),
+            ..Default::default()
+        })
+    );
+    assert_eq!(
+        with(GaitMethod::Discrete, &|s| s.time_limit = Some(5.0))
+            .plan_general(&[])
+            .unwrap(),
+        GeneralPlan::Discrete(GeneralPmSettings {
+            max_phases: Some(2),
+            time_limit: Some(5.0),
+            ..Default::default()
+        })
+    );
+    let refused = [
+        with(GaitMethod::Local, &|s| {
+            s.start = Some(Start::File("a.json".into()))
+        }),
+        with(GaitMethod::Discrete, &|_| {}),
+        with(GaitMethod::Discrete, &|s| {
+            s.time_limit = Some(5.0);
+            s.convergence = true
+        }),
+    ];
+    for s in &refused {
+        assert_eq!(field(s, &[]), "--max-phases", "{s:?}");
+    }
+    let load = |path: &str| {
+        crawlopt::io::GeneralFile::load_if_general(path.as_ref())
+            .unwrap()
+            .unwrap()
+    };
+    for (path, k) in [
+        ("examples/general_one_link.toml", 2),
+        ("examples/general_three_blocks.toml", 0),
+        ("examples/general_three_blocks.toml", 25),
+    ] {
+        let s = GeneralLocalSettings {
+            max_phases: Some(k),
+            ..Default::default()
+        };
+        match optimize_general_local(&load(path), &s, Hooks::default()) {
+            Err(crawlopt::Error::InvalidParameter { field, .. }) => {
+                assert_eq!(field, "max_phases", "{path}, {k}")
+            }
+            other => panic!("{path}, {k}: expected a refusal naming max_phases, got {other:?}"),
+        }
+    }
+}

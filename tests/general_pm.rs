@@ -405,8 +405,8 @@ fn a_start_is_the_first_incumbent_under_a_time_limit() {
 /// Under a time limit (and no start given) (P)'s global P_m starts from the local method's
 /// answer on the same grid, as a crawler's P_m does: the local method from its own start (the
 /// phase optimum where `A = 0`, the file's `[input]` where there is one), recorded as
-/// `discrete_start`, the MILP still proving its optimum. Not without a time limit, and not
-/// with a quadratic cost (the local method takes none).
+/// `discrete_start`, the MILP still proving its optimum. Not without a time limit; with a
+/// quadratic cost (which the local method takes not) from the local method's start itself.
 #[test]
 fn under_a_time_limit_p_m_starts_from_the_local_answer() {
     use crawlopt::api::{optimize_general, GeneralPmSettings, Hooks};
@@ -438,6 +438,104 @@ fn under_a_time_limit_p_m_starts_from_the_local_answer() {
         );
         assert!(run(path, None).discrete_start.is_none());
     }
+    // With a quadratic cost (which the local method takes not) the start is the file's
+    // `[input]` itself, unsolved, as a crawler's P_m starts from its phase gait there.
     let quadratic = run("examples/general_drift.toml", Some(120.0));
-    assert!(quadratic.discrete_start.is_none());
+    let st = quadratic.discrete_start.as_ref().expect("the input starts");
+    assert_eq!(st.start, "input");
+    assert!(st.start_objective <= quadratic.head.objective + 1e-9);
+    assert_eq!(quadratic.head.status, MilpStatus::Optimal);
+}
+
+/// With a quadratic cost, under a time limit, a crawler's P_m starts from its phase gait
+/// (`optimal::discrete_start`), and so does its general form (where `A = 0` and there is no
+/// `[input]`): both record the same phase gait as their start, with the same `J` on the grid,
+/// and prove the same optimum of P_2.
+/// `max_phases` bounds that phase gait for both kinds (each `K` of the start's growth is an
+/// event), and is refused, naming it, where no phase gait starts.
+#[test]
+fn a_quadratic_cost_starts_p_m_from_the_phase_gait_for_both_kinds() {
+    use crawlopt::api::{
+        gait_problem, optimize, optimize_general, Event, GaitMethod, GeneralPlan, Hooks,
+        OptimizeSettings,
+    };
+    use crawlopt::io::{GeneralFile, ModelFile};
+    let text = std::fs::read_to_string("examples/three_blocks_gait.toml").unwrap();
+    let text = text.replace(
+        "cost = { kind = \"none\" }",
+        "cost = { kind = \"quadratic\", weight = 0.3 }",
+    );
+    let (c, pb) = gait_problem(&ModelFile::parse(&text).unwrap()).unwrap();
+    let text = std::fs::read_to_string("examples/general_three_blocks.toml").unwrap();
+    let text = text.replace(
+        "[objective]\n",
+        "[objective]\ncost = { kind = \"quadratic\", weight = 0.3 }\n",
+    );
+    let file = GeneralFile::parse(&text).unwrap();
+    let s = OptimizeSettings {
+        method: GaitMethod::Discrete,
+        m: Some(2),
+        max_phases: Some(2),
+        time_limit: Some(120.0),
+        ..OptimizeSettings::default()
+    };
+    let mut ks = Vec::new();
+    let mut on = |e: &Event, _: f64| {
+        if let Event::PhaseSolved { step, start: true } = e {
+            ks.push(step.phases)
+        }
+    };
+    let hooks = Hooks {
+        events: Some(&mut on),
+        cancel: None,
+    };
+    let crawler = optimize(&c, &pb, &s, hooks).unwrap().result;
+    assert!(!ks.is_empty() && ks.iter().all(|&k| k <= 2), "{ks:?}");
+    let from = crawler
+        .discrete_start
+        .as_ref()
+        .expect("the crawler's start");
+    assert!(from.start.starts_with("phase (K = "), "{}", from.start);
+    let GeneralPlan::Discrete(pm) = s.plan_general(&[]).unwrap() else {
+        panic!("not P_m's plan")
+    };
+    let mut ks = Vec::new();
+    let mut on = |e: &Event, _: f64| {
+        if let Event::PhaseSolved { step, start: true } = e {
+            ks.push(step.phases)
+        }
+    };
+    let hooks = Hooks {
+        events: Some(&mut on),
+        cancel: None,
+    };
+    let general = optimize_general(&file, &pm, hooks).unwrap();
+    assert!(!ks.is_empty() && ks.iter().all(|&k| k <= 2), "{ks:?}");
+    let st = general.discrete_start.as_ref().expect("(P)'s start");
+    assert_eq!(st.start, from.start);
+    assert!((st.start_objective - from.start_objective).abs() < 1e-9);
+    assert!(st.start_objective <= general.head.objective + 1e-9);
+    assert_eq!(general.head.status, MilpStatus::Optimal);
+    assert_eq!(crawler.head.status, MilpStatus::Optimal);
+    assert!(
+        (crawler.head.objective - general.head.objective).abs() < 1e-5,
+        "the crawler's {} against (P)'s {}",
+        crawler.head.objective,
+        general.head.objective
+    );
+    // No phase gait where the file's `[input]` starts, or where `A != 0`.
+    for path in [
+        "examples/general_one_link.toml",
+        "examples/general_drift.toml",
+    ] {
+        let file = GeneralFile::load_if_general(path.as_ref())
+            .unwrap()
+            .unwrap();
+        match optimize_general(&file, &pm, Hooks::default()) {
+            Err(crawlopt::Error::InvalidParameter { field, .. }) => {
+                assert_eq!(field, "max_phases", "{path}")
+            }
+            other => panic!("{path}: expected a refusal naming max_phases, got {other:?}"),
+        }
+    }
 }

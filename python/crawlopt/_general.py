@@ -270,8 +270,12 @@ class GeneralProblem:
         ``start`` with "discrete" (not with ``convergence``): the MILP's first incumbent is the
         start's process on the grid, so the answer is never below it (and a time limit returns
         at least it), recorded as ``discrete_start``; without it, under ``time_limit``, the local
-        method's answer on the same grid starts it (first half of the limit; not with a cost;
-        ``shifts`` rotations of its starts, as for "local").
+        method's answer on the same grid starts it (first half of the limit; ``shifts``
+        rotations of its starts, as for "local"; with a cost, which the local method takes not,
+        its start itself: the file's ``[input]``, else where A = 0 the phase gait).
+        ``max_phases`` with "local" (no ``start``) and with the default start of "discrete"
+        bounds the K of the phase gait that starts them, as a crawler's; an ``InputError``
+        naming it where no phase gait is grown (the file's ``[input]`` starts, or A != 0).
         ``formulation`` ("phase" only; ``--formulation``): "general" (K phases), "transitions"
         (K slots of a free transition and a phase, as strong as the chain's where measured) or
         "chain" (a crawler's gait problem only); None: the chain's on a crawler's chain, the

@@ -133,6 +133,8 @@ def test_bad_arguments_raise_input_errors_naming_the_field():
         (lambda: p.optimize(method="phase", max_phases=0), "max_phases"),
         (lambda: p.optimize(method="phase", m=3), "m"),
         (lambda: p.optimize(max_phases=4), "max_phases"),
+        # The file's [input] starts the local method: no phase gait for max_phases to bound.
+        (lambda: p.optimize(method="local", max_phases=2), "max_phases"),
         (lambda: p.optimize(phases=4), "phases"),
         (lambda: p.optimize(method="local", convergence=True), "convergence"),
         (lambda: p.optimize(method="phase", phases=0), "phases"),

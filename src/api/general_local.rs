@@ -2,9 +2,11 @@
 //! policy (a given result, `--start`; else the file's `[input]`; else, where `A = 0`, the phase
 //! optimum as a crawler's local method starts from it; else square waves along each control
 //! axis; each at several time shifts), the time budget across starts, progress and
-//! cancellation.
+//! cancellation; and the default start of (P)'s global P_m made from it
+//! ([`pm_default_start`]).
 
 use super::events::{run_with, Emitter, Event, Hooks};
+use super::general_phase::check_start_phases;
 use super::general_start::given_start;
 use super::settings::{DEFAULT_M_LOCAL, DEFAULT_SHIFTS};
 use crate::error::{Error, Result};
@@ -14,6 +16,9 @@ use crate::optimal::general::{
     check_general_local, default_starts, grid_controls, phase_grid, rotated,
     solve_general_local_best, GeneralLocal, Geometry, MultiStart,
 };
+
+/// A control per step of a grid.
+type Grid = Vec<Vec<f64>>;
 
 /// Settings of [`optimize_general_local`].
 #[derive(Debug, Clone, PartialEq)]
@@ -29,6 +34,11 @@ pub struct GeneralLocalSettings {
     /// numbers of states and controls and the same period, its control averaged on the grid
     /// (a file is read when the job runs; errors name `start`).
     pub start: Option<super::Start>,
+    /// The largest `K` of the phase gait that starts the method where `A = 0` and neither a
+    /// start nor the file's `[input]` is given (default `None`: the phase method's default,
+    /// [`super::GeneralPhaseSettings::max_phases_for`]), as `max_phases` bounds a crawler's
+    /// phase start; refused, naming it, where no phase gait starts.
+    pub max_phases: Option<usize>,
 }
 
 impl Default for GeneralLocalSettings {
@@ -38,9 +48,20 @@ impl Default for GeneralLocalSettings {
             shifts: DEFAULT_SHIFTS,
             time_limit: None,
             start: None,
+            max_phases: None,
         }
     }
 }
+
+/// Whether the local method's starts (module docs) include the phase gait's: where `A = 0`,
+/// without a start given or the file's `[input]`.
+fn phase_starts(file: &GeneralFile, p: &GeneralProblem, s: &GeneralLocalSettings) -> bool {
+    s.start.is_none() && file.input.is_none() && p.dynamics.is_state_independent()
+}
+
+/// Why `max_phases` is refused where no phase gait starts the local method.
+const NO_PHASE_START: &str = "applies only where a phase gait is grown as the start (A = 0, \
+                              without a start given or the file's [input])";
 
 /// P_m of a problem file, locally ([`crate::optimal::general::local`]), from every start of
 /// the policy (module docs), keeping the best verified answer. Cancellable through `hooks`;
@@ -54,6 +75,7 @@ pub fn optimize_general_local(
     check_general_local(&p, &g, s.m)?;
     crate::optimal::check_shifts(s.shifts)?;
     crate::optimal::check_time_limit(s.time_limit)?;
+    check_start_phases(s.max_phases, phase_starts(file, &p, s), NO_PHASE_START)?;
     run_with(hooks, |em| {
         crate::progress::within(s.time_limit, || {
             let (starts, start_from) = starts(file, &p, &g, s, em)?;
@@ -102,47 +124,64 @@ pub fn optimize_general_local(
     })
 }
 
-/// The default start of (P)'s global P_m on `2^m` steps under a time limit, as a crawler's P_m
+/// The default start of (P)'s global P_m on `s.m` steps under a time limit, as a crawler's P_m
 /// has one ([`crate::optimal::discrete_start`]), within half of the time left: the local
-/// method's answer on the same grid from `shifts` rotations of its own starts ([`starts`]: the
-/// file's `[input]`, else
-/// where `A = 0` the phase optimum within half of that half, else square waves), as the grid's
-/// controls and where they came from (`"local (phase)"`). `None`, with a note saying why,
-/// where the local method does not apply (a quadratic cost, a grid beyond it) or found no
-/// answer in time; a cancelled job ends.
+/// method's answer on the same grid (settings `s`: `shifts` rotations of its own starts,
+/// [`starts`]: the file's `[input]`, else where `A = 0` the phase optimum grown to
+/// `max_phases` within half of that half, else square waves), as the grid's controls and
+/// where they came from (`"local (phase)"`). Where the local method does not apply (a
+/// quadratic cost, a grid beyond it), its start itself, unsolved (`"input"`, or
+/// `"phase (K = 4)"` as a crawler's start is named), as
+/// a crawler's P_m starts from the phase gait there; none from square waves. `None`, with a
+/// note saying why, where no start was had in time; a cancelled job ends. `max_phases` is
+/// refused (naming it) where no phase gait starts.
 pub(super) fn pm_default_start(
     file: &GeneralFile,
     p: &GeneralProblem,
     g: &Geometry,
-    m: u32,
-    shifts: usize,
+    s: &GeneralLocalSettings,
     em: &Emitter<'_>,
-) -> Result<Option<(Vec<Vec<f64>>, String)>> {
-    if p.cost != GeneralCost::None {
-        em.send(Event::Note(format!(
-            "no start for P_{m} (the local method that makes it takes no cost f2); solving \
-             it without one"
-        )));
-        return Ok(None);
-    }
-    if let Err(e) = check_general_local(p, g, m) {
-        em.send(Event::Note(format!(
-            "no start for P_{m} ({e}); solving it without one"
-        )));
-        return Ok(None);
-    }
-    let s = GeneralLocalSettings {
-        m,
-        shifts,
-        ..GeneralLocalSettings::default()
-    };
-    let found = crate::progress::share(0.5, || {
-        let (starts, from) = starts(file, p, g, &s, em)?;
-        let (answer, _, _) = best_of(p, g, &s, &starts, em)?;
-        Ok((answer.path.u, format!("local ({})", from.replace('_', " "))))
+) -> Result<Option<(Grid, String)>> {
+    let m = s.m;
+    check_start_phases(s.max_phases, phase_starts(file, p, s), NO_PHASE_START)?;
+    let found = crate::progress::share(0.5, || match check_general_local(p, g, m) {
+        Ok(()) => {
+            let (starts, from) = starts(file, p, g, s, em)?;
+            let (answer, _, _) = best_of(p, g, s, &starts, em)?;
+            Ok(Some((
+                answer.path.u,
+                format!("local ({})", from.replace('_', " ")),
+            )))
+        }
+        Err(e) => {
+            let why = if p.cost == GeneralCost::None {
+                format!("the local method does not apply: {e}")
+            } else {
+                "the local method takes no cost f2".to_string()
+            };
+            Ok(match gait_start(file, p, g, s, em)? {
+                Some(start) => {
+                    let (gait, name) = match start.phases {
+                        Some(k) => ("phase gait", format!("phase (K = {k})")),
+                        None => ("file's [input]", start.from.to_string()),
+                    };
+                    em.send(Event::Note(format!(
+                        "P_{m} starts from the {gait} itself ({why})"
+                    )));
+                    Some((start.grid, name))
+                }
+                None => {
+                    em.send(Event::Note(format!(
+                        "no start for P_{m} ({why}; no gait to start from); solving it \
+                         without one"
+                    )));
+                    None
+                }
+            })
+        }
     });
     match found {
-        Ok(start) => Ok(Some(start)),
+        Ok(start) => Ok(start),
         Err(Error::Cancelled) => Err(Error::Cancelled),
         Err(e) => {
             em.send(Event::Note(format!(
@@ -154,10 +193,8 @@ pub(super) fn pm_default_start(
 }
 
 /// The starts of [`optimize_general_local`] (module docs) on `2^m` steps, each at
-/// `s.shifts` rotations, and where they came from: a given result ([`given_start`]); else the
-/// file's `[input]`; else, where `A = 0`, the phase optimum (within half of the time left,
-/// without a limit to the end of its growth, as a crawler's; where it cannot be had, a note
-/// says why and the square waves start); else the square waves.
+/// `s.shifts` rotations, and where they came from: the first gait of the policy
+/// ([`gait_start`]), else the square waves.
 fn starts(
     file: &GeneralFile,
     p: &GeneralProblem,
@@ -165,34 +202,76 @@ fn starts(
     s: &GeneralLocalSettings,
     em: &Emitter<'_>,
 ) -> Result<(Vec<Vec<Vec<f64>>>, &'static str)> {
+    match gait_start(file, p, g, s, em)? {
+        Some(start) => Ok((rotated(&start.grid, s.shifts), start.from)),
+        None => Ok((square_waves(p, s)?, "square_waves")),
+    }
+}
+
+/// A start of the local method's policy that is a gait ([`gait_start`]).
+struct GaitStart {
+    /// Its controls on the grid.
+    grid: Grid,
+    /// Where it came from: `"start"`, `"input"` or `"phase"`.
+    from: &'static str,
+    /// The phase gait's `K`.
+    phases: Option<usize>,
+}
+
+/// The first start of the policy that is a gait, on `2^m` steps, and where it came from: a
+/// given result ([`given_start`]); else the file's `[input]`; else, where `A = 0`, the phase
+/// optimum grown to `s.max_phases` (within half of the time left, without a limit to the end
+/// of its growth, as a crawler's). `None` where `A != 0`, or where the phase gait cannot be
+/// had (a note says why).
+fn gait_start(
+    file: &GeneralFile,
+    p: &GeneralProblem,
+    g: &Geometry,
+    s: &GeneralLocalSettings,
+    em: &Emitter<'_>,
+) -> Result<Option<GaitStart>> {
+    let gait = |grid, from| {
+        Ok(Some(GaitStart {
+            grid,
+            from,
+            phases: None,
+        }))
+    };
     if let Some(start) = &s.start {
-        let (grid, _) = given_start(start, p, s.m)?;
-        return Ok((rotated(&grid, s.shifts), "start"));
+        return gait(given_start(start, p, s.m)?.0, "start");
     }
     if file.input.is_some() {
-        let grid = grid_controls(&file.input(p)?, s.m);
-        return Ok((rotated(&grid, s.shifts), "input"));
+        return gait(grid_controls(&file.input(p)?, s.m), "input");
     }
-    if p.dynamics.is_state_independent() {
-        em.stage("start: the phase gait, K grown");
-        let mut progress = |st: &crate::optimal::PhaseStep| {
-            em.send(Event::PhaseSolved {
-                step: st.clone(),
-                start: true,
-            })
-        };
-        let gait = crate::progress::share(0.5, || {
-            super::general_phase::phase_start(p, g, &mut progress)
-        });
-        match gait.and_then(|gait| phase_grid(p, &gait.durations, &gait.controls, s.m)) {
-            Ok(grid) => return Ok((rotated(&grid, s.shifts), "phase")),
-            Err(Error::Cancelled) => return Err(Error::Cancelled),
-            Err(e) => em.send(Event::Note(format!(
-                "no phase gait to start from ({e}); trying square waves"
-            ))),
+    if !p.dynamics.is_state_independent() {
+        return Ok(None);
+    }
+    em.stage("start: the phase gait, K grown");
+    let mut progress = |st: &crate::optimal::PhaseStep| {
+        em.send(Event::PhaseSolved {
+            step: st.clone(),
+            start: true,
+        })
+    };
+    let gait = crate::progress::share(0.5, || {
+        super::general_phase::phase_start(p, g, s.max_phases, &mut progress)
+    });
+    let grid = gait.and_then(|gait| {
+        let grid = phase_grid(p, &gait.durations, &gait.controls, s.m)?;
+        Ok(GaitStart {
+            grid,
+            from: "phase",
+            phases: Some(gait.max_phases),
+        })
+    });
+    match grid {
+        Ok(start) => Ok(Some(start)),
+        Err(Error::Cancelled) => Err(Error::Cancelled),
+        Err(e) => {
+            em.send(Event::Note(format!("no phase gait to start from ({e})")));
+            Ok(None)
         }
     }
-    Ok((square_waves(p, s)?, "square_waves"))
 }
 
 /// Solves P_m locally from each of `starts` in turn, within the job's deadline, and keeps the

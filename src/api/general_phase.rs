@@ -148,20 +148,44 @@ fn grow(
 
 /// The phase gait that starts (P)'s local method where `A = 0` (as the phase optimum starts
 /// a crawler's): `K` grown from 1 in the default formulation (the strongest that applies,
-/// [`GeneralPhaseSettings`]'s default) up to its default largest `K`, with patience 1 (a
-/// start need not be certified), within the job's deadline.
+/// [`GeneralPhaseSettings`]'s default) up to `max_phases` (`None`: the formulation's default,
+/// [`GeneralPhaseSettings::max_phases_for`]), with patience 1 (a start need not be certified),
+/// within the job's deadline.
 pub(super) fn phase_start(
     p: &GeneralProblem,
     g: &Geometry,
+    max_phases: Option<usize>,
     progress: &mut dyn FnMut(&PhaseStep),
 ) -> Result<GeneralPhaseGait> {
     let chain = chain_formulation(p, None)?;
     let range = GrowthRange {
         min_phases: 1,
-        max_phases: GeneralPhaseSettings::default().max_phases_for(chain.is_some()),
+        max_phases: GeneralPhaseSettings {
+            max_phases,
+            ..GeneralPhaseSettings::default()
+        }
+        .max_phases_for(chain.is_some()),
         patience: 1,
     };
     grow(p, g, chain.as_ref(), true, range, progress).map(|(grown, _)| grown.best)
+}
+
+/// Refuses `max_phases` (the largest `K` of a start's phase growth, [`phase_start`]) where no
+/// phase start grows (`grows` false: its reason `why`), or outside `1..=`
+/// [`crate::optimal::general::MAX_GENERAL_PHASES`]; errors name `max_phases`.
+pub(super) fn check_start_phases(max_phases: Option<usize>, grows: bool, why: &str) -> Result<()> {
+    let Some(k) = max_phases else {
+        return Ok(());
+    };
+    if !grows {
+        return Err(crate::Error::invalid("max_phases", k, why));
+    }
+    let range = GrowthRange {
+        min_phases: 1,
+        max_phases: k,
+        patience: 1,
+    };
+    range.check(crate::optimal::general::MAX_GENERAL_PHASES)
 }
 
 /// The best exact gait of a problem file (`A = 0`; a quadratic `f2` by outer approximation)

@@ -129,10 +129,24 @@ impl OptimizeSettings {
             n.setting("start"),
             n.setting("convergence")
         );
+        // A phase gait is grown for a start by the local method, without a start given, and
+        // by P_m's default start (where the file's problem allows it: checked when it runs).
+        let phase_start = (local && self.start.is_none()) || default_start;
+        let max_phases = format!(
+            "applies to {} only on a general problem, or to the phase gait that starts {} \
+             (without {}) or the default start of {} (under {}, without {} or {})",
+            n.methods(&[Phase]),
+            n.methods(&[Local]),
+            n.setting("start"),
+            n.methods(&[Discrete]),
+            n.setting("time_limit"),
+            n.setting("start"),
+            n.setting("convergence")
+        );
         // In the order they are checked: the first one given is named.
         let rules: [(&str, bool, String); 12] = [
             ("phases", !phase, only(&[Phase])),
-            ("max_phases", !phase, only(&[Phase])),
+            ("max_phases", !phase && !phase_start, max_phases),
             ("patience", !phase, only(&[Phase])),
             ("formulation", !phase, only(&[Phase])),
             ("m", phase, in_phase),
@@ -186,6 +200,7 @@ impl OptimizeSettings {
                 shifts: self.shifts.unwrap_or(d.shifts),
                 time_limit: self.time_limit,
                 start: self.start.clone(),
+                max_phases: self.max_phases,
             })
         } else {
             let d = GeneralPmSettings::default();
@@ -198,6 +213,7 @@ impl OptimizeSettings {
                 polish: self.polish.unwrap_or(d.polish),
                 start: self.start.clone(),
                 shifts: self.shifts.unwrap_or(d.shifts),
+                max_phases: self.max_phases,
             })
         }
     }

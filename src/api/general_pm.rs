@@ -18,8 +18,9 @@ pub struct GeneralPmSettings {
     pub m: u32,
     /// Seconds for the job (`None`: no limit). Under a limit, without `start` or
     /// `convergence`, the first half of it goes to a default start: the local method's answer
-    /// on the same grid, as a crawler's P_m starts (none with a quadratic cost, which the local
-    /// method does not take).
+    /// on the same grid, as a crawler's P_m starts (with a quadratic cost, which the local
+    /// method does not take, or beyond its grids: the file's `[input]`, else where `A = 0` the
+    /// phase gait, unsolved).
     pub time_limit: Option<f64>,
     /// Also check the necessary conditions on the optimum ([`crate::certify::general`];
     /// default false).
@@ -50,6 +51,11 @@ pub struct GeneralPmSettings {
     /// time shifts; read only where the default start runs (under `time_limit`, without
     /// `start` or `convergence`).
     pub shifts: usize,
+    /// The largest `K` of the phase gait the default start grows (default `None`: the phase
+    /// method's default, [`crate::api::GeneralPhaseSettings::max_phases_for`]), as
+    /// `max_phases` bounds a crawler's P_m start; refused, naming it, where no phase gait
+    /// starts (no default start; `A != 0`; the file's `[input]` starts instead).
+    pub max_phases: Option<usize>,
 }
 
 impl Default for GeneralPmSettings {
@@ -63,6 +69,7 @@ impl Default for GeneralPmSettings {
             polish: crate::optimal::polish::POLISH_DEFAULT,
             start: None,
             shifts: crate::api::DEFAULT_SHIFTS,
+            max_phases: None,
         }
     }
 }
@@ -101,6 +108,14 @@ fn pm_job(
     let chain = chain_for_bound(&p, s.bound.as_ref())?;
     crate::optimal::check_time_limit(s.time_limit)?;
     crate::optimal::check_shifts(s.shifts)?;
+    let default_start = s.time_limit.is_some() && s.start.is_none() && !s.convergence;
+    if let (Some(k), false) = (s.max_phases, default_start) {
+        return Err(Error::invalid(
+            "max_phases",
+            k,
+            "applies only to the default start (under time_limit, without start or convergence)",
+        ));
+    }
     if s.convergence && s.start.is_some() {
         return Err(Error::invalid(
             "start",
@@ -126,20 +141,43 @@ fn pm_job(
             // of the limit).
             let start = match (&s.start, s.time_limit) {
                 (Some(st), _) => Some(given_start(st, &p, s.m)?),
-                (None, Some(_)) => pm_default_start(file, &p, &g, s.m, s.shifts, em)?,
+                (None, Some(_)) => {
+                    let local = super::GeneralLocalSettings {
+                        m: s.m,
+                        shifts: s.shifts,
+                        max_phases: s.max_phases,
+                        ..Default::default()
+                    };
+                    pm_default_start(file, &p, &g, &local, em)?
+                }
                 (None, None) => None,
             };
             let Some((grid, name)) = start else {
                 return crate::optimal::general::solve_general_pm_with(&p, &g, s.m, s.polish);
             };
             em.stage(format!("P_{} from the start {name}", s.m));
-            let (sol, j) =
-                crate::optimal::general::solve_general_pm_from(&p, &g, s.m, s.polish, &grid)?;
-            started = Some(StartRecord {
-                start: name,
-                start_objective: j,
-            });
-            Ok(sol)
+            match crate::optimal::general::solve_general_pm_from(&p, &g, s.m, s.polish, &grid) {
+                Ok((sol, j)) => {
+                    started = Some(StartRecord {
+                        start: name,
+                        start_objective: j,
+                    });
+                    Ok(sol)
+                }
+                // A default start that is no process of the grid (the phase gait or the
+                // file's input averaged on it): a note, and P_m without a start.
+                Err(Error::InvalidParameter { field, reason, .. })
+                    if s.start.is_none() && field.starts_with("start") =>
+                {
+                    em.send(super::Event::Note(format!(
+                        "the start {name} is no start of P_{} ({field}: {reason}); solving it \
+                         without one",
+                        s.m
+                    )));
+                    crate::optimal::general::solve_general_pm_with(&p, &g, s.m, s.polish)
+                }
+                Err(e) => Err(e),
+            }
         })?;
         (sol, None)
     };

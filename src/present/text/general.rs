@@ -210,16 +210,16 @@ pub fn general_simulation(r: &GeneralSimulated) -> String {
 /// prints as 0, as a crawler's displacement below its length unit's does (P_1 of the
 /// three-block crawler's general form is 0 up to 2.6e-17). Not `J`'s scale itself, the
 /// largest weight times C's scale: with a face at 1e13 that hid every `J` below 5000.
-pub(super) fn j_scale(r: &GeneralAnswer) -> f64 {
+fn j_floor(r: &GeneralAnswer) -> f64 {
     r.problem.problem().map_or(0.0, |p| p.j_floor())
 }
 
 /// The scale the numbers of `J` in the text of `r` snap against: the largest of `values` and
-/// the problem's floor of `J` ([`j_scale`]).
-fn text_scale(r: &GeneralAnswer, values: &[f64]) -> f64 {
+/// the problem's floor of `J` ([`j_floor`]).
+pub(super) fn text_scale(r: &GeneralAnswer, values: &[f64]) -> f64 {
     values
         .iter()
-        .fold(j_scale(r), |m, v| m.max(v.abs()))
+        .fold(j_floor(r), |m, v| m.max(v.abs()))
         .max(1e-300)
 }
 

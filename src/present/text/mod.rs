@@ -29,7 +29,7 @@ pub use simulation::simulation;
 /// `J`, as a crawler's displacement is below its length unit's; `GeneralProblem::j_floor`).
 pub fn general_summary(r: &crate::io::GeneralAnswer) -> String {
     let j = r.head.objective;
-    format!("objective J = {}", num(j, j.abs().max(general::j_scale(r))))
+    format!("objective J = {}", num(j, general::text_scale(r, &[j])))
 }
 
 /// A result file's key numbers in one line, of either kind ([`gait_summary`],
