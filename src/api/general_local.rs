@@ -130,11 +130,10 @@ pub fn optimize_general_local(
 /// [`starts`]: the file's `[input]`, else where `A = 0` the phase optimum grown to
 /// `max_phases` within half of that half, else square waves), as the grid's controls and
 /// where they came from (`"local (phase)"`). Where the local method does not apply (a
-/// quadratic cost, a grid beyond it), its start itself, unsolved (`"input"`, or
-/// `"phase (K = 4)"` as a crawler's start is named), as
-/// a crawler's P_m starts from the phase gait there; none from square waves. `None`, with a
-/// note saying why, where no start was had in time; a cancelled job ends. `max_phases` is
-/// refused (naming it) where no phase gait starts.
+/// quadratic cost) or fails, its start itself, unsolved (`"input"`, or `"phase (K = 4)"` as a
+/// crawler's start is named), as a crawler's P_m starts from its phase gait there; none from
+/// square waves. `None`, with a note saying why, where no start was had in time; a cancelled
+/// job ends. `max_phases` is refused (naming it) where no phase gait starts.
 pub(super) fn pm_default_start(
     file: &GeneralFile,
     p: &GeneralProblem,
@@ -144,40 +143,33 @@ pub(super) fn pm_default_start(
 ) -> Result<Option<(Grid, String)>> {
     let m = s.m;
     check_start_phases(s.max_phases, phase_starts(file, p, s), NO_PHASE_START)?;
-    let found = crate::progress::share(0.5, || match check_general_local(p, g, m) {
-        Ok(()) => {
-            let (starts, from) = starts(file, p, g, s, em)?;
-            let (answer, _, _) = best_of(p, g, s, &starts, em)?;
-            Ok(Some((
-                answer.path.u,
-                format!("local ({})", from.replace('_', " ")),
-            )))
-        }
-        Err(e) => {
+    let found = crate::progress::share(0.5, || {
+        let local = check_general_local(p, g, m);
+        let gait = gait_start(file, p, g, s, em)?;
+        if let Err(e) = local {
             let why = if p.cost == GeneralCost::None {
                 format!("the local method does not apply: {e}")
             } else {
                 "the local method takes no cost f2".to_string()
             };
-            Ok(match gait_start(file, p, g, s, em)? {
-                Some(start) => {
-                    let (gait, name) = match start.phases {
-                        Some(k) => ("phase gait", format!("phase (K = {k})")),
-                        None => ("file's [input]", start.from.to_string()),
-                    };
-                    em.send(Event::Note(format!(
-                        "P_{m} starts from the {gait} itself ({why})"
-                    )));
-                    Some((start.grid, name))
-                }
-                None => {
-                    em.send(Event::Note(format!(
-                        "no start for P_{m} ({why}; no gait to start from); solving it \
-                         without one"
-                    )));
-                    None
-                }
-            })
+            return Ok(unsolved(gait, m, &why, em));
+        }
+        let (starts, from) = match &gait {
+            Some(start) => (rotated(&start.grid, s.shifts), start.from),
+            None => (square_waves(p, s)?, "square_waves"),
+        };
+        match best_of(p, g, s, &starts, em) {
+            Ok((answer, _, _)) => Ok(Some((
+                answer.path.u,
+                format!("local ({})", from.replace('_', " ")),
+            ))),
+            Err(Error::Cancelled) => Err(Error::Cancelled),
+            Err(e) => Ok(unsolved(
+                gait,
+                m,
+                &format!("the local method failed: {e}"),
+                em,
+            )),
         }
     });
     match found {
@@ -190,6 +182,31 @@ pub(super) fn pm_default_start(
             Ok(None)
         }
     }
+}
+
+/// P_m's default start where the local method cannot make it (`why`): the gait that would
+/// have started that method itself, named as a crawler's (`"phase (K = 4)"`, `"input"`), or
+/// none; a note says which.
+fn unsolved(
+    gait: Option<GaitStart>,
+    m: u32,
+    why: &str,
+    em: &Emitter<'_>,
+) -> Option<(Grid, String)> {
+    let Some(start) = gait else {
+        em.send(Event::Note(format!(
+            "no start for P_{m} ({why}; no gait to start from); solving it without one"
+        )));
+        return None;
+    };
+    let (gait, name) = match start.phases {
+        Some(k) => ("phase gait", format!("phase (K = {k})")),
+        None => ("file's [input]", start.from.to_string()),
+    };
+    em.send(Event::Note(format!(
+        "P_{m} starts from the {gait} itself ({why})"
+    )));
+    Some((start.grid, name))
 }
 
 /// The starts of [`optimize_general_local`] (module docs) on `2^m` steps, each at
