@@ -456,8 +456,7 @@ fn under_a_time_limit_p_m_starts_from_the_local_answer() {
 #[test]
 fn a_quadratic_cost_starts_p_m_from_the_phase_gait_for_both_kinds() {
     use crawlopt::api::{
-        gait_problem, optimize, optimize_general, Event, GaitMethod, GeneralPlan, Hooks,
-        OptimizeSettings,
+        gait_problem, optimize, optimize_general, GaitMethod, GeneralPlan, Hooks, OptimizeSettings,
     };
     use crawlopt::io::{GeneralFile, ModelFile};
     let text = std::fs::read_to_string("examples/three_blocks_gait.toml").unwrap();
@@ -479,17 +478,7 @@ fn a_quadratic_cost_starts_p_m_from_the_phase_gait_for_both_kinds() {
         time_limit: Some(120.0),
         ..OptimizeSettings::default()
     };
-    let mut ks = Vec::new();
-    let mut on = |e: &Event, _: f64| {
-        if let Event::PhaseSolved { step, start: true } = e {
-            ks.push(step.phases)
-        }
-    };
-    let hooks = Hooks {
-        events: Some(&mut on),
-        cancel: None,
-    };
-    let crawler = optimize(&c, &pb, &s, hooks).unwrap().result;
+    let (crawler, ks) = with_start_phases(|hooks| optimize(&c, &pb, &s, hooks).unwrap().result);
     assert!(!ks.is_empty() && ks.iter().all(|&k| k <= 2), "{ks:?}");
     let from = crawler
         .discrete_start
@@ -499,17 +488,7 @@ fn a_quadratic_cost_starts_p_m_from_the_phase_gait_for_both_kinds() {
     let GeneralPlan::Discrete(pm) = s.plan_general(&[]).unwrap() else {
         panic!("not P_m's plan")
     };
-    let mut ks = Vec::new();
-    let mut on = |e: &Event, _: f64| {
-        if let Event::PhaseSolved { step, start: true } = e {
-            ks.push(step.phases)
-        }
-    };
-    let hooks = Hooks {
-        events: Some(&mut on),
-        cancel: None,
-    };
-    let general = optimize_general(&file, &pm, hooks).unwrap();
+    let (general, ks) = with_start_phases(|hooks| optimize_general(&file, &pm, hooks).unwrap());
     assert!(!ks.is_empty() && ks.iter().all(|&k| k <= 2), "{ks:?}");
     let st = general.discrete_start.as_ref().expect("(P)'s start");
     assert_eq!(st.start, from.start);
@@ -538,4 +517,22 @@ fn a_quadratic_cost_starts_p_m_from_the_phase_gait_for_both_kinds() {
             other => panic!("{path}: expected a refusal naming max_phases, got {other:?}"),
         }
     }
+}
+
+/// What `run` returns with the hooks it is given, and the `K` of each phase MILP its start
+/// gait solved (its `PhaseSolved` events with `start`).
+fn with_start_phases<T>(run: impl FnOnce(crawlopt::api::Hooks<'_>) -> T) -> (T, Vec<usize>) {
+    use crawlopt::api::{Event, Hooks};
+    let mut ks = Vec::new();
+    let mut on = |e: &Event, _: f64| {
+        if let Event::PhaseSolved { step, start: true } = e {
+            ks.push(step.phases)
+        }
+    };
+    let hooks = Hooks {
+        events: Some(&mut on),
+        cancel: None,
+    };
+    let out = run(hooks);
+    (out, ks)
 }
