@@ -9,6 +9,8 @@ use super::general_start::given_start;
 use crate::certify::bound::BoundSettings;
 use crate::error::{Error, Result};
 use crate::io::{GeneralAnswer, GeneralFile};
+use crate::model::general::GeneralProblem;
+use crate::optimal::general::{GeneralPm, Geometry};
 use crate::optimal::StartRecord;
 
 /// Settings of [`optimize_general`].
@@ -123,63 +125,20 @@ fn pm_job(
             "does not apply to convergence (each m is solved afresh)",
         ));
     }
-    let mut started = None;
-    let (solution, convergence) = if s.convergence {
+    let (solution, convergence, started) = if s.convergence {
         let mut progress = |row: &crate::optimal::ConvergenceRow| {
             em.send(super::Event::DiscreteSolved(row.clone()))
         };
         let (table, finest) = crate::progress::within(s.time_limit, || {
             crate::optimal::general::general_convergence(&p, &g, s.m, s.polish, &mut progress)
         })?;
-        (finest, Some(table))
+        (finest, Some(table), None)
     } else {
         // `m` first: a start is averaged on a grid of `2^m` steps.
         crate::optimal::general::check_general_pm(&p, &g, s.m)?;
-        let sol = crate::progress::within(s.time_limit, || {
-            // The start given, else under a time limit the default one (the local method's
-            // answer on this grid from `shifts` rotations of its starts, within the first half
-            // of the limit).
-            let start = match (&s.start, s.time_limit) {
-                (Some(st), _) => Some(given_start(st, &p, s.m)?),
-                (None, Some(_)) => {
-                    let local = super::GeneralLocalSettings {
-                        m: s.m,
-                        shifts: s.shifts,
-                        max_phases: s.max_phases,
-                        ..Default::default()
-                    };
-                    pm_default_start(file, &p, &g, &local, em)?
-                }
-                (None, None) => None,
-            };
-            let Some((grid, name)) = start else {
-                return crate::optimal::general::solve_general_pm_with(&p, &g, s.m, s.polish);
-            };
-            em.stage(format!("P_{} from the start {name}", s.m));
-            match crate::optimal::general::solve_general_pm_from(&p, &g, s.m, s.polish, &grid) {
-                Ok((sol, j)) => {
-                    started = Some(StartRecord {
-                        start: name,
-                        start_objective: j,
-                    });
-                    Ok(sol)
-                }
-                // A default start that is no process of the grid (the phase gait or the
-                // file's input averaged on it): a note, and P_m without a start.
-                Err(Error::InvalidParameter { field, reason, .. })
-                    if s.start.is_none() && field.starts_with("start") =>
-                {
-                    em.send(super::Event::Note(format!(
-                        "the start {name} is no start of P_{} ({field}: {reason}); solving it \
-                         without one",
-                        s.m
-                    )));
-                    crate::optimal::general::solve_general_pm_with(&p, &g, s.m, s.polish)
-                }
-                Err(e) => Err(e),
-            }
-        })?;
-        (sol, None)
+        let (sol, started) =
+            crate::progress::within(s.time_limit, || solve_started(file, &p, &g, s, em))?;
+        (sol, None, started)
     };
     let necessary_conditions = if s.certify {
         let pr = crate::certify::GeneralProcess::from_pm(&p, &solution);
@@ -200,4 +159,56 @@ fn pm_job(
         r.head.certificate.upper_bound = Some(chain_upper_bound(&p, view, b, r.head.objective)?);
     }
     Ok(r)
+}
+
+/// P_m from the start given, else under a time limit from the default one (the local
+/// method's answer on this grid from `shifts` rotations of its starts, within the first half
+/// of the limit: [`pm_default_start`]), else without one; the answer and the start's record.
+fn solve_started(
+    file: &GeneralFile,
+    p: &GeneralProblem,
+    g: &Geometry,
+    s: &GeneralPmSettings,
+    em: &super::events::Emitter<'_>,
+) -> Result<(GeneralPm, Option<StartRecord>)> {
+    use crate::optimal::general::{solve_general_pm_from, solve_general_pm_with};
+    let start = match (&s.start, s.time_limit) {
+        (Some(st), _) => Some(given_start(st, p, s.m)?),
+        (None, Some(_)) => {
+            let local = super::GeneralLocalSettings {
+                m: s.m,
+                shifts: s.shifts,
+                max_phases: s.max_phases,
+                ..Default::default()
+            };
+            pm_default_start(file, p, g, &local, em)?
+        }
+        (None, None) => None,
+    };
+    let Some((grid, name)) = start else {
+        return Ok((solve_general_pm_with(p, g, s.m, s.polish)?, None));
+    };
+    em.stage(format!("P_{} from the start {name}", s.m));
+    match solve_general_pm_from(p, g, s.m, s.polish, &grid) {
+        Ok((sol, j)) => {
+            let record = StartRecord {
+                start: name,
+                start_objective: j,
+            };
+            Ok((sol, Some(record)))
+        }
+        // A default start that is no process of the grid (the phase gait or the file's input
+        // averaged on it): a note, and P_m without a start.
+        Err(Error::InvalidParameter { field, reason, .. })
+            if s.start.is_none() && field.starts_with("start") =>
+        {
+            em.send(super::Event::Note(format!(
+                "the start {name} is no start of P_{} ({field}: {reason}); solving it without \
+                 one",
+                s.m
+            )));
+            Ok((solve_general_pm_with(p, g, s.m, s.polish)?, None))
+        }
+        Err(e) => Err(e),
+    }
 }
