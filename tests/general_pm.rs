@@ -478,7 +478,8 @@ fn a_quadratic_cost_starts_p_m_from_the_phase_gait_for_both_kinds() {
         time_limit: Some(120.0),
         ..OptimizeSettings::default()
     };
-    let (crawler, ks) = with_start_phases(|hooks| optimize(&c, &pb, &s, hooks).unwrap().result);
+    let (crawler, ks, crawler_notes) =
+        with_start_phases(|hooks| optimize(&c, &pb, &s, hooks).unwrap().result);
     assert!(!ks.is_empty() && ks.iter().all(|&k| k <= 2), "{ks:?}");
     let from = crawler
         .discrete_start
@@ -488,7 +489,14 @@ fn a_quadratic_cost_starts_p_m_from_the_phase_gait_for_both_kinds() {
     let GeneralPlan::Discrete(pm) = s.plan_general(&[]).unwrap() else {
         panic!("not P_m's plan")
     };
-    let (general, ks) = with_start_phases(|hooks| optimize_general(&file, &pm, hooks).unwrap());
+    let (general, ks, notes) =
+        with_start_phases(|hooks| optimize_general(&file, &pm, hooks).unwrap());
+    // One policy for both kinds: the same start, and the same note saying why it is unsolved.
+    assert_eq!(notes, crawler_notes);
+    assert_eq!(
+        notes,
+        ["P_2 starts from the phase gait itself (the local method takes no cost f2)"]
+    );
     assert!(!ks.is_empty() && ks.iter().all(|&k| k <= 2), "{ks:?}");
     let st = general.discrete_start.as_ref().expect("(P)'s start");
     assert_eq!(st.start, from.start);
@@ -519,20 +527,23 @@ fn a_quadratic_cost_starts_p_m_from_the_phase_gait_for_both_kinds() {
     }
 }
 
-/// What `run` returns with the hooks it is given, and the `K` of each phase MILP its start
-/// gait solved (its `PhaseSolved` events with `start`).
-fn with_start_phases<T>(run: impl FnOnce(crawlopt::api::Hooks<'_>) -> T) -> (T, Vec<usize>) {
+/// What `run` returns with the hooks it is given, the `K` of each phase MILP its start gait
+/// solved (its `PhaseSolved` events with `start`), and its notes.
+fn with_start_phases<T>(
+    run: impl FnOnce(crawlopt::api::Hooks<'_>) -> T,
+) -> (T, Vec<usize>, Vec<String>) {
     use crawlopt::api::{Event, Hooks};
     let mut ks = Vec::new();
-    let mut on = |e: &Event, _: f64| {
-        if let Event::PhaseSolved { step, start: true } = e {
-            ks.push(step.phases)
-        }
+    let mut notes = Vec::new();
+    let mut on = |e: &Event, _: f64| match e {
+        Event::PhaseSolved { step, start: true } => ks.push(step.phases),
+        Event::Note(n) => notes.push(n.clone()),
+        _ => {}
     };
     let hooks = Hooks {
         events: Some(&mut on),
         cancel: None,
     };
     let out = run(hooks);
-    (out, ks)
+    (out, ks, notes)
 }

@@ -16,6 +16,7 @@ use crate::optimal::general::{
     check_general_local, default_starts, grid_controls, phase_grid, rotated,
     solve_general_local_best, GeneralLocal, Geometry, MultiStart,
 };
+use crate::optimal::{pm_start, Named, StartKernels};
 
 /// A control per step of a grid.
 type Grid = Vec<Vec<f64>>;
@@ -124,16 +125,17 @@ pub fn optimize_general_local(
     })
 }
 
-/// The default start of (P)'s global P_m on `s.m` steps under a time limit, as a crawler's P_m
-/// has one ([`crate::optimal::discrete_start`]), within half of the time left: the local
-/// method's answer on the same grid (settings `s`: `shifts` rotations of its own starts,
-/// [`starts`]: the file's `[input]`, else where `A = 0` the phase optimum grown to
-/// `max_phases` within half of that half, else square waves), as the grid's controls and
-/// where they came from (`"local (phase)"`). Where the local method does not apply (a
-/// quadratic cost) or fails, its start itself, unsolved (`"input"`, or `"phase (K = 4)"` as a
-/// crawler's start is named), as a crawler's P_m starts from its phase gait there; none from
-/// square waves. `None`, with a note saying why, where no start was had in time; a cancelled
-/// job ends. `max_phases` is refused (naming it) where no phase gait starts.
+/// The default start of (P)'s global P_m on `s.m` steps under a time limit: the one policy
+/// of P_m's default start ([`pm_start`], as a crawler's [`crate::optimal::discrete_start`])
+/// with (P)'s kernels ([`GeneralStart`]), within half of the time left: the local method's
+/// answer on the same grid (settings `s`: `shifts` rotations of its own starts, [`starts`]:
+/// the file's `[input]`, else where `A = 0` the phase optimum grown to `max_phases` within
+/// half of that half, else square waves), as the grid's controls and where they came from
+/// (`"local (phase)"`). Where the local method does not apply (a quadratic cost), the first
+/// half is spent, or it fails, its start itself, unsolved (`"input"`, or `"phase (K = 4)"` as
+/// a crawler's start is named); none from square waves. `None`, with a note saying why, where
+/// no start was had in time; a cancelled job ends. `max_phases` is refused (naming it) where
+/// no phase gait starts.
 pub(super) fn pm_default_start(
     file: &GeneralFile,
     p: &GeneralProblem,
@@ -141,72 +143,70 @@ pub(super) fn pm_default_start(
     s: &GeneralLocalSettings,
     em: &Emitter<'_>,
 ) -> Result<Option<(Grid, String)>> {
-    let m = s.m;
     check_start_phases(s.max_phases, phase_starts(file, p, s), NO_PHASE_START)?;
-    let found = crate::progress::share(0.5, || {
-        let local = check_general_local(p, g, m);
-        let gait = gait_start(file, p, g, s, em)?;
-        if let Err(e) = local {
-            let why = if p.cost == GeneralCost::None {
-                format!("the local method does not apply: {e}")
-            } else {
-                "the local method takes no cost f2".to_string()
-            };
-            return Ok(unsolved(gait, m, &why, em));
-        }
-        let (starts, from) = match &gait {
-            Some(start) => (rotated(&start.grid, s.shifts), start.from),
-            None => (square_waves(p, s)?, "square_waves"),
-        };
-        match best_of(p, g, s, &starts, em) {
-            Ok((answer, _, _)) => Ok(Some((
-                answer.path.u,
-                format!("local ({})", from.replace('_', " ")),
-            ))),
-            Err(Error::Cancelled) => Err(Error::Cancelled),
-            Err(e) => Ok(unsolved(
-                gait,
-                m,
-                &format!("the local method failed: {e}"),
-                em,
-            )),
-        }
-    });
-    match found {
-        Ok(start) => Ok(start),
-        Err(Error::Cancelled) => Err(Error::Cancelled),
-        Err(e) => {
-            em.send(Event::Note(format!(
-                "no start for P_{m} ({e}); solving it without one"
-            )));
-            Ok(None)
-        }
-    }
+    let mut kernels = GeneralStart { file, p, g, s, em };
+    Ok(pm_start(&mut kernels, s.m)?.map(|start| (start.gait.grid, start.name)))
 }
 
-/// P_m's default start where the local method cannot make it (`why`): the gait that would
-/// have started that method itself, named as a crawler's (`"phase (K = 4)"`, `"input"`), or
-/// none; a note says which.
-fn unsolved(
-    gait: Option<GaitStart>,
-    m: u32,
-    why: &str,
-    em: &Emitter<'_>,
-) -> Option<(Grid, String)> {
-    let Some(start) = gait else {
-        em.send(Event::Note(format!(
-            "no start for P_{m} ({why}; no gait to start from); solving it without one"
-        )));
-        return None;
-    };
-    let (gait, name) = match start.phases {
-        Some(k) => ("phase gait", format!("phase (K = {k})")),
-        None => ("file's [input]", start.from.to_string()),
-    };
-    em.send(Event::Note(format!(
-        "P_{m} starts from the {gait} itself ({why})"
-    )));
-    Some((start.grid, name))
+/// (P)'s [`StartKernels`]: the local method's start gait ([`gait_start`]) and its active-set
+/// method ([`best_of`]; square waves without a gait).
+struct GeneralStart<'a, 'e> {
+    file: &'a GeneralFile,
+    p: &'a GeneralProblem,
+    g: &'a Geometry,
+    s: &'a GeneralLocalSettings,
+    em: &'a Emitter<'e>,
+}
+
+impl StartKernels for GeneralStart<'_, '_> {
+    type Gait = GaitStart;
+
+    fn gait(&mut self) -> Result<Option<Named<GaitStart>>> {
+        let gait = gait_start(self.file, self.p, self.g, self.s, self.em)?;
+        Ok(gait.map(|start| {
+            let (name, what) = match (start.phases, start.from) {
+                (Some(k), _) => (format!("phase (K = {k})"), "phase gait"),
+                (None, "input") => ("input".to_string(), "file's [input]"),
+                (None, from) => (from.to_string(), "given start"),
+            };
+            Named {
+                gait: start,
+                name,
+                what,
+            }
+        }))
+    }
+
+    fn local_refused(&self) -> Option<String> {
+        let e = check_general_local(self.p, self.g, self.s.m).err()?;
+        Some(if self.p.cost == GeneralCost::None {
+            format!("the local method does not apply: {e}")
+        } else {
+            "the local method takes no cost f2".to_string()
+        })
+    }
+
+    fn local(&mut self, gait: Option<&Named<GaitStart>>) -> Result<Option<Named<GaitStart>>> {
+        let (p, s) = (self.p, self.s);
+        let (starts, from) = match gait {
+            Some(start) => (rotated(&start.gait.grid, s.shifts), start.gait.from),
+            None => (square_waves(p, s)?, "square_waves"),
+        };
+        let (answer, _, _) = best_of(p, self.g, s, &starts, self.em)?;
+        Ok(Some(Named {
+            gait: GaitStart {
+                grid: answer.path.u,
+                from: "local",
+                phases: None,
+            },
+            name: format!("local ({})", from.replace('_', " ")),
+            what: "local method's answer",
+        }))
+    }
+
+    fn note(&mut self, text: &str) {
+        self.em.send(Event::Note(text.to_string()))
+    }
 }
 
 /// The starts of [`optimize_general_local`] (module docs) on `2^m` steps, each at
@@ -226,6 +226,7 @@ fn starts(
 }
 
 /// A start of the local method's policy that is a gait ([`gait_start`]).
+#[derive(Debug, Clone, PartialEq)]
 struct GaitStart {
     /// Its controls on the grid.
     grid: Grid,

@@ -61,4 +61,7 @@ pub use result::{
     CrawlerParams, GaitData, GaitResult, LocalRecord, StartRecord, StructuredPieces, RESULT_FORMAT,
     RESULT_VERSION,
 };
-pub use start::{discrete_start, phase_start, shifted_origin, StartEvent, StartGait};
+pub use start::{
+    discrete_start, phase_start, pm_start, shifted_origin, Named, StartEvent, StartGait,
+    StartKernels,
+};

@@ -6,10 +6,12 @@
 //!   gain (patience 1), within half the time limit. It is the default start of the local
 //!   methods: they end where their start leads, and the phase optimum is the best
 //!   continuous-time gait there is to lead them.
-//! - [`discrete_start`]: under a time limit, the local method's gait on the same grid, so that
-//!   a MILP cut short returns at least a local optimum of P_m. Without a time limit there is
-//!   none, because a start does not shorten the proof (three blocks on 16 steps: 12.0 s from
-//!   its own optimum, 10.3 s without).
+//! - [`pm_start`]: the default start of P_m under a time limit, one policy for a crawler's
+//!   P_m and (P)'s, each kind bringing its own start gait and local method
+//!   ([`StartKernels`]): the local method's gait on the same grid, so that a MILP cut short
+//!   returns at least a local optimum of P_m; [`discrete_start`] is the crawler's. Without a
+//!   time limit there is none, because a start does not shorten the proof (three blocks on 16
+//!   steps: 12.0 s from its own optimum, 10.3 s without).
 //! - [`StartGait::from_result`]: a stored result, checked to be of this crawler and period.
 //!
 //! The policies report what they do through [`StartEvent`]s, so that a front end can show
@@ -158,12 +160,13 @@ pub fn shifted_origin(origin: &str, shift: f64) -> String {
     }
 }
 
-/// The default start of the P_m MILP on `2^m` steps, under `growth.time_limit`: the phase
-/// start ([`phase_start`], within a quarter of the limit) improved by the local method on the
-/// same grid from `shifts` time shifts of it (within what is left of the first half). The phase
-/// gait itself is the start with a quadratic cost (the local method has none), beyond the local
-/// method's grids (`m > MAX_LOCAL_M`), when the first half is spent, or when the local method
-/// fails.
+/// The default start of the P_m MILP on `2^m` steps, under `growth.time_limit`: [`pm_start`]
+/// with the crawler's kernels, within the first half of the limit. The gait that starts the
+/// local method is the phase start ([`phase_start`], within a quarter of the limit); the local
+/// method on the same grid improves it from `shifts` time shifts of it (within what is left of
+/// the first half). The phase gait itself is the start with a quadratic cost (the local method
+/// has none), beyond the local method's grids (`m > MAX_LOCAL_M`), when the first half is
+/// spent, or when the local method fails.
 ///
 /// `None` without a time limit (a start does not shorten the proof), with a total-variation
 /// bound (phase gaits cannot express it), or when no phase start could be had in time (a
@@ -187,55 +190,160 @@ pub fn discrete_start(
     if growth.time_limit.is_none() || problem.max_total_variation.is_some() {
         return Ok(None);
     }
-    // The first half of the limit; phase_start grows K within half of it: a quarter.
-    crate::progress::within(growth.time_limit, || {
-        crate::progress::share(0.5, || {
-            start_in_half(crawler, problem, m, shifts, growth, progress)
-        })
+    let mut kernels = CrawlerStart {
+        crawler,
+        problem,
+        m,
+        shifts,
+        growth,
+        progress,
+    };
+    let start = crate::progress::within(growth.time_limit, || pm_start(&mut kernels, m))?;
+    Ok(start.map(|s| StartGait {
+        origin: s.name,
+        result: s.gait,
+    }))
+}
+
+/// A start of P_m of some kind ([`StartKernels::Gait`]), with its name as results record it
+/// (`discrete_start.start`: `"phase (K = 5)"`, `"local on P_6, from phase (K = 5)"`,
+/// `"input"`, `"local (phase)"`) and what it is in a note's words (`"phase gait"`).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Named<G> {
+    /// The start.
+    pub gait: G,
+    /// Its name.
+    pub name: String,
+    /// What it is, in a note: `"phase gait"`, `"file's [input]"`.
+    pub what: &'static str,
+}
+
+/// What a kind of problem supplies to the one default-start policy of P_m ([`pm_start`]): its
+/// own start gait and local method (a crawler's are the chain's phase growth and its LPCC method
+/// on the crawler's grid; (P)'s are its `[input]` or its phase gait where `A = 0`, and its
+/// active-set method), behind one interface, as each cone of a conic solver brings its own
+/// operations to one solver loop.
+pub trait StartKernels {
+    /// A start of P_m: a crawler's gait, (P)'s controls on the grid.
+    type Gait;
+    /// The gait that starts the local method. `Ok(None)` where the kind has none and its local
+    /// method starts from its own fallbacks ((P) with `A != 0`: square waves); an error where
+    /// it could not be had (a note says so and P_m goes without a start).
+    fn gait(&mut self) -> Result<Option<Named<Self::Gait>>>;
+    /// Why the local method cannot run on this grid (a cost f2, a grid beyond its range);
+    /// `None` where it can.
+    fn local_refused(&self) -> Option<String>;
+    /// The local method's answer on the grid from `gait` (and its time shifts) or, without
+    /// one, from the kind's fallback starts (`Ok(None)` where it has none).
+    fn local(&mut self, gait: Option<&Named<Self::Gait>>) -> Result<Option<Named<Self::Gait>>>;
+    /// Tells the user how the start went.
+    fn note(&mut self, text: &str);
+}
+
+/// The default start of P_m on `2^m` steps under a time limit, for every kind of problem
+/// (written once; each kind's [`StartKernels`]), within the first half of the time left
+/// ([`crate::progress::share`]), so that a MILP cut short returns at least a local optimum of
+/// P_m: the local method's answer on the same grid from the kind's start gait. Where the local
+/// method cannot run (`local_refused`), the first half is spent, or it fails, the start gait
+/// itself, unsolved, as the MILP's first incumbent; none where there is no gait either. A
+/// start is only a hint: every failure is a note and P_m goes on without it, except a cancelled
+/// job, which ends.
+pub fn pm_start<K: StartKernels>(k: &mut K, m: u32) -> Result<Option<Named<K::Gait>>> {
+    crate::progress::share(0.5, || {
+        let gait = match k.gait() {
+            Ok(gait) => gait,
+            Err(Error::Cancelled) => return Err(Error::Cancelled),
+            Err(e) => {
+                k.note(&format!("no start gait ({e}); solving P_{m} without one"));
+                return Ok(None);
+            }
+        };
+        let why = match k.local_refused() {
+            Some(why) => why,
+            None if crate::progress::out_of_time()? => {
+                "the first half of the time limit is spent".to_string()
+            }
+            None => match k.local(gait.as_ref()) {
+                Ok(Some(found)) => return Ok(Some(found)),
+                Ok(None) => "the local method has no start".to_string(),
+                Err(Error::Cancelled) => return Err(Error::Cancelled),
+                Err(e) => format!("the local method failed: {e}"),
+            },
+        };
+        Ok(unsolved(k, gait, m, &why))
     })
 }
 
-/// [`discrete_start`], options checked, within its half of the limit.
-fn start_in_half(
-    crawler: &Crawler,
-    problem: &GaitProblem,
+/// P_m's default start where the local method cannot make it (`why`): the gait that would
+/// have started that method, itself, or none; a note says which.
+fn unsolved<K: StartKernels>(
+    k: &mut K,
+    gait: Option<Named<K::Gait>>,
+    m: u32,
+    why: &str,
+) -> Option<Named<K::Gait>> {
+    match &gait {
+        None => k.note(&format!(
+            "no start for P_{m} ({why}; no gait to start from); solving it without one"
+        )),
+        Some(g) => k.note(&format!("P_{m} starts from the {} itself ({why})", g.what)),
+    }
+    gait
+}
+
+/// The crawler's [`StartKernels`]: the phase start and the LPCC method on the crawler's grid.
+struct CrawlerStart<'a> {
+    crawler: &'a Crawler,
+    problem: &'a GaitProblem,
     m: u32,
     shifts: usize,
-    growth: &GrowOptions,
-    progress: &mut dyn FnMut(StartEvent),
-) -> Result<Option<StartGait>> {
-    let phase = match phase_start(crawler, problem, growth, progress) {
-        Ok(s) => s,
-        // A cancelled job ends; it does not go on without a start.
-        Err(Error::Cancelled) => return Err(Error::Cancelled),
-        Err(e) => {
-            progress(StartEvent::Note(&format!(
-                "no start gait ({e}); solving P_{m} without one"
-            )));
-            return Ok(None);
-        }
-    };
-    if problem.cost != Cost::None || m > MAX_LOCAL_M || crate::progress::out_of_time()? {
-        return Ok(Some(phase));
+    growth: &'a GrowOptions,
+    progress: &'a mut dyn FnMut(StartEvent),
+}
+
+impl StartKernels for CrawlerStart<'_> {
+    type Gait = GaitResult;
+
+    fn gait(&mut self) -> Result<Option<Named<GaitResult>>> {
+        let phase = phase_start(self.crawler, self.problem, self.growth, &mut *self.progress)?;
+        Ok(Some(Named {
+            gait: phase.result,
+            name: phase.origin,
+            what: "phase gait",
+        }))
     }
-    progress(StartEvent::Stage(&format!(
-        "start: local LPCC method on P_{m}"
-    )));
-    match solve_discrete_local_shifted(crawler, problem, m, phase.times(), phase.lengths(), shifts)
-    {
-        Ok((s, shift)) => {
-            let origin = shifted_origin(&phase.origin, shift);
-            Ok(Some(StartGait {
-                origin: format!("local on P_{m}, from {origin}"),
-                result: GaitResult::from_local(crawler, problem, &s, &origin),
-            }))
+
+    fn local_refused(&self) -> Option<String> {
+        if self.problem.cost != Cost::None {
+            Some("the local method takes no cost f2".into())
+        } else if self.m > MAX_LOCAL_M {
+            Some(format!("the local method's grids end at m = {MAX_LOCAL_M}"))
+        } else {
+            None
         }
-        Err(Error::Cancelled) => Err(Error::Cancelled),
-        Err(e) => {
-            progress(StartEvent::Note(&format!(
-                "the local method failed ({e}); the MILP starts from the phase gait"
-            )));
-            Ok(Some(phase))
-        }
+    }
+
+    fn local(&mut self, gait: Option<&Named<GaitResult>>) -> Result<Option<Named<GaitResult>>> {
+        let Some(gait) = gait else {
+            return Ok(None);
+        };
+        let m = self.m;
+        (self.progress)(StartEvent::Stage(&format!(
+            "start: local LPCC method on P_{m}"
+        )));
+        let (crawler, problem) = (self.crawler, self.problem);
+        let g = &gait.gait.gait;
+        let (s, shift) =
+            solve_discrete_local_shifted(crawler, problem, m, &g.times, &g.lengths, self.shifts)?;
+        let origin = shifted_origin(&gait.name, shift);
+        Ok(Some(Named {
+            name: format!("local on P_{m}, from {origin}"),
+            gait: GaitResult::from_local(crawler, problem, &s, &origin),
+            what: "local method's answer",
+        }))
+    }
+
+    fn note(&mut self, text: &str) {
+        (self.progress)(StartEvent::Note(text))
     }
 }
