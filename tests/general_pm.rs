@@ -405,7 +405,8 @@ fn a_start_is_the_first_incumbent_under_a_time_limit() {
 /// Under a time limit (and no start given) (P)'s global P_m starts from the local method's
 /// answer on the same grid, as a crawler's P_m does: the local method from its own start (the
 /// phase optimum where `A = 0`, the file's `[input]` where there is one), recorded as
-/// `discrete_start`, the MILP still proving its optimum. Not without a time limit; with a
+/// `discrete_start` and named as a crawler's (the three-block crawler's and its general form's
+/// are the same), the MILP still proving its optimum. Not without a time limit; with a
 /// quadratic cost (which the local method takes not) from the local method's start itself.
 #[test]
 fn under_a_time_limit_p_m_starts_from_the_local_answer() {
@@ -423,8 +424,16 @@ fn under_a_time_limit_p_m_starts_from_the_local_answer() {
         optimize_general(&file, &s, Hooks::default()).unwrap()
     };
     for (path, from, j) in [
-        ("examples/general_three_blocks.toml", "local (phase)", 2.0),
-        ("examples/general_one_link.toml", "local (input)", 3.0),
+        (
+            "examples/general_three_blocks.toml",
+            "local on P_3, from phase (K = 5)",
+            2.0,
+        ),
+        (
+            "examples/general_one_link.toml",
+            "local on P_3, from input",
+            3.0,
+        ),
     ] {
         let r = run(path, Some(120.0));
         let st = r.discrete_start.as_ref().expect("a default start");
@@ -438,6 +447,24 @@ fn under_a_time_limit_p_m_starts_from_the_local_answer() {
         );
         assert!(run(path, None).discrete_start.is_none());
     }
+    // The crawler whose general form `general_three_blocks` is records the same start, by
+    // the same name (one policy, `pm_start`), with the same `J` on the grid.
+    let (c, pb) = crawlopt::api::gait_problem(
+        &crawlopt::io::ModelFile::load("examples/three_blocks_gait.toml".as_ref()).unwrap(),
+    )
+    .unwrap();
+    let settings = crawlopt::api::OptimizeSettings {
+        method: crawlopt::api::GaitMethod::Discrete,
+        m: Some(3),
+        time_limit: Some(120.0),
+        ..Default::default()
+    };
+    let crawler = crawlopt::api::optimize(&c, &pb, &settings, Hooks::default()).unwrap();
+    let twin = crawler.result.discrete_start.expect("the crawler's start");
+    let general = run("examples/general_three_blocks.toml", Some(120.0));
+    let st = general.discrete_start.expect("(P)'s start");
+    assert_eq!(st.start, twin.start);
+    assert!((st.start_objective - twin.start_objective).abs() < 1e-9);
     // With a quadratic cost (which the local method takes not) the start is the file's
     // `[input]` itself, unsolved, as a crawler's P_m starts from its phase gait there.
     let quadratic = run("examples/general_drift.toml", Some(120.0));

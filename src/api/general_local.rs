@@ -13,10 +13,10 @@ use crate::error::{Error, Result};
 use crate::io::{GeneralAnswer, GeneralFile, LocalStarts};
 use crate::model::general::{GeneralCost, GeneralProblem};
 use crate::optimal::general::{
-    check_general_local, default_starts, grid_controls, phase_grid, rotated,
+    check_general_local, default_starts, grid_controls, phase_grid, rotated, rotation_shift,
     solve_general_local_best, GeneralLocal, Geometry, MultiStart,
 };
-use crate::optimal::{pm_start, Named, StartKernels};
+use crate::optimal::{pm_start, shifted_origin, Named, StartKernels};
 
 /// A control per step of a grid.
 type Grid = Vec<Vec<f64>>;
@@ -130,8 +130,9 @@ pub fn optimize_general_local(
 /// with (P)'s kernels ([`GeneralStart`]), within half of the time left: the local method's
 /// answer on the same grid (settings `s`: `shifts` rotations of its own starts, [`starts`]:
 /// the file's `[input]`, else where `A = 0` the phase optimum grown to `max_phases` within
-/// half of that half, else square waves), as the grid's controls and where they came from
-/// (`"local (phase)"`). Where the local method does not apply (a quadratic cost), the first
+/// half of that half, else square waves), as the grid's controls and their name, a crawler's
+/// start's (`"local on P_3, from phase (K = 5) shifted by 0.25"`, `"local on P_3, from
+/// input"`). Where the local method does not apply (a quadratic cost), the first
 /// half is spent, or it fails, its start itself, unsolved (`"input"`, or `"phase (K = 4)"` as
 /// a crawler's start is named); none from square waves. `None`, with a note saying why, where
 /// no start was had in time; a cancelled job ends. `max_phases` is refused (naming it) where
@@ -187,19 +188,27 @@ impl StartKernels for GeneralStart<'_, '_> {
     }
 
     fn local(&mut self, gait: Option<&Named<GaitStart>>) -> Result<Option<Named<GaitStart>>> {
-        let (p, s) = (self.p, self.s);
-        let (starts, from) = match gait {
-            Some(start) => (rotated(&start.gait.grid, s.shifts), start.gait.from),
-            None => (square_waves(p, s)?, "square_waves"),
+        let (p, s, m) = (self.p, self.s, self.s.m);
+        let starts = match gait {
+            Some(start) => rotated(&start.gait.grid, s.shifts),
+            None => square_waves(p, s)?,
         };
-        let (answer, _, _) = best_of(p, self.g, s, &starts, self.em)?;
+        let (answer, best, _) = best_of(p, self.g, s, &starts, self.em)?;
+        // Named as a crawler's: the start advanced in time by `shift`.
+        let origin = match gait {
+            Some(start) => {
+                let shift = rotation_shift(1 << m, s.shifts, best, p.period);
+                shifted_origin(&start.name, shift)
+            }
+            None => "square waves".to_string(),
+        };
         Ok(Some(Named {
             gait: GaitStart {
                 grid: answer.path.u,
                 from: "local",
                 phases: None,
             },
-            name: format!("local ({})", from.replace('_', " ")),
+            name: format!("local on P_{m}, from {origin}"),
             what: "local method's answer",
         }))
     }

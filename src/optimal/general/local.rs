@@ -155,10 +155,7 @@ pub fn default_starts(p: &GeneralProblem, m: u32, shifts: usize) -> Vec<Vec<Vec<
 /// rotations once): where a start switches on the grid decides which process it makes, so a
 /// local search tries it at several time shifts.
 pub fn rotated(grid: &[Vec<f64>], shifts: usize) -> Vec<Vec<Vec<f64>>> {
-    let mm = grid.len();
-    let mut rotations: Vec<usize> = (0..shifts).map(|j| j * mm / shifts).collect();
-    rotations.dedup();
-    rotations
+    rotations(grid.len(), shifts)
         .into_iter()
         .map(|r| {
             let mut w = grid.to_vec();
@@ -166,6 +163,23 @@ pub fn rotated(grid: &[Vec<f64>], shifts: usize) -> Vec<Vec<Vec<f64>>> {
             w
         })
         .collect()
+}
+
+/// The rotations of [`rotated`] on a grid of `steps` steps, in its order: `j steps / shifts`
+/// steps to the right (the control delayed by as many steps), `j = 0..shifts`, equal ones once.
+pub fn rotations(steps: usize, shifts: usize) -> Vec<usize> {
+    let mut r: Vec<usize> = (0..shifts).map(|j| j * steps / shifts).collect();
+    r.dedup();
+    r
+}
+
+/// The time shift of the `index`-th rotation of [`rotated`] on a grid of `steps` steps over
+/// `period`, in a crawler's convention ([`crate::optimal::shift_knots`]: the start advanced,
+/// `u(t + shift)`): a rotation of `r` steps to the right delays the control by `r h`, which on
+/// a periodic grid is an advance by `T - r h` (0 for no rotation).
+pub fn rotation_shift(steps: usize, shifts: usize, index: usize, period: f64) -> f64 {
+    let r = rotations(steps, shifts)[index];
+    ((steps - r) % steps) as f64 * period / steps as f64
 }
 
 /// A phase gait's controls (`controls[j]` for `durations[j]`) as a start on `2^m` steps: the

@@ -168,3 +168,27 @@ fn a_search_keeps_the_best_start_and_its_finish_does_not_lose() {
     let none = solve_general_local_best(&p, &g, m, &[], plan, &mut |_| {});
     assert!(matches!(none, Err(Error::InvalidParameter { field, .. }) if field == "start"));
 }
+
+/// A rotation's time shift is the crawler's advance: the `i`-th rotation of a grid is the
+/// control `u(t + shift)`, step by step.
+#[test]
+fn a_rotation_is_named_by_the_advance_it_makes() {
+    let (steps, period) = (8, 2.0);
+    let grid: Vec<Vec<f64>> = (0..steps).map(|k| vec![k as f64]).collect();
+    let h = period / steps as f64;
+    for shifts in [1, 3, 8, 16] {
+        for (i, rotated) in rotated(&grid, shifts).iter().enumerate() {
+            let shift = rotation_shift(steps, shifts, i, period);
+            assert!((0.0..period).contains(&shift), "{shift}");
+            let advance = (shift / h).round() as usize;
+            assert!((advance as f64 * h - shift).abs() < 1e-12);
+            for (k, u) in rotated.iter().enumerate() {
+                assert_eq!(
+                    u,
+                    &grid[(k + advance) % steps],
+                    "shifts {shifts}, rotation {i}"
+                );
+            }
+        }
+    }
+}

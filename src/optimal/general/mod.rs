@@ -32,9 +32,9 @@ pub use geometry::{
     analyze_polyhedron, check_problem, check_with, Geometry, Vertex, MAX_VERTEX_SUBSETS,
 };
 pub use local::{
-    check_general_local, default_starts, grid_controls, phase_grid, rotated, solve_general_local,
-    solve_general_local_best, BestLocal, GeneralLocal, LocalRules, MultiStart, Pivoting,
-    StartFaces, MAX_GENERAL_LOCAL_M,
+    check_general_local, default_starts, grid_controls, phase_grid, rotated, rotation_shift,
+    solve_general_local, solve_general_local_best, BestLocal, GeneralLocal, LocalRules, MultiStart,
+    Pivoting, StartFaces, MAX_GENERAL_LOCAL_M,
 };
 pub use phase::{
     check_general_phase, solve_general_phase, solve_general_transitions, GeneralPhaseGait,
