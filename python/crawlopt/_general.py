@@ -271,8 +271,10 @@ class GeneralProblem:
         start's process on the grid, so the answer is never below it (and a time limit returns
         at least it), recorded as ``discrete_start``; without it, under ``time_limit``, the local
         method's answer on the same grid starts it (first half of the limit; ``shifts``
-        rotations of its starts, as for "local"; with a cost, which the local method takes not,
-        its start itself: the file's ``[input]``, else where A = 0 the phase gait).
+        rotations of its starts, as for "local"; named as a crawler's, e.g. "local on P_3, from
+        phase (K = 5)"; with a cost, which the local method takes not, where the first half is
+        spent before it runs, or where it fails, its start itself: the file's ``[input]``, else
+        where A = 0 the phase gait; a note says why).
         ``max_phases`` with "local" (no ``start``) and with the default start of "discrete"
         bounds the K of the phase gait that starts them, as a crawler's; an ``InputError``
         naming it where no phase gait is grown (the file's ``[input]`` starts, or A != 0).

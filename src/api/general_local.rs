@@ -26,7 +26,7 @@ type Grid = Vec<Vec<f64>>;
 pub struct GeneralLocalSettings {
     /// `m`: P_m on `2^m` steps (default [`DEFAULT_M_LOCAL`], as for crawlers).
     pub m: u32,
-    /// Each start is tried rotated by `j 2^m / shifts` steps, `j = 0..shifts` (default
+    /// Each start is tried advanced by `j 2^m / shifts` steps, `j = 0..shifts` (default
     /// [`DEFAULT_SHIFTS`], as for crawlers).
     pub shifts: usize,
     /// Seconds for all starts (`None`: no limit): the best answer so far when it runs out.
@@ -191,13 +191,20 @@ impl StartKernels for GeneralStart<'_, '_> {
         let (p, s, m) = (self.p, self.s, self.s.m);
         let starts = match gait {
             Some(start) => rotated(&start.gait.grid, s.shifts),
-            None => square_waves(p, s)?,
+            // No square wave through 0 in U: the local method has no start.
+            None => match square_waves(p, s) {
+                Ok(waves) => waves,
+                Err(e) => {
+                    self.note(&format!("no square-wave start ({e})"));
+                    return Ok(None);
+                }
+            },
         };
         let (answer, best, _) = best_of(p, self.g, s, &starts, self.em)?;
         // Named as a crawler's: the start advanced in time by `shift`.
         let origin = match gait {
             Some(start) => {
-                let shift = rotation_shift(1 << m, s.shifts, best, p.period);
+                let shift = rotation_shift(start.gait.grid.len(), s.shifts, best, p.period);
                 shifted_origin(&start.name, shift)
             }
             None => "square waves".to_string(),

@@ -21,8 +21,8 @@ pub struct GeneralPmSettings {
     /// Seconds for the job (`None`: no limit). Under a limit, without `start` or
     /// `convergence`, the first half of it goes to a default start: the local method's answer
     /// on the same grid, as a crawler's P_m starts (with a quadratic cost, which the local
-    /// method does not take, or where it fails: the file's `[input]`, else where `A = 0` the
-    /// phase gait, unsolved).
+    /// method does not take, where the first half is spent before it runs, or where it fails:
+    /// the file's `[input]`, else where `A = 0` the phase gait, unsolved).
     pub time_limit: Option<f64>,
     /// Also check the necessary conditions on the optimum ([`crate::certify::general`];
     /// default false).

@@ -166,7 +166,7 @@ pub fn shifted_origin(origin: &str, shift: f64) -> String {
 /// method on the same grid improves it from `shifts` time shifts of it (within what is left of
 /// the first half). The phase gait itself is the start with a quadratic cost (the local method
 /// has none), beyond the local method's grids (`m > MAX_LOCAL_M`), when the first half is
-/// spent, or when the local method fails.
+/// spent, or when the local method fails; a [`StartEvent::Note`] says which.
 ///
 /// `None` without a time limit (a start does not shorten the proof), with a total-variation
 /// bound (phase gaits cannot express it), or when no phase start could be had in time (a
@@ -206,8 +206,9 @@ pub fn discrete_start(
 }
 
 /// A start of P_m of some kind ([`StartKernels::Gait`]), with its name as results record it
-/// (`discrete_start.start`: `"phase (K = 5)"`, `"local on P_6, from phase (K = 5)"`,
-/// `"input"`, `"local (phase)"`) and what it is in a note's words (`"phase gait"`).
+/// (`discrete_start.start`: `"phase (K = 5)"`, `"local on P_6, from phase (K = 5) shifted by
+/// 1.25"`, `"input"`, `"local on P_3, from input"`) and what it is in a note's words (`"phase
+/// gait"`).
 #[derive(Debug, Clone, PartialEq)]
 pub struct Named<G> {
     /// The start.

@@ -122,7 +122,7 @@ fn reach(u: &ControlSet, d: &[f64]) -> f64 {
 
 /// The default starts on `2^m` steps: for each control component `k`, the square wave `+a e_k`
 /// on the first half period and `-a e_k` on the second (`a` the largest with both in U, so the
-/// mean is zero), rotated by `j M / shifts` steps, `j = 0..shifts` (on a grid, where a wave
+/// mean is zero), advanced by `j M / shifts` steps ([`rotated`]), `j = 0..shifts` (on a grid, where a wave
 /// switches decides which process it makes). Components along which U holds no segment
 /// through 0 are skipped.
 pub fn default_starts(p: &GeneralProblem, m: u32, shifts: usize) -> Vec<Vec<Vec<f64>>> {
@@ -151,22 +151,24 @@ pub fn default_starts(p: &GeneralProblem, m: u32, shifts: usize) -> Vec<Vec<Vec<
     starts
 }
 
-/// Controls on a grid of `M` steps rotated by `j M / shifts` steps, `j = 0..shifts` (equal
-/// rotations once): where a start switches on the grid decides which process it makes, so a
-/// local search tries it at several time shifts.
+/// Controls on a grid of `M` steps advanced by `j M / shifts` steps (the control `u(t + j h
+/// M / shifts)`, rotated to the left), `j = 0..shifts` (equal rotations once), in the order of
+/// a crawler's time shifts ([`crate::optimal::shift_knots`], `j T / shifts`): where a start
+/// switches on the grid decides which process it makes, so a local search tries it at several
+/// time shifts.
 pub fn rotated(grid: &[Vec<f64>], shifts: usize) -> Vec<Vec<Vec<f64>>> {
     rotations(grid.len(), shifts)
         .into_iter()
         .map(|r| {
             let mut w = grid.to_vec();
-            w.rotate_right(r);
+            w.rotate_left(r);
             w
         })
         .collect()
 }
 
 /// The rotations of [`rotated`] on a grid of `steps` steps, in its order: `j steps / shifts`
-/// steps to the right (the control delayed by as many steps), `j = 0..shifts`, equal ones once.
+/// steps to the left (the control advanced by as many steps), `j = 0..shifts`, equal ones once.
 pub fn rotations(steps: usize, shifts: usize) -> Vec<usize> {
     let mut r: Vec<usize> = (0..shifts).map(|j| j * steps / shifts).collect();
     r.dedup();
@@ -175,11 +177,9 @@ pub fn rotations(steps: usize, shifts: usize) -> Vec<usize> {
 
 /// The time shift of the `index`-th rotation of [`rotated`] on a grid of `steps` steps over
 /// `period`, in a crawler's convention ([`crate::optimal::shift_knots`]: the start advanced,
-/// `u(t + shift)`): a rotation of `r` steps to the right delays the control by `r h`, which on
-/// a periodic grid is an advance by `T - r h` (0 for no rotation).
+/// `u(t + shift)`): a rotation of `r` steps to the left advances the control by `r h`.
 pub fn rotation_shift(steps: usize, shifts: usize, index: usize, period: f64) -> f64 {
-    let r = rotations(steps, shifts)[index];
-    ((steps - r) % steps) as f64 * period / steps as f64
+    rotations(steps, shifts)[index] as f64 * period / steps as f64
 }
 
 /// A phase gait's controls (`controls[j]` for `durations[j]`) as a start on `2^m` steps: the

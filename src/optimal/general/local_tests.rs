@@ -169,24 +169,43 @@ fn a_search_keeps_the_best_start_and_its_finish_does_not_lose() {
     assert!(matches!(none, Err(Error::InvalidParameter { field, .. }) if field == "start"));
 }
 
-/// A rotation's time shift is the crawler's advance: the `i`-th rotation of a grid is the
-/// control `u(t + shift)`, step by step.
+/// A rotation is a crawler's time shift: the `j`-th rotation of a grid's control is the same
+/// gait advanced by its [`rotation_shift`] as the crawler advances one
+/// ([`crate::optimal::shift_knots`]: the actuator lengths integrated from the control, shifted,
+/// and sampled back on the grid by [`crate::optimal::sample_increments`]); where `shifts`
+/// divides the grid, that shift is the crawler's `j`-th, `j T / shifts`. Also for shifts that
+/// do not divide it, and for more shifts than steps (equal rotations tried once).
 #[test]
-fn a_rotation_is_named_by_the_advance_it_makes() {
+fn a_rotation_is_the_crawlers_time_shift_of_the_same_gait() {
+    use crate::optimal::{sample_increments, shift_knots};
     let (steps, period) = (8, 2.0);
-    let grid: Vec<Vec<f64>> = (0..steps).map(|k| vec![k as f64]).collect();
     let h = period / steps as f64;
+    let u: Vec<Vec<f64>> = [3.0, -1.0, 2.0, 0.5, -2.5, 1.0, -1.5, -1.5]
+        .iter()
+        .map(|&v| vec![v])
+        .collect();
+    // The gait's knots: L at the grid's times, L' = u (one link of unit stiffness).
+    let times: Vec<f64> = (0..=steps).map(|k| k as f64 * h).collect();
+    let mut lengths = vec![vec![0.0]];
+    for v in &u {
+        let last = lengths.last().unwrap()[0];
+        lengths.push(vec![last + v[0] * h]);
+    }
     for shifts in [1, 3, 8, 16] {
-        for (i, rotated) in rotated(&grid, shifts).iter().enumerate() {
-            let shift = rotation_shift(steps, shifts, i, period);
-            assert!((0.0..period).contains(&shift), "{shift}");
-            let advance = (shift / h).round() as usize;
-            assert!((advance as f64 * h - shift).abs() < 1e-12);
-            for (k, u) in rotated.iter().enumerate() {
-                assert_eq!(
-                    u,
-                    &grid[(k + advance) % steps],
-                    "shifts {shifts}, rotation {i}"
+        let grids = rotated(&u, shifts);
+        for (j, grid) in grids.iter().enumerate() {
+            let shift = rotation_shift(steps, shifts, j, period);
+            if steps % shifts == 0 {
+                assert_eq!(shift, period * j as f64 / shifts as f64);
+            }
+            let (t, l) = shift_knots(&times, &lengths, shift, period);
+            let sampled = sample_increments(&t, &l, &[1.0], &[10.0], period, steps);
+            for (k, (a, b)) in grid.iter().zip(&sampled).enumerate() {
+                assert!(
+                    (a[0] * h - b[0]).abs() < 1e-12,
+                    "shifts {shifts}, rotation {j}, step {k}: {} against {}",
+                    a[0] * h,
+                    b[0]
                 );
             }
         }
