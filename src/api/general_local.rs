@@ -164,17 +164,12 @@ impl StartKernels for GeneralStart<'_, '_> {
 
     fn gait(&mut self) -> Result<Option<Named<GaitStart>>> {
         let gait = gait_start(self.file, self.p, self.g, self.s, self.em)?;
-        Ok(gait.map(|start| {
-            let (name, what) = match (start.phases, start.from) {
-                (Some(k), _) => (format!("phase (K = {k})"), "phase gait"),
-                (None, "input") => ("input".to_string(), "file's [input]"),
-                (None, from) => (from.to_string(), "given start"),
-            };
-            Named {
-                gait: start,
-                name,
-                what,
-            }
+        Ok(gait.map(|start| Named {
+            name: match start.phases {
+                Some(k) => format!("phase (K = {k})"),
+                None => start.from.to_string(),
+            },
+            gait: start,
         }))
     }
 
@@ -189,16 +184,13 @@ impl StartKernels for GeneralStart<'_, '_> {
 
     fn local(&mut self, gait: Option<&Named<GaitStart>>) -> Result<Option<Named<GaitStart>>> {
         let (p, s, m) = (self.p, self.s, self.s.m);
-        let starts = match gait {
-            Some(start) => rotated(&start.gait.grid, s.shifts),
+        let starts = match starts_of(gait.map(|start| &start.gait), p, s) {
+            Ok((starts, _)) => starts,
             // No square wave through 0 in U: the local method has no start.
-            None => match square_waves(p, s) {
-                Ok(waves) => waves,
-                Err(e) => {
-                    self.note(&format!("no square-wave start ({e})"));
-                    return Ok(None);
-                }
-            },
+            Err(e) => {
+                self.note(&format!("no square-wave start ({e})"));
+                return Ok(None);
+            }
         };
         let (answer, best, _) = best_of(p, self.g, s, &starts, self.em)?;
         // Named as a crawler's: the start advanced in time by `shift`.
@@ -216,8 +208,16 @@ impl StartKernels for GeneralStart<'_, '_> {
                 phases: None,
             },
             name: format!("local on P_{m}, from {origin}"),
-            what: "local method's answer",
         }))
+    }
+
+    fn what(gait: &GaitStart) -> &'static str {
+        match (gait.phases, gait.from) {
+            (Some(_), _) => "phase gait",
+            (None, "input") => "file's [input]",
+            (None, "start") => "given start",
+            _ => "local method's answer",
+        }
     }
 
     fn note(&mut self, text: &str) {
@@ -235,7 +235,17 @@ fn starts(
     s: &GeneralLocalSettings,
     em: &Emitter<'_>,
 ) -> Result<(Vec<Vec<Vec<f64>>>, &'static str)> {
-    match gait_start(file, p, g, s, em)? {
+    starts_of(gait_start(file, p, g, s, em)?.as_ref(), p, s)
+}
+
+/// The local method's starts from `gait` (its `s.shifts` rotations), else the square waves,
+/// and where they came from.
+fn starts_of(
+    gait: Option<&GaitStart>,
+    p: &GeneralProblem,
+    s: &GeneralLocalSettings,
+) -> Result<(Vec<Grid>, &'static str)> {
+    match gait {
         Some(start) => Ok((rotated(&start.grid, s.shifts), start.from)),
         None => Ok((square_waves(p, s)?, "square_waves")),
     }

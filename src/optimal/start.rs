@@ -207,16 +207,13 @@ pub fn discrete_start(
 
 /// A start of P_m of some kind ([`StartKernels::Gait`]), with its name as results record it
 /// (`discrete_start.start`: `"phase (K = 5)"`, `"local on P_6, from phase (K = 5) shifted by
-/// 1.25"`, `"input"`, `"local on P_3, from input"`) and what it is in a note's words (`"phase
-/// gait"`).
+/// 1.25"`, `"input"`, `"local on P_3, from input"`).
 #[derive(Debug, Clone, PartialEq)]
 pub struct Named<G> {
     /// The start.
     pub gait: G,
     /// Its name.
     pub name: String,
-    /// What it is, in a note: `"phase gait"`, `"file's [input]"`.
-    pub what: &'static str,
 }
 
 /// What a kind of problem supplies to the one default-start policy of P_m ([`pm_start`]): its
@@ -237,6 +234,9 @@ pub trait StartKernels {
     /// The local method's answer on the grid from `gait` (and its time shifts) or, without
     /// one, from the kind's fallback starts (`Ok(None)` where it has none).
     fn local(&mut self, gait: Option<&Named<Self::Gait>>) -> Result<Option<Named<Self::Gait>>>;
+    /// What a start gait of [`Self::gait`] is, in a note's words (`"phase gait"`, `"file's
+    /// [input]"`).
+    fn what(gait: &Self::Gait) -> &'static str;
     /// Tells the user how the start went.
     fn note(&mut self, text: &str);
 }
@@ -287,7 +287,10 @@ fn unsolved<K: StartKernels>(
         None => k.note(&format!(
             "no start for P_{m} ({why}; no gait to start from); solving it without one"
         )),
-        Some(g) => k.note(&format!("P_{m} starts from the {} itself ({why})", g.what)),
+        Some(g) => k.note(&format!(
+            "P_{m} starts from the {} itself ({why})",
+            K::what(&g.gait)
+        )),
     }
     gait
 }
@@ -310,7 +313,6 @@ impl StartKernels for CrawlerStart<'_> {
         Ok(Some(Named {
             gait: phase.result,
             name: phase.origin,
-            what: "phase gait",
         }))
     }
 
@@ -340,8 +342,11 @@ impl StartKernels for CrawlerStart<'_> {
         Ok(Some(Named {
             name: format!("local on P_{m}, from {origin}"),
             gait: GaitResult::from_local(crawler, problem, &s, &origin),
-            what: "local method's answer",
         }))
+    }
+
+    fn what(_: &GaitResult) -> &'static str {
+        "phase gait"
     }
 
     fn note(&mut self, text: &str) {

@@ -122,9 +122,9 @@ fn reach(u: &ControlSet, d: &[f64]) -> f64 {
 
 /// The default starts on `2^m` steps: for each control component `k`, the square wave `+a e_k`
 /// on the first half period and `-a e_k` on the second (`a` the largest with both in U, so the
-/// mean is zero), advanced by `j M / shifts` steps ([`rotated`]), `j = 0..shifts` (on a grid, where a wave
-/// switches decides which process it makes). Components along which U holds no segment
-/// through 0 are skipped.
+/// mean is zero), advanced by `j M / shifts` steps ([`rotated`]), `j = 0..shifts` (on a grid,
+/// where a wave switches decides which process it makes). Components along which U holds no
+/// segment through 0 are skipped.
 pub fn default_starts(p: &GeneralProblem, m: u32, shifts: usize) -> Vec<Vec<Vec<f64>>> {
     let mm = 1usize << m;
     let nu = p.controls();
