@@ -334,8 +334,8 @@ fn the_local_method_starts_from_the_phase_optimum_where_a_is_zero() {
 /// it starts from the phase gait without a note.
 #[test]
 fn a_general_jobs_notes_reach_its_answer() {
-    use crawlopt::api::{optimize_file, GaitMethod, Hooks, OptimizeSettings, OptimizedFile};
-    use crawlopt::io::{GeneralFile, ProblemFile};
+    use crawlopt::api::{optimize_file, GaitMethod, Hooks, OptimizeSettings};
+    use crawlopt::io::{GeneralFile, ProblemFile, ResultFile};
     let run = |file: GeneralFile, settings: &OptimizeSettings, seen: &mut Vec<String>| {
         let mut watch = |e: &crawlopt::api::Event, _: f64| {
             if let crawlopt::api::Event::Note(n) = e {
@@ -384,7 +384,7 @@ fn a_general_jobs_notes_reach_its_answer() {
     };
     let mut seen = Vec::new();
     let done = run(short, &local, &mut seen);
-    let OptimizedFile::General { answer, .. } = &done else {
+    let ResultFile::General(answer) = &done.result else {
         panic!("a general answer")
     };
     let r = answer.as_ref();

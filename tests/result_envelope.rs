@@ -574,7 +574,7 @@ fn crawler_results_read_in_version_2_and_in_version_1() {
         else {
             panic!("read as a general result")
         };
-        assert_eq!(old.head.objective, v["objective"].as_f64().unwrap());
+        assert_eq!(old.result.head.objective, v["objective"].as_f64().unwrap());
     }
     // Version 2 needs its kind and its solution.
     let mut no_kind = v3.clone();

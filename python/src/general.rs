@@ -7,7 +7,7 @@ use crate::errors::to_py;
 use crate::run::run;
 use crawlopt::api::{self, OptimizeSettings};
 use crawlopt::integrate::{GeneralMethod, GeneralSimOptions, Method};
-use crawlopt::io::{GeneralFile, ProblemFile};
+use crawlopt::io::{GeneralFile, ProblemFile, ResultFile};
 use crawlopt::present::{self, GeneralReportInput};
 use pyo3::prelude::*;
 
@@ -148,9 +148,8 @@ impl GeneralProblem {
         let done = run(py, progress, |hooks| {
             api::optimize_file(&file, &settings, hooks)
         })?;
-        let api::OptimizedFile::General {
-            problem,
-            answer,
+        let api::OptimizedFile {
+            result: ResultFile::General(answer),
             notes,
         } = done
         else {
@@ -159,11 +158,8 @@ impl GeneralProblem {
             ));
         };
         let doc = pythonize::pythonize(py, &answer)?;
-        Ok((
-            doc,
-            GeneralRecord::new(*problem, Record::Answer(answer)),
-            notes,
-        ))
+        let record = GeneralRecord::of_answer(*answer).map_err(|e| to_py(py, e))?;
+        Ok((doc, record, notes))
     }
 }
 

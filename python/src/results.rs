@@ -146,7 +146,7 @@ fn context<'a>(source: &'a str, c: Option<&'a NecessaryConditions>) -> report::R
 #[pyo3(signature = (text, name="result"))]
 pub fn read_result<'py>(py: Python<'py>, text: &str, name: &str) -> PyResult<Bound<'py, PyAny>> {
     match ResultFile::from_json(text, name).map_err(|e| to_py(py, e))? {
-        ResultFile::Crawler(r) => Ok(Bound::new(py, GaitResult { inner: *r })?.into_any()),
+        ResultFile::Crawler(r) => Ok(Bound::new(py, GaitResult { inner: r.result })?.into_any()),
         ResultFile::General(r) => general_pair(py, *r),
     }
 }

@@ -29,7 +29,9 @@ pub enum Certified {
 /// result file holds (module docs); `what` names the source in errors.
 pub fn certify_result_file(r: &ResultFile, what: &str) -> Result<Certified> {
     match r {
-        ResultFile::Crawler(r) => Ok(Certified::Crawler(Box::new(certify_result(r, what)?))),
+        ResultFile::Crawler(r) => Ok(Certified::Crawler(Box::new(certify_result(
+            &r.result, what,
+        )?))),
         ResultFile::General(r) => Ok(Certified::General(Box::new(certify_general_answer(
             r, what,
         )?))),
@@ -52,24 +54,29 @@ pub fn certify_general_answer(r: &GeneralAnswer, what: &str) -> Result<GeneralNe
     certify_general(&p, &pr, &CertifyOptions::default())
 }
 
-/// The figures of a certified result file (`crawlopt certify --plot`): the result's own
-/// figures with the adjoint p(t) of its necessary conditions (a crawler's with p + omega and
-/// u(t) beside it).
-pub fn certified_figures(r: &ResultFile, cert: &Certified) -> Result<Vec<Figure>> {
-    match (r, cert) {
-        (ResultFile::Crawler(result), Certified::Crawler(c)) => {
-            let mut figs = present::gait_figures(result)?;
-            figs.push(present::adjoint_figure_of(&c.multipliers)?);
-            Ok(figs)
+/// `r` with `cert`, its necessary conditions, as `optimize --certify` answers it (a result
+/// read back holds none); an error when `cert` is of the other kind.
+fn with_conditions(r: &ResultFile, cert: &Certified) -> Result<ResultFile> {
+    let mut r = r.clone();
+    match (&mut r, cert) {
+        (ResultFile::Crawler(g), Certified::Crawler(c)) => {
+            g.necessary_conditions = Some((**c).clone());
         }
         (ResultFile::General(a), Certified::General(c)) => {
-            let p = a.problem.problem()?;
-            let mut figs = present::general_answer_figures(&p, a)?;
-            figs.extend(present::general_adjoint_figure(&p, c)?);
-            Ok(figs)
+            a.necessary_conditions = Some((**c).clone());
         }
-        _ => Err(Error::Numerical(
-            "the certificate is not of the result's kind".into(),
-        )),
+        _ => {
+            return Err(Error::Numerical(
+                "the certificate is not of the result's kind".into(),
+            ))
+        }
     }
+    Ok(r)
+}
+
+/// The figures of a certified result file (`crawlopt certify --plot`): the result's own
+/// figures with the adjoint p(t) of its necessary conditions (a crawler's with p + omega and
+/// u(t) beside it), as [`present::result_figures`] draws a certified result.
+pub fn certified_figures(r: &ResultFile, cert: &Certified) -> Result<Vec<Figure>> {
+    present::result_figures(&with_conditions(r, cert)?)
 }

@@ -9,33 +9,27 @@
 
 use super::events::Hooks;
 use super::gait_problem;
-use super::general_plan::{optimize_general_plan, GeneralAnswer, GeneralPlan};
-use super::optimize::{optimize, Optimized};
+use super::general_plan::{optimize_general_plan, GeneralPlan};
+use super::optimize::optimize;
 use super::settings::{GaitMethod, Naming, OptimizeSettings};
 use crate::error::{Error, Result};
-use crate::io::ProblemFile;
+use crate::io::{GaitAnswer, ProblemFile, ResultFile};
 use crate::model::general::GeneralProblem;
 use crate::model::Crawler;
 use crate::optimal::GaitProblem;
-use crate::present::{self, figures::Figure, report, text};
+use crate::present::{self, figures::Figure, text};
 use serde::Serialize;
 
-/// What [`optimize_file`] found, of the file's kind.
+/// What [`optimize_file`] found: the one result of both kinds, [`ResultFile`] (as a result file
+/// reads back, with the necessary conditions when computed), and the job's notes.
 #[derive(Debug, Clone, PartialEq)]
-pub enum OptimizedFile {
-    /// A crawler's gait ([`optimize`]).
-    Crawler(Box<Optimized>),
-    /// A general problem's optimum ([`OptimizeSettings::plan_general`], run), with the problem it
-    /// solves.
-    General {
-        /// The problem.
-        problem: Box<GeneralProblem>,
-        /// The answer.
-        answer: Box<GeneralAnswer>,
-        /// Notes on how the job went (the job's [`super::Event::Note`]s, as a crawler's
-        /// [`Optimized::notes`]: such as a start refused and the one tried instead).
-        notes: Vec<String>,
-    },
+pub struct OptimizedFile {
+    /// The result: a crawler's gait ([`optimize`]) or a general problem's optimum
+    /// ([`OptimizeSettings::plan_general`], run).
+    pub result: ResultFile,
+    /// Notes on how the job went (the job's [`super::Event::Note`]s: such as a start refused
+    /// and the one tried instead).
+    pub notes: Vec<String>,
 }
 
 /// An optimisation of a problem file checked before its work ([`OptimizeJob::new`]): a front
@@ -107,9 +101,16 @@ impl<'a> OptimizeJob<'a> {
         match (self.checked, self.file) {
             (Checked::Crawler { crawler, problem }, _) => {
                 let done = optimize(&crawler, &problem, self.settings, hooks)?;
-                Ok(OptimizedFile::Crawler(Box::new(done)))
+                let answer = GaitAnswer {
+                    result: done.result,
+                    necessary_conditions: done.necessary_conditions,
+                };
+                Ok(OptimizedFile {
+                    result: ResultFile::Crawler(Box::new(answer)),
+                    notes: done.notes,
+                })
             }
-            (Checked::General { problem, plan }, ProblemFile::General(general)) => {
+            (Checked::General { plan, .. }, ProblemFile::General(general)) => {
                 // The job's notes kept for the answer, every event passed on to the caller.
                 let Hooks { mut events, cancel } = hooks;
                 let mut notes = Vec::new();
@@ -126,9 +127,8 @@ impl<'a> OptimizeJob<'a> {
                     cancel,
                 };
                 let answer = optimize_general_plan(general, &plan, self.settings.naming, hooks)?;
-                Ok(OptimizedFile::General {
-                    problem,
-                    answer: Box::new(answer),
+                Ok(OptimizedFile {
+                    result: ResultFile::General(Box::new(answer)),
                     notes,
                 })
             }
@@ -238,93 +238,41 @@ pub fn report_file(
 impl OptimizedFile {
     /// The answer's key numbers in one line: J (and a crawler's displacement per period).
     pub fn summary(&self) -> String {
-        match self {
-            OptimizedFile::Crawler(o) => text::gait_summary(&o.result),
-            OptimizedFile::General { answer, .. } => text::general_summary(answer),
-        }
+        text::result_file_summary(&self.result)
     }
 
     /// The objective J of the answer (verified by simulation).
     pub fn objective(&self) -> f64 {
-        match self {
-            OptimizedFile::Crawler(o) => o.result.head.objective,
-            OptimizedFile::General { answer, .. } => answer.head.objective,
-        }
+        self.result.head().objective
     }
 
     /// Notes on how the job went.
     pub fn notes(&self) -> &[String] {
-        match self {
-            OptimizedFile::Crawler(o) => &o.notes,
-            OptimizedFile::General { notes, .. } => notes,
-        }
+        &self.notes
     }
 
     /// The human form: the answer, and its necessary conditions when computed.
     pub fn text(&self) -> String {
-        match self {
-            OptimizedFile::Crawler(o) => {
-                let mut out = text::gait_result(&o.result);
-                if let Some(c) = &o.necessary_conditions {
-                    out.push_str(&text::certificate(c, &o.result));
-                }
-                out
-            }
-            OptimizedFile::General { answer, .. } => text::general_answer(answer),
-        }
+        present::result_text(&self.result)
     }
 
     /// The figures (`--plot`): a crawler's gait (and the adjoint when certified); a general
     /// optimum's C with the orbit, states, controls, reactions and the objective's integrand.
     pub fn figures(&self) -> Result<Vec<Figure>> {
-        match self {
-            OptimizedFile::Crawler(o) => {
-                let mut figs = present::gait_figures(&o.result)?;
-                if let Some(c) = &o.necessary_conditions {
-                    figs.push(present::adjoint_figure_of(&c.multipliers)?);
-                }
-                Ok(figs)
-            }
-            OptimizedFile::General {
-                problem, answer, ..
-            } => present::general_answer_figures(problem, answer),
-        }
+        present::result_figures(&self.result)
     }
 
     /// The self-contained HTML report; `source` names the input in the page and `command` the
     /// command that made it.
     pub fn report_html(&self, source: &str, command: &str) -> Result<String> {
-        match self {
-            OptimizedFile::Crawler(o) => {
-                let ctx = report::ReportContext {
-                    source,
-                    command: command.to_string(),
-                    certificate: o.necessary_conditions.as_ref(),
-                };
-                report::build_report_with(&o.result, &ctx)
-            }
-            OptimizedFile::General {
-                problem, answer, ..
-            } => present::build_general_report(
-                problem,
-                present::GeneralReportInput::Answer(answer),
-                source,
-                command,
-            ),
-        }
+        present::result_report(&self.result, source, command)
     }
 }
 
-/// The kind's own JSON: a crawler's result with its keys in alphabetical order (as
-/// `optimize --json` has always printed it), a general answer as its envelope.
+/// The kind's own JSON ([`ResultFile`]'s): a crawler's result with its keys in alphabetical
+/// order (as `optimize --json` has always printed it), a general answer as its envelope.
 impl Serialize for OptimizedFile {
     fn serialize<S: serde::Serializer>(&self, s: S) -> std::result::Result<S::Ok, S::Error> {
-        use serde::ser::Error as _;
-        match self {
-            OptimizedFile::Crawler(o) => serde_json::to_value(o)
-                .map_err(S::Error::custom)?
-                .serialize(s),
-            OptimizedFile::General { answer, .. } => answer.serialize(s),
-        }
+        self.result.serialize(s)
     }
 }

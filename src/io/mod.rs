@@ -51,7 +51,7 @@ pub use general_results::{
     LocalStarts,
 };
 pub use model_toml::{crawler_toml, read_fit_csv, write_text, MAX_FIT_CSV_BYTES};
-pub use result_file::ResultFile;
+pub use result_file::{GaitAnswer, ResultFile};
 pub use simulation_doc::{
     SimulationBody, SimulationDocument, SIMULATION_FORMAT, SIMULATION_VERSION,
 };

@@ -1,21 +1,50 @@
-//! A result file of either kind read back: the one entry point of every reader that takes
-//! both (`crawlopt certify`, Python's `read_result`). The envelope is checked first
-//! ([`read_envelope`]: format, version, kind), then the kind's shape and consistency: a
-//! crawler's by [`GaitResult`]'s reader, a general problem's by [`GeneralAnswer`]'s
-//! ([`GeneralAnswer::check_consistent`]). Errors name the source and the field.
+//! The one result of both kinds, [`ResultFile`]: what `optimize` answers on a problem file of
+//! either kind (`crate::api::OptimizedFile::result`) and what a result file reads back as, the
+//! one entry point of every reader that takes both (`crawlopt certify`, `plot`, `report`,
+//! Python's `read_result`). Reading checks the envelope first ([`read_envelope`]: format,
+//! version, kind), then the kind's shape and consistency: a crawler's by [`GaitResult`]'s
+//! reader, a general problem's by [`GeneralAnswer`]'s ([`GeneralAnswer::check_consistent`]).
+//! Errors name the source and the field.
 
 use super::{GeneralAnswer, GeneralSolution};
+use crate::certify::NecessaryConditions;
 use crate::error::{Error, Result};
 use crate::optimal::envelope::{ResultHead, SolutionKind};
 use crate::optimal::{read_envelope, GaitResult, ResultKind};
+use serde::Serialize;
 
-/// A result of either kind ([`ResultFile::from_json`]).
+/// A result of either kind ([`ResultFile::from_json`]), with its necessary conditions when
+/// they were computed (never read back from a file: `crawlopt certify` recomputes them).
 #[derive(Debug, Clone, PartialEq)]
 pub enum ResultFile {
     /// A crawler's gait result.
-    Crawler(Box<GaitResult>),
+    Crawler(Box<GaitAnswer>),
     /// A general problem's result.
     General(Box<GeneralAnswer>),
+}
+
+/// A crawler's gait result and, when computed, its necessary conditions (Theorem 2.2): the
+/// crawler's kind of [`ResultFile`], as [`GeneralAnswer`] is the general one and holds its
+/// conditions alike. Written as `optimize --json` writes a crawler's optimum: the result's
+/// envelope with `necessary_conditions` beside its fields.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct GaitAnswer {
+    /// The result.
+    #[serde(flatten)]
+    pub result: GaitResult,
+    /// The necessary conditions on its gait, when computed (`optimize --certify`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub necessary_conditions: Option<NecessaryConditions>,
+}
+
+impl GaitAnswer {
+    /// `result` without its necessary conditions (as a file reads back).
+    pub fn of(result: GaitResult) -> Self {
+        GaitAnswer {
+            result,
+            necessary_conditions: None,
+        }
+    }
 }
 
 impl ResultFile {
@@ -25,9 +54,8 @@ impl ResultFile {
         let (v, kind, label) = read_envelope(text, what)?;
         let what = label.as_str();
         match kind {
-            ResultKind::Crawler => {
-                GaitResult::from_checked_envelope(v, what).map(|r| ResultFile::Crawler(Box::new(r)))
-            }
+            ResultKind::Crawler => GaitResult::from_checked_envelope(v, what)
+                .map(|r| ResultFile::Crawler(Box::new(GaitAnswer::of(r)))),
             ResultKind::General => {
                 let r = GeneralAnswer::from_checked_envelope(v, what)?;
                 r.check_consistent(what)?;
@@ -40,8 +68,22 @@ impl ResultFile {
     /// and the certificate ([`ResultHead`]).
     pub fn head(&self) -> &ResultHead {
         match self {
-            ResultFile::Crawler(r) => &r.head,
+            ResultFile::Crawler(r) => &r.result.head,
             ResultFile::General(r) => &r.head,
+        }
+    }
+}
+
+/// The kind's own JSON, as `optimize --json` prints it: a crawler's answer with its keys in
+/// alphabetical order (as it has always been printed), a general answer as its envelope.
+impl Serialize for ResultFile {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> std::result::Result<S::Ok, S::Error> {
+        use serde::ser::Error as _;
+        match self {
+            ResultFile::Crawler(g) => serde_json::to_value(g)
+                .map_err(S::Error::custom)?
+                .serialize(s),
+            ResultFile::General(a) => a.serialize(s),
         }
     }
 }

@@ -417,18 +417,3 @@ fn process_section(h: &mut String, p: &GeneralProblem, path: &GeneralPath) {
     }
     h.push_str("</table>\n</div>\n");
 }
-
-/// The report of a result file of either kind ([`crate::io::ResultFile`], as `crawlopt report
-/// RESULT.json` reads it): a crawler's gait report ([`super::report::build_report`]) or a
-/// general problem's, drawn with the problem its envelope stores. `source` names the file.
-pub fn build_result_report(r: &crate::io::ResultFile, source: &str) -> Result<String> {
-    match r {
-        crate::io::ResultFile::Crawler(g) => super::report::build_report(g, source),
-        crate::io::ResultFile::General(a) => build_general_report(
-            &a.problem.problem()?,
-            GeneralReportInput::Answer(a),
-            source,
-            &format!("crawlopt report {source}"),
-        ),
-    }
-}

@@ -5,8 +5,10 @@
 //! of v_m, the convergence of J_m and the adjoint of a certificate ([`figures`]), and one HTML
 //! file with the numbers, the figures and an animation of the crawler ([`report`]); for the
 //! general problem (P) the set C with the state's path, the controls, reactions and the
-//! objective's integrand ([`general`]) and their report ([`general_report`]). It depends on
-//! `model`, `integrate`, `optimal` and `io`; nothing depends on it.
+//! objective's integrand ([`general`]) and their report ([`general_report`]); a result of either
+//! kind rendered once, its text, figures and report ([`result`]). It depends on `model`,
+//! `integrate`, `optimal`, `certify`, `fit` and `io`; only the API, the studies and the front ends
+//! above it call it.
 //!
 //! Outputs are all-or-nothing: a set of figures is written under temporary names and renamed into
 //! place only when every file has been written ([`write_figures`]).
@@ -15,13 +17,15 @@ pub mod figures;
 pub mod general;
 pub mod general_report;
 pub mod report;
+pub mod result;
 pub mod text;
 
 pub use general::{
     general_adjoint_figure, general_analysis_figures, general_answer_figures, general_path_figures,
     general_series, general_simulation_figures, general_state_space, GeneralPath,
 };
-pub use general_report::{build_general_report, build_result_report, GeneralReportInput};
+pub use general_report::{build_general_report, GeneralReportInput};
+pub use result::{build_result_report, result_figures, result_report, result_text};
 
 use crate::certify::MultiplierData;
 use crate::error::{Error, Result};
@@ -396,11 +400,9 @@ pub struct JmTable {
 /// What `crawlopt plot` can draw.
 #[derive(Debug, Clone)]
 pub enum PlotInput {
-    /// A crawler's gait result (`crawlopt optimize --json`).
-    Gait(Box<GaitResult>),
-    /// A general problem's result (`crawlopt optimize --json` on a `[sweeping_process]`
-    /// file), drawn with the problem its envelope stores.
-    General(Box<crate::io::GeneralAnswer>),
+    /// A result of either kind (`crawlopt optimize --json`), drawn as [`result_figures`] draws
+    /// it.
+    Result(Box<crate::io::ResultFile>),
     /// A J_m table.
     Jm(JmTable),
 }
@@ -428,17 +430,14 @@ impl PlotInput {
         }
         // Everything else must be a result of either kind, read back and checked as `certify`
         // reads it; its reader explains what is wrong.
-        Ok(match crate::io::ResultFile::from_json(text, what)? {
-            crate::io::ResultFile::Crawler(r) => PlotInput::Gait(r),
-            crate::io::ResultFile::General(r) => PlotInput::General(r),
-        })
+        let r = crate::io::ResultFile::from_json(text, what)?;
+        Ok(PlotInput::Result(Box::new(r)))
     }
 
     /// Its figures.
     pub fn figures(&self) -> Result<Vec<Figure>> {
         match self {
-            PlotInput::Gait(r) => gait_figures(r),
-            PlotInput::General(a) => general_answer_figures(&a.problem.problem()?, a),
+            PlotInput::Result(r) => result_figures(r),
             PlotInput::Jm(t) => Ok(vec![figures::jm_figure(&t.m, &t.values, t.continuous)?]),
         }
     }

@@ -31,7 +31,7 @@ pub fn run(a: CertifyArgs) -> Result<ExitCode, Error> {
     }
     match (&file, &cert) {
         (ResultFile::Crawler(result), Certified::Crawler(c)) if !a.json => {
-            out(&text::certificate(c, result))
+            out(&text::certificate(c, &result.result))
         }
         (_, Certified::General(c)) if !a.json => out(&text::general_certificate(c)),
         (_, cert) => json_line(cert),

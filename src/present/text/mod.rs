@@ -36,7 +36,7 @@ pub fn general_summary(r: &crate::io::GeneralAnswer) -> String {
 /// [`general_summary`]).
 pub fn result_file_summary(r: &crate::io::ResultFile) -> String {
     match r {
-        crate::io::ResultFile::Crawler(g) => gait_summary(g),
+        crate::io::ResultFile::Crawler(g) => gait_summary(&g.result),
         crate::io::ResultFile::General(a) => general_summary(a),
     }
 }
