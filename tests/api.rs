@@ -299,7 +299,7 @@ fn a_start_in_memory_is_checked_and_recorded() {
     let s = OptimizeSettings {
         method: GaitMethod::Sequence,
         start: Some(Start::Result {
-            result: Box::new(phase.clone()),
+            result: Box::new(phase.clone().into()),
             name: "k3".into(),
         }),
         phases: Some(4),

@@ -394,7 +394,7 @@ fn a_general_jobs_notes_reach_its_answer() {
 }
 
 /// (P)'s local method starts from a given general result (`--start`, `Start::File` or
-/// `Start::General`), as a crawler's does from a gait result: its control averaged on the grid
+/// `Start::Result`), as a crawler's does from a gait result: its control averaged on the grid
 /// (`start_from = "start"`). A local optimum started from itself is stationary: the same `J`,
 /// which is its start's. A phase optimum's result starts it too (never below its start's `J`
 /// on the grid). A start of another shape, or a crawler's gait result, is refused naming
@@ -417,8 +417,8 @@ fn the_local_method_starts_from_a_given_result() {
     let first = optimize_general_local(&file, &s, Hooks::default()).unwrap();
     let again = GeneralLocalSettings {
         shifts: 1,
-        start: Some(Start::General {
-            answer: Box::new(first.clone()),
+        start: Some(Start::Result {
+            result: Box::new(first.clone().into()),
             name: "first".into(),
         }),
         ..s.clone()
@@ -468,8 +468,8 @@ fn the_local_method_starts_from_a_given_result() {
         .unwrap()
         .unwrap();
     let wrong = GeneralLocalSettings {
-        start: Some(Start::General {
-            answer: Box::new(first),
+        start: Some(Start::Result {
+            result: Box::new(first.into()),
             name: "three.json".into(),
         }),
         ..s.clone()
@@ -497,7 +497,7 @@ fn the_local_method_starts_from_a_given_result() {
     );
     let crawler = GeneralLocalSettings {
         start: Some(Start::Result {
-            result: Box::new(g),
+            result: Box::new(g.into()),
             name: "crawler.json".into(),
         }),
         ..s

@@ -268,8 +268,8 @@ fn the_global_p_m_starts_from_a_given_result() {
         start: Some(start),
         ..GeneralPmSettings::default()
     };
-    let given = Start::General {
-        answer: Box::new(start.clone()),
+    let given = Start::Result {
+        result: Box::new(start.clone().into()),
         name: "local.json".into(),
     };
     let r = optimize_general(&file, &from(given.clone()), Hooks::default()).unwrap();
@@ -321,7 +321,7 @@ fn the_global_p_m_starts_from_a_given_result() {
     let e = optimize_general(
         &file,
         &from(Start::Result {
-            result: Box::new(g),
+            result: Box::new(g.into()),
             name: "crawler.json".into(),
         }),
         Hooks::default(),
@@ -360,8 +360,8 @@ fn a_start_is_the_first_incumbent_under_a_time_limit() {
         ..GeneralLocalSettings::default()
     };
     let start = optimize_general_local(&file, &local, Hooks::default()).unwrap();
-    let given = Start::General {
-        answer: Box::new(start.clone()),
+    let given = Start::Result {
+        result: Box::new(start.clone().into()),
         name: "local".into(),
     };
     let s = GeneralPmSettings {

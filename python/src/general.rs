@@ -134,8 +134,8 @@ impl GeneralProblem {
             .map(|text| crawlopt::io::GeneralAnswer::from_json(text, "start"))
             .transpose()
             .map_err(|e| to_py(py, e))?
-            .map(|answer| api::Start::General {
-                answer: Box::new(answer),
+            .map(|answer| api::Start::Result {
+                result: Box::new(answer.into()),
                 name: "start".into(),
             });
         // The library decides what applies to a general problem, with its defaults.

@@ -106,7 +106,7 @@ pub fn optimize(
 ) -> PyResult<(GaitResult, Option<String>, Vec<String>)> {
     let settings = OptimizeSettings {
         start: start.map(|r| Start::Result {
-            result: Box::new(r.inner.clone()),
+            result: Box::new(r.inner.clone().into()),
             name: "start".into(),
         }),
         ..optimize_settings(py, keys)?

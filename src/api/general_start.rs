@@ -2,7 +2,6 @@
 //! checked, its control averaged on the grid of `2^m` steps (one start reader for both).
 
 use crate::error::{Error, Result};
-use crate::io::GeneralAnswer;
 use crate::model::general::GeneralProblem;
 use crate::optimal::general::phase_grid;
 
@@ -20,21 +19,11 @@ pub(super) fn given_start(
     m: u32,
 ) -> Result<(Vec<Vec<f64>>, String)> {
     let refuse = |name: &str, why: String| Err(Error::invalid("start", name, why));
-    let read;
-    let (answer, name) = match start {
-        super::Start::File(path) => {
-            let name = path.display().to_string();
-            let text = crate::io::read_input_text(path, crate::io::MAX_RESULT_BYTES)?;
-            read = GeneralAnswer::from_json(&text, &name)?;
-            (&read, name)
-        }
-        super::Start::General { answer, name } => {
-            answer.check_consistent(name)?;
-            (answer.as_ref(), name.clone())
-        }
-        super::Start::Result { name, .. } => {
+    let (answer, name) = match start.read()? {
+        (crate::io::ResultFile::General(answer), name) => (answer, name),
+        (crate::io::ResultFile::Crawler(_), name) => {
             return refuse(
-                name,
+                &name,
                 "is a crawler's gait result; a general problem starts from a general result".into(),
             )
         }

@@ -4,7 +4,7 @@ use super::events::{run_with, Emitter, Event, Hooks};
 use super::settings::{GaitMethod, OptimizeSettings, Plan, Start};
 use crate::certify::{certify_result, NecessaryConditions};
 use crate::error::{Error, Result};
-use crate::io::{read_input_text, MAX_RESULT_BYTES};
+use crate::io::ResultFile;
 use crate::model::Crawler;
 use crate::optimal::chain::{chain_starts, search_chain_multi, ChainOptions, DEFAULT_STARTS};
 use crate::optimal::structured::{
@@ -19,10 +19,11 @@ use crate::optimal::{
 use serde::Serialize;
 
 /// The answer of [`optimize`]: the gait result (verified by simulation, with its certificate
-/// and status), the necessary conditions when asked for, and the notes the job sent.
+/// and status), the necessary conditions when asked for, and the notes the job sent. Written
+/// as `optimize --json` writes a crawler's [`crate::io::GaitAnswer`] (the notes are not).
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct Optimized {
-    /// The result, as `optimize --json` writes it.
+    /// The result.
     #[serde(flatten)]
     pub result: GaitResult,
     /// The necessary conditions of Theorem 2.2 on the gait ([`OptimizeSettings::certify`]).
@@ -534,26 +535,14 @@ fn start_gait(
 
 /// A given start gait, read (a file) and checked against the crawler and the period.
 fn start_of(start: &Start, crawler: &Crawler, problem: &GaitProblem) -> Result<StartGait> {
-    let (result, name) = match start {
-        Start::File(path) => {
-            let name = path.display().to_string();
-            let text = read_input_text(path, MAX_RESULT_BYTES)?;
-            (GaitResult::from_json(&text, &name)?, name)
-        }
-        Start::Result { result, name } => {
-            result.check_consistent(name)?;
-            ((**result).clone(), name.clone())
-        }
-        Start::General { name, .. } => {
-            return Err(Error::invalid(
-                "start",
-                name,
-                "is a general problem's result; a crawler's gait starts from a crawler's gait \
-                 result",
-            ))
-        }
-    };
-    StartGait::from_result(crawler, problem, result, &name)
+    match start.read()? {
+        (ResultFile::Crawler(g), name) => StartGait::from_result(crawler, problem, g.result, &name),
+        (ResultFile::General(_), name) => Err(Error::invalid(
+            "start",
+            name,
+            "is a general problem's result; a crawler's gait starts from a crawler's gait result",
+        )),
+    }
 }
 
 #[cfg(test)]

@@ -14,7 +14,6 @@ use super::optimize::optimize;
 use super::settings::{GaitMethod, Naming, OptimizeSettings};
 use crate::error::{Error, Result};
 use crate::io::{GaitAnswer, ProblemFile, ResultFile};
-use crate::model::general::GeneralProblem;
 use crate::model::Crawler;
 use crate::optimal::GaitProblem;
 use crate::present::{self, figures::Figure, text};
@@ -50,7 +49,8 @@ enum Checked {
         problem: Box<GaitProblem>,
     },
     General {
-        problem: Box<GeneralProblem>,
+        /// The size of C, the problem checked well posed.
+        scale: f64,
         plan: Box<GeneralPlan>,
     },
 }
@@ -72,7 +72,7 @@ impl<'a> OptimizeJob<'a> {
             ProblemFile::General(general) => {
                 let plan = settings.plan_general(&[])?;
                 Checked::General {
-                    problem: Box::new(general.problem()?),
+                    scale: general.problem()?.c.scale(),
                     plan: Box::new(plan),
                 }
             }
@@ -91,7 +91,7 @@ impl<'a> OptimizeJob<'a> {
             Checked::Crawler { crawler, problem } => {
                 text::GaitScales::of_problem(crawler, problem).length
             }
-            Checked::General { problem, .. } => problem.c.scale(),
+            Checked::General { scale, .. } => *scale,
         }
     }
 
@@ -256,8 +256,9 @@ impl OptimizedFile {
         present::result_text(&self.result)
     }
 
-    /// The figures (`--plot`): a crawler's gait (and the adjoint when certified); a general
-    /// optimum's C with the orbit, states, controls, reactions and the objective's integrand.
+    /// The figures (`--plot`, [`present::result_figures`]): a crawler's gait (and the adjoint
+    /// when certified); a general optimum's C with the orbit, states, controls, reactions and
+    /// the objective's integrand (and the adjoint when certified).
     pub fn figures(&self) -> Result<Vec<Figure>> {
         present::result_figures(&self.result)
     }

@@ -6,8 +6,8 @@ use crate::certify::bound::BoundSettings;
 use crate::error::{Error, Result};
 use crate::model::Crawler;
 use crate::optimal::{
-    check_local, check_shifts, check_size, check_time_limit, Cost, GaitProblem, GaitResult,
-    GrowOptions, MAX_LOCAL_M, MAX_M, MAX_PHASES,
+    check_local, check_shifts, check_size, check_time_limit, Cost, GaitProblem, GrowOptions,
+    MAX_LOCAL_M, MAX_M, MAX_PHASES,
 };
 pub use crate::optimal::{DEFAULT_MAX_PHASES, DEFAULT_PATIENCE};
 use serde::{Deserialize, Deserializer, Serialize};
@@ -213,26 +213,18 @@ impl Naming {
     }
 }
 
-/// A start gait for the local methods and the P_m MILP: a crawler's gait result for a
-/// crawler's problem; a general result (a file, or [`Start::General`]) for (P)'s local method
-/// and its global P_m.
+/// A start gait for the local methods and the P_m MILP: a result of the problem's kind (a
+/// crawler's gait result for a crawler's problem; a general result for (P)'s local method and
+/// its global P_m), from a file or in memory.
 #[derive(Clone, Debug, PartialEq)]
 pub enum Start {
     /// A result file of `optimize` (read only when the method takes a start).
     File(PathBuf),
     /// A result in memory, and a name for messages and the recorded origin.
     Result {
-        /// The gait result.
-        result: Box<GaitResult>,
+        /// The result, of either kind (the wrong one is refused naming `start`).
+        result: Box<crate::io::ResultFile>,
         /// What to call it (e.g. `start.json`).
-        name: String,
-    },
-    /// A general problem's result in memory (for (P)'s local method and global P_m), and a name
-    /// for messages.
-    General {
-        /// The result.
-        answer: Box<crate::io::GeneralAnswer>,
-        /// What to call it.
         name: String,
     },
 }
@@ -243,7 +235,23 @@ impl Start {
     pub fn name(&self) -> String {
         match self {
             Start::File(path) => path.display().to_string(),
-            Start::Result { name, .. } | Start::General { name, .. } => name.clone(),
+            Start::Result { name, .. } => name.clone(),
+        }
+    }
+
+    /// The start's result and its name: a file read and checked as `certify` reads it, or the
+    /// result in memory checked alike (the one reader of starts of both kinds).
+    pub(crate) fn read(&self) -> Result<(crate::io::ResultFile, String)> {
+        let name = self.name();
+        match self {
+            Start::File(path) => {
+                let text = crate::io::read_input_text(path, crate::io::MAX_RESULT_BYTES)?;
+                Ok((crate::io::ResultFile::from_json(&text, &name)?, name))
+            }
+            Start::Result { result, .. } => {
+                result.check_consistent(&name)?;
+                Ok(((**result).clone(), name))
+            }
         }
     }
 }

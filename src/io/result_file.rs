@@ -25,8 +25,9 @@ pub enum ResultFile {
 
 /// A crawler's gait result and, when computed, its necessary conditions (Theorem 2.2): the
 /// crawler's kind of [`ResultFile`], as [`GeneralAnswer`] is the general one and holds its
-/// conditions alike. Written as `optimize --json` writes a crawler's optimum: the result's
-/// envelope with `necessary_conditions` beside its fields.
+/// conditions alike. Its fields are those `optimize --json` writes for a crawler's optimum: the
+/// result's envelope with `necessary_conditions` beside them (in alphabetical order through
+/// [`ResultFile`]'s `Serialize`).
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct GaitAnswer {
     /// The result.
@@ -47,6 +48,20 @@ impl GaitAnswer {
     }
 }
 
+impl From<GaitResult> for ResultFile {
+    /// A crawler's result, without necessary conditions.
+    fn from(r: GaitResult) -> Self {
+        ResultFile::Crawler(Box::new(GaitAnswer::of(r)))
+    }
+}
+
+impl From<GeneralAnswer> for ResultFile {
+    /// A general problem's result.
+    fn from(a: GeneralAnswer) -> Self {
+        ResultFile::General(Box::new(a))
+    }
+}
+
 impl ResultFile {
     /// Reads a result of either kind from JSON text (`what` names the source in errors): the
     /// envelope, then the kind's shape and consistency (module docs).
@@ -54,13 +69,21 @@ impl ResultFile {
         let (v, kind, label) = read_envelope(text, what)?;
         let what = label.as_str();
         match kind {
-            ResultKind::Crawler => GaitResult::from_checked_envelope(v, what)
-                .map(|r| ResultFile::Crawler(Box::new(GaitAnswer::of(r)))),
+            ResultKind::Crawler => GaitResult::from_checked_envelope(v, what).map(Self::from),
             ResultKind::General => {
                 let r = GeneralAnswer::from_checked_envelope(v, what)?;
                 r.check_consistent(what)?;
                 Ok(ResultFile::General(Box::new(r)))
             }
+        }
+    }
+
+    /// Checks a result in memory as [`ResultFile::from_json`] checks one it reads: that it is
+    /// what it says (`what` names it in errors).
+    pub fn check_consistent(&self, what: &str) -> Result<()> {
+        match self {
+            ResultFile::Crawler(g) => g.result.check_consistent(what),
+            ResultFile::General(a) => a.check_consistent(what),
         }
     }
 

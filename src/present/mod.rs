@@ -25,7 +25,7 @@ pub use general::{
     general_series, general_simulation_figures, general_state_space, GeneralPath,
 };
 pub use general_report::{build_general_report, GeneralReportInput};
-pub use result::{build_result_report, result_figures, result_report, result_text};
+pub use result::{build_result_report, result_figures, result_report, result_text, PlotInput};
 
 use crate::certify::MultiplierData;
 use crate::error::{Error, Result};
@@ -395,50 +395,4 @@ pub struct JmTable {
     pub values: Vec<f64>,
     /// The continuous-time value, if known.
     pub continuous: Option<f64>,
-}
-
-/// What `crawlopt plot` can draw.
-#[derive(Debug, Clone)]
-pub enum PlotInput {
-    /// A result of either kind (`crawlopt optimize --json`), drawn as [`result_figures`] draws
-    /// it.
-    Result(Box<crate::io::ResultFile>),
-    /// A J_m table.
-    Jm(JmTable),
-}
-
-impl PlotInput {
-    /// Reads a gait result or a J_m table from JSON text, telling them apart by `format`;
-    /// truncated files, other formats and other versions are errors naming `what`.
-    pub fn from_json(text: &str, what: &str) -> Result<Self> {
-        let format = serde_json::from_str::<serde_json::Value>(text)
-            .ok()
-            .and_then(|v| v.get("format").and_then(|f| f.as_str()).map(String::from));
-        if format.as_deref() == Some(JM_TABLE_FORMAT) {
-            let t: JmTable = serde_json::from_str(text).map_err(|e| Error::Io {
-                path: what.into(),
-                reason: format!("malformed J_m table: {e}"),
-            })?;
-            if t.version != 1 {
-                return Err(Error::invalid(
-                    format!("{what}: version"),
-                    t.version,
-                    "this build reads J_m tables of version 1 only",
-                ));
-            }
-            return Ok(PlotInput::Jm(t));
-        }
-        // Everything else must be a result of either kind, read back and checked as `certify`
-        // reads it; its reader explains what is wrong.
-        let r = crate::io::ResultFile::from_json(text, what)?;
-        Ok(PlotInput::Result(Box::new(r)))
-    }
-
-    /// Its figures.
-    pub fn figures(&self) -> Result<Vec<Figure>> {
-        match self {
-            PlotInput::Result(r) => result_figures(r),
-            PlotInput::Jm(t) => Ok(vec![figures::jm_figure(&t.m, &t.values, t.continuous)?]),
-        }
-    }
 }

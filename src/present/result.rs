@@ -1,14 +1,16 @@
 //! The one result of both kinds ([`ResultFile`]) rendered: its text, its figures, its report
 //! and its summary line, each dispatched on the kind once, here, for every caller (`optimize`
-//! on a problem file, and `certify`, `plot` and `report` of a result file). Each kind draws its
+//! on a problem file, and `certify`, `plot` and `report` of a result file); and what `plot`
+//! draws ([`PlotInput`]: a result or a J_m table). Each kind draws its
 //! necessary conditions when it holds them (a crawler's gait with the adjoint `p + omega` and
 //! `u(t)`, a general process with its adjoint `p(t)`).
 
 use super::general::general_answer_figures;
 use super::general_report::{build_general_report, GeneralReportInput};
 use super::report::{build_report_with, ReportContext};
-use super::{adjoint_figure_of, figures::Figure, gait_figures, text};
-use crate::error::Result;
+use super::{adjoint_figure_of, figures, figures::Figure, gait_figures, text};
+use super::{JmTable, JM_TABLE_FORMAT};
+use crate::error::{Error, Result};
 use crate::io::ResultFile;
 
 /// The human form: the answer, and its necessary conditions when computed.
@@ -27,7 +29,8 @@ pub fn result_text(r: &ResultFile) -> String {
 
 /// The figures (`--plot`): a crawler's gait (and the adjoint when certified); a general
 /// optimum's C with the orbit, states, controls, reactions and the objective's integrand (and
-/// the adjoint when certified), drawn with the problem its envelope stores.
+/// the adjoint when certified, and `J_m` against `m` with a convergence table), drawn with the
+/// problem its envelope stores.
 pub fn result_figures(r: &ResultFile) -> Result<Vec<Figure>> {
     match r {
         ResultFile::Crawler(g) => {
@@ -66,5 +69,51 @@ pub fn result_report(r: &ResultFile, source: &str, command: &str) -> Result<Stri
 /// The report of a result file as `crawlopt report RESULT.json` makes it ([`result_report`],
 /// `source` naming the file).
 pub fn build_result_report(r: &ResultFile, source: &str) -> Result<String> {
-    result_report(r, source, &format!("crawlopt report {source}"))
+    result_report(r, source, &ReportContext::report_command(source).command)
+}
+
+/// What `crawlopt plot` can draw.
+#[derive(Debug, Clone)]
+pub enum PlotInput {
+    /// A result of either kind (`crawlopt optimize --json`), drawn as [`result_figures`] draws
+    /// it.
+    Result(Box<ResultFile>),
+    /// A J_m table.
+    Jm(JmTable),
+}
+
+impl PlotInput {
+    /// Reads a gait result or a J_m table from JSON text, telling them apart by `format`;
+    /// truncated files, other formats and other versions are errors naming `what`.
+    pub fn from_json(text: &str, what: &str) -> Result<Self> {
+        let format = serde_json::from_str::<serde_json::Value>(text)
+            .ok()
+            .and_then(|v| v.get("format").and_then(|f| f.as_str()).map(String::from));
+        if format.as_deref() == Some(JM_TABLE_FORMAT) {
+            let t: JmTable = serde_json::from_str(text).map_err(|e| Error::Io {
+                path: what.into(),
+                reason: format!("malformed J_m table: {e}"),
+            })?;
+            if t.version != 1 {
+                return Err(Error::invalid(
+                    format!("{what}: version"),
+                    t.version,
+                    "this build reads J_m tables of version 1 only",
+                ));
+            }
+            return Ok(PlotInput::Jm(t));
+        }
+        // Everything else must be a result of either kind, read back and checked as `certify`
+        // reads it; its reader explains what is wrong.
+        let r = ResultFile::from_json(text, what)?;
+        Ok(PlotInput::Result(Box::new(r)))
+    }
+
+    /// Its figures.
+    pub fn figures(&self) -> Result<Vec<Figure>> {
+        match self {
+            PlotInput::Result(r) => result_figures(r),
+            PlotInput::Jm(t) => Ok(vec![figures::jm_figure(&t.m, &t.values, t.continuous)?]),
+        }
+    }
 }
