@@ -6,7 +6,8 @@
 //! `self::` or a child module declared in it, in `use` items and inline, outside comments,
 //! strings and its `#[cfg(test)] mod tests`. A path resolves to the longest module prefix; a
 //! name that prefix re-exports (`pub use child::Name`) resolves to where it comes from, and a
-//! re-export is not a dependency of the module that makes it (a facade, not a user).
+//! re-export is not a dependency of the module that makes it (a facade, not a user) unless
+//! the module's own code calls the name bare.
 
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::Path;
@@ -271,6 +272,57 @@ fn uses(m: &[String], text: &str) -> (String, Vec<Vec<String>>, Vec<Vec<String>>
     (code, public, private)
 }
 
+/// The paths of `public` (a module's `pub use` items) whose name its own `code` (outside `use`
+/// items) calls bare: a facade that also uses what it re-exports depends on it
+/// (`pub use result::result_text;` then `result_text(r)` in the same file is an import of
+/// `result`). Globs and `self` are skipped, and so are the name's declarations in the file
+/// (`mod name;`, a variant `Name` of an enum); a renamed re-export (`as`) is seen under its
+/// original name only.
+fn reexports_used(public: &[Vec<String>], code: &str) -> Vec<Vec<String>> {
+    let word = |c: char| c.is_alphanumeric() || c == '_';
+    // The bodies of the enums the code declares (byte ranges).
+    let mut bodies = vec![];
+    for (at, _) in code.match_indices("enum ") {
+        if code[..at].ends_with(word) {
+            continue;
+        }
+        let Some(open) = code[at..].find('{').map(|o| at + o) else {
+            continue;
+        };
+        let mut depth = 0;
+        for (k, c) in code[open..].char_indices() {
+            match c {
+                '{' => depth += 1,
+                '}' => depth -= 1,
+                _ => {}
+            }
+            if depth == 0 {
+                bodies.push(open..open + k);
+                break;
+            }
+        }
+    }
+    public
+        .iter()
+        .filter(|p| {
+            let Some(last) = p.last().filter(|l| *l != "*" && *l != "self") else {
+                return false;
+            };
+            code.match_indices(last.as_str()).any(|(i, _)| {
+                let before = code[..i].chars().next_back();
+                let after = code[i + last.len()..].chars().next();
+                let head = code[..i].trim_end();
+                let declared = head.ends_with("mod")
+                    || bodies.iter().any(|r| r.contains(&i)) && head.ends_with(['{', ',', ']']);
+                !declared
+                    && !before.is_some_and(|c| word(c) || c == '.' || c == ':')
+                    && !after.is_some_and(word)
+            })
+        })
+        .cloned()
+        .collect()
+}
+
 /// Inline paths `crate::a::b` and `super::a` outside `use` items.
 fn inline_paths(m: &[String], code: &str) -> Vec<Vec<String>> {
     let mut out = vec![];
@@ -355,7 +407,7 @@ fn edges() -> (
     }
     let mut edges: BTreeMap<Module, BTreeSet<Module>> = BTreeMap::new();
     let mut written: BTreeMap<Module, BTreeSet<Module>> = BTreeMap::new();
-    for (m, code, _, private) in &parsed {
+    for (m, code, public, private) in &parsed {
         // Inline paths in the code outside `pub use` items (and outside all `use` items: those
         // are `private` already).
         let mut outside_uses = String::new();
@@ -373,6 +425,7 @@ fn edges() -> (
         let targets = private
             .iter()
             .chain(&inline_paths(m, &outside_uses))
+            .chain(&reexports_used(public, &outside_uses))
             .cloned()
             .collect::<Vec<_>>();
         for p in targets {
@@ -512,6 +565,17 @@ fn the_checker_reads_use_trees_and_inline_paths() {
     assert_eq!(names(&private), ["a::b", "a::c::D", "f"]);
     let code = strip("fn h() { \"crate::s\"; crate::i::j(); } // crate::k");
     assert_eq!(names(&inline_paths(&m, &code)), ["i::j"]);
+    // A facade calling what it re-exports depends on it; a method or a longer name does not.
+    let public = [vec!["p".to_string(), "r".into(), "text".into()]];
+    assert_eq!(
+        names(&reexports_used(&public, "fn f() { text(1) }")),
+        ["p::r::text"]
+    );
+    assert!(reexports_used(
+        &public,
+        &strip("mod text;\nenum E { A, text }\nfn f() { x.text(); q::text(); text_of(); } // text")
+    )
+    .is_empty());
 }
 
 /// Every top-level module of `src/` has a layer, so that a new module cannot escape the checks

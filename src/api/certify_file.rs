@@ -6,36 +6,70 @@
 //! in full ([`super::general_problem`]); so does a general phase gait (`A = 0`; the general or
 //! the chain formulation's), on its own phases.
 
-use crate::certify::{
-    certify_general, certify_result, CertifyOptions, GeneralNecessaryConditions,
-    NecessaryConditions,
-};
-use crate::error::{Error, Result};
+use crate::certify::{certify_general, certify_result, CertifyOptions, GeneralNecessaryConditions};
+use crate::error::Result;
 use crate::io::{GeneralAnswer, ResultFile};
 use crate::present::{self, figures::Figure};
 use serde::Serialize;
 
-/// The necessary conditions of a result, of its kind.
-#[derive(Debug, Clone, PartialEq, Serialize)]
-#[serde(untagged)]
-pub enum Certified {
-    /// Of a crawler's gait.
-    Crawler(Box<NecessaryConditions>),
-    /// Of a general problem's P_m process or phase gait.
-    General(Box<GeneralNecessaryConditions>),
+/// A result file certified ([`certify_result_file`]): the result holding its necessary
+/// conditions, as `optimize --certify` answers it. Its text, figures and JSON are rendered
+/// for both kinds here, so that no front end forks on the kind.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Certified {
+    /// The result, its `necessary_conditions` set.
+    result: ResultFile,
+}
+
+impl Certified {
+    /// The result with its necessary conditions.
+    pub fn result(&self) -> &ResultFile {
+        &self.result
+    }
+
+    /// The result with its necessary conditions, by value.
+    pub fn into_result(self) -> ResultFile {
+        self.result
+    }
+
+    /// The human form of the conditions (`crawlopt certify`): a crawler's certificate read in
+    /// its gait's scales, a general one's ([`present::conditions_text`]).
+    pub fn text(&self) -> String {
+        present::conditions_text(&self.result).unwrap_or_default()
+    }
+
+    /// The figures (`crawlopt certify --plot`): the result's own with the adjoint p(t) (a
+    /// crawler's with p + omega and u(t) beside it), as [`present::result_figures`] draws a
+    /// certified result.
+    pub fn figures(&self) -> Result<Vec<Figure>> {
+        present::result_figures(&self.result)
+    }
+}
+
+/// The conditions alone, the kind's own ([`crate::certify::NecessaryConditions`] or
+/// [`GeneralNecessaryConditions`]): what `crawlopt certify --json` prints.
+impl Serialize for Certified {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> std::result::Result<S::Ok, S::Error> {
+        match &self.result {
+            ResultFile::Crawler(g) => g.necessary_conditions.serialize(s),
+            ResultFile::General(a) => a.necessary_conditions.serialize(s),
+        }
+    }
 }
 
 /// The necessary conditions of Theorem 2.2 (discrete form Theorems 6.1–6.2) on the process a
-/// result file holds (module docs); `what` names the source in errors.
-pub fn certify_result_file(r: &ResultFile, what: &str) -> Result<Certified> {
-    match r {
-        ResultFile::Crawler(r) => Ok(Certified::Crawler(Box::new(certify_result(
-            &r.result, what,
-        )?))),
-        ResultFile::General(r) => Ok(Certified::General(Box::new(certify_general_answer(
-            r, what,
-        )?))),
+/// result file holds (module docs), attached to it; `what` names the source in errors.
+pub fn certify_result_file(r: ResultFile, what: &str) -> Result<Certified> {
+    let mut result = r;
+    match &mut result {
+        ResultFile::Crawler(g) => {
+            g.necessary_conditions = Some(certify_result(&g.result, what)?);
+        }
+        ResultFile::General(a) => {
+            a.necessary_conditions = Some(certify_general_answer(a, what)?);
+        }
     }
+    Ok(Certified { result })
 }
 
 /// [`certify_result_file`] of a general answer: P_m processes (global or local) and phase gaits
@@ -52,31 +86,4 @@ pub fn certify_general_answer(r: &GeneralAnswer, what: &str) -> Result<GeneralNe
         &crate::optimal::process::FieldNames::record(&at),
     )?;
     certify_general(&p, &pr, &CertifyOptions::default())
-}
-
-/// `r` with `cert`, its necessary conditions, as `optimize --certify` answers it (a result
-/// read back holds none); an error when `cert` is of the other kind.
-fn with_conditions(r: &ResultFile, cert: &Certified) -> Result<ResultFile> {
-    let mut r = r.clone();
-    match (&mut r, cert) {
-        (ResultFile::Crawler(g), Certified::Crawler(c)) => {
-            g.necessary_conditions = Some((**c).clone());
-        }
-        (ResultFile::General(a), Certified::General(c)) => {
-            a.necessary_conditions = Some((**c).clone());
-        }
-        _ => {
-            return Err(Error::Numerical(
-                "the certificate is not of the result's kind".into(),
-            ))
-        }
-    }
-    Ok(r)
-}
-
-/// The figures of a certified result file (`crawlopt certify --plot`): the result's own
-/// figures with the adjoint p(t) of its necessary conditions (a crawler's with p + omega and
-/// u(t) beside it), as [`present::result_figures`] draws a certified result.
-pub fn certified_figures(r: &ResultFile, cert: &Certified) -> Result<Vec<Figure>> {
-    present::result_figures(&with_conditions(r, cert)?)
 }

@@ -4,7 +4,7 @@ use super::events::{run_with, Emitter, Event, Hooks};
 use super::settings::{GaitMethod, OptimizeSettings, Plan, Start};
 use crate::certify::{certify_result, NecessaryConditions};
 use crate::error::{Error, Result};
-use crate::io::ResultFile;
+use crate::io::{GaitAnswer, ResultFile};
 use crate::model::Crawler;
 use crate::optimal::chain::{chain_starts, search_chain_multi, ChainOptions, DEFAULT_STARTS};
 use crate::optimal::structured::{
@@ -16,22 +16,30 @@ use crate::optimal::{
     solve_phase_with, GaitProblem, GaitResult, MilpStatus, PhaseOptions, PhaseSolution, StartGait,
     StartRecord, StructuredRecord, MAX_PHASES,
 };
-use serde::Serialize;
 
 /// The answer of [`optimize`]: the gait result (verified by simulation, with its certificate
-/// and status), the necessary conditions when asked for, and the notes the job sent. Written
-/// as `optimize --json` writes a crawler's [`crate::io::GaitAnswer`] (the notes are not).
-#[derive(Clone, Debug, PartialEq, Serialize)]
+/// and status), the necessary conditions when asked for, and the notes the job sent. A file
+/// writes it as [`crate::io::GaitAnswer`] ([`Optimized::answer`]); the notes are the job's,
+/// not the result's.
+#[derive(Clone, Debug, PartialEq)]
 pub struct Optimized {
     /// The result.
-    #[serde(flatten)]
     pub result: GaitResult,
     /// The necessary conditions of Theorem 2.2 on the gait ([`OptimizeSettings::certify`]).
-    #[serde(skip_serializing_if = "Option::is_none")]
     pub necessary_conditions: Option<NecessaryConditions>,
     /// Notes on how the job went (e.g. a start that could not be had).
-    #[serde(skip)]
     pub notes: Vec<String>,
+}
+
+impl Optimized {
+    /// The result and its conditions as a result file holds them, and the notes.
+    pub fn answer(self) -> (GaitAnswer, Vec<String>) {
+        let answer = GaitAnswer {
+            result: self.result,
+            necessary_conditions: self.necessary_conditions,
+        };
+        (answer, self.notes)
+    }
 }
 
 /// An optimal gait of `problem` for `crawler` under `settings` (every method of the paper's

@@ -13,7 +13,7 @@ use super::general_plan::{optimize_general_plan, GeneralPlan};
 use super::optimize::optimize;
 use super::settings::{GaitMethod, Naming, OptimizeSettings};
 use crate::error::{Error, Result};
-use crate::io::{GaitAnswer, ProblemFile, ResultFile};
+use crate::io::{ProblemFile, ResultFile};
 use crate::model::Crawler;
 use crate::optimal::GaitProblem;
 use crate::present::{self, figures::Figure, text};
@@ -100,14 +100,10 @@ impl<'a> OptimizeJob<'a> {
     pub fn run(self, hooks: Hooks<'_>) -> Result<OptimizedFile> {
         match (self.checked, self.file) {
             (Checked::Crawler { crawler, problem }, _) => {
-                let done = optimize(&crawler, &problem, self.settings, hooks)?;
-                let answer = GaitAnswer {
-                    result: done.result,
-                    necessary_conditions: done.necessary_conditions,
-                };
+                let (answer, notes) = optimize(&crawler, &problem, self.settings, hooks)?.answer();
                 Ok(OptimizedFile {
                     result: ResultFile::Crawler(Box::new(answer)),
-                    notes: done.notes,
+                    notes,
                 })
             }
             (Checked::General { plan, .. }, ProblemFile::General(general)) => {
@@ -238,7 +234,7 @@ pub fn report_file(
 impl OptimizedFile {
     /// The answer's key numbers in one line: J (and a crawler's displacement per period).
     pub fn summary(&self) -> String {
-        text::result_file_summary(&self.result)
+        present::result_summary(&self.result)
     }
 
     /// The objective J of the answer (verified by simulation).

@@ -36,6 +36,7 @@ mod general_consistency;
 mod general_results;
 pub mod json;
 mod model_toml;
+mod problem_file;
 mod result_file;
 mod simulation_doc;
 
@@ -51,6 +52,7 @@ pub use general_results::{
     LocalStarts,
 };
 pub use model_toml::{crawler_toml, read_fit_csv, write_text, MAX_FIT_CSV_BYTES};
+pub use problem_file::ProblemFile;
 pub use result_file::{GaitAnswer, ResultFile};
 pub use simulation_doc::{
     SimulationBody, SimulationDocument, SIMULATION_FORMAT, SIMULATION_VERSION,
@@ -73,27 +75,4 @@ pub fn read_input_text(path: &std::path::Path, limit: u64) -> Result<String> {
     let bytes =
         csv_io::read_input_file(path, limit).map_err(|e| io(format!("cannot read: {e}")))?;
     String::from_utf8(bytes).map_err(|_| io("cannot read: not UTF-8 text".into()))
-}
-
-/// A problem file of either kind, told apart by its content ([`ProblemFile::load`]): a file
-/// with a `[sweeping_process]` table is a general problem (P) ([`GeneralFile`], theory §11),
-/// any other a crawler's model file ([`ModelFile`]). The one loader of the commands that take
-/// both kinds.
-#[derive(Debug, Clone)]
-pub enum ProblemFile {
-    /// A crawler's model file.
-    Crawler(Box<ModelFile>),
-    /// A general problem file.
-    General(Box<GeneralFile>),
-}
-
-impl ProblemFile {
-    /// Reads a problem file of either kind; errors as [`GeneralFile::load_if_general`] and
-    /// [`ModelFile::load`] give them.
-    pub fn load(path: &std::path::Path) -> Result<Self> {
-        Ok(match GeneralFile::load_if_general(path)? {
-            Some(g) => ProblemFile::General(Box::new(g)),
-            None => ProblemFile::Crawler(Box::new(ModelFile::load(path)?)),
-        })
-    }
 }

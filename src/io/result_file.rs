@@ -87,6 +87,23 @@ impl ResultFile {
         }
     }
 
+    /// The verdict of its necessary conditions, when it holds them.
+    pub fn verdict(&self) -> Option<crate::certify::Verdict> {
+        match self {
+            ResultFile::Crawler(g) => g.necessary_conditions.as_ref().map(|c| c.verdict),
+            ResultFile::General(a) => a.necessary_conditions.as_ref().map(|c| c.verdict),
+        }
+    }
+
+    /// A crawler's displacement per period (its barycentre's, re-verified by simulation);
+    /// `None` for a general problem, whose objective is not a displacement.
+    pub fn displacement_per_period(&self) -> Option<f64> {
+        match self {
+            ResultFile::Crawler(g) => Some(g.result.displacement_per_period),
+            ResultFile::General(_) => None,
+        }
+    }
+
     /// The envelope every result opens with: kind, method, `J` re-verified, what was proven
     /// and the certificate ([`ResultHead`]).
     pub fn head(&self) -> &ResultHead {

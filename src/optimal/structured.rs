@@ -33,9 +33,9 @@
 use crate::error::{Error, Result};
 use crate::integrate::{simulate, Actuation, Method, SimOptions};
 use crate::model::Crawler;
-use crate::optimal::{GaitProblem, StartGait};
+use crate::optimal::{GaitProblem, GaitResult, StartGait};
 
-pub use super::structured_record::{knots_result, structured_result};
+pub use super::structured_record::knots_result;
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 use std::time::Instant;
@@ -176,6 +176,18 @@ impl StructuredGait {
             .collect();
         (times.iter().map(|s| s * t).collect(), lengths)
     }
+}
+
+/// The gait result of a structured gait: one period on its periodic orbit recorded by the exact
+/// simulator, cut into pieces at every knot and event (one control and one slip pattern per
+/// piece), so that it is a process of the problem on its own knots ([`knots_result`]).
+pub fn structured_result(
+    crawler: &Crawler,
+    problem: &GaitProblem,
+    g: &StructuredGait,
+) -> Result<GaitResult> {
+    let (times, lengths) = g.knots(crawler, problem);
+    knots_result(crawler, problem, times, lengths, &g.description)
 }
 
 /// The lags `j / m`, `j = 0..m`, and those of one and two wavelengths along the `n` links in

@@ -1,26 +1,16 @@
-//! The record of a structured gait ([`super::structured`]) as a gait result: one period on its
-//! periodic orbit recorded by the exact simulator, cut at every knot and event.
+//! The record of a piecewise-linear gait, such as a structured gait ([`super::structured`]),
+//! as a gait result: one period on its periodic orbit recorded by the exact simulator, cut at
+//! every knot and event.
 
-use super::structured::StructuredGait;
 use crate::error::{Error, Result};
 use crate::integrate::{simulate, Actuation, Method, SimOptions, Simulation};
 use crate::model::Crawler;
 use crate::optimal::{GaitProblem, GaitResult};
 
-/// The gait result of a structured gait: one period on its periodic orbit recorded by the exact
-/// simulator, cut into pieces at every knot and event (one control and one slip pattern per
-/// piece), so that it is a process of the problem on its own knots.
-pub fn structured_result(
-    crawler: &Crawler,
-    problem: &GaitProblem,
-    g: &StructuredGait,
-) -> Result<GaitResult> {
-    let (times, lengths) = g.knots(crawler, problem);
-    knots_result(crawler, problem, times, lengths, &g.description)
-}
-
 /// The gait result of any piecewise-linear gait given by its knots (times in `[0, T)`, the
-/// lengths there), recorded as [`structured_result`] does, `origin` naming it.
+/// lengths there), recorded as one period on its periodic orbit by the exact simulator, cut
+/// into pieces at every knot and event (one control and one slip pattern per piece), so that it
+/// is a process of the problem on its own knots; `origin` names it.
 pub fn knots_result(
     crawler: &Crawler,
     problem: &GaitProblem,
@@ -41,7 +31,7 @@ pub fn knots_result(
     pieces_result(crawler, problem, &act, &sim, origin)
 }
 
-/// The pieces of a recorded period (module docs of [`structured_result`]).
+/// The pieces of a recorded period ([`knots_result`]).
 fn pieces_result(
     crawler: &Crawler,
     problem: &GaitProblem,

@@ -25,7 +25,10 @@ pub use general::{
     general_series, general_simulation_figures, general_state_space, GeneralPath,
 };
 pub use general_report::{build_general_report, GeneralReportInput};
-pub use result::{build_result_report, result_figures, result_report, result_text, PlotInput};
+pub use result::{
+    build_result_report, conditions_text, result_figures, result_report, result_summary,
+    result_text, PlotInput,
+};
 
 use crate::certify::MultiplierData;
 use crate::error::{Error, Result};

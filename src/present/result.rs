@@ -27,6 +27,30 @@ pub fn result_text(r: &ResultFile) -> String {
     }
 }
 
+/// A result's key numbers in one line, of either kind ([`text::gait_summary`]: J and the
+/// displacement per period; [`text::general_summary`]: J).
+pub fn result_summary(r: &ResultFile) -> String {
+    match r {
+        ResultFile::Crawler(g) => text::gait_summary(&g.result),
+        ResultFile::General(a) => text::general_summary(a),
+    }
+}
+
+/// The text of the necessary conditions a result holds (`crawlopt certify`): a crawler's
+/// certificate read in its gait's scales, a general one's; `None` when it holds none.
+pub fn conditions_text(r: &ResultFile) -> Option<String> {
+    match r {
+        ResultFile::Crawler(g) => g
+            .necessary_conditions
+            .as_ref()
+            .map(|c| text::certificate(c, &g.result)),
+        ResultFile::General(a) => a
+            .necessary_conditions
+            .as_ref()
+            .map(text::general_certificate),
+    }
+}
+
 /// The figures (`--plot`): a crawler's gait (and the adjoint when certified); a general
 /// optimum's C with the orbit, states, controls, reactions and the objective's integrand (and
 /// the adjoint when certified, and `J_m` against `m` with a convergence table), drawn with the

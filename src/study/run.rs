@@ -125,9 +125,12 @@ fn compute(
     full: bool,
     cancel: Option<&Cancel>,
 ) -> Result<Option<serde_json::Value>> {
-    let model = match spec.problem_at(point)? {
+    let file = spec.problem_at(point)?;
+    let model = match &file {
         ProblemFile::Crawler(model) => model,
-        ProblemFile::General(file) => return compute_general(spec, &file, row, full, cancel),
+        ProblemFile::General(general) => {
+            return compute_general(spec, &file, general, row, full, cancel)
+        }
     };
     let hooks = || Hooks {
         events: None,
@@ -135,7 +138,7 @@ fn compute(
     };
     match &spec.job {
         Job::Analyze => {
-            let a = api::analyze(&model)?;
+            let a = api::analyze(model)?;
             row.status = match a.analysis.vm_class {
                 Some(c) => word(&c).unwrap_or_default(),
                 None => "not_unique".into(),
@@ -165,23 +168,7 @@ fn compute(
             .into();
             Ok(full.then(|| to_json(&sim)).flatten())
         }
-        Job::Optimize(settings) => {
-            let (crawler, problem) = api::gait_problem(&model)?;
-            let o = api::optimize(&crawler, &problem, settings, hooks())?;
-            let r = &o.result;
-            row.objective = Some(r.head.objective);
-            row.displacement_per_period = Some(r.displacement_per_period);
-            row.method = Some(r.head.method.clone());
-            row.certificate = Some(r.head.certificate.kind.clone());
-            row.gap = r.head.certificate.gap;
-            row.bound = r.head.certificate.bound;
-            row.status = r.head.status.as_str().into();
-            row.verdict = o
-                .necessary_conditions
-                .as_ref()
-                .and_then(|c| word(&c.verdict));
-            Ok(full.then(|| to_json(&o)).flatten())
-        }
+        Job::Optimize(settings) => optimize_point(&file, settings, row, full, cancel),
         Job::SimulateGeneral(_) => Err(Error::invalid(
             "job",
             "simulate",
@@ -196,15 +183,12 @@ fn compute(
 /// the crawler's on a chain).
 fn compute_general(
     spec: &SweepSpec,
+    problem_file: &ProblemFile,
     file: &GeneralFile,
     row: &mut Row,
     full: bool,
     cancel: Option<&Cancel>,
 ) -> Result<Option<serde_json::Value>> {
-    let hooks = Hooks {
-        events: None,
-        cancel,
-    };
     match &spec.job {
         Job::Analyze => {
             let a = api::analyze_general(file)?;
@@ -231,25 +215,38 @@ fn compute_general(
             "simulate",
             "the options of a crawler's simulation, on a general problem",
         )),
-        Job::Optimize(settings) => {
-            let plan = settings.plan_general(&[])?;
-            let answer = api::optimize_general_plan(file, &plan, settings.naming, hooks)?;
-            // The envelope's claim, the same for every method: `global`, `global_k_phases` or
-            // `local` (no bound, no gap), what was proven, and the verdict when certified.
-            let c = &answer.head.certificate;
-            row.objective = Some(answer.head.objective);
-            row.method = Some(answer.head.method.clone());
-            row.certificate = Some(c.kind.clone());
-            row.gap = c.gap;
-            row.bound = c.bound;
-            row.status = answer.head.status.as_str().into();
-            row.verdict = answer
-                .necessary_conditions
-                .as_ref()
-                .and_then(|n| word(&n.verdict));
-            Ok(full.then(|| to_json(&answer)).flatten())
-        }
+        Job::Optimize(settings) => optimize_point(problem_file, settings, row, full, cancel),
     }
+}
+
+/// A point of an optimize sweep, of either kind: the one optimisation of a problem file
+/// ([`api::optimize_file`], as `crawlopt optimize` runs it) and its row, read from the result's
+/// envelope, the same for every method and both kinds: `J`, the method, the certificate's
+/// kind (`global`, `global_k_phases` or `local`), gap, bound and status (what was proven), the
+/// verdict when certified, and a crawler's displacement per period.
+fn optimize_point(
+    file: &ProblemFile,
+    settings: &api::OptimizeSettings,
+    row: &mut Row,
+    full: bool,
+    cancel: Option<&Cancel>,
+) -> Result<Option<serde_json::Value>> {
+    let hooks = Hooks {
+        events: None,
+        cancel,
+    };
+    let done = api::optimize_file(file, settings, hooks)?;
+    let r = &done.result;
+    let (head, c) = (r.head(), &r.head().certificate);
+    row.objective = Some(head.objective);
+    row.displacement_per_period = r.displacement_per_period();
+    row.method = Some(head.method.clone());
+    row.certificate = Some(c.kind.clone());
+    row.gap = c.gap;
+    row.bound = c.bound;
+    row.status = head.status.as_str().into();
+    row.verdict = r.verdict().and_then(|v| word(&v));
+    Ok(full.then(|| to_json(&done)).flatten())
 }
 
 /// A deterministic share of a sweep's points: shard `index` of `count` (1-based) holds the

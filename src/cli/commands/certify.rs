@@ -2,9 +2,9 @@
 
 use crate::output::{json_line, out, read_text};
 use clap::Args;
-use crawlopt::api::{certified_figures, certify_result_file, Certified};
+use crawlopt::api::certify_result_file;
 use crawlopt::io::ResultFile;
-use crawlopt::present::{text, write_figures};
+use crawlopt::present::write_figures;
 use crawlopt::Error;
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -25,16 +25,14 @@ pub struct CertifyArgs {
 pub fn run(a: CertifyArgs) -> Result<ExitCode, Error> {
     let what = a.file.display().to_string();
     let file = ResultFile::from_json(&read_text(&a.file)?, &what)?;
-    let cert = certify_result_file(&file, &what)?;
+    let cert = certify_result_file(file, &what)?;
     if let Some(dir) = &a.plot {
-        write_figures(dir, &certified_figures(&file, &cert)?)?;
+        write_figures(dir, &cert.figures()?)?;
     }
-    match (&file, &cert) {
-        (ResultFile::Crawler(result), Certified::Crawler(c)) if !a.json => {
-            out(&text::certificate(c, &result.result))
-        }
-        (_, Certified::General(c)) if !a.json => out(&text::general_certificate(c)),
-        (_, cert) => json_line(cert),
+    if a.json {
+        json_line(&cert)
+    } else {
+        out(&cert.text())
     }
     Ok(ExitCode::SUCCESS)
 }

@@ -5,8 +5,7 @@ use crate::parse::count;
 use clap::Args;
 use crawlopt::api::{self, Hooks, Naming};
 use crawlopt::io::{AtomicFile, ProblemFile};
-use crawlopt::present::report;
-use crawlopt::present::text;
+use crawlopt::present::{self, report};
 use crawlopt::Error;
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -41,7 +40,7 @@ pub fn run(a: ReportArgs) -> Result<ExitCode, Error> {
     let summary = if a.file.extension().is_some_and(|e| e == "json") {
         let (r, html) = api::report_result(&read_text(&a.file)?, &name, &settings)?;
         report::write_report(&a.output, &html)?;
-        text::result_file_summary(&r)
+        present::result_summary(&r)
     } else {
         let file = ProblemFile::load(&a.file)?;
         let answer = api::report_file(&file, &settings, Hooks::default())?;

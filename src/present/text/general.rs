@@ -453,3 +453,10 @@ pub fn general_answer(r: &GeneralAnswer) -> String {
     }
     s
 }
+
+/// A general answer's key number in one line: its J (0 below `1e-9` of the problem's floor of
+/// `J`, as a crawler's displacement is below its length unit's; `GeneralProblem::j_floor`).
+pub fn general_summary(r: &GeneralAnswer) -> String {
+    let j = r.head.objective;
+    format!("objective J = {}", num(j, text_scale(r, &[j])))
+}

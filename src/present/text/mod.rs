@@ -21,25 +21,9 @@ pub use analysis::{analysis, gait_problem};
 pub use fit::fit;
 pub use gait::{certificate, gait_result, gait_summary, phase_step};
 pub(crate) use gait::{margin_text, start_words};
-pub use general::{general_analysis, general_answer, general_simulation};
+pub use general::{general_analysis, general_answer, general_simulation, general_summary};
 pub use general_certify::general_certificate;
 pub use simulation::simulation;
-
-/// A general answer's key number in one line: its J (0 below `1e-9` of the problem's floor of
-/// `J`, as a crawler's displacement is below its length unit's; `GeneralProblem::j_floor`).
-pub fn general_summary(r: &crate::io::GeneralAnswer) -> String {
-    let j = r.head.objective;
-    format!("objective J = {}", num(j, general::text_scale(r, &[j])))
-}
-
-/// A result file's key numbers in one line, of either kind ([`gait_summary`],
-/// [`general_summary`]).
-pub fn result_file_summary(r: &crate::io::ResultFile) -> String {
-    match r {
-        crate::io::ResultFile::Crawler(g) => gait_summary(&g.result),
-        crate::io::ResultFile::General(a) => general_summary(a),
-    }
-}
 
 pub use crate::number::{num, number, DIGITS, SNAP};
 
