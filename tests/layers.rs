@@ -7,7 +7,7 @@
 //! strings and its `#[cfg(test)] mod tests`. A path resolves to the longest module prefix; a
 //! name that prefix re-exports (`pub use child::Name`) resolves to where it comes from, and a
 //! re-export is not a dependency of the module that makes it (a facade, not a user) unless
-//! the module's own code calls the name bare.
+//! the module's own code uses the name bare.
 
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::Path;
@@ -273,35 +273,14 @@ fn uses(m: &[String], text: &str) -> (String, Vec<Vec<String>>, Vec<Vec<String>>
 }
 
 /// The paths of `public` (a module's `pub use` items) whose name its own `code` (outside `use`
-/// items) calls bare: a facade that also uses what it re-exports depends on it
+/// items) uses bare: a facade that also uses what it re-exports depends on it
 /// (`pub use result::result_text;` then `result_text(r)` in the same file is an import of
-/// `result`). Globs and `self` are skipped, and so are the name's declarations in the file
-/// (`mod name;`, a variant `Name` of an enum); a renamed re-export (`as`) is seen under its
-/// original name only.
+/// `result`). Globs and `self` are skipped, and so are the places where the file declares a
+/// name of its own that is spelled the same ([`declares`]); a renamed re-export (`as`) is seen
+/// under its original name only.
 fn reexports_used(public: &[Vec<String>], code: &str) -> Vec<Vec<String>> {
     let word = |c: char| c.is_alphanumeric() || c == '_';
-    // The bodies of the enums the code declares (byte ranges).
-    let mut bodies = vec![];
-    for (at, _) in code.match_indices("enum ") {
-        if code[..at].ends_with(word) {
-            continue;
-        }
-        let Some(open) = code[at..].find('{').map(|o| at + o) else {
-            continue;
-        };
-        let mut depth = 0;
-        for (k, c) in code[open..].char_indices() {
-            match c {
-                '{' => depth += 1,
-                '}' => depth -= 1,
-                _ => {}
-            }
-            if depth == 0 {
-                bodies.push(open..open + k);
-                break;
-            }
-        }
-    }
+    let variants = variant_places(code);
     public
         .iter()
         .filter(|p| {
@@ -311,16 +290,63 @@ fn reexports_used(public: &[Vec<String>], code: &str) -> Vec<Vec<String>> {
             code.match_indices(last.as_str()).any(|(i, _)| {
                 let before = code[..i].chars().next_back();
                 let after = code[i + last.len()..].chars().next();
-                let head = code[..i].trim_end();
-                let declared = head.ends_with("mod")
-                    || bodies.iter().any(|r| r.contains(&i)) && head.ends_with(['{', ',', ']']);
-                !declared
-                    && !before.is_some_and(|c| word(c) || c == '.' || c == ':')
+                !before.is_some_and(|c| word(c) || c == '.' || c == ':')
                     && !after.is_some_and(word)
+                    && !declares(code, i, last.len())
+                    && !variants.contains(&i)
             })
         })
         .cloned()
         .collect()
+}
+
+/// Whether the name at `code[i..i + len]` is declared there, not used: after `mod`, `fn`,
+/// `let`, `mut`, `struct`, `enum`, `trait`, `type`, `const` or `static`, or followed by one `:`
+/// (a field, a parameter or a binding with its type; a field set in a struct literal).
+fn declares(code: &str, i: usize, len: usize) -> bool {
+    let head = code[..i].trim_end();
+    let keyword = [
+        "mod", "fn", "let", "mut", "struct", "enum", "trait", "type", "const", "static",
+    ]
+    .iter()
+    .any(|k| {
+        head.ends_with(k)
+            && !head[..head.len() - k.len()].ends_with(|c: char| c.is_alphanumeric() || c == '_')
+    });
+    let rest = code[i + len..].trim_start();
+    keyword || rest.starts_with(':') && !rest.starts_with("::")
+}
+
+/// The byte offsets where the enums of `code` name their variants: the first word of each
+/// item directly inside an enum's braces (after its attributes), not the types its variants
+/// hold.
+fn variant_places(code: &str) -> Vec<usize> {
+    let mut out = vec![];
+    for (at, _) in code.match_indices("enum ") {
+        if code[..at].ends_with(|c: char| c.is_alphanumeric() || c == '_') {
+            continue;
+        }
+        let Some(open) = code[at..].find('{').map(|o| at + o) else {
+            continue;
+        };
+        let (mut depth, mut item_start) = (0, true);
+        for (k, c) in code[open..].char_indices() {
+            match c {
+                '{' | '(' | '[' | '<' => depth += 1,
+                '}' | ')' | ']' | '>' => depth -= 1,
+                ',' if depth == 1 => item_start = true,
+                c if depth == 1 && item_start && (c.is_alphabetic() || c == '_') => {
+                    out.push(open + k);
+                    item_start = false;
+                }
+                _ => {}
+            }
+            if depth == 0 {
+                break;
+            }
+        }
+    }
+    out
 }
 
 /// Inline paths `crate::a::b` and `super::a` outside `use` items.
@@ -567,13 +593,23 @@ fn the_checker_reads_use_trees_and_inline_paths() {
     assert_eq!(names(&inline_paths(&m, &code)), ["i::j"]);
     // A facade calling what it re-exports depends on it; a method or a longer name does not.
     let public = [vec!["p".to_string(), "r".into(), "text".into()]];
-    assert_eq!(
-        names(&reexports_used(&public, "fn f() { text(1) }")),
-        ["p::r::text"]
-    );
+    for used in [
+        "fn f() { text(1) }",
+        "fn f() -> Vec<text> { vec![] }",
+        "enum E { A(u8, text), B { x: Vec<text> } }",
+    ] {
+        assert_eq!(
+            names(&reexports_used(&public, used)),
+            ["p::r::text"],
+            "{used}"
+        );
+    }
     assert!(reexports_used(
         &public,
-        &strip("mod text;\nenum E { A, text }\nfn f() { x.text(); q::text(); text_of(); } // text")
+        &strip(
+            "mod text;\nenum E { A, #[x] text, B(u8) }\nstruct S { text: u8 }\n\
+             fn text(text: u8) { let text = S { text: 1 }; x.text(); q::text(); text_of(); } // text"
+        )
     )
     .is_empty());
 }

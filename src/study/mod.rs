@@ -25,8 +25,9 @@
 //! `control.lower[i]`, `objective.face_weights[j]`, `objective.cost.weight`, a matrix entry
 //! `dynamics.A[i][k]`, ... (a list without an index has every entry set); each entry must be
 //! in the base (the axes change numbers, never dimensions). Each point runs the API call of
-//! its kind ([`crate::api::simulate_general`], [`crate::api::optimize_general_plan`] with the
-//! plan the same [`crate::api::OptimizeSettings`] make), into the same table.
+//! its job ([`crate::api::simulate_general`]; [`crate::api::optimize_file`], the one
+//! optimisation of both kinds, with the same [`crate::api::OptimizeSettings`]), into the same
+//! table.
 //!
 //! - [`SweepSpec`]: the parsed file; its points ([`Point`]) have deterministic ids (the place
 //!   in the expansion; in a product the first axis varies slowest), the same on every machine.

@@ -5,7 +5,7 @@ use super::settings::setting_error;
 use super::spec::{Job, Point, SweepSpec};
 use crate::api::{self, Hooks};
 use crate::error::{Error, Result};
-use crate::io::{GeneralFile, ProblemFile};
+use crate::io::ProblemFile;
 use crate::progress::Cancel;
 use serde::Serialize;
 use std::collections::BTreeSet;
@@ -118,6 +118,9 @@ fn word(v: &impl Serialize) -> Option<String> {
     to_json(v).and_then(|v| v.as_str().map(str::to_string))
 }
 
+/// A point's job on its problem, dispatched once on the job and the problem's kind: optimize
+/// runs on either kind alike ([`optimize_point`]); analyze and simulate are each kind's own
+/// call (a crawler's simulation options on a general problem, and the reverse, are refused).
 fn compute(
     spec: &SweepSpec,
     point: &Point,
@@ -126,18 +129,9 @@ fn compute(
     cancel: Option<&Cancel>,
 ) -> Result<Option<serde_json::Value>> {
     let file = spec.problem_at(point)?;
-    let model = match &file {
-        ProblemFile::Crawler(model) => model,
-        ProblemFile::General(general) => {
-            return compute_general(spec, &file, general, row, full, cancel)
-        }
-    };
-    let hooks = || Hooks {
-        events: None,
-        cancel,
-    };
-    match &spec.job {
-        Job::Analyze => {
+    match (&spec.job, &file) {
+        (Job::Optimize(settings), _) => optimize_point(&file, settings, row, full, cancel),
+        (Job::Analyze, ProblemFile::Crawler(model)) => {
             let a = api::analyze(model)?;
             row.status = match a.analysis.vm_class {
                 Some(c) => word(&c).unwrap_or_default(),
@@ -152,24 +146,42 @@ fn compute(
             }
             Ok(full.then(|| to_json(&a)).flatten())
         }
-        Job::Simulate(options) => {
+        (Job::Analyze, ProblemFile::General(general)) => {
+            let a = api::analyze_general(general)?;
+            if let Some(e) = a.failure {
+                return Err(e);
+            }
+            row.status = "well_posed".into();
+            Ok(full.then(|| to_json(&a)).flatten())
+        }
+        (Job::Simulate(options), ProblemFile::Crawler(model)) => {
             let crawler = model.crawler()?;
             let act = model.actuation(crawler.links())?;
             let mut options = options.clone();
             options.initial_state = model.simulation.initial_state.clone();
-            let sim = api::simulate(&crawler, &act, &options, hooks())?;
+            let hooks = Hooks {
+                events: None,
+                cancel,
+            };
+            let sim = api::simulate(&crawler, &act, &options, hooks)?;
             row.displacement_per_period = sim.displacement_per_period;
             row.method = Some(options.method.to_string());
-            row.status = if sim.converged {
-                "converged"
-            } else {
-                "not_converged"
-            }
-            .into();
+            row.status = converged(sim.converged);
             Ok(full.then(|| to_json(&sim)).flatten())
         }
-        Job::Optimize(settings) => optimize_point(&file, settings, row, full, cancel),
-        Job::SimulateGeneral(_) => Err(Error::invalid(
+        (Job::SimulateGeneral(options), ProblemFile::General(general)) => {
+            let s = api::simulate_general(general, options)?;
+            row.objective = s.simulation.objective;
+            row.method = Some(s.method.into());
+            row.status = converged(s.simulation.converged);
+            Ok(full.then(|| to_json(&s)).flatten())
+        }
+        (Job::Simulate(_), ProblemFile::General(_)) => Err(Error::invalid(
+            "job",
+            "simulate",
+            "the options of a crawler's simulation, on a general problem",
+        )),
+        (Job::SimulateGeneral(_), ProblemFile::Crawler(_)) => Err(Error::invalid(
             "job",
             "simulate",
             "the options of a general problem's simulation, on a crawler's model",
@@ -177,46 +189,9 @@ fn compute(
     }
 }
 
-/// A point of a sweep over a general problem (P): the API call of the job, its row. The
-/// certificate's kind is the crawler's word for the same claim: `global` for P_m's global
-/// optimum, `global_k_phases` for the phase method's, `local` for the local methods (P_m's, and
-/// the crawler's on a chain).
-fn compute_general(
-    spec: &SweepSpec,
-    problem_file: &ProblemFile,
-    file: &GeneralFile,
-    row: &mut Row,
-    full: bool,
-    cancel: Option<&Cancel>,
-) -> Result<Option<serde_json::Value>> {
-    match &spec.job {
-        Job::Analyze => {
-            let a = api::analyze_general(file)?;
-            if let Some(e) = a.failure {
-                return Err(e);
-            }
-            row.status = "well_posed".into();
-            Ok(full.then(|| to_json(&a)).flatten())
-        }
-        Job::SimulateGeneral(options) => {
-            let s = api::simulate_general(file, options)?;
-            row.objective = s.simulation.objective;
-            row.method = Some(s.method.into());
-            row.status = if s.simulation.converged {
-                "converged"
-            } else {
-                "not_converged"
-            }
-            .into();
-            Ok(full.then(|| to_json(&s)).flatten())
-        }
-        Job::Simulate(_) => Err(Error::invalid(
-            "job",
-            "simulate",
-            "the options of a crawler's simulation, on a general problem",
-        )),
-        Job::Optimize(settings) => optimize_point(problem_file, settings, row, full, cancel),
-    }
+/// A simulation's status word.
+fn converged(yes: bool) -> String {
+    if yes { "converged" } else { "not_converged" }.into()
 }
 
 /// A point of an optimize sweep, of either kind: the one optimisation of a problem file

@@ -28,9 +28,8 @@ pub enum Job {
     /// [`crate::api::simulate_general`] of the base's `[input]` with these options (a general
     /// problem's `job = "simulate"`): J of a period on the orbit.
     SimulateGeneral(GeneralSimOptions),
-    /// [`crate::api::optimize`] with these settings: the verified optimum and its certificate;
-    /// of a general problem, [`crate::api::optimize_general_plan`] of the plan the same
-    /// settings make ([`OptimizeSettings::plan_general`]).
+    /// [`crate::api::optimize_file`] with these settings, on a problem of either kind (as
+    /// `crawlopt optimize` runs it): the verified optimum and its certificate.
     Optimize(Box<OptimizeSettings>),
 }
 
