@@ -50,6 +50,14 @@ pub(crate) struct Answer {
     pub dual_bound: Option<f64>,
 }
 
+/// The status of every column and row of an LP's basis, as HiGHS reports it
+/// ([`Highs::basis`]).
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub(crate) struct Basis {
+    columns: Vec<HighsInt>,
+    rows: Vec<HighsInt>,
+}
+
 /// An LP or MILP handed to HiGHS (one thread, quiet), which can be re-solved after bound
 /// changes (the local method's active-set loop).
 pub(crate) struct Highs {
@@ -158,6 +166,35 @@ impl Highs {
             )));
         }
         Ok(())
+    }
+
+    /// The basis HiGHS holds (the status of every column and row), for a model rebuilt later
+    /// to start from it ([`Highs::set_basis`]) instead of keeping this one alive; `None` when
+    /// HiGHS has none to give.
+    pub fn basis(&mut self) -> Option<Basis> {
+        let ptr = self.model.as_mut_ptr();
+        // SAFETY: `ptr` is the live HiGHS instance owned by `self.model`; the buffers are
+        // sized from HiGHS's own counts.
+        let ncol = usize::try_from(unsafe { highs_sys::Highs_getNumCol(ptr) }).ok()?;
+        let nrow = usize::try_from(unsafe { highs_sys::Highs_getNumRow(ptr) }).ok()?;
+        let (mut columns, mut rows) = (vec![0; ncol], vec![0; nrow]);
+        let st = unsafe { highs_sys::Highs_getBasis(ptr, columns.as_mut_ptr(), rows.as_mut_ptr()) };
+        (st != highs_sys::STATUS_ERROR).then_some(Basis { columns, rows })
+    }
+
+    /// Starts the next solve from `basis` (of a model of the same shape). A basis HiGHS does
+    /// not take is only a lost hint, never a wrong answer, so its refusal is reported as
+    /// `false`, not as an error.
+    pub fn set_basis(&mut self, basis: &Basis) -> bool {
+        let ptr = self.model.as_mut_ptr();
+        // SAFETY: as in `basis`; the lengths are checked against HiGHS's counts first.
+        let ncol = usize::try_from(unsafe { highs_sys::Highs_getNumCol(ptr) }).ok();
+        let nrow = usize::try_from(unsafe { highs_sys::Highs_getNumRow(ptr) }).ok();
+        ncol == Some(basis.columns.len())
+            && nrow == Some(basis.rows.len())
+            && unsafe {
+                highs_sys::Highs_setBasis(ptr, basis.columns.as_ptr(), basis.rows.as_ptr())
+            } != highs_sys::STATUS_ERROR
     }
 
     /// Offers a start point (all columns). A start HiGHS does not take is only a lost hint,

@@ -15,7 +15,7 @@ use super::units::Units;
 use crate::error::{Error, Result};
 use crate::model::general::{GeneralProblem, Reward};
 use crate::optimal::active_set::{self, LocalStop, Outcome};
-use crate::optimal::solver::{Highs, SolveStatus};
+use crate::optimal::solver::{Basis, Highs, SolveStatus};
 use highs::Sense;
 use serde::{Deserialize, Serialize};
 
@@ -89,6 +89,12 @@ pub(super) struct BranchLp {
     what: String,
 }
 
+/// A branch LP put away ([`BranchLp::keepsake`]): its branches and its basis.
+pub(super) struct Keepsake {
+    active: Vec<Vec<bool>>,
+    basis: Option<Basis>,
+}
+
 impl BranchLp {
     /// The branch LP of `p` on `2^m` steps with branches `active`.
     pub(super) fn new(p: &GeneralProblem, m: u32, active: Vec<Vec<bool>>) -> Result<Self> {
@@ -111,6 +117,26 @@ impl BranchLp {
             active,
             what,
         })
+    }
+
+    /// What it takes to rebuild this LP where it stands ([`BranchLp::resume`]): its branches
+    /// and its basis. Kept instead of the LP itself, whose solver holds far more (a search over
+    /// several starts keeps its best for a finishing pass while the next start is solved).
+    pub(super) fn keepsake(mut self) -> Keepsake {
+        Keepsake {
+            basis: self.model.basis(),
+            active: self.active,
+        }
+    }
+
+    /// The LP of `p` on `2^m` steps rebuilt from `kept`, at the basis it ended on (a basis
+    /// HiGHS does not take only costs its next solve the iterations back to it).
+    pub(super) fn resume(p: &GeneralProblem, m: u32, kept: Keepsake) -> Result<Self> {
+        let mut lp = BranchLp::new(p, m, kept.active)?;
+        if let Some(basis) = &kept.basis {
+            lp.model.set_basis(basis);
+        }
+        Ok(lp)
     }
 
     /// The active-set loop from the branches held now under `pivoting` (module docs of
