@@ -393,7 +393,7 @@ class GeneralResult(_LibraryFigures, Document):
 
         from . import _crawlopt as _rs
 
-        return NecessaryConditions(json.loads(_rs.certify_general_json(self.to_json())))
+        return NecessaryConditions(json.loads(_rs.certify_json(self.to_json())))
 
     def to_pandas(self):
         """The gait as a DataFrame: one row per step (P_m: t_start, t_end) or per phase (methods

@@ -38,7 +38,7 @@ fn _crawlopt(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(results::read_result, m)?)?;
     m.add_function(wrap_pyfunction!(results::read_result_file, m)?)?;
     m.add_function(wrap_pyfunction!(results::read_general_result, m)?)?;
-    m.add_function(wrap_pyfunction!(results::certify_general_json, m)?)?;
+    m.add_function(wrap_pyfunction!(results::certify_json, m)?)?;
     m.add_function(wrap_pyfunction!(jobs::simulate, m)?)?;
     m.add_function(wrap_pyfunction!(jobs::optimize, m)?)?;
     m.add_function(wrap_pyfunction!(fit::fit, m)?)?;

@@ -4,8 +4,9 @@
 use crate::errors::to_py;
 use crate::general::GeneralRecord;
 use crate::run::run;
-use crawlopt::certify::{certify_result, NecessaryConditions};
-use crawlopt::io::{GeneralAnswer, ResultFile};
+use crawlopt::api::certify_result_file;
+use crawlopt::certify::NecessaryConditions;
+use crawlopt::io::{GaitAnswer, GeneralAnswer, ResultFile};
 use crawlopt::present::{self, report, text};
 use pyo3::prelude::*;
 
@@ -35,22 +36,20 @@ impl GaitResult {
     /// The necessary conditions of Theorem 2.2 (discrete form Theorems 6.1–6.2) on the gait,
     /// as the JSON `crawlopt certify --json` writes.
     fn certify_json(&self, py: Python<'_>) -> PyResult<String> {
-        let r = self.inner.clone();
-        let c = run(py, None, |_| certify_result(&r, "result"))?;
-        Ok(crawlopt::io::json::to_string(&c).expect("serialisable"))
+        let r = self.file();
+        certified_json(py, || Ok(r))
     }
 
     /// The figures of the gait (with the adjoint when `certified`): (name, caption, SVG).
     #[pyo3(signature = (certified=false))]
     fn figures(&self, py: Python<'_>, certified: bool) -> PyResult<Vec<(String, String, String)>> {
-        let r = self.inner.clone();
+        let r = self.file();
         let figs = run(py, None, |_| {
-            let mut figs = present::gait_figures(&r)?;
             if certified {
-                let c = certify_result(&r, "result")?;
-                figs.push(present::adjoint_figure_of(&c.multipliers)?);
+                certify_result_file(r, "result")?.figures()
+            } else {
+                present::result_figures(&r)
             }
-            Ok(figs)
         })?;
         Ok(figs
             .into_iter()
@@ -111,6 +110,24 @@ impl GaitResult {
     fn text(&self) -> String {
         text::gait_result(&self.inner)
     }
+}
+
+impl GaitResult {
+    /// The gait as the one result of both kinds (without necessary conditions).
+    fn file(&self) -> ResultFile {
+        ResultFile::Crawler(Box::new(GaitAnswer::of(self.inner.clone())))
+    }
+}
+
+/// The necessary conditions of a result of either kind (made by `result`, on the worker
+/// thread), as the JSON `crawlopt certify --json` writes: the library's one certify of a
+/// result ([`certify_result_file`]), which decides what applies to which method.
+fn certified_json(
+    py: Python<'_>,
+    result: impl FnOnce() -> crawlopt::Result<ResultFile> + Send,
+) -> PyResult<String> {
+    let c = run(py, None, |_| certify_result_file(result()?, "result"))?;
+    Ok(crawlopt::io::json::to_string(&c).expect("serialisable"))
 }
 
 /// The necessary conditions from their JSON (as `certify_json` writes them).
@@ -179,16 +196,10 @@ pub fn read_result_file(py: Python<'_>, path: std::path::PathBuf) -> PyResult<Bo
     read_result(py, &text, &path.display().to_string())
 }
 
-/// The necessary conditions (Theorem 2.2; discrete form Theorems 6.1–6.2) of a general
-/// problem's result document, as the JSON `crawlopt certify --json` writes (a phase gait or
-/// a crawler's result is refused naming the field).
+/// The necessary conditions (Theorem 2.2; discrete form Theorems 6.1–6.2) of a result
+/// document of either kind, read back checked, as `crawlopt certify --json` writes them.
 #[pyfunction]
 #[pyo3(signature = (text, name="result"))]
-pub fn certify_general_json(py: Python<'_>, text: &str, name: &str) -> PyResult<String> {
-    let (text, name) = (text.to_string(), name.to_string());
-    let c = run(py, None, |_| {
-        let r = GeneralAnswer::from_json(&text, &name)?;
-        crawlopt::api::certify_general_answer(&r, &name)
-    })?;
-    Ok(crawlopt::io::json::to_string(&c).expect("serialisable"))
+pub fn certify_json(py: Python<'_>, text: &str, name: &str) -> PyResult<String> {
+    certified_json(py, || ResultFile::from_json(text, name))
 }

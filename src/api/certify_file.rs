@@ -59,8 +59,7 @@ impl Serialize for Certified {
 
 /// The necessary conditions of Theorem 2.2 (discrete form Theorems 6.1–6.2) on the process a
 /// result file holds (module docs), attached to it; `what` names the source in errors.
-pub fn certify_result_file(r: ResultFile, what: &str) -> Result<Certified> {
-    let mut result = r;
+pub fn certify_result_file(mut result: ResultFile, what: &str) -> Result<Certified> {
     match &mut result {
         ResultFile::Crawler(g) => {
             g.necessary_conditions = Some(certify_result(&g.result, what)?);
@@ -75,7 +74,7 @@ pub fn certify_result_file(r: ResultFile, what: &str) -> Result<Certified> {
 /// [`certify_result_file`] of a general answer: P_m processes (global or local) and phase gaits
 /// are certified; a Cauchy problem is refused naming `problem.periodic` (the conditions are
 /// stated for periodic problems).
-pub fn certify_general_answer(r: &GeneralAnswer, what: &str) -> Result<GeneralNecessaryConditions> {
+fn certify_general_answer(r: &GeneralAnswer, what: &str) -> Result<GeneralNecessaryConditions> {
     let (p, _) = super::general_problem(&r.problem)?;
     let pr = r.solution.process(&p);
     // Checked first as the file's solution, so that a message names the file and its field.

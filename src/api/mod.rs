@@ -65,7 +65,7 @@ mod settings;
 
 pub use crate::io::{GeneralSolution, LocalStarts};
 pub use bench::{bench, BenchCase, BenchSettings};
-pub use certify_file::{certify_general_answer, certify_result_file, Certified};
+pub use certify_file::{certify_result_file, Certified};
 pub use events::{Event, Hooks, Observer};
 pub use fit::fit;
 pub use general::{

@@ -52,7 +52,7 @@ pub(crate) struct Answer {
 
 /// The status of every column and row of an LP's basis, as HiGHS reports it
 /// ([`Highs::basis`]).
-#[derive(Debug, Clone, PartialEq, Eq)]
+#[derive(Debug)]
 pub(crate) struct Basis {
     columns: Vec<HighsInt>,
     rows: Vec<HighsInt>,

@@ -15,16 +15,11 @@ use crate::io::ResultFile;
 
 /// The human form: the answer, and its necessary conditions when computed.
 pub fn result_text(r: &ResultFile) -> String {
-    match r {
-        ResultFile::Crawler(g) => {
-            let mut out = text::gait_result(&g.result);
-            if let Some(c) = &g.necessary_conditions {
-                out.push_str(&text::certificate(c, &g.result));
-            }
-            out
-        }
+    let answer = match r {
+        ResultFile::Crawler(g) => text::gait_result(&g.result),
         ResultFile::General(a) => text::general_answer(a),
-    }
+    };
+    answer + &conditions_text(r).unwrap_or_default()
 }
 
 /// A result's key numbers in one line, of either kind ([`text::gait_summary`]: J and the

@@ -440,18 +440,15 @@ fn steps(out: &mut String, x: &[Vec<f64>], u: &[Vec<f64>]) {
     }
 }
 
-/// The text of any of the general `optimize` answers ([`GeneralAnswer`]): the optimum and, when
-/// asked, its necessary conditions; the local answer; the phase gait.
+/// The text of any of the general `optimize` answers ([`GeneralAnswer`]): the optimum, the
+/// local answer, the phase gait (its necessary conditions are rendered beside it, by
+/// [`crate::present::result_text`] for either kind).
 pub fn general_answer(r: &GeneralAnswer) -> String {
-    let mut s = match &r.solution {
+    match &r.solution {
         GeneralSolution::Pm(s) => general_optimum(r, s),
         GeneralSolution::Local(s) => general_local(r, s),
         GeneralSolution::Phase(s) => general_phase(r, s),
-    };
-    if let Some(c) = r.necessary_conditions.as_ref() {
-        s.push_str(&super::general_certificate(c));
     }
-    s
 }
 
 /// A general answer's key number in one line: its J (0 below `1e-9` of the problem's floor of
