@@ -126,8 +126,12 @@ fn strip(s: &str) -> String {
     out
 }
 
-/// The paths of a use tree `body` under `prefix` (`a::{b, c::{d, e as f}}`).
-fn expand(prefix: &[String], body: &str, out: &mut Vec<Vec<String>>) {
+/// A path a `use` item imports, and the name it binds in the module.
+type Bound = (Vec<String>, String);
+
+/// The paths of a use tree `body` under `prefix` (`a::{b, c::{d, e as f}}`), each with the
+/// name it binds (its last segment, or its alias: `f` for `c::e as f`).
+fn expand(prefix: &[String], body: &str, out: &mut Vec<Bound>) {
     let body = body.trim();
     let split = |s: &str| -> Vec<String> {
         s.split("::")
@@ -159,10 +163,16 @@ fn expand(prefix: &[String], body: &str, out: &mut Vec<Vec<String>>) {
             }
         }
         None => {
-            let path = body.split(" as ").next().unwrap_or(body);
+            let mut parts = body.split(" as ");
+            let path = parts.next().unwrap_or(body);
             let mut p = prefix.to_vec();
             p.extend(split(path));
-            out.push(p);
+            let name = parts
+                .next()
+                .map(|a| a.trim().to_string())
+                .or_else(|| p.last().cloned())
+                .unwrap_or_default();
+            out.push((p, name));
         }
     }
 }
@@ -221,7 +231,7 @@ impl Crate {
 
 /// The code of a file without its tests, with `use child::` written `use self::child::`;
 /// and the paths of its `pub use` items and of its other `use` items.
-fn uses(m: &[String], text: &str) -> (String, Vec<Vec<String>>, Vec<Vec<String>>) {
+fn uses(m: &[String], text: &str) -> (String, Vec<Bound>, Vec<Vec<String>>) {
     let mut code = strip(text);
     if let Some(t) = code.find("#[cfg(test)]\nmod tests") {
         code.truncate(t);
@@ -256,11 +266,13 @@ fn uses(m: &[String], text: &str) -> (String, Vec<Vec<String>>, Vec<Vec<String>>
             let is_pub = line_head.starts_with("pub");
             let mut paths = vec![];
             expand(&[], item, &mut paths);
-            let paths = paths.into_iter().filter_map(|p| absolute(m, &p));
+            let paths = paths
+                .into_iter()
+                .filter_map(|(p, name)| Some((absolute(m, &p)?, name)));
             if is_pub {
                 public.extend(paths);
             } else {
-                private.extend(paths);
+                private.extend(paths.map(|(p, _)| p));
             }
         }
         rest = &rest[end.min(rest.len())..];
@@ -276,17 +288,17 @@ fn uses(m: &[String], text: &str) -> (String, Vec<Vec<String>>, Vec<Vec<String>>
 /// items) uses bare: a facade that also uses what it re-exports depends on it
 /// (`pub use result::result_text;` then `result_text(r)` in the same file is an import of
 /// `result`). Globs and `self` are skipped, and so are the places where the file declares a
-/// name of its own that is spelled the same ([`declares`]); a renamed re-export (`as`) is seen
-/// under its original name only.
-fn reexports_used(public: &[Vec<String>], code: &str) -> Vec<Vec<String>> {
+/// name of its own that is spelled the same ([`declares`]); a renamed re-export (`x as y`) is
+/// seen under the name it binds (`y`).
+fn reexports_used(public: &[Bound], code: &str) -> Vec<Vec<String>> {
     let word = |c: char| c.is_alphanumeric() || c == '_';
     let variants = variant_places(code);
     public
         .iter()
-        .filter(|p| {
-            let Some(last) = p.last().filter(|l| *l != "*" && *l != "self") else {
+        .filter(|(_, last)| {
+            if ["*", "self", "_"].contains(&last.as_str()) {
                 return false;
-            };
+            }
             code.match_indices(last.as_str()).any(|(i, _)| {
                 let before = code[..i].chars().next_back();
                 let after = code[i + last.len()..].chars().next();
@@ -296,7 +308,7 @@ fn reexports_used(public: &[Vec<String>], code: &str) -> Vec<Vec<String>> {
                     && !variants.contains(&i)
             })
         })
-        .cloned()
+        .map(|(p, _)| p.clone())
         .collect()
 }
 
@@ -425,9 +437,9 @@ fn edges() -> (
         parsed.push((m.clone(), code, public, private));
     }
     for (m, _, public, _) in &parsed {
-        for p in public {
-            if let Some(last) = p.last().filter(|l| *l != "*" && *l != "self") {
-                krate.reexports.insert((m.clone(), last.clone()), p.clone());
+        for (p, name) in public {
+            if !["*", "self", "_"].contains(&name.as_str()) {
+                krate.reexports.insert((m.clone(), name.clone()), p.clone());
             }
         }
     }
@@ -587,12 +599,18 @@ fn the_checker_reads_use_trees_and_inline_paths() {
         "pub use super::y::Z;\nuse crate::{a::{b, c::D as E}, f};\n// use crate::g;\nfn h() { \"crate::s\"; crate::i::j(); }\n",
     );
     let names = |v: &[Vec<String>]| v.iter().map(|p| p.join("::")).collect::<Vec<_>>();
-    assert_eq!(names(&public), ["optimal::y::Z"]);
+    assert_eq!(
+        public,
+        [(vec!["optimal".into(), "y".into(), "Z".into()], "Z".into())]
+    );
     assert_eq!(names(&private), ["a::b", "a::c::D", "f"]);
     let code = strip("fn h() { \"crate::s\"; crate::i::j(); } // crate::k");
     assert_eq!(names(&inline_paths(&m, &code)), ["i::j"]);
     // A facade calling what it re-exports depends on it; a method or a longer name does not.
-    let public = [vec!["p".to_string(), "r".into(), "text".into()]];
+    let public = [(
+        vec!["p".to_string(), "r".into(), "text".into()],
+        "text".to_string(),
+    )];
     for used in [
         "fn f() { text(1) }",
         "fn f() -> Vec<text> { vec![] }",
@@ -612,6 +630,25 @@ fn the_checker_reads_use_trees_and_inline_paths() {
         )
     )
     .is_empty());
+    // A renamed re-export is seen under the name it binds, not its original one.
+    let (_, public, _) = uses(
+        &m,
+        "pub use self::check::{run as check_run};
+",
+    );
+    assert_eq!(
+        public,
+        [(
+            vec!["optimal".into(), "x".into(), "check".into(), "run".into()],
+            "check_run".into()
+        )]
+    );
+    let code = strip("fn f() { check_run(1); run(2) }");
+    assert_eq!(
+        names(&reexports_used(&public, &code)),
+        ["optimal::x::check::run"]
+    );
+    assert!(reexports_used(&public, &strip("fn f() { run(2) }")).is_empty());
 }
 
 /// Every top-level module of `src/` has a layer, so that a new module cannot escape the checks
