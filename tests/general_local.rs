@@ -222,6 +222,8 @@ fn the_api_job_reports_its_starts_and_can_be_cancelled() {
         time_limit: None,
         start: None,
         max_phases: None,
+        certify: false,
+        bound: None,
     };
     let mut stages = 0;
     let mut count = |e: &Event, _: f64| stages += usize::from(matches!(e, Event::Stage(_)));
@@ -315,6 +317,8 @@ fn the_local_method_starts_from_the_phase_optimum_where_a_is_zero() {
         time_limit: None,
         start: None,
         max_phases: None,
+        certify: false,
+        bound: None,
     };
     let r = optimize_general_local(&drift, &s, Hooks::default()).unwrap();
     assert_eq!(
@@ -659,4 +663,111 @@ fn an_input_that_cannot_start_the_local_method_is_named() {
         }
         other => panic!("expected a refusal naming input.values, got {other:?}"),
     }
+}
+
+/// `certify` applies to (P)'s local method as to its global ones and to a crawler's local
+/// method: the conditions it attaches are those `crawlopt certify` computes on the same answer
+/// read back without them (`api::certify_result_file`), on the one-link problem (P_10, where
+/// the local answer is the optimum J = 3, and the conditions hold) and on the three-block
+/// crawler written as (P). Before, the setting was refused for the local method.
+#[test]
+fn the_local_methods_certify_is_the_one_certify_of_its_result() {
+    use crawlopt::api::{certify_result_file, optimize_file, GaitMethod, Hooks, OptimizeSettings};
+    use crawlopt::certify::Verdict;
+    use crawlopt::io::{GeneralFile, ProblemFile, ResultFile};
+    for (path, holds) in [
+        ("examples/general_one_link.toml", true),
+        ("examples/general_three_blocks.toml", false),
+    ] {
+        let file = GeneralFile::load_if_general(path.as_ref())
+            .unwrap()
+            .unwrap();
+        let file = ProblemFile::General(Box::new(file));
+        let settings = OptimizeSettings {
+            method: GaitMethod::Local,
+            certify: true,
+            ..Default::default()
+        };
+        let done = optimize_file(&file, &settings, Hooks::default()).unwrap();
+        let ResultFile::General(answer) = done.result.clone() else {
+            panic!("a general answer")
+        };
+        let attached = answer.necessary_conditions.clone().expect("certified");
+        if holds {
+            assert_eq!(
+                attached.verdict,
+                Verdict::Holds,
+                "{path}: {}",
+                attached.reason
+            );
+            assert!((answer.head.objective - 3.0).abs() < 1e-9, "{path}");
+        }
+        let mut bare = answer.clone();
+        bare.necessary_conditions = None;
+        let text = crawlopt::io::json::to_string(&ResultFile::General(bare)).unwrap();
+        let read = ResultFile::from_json(&text, path).unwrap();
+        let again = certify_result_file(read, path).unwrap();
+        assert_eq!(
+            crawlopt::io::json::to_string(&again).unwrap(),
+            crawlopt::io::json::to_string(&attached).unwrap(),
+            "{path}"
+        );
+    }
+}
+
+/// `bound` applies to (P)'s local method where the problem is a crawler's (a chain), as to its
+/// global methods and to a crawler's local method: the same upper bound as the global P_m's
+/// under the same settings (the bound is over all periodic gaits, whatever the method), at
+/// least the local J, kept when the result is read back, and a recorded bound below J refused
+/// naming its field. Before, the setting was refused for the local method.
+#[test]
+fn the_local_method_proves_the_chains_upper_bound() {
+    use crawlopt::api::{optimize_file, GaitMethod, Hooks, OptimizeSettings};
+    use crawlopt::certify::bound::BoundSettings;
+    use crawlopt::io::{GeneralFile, ProblemFile, ResultFile};
+    let path = "examples/general_three_blocks.toml";
+    let file = GeneralFile::load_if_general(path.as_ref())
+        .unwrap()
+        .unwrap();
+    let file = ProblemFile::General(Box::new(file));
+    let bound = BoundSettings {
+        resolution: Some(2),
+        box_resolution: Some(2),
+        ..Default::default()
+    };
+    let with = |method| OptimizeSettings {
+        method,
+        bound: Some(bound),
+        ..Default::default()
+    };
+    let answer = |method| {
+        let done = optimize_file(&file, &with(method), Hooks::default()).unwrap();
+        let ResultFile::General(a) = done.result else {
+            panic!("a general answer")
+        };
+        a
+    };
+    let (local, global) = (answer(GaitMethod::Local), answer(GaitMethod::Discrete));
+    let ub = local.head.certificate.upper_bound.clone().expect("a bound");
+    let want = global
+        .head
+        .certificate
+        .upper_bound
+        .clone()
+        .expect("a bound");
+    assert_eq!(ub.value, want.value);
+    assert!(
+        ub.value >= local.head.objective,
+        "{} < {}",
+        ub.value,
+        local.head.objective
+    );
+    let text = crawlopt::io::json::to_string(&ResultFile::General(local.clone())).unwrap();
+    let read = ResultFile::from_json(&text, path).unwrap();
+    assert_eq!(read, ResultFile::General(local.clone()));
+    let mut low = local;
+    low.head.certificate.upper_bound.as_mut().unwrap().value = 1.0;
+    let text = crawlopt::io::json::to_string(&ResultFile::General(low)).unwrap();
+    let e = ResultFile::from_json(&text, path).unwrap_err().to_string();
+    assert!(e.contains("certificate.upper_bound.value"), "{e}");
 }

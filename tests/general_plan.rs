@@ -6,7 +6,6 @@ use crawlopt::api::{
     GaitMethod, GeneralLocalSettings, GeneralPhaseSettings, GeneralPlan, GeneralPmSettings, Naming,
     OptimizeSettings, Start,
 };
-use crawlopt::certify::bound::BoundSettings;
 
 fn field(s: &OptimizeSettings, front_end: &[(&str, bool)]) -> String {
     match s.plan_general(front_end) {
@@ -96,7 +95,6 @@ fn settings_that_do_not_apply_are_refused_naming_them() {
             "--start",
         ),
         (with(Discrete, f, &|s| s.shifts = Some(2)), "--shifts"),
-        (with(Local, f, &|s| s.certify = true), "--certify"),
         (with(Local, f, &|s| s.polish = Some(false)), "--no-polish"),
         (with(Phase, f, &|s| s.m = Some(2)), "--m"),
         // One MILP at a fixed K takes no growth settings (as for a crawler's problem).
@@ -115,19 +113,10 @@ fn settings_that_do_not_apply_are_refused_naming_them() {
             "patience",
         ),
         (with(Phase, f, &|s| s.shifts = Some(2)), "--shifts"),
-        (
-            with(Local, f, &|s| s.bound = Some(BoundSettings::default())),
-            "--bound",
-        ),
         (with(Local, k, &|s| s.polish = Some(true)), "polish"),
         (with(Discrete, k, &|s| s.max_phases = Some(2)), "max_phases"),
         (with(Discrete, k, &|s| s.shifts = Some(2)), "shifts"),
-        (with(Local, k, &|s| s.certify = true), "certify"),
         (with(Phase, k, &|s| s.m = Some(2)), "m"),
-        (
-            with(Local, k, &|s| s.bound = Some(BoundSettings::default())),
-            "bound",
-        ),
     ];
     for (s, want) in &cases {
         assert_eq!(field(s, &[]), *want, "{s:?}");

@@ -240,16 +240,16 @@ class GeneralProblem:
         the grid (``--start``); else the file's ``[input]``, else where A = 0 the phase optimum,
         else square waves; ``shifts`` rotations of each; no global claim). ``objective`` is J
         re-verified by simulation; ``solution`` holds ``states``, ``controls`` and
-        ``reactions`` (rates per step and face). ``certify``
-        ("discrete", "phase", "sequence", "chain") adds ``necessary_conditions``: Theorem 2.2's
-        conditions on the optimum with their residuals and ``verdict`` (``crawlopt optimize
-        --certify``; a phase gait's on its own phases, the durations free). ``convergence``
+        ``reactions`` (rates per step and face). ``certify`` (every method) adds
+        ``necessary_conditions``: Theorem 2.2's conditions on the answer with their residuals
+        and ``verdict`` (``crawlopt optimize --certify``; a phase gait's on its own phases, the
+        durations free). ``convergence``
         (discrete only) solves P_1..P_``m`` in turn and adds their table ``convergence``
         (``crawlopt optimize --convergence``), the answer being the finest. ``bound`` (as for
-        ``optimize``; "discrete" and "phase"): the crawler's upper bound over all periodic gaits,
-        where the problem is a crawler's gait problem (``analyze().check("structure")``
-        says so), as ``certificate["upper_bound"]``; else an ``InputError`` naming
-        ``bound``. Ctrl-C stops it
+        ``optimize``; "discrete", "local" and "phase"): the crawler's upper bound over all
+        periodic gaits, where the problem is a crawler's gait problem
+        (``analyze().check("structure")`` says so), as ``certificate["upper_bound"]``; else an
+        ``InputError`` naming ``bound``. Ctrl-C stops it
         (KeyboardInterrupt); ``progress`` as for ``optimize``. ``method`` "phase" (where A = 0):
         the exact continuous-time gait, globally among those of at most ``phases`` phases, or with K
         grown from 1 to ``max_phases`` (None: the library's default,

@@ -141,7 +141,6 @@ def test_bad_arguments_raise_input_errors_naming_the_field():
         (lambda: p.optimize(method="phase", patience=0), "patience"),
         (lambda: p.optimize(shifts=2), "shifts"),
         (lambda: p.optimize(method="local", shifts=0), "shifts"),
-        (lambda: p.optimize(method="local", certify=True), "certify"),
         (lambda: p.optimize(time_limit=-1.0), "time_limit"),
         (lambda: p.simulate(method="rk4"), "method"),
         (lambda: p.simulate(method="catching_up", steps_per_period=0), "steps_per_period"),
@@ -399,3 +398,16 @@ def test_the_local_method_starts_from_a_given_result():
     with pytest.raises(co.InputError, match=r"solution\.controls\[\d+\] = \[-?2\.0\]") as e:
         narrow.optimize(method="local", m=5, start=wide.optimize(method="phase"))
     assert e.value.field == "start"
+
+
+def test_the_local_method_certifies_as_certify_does():
+    # certify=True applies to the local method (it was refused): the conditions attached are
+    # those certify() computes on the result read back, as for the global methods.
+    p = co.load(example("general_one_link.toml"))
+    r = p.optimize(method="local", certify=True)
+    assert r.necessary_conditions.verdict == "holds"
+
+    def numbers(d):  # every number as a float (-0.0 == 0.0: a zero's sign is not kept)
+        return json.loads(json.dumps(d.to_dict(), default=lambda a: a.tolist()))
+
+    assert numbers(r.necessary_conditions) == numbers(r.certify())

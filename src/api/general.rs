@@ -4,8 +4,8 @@
 use crate::certify::bound::BoundSettings;
 use crate::error::{Error, Result};
 use crate::integrate::{simulate_general_on as integrate_general, GeneralSimOptions, SimOptions};
-use crate::io::GeneralFile;
 pub use crate::io::{Check, CheckStatus, GeneralAnalysis, GeneralSimulated};
+use crate::io::{GeneralAnswer, GeneralFile};
 use crate::model::general::{ControlSet, GeneralProblem, Reward};
 use crate::model::ChainView;
 use crate::optimal::general::{analyze_polyhedron, check_with, Geometry};
@@ -17,6 +17,19 @@ pub fn general_problem(file: &GeneralFile) -> Result<(GeneralProblem, Geometry)>
     let g = geometry_of(&p)?;
     check_with(&p, &g)?;
     Ok((p, g))
+}
+
+/// Attaches to an answer of `p` (of any method) the necessary conditions of Theorem 2.2 on its
+/// process ([`crate::certify::certify_general`]; discrete form Theorems 6.1–6.2): what
+/// `--certify` adds to every method on (P), as `crawlopt certify` does to its result file.
+pub(super) fn attach_conditions(p: &GeneralProblem, r: &mut GeneralAnswer) -> Result<()> {
+    let pr = r.solution.process(p);
+    r.necessary_conditions = Some(crate::certify::certify_general(
+        p,
+        &pr,
+        &crate::certify::CertifyOptions::default(),
+    )?);
+    Ok(())
 }
 
 /// C's geometry; an empty C is an error naming `sweeping_process`.

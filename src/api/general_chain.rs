@@ -104,12 +104,7 @@ pub fn optimize_general_on_chain(
     answer.formulation = Some("chain".into());
     answer.records.structured = r.records.structured.clone();
     if s.certify {
-        let pr = answer.solution.process(&p);
-        answer.necessary_conditions = Some(crate::certify::certify_general(
-            &p,
-            &pr,
-            &crate::certify::CertifyOptions::default(),
-        )?);
+        super::general::attach_conditions(&p, &mut answer)?;
     }
     Ok(answer)
 }

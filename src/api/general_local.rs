@@ -40,6 +40,14 @@ pub struct GeneralLocalSettings {
     /// [`super::GeneralPhaseSettings::max_phases_for`]), as `max_phases` bounds a crawler's
     /// phase start; refused, naming it, where no phase gait starts.
     pub max_phases: Option<usize>,
+    /// Also check the necessary conditions (Theorem 2.2, discrete form Theorems 6.1–6.2) on
+    /// the answer's P_m process (default false), as `crawlopt certify` checks a local result
+    /// and as a crawler's local method certifies its gait.
+    pub certify: bool,
+    /// Also prove the crawler's upper bound over all periodic gaits (default `None`), where the
+    /// problem is a crawler's gait problem (a chain; refused naming `bound` elsewhere), as the
+    /// global methods and a crawler's local method do ([`crate::certify::bound`]).
+    pub bound: Option<crate::certify::bound::BoundSettings>,
 }
 
 impl Default for GeneralLocalSettings {
@@ -50,6 +58,8 @@ impl Default for GeneralLocalSettings {
             time_limit: None,
             start: None,
             max_phases: None,
+            certify: false,
+            bound: None,
         }
     }
 }
@@ -65,7 +75,8 @@ const NO_PHASE_START: &str = "applies only where a phase gait is grown as the st
                               without a start given or the file's [input])";
 
 /// P_m of a problem file, locally ([`crate::optimal::general::local`]), from every start of
-/// the policy (module docs), keeping the best verified answer. Cancellable through `hooks`;
+/// the policy (module docs), keeping the best verified answer (with its necessary conditions
+/// under `certify`). Cancellable through `hooks`;
 /// a stage event per start.
 pub fn optimize_general_local(
     file: &GeneralFile,
@@ -77,8 +88,9 @@ pub fn optimize_general_local(
     crate::optimal::check_shifts(s.shifts)?;
     crate::optimal::check_time_limit(s.time_limit)?;
     check_start_phases(s.max_phases, phase_starts(file, &p, s), NO_PHASE_START)?;
+    let chain = super::general::chain_for_bound(&p, s.bound.as_ref())?;
     run_with(hooks, |em| {
-        crate::progress::within(s.time_limit, || {
+        let mut r = crate::progress::within(s.time_limit, || {
             let (starts, start_from) = starts(file, &p, &g, s, em)?;
             let (answer, start_from) = match best_of(&p, &g, s, &starts, em) {
                 // The phase gait's controls refused as a start on this grid (field `start`):
@@ -121,7 +133,18 @@ pub fn optimize_general_local(
                 best_start,
             };
             Ok(GeneralAnswer::local(file, p.period, starts, solution))
-        })
+        })?;
+        // Outside the time limit, as the global methods prove their bounds and certify.
+        if let (Some(view), Some(b)) = (&chain, &s.bound) {
+            em.stage("proving an upper bound over all periodic gaits (the chain's)");
+            let ub = super::general::chain_upper_bound(&p, view, b, r.head.objective)?;
+            r.head.certificate.upper_bound = Some(ub);
+        }
+        if s.certify {
+            em.stage("checking the necessary conditions (Theorem 2.2) on the process");
+            super::general::attach_conditions(&p, &mut r)?;
+        }
+        Ok(r)
     })
 }
 

@@ -259,12 +259,7 @@ pub fn optimize_general_phase(
         }
         if s.certify {
             em.stage("checking the necessary conditions (Theorem 2.2) on the gait");
-            let pr = r.solution.process(&p);
-            r.necessary_conditions = Some(crate::certify::certify_general(
-                &p,
-                &pr,
-                &crate::certify::CertifyOptions::default(),
-            )?);
+            super::general::attach_conditions(&p, &mut r)?;
         }
         Ok(r)
     })

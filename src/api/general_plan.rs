@@ -95,10 +95,6 @@ impl OptimizeSettings {
                 n.methods(methods)
             )
         };
-        let global = format!(
-            "applies to the global methods ({}) only on a general problem",
-            n.methods(&[Discrete, Phase])
-        );
         let taken: Vec<String> = [
             "phases",
             "max_phases",
@@ -144,7 +140,7 @@ impl OptimizeSettings {
             n.setting("convergence")
         );
         // In the order they are checked: the first one given is named.
-        let rules: [(&str, bool, String); 12] = [
+        let rules: [(&str, bool, String); 10] = [
             ("phases", !phase, only(&[Phase])),
             ("max_phases", !phase && !phase_start, max_phases),
             ("patience", !phase, only(&[Phase])),
@@ -162,8 +158,6 @@ impl OptimizeSettings {
             ),
             ("convergence", !discrete, only(&[Discrete])),
             ("polish", !discrete, only(&[Discrete])),
-            ("certify", local, global.clone()),
-            ("bound", local, global),
         ];
         let refused = rules.into_iter().find_map(|(name, refuses, why)| {
             let value = self.given(name).filter(|_| refuses)?;
@@ -201,6 +195,8 @@ impl OptimizeSettings {
                 time_limit: self.time_limit,
                 start: self.start.clone(),
                 max_phases: self.max_phases,
+                certify: self.certify,
+                bound: self.bound,
             })
         } else {
             let d = GeneralPmSettings::default();

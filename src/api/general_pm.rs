@@ -140,18 +140,10 @@ fn pm_job(
             crate::progress::within(s.time_limit, || solve_started(file, &p, &g, s, em))?;
         (sol, None, started)
     };
-    let necessary_conditions = if s.certify {
-        let pr = crate::certify::GeneralProcess::from_pm(&p, &solution);
-        Some(crate::certify::certify_general(
-            &p,
-            &pr,
-            &crate::certify::CertifyOptions::default(),
-        )?)
-    } else {
-        None
-    };
     let mut r = GeneralAnswer::discrete(file, p.period, solution);
-    r.necessary_conditions = necessary_conditions;
+    if s.certify {
+        super::general::attach_conditions(&p, &mut r)?;
+    }
     r.records.convergence = convergence;
     r.discrete_start = started;
     if let (Some(view), Some(b)) = (&chain, &s.bound) {

@@ -61,7 +61,8 @@ pub(super) fn check_dominates(r: &GeneralAnswer, chain: bool, what: &str) -> Res
 }
 
 /// A local answer's certificate (P_m's local method, the crawler's on a chain): `local`,
-/// without bound, gap or upper bound.
+/// without bound, gap or upper bound (P_m's local answer checks a recorded upper bound apart,
+/// and passes its certificate without it).
 pub(super) fn check_local_certificate(what: &str, cert: &ResultCertificate) -> Result<()> {
     if *cert != ResultCertificate::local(None) {
         return Err(bad(

@@ -178,7 +178,15 @@ fn check_local_answer(
             ),
         ));
     }
-    check_local_certificate(what, &r.head.certificate)?;
+    // A local answer proves no bound of its own; the chain's upper bound over all periodic
+    // gaits may be recorded with it (`bound`), checked as with a global answer.
+    let mut own = r.head.certificate.clone();
+    if let Some(ub) = own.upper_bound.take() {
+        check_upper_bound(what, p, &r.head.certificate)?;
+        let tol = INPUT_TOL * j.abs().max(p.j_floor());
+        ub.check_recorded(what, j, |a, b| (a - b).abs() <= tol)?;
+    }
+    check_local_certificate(what, &own)?;
     for (field, v) in [
         ("solution.lp_objective", s.lp_objective),
         ("solution.start_objective", s.start_objective),

@@ -420,6 +420,9 @@ fn general_local(r: &GeneralAnswer, s: &GeneralLocal) -> String {
         ),
         num(s.start_objective, scale)
     );
+    if let Some(ub) = &r.head.certificate.upper_bound {
+        super::gait::upper_bound_line(&mut out, ub, (s.objective, scale), &|v| num(v, scale));
+    }
     steps(&mut out, &s.path.x, &s.path.u);
     out
 }
