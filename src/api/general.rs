@@ -19,6 +19,28 @@ pub fn general_problem(file: &GeneralFile) -> Result<(GeneralProblem, Geometry)>
     Ok((p, g))
 }
 
+/// What `bound` and `certify` add to an answer of `p`, the same for every method on (P) and
+/// after its time limit: the chain's upper bound over all periodic gaits (`bound`: the chain
+/// the settings were checked against, [`chain_for_bound`], and the bound's settings), then the
+/// necessary conditions on its process ([`attach_conditions`]), each announced as a stage.
+pub(super) fn add_bound_and_conditions(
+    p: &GeneralProblem,
+    r: &mut GeneralAnswer,
+    bound: Option<(&ChainView, &BoundSettings)>,
+    certify: bool,
+    em: &super::events::Emitter<'_>,
+) -> Result<()> {
+    if let Some((view, b)) = bound {
+        em.stage("proving an upper bound over all periodic gaits (the chain's)");
+        r.head.certificate.upper_bound = Some(chain_upper_bound(p, view, b, r.head.objective)?);
+    }
+    if certify {
+        em.stage("checking the necessary conditions (Theorem 2.2)");
+        attach_conditions(p, r)?;
+    }
+    Ok(())
+}
+
 /// Attaches to an answer of `p` (of any method) the necessary conditions of Theorem 2.2 on its
 /// process ([`crate::certify::certify_general`]; discrete form Theorems 6.1–6.2): what
 /// `--certify` adds to every method on (P), as `crawlopt certify` does to its result file.

@@ -252,15 +252,8 @@ pub fn optimize_general_phase(
                 stop: grown.stop,
             });
         }
-        if let (Some(view), Some(b)) = (&bound_chain, &s.bound) {
-            em.stage("proving an upper bound over all periodic gaits (the chain's)");
-            let ub = super::general::chain_upper_bound(&p, view, b, r.head.objective)?;
-            r.head.certificate.upper_bound = Some(ub);
-        }
-        if s.certify {
-            em.stage("checking the necessary conditions (Theorem 2.2) on the gait");
-            super::general::attach_conditions(&p, &mut r)?;
-        }
+        let bound = bound_chain.as_ref().zip(s.bound.as_ref());
+        super::general::add_bound_and_conditions(&p, &mut r, bound, s.certify, em)?;
         Ok(r)
     })
 }

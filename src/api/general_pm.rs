@@ -3,7 +3,7 @@
 //! method's answer on the same grid, as a crawler's P_m starts), the necessary conditions and
 //! the chain's upper bound when asked.
 
-use super::general::{chain_for_bound, chain_upper_bound, general_problem};
+use super::general::{add_bound_and_conditions, chain_for_bound, general_problem};
 use super::general_local::pm_default_start;
 use super::general_start::given_start;
 use crate::certify::bound::BoundSettings;
@@ -141,15 +141,10 @@ fn pm_job(
         (sol, None, started)
     };
     let mut r = GeneralAnswer::discrete(file, p.period, solution);
-    if s.certify {
-        super::general::attach_conditions(&p, &mut r)?;
-    }
     r.records.convergence = convergence;
     r.discrete_start = started;
-    if let (Some(view), Some(b)) = (&chain, &s.bound) {
-        em.stage("proving an upper bound over all periodic gaits (the chain's)");
-        r.head.certificate.upper_bound = Some(chain_upper_bound(&p, view, b, r.head.objective)?);
-    }
+    let bound = chain.as_ref().zip(s.bound.as_ref());
+    add_bound_and_conditions(&p, &mut r, bound, s.certify, em)?;
     Ok(r)
 }
 
