@@ -765,9 +765,41 @@ fn the_local_method_proves_the_chains_upper_bound() {
     let text = crawlopt::io::json::to_string(&ResultFile::General(local.clone())).unwrap();
     let read = ResultFile::from_json(&text, path).unwrap();
     assert_eq!(read, ResultFile::General(local.clone()));
-    let mut low = local;
+    // A recorded answer is refused naming the field it gets wrong: a bound below J; a gap (a
+    // local answer proves no bound of its own); the chain's bound on a problem that is not a
+    // chain (the one-link problem's local answer, with the three-block one's bound).
+    let refused = |a: &crawlopt::io::GeneralAnswer, field: &str| {
+        let text =
+            crawlopt::io::json::to_string(&ResultFile::General(Box::new(a.clone()))).unwrap();
+        let e = ResultFile::from_json(&text, path).unwrap_err();
+        assert!(
+            matches!(&e, crawlopt::Error::InvalidParameter { field: f, .. } if f.ends_with(field)),
+            "{field}: {e}"
+        );
+    };
+    let mut low = local.clone();
     low.head.certificate.upper_bound.as_mut().unwrap().value = 1.0;
-    let text = crawlopt::io::json::to_string(&ResultFile::General(low)).unwrap();
-    let e = ResultFile::from_json(&text, path).unwrap_err().to_string();
-    assert!(e.contains("certificate.upper_bound.value"), "{e}");
+    refused(&low, "certificate.upper_bound.value");
+    let mut gap = local;
+    gap.head.certificate.gap = Some(0.0);
+    refused(&gap, "certificate.gap");
+    let one_link = GeneralFile::load_if_general("examples/general_one_link.toml".as_ref())
+        .unwrap()
+        .unwrap();
+    let one_link = ProblemFile::General(Box::new(one_link));
+    let e = optimize_file(&one_link, &with(GaitMethod::Local), Hooks::default()).unwrap_err();
+    assert!(
+        matches!(&e, crawlopt::Error::InvalidParameter { field, .. } if field == "bound"),
+        "{e}"
+    );
+    let plain = OptimizeSettings {
+        method: GaitMethod::Local,
+        ..Default::default()
+    };
+    let done = optimize_file(&one_link, &plain, Hooks::default()).unwrap();
+    let ResultFile::General(mut foreign) = done.result else {
+        panic!("a general answer")
+    };
+    foreign.head.certificate.upper_bound = Some(ub);
+    refused(&foreign, "certificate.upper_bound");
 }

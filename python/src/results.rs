@@ -6,7 +6,7 @@ use crate::general::GeneralRecord;
 use crate::run::run;
 use crawlopt::api::certify_result_file;
 use crawlopt::certify::NecessaryConditions;
-use crawlopt::io::{GaitAnswer, GeneralAnswer, ResultFile};
+use crawlopt::io::{GeneralAnswer, ResultFile};
 use crawlopt::present::{self, report, text};
 use pyo3::prelude::*;
 
@@ -115,7 +115,7 @@ impl GaitResult {
 impl GaitResult {
     /// The gait as the one result of both kinds (without necessary conditions).
     fn file(&self) -> ResultFile {
-        ResultFile::Crawler(Box::new(GaitAnswer::of(self.inner.clone())))
+        self.inner.clone().into()
     }
 }
 

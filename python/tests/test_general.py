@@ -411,3 +411,17 @@ def test_the_local_method_certifies_as_certify_does():
         return json.loads(json.dumps(d.to_dict(), default=lambda a: a.tolist()))
 
     assert numbers(r.necessary_conditions) == numbers(r.certify())
+
+
+def test_the_local_method_proves_the_chains_upper_bound():
+    # bound= applies to the local method where the problem is a crawler's (it was refused):
+    # the bound over all periodic gaits, whatever the method, so the global P_m's.
+    p = co.load(example("general_three_blocks.toml"))
+    bound = {"resolution": 2, "box_resolution": 2}
+    r = p.optimize(method="local", bound=bound)
+    ub = r.certificate["upper_bound"]["value"]
+    assert ub == p.optimize(m=2, bound=bound).certificate["upper_bound"]["value"]
+    assert ub >= r.objective and r.certificate["kind"] == "local"
+    with pytest.raises(co.InputError) as e:
+        co.load(example("general_one_link.toml")).optimize(method="local", bound=bound)
+    assert e.value.field == "bound"

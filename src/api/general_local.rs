@@ -84,11 +84,12 @@ pub fn optimize_general_local(
     hooks: Hooks<'_>,
 ) -> Result<GeneralAnswer> {
     let (p, g) = super::general::general_problem(file)?;
+    // `bound` first, as the global methods check it.
+    let chain = super::general::chain_for_bound(&p, s.bound.as_ref())?;
     check_general_local(&p, &g, s.m)?;
     crate::optimal::check_shifts(s.shifts)?;
     crate::optimal::check_time_limit(s.time_limit)?;
     check_start_phases(s.max_phases, phase_starts(file, &p, s), NO_PHASE_START)?;
-    let chain = super::general::chain_for_bound(&p, s.bound.as_ref())?;
     run_with(hooks, |em| {
         let mut r = crate::progress::within(s.time_limit, || {
             let (starts, start_from) = starts(file, &p, &g, s, em)?;

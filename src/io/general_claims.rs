@@ -64,14 +64,24 @@ pub(super) fn check_dominates(r: &GeneralAnswer, chain: bool, what: &str) -> Res
 /// without bound, gap or upper bound (P_m's local answer checks a recorded upper bound apart,
 /// and passes its certificate without it).
 pub(super) fn check_local_certificate(what: &str, cert: &ResultCertificate) -> Result<()> {
-    if *cert != ResultCertificate::local(None) {
-        return Err(bad(
-            what,
-            "certificate",
-            format!("kind {}", cert.kind),
-            "a local answer's certificate is \"local\", without bound or gap",
-        ));
+    let why = "a local answer's certificate is \"local\", without bound, gap, phases or upper \
+               bound";
+    let extra = [
+        ("certificate.bound", cert.bound.map(|v| v.to_string())),
+        ("certificate.gap", cert.gap.map(|v| v.to_string())),
+        ("certificate.phases", cert.phases.map(|k| k.to_string())),
+        (
+            "certificate.upper_bound",
+            cert.upper_bound.as_ref().map(|u| u.value.to_string()),
+        ),
+    ];
+    if cert.kind != "local" {
+        return Err(bad(what, "certificate.kind", &cert.kind, why));
     }
+    if let Some((field, Some(v))) = extra.into_iter().find(|(_, v)| v.is_some()) {
+        return Err(bad(what, field, v, why));
+    }
+    debug_assert_eq!(*cert, ResultCertificate::local(None));
     Ok(())
 }
 

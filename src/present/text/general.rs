@@ -248,9 +248,7 @@ fn general_optimum(r: &GeneralAnswer, s: &GeneralPm) -> String {
             super::polish_line(p, "face pattern", |v| num(v, scale))
         );
     }
-    if let Some(ub) = &r.head.certificate.upper_bound {
-        super::gait::upper_bound_line(&mut out, ub, (s.objective, scale), &|v| num(v, scale));
-    }
+    upper_bound(&mut out, r, s.objective, scale);
     if let Some(table) = &r.records.convergence {
         super::gait::convergence_table(&mut out, table, &|v| num(v, scale));
     }
@@ -313,9 +311,7 @@ fn general_phase(r: &GeneralAnswer, s: &GeneralPhaseGait) -> String {
         .flatten()
         .fold(0.0_f64, |m, v| m.max(v.abs()))
         .max(1e-300);
-    if let Some(ub) = &r.head.certificate.upper_bound {
-        super::gait::upper_bound_line(&mut out, ub, (s.objective, scale), &|v| num(v, scale));
-    }
+    upper_bound(&mut out, r, s.objective, scale);
     if let Some(pg) = &r.records.phase_growth {
         super::gait::growth_table(&mut out, pg, &|v| num(v, scale));
     }
@@ -420,11 +416,17 @@ fn general_local(r: &GeneralAnswer, s: &GeneralLocal) -> String {
         ),
         num(s.start_objective, scale)
     );
-    if let Some(ub) = &r.head.certificate.upper_bound {
-        super::gait::upper_bound_line(&mut out, ub, (s.objective, scale), &|v| num(v, scale));
-    }
+    upper_bound(&mut out, r, s.objective, scale);
     steps(&mut out, &s.path.x, &s.path.u);
     out
+}
+
+/// The line of the chain's upper bound over all periodic gaits, where the answer records one
+/// (`bound`, any method), against its `J` (`scale`: the text's scale of `J`).
+fn upper_bound(out: &mut String, r: &GeneralAnswer, j: f64, scale: f64) {
+    if let Some(ub) = &r.head.certificate.upper_bound {
+        super::gait::upper_bound_line(out, ub, (j, scale), &|v| num(v, scale));
+    }
 }
 
 /// A P_m process step by step: the state at the step's start and its control, each column
