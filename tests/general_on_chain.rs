@@ -11,6 +11,7 @@ use crawlopt::api::{
     gait_problem, optimize, optimize_general_plan, GaitMethod, GeneralAnswer, GeneralSolution,
     Hooks, Naming, OptimizeSettings,
 };
+use crawlopt::certify::bound::{upper_bound, BoundSettings};
 use crawlopt::io::{GeneralFile, ModelFile, ResultFile};
 use crawlopt::optimal::MilpStatus;
 
@@ -243,6 +244,75 @@ fn the_command_line_certifies_the_gait_as_the_crawlers() {
         text.contains("by the crawler's chain method on the problem's chain"),
         "{text}"
     );
+}
+
+/// `bound` with the crawler's local methods on its general form, as with every method on (P):
+/// the crawler's own upper bound times the objective's scale (1 and 2.5), at least `J`,
+/// recorded beside the `local` certificate; read back and certified; a bound below `J`
+/// refused naming `certificate.upper_bound.value`; the report shows it as recorded.
+#[test]
+fn the_crawlers_local_methods_take_the_chains_upper_bound() {
+    let model = ModelFile::load(CRAWLER.as_ref()).unwrap();
+    let (crawler, gp) = gait_problem(&model).unwrap();
+    let b = BoundSettings {
+        resolution: Some(2),
+        box_resolution: Some(2),
+        ..Default::default()
+    };
+    let want = upper_bound(&crawler, &gp, &b).unwrap().value;
+    let dir = tempfile::tempdir().unwrap();
+    for method in [GaitMethod::Sequence, GaitMethod::Chain] {
+        let s = OptimizeSettings {
+            method,
+            bound: Some(b),
+            ..Default::default()
+        };
+        for lambda in [1.0, 2.5] {
+            let r = run(&general_file(lambda), &s).unwrap();
+            let ub = r.head.certificate.upper_bound.as_ref().unwrap();
+            assert!(
+                (ub.value - lambda * want).abs() <= 1e-9 * lambda * want,
+                "{method:?}: {} vs {}",
+                ub.value,
+                lambda * want
+            );
+            assert!(ub.value >= r.head.objective, "{method:?}");
+            assert_eq!(r.head.certificate.kind, "local");
+            assert!(r.head.certificate.bound.is_none());
+        }
+        let r = run(&general_file(1.0), &s).unwrap();
+        let text = serde_json::to_string(&r).unwrap();
+        ResultFile::from_json(&text, "r.json").unwrap();
+        let mut v: serde_json::Value = serde_json::from_str(&text).unwrap();
+        let certified = common::certify_written(dir.path(), &v);
+        assert!(certified["verdict"].is_string(), "{certified}");
+        let file = common::write(dir.path(), "r.json", &text);
+        let html = dir.path().join("r.html");
+        let out = crawlopt(&[
+            "report",
+            file.to_str().unwrap(),
+            "-o",
+            html.to_str().unwrap(),
+        ]);
+        assert!(out.status.success(), "{out:?}");
+        let page = std::fs::read_to_string(&html).unwrap();
+        let shown = page
+            .split("<b id=\"upper-bound\">")
+            .nth(1)
+            .and_then(|t| t.split("</b>").next())
+            .unwrap_or_else(|| panic!("{method:?}: no upper bound in the report"));
+        let shown: f64 = shown.parse().unwrap();
+        assert!((shown - want).abs() <= 1e-5 * want, "{shown} vs {want}");
+        assert!(page.contains("as recorded in the file, not re-proven here"));
+        v["certificate"]["upper_bound"]["value"] = (0.5 * r.head.objective).into();
+        let e = ResultFile::from_json(&v.to_string(), "r.json")
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.starts_with("r.json: certificate.upper_bound.value"),
+            "{e}"
+        );
+    }
 }
 
 /// A sweep over the chain's period with the chain method: each row says what the answer

@@ -284,6 +284,11 @@ fn uses(m: &[String], text: &str) -> (String, Vec<Bound>, Vec<Vec<String>>) {
     (code, public, private)
 }
 
+/// Whether a `use` item's last segment binds a name of its own: a glob, `self` and `_` do not.
+fn binds(last: &str) -> bool {
+    !["*", "self", "_"].contains(&last)
+}
+
 /// The paths of `public` (a module's `pub use` items) whose name its own `code` (outside `use`
 /// items) uses bare: a facade that also uses what it re-exports depends on it
 /// (`pub use result::result_text;` then `result_text(r)` in the same file is an import of
@@ -296,7 +301,7 @@ fn reexports_used(public: &[Bound], code: &str) -> Vec<Vec<String>> {
     public
         .iter()
         .filter(|(_, last)| {
-            if ["*", "self", "_"].contains(&last.as_str()) {
+            if !binds(last) {
                 return false;
             }
             code.match_indices(last.as_str()).any(|(i, _)| {
@@ -438,7 +443,7 @@ fn edges() -> (
     }
     for (m, _, public, _) in &parsed {
         for (p, name) in public {
-            if !["*", "self", "_"].contains(&name.as_str()) {
+            if binds(name) {
                 krate.reexports.insert((m.clone(), name.clone()), p.clone());
             }
         }

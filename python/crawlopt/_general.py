@@ -243,13 +243,14 @@ class GeneralProblem:
         ``reactions`` (rates per step and face). ``certify`` (every method) adds
         ``necessary_conditions``: Theorem 2.2's conditions on the answer with their residuals
         and ``verdict`` (``crawlopt optimize --certify``; a phase gait's on its own phases, the
-        durations free). ``convergence``
+        durations free); on a Cauchy problem (``periodic = false``) an ``InputError`` naming
+        ``certify``, before any work. ``convergence``
         (discrete only) solves P_1..P_``m`` in turn and adds their table ``convergence``
         (``crawlopt optimize --convergence``), the answer being the finest. ``bound`` (as for
-        ``optimize``; "discrete", "local" and "phase"): the crawler's upper bound over all
-        periodic gaits, where the problem is a crawler's gait problem
+        ``optimize``; every method): the crawler's upper bound over all periodic gaits, where
+        the problem is a crawler's gait problem of at most four blocks
         (``analyze().check("structure")`` says so), as ``certificate["upper_bound"]``; else an
-        ``InputError`` naming ``bound``. Ctrl-C stops it
+        ``InputError`` naming ``bound``, before any work. Ctrl-C stops it
         (KeyboardInterrupt); ``progress`` as for ``optimize``. ``method`` "phase" (where A = 0):
         the exact continuous-time gait, globally among those of at most ``phases`` phases, or with K
         grown from 1 to ``max_phases`` (None: the library's default,
@@ -261,10 +262,11 @@ class GeneralProblem:
         ``reactions`` per phase. ``method`` "sequence" or "chain" (where the problem is a crawler's
         gait problem, as ``analyze().check("structure")`` says; else an ``InputError`` naming
         ``method``):
-        the crawler's local method on that crawler (``time_limit``, and ``phases`` and
-        ``max_phases`` with "sequence", as for ``optimize``), its gait written back as a phase gait
-        of the problem and re-verified by the exact simulation; no global claim (``status``
-        "stationary" or "stalled", ``certificate["kind"]`` "local"). ``polish`` (discrete only;
+        the crawler's local method on that crawler (``time_limit``, ``certify`` and ``bound``,
+        and ``phases`` and ``max_phases`` with "sequence", as for ``optimize``), its gait written
+        back as a phase gait of the problem and re-verified by the exact simulation; no global
+        claim (``status`` "stationary" or "stalled", ``certificate["kind"]`` "local").
+        ``polish`` (discrete only;
         default True): a quadratic cost's answer is polished on its fixed face pattern before it
         is certified (``--no-polish`` is ``polish=False``); ``solution["polish"]`` records it.
         ``start`` with "discrete" (not with ``convergence``): the MILP's first incumbent is the

@@ -5,6 +5,7 @@ and exact phase gaits are the library's, with the closed form of the §4 one-lin
 import json
 import pickle
 import re
+from pathlib import Path
 
 import crawlopt as co
 import numpy as np
@@ -303,6 +304,37 @@ def test_the_crawlers_local_methods_on_a_chain():
     with pytest.raises(co.InputError) as e:
         g.optimize(method="sequence", m=3)
     assert e.value.field == "m"
+
+
+def test_every_method_takes_the_chains_bound_and_refuses_what_cannot_apply_first(tmp_path):
+    # The crawler's local methods on its general form take its upper bound, as every method on
+    # (P) does: the crawler's own bound, recorded beside the local certificate, read back.
+    g = co.load(example("general_three_blocks.toml"))
+    crawler = co.load(example("three_blocks_gait.toml"))
+    grid = {"resolution": 2, "box_resolution": 2}
+    for method in ("sequence", "chain"):
+        r = g.optimize(method=method, bound=grid)
+        want = co.optimize(crawler.crawler, crawler.gait_problem, method=method, bound=grid)
+        ub = r.certificate["upper_bound"]["value"]
+        assert ub == pytest.approx(want.certificate["upper_bound"]["value"], rel=1e-9)
+        assert ub >= r.objective and r.certificate["kind"] == "local"
+        back = co.GeneralResult.from_json(r.to_json())
+        assert back.certificate["upper_bound"]["value"] == ub
+    # A bound beyond four blocks, and certify on a Cauchy problem, are refused before the run.
+    with pytest.raises(co.InputError) as e:
+        co.load(example("general_chain20.toml")).optimize(method="chain", bound=True)
+    assert e.value.field == "bound" and "crawler.blocks is 20" in str(e.value)
+    text = (
+        Path(ONE_LINK)
+        .read_text()
+        .replace("period = 10.0", "period = 10.0\nperiodic = false\ninitial_state = [0.0]")
+    )
+    (tmp_path / "cauchy.toml").write_text(text)
+    cauchy = co.load(str(tmp_path / "cauchy.toml"))
+    for method in ("discrete", "local", "phase"):
+        with pytest.raises(co.InputError) as e:
+            cauchy.optimize(method=method, certify=True)
+        assert e.value.field == "certify"
 
 
 def test_a_chain_file_is_simulated_with_the_chains_kernels():

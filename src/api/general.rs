@@ -6,7 +6,7 @@ use crate::error::{Error, Result};
 use crate::integrate::{simulate_general_on as integrate_general, GeneralSimOptions, SimOptions};
 pub use crate::io::{Check, CheckStatus, GeneralAnalysis, GeneralSimulated};
 use crate::io::{GeneralAnswer, GeneralFile};
-use crate::model::general::{ControlSet, GeneralProblem, Reward};
+use crate::model::general::{Boundary, ControlSet, GeneralProblem, Reward};
 use crate::model::ChainView;
 use crate::optimal::general::{analyze_polyhedron, check_with, Geometry};
 
@@ -21,7 +21,7 @@ pub fn general_problem(file: &GeneralFile) -> Result<(GeneralProblem, Geometry)>
 
 /// What `bound` and `certify` add to an answer of `p`, the same for every method on (P) and
 /// after its time limit: the chain's upper bound over all periodic gaits (`bound`: the chain
-/// the settings were checked against, [`chain_for_bound`], and the bound's settings), then the
+/// the settings were checked against, [`check_additions`], and the bound's settings), then the
 /// necessary conditions on its process ([`attach_conditions`]), each announced as a stage.
 pub(super) fn add_bound_and_conditions(
     p: &GeneralProblem,
@@ -44,7 +44,7 @@ pub(super) fn add_bound_and_conditions(
 /// Attaches to an answer of `p` (of any method) the necessary conditions of Theorem 2.2 on its
 /// process ([`crate::certify::certify_general`]; discrete form Theorems 6.1–6.2): what
 /// `--certify` adds to every method on (P), as `crawlopt certify` does to its result file.
-pub(super) fn attach_conditions(p: &GeneralProblem, r: &mut GeneralAnswer) -> Result<()> {
+fn attach_conditions(p: &GeneralProblem, r: &mut GeneralAnswer) -> Result<()> {
     let pr = r.solution.process(p);
     r.necessary_conditions = Some(crate::certify::certify_general(
         p,
@@ -260,8 +260,8 @@ pub(super) fn simulate_general_problem(
     let input = file.input(&p)?;
     opts.check(p.states() + p.controls() + p.c.faces())?;
     let (start, start_from) = match &p.boundary {
-        crate::model::general::Boundary::Initial(x0) => (x0.clone(), "initial_state"),
-        crate::model::general::Boundary::Periodic => {
+        Boundary::Initial(x0) => (x0.clone(), "initial_state"),
+        Boundary::Periodic => {
             let origin = vec![0.0; p.states()];
             if p.c.violation(&origin, 0.0).is_none() {
                 (origin, "origin")
@@ -390,17 +390,36 @@ pub fn general_sim_options(o: &SimOptions) -> Result<GeneralSimOptions> {
     })
 }
 
-/// The problem's chain when a bound is asked ([`GeneralProblem::as_chain`]), checked before
-/// any work: a bound asked of a problem that is not a crawler's gait problem is refused naming
-/// `bound`.
-pub(super) fn chain_for_bound(
+/// What [`add_bound_and_conditions`] will add to an answer of `p`, checked before any work:
+/// the bound ([`chain_for_bound`]: the chain it is proved on, returned), then the necessary
+/// conditions, which are stated for periodic problems only (`certify` on a Cauchy problem is
+/// refused naming `certify`, rather than after the method has run).
+pub(super) fn check_additions(
     p: &GeneralProblem,
     bound: Option<&BoundSettings>,
+    certify: bool,
 ) -> Result<Option<ChainView>> {
-    if bound.is_none() {
-        return Ok(None);
+    let chain = chain_for_bound(p, bound)?;
+    if certify && p.boundary != Boundary::Periodic {
+        return Err(Error::invalid(
+            "certify",
+            true,
+            "the necessary conditions are certified for periodic problems only (the file's \
+             problem.periodic is false)",
+        ));
     }
-    p.as_chain().map(Some).ok_or_else(|| {
+    Ok(chain)
+}
+
+/// The problem's chain when a bound is asked ([`GeneralProblem::as_chain`]), checked before
+/// any work: a bound asked of a problem that is not a crawler's gait problem is refused naming
+/// `bound`, and the bound's settings and its crawler as [`BoundSettings::grid`] checks them
+/// (at most four blocks).
+fn chain_for_bound(p: &GeneralProblem, bound: Option<&BoundSettings>) -> Result<Option<ChainView>> {
+    let Some(b) = bound else {
+        return Ok(None);
+    };
+    let view = p.as_chain().ok_or_else(|| {
         Error::invalid(
             "bound",
             "given",
@@ -409,7 +428,21 @@ pub(super) fn chain_for_bound(
              B diagonal, a symmetric box U with zero mean, two faces per block, the \
              barycentre's displacement as f1; see `analyze`)",
         )
-    })
+    })?;
+    // The crawler's fields are not the file's: a refusal of the chain itself names `bound`.
+    b.grid(&view.crawler).map_err(|e| match e {
+        Error::InvalidParameter {
+            field,
+            value,
+            reason,
+        } if field.starts_with("crawler.") => Error::invalid(
+            "bound",
+            format!("the problem's chain, whose {field} is {value}"),
+            reason,
+        ),
+        other => other,
+    })?;
+    Ok(Some(view))
 }
 
 /// The crawler's upper bound over all periodic gaits ([`crate::certify::bound`]) for a

@@ -7,10 +7,12 @@
 //! method makes a global claim: the answer's certificate is `local`, its status the method's
 //! stop (`stationary`, `stalled`, or `time_limit`), and the crawler job's record of a structured
 //! gait kept as the answer is passed on (`structured`). On a problem that is not a chain both
-//! are refused, naming `method`.
+//! are refused, naming `method`. As every method on (P), both take `certify` and, on at most
+//! four blocks, `bound` (the chain's upper bound over all periodic gaits).
 
-use super::events::Hooks;
+use super::events::{run_with, Hooks};
 use super::settings::{GaitMethod, OptimizeSettings};
+use crate::certify::bound::BoundSettings;
 use crate::error::{Error, Result};
 use crate::io::{GeneralAnswer, GeneralFile};
 use crate::optimal::general::{chain_gait, chain_gait_problem, ChainPieces};
@@ -23,11 +25,15 @@ pub struct GeneralChainSettings {
     /// [`GaitMethod::Chain`]; `time_limit`, and for sequence `phases` and `max_phases` (its
     /// slip modes and the growth of its start), as for a crawler, with the crawler's defaults
     /// and checks (which refuse what the method does not take, e.g. `patience`). Its
-    /// `certify` is not read (see `certify` below).
+    /// `certify` and `bound` are not read (see below).
     pub crawler: OptimizeSettings,
     /// Also check the necessary conditions of Theorem 2.2 on the gait in the problem's terms
     /// (the general certificate on its phases, durations free; default false).
     pub certify: bool,
+    /// Also prove the chain's upper bound over all periodic gaits ([`crate::certify::bound`],
+    /// at most four blocks), in the problem's units, recorded beside the `local` certificate
+    /// (default: none).
+    pub bound: Option<BoundSettings>,
 }
 
 impl Default for GeneralChainSettings {
@@ -38,6 +44,7 @@ impl Default for GeneralChainSettings {
                 ..Default::default()
             },
             certify: false,
+            bound: None,
         }
     }
 }
@@ -72,39 +79,42 @@ pub fn optimize_general_on_chain(
                  structure)",
             )
         })?;
+    let chain = super::general::check_additions(&p, s.bound.as_ref(), s.certify)?;
     let gp = chain_gait_problem(&p, &view)?;
     let settings = OptimizeSettings {
         certify: false,
+        bound: None,
         ..s.crawler.clone()
     };
-    let o = super::optimize(&view.crawler, &gp, &settings, hooks)?;
-    let r = &o.result;
-    if !r.is_phase_gait() {
-        // The map back reads the gait as exact phases (a P_m process would be misread).
-        return Err(Error::Numerical(format!(
-            "the crawler's {} method answered with a {} gait, not an exact one",
-            method.name(),
-            r.head.method
-        )));
-    }
-    let pieces = ChainPieces {
-        durations: &r.gait.durations,
-        controls: &r.gait.controls,
-        states: &r.gait.states,
-        block_displacements: &r.gait.block_displacements,
-        modes: &r.gait.slip,
-        objective: r.head.objective,
-    };
-    let mut gait = chain_gait(&p, &view, pieces)?;
-    gait.certificate.status = r.head.status;
-    let mut answer = GeneralAnswer::phase(file, p.period, gait);
-    answer.head.method = method.name().into();
-    answer.head.status = r.head.status;
-    answer.head.certificate = ResultCertificate::local(None);
-    answer.formulation = Some("chain".into());
-    answer.records.structured = r.records.structured.clone();
-    if s.certify {
-        super::general::attach_conditions(&p, &mut answer)?;
-    }
-    Ok(answer)
+    run_with(hooks, |em| {
+        let o = super::optimize::optimize_in(&view.crawler, &gp, &settings, em)?;
+        let r = &o.result;
+        if !r.is_phase_gait() {
+            // The map back reads the gait as exact phases (a P_m process would be misread).
+            return Err(Error::Numerical(format!(
+                "the crawler's {} method answered with a {} gait, not an exact one",
+                method.name(),
+                r.head.method
+            )));
+        }
+        let pieces = ChainPieces {
+            durations: &r.gait.durations,
+            controls: &r.gait.controls,
+            states: &r.gait.states,
+            block_displacements: &r.gait.block_displacements,
+            modes: &r.gait.slip,
+            objective: r.head.objective,
+        };
+        let mut gait = chain_gait(&p, &view, pieces)?;
+        gait.certificate.status = r.head.status;
+        let mut answer = GeneralAnswer::phase(file, p.period, gait);
+        answer.head.method = method.name().into();
+        answer.head.status = r.head.status;
+        answer.head.certificate = ResultCertificate::local(None);
+        answer.formulation = Some("chain".into());
+        answer.records.structured = r.records.structured.clone();
+        let bound = chain.as_ref().zip(s.bound.as_ref());
+        super::general::add_bound_and_conditions(&p, &mut answer, bound, s.certify, em)?;
+        Ok(answer)
+    })
 }

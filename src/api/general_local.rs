@@ -85,7 +85,7 @@ pub fn optimize_general_local(
 ) -> Result<GeneralAnswer> {
     let (p, g) = super::general::general_problem(file)?;
     // `bound` first, as the global methods check it.
-    let chain = super::general::chain_for_bound(&p, s.bound.as_ref())?;
+    let chain = super::general::check_additions(&p, s.bound.as_ref(), s.certify)?;
     check_general_local(&p, &g, s.m)?;
     crate::optimal::check_shifts(s.shifts)?;
     crate::optimal::check_time_limit(s.time_limit)?;

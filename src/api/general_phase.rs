@@ -201,7 +201,7 @@ pub fn optimize_general_phase(
         return Err(crate::Error::invalid("patience", 0, "must be at least 1"));
     }
     let (p, g) = super::general_problem(file)?;
-    let bound_chain = super::general::chain_for_bound(&p, s.bound.as_ref())?;
+    let bound_chain = super::general::check_additions(&p, s.bound.as_ref(), s.certify)?;
     let chain = chain_formulation(&p, s.formulation)?;
     let max_phases = s.max_phases_for(chain.is_some());
     let range = s.range(max_phases);

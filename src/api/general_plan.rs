@@ -221,7 +221,7 @@ impl OptimizeSettings {
     /// are refused naming the first one given.
     fn plan_on_chain(&self, front_end: &[(&str, bool)]) -> Result<GeneralPlan> {
         let n = self.naming;
-        let takes: Vec<String> = ["time_limit", "certify"]
+        let takes: Vec<String> = ["time_limit", "certify", "bound"]
             .iter()
             .map(|s| n.setting(s))
             .collect();
@@ -239,7 +239,6 @@ impl OptimizeSettings {
             "start",
             "shifts",
             "polish",
-            "bound",
             "formulation",
         ];
         if let Some((name, value)) = names.iter().find_map(|&s| Some((s, self.given(s)?))) {
@@ -259,6 +258,7 @@ impl OptimizeSettings {
                 ..Default::default()
             },
             certify: self.certify,
+            bound: self.bound,
         }))
     }
 }

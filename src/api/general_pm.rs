@@ -3,7 +3,7 @@
 //! method's answer on the same grid, as a crawler's P_m starts), the necessary conditions and
 //! the chain's upper bound when asked.
 
-use super::general::{add_bound_and_conditions, chain_for_bound, general_problem};
+use super::general::{add_bound_and_conditions, check_additions, general_problem};
 use super::general_local::pm_default_start;
 use super::general_start::given_start;
 use crate::certify::bound::BoundSettings;
@@ -86,28 +86,17 @@ pub fn optimize_general(
     s: &GeneralPmSettings,
     hooks: super::Hooks<'_>,
 ) -> Result<GeneralAnswer> {
-    super::events::run_with(hooks, |em| {
-        em.stage(if s.convergence {
-            format!("P_1..P_{} of the general problem, global MILPs", s.m)
-        } else {
-            format!(
-                "P_{} of the general problem ({} steps), global MILP",
-                s.m,
-                1u64 << s.m.min(63)
-            )
-        });
-        pm_job(file, s, em)
-    })
+    super::events::run_with(hooks, |em| pm_job(file, s, em))
 }
 
-/// [`optimize_general`] reporting to `em`.
+/// [`optimize_general`] reporting to `em`: its stage announced once every setting is checked.
 fn pm_job(
     file: &GeneralFile,
     s: &GeneralPmSettings,
     em: &super::events::Emitter<'_>,
 ) -> Result<GeneralAnswer> {
     let (p, g) = general_problem(file)?;
-    let chain = chain_for_bound(&p, s.bound.as_ref())?;
+    let chain = check_additions(&p, s.bound.as_ref(), s.certify)?;
     crate::optimal::check_time_limit(s.time_limit)?;
     crate::optimal::check_shifts(s.shifts)?;
     let default_start = s.time_limit.is_some() && s.start.is_none() && !s.convergence;
@@ -125,6 +114,15 @@ fn pm_job(
             "does not apply to convergence (each m is solved afresh)",
         ));
     }
+    em.stage(if s.convergence {
+        format!("P_1..P_{} of the general problem, global MILPs", s.m)
+    } else {
+        format!(
+            "P_{} of the general problem ({} steps), global MILP",
+            s.m,
+            1u64 << s.m.min(63)
+        )
+    });
     let (solution, convergence, started) = if s.convergence {
         let mut progress = |row: &crate::optimal::ConvergenceRow| {
             em.send(super::Event::DiscreteSolved(row.clone()))

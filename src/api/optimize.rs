@@ -52,57 +52,67 @@ pub fn optimize(
     settings: &OptimizeSettings,
     hooks: Hooks<'_>,
 ) -> Result<Optimized> {
-    optimize_named(crawler, problem, settings, hooks).map_err(|e| settings.naming.name_settings(e))
+    run_with(hooks, |em| optimize_in(crawler, problem, settings, em))
 }
 
-/// [`optimize`], its errors naming the fields as the library does.
+/// [`optimize`] within a job that is running already (its emitter `em`): the general problem's
+/// chain methods run the crawler's job inside their own. Errors name the settings as
+/// `settings.naming` spells them.
+pub(super) fn optimize_in(
+    crawler: &Crawler,
+    problem: &GaitProblem,
+    settings: &OptimizeSettings,
+    em: &Emitter<'_>,
+) -> Result<Optimized> {
+    optimize_named(crawler, problem, settings, em).map_err(|e| settings.naming.name_settings(e))
+}
+
+/// [`optimize_in`], its errors naming the fields as the library does.
 fn optimize_named(
     crawler: &Crawler,
     problem: &GaitProblem,
     settings: &OptimizeSettings,
-    hooks: Hooks<'_>,
+    em: &Emitter<'_>,
 ) -> Result<Optimized> {
     crawler.require_unique()?;
     // The scales every optimiser honours (and every reader of a result checks), whatever the
     // method: the chain method builds no model but its answer must read back.
     problem.check_scales(crawler)?;
     let plan = settings.plan(crawler, problem)?;
-    run_with(hooks, |em| {
-        crate::progress::check()?;
-        // The job's deadline: `time_limit` from here, over the method and its start (the
-        // bound has its own, `bound.time_limit`, after it).
-        let mut result = crate::progress::within(settings.time_limit, || {
-            solve(crawler, problem, settings, &plan, em)
-        })?;
-        if plan.method != GaitMethod::Discrete {
-            result = at_least_idle(crawler, problem, &plan, result, em)?;
+    crate::progress::check()?;
+    // The job's deadline: `time_limit` from here, over the method and its start (the
+    // bound has its own, `bound.time_limit`, after it).
+    let mut result = crate::progress::within(settings.time_limit, || {
+        solve(crawler, problem, settings, &plan, em)
+    })?;
+    if plan.method != GaitMethod::Discrete {
+        result = at_least_idle(crawler, problem, &plan, result, em)?;
+    }
+    if let Some(b) = &settings.bound {
+        em.stage("proving an upper bound over all periodic gaits");
+        let ub = crate::certify::bound::upper_bound(crawler, problem, b)?;
+        if ub.value.is_nan()
+            || ub.value
+                < result.head.objective
+                    - 1e-9 * result.head.objective.abs().max(problem.j_floor(crawler))
+        {
+            return Err(crate::Error::Numerical(format!(
+                "upper bound {} below the verified gait {}: a defect of the bound",
+                ub.value, result.head.objective
+            )));
         }
-        if let Some(b) = &settings.bound {
-            em.stage("proving an upper bound over all periodic gaits");
-            let ub = crate::certify::bound::upper_bound(crawler, problem, b)?;
-            if ub.value.is_nan()
-                || ub.value
-                    < result.head.objective
-                        - 1e-9 * result.head.objective.abs().max(problem.j_floor(crawler))
-            {
-                return Err(crate::Error::Numerical(format!(
-                    "upper bound {} below the verified gait {}: a defect of the bound",
-                    ub.value, result.head.objective
-                )));
-            }
-            result.head.certificate.upper_bound = Some(ub);
-        }
-        let necessary_conditions = if settings.certify {
-            em.stage("checking the necessary conditions");
-            Some(certify_result(&result, "optimize")?)
-        } else {
-            None
-        };
-        Ok(Optimized {
-            result,
-            necessary_conditions,
-            notes: em.notes(),
-        })
+        result.head.certificate.upper_bound = Some(ub);
+    }
+    let necessary_conditions = if settings.certify {
+        em.stage("checking the necessary conditions");
+        Some(certify_result(&result, "optimize")?)
+    } else {
+        None
+    };
+    Ok(Optimized {
+        result,
+        necessary_conditions,
+        notes: em.notes(),
     })
 }
 

@@ -60,12 +60,41 @@ pub(super) fn check_dominates(r: &GeneralAnswer, chain: bool, what: &str) -> Res
     Err(bad(what, "status", r.head.status.as_str(), reason))
 }
 
+/// The closeness of two objectives of a general result whose replayed `J` is `j`: relative
+/// [`INPUT_TOL`] of `J`, below the problem's floor of `J` (`floor`,
+/// [`GeneralProblem::j_floor`]) in units of it. The one tolerance of a claim against `J`, for
+/// global and local answers alike.
+fn close_to_j(j: f64, floor: f64) -> impl Fn(f64, f64) -> bool {
+    let tol = INPUT_TOL * j.abs().max(floor);
+    move |a, b| (a - b).abs() <= tol
+}
+
 /// A local answer's certificate (P_m's local method, the crawler's on a chain): `local`,
-/// without bound, gap or upper bound (P_m's local answer checks a recorded upper bound apart,
-/// and passes its certificate without it).
-pub(super) fn check_local_certificate(what: &str, cert: &ResultCertificate) -> Result<()> {
+/// without bound, gap or phases; the chain's upper bound over all periodic gaits may be
+/// recorded with it, checked as a global answer's is: only on a chain
+/// ([`check_upper_bound`]), and not below the replayed `j`.
+pub(super) fn check_local_claim(
+    what: &str,
+    p: &GeneralProblem,
+    cert: &ResultCertificate,
+    j: f64,
+) -> Result<()> {
+    let mut own = cert.clone();
+    if let Some(ub) = own.upper_bound.take() {
+        check_upper_bound(what, p, cert)?;
+        ub.check_recorded(what, j, close_to_j(j, p.j_floor()))?;
+    }
+    check_local_certificate(what, &own)
+}
+
+/// A local answer's certificate without its upper bound ([`check_local_claim`] takes it
+/// apart): `local`, without bound, gap or phases.
+fn check_local_certificate(what: &str, cert: &ResultCertificate) -> Result<()> {
     let why = "a local answer's certificate is \"local\", without bound, gap, phases or upper \
                bound";
+    if cert.kind != "local" {
+        return Err(bad(what, "certificate.kind", &cert.kind, why));
+    }
     let extra = [
         ("certificate.bound", cert.bound.map(|v| v.to_string())),
         ("certificate.gap", cert.gap.map(|v| v.to_string())),
@@ -75,9 +104,6 @@ pub(super) fn check_local_certificate(what: &str, cert: &ResultCertificate) -> R
             cert.upper_bound.as_ref().map(|u| u.value.to_string()),
         ),
     ];
-    if cert.kind != "local" {
-        return Err(bad(what, "certificate.kind", &cert.kind, why));
-    }
     if let Some((field, Some(v))) = extra.into_iter().find(|(_, v)| v.is_some()) {
         return Err(bad(what, field, v, why));
     }
@@ -85,10 +111,17 @@ pub(super) fn check_local_certificate(what: &str, cert: &ResultCertificate) -> R
     Ok(())
 }
 
-/// The claims of a local method's phase gait on a chain (`sequence`, `chain`): a local status
-/// (`stationary`, `stalled`, `time_limit`) that is the solution's, the certificate `local`
-/// without bound or gap, no bound in the solution, no growth table and no upper bound.
-pub(super) fn check_local_phase(what: &str, r: &GeneralAnswer, s: &GeneralPhaseGait) -> Result<()> {
+/// The claims of a local method's phase gait on a chain (`sequence`, `chain`) whose replayed
+/// `J` is `j`: a local status (`stationary`, `stalled`, `time_limit`) that is the solution's,
+/// the certificate `local` without bound or gap but perhaps the chain's upper bound
+/// ([`check_local_claim`]), no bound in the solution and no growth table.
+pub(super) fn check_local_phase(
+    what: &str,
+    r: &GeneralAnswer,
+    s: &GeneralPhaseGait,
+    p: &GeneralProblem,
+    j: f64,
+) -> Result<()> {
     let allowed = [
         MilpStatus::Stationary,
         MilpStatus::Stalled,
@@ -106,7 +139,7 @@ pub(super) fn check_local_phase(what: &str, r: &GeneralAnswer, s: &GeneralPhaseG
             ),
         ));
     }
-    check_local_certificate(what, &r.head.certificate)?;
+    check_local_claim(what, p, &r.head.certificate, j)?;
     if !(s.certificate.bound.is_nan() && s.certificate.gap.is_nan()) {
         return Err(bad(
             what,
@@ -143,11 +176,7 @@ pub(super) fn check_records(
 /// An upper bound recorded with a global answer: only for a problem that is a crawler's gait
 /// problem, whose bound it is (its value against `J` is [`check_claim`]'s, taken as recorded,
 /// as for crawlers: its LP is not re-solved).
-pub(super) fn check_upper_bound(
-    what: &str,
-    p: &GeneralProblem,
-    cert: &ResultCertificate,
-) -> Result<()> {
+fn check_upper_bound(what: &str, p: &GeneralProblem, cert: &ResultCertificate) -> Result<()> {
     match &cert.upper_bound {
         Some(ub) if p.as_chain().is_none() => Err(bad(
             what,
@@ -165,9 +194,9 @@ pub(super) fn check_upper_bound(
 /// solution's; the claim itself ([`check_claim`]: the kind and `K` the MILP's, its bound and gap
 /// against `j`, a phase claim against the gait's `phases` (`K` and the phases that hold a face));
 /// the MILP's incumbent under its bound; the envelope's bound and gap the solution's.
-/// `(j, floor)` is the replayed `J` and the problem's floor of `J`
-/// ([`GeneralProblem::j_floor`](crate::model::general::GeneralProblem::j_floor)), over which
-/// gaps are stated and numbers compared.
+/// An upper bound recorded only where `p` is a chain ([`check_upper_bound`]). `(p, j)` is the
+/// problem and the replayed `J`; gaps are stated and numbers compared over the problem's floor
+/// of `J` ([`GeneralProblem::j_floor`]).
 pub(super) fn check_global(
     what: &str,
     method: &str,
@@ -175,8 +204,10 @@ pub(super) fn check_global(
     cert: &ResultCertificate,
     c: &Certificate,
     phases: Option<(usize, usize)>,
-    (j, floor): (f64, f64),
+    (p, j): (&GeneralProblem, f64),
 ) -> Result<()> {
+    check_upper_bound(what, p, cert)?;
+    let floor = p.j_floor();
     let allowed: &[MilpStatus] = match phases {
         None => &[
             MilpStatus::Optimal,
@@ -212,7 +243,6 @@ pub(super) fn check_global(
             format!("must be {:?}", want.phases),
         ));
     }
-    let tol = INPUT_TOL * j.abs().max(floor);
     let claim = Claim {
         status,
         certificate: cert,
@@ -225,7 +255,7 @@ pub(super) fn check_global(
         phases: (phases.map_or(0, |(_, held)| held), "phases holding a face"),
         j_floor: floor,
     };
-    check_claim(what, &claim, |a, b| (a - b).abs() <= tol)?;
+    check_claim(what, &claim, close_to_j(j, floor))?;
     // The MILP's incumbent lies under its own bound.
     if !(c.milp_objective.is_finite()
         && c.milp_objective <= c.bound + INPUT_TOL * c.bound.abs().max(floor))

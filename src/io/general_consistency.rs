@@ -10,8 +10,8 @@
 //! elsewhere: a number that disagrees is refused naming its field.
 
 use super::general_claims::{
-    bad, check_dominates, check_global, check_local_certificate, check_local_phase, check_records,
-    check_slots, check_upper_bound,
+    bad, check_dominates, check_global, check_local_claim, check_local_phase, check_records,
+    check_slots,
 };
 use super::{GeneralAnswer, GeneralFile, GeneralSolution};
 use crate::certify::GeneralProcess;
@@ -140,7 +140,6 @@ fn check_discrete_answer(
         s.certificate.milp_objective,
     )?;
     check_records(what, &r.records, None, Some(s.m as usize), j, p.j_floor())?;
-    check_upper_bound(what, p, &r.head.certificate)?;
     check_global(
         what,
         &r.head.method,
@@ -148,7 +147,7 @@ fn check_discrete_answer(
         &r.head.certificate,
         &s.certificate,
         None,
-        (j, p.j_floor()),
+        (p, j),
     )
 }
 
@@ -180,13 +179,7 @@ fn check_local_answer(
     }
     // A local answer proves no bound of its own; the chain's upper bound over all periodic
     // gaits may be recorded with it (`bound`), checked as with a global answer.
-    let mut own = r.head.certificate.clone();
-    if let Some(ub) = own.upper_bound.take() {
-        check_upper_bound(what, p, &r.head.certificate)?;
-        let tol = INPUT_TOL * j.abs().max(p.j_floor());
-        ub.check_recorded(what, j, |a, b| (a - b).abs() <= tol)?;
-    }
-    check_local_certificate(what, &own)?;
+    check_local_claim(what, p, &r.head.certificate, j)?;
     for (field, v) in [
         ("solution.lp_objective", s.lp_objective),
         ("solution.start_objective", s.start_objective),
@@ -282,12 +275,11 @@ fn check_phase_answer(
         check_dominates(r, chain, what)?;
     }
     if local {
-        return check_local_phase(what, r, s);
+        return check_local_phase(what, r, s, p, j);
     }
     check_records(what, &r.records, Some(s.max_phases), None, j, p.j_floor())?;
     let holding = s.held.iter().filter(|h| !h.is_empty()).count();
     let k = Some((s.max_phases, holding));
-    check_upper_bound(what, p, &r.head.certificate)?;
     check_global(
         what,
         &r.head.method,
@@ -295,7 +287,7 @@ fn check_phase_answer(
         &r.head.certificate,
         &s.certificate,
         k,
-        (j, p.j_floor()),
+        (p, j),
     )
 }
 

@@ -1,12 +1,15 @@
 //! The report of the general problem (P) (theory §11): one self-contained HTML file, built on
 //! the crawler's page ([`super::report`]: the same head, style sheet, figures and footer), with
-//! the key numbers (the objective, the method, the status and the certificate, the problem's
-//! size), the necessary conditions when they were computed, the problem's data (C's faces, the
-//! dynamics, U, f1, f2, the period), the pieces of the process when there are few, and the
-//! figures of [`super::general`]. A general problem has no animation.
+//! the key numbers (the objective, the method, the status and the certificate, the chain's
+//! upper bound where one is recorded, the problem's size), the necessary conditions when they
+//! were computed, the problem's data (C's faces, the dynamics, U, f1, f2, the period), the
+//! pieces of the process when there are few, and the figures of [`super::general`]. A general
+//! problem has no animation.
 
 use super::general::{answer_figures_with, general_path_figures, GeneralPath};
-use super::report::{conditions_rows, esc, figures_section, footer, num, nums, open_page};
+use super::report::{
+    conditions_rows, esc, figures_section, footer, num, nums, open_page, upper_bound_kpi,
+};
 use crate::error::Result;
 use crate::io::{GeneralAnswer, GeneralSimulated, GeneralSolution};
 use crate::model::general::{Boundary, ControlSet, GeneralCost, GeneralProblem, Reward};
@@ -70,6 +73,11 @@ pub fn build_general_report(
         esc(&certificate.0),
         esc(&certificate.1)
     ));
+    if let GeneralReportInput::Answer(a) = input {
+        if let Some(ub) = &a.head.certificate.upper_bound {
+            upper_bound_kpi(&mut h, ub, (path.objective, p.j_floor()), source);
+        }
+    }
     h.push_str(&format!(
         "<div><span>problem size</span><b id=\"size\">n = {}, m = {}, σ = {}</b>\
          <span>states, controls, faces of C; period T = {}{}</span></div>\n",

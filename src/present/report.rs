@@ -14,6 +14,7 @@ use crate::integrate::{Method, Trajectory};
 use crate::io::AtomicFile;
 use crate::model::Analysis;
 use crate::model::{Crawler, FaceSign};
+use crate::optimal::bound_record::UpperBound;
 use crate::optimal::{Cost, GaitResult, MilpStatus};
 use serde::Serialize;
 use std::io::Write;
@@ -315,20 +316,8 @@ fn key_numbers(h: &mut String, result: &GaitResult, ctx: &ReportContext<'_>, cer
         c.bound.map_or("none".into(), num)
     ));
     if let Some(ub) = &c.upper_bound {
-        // Like the bound above: recorded in a file, checked to be at least the verified J.
-        let recorded = if source.ends_with(".json") {
-            " (as recorded in the file, not re-proven here)"
-        } else {
-            ""
-        };
-        h.push_str(&format!(
-            "<div><span>upper bound over all periodic gaits</span><b id=\"upper-bound\">{}</b>\
-             <span>{} on a {} grid: optimal within {:.1} % among all periodic gaits{recorded}</span></div>\n",
-            num(ub.value),
-            esc(&ub.method),
-            esc(&ub.resolution_text()),
-            100.0 * ub.within(result.head.objective, super::text::GaitScales::of(result).length)
-        ));
+        let length = super::text::GaitScales::of(result).length;
+        upper_bound_kpi(h, ub, (result.head.objective, length), source);
     }
     if let Some(nc) = ctx.certificate {
         let verdict = serde_json::to_string(&nc.verdict).unwrap_or_default();
@@ -339,6 +328,32 @@ fn key_numbers(h: &mut String, result: &GaitResult, ctx: &ReportContext<'_>, cer
         ));
     }
     h.push_str("</div>\n");
+}
+
+/// The key number of an upper bound over all periodic gaits recorded with a result of either
+/// kind (`certificate.upper_bound`): its value, its grid and how far the verified `J` can be
+/// from it, over `scale` (the length unit, or (P)'s floor of `J`). Like the certificate's
+/// bound, a bound read from a result file (`source` a `.json`) was checked to be at least the
+/// verified `J` but is not re-proven.
+pub(super) fn upper_bound_kpi(
+    h: &mut String,
+    ub: &UpperBound,
+    (j, scale): (f64, f64),
+    source: &str,
+) {
+    let recorded = if source.ends_with(".json") {
+        " (as recorded in the file, not re-proven here)"
+    } else {
+        ""
+    };
+    h.push_str(&format!(
+        "<div><span>upper bound over all periodic gaits</span><b id=\"upper-bound\">{}</b>\
+         <span>{} on a {} grid: optimal within {:.1} % among all periodic gaits{recorded}</span></div>\n",
+        num(ub.value),
+        esc(&ub.method),
+        esc(&ub.resolution_text()),
+        100.0 * ub.within(j, scale)
+    ));
 }
 
 /// The animation's section (its data are the page's JSON).
