@@ -8,8 +8,8 @@ mod common;
 
 use common::crawlopt;
 use crawlopt::api::{
-    gait_problem, optimize, optimize_general_plan, GaitMethod, GeneralAnswer, GeneralSolution,
-    Hooks, Naming, OptimizeSettings,
+    gait_problem, optimize, optimize_general_plan, Event, GaitMethod, GeneralAnswer,
+    GeneralSolution, Hooks, Naming, OptimizeSettings,
 };
 use crawlopt::certify::bound::{upper_bound, BoundSettings};
 use crawlopt::io::{GeneralFile, ModelFile, ResultFile};
@@ -312,6 +312,46 @@ fn the_crawlers_local_methods_take_the_chains_upper_bound() {
             e.starts_with("r.json: certificate.upper_bound.value"),
             "{e}"
         );
+    }
+}
+
+/// The crawler's job reports its progress in the problem's units of `J`: with the objective
+/// scaled by 2.5, every value of `J` in its events (each K solved of the sequence method's
+/// start, each sweep of the chain method) is 2.5 times the one at scale 1 (they were the
+/// crawler's, the same at both scales).
+#[test]
+fn the_crawlers_progress_is_in_the_problems_units() {
+    for method in [GaitMethod::Sequence, GaitMethod::Chain] {
+        let s = OptimizeSettings {
+            method,
+            ..Default::default()
+        };
+        let values = |lambda: f64| {
+            let mut js = Vec::new();
+            let mut on = |e: &Event, _: f64| match e {
+                Event::PhaseSolved { step, .. } => js.push(step.objective),
+                Event::ChainSweep(c) => js.push(c.objective),
+                _ => {}
+            };
+            let plan = s.plan_general(&[]).unwrap();
+            let hooks = Hooks {
+                events: Some(&mut on),
+                cancel: None,
+            };
+            let r = optimize_general_plan(&general_file(lambda), &plan, s.naming, hooks).unwrap();
+            (js, r.head.objective)
+        };
+        let (one, j1) = values(1.0);
+        let (scaled, j) = values(2.5);
+        assert!(!one.is_empty(), "{method:?}: no event with a J");
+        assert_eq!(one.len(), scaled.len(), "{method:?}");
+        for (a, b) in one.iter().zip(&scaled) {
+            assert!(
+                (b - 2.5 * a).abs() <= 1e-9 * b.abs().max(1.0),
+                "{method:?}: {b} vs {a}"
+            );
+        }
+        assert!((j - 2.5 * j1).abs() <= 1e-9 * j, "{method:?}");
     }
 }
 

@@ -72,6 +72,66 @@ fn a_crawlers_bound_that_cannot_be_proven_is_refused_first() {
     }
 }
 
+/// A grid of more than 4e6 simplices (60 x 60 on three blocks: 3.1e8) is refused naming the
+/// resolution given before any method runs, for the crawler and for its general form (each
+/// ran its search first, then was refused).
+#[test]
+fn a_bound_grid_too_large_is_refused_first() {
+    let b = BoundSettings {
+        resolution: Some(60),
+        box_resolution: Some(60),
+        ..Default::default()
+    };
+    let crawler = Crawler::uniform(3, 1.0, 1.0, 1.5).unwrap();
+    let problem = GaitProblem::new(&crawler, 10.0, &[1.0; 2], Cost::None, None).unwrap();
+    let mut events = Vec::new();
+    let mut on = |e: &Event, _: f64| events.push(e.clone());
+    let s = OptimizeSettings {
+        bound: Some(b),
+        naming: Naming::Flags,
+        ..Default::default()
+    };
+    let hooks = Hooks {
+        events: Some(&mut on),
+        cancel: None,
+    };
+    let e = optimize(&crawler, &problem, &s, hooks)
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.starts_with("--bound-resolution:") && e.contains("simplices"),
+        "{e}"
+    );
+    assert!(events.is_empty(), "{events:?}");
+    let text = std::fs::read_to_string("examples/general_three_blocks.toml").unwrap();
+    let file = GeneralFile::parse(&text).unwrap();
+    for method in GENERAL_METHODS {
+        let s = OptimizeSettings {
+            method,
+            ..s.clone()
+        };
+        let (e, events) = general_refusal(&file, &s);
+        assert!(e.starts_with("--bound-resolution:"), "{method:?}: {e}");
+        assert!(events.is_empty(), "{method:?}: {events:?}");
+    }
+    // `analyze` says where the bound applies, as `--bound` decides it.
+    for (file, applies) in [
+        ("examples/general_three_blocks.toml", true),
+        ("examples/general_chain20.toml", false),
+    ] {
+        let text = std::fs::read_to_string(file).unwrap();
+        let a = crawlopt::api::analyze_general(&GeneralFile::parse(&text).unwrap()).unwrap();
+        let detail = &a
+            .checks
+            .iter()
+            .find(|c| c.name == "structure")
+            .unwrap()
+            .detail;
+        let says = detail.contains("the chain's upper bound applies");
+        assert_eq!(says, applies, "{file}: {detail}");
+    }
+}
+
 /// The 20-block chain in general form: every method refuses `bound` (the problem's chain is
 /// named, with its blocks) before it runs; with keywords, as Python names it.
 #[test]

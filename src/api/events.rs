@@ -4,7 +4,7 @@
 use crate::optimal::chain::ChainStep;
 use crate::optimal::{ConvergenceRow, PhaseStep, StartEvent};
 use crate::progress::{self, Cancel, MilpProgress};
-use std::cell::RefCell;
+use std::cell::{Cell, RefCell};
 use std::time::Instant;
 
 /// One thing that happened in a job, in the order it happened.
@@ -34,6 +34,32 @@ pub enum Event {
     Note(String),
 }
 
+impl Event {
+    /// This event with its values of `J` (objectives, bounds, incumbents) multiplied by
+    /// `factor`, for a job run in other units of `J` than its caller's (the crawler's job on a
+    /// general problem's chain, whose `J` is `factor` times the crawler's). Gaps are relative
+    /// and stay; stages and notes are text and stay.
+    fn scaled(mut self, factor: f64) -> Self {
+        match &mut self {
+            Event::PhaseSolved { step, .. } => {
+                step.objective *= factor;
+                step.bound *= factor;
+            }
+            Event::DiscreteSolved(row) => {
+                row.objective *= factor;
+                row.bound *= factor;
+            }
+            Event::ChainSweep(s) => s.objective *= factor,
+            Event::Milp(p) => {
+                p.incumbent = p.incumbent.map(|v| v * factor);
+                p.bound = p.bound.map(|v| v * factor);
+            }
+            Event::Stage(_) | Event::Note(_) => {}
+        }
+        self
+    }
+}
+
 /// An observer of a job's events: called with each [`Event`] and the seconds since the job
 /// began, on the job's thread.
 pub type Observer<'a> = &'a mut dyn FnMut(&Event, f64);
@@ -54,6 +80,8 @@ pub(crate) struct Emitter<'a> {
     events: RefCell<Option<Observer<'a>>>,
     began: Instant,
     notes: RefCell<Vec<String>>,
+    /// The factor of the values of `J` in the events sent ([`Emitter::scaled`]; 1 outside).
+    scale: Cell<f64>,
 }
 
 impl<'a> Emitter<'a> {
@@ -62,12 +90,25 @@ impl<'a> Emitter<'a> {
             events: RefCell::new(events),
             began: Instant::now(),
             notes: RefCell::new(Vec::new()),
+            scale: Cell::new(1.0),
         }
+    }
+
+    /// Runs `f` with the values of `J` in the events it sends multiplied by `factor` (on top of
+    /// the current factor, restored after): a job inside another that states `J` in other
+    /// units, so that the caller sees every event in its own.
+    pub fn scaled<R>(&self, factor: f64, f: impl FnOnce() -> R) -> R {
+        let outer = self.scale.replace(self.scale.get() * factor);
+        let r = f();
+        self.scale.set(outer);
+        r
     }
 
     /// Sends `e` (and keeps it if it is a note). An event sent from inside the observer itself
     /// is dropped rather than aliased.
     pub fn send(&self, e: Event) {
+        let factor = self.scale.get();
+        let e = if factor == 1.0 { e } else { e.scaled(factor) };
         if let Event::Note(n) = &e {
             self.notes.borrow_mut().push(n.clone());
         }

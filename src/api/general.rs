@@ -218,8 +218,7 @@ fn structure_checks(p: &GeneralProblem, checks: &mut Vec<Check>) {
         match p.as_chain() {
             Some(v) => format!(
                 "a chain: the gait problem of a crawler of {} blocks (stiffness {:?}, mu+ {:?}, \
-                 mu- {:?}, rate bounds {:?}; J = {} times its displacement{}): the chain's \
-                 upper bound applies (--bound)",
+                 mu- {:?}, rate bounds {:?}; J = {} times its displacement{}): {}",
                 v.crawler.blocks(),
                 v.crawler.stiffness(),
                 v.crawler.mu_forward(),
@@ -227,11 +226,24 @@ fn structure_checks(p: &GeneralProblem, checks: &mut Vec<Check>) {
                 v.rate_bounds,
                 v.objective_scale,
                 v.cost_weight
-                    .map_or(String::new(), |c| format!(" less (c/2)|u|^2, c = {c}"))
+                    .map_or(String::new(), |c| format!(" less (c/2)|u|^2, c = {c}")),
+                bound_applies(&v)
             ),
             None => "no chain recognised (not a crawler's gait problem)".into(),
         },
     );
+}
+
+/// Whether the chain's upper bound applies to the crawler `v` is, as `--bound` decides it
+/// ([`BoundSettings::grid`]: at most four blocks, the uniqueness condition), in words.
+fn bound_applies(v: &ChainView) -> String {
+    match BoundSettings::default().grid(&v.crawler) {
+        Ok(_) => "the chain's upper bound applies (--bound)".into(),
+        Err(Error::InvalidParameter { reason, .. }) => {
+            format!("the chain's upper bound does not apply ({reason})")
+        }
+        Err(e) => format!("the chain's upper bound does not apply ({e})"),
+    }
 }
 
 /// Simulates the file's `[input]`: exactly where `A = 0` and the input is piecewise constant
@@ -404,8 +416,8 @@ pub(super) fn check_additions(
         return Err(Error::invalid(
             "certify",
             true,
-            "the necessary conditions are certified for periodic problems only (the file's \
-             problem.periodic is false)",
+            "the necessary conditions are certified for periodic problems only (this is a \
+             Cauchy problem from its initial state: periodic = false)",
         ));
     }
     Ok(chain)
@@ -413,8 +425,8 @@ pub(super) fn check_additions(
 
 /// The problem's chain when a bound is asked ([`GeneralProblem::as_chain`]), checked before
 /// any work: a bound asked of a problem that is not a crawler's gait problem is refused naming
-/// `bound`, and the bound's settings and its crawler as [`BoundSettings::grid`] checks them
-/// (at most four blocks).
+/// `bound`, and the bound's settings, its crawler (at most four blocks) and its grid's size as
+/// [`crate::certify::bound::check_upper_bound`] checks them.
 fn chain_for_bound(p: &GeneralProblem, bound: Option<&BoundSettings>) -> Result<Option<ChainView>> {
     let Some(b) = bound else {
         return Ok(None);
@@ -430,7 +442,8 @@ fn chain_for_bound(p: &GeneralProblem, bound: Option<&BoundSettings>) -> Result<
         )
     })?;
     // The crawler's fields are not the file's: a refusal of the chain itself names `bound`.
-    b.grid(&view.crawler).map_err(|e| match e {
+    let gp = crate::optimal::general::chain_gait_problem(p, &view)?;
+    crate::certify::bound::check_upper_bound(&view.crawler, &gp, b).map_err(|e| match e {
         Error::InvalidParameter {
             field,
             value,
@@ -457,11 +470,6 @@ pub(super) fn chain_upper_bound(
     let gp = crate::optimal::general::chain_gait_problem(p, view)?;
     let mut ub = crate::certify::bound::upper_bound(&view.crawler, &gp, b)?;
     ub.value *= view.objective_scale;
-    if ub.value.is_nan() || ub.value < j - 1e-9 * j.abs().max(p.j_floor()) {
-        return Err(Error::Numerical(format!(
-            "upper bound {} below the verified optimum {j}: a defect of the bound",
-            ub.value
-        )));
-    }
+    ub.check_bounds(j, p.j_floor())?;
     Ok(ub)
 }

@@ -87,7 +87,10 @@ pub fn optimize_general_on_chain(
         ..s.crawler.clone()
     };
     run_with(hooks, |em| {
-        let o = super::optimize::optimize_in(&view.crawler, &gp, &settings, em)?;
+        // The crawler's events in the problem's units of `J` (`lambda` times the crawler's).
+        let o = em.scaled(view.objective_scale, || {
+            super::optimize::optimize_in(&view.crawler, &gp, &settings, em)
+        })?;
         let r = &o.result;
         if !r.is_phase_gait() {
             // The map back reads the gait as exact phases (a P_m process would be misread).

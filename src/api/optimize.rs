@@ -91,16 +91,7 @@ fn optimize_named(
     if let Some(b) = &settings.bound {
         em.stage("proving an upper bound over all periodic gaits");
         let ub = crate::certify::bound::upper_bound(crawler, problem, b)?;
-        if ub.value.is_nan()
-            || ub.value
-                < result.head.objective
-                    - 1e-9 * result.head.objective.abs().max(problem.j_floor(crawler))
-        {
-            return Err(crate::Error::Numerical(format!(
-                "upper bound {} below the verified gait {}: a defect of the bound",
-                ub.value, result.head.objective
-            )));
-        }
+        ub.check_bounds(result.head.objective, problem.j_floor(crawler))?;
         result.head.certificate.upper_bound = Some(ub);
     }
     let necessary_conditions = if settings.certify {

@@ -441,13 +441,14 @@ impl OptimizeSettings {
     /// Resolves the method, checks that every option given applies to it and has a usable
     /// value, and the size of the model, before any solve: so that a bad value is not found
     /// after a start gait was computed, or turned into a note by a start policy. The bound's
-    /// settings and whether it applies to `crawler` (at most four blocks) are checked here
-    /// too ([`BoundSettings::grid`]), not after the method has run.
+    /// settings, whether it applies to `crawler` (at most four blocks) and the size of its grid
+    /// are checked here too ([`crate::certify::bound::check_upper_bound`]), not after the
+    /// method has run.
     pub fn plan(&self, crawler: &Crawler, problem: &GaitProblem) -> Result<Plan> {
         use GaitMethod::*;
         let plan = self.decide(problem)?;
         if let Some(b) = &self.bound {
-            b.grid(crawler)?;
+            crate::certify::bound::check_upper_bound(crawler, problem, b)?;
         }
         // The size of the models (blocks, blocks x grid steps), before any allocation.
         match plan.method {

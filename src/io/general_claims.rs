@@ -90,8 +90,7 @@ pub(super) fn check_local_claim(
 /// A local answer's certificate without its upper bound ([`check_local_claim`] takes it
 /// apart): `local`, without bound, gap or phases.
 fn check_local_certificate(what: &str, cert: &ResultCertificate) -> Result<()> {
-    let why = "a local answer's certificate is \"local\", without bound, gap, phases or upper \
-               bound";
+    let why = "a local answer's certificate is \"local\", without bound, gap or phases";
     if cert.kind != "local" {
         return Err(bad(what, "certificate.kind", &cert.kind, why));
     }
@@ -99,10 +98,6 @@ fn check_local_certificate(what: &str, cert: &ResultCertificate) -> Result<()> {
         ("certificate.bound", cert.bound.map(|v| v.to_string())),
         ("certificate.gap", cert.gap.map(|v| v.to_string())),
         ("certificate.phases", cert.phases.map(|k| k.to_string())),
-        (
-            "certificate.upper_bound",
-            cert.upper_bound.as_ref().map(|u| u.value.to_string()),
-        ),
     ];
     if let Some((field, Some(v))) = extra.into_iter().find(|(_, v)| v.is_some()) {
         return Err(bad(what, field, v, why));
@@ -173,9 +168,10 @@ pub(super) fn check_records(
     crate::optimal::consistency::check_records(what, records, phases, m, j, close)
 }
 
-/// An upper bound recorded with a global answer: only for a problem that is a crawler's gait
-/// problem, whose bound it is (its value against `J` is [`check_claim`]'s, taken as recorded,
-/// as for crawlers: its LP is not re-solved).
+/// An upper bound recorded with an answer of any method: only for a problem that is a
+/// crawler's gait problem, whose bound it is. Its value against `J` is checked apart (a global
+/// answer's by [`check_claim`], a local one's by [`check_local_claim`]), taken as recorded, as
+/// for crawlers: its LP is not re-solved.
 fn check_upper_bound(what: &str, p: &GeneralProblem, cert: &ResultCertificate) -> Result<()> {
     match &cert.upper_bound {
         Some(ub) if p.as_chain().is_none() => Err(bad(

@@ -46,6 +46,19 @@ pub struct UpperBound {
 }
 
 impl UpperBound {
+    /// Refuses a bound just proven below the verified `j` it must bound (beyond `1e-9` of `j`
+    /// or of `floor`, the problem's floor of `J`), or NaN: a defect of the bound, never an
+    /// answer. The one check of every optimiser that proves a bound, crawler or (P).
+    pub fn check_bounds(&self, j: f64, floor: f64) -> crate::error::Result<()> {
+        if self.value.is_nan() || self.value < j - 1e-9 * j.abs().max(floor) {
+            return Err(crate::Error::Numerical(format!(
+                "upper bound {} below the verified J {j}: a defect of the bound",
+                self.value
+            )));
+        }
+        Ok(())
+    }
+
     /// How far a gait of objective `j` can be from the best periodic gait, as a fraction of the
     /// bound: `(value - j) / value`, and 0 when the two agree to `1e-9` of `scale` (the
     /// problem's length scale) or of themselves: a bound of `7.5e-12` over `J = 0` (a crawler

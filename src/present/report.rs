@@ -348,10 +348,15 @@ pub(super) fn upper_bound_kpi(
     };
     h.push_str(&format!(
         "<div><span>upper bound over all periodic gaits</span><b id=\"upper-bound\">{}</b>\
-         <span>{} on a {} grid: optimal within {:.1} % among all periodic gaits{recorded}</span></div>\n",
+         <span>{} on a {} grid{}: optimal within {:.1} % among all periodic gaits{recorded}</span></div>\n",
         num(ub.value),
         esc(&ub.method),
         esc(&ub.resolution_text()),
+        if ub.status == crate::optimal::bound_record::BoundStatus::TimeLimit {
+            ", its LP cut short by the time limit"
+        } else {
+            ""
+        },
         100.0 * ub.within(j, scale)
     ));
 }

@@ -293,6 +293,42 @@ fn grid_of(
     (grid, aligned)
 }
 
+/// [`grid_of`] at `level`, refused naming the resolution given when it has more than
+/// [`MAX_SIMPLICES`] simplices.
+fn checked_grid(
+    crawler: &Crawler,
+    problem: &GaitProblem,
+    level: &Resolved,
+) -> Result<(grid::Grid, bool)> {
+    let (grid, aligned) = grid_of(crawler, problem, level.resolution, level.box_resolution);
+    let fact: usize = (1..=2 * crawler.links()).product();
+    let simplices = grid.cells().saturating_mul(fact);
+    if simplices > MAX_SIMPLICES {
+        return Err(Error::invalid(
+            level.field,
+            format!("{} x {}", level.resolution, level.box_resolution),
+            format!("the grid has {simplices} simplices (at most {MAX_SIMPLICES})"),
+        ));
+    }
+    Ok((grid, aligned))
+}
+
+/// Checks before any work that [`upper_bound`] can run on `crawler` and `problem` under
+/// `settings`: the settings and the crawler ([`BoundSettings::grid`]) and the size of its
+/// finest grid (at most [`MAX_SIMPLICES`] simplices), in the units the bound is proven in. The
+/// LP's rows ([`MAX_ROWS`]) are counted as the LP is built. The optimisers call it before they
+/// run, so that a bound that cannot be proven is not found after the search.
+pub fn check_upper_bound(
+    crawler: &Crawler,
+    problem: &GaitProblem,
+    settings: &BoundSettings,
+) -> Result<()> {
+    settings.grid(crawler)?;
+    let units = crate::optimal::units::Units::of(crawler, problem);
+    let (c, p) = (units.crawler(crawler)?, units.problem(problem));
+    checked_grid(&c, &p, &settings.resolve(&c)?).map(|_| ())
+}
+
 /// The grid and the face motions of one bound computation.
 struct Prepared {
     grid: grid::Grid,
@@ -304,16 +340,7 @@ struct Prepared {
 /// Builds the grid of `C x box` of `level` (checked by [`BoundSettings::grid`]) and the face
 /// motions.
 fn prepare(crawler: &Crawler, problem: &GaitProblem, level: &Resolved) -> Result<Prepared> {
-    let (grid, aligned) = grid_of(crawler, problem, level.resolution, level.box_resolution);
-    let fact: usize = (1..=2 * crawler.links()).product();
-    let simplices = grid.cells().saturating_mul(fact);
-    if simplices > MAX_SIMPLICES {
-        return Err(Error::invalid(
-            level.field,
-            format!("{} x {}", level.resolution, level.box_resolution),
-            format!("the grid has {simplices} simplices (at most {MAX_SIMPLICES})"),
-        ));
-    }
+    let (grid, aligned) = checked_grid(crawler, problem, level)?;
     let cost = faces::CostModel {
         weight: match problem.cost {
             Cost::None => 0.0,
