@@ -36,12 +36,32 @@ fn general_refusal(file: &GeneralFile, s: &OptimizeSettings) -> (String, Vec<Eve
     (e, events)
 }
 
+/// A crawler's job's refusal of `bound` (named as a flag), with the events it sent first.
+fn crawler_refusal(blocks: usize, mu_backward: f64, b: BoundSettings) -> (String, Vec<Event>) {
+    let crawler = Crawler::uniform(blocks, 1.0, 1.0, mu_backward).unwrap();
+    let speeds = vec![1.0; blocks - 1];
+    let problem = GaitProblem::new(&crawler, 10.0, &speeds, Cost::None, None).unwrap();
+    let mut events = Vec::new();
+    let mut on = |e: &Event, _: f64| events.push(e.clone());
+    let s = OptimizeSettings {
+        bound: Some(b),
+        naming: Naming::Flags,
+        ..Default::default()
+    };
+    let hooks = Hooks {
+        events: Some(&mut on),
+        cancel: None,
+    };
+    let e = optimize(&crawler, &problem, &s, hooks)
+        .unwrap_err()
+        .to_string();
+    (e, events)
+}
+
 /// A crawler of five blocks: the bound's grid would have 8 dimensions (at most 6), refused
 /// naming the crawler's blocks before the phase growth runs; a setting out of range likewise.
 #[test]
 fn a_crawlers_bound_that_cannot_be_proven_is_refused_first() {
-    let crawler = Crawler::uniform(5, 1.0, 1.0, 1.6).unwrap();
-    let problem = GaitProblem::new(&crawler, 10.0, &[1.0; 4], Cost::None, None).unwrap();
     let cases = [
         (BoundSettings::default(), "crawler.blocks"),
         (
@@ -53,20 +73,7 @@ fn a_crawlers_bound_that_cannot_be_proven_is_refused_first() {
         ),
     ];
     for (b, want) in cases {
-        let mut events = Vec::new();
-        let mut on = |e: &Event, _: f64| events.push(e.clone());
-        let s = OptimizeSettings {
-            bound: Some(b),
-            naming: Naming::Flags,
-            ..Default::default()
-        };
-        let hooks = Hooks {
-            events: Some(&mut on),
-            cancel: None,
-        };
-        let e = optimize(&crawler, &problem, &s, hooks)
-            .unwrap_err()
-            .to_string();
+        let (e, events) = crawler_refusal(5, 1.6, b);
         assert!(e.starts_with(want), "{want}: {e}");
         assert!(events.is_empty(), "{want}: {events:?}");
     }
@@ -82,27 +89,17 @@ fn a_bound_grid_too_large_is_refused_first() {
         box_resolution: Some(60),
         ..Default::default()
     };
-    let crawler = Crawler::uniform(3, 1.0, 1.0, 1.5).unwrap();
-    let problem = GaitProblem::new(&crawler, 10.0, &[1.0; 2], Cost::None, None).unwrap();
-    let mut events = Vec::new();
-    let mut on = |e: &Event, _: f64| events.push(e.clone());
-    let s = OptimizeSettings {
-        bound: Some(b),
-        naming: Naming::Flags,
-        ..Default::default()
-    };
-    let hooks = Hooks {
-        events: Some(&mut on),
-        cancel: None,
-    };
-    let e = optimize(&crawler, &problem, &s, hooks)
-        .unwrap_err()
-        .to_string();
+    let (e, events) = crawler_refusal(3, 1.5, b);
     assert!(
         e.starts_with("--bound-resolution:") && e.contains("simplices"),
         "{e}"
     );
     assert!(events.is_empty(), "{events:?}");
+    let s = OptimizeSettings {
+        bound: Some(b),
+        naming: Naming::Flags,
+        ..Default::default()
+    };
     let text = std::fs::read_to_string("examples/general_three_blocks.toml").unwrap();
     let file = GeneralFile::parse(&text).unwrap();
     for method in GENERAL_METHODS {

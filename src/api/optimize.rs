@@ -56,7 +56,8 @@ pub fn optimize(
 }
 
 /// [`optimize`] within a job that is running already (its emitter `em`): the general problem's
-/// chain methods run the crawler's job inside their own. Errors name the settings as
+/// chain methods run the crawler's job inside their own. The answer's notes are the
+/// emitter's, so they include any the outer job sent before. Errors name the settings as
 /// `settings.naming` spells them.
 pub(super) fn optimize_in(
     crawler: &Crawler,
